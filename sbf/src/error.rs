@@ -1,0 +1,68 @@
+//! The crate's error type. Every variant names the offending value.
+
+use std::fmt;
+
+/// Errors returned by the public API of `sbf` on bad input.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SbfError {
+    /// A direction was zero-length, not finite, or otherwise unusable.
+    InvalidDirection { x: f64, y: f64, z: f64 },
+    /// A requested SH order (or other degree) exceeds what the chosen storage supports.
+    OrderTooHigh { order: usize, max: usize, storage: &'static str },
+    /// An output or input slice has the wrong length.
+    LengthMismatch { what: &'static str, expected: usize, got: usize },
+    /// A scalar parameter is outside its valid range.
+    InvalidParameter { name: &'static str, value: f64, reason: &'static str },
+    /// A matrix that must be symmetric positive definite is not (numerically).
+    NotPositiveDefinite { what: &'static str },
+}
+
+impl fmt::Display for SbfError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SbfError::InvalidDirection { x, y, z } => write!(f, "invalid direction ({x}, {y}, {z}): must be finite and of non-zero length"),
+            SbfError::OrderTooHigh { order, max, storage } => {
+                write!(f, "order {order} too high for {storage} (maximum {max})")
+            }
+            SbfError::LengthMismatch { what, expected, got } => {
+                write!(f, "{what}: expected length {expected}, got {got}")
+            }
+            SbfError::InvalidParameter { name, value, reason } => {
+                write!(f, "invalid {name} = {value}: {reason}")
+            }
+            SbfError::NotPositiveDefinite { what } => {
+                write!(f, "{what} is not numerically positive definite")
+            }
+        }
+    }
+}
+
+impl std::error::Error for SbfError {}
+
+/// Validates and normalises a direction: finite, length > 1e-300.
+///
+/// This is the checked entry used by `try_*` functions; hot paths take unit
+/// vectors as a documented precondition instead.
+pub fn normalize_direction(d: glam::DVec3) -> Result<glam::DVec3, SbfError> {
+    let len2 = d.length_squared();
+    if !d.is_finite() || !len2.is_finite() || len2 <= 1e-300 {
+        return Err(SbfError::InvalidDirection { x: d.x, y: d.y, z: d.z });
+    }
+    Ok(d / len2.sqrt())
+}
+
+/// Checks that a slice has the expected length.
+pub fn check_len(what: &'static str, expected: usize, got: usize) -> Result<(), SbfError> {
+    if expected != got {
+        return Err(SbfError::LengthMismatch { what, expected, got });
+    }
+    Ok(())
+}
+
+/// Checks a strictly positive, finite parameter.
+pub fn check_positive(name: &'static str, value: f64) -> Result<(), SbfError> {
+    if !(value.is_finite() && value > 0.0) {
+        return Err(SbfError::InvalidParameter { name, value, reason: "must be finite and > 0" });
+    }
+    Ok(())
+}

@@ -1,0 +1,100 @@
+//! GGX (Trowbridge–Reitz) microfacet pieces in tangent space (normal +Z), isotropic α.
+//!
+//! - D(h) = α²/(π(α²cos²θ + sin²θ)²) — the math.md form α²/(π((n·h)²(α² − 1) + 1)²)
+//!   rewritten with sin²θ = h_x² + h_y² so that α → 1e-4 does not cancel.
+//! - Smith Λ(v) = (−1 + √(1 + α²tan²θ))/2 = a/(2(1 + √(1 + a))), a = α²tan²θ.
+//! - G1 = 1/(1 + Λ); height-correlated G2 = 1/(1 + Λ(v) + Λ(l)) (Heitz 2014).
+//! - Visible-normal sampling and its pdf D_v(h) = G1(v)·max(0, v·h)·D(h)/v_z (Heitz 2018,
+//!   "Sampling the GGX Distribution of Visible Normals", JCGT 7(4)).
+//!
+//! α is clamped by callers, not here; every function is finite for α ∈ [1e-4, 1]
+//! and any direction with v_z > 0 (tested). Directions with v_z ≤ 0 give G1 = 0.
+
+use glam::DVec3;
+use std::f64::consts::PI;
+
+/// NDF D(h) for a unit half vector h in tangent space; 0 below the surface.
+pub fn d(h: DVec3, alpha: f64) -> f64 {
+    if h.z <= 0.0 {
+        return 0.0;
+    }
+    let a2 = alpha * alpha;
+    let sin2 = h.x * h.x + h.y * h.y;
+    let t = a2 * h.z * h.z + sin2;
+    a2 / (PI * t * t)
+}
+
+/// a = α²·tan²θ for unit v with v_z > 0.
+fn a_term(v: DVec3, alpha: f64) -> f64 {
+    alpha * alpha * (v.x * v.x + v.y * v.y) / (v.z * v.z)
+}
+
+/// Smith Λ(v). Precondition v_z > 0 (debug-asserted); grows without bound as v_z → 0.
+pub fn lambda(v: DVec3, alpha: f64) -> f64 {
+    debug_assert!(v.z > 0.0, "Smith Λ needs v_z > 0, got {v:?}");
+    let a = a_term(v, alpha);
+    a / (2.0 * (1.0 + (1.0 + a).sqrt()))
+}
+
+/// Smith masking G1(v) = 2/(1 + √(1 + a)); 0 for v_z ≤ 0.
+pub fn g1(v: DVec3, alpha: f64) -> f64 {
+    if v.z <= 0.0 {
+        return 0.0;
+    }
+    2.0 / (1.0 + (1.0 + a_term(v, alpha)).sqrt())
+}
+
+/// Height-correlated masking-shadowing G2(v, l) = 1/(1 + Λ(v) + Λ(l)); 0 if either is below.
+pub fn g2(v: DVec3, l: DVec3, alpha: f64) -> f64 {
+    if v.z <= 0.0 || l.z <= 0.0 {
+        return 0.0;
+    }
+    1.0 / (1.0 + lambda(v, alpha) + lambda(l, alpha))
+}
+
+/// Samples a visible normal for view v (v_z > 0) from u ∈ [0,1)² (Heitz 2018, Listing 1).
+pub fn sample_vndf(v: DVec3, alpha: f64, u: [f64; 2]) -> DVec3 {
+    // Stretch the view vector to the hemisphere configuration.
+    let vh = DVec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > 0.0 { DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt() } else { DVec3::X };
+    let t2 = vh.cross(t1);
+    // Uniform disk sample, warped towards the visible half.
+    let r = u[0].sqrt();
+    let phi = 2.0 * PI * u[1];
+    let p1 = r * phi.cos();
+    let mut p2 = r * phi.sin();
+    let s = 0.5 * (1.0 + vh.z);
+    p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;
+    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
+    // Unstretch.
+    DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
+}
+
+/// Density of [`sample_vndf`] w.r.t. the solid angle of h.
+pub fn vndf_pdf(v: DVec3, h: DVec3, alpha: f64) -> f64 {
+    if v.z <= 0.0 {
+        return 0.0;
+    }
+    g1(v, alpha) * v.dot(h).max(0.0) * d(h, alpha) / v.z
+}
+
+/// Reflects v about h: 2(v·h)h − v.
+pub fn reflect(v: DVec3, h: DVec3) -> DVec3 {
+    2.0 * v.dot(h) * h - v
+}
+
+/// Density of the reflected direction l = reflect(v, h) for h ~ VNDF:
+/// D_v(h)/(4 v·h) (Heitz 2018 eq. 17).
+pub fn vndf_reflected_pdf(v: DVec3, l: DVec3, alpha: f64) -> f64 {
+    let h = v + l;
+    if h.length_squared() == 0.0 {
+        return 0.0;
+    }
+    let h = h.normalize();
+    let vh = v.dot(h);
+    if vh <= 0.0 {
+        return 0.0;
+    }
+    vndf_pdf(v, h, alpha) / (4.0 * vh)
+}

@@ -1,0 +1,59 @@
+//! # sbf — spherical basis functions for real-time lighting
+//!
+//! The core library of the workspace: bases, sampling, quadrature and Gram
+//! matrices (solvers, reconstruction and LUT readers join in later modules).
+//! It does no file I/O, prints nothing and does not depend on wgpu.
+//!
+//! ## Map of the crate
+//!
+//! | module | holds |
+//! |---|---|
+//! | [`basis`] | the [`Basis`] trait and every basis: [`ShBasis`] (any order) and the f32 SH fast paths ([`basis::sh_fast`]), [`SgBasis`]/[`Sg`], [`Asg`], Ambient Dice ([`AmbientDiceSrbf`] 12 and 9, [`AmbientDiceBezier`], [`AmbientDiceYCoCg`], [`AmbientDiceLinear`]), [`HBasis`], [`AmbientCube`] |
+//! | [`layout`] | lobe layouts: Vogel spiral (sphere, hemisphere), icosahedron (standard, face-up), sharpness heuristic |
+//! | [`sampling`] | Halton, Hammersley, R2; sphere/hemisphere/cosine/disk warps with pdfs and inverses; spherical Fibonacci; PCG32 |
+//! | [`ggx`] | GGX D, Λ, G1, G2 and visible-normal sampling (Heitz 2018) |
+//! | [`quadrature`] | Gauss–Legendre, product rules on sphere/hemisphere, compensated sums, [`Domain`] |
+//! | [`envmap`] | lat-long and cube-map geometry, exact texel solid angles, bilinear lookup, map quadrature, the built-in [`envmap::ProceduralSky`] |
+//! | [`gram`] | Gram matrices (closed form or quadrature with error estimate), condition numbers, Cholesky solve |
+//! | [`error`] | [`SbfError`] and input checks |
+//!
+//! ## Conventions
+//!
+//! - **Frames.** Right-handed. World space is +Y up (lat-long maps, probes).
+//!   Tangent space for BRDFs and hemispherical bases has the normal at **+Z**;
+//!   "upper hemisphere" ([`Domain::UpperHemisphere`]) always means z ≥ 0 there.
+//! - **Lat-long maps.** u = (1 + atan2(x, −z)/π)/2, v = acos(y)/π; row 0 is the
+//!   zenith, the image centre faces −Z (the convention of the bundled probes).
+//! - **SH.** Real, orthonormal, index i = l(l+1) + m, **no Condon–Shortley phase**:
+//!   band 1 is √(3/4π)·(y, z, x). The constant function 1 projects to c₀₀ = 2√π.
+//! - **SG.** G(v) = μ·exp(λ(v·p − 1)); as a basis, B_i = exp(λ_i(v·p_i − 1)) (μ = 1).
+//! - **Ambient Dice.** SRBF lobe 0.35c² + 0.25c⁴ on c = v·p > 0 (seed 004 eq. 8.3);
+//!   icosahedron vertex order as in [`Icosahedron::standard`].
+//! - **Radiance vs E/π.** Bases store radiance unless a name says otherwise;
+//!   irradiance images in reports store E/π (what a white Lambertian reflects), as
+//!   Probulator does.
+//! - **Precision.** Runtime evaluation APIs are `f32` on glam types (`Vec3`);
+//!   fitting, quadrature and reference integration are `f64` (`DVec3`).
+//! - **Determinism.** Fixed seeds, ordered (compensated) reductions: identical
+//!   inputs give bit-identical outputs for any thread count.
+//! - **Bad input.** Public constructors and `try_*` functions return
+//!   [`SbfError`]; hot-path evaluators document their preconditions (unit
+//!   direction, slice length) and check them with debug assertions.
+
+pub mod basis;
+pub mod envmap;
+pub mod error;
+pub mod ggx;
+pub mod gram;
+pub mod layout;
+pub mod quadrature;
+pub mod sampling;
+
+pub use basis::{
+    AmbientCube, AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg, Asg, Basis, HBasis, Icosahedron, Sg, SgBasis,
+    ShBasis,
+};
+pub use error::SbfError;
+pub use glam;
+pub use nalgebra;
+pub use quadrature::Domain;

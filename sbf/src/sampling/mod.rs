@@ -1,0 +1,25 @@
+//! Sample generation with densities: sequences on [0,1)², warps to the sphere,
+//! hemisphere and disk, and GGX visible-normal sampling.
+//!
+//! | what | function | pdf | inverse |
+//! |---|---|---|---|
+//! | Halton (2, 3) | [`halton2`] | 1 on [0,1)² | — |
+//! | Hammersley | [`hammersley2`] | 1 on [0,1)² | — |
+//! | R2 (Roberts 2018), Cranley–Patterson shifted | [`R2`] | 1 on [0,1)² | — |
+//! | uniform sphere | [`uniform_sphere`] | 1/4π | [`uniform_sphere_inv`] |
+//! | uniform hemisphere | [`uniform_hemisphere`] | 1/2π | [`uniform_hemisphere_inv`] |
+//! | cosine hemisphere | [`cosine_hemisphere`] | cos θ/π | [`cosine_hemisphere_inv`] |
+//! | concentric disk (Shirley & Chiu 1997) | [`concentric_disk`] | 1/π | [`concentric_disk_inv`] |
+//! | spherical Fibonacci point set | [`spherical_fibonacci`] | 1/4π (per point 4π/N) | [`spherical_fibonacci_nearest`] |
+//! | GGX visible normals (Heitz 2018) | [`crate::ggx::sample_vndf`] | [`crate::ggx::vndf_pdf`] | — |
+//!
+//! Sequence order matters for the progressive encoder (seed 004 §7.3.1): use
+//! Halton or R2, not Hammersley in index order.
+
+mod rng;
+mod sequences;
+mod warp;
+
+pub use rng::Pcg32;
+pub use sequences::{halton2, hammersley2, radical_inverse, R2};
+pub use warp::*;
