@@ -38,7 +38,8 @@ pub fn chi2_z(observed: &[f64], expected: &[f64]) -> (f64, f64, usize) {
 
 /// χ² z-score of directions against a solid-angle pdf, binned in (z, φ) cells of
 /// [z_lo, 1] × [0, 2π). Expected counts integrate the pdf over each cell with a
-/// 6×6 Gauss–Legendre rule (dΩ = dz dφ).
+/// 16×16 Gauss–Legendre rule (dΩ = dz dφ); fewer nodes mis-integrate the kink of
+/// max(0, v·h) in the GGX visible-normal pdf at grazing views.
 pub fn chi2_directions(samples: &[DVec3], pdf: impl Fn(DVec3) -> f64, z_lo: f64, nz: usize, nphi: usize) -> f64 {
     let mut obs = vec![0.0; nz * nphi];
     for d in samples {
@@ -50,7 +51,7 @@ pub fn chi2_directions(samples: &[DVec3], pdf: impl Fn(DVec3) -> f64, z_lo: f64,
         let pi = ((phi / (2.0 * PI)) * nphi as f64).floor().clamp(0.0, nphi as f64 - 1.0) as usize;
         obs[zi * nphi + pi] += 1.0;
     }
-    let (gx, gw) = gauss_legendre(6);
+    let (gx, gw) = gauss_legendre(16);
     let n = samples.len() as f64;
     let dz = (1.0 - z_lo) / nz as f64;
     let dp = 2.0 * PI / nphi as f64;
