@@ -178,6 +178,9 @@ impl CubeMap {
     }
 
     /// Unnormalised direction for face coordinates (s, t) ∈ [−1, 1]².
+    ///
+    /// # Panics
+    /// If `face >= 6` (a programming error: faces are indexed by [`CUBE_FACES`]).
     pub fn face_st_to_vector(face: usize, s: f64, t: f64) -> DVec3 {
         match face {
             0 => DVec3::new(1.0, -t, -s),

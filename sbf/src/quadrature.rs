@@ -13,6 +13,9 @@ use std::f64::consts::PI;
 /// Gauss–Legendre nodes and weights on [-1, 1] (n ≥ 1), by Newton iteration on
 /// P_n with the asymptotic initial guess cos(π(i − 1/4)/(n + 1/2)).
 /// Accuracy: nodes to ~1e-15 for n up to several thousand.
+///
+/// # Panics
+/// If `n == 0`.
 pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     assert!(n >= 1, "gauss_legendre needs at least one node");
     let mut x = vec![0.0; n];

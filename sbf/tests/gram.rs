@@ -38,7 +38,13 @@ fn case(name: &str, basis: &dyn Basis, domain: Domain) -> (f64, f64) {
     let dense = dense_latlong_gram(basis, domain);
     let cd = condition_number(&dense);
     let entry_err = (&g.matrix - &dense).abs().max();
-    println!("{name:28} {:>10} cond = {:>12.6} (dense {:>12.6}), max |ΔG| = {entry_err:.2e}, est. quadrature error = {:.1e}", domain.name(), g.condition, cd, g.quadrature_error);
+    println!(
+        "{name:28} {:>10} cond = {:>12.6} (dense {:>12.6}), max |ΔG| = {entry_err:.2e}, est. quadrature error = {:.1e}",
+        domain.name(),
+        g.condition,
+        cd,
+        g.quadrature_error
+    );
     // The midpoint rule on 2048×1024 texels is accurate to ~1e-6 per entry for these
     // (at most C¹-kinked) integrands.
     assert!(entry_err < 1e-5, "{name}: Gram differs from dense quadrature by {entry_err:e}");

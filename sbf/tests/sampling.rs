@@ -111,7 +111,10 @@ fn concentric_disk_is_uniform() {
         obs[ring * 16 + ((a / (2.0 * PI) * 16.0) as usize).min(15)] += 1.0;
     }
     assert!(chi2_z(&obs, &vec![N as f64 / 160.0; 160]).0 < Z_MAX);
-    assert!((CONCENTRIC_DISK_PDF * PI - 1.0).abs() < 1e-15);
+    // ∫ pdf dA over the unit disk, in polar coordinates with Gauss–Legendre in r.
+    let (gx, gw) = sbf::quadrature::gauss_legendre(8);
+    let integral: f64 = gx.iter().zip(&gw).map(|(x, w)| 0.5 * w * CONCENTRIC_DISK_PDF * 0.5 * (x + 1.0) * 2.0 * PI).sum();
+    assert!((integral - 1.0).abs() < 1e-14, "{integral}");
 }
 
 #[test]
@@ -160,7 +163,13 @@ fn ggx_extremes_are_finite() {
             for _ in 0..1000 {
                 let h = ggx::sample_vndf(v, alpha, rng.next_2d());
                 let l = ggx::reflect(v, h);
-                let vals = [ggx::d(h, alpha), ggx::g1(v, alpha), ggx::g2(v, l, alpha), ggx::vndf_pdf(v, h, alpha), ggx::vndf_reflected_pdf(v, l, alpha)];
+                let vals = [
+                    ggx::d(h, alpha),
+                    ggx::g1(v, alpha),
+                    ggx::g2(v, l, alpha),
+                    ggx::vndf_pdf(v, h, alpha),
+                    ggx::vndf_reflected_pdf(v, l, alpha),
+                ];
                 assert!(h.is_finite() && (h.length() - 1.0).abs() < 1e-9, "α={alpha} cos={cos_v}: h={h}");
                 assert!(vals.iter().all(|x| x.is_finite() && *x >= 0.0), "α={alpha} cos={cos_v}: {vals:?}");
             }

@@ -3,7 +3,7 @@
 mod common;
 
 use common::rel;
-use sbf::basis::sg::{sg_unit_inner_product, sg_unit_inner_product_f32, sg_unit_integral, sg_unit_integral_f32};
+use sbf::basis::sg::{sg_unit_inner_product_f32, sg_unit_integral, sg_unit_integral_f32};
 use sbf::glam::DVec3;
 use sbf::quadrature::gauss_legendre;
 use sbf::{Asg, Basis, Sg, SgBasis};
@@ -126,7 +126,8 @@ fn sg_basis_gram_closed_form_matches_quadrature() {
     let axes = sbf::layout::vogel_sphere(12).unwrap();
     let basis = SgBasis::new(&axes, 6.0, true).unwrap();
     let closed = basis.closed_form_gram(sbf::Domain::Sphere).unwrap();
-    let q = sbf::gram::gram_by_quadrature(&basis, sbf::Domain::Sphere, sbf::gram::GramOptions { n_z: 128, force_quadrature: true }).unwrap();
+    let q =
+        sbf::gram::gram_by_quadrature(&basis, sbf::Domain::Sphere, sbf::gram::GramOptions { n_z: 128, force_quadrature: true }).unwrap();
     let err = (closed - &q.matrix).abs().max();
     // Smooth integrands: the 128×256 rule is accurate to ~1e-12.
     assert!(err < 1e-10, "max |closed − quadrature| = {err:e}");
@@ -151,7 +152,7 @@ fn asg_finite_and_normalised() {
     for (lx, ly) in [(200.0, 200.0), (400.0, 1600.0)] {
         let asg = Asg::new(DVec3::Z, DVec3::X, lx, ly, 1.0).unwrap();
         let q = polar_quadrature(|v| asg.eval(v), 512);
-        let approx = PI / (lx * ly as f64).sqrt();
+        let approx = PI / (lx * ly).sqrt();
         // The approximation drops O(1/λ) terms: 2% at λ ≥ 200.
         assert!(rel(q, approx) < 0.02, "({lx},{ly}): quadrature {q} vs π/√(λxλy) {approx}");
     }

@@ -42,73 +42,63 @@ pub fn eval_sh_f32(order: usize, d: Vec3, out: &mut [f32]) -> Result<(), SbfErro
     if out.len() < n {
         return Err(SbfError::LengthMismatch { what: "SH f32 output", expected: n, got: out.len() });
     }
-    debug_assert!((d.length_squared() - 1.0).abs() < 1e-4, "direction must be unit length: {d:?}");
-    let (x, y, z) = (d.x, d.y, d.z);
-    out[0] = K00;
-    if order == 0 {
-        return Ok(());
+    match order {
+        0 => out[0] = K00,
+        1 => out[..4].copy_from_slice(&eval_sh_l1(d)),
+        2 => out[..9].copy_from_slice(&eval_sh_l2(d)),
+        3 => out[..16].copy_from_slice(&eval_sh_l3(d)),
+        _ => out[..25].copy_from_slice(&eval_sh_l4(d)),
     }
-    out[1] = K1 * y;
-    out[2] = K1 * z;
-    out[3] = K1 * x;
-    if order == 1 {
-        return Ok(());
-    }
-    let (x2, y2, z2) = (x * x, y * y, z * z);
-    out[4] = K2A * x * y;
-    out[5] = K2A * y * z;
-    out[6] = K20 * (3.0 * z2 - 1.0);
-    out[7] = K2A * x * z;
-    out[8] = K22 * (x2 - y2);
-    if order == 2 {
-        return Ok(());
-    }
-    out[9] = K33 * y * (3.0 * x2 - y2);
-    out[10] = K32A * x * y * z;
-    out[11] = K31 * y * (5.0 * z2 - 1.0);
-    out[12] = K30 * z * (5.0 * z2 - 3.0);
-    out[13] = K31 * x * (5.0 * z2 - 1.0);
-    out[14] = K32B * z * (x2 - y2);
-    out[15] = K33 * x * (x2 - 3.0 * y2);
-    if order == 3 {
-        return Ok(());
-    }
-    out[16] = K44 * x * y * (x2 - y2);
-    out[17] = K43 * y * z * (3.0 * x2 - y2);
-    out[18] = K42 * x * y * (7.0 * z2 - 1.0);
-    out[19] = K41 * y * z * (7.0 * z2 - 3.0);
-    out[20] = K40 * (35.0 * z2 * z2 - 30.0 * z2 + 3.0);
-    out[21] = K41 * x * z * (7.0 * z2 - 3.0);
-    out[22] = K42B * (x2 - y2) * (7.0 * z2 - 1.0);
-    out[23] = K43 * x * z * (x2 - 3.0 * y2);
-    out[24] = K44B * (x2 * (x2 - 3.0 * y2) - y2 * (3.0 * x2 - y2));
     Ok(())
 }
 
-/// SH L1 (4 coefficients) in f32.
+/// SH L1 (4 coefficients) in f32. Precondition: `d` unit length (debug-asserted).
+#[inline]
 pub fn eval_sh_l1(d: Vec3) -> [f32; 4] {
-    let mut o = [0.0; 4];
-    eval_sh_f32(1, d, &mut o).expect("fixed order and size");
-    o
+    debug_assert!((d.length_squared() - 1.0).abs() < 1e-4, "direction must be unit length: {d:?}");
+    [K00, K1 * d.y, K1 * d.z, K1 * d.x]
 }
 
-/// SH L2 (9 coefficients) in f32.
+/// SH L2 (9 coefficients) in f32. Precondition: `d` unit length.
+#[inline]
 pub fn eval_sh_l2(d: Vec3) -> [f32; 9] {
-    let mut o = [0.0; 9];
-    eval_sh_f32(2, d, &mut o).expect("fixed order and size");
-    o
+    let [c0, c1, c2, c3] = eval_sh_l1(d);
+    let (x, y, z) = (d.x, d.y, d.z);
+    [c0, c1, c2, c3, K2A * x * y, K2A * y * z, K20 * (3.0 * z * z - 1.0), K2A * x * z, K22 * (x * x - y * y)]
 }
 
-/// SH L3 (16 coefficients) in f32.
+/// SH L3 (16 coefficients) in f32. Precondition: `d` unit length.
+#[inline]
 pub fn eval_sh_l3(d: Vec3) -> [f32; 16] {
     let mut o = [0.0; 16];
-    eval_sh_f32(3, d, &mut o).expect("fixed order and size");
+    o[..9].copy_from_slice(&eval_sh_l2(d));
+    let (x, y, z) = (d.x, d.y, d.z);
+    let (x2, y2, z2) = (x * x, y * y, z * z);
+    o[9] = K33 * y * (3.0 * x2 - y2);
+    o[10] = K32A * x * y * z;
+    o[11] = K31 * y * (5.0 * z2 - 1.0);
+    o[12] = K30 * z * (5.0 * z2 - 3.0);
+    o[13] = K31 * x * (5.0 * z2 - 1.0);
+    o[14] = K32B * z * (x2 - y2);
+    o[15] = K33 * x * (x2 - 3.0 * y2);
     o
 }
 
-/// SH L4 (25 coefficients) in f32.
+/// SH L4 (25 coefficients) in f32. Precondition: `d` unit length.
+#[inline]
 pub fn eval_sh_l4(d: Vec3) -> [f32; 25] {
     let mut o = [0.0; 25];
-    eval_sh_f32(4, d, &mut o).expect("fixed order and size");
+    o[..16].copy_from_slice(&eval_sh_l3(d));
+    let (x, y, z) = (d.x, d.y, d.z);
+    let (x2, y2, z2) = (x * x, y * y, z * z);
+    o[16] = K44 * x * y * (x2 - y2);
+    o[17] = K43 * y * z * (3.0 * x2 - y2);
+    o[18] = K42 * x * y * (7.0 * z2 - 1.0);
+    o[19] = K41 * y * z * (7.0 * z2 - 3.0);
+    o[20] = K40 * (35.0 * z2 * z2 - 30.0 * z2 + 3.0);
+    o[21] = K41 * x * z * (7.0 * z2 - 3.0);
+    o[22] = K42B * (x2 - y2) * (7.0 * z2 - 1.0);
+    o[23] = K43 * x * z * (x2 - 3.0 * y2);
+    o[24] = K44B * (x2 * (x2 - 3.0 * y2) - y2 * (3.0 * x2 - y2));
     o
 }

@@ -47,7 +47,7 @@ impl R2 {
     }
     /// Shifted by a deterministic pseudo-random offset derived from `seed`.
     pub fn with_seed(seed: u64) -> Self {
-        let mut rng = super::Pcg32::new(seed, 0x52_32);
+        let mut rng = super::Pcg32::new(seed, 0x5232);
         R2 { shift: rng.next_2d() }
     }
     /// Point i.

@@ -127,6 +127,9 @@ pub fn spherical_fibonacci(i: u64, n: u64) -> DVec3 {
 /// Exact: any point closer than the best candidate found must lie in the z band
 /// |z_i − d.z| < chord distance (|Δz| ≤ chord), so the search widens the band until
 /// it covers the best chord distance. Cost O(√n) per query.
+///
+/// # Panics
+/// If `n == 0` (there is no nearest point of an empty set).
 pub fn spherical_fibonacci_nearest(d: DVec3, n: u64) -> u64 {
     assert!(n > 0, "spherical_fibonacci_nearest needs n > 0");
     let nf = n as f64;
