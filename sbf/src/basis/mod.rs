@@ -79,24 +79,6 @@ pub trait Basis {
     }
 }
 
-impl<B: Basis + ?Sized> Basis for &B {
-    fn name(&self) -> String {
-        (**self).name()
-    }
-    fn len(&self) -> usize {
-        (**self).len()
-    }
-    fn domain(&self) -> Domain {
-        (**self).domain()
-    }
-    fn eval_into(&self, dir: DVec3, out: &mut [f64]) {
-        (**self).eval_into(dir, out)
-    }
-    fn closed_form_gram(&self, domain: Domain) -> Option<nalgebra::DMatrix<f64>> {
-        (**self).closed_form_gram(domain)
-    }
-}
-
 impl<B: Basis + ?Sized> Basis for Box<B> {
     fn name(&self) -> String {
         (**self).name()
