@@ -1,7 +1,7 @@
 //! # sbf — spherical basis functions for real-time lighting
 //!
-//! The core library of the workspace: bases, sampling, quadrature and Gram
-//! matrices (solvers, reconstruction and LUT readers join in later modules).
+//! The core library of the workspace: bases, sampling, quadrature, Gram
+//! matrices and solvers (reconstruction and LUT readers join in later modules).
 //! It does no file I/O, prints nothing and does not depend on wgpu.
 //!
 //! ## Map of the crate
@@ -15,6 +15,7 @@
 //! | [`quadrature`] | Gauss–Legendre, product rules on sphere/hemisphere, compensated sums, [`Domain`] |
 //! | [`envmap`] | lat-long and cube-map geometry, exact texel solid angles, bilinear lookup, map quadrature, the built-in [`envmap::ProceduralSky`] |
 //! | [`gram`] | Gram matrices (closed form or quadrature with error estimate), condition numbers, Cholesky solve |
+//! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
 //! | [`error`] | [`SbfError`] and input checks |
 //!
 //! ## Conventions
@@ -48,6 +49,7 @@ pub mod gram;
 pub mod layout;
 pub mod quadrature;
 pub mod sampling;
+pub mod solve;
 
 pub use basis::{
     AmbientCube, AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg, Asg, Basis, HBasis, Icosahedron, Sg, SgBasis,

@@ -1,0 +1,94 @@
+//! Solvers that turn radiance samples (or whole maps) into basis coefficients.
+//!
+//! | what | function/type | module |
+//! |---|---|---|
+//! | moments and Monte-Carlo Gram from samples or maps | [`moments`], [`sample_gram`], [`map_samples`] | this file |
+//! | batch least squares, Gram form (Cholesky → eigen pseudo-inverse, Tikhonov) | [`solve_gram`] | [`lsq`] |
+//! | batch least squares, design-matrix form (QR → SVD) | [`solve_design`] | [`lsq`] |
+//! | non-negative least squares (Lawson–Hanson, bounded, explicit status) | [`nnls_gram`], [`nnls_design`] | [`nnls`] |
+//! | progressive per-sample LS/NNLS (seed 004 §7.3), naive projection, running average | [`ProgressiveEncoder`], [`naive_projection`] | [`progressive`] |
+//! | projection/convolution matrices and basis conversion (seed 004 §7.4) | [`projection_matrix`], [`Conversion`] | [`projection`] |
+//!
+//! Samples carry a quadrature weight: the solid angle each represents (4π/N for N
+//! uniform sphere samples, the texel solid angle for a map). Moments are then
+//! m_i = Σ_k w_k f_k B_i(d_k) ≈ ∫ f B_i, and the sample Gram Σ_k w_k B(d_k)B(d_k)ᵀ ≈ G.
+
+pub mod lsq;
+pub mod nnls;
+pub mod progressive;
+pub mod projection;
+
+pub use lsq::{solve_design, solve_gram, LsMethod, LsOptions, LsSolution};
+pub use nnls::{nnls_design, nnls_gram, NnlsOptions, NnlsSolution, NnlsStatus};
+pub use progressive::{naive_projection, Denominator, Iteration, ProgressiveEncoder, ProgressiveOptions, Real};
+pub use projection::{projection_matrix, Conversion, Kernel, ProjectionOptions};
+
+use crate::basis::Basis;
+use crate::envmap::LatLongImage;
+use glam::DVec3;
+use nalgebra::DMatrix;
+
+/// One radiance sample: unit direction, RGB radiance, and quadrature weight (sr).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadianceSample {
+    pub direction: DVec3,
+    pub value: [f64; 3],
+    pub weight: f64,
+}
+
+/// Moments m (n × 3): m_ic = Σ_k w_k f_kc B_i(d_k).
+pub fn moments(basis: &dyn Basis, samples: &[RadianceSample]) -> DMatrix<f64> {
+    let n = basis.len();
+    let mut m = DMatrix::zeros(n, 3);
+    let mut b = vec![0.0; n];
+    for s in samples {
+        basis.eval_into(s.direction, &mut b);
+        for i in 0..n {
+            let wb = s.weight * b[i];
+            for c in 0..3 {
+                m[(i, c)] += wb * s.value[c];
+            }
+        }
+    }
+    m
+}
+
+/// Gram matrix of the samples' own quadrature: Σ_k w_k B(d_k) B(d_k)ᵀ. Solving with
+/// it instead of the exact G gives the least-squares fit *on the samples*.
+pub fn sample_gram(basis: &dyn Basis, samples: &[RadianceSample]) -> DMatrix<f64> {
+    let n = basis.len();
+    let mut g = DMatrix::zeros(n, n);
+    let mut b = vec![0.0; n];
+    for s in samples {
+        basis.eval_into(s.direction, &mut b);
+        for i in 0..n {
+            let wi = s.weight * b[i];
+            if wi == 0.0 {
+                continue;
+            }
+            for j in i..n {
+                g[(i, j)] += wi * b[j];
+            }
+        }
+    }
+    for i in 0..n {
+        for j in 0..i {
+            g[(i, j)] = g[(j, i)];
+        }
+    }
+    g
+}
+
+/// Every texel of a lat-long map as a sample weighted by its exact solid angle.
+pub fn map_samples(map: &LatLongImage) -> Vec<RadianceSample> {
+    let g = map.geometry;
+    let mut out = Vec::with_capacity(g.texel_count());
+    for j in 0..g.height {
+        let w = g.texel_solid_angle(j);
+        for i in 0..g.width {
+            let t = map.texel(i, j);
+            out.push(RadianceSample { direction: g.texel_direction(i, j), value: [t[0] as f64, t[1] as f64, t[2] as f64], weight: w });
+        }
+    }
+    out
+}

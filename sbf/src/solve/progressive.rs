@@ -1,0 +1,259 @@
+//! Progressive (per-sample) least squares and non-negative least squares
+//! (seed 004 §7.3, Listing 7.1), plus the naive projection and the "running
+//! average" found in public tools, for comparison.
+//!
+//! Per sample (direction ω, RGB value f, weight w), with W the running total weight
+//! and s = w/W (= 1/k for unit weights):
+//!   Δ = f − Σ_j b_j B_j(ω)
+//!   I_i ← I_i + s·(B_i(ω)² − I_i)                      (running mean of B_i²)
+//!   Ī_i = s + (1 − s)·I_i                              (eq. 7.15; Listing 7.1's
+//!                                                      parenthesis differs — we follow the equation)
+//!   b_i ← b_i + α·s·B_i(ω)·Δ/Ī_i,   optionally b_i ← max(b_i, 0)
+//!   Gauss–Seidel: Δ ← Δ − B_i(ω)·(b_i,new − b_i,old)  (= the listing's Δ·(1 − α·s·B_i²/Ī)
+//!                                                      without the clamp; exact with it)
+//! Jacobi uses the Δ computed before any lobe moves.
+//!
+//! **Sample order matters.** The update is a stochastic iteration: consecutive samples
+//! must be decorrelated (Halton, R2, shuffled). A Hammersley set consumed in index
+//! order sweeps one coordinate monotonically and the encoder chases it (seed Fig. 7.6;
+//! a test shows the error gap).
+//!
+//! The encoder state is exactly what a GPU texel stores: per lobe an RGB amplitude
+//! and the running ∫B², plus one total weight. [`ProgressiveEncoder<f32>`] keeps that
+//! state and does the arithmetic in f32, to show the precision effect the seed
+//! describes; [`ProgressiveEncoder<f64>`] is the reference.
+
+use super::RadianceSample;
+use crate::basis::Basis;
+use glam::DVec3;
+use nalgebra::DMatrix;
+
+/// Floating-point storage for the encoder state (f32 as on a GPU, or f64).
+pub trait Real:
+    Copy
+    + std::fmt::Debug
+    + PartialOrd
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+{
+    const ZERO: Self;
+    const ONE: Self;
+    fn from_f64(x: f64) -> Self;
+    fn to_f64(self) -> f64;
+    fn max(self, o: Self) -> Self;
+}
+
+impl Real for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    fn max(self, o: Self) -> Self {
+        f32::max(self, o)
+    }
+}
+
+impl Real for f64 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn max(self, o: Self) -> Self {
+        f64::max(self, o)
+    }
+}
+
+/// Order of lobe updates within a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Iteration {
+    Jacobi,
+    GaussSeidel,
+}
+
+/// Denominator used for lobe i.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Denominator {
+    /// Eq. 7.15: s + (1 − s)·I_i, blending from the naive 1 to the running ∫B².
+    Blend,
+    /// max(I_i, true ∫B_i²): the seed's first mitigation, and the public "running
+    /// average" (after Pettineo's SG series, as in Probulator). Values are the exact
+    /// ∫B_i² divided by the domain's solid angle (the mean of B_i² per unit weight).
+    ClampToTrue(Vec<f64>),
+    /// The raw running mean I_i (noisy at low counts; for comparison).
+    Raw,
+}
+
+/// Options of the progressive encoder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProgressiveOptions {
+    /// Acceleration α (seed: 1–5, 3 converges fastest).
+    pub acceleration: f64,
+    pub iteration: Iteration,
+    /// Clamp amplitudes to ≥ 0 after every update (progressive NNLS).
+    pub non_negative: bool,
+    /// Hemisphere samples in a sphere solve: after each sample at ω, add a
+    /// zero-radiance sample of the same weight at ω mirrored below the tangent plane
+    /// (z → −z).
+    pub mirror_hemisphere: bool,
+    pub denominator: Denominator,
+}
+
+impl Default for ProgressiveOptions {
+    /// The seed's recommendation: Gauss–Seidel, α = 3, eq. 7.15, no clamp, no mirror.
+    fn default() -> Self {
+        ProgressiveOptions {
+            acceleration: 3.0,
+            iteration: Iteration::GaussSeidel,
+            non_negative: false,
+            mirror_hemisphere: false,
+            denominator: Denominator::Blend,
+        }
+    }
+}
+
+impl ProgressiveOptions {
+    /// Progressive NNLS: the default with the non-negative clamp.
+    pub fn non_negative() -> Self {
+        ProgressiveOptions { non_negative: true, ..Self::default() }
+    }
+    /// The public "running average" for a basis: Jacobi, α = 1, denominator clamped
+    /// to the exact mean of B_i² over `domain_gram_diagonal`/solid angle.
+    pub fn running_average(gram_diagonal: &[f64], solid_angle: f64, non_negative: bool) -> Self {
+        ProgressiveOptions {
+            acceleration: 1.0,
+            iteration: Iteration::Jacobi,
+            non_negative,
+            mirror_hemisphere: false,
+            denominator: Denominator::ClampToTrue(gram_diagonal.iter().map(|g| g / solid_angle).collect()),
+        }
+    }
+}
+
+/// Progressive per-sample encoder; state in `T` (f32 like a GPU texel, or f64).
+#[derive(Debug, Clone)]
+pub struct ProgressiveEncoder<T: Real> {
+    opts: ProgressiveOptions,
+    amplitudes: Vec<[T; 3]>,
+    integrals: Vec<T>,
+    total_weight: T,
+    samples: u64,
+    scratch: Vec<f64>,
+    scratch_t: Vec<T>,
+}
+
+impl<T: Real> ProgressiveEncoder<T> {
+    /// An empty encoder for `n` lobes.
+    pub fn new(n: usize, opts: ProgressiveOptions) -> Self {
+        ProgressiveEncoder {
+            opts,
+            amplitudes: vec![[T::ZERO; 3]; n],
+            integrals: vec![T::ZERO; n],
+            total_weight: T::ZERO,
+            samples: 0,
+            scratch: vec![0.0; n],
+            scratch_t: vec![T::ZERO; n],
+        }
+    }
+
+    /// Adds one sample (and its mirrored zero twin if configured). `weight` must be
+    /// > 0; zero-weight samples are ignored. Requires `basis.len()` lobes.
+    pub fn add_sample(&mut self, basis: &dyn Basis, direction: DVec3, value: [f64; 3], weight: f64) {
+        debug_assert_eq!(basis.len(), self.amplitudes.len());
+        if !(weight > 0.0) {
+            return;
+        }
+        let mut b = std::mem::take(&mut self.scratch);
+        basis.eval_into(direction, &mut b);
+        self.update(&b, value, weight);
+        if self.opts.mirror_hemisphere {
+            basis.eval_into(DVec3::new(direction.x, direction.y, -direction.z), &mut b);
+            self.update(&b, [0.0; 3], weight);
+        }
+        self.scratch = b;
+    }
+
+    /// Adds a [`RadianceSample`].
+    pub fn add(&mut self, basis: &dyn Basis, s: &RadianceSample) {
+        self.add_sample(basis, s.direction, s.value, s.weight);
+    }
+
+    /// One update with precomputed basis values `b` (the GPU kernel's body).
+    pub fn update(&mut self, b: &[f64], value: [f64; 3], weight: f64) {
+        let n = self.amplitudes.len();
+        self.samples += 1;
+        self.total_weight = self.total_weight + T::from_f64(weight);
+        let s = T::from_f64(weight) / self.total_weight;
+        let acc = T::from_f64(self.opts.acceleration);
+        let bt = &mut self.scratch_t;
+        for i in 0..n {
+            bt[i] = T::from_f64(b[i]);
+        }
+        let mut delta = [T::from_f64(value[0]), T::from_f64(value[1]), T::from_f64(value[2])];
+        for i in 0..n {
+            for c in 0..3 {
+                delta[c] = delta[c] - self.amplitudes[i][c] * bt[i];
+            }
+        }
+        for i in 0..n {
+            let bi = bt[i];
+            self.integrals[i] = self.integrals[i] + s * (bi * bi - self.integrals[i]);
+            let denom = match &self.opts.denominator {
+                Denominator::Blend => s + (T::ONE - s) * self.integrals[i],
+                Denominator::ClampToTrue(t) => self.integrals[i].max(T::from_f64(t[i])),
+                Denominator::Raw => self.integrals[i],
+            };
+            if !(denom > T::ZERO) {
+                continue; // B_i has been zero on every sample so far
+            }
+            let scale = acc * s * bi / denom;
+            for c in 0..3 {
+                let old = self.amplitudes[i][c];
+                let mut new = old + scale * delta[c];
+                if self.opts.non_negative {
+                    new = new.max(T::ZERO);
+                }
+                self.amplitudes[i][c] = new;
+                if self.opts.iteration == Iteration::GaussSeidel {
+                    delta[c] = delta[c] - bi * (new - old);
+                }
+            }
+        }
+    }
+
+    /// Current coefficients (n × 3, f64).
+    pub fn coefficients(&self) -> DMatrix<f64> {
+        DMatrix::from_fn(self.amplitudes.len(), 3, |i, c| self.amplitudes[i][c].to_f64())
+    }
+    /// Running mean of B_i² per lobe (the GPU's per-lobe alpha channel).
+    pub fn integrals(&self) -> Vec<f64> {
+        self.integrals.iter().map(|v| v.to_f64()).collect()
+    }
+    /// Total accumulated weight.
+    pub fn total_weight(&self) -> f64 {
+        self.total_weight.to_f64()
+    }
+    /// Number of updates applied (mirrored twins included).
+    pub fn sample_count(&self) -> u64 {
+        self.samples
+    }
+    /// Bytes of state per texel for RGB: (3 amplitudes + 1 integral) per lobe + 1 weight.
+    pub fn state_bytes(&self) -> usize {
+        (4 * self.amplitudes.len() + 1) * std::mem::size_of::<T>()
+    }
+}
+
+/// Naive projection (Pettineo & Neubelt's "as if orthonormal", seed §7.2 footnote 2):
+/// b_i = m_i / G_ii, i.e. the Gram matrix replaced by its diagonal.
+pub fn naive_projection(moments: &DMatrix<f64>, gram_diagonal: &[f64]) -> DMatrix<f64> {
+    DMatrix::from_fn(moments.nrows(), moments.ncols(), |i, c| moments[(i, c)] / gram_diagonal[i])
+}
