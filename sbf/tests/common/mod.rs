@@ -77,3 +77,22 @@ pub fn chi2_directions(samples: &[DVec3], pdf: impl Fn(DVec3) -> f64, z_lo: f64,
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
 }
+
+/// RMS radiance error of `coeffs` (n × 3) against every texel of `map`, unweighted
+/// over texels and averaged over RGB (as Probulator reports).
+pub fn rmse_vs_map(basis: &dyn sbf::Basis, coeffs: &sbf::nalgebra::DMatrix<f64>, map: &sbf::envmap::LatLongImage) -> f64 {
+    let g = map.geometry;
+    let mut b = vec![0.0; basis.len()];
+    let mut se = 0.0;
+    for j in 0..g.height {
+        for i in 0..g.width {
+            basis.eval_into(g.texel_direction(i, j), &mut b);
+            let t = map.texel(i, j);
+            for c in 0..3 {
+                let r: f64 = (0..basis.len()).map(|k| coeffs[(k, c)] * b[k]).sum();
+                se += (r - t[c] as f64).powi(2);
+            }
+        }
+    }
+    (se / (3 * g.texel_count()) as f64).sqrt()
+}
