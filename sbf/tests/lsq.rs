@@ -41,8 +41,12 @@ fn design_form_matches_projection_on_exact_rule() {
     let y = DMatrix::from_fn(rule.len(), 3, |r, c| sky.radiance(rule.directions[r])[c]);
     let sol = solve_design(&a, &y, Some(&rule.weights), LsOptions::default()).unwrap();
     assert_eq!(sol.method, LsMethod::Qr);
-    let samples: Vec<RadianceSample> =
-        rule.directions.iter().zip(&rule.weights).map(|(d, w)| RadianceSample { direction: *d, value: sky.radiance(*d), weight: *w }).collect();
+    let samples: Vec<RadianceSample> = rule
+        .directions
+        .iter()
+        .zip(&rule.weights)
+        .map(|(d, w)| RadianceSample { direction: *d, value: sky.radiance(*d), weight: *w })
+        .collect();
     let m = moments(&sh, &samples);
     let err = (&sol.coeffs - &m).abs().max();
     assert!(err < 1e-12, "design vs projection {err:e}");
@@ -79,7 +83,9 @@ fn gram_and_design_forms_agree() {
 fn stiff_cases_report_condition_and_rank() {
     let vogel = sbf::layout::vogel_sphere(12).unwrap();
     let samples = sky_samples();
-    for (label, basis) in [("λ=0.25", SgBasis::new(&vogel, 0.25, false).unwrap()), ("λ=0.05 + ambient", SgBasis::new(&vogel, 0.05, true).unwrap())] {
+    for (label, basis) in
+        [("λ=0.25", SgBasis::new(&vogel, 0.25, false).unwrap()), ("λ=0.05 + ambient", SgBasis::new(&vogel, 0.05, true).unwrap())]
+    {
         let g = gram_matrix(&basis, Domain::Sphere, GramOptions::default()).unwrap();
         let m = moments(&basis, &samples);
         let sol = solve_gram(&g.matrix, &m, LsOptions::default()).unwrap();
@@ -91,7 +97,9 @@ fn stiff_cases_report_condition_and_rank() {
         assert!(resid < 1e-6, "{label}: moment residual {resid:e}");
     }
     // math.md: SG12 λ = 0.25 has cond ≈ 3e7.
-    let c = sbf::gram::condition_number(&gram_matrix(&SgBasis::new(&vogel, 0.25, false).unwrap(), Domain::Sphere, GramOptions::default()).unwrap().matrix);
+    let c = sbf::gram::condition_number(
+        &gram_matrix(&SgBasis::new(&vogel, 0.25, false).unwrap(), Domain::Sphere, GramOptions::default()).unwrap().matrix,
+    );
     assert!(c > 1e7 && c < 1e8, "cond {c:e}");
 
     let dup = AmbientDiceSrbf::from_axes(&[DVec3::Z, DVec3::Z, DVec3::X, DVec3::NEG_Z], Domain::Sphere).unwrap();

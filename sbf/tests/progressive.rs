@@ -28,7 +28,7 @@ fn sample_at(map: &LatLongImage, d: sbf::glam::DVec3, n: u64) -> RadianceSample 
 fn progressive<T: Real>(basis: &dyn Basis, samples: &[RadianceSample], opts: ProgressiveOptions) -> DMatrix<f64> {
     let mut enc = ProgressiveEncoder::<T>::new(basis.len(), opts);
     for s in samples {
-        enc.add(basis, s);
+        enc.add(basis, s).unwrap();
     }
     enc.coefficients()
 }
@@ -108,7 +108,13 @@ fn weights_are_relative() {
     assert!((&a - &b).abs().max() < 1e-12 * a.abs().max());
     // Zero-weight samples are ignored.
     let mut enc = ProgressiveEncoder::<f64>::new(12, ProgressiveOptions::default());
-    enc.add_sample(&ad, sbf::glam::DVec3::Z, [1e9; 3], 0.0);
+    enc.add_sample(&ad, sbf::glam::DVec3::Z, [1e9; 3], 0.0).unwrap();
+    assert_eq!(enc.sample_count(), 0);
+    // Bad weights, values and basis sizes are errors and leave the state untouched.
+    for (w, v) in [(-1.0, 1.0), (f64::NAN, 1.0), (f64::INFINITY, 1.0), (1.0, f64::NAN)] {
+        assert!(enc.add_sample(&ad, sbf::glam::DVec3::Z, [v; 3], w).is_err());
+    }
+    assert!(enc.add_sample(&sbf::ShBasis::new(2).unwrap(), sbf::glam::DVec3::Z, [1.0; 3], 1.0).is_err());
     assert_eq!(enc.sample_count(), 0);
 }
 
@@ -151,7 +157,8 @@ fn variants_behave() {
     let naive = naive_projection(&moments(&sg, &s), &diag);
     let ra = progressive::<f64>(&sg, &s, ProgressiveOptions::running_average(&diag, 4.0 * PI, false));
     let ls = batch(&sg, &s);
-    let (r_ls, r_naive, r_ra, r_nn) = (rmse_vs_map(&sg, &ls, &map), rmse_vs_map(&sg, &naive, &map), rmse_vs_map(&sg, &ra, &map), rmse_vs_map(&sg, &nn, &map));
+    let (r_ls, r_naive, r_ra, r_nn) =
+        (rmse_vs_map(&sg, &ls, &map), rmse_vs_map(&sg, &naive, &map), rmse_vs_map(&sg, &ra, &map), rmse_vs_map(&sg, &nn, &map));
     println!("LS {r_ls:.4}, progressive NNLS {r_nn:.4}, running average {r_ra:.4}, naive {r_naive:.4}");
     assert!(r_naive > r_ls && r_ra.is_finite());
 }

@@ -25,6 +25,7 @@
 
 use super::RadianceSample;
 use crate::basis::Basis;
+use crate::error::SbfError;
 use glam::DVec3;
 use nalgebra::DMatrix;
 
@@ -165,12 +166,19 @@ impl<T: Real> ProgressiveEncoder<T> {
         }
     }
 
-    /// Adds one sample (and its mirrored zero twin if configured). `weight` must be
-    /// > 0; zero-weight samples are ignored. Requires `basis.len()` lobes.
-    pub fn add_sample(&mut self, basis: &dyn Basis, direction: DVec3, value: [f64; 3], weight: f64) {
-        debug_assert_eq!(basis.len(), self.amplitudes.len());
-        if !(weight > 0.0) {
-            return;
+    /// Adds one sample (and its mirrored zero twin if configured). Zero-weight
+    /// samples are ignored; a negative or non-finite weight, a non-finite value, or a
+    /// basis of the wrong size is an error (the state is left unchanged).
+    pub fn add_sample(&mut self, basis: &dyn Basis, direction: DVec3, value: [f64; 3], weight: f64) -> Result<(), SbfError> {
+        crate::error::check_len("basis size vs encoder lobes", self.amplitudes.len(), basis.len())?;
+        if !weight.is_finite() || weight < 0.0 {
+            return Err(SbfError::InvalidParameter { name: "sample weight", value: weight, reason: "must be finite and >= 0" });
+        }
+        if let Some(v) = value.iter().find(|v| !v.is_finite()) {
+            return Err(SbfError::InvalidParameter { name: "sample value", value: *v, reason: "must be finite" });
+        }
+        if weight == 0.0 {
+            return Ok(());
         }
         let mut b = std::mem::take(&mut self.scratch);
         basis.eval_into(direction, &mut b);
@@ -180,15 +188,19 @@ impl<T: Real> ProgressiveEncoder<T> {
             self.update(&b, [0.0; 3], weight);
         }
         self.scratch = b;
+        Ok(())
     }
 
-    /// Adds a [`RadianceSample`].
-    pub fn add(&mut self, basis: &dyn Basis, s: &RadianceSample) {
-        self.add_sample(basis, s.direction, s.value, s.weight);
+    /// Adds a [`RadianceSample`] (see [`Self::add_sample`]).
+    pub fn add(&mut self, basis: &dyn Basis, s: &RadianceSample) -> Result<(), SbfError> {
+        self.add_sample(basis, s.direction, s.value, s.weight)
     }
 
     /// One update with precomputed basis values `b` (the GPU kernel's body).
+    /// Preconditions (debug-asserted): `b.len()` = lobes, `weight` > 0 and finite.
     pub fn update(&mut self, b: &[f64], value: [f64; 3], weight: f64) {
+        debug_assert_eq!(b.len(), self.amplitudes.len());
+        debug_assert!(weight > 0.0 && weight.is_finite());
         let n = self.amplitudes.len();
         self.samples += 1;
         self.total_weight = self.total_weight + T::from_f64(weight);
@@ -212,7 +224,7 @@ impl<T: Real> ProgressiveEncoder<T> {
                 Denominator::ClampToTrue(t) => self.integrals[i].max(T::from_f64(t[i])),
                 Denominator::Raw => self.integrals[i],
             };
-            if !(denom > T::ZERO) {
+            if denom.partial_cmp(&T::ZERO) != Some(std::cmp::Ordering::Greater) {
                 continue; // B_i has been zero on every sample so far
             }
             let scale = acc * s * bi / denom;
