@@ -9,7 +9,6 @@
 //! SVD fallback when R has a negligible diagonal entry (rank deficiency).
 
 use crate::error::{check_len, SbfError};
-use crate::gram::condition_number;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 /// Options for the batch least-squares solvers.
@@ -80,7 +79,8 @@ pub fn solve_gram(g: &DMatrix<f64>, m: &DMatrix<f64>, opts: LsOptions) -> Result
     let lmax = eig.eigenvalues.iter().fold(0.0f64, |x, v| x.max(v.abs()));
     let cut = opts.rank_tolerance * lmax;
     let rank = eig.eigenvalues.iter().filter(|v| **v > cut).count();
-    let condition = condition_number(&a);
+    let lmin = eig.eigenvalues.iter().fold(f64::INFINITY, |x, v| x.min(v.abs()));
+    let condition = if lmin > 0.0 { lmax / lmin } else { f64::INFINITY };
     if rank == n {
         if let Some(ch) = a.clone().cholesky() {
             return Ok(LsSolution { coeffs: ch.solve(m), method: LsMethod::Cholesky, rank, condition });
