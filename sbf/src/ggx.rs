@@ -98,3 +98,47 @@ pub fn vndf_reflected_pdf(v: DVec3, l: DVec3, alpha: f64) -> f64 {
     }
     vndf_pdf(v, h, alpha) / (4.0 * vh)
 }
+
+/// Schlick's Fresnel weight F_c = (1 − v·h)⁵, so that F = f0·(1 − F_c) + f90·F_c.
+#[inline]
+pub fn schlick_weight(v_dot_h: f64) -> f64 {
+    let x = (1.0 - v_dot_h).clamp(0.0, 1.0);
+    let x2 = x * x;
+    x2 * x2 * x
+}
+
+/// One split-sum DFG entry (Karis 2013): for view cosine `n_dot_v` and α, the
+/// directional albedo split as (∫(1 − F_c)·f·cos, ∫F_c·f·cos), so that
+/// E = f0·x + f90·y. Estimated with `samples` visible-normal samples from the
+/// Hammersley set (weight G2/G1 per sample; Heitz 2018). `n_dot_v` is clamped to
+/// [1e-6, 1] and α to [1e-4, 1] (documented clamps: the integrand is undefined at
+/// n·v = 0 and α = 0).
+pub fn dfg_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
+    let nv = n_dot_v.clamp(1e-6, 1.0);
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
+    let mut acc = [0.0; 2];
+    let n = samples.max(1);
+    for i in 0..n {
+        let u = crate::sampling::hammersley2(i as u64, n as u64);
+        let h = sample_vndf(v, alpha, u);
+        let l = reflect(v, h);
+        if l.z <= 0.0 {
+            continue;
+        }
+        let w = g2(v, l, alpha) / g1(v, alpha);
+        let fc = schlick_weight(v.dot(h));
+        acc[0] += (1.0 - fc) * w;
+        acc[1] += fc * w;
+    }
+    acc.map(|a| a / n as f64)
+}
+
+/// Multiple-scattering DFG entry in the form used by public engines: (ΣF_c·V, ΣV)
+/// with V = G2/G1, so that single-scatter E = mix(x, y, f0) and the multiscatter
+/// compensation uses y (Fdez-Agüera 2019; Filament). Same sampling and clamps as
+/// [`dfg_entry`].
+pub fn dfg_multiscatter_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
+    let [x, y] = dfg_entry(n_dot_v, alpha, samples);
+    [y, x + y]
+}

@@ -15,6 +15,7 @@
 //! | [`quadrature`] | Gauss–Legendre, product rules on sphere/hemisphere, compensated sums, [`Domain`] |
 //! | [`envmap`] | lat-long and cube-map geometry, exact texel solid angles, bilinear lookup, map quadrature, the built-in [`envmap::ProceduralSky`] |
 //! | [`gram`] | Gram matrices (closed form or quadrature with error estimate), condition numbers, Cholesky solve |
+//! | [`recon`] | Lambert irradiance and GGX specular from coefficients (SH, SG, Ambient Dice, projected), reference integrators |
 //! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
 //! | [`error`] | [`SbfError`] and input checks |
 //!
@@ -48,6 +49,7 @@ pub mod ggx;
 pub mod gram;
 pub mod layout;
 pub mod quadrature;
+pub mod recon;
 pub mod sampling;
 pub mod solve;
 

@@ -1,0 +1,153 @@
+//! Lambert irradiance and GGX specular from radiance-encoding Ambient Dice SRBF
+//! lobes (seed 004 §8.4).
+//!
+//! Irradiance of one lobe, in E/π units, as a function of c = cos θ, θ the angle
+//! between the lobe axis and the normal, is the quartic
+//!   I(c) = 19/320 + 31c/240 + 3c²/40 − c⁴/192,   valid for all θ ∈ [0, π].
+//! Derivation (ours): in polar coordinates t about the lobe axis, the φ-integral of
+//! max(0, ω·n) is 2π·cos t·c where the ring is fully visible and
+//! 2(A·acos(−A/B) + √(B² − A²)) (A = cos t·c, B = sin t·s) where it is clipped;
+//! with x = cos t, the acos term integrates by parts (d/dx asin(xc/(s√(1 − x²))) =
+//! c/((1 − x²)√(s² − x²))) and every remaining integral is a Wallis integral, so all
+//! π factors cancel. Checks: I(1) = 2∫(0.35x² + 0.25x⁴)x dx = 0.258333…, I(−1) = 0,
+//! and Σ over the 12 icosahedron lobes of I(c_i) = 1 (Σc_i = 0, Σc_i² = 4,
+//! Σc_i⁴ = 12/5), the partition of unity carried through the convolution.
+//!
+//! The seed prints a longer closed form (eq. 8.13 for θ < π/2, eq. 8.11 with an
+//! arctangent for θ ≥ π/2). In our copy of the seed it agrees with the quartic at
+//! θ = 0, π/2 and π but deviates by up to 2.0e-3 in between (a test measures it
+//! against an independent quadrature); we use the quartic, which matches that
+//! quadrature to rounding.
+//!
+//! Quadratic fits (c clamped to [−1, 1]): seed eq. 8.14, 0.05981 + 0.12918c + 0.07056c²,
+//! and the constants of seed Listing 8.1, 0.06 + 0.129c + 0.0697c², which are the
+//! minimax quadratic of the quartic to three digits (c⁴ ≈ c² − 1/8, error 1/1536).
+//!
+//! Specular (Listing 8.1): per lobe, a blend between the lobe evaluated in the mirror
+//! direction and the diffuse fit evaluated at a direction between R and N, with two
+//! polynomial blend weights in √α; multiplied by a LUT value (Listing 8.2) that
+//! holds ground truth / fit for the GGX dominant direction.
+
+use crate::basis::ambient_dice::srbf_lobe;
+use crate::ggx;
+use crate::sampling::hammersley2;
+use glam::DVec3;
+
+/// Exact E/π of one SRBF lobe at c = cos θ (axis·normal), the quartic above.
+#[inline]
+pub fn lobe_irradiance_cos(cos_theta: f64) -> f64 {
+    let c = cos_theta.clamp(-1.0, 1.0);
+    let c2 = c * c;
+    19.0 / 320.0 + c * (31.0 / 240.0) + c2 * (3.0 / 40.0 - c2 / 192.0)
+}
+
+/// Exact E/π of one SRBF lobe whose axis is at angle `theta` ∈ [0, π] from the normal.
+pub fn lobe_irradiance(theta: f64) -> f64 {
+    lobe_irradiance_cos(theta.cos())
+}
+
+/// Quadratic fit coefficients of seed eq. 8.14.
+pub const DIFFUSE_FIT_EQ_8_14: [f64; 3] = [0.05981, 0.12918, 0.07056];
+/// The rounded constants used in seed Listing 8.1.
+pub const DIFFUSE_FIT_LISTING_8_1: [f64; 3] = [0.06, 0.129, 0.0697];
+/// The minimax quadratic of the exact quartic on c ∈ [−1, 1]: replace c⁴ by its
+/// best quadratic approximation c² − 1/8 (Chebyshev: c⁴ − (c² − 1/8) = T₄(c)/8), so
+/// [19/320 + 1/1536, 31/240, 3/40 − 1/192] with max error exactly 1/1536 ≈ 6.5e-4.
+pub const DIFFUSE_FIT_MINIMAX: [f64; 3] = [19.0 / 320.0 + 1.0 / 1536.0, 31.0 / 240.0, 3.0 / 40.0 - 1.0 / 192.0];
+
+/// Quadratic lobe-irradiance fit p₀ + p₁c + p₂c² at c = cos θ ∈ [−1, 1].
+#[inline]
+pub fn lobe_irradiance_fit(p: &[f64; 3], cos_theta: f64) -> f64 {
+    let c = cos_theta.clamp(-1.0, 1.0);
+    p[0] + c * (p[1] + c * p[2])
+}
+
+/// E/π at unit normal `n` from one channel of SRBF radiance coefficients, exact.
+pub fn irradiance(lobes: &[DVec3], coeffs: &[f64], n: DVec3) -> f64 {
+    lobes.iter().zip(coeffs).map(|(p, b)| b * lobe_irradiance_cos(p.dot(n))).sum()
+}
+
+/// E/π at unit normal `n` with the quadratic fit `p`.
+pub fn irradiance_fit(lobes: &[DVec3], coeffs: &[f64], n: DVec3, p: &[f64; 3]) -> f64 {
+    lobes.iter().zip(coeffs).map(|(l, b)| b * lobe_irradiance_fit(p, l.dot(n))).sum()
+}
+
+/// The eight blend-polynomial parameters of seed Listing 8.1 (`kAmbientDiceParameters`).
+pub const SPECULAR_FIT_LISTING_8_1: [f64; 8] = [
+    3.0498910522220495,
+    -6.983002509990005,
+    7.388270435580356,
+    -2.662756921813306,
+    -0.4005429486854629,
+    5.626699351644211,
+    -6.040098716506305,
+    1.9006124935607012,
+];
+
+/// Per-lobe specular fit of Listing 8.1 *before* the LUT factor: blend of
+/// B(R·lobe) and the diffuse fit at mix(R·lobe, N·lobe, focus), with
+/// focus = saturate(k₀√α + k₁α + k₂α√α + k₃α²) and
+/// alpha_lerp = saturate(k₄√α + k₅α + k₆α√α + k₇α²).
+pub fn lobe_specular_fit(params: &[f64; 8], diffuse: &[f64; 3], lobe: DVec3, n: DVec3, v: DVec3, alpha: f64) -> f64 {
+    let n_dot_lobe = n.dot(lobe);
+    let r = ggx::reflect(v, n); // reflect(−v, n) in shading-language convention = 2(n·v)n − v
+    let r_dot_lobe = r.dot(lobe);
+    let basis_mirror = srbf_lobe(r_dot_lobe);
+    let sa = alpha.sqrt();
+    let poly = |k: &[f64]| (k[0] * sa + k[1] * alpha + k[2] * sa * alpha + k[3] * alpha * alpha).clamp(0.0, 1.0);
+    let focus = poly(&params[0..4]);
+    let diffuse_param = r_dot_lobe + (n_dot_lobe - r_dot_lobe) * focus;
+    let d = lobe_irradiance_fit(diffuse, diffuse_param);
+    let alpha_lerp = poly(&params[4..8]);
+    basis_mirror + (d - basis_mirror) * alpha_lerp
+}
+
+/// GGX dominant direction (Listing 8.2, after Lagarde & de Rousiers 2014):
+/// normalize(mix(N, R, s·(√s + α))) with s = saturate(1 − α).
+pub fn ggx_dominant_direction(n: DVec3, r: DVec3, alpha: f64) -> DVec3 {
+    let s = (1.0 - alpha).clamp(0.0, 1.0);
+    let f = s * (s.sqrt() + alpha);
+    (n + (r - n) * f).normalize()
+}
+
+/// Ground-truth GGX response of one SRBF lobe for f0 and f90 (∫B·(1 − F_c)·f·cos,
+/// ∫B·F_c·f·cos) with the normal at +Z, view at cos θ_v = `n_dot_v` in the YZ plane,
+/// and the lobe axis `lobe`, by `samples` Hammersley visible-normal samples.
+pub fn lobe_specular_reference(lobe: DVec3, n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
+    let nv = n_dot_v.clamp(1e-6, 1.0);
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let v = DVec3::new(0.0, (1.0 - nv * nv).max(0.0).sqrt(), nv);
+    let g1 = ggx::g1(v, alpha);
+    let k = samples.max(1);
+    let mut acc = [0.0; 2];
+    for i in 0..k {
+        let h = ggx::sample_vndf(v, alpha, hammersley2(i as u64, k as u64));
+        let l = ggx::reflect(v, h);
+        if l.z <= 0.0 {
+            continue;
+        }
+        let w = ggx::g2(v, l, alpha) / g1 * srbf_lobe(lobe.dot(l));
+        let fc = ggx::schlick_weight(v.dot(h));
+        acc[0] += (1.0 - fc) * w;
+        acc[1] += fc * w;
+    }
+    acc.map(|a| a / k as f64)
+}
+
+/// One entry of the Ambient Dice specular LUT (seed Listing 8.2): ground truth for a
+/// lobe along the GGX dominant direction, divided by the fit's value there.
+pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
+    let nv = n_dot_v.clamp(1e-6, 1.0);
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let n = DVec3::Z;
+    let v = DVec3::new(0.0, (1.0 - nv * nv).max(0.0).sqrt(), nv);
+    let r = ggx::reflect(v, n);
+    let lobe = ggx_dominant_direction(n, r, alpha);
+    let fit = lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, lobe, n, v, alpha);
+    let gt = lobe_specular_reference(lobe, nv, alpha, samples);
+    if fit > 0.0 {
+        gt.map(|g| g / fit)
+    } else {
+        [0.0; 2]
+    }
+}

@@ -1,0 +1,16 @@
+//! Reconstruction of Lambert irradiance and GGX specular from basis coefficients,
+//! and the reference integrators every method is judged by.
+//!
+//! | what | where |
+//! |---|---|
+//! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`] |
+//! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
+//! | Ambient Dice SRBF: analytic lobe irradiance (seed eq. 8.11/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
+//!
+//! Units: irradiance functions return **E/π** (what a white Lambertian surface
+//! reflects), matching the reports. Specular returns ∫ L·f_r·cos with Schlick's
+//! Fresnel F = f0(1 − F_c) + f90·F_c.
+
+pub mod ambient_dice;
+pub mod reference;
+pub mod sh;
