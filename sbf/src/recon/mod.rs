@@ -5,6 +5,7 @@
 //! |---|---|
 //! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`] |
 //! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
+//! | SG: exact convolution, Hill's fit, cosine-SG inner product, punctual; ASG and plain-SG specular warps | [`sg`] |
 //! | Ambient Dice SRBF: analytic lobe irradiance (seed eq. 8.11/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
 //!
 //! Units: irradiance functions return **E/π** (what a white Lambertian surface
@@ -13,4 +14,5 @@
 
 pub mod ambient_dice;
 pub mod reference;
+pub mod sg;
 pub mod sh;

@@ -1,0 +1,154 @@
+//! SG irradiance (exact, Hill, cosine-SG, punctual) and specular warps.
+mod common;
+
+use sbf::glam::DVec3;
+use sbf::quadrature::{Domain, SphereQuadrature};
+use sbf::recon::reference::ggx_specular;
+use sbf::recon::sg::*;
+use sbf::Sg;
+use std::f64::consts::PI;
+
+fn lobe_at(theta: f64, lambda: f64) -> Sg {
+    Sg::new(DVec3::new(theta.sin(), 0.0, theta.cos()), lambda, 1.0).unwrap()
+}
+
+/// The numeric convolution equals a brute-force product rule on the hemisphere
+/// (1000×2000 nodes, accurate to ~1e-9 for λ ≤ 16) to 1e-8 relative to the lobe's
+/// peak irradiance.
+#[test]
+fn exact_matches_brute_force() {
+    let q = SphereQuadrature::gauss_product(Domain::UpperHemisphere, 1000, 2000);
+    for lambda in [1e-3, 0.5, 4.0, 16.0] {
+        let peak = irradiance_exact(&lobe_at(0.0, lambda), DVec3::Z);
+        for theta in [0.0, 0.7, 1.5, 2.2, 3.0] {
+            let sg = lobe_at(theta, lambda);
+            let e = irradiance_exact(&sg, DVec3::Z);
+            let b = q.integrate(|w| sg.eval(w) * w.z) / PI;
+            assert!((e - b).abs() < 1e-8 * peak, "λ={lambda} θ={theta}: {e} vs {b}");
+        }
+    }
+}
+
+/// Hill's fit vs the exact convolution over λ ∈ [0.5, 64] and θ ∈ [0, π]: the table
+/// (max and RMS absolute error relative to the lobe's peak E/π) for the published
+/// fit and for the runtime function (zonal expansion below λ = 2) is printed and
+/// quoted in the closing note. Bars: the runtime function within 2% of the peak
+/// everywhere (measured max 1.7% at λ = 8); the published fit's breakdown below
+/// λ = 1 is pinned (> 50% at λ = 0.5) so a change in it is noticed.
+#[test]
+fn hill_fit_table() {
+    println!("{:>6} {:>12} {:>12} {:>14} {:>12}   (error / peak E/π, 181 angles)", "λ", "fit max", "fit RMS", "runtime max", "runtime RMS");
+    let mut worst_runtime = 0.0f64;
+    for lambda in [0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 16.0, 32.0, 64.0] {
+        let peak = irradiance_exact(&lobe_at(0.0, lambda), DVec3::Z);
+        let (mut mx, mut ss, mut mr, mut sr) = (0.0f64, 0.0, 0.0f64, 0.0);
+        for k in 0..=180 {
+            let sg = lobe_at(PI * k as f64 / 180.0, lambda);
+            let e = irradiance_exact(&sg, DVec3::Z);
+            let d = (hill_fit(&sg, DVec3::Z) - e) / peak;
+            let r = (irradiance_hill(&sg, DVec3::Z) - e) / peak;
+            mx = mx.max(d.abs());
+            ss += d * d;
+            mr = mr.max(r.abs());
+            sr += r * r;
+        }
+        println!("{lambda:>6} {mx:>12.3e} {:>12.3e} {mr:>14.3e} {:>12.3e}", (ss / 181.0).sqrt(), (sr / 181.0).sqrt());
+        worst_runtime = worst_runtime.max(mr);
+        if lambda == 0.5 {
+            assert!(mx > 0.5, "published fit at λ = 0.5: {mx}");
+        }
+    }
+    assert!(worst_runtime < 0.02, "runtime SG irradiance worst relative error {worst_runtime}");
+}
+
+/// The zonal expansion equals the exact convolution for broad lobes (λ ≤ 2) to 1e-6
+/// of the peak.
+#[test]
+fn zonal_expansion_matches_exact() {
+    for lambda in [0.0, 1e-6, 0.1, 1.0, 2.0] {
+        let peak = irradiance_exact(&lobe_at(0.0, lambda), DVec3::Z);
+        for k in 0..=36 {
+            let sg = lobe_at(PI * k as f64 / 36.0, lambda);
+            let d = (irradiance_zonal(&sg, DVec3::Z) - irradiance_exact(&sg, DVec3::Z)).abs();
+            assert!(d < 1e-6 * peak, "λ={lambda} k={k}: {d:e}");
+        }
+    }
+}
+
+/// λ → 0: the lobe becomes the constant μ, so E/π → μ at every normal (no π
+/// factor lost), continuously across the small-λ switch at 0.01.
+#[test]
+fn hill_small_lambda() {
+    for lambda in [0.0, 1e-8, 1e-4, 0.01, 1.0] {
+        for theta in [0.0, 1.0, 2.0, PI] {
+            let sg = Sg::new(DVec3::new(theta.sin(), 0.0, theta.cos()), lambda, 2.0).unwrap();
+            let h = irradiance_hill(&sg, DVec3::Z);
+            let e = irradiance_exact(&sg, DVec3::Z);
+            assert!(h.is_finite() && (h - e).abs() < 1e-6 * 2.0, "λ={lambda} θ={theta}: hill {h} exact {e}");
+        }
+    }
+    let tiny = Sg::new(DVec3::X, 1e-9, 2.0).unwrap();
+    assert!((irradiance_hill(&tiny, DVec3::Z) - 2.0).abs() < 1e-8);
+    // The switch to Hill's fit at λ = 2 jumps by at most its error there (< 2% of peak).
+    let a = irradiance_hill(&lobe_at(0.3, 2.0 - 1e-9), DVec3::Z);
+    let b = irradiance_hill(&lobe_at(0.3, 2.0), DVec3::Z);
+    assert!((a - b).abs() < 0.02 * irradiance_exact(&lobe_at(0.0, 2.0), DVec3::Z), "switch jump {}", (a - b).abs());
+}
+
+/// Cosine-SG and punctual approximations: finite, and right in their limits
+/// (punctual exact for λ → ∞; cosine-SG within 5% of exact for a broad lobe).
+#[test]
+fn other_irradiance_approximations() {
+    let sharp = lobe_at(0.4, 1e4);
+    let (p, e) = (irradiance_punctual(&sharp, DVec3::Z), irradiance_exact(&sharp, DVec3::Z));
+    assert!((p - e).abs() < 1e-3 * e, "punctual {p} vs exact {e}");
+    let broad = lobe_at(0.4, 2.0);
+    let (c, e) = (irradiance_cosine_sg(&broad, DVec3::Z), irradiance_exact(&broad, DVec3::Z));
+    assert!((c - e).abs() < 0.05 * e, "cosine-SG {c} vs exact {e}");
+}
+
+/// Specular warps against the visible-normal reference with the SG as the light,
+/// f0 = f90 = 1, normal +Z: printed table of relative errors; the ASG warp must be
+/// within 25% for these moderate cases (the warps are approximations; their error
+/// is what probes reports), and both are finite everywhere.
+#[test]
+fn specular_warps_vs_reference() {
+    for (alpha, theta_v, lam) in [(0.3, 0.3f64, 6.0), (0.5, 0.8, 6.0), (0.3, 1.2, 16.0)] {
+        let v = DVec3::new(theta_v.sin(), 0.0, theta_v.cos());
+        let r = sbf::ggx::reflect(v, DVec3::Z);
+        let light = Sg::new(r, lam, 1.0).unwrap();
+        let reference = ggx_specular(|w| [light.eval(w); 3], DVec3::Z, v, alpha, 1.0, 1.0, 1 << 15)[0];
+        let asg = specular_asg_warp(&light, DVec3::Z, v, alpha, 1.0, 1.0);
+        let sgw = specular_sg_warp(&light, DVec3::Z, v, alpha, 1.0, 1.0);
+        println!(
+            "α={alpha} θv={theta_v} λ={lam}: reference {reference:.5}, ASG {asg:.5} ({:+.1}%), SG {sgw:.5} ({:+.1}%)",
+            100.0 * (asg / reference - 1.0),
+            100.0 * (sgw / reference - 1.0)
+        );
+        assert!((asg / reference - 1.0).abs() < 0.25);
+    }
+}
+
+/// Stiff and extreme inputs: α ∈ [1e-4, 1], n·v ∈ [1e-6, 1], λ up to 1e4 → finite.
+#[test]
+fn extremes_are_finite() {
+    for alpha in [1e-4, 1e-2, 0.5, 1.0] {
+        for nv in [1e-6, 1e-3, 0.5, 1.0] {
+            let v = DVec3::new((1.0f64 - nv * nv).sqrt(), 0.0, nv);
+            for lam in [1e-4, 1.0, 1e4] {
+                for light_axis in [DVec3::Z, sbf::ggx::reflect(v, DVec3::Z), DVec3::NEG_Z, DVec3::X] {
+                    let l = Sg::new(light_axis, lam, 1e6).unwrap();
+                    let vals = [
+                        specular_asg_warp(&l, DVec3::Z, v, alpha, 0.04, 1.0),
+                        specular_sg_warp(&l, DVec3::Z, v, alpha, 0.04, 1.0),
+                        irradiance_hill(&l, DVec3::Z),
+                        irradiance_exact(&l, DVec3::Z),
+                        irradiance_cosine_sg(&l, DVec3::Z),
+                        irradiance_punctual(&l, DVec3::Z),
+                    ];
+                    assert!(vals.iter().all(|x| x.is_finite() && *x >= 0.0), "α={alpha} n·v={nv} λ={lam} axis={light_axis}: {vals:?}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,122 @@
+//! SH irradiance: band factors, constant radiance, Geomerics and ZH3, windowing.
+mod common;
+
+use sbf::basis::sh::sh_count;
+use sbf::glam::DVec3;
+use sbf::recon::sh::*;
+use sbf::{Basis, ShBasis};
+use std::f64::consts::PI;
+
+/// A_l against the closed form's values (A₂ = π/4, A₄ = −π/24, A₆ = π/64) and
+/// finiteness at high order; the projection-matrix test checks A_l/π numerically.
+#[test]
+fn band_factors() {
+    assert_eq!(lambert_band_factor(0), PI);
+    assert!((lambert_band_factor(1) - 2.0 * PI / 3.0).abs() < 1e-15);
+    assert!((lambert_band_factor(2) - PI / 4.0).abs() < 1e-15);
+    assert!((lambert_band_factor(4) + PI / 24.0).abs() < 1e-15);
+    assert!((lambert_band_factor(6) - PI / 64.0).abs() < 1e-15);
+    assert_eq!(lambert_band_factor(3), 0.0);
+    for l in [100, 1000, 100_000] {
+        let a = lambert_band_factor(l);
+        assert!(a.is_finite() && a.abs() < 1e-3, "A_{l} = {a}");
+    }
+}
+
+/// Constant radiance L projects to c₀₀ = 2√π·L and gives E/π = L at every normal,
+/// for every order and for Geomerics and ZH3 (no L1 vector: both reduce to R₀).
+#[test]
+fn constant_radiance_gives_l() {
+    let l = 1.7;
+    for order in [0, 1, 2, 4, 8] {
+        let mut c = vec![0.0; sh_count(order)];
+        c[0] = 2.0 * PI.sqrt() * l;
+        for n in common::random_directions(91, 50) {
+            assert!((irradiance(&c, n).unwrap() - l).abs() < 1e-13);
+        }
+    }
+    let c1 = [2.0 * PI.sqrt() * l, 0.0, 0.0, 0.0];
+    assert!((irradiance_l1_geomerics(&c1, DVec3::Z) - l).abs() < 1e-13);
+    let z = irradiance_l1_zh3(&[c1; 3], DVec3::Y).unwrap();
+    assert!(z.iter().all(|v| (v - l).abs() < 1e-13), "{z:?}");
+}
+
+/// Geomerics reduces to the exact linear L1 irradiance as |R₁|/R₀ → 0, stays
+/// non-negative for non-negative radiance, and handles R₀ ≤ 0 and |R₁| = 0.
+#[test]
+fn geomerics_limits() {
+    let sh = ShBasis::new(1).unwrap();
+    let dirs = common::random_directions(92, 200);
+    // Radiance 1 + ε·(ω·a): nearly constant.
+    let a = DVec3::new(0.2, -0.5, 0.3);
+    let eps = 1e-4;
+    let mut c = [0.0; 4];
+    for (d, w) in sbf::quadrature::SphereQuadrature::exact_for_degree(sbf::Domain::Sphere, 4)
+        .directions
+        .iter()
+        .zip(sbf::quadrature::SphereQuadrature::exact_for_degree(sbf::Domain::Sphere, 4).weights.iter())
+    {
+        let y = sh.eval(*d);
+        for k in 0..4 {
+            c[k] += w * y[k] * (1.0 + eps * d.dot(a));
+        }
+    }
+    for n in &dirs {
+        let g = irradiance_l1_geomerics(&c, *n);
+        let lin = irradiance_l1_linear(&c, *n);
+        // The difference is second order in ε.
+        assert!((g - lin).abs() < 10.0 * eps * eps, "{n}: {g} vs {lin}");
+    }
+    // A single directional light: radiance is a delta along a, SH L1 coefficients Y(a).
+    let y = sh.eval(DVec3::Y);
+    let delta = [y[0], y[1], y[2], y[3]];
+    for n in &dirs {
+        let g = irradiance_l1_geomerics(&delta, *n);
+        assert!(g.is_finite() && g >= 0.0, "{n}: {g}");
+    }
+    assert!(irradiance_l1_geomerics(&[-1.0, 0.5, 0.0, 0.0], DVec3::Z).is_finite());
+    assert!(irradiance_l1_geomerics(&[0.0, 0.0, 0.0, 0.0], DVec3::Z) == 0.0);
+}
+
+/// ZH3: finite for extreme inputs, equals L1 + a zonal term, and for a single
+/// direction (r = 1) adds 0.68·√5·L0 along the axis.
+#[test]
+fn zh3_behaviour() {
+    let sh = ShBasis::new(1).unwrap();
+    let y = sh.eval(DVec3::Z);
+    let c = [y[0], y[1], y[2], y[3]];
+    let out = irradiance_l1_zh3(&[c; 3], DVec3::Z).unwrap();
+    let a2 = lambert_band_factor(2) / PI;
+    let y20 = (5.0 / (4.0 * PI)).sqrt();
+    let want = irradiance_l1_linear(&c, DVec3::Z) + a2 * 5f64.sqrt() * c[0] * 0.68 * y20;
+    assert!((out[0] - want).abs() < 1e-13, "{out:?} vs {want}");
+    assert!(irradiance_l1_zh3(&[[1e300, -1e300, 1e300, 0.0]; 3], DVec3::X).unwrap().iter().all(|v| v.is_finite()));
+    assert!(irradiance_l1_zh3(&[[f64::NAN, 0.0, 0.0, 0.0]; 3], DVec3::X).is_err());
+}
+
+/// Laplacian window: Newton finds λ that hits the requested energy fraction; the
+/// sinc⁴ deringing returns a non-negative reconstruction on the test directions
+/// and never lowers the negative fraction below zero.
+#[test]
+fn windowing() {
+    // SH L4 of a sharp light: ringing, negative lobes.
+    let sh = ShBasis::new(4).unwrap();
+    let c = sh.eval(DVec3::new(0.3, 0.8, 0.5).normalize());
+    let dirs: Vec<DVec3> = (0..4096).map(|i| sbf::sampling::spherical_fibonacci(i, 4096)).collect();
+    let neg = negative_fraction(&c, &dirs).unwrap();
+    assert!(neg > 0.05, "a delta in L4 rings: negative fraction {neg}");
+    for target in [0.5, 0.1, 1e-3] {
+        let lam = laplacian_window_lambda(&c, target).unwrap();
+        let w = apply_window(&c, |l| laplacian_window(l, lam)).unwrap();
+        let e = |x: &[f64]| {
+            (1..=4).map(|l| ((l * (l + 1)) as f64).powi(2) * (0..2 * l + 1).map(|m| x[l * l + m].powi(2)).sum::<f64>()).sum::<f64>()
+        };
+        assert!((e(&w) / e(&c) - target).abs() < 1e-10, "target {target}: got {}", e(&w) / e(&c));
+    }
+    let (width, windowed) = sinc4_deringing(&c, &dirs).unwrap().expect("DC alone is positive");
+    assert!(minimum_over(&windowed, &dirs).unwrap() >= 0.0);
+    assert!(width > 1.0 && width <= 5.0, "w = {width}");
+    assert_eq!(negative_fraction(&windowed, &dirs).unwrap(), 0.0);
+    assert!(laplacian_window_lambda(&c, 0.0).is_err());
+    assert!(irradiance(&[1.0; 5], DVec3::Z).is_err(), "5 is not (L+1)²");
+}
