@@ -28,6 +28,7 @@
 //!   λx = λ/(8·max(n·v, ε)²), λy = λ/8 (Xu et al. 2013), convolved with the light SG
 //!   (ν = λ_light/2: λ' = νλ_a/(ν + λ_a), amplitude π/√((ν + λx)(ν + λy))), evaluated at
 //!   the light axis, times the same visibility, Fresnel and cosine.
+//!
 //! ε = 1e-4 guards n·v → 0 (public tools use 0.1 or 1e-4).
 
 use crate::basis::sg::sg_unit_inner_product;

@@ -82,7 +82,7 @@ pub fn irradiance_l1_geomerics(c: &[f64; 4], n: DVec3) -> f64 {
     let r0 = c[0] * 0.5 / PI.sqrt();
     let r1 = DVec3::new(c[3], c[1], c[2]) * ((3.0 / (4.0 * PI)).sqrt() / 3.0);
     let len = r1.length();
-    if r0 <= 0.0 || !(len > 0.0) {
+    if r0 <= 0.0 || len.is_nan() || len <= 0.0 {
         return irradiance_l1_linear(c, n);
     }
     let q = 0.5 * (1.0 + n.dot(r1 / len));
