@@ -151,3 +151,15 @@ pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
         [0.0; 2]
     }
 }
+
+/// GGX specular from one channel of SRBF radiance coefficients with the Listing 8.1
+/// fit and a LUT value `lut` = (f0 scale, f90 scale) for (n·v, α) (Listing 8.2):
+/// Σ b_i·fit_i·(f0·lut₀ + f90·lut₁).
+pub fn specular(lobes: &[DVec3], coeffs: &[f64], n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64, lut: [f64; 2]) -> f64 {
+    let s: f64 = lobes
+        .iter()
+        .zip(coeffs)
+        .map(|(l, b)| b * lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, *l, n, v, alpha))
+        .sum();
+    s * (f0 * lut[0] + f90 * lut[1])
+}

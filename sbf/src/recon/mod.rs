@@ -6,6 +6,7 @@
 //! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`] |
 //! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
 //! | SG: exact convolution, Hill's fit, cosine-SG inner product, punctual; ASG and plain-SG specular warps | [`sg`] |
+//! | 2D LUTs with texel-centre bilinear sampling; the AD specular LUT (Listing 8.2) | [`lut`] |
 //! | Ambient Dice SRBF: analytic lobe irradiance (seed eq. 8.11/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
 //!
 //! Units: irradiance functions return **E/π** (what a white Lambertian surface
@@ -13,6 +14,7 @@
 //! Fresnel F = f0(1 − F_c) + f90·F_c.
 
 pub mod ambient_dice;
+pub mod lut;
 pub mod reference;
 pub mod sg;
 pub mod sh;

@@ -1,0 +1,79 @@
+//! Small 2D look-up tables over [0, 1]² with texel-centre sampling, and the Ambient
+//! Dice specular LUT of seed 004 Listing 8.2 built from [`super::ambient_dice`].
+//!
+//! Layout: `width × height` texels, `channels` values each, row-major, row j for
+//! the second axis. Texel (i, j) holds the function at ((i + ½)/width, (j + ½)/height);
+//! lookups interpolate bilinearly and clamp to the outermost texel centres (no
+//! extrapolation). The committed binary form is fitgen's job; this type is what
+//! `sbf` samples at run time.
+
+use crate::error::{check_len, SbfError};
+
+/// A 2D table over [0, 1]² (see module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lut2 {
+    pub width: usize,
+    pub height: usize,
+    pub channels: usize,
+    pub data: Vec<f32>,
+}
+
+impl Lut2 {
+    /// Wraps data; errors on empty dimensions or a wrong length.
+    pub fn new(width: usize, height: usize, channels: usize, data: Vec<f32>) -> Result<Self, SbfError> {
+        if width == 0 || height == 0 || channels == 0 {
+            return Err(SbfError::InvalidParameter { name: "LUT size", value: 0.0, reason: "dimensions must be > 0" });
+        }
+        check_len("LUT data", width * height * channels, data.len())?;
+        Ok(Lut2 { width, height, channels, data })
+    }
+
+    /// Tabulates `f(u, v)` at texel centres (u along width, v along height).
+    pub fn from_fn(width: usize, height: usize, channels: usize, mut f: impl FnMut(f64, f64) -> Vec<f64>) -> Result<Self, SbfError> {
+        let mut data = Vec::with_capacity(width * height * channels);
+        for j in 0..height {
+            for i in 0..width {
+                let v = f((i as f64 + 0.5) / width as f64, (j as f64 + 0.5) / height as f64);
+                check_len("LUT entry channels", channels, v.len())?;
+                data.extend(v.iter().map(|x| *x as f32));
+            }
+        }
+        Lut2::new(width, height, channels, data)
+    }
+
+    /// Texel (i, j), channel c.
+    pub fn texel(&self, i: usize, j: usize, c: usize) -> f32 {
+        self.data[(j * self.width + i) * self.channels + c]
+    }
+
+    /// Bilinear lookup at (u, v) ∈ [0, 1]², clamped to texel centres; writes
+    /// `channels` values into `out`.
+    pub fn sample_into(&self, u: f32, v: f32, out: &mut [f32]) {
+        debug_assert_eq!(out.len(), self.channels);
+        let coord = |t: f32, n: usize| {
+            let x = (t * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
+            let i0 = (x.floor() as usize).min(n - 1);
+            (i0, (i0 + 1).min(n - 1), x - i0 as f32)
+        };
+        let (i0, i1, fx) = coord(if u.is_nan() { 0.0 } else { u }, self.width);
+        let (j0, j1, fy) = coord(if v.is_nan() { 0.0 } else { v }, self.height);
+        for (c, o) in out.iter_mut().enumerate() {
+            let a = self.texel(i0, j0, c) * (1.0 - fx) + self.texel(i1, j0, c) * fx;
+            let b = self.texel(i0, j1, c) * (1.0 - fx) + self.texel(i1, j1, c) * fx;
+            *o = a * (1.0 - fy) + b * fy;
+        }
+    }
+
+    /// Two-channel convenience lookup.
+    pub fn sample2(&self, u: f32, v: f32) -> [f32; 2] {
+        let mut o = [0.0; 2];
+        self.sample_into(u, v, &mut o[..self.channels.min(2)]);
+        o
+    }
+}
+
+/// The Ambient Dice specular LUT (Listing 8.2) over (n·v, α) at texel centres,
+/// two channels (f0, f90 scales), each entry from `samples` visible-normal samples.
+pub fn ad_specular_lut(n_nv: usize, n_alpha: usize, samples: u32) -> Result<Lut2, SbfError> {
+    Lut2::from_fn(n_nv, n_alpha, 2, |nv, alpha| super::ambient_dice::specular_lut_entry(nv, alpha, samples).to_vec())
+}
