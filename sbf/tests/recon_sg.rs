@@ -152,3 +152,14 @@ fn extremes_are_finite() {
         }
     }
 }
+
+/// Constant radiance through the ambient function: E/π = L at every normal.
+#[test]
+fn ambient_lobe_constant() {
+    let b = sbf::SgBasis::new(&sbf::layout::vogel_sphere(12).unwrap(), 6.0, true).unwrap();
+    let mut c = vec![0.0; 13];
+    c[12] = 2.5;
+    for n in common::random_directions(8, 100) {
+        assert_eq!(irradiance_basis(&b, &c, n), 2.5);
+    }
+}

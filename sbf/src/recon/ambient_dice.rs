@@ -84,22 +84,41 @@ pub const SPECULAR_FIT_LISTING_8_1: [f64; 8] = [
     1.9006124935607012,
 ];
 
-/// Per-lobe specular fit of Listing 8.1 *before* the LUT factor: blend of
-/// B(R·lobe) and the diffuse fit at mix(R·lobe, N·lobe, focus), with
-/// focus = saturate(k₀√α + k₁α + k₂α√α + k₃α²) and
-/// alpha_lerp = saturate(k₄√α + k₅α + k₆α√α + k₇α²).
+/// The per-pixel part of Listing 8.1's fit: reflection vector and the two blend
+/// weights focus = saturate(k₀√α + k₁α + k₂α√α + k₃α²) and
+/// alpha_lerp = saturate(k₄√α + k₅α + k₆α√α + k₇α²); [`SpecularFit::lobe`] blends
+/// B(R·lobe) with the diffuse fit at mix(R·lobe, N·lobe, focus) for one lobe.
+#[derive(Debug, Clone, Copy)]
+pub struct SpecularFit {
+    n: DVec3,
+    r: DVec3,
+    focus: f64,
+    alpha_lerp: f64,
+    diffuse: [f64; 3],
+}
+
+impl SpecularFit {
+    /// For unit normal n, unit view v and roughness α with the given parameter sets.
+    pub fn new(params: &[f64; 8], diffuse: &[f64; 3], n: DVec3, v: DVec3, alpha: f64) -> Self {
+        let r = ggx::reflect(v, n); // reflect(−v, n) in shading-language convention
+        let sa = alpha.sqrt();
+        let poly = |k: &[f64]| (k[0] * sa + k[1] * alpha + k[2] * sa * alpha + k[3] * alpha * alpha).clamp(0.0, 1.0);
+        SpecularFit { n, r, focus: poly(&params[0..4]), alpha_lerp: poly(&params[4..8]), diffuse: *diffuse }
+    }
+
+    /// The fit's value for one lobe axis.
+    pub fn lobe(&self, lobe: DVec3) -> f64 {
+        let r_dot = self.r.dot(lobe);
+        let n_dot = self.n.dot(lobe);
+        let mirror = srbf_lobe(r_dot);
+        let d = lobe_irradiance_fit(&self.diffuse, r_dot + (n_dot - r_dot) * self.focus);
+        mirror + (d - mirror) * self.alpha_lerp
+    }
+}
+
+/// Per-lobe specular fit of Listing 8.1 *before* the LUT factor (see [`SpecularFit`]).
 pub fn lobe_specular_fit(params: &[f64; 8], diffuse: &[f64; 3], lobe: DVec3, n: DVec3, v: DVec3, alpha: f64) -> f64 {
-    let n_dot_lobe = n.dot(lobe);
-    let r = ggx::reflect(v, n); // reflect(−v, n) in shading-language convention = 2(n·v)n − v
-    let r_dot_lobe = r.dot(lobe);
-    let basis_mirror = srbf_lobe(r_dot_lobe);
-    let sa = alpha.sqrt();
-    let poly = |k: &[f64]| (k[0] * sa + k[1] * alpha + k[2] * sa * alpha + k[3] * alpha * alpha).clamp(0.0, 1.0);
-    let focus = poly(&params[0..4]);
-    let diffuse_param = r_dot_lobe + (n_dot_lobe - r_dot_lobe) * focus;
-    let d = lobe_irradiance_fit(diffuse, diffuse_param);
-    let alpha_lerp = poly(&params[4..8]);
-    basis_mirror + (d - basis_mirror) * alpha_lerp
+    SpecularFit::new(params, diffuse, n, v, alpha).lobe(lobe)
 }
 
 /// GGX dominant direction (Listing 8.2, after Lagarde & de Rousiers 2014):

@@ -6,6 +6,7 @@
 //! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`] |
 //! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
 //! | SG: exact convolution, Hill's fit, cosine-SG inner product, punctual; ASG and plain-SG specular warps | [`sg`] |
+//! | f32 runtime API on glam `Vec3` (SH L1/L2/L4, Geomerics, SG Hill/ASG, AD poly / fit + LUT), batch form | [`runtime`] |
 //! | 2D LUTs with texel-centre bilinear sampling; the AD specular LUT (Listing 8.2) | [`lut`] |
 //! | Ambient Dice SRBF: analytic lobe irradiance (seed eq. 8.11/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
 //!
@@ -16,5 +17,6 @@
 pub mod ambient_dice;
 pub mod lut;
 pub mod reference;
+pub mod runtime;
 pub mod sg;
 pub mod sh;

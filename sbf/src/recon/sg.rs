@@ -213,30 +213,66 @@ pub fn specular_sg_warp(light: &Sg, n: DVec3, v: DVec3, alpha: f64, f0: f64, f90
     warped.inner_product(light) * vis_fresnel_cos(n, v, r, alpha, f0, f90)
 }
 
+/// The per-pixel part of the ASG warp (Xu et al. 2013; Pettineo): the warped NDF
+/// frame and bandwidths and the visibility·Fresnel·cosine tail, which do not depend on
+/// the light lobe. [`AsgWarp::lobe`] adds one SG light.
+#[derive(Debug, Clone, Copy)]
+pub struct AsgWarp {
+    x: DVec3,
+    y: DVec3,
+    z: DVec3,
+    lx: f64,
+    ly: f64,
+    mu: f64,
+    tail: f64,
+}
+
+impl AsgWarp {
+    /// For unit normal n, unit view v, roughness α (clamped to [1e-4, 1]) and Fresnel (f0, f90).
+    pub fn new(n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64) -> Self {
+        let alpha = alpha.clamp(1e-4, 1.0);
+        let a2 = alpha * alpha;
+        let (lam, mu) = (2.0 / a2, 1.0 / (PI * a2));
+        let nv = n.dot(v).max(NV_EPSILON);
+        let z = ggx::reflect(v, n);
+        // Frame of the warped lobe: x in the plane of n and z (stretched), y ⟂ both.
+        let y0 = n.cross(z);
+        let y = if y0.length_squared() > 1e-24 { y0.normalize() } else { crate::basis::ambient_dice_bezier::tangent_frame(z).1 };
+        let x = y.cross(z);
+        AsgWarp { x, y, z, lx: lam / (8.0 * nv * nv), ly: lam / 8.0, mu, tail: vis_fresnel_cos(n, v, z, alpha, f0, f90) }
+    }
+
+    /// Specular from one SG light lobe: the ASG convolved with the SG (ν = λ/2),
+    /// evaluated at the light axis, times the tail.
+    pub fn lobe(&self, light: &Sg) -> f64 {
+        let nu = 0.5 * light.sharpness;
+        let lx2 = nu * self.lx / (nu + self.lx);
+        let ly2 = nu * self.ly / (nu + self.ly);
+        let amp = PI / ((nu + self.lx) * (nu + self.ly)).sqrt();
+        let p = light.axis;
+        let smooth = p.dot(self.z).max(0.0);
+        self.mu * light.amplitude * amp * smooth * (-lx2 * p.dot(self.x).powi(2) - ly2 * p.dot(self.y).powi(2)).exp() * self.tail
+    }
+}
+
 /// GGX specular from one SG light lobe with the anisotropic (ASG) warp.
 pub fn specular_asg_warp(light: &Sg, n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64) -> f64 {
-    let alpha = alpha.clamp(1e-4, 1.0);
-    let a2 = alpha * alpha;
-    let (lam, mu) = (2.0 / a2, 1.0 / (PI * a2));
-    let nv = n.dot(v).max(NV_EPSILON);
-    let z = ggx::reflect(v, n);
-    // Tangent frame of the warped lobe: x in the plane of n and z (stretched), y ⟂.
-    let y0 = n.cross(z);
-    let y = if y0.length_squared() > 1e-24 { y0.normalize() } else { crate::basis::ambient_dice_bezier::tangent_frame(z).1 };
-    let x = y.cross(z);
-    let lx = lam / (8.0 * nv * nv);
-    let ly = lam / 8.0;
-    let nu = 0.5 * light.sharpness;
-    let lx2 = nu * lx / (nu + lx);
-    let ly2 = nu * ly / (nu + ly);
-    let amp = PI / ((nu + lx) * (nu + ly)).sqrt();
-    let p = light.axis;
-    let smooth = p.dot(z).max(0.0);
-    let conv = mu * light.amplitude * amp * smooth * (-lx2 * p.dot(x).powi(2) - ly2 * p.dot(y).powi(2)).exp();
-    conv * vis_fresnel_cos(n, v, z, alpha, f0, f90)
+    AsgWarp::new(n, v, alpha, f0, f90).lobe(light)
 }
 
 /// Sum over lobes of one channel: Σ b_i·method(lobe_i).
 pub fn sum_lobes(axes: &[DVec3], sharpness: &[f64], coeffs: &[f64], f: impl Fn(&Sg) -> f64) -> f64 {
     axes.iter().zip(sharpness).zip(coeffs).map(|((a, l), b)| f(&Sg { axis: *a, sharpness: *l, amplitude: *b })).sum()
+}
+
+/// E/π from one channel of coefficients of an [`crate::SgBasis`] (lobes through
+/// [`irradiance_hill`], the optional ambient function through its exact E/π, which
+/// is its coefficient: a constant radiance c reflects c).
+pub fn irradiance_basis(basis: &crate::SgBasis, coeffs: &[f64], n: DVec3) -> f64 {
+    let k = basis.lobe_count();
+    let mut e: f64 = (0..k).map(|i| coeffs[i] * irradiance_hill(&basis.lobe(i), n)).sum();
+    if basis.has_ambient() {
+        e += coeffs[k];
+    }
+    e
 }

@@ -9,7 +9,8 @@
 //! - [`Kernel::Delta`]: K_j = A_j (plain basis conversion, e.g. SG ↔ AD, SH → H-basis).
 //! - [`Kernel::Lambert`]: K_j(s) = (1/π)∫_{ω·s>0} A_j(ω)(ω·s) dω, i.e. E/π — the
 //!   "irradiance" signal as reports store it. Inner rule: Gauss–Legendre × trapezoid
-//!   on the hemisphere about s (exact for polynomial A, such as SH).
+//!   on the hemisphere about s (exact for polynomial A, such as SH). A source basis on
+//!   the upper hemisphere (H-basis, AD 9) contributes no radiance below z = 0.
 //! - [`Kernel::Ggx`]: view-parameterised GGX at fixed α with normal +Z and Fresnel 1:
 //!   K_j(v) = ∫ A_j(l)·D·G2/(4 n·v) dl, estimated by visible-normal sampling with a
 //!   fixed R2 point set (weight G2/G1, Heitz 2018), 0 for v below the horizon.
@@ -86,8 +87,12 @@ impl<'a> KernelEval<'a> {
                 out.fill(0.0);
                 let (t, b) = tangent_frame(s);
                 let q = self.hemi.as_ref().expect("Lambert rule");
+                let clip = self.source.domain() == Domain::UpperHemisphere;
                 for (d, w) in q.directions.iter().zip(&q.weights) {
                     let world = t * d.x + b * d.y + s * d.z;
+                    if clip && world.z < 0.0 {
+                        continue; // a hemisphere basis represents zero radiance below
+                    }
                     self.source.eval_into(world, &mut self.scratch);
                     for (o, v) in out.iter_mut().zip(&self.scratch) {
                         *o += w * v;
