@@ -81,21 +81,24 @@ fn runtime_matches_f64() {
 }
 
 /// Constant radiance L gives E/π = L for every basis that can represent a constant,
-/// through the projection route for the bases without a closed form (Bézier, ambient
-/// cube; H-basis at n = +Z, since its radiance is zero below the horizon).
-/// Tolerance 2e-4: the inner hemisphere rule on the kinked bases (48×96 nodes).
+/// through the projection route for the bases without a closed form (ambient cube,
+/// AD linear; H-basis at n = +Z, since its radiance is zero below the horizon).
+/// Tolerance 1e-3: the projection's product rules (32×64 outer, 48×96 inner) on
+/// bases with kinks (ambient cube at the axes planes, AD linear along all 30 edges)
+/// converge only algebraically; measured 1e-5 and 5e-4 respectively.
 #[test]
 fn projected_irradiance_of_constant() {
     let opts = ProjectionOptions { outer_n_z: 32, inner_n_z: 48, ggx_samples: 1 };
     let bz = AmbientDiceBezier::new();
-    let cases: Vec<(Box<dyn Basis>, Vec<f64>)> = vec![(Box::new(AmbientCube), vec![1.0; 6])];
+    let cases: Vec<(Box<dyn Basis>, Vec<f64>)> =
+        vec![(Box::new(AmbientCube), vec![1.0; 6]), (Box::new(sbf::AmbientDiceLinear::new()), vec![1.0; 12])];
     for (basis, coeffs) in &cases {
         let conv = Conversion::new(basis.as_ref(), basis.as_ref(), Kernel::Lambert, opts).unwrap();
         let irr = conv.apply(&sbf::nalgebra::DMatrix::from_column_slice(coeffs.len(), 1, coeffs));
         let mut s = vec![0.0; basis.len()];
         for n in common::random_directions(5, 100) {
             let e = basis.reconstruct(irr.as_slice(), n, &mut s);
-            assert!((e - 1.0).abs() < 2e-4, "{}: {n} → {e}", basis.name());
+            assert!((e - 1.0).abs() < 1e-3, "{}: {n} → {e}", basis.name());
         }
     }
     // Bézier cannot represent a constant exactly (value weights sum to 0.93–1): its
