@@ -83,12 +83,13 @@ fn runtime_matches_f64() {
 /// Constant radiance L gives E/π = L for every basis that can represent a constant,
 /// through the projection route for the bases without a closed form (ambient cube,
 /// AD linear; H-basis at n = +Z, since its radiance is zero below the horizon).
-/// Tolerance 1e-3: the projection's product rules (32×64 outer, 48×96 inner) on
+/// Tolerance 1e-3: the projection's product rules (64×128 outer and inner) on
 /// bases with kinks (ambient cube at the axes planes, AD linear along all 30 edges)
-/// converge only algebraically; measured 1e-5 and 5e-4 respectively.
+/// converge only algebraically; measured 3e-13 (cube: the kinks lie on rule lines)
+/// and 3.3e-4 (AD linear).
 #[test]
 fn projected_irradiance_of_constant() {
-    let opts = ProjectionOptions { outer_n_z: 32, inner_n_z: 48, ggx_samples: 1 };
+    let opts = ProjectionOptions { outer_n_z: 64, inner_n_z: 64, ggx_samples: 1 };
     let bz = AmbientDiceBezier::new();
     let cases: Vec<(Box<dyn Basis>, Vec<f64>)> =
         vec![(Box::new(AmbientCube), vec![1.0; 6]), (Box::new(sbf::AmbientDiceLinear::new()), vec![1.0; 12])];
@@ -96,10 +97,13 @@ fn projected_irradiance_of_constant() {
         let conv = Conversion::new(basis.as_ref(), basis.as_ref(), Kernel::Lambert, opts).unwrap();
         let irr = conv.apply(&sbf::nalgebra::DMatrix::from_column_slice(coeffs.len(), 1, coeffs));
         let mut s = vec![0.0; basis.len()];
+        let mut worst = 0.0f64;
         for n in common::random_directions(5, 100) {
             let e = basis.reconstruct(irr.as_slice(), n, &mut s);
-            assert!((e - 1.0).abs() < 1e-3, "{}: {n} → {e}", basis.name());
+            worst = worst.max((e - 1.0).abs());
         }
+        println!("{}: max |E/π − 1| = {worst:.1e}", basis.name());
+        assert!(worst < 1e-3, "{}: {worst}", basis.name());
     }
     // Bézier cannot represent a constant exactly (value weights sum to 0.93–1): its
     // projected irradiance is compared with the exact irradiance of its own LS radiance
