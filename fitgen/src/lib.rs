@@ -1,7 +1,14 @@
 //! # fitgen — derives the fits and look-up tables in `luts/`
 //!
-//! Not implemented yet (issue "fitgen + luts/"). Planned: subcommands `list`, `all`,
-//! one per table/fit, `--check` (regenerate in memory, compare byte for byte with the
-//! committed `luts/`), `--plots DIR`, `--only` to generate what a configuration
-//! needs. The integrands and models live in `sbf`; this crate holds only the
-//! optimisation drivers and file output.
+//! The tool does arguments and files; integrands and models live in `sbf`
+//! (`sbf::ggx::dfg_entry`, `sbf::recon::ambient_dice::specular_lut_entry`, …). This
+//! library holds the drivers: which tables exist ([`outputs`]), how each is
+//! generated deterministically (rayon over entries, results collected in index order:
+//! identical bytes for any thread count), the manifest ([`manifest`]) and the
+//! byte-for-byte check ([`check`]).
+
+pub mod check;
+pub mod manifest;
+pub mod outputs;
+
+pub use outputs::{generate, Output, OUTPUT_NAMES};

@@ -12,6 +12,7 @@
 //! | [`layout`] | lobe layouts: Vogel spiral (sphere, hemisphere), icosahedron (standard, face-up), sharpness heuristic |
 //! | [`sampling`] | Halton, Hammersley, R2; sphere/hemisphere/cosine/disk warps with pdfs and inverses; spherical Fibonacci; PCG32 |
 //! | [`ggx`] | GGX D, Λ, G1, G2 and visible-normal sampling (Heitz 2018) |
+//! | [`luts`] | the `.sbflut` table format (f32/f16, self-describing header) that fitgen writes and sbf reads |
 //! | [`quadrature`] | Gauss–Legendre, product rules on sphere/hemisphere, compensated sums, [`Domain`] |
 //! | [`envmap`] | lat-long and cube-map geometry, exact texel solid angles, bilinear lookup, map quadrature, the built-in [`envmap::ProceduralSky`] |
 //! | [`gram`] | Gram matrices (closed form or quadrature with error estimate), condition numbers, Cholesky solve |
@@ -48,6 +49,7 @@ pub mod error;
 pub mod ggx;
 pub mod gram;
 pub mod layout;
+pub mod luts;
 pub mod quadrature;
 pub mod recon;
 pub mod sampling;

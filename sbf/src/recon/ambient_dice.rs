@@ -182,3 +182,23 @@ pub fn specular(lobes: &[DVec3], coeffs: &[f64], n: DVec3, v: DVec3, alpha: f64,
         .sum();
     s * (f0 * lut[0] + f90 * lut[1])
 }
+
+/// One entry of the 3D variant the seed suggests (§8.4.2 "Results"): the LUT is also
+/// indexed by c = n·lobe. The lobe lies in the plane of n and v, at angle acos(c) from
+/// n towards the reflection side; the entry is ground truth / fit for that lobe.
+pub fn specular_lut3_entry(n_dot_v: f64, alpha: f64, n_dot_lobe: f64, samples: u32) -> [f64; 2] {
+    let nv = n_dot_v.clamp(1e-6, 1.0);
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let c = n_dot_lobe.clamp(-1.0, 1.0);
+    let n = DVec3::Z;
+    let v = DVec3::new(0.0, (1.0 - nv * nv).max(0.0).sqrt(), nv);
+    // Reflection side is −Y for v in +Y.
+    let lobe = DVec3::new(0.0, -(1.0 - c * c).max(0.0).sqrt(), c);
+    let fit = lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, lobe, n, v, alpha);
+    let gt = lobe_specular_reference(lobe, nv, alpha, samples);
+    if fit > 1e-12 {
+        gt.map(|g| g / fit)
+    } else {
+        [0.0; 2]
+    }
+}

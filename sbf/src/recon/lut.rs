@@ -72,6 +72,72 @@ impl Lut2 {
     }
 }
 
+impl Lut2 {
+    /// A 2-axis [`crate::luts::LutFile`] over [0, 1]² as a sampler.
+    pub fn from_file(f: &crate::luts::LutFile) -> Result<Self, SbfError> {
+        if f.axes.len() != 2 || f.axes.iter().any(|a| a.lo != 0.0 || a.hi != 1.0) {
+            return Err(SbfError::InvalidParameter { name: "LUT axes", value: f.axes.len() as f64, reason: "expected 2 axes over [0, 1]" });
+        }
+        Lut2::new(f.axes[0].size, f.axes[1].size, f.channels, f.values.clone())
+    }
+}
+
+/// A 3D table; axes 0 and 1 over [0, 1], axis 2 over [lo2, hi2]; texel centres,
+/// trilinear, clamped (see [`Lut2`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lut3 {
+    pub dims: [usize; 3],
+    pub channels: usize,
+    pub range2: (f32, f32),
+    pub data: Vec<f32>,
+}
+
+impl Lut3 {
+    /// A 3-axis [`crate::luts::LutFile`] (axes 0, 1 over [0, 1]) as a sampler.
+    pub fn from_file(f: &crate::luts::LutFile) -> Result<Self, SbfError> {
+        if f.axes.len() != 3 || f.axes[..2].iter().any(|a| a.lo != 0.0 || a.hi != 1.0) {
+            return Err(SbfError::InvalidParameter {
+                name: "LUT axes",
+                value: f.axes.len() as f64,
+                reason: "expected 3 axes, the first two over [0, 1]",
+            });
+        }
+        check_len("LUT data", f.value_count(), f.values.len())?;
+        Ok(Lut3 {
+            dims: [f.axes[0].size, f.axes[1].size, f.axes[2].size],
+            channels: f.channels,
+            range2: (f.axes[2].lo, f.axes[2].hi),
+            data: f.values.clone(),
+        })
+    }
+
+    fn at(&self, i: usize, j: usize, k: usize, c: usize) -> f32 {
+        self.data[((k * self.dims[1] + j) * self.dims[0] + i) * self.channels + c]
+    }
+
+    /// Trilinear lookup at (u, v, w), u, v ∈ [0, 1], w ∈ [lo2, hi2]; clamped.
+    pub fn sample_into(&self, u: f32, v: f32, w: f32, out: &mut [f32]) {
+        let coord = |t: f32, n: usize| {
+            let t = if t.is_nan() { 0.0 } else { t };
+            let x = (t * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
+            let i0 = (x.floor() as usize).min(n - 1);
+            (i0, (i0 + 1).min(n - 1), x - i0 as f32)
+        };
+        let wn = (w - self.range2.0) / (self.range2.1 - self.range2.0);
+        let (i0, i1, fx) = coord(u, self.dims[0]);
+        let (j0, j1, fy) = coord(v, self.dims[1]);
+        let (k0, k1, fz) = coord(wn, self.dims[2]);
+        for (c, o) in out.iter_mut().enumerate() {
+            let lerp2 = |k: usize| {
+                let a = self.at(i0, j0, k, c) * (1.0 - fx) + self.at(i1, j0, k, c) * fx;
+                let b = self.at(i0, j1, k, c) * (1.0 - fx) + self.at(i1, j1, k, c) * fx;
+                a * (1.0 - fy) + b * fy
+            };
+            *o = lerp2(k0) * (1.0 - fz) + lerp2(k1) * fz;
+        }
+    }
+}
+
 /// The Ambient Dice specular LUT (Listing 8.2) over (n·v, α) at texel centres,
 /// two channels (f0, f90 scales), each entry from `samples` visible-normal samples.
 pub fn ad_specular_lut(n_nv: usize, n_alpha: usize, samples: u32) -> Result<Lut2, SbfError> {

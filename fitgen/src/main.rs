@@ -1,0 +1,93 @@
+//! fitgen: derive the fits and LUTs into `luts/`, or check the committed ones.
+
+use clap::Parser;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Derives the polynomial fits and look-up tables that sbf and the shaders read.
+#[derive(Parser, Debug)]
+#[command(
+    version,
+    after_help = "Examples:\n  fitgen list\n  fitgen all\n  fitgen all --only dfg,ad-specular-2d\n  fitgen dfg --out /tmp/luts\n  fitgen --check"
+)]
+struct Cli {
+    /// `list`, `all`, or one output name (see `fitgen list`). Default with --check: all.
+    what: Option<String>,
+    /// Regenerate in memory and compare with the committed files; non-zero exit and
+    /// a summary naming each differing file.
+    #[arg(long)]
+    check: bool,
+    /// Comma-separated subset of outputs (with `all` or --check).
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+    /// Folder of the tables (default: the workspace's luts/).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let dir = cli.out.clone().unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../luts"));
+    let what = cli.what.clone().unwrap_or_else(|| if cli.check { "all".into() } else { String::new() });
+    if what == "list" {
+        for (name, desc) in fitgen::OUTPUT_NAMES {
+            println!("{name:<18} {desc}");
+        }
+        return ExitCode::SUCCESS;
+    }
+    let only = match what.as_str() {
+        "all" => cli.only.clone(),
+        "" => {
+            eprintln!("nothing to do: give `list`, `all`, an output name, or --check (see --help)");
+            return ExitCode::from(2);
+        }
+        name => vec![name.to_string()],
+    };
+    let multi = indicatif::MultiProgress::new();
+    let t = std::time::Instant::now();
+    let outputs = match fitgen::generate(&only, &multi) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("fitgen: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if cli.check {
+        let problems = fitgen::check::check(&outputs, &dir);
+        if problems.is_empty() {
+            println!(
+                "fitgen --check: {} outputs match the committed files in {} ({:.1} s)",
+                outputs.len(),
+                dir.display(),
+                t.elapsed().as_secs_f64()
+            );
+            return ExitCode::SUCCESS;
+        }
+        eprintln!("fitgen --check: {} problem(s); regenerate with `cargo run --release --bin fitgen -- all`:", problems.len());
+        for p in problems {
+            eprintln!("  {p}");
+        }
+        return ExitCode::FAILURE;
+    }
+    if let Err(e) = std::fs::create_dir_all(&dir) {
+        eprintln!("fitgen: creating {}: {e}", dir.display());
+        return ExitCode::FAILURE;
+    }
+    for o in &outputs {
+        let path = dir.join(&o.file);
+        if let Err(e) = std::fs::write(&path, &o.bytes) {
+            eprintln!("fitgen: writing {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+        println!("{:<28} rms {:.3e}  max {:.3e}  ({:.2} s)  vs {}", o.file, o.error.0, o.error.1, o.wall_time_s, o.error.2);
+    }
+    let mpath = dir.join("MANIFEST");
+    let existing = std::fs::read_to_string(&mpath).unwrap_or_default();
+    let lines: Vec<String> = outputs.iter().map(fitgen::manifest::line).collect();
+    if let Err(e) = std::fs::write(&mpath, fitgen::manifest::merge(&existing, &lines)) {
+        eprintln!("fitgen: writing {}: {e}", mpath.display());
+        return ExitCode::FAILURE;
+    }
+    println!("wrote {} outputs and MANIFEST to {} in {:.1} s", outputs.len(), dir.display(), t.elapsed().as_secs_f64());
+    ExitCode::SUCCESS
+}
