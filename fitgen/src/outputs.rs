@@ -234,6 +234,26 @@ pub fn generate(only: &[String], multi: &indicatif::MultiProgress) -> Result<Vec
             wall_time_s: t.elapsed().as_secs_f64(),
         });
     }
+    // EXR viewing twins of the tables generated above (derived bytes, also checked).
+    let twins: Vec<Output> = outs
+        .iter()
+        .filter(|o| o.file.ends_with(".sbflut"))
+        .map(|o| {
+            let lut = LutFile::parse(&o.bytes).expect("just written");
+            let (w, h, px) = crate::exr::table_image(&lut);
+            Output {
+                name: o.name,
+                file: o.file.replace(".sbflut", ".exr"),
+                bytes: crate::exr::write_rgb(w, h, &px),
+                parameters: format!("viewing twin of {} (R, G = channels 0, 1; 3D slices left to right)", o.file),
+                samples: o.samples,
+                seed: o.seed.clone(),
+                error: o.error.clone(),
+                wall_time_s: 0.0,
+            }
+        })
+        .collect();
+    outs.extend(twins);
     if want("fits") {
         let t = Instant::now();
         let fits = crate::outputs::fits::derive();

@@ -109,3 +109,17 @@ fn generation_is_deterministic_across_thread_counts() {
         );
     }
 }
+
+/// The EXR twins open in an independent reader (the `exr` crate through `image`) and
+/// hold the table's values.
+#[test]
+fn exr_twins_are_readable() {
+    let lut = sbf::luts::LutFile::parse(sbf::luts::committed::DFG_DATA).unwrap();
+    let img = image::open(luts_dir().join("dfg.exr")).expect("dfg.exr decodes").to_rgb32f();
+    assert_eq!(img.dimensions(), (128, 128));
+    for (i, j) in [(0u32, 0u32), (5, 77), (127, 127)] {
+        let p = img.get_pixel(i, j).0;
+        let k = (j as usize * 128 + i as usize) * 2;
+        assert_eq!((p[0], p[1], p[2]), (lut.values[k], lut.values[k + 1], 0.0), "texel ({i}, {j})");
+    }
+}
