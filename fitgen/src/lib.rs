@@ -5,11 +5,12 @@
 //! library holds the drivers: which tables exist ([`outputs`]), how each is
 //! generated deterministically (rayon over entries, results collected in index order:
 //! identical bytes for any thread count), the manifest ([`manifest`]) and the
-//! byte-for-byte check ([`check`]), and the EXR viewing twins of the tables ([`exr`]).
+//! byte-for-byte check ([`check`]), the EXR viewing twins of the tables ([`exr`]) and the `--plots` figures ([`plots`]).
 
 pub mod check;
 pub mod exr;
 pub mod manifest;
 pub mod outputs;
+pub mod plots;
 
 pub use outputs::{generate, Output, OUTPUT_NAMES};

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(
     version,
-    after_help = "Examples:\n  fitgen list\n  fitgen all\n  fitgen all --only dfg,ad-specular-2d\n  fitgen dfg --out /tmp/luts\n  fitgen --check"
+    after_help = "Examples:\n  fitgen list\n  fitgen all\n  fitgen all --only dfg,ad-specular-2d\n  fitgen dfg --out /tmp/luts\n  fitgen --check\n  fitgen --plots target/plots"
 )]
 struct Cli {
     /// `list`, `all`, or one output name (see `fitgen list`). Default with --check: all.
@@ -23,12 +23,27 @@ struct Cli {
     /// Folder of the tables (default: the workspace's luts/).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Also write PNG plots of the fits and LUT error heat maps into DIR.
+    #[arg(long, value_name = "DIR")]
+    plots: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let dir = cli.out.clone().unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../luts"));
     let what = cli.what.clone().unwrap_or_else(|| if cli.check { "all".into() } else { String::new() });
+    if let Some(dir) = &cli.plots {
+        match fitgen::plots::write_all(dir, &fitgen::outputs::fits::derive()) {
+            Ok(files) => files.iter().for_each(|f| println!("plot: {f}")),
+            Err(e) => {
+                eprintln!("fitgen --plots: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+        if cli.what.is_none() && !cli.check {
+            return ExitCode::SUCCESS;
+        }
+    }
     if what == "list" {
         for (name, desc) in fitgen::OUTPUT_NAMES {
             println!("{name:<18} {desc}");

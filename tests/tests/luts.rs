@@ -123,3 +123,16 @@ fn exr_twins_are_readable() {
         assert_eq!((p[0], p[1], p[2]), (lut.values[k], lut.values[k + 1], 0.0), "texel ({i}, {j})");
     }
 }
+
+/// `--plots` writes decodable PNGs of the fits and LUT errors.
+#[test]
+fn plots_are_written() {
+    let dir = std::env::temp_dir().join(format!("sbf-plots-{}", std::process::id()));
+    let files = fitgen::plots::write_all(&dir, &fitgen::outputs::fits::derive()).unwrap();
+    assert_eq!(files.len(), 5);
+    for f in &files {
+        let img = image::open(f).unwrap_or_else(|e| panic!("{f}: {e}"));
+        assert_eq!((img.width(), img.height()), (900, 600), "{f}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
