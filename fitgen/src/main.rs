@@ -98,7 +98,10 @@ fn main() -> ExitCode {
     }
     let mpath = dir.join("MANIFEST");
     let existing = std::fs::read_to_string(&mpath).unwrap_or_default();
-    let lines: Vec<String> = outputs.iter().map(fitgen::manifest::line).collect();
+    let mut lines: Vec<String> = outputs.iter().map(fitgen::manifest::line).collect();
+    if only.is_empty() {
+        lines.push(fitgen::manifest::total_line(t.elapsed().as_secs_f64()));
+    }
     if let Err(e) = std::fs::write(&mpath, fitgen::manifest::merge(&existing, &lines)) {
         eprintln!("fitgen: writing {}: {e}", mpath.display());
         return ExitCode::FAILURE;

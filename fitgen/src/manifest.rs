@@ -1,7 +1,8 @@
 //! `luts/MANIFEST`: JSON Lines, one object per output, in generation order:
 //! file, command, parameters, samples, seed, error {rms, max, against}, wall_time_s,
-//! sha256. Everything but `wall_time_s` is deterministic; [`check`](crate::check)
-//! ignores that field when comparing.
+//! sha256, and after a full run a `(all)` line with the total wall time. Everything but
+//! `wall_time_s` is deterministic; [`check`](crate::check) ignores that field when
+//! comparing (the tables, constants and EXR twins are byte-identical run to run).
 
 use crate::outputs::Output;
 use sha2::{Digest, Sha256};
@@ -40,6 +41,11 @@ pub fn line(o: &Output) -> String {
         o.wall_time_s,
         sha256_hex(&o.bytes)
     )
+}
+
+/// The summary line of a full `fitgen all` run (total wall time; file "(all)").
+pub fn total_line(wall_time_s: f64) -> String {
+    format!("{{\"file\": \"(all)\", \"command\": \"fitgen all\", \"wall_time_s\": {wall_time_s:.3}}}")
 }
 
 /// The `"file"` value of a manifest line.
