@@ -483,24 +483,14 @@ pub mod fits {
             .collect();
         let hill_err = |c0: f64| cases.iter().map(|&(l, t, e, peak)| (hill_with(c0, l, t) - e).abs() / peak).fold(0.0, f64::max);
         let refit = golden(0.2, 0.6, hill_err);
-        let hill = (hill_err(0.36), refit, hill_err(refit));
+        let hill = (hill_err(sgr::HILL_C0_PUBLISHED), refit, hill_err(refit));
         let specular = fit_specular();
         Fits { ad_diffuse, quadratic_max, quadratic_rms, seed_quadratic_max, sg_cosine, hill, specular }
     }
 
-    /// Hill's fit with a free constant c0 (c1 = 1/(4c0)), for a unit-amplitude lobe.
+    /// Hill's fit with a free constant c0, for a unit-amplitude lobe (E/π).
     fn hill_with(c0: f64, lam: f64, theta: f64) -> f64 {
-        let x = theta.cos();
-        let c1 = 1.0 / (4.0 * c0);
-        let e1 = (-lam).exp();
-        let e2 = e1 * e1;
-        let r = 1.0 / lam;
-        let scale = 1.0 + 2.0 * e2 - r;
-        let bias = (e1 - e2) * r - e2;
-        let xs = (1.0 - scale).max(0.0).sqrt();
-        let (x0, x1) = (c0 * x, c1 * xs);
-        let y = if x0.abs() <= x1 && xs > 0.0 { (x0 + x1) * (x0 + x1) / xs } else { x.clamp(0.0, 1.0) };
-        (scale * y + bias) * sbf::basis::sg::sg_unit_integral(lam) / PI
+        sgr::hill_curve(c0, lam, theta.cos()) * sbf::basis::sg::sg_unit_integral(lam) / PI
     }
 
     impl Fits {

@@ -154,11 +154,14 @@ pub fn irradiance_hill(sg: &Sg, n: DVec3) -> f64 {
     }
 }
 
-/// Hill's fit exactly as published (times the exact lobe integral), any λ > 0.
-pub fn hill_fit(sg: &Sg, n: DVec3) -> f64 {
-    let x = sg.axis.dot(n).clamp(-1.0, 1.0);
-    let lam = sg.sharpness.max(f64::MIN_POSITIVE);
-    let c0 = 0.36;
+/// Hill's published constant c₀ (c₁ = 1/(4c₀)).
+pub const HILL_C0_PUBLISHED: f64 = 0.36;
+
+/// Hill's fitted irradiance curve for an SG light of *unit integral*, sharpness λ > 0,
+/// at x = cos(axis, normal), with a free constant c₀ (fitgen re-fits it).
+pub fn hill_curve(c0: f64, lambda: f64, x: f64) -> f64 {
+    let lam = lambda.max(f64::MIN_POSITIVE);
+    let x = x.clamp(-1.0, 1.0);
     let c1 = 1.0 / (4.0 * c0);
     let e1 = (-lam).exp();
     let e2 = e1 * e1;
@@ -166,10 +169,14 @@ pub fn hill_fit(sg: &Sg, n: DVec3) -> f64 {
     let scale = 1.0 + 2.0 * e2 - r;
     let bias = (e1 - e2) * r - e2;
     let xs = (1.0 - scale).max(0.0).sqrt();
-    let x0 = c0 * x;
-    let x1 = c1 * xs;
+    let (x0, x1) = (c0 * x, c1 * xs);
     let y = if x0.abs() <= x1 && xs > 0.0 { (x0 + x1) * (x0 + x1) / xs } else { x.clamp(0.0, 1.0) };
-    (scale * y + bias) * sg.integral() / PI
+    scale * y + bias
+}
+
+/// Hill's fit exactly as published (times the exact lobe integral, over π), any λ > 0.
+pub fn hill_fit(sg: &Sg, n: DVec3) -> f64 {
+    hill_curve(HILL_C0_PUBLISHED, sg.sharpness, sg.axis.dot(n)) * sg.integral() / PI
 }
 
 /// Clamped cosine as an SG (math.md): μ = 1.170, λ = 2.133.
