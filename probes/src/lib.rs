@@ -1,7 +1,13 @@
-//! # probes — Probulator-class comparison of bases and solvers on HDR maps
+//! # probes — compare spherical bases and solvers on HDR environment maps
 //!
-//! Not implemented yet (issue "probes"). Planned: load Radiance `.hdr`/OpenEXR
-//! lat-long maps, compute exact irradiance and GGX references, run every basis and
-//! solver, and report error against run time. Until then the README's main job is
-//! the `sbf` example `project_sky`, which uses the same built-in procedural sky
-//! (`sbf::envmap::ProceduralSky`) that `probes` will default to.
+//! Error against run time for every mode: the tool loads lat-long maps
+//! ([`input`]), computes exact references ([`reference`]), runs each mode
+//! ([`modes`]), measures errors ([`metrics`]) and writes reports ([`report`]).
+//! Irradiance images store E/π (what a white Lambertian surface reflects), as the
+//! peer tool (Probulator) does, so numbers are comparable.
+
+pub mod input;
+pub mod metrics;
+pub mod modes;
+pub mod reference;
+pub mod report;

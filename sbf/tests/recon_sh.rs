@@ -79,7 +79,7 @@ fn geomerics_limits() {
 }
 
 /// ZH3: finite for extreme inputs, equals L1 + a zonal term, and for a single
-/// direction (r = 1) adds 0.68·√5·L0 along the axis.
+/// direction (r = |L1|/L0 = √3) adds L0·(0.08√3 + 1.8) on Y₂₀ along the axis.
 #[test]
 fn zh3_behaviour() {
     let sh = ShBasis::new(1).unwrap();
@@ -88,7 +88,8 @@ fn zh3_behaviour() {
     let out = irradiance_l1_zh3(&[c; 3], DVec3::Z).unwrap();
     let a2 = lambert_band_factor(2) / PI;
     let y20 = (5.0 / (4.0 * PI)).sqrt();
-    let want = irradiance_l1_linear(&c, DVec3::Z) + a2 * 5f64.sqrt() * c[0] * 0.68 * y20;
+    let r = 3f64.sqrt();
+    let want = irradiance_l1_linear(&c, DVec3::Z) + a2 * c[0] * (0.08 * r + 0.6 * r * r) * y20;
     assert!((out[0] - want).abs() < 1e-13, "{out:?} vs {want}");
     assert!(irradiance_l1_zh3(&[[1e300, -1e300, 1e300, 0.0]; 3], DVec3::X).unwrap().iter().all(|v| v.is_finite()));
     assert!(irradiance_l1_zh3(&[[f64::NAN, 0.0, 0.0, 0.0]; 3], DVec3::X).is_err());

@@ -13,10 +13,12 @@
 //!   E/π = R₀(a + (1 − a)(p + 1)q^p). |R₁| = 0 → R₀; R₀ ≤ 0 → the linear L1 result
 //!   (the formula is undefined there).
 //! - ZH3 hallucination (Roughton 2024, "ZH3: Quadratic Zonal Harmonics"): axis = the
-//!   normalised luminance-weighted L1 vector; per channel r = |L1·axis|/(√3·L0) ∈ [0, 1]
-//!   (1 for a single direction), zonal l = 2 coefficient along the axis
-//!   √5·L0·(0.08r + 0.6r²) (the paper's band-normalised value, scaled to our
-//!   orthonormal SH), added to the L1 irradiance with A₂.
+//!   normalised luminance-weighted L1 vector; per channel r = |L1·axis|/L0 in
+//!   orthonormal coefficients (√3 for a single direction), zonal l = 2 coefficient along
+//!   the axis L0·(0.08r + 0.6r²) on the orthonormal Y₂₀, added to the L1 irradiance with
+//!   A₂. (An earlier reading normalised r by √3 and scaled by √5; it was 20–45% worse
+//!   than the peer on three probes, while this, the paper's literal form, matches the
+//!   peer's figures within 2.4% — see the probes tests.)
 
 use crate::basis::{Basis, ShBasis};
 use crate::error::SbfError;
@@ -110,8 +112,8 @@ pub fn irradiance_l1_zh3(rgb: &[[f64; 4]; 3], n: DVec3) -> Result<[f64; 3], SbfE
     let mut out = [0.0; 3];
     for (k, c) in rgb.iter().enumerate() {
         let base = irradiance_l1_linear(c, n);
-        let r = if c[0] > 0.0 { (l1(c).dot(axis).abs() / (3f64.sqrt() * c[0])).min(1.0) } else { 0.0 };
-        let zh = 5f64.sqrt() * c[0] * (0.08 * r + 0.6 * r * r);
+        let r = if c[0] > 0.0 { l1(c).dot(axis).abs() / c[0] } else { 0.0 };
+        let zh = c[0] * (0.08 * r + 0.6 * r * r);
         out[k] = base + a2 * zh * y20(n.dot(axis));
     }
     Ok(out)

@@ -1,0 +1,114 @@
+//! Loading lat-long HDR maps (Radiance `.hdr`, RLE or flat, and OpenEXR) with
+//! validation: 2:1 aspect, and texels that are NaN, ±Inf or negative are an error
+//! naming the file, the problem, the first texel and the count — or, with
+//! `sanitize`, replaced by 0 and counted.
+
+use sbf::envmap::LatLongImage;
+use std::fmt;
+use std::path::Path;
+
+/// Why a map could not be used.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InputError {
+    /// Extension other than .hdr/.exr.
+    UnsupportedFormat { path: String, extension: String },
+    /// The decoder rejected the file (truncated, corrupt, unreadable).
+    Decode { path: String, message: String },
+    /// Not a 2:1 lat-long map.
+    Aspect { path: String, width: u32, height: u32 },
+    /// Non-finite or negative texels (without --sanitize).
+    BadTexels { path: String, kind: &'static str, count: usize, first: (u32, u32), value: f32 },
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            InputError::UnsupportedFormat { path, extension } => {
+                write!(f, "{path}: unsupported format '.{extension}' (expected a lat-long .hdr or .exr)")
+            }
+            InputError::Decode { path, message } => write!(f, "{path}: cannot decode: {message}"),
+            InputError::Aspect { path, width, height } => write!(f, "{path}: {width}×{height} is not a 2:1 lat-long map"),
+            InputError::BadTexels { path, kind, count, first, value } => write!(
+                f,
+                "{path}: {count} texel channel(s) are {kind}; first at texel ({}, {}) = {value} (use --sanitize to replace them with 0)",
+                first.0, first.1
+            ),
+        }
+    }
+}
+
+impl std::error::Error for InputError {}
+
+/// What `sanitize` replaced.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SanitizeReport {
+    pub nan: usize,
+    pub infinite: usize,
+    pub negative: usize,
+}
+
+impl SanitizeReport {
+    pub fn total(&self) -> usize {
+        self.nan + self.infinite + self.negative
+    }
+}
+
+/// Decodes, validates and (optionally) sanitises a lat-long map.
+pub fn load_map(path: &Path, sanitize: bool) -> Result<(LatLongImage, SanitizeReport), InputError> {
+    let p = path.display().to_string();
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let format = match ext.as_str() {
+        "hdr" => image::ImageFormat::Hdr,
+        "exr" => image::ImageFormat::OpenExr,
+        _ => return Err(InputError::UnsupportedFormat { path: p, extension: ext }),
+    };
+    let bytes = std::fs::read(path).map_err(|e| InputError::Decode { path: p.clone(), message: e.to_string() })?;
+    let img = image::load_from_memory_with_format(&bytes, format)
+        .map_err(|e| InputError::Decode { path: p.clone(), message: e.to_string() })?
+        .to_rgb32f();
+    let (w, h) = img.dimensions();
+    if w != 2 * h || h == 0 {
+        return Err(InputError::Aspect { path: p, width: w, height: h });
+    }
+    let mut texels: Vec<[f32; 3]> = img.pixels().map(|px| px.0).collect();
+    let report = validate(&p, w, &mut texels, sanitize)?;
+    let map = LatLongImage::new(w as usize, h as usize, texels).map_err(|e| InputError::Decode { path: p, message: e.to_string() })?;
+    Ok((map, report))
+}
+
+/// Scans for NaN, ±Inf and negative values; errors on the first kind found (NaN, then
+/// Inf, then negative), or replaces all of them with 0 when `sanitize`.
+pub fn validate(path: &str, width: u32, texels: &mut [[f32; 3]], sanitize: bool) -> Result<SanitizeReport, InputError> {
+    let mut r = SanitizeReport::default();
+    let mut first: [Option<((u32, u32), f32)>; 3] = [None; 3];
+    for (k, t) in texels.iter_mut().enumerate() {
+        for v in t.iter_mut() {
+            let kind = if v.is_nan() {
+                0
+            } else if v.is_infinite() {
+                1
+            } else if *v < 0.0 {
+                2
+            } else {
+                continue;
+            };
+            match kind {
+                0 => r.nan += 1,
+                1 => r.infinite += 1,
+                _ => r.negative += 1,
+            }
+            first[kind].get_or_insert(((k as u32 % width, k as u32 / width), *v));
+            if sanitize {
+                *v = 0.0;
+            }
+        }
+    }
+    if !sanitize {
+        for (kind, name, count) in [(0, "NaN", r.nan), (1, "infinite", r.infinite), (2, "negative", r.negative)] {
+            if let Some((pos, value)) = first[kind] {
+                return Err(InputError::BadTexels { path: path.to_string(), kind: name, count, first: pos, value });
+            }
+        }
+    }
+    Ok(r)
+}

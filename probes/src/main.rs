@@ -1,0 +1,180 @@
+//! probes: compare spherical bases and solvers on HDR maps; error against run time.
+
+use clap::{Parser, Subcommand};
+use probes::{input, metrics, modes, report};
+use sbf::envmap::{LatLongImage, ProceduralSky};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    version,
+    about = "Compare spherical bases and solvers on HDR environment maps: error against run time.",
+    after_help = "With no command, runs the default comparison on the built-in procedural sky and writes ./probes-report/.\n\nExamples:\n  probes\n  probes list\n  probes compare ../shared/probes/pisa.hdr\n  probes compare a.hdr b.exr --modes shl2,adrbf,sgls --out report --json\n  probes env --preset sky --out sky.hdr"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Option<Cmd>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Every mode with a one-line description.
+    List,
+    /// Compare modes on one or more lat-long maps (.hdr or .exr, 2:1).
+    Compare {
+        maps: Vec<PathBuf>,
+        /// Comma-separated mode ids (default: every mode with a peer figure).
+        #[arg(long, value_delimiter = ',')]
+        modes: Vec<String>,
+        /// Integration domain of fits and errors (only `sphere` so far).
+        #[arg(long, default_value = "sphere")]
+        domain: String,
+        /// Output folder.
+        #[arg(long, default_value = "probes-report")]
+        out: PathBuf,
+        /// Also print results.json to stdout.
+        #[arg(long)]
+        json: bool,
+        /// Replace NaN/Inf/negative texels by 0 (and report how many) instead of failing.
+        #[arg(long)]
+        sanitize: bool,
+        /// Encode repeats for the median timing.
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+    },
+    /// Write a procedural environment map.
+    Env {
+        /// Preset: `sky` (sun, sky gradient, ground) or `sky-nosun`.
+        #[arg(long, default_value = "sky")]
+        preset: String,
+        /// Output file (.hdr or .exr).
+        #[arg(long)]
+        out: PathBuf,
+        /// Width (height is half).
+        #[arg(long, default_value_t = 256)]
+        width: usize,
+    },
+}
+
+fn preset(name: &str) -> Result<ProceduralSky, String> {
+    match name {
+        "sky" => Ok(ProceduralSky::default()),
+        "sky-nosun" => Ok(ProceduralSky { sun_radiance: [0.0; 3], ..ProceduralSky::default() }),
+        _ => Err(format!("unknown preset '{name}' (sky, sky-nosun)")),
+    }
+}
+
+fn compare(label: &str, map: LatLongImage, sanitized: usize, ids: &[String], repeats: usize) -> Result<report::MapReport, String> {
+    let (w, h) = (map.geometry.width, map.geometry.height);
+    let t = std::time::Instant::now();
+    let ctx = modes::Context::new(map);
+    let ref_s = t.elapsed().as_secs_f64();
+    let method = format!(
+        "exact quadrature over {}×{} source texels at every {}×{} output texel centre ({ref_s:.2} s)",
+        probes::reference::reference_source(&ctx.map).geometry.width,
+        probes::reference::reference_source(&ctx.map).geometry.height,
+        ctx.grid.width,
+        ctx.grid.height
+    );
+    let pb = indicatif::ProgressBar::new(ids.len() as u64);
+    pb.set_style(indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {msg}").unwrap().progress_chars("=> "));
+    pb.set_prefix(label.to_string());
+    let radiance = ctx.radiance();
+    let mut rows = Vec::new();
+    for id in ids {
+        pb.set_message(id.clone());
+        let r = modes::run(id, &ctx, repeats)?;
+        let mut irradiance = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance);
+        if let Some(neg) = r.clamped_negative_fraction {
+            irradiance.negative_fraction = neg;
+        }
+        let rad = r.radiance.as_ref().map(|x| metrics::compute(ctx.grid, x, &radiance));
+        rows.push(report::Row { result: r, radiance: rad, irradiance });
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    Ok(report::MapReport { path: label.to_string(), width: w, height: h, domain: "sphere", reference_method: method, sanitized, rows })
+}
+
+fn write_reports(out: &Path, maps: &[report::MapReport], print_json: bool) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+    let json = report::json(maps);
+    let md = report::markdown(maps);
+    std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
+    std::fs::write(out.join("report.md"), &md).map_err(|e| format!("writing report.md: {e}"))?;
+    if print_json {
+        print!("{json}");
+    } else {
+        print!("{md}");
+        println!("\nwrote {}/report.md and results.json", out.display());
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.cmd {
+        Some(Cmd::List) => {
+            for (id, d) in modes::MODES {
+                println!("{id:<10} {d}");
+            }
+            Ok(())
+        }
+        Some(Cmd::Env { preset: p, out, width }) => (|| {
+            let sky = preset(&p)?;
+            if width < 2 || width % 2 != 0 {
+                return Err(format!("--width must be even and ≥ 2, got {width}"));
+            }
+            let map = LatLongImage::from_fn(width, width / 2, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
+            let img = image::Rgb32FImage::from_raw(width as u32, (width / 2) as u32, map.texels.iter().flatten().copied().collect())
+                .ok_or("image size")?;
+            img.save(&out).map_err(|e| format!("writing {}: {e}", out.display()))?;
+            println!("wrote {} ({}×{}, preset {p})", out.display(), width, width / 2);
+            Ok(())
+        })(),
+        Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats }) => (|| {
+            if domain != "sphere" {
+                return Err(format!("--domain {domain}: only `sphere` is implemented so far"));
+            }
+            if maps.is_empty() {
+                return Err("give at least one map (see --help)".into());
+            }
+            let ids: Vec<String> = if m.is_empty() { modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect() } else { m };
+            for id in &ids {
+                if !modes::MODES.iter().any(|(x, _)| x == id) {
+                    return Err(format!("unknown mode '{id}' (see `probes list`)"));
+                }
+            }
+            let mut reports = Vec::new();
+            for path in &maps {
+                let (map, rep) = input::load_map(path, sanitize).map_err(|e| e.to_string())?;
+                if rep.total() > 0 {
+                    eprintln!(
+                        "{}: sanitised {} NaN, {} infinite, {} negative texel channels to 0",
+                        path.display(),
+                        rep.nan,
+                        rep.infinite,
+                        rep.negative
+                    );
+                }
+                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats)?);
+            }
+            write_reports(&out, &reports, json)
+        })(),
+        None => (|| {
+            let sky = ProceduralSky::default();
+            let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
+            let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
+            let rep = compare("built-in procedural sky (256×128)", map, 0, &ids, 3)?;
+            write_reports(Path::new("probes-report"), &[rep], false)
+        })(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("probes: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,60 @@
+//! Error metrics between an approximation and a reference image on a lat-long grid.
+
+use sbf::envmap::LatLong;
+
+/// All metrics of one signal (averaged over RGB).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Metrics {
+    /// RMS over texels, unweighted (comparable with Probulator).
+    pub rms: f64,
+    /// RMS weighted by texel solid angle (the integral norm).
+    pub rms_weighted: f64,
+    /// rms / RMS of the reference.
+    pub rel_rms: f64,
+    /// Largest absolute channel error.
+    pub max_abs: f64,
+    /// Symmetric mean absolute percentage error: mean of 2|a − r|/(|a| + |r|) (0 where both are 0).
+    pub smape: f64,
+    /// Fraction of texels with any negative channel in the approximation.
+    pub negative_fraction: f64,
+}
+
+/// Metrics of `approx` against `reference`, both row-major on `grid`.
+pub fn compute(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]]) -> Metrics {
+    assert_eq!(approx.len(), grid.texel_count());
+    assert_eq!(reference.len(), grid.texel_count());
+    let (mut se, mut swe, mut sw, mut sref, mut max_abs, mut smape, mut neg) = (0.0, 0.0, 0.0, 0.0, 0.0f64, 0.0, 0usize);
+    for j in 0..grid.height {
+        let w = grid.texel_solid_angle(j);
+        for i in 0..grid.width {
+            let k = j * grid.width + i;
+            let (a, r) = (approx[k], reference[k]);
+            if a.iter().any(|v| *v < 0.0) {
+                neg += 1;
+            }
+            for c in 0..3 {
+                let e = a[c] - r[c];
+                se += e * e;
+                swe += w * e * e;
+                sref += r[c] * r[c];
+                max_abs = max_abs.max(e.abs());
+                let den = a[c].abs() + r[c].abs();
+                if den > 0.0 {
+                    smape += 2.0 * e.abs() / den;
+                }
+            }
+            sw += 3.0 * w;
+        }
+    }
+    let n = (3 * grid.texel_count()) as f64;
+    let rms = (se / n).sqrt();
+    let ref_rms = (sref / n).sqrt();
+    Metrics {
+        rms,
+        rms_weighted: (swe / sw).sqrt(),
+        rel_rms: if ref_rms > 0.0 { rms / ref_rms } else { 0.0 },
+        max_abs,
+        smape: smape / n,
+        negative_fraction: neg as f64 / grid.texel_count() as f64,
+    }
+}

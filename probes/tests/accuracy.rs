@@ -1,0 +1,185 @@
+//! probes against independent computations: the exact reference vs brute force, SH L2
+//! irradiance RMS, coefficients in results.json vs a dense design-matrix solve, and the
+//! irradiance RMS of every peer-equivalent mode vs the peer's figures (peers.md).
+
+use probes::{metrics, modes, reference, report};
+use sbf::glam::DVec3;
+use sbf::nalgebra::DMatrix;
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+fn probe(name: &str) -> Option<sbf::envmap::LatLongImage> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../shared/probes/{name}.hdr"));
+    if !p.exists() {
+        eprintln!("skipping: {} not found", p.display());
+        return None;
+    }
+    Some(probes::input::load_map(&p, false).unwrap().0)
+}
+
+/// The parallel SoA reference equals the brute-force per-texel sum at 64 texels to
+/// 1e-9 relative (different summation order only).
+#[test]
+fn reference_matches_brute_force() {
+    let Some(map) = probe("uffizi") else { return };
+    let g = map.geometry;
+    let mut rng = sbf::sampling::Pcg32::new(9, 9);
+    let dirs: Vec<DVec3> =
+        (0..64).map(|_| g.texel_direction((rng.next_u32() as usize) % g.width, (rng.next_u32() as usize) % g.height)).collect();
+    let fast = reference::irradiance_image(&map, &dirs);
+    for (d, f) in dirs.iter().zip(&fast) {
+        // Brute force: the plain O(N) loop over texels for this one output texel.
+        let mut e = [0.0f64; 3];
+        for j in 0..g.height {
+            for i in 0..g.width {
+                let w = g.texel_direction(i, j);
+                let c = d.dot(w);
+                if c > 0.0 {
+                    let t = map.texel(i, j);
+                    for k in 0..3 {
+                        e[k] += g.texel_solid_angle(j) * c * t[k] as f64 / PI;
+                    }
+                }
+            }
+        }
+        for k in 0..3 {
+            assert!((f[k] - e[k]).abs() <= 1e-9 * e[k].abs().max(1e-300), "{d}: {} vs {}", f[k], e[k]);
+        }
+    }
+}
+
+/// SH L2 irradiance RMS from the mode equals an independent computation (hand-written
+/// real SH L2 polynomials with the Condon–Shortley-free convention, texel projection,
+/// band factors 1, 2/3, 1/4) within 2%.
+#[test]
+fn shl2_rms_matches_independent_computation() {
+    let Some(map) = probe("pisa") else { return };
+    let ctx = modes::Context::new(map.clone());
+    let r = modes::run("shl2", &ctx, 1).unwrap();
+    let ours = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance).rms;
+    let y = |d: DVec3| {
+        let (x, yy, z) = (d.x, d.y, d.z);
+        [
+            0.282095,
+            0.488603 * yy,
+            0.488603 * z,
+            0.488603 * x,
+            1.092548 * x * yy,
+            1.092548 * yy * z,
+            0.315392 * (3.0 * z * z - 1.0),
+            1.092548 * x * z,
+            0.546274 * (x * x - yy * yy),
+        ]
+    };
+    let g = map.geometry;
+    let mut c = [[0.0f64; 3]; 9];
+    for j in 0..g.height {
+        for i in 0..g.width {
+            let b = y(g.texel_direction(i, j));
+            let t = map.texel(i, j);
+            for k in 0..9 {
+                for ch in 0..3 {
+                    c[k][ch] += g.texel_solid_angle(j) * b[k] * t[ch] as f64;
+                }
+            }
+        }
+    }
+    let band = [1.0, 2.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0, 0.25, 0.25, 0.25, 0.25, 0.25];
+    let mut se = 0.0;
+    for (d, e) in ctx.dirs.iter().zip(&ctx.irradiance) {
+        let b = y(*d);
+        for ch in 0..3 {
+            let v: f64 = (0..9).map(|k| band[k] * c[k][ch] * b[k]).sum::<f64>().max(0.0);
+            se += (v - e[ch]).powi(2);
+        }
+    }
+    let indep = (se / (3 * ctx.dirs.len()) as f64).sqrt();
+    assert!((ours / indep - 1.0).abs() < 0.02, "shl2 RMS {ours} vs independent {indep}");
+}
+
+/// adrbf, shl2 and sgls coefficients as written to results.json equal a dense
+/// design-matrix least-squares solve (QR on √Ω-weighted texels) within 1e-4 relative.
+#[test]
+fn results_json_coefficients_match_dense_ls() {
+    let Some(map) = probe("wells") else { return };
+    let ctx = modes::Context::new(map.clone());
+    let rows: Vec<report::Row> = ["adrbf", "shl2", "sgls"]
+        .iter()
+        .map(|id| {
+            let r = modes::run(id, &ctx, 1).unwrap();
+            let irradiance = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance);
+            report::Row { result: r, radiance: None, irradiance }
+        })
+        .collect();
+    let json = report::json(&[report::MapReport {
+        path: "wells".into(),
+        width: 256,
+        height: 128,
+        domain: "sphere",
+        reference_method: String::new(),
+        sanitized: 0,
+        rows,
+    }]);
+    let v: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
+    let vogel = sbf::layout::vogel_sphere(12).unwrap();
+    let bases: Vec<(&str, Box<dyn sbf::Basis>)> = vec![
+        ("adrbf", Box::new(sbf::AmbientDiceSrbf::twelve())),
+        ("shl2", Box::new(sbf::ShBasis::new(2).unwrap())),
+        ("sgls", Box::new(sbf::SgBasis::new(&vogel, 6.0, false).unwrap())),
+    ];
+    let g = map.geometry;
+    for (k, (id, basis)) in bases.iter().enumerate() {
+        let mode = &v[0]["modes"][k];
+        assert_eq!(mode["id"], *id);
+        let n = basis.len();
+        let a = DMatrix::from_fn(g.texel_count(), n, |r, c| basis.eval(g.texel_direction(r % g.width, r / g.width))[c]);
+        let y = DMatrix::from_fn(g.texel_count(), 3, |r, c| map.texel(r % g.width, r / g.width)[c] as f64);
+        let w: Vec<f64> = (0..g.texel_count()).map(|r| g.texel_solid_angle(r / g.width)).collect();
+        let dense = sbf::solve::solve_design(&a, &y, Some(&w), Default::default()).unwrap().coeffs;
+        let scale = dense.abs().max();
+        for i in 0..n {
+            for c in 0..3 {
+                let got = mode["coefficients"][i][c].as_f64().unwrap();
+                assert!((got - dense[(i, c)]).abs() <= 1e-4 * scale, "{id} coefficient {i}/{c}: {got} vs {}", dense[(i, c)]);
+            }
+        }
+    }
+}
+
+/// Irradiance RMS (unweighted) on the five probes ≤ 1.05 × the peer's figure for every
+/// mode with a peer equivalent, except the SG cases listed, which the issue-6 note
+/// explains (our SG LS is 0.3–0.7× the peer elsewhere: the setups differ).
+#[test]
+fn peer_figures() {
+    let peer: [(&str, [f64; 5]); 12] = [
+        ("ac", [0.3966, 0.04363, 0.03412, 0.1810, 0.04870]),
+        ("acproj", [0.4644, 0.05156, 0.03809, 0.2189, 0.05559]),
+        ("shl1g", [0.2921, 0.04117, 0.03757, 0.1355, 0.05467]),
+        ("shl1zh3", [0.1615, 0.04191, 0.02514, 0.08505, 0.03505]),
+        ("shl1", [0.5050, 0.08238, 0.02349, 0.2737, 0.05400]),
+        ("shl2", [0.09402, 0.01325, 0.005104, 0.03877, 0.007624]),
+        ("shl4", [0.03108, 0.005804, 0.001749, 0.01255, 0.004395]),
+        ("adrbf-irr", [0.1053, 0.01484, 0.004273, 0.05691, 0.007150]),
+        ("sg", [0.4330, 0.08526, 0.02263, 0.1618, 0.02957]),
+        ("sgls", [0.4079, 0.09037, 0.01860, 0.1441, 0.02407]),
+        ("sglsa", [0.4058, 0.09598, 0.01858, 0.1433, 0.02355]),
+        ("sgnnls", [0.7927, 0.1235, 0.02434, 0.1937, 0.03816]),
+    ];
+    let exceptions = [("sg", "pisa"), ("sg", "uffizi"), ("sg", "wells"), ("sgls", "wells"), ("sglsa", "wells"), ("sgnnls", "wells")];
+    let names = ["ennis", "grace", "pisa", "uffizi", "wells"];
+    let mut failures = Vec::new();
+    for (pi, name) in names.iter().enumerate() {
+        let Some(map) = probe(name) else { return };
+        let ctx = modes::Context::new(map);
+        for (id, figs) in &peer {
+            let r = modes::run(id, &ctx, 1).unwrap();
+            let rms = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance).rms;
+            let ratio = rms / figs[pi];
+            println!("{name:>7} {id:>10}: {rms:.5} vs peer {:.5} ({ratio:.3})", figs[pi]);
+            if ratio > 1.05 && !exceptions.contains(&(id, name)) {
+                failures.push(format!("{name}/{id}: {rms} vs {}", figs[pi]));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}

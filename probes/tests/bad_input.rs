@@ -1,0 +1,75 @@
+//! The bad-input corpus, generated here: every case makes `probes compare` exit
+//! non-zero with a message naming the file and the problem, and never panic.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn dir() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("probes-bad-input-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write_exr(path: &Path, w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 3]) {
+    let img = image::Rgb32FImage::from_fn(w, h, |x, y| image::Rgb(f(x, y)));
+    img.save(path).unwrap();
+}
+
+fn run(path: &Path, extra: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_probes"))
+        .arg("compare")
+        .arg(path)
+        .args(["--modes", "shl2", "--repeats", "1", "--out"])
+        .arg(path.with_extension("report"))
+        .args(extra)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{}: panic: {stderr}", path.display());
+    (out.status.success(), stderr)
+}
+
+#[test]
+fn bad_inputs_are_clear_errors() {
+    let d = dir();
+    // Good baseline: a tiny valid EXR.
+    let good = d.join("good.exr");
+    write_exr(&good, 16, 8, |x, y| [0.1 * x as f32, 0.2 * y as f32, 1.0]);
+    let (ok, err) = run(&good, &[]);
+    assert!(ok, "valid map failed: {err}");
+
+    let mut cases: Vec<(PathBuf, &str)> = Vec::new();
+    let p = d.join("nan.exr");
+    write_exr(&p, 16, 8, |x, y| if (x, y) == (3, 2) { [f32::NAN, 0.0, 0.0] } else { [1.0; 3] });
+    cases.push((p, "NaN; first at texel (3, 2)"));
+    let p = d.join("inf.exr");
+    write_exr(&p, 16, 8, |x, y| if (x, y) == (5, 7) { [0.0, f32::INFINITY, 0.0] } else { [1.0; 3] });
+    cases.push((p, "infinite; first at texel (5, 7)"));
+    let p = d.join("negative.exr");
+    write_exr(&p, 16, 8, |x, _| if x < 2 { [-1.0, 0.0, 0.0] } else { [1.0; 3] });
+    cases.push((p, "16 texel channel(s) are negative"));
+    let p = d.join("aspect.exr");
+    write_exr(&p, 16, 16, |_, _| [1.0; 3]);
+    cases.push((p, "is not a 2:1 lat-long map"));
+    let p = d.join("truncated.exr");
+    let bytes = std::fs::read(&good).unwrap();
+    std::fs::write(&p, &bytes[..bytes.len() / 2]).unwrap();
+    cases.push((p, "cannot decode"));
+    let p = d.join("garbage.hdr");
+    std::fs::write(&p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 16\n\x01\x02").unwrap();
+    cases.push((p, "cannot decode"));
+    let p = d.join("notes.txt");
+    std::fs::write(&p, b"hello").unwrap();
+    cases.push((p, "unsupported format '.txt'"));
+    cases.push((d.join("missing.hdr"), "cannot decode"));
+    for (path, want) in &cases {
+        let (ok, err) = run(path, &[]);
+        assert!(!ok, "{} should fail", path.display());
+        let name = path.file_name().unwrap().to_string_lossy();
+        assert!(err.contains(&*name) && err.contains(want), "{}: message '{err}' should name the file and say '{want}'", path.display());
+    }
+    // --sanitize turns the texel cases into successes and says how many were replaced.
+    let (ok, err) = run(&d.join("nan.exr"), &["--sanitize"]);
+    assert!(ok && err.contains("sanitised 1 NaN"), "{err}");
+    std::fs::remove_dir_all(&d).ok();
+}
