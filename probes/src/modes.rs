@@ -85,7 +85,22 @@ pub const MODES: &[(&str, &str)] = &[
     ("sgls", "SG 12, least squares"),
     ("sglsa", "SG 12 + ambient lobe, least squares"),
     ("sgnnls", "SG 12, non-negative least squares"),
+    ("shl2w", "SH L2 with sinc⁴ deringing where its irradiance would be negative"),
+    ("ad", "Ambient Dice hybrid Bézier (36), fitted to the irradiance image (as the peer)"),
+    ("adycocg", "Ambient Dice YCoCg (Bézier Y + linear Co/Cg, 60), fitted to the irradiance image"),
+    ("sgra", "SG 12, running average over the map's texels in a fixed shuffled order (as the peer)"),
+    ("sgnnra", "SG 12, non-negative running average"),
+    ("sgpls", "SG 12, progressive least squares (seed §7.3), 4096 Halton samples, f32 state"),
+    ("sgpnnls", "SG 12, progressive non-negative least squares"),
+    ("adpls", "Ambient Dice SRBF 12, progressive least squares, 4096 Halton samples"),
+    ("adpnnls", "Ambient Dice SRBF 12, progressive non-negative least squares"),
 ];
+
+/// Y (36), Co (12), Cg (12) coefficient vectors of the YCoCg mode.
+type YCoCgCoeffs = (Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// Samples taken by the progressive modes.
+pub const PROGRESSIVE_SAMPLES: u64 = 4096;
 
 /// The default set: every mode with a peer figure.
 pub const DEFAULT_MODES: &[&str] =
@@ -337,6 +352,151 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 _ => "least squares",
             };
             Ok(mk(basis.name(), solver, c, vogel.iter().map(|a| (*a, 6.0)).collect(), Some(rad), irr, t, ns))
+        }
+        "shl2w" => {
+            // SH L2 deringed with the sinc⁴ window (Sloan 2017) where the signal it
+            // reconstructs rings: per channel, if the irradiance (E/π) is negative on any
+            // of 4096 spherical-Fibonacci directions, the largest window width that makes
+            // it non-negative is applied to the coefficients; otherwise nothing changes.
+            // (The peer's Laplacian window sums each band from m = −1, a bug.)
+            let sh = ShBasis::new(2).map_err(err)?;
+            let fib: Vec<DVec3> = (0..4096).map(|i| sbf::sampling::spherical_fibonacci(i, 4096)).collect();
+            let (c, t) = timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
+                let c = channels(&moments(&sh, &ctx.samples));
+                let mut out = c.clone();
+                for k in 0..3 {
+                    let irr = shr::irradiance_coefficients(&channel(&c, k)).map_err(err)?;
+                    if shr::minimum_over(&irr, &fib).map_err(err)? >= 0.0 {
+                        continue;
+                    }
+                    if let Some((w, _)) = shr::sinc4_deringing(&irr, &fib).map_err(err)? {
+                        let windowed = shr::apply_window(&channel(&c, k), |l| shr::sinc4_window(l, w)).map_err(err)?;
+                        for i in 0..9 {
+                            out[i][k] = windowed[i];
+                        }
+                    }
+                }
+                Ok(out)
+            });
+            let c = c?;
+            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
+            let e = [0, 1, 2].map(|k| shr::irradiance_coefficients(&chans[k]).expect("9 coefficients"));
+            let (mut irr, ns) = eval_cost(dirs, |d| {
+                let y = sh.eval(d);
+                [0, 1, 2].map(|k| e[k].iter().zip(&y).map(|(a, b)| a * b).sum())
+            });
+            let neg = clamp_negative(&mut irr);
+            let rad = reconstruct(&sh, &c, dirs);
+            let mut r = mk(sh.name(), "projection + sinc⁴ deringing; irradiance clamped at 0", c, Vec::new(), Some(rad), irr, t, ns);
+            r.clamped_negative_fraction = Some(neg);
+            Ok(r)
+        }
+        "ad" | "adycocg" => {
+            // Fitted to the irradiance image (as the peer), unweighted texels.
+            let s = irradiance_samples(ctx);
+            let bz = sbf::AmbientDiceBezier::new();
+            if id == "ad" {
+                let (c, t) = timed(repeats, || {
+                    solve_gram(&sbf::solve::sample_gram(&bz, &s), &moments(&bz, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
+                });
+                let c = c.map_err(err)?;
+                let t0 = Instant::now();
+                let irr = reconstruct(&bz, &c, dirs);
+                let ns = t0.elapsed().as_secs_f64() * 1e9 / dirs.len() as f64;
+                Ok(mk(bz.name(), "least squares (irradiance image)", c, Vec::new(), None, irr, t, ns))
+            } else {
+                let lin = sbf::AmbientDiceLinear::new();
+                let ys: Vec<RadianceSample> =
+                    s.iter().map(|x| RadianceSample { value: sbf::basis::ambient_dice_bezier::rgb_to_ycocg(x.value), ..*x }).collect();
+                let (c, t) = timed(repeats, || -> Result<YCoCgCoeffs, String> {
+                    let y = solve_gram(&sbf::solve::sample_gram(&bz, &ys), &moments(&bz, &ys), LsOptions::default()).map_err(err)?.coeffs;
+                    let cc =
+                        solve_gram(&sbf::solve::sample_gram(&lin, &ys), &moments(&lin, &ys), LsOptions::default()).map_err(err)?.coeffs;
+                    Ok((
+                        y.column(0).iter().copied().collect(),
+                        cc.column(1).iter().copied().collect(),
+                        cc.column(2).iter().copied().collect(),
+                    ))
+                });
+                let (y, co, cg) = c?;
+                let yc = sbf::AmbientDiceYCoCg::new();
+                let (ya, coa, cga): ([f64; 36], [f64; 12], [f64; 12]) =
+                    (y.clone().try_into().unwrap(), co.clone().try_into().unwrap(), cg.clone().try_into().unwrap());
+                let (irr, ns) = eval_cost(dirs, |d| yc.eval_rgb(&ya, &coa, &cga, d));
+                // Coefficients as written: Y (36) then Co (12) then Cg (12), one value each.
+                let coeffs: Vec<[f64; 3]> = y.iter().chain(&co).chain(&cg).map(|v| [*v, *v, *v]).collect();
+                Ok(mk(
+                    "AD YCoCg (Bézier Y 36 + linear Co, Cg 12+12)".into(),
+                    "least squares (irradiance image, per YCoCg channel)",
+                    coeffs,
+                    Vec::new(),
+                    None,
+                    irr,
+                    t,
+                    ns,
+                ))
+            }
+        }
+        "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "adpls" | "adpnnls" => {
+            let vogel12 = vogel.clone();
+            let (basis, lobes): (Box<dyn Basis>, Vec<(DVec3, f64)>) = if id.starts_with("sg") {
+                (Box::new(SgBasis::new(&vogel12, 6.0, false).map_err(err)?), vogel12.iter().map(|a| (*a, 6.0)).collect())
+            } else {
+                let ad = AmbientDiceSrbf::twelve();
+                let l = ad.lobes().iter().map(|a| (*a, 0.0)).collect();
+                (Box::new(ad), l)
+            };
+            let opts = match id {
+                "sgra" | "sgnnra" => {
+                    let g = gram_matrix(basis.as_ref(), Domain::Sphere, GramOptions::default()).map_err(err)?;
+                    let diag: Vec<f64> = (0..basis.len()).map(|i| g.matrix[(i, i)]).collect();
+                    sbf::solve::ProgressiveOptions::running_average(&diag, 4.0 * std::f64::consts::PI, id == "sgnnra")
+                }
+                "sgpnnls" | "adpnnls" => sbf::solve::ProgressiveOptions::non_negative(),
+                _ => sbf::solve::ProgressiveOptions::default(),
+            };
+            // Samples: the running averages take every texel once in a fixed shuffled
+            // order (as the peer); the progressive modes take PROGRESSIVE_SAMPLES Halton
+            // directions with bilinear radiance. Equal weights: only ratios matter.
+            let samples: Vec<RadianceSample> = if id.ends_with("ra") {
+                let mut order: Vec<usize> = (0..ctx.samples.len()).collect();
+                let mut rng = sbf::sampling::Pcg32::new(17, 3);
+                for i in (1..order.len()).rev() {
+                    order.swap(i, (rng.next_u32() as usize) % (i + 1));
+                }
+                order.iter().map(|&k| ctx.samples[k]).collect()
+            } else {
+                (0..PROGRESSIVE_SAMPLES)
+                    .map(|i| {
+                        let d = sbf::sampling::uniform_sphere(sbf::sampling::halton2(i));
+                        RadianceSample { direction: d, value: ctx.map.bilinear(d), weight: 1.0 }
+                    })
+                    .collect()
+            };
+            let (c, t) = timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
+                let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(basis.len(), opts.clone());
+                for s in &samples {
+                    enc.add(basis.as_ref(), s).map_err(err)?;
+                }
+                Ok(channels(&enc.coefficients()))
+            });
+            let c = c?;
+            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
+            let (irr, ns) = if id.starts_with("sg") {
+                let sgb = SgBasis::new(&vogel12, 6.0, false).map_err(err)?;
+                eval_cost(dirs, |d| [0, 1, 2].map(|k| sgr::irradiance_basis(&sgb, &chans[k], d)))
+            } else {
+                let ad = AmbientDiceSrbf::twelve();
+                eval_cost(dirs, |d| [0, 1, 2].map(|k| adr::irradiance(ad.lobes(), &chans[k], d)))
+            };
+            let rad = reconstruct(basis.as_ref(), &c, dirs);
+            let solver = match id {
+                "sgra" => "running average (per-sample, Jacobi, α = 1, clamped denominators)",
+                "sgnnra" => "non-negative running average",
+                "sgpls" | "adpls" => "progressive LS, f32 state, 4096 Halton samples (seed §7.3)",
+                _ => "progressive NNLS, f32 state, 4096 Halton samples (seed §7.3)",
+            };
+            Ok(mk(basis.name(), solver, c, lobes, Some(rad), irr, t, ns))
         }
         _ => Err(format!("mode '{id}' is listed but not implemented")),
     }
