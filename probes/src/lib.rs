@@ -2,10 +2,12 @@
 //!
 //! Error against run time for every mode: the tool loads lat-long maps
 //! ([`input`]), computes exact references ([`reference`]), runs each mode
-//! ([`modes`]), measures errors ([`metrics`]) and writes reports ([`report`]).
+//! ([`modes`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
+//! images and plots ([`images`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
 //! peer tool (Probulator) does, so numbers are comparable.
 
+pub mod images;
 pub mod input;
 pub mod metrics;
 pub mod modes;

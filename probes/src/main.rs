@@ -94,7 +94,25 @@ fn compare(label: &str, map: LatLongImage, sanitized: usize, ids: &[String], rep
         pb.inc(1);
     }
     pb.finish_and_clear();
-    Ok(report::MapReport { path: label.to_string(), width: w, height: h, domain: "sphere", reference_method: method, sanitized, rows })
+    let slug: String = Path::new(label)
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "map".into())
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .collect();
+    Ok(report::MapReport {
+        path: label.to_string(),
+        width: w,
+        height: h,
+        domain: "sphere",
+        reference_method: method,
+        sanitized,
+        rows,
+        grid: ctx.grid,
+        reference: ctx.irradiance.clone(),
+        slug,
+    })
 }
 
 fn write_reports(out: &Path, maps: &[report::MapReport], print_json: bool) -> Result<(), String> {
@@ -103,11 +121,15 @@ fn write_reports(out: &Path, maps: &[report::MapReport], print_json: bool) -> Re
     let md = report::markdown(maps);
     std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
     std::fs::write(out.join("report.md"), &md).map_err(|e| format!("writing report.md: {e}"))?;
+    std::fs::write(out.join("report.html"), report::html(maps)).map_err(|e| format!("writing report.html: {e}"))?;
+    for m in maps {
+        report::write_images(out, m)?;
+    }
     if print_json {
         print!("{json}");
     } else {
         print!("{md}");
-        println!("\nwrote {}/report.md and results.json", out.display());
+        println!("\nwrote {0}/report.html, {0}/report.md, {0}/results.json and the images", out.display());
     }
     Ok(())
 }
@@ -166,7 +188,7 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare("built-in procedural sky (256×128)", map, 0, &ids, 3)?;
+            let rep = compare("procedural-sky", map, 0, &ids, 3)?;
             write_reports(Path::new("probes-report"), &[rep], false)
         })(),
     };

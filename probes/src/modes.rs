@@ -102,9 +102,31 @@ type YCoCgCoeffs = (Vec<f64>, Vec<f64>, Vec<f64>);
 /// Samples taken by the progressive modes.
 pub const PROGRESSIVE_SAMPLES: u64 = 4096;
 
-/// The default set: every mode with a peer figure.
-pub const DEFAULT_MODES: &[&str] =
-    &["ac", "acproj", "shl1g", "shl1zh3", "shl1", "shl2", "shl4", "adrbf-irr", "adrbf", "sg", "sgls", "sglsa", "sgnnls"];
+/// The default set: every mode with a peer figure, plus adrbf and the progressive modes.
+pub const DEFAULT_MODES: &[&str] = &[
+    "ac",
+    "acproj",
+    "shl1g",
+    "shl1zh3",
+    "shl1",
+    "shl2",
+    "shl4",
+    "shl2w",
+    "ad",
+    "adycocg",
+    "adrbf-irr",
+    "adrbf",
+    "sg",
+    "sgls",
+    "sglsa",
+    "sgnnls",
+    "sgra",
+    "sgnnra",
+    "sgpls",
+    "sgpnnls",
+    "adpls",
+    "adpnnls",
+];
 
 fn channels(m: &DMatrix<f64>) -> Vec<[f64; 3]> {
     (0..m.nrows()).map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)]]).collect()

@@ -22,6 +22,11 @@ pub struct MapReport {
     pub reference_method: String,
     pub sanitized: usize,
     pub rows: Vec<Row>,
+    /// Output grid and the reference irradiance on it (for the images).
+    pub grid: sbf::envmap::LatLong,
+    pub reference: Vec<[f64; 3]>,
+    /// Folder name of this map's images inside the report folder.
+    pub slug: String,
 }
 
 fn esc(s: &str) -> String {
@@ -54,13 +59,14 @@ pub fn json(maps: &[MapReport]) -> String {
     for (mi, m) in maps.iter().enumerate() {
         let _ = writeln!(
             s,
-            "  {{\"map\": {{\"path\": \"{}\", \"width\": {}, \"height\": {}, \"sanitized_texels\": {}}}, \"domain\": \"{}\", \"reference\": {{\"method\": \"{}\"}}, \"modes\": [",
+            "  {{\"map\": {{\"path\": \"{}\", \"width\": {}, \"height\": {}, \"sanitized_texels\": {}}}, \"domain\": \"{}\", \"reference\": {{\"method\": \"{}\", \"images\": {{\"irradiance\": \"{}/reference_irradiance.exr\"}}}}, \"modes\": [",
             esc(&m.path),
             m.width,
             m.height,
             m.sanitized,
             m.domain,
-            esc(&m.reference_method)
+            esc(&m.reference_method),
+            m.slug
         );
         for (ri, r) in m.rows.iter().enumerate() {
             let x = &r.result;
@@ -73,9 +79,10 @@ pub fn json(maps: &[MapReport]) -> String {
                 .collect::<Vec<_>>()
                 .join(", ");
             let rad = r.radiance.as_ref().map_or("null".to_string(), metrics_json);
+            let images = format!("{{\"irradiance\": \"{0}/{1}_irradiance.exr\", \"irradiance_png\": \"{0}/{1}_irradiance.png\", \"irradiance_error_png\": \"{0}/{1}_irradiance_error.png\"}}", m.slug, x.id);
             let _ = writeln!(
                 s,
-                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}}}{}",
+                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}, \"images\": {}}}{}",
                 x.id,
                 esc(x.name),
                 esc(&x.basis),
@@ -87,6 +94,7 @@ pub fn json(maps: &[MapReport]) -> String {
                 metrics_json(&r.irradiance),
                 num(x.encode_s),
                 num(x.eval_ns_per_dir),
+                images,
                 if ri + 1 < m.rows.len() { "," } else { "" }
             );
         }
@@ -127,4 +135,89 @@ pub fn markdown(maps: &[MapReport]) -> String {
         }
     }
     s
+}
+
+/// `report.html`: the markdown table's content with the irradiance and error images.
+pub fn html(maps: &[MapReport]) -> String {
+    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p>");
+    for m in maps {
+        let exposure = crate::images::auto_exposure(&m.reference);
+        let _ = write!(
+            s,
+            "<h2>{} ({}×{}, {})</h2><p>Reference: {}. Exposure {:+.2} EV.</p><p><img src=\"{}/reference_irradiance.png\"></p>",
+            esc_html(&m.path),
+            m.width,
+            m.height,
+            m.domain,
+            esc_html(&m.reference_method),
+            exposure,
+            m.slug
+        );
+        let _ = write!(s, "<p><img src=\"{0}/error_vs_encode_time.png\" style=\"width:480px\"> <img src=\"{0}/error_vs_eval_cost.png\" style=\"width:480px\"></p>", m.slug);
+        s.push_str("<table><tr><th>mode</th><th>basis / solver</th><th>coeffs</th><th>irradiance RMS</th><th>Ω-RMS</th><th>max</th><th>neg.</th><th>encode ms</th><th>eval ns/dir</th><th>irradiance</th><th>error</th></tr>");
+        for r in &m.rows {
+            let x = &r.result;
+            let _ = write!(
+                s,
+                "<tr><td class=\"l\"><code>{}</code></td><td class=\"l\">{}<br><small>{}</small></td><td>{}</td><td>{:.5}</td><td>{:.5}</td><td>{:.4}</td><td>{:.3}</td><td>{:.3}</td><td>{:.1}</td><td><img src=\"{}/{}_irradiance.png\"></td><td><img src=\"{}/{}_irradiance_error.png\"></td></tr>",
+                x.id,
+                esc_html(&x.basis),
+                esc_html(x.solver),
+                x.coefficients.len(),
+                r.irradiance.rms,
+                r.irradiance.rms_weighted,
+                r.irradiance.max_abs,
+                r.irradiance.negative_fraction,
+                x.encode_s * 1e3,
+                x.eval_ns_per_dir,
+                m.slug,
+                x.id,
+                m.slug,
+                x.id
+            );
+        }
+        s.push_str("</table>");
+    }
+    s.push_str("</body></html>\n");
+    s
+}
+
+fn esc_html(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// Writes every image and plot of one map into `dir/<slug>/`.
+pub fn write_images(dir: &std::path::Path, m: &MapReport) -> Result<(), String> {
+    use crate::images;
+    let d = dir.join(&m.slug);
+    std::fs::create_dir_all(&d).map_err(|e| format!("creating {}: {e}", d.display()))?;
+    let ev = images::auto_exposure(&m.reference);
+    images::write_exr(&d.join("reference_irradiance.exr"), m.grid, &m.reference)?;
+    images::write_png(&d.join("reference_irradiance.png"), m.grid, &m.reference, ev)?;
+    for r in &m.rows {
+        let x = &r.result;
+        images::write_exr(&d.join(format!("{}_irradiance.exr", x.id)), m.grid, &x.irradiance)?;
+        images::write_png(&d.join(format!("{}_irradiance.png", x.id)), m.grid, &x.irradiance, ev)?;
+        let err: Vec<[f64; 3]> = x.irradiance.iter().zip(&m.reference).map(|(a, b)| [0, 1, 2].map(|k| (a[k] - b[k]).abs())).collect();
+        images::write_png(&d.join(format!("{}_irradiance_error.png", x.id)), m.grid, &err, ev + 4.0)?;
+        if let Some(rad) = &x.radiance {
+            images::write_exr(&d.join(format!("{}_radiance.exr", x.id)), m.grid, rad)?;
+        }
+    }
+    let pts = |f: &dyn Fn(&Row) -> f64| m.rows.iter().map(|r| (r.result.id.to_string(), f(r), r.irradiance.rms)).collect::<Vec<_>>();
+    images::scatter(
+        &d.join("error_vs_encode_time.png"),
+        &format!("{}: irradiance error vs encode time", m.path),
+        "encode time (s)",
+        "irradiance RMS (E/π)",
+        &pts(&|r| r.result.encode_s),
+    )?;
+    images::scatter(
+        &d.join("error_vs_eval_cost.png"),
+        &format!("{}: irradiance error vs reconstruction cost", m.path),
+        "CPU reconstruction (ns per direction)",
+        "irradiance RMS (E/π)",
+        &pts(&|r| r.result.eval_ns_per_dir),
+    )?;
+    Ok(())
 }
