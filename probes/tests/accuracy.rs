@@ -119,6 +119,9 @@ fn results_json_coefficients_match_dense_ls() {
         reference_method: String::new(),
         sanitized: 0,
         rows,
+        grid: ctx.grid,
+        reference: ctx.irradiance.clone(),
+        slug: "wells".into(),
     }]);
     let v: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
     let vogel = sbf::layout::vogel_sphere(12).unwrap();
