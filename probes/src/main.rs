@@ -70,13 +70,7 @@ fn compare(label: &str, map: LatLongImage, sanitized: usize, ids: &[String], rep
     let t = std::time::Instant::now();
     let ctx = modes::Context::new(map);
     let ref_s = t.elapsed().as_secs_f64();
-    let method = format!(
-        "exact quadrature over {}×{} source texels at every {}×{} output texel centre ({ref_s:.2} s)",
-        probes::reference::reference_source(&ctx.map).geometry.width,
-        probes::reference::reference_source(&ctx.map).geometry.height,
-        ctx.grid.width,
-        ctx.grid.height
-    );
+    let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(ids.len() as u64);
     pb.set_style(indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {msg}").unwrap().progress_chars("=> "));
     pb.set_prefix(label.to_string());

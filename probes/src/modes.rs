@@ -27,6 +27,8 @@ pub struct Context {
     pub grid: LatLong,
     pub dirs: Vec<DVec3>,
     pub irradiance: Vec<[f64; 3]>,
+    /// How the reference was computed.
+    pub reference_method: String,
 }
 
 impl Context {
@@ -35,9 +37,8 @@ impl Context {
         let grid = reference::output_grid(&map);
         let dirs: Vec<DVec3> =
             (0..grid.height).flat_map(|j| (0..grid.width).map(move |i| (i, j))).map(|(i, j)| grid.texel_direction(i, j)).collect();
-        let src = reference::reference_source(&map);
-        let irradiance = reference::irradiance_image(&src, &dirs);
-        Context { samples: map_samples(&map), map, grid, dirs, irradiance }
+        let (irradiance, reference_method) = reference::reference_irradiance(&map, &dirs);
+        Context { samples: map_samples(&map), map, grid, dirs, irradiance, reference_method }
     }
 
     /// The map's radiance at the output grid's texel centres (bilinear).
@@ -253,7 +254,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             } else {
                 timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
                     let axes = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
-                    Ok(axes.iter().map(|a| reference::irradiance_at(&reference::reference_source(&ctx.map), *a)).collect())
+                    Ok(reference::reference_irradiance(&ctx.map, &axes).0)
                 })
             };
             let c = c?;

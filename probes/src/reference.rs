@@ -1,21 +1,28 @@
 //! Reference signals: exact Lambert irradiance (E/π) by quadrature over the map's
 //! texels, evaluated at every texel centre of the output grid.
 //!
-//! Method: E/π(n) = Σ_t Ω_t·L_t·max(0, n·ω_t)/π over all source texels t (exact
-//! solid angles; the texel is treated as constant radiance at its centre). Cost is
-//! (output texels) × (source texels). Maps larger than 512×256 are first box-filtered
-//! (2×2 averages weighted by solid angle, which preserves each texel block's radiant
-//! power exactly) until they fit, and the output grid is capped at 512×256: the
-//! irradiance is band-limited by the clamped cosine (A_l ~ l^−2.5), so the error of this
-//! reduction is that of quadrature on the coarser grid (stated in the report).
+//! Method, maps up to 256×128: E/π(n) = Σ_t Ω_t·L_t·max(0, n·ω_t)/π over all source
+//! texels t (exact solid angles; each texel is constant radiance at its centre), at
+//! every output texel: cost (output texels) × (source texels).
+//!
+//! Larger maps: the full-resolution map is projected onto real SH of order
+//! [`SH_REFERENCE_ORDER`] (exact texel quadrature, cost ∝ texels) and convolved with
+//! the clamped cosine (A_l); the output grid is capped at 512×256. The truncation error
+//! is bounded by the first omitted band factor, |A₂₆/π| = 4.5e-4 of the band's
+//! radiance energy (A_l decays as l^−2.5), far below the errors the modes make; the
+//! cost grows linearly with the map's texel count.
 
 use rayon::prelude::*;
 use sbf::envmap::{LatLong, LatLongImage};
 use sbf::glam::DVec3;
 use std::f64::consts::PI;
 
-/// Largest source/output grid the reference evaluates directly.
+/// Largest output grid width.
 pub const MAX_REFERENCE_WIDTH: usize = 512;
+/// Largest map width evaluated by direct quadrature.
+pub const MAX_DIRECT_WIDTH: usize = 256;
+/// SH order of the reference for larger maps.
+pub const SH_REFERENCE_ORDER: usize = 24;
 
 /// Halves a lat-long image in both directions, averaging 2×2 blocks weighted by their
 /// solid angles (rows differ in Ω).
@@ -80,6 +87,80 @@ pub fn irradiance_image(src: &LatLongImage, dirs: &[DVec3]) -> Vec<[f64; 3]> {
                     e[0] += c * rad[0];
                     e[1] += c * rad[1];
                     e[2] += c * rad[2];
+                }
+            }
+            e
+        })
+        .collect()
+}
+
+/// The reference for a map at `dirs`: direct quadrature for maps up to 256 wide, the
+/// SH route beyond. Returns the image and a one-line description of the method.
+pub fn reference_irradiance(map: &LatLongImage, dirs: &[DVec3]) -> (Vec<[f64; 3]>, String) {
+    let g = map.geometry;
+    if g.width <= MAX_DIRECT_WIDTH {
+        (irradiance_image(map, dirs), format!("exact quadrature over all {}×{} texels", g.width, g.height))
+    } else {
+        (
+            irradiance_image_sh(map, dirs, SH_REFERENCE_ORDER),
+            format!(
+                "SH L{SH_REFERENCE_ORDER} projection of all {}×{} texels convolved with A_l (first omitted band factor 4.5e-4)",
+                g.width, g.height
+            ),
+        )
+    }
+}
+
+/// E/π from an SH projection of the whole map (rows in parallel, summed in row order:
+/// deterministic for any thread count).
+pub fn irradiance_image_sh(map: &LatLongImage, dirs: &[DVec3], order: usize) -> Vec<[f64; 3]> {
+    use sbf::Basis;
+    let sh = sbf::ShBasis::new(order).expect("order within range");
+    let n = sh.len();
+    let g = map.geometry;
+    let rows: Vec<Vec<[f64; 3]>> = (0..g.height)
+        .into_par_iter()
+        .map(|j| {
+            let w = g.texel_solid_angle(j);
+            let mut acc = vec![[0.0f64; 3]; n];
+            let mut y = vec![0.0; n];
+            for i in 0..g.width {
+                sh.eval_into(g.texel_direction(i, j), &mut y);
+                let t = map.texel(i, j);
+                for k in 0..n {
+                    let wy = w * y[k];
+                    for c in 0..3 {
+                        acc[k][c] += wy * t[c] as f64;
+                    }
+                }
+            }
+            acc
+        })
+        .collect();
+    let mut c = vec![[0.0f64; 3]; n];
+    for r in rows {
+        for k in 0..n {
+            for ch in 0..3 {
+                c[k][ch] += r[k][ch];
+            }
+        }
+    }
+    for l in 0..=order {
+        let a = sbf::recon::sh::lambert_band_factor(l) / PI;
+        for k in l * l..(l + 1) * (l + 1) {
+            for ch in 0..3 {
+                c[k][ch] *= a;
+            }
+        }
+    }
+    dirs.par_iter()
+        .map(|d| {
+            let mut y = vec![0.0; n];
+            sh.eval_into(*d, &mut y);
+            let mut e = [0.0; 3];
+            for k in 0..n {
+                for ch in 0..3 {
+                    e[ch] += c[k][ch] * y[k];
                 }
             }
             e
