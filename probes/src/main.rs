@@ -27,7 +27,8 @@ enum Cmd {
         /// Comma-separated mode ids (default: every mode with a peer figure).
         #[arg(long, value_delimiter = ',')]
         modes: Vec<String>,
-        /// Integration domain of fits and errors (only `sphere` so far).
+        /// Where errors are measured: `sphere`, or `hemisphere` (upper, +Y; seed
+        /// Appendix C; fits still use the whole sphere). Default modes follow the domain.
         #[arg(long, default_value = "sphere")]
         domain: String,
         /// Output folder.
@@ -65,10 +66,17 @@ fn preset(name: &str) -> Result<ProceduralSky, String> {
     }
 }
 
-fn compare(label: &str, map: LatLongImage, sanitized: usize, ids: &[String], repeats: usize) -> Result<report::MapReport, String> {
+fn compare(
+    label: &str,
+    map: LatLongImage,
+    sanitized: usize,
+    ids: &[String],
+    repeats: usize,
+    domain: sbf::Domain,
+) -> Result<report::MapReport, String> {
     let (w, h) = (map.geometry.width, map.geometry.height);
     let t = std::time::Instant::now();
-    let ctx = modes::Context::new(map);
+    let ctx = modes::Context::with_domain(map, domain);
     let ref_s = t.elapsed().as_secs_f64();
     let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(ids.len() as u64);
@@ -79,11 +87,11 @@ fn compare(label: &str, map: LatLongImage, sanitized: usize, ids: &[String], rep
     for id in ids {
         pb.set_message(id.clone());
         let r = modes::run(id, &ctx, repeats)?;
-        let mut irradiance = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance);
+        let mut irradiance = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
         if let Some(neg) = r.clamped_negative_fraction {
             irradiance.negative_fraction = neg;
         }
-        let rad = r.radiance.as_ref().map(|x| metrics::compute(ctx.grid, x, &radiance));
+        let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
         rows.push(report::Row { result: r, radiance: rad, irradiance });
         pb.inc(1);
     }
@@ -150,13 +158,16 @@ fn main() -> ExitCode {
             Ok(())
         })(),
         Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats }) => (|| {
-            if domain != "sphere" {
-                return Err(format!("--domain {domain}: only `sphere` is implemented so far"));
-            }
+            let dom = match domain.as_str() {
+                "sphere" => sbf::Domain::Sphere,
+                "hemisphere" => sbf::Domain::UpperHemisphere,
+                other => return Err(format!("--domain {other}: expected `sphere` or `hemisphere`")),
+            };
             if maps.is_empty() {
                 return Err("give at least one map (see --help)".into());
             }
-            let ids: Vec<String> = if m.is_empty() { modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect() } else { m };
+            let default: &[&str] = if dom == sbf::Domain::Sphere { modes::DEFAULT_MODES } else { modes::HEMISPHERE_MODES };
+            let ids: Vec<String> = if m.is_empty() { default.iter().map(|s| s.to_string()).collect() } else { m };
             for id in &ids {
                 if !modes::MODES.iter().any(|(x, _)| x == id) {
                     return Err(format!("unknown mode '{id}' (see `probes list`)"));
@@ -174,7 +185,7 @@ fn main() -> ExitCode {
                         rep.negative
                     );
                 }
-                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats)?);
+                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom)?);
             }
             write_reports(&out, &reports, json)
         })(),
@@ -182,7 +193,7 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare("procedural-sky", map, 0, &ids, 3)?;
+            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere)?;
             write_reports(Path::new("probes-report"), &[rep], false)
         })(),
     };

@@ -21,10 +21,18 @@ pub struct Metrics {
 
 /// Metrics of `approx` against `reference`, both row-major on `grid`.
 pub fn compute(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]]) -> Metrics {
+    compute_rows(grid, approx, reference, 0..grid.height)
+}
+
+/// Metrics over the texel rows `rows` only (the upper hemisphere is rows
+/// 0..height/2 of a lat-long grid with +Y up).
+pub fn compute_rows(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]], rows: std::ops::Range<usize>) -> Metrics {
     assert_eq!(approx.len(), grid.texel_count());
     assert_eq!(reference.len(), grid.texel_count());
+    assert!(rows.end <= grid.height && !rows.is_empty());
     let (mut se, mut swe, mut sw, mut sref, mut max_abs, mut smape, mut neg) = (0.0, 0.0, 0.0, 0.0, 0.0f64, 0.0, 0usize);
-    for j in 0..grid.height {
+    let counted = rows.len() * grid.width;
+    for j in rows {
         let w = grid.texel_solid_angle(j);
         for i in 0..grid.width {
             let k = j * grid.width + i;
@@ -46,7 +54,7 @@ pub fn compute(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]]) -> Me
             sw += 3.0 * w;
         }
     }
-    let n = (3 * grid.texel_count()) as f64;
+    let n = (3 * counted) as f64;
     let rms = (se / n).sqrt();
     let ref_rms = (sref / n).sqrt();
     Metrics {

@@ -29,16 +29,38 @@ pub struct Context {
     pub irradiance: Vec<[f64; 3]>,
     /// How the reference was computed.
     pub reference_method: String,
+    /// Where errors are measured: the whole sphere, or the upper hemisphere (world +Y,
+    /// tangent +Z) as in seed 004 Appendix C.
+    pub domain: Domain,
+}
+
+/// Tangent space (normal +Z) to world (+Y up): (x, y, z) ↦ (x, z, −y).
+pub fn tangent_to_world(t: DVec3) -> DVec3 {
+    DVec3::new(t.x, t.z, -t.y)
 }
 
 impl Context {
-    /// Samples the map, builds the output grid and the exact reference irradiance.
+    /// Whole-sphere context (see [`Context::with_domain`]).
     pub fn new(map: LatLongImage) -> Self {
+        Self::with_domain(map, Domain::Sphere)
+    }
+
+    /// Output grid rows where errors are measured.
+    pub fn metric_rows(&self) -> std::ops::Range<usize> {
+        match self.domain {
+            Domain::Sphere => 0..self.grid.height,
+            Domain::UpperHemisphere => 0..self.grid.height / 2,
+        }
+    }
+
+    /// Samples the map, builds the output grid and the exact reference irradiance;
+    /// fits always use the whole sphere (as Appendix C), errors use `domain`.
+    pub fn with_domain(map: LatLongImage, domain: Domain) -> Self {
         let grid = reference::output_grid(&map);
         let dirs: Vec<DVec3> =
             (0..grid.height).flat_map(|j| (0..grid.width).map(move |i| (i, j))).map(|(i, j)| grid.texel_direction(i, j)).collect();
         let (irradiance, reference_method) = reference::reference_irradiance(&map, &dirs);
-        Context { samples: map_samples(&map), map, grid, dirs, irradiance, reference_method }
+        Context { samples: map_samples(&map), map, grid, dirs, irradiance, reference_method, domain }
     }
 
     /// The map's radiance at the output grid's texel centres (bilinear).
@@ -95,7 +117,14 @@ pub const MODES: &[(&str, &str)] = &[
     ("sgpnnls", "SG 12, progressive non-negative least squares"),
     ("adpls", "Ambient Dice SRBF 12, progressive least squares, 4096 Halton samples"),
     ("adpnnls", "Ambient Dice SRBF 12, progressive non-negative least squares"),
+    ("ad9", "Ambient Dice SRBF 9, the seed's hemisphere set (§8.3.1), LS over the sphere, eq. 8.14 irradiance (Appendix C)"),
+    ("sg9h", "SG 9, λ 6, Vogel spiral over the upper hemisphere, LS over the sphere, Hill irradiance (Appendix C)"),
+    ("sg12h", "SG 12, λ 6, Vogel spiral over the upper hemisphere (Appendix C)"),
+    ("adrbf-tangent", "Ambient Dice SRBF 12 on the icosahedron in tangent space, eq. 8.14 irradiance (Appendix C's AD12)"),
 ];
+
+/// Default modes for `--domain hemisphere` (seed Appendix C).
+pub const HEMISPHERE_MODES: &[&str] = &["ad9", "adrbf-tangent", "sg9h", "sg12h"];
 
 /// Y (36), Co (12), Cg (12) coefficient vectors of the YCoCg mode.
 type YCoCgCoeffs = (Vec<f64>, Vec<f64>, Vec<f64>);
@@ -520,6 +549,52 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 _ => "progressive NNLS, f32 state, 4096 Halton samples (seed §7.3)",
             };
             Ok(mk(basis.name(), solver, c, lobes, Some(rad), irr, t, ns))
+        }
+        "ad9" | "sg9h" | "sg12h" | "adrbf-tangent" => {
+            // Appendix C: lobes laid out in tangent space (normal +Z), rotated to world
+            // (+Y up); least squares over the whole sphere.
+            let world = |v: Vec<DVec3>| v.into_iter().map(tangent_to_world).collect::<Vec<_>>();
+            let (basis, is_ad): (Box<dyn Basis>, bool) = match id {
+                "ad9" => (
+                    Box::new(AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron_hemisphere()), Domain::Sphere).map_err(err)?),
+                    true,
+                ),
+                "adrbf-tangent" => {
+                    (Box::new(AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron()), Domain::Sphere).map_err(err)?), true)
+                }
+                "sg9h" => (Box::new(SgBasis::new(&world(sbf::layout::vogel_hemisphere(9).map_err(err)?), 6.0, false).map_err(err)?), false),
+                _ => (Box::new(SgBasis::new(&world(sbf::layout::vogel_hemisphere(12).map_err(err)?), 6.0, false).map_err(err)?), false),
+            };
+            let g = gram_matrix(basis.as_ref(), Domain::Sphere, GramOptions::default()).map_err(err)?;
+            let (c, t) = timed(repeats, || {
+                solve_gram(&g.matrix, &moments(basis.as_ref(), &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
+            });
+            let c = c.map_err(err)?;
+            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
+            let (axes, lobes): (Vec<DVec3>, Vec<(DVec3, f64)>) = if is_ad {
+                let ad = AmbientDiceSrbf::from_axes(
+                    &match id {
+                        "ad9" => world(sbf::layout::icosahedron_hemisphere()),
+                        _ => world(sbf::layout::icosahedron()),
+                    },
+                    Domain::Sphere,
+                )
+                .map_err(err)?;
+                (ad.lobes().to_vec(), ad.lobes().iter().map(|a| (*a, 0.0)).collect())
+            } else {
+                let n = if id == "sg9h" { 9 } else { 12 };
+                let a = world(sbf::layout::vogel_hemisphere(n).map_err(err)?);
+                (a.clone(), a.iter().map(|x| (*x, 6.0)).collect())
+            };
+            let (irr, ns) = if is_ad {
+                eval_cost(dirs, |d| [0, 1, 2].map(|k| adr::irradiance_fit(&axes, &chans[k], d, &adr::DIFFUSE_FIT_EQ_8_14)))
+            } else {
+                eval_cost(dirs, |d| {
+                    [0, 1, 2].map(|k| sgr::sum_lobes(&axes, &vec![6.0; axes.len()], &chans[k], |s| sgr::irradiance_hill(s, d)))
+                })
+            };
+            let rad = reconstruct(basis.as_ref(), &c, dirs);
+            Ok(mk(basis.name(), "least squares over the sphere", c, lobes, Some(rad), irr, t, ns))
         }
         _ => Err(format!("mode '{id}' is listed but not implemented")),
     }
