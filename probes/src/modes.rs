@@ -121,10 +121,17 @@ pub const MODES: &[(&str, &str)] = &[
     ("sg9h", "SG 9, λ 6, Vogel spiral over the upper hemisphere, LS over the sphere, Hill irradiance (Appendix C)"),
     ("sg12h", "SG 12, λ 6, Vogel spiral over the upper hemisphere (Appendix C)"),
     ("adrbf-tangent", "Ambient Dice SRBF 12 on the icosahedron in tangent space, eq. 8.14 irradiance (Appendix C's AD12)"),
+    ("h4", "H-basis 4 (tangent space, normal +Y in the map), fitted to the irradiance image over the upper hemisphere"),
+    ("h6", "H-basis 6, fitted to the irradiance image over the upper hemisphere"),
 ];
 
 /// Default modes for `--domain hemisphere` (seed Appendix C).
-pub const HEMISPHERE_MODES: &[&str] = &["ad9", "adrbf-tangent", "sg9h", "sg12h"];
+pub const HEMISPHERE_MODES: &[&str] = &["ad9", "adrbf-tangent", "sg9h", "sg12h", "h4", "h6"];
+
+/// World (+Y up) to tangent space (normal +Z): the inverse of [`tangent_to_world`].
+pub fn world_to_tangent(w: DVec3) -> DVec3 {
+    DVec3::new(w.x, -w.z, w.y)
+}
 
 /// Y (36), Co (12), Cg (12) coefficient vectors of the YCoCg mode.
 type YCoCgCoeffs = (Vec<f64>, Vec<f64>, Vec<f64>);
@@ -595,6 +602,38 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             };
             let rad = reconstruct(basis.as_ref(), &c, dirs);
             Ok(mk(basis.name(), "least squares over the sphere", c, lobes, Some(rad), irr, t, ns))
+        }
+        "h4" | "h6" => {
+            // The H-basis lives on the upper hemisphere: fit the irradiance image there
+            // (texels of the upper rows, equal weights as the peer's image fits), evaluate
+            // in tangent space. The lower hemisphere is outside its domain (E/π = 0 there).
+            let h = sbf::HBasis::new(if id == "h4" { 4 } else { 6 }).map_err(err)?;
+            let upper = ctx.grid.width * (ctx.grid.height / 2);
+            let s: Vec<RadianceSample> = ctx.dirs[..upper]
+                .iter()
+                .zip(&ctx.irradiance[..upper])
+                .map(|(d, e)| RadianceSample { direction: world_to_tangent(*d), value: *e, weight: 1.0 })
+                .collect();
+            let (c, t) = timed(repeats, || {
+                solve_gram(&sbf::solve::sample_gram(&h, &s), &moments(&h, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
+            });
+            let c = c.map_err(err)?;
+            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
+            let mut sc = vec![0.0; h.len()];
+            let t0 = Instant::now();
+            let irr: Vec<[f64; 3]> = dirs
+                .iter()
+                .map(|d| {
+                    let tt = world_to_tangent(*d);
+                    if tt.z < 0.0 {
+                        [0.0; 3]
+                    } else {
+                        [0, 1, 2].map(|k| h.reconstruct(&chans[k], tt, &mut sc))
+                    }
+                })
+                .collect();
+            let ns = t0.elapsed().as_secs_f64() * 1e9 / dirs.len() as f64;
+            Ok(mk(h.name(), "least squares (irradiance image, upper hemisphere)", c, Vec::new(), None, irr, t, ns))
         }
         _ => Err(format!("mode '{id}' is listed but not implemented")),
     }
