@@ -231,7 +231,7 @@ fn appendix_c_hemisphere_modes() {
         let Some(map) = probe(name) else { return };
         let ctx = modes::Context::with_domain(map, sbf::Domain::UpperHemisphere);
         let radiance = ctx.radiance();
-        for (k, id) in modes::HEMISPHERE_MODES.iter().enumerate() {
+        for (k, id) in modes::HEMISPHERE_MODES[..4].iter().enumerate() {
             let r = modes::run(id, &ctx, 1).unwrap();
             let m = metrics::compute_rows(ctx.grid, r.radiance.as_ref().unwrap(), &radiance, ctx.metric_rows());
             let e = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
