@@ -2,7 +2,7 @@
 //!
 //! Error against run time for every mode: the tool loads lat-long maps
 //! ([`input`]), computes exact references ([`reference`]), runs each mode
-//! ([`modes`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
+//! ([`modes`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
 //! images and plots ([`images`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
 //! peer tool (Probulator) does, so numbers are comparable.
@@ -13,3 +13,4 @@ pub mod metrics;
 pub mod modes;
 pub mod reference;
 pub mod report;
+pub mod specular;

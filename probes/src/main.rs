@@ -43,6 +43,12 @@ enum Cmd {
         /// Encode repeats for the median timing.
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+        /// GGX roughness values of the specular signal (empty to skip it).
+        #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ALPHAS)]
+        alphas: Vec<f64>,
+        /// Visible-normal samples per texel of the specular reference.
+        #[arg(long, default_value_t = 256)]
+        specular_samples: u32,
     },
     /// Write a procedural environment map.
     Env {
@@ -66,6 +72,10 @@ fn preset(name: &str) -> Result<ProceduralSky, String> {
     }
 }
 
+/// Default roughness values of the specular signal (seed Appendix C).
+const DEFAULT_ALPHAS: [f64; 5] = [0.1, 0.2, 0.4, 0.6, 0.8];
+
+/// One map through every mode: reference, fits, metrics (irradiance, radiance, specular).
 fn compare(
     label: &str,
     map: LatLongImage,
@@ -73,6 +83,8 @@ fn compare(
     ids: &[String],
     repeats: usize,
     domain: sbf::Domain,
+    alphas: &[f64],
+    spec_samples: u32,
 ) -> Result<report::MapReport, String> {
     let (w, h) = (map.geometry.width, map.geometry.height);
     let t = std::time::Instant::now();
@@ -83,6 +95,17 @@ fn compare(
     pb.set_style(indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {msg}").unwrap().progress_chars("=> "));
     pb.set_prefix(label.to_string());
     let radiance = ctx.radiance();
+    let ts = std::time::Instant::now();
+    let spec_refs: Vec<(f64, Vec<[f64; 3]>)> = alphas.iter().map(|&a| (a, probes::specular::reference(&ctx, a, spec_samples))).collect();
+    let specular_method = if alphas.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "{spec_samples} visible-normal Halton samples per texel, bilinear radiance ({:.2} s for {} α)",
+            ts.elapsed().as_secs_f64(),
+            alphas.len()
+        )
+    };
     let mut rows = Vec::new();
     for id in ids {
         pb.set_message(id.clone());
@@ -92,7 +115,13 @@ fn compare(
             irradiance.negative_fraction = neg;
         }
         let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
-        rows.push(report::Row { result: r, radiance: rad, irradiance });
+        let mut specular = Vec::new();
+        for (a, reference) in &spec_refs {
+            if let Some(img) = probes::specular::reconstruct(&r, &ctx, *a) {
+                specular.push((*a, metrics::compute_rows(ctx.grid, &img, reference, ctx.metric_rows())));
+            }
+        }
+        rows.push(report::Row { result: r, radiance: rad, irradiance, specular });
         pb.inc(1);
     }
     pb.finish_and_clear();
@@ -103,14 +132,16 @@ fn compare(
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
         .collect();
+    let domain_name = if domain == sbf::Domain::Sphere { "sphere" } else { "upper hemisphere" };
     Ok(report::MapReport {
         path: label.to_string(),
         width: w,
         height: h,
-        domain: "sphere",
+        domain: domain_name,
         reference_method: method,
         sanitized,
         rows,
+        specular_method,
         grid: ctx.grid,
         reference: ctx.irradiance.clone(),
         slug,
@@ -157,7 +188,13 @@ fn main() -> ExitCode {
             println!("wrote {} ({}×{}, preset {p})", out.display(), width, width / 2);
             Ok(())
         })(),
-        Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats }) => (|| {
+        Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats, alphas, specular_samples }) => (|| {
+            if let Some(a) = alphas.iter().find(|a| !(a.is_finite() && **a >= 1e-4 && **a <= 1.0)) {
+                return Err(format!("--alphas: {a} is outside [1e-4, 1]"));
+            }
+            if specular_samples == 0 {
+                return Err("--specular-samples must be > 0".into());
+            }
             let dom = match domain.as_str() {
                 "sphere" => sbf::Domain::Sphere,
                 "hemisphere" => sbf::Domain::UpperHemisphere,
@@ -185,7 +222,7 @@ fn main() -> ExitCode {
                         rep.negative
                     );
                 }
-                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom)?);
+                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom, &alphas, specular_samples)?);
             }
             write_reports(&out, &reports, json)
         })(),
@@ -193,7 +230,7 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere)?;
+            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256)?;
             write_reports(Path::new("probes-report"), &[rep], false)
         })(),
     };

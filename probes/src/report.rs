@@ -10,6 +10,8 @@ pub struct Row {
     pub result: ModeResult,
     pub radiance: Option<Metrics>,
     pub irradiance: Metrics,
+    /// (α, metrics) of the GGX specular signal, for modes that reconstruct it.
+    pub specular: Vec<(f64, Metrics)>,
 }
 
 /// Everything about one map.
@@ -22,6 +24,8 @@ pub struct MapReport {
     pub reference_method: String,
     pub sanitized: usize,
     pub rows: Vec<Row>,
+    /// How the specular references were computed ("" when no α was requested).
+    pub specular_method: String,
     /// Output grid and the reference irradiance on it (for the images).
     pub grid: sbf::envmap::LatLong,
     pub reference: Vec<[f64; 3]>,
@@ -79,10 +83,12 @@ pub fn json(maps: &[MapReport]) -> String {
                 .collect::<Vec<_>>()
                 .join(", ");
             let rad = r.radiance.as_ref().map_or("null".to_string(), metrics_json);
+            let spec =
+                format!("{{{}}}", r.specular.iter().map(|(a, m)| format!("\"{a}\": {}", metrics_json(m))).collect::<Vec<_>>().join(", "));
             let images = format!("{{\"irradiance\": \"{0}/{1}_irradiance.exr\", \"irradiance_png\": \"{0}/{1}_irradiance.png\", \"irradiance_error_png\": \"{0}/{1}_irradiance_error.png\"}}", m.slug, x.id);
             let _ = writeln!(
                 s,
-                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}, \"images\": {}}}{}",
+                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}, \"specular\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}, \"images\": {}}}{}",
                 x.id,
                 esc(x.name),
                 esc(&x.basis),
@@ -92,6 +98,7 @@ pub fn json(maps: &[MapReport]) -> String {
                 lobes,
                 rad,
                 metrics_json(&r.irradiance),
+                spec,
                 num(x.encode_s),
                 num(x.eval_ns_per_dir),
                 images,
@@ -132,6 +139,33 @@ pub fn markdown(maps: &[MapReport]) -> String {
                 x.encode_s * 1e3,
                 x.eval_ns_per_dir
             );
+        }
+        let alphas: Vec<f64> = m.rows.iter().flat_map(|r| r.specular.iter().map(|(a, _)| *a)).fold(Vec::new(), |mut v, a| {
+            if !v.contains(&a) {
+                v.push(a);
+            }
+            v
+        });
+        if !alphas.is_empty() {
+            let _ = write!(s, "\nGGX specular (f0 = f90 = 1), RMS per α. Reference: {}.\n\n| mode |", m.specular_method);
+            for a in &alphas {
+                let _ = write!(s, " α = {a} |");
+            }
+            s.push_str("\n|---|");
+            s.push_str(&"---|".repeat(alphas.len()));
+            s.push('\n');
+            for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
+                let _ = write!(s, "| `{}` |", r.result.id);
+                for a in &alphas {
+                    match r.specular.iter().find(|(x, _)| x == a) {
+                        Some((_, mm)) => {
+                            let _ = write!(s, " {:.5} |", mm.rms);
+                        }
+                        None => s.push_str(" — |"),
+                    }
+                }
+                s.push('\n');
+            }
         }
     }
     s
