@@ -49,6 +49,9 @@ enum Cmd {
         /// Visible-normal samples per texel of the specular reference.
         #[arg(long, default_value_t = 256)]
         specular_samples: u32,
+        /// Skip the specular signal (irradiance and radiance only).
+        #[arg(long)]
+        no_specular: bool,
     },
     /// Write a procedural environment map.
     Env {
@@ -188,7 +191,8 @@ fn main() -> ExitCode {
             println!("wrote {} ({}×{}, preset {p})", out.display(), width, width / 2);
             Ok(())
         })(),
-        Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats, alphas, specular_samples }) => (|| {
+        Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats, alphas, specular_samples, no_specular }) => (|| {
+            let alphas = if no_specular { Vec::new() } else { alphas };
             if let Some(a) = alphas.iter().find(|a| !(a.is_finite() && **a >= 1e-4 && **a <= 1.0)) {
                 return Err(format!("--alphas: {a} is outside [1e-4, 1]"));
             }
