@@ -52,6 +52,11 @@ enum Cmd {
         /// Skip the specular signal (irradiance and radiance only).
         #[arg(long)]
         no_specular: bool,
+        /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the runtime path) or `peer`
+        /// (Probulator's cosine-as-SG kernel, λ 8.5 after naive projection, 3.0 otherwise;
+        /// reproduces its published figures).
+        #[arg(long, default_value = "hill")]
+        sg_irradiance: String,
     },
     /// Write a procedural environment map.
     Env {
@@ -88,10 +93,12 @@ fn compare(
     domain: sbf::Domain,
     alphas: &[f64],
     spec_samples: u32,
+    sg_irradiance: modes::SgIrradiance,
 ) -> Result<report::MapReport, String> {
     let (w, h) = (map.geometry.width, map.geometry.height);
     let t = std::time::Instant::now();
-    let ctx = modes::Context::with_domain(map, domain);
+    let mut ctx = modes::Context::with_domain(map, domain);
+    ctx.sg_irradiance = sg_irradiance;
     let ref_s = t.elapsed().as_secs_f64();
     let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(ids.len() as u64);
@@ -191,7 +198,24 @@ fn main() -> ExitCode {
             println!("wrote {} ({}×{}, preset {p})", out.display(), width, width / 2);
             Ok(())
         })(),
-        Some(Cmd::Compare { maps, modes: m, domain, out, json, sanitize, repeats, alphas, specular_samples, no_specular }) => (|| {
+        Some(Cmd::Compare {
+            maps,
+            modes: m,
+            domain,
+            out,
+            json,
+            sanitize,
+            repeats,
+            alphas,
+            specular_samples,
+            no_specular,
+            sg_irradiance,
+        }) => (|| {
+            let sgi = match sg_irradiance.as_str() {
+                "hill" => modes::SgIrradiance::Hill,
+                "peer" => modes::SgIrradiance::Peer,
+                other => return Err(format!("--sg-irradiance {other}: expected `hill` or `peer`")),
+            };
             let alphas = if no_specular { Vec::new() } else { alphas };
             if let Some(a) = alphas.iter().find(|a| !(a.is_finite() && **a >= 1e-4 && **a <= 1.0)) {
                 return Err(format!("--alphas: {a} is outside [1e-4, 1]"));
@@ -226,7 +250,7 @@ fn main() -> ExitCode {
                         rep.negative
                     );
                 }
-                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom, &alphas, specular_samples)?);
+                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom, &alphas, specular_samples, sgi)?);
             }
             write_reports(&out, &reports, json)
         })(),
@@ -234,7 +258,7 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256)?;
+            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256, modes::SgIrradiance::Hill)?;
             write_reports(Path::new("probes-report"), &[rep], false)
         })(),
     };

@@ -151,8 +151,10 @@ fn results_json_coefficients_match_dense_ls() {
 }
 
 /// Irradiance RMS (unweighted) on the five probes ≤ 1.05 × the peer's figure for every
-/// mode with a peer equivalent, except the SG cases listed, which the issue-6 note
-/// explains (our SG LS is 0.3–0.7× the peer elsewhere: the setups differ).
+/// mode with a peer equivalent. An SG batch mode (sg, sgls, sglsa, sgnnls) may exceed
+/// it with our Hill reconstruction only when the same coefficients reconstructed with
+/// the peer's SG kernel (λ 8.5 / 3.0, `--sg-irradiance peer`) land within ±5% of the
+/// peer's figure: evidence that the gap is the peer's irradiance kernel, not the fit.
 #[test]
 fn peer_figures() {
     let peer: [(&str, [f64; 5]); 17] = [
@@ -174,18 +176,27 @@ fn peer_figures() {
         ("sglsa", [0.4058, 0.09598, 0.01858, 0.1433, 0.02355]),
         ("sgnnls", [0.7927, 0.1235, 0.02434, 0.1937, 0.03816]),
     ];
-    let exceptions = [("sg", "pisa"), ("sg", "uffizi"), ("sg", "wells"), ("sgls", "wells"), ("sglsa", "wells"), ("sgnnls", "wells")];
     let names = ["ennis", "grace", "pisa", "uffizi", "wells"];
     let mut failures = Vec::new();
     for (pi, name) in names.iter().enumerate() {
         let Some(map) = probe(name) else { return };
-        let ctx = modes::Context::new(map);
+        let mut ctx = modes::Context::new(map);
         for (id, figs) in &peer {
+            ctx.sg_irradiance = modes::SgIrradiance::Hill;
             let r = modes::run(id, &ctx, 1).unwrap();
             let rms = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance).rms;
             let ratio = rms / figs[pi];
-            println!("{name:>7} {id:>10}: {rms:.5} vs peer {:.5} ({ratio:.3})", figs[pi]);
-            if ratio > 1.05 && !exceptions.contains(&(id, name)) {
+            let mut line = format!("{name:>7} {id:>10}: {rms:.5} vs peer {:.5} ({ratio:.3})", figs[pi]);
+            let mut explained = false;
+            if matches!(*id, "sg" | "sgls" | "sglsa" | "sgnnls") {
+                ctx.sg_irradiance = modes::SgIrradiance::Peer;
+                let rp = modes::run(id, &ctx, 1).unwrap();
+                let rmsp = metrics::compute(ctx.grid, &rp.irradiance, &ctx.irradiance).rms;
+                explained = (rmsp / figs[pi] - 1.0).abs() <= 0.05;
+                line += &format!("; peer kernel {rmsp:.5} ({:.3})", rmsp / figs[pi]);
+            }
+            println!("{line}");
+            if ratio > 1.05 && !explained {
                 failures.push(format!("{name}/{id}: {rms} vs {}", figs[pi]));
             }
         }

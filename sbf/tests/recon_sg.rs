@@ -163,3 +163,24 @@ fn ambient_lobe_constant() {
         assert_eq!(irradiance_basis(&b, &c, n), 2.5);
     }
 }
+
+/// The peer's SG-kernel irradiance: (a) a constant (λ = 0 lobe of amplitude c)
+/// reflects exactly c, because the kernel integrates to π — to 1e-12 (rounding);
+/// (b) it equals a brute-force sphere quadrature of G·K/π (1000×2000 Gauss product,
+/// accurate to ~1e-9 at these λ) to 1e-8 relative.
+#[test]
+fn sg_kernel_irradiance() {
+    for kl in [3.0, 8.5] {
+        let c = Sg::new(DVec3::Y, 0.0, 2.5).unwrap();
+        let e = irradiance_sg_kernel(&c, DVec3::new(0.3, 0.4, 0.866).normalize(), kl);
+        assert!((e - 2.5).abs() < 1e-12, "constant through λ_k={kl}: {e}");
+    }
+    let q = SphereQuadrature::gauss_product(Domain::Sphere, 1000, 2000);
+    for (lambda, kl, theta) in [(6.0, 3.0, 0.4), (6.0, 8.5, 1.2), (0.5, 3.0, 2.5)] {
+        let sg = lobe_at(theta, lambda);
+        let k = Sg::new(DVec3::Z, kl, 1.0).unwrap();
+        let b = q.integrate(|w| sg.eval(w) * k.eval(w)) * PI / k.integral() / PI;
+        let e = irradiance_sg_kernel(&sg, DVec3::Z, kl);
+        assert!((e - b).abs() < 1e-8 * b.abs().max(1e-3), "λ={lambda} λk={kl} θ={theta}: {e} vs {b}");
+    }
+}

@@ -187,6 +187,18 @@ pub fn irradiance_cosine_sg(sg: &Sg, n: DVec3) -> f64 {
     sg.amplitude * COSINE_SG.0 * sg_unit_inner_product(sg.axis, sg.sharpness, n, COSINE_SG.1) / PI
 }
 
+/// E/π with the clamped cosine replaced by an SG kernel of sharpness `kernel_sharpness`
+/// about n, scaled to integrate to π (so a constant radiance c still reflects c):
+/// E/π ≈ ∫ G·K / π, K = π·G(n, λ_k)/∫G(n, λ_k). This is how Probulator's SG
+/// experiments reconstruct irradiance when a "BRDF lambda" is set (it uses λ_k = 8.5
+/// after a naive projection and 3.0 after least squares, "chosen through
+/// experimentation"); `probes --sg-irradiance peer` uses it to reproduce that tool's
+/// figures. Not a cosine fit: [`irradiance_hill`] is the accurate runtime path.
+pub fn irradiance_sg_kernel(sg: &Sg, n: DVec3, kernel_sharpness: f64) -> f64 {
+    let k = Sg { axis: n, sharpness: kernel_sharpness, amplitude: 1.0 };
+    sg.inner_product(&k) / k.integral()
+}
+
 /// E/π treating the lobe as a point light of its integral along its axis.
 pub fn irradiance_punctual(sg: &Sg, n: DVec3) -> f64 {
     sg.integral() * sg.axis.dot(n).max(0.0) / PI
