@@ -1,7 +1,7 @@
 //! Image outputs: float EXR per mode and signal (same lat-long parameterisation as the
 //! input grid), tone-mapped PNG previews with a stated exposure, and the plots
 //! (error against encode time and against reconstruction cost, one labelled point per
-//! mode) drawn with plotters and the DejaVu font from the `dejavu` crate.
+//! mode; error against sample count, one line per per-sample encoder) drawn with plotters and the DejaVu font from the `dejavu` crate.
 
 use plotters::prelude::*;
 use sbf::envmap::LatLong;
@@ -82,6 +82,59 @@ pub fn scatter(path: &Path, title: &str, xlabel: &str, ylabel: &str, points: &[(
             .draw_series(pts.iter().map(|p| {
                 EmptyElement::at((p.1, p.2)) + Circle::new((0, 0), 4, BLUE.filled()) + Text::new(p.0.clone(), (6, -6), ("sans-serif", 14))
             }))
+            .map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    image::RgbImage::from_raw(w, h, buf).ok_or("bitmap size")?.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
+/// A log–log line plot, one labelled series per entry.
+pub fn lines(path: &Path, title: &str, xlabel: &str, ylabel: &str, series: &[(String, Vec<(f64, f64)>)]) -> Result<(), String> {
+    font();
+    let (w, h) = (1000u32, 700u32);
+    let ok = |p: &&(f64, f64)| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite();
+    let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.1.iter().filter(ok).copied()).collect();
+    if all.is_empty() {
+        return Err(format!("{title}: nothing to plot"));
+    }
+    let (x0, x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (y0, y1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 22))
+            .margin(20)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d((x0 / 1.2..x1 * 1.2).log_scale(), (y0 / 1.2..y1 * 1.2).log_scale())
+            .map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc(xlabel)
+            .y_desc(ylabel)
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.3e}"))
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        for (i, (name, pts)) in series.iter().enumerate() {
+            let colour = Palette99::pick(i).to_rgba();
+            let pts: Vec<(f64, f64)> = pts.iter().filter(ok).copied().collect();
+            chart
+                .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
+                .map_err(|e| e.to_string())?
+                .label(name.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| e.to_string())?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
             .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }

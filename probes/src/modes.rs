@@ -114,6 +114,9 @@ pub struct ModeResult {
     pub encode_s: f64,
     /// CPU irradiance reconstruction cost per direction, ns.
     pub eval_ns_per_dir: f64,
+    /// Per-sample encoders: (samples taken, irradiance RMS over the metric rows) at
+    /// 16, 32, 64, … samples and at the end (an untimed second pass); empty otherwise.
+    pub convergence: Vec<(u64, f64)>,
 }
 
 /// (id, description) of every mode, in report order.
@@ -284,6 +287,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
         clamped_negative_fraction: None,
         encode_s,
         eval_ns_per_dir,
+        convergence: Vec::new(),
     };
     match id {
         "mcis" => {
@@ -579,15 +583,36 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 Ok(channels(&enc.coefficients()))
             });
             let c = c?;
-            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
-            let (irr, ns) = if id.starts_with("sg") {
-                let sgb = SgBasis::new(&vogel12, 6.0, false).map_err(err)?;
-                // The peer's running averages use Hill's fit too (their figures match it).
-                eval_cost(dirs, |d| [0, 1, 2].map(|k| sgr::irradiance_basis(&sgb, &chans[k], d)))
-            } else {
-                let ad = AmbientDiceSrbf::twelve();
-                eval_cost(dirs, |d| [0, 1, 2].map(|k| adr::irradiance(ad.lobes(), &chans[k], d)))
+            let sgb = SgBasis::new(&vogel12, 6.0, false).map_err(err)?;
+            let ad = AmbientDiceSrbf::twelve();
+            // Irradiance of one direction from RGB coefficients. The peer's running
+            // averages use Hill's fit too (their figures match it).
+            let irradiance_at = |c: &[Vec<f64>; 3], d: DVec3| -> [f64; 3] {
+                if id.starts_with("sg") {
+                    [0, 1, 2].map(|k| sgr::irradiance_basis(&sgb, &c[k], d))
+                } else {
+                    [0, 1, 2].map(|k| adr::irradiance(ad.lobes(), &c[k], d))
+                }
             };
+            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
+            let (irr, ns) = eval_cost(dirs, |d| irradiance_at(&chans, d));
+            // Error against sample count: an untimed second pass with snapshots.
+            let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(basis.len(), opts.clone());
+            let mut convergence = Vec::new();
+            let mut next = 16usize;
+            for (i, s) in samples.iter().enumerate() {
+                enc.add(basis.as_ref(), s).map_err(err)?;
+                let n = i + 1;
+                if n == next || n == samples.len() {
+                    let cc = channels(&enc.coefficients());
+                    let ch = [channel(&cc, 0), channel(&cc, 1), channel(&cc, 2)];
+                    let img: Vec<[f64; 3]> = dirs.iter().map(|d| irradiance_at(&ch, *d)).collect();
+                    convergence.push((n as u64, crate::metrics::compute_rows(ctx.grid, &img, &ctx.irradiance, ctx.metric_rows()).rms));
+                    while next <= n {
+                        next *= 2;
+                    }
+                }
+            }
             let rad = reconstruct(basis.as_ref(), &c, dirs);
             let solver = match id {
                 "sgra" => "running average (per-sample, Jacobi, α = 1, clamped denominators)",
@@ -595,7 +620,9 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 "sgpls" | "adpls" => "progressive LS, f32 state, 4096 Halton samples (seed §7.3)",
                 _ => "progressive NNLS, f32 state, 4096 Halton samples (seed §7.3)",
             };
-            Ok(mk(basis.name(), solver, c, lobes, Some(rad), irr, t, ns))
+            let mut r = mk(basis.name(), solver, c, lobes, Some(rad), irr, t, ns);
+            r.convergence = convergence;
+            Ok(r)
         }
         "ad9" | "sg9h" | "sg12h" | "adrbf-tangent" => {
             // Appendix C: lobes laid out in tangent space (normal +Z), rotated to world

@@ -12,6 +12,19 @@ pub struct Row {
     pub irradiance: Metrics,
     /// (α, metrics) of the GGX specular signal, for modes that reconstruct it.
     pub specular: Vec<(f64, Metrics)>,
+    /// The specular images, parallel to `specular`.
+    pub specular_images: Vec<Vec<[f64; 3]>>,
+}
+
+/// The specular reference for one roughness.
+#[derive(Debug, Clone)]
+pub struct SpecularReference {
+    pub alpha: f64,
+    pub image: Vec<[f64; 3]>,
+    /// Estimated RMS error (vs 16× the samples on a texel subset) and the signal's RMS there.
+    pub error_rms: f64,
+    pub signal_rms: f64,
+    pub texels_checked: usize,
 }
 
 /// Everything about one map.
@@ -26,11 +39,19 @@ pub struct MapReport {
     pub rows: Vec<Row>,
     /// How the specular references were computed ("" when no α was requested).
     pub specular_method: String,
+    /// Visible-normal samples per texel of the specular references.
+    pub specular_samples: u32,
+    pub specular_reference: Vec<SpecularReference>,
     /// Output grid and the reference irradiance on it (for the images).
     pub grid: sbf::envmap::LatLong,
     pub reference: Vec<[f64; 3]>,
     /// Folder name of this map's images inside the report folder.
     pub slug: String,
+}
+
+/// File stem of a specular image for roughness α (`specular_a0.4`).
+pub fn specular_stem(alpha: f64) -> String {
+    format!("specular_a{alpha}")
 }
 
 fn esc(s: &str) -> String {
@@ -63,14 +84,32 @@ pub fn json(maps: &[MapReport]) -> String {
     for (mi, m) in maps.iter().enumerate() {
         let _ = writeln!(
             s,
-            "  {{\"map\": {{\"path\": \"{}\", \"width\": {}, \"height\": {}, \"sanitized_texels\": {}}}, \"domain\": \"{}\", \"reference\": {{\"method\": \"{}\", \"images\": {{\"irradiance\": \"{}/reference_irradiance.exr\"}}}}, \"modes\": [",
+            "  {{\"map\": {{\"path\": \"{}\", \"width\": {}, \"height\": {}, \"sanitized_texels\": {}}}, \"domain\": \"{}\", \"reference\": {{\"method\": \"{}\", \"specular_method\": \"{}\", \"samples\": {}, \"specular_error\": {{{}}}, \"images\": {{\"irradiance\": \"{}/reference_irradiance.exr\", \"specular\": {{{}}}}}}}, \"modes\": [",
             esc(&m.path),
             m.width,
             m.height,
             m.sanitized,
             m.domain,
             esc(&m.reference_method),
-            m.slug
+            esc(&m.specular_method),
+            m.specular_samples,
+            m.specular_reference
+                .iter()
+                .map(|r| format!(
+                    "\"{}\": {{\"rms\": {}, \"signal_rms\": {}, \"texels_checked\": {}}}",
+                    r.alpha,
+                    num(r.error_rms),
+                    num(r.signal_rms),
+                    r.texels_checked
+                ))
+                .collect::<Vec<_>>()
+                .join(", "),
+            m.slug,
+            m.specular_reference
+                .iter()
+                .map(|r| format!("\"{}\": \"{}/reference_{}.exr\"", r.alpha, m.slug, specular_stem(r.alpha)))
+                .collect::<Vec<_>>()
+                .join(", ")
         );
         for (ri, r) in m.rows.iter().enumerate() {
             let x = &r.result;
@@ -85,10 +124,22 @@ pub fn json(maps: &[MapReport]) -> String {
             let rad = r.radiance.as_ref().map_or("null".to_string(), metrics_json);
             let spec =
                 format!("{{{}}}", r.specular.iter().map(|(a, m)| format!("\"{a}\": {}", metrics_json(m))).collect::<Vec<_>>().join(", "));
-            let images = format!("{{\"irradiance\": \"{0}/{1}_irradiance.exr\", \"irradiance_png\": \"{0}/{1}_irradiance.png\", \"irradiance_error_png\": \"{0}/{1}_irradiance_error.png\"}}", m.slug, x.id);
+            let radiance_img = if x.radiance.is_some() {
+                format!(", \"radiance\": \"{0}/{1}_radiance.exr\", \"radiance_png\": \"{0}/{1}_radiance.png\"", m.slug, x.id)
+            } else {
+                String::new()
+            };
+            let spec_img = r
+                .specular
+                .iter()
+                .map(|(a, _)| format!("\"{a}\": \"{}/{}_{}.exr\"", m.slug, x.id, specular_stem(*a)))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let images = format!("{{\"irradiance\": \"{0}/{1}_irradiance.exr\", \"irradiance_png\": \"{0}/{1}_irradiance.png\", \"irradiance_error_png\": \"{0}/{1}_irradiance_error.png\"{2}, \"specular\": {{{3}}}}}", m.slug, x.id, radiance_img, spec_img);
+            let convergence = x.convergence.iter().map(|(n, e)| format!("[{n}, {}]", num(*e))).collect::<Vec<_>>().join(", ");
             let _ = writeln!(
                 s,
-                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}, \"specular\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}, \"images\": {}}}{}",
+                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}, \"specular\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}, \"convergence\": [{}], \"images\": {}}}{}",
                 x.id,
                 esc(x.name),
                 esc(&x.basis),
@@ -101,6 +152,7 @@ pub fn json(maps: &[MapReport]) -> String {
                 spec,
                 num(x.encode_s),
                 num(x.eval_ns_per_dir),
+                convergence,
                 images,
                 if ri + 1 < m.rows.len() { "," } else { "" }
             );
@@ -154,6 +206,16 @@ pub fn markdown(maps: &[MapReport]) -> String {
             s.push_str("\n|---|");
             s.push_str(&"---|".repeat(alphas.len()));
             s.push('\n');
+            s.push_str("| *reference error (est.)* |");
+            for a in &alphas {
+                match m.specular_reference.iter().find(|r| r.alpha == *a) {
+                    Some(r) => {
+                        let _ = write!(s, " *{:.1e}* |", r.error_rms);
+                    }
+                    None => s.push_str(" — |"),
+                }
+            }
+            s.push('\n');
             for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
                 let _ = write!(s, "| `{}` |", r.result.id);
                 for a in &alphas {
@@ -167,13 +229,43 @@ pub fn markdown(maps: &[MapReport]) -> String {
                 s.push('\n');
             }
         }
+        let conv: Vec<&Row> = m.rows.iter().filter(|r| !r.result.convergence.is_empty()).collect();
+        if !conv.is_empty() {
+            s.push_str("\nPer-sample encoders: irradiance RMS against samples taken.\n\n| samples |");
+            for r in &conv {
+                let _ = write!(s, " `{}` |", r.result.id);
+            }
+            s.push_str("\n|---|");
+            s.push_str(&"---|".repeat(conv.len()));
+            s.push('\n');
+            let counts: Vec<u64> = conv.iter().flat_map(|r| r.result.convergence.iter().map(|(n, _)| *n)).fold(Vec::new(), |mut v, n| {
+                if !v.contains(&n) {
+                    v.push(n);
+                }
+                v
+            });
+            let mut counts = counts;
+            counts.sort_unstable();
+            for n in counts {
+                let _ = write!(s, "| {n} |");
+                for r in &conv {
+                    match r.result.convergence.iter().find(|(k, _)| *k == n) {
+                        Some((_, e)) => {
+                            let _ = write!(s, " {e:.5} |");
+                        }
+                        None => s.push_str(" — |"),
+                    }
+                }
+                s.push('\n');
+            }
+        }
     }
     s
 }
 
 /// `report.html`: the markdown table's content with the irradiance and error images.
 pub fn html(maps: &[MapReport]) -> String {
-    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p>");
+    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}img.s{width:128px}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p>");
     for m in maps {
         let exposure = crate::images::auto_exposure(&m.reference);
         let _ = write!(
@@ -187,13 +279,17 @@ pub fn html(maps: &[MapReport]) -> String {
             exposure,
             m.slug
         );
-        let _ = write!(s, "<p><img src=\"{0}/error_vs_encode_time.png\" style=\"width:480px\"> <img src=\"{0}/error_vs_eval_cost.png\" style=\"width:480px\"></p>", m.slug);
-        s.push_str("<table><tr><th>mode</th><th>basis / solver</th><th>coeffs</th><th>irradiance RMS</th><th>Ω-RMS</th><th>max</th><th>neg.</th><th>encode ms</th><th>eval ns/dir</th><th>irradiance</th><th>error</th></tr>");
+        let _ = write!(s, "<p><img src=\"{0}/error_vs_encode_time.png\" style=\"width:480px\"> <img src=\"{0}/error_vs_eval_cost.png\" style=\"width:480px\">", m.slug);
+        if m.rows.iter().any(|r| !r.result.convergence.is_empty()) {
+            let _ = write!(s, " <img src=\"{0}/error_vs_samples.png\" style=\"width:480px\">", m.slug);
+        }
+        s.push_str("</p>");
+        s.push_str("<table><tr><th>mode</th><th>basis / solver</th><th>coeffs</th><th>irradiance RMS</th><th>Ω-RMS</th><th>max</th><th>neg.</th><th>encode ms</th><th>eval ns/dir</th><th>radiance</th><th>irradiance</th><th>error</th></tr>");
         for r in &m.rows {
             let x = &r.result;
             let _ = write!(
                 s,
-                "<tr><td class=\"l\"><code>{}</code></td><td class=\"l\">{}<br><small>{}</small></td><td>{}</td><td>{:.5}</td><td>{:.5}</td><td>{:.4}</td><td>{:.3}</td><td>{:.3}</td><td>{:.1}</td><td><img src=\"{}/{}_irradiance.png\"></td><td><img src=\"{}/{}_irradiance_error.png\"></td></tr>",
+                "<tr><td class=\"l\"><code>{}</code></td><td class=\"l\">{}<br><small>{}</small></td><td>{}</td><td>{:.5}</td><td>{:.5}</td><td>{:.4}</td><td>{:.3}</td><td>{:.3}</td><td>{:.1}</td><td>{}</td><td><img src=\"{}/{}_irradiance.png\"></td><td><img src=\"{}/{}_irradiance_error.png\"></td></tr>",
                 x.id,
                 esc_html(&x.basis),
                 esc_html(x.solver),
@@ -204,6 +300,7 @@ pub fn html(maps: &[MapReport]) -> String {
                 r.irradiance.negative_fraction,
                 x.encode_s * 1e3,
                 x.eval_ns_per_dir,
+                if x.radiance.is_some() { format!("<img src=\"{}/{}_radiance.png\">", m.slug, x.id) } else { "—".into() },
                 m.slug,
                 x.id,
                 m.slug,
@@ -211,6 +308,45 @@ pub fn html(maps: &[MapReport]) -> String {
             );
         }
         s.push_str("</table>");
+        if !m.specular_reference.is_empty() {
+            let _ = write!(
+                s,
+                "<h3>GGX specular (f0 = f90 = 1)</h3><p>Reference: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
+                esc_html(&m.specular_method)
+            );
+            for r in &m.specular_reference {
+                let _ = write!(s, "<th>α = {}</th>", r.alpha);
+            }
+            s.push_str("</tr><tr><td class=\"l\">reference</td>");
+            for r in &m.specular_reference {
+                let _ = write!(
+                    s,
+                    "<td><img class=\"s\" src=\"{}/reference_{}.png\"><br><small>est. error {:.1e}</small></td>",
+                    m.slug,
+                    specular_stem(r.alpha),
+                    r.error_rms
+                );
+            }
+            s.push_str("</tr>");
+            for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
+                let _ = write!(s, "<tr><td class=\"l\"><code>{}</code></td>", r.result.id);
+                for sr in &m.specular_reference {
+                    match r.specular.iter().find(|(a, _)| *a == sr.alpha) {
+                        Some((a, mm)) => {
+                            let st = specular_stem(*a);
+                            let _ = write!(
+                                s,
+                                "<td><img class=\"s\" src=\"{0}/{1}_{2}.png\"> <img class=\"s\" src=\"{0}/{1}_{2}_error.png\"><br><small>{3:.5}</small></td>",
+                                m.slug, r.result.id, st, mm.rms
+                            );
+                        }
+                        None => s.push_str("<td>—</td>"),
+                    }
+                }
+                s.push_str("</tr>");
+            }
+            s.push_str("</table>");
+        }
     }
     s.push_str("</body></html>\n");
     s
@@ -236,7 +372,37 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport) -> Result<(), String> 
         images::write_png(&d.join(format!("{}_irradiance_error.png", x.id)), m.grid, &err, ev + 4.0)?;
         if let Some(rad) = &x.radiance {
             images::write_exr(&d.join(format!("{}_radiance.exr", x.id)), m.grid, rad)?;
+            images::write_png(&d.join(format!("{}_radiance.png", x.id)), m.grid, rad, ev)?;
         }
+        for ((a, _), img) in r.specular.iter().zip(&r.specular_images) {
+            let Some(sr) = m.specular_reference.iter().find(|s| s.alpha == *a) else { continue };
+            let sev = images::auto_exposure(&sr.image);
+            let st = specular_stem(*a);
+            images::write_exr(&d.join(format!("{}_{st}.exr", x.id)), m.grid, img)?;
+            images::write_png(&d.join(format!("{}_{st}.png", x.id)), m.grid, img, sev)?;
+            let err: Vec<[f64; 3]> = img.iter().zip(&sr.image).map(|(p, q)| [0, 1, 2].map(|k| (p[k] - q[k]).abs())).collect();
+            images::write_png(&d.join(format!("{}_{st}_error.png", x.id)), m.grid, &err, sev + 4.0)?;
+        }
+    }
+    for sr in &m.specular_reference {
+        let st = specular_stem(sr.alpha);
+        images::write_exr(&d.join(format!("reference_{st}.exr")), m.grid, &sr.image)?;
+        images::write_png(&d.join(format!("reference_{st}.png")), m.grid, &sr.image, images::auto_exposure(&sr.image))?;
+    }
+    let series: Vec<(String, Vec<(f64, f64)>)> = m
+        .rows
+        .iter()
+        .filter(|r| !r.result.convergence.is_empty())
+        .map(|r| (r.result.id.to_string(), r.result.convergence.iter().map(|(n, e)| (*n as f64, *e)).collect()))
+        .collect();
+    if !series.is_empty() {
+        images::lines(
+            &d.join("error_vs_samples.png"),
+            &format!("{}: per-sample encoders, irradiance error vs samples", m.path),
+            "samples taken",
+            "irradiance RMS (E/π)",
+            &series,
+        )?;
     }
     let pts = |f: &dyn Fn(&Row) -> f64| m.rows.iter().map(|r| (r.result.id.to_string(), f(r), r.irradiance.rms)).collect::<Vec<_>>();
     images::scatter(

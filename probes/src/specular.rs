@@ -4,8 +4,10 @@
 //! (normal incidence: the prefiltered environment); over the upper hemisphere, the
 //! normal is the map's up (+Y) and the view is d (seed 004 Appendix C), zero below.
 //!
-//! Reference: visible-normal sampling ([`sbf::recon::reference::ggx_specular`]) with a
-//! reported number of Halton samples per texel, radiance by bilinear lookup.
+//! Reference: visible-normal samples plus map samples (by texel luminance) combined by
+//! multiple importance sampling ([`sbf::recon::reference::ggx_specular_mis`]), a
+//! reported number of each per texel, radiance by bilinear lookup; its error is
+//! estimated against 16× the samples on a texel subset ([`reference_error`]).
 //! Reconstructions, from the coefficients a mode stored: SH by zonal convolution about
 //! the dominant direction with the committed DFG table; SG lobes by the ASG warp; Ambient
 //! Dice SRBF lobes by the seed's fit (Listing 8.1) times the committed 2D LUT
@@ -14,6 +16,7 @@
 use crate::modes::{Context, ModeResult};
 use rayon::prelude::*;
 use sbf::glam::DVec3;
+use sbf::recon::reference::MapSampler;
 use sbf::recon::{ambient_dice as adr, sg as sgr, sh as shr};
 use sbf::Domain;
 
@@ -26,15 +29,44 @@ fn geometry(ctx: &Context, k: usize) -> Option<(DVec3, DVec3)> {
     }
 }
 
+/// One reference texel: `samples` visible-normal plus `samples` map samples, MIS.
+fn reference_texel(ctx: &Context, sampler: Option<&MapSampler>, k: usize, alpha: f64, samples: u32) -> [f64; 3] {
+    match geometry(ctx, k) {
+        Some((n, v)) => sbf::recon::reference::ggx_specular_mis(&ctx.map, sampler, n, v, alpha, 1.0, 1.0, samples),
+        None => [0.0; 3],
+    }
+}
+
 /// Reference specular image for roughness `alpha`.
 pub fn reference(ctx: &Context, alpha: f64, samples: u32) -> Vec<[f64; 3]> {
-    (0..ctx.dirs.len())
-        .into_par_iter()
-        .map(|k| match geometry(ctx, k) {
-            Some((n, v)) => sbf::recon::reference::ggx_specular(|w| ctx.map.bilinear(w), n, v, alpha, 1.0, 1.0, samples),
-            None => [0.0; 3],
-        })
-        .collect()
+    let sampler = MapSampler::new(&ctx.map);
+    (0..ctx.dirs.len()).into_par_iter().map(|k| reference_texel(ctx, sampler.as_ref(), k, alpha, samples)).collect()
+}
+
+/// Texel stride of the reference's convergence check.
+pub const CHECK_STRIDE: usize = 101;
+/// Sample-count multiplier of the convergence check.
+pub const CHECK_FACTOR: u32 = 16;
+
+/// Estimated error of a [`reference`] image: on every [`CHECK_STRIDE`]-th texel where
+/// the signal is defined, the RMS difference (unweighted, over channels) between the
+/// estimate with `samples` and with [`CHECK_FACTOR`]× as many points of the same
+/// Halton sequence (whose own error is far smaller for a QMC rule), and the RMS of
+/// the 16× estimate itself. Returns (error RMS, signal RMS, texels checked).
+pub fn reference_error(ctx: &Context, alpha: f64, samples: u32, reference: &[[f64; 3]]) -> (f64, f64, usize) {
+    let ks: Vec<usize> = (0..ctx.dirs.len()).step_by(CHECK_STRIDE).filter(|k| geometry(ctx, *k).is_some()).collect();
+    let sampler = MapSampler::new(&ctx.map);
+    let fine: Vec<[f64; 3]> =
+        ks.par_iter().map(|&k| reference_texel(ctx, sampler.as_ref(), k, alpha, samples.saturating_mul(CHECK_FACTOR))).collect();
+    let (mut e2, mut s2) = (0.0, 0.0);
+    for (i, &k) in ks.iter().enumerate() {
+        for c in 0..3 {
+            e2 += (reference[k][c] - fine[i][c]).powi(2);
+            s2 += fine[i][c].powi(2);
+        }
+    }
+    let m = (3 * ks.len()).max(1) as f64;
+    ((e2 / m).sqrt(), (s2 / m).sqrt(), ks.len())
 }
 
 fn is_sh(id: &str) -> bool {

@@ -108,7 +108,7 @@ fn results_json_coefficients_match_dense_ls() {
         .map(|id| {
             let r = modes::run(id, &ctx, 1).unwrap();
             let irradiance = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance);
-            report::Row { result: r, radiance: None, irradiance, specular: Vec::new() }
+            report::Row { result: r, radiance: None, irradiance, specular: Vec::new(), specular_images: Vec::new() }
         })
         .collect();
     let json = report::json(&[report::MapReport {
@@ -120,6 +120,8 @@ fn results_json_coefficients_match_dense_ls() {
         sanitized: 0,
         rows,
         specular_method: String::new(),
+        specular_samples: 0,
+        specular_reference: Vec::new(),
         grid: ctx.grid,
         reference: ctx.irradiance.clone(),
         slug: "wells".into(),
@@ -260,8 +262,10 @@ fn appendix_c_hemisphere_modes() {
 }
 
 /// Specular on a constant (white furnace) map: the reference equals the GGX albedo at
-/// normal incidence (2^16-sample DFG entry) within the reference's QMC error (256
-/// samples, ~1e-3), and SH L2, SG LS and AD SRBF reconstructions reproduce it within
+/// normal incidence (2^16-sample DFG entry) within the reference's QMC error (256 + 256
+/// MIS samples: the map samples are uniform here, half of them below the surface, so
+/// the error is ~1% rather than VNDF's ~1e-3; bar 1e-2, measured 7.2e-3), the tool's own
+/// error estimate agrees with the true RMS error within a factor 3, and SH L2, SG LS and AD SRBF reconstructions reproduce it within
 /// their approximation error: SH via the committed DFG table (exact for a constant up to
 /// the table's error, 3e-3); AD fit × LUT within 3%; SG through the ASG warp within 40%
 /// (the warp overestimates a lobe near the reflection direction by 17–24%, see sbf's
@@ -274,7 +278,13 @@ fn specular_white_furnace() {
         let albedo: f64 = sbf::ggx::dfg_entry(1.0, alpha, 1 << 16).iter().sum();
         let reference = probes::specular::reference(&ctx, alpha, 256);
         let worst = reference.iter().map(|r| (r[0] - albedo).abs()).fold(0.0, f64::max);
-        assert!(worst < 3e-3, "α={alpha}: reference vs albedo {albedo}: worst {worst:e}");
+        assert!(worst < 1e-2, "α={alpha}: reference vs albedo {albedo}: worst {worst:e}");
+        let true_rms = (reference.iter().map(|r| (0..3).map(|c| (r[c] - albedo).powi(2)).sum::<f64>()).sum::<f64>()
+            / (3 * reference.len()) as f64)
+            .sqrt();
+        let (est, _, _) = probes::specular::reference_error(&ctx, alpha, 256, &reference);
+        println!("α={alpha}: reference RMS error {true_rms:.3e}, estimated {est:.3e}");
+        assert!(est <= 3.0 * true_rms && true_rms <= 3.0 * est, "α={alpha}: estimate {est} vs true {true_rms}");
         for (id, tol) in [("shl2", 3e-3), ("sgls", 0.4), ("adrbf", 0.03)] {
             let r = modes::run(id, &ctx, 1).unwrap();
             let img = probes::specular::reconstruct(&r, &ctx, alpha).unwrap();

@@ -121,6 +121,11 @@ impl LatLongImage {
     /// centres at (i + ½)/W, (j + ½)/H.
     pub fn bilinear(&self, d: DVec3) -> [f64; 3] {
         let (u, v) = LatLong::direction_to_uv(d);
+        self.bilinear_uv(u, v)
+    }
+
+    /// Bilinear lookup at texture coordinates (u, v) ∈ [0, 1]² (see [`Self::bilinear`]).
+    pub fn bilinear_uv(&self, u: f64, v: f64) -> [f64; 3] {
         let (w, h) = (self.geometry.width, self.geometry.height);
         let x = u * w as f64 - 0.5;
         let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);

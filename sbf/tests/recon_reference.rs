@@ -72,3 +72,68 @@ fn constant_radiance_irradiance() {
     let e = irradiance_fn(|w| [w.dot(a).max(0.0); 3], a, 1 << 16)[0];
     assert!((e - 2.0 / 3.0).abs() < 1e-3, "{e}");
 }
+
+fn sky_map(sun: bool) -> sbf::envmap::LatLongImage {
+    let mut sky = sbf::envmap::ProceduralSky::default();
+    if !sun {
+        sky.sun_radiance = [0.0; 3];
+    }
+    sbf::envmap::LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).unwrap()
+}
+
+/// The map sampler's pdf is a density: Σ pdf·Ω over texels = 1 (to 1e-12, rounding);
+/// and every sampled direction's pdf equals `pdf()` at that direction (1e-9 relative;
+/// the two compute it along different paths).
+#[test]
+fn map_sampler_is_consistent() {
+    let map = sky_map(true);
+    let ms = MapSampler::new(&map).unwrap();
+    let g = map.geometry;
+    let mut total = 0.0;
+    for j in 0..g.height {
+        for i in 0..g.width {
+            total += ms.pdf(g.texel_direction(i, j)) * g.texel_solid_angle(j);
+        }
+    }
+    assert!((total - 1.0).abs() < 1e-12, "{total}");
+    let r2 = sbf::sampling::R2::with_seed(3);
+    for i in 0..2000 {
+        let (d, p) = ms.sample(r2.point(i));
+        assert!((d.length() - 1.0).abs() < 1e-12);
+        assert!((ms.pdf(d) - p).abs() <= 1e-9 * p, "sample {i}: {} vs {p}", ms.pdf(d));
+    }
+    let black = sbf::envmap::LatLongImage::new(8, 4, vec![[0.0; 3]; 32]).unwrap();
+    assert!(MapSampler::new(&black).is_none());
+}
+
+/// MIS agrees with plain VNDF sampling where the latter converges (the sky without its
+/// sun, 2^18 samples): 2e-3 relative (the QMC error of both at these counts is ~1e-4).
+/// With the sun, 256+256 MIS samples are ≥ 4× closer (RMS over 64 view directions) to a
+/// 16384+16384 MIS estimate than 256 VNDF samples are.
+#[test]
+fn mis_specular_matches_vndf_and_finds_the_sun() {
+    let smooth = sky_map(false);
+    let ms = MapSampler::new(&smooth);
+    for (k, alpha) in [0.05, 0.3, 0.9].into_iter().enumerate() {
+        let n = DVec3::new(0.3, 0.8, -0.2).normalize();
+        let v = DVec3::new(-0.2 + 0.3 * k as f64, 0.9, 0.4).normalize();
+        let a = ggx_specular_mis(&smooth, ms.as_ref(), n, v, alpha, 0.04, 1.0, 1 << 18);
+        let b = ggx_specular(|w| smooth.bilinear(w), n, v, alpha, 0.04, 1.0, 1 << 18);
+        for c in 0..3 {
+            assert!((a[c] - b[c]).abs() <= 2e-3 * b[c], "α={alpha} c={c}: {} vs {}", a[c], b[c]);
+        }
+    }
+    let sun = sky_map(true);
+    let ms = MapSampler::new(&sun);
+    let (mut e_mis, mut e_vndf) = (0.0, 0.0);
+    for i in 0..64u64 {
+        let d = sbf::sampling::spherical_fibonacci(i, 64);
+        let fine = ggx_specular_mis(&sun, ms.as_ref(), d, d, 0.3, 1.0, 1.0, 16384);
+        let m = ggx_specular_mis(&sun, ms.as_ref(), d, d, 0.3, 1.0, 1.0, 256);
+        let p = ggx_specular(|w| sun.bilinear(w), d, d, 0.3, 1.0, 1.0, 256);
+        e_mis += (m[1] - fine[1]).powi(2);
+        e_vndf += (p[1] - fine[1]).powi(2);
+    }
+    println!("RMS vs 16384+16384 MIS: MIS 256+256 {:.3e}, VNDF 256 {:.3e}", (e_mis / 64.0).sqrt(), (e_vndf / 64.0).sqrt());
+    assert!(4.0 * e_mis.sqrt() <= e_vndf.sqrt());
+}
