@@ -596,7 +596,22 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             };
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let (irr, ns) = eval_cost(dirs, |d| irradiance_at(&chans, d));
-            // Error against sample count: an untimed second pass with snapshots.
+            // Error against sample count: an untimed second pass with snapshots. The
+            // irradiance is linear in the coefficients, so each snapshot is a product with
+            // the per-lobe irradiance K[d][i] (same functions as above, one lobe at a time).
+            let nb = basis.len();
+            let kmat: Vec<f64> = dirs
+                .iter()
+                .flat_map(|d| {
+                    (0..nb).map(|i| {
+                        if id.starts_with("sg") {
+                            sgr::irradiance_hill(&sgb.lobe(i), *d)
+                        } else {
+                            adr::lobe_irradiance_cos(ad.lobes()[i].dot(*d))
+                        }
+                    })
+                })
+                .collect();
             let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(basis.len(), opts.clone());
             let mut convergence = Vec::new();
             let mut next = 16usize;
@@ -605,8 +620,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 let n = i + 1;
                 if n == next || n == samples.len() {
                     let cc = channels(&enc.coefficients());
-                    let ch = [channel(&cc, 0), channel(&cc, 1), channel(&cc, 2)];
-                    let img: Vec<[f64; 3]> = dirs.iter().map(|d| irradiance_at(&ch, *d)).collect();
+                    let img: Vec<[f64; 3]> =
+                        kmat.chunks_exact(nb).map(|k| [0, 1, 2].map(|c| k.iter().zip(&cc).map(|(a, b)| a * b[c]).sum())).collect();
                     convergence.push((n as u64, crate::metrics::compute_rows(ctx.grid, &img, &ctx.irradiance, ctx.metric_rows()).rms));
                     while next <= n {
                         next *= 2;

@@ -53,6 +53,14 @@ fn results_json_names_existing_images() {
         // The per-sample encoder reports error against 16, 32, …, 4096 samples.
         let conv = mode["convergence"].as_array().unwrap();
         assert_eq!(conv.len(), if id == "sgpls" { 9 } else { 0 }, "{id}");
+        // Its last point is the reported result (same samples, same order, same f32 state;
+        // the snapshot sums lobes in a different order: 1e-9 relative).
+        if let Some(last) = conv.last() {
+            let (n, e) = (last[0].as_u64().unwrap(), last[1].as_f64().unwrap());
+            let rms = mode["metrics"]["irradiance"]["rms"].as_f64().unwrap();
+            assert_eq!(n, 4096);
+            assert!((e - rms).abs() <= 1e-9 * rms, "{id}: {e} vs {rms}");
+        }
     }
     for f in ["report.html", "report.md", "sky/error_vs_encode_time.png", "sky/error_vs_eval_cost.png", "sky/error_vs_samples.png"] {
         assert!(out.join(f).is_file(), "{f}");
