@@ -5,3 +5,7 @@ const AD_DIFFUSE_QUADRATIC: vec3<f32> = vec3<f32>(0.060026042, 0.129166667, 0.06
 const SG_AD_LOBE_SHARPNESS: f32 = 3.634380103;
 const SG_AD_LOBE_AMPLITUDE: f32 = 0.638920350;
 const HILL_C0: f32 = 0.365201309;
+// Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
+// were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
+const AD_SPECULAR_PARAMS: array<f32, 8> = array<f32, 8>(3.049891052, -6.983002510, 7.388270436, -2.662756922, -0.400542949, 5.626699352, -6.040098717, 1.900612494);
+const AD_SPECULAR_DIFFUSE: vec3<f32> = vec3<f32>(0.060000000, 0.129000000, 0.069700000);

@@ -555,6 +555,18 @@ pub mod fits {
                 self.sg_cosine.0, self.sg_cosine.1
             );
             w += &format!("const HILL_C0: f32 = {:.9};\n", self.hill.1);
+            let (_, se, _) = &self.specular;
+            w += &format!(
+                "// Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs\n// were built with); LUT-normalised error RMS {:.3e}, max {:.3e}.\n",
+                se.0, se.1
+            );
+            let sp = sbf::recon::ambient_dice::SPECULAR_FIT_LISTING_8_1;
+            w += &format!(
+                "const AD_SPECULAR_PARAMS: array<f32, 8> = array<f32, 8>({});\n",
+                sp.iter().map(|x| format!("{x:.9}")).collect::<Vec<_>>().join(", ")
+            );
+            let sd = sbf::recon::ambient_dice::DIFFUSE_FIT_LISTING_8_1;
+            w += &format!("const AD_SPECULAR_DIFFUSE: vec3<f32> = vec3<f32>({:.9}, {:.9}, {:.9});\n", sd[0], sd[1], sd[2]);
             (rs, w)
         }
     }

@@ -1,6 +1,18 @@
 //! # shaders — WGSL runtime reconstruction library
 //!
-//! Not implemented yet (issue "shaders"). Planned: one WGSL module per concern
-//! (SH, SG, Ambient Dice, GGX, LUT sampling, progressive update), composition of a
-//! module from a configuration with pruning, naga validation and export, and a
-//! wgpu parity harness against the `sbf` CPU twins.
+//! The runtime side of `sbf` for GPUs: WGSL modules, one per concern, in `wgsl/`
+//! (`common`, `ggx`, `lut`, `sh`, `sg`, `ambient_dice`), plus two generated ones:
+//! `fits` (fitgen's `luts/fits.wgsl`: every fit constant) and `layouts` (lobe axes from
+//! `sbf::layout`). Every WGSL function has a CPU twin in `sbf` and a GPU parity test.
+//!
+//! - [`modules`]: the sources in composition order.
+//! - [`compose`]: configurations ([`compose::Config`]: presets or feature lists) and
+//!   composition pruned to what a configuration reaches, with what was left out.
+//! - [`export`]: naga validation and HLSL/GLSL/MSL export.
+//!
+//! The `shaders` binary exposes composition and export:
+//! `shaders export --config ad9-irradiance --lang hlsl --out ad9.hlsl`.
+
+pub mod compose;
+pub mod export;
+pub mod modules;

@@ -1,0 +1,79 @@
+//! shaders: compose, validate and export the WGSL runtime library.
+
+use clap::{Parser, Subcommand};
+use shaders::compose::{self, Config};
+use shaders::export::{self, Lang};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    version,
+    about = "Compose the WGSL runtime library for a configuration (only what it needs), validate it with naga, export it.",
+    after_help = "Examples:\n  shaders list\n  shaders export --config ad9-irradiance --lang wgsl\n  shaders export --config sh-l2-irradiance,sg-specular --lang hlsl --out lighting.hlsl\n  shaders export --config all --lang msl --out all.metal"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Presets and features, with the composed size of each preset.
+    List,
+    /// Compose, validate and write one configuration in one language.
+    Export {
+        /// A preset (see `list`) or a comma-separated feature list.
+        #[arg(long)]
+        config: String,
+        /// wgsl, hlsl, glsl or msl.
+        #[arg(long, default_value = "wgsl")]
+        lang: String,
+        /// Output file (default: stdout).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let r = match cli.cmd {
+        Cmd::List => (|| {
+            println!("presets:");
+            for (name, _) in compose::PRESETS {
+                let c = compose::compose(&Config::parse(name)?)?;
+                println!("  {:<16} {}", name, c.summary());
+            }
+            println!("features:");
+            for (f, name) in compose::Feature::ALL {
+                println!("  {:<18} {}", name, f.roots().join(", "));
+            }
+            Ok(())
+        })(),
+        Cmd::Export { config, lang, out } => (|| {
+            let cfg = Config::parse(&config)?;
+            let lang = Lang::parse(&lang)?;
+            let c = compose::compose(&cfg)?;
+            let text = export::export(&c.source, lang)?;
+            eprintln!("{}", c.summary());
+            if !c.left_out.is_empty() {
+                let names: Vec<String> = c.left_out.iter().map(|(m, n, _)| format!("{m}::{n}")).collect();
+                eprintln!("left out: {}", names.join(", "));
+            }
+            match out {
+                Some(p) => std::fs::write(&p, text).map_err(|e| format!("writing {}: {e}", p.display())),
+                None => {
+                    print!("{text}");
+                    Ok(())
+                }
+            }
+        })(),
+    };
+    match r {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("shaders: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

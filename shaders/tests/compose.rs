@@ -1,0 +1,88 @@
+//! CPU-only checks of the WGSL library: every module and every composed configuration
+//! validates with naga and exports to HLSL, GLSL and MSL; composition prunes.
+
+use shaders::compose::{self, Config, Feature};
+use shaders::export::{self, Lang};
+use shaders::modules;
+
+/// The item splitter sees all of every source: header + items re-assemble to the file
+/// (up to blank lines), so nothing outside an item could be lost by composition.
+#[test]
+fn modules_split_losslessly() {
+    for m in modules::all() {
+        let s = compose::split(&m);
+        assert!(!s.items.is_empty(), "{}: no items", m.name);
+        let joined: String = std::iter::once(s.header.clone()).chain(s.items.iter().map(|i| i.text.clone())).collect::<Vec<_>>().join("\n");
+        let squash = |t: &str| t.lines().map(str::trim_end).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("\n");
+        assert_eq!(squash(&joined), squash(&m.source), "{}", m.name);
+    }
+}
+
+/// Each module on its own (all its items as roots, plus what they use) validates.
+#[test]
+fn every_module_validates() {
+    for m in modules::all() {
+        let s = compose::split(&m);
+        // A configuration with one pseudo-feature per module is not expressible through
+        // Feature, so validate the module's items composed with everything before it.
+        let mut src = String::new();
+        for prev in modules::all() {
+            src += &prev.source;
+            src += "\n";
+            if prev.name == m.name {
+                break;
+            }
+        }
+        export::validate(&src).unwrap_or_else(|e| panic!("{} (with its predecessors): {e}", m.name));
+        assert!(s.items.iter().all(|i| src.contains(&i.text)));
+    }
+}
+
+/// Every preset and every single feature composes, validates, and exports to all
+/// languages; exported text is non-trivial and names the root functions.
+#[test]
+fn every_configuration_validates_and_exports() {
+    let mut configs: Vec<Config> = compose::PRESETS.iter().map(|(n, _)| Config::parse(n).unwrap()).collect();
+    configs.extend(Feature::ALL.iter().map(|(_, n)| Config::parse(n).unwrap()));
+    for c in &configs {
+        let composed = compose::compose(c).unwrap();
+        for lang in Lang::ALL {
+            let out = export::export(&composed.source, lang).unwrap_or_else(|e| panic!("{} → {lang:?}: {e}", c.name));
+            for f in &c.features {
+                for r in f.roots() {
+                    assert!(out.contains(r), "{} → {lang:?}: {r} missing", c.name);
+                }
+            }
+        }
+    }
+}
+
+/// Pruning: "AD9 irradiance only" is a fraction of "all", keeps no SH/SG/GGX/LUT code,
+/// and the two together account for every byte (kept + left out = all items).
+#[test]
+fn pruning_leaves_out_what_is_not_needed() {
+    let all = compose::compose(&Config::parse("all").unwrap()).unwrap();
+    let ad9 = compose::compose(&Config::parse("ad9-irradiance").unwrap()).unwrap();
+    println!("{}\n{}", all.summary(), ad9.summary());
+    assert!(ad9.source.len() * 4 < all.source.len(), "{} vs {}", ad9.source.len(), all.source.len());
+    for (m, _) in &ad9.included {
+        assert!(["common", "fits", "layouts", "ambient_dice"].contains(&m.as_str()), "AD9 irradiance pulled in {m}");
+    }
+    let names: Vec<&str> = ad9.included.iter().map(|(_, n)| n.as_str()).collect();
+    for must in ["ad9_irradiance", "ad_lobe_irradiance", "AD9_AXES", "AD_DIFFUSE_QUADRATIC"] {
+        assert!(names.contains(&must), "{must}");
+    }
+    for never in ["AD12_AXES", "lut2_sample", "ggx_d", "sh_eval_l2", "ad_specular_fit"] {
+        assert!(!names.contains(&never), "{never}");
+    }
+    assert_eq!(ad9.included.len() + ad9.left_out.len(), all.included.len() + all.left_out.len());
+}
+
+/// Bad configurations are errors that list the valid names.
+#[test]
+fn bad_configuration_is_an_error() {
+    let e = Config::parse("ad9-irradiance,nonsense").unwrap_err();
+    assert!(e.contains("nonsense") && e.contains("ad12-specular") && e.contains("presets"), "{e}");
+    assert!(Config::parse("").is_err());
+    assert!(Lang::parse("spirv").is_err());
+}
