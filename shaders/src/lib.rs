@@ -9,10 +9,14 @@
 //! - [`compose`]: configurations ([`compose::Config`]: presets or feature lists) and
 //!   composition pruned to what a configuration reaches, with what was left out.
 //! - [`export`]: naga validation and HLSL/GLSL/MSL export.
+//! - `gpu` (feature `gpu`, default): a wgpu compute harness for the parity tests and
+//!   the throughput benchmark.
 //!
 //! The `shaders` binary exposes composition and export:
 //! `shaders export --config ad9-irradiance --lang hlsl --out ad9.hlsl`.
 
 pub mod compose;
 pub mod export;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod modules;

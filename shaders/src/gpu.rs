@@ -1,0 +1,171 @@
+//! A small wgpu compute harness: runs WGSL statements over many inputs and reads the
+//! results back, so that every WGSL function can be compared with its `sbf` twin, and
+//! times kernels for the throughput benchmark.
+//!
+//! Kernel layout: binding 0 `inp: array<f32>` (read), binding 1 `outp: array<f32>`
+//! (write), optional binding 2 `lut: texture_2d<f32>` (an rg32float table). The body
+//! sees the invocation index `i` (< `count`) and the helper `ld3(k)` (three floats of
+//! `inp` from k). Dispatch is 2D so counts above 65535 × 64 work.
+
+use wgpu::util::DeviceExt;
+
+/// A device and queue, plus what the adapter said about itself.
+#[derive(Debug)]
+pub struct Gpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    /// "name (backend, driver)" of the adapter that ran.
+    pub adapter: String,
+}
+
+const WG: u32 = 64;
+
+impl Gpu {
+    /// The best Vulkan or GL adapter (NVIDIA, or lavapipe / llvmpipe without a GPU).
+    pub fn new() -> Result<Gpu, String> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::VULKAN | wgpu::Backends::GL,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            ..Default::default()
+        }))
+        .map_err(|e| format!("no GPU adapter (Vulkan or GL): {e}"))?;
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("sbf shaders harness"),
+            required_features: wgpu::Features::empty(),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| format!("requesting a device from {}: {e}", info.name))?;
+        Ok(Gpu { device, queue, adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info) })
+    }
+
+    /// The full kernel source for a library, a body and a count.
+    pub fn kernel_source(library: &str, body: &str, count: usize, with_lut: bool) -> String {
+        let lut = if with_lut { "@group(0) @binding(2) var lut: texture_2d<f32>;\n" } else { "" };
+        format!(
+            "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{lut}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {{\n    let i = gid.x + gid.y * nwg.x * {WG}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n{body}\n}}\n"
+        )
+    }
+
+    /// Runs `body` for `count` invocations; returns `outp` (`count × out_per_item` floats)
+    /// and the GPU wall time of `repeats` dispatches (seconds per dispatch; 0 if repeats = 0).
+    pub fn run(
+        &self,
+        library: &str,
+        body: &str,
+        input: &[f32],
+        out_per_item: usize,
+        count: usize,
+        lut: Option<&sbf::recon::lut::Lut2>,
+        repeats: usize,
+    ) -> Result<(Vec<f32>, f64), String> {
+        let src = Self::kernel_source(library, body, count, lut.is_some());
+        crate::export::validate(&src).map_err(|e| format!("harness kernel: {e}"))?;
+        let d = &self.device;
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: None, source: wgpu::ShaderSource::Wgsl(src.into()) });
+        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: None,
+            module: &module,
+            entry_point: Some("sbf_kernel"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let input = if input.is_empty() { &[0.0f32][..] } else { input };
+        let inb = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: None,
+            contents: bytemuck::cast_slice(input),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let out_bytes = (count * out_per_item).max(1) as u64 * 4;
+        let outb = d.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: out_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readb = d.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: out_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let tex_view = lut.map(|l| {
+            // rg32float: the table's two channels (a one-channel table repeats its value).
+            let data: Vec<f32> = (0..l.width * l.height)
+                .flat_map(|k| {
+                    let a = l.data[k * l.channels];
+                    let b = if l.channels > 1 { l.data[k * l.channels + 1] } else { a };
+                    [a, b]
+                })
+                .collect();
+            let tex = d.create_texture_with_data(
+                &self.queue,
+                &wgpu::TextureDescriptor {
+                    label: Some("lut"),
+                    size: wgpu::Extent3d { width: l.width as u32, height: l.height as u32, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::Rg32Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                },
+                wgpu::util::TextureDataOrder::LayerMajor,
+                bytemuck::cast_slice(&data),
+            );
+            tex.create_view(&Default::default())
+        });
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: inb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: outb.as_entire_binding() },
+        ];
+        if let Some(v) = &tex_view {
+            entries.push(wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(v) });
+        }
+        let bg =
+            d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipeline.get_bind_group_layout(0), entries: &entries });
+        let groups = (count as u32).div_ceil(WG).max(1);
+        let (gx, gy) = if groups <= 65535 { (groups, 1) } else { (65535, groups.div_ceil(65535)) };
+        let dispatch = |n: usize| {
+            let mut enc = d.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &bg, &[]);
+                for _ in 0..n {
+                    pass.dispatch_workgroups(gx, gy, 1);
+                }
+            }
+            enc
+        };
+        // Warm-up and the checked run.
+        let mut enc = dispatch(1);
+        enc.copy_buffer_to_buffer(&outb, 0, &readb, 0, out_bytes);
+        self.queue.submit([enc.finish()]);
+        self.wait()?;
+        let mut per_dispatch = 0.0;
+        if repeats > 0 {
+            let t = std::time::Instant::now();
+            self.queue.submit([dispatch(repeats).finish()]);
+            self.wait()?;
+            per_dispatch = t.elapsed().as_secs_f64() / repeats as f64;
+        }
+        let slice = readb.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |r| r.expect("mapping the read-back buffer"));
+        self.wait()?;
+        let out: Vec<f32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("read-back: {e}"))?).to_vec();
+        readb.unmap();
+        Ok((out[..count * out_per_item].to_vec(), per_dispatch))
+    }
+
+    fn wait(&self) -> Result<(), String> {
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| format!("device poll: {e}"))
+    }
+}
