@@ -15,6 +15,8 @@
 //! The `shaders` binary exposes composition and export:
 //! `shaders export --config ad9-irradiance --lang hlsl --out ad9.hlsl`.
 
+#[cfg(feature = "gpu")]
+pub mod bench;
 pub mod compose;
 pub mod export;
 #[cfg(feature = "gpu")]

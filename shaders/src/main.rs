@@ -33,6 +33,21 @@ enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// GPU reconstruction throughput (evaluations per second) per basis, diffuse and
+    /// diffuse + specular.
+    #[cfg(feature = "gpu")]
+    Bench {
+        /// Evaluations per dispatch.
+        #[arg(long, default_value_t = 1 << 22)]
+        count: usize,
+        /// Timed dispatches per kernel.
+        #[arg(long, default_value_t = 20)]
+        repeats: usize,
+        /// `buffer` (normal, view, α read per evaluation) or `generated` (made in the
+        /// shader: arithmetic only).
+        #[arg(long, default_value = "generated")]
+        inputs: String,
+    },
 }
 
 fn main() -> ExitCode {
@@ -48,6 +63,22 @@ fn main() -> ExitCode {
             for (f, name) in compose::Feature::ALL {
                 println!("  {:<18} {}", name, f.roots().join(", "));
             }
+            Ok(())
+        })(),
+        #[cfg(feature = "gpu")]
+        Cmd::Bench { count, repeats, inputs } => (|| {
+            let inputs = match inputs.as_str() {
+                "buffer" => shaders::bench::Inputs::Buffer,
+                "generated" => shaders::bench::Inputs::Generated,
+                other => return Err(format!("--inputs {other}: expected `buffer` or `generated`")),
+            };
+            if count == 0 || repeats == 0 {
+                return Err("--count and --repeats must be > 0".to_string());
+            }
+            let gpu = shaders::gpu::Gpu::new()?;
+            eprintln!("benchmarking on {}", gpu.adapter);
+            let rows = shaders::bench::run(&gpu, count, repeats, inputs)?;
+            println!("{}", shaders::bench::table(&gpu, count, repeats, inputs, &rows));
             Ok(())
         })(),
         Cmd::Export { config, lang, out } => (|| {
