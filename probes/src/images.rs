@@ -48,16 +48,29 @@ fn font() {
     });
 }
 
-/// A log–log scatter plot with one labelled point per mode.
-pub fn scatter(path: &Path, title: &str, xlabel: &str, ylabel: &str, points: &[(String, f64, f64)]) -> Result<(), String> {
+/// The chart type both plots draw on.
+type LogLogChart<'a, 'b> = ChartContext<'a, BitMapBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
+/// Draws a 1000×700 log–log chart over the bounding box of `xy` (padded by `pad`×), with
+/// titled axes, lets `draw` add the data (and a legend of its labelled series if
+/// `legend`), and saves it as PNG. Errors when `xy` is empty.
+fn loglog_png(
+    path: &Path,
+    title: &str,
+    labels: (&str, &str),
+    x_digits: usize,
+    pad: f64,
+    xy: &[(f64, f64)],
+    legend: bool,
+    draw: impl FnOnce(&mut LogLogChart) -> Result<(), String>,
+) -> Result<(), String> {
     font();
-    let (w, h) = (1000u32, 700u32);
-    let pts: Vec<&(String, f64, f64)> = points.iter().filter(|p| p.1 > 0.0 && p.2 > 0.0 && p.1.is_finite() && p.2.is_finite()).collect();
-    if pts.is_empty() {
+    if xy.is_empty() {
         return Err(format!("{title}: nothing to plot"));
     }
-    let (x0, x1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
-    let (y0, y1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.2), b.max(p.2)));
+    let (w, h) = (1000u32, 700u32);
+    let (x0, x1) = xy.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (y0, y1) = xy.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
@@ -67,76 +80,65 @@ pub fn scatter(path: &Path, title: &str, xlabel: &str, ylabel: &str, points: &[(
             .margin(20)
             .x_label_area_size(45)
             .y_label_area_size(80)
-            .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 1.5..y1 * 1.5).log_scale())
+            .build_cartesian_2d((x0 / pad..x1 * pad).log_scale(), (y0 / pad..y1 * pad).log_scale())
             .map_err(|e| e.to_string())?;
         chart
             .configure_mesh()
-            .x_desc(xlabel)
-            .y_desc(ylabel)
-            .x_label_formatter(&|v| format!("{v:.3e}"))
+            .x_desc(labels.0)
+            .y_desc(labels.1)
+            .x_label_formatter(&|v| if x_digits == 0 { format!("{v:.0}") } else { format!("{v:.x_digits$e}") })
             .y_label_formatter(&|v| format!("{v:.3e}"))
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| e.to_string())?;
-        chart
-            .draw_series(pts.iter().map(|p| {
-                EmptyElement::at((p.1, p.2)) + Circle::new((0, 0), 4, BLUE.filled()) + Text::new(p.0.clone(), (6, -6), ("sans-serif", 14))
-            }))
-            .map_err(|e| e.to_string())?;
+        draw(&mut chart)?;
+        if legend {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .draw()
+                .map_err(|e| e.to_string())?;
+        }
         root.present().map_err(|e| e.to_string())?;
     }
     image::RgbImage::from_raw(w, h, buf).ok_or("bitmap size")?.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
 }
 
+fn plottable(x: f64, y: f64) -> bool {
+    x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite()
+}
+
+/// A log–log scatter plot with one labelled point per mode.
+pub fn scatter(path: &Path, title: &str, xlabel: &str, ylabel: &str, points: &[(String, f64, f64)]) -> Result<(), String> {
+    let pts: Vec<&(String, f64, f64)> = points.iter().filter(|p| plottable(p.1, p.2)).collect();
+    let xy: Vec<(f64, f64)> = pts.iter().map(|p| (p.1, p.2)).collect();
+    loglog_png(path, title, (xlabel, ylabel), 3, 1.5, &xy, false, |chart| {
+        chart
+            .draw_series(pts.iter().map(|p| {
+                EmptyElement::at((p.1, p.2)) + Circle::new((0, 0), 4, BLUE.filled()) + Text::new(p.0.clone(), (6, -6), ("sans-serif", 14))
+            }))
+            .map_err(|e| e.to_string())?;
+        Ok(())
+    })
+}
+
 /// A log–log line plot, one labelled series per entry.
 pub fn lines(path: &Path, title: &str, xlabel: &str, ylabel: &str, series: &[(String, Vec<(f64, f64)>)]) -> Result<(), String> {
-    font();
-    let (w, h) = (1000u32, 700u32);
-    let ok = |p: &&(f64, f64)| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite();
-    let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.1.iter().filter(ok).copied()).collect();
-    if all.is_empty() {
-        return Err(format!("{title}: nothing to plot"));
-    }
-    let (x0, x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let (y0, y1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
-    let mut buf = vec![0u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(20)
-            .x_label_area_size(45)
-            .y_label_area_size(80)
-            .build_cartesian_2d((x0 / 1.2..x1 * 1.2).log_scale(), (y0 / 1.2..y1 * 1.2).log_scale())
-            .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .x_desc(xlabel)
-            .y_desc(ylabel)
-            .x_label_formatter(&|v| format!("{v:.0}"))
-            .y_label_formatter(&|v| format!("{v:.3e}"))
-            .label_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| e.to_string())?;
-        for (i, (name, pts)) in series.iter().enumerate() {
+    let clean: Vec<(&String, Vec<(f64, f64)>)> =
+        series.iter().map(|(n, pts)| (n, pts.iter().copied().filter(|p| plottable(p.0, p.1)).collect())).collect();
+    let xy: Vec<(f64, f64)> = clean.iter().flat_map(|s| s.1.iter().copied()).collect();
+    loglog_png(path, title, (xlabel, ylabel), 0, 1.2, &xy, true, |chart| {
+        for (i, (name, pts)) in clean.iter().enumerate() {
             let colour = Palette99::pick(i).to_rgba();
-            let pts: Vec<(f64, f64)> = pts.iter().filter(ok).copied().collect();
             chart
                 .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
                 .map_err(|e| e.to_string())?
-                .label(name.clone())
+                .label(name.to_string())
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
             chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| e.to_string())?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    image::RgbImage::from_raw(w, h, buf).ok_or("bitmap size")?.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
+        Ok(())
+    })
 }
