@@ -30,11 +30,12 @@ pub enum Feature {
     Ad9Specular,
     Ad12Specular,
     Ggx,
+    Progressive,
 }
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 15] = [
+    pub const ALL: [(Feature, &'static str); 16] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -50,6 +51,7 @@ impl Feature {
         (Feature::Ad9Specular, "ad9-specular"),
         (Feature::Ad12Specular, "ad12-specular"),
         (Feature::Ggx, "ggx"),
+        (Feature::Progressive, "progressive"),
     ];
 
     /// The WGSL functions this feature exposes (the roots of its composition).
@@ -70,6 +72,7 @@ impl Feature {
             Feature::Ad9Specular => &["ad9_specular"],
             Feature::Ad12Specular => &["ad12_specular"],
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
+            Feature::Progressive => &["progressive_update"],
         }
     }
 

@@ -3,7 +3,8 @@
 //! times kernels for the throughput benchmark.
 //!
 //! Kernel layout: binding 0 `inp: array<f32>` (read), binding 1 `outp: array<f32>`
-//! (write), optional binding 2 `lut: texture_2d<f32>` (an rg32float table). The body
+//! (write), optional binding 2 `lut: texture_2d<f32>` (an rg32float table), binding 3
+//! `uni` (a uniform struct) and binding 4 `io` (a read-write array of structs). The body
 //! sees the invocation index `i` (< `count`) and the helper `ld3(k)` (three floats of
 //! `inp` from k). Dispatch is 2D so counts above 65535 × 64 work.
 
@@ -19,6 +20,38 @@ pub struct Gpu {
 }
 
 const WG: u32 = 64;
+
+/// One kernel launch: `body` runs once per index `i` < `count`.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Launch<'a> {
+    /// WGSL library the body calls (a composed module).
+    pub library: &'a str,
+    /// Statements of the kernel body.
+    pub body: &'a str,
+    /// Binding 0, `inp: array<f32>`.
+    pub input: &'a [f32],
+    /// Floats of binding 1 (`outp`) per invocation.
+    pub out_per_item: usize,
+    pub count: usize,
+    /// Binding 2, `lut: texture_2d<f32>` (rg32float).
+    pub lut: Option<&'a sbf::recon::lut::Lut2>,
+    /// Binding 3, `uni: T` (WGSL type name, bytes): a shared `#[repr(C)]` struct.
+    pub uniform: Option<(&'a str, &'a [u8])>,
+    /// Binding 4, `io: array<T>` read-write (WGSL type name, initial bytes); read back.
+    pub io: Option<(&'a str, &'a [u8])>,
+    /// Timed dispatches after the checked one.
+    pub repeats: usize,
+}
+
+/// What a launch returns.
+#[derive(Debug, Clone)]
+pub struct Output {
+    pub out: Vec<f32>,
+    /// Binding 4's bytes after the checked dispatch (empty without `io`).
+    pub io: Vec<u8>,
+    /// Seconds per timed dispatch (0 without repeats).
+    pub seconds_per_dispatch: f64,
+}
 
 impl Gpu {
     /// The best Vulkan or GL adapter (NVIDIA, or lavapipe / llvmpipe without a GPU).
@@ -45,16 +78,27 @@ impl Gpu {
         Ok(Gpu { device, queue, adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info) })
     }
 
-    /// The full kernel source for a library, a body and a count.
-    pub fn kernel_source(library: &str, body: &str, count: usize, with_lut: bool) -> String {
-        let lut = if with_lut { "@group(0) @binding(2) var lut: texture_2d<f32>;\n" } else { "" };
+    /// The full kernel source for a launch (library, harness bindings, kernel body).
+    pub fn kernel_source(l: &Launch) -> String {
+        let (library, body, count) = (l.library, l.body, l.count);
+        let mut bindings = String::new();
+        if l.lut.is_some() {
+            bindings += "@group(0) @binding(2) var lut: texture_2d<f32>;\n";
+        }
+        if let Some((ty, _)) = l.uniform {
+            bindings += &format!("@group(0) @binding(3) var<uniform> uni: {ty};\n");
+        }
+        if let Some((ty, _)) = l.io {
+            bindings += &format!("@group(0) @binding(4) var<storage, read_write> io: array<{ty}>;\n");
+        }
         format!(
-            "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{lut}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {{\n    let i = gid.x + gid.y * nwg.x * {WG}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n{body}\n}}\n"
+            "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{bindings}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {{\n    let i = gid.x + gid.y * nwg.x * {WG}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n{body}\n}}\n"
         )
     }
 
     /// Runs `body` for `count` invocations; returns `outp` (`count × out_per_item` floats)
     /// and the GPU wall time of `repeats` dispatches (seconds per dispatch; 0 if repeats = 0).
+    #[allow(clippy::too_many_arguments)]
     pub fn run(
         &self,
         library: &str,
@@ -65,7 +109,14 @@ impl Gpu {
         lut: Option<&sbf::recon::lut::Lut2>,
         repeats: usize,
     ) -> Result<(Vec<f32>, f64), String> {
-        let src = Self::kernel_source(library, body, count, lut.is_some());
+        let o = self.launch(&Launch { library, body, input, out_per_item, count, lut, repeats, ..Default::default() })?;
+        Ok((o.out, o.seconds_per_dispatch))
+    }
+
+    /// Runs a launch (see [`Launch`]).
+    pub fn launch(&self, l: &Launch) -> Result<Output, String> {
+        let (input, out_per_item, count, lut, repeats) = (l.input, l.out_per_item, l.count, l.lut, l.repeats);
+        let src = Self::kernel_source(l);
         crate::export::validate(&src).map_err(|e| format!("harness kernel: {e}"))?;
         let d = &self.device;
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: None, source: wgpu::ShaderSource::Wgsl(src.into()) });
@@ -122,12 +173,41 @@ impl Gpu {
             );
             tex.create_view(&Default::default())
         });
+        let unib = l.uniform.map(|(_, bytes)| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("uni"),
+                contents: bytes,
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        });
+        let io_bytes = l.io.map(|(_, b)| b.len() as u64).unwrap_or(0);
+        let iob = l.io.map(|(_, bytes)| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("io"),
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            })
+        });
+        let io_read = iob.as_ref().map(|_| {
+            d.create_buffer(&wgpu::BufferDescriptor {
+                label: None,
+                size: io_bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        });
         let mut entries = vec![
             wgpu::BindGroupEntry { binding: 0, resource: inb.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: outb.as_entire_binding() },
         ];
         if let Some(v) = &tex_view {
             entries.push(wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(v) });
+        }
+        if let Some(b) = &unib {
+            entries.push(wgpu::BindGroupEntry { binding: 3, resource: b.as_entire_binding() });
+        }
+        if let Some(b) = &iob {
+            entries.push(wgpu::BindGroupEntry { binding: 4, resource: b.as_entire_binding() });
         }
         let bg =
             d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipeline.get_bind_group_layout(0), entries: &entries });
@@ -148,6 +228,9 @@ impl Gpu {
         // Warm-up and the checked run.
         let mut enc = dispatch(1);
         enc.copy_buffer_to_buffer(&outb, 0, &readb, 0, out_bytes);
+        if let (Some(src), Some(dst)) = (&iob, &io_read) {
+            enc.copy_buffer_to_buffer(src, 0, dst, 0, io_bytes);
+        }
         self.queue.submit([enc.finish()]);
         self.wait()?;
         let mut per_dispatch = 0.0;
@@ -162,7 +245,15 @@ impl Gpu {
         self.wait()?;
         let out: Vec<f32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("read-back: {e}"))?).to_vec();
         readb.unmap();
-        Ok((out[..count * out_per_item].to_vec(), per_dispatch))
+        let mut io = Vec::new();
+        if let Some(b) = &io_read {
+            let slice = b.slice(..);
+            slice.map_async(wgpu::MapMode::Read, |r| r.expect("mapping the io read-back buffer"));
+            self.wait()?;
+            io = slice.get_mapped_range().map_err(|e| format!("io read-back: {e}"))?.to_vec();
+            b.unmap();
+        }
+        Ok(Output { out: out[..count * out_per_item].to_vec(), io, seconds_per_dispatch: per_dispatch })
     }
 
     fn wait(&self) -> Result<(), String> {

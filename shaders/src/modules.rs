@@ -38,5 +38,6 @@ pub fn all() -> Vec<Module> {
         Module { name: "sh", source: Cow::Borrowed(include_str!("../wgsl/sh.wgsl")) },
         Module { name: "sg", source: Cow::Borrowed(include_str!("../wgsl/sg.wgsl")) },
         Module { name: "ambient_dice", source: Cow::Borrowed(include_str!("../wgsl/ambient_dice.wgsl")) },
+        Module { name: "progressive", source: Cow::Borrowed(include_str!("../wgsl/progressive.wgsl")) },
     ]
 }

@@ -86,3 +86,30 @@ fn bad_configuration_is_an_error() {
     assert!(Config::parse("").is_err());
     assert!(Lang::parse("spirv").is_err());
 }
+
+/// The Rust twins of the shared WGSL structs match naga's reflection (offsets, sizes,
+/// total size) and the flag constants agree.
+#[test]
+fn shared_structs_match_naga_layout() {
+    use shaders::layout;
+    use shaders::progressive::{self as p, EncoderParams, EncoderState};
+    let src = compose::compose(&Config::parse("progressive").unwrap()).unwrap().source;
+    layout::check::<EncoderParams>(&src).unwrap();
+    layout::check::<EncoderState>(&src).unwrap();
+    assert_eq!(std::mem::size_of::<EncoderState>(), 208);
+    for (name, v) in [
+        ("ENCODER_MAX_LOBES", p::MAX_LOBES as u32),
+        ("ENCODER_NON_NEGATIVE", p::NON_NEGATIVE),
+        ("ENCODER_GAUSS_SEIDEL", p::GAUSS_SEIDEL),
+        ("ENCODER_DENOM_BLEND", p::DENOM_BLEND),
+        ("ENCODER_DENOM_CLAMP_TO_TRUE", p::DENOM_CLAMP_TO_TRUE),
+        ("ENCODER_DENOM_RAW", p::DENOM_RAW),
+    ] {
+        assert_eq!(layout::constant_u32(&src, name).unwrap(), v, "{name}");
+    }
+    // The check can fail: a struct with a member moved is reported.
+    let moved = src.replace("    total_weight: f32,\n    samples: u32,", "    samples: u32,\n    total_weight: f32,");
+    assert_ne!(moved, src);
+    let err = layout::check::<EncoderState>(&moved).unwrap_err();
+    assert!(err.contains("total_weight"), "{err}");
+}
