@@ -30,12 +30,13 @@ pub enum Feature {
     Ad9Specular,
     Ad12Specular,
     Ggx,
+    AdBezier,
     Progressive,
 }
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 16] = [
+    pub const ALL: [(Feature, &'static str); 17] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -51,6 +52,7 @@ impl Feature {
         (Feature::Ad9Specular, "ad9-specular"),
         (Feature::Ad12Specular, "ad12-specular"),
         (Feature::Ggx, "ggx"),
+        (Feature::AdBezier, "ad-bezier"),
         (Feature::Progressive, "progressive"),
     ];
 
@@ -72,6 +74,7 @@ impl Feature {
             Feature::Ad9Specular => &["ad9_specular"],
             Feature::Ad12Specular => &["ad12_specular"],
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
+            Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
             Feature::Progressive => &["progressive_update"],
         }
     }

@@ -27,6 +27,41 @@ pub fn layouts_wgsl() -> String {
     )
 }
 
+/// The standard icosahedron's face tables and the hybrid Bézier constants, from
+/// `sbf::Icosahedron::standard` and `sbf::AmbientDiceBezier` (no number typed by hand).
+pub fn bezier_tables_wgsl() -> String {
+    let bez = sbf::AmbientDiceBezier::new();
+    let ico = bez.icosahedron();
+    let v3 = |a: sbf::glam::DVec3| format!("vec3<f32>({:.9}, {:.9}, {:.9})", a.x, a.y, a.z);
+    let rows = |items: Vec<String>| items.iter().map(|x| format!("    {x},")).collect::<Vec<_>>().join("\n");
+    let centres = rows((0..20).map(|f| v3(ico.centre(f))).collect());
+    let faces = rows(ico.faces().iter().map(|f| format!("vec3<u32>({}u, {}u, {}u)", f[0], f[1], f[2])).collect());
+    let bary = rows(
+        (0..20)
+            .map(|f| {
+                let n = ico.bary_normals(f);
+                format!("mat3x3<f32>({}, {}, {})", v3(n[0]), v3(n[1]), v3(n[2]))
+            })
+            .collect(),
+    );
+    let deriv = rows(
+        (0..20)
+            .map(|f| {
+                let e = bez.edge_factors(f);
+                let cols: Vec<String> = (0..3)
+                    .map(|k| format!("vec4<f32>({:.9}, {:.9}, {:.9}, {:.9})", e[k][0][0], e[k][0][1], e[k][1][0], e[k][1][1]))
+                    .collect();
+                format!("mat3x4<f32>({})", cols.join(", "))
+            })
+            .collect(),
+    );
+    use sbf::basis::ambient_dice::ICOSAHEDRON_EDGE_COS;
+    use sbf::basis::ambient_dice_bezier::{BEZIER_A0, BEZIER_A1, BEZIER_A2};
+    format!(
+        "// Icosahedron (sbf::Icosahedron::standard): unit face centres, faces as vertex indices,\n// barycentric normals as matrix columns (b = d * AD_ICO_BARY[f]).\nconst AD_ICO_CENTRES: array<vec3<f32>, 20> = array<vec3<f32>, 20>(\n{centres}\n);\n\nconst AD_ICO_FACES: array<vec3<u32>, 20> = array<vec3<u32>, 20>(\n{faces}\n);\n\nconst AD_ICO_BARY: array<mat3x3<f32>, 20> = array<mat3x3<f32>, 20>(\n{bary}\n);\n\n// cos of the icosahedron's edge angle (1/√5).\nconst AD_ICO_EDGE_COS: f32 = {ICOSAHEDRON_EDGE_COS:.9};\n\n// Hybrid Bézier (sbf::AmbientDiceBezier::edge_factors): column k of face f holds corner k's\n// (Du, Dv) factors for its edges to corners k + 1 and k + 2.\nconst AD_BEZIER_DERIV: array<mat3x4<f32>, 20> = array<mat3x4<f32>, 20>(\n{deriv}\n);\n\n// Interior-point redistribution weights a0, a1, a2 (math.md).\nconst AD_BEZIER_A: vec3<f32> = vec3<f32>({BEZIER_A0:.9}, {BEZIER_A1:.9}, {BEZIER_A2:.9});\n"
+    )
+}
+
 /// Every module, in composition order.
 pub fn all() -> Vec<Module> {
     vec![
@@ -38,6 +73,10 @@ pub fn all() -> Vec<Module> {
         Module { name: "sh", source: Cow::Borrowed(include_str!("../wgsl/sh.wgsl")) },
         Module { name: "sg", source: Cow::Borrowed(include_str!("../wgsl/sg.wgsl")) },
         Module { name: "ambient_dice", source: Cow::Borrowed(include_str!("../wgsl/ambient_dice.wgsl")) },
+        Module {
+            name: "ambient_dice_bezier",
+            source: Cow::Owned(format!("{}\n{}", include_str!("../wgsl/ambient_dice_bezier.wgsl"), bezier_tables_wgsl())),
+        },
         Module { name: "progressive", source: Cow::Borrowed(include_str!("../wgsl/progressive.wgsl")) },
     ]
 }

@@ -440,3 +440,249 @@ fn progressive_parity() {
     progressive_case(&g, "LS/AD9 long", &ad9, ProgressiveOptions::default(), 2000, 1024, 36);
     progressive_case(&g, "NNLS/AD9 long", &ad9, ProgressiveOptions::non_negative(), 2000, 1024, 35);
 }
+
+#[test]
+fn ambient_dice_bezier_parity() {
+    let Some(g) = gpu() else { return };
+    let lib = library("ad-bezier");
+    let bez = sbf::AmbientDiceBezier::new();
+    let ycocg = sbf::AmbientDiceYCoCg::new();
+    let ico = bez.icosahedron();
+    let mut r = Pcg32::new(37, 10);
+    let (mut inp, mut cases) = (Vec::new(), Vec::new());
+    for k in 0..N {
+        // 2% of the directions sit on a vertex (the interior weight's D = 0 branch) and 2%
+        // on an edge's midpoint (two faces tie): the places a face search can disagree.
+        let d = match k % 50 {
+            0 => ico.vertices()[k / 50 % 12].as_vec3(),
+            1 => {
+                let f = ico.faces()[k / 50 % 20];
+                (ico.vertices()[f[0]] + ico.vertices()[f[1]]).normalize().as_vec3()
+            }
+            _ => dir(&mut r),
+        };
+        let c: Vec<Vec3> = (0..36).map(|_| Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r))).collect();
+        push3(&mut inp, d);
+        for x in &c {
+            push3(&mut inp, *x);
+        }
+        cases.push((d, c));
+    }
+    let body = "    let o = i * 111u;\n    let d = ld3(o);\n    var c: array<vec3<f32>, 36>;\n    var y: array<f32, 36>;\n    var co: array<f32, 12>;\n    var cg: array<f32, 12>;\n    for (var k = 0u; k < 36u; k++) {\n        c[k] = ld3(o + 3u + 3u * k);\n        y[k] = c[k].x;\n        if (k < 12u) {\n            co[k] = c[k].y;\n            cg[k] = c[k].z;\n        }\n    }\n    let e = ad_bezier_eval(c, d);\n    let q = ad_ycocg_eval(y, co, cg, d);\n    outp[i * 6u] = e.x;\n    outp[i * 6u + 1u] = e.y;\n    outp[i * 6u + 2u] = e.z;\n    outp[i * 6u + 3u] = q.x;\n    outp[i * 6u + 4u] = q.y;\n    outp[i * 6u + 5u] = q.z;";
+    let (out, _) = g.run(&lib, body, &inp, 6, N, None, 0).unwrap();
+    let (mut cb, mut sb, mut cy, mut sy) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut lw = [0.0; 12];
+    let mut r2 = Pcg32::new(41, 11);
+    // RGB value of the Bézier patch and its Σ|terms| per channel.
+    let patch = |c: &[Vec3], d: sbf::glam::DVec3| {
+        let (idx, w) = bez.weights(d);
+        let (mut v, mut s) = ([0.0f64; 3], [0.0f64; 3]);
+        for ch in 0..3 {
+            for k in 0..3 {
+                for j in 0..3 {
+                    let t = w[k][j] * c[3 * idx[k] + j][ch] as f64;
+                    v[ch] += t;
+                    s[ch] += t.abs();
+                }
+            }
+        }
+        (v, s)
+    };
+    for (d, c) in &cases {
+        let d = d.as_dvec3();
+        let y: [f64; 36] = std::array::from_fn(|k| c[k].x as f64);
+        let co: [f64; 12] = std::array::from_fn(|k| c[k].y as f64);
+        let cg: [f64; 12] = std::array::from_fn(|k| c[k].z as f64);
+        let (v, s) = patch(c, d);
+        let q = ycocg.eval_rgb(&y, &co, &cg, d);
+        // Input conditioning: the barycentrics b_k = d·n_k carry ~1e-7 absolute f32
+        // rounding in any implementation, which matters where a value is a small sum
+        // (near a vertex the other corners' b are ~0). The change of the value when d
+        // moves by 1.2e-7 (four random directions) is an allowed error (×1e4 = 1/BAR).
+        let (mut dv, mut dq) = (0.0f64, 0.0f64);
+        for _ in 0..4 {
+            let dp = (d + dir(&mut r2).as_dvec3() * 1.2e-7).normalize();
+            let (vp, _) = patch(c, dp);
+            let qp = ycocg.eval_rgb(&y, &co, &cg, dp);
+            for ch in 0..3 {
+                dv = dv.max((vp[ch] - v[ch]).abs());
+                dq = dq.max((qp[ch] - q[ch]).abs());
+            }
+        }
+        cb.extend(v);
+        sb.extend(s.map(|x| x.max(dv * 1e4)));
+        cy.extend(q);
+        // Scale: Σ|luma terms| + Σ|chroma terms| (RGB is a ±1 combination of Y, Co, Cg).
+        let (idx, w) = bez.weights(d);
+        let luma: f64 = (0..3).flat_map(|k| (0..3).map(move |j| (k, j))).map(|(k, j)| (w[k][j] * y[3 * idx[k] + j]).abs()).sum();
+        sbf::Basis::eval_into(&ycocg.chroma, d, &mut lw);
+        let chroma: f64 = (0..12).map(|v| lw[v] * (co[v].abs() + cg[v].abs())).sum();
+        sy.extend([(luma + chroma).max(dq * 1e4); 3]);
+    }
+    let col = |a: usize| (0..N).flat_map(|j| (0..3).map(move |ch| (j, ch))).map(|(j, ch)| out[j * 6 + a + ch]).collect::<Vec<f32>>();
+    check("ad_bezier_eval", &col(0), &cb, &sb);
+    check("ad_ycocg_eval", &col(3), &cy, &sy);
+}
+
+/// The helpers the functions above are built from, each against its own twin (so a
+/// helper's error cannot hide inside a larger sum).
+#[test]
+fn helper_parity() {
+    use sbf::recon::ambient_dice::{
+        lobe_irradiance_fit, SpecularFit, DIFFUSE_FIT_LISTING_8_1, DIFFUSE_FIT_MINIMAX, SPECULAR_FIT_LISTING_8_1,
+    };
+    let Some(g) = gpu() else { return };
+    let lib = library("all");
+    let lut = sbf::luts::committed::ad_specular_2d();
+    let ad12: Vec<sbf::glam::DVec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3().as_dvec3()).collect();
+    let bez = sbf::AmbientDiceBezier::new();
+    let ico = bez.icosahedron();
+    let mut r = Pcg32::new(43, 12);
+    const IN: usize = 22;
+    const OUT: usize = 52;
+    let mut inp = Vec::with_capacity(N * IN);
+    for _ in 0..N {
+        let (d, n) = (dir(&mut r), dir(&mut r));
+        let v = view(&mut r, n);
+        let w = view(&mut r, Vec3::Z);
+        let a = alpha(&mut r);
+        // λ log-uniform in [1e-6, 1e4] (sg_integral's small-λ limit and large λ); expm1's
+        // x = ±10^u, u ∈ [−8, 1.3] (the Taylor branch, its switch at 1e-2, and exp − 1).
+        let lam = (1e-6 * 1e10f64.powf(r.next_2d()[0])) as f32;
+        let x = (10f64.powf(-8.0 + 9.3 * r.next_2d()[0]) * if r.next_2d()[0] < 0.5 { -1.0 } else { 1.0 }) as f32;
+        let f0 = r.next_2d()[0] as f32;
+        let (c0, c1) = (coeff(&mut r), Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r)));
+        let xl = (2.4 * r.next_2d()[0] - 1.2) as f32;
+        for p in [d, n, v, w] {
+            push3(&mut inp, p);
+        }
+        inp.extend([a, lam, x, f0, c0]);
+        push3(&mut inp, c1);
+        inp.extend([n.dot(v), xl]);
+    }
+    let body = format!(
+        "    let o = i * {IN}u;\n    let d = ld3(o);\n    let n = ld3(o + 3u);\n    let v = ld3(o + 6u);\n    let w = ld3(o + 9u);\n    let a = inp[o + 12u];\n    let f0 = inp[o + 15u];\n    let axis = AD12_AXES[i % 12u];\n    var r: array<f32, {OUT}>;\n    let tb = tangent_frame(d);\n    let rf = reflect_about(v, n);\n    let l1 = sh_eval_l1(d);\n    let l2 = sh_eval_l2(d);\n    let fit = ad_specular_fit(n, v, a);\n    let loc = ad_ico_locate(d);\n    let bw = ad_bezier_weights(d);\n    for (var k = 0u; k < 3u; k++) {{\n        r[k] = tb[0][k];\n        r[3u + k] = tb[1][k];\n        r[6u + k] = rf[k];\n        r[29u + k] = fit.r[k];\n        r[37u + k] = loc.b[k];\n        r[40u + 3u * k] = bw.w[k].x;\n        r[41u + 3u * k] = bw.w[k].y;\n        r[42u + 3u * k] = bw.w[k].z;\n        r[49u + k] = f32(bw.vertices[k]);\n    }}\n    r[9] = ggx_lambda(w, a);\n    r[10] = ggx_a_term(w, a);\n    r[11] = sg_integral(inp[o + 13u]);\n    r[12] = expm1_f32(inp[o + 14u]);\n    for (var k = 0u; k < 4u; k++) {{\n        r[13u + k] = l1[k];\n    }}\n    for (var k = 0u; k < 9u; k++) {{\n        r[17u + k] = l2[k];\n    }}\n    r[26] = sh_l1_geomerics_channel(inp[o + 16u], ld3(o + 17u), n);\n    r[27] = ad_srbf_lobe(inp[o + 21u]);\n    r[28] = ad_lobe_irradiance(axis, n);\n    r[32] = fit.focus;\n    r[33] = fit.alpha_lerp;\n    r[34] = ad_specular_lobe(fit, axis);\n    r[35] = ad_specular_scale(lut, inp[o + 20u], a, f0, 1.0);\n    r[36] = f32(loc.face);\n    for (var k = 0u; k < {OUT}u; k++) {{\n        outp[i * {OUT}u + k] = r[k];\n    }}"
+    );
+    let (out, _) = g.run(&lib, &body, &inp, OUT, N, Some(lut), 0).unwrap();
+    // (name, output slots) → CPU values and scales.
+    let mut cpu = vec![0.0f64; N * OUT];
+    let mut scale = vec![0.0f64; N * OUT];
+    let mut face_ties = 0;
+    for j in 0..N {
+        let s = &inp[j * IN..][..IN];
+        let v3 = |k: usize| sbf::glam::DVec3::new(s[k] as f64, s[k + 1] as f64, s[k + 2] as f64);
+        let (d, n, v, w) = (v3(0), v3(3), v3(6), v3(9));
+        let (a, lam, x, f0, c0, c1, nv, xl) =
+            (s[12] as f64, s[13] as f64, s[14] as f64, s[15] as f64, s[16] as f64, v3(17), s[20], s[21] as f64);
+        let axis = ad12[j % 12];
+        let c = &mut cpu[j * OUT..][..OUT];
+        let sc = &mut scale[j * OUT..][..OUT];
+        let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(d);
+        let rf = sbf::ggx::reflect(v, n);
+        let fit = SpecularFit::new(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, n, v, a);
+        let (face, bary) = ico.locate(d);
+        let (verts, bw) = bez.weights(d);
+        for k in 0..3 {
+            (c[k], c[3 + k], c[6 + k], c[29 + k], c[37 + k]) = (t[k], b[k], rf[k], fit.reflection()[k], bary[k]);
+            (c[40 + 3 * k], c[41 + 3 * k], c[42 + 3 * k], c[49 + k]) = (bw[k][0], bw[k][1], bw[k][2], verts[k] as f64);
+        }
+        // Unit vectors, barycentrics (≤ 1.3) and Bézier weights (≤ 1): absolute error (scale 1).
+        for k in [0, 1, 2, 3, 4, 5, 6, 7, 8, 29, 30, 31, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 48] {
+            sc[k] = 1.0;
+        }
+        // Λ, a, the SG integral and expm1 are relative-accurate: plain relative error (0).
+        (c[9], c[10]) = (sbf::ggx::lambda(w, a), a * a * (w.x * w.x + w.y * w.y) / (w.z * w.z));
+        c[11] = sbf::Sg { axis: sbf::glam::DVec3::Z, sharpness: lam, amplitude: 1.0 }.integral();
+        c[12] = x.exp_m1();
+        let y1 = sbf::basis::sh_fast::eval_sh_l1(d.as_vec3());
+        let y2 = sbf::basis::sh_fast::eval_sh_l2(d.as_vec3());
+        for k in 0..4 {
+            (c[13 + k], sc[13 + k]) = (y1[k] as f64, 1.0);
+        }
+        for k in 0..9 {
+            (c[17 + k], sc[17 + k]) = (y2[k] as f64, 1.0);
+        }
+        // Geomerics per channel: the twin through the RGB function (band-1 order y, z, x);
+        // scale |c0| + 2|c1| bounds its terms (r0 + 2|r1|, with K00, K1/3 < 1).
+        let cc = [c0, c1.y, c1.z, c1.x].map(|q| Vec3::new(q as f32, 0.0, 0.0));
+        c[26] = sbf::recon::runtime::sh_l1_geomerics_irradiance(&cc, n.as_vec3()).x as f64;
+        sc[26] = c0.abs() + 2.0 * c1.length();
+        // The SRBF lobe is in [0, 0.6]: absolute against its peak.
+        (c[27], sc[27]) = (sbf::basis::ambient_dice::srbf_lobe(xl), 0.6);
+        // Quadratics: Σ|terms| (the minimax quadratic nearly vanishes at cos ≈ −0.92).
+        let quad_scale = |p: &[f64; 3], x: f64| p[0] + (p[1] * x).abs() + p[2] * x * x;
+        let xd = axis.dot(n).clamp(-1.0, 1.0);
+        (c[28], sc[28]) = (lobe_irradiance_fit(&DIFFUSE_FIT_MINIMAX, xd), quad_scale(&DIFFUSE_FIT_MINIMAX, xd));
+        (c[32], c[33], sc[32], sc[33]) = (fit.focus(), fit.alpha_lerp(), 1.0, 1.0);
+        c[34] = fit.lobe(axis);
+        let cm = fit.reflection().dot(axis);
+        let cb = cm + (n.dot(axis) - cm) * fit.focus();
+        sc[34] = sbf::basis::ambient_dice::srbf_lobe(cm).max(quad_scale(&DIFFUSE_FIT_LISTING_8_1, cb));
+        let l = lut.sample2(nv.clamp(0.0, 1.0), a as f32);
+        (c[35], sc[35]) = ((f0 * l[0] as f64) + l[1] as f64, f0 * (l[0] as f64).abs() + (l[1] as f64).abs());
+        c[36] = face as f64;
+        // Two faces tie on an edge (their centres' dots agree to f32 rounding): there
+        // the GPU may pick the other face, and its barycentrics and weights differ in
+        // layout while the values they give agree (ad_bezier_eval's parity covers that).
+        let gface = out[j * OUT + 36] as usize;
+        if gface != face {
+            let gap = (ico.centre(face).dot(d) - ico.centre(gface).dot(d)).abs();
+            assert!(gap < 1e-6, "ad_ico_locate: face {gface} vs {face} with a dot gap of {gap:e}");
+            face_ties += 1;
+            for k in (36..52).filter(|&k| k != 36) {
+                c[k] = out[j * OUT + k] as f64;
+            }
+            c[36] = gface as f64;
+        }
+    }
+    println!("ad_ico_locate: {face_ties} edge ties resolved to the neighbouring face");
+    assert!(face_ties < N / 1000, "{face_ties} face disagreements");
+    let groups: [(&str, std::ops::Range<usize>); 20] = [
+        ("tangent_frame", 0..6),
+        ("reflect_about", 6..9),
+        ("ggx_lambda", 9..10),
+        ("ggx_a_term", 10..11),
+        ("sg_integral", 11..12),
+        ("expm1_f32", 12..13),
+        ("sh_eval_l1", 13..17),
+        ("sh_eval_l2", 17..26),
+        ("sh_l1_geomerics_channel", 26..27),
+        ("ad_srbf_lobe", 27..28),
+        ("ad_lobe_irradiance", 28..29),
+        ("ad_specular_fit.r", 29..32),
+        ("ad_specular_fit.focus", 32..33),
+        ("ad_specular_fit.alpha_lerp", 33..34),
+        ("ad_specular_lobe", 34..35),
+        ("ad_specular_scale", 35..36),
+        ("ad_ico_locate.face", 36..37),
+        ("ad_ico_locate.b", 37..40),
+        ("ad_bezier_weights.w", 40..49),
+        ("ad_bezier_weights.vertices", 49..52),
+    ];
+    for (name, range) in groups {
+        let pick = |v: &dyn Fn(usize) -> f64| (0..N).flat_map(|j| range.clone().map(move |k| j * OUT + k)).map(v).collect::<Vec<f64>>();
+        let gk: Vec<f32> = pick(&|i| out[i] as f64).iter().map(|x| *x as f32).collect();
+        check(name, &gk, &pick(&|i| cpu[i]), &pick(&|i| scale[i]));
+    }
+}
+
+/// Every WGSL function is called from a kernel body in this file (CPU-only check, so a
+/// new function without a parity test fails CI even where no adapter exists).
+#[test]
+fn every_wgsl_function_has_a_parity_test() {
+    let this = include_str!("gpu_parity.rs");
+    let (mut missing, mut functions) = (Vec::new(), 0);
+    for m in shaders::modules::all() {
+        for it in compose::split(&m).items {
+            if it.text.lines().any(|l| l.starts_with("fn ")) {
+                functions += 1;
+                if !this.contains(&format!("{}(", it.name)) {
+                    missing.push(format!("{}::{}", m.name, it.name));
+                }
+            }
+        }
+    }
+    // 40 functions at the time of writing: the split must have found them.
+    assert!(functions >= 40, "only {functions} WGSL functions found");
+    assert!(missing.is_empty(), "WGSL functions without a parity test: {missing:?}");
+}

@@ -124,6 +124,10 @@ impl Icosahedron {
     pub fn faces(&self) -> &[[usize; 3]; 20] {
         &self.faces
     }
+    /// Unit centre of face `f` (the face is the Voronoi cell of its centre).
+    pub fn centre(&self, f: usize) -> DVec3 {
+        self.centres[f]
+    }
     /// Barycentric normals of face `f`.
     pub fn bary_normals(&self, f: usize) -> &[DVec3; 3] {
         &self.bary_normals[f]

@@ -88,6 +88,13 @@ impl AmbientDiceBezier {
         self.frames[i]
     }
 
+    /// Derivative factors of face `f`: `[k][e]` = (sinθ/3)·(T_k·t, B_k·t) for the edge
+    /// from corner k to corner (k + 1 + e) % 3 (t its unit tangent at corner k). The GPU
+    /// twin reads them as a table.
+    pub fn edge_factors(&self, f: usize) -> [[[f64; 2]; 2]; 3] {
+        self.faces[f].deriv
+    }
+
     /// Weights of the 9 non-zero coefficients at `dir`: the face's vertex indices
     /// and, per corner, (value, Du, Dv) weights.
     pub fn weights(&self, dir: DVec3) -> ([usize; 3], [[f64; 3]; 3]) {

@@ -106,6 +106,19 @@ impl SpecularFit {
         SpecularFit { n, r, focus: poly(&params[0..4]), alpha_lerp: poly(&params[4..8]), diffuse: *diffuse }
     }
 
+    /// The reflection vector R = 2(v·n)n − v.
+    pub fn reflection(&self) -> DVec3 {
+        self.r
+    }
+    /// The blend weight towards the normal (`focus`).
+    pub fn focus(&self) -> f64 {
+        self.focus
+    }
+    /// The blend weight from the mirror lobe to the diffuse fit (`alpha_lerp`).
+    pub fn alpha_lerp(&self) -> f64 {
+        self.alpha_lerp
+    }
+
     /// The fit's value for one lobe axis.
     pub fn lobe(&self, lobe: DVec3) -> f64 {
         let r_dot = self.r.dot(lobe);
