@@ -682,7 +682,7 @@ fn every_wgsl_function_has_a_parity_test() {
             }
         }
     }
-    // 40 functions at the time of writing: the split must have found them.
-    assert!(functions >= 40, "only {functions} WGSL functions found");
+    // 39 functions at the time of writing: the split must have found them.
+    assert!(functions >= 39, "only {functions} WGSL functions found");
     assert!(missing.is_empty(), "WGSL functions without a parity test: {missing:?}");
 }
