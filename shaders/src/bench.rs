@@ -1,21 +1,30 @@
 //! GPU reconstruction throughput (`shaders bench`): evaluations per second for SH9,
 //! SG9/SG12 (Hill + ASG warp) and AD9/AD12 (quadratic + Listing 8.1 fit × LUT), diffuse
-//! only and diffuse + specular. Each invocation reads its normal, view and α from a
+//! only and diffuse + specular, and the progressive encoder's per-sample update (state
+//! loaded and stored, as a baker does). Each invocation reads its normal, view and α from a
 //! buffer and one of 1024 coefficient sets (as a lightmap fetch would), evaluates, and
 //! writes the sum of the RGB result, so that nothing is optimised away.
 
 use crate::compose::{self, Config};
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, Launch};
+use crate::progressive::{EncoderParams, EncoderState};
 
 /// One measured kernel.
 #[derive(Debug, Clone)]
 pub struct Row {
     pub name: &'static str,
     pub lobes: usize,
-    pub specular: bool,
+    /// "diffuse", "diffuse + specular" or "encode" (one progressive update).
+    pub signal: &'static str,
+    /// Evaluations per dispatch.
+    pub count: usize,
     pub seconds_per_dispatch: f64,
     pub evals_per_second: f64,
 }
+
+/// The encode kernel keeps one 208-byte state per invocation; its count is capped so
+/// that the state array stays within a 2 GiB storage binding (1 GiB here).
+pub const MAX_ENCODE_COUNT: usize = 1 << 22;
 
 const SETS: usize = 1024;
 
@@ -29,24 +38,25 @@ pub enum Inputs {
     Generated,
 }
 
-/// (name, configuration, lobes, specular, WGSL body).
-fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, bool, String)> {
-    // Input layout: 12 axes (36 floats), then SETS × 12 RGB coefficients, then per
-    // invocation n (3), v (3), α (1) when read from the buffer.
+/// (name, configuration, lobes, signal, WGSL body).
+fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static str, String)> {
+    // Input layout: 12 axes (36 floats), the SG sharpness (read, so the compiler cannot
+    // fold exp(−λ)), then SETS × 12 RGB coefficients, then per invocation n (3), v (3),
+    // α (1) when read from the buffer.
     let geometry = match inputs {
-        Inputs::Buffer => "    let pb = 36u + SETS_U * 36u + i * 7u;\n    let n = ld3(pb);\n    let v = ld3(pb + 3u);\n    let a = inp[pb + 6u];\n".replace("SETS_U", &format!("{SETS}u")),
+        Inputs::Buffer => "    let pb = 37u + SETS_U * 36u + i * 7u;\n    let n = ld3(pb);\n    let v = ld3(pb + 3u);\n    let a = inp[pb + 6u];\n".replace("SETS_U", &format!("{SETS}u")),
         Inputs::Generated => "    let fi = f32(i) + 0.5;\n    let z = 1.0 - 2.0 * fract(fi * 0.000123456);\n    let phi = 2.39996323 * fi;\n    let rr = sqrt(max(1.0 - z * z, 0.0));\n    let n = vec3<f32>(rr * cos(phi), rr * sin(phi), z);\n    let v = normalize(n + 0.6 * vec3<f32>(sin(1.7 * phi), cos(2.3 * phi), sin(0.7 * phi)));\n    let a = 0.05 + 0.9 * fract(fi * 0.618034);\n".to_string(),
     };
     let pre = move |k: usize| {
         format!(
-            "    let cb = 36u + (i % {SETS}u) * 36u;\n{geometry}    var c: array<vec3<f32>, {k}>;\n    for (var j = 0u; j < {k}u; j++) {{\n        c[j] = ld3(cb + 3u * j);\n    }}\n"
+            "    let cb = 37u + (i % {SETS}u) * 36u;\n    let lam = inp[36u];\n{geometry}    var c: array<vec3<f32>, {k}>;\n    for (var j = 0u; j < {k}u; j++) {{\n        c[j] = ld3(cb + 3u * j);\n    }}\n"
         )
     };
     let sg = |k: usize, spec: bool| {
         let mut b = pre(k);
-        b += &format!("    var e = vec3<f32>(0.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_hill_irradiance(ld3(3u * j), 6.0, n);\n    }}\n");
+        b += &format!("    var e = vec3<f32>(0.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_hill_irradiance(ld3(3u * j), lam, n);\n    }}\n");
         if spec {
-            b += &format!("    let w = sg_asg_warp(n, v, a, 0.04, 1.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_asg_lobe(w, ld3(3u * j), 6.0);\n    }}\n");
+            b += &format!("    let w = sg_asg_warp(n, v, a, 0.04, 1.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_asg_lobe(w, ld3(3u * j), lam);\n    }}\n");
         }
         b + "    outp[i] = e.x + e.y + e.z;"
     };
@@ -59,16 +69,26 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, bool, Stri
         b + "    outp[i] = e.x + e.y + e.z;"
     };
     let sh = pre(9) + "    let e = sh_l2_irradiance(c, n);\n    outp[i] = e.x + e.y + e.z;";
+    // Progressive encoding as a baker does it: load the texel's state, evaluate the
+    // basis at the sample direction (here n, radiance from the coefficient set), add the
+    // sample, store the state (208 bytes read and written per sample).
+    let encode = |k: usize| {
+        pre(k)
+            + &format!(
+                "    var b: array<f32, 12>;\n    for (var j = 0u; j < {k}u; j++) {{\n        b[j] = ad_srbf_eval(ld3(3u * j), n);\n    }}\n    var st = io[i];\n    progressive_update(&st, uni, b, c[0], 1.0);\n    io[i] = st;\n    outp[i] = st.total_weight;"
+            )
+    };
     vec![
-        ("SH9 (L2)", "sh-l2-irradiance", 9, false, sh),
-        ("SG9", "sg-irradiance", 9, false, sg(9, false)),
-        ("SG9", "sg-irradiance,sg-specular", 9, true, sg(9, true)),
-        ("SG12", "sg-irradiance", 12, false, sg(12, false)),
-        ("SG12", "sg-irradiance,sg-specular", 12, true, sg(12, true)),
-        ("AD9", "ad9-irradiance", 9, false, ad(9, false)),
-        ("AD9", "ad9-irradiance,ad9-specular", 9, true, ad(9, true)),
-        ("AD12", "ad12-irradiance", 12, false, ad(12, false)),
-        ("AD12", "ad12-irradiance,ad12-specular", 12, true, ad(12, true)),
+        ("SH9 (L2)", "sh-l2-irradiance", 9, "diffuse", sh),
+        ("SG9", "sg-irradiance", 9, "diffuse", sg(9, false)),
+        ("SG9", "sg-irradiance,sg-specular", 9, "diffuse + specular", sg(9, true)),
+        ("SG12", "sg-irradiance", 12, "diffuse", sg(12, false)),
+        ("SG12", "sg-irradiance,sg-specular", 12, "diffuse + specular", sg(12, true)),
+        ("AD9", "ad9-irradiance", 9, "diffuse", ad(9, false)),
+        ("AD9", "ad9-irradiance,ad9-specular", 9, "diffuse + specular", ad(9, true)),
+        ("AD12", "ad12-irradiance", 12, "diffuse", ad(12, false)),
+        ("AD12", "ad12-irradiance,ad12-specular", 12, "diffuse + specular", ad(12, true)),
+        ("AD12 progressive LS", "ad-eval,progressive", 12, "encode", encode(12)),
     ]
 }
 
@@ -79,6 +99,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
     for a in sbf::layout::vogel_hemisphere(12).map_err(|e| e.to_string())? {
         inp.extend([a.x as f32, a.y as f32, a.z as f32]);
     }
+    inp.push(6.0); // SG sharpness
     for _ in 0..SETS * 36 {
         inp.push(rng.next_2d()[0] as f32);
     }
@@ -90,14 +111,29 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
     }
     let lut = sbf::luts::committed::ad_specular_2d();
     let mut rows = Vec::new();
-    for (name, cfg, lobes, specular, body) in kernels(inputs) {
+    let params = EncoderParams::new(&sbf::solve::ProgressiveOptions::default(), 12)?;
+    for (name, cfg, lobes, signal, body) in kernels(inputs) {
         let lib = compose::compose(&Config::parse(cfg)?)?.source;
         let uses_lut = body.contains("lut");
-        let (out, t) = gpu.run(&lib, &body, &inp, 1, count, if uses_lut { Some(lut) } else { None }, repeats)?;
-        if let Some(x) = out.iter().find(|x| !x.is_finite()) {
+        let encodes = signal == "encode";
+        let count = if encodes { count.min(MAX_ENCODE_COUNT) } else { count };
+        let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
+        let o = gpu.launch(&Launch {
+            library: &lib,
+            body: &body,
+            input: &inp,
+            out_per_item: 1,
+            count,
+            lut: uses_lut.then_some(lut),
+            uniform: encodes.then_some(("EncoderParams", bytemuck::bytes_of(&params))),
+            io: encodes.then_some(("EncoderState", bytemuck::cast_slice(&states))),
+            repeats,
+        })?;
+        if let Some(x) = o.out.iter().find(|x| !x.is_finite()) {
             return Err(format!("{name}: non-finite output {x}"));
         }
-        rows.push(Row { name, lobes, specular, seconds_per_dispatch: t, evals_per_second: count as f64 / t });
+        let t = o.seconds_per_dispatch;
+        rows.push(Row { name, lobes, signal, count, seconds_per_dispatch: t, evals_per_second: count as f64 / t });
     }
     Ok(rows)
 }
@@ -114,15 +150,18 @@ pub fn table(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs, rows: &[Ro
             "| {} | {} | {} | {:.3} | {:.1} |\n",
             r.name,
             r.lobes,
-            if r.specular { "diffuse + specular" } else { "diffuse" },
+            r.signal,
             r.seconds_per_dispatch * 1e3,
             r.evals_per_second * 1e-6
         );
     }
-    let find = |n: &str, sp: bool| rows.iter().find(|r| r.name == n && r.specular == sp).map(|r| r.seconds_per_dispatch);
-    for sp in [false, true] {
+    for r in rows.iter().filter(|r| r.count != count) {
+        s += &format!("\n{} ({}): {} invocations per dispatch (capped: one encoder state each).", r.name, r.signal, r.count);
+    }
+    let find = |n: &str, sp: &str| rows.iter().find(|r| r.name == n && r.signal == sp).map(|r| r.seconds_per_dispatch);
+    for sp in ["diffuse", "diffuse + specular"] {
         if let (Some(a), Some(b)) = (find("AD9", sp), find("SG9", sp)) {
-            s += &format!("\nAD9/SG9 time ratio ({}): {:.3}", if sp { "diffuse + specular" } else { "diffuse" }, a / b);
+            s += &format!("\nAD9/SG9 time ratio ({sp}): {:.3}", a / b);
         }
     }
     s += "\n(seed 004 Table 8.1: frame times AD9 2.30 ms / SG9 3.27 ms = 0.70; above the 1.39 ms no-lightmap base, 0.91/1.88 = 0.48.)\n";
