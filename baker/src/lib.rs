@@ -1,5 +1,17 @@
-//! # baker — GPU path tracer that bakes lightmaps and probes into any basis
+//! # baker — bakes lightmaps and light probes into any `sbf` basis, progressively
 //!
-//! Not implemented yet (issue "baker"). Planned: glTF scenes, chart packing,
-//! CPU-built BVH traversed in WGSL, progressive path tracing with the `shaders`
-//! per-sample encoder, CPU reference path, checkpoints and previews.
+//! - [`scene`]: meshes, materials (Lambert + GGX layers), lights, environment, and the
+//!   built-in scenes ([`scene::cornell`], the default; [`scene::furnace`] for tests).
+//! - [`bvh`]: binned-SAH BVH flattened into GPU-shaped nodes, CPU traversal.
+//! - [`lightmap`]: planar charts, shelf packing, 16 sub-texel sample positions per texel.
+//! - [`trace`]: the path-traced L_in estimator (NEE + MIS, Russian roulette).
+//! - [`bake`]: progressive passes feeding plain irradiance and the per-sample encoders.
+//!
+//! Status: the CPU reference path. The wgpu path (WGSL traversal with the `shaders`
+//! progressive update), glTF import, probes, checkpoints and previews follow.
+
+pub mod bake;
+pub mod bvh;
+pub mod lightmap;
+pub mod scene;
+pub mod trace;

@@ -1,0 +1,308 @@
+//! Scene description: triangle meshes with materials, lights and an environment, and
+//! the built-in procedural scenes (a Cornell-style room with a window, and the furnace
+//! box the tests use).
+//!
+//! Conventions as in `sbf`: right-handed, +Y up, metres. Triangles are one-sided for
+//! emission (they emit on the side their normal faces) and two-sided for reflection.
+
+use sbf::glam::{Vec2, Vec3};
+
+/// Material of seed 004 §6.3.1: a Lambert layer and a GGX layer added together.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Base colour (linear RGB, each in [0, 1]).
+    pub base_color: Vec3,
+    /// 0 = dielectric, 1 = metal (glTF metallic/roughness).
+    pub metallic: f32,
+    /// Perceptual roughness; GGX α = roughness².
+    pub roughness: f32,
+    /// Dielectric specular weight: F0 = 0.04·specular (1 for glTF's default, 0 for a
+    /// pure Lambert surface such as the furnace's).
+    pub specular: f32,
+    /// Emitted radiance (W/(m²·sr), linear RGB).
+    pub emissive: Vec3,
+}
+
+impl Material {
+    /// Pure Lambert with albedo `c`.
+    pub fn lambert(c: Vec3) -> Self {
+        Material { base_color: c, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: Vec3::ZERO }
+    }
+    /// glTF-style dielectric with GGX roughness.
+    pub fn glossy(c: Vec3, roughness: f32) -> Self {
+        Material { base_color: c, metallic: 0.0, roughness, specular: 1.0, emissive: Vec3::ZERO }
+    }
+    /// A black emitter.
+    pub fn emitter(radiance: Vec3) -> Self {
+        Material { base_color: Vec3::ZERO, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: radiance }
+    }
+    /// Albedo of the Lambert layer: base·(1 − metallic).
+    pub fn diffuse_albedo(&self) -> Vec3 {
+        self.base_color * (1.0 - self.metallic)
+    }
+    /// GGX F0: mix(0.04·specular, base, metallic).
+    pub fn specular_f0(&self) -> Vec3 {
+        Vec3::splat(0.04 * self.specular).lerp(self.base_color, self.metallic)
+    }
+    /// GGX α = roughness², clamped to 1e-3 (below, a mirror: not supported by the
+    /// sampler's pdf in f32).
+    pub fn alpha(&self) -> f32 {
+        (self.roughness * self.roughness).max(1e-3)
+    }
+    /// Whether the GGX layer contributes.
+    pub fn is_glossy(&self) -> bool {
+        self.specular_f0().max_element() > 0.0
+    }
+}
+
+/// A triangle mesh.
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals (unit).
+    pub normals: Vec<Vec3>,
+    pub indices: Vec<[u32; 3]>,
+    pub material: usize,
+    /// Lightmap UVs (glTF TEXCOORD_1) when the source has them; `None` → the layout
+    /// generates charts.
+    pub lightmap_uv: Option<Vec<Vec2>>,
+    /// Whether the mesh receives a lightmap (emitters and helper geometry do not).
+    pub lightmapped: bool,
+}
+
+/// Light sources other than emissive triangles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// Direction *towards* the light (unit) and irradiance at normal incidence (W/m²).
+    Directional { direction: Vec3, irradiance: Vec3 },
+    /// Point light: intensity (W/sr).
+    Point { position: Vec3, intensity: Vec3 },
+}
+
+/// Radiance arriving from directions that leave the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Environment {
+    Black,
+    Constant(Vec3),
+    /// A simple analytic sky: `zenith` at +Y blending to `horizon`, `ground` below.
+    Sky {
+        zenith: Vec3,
+        horizon: Vec3,
+        ground: Vec3,
+    },
+}
+
+impl Environment {
+    /// Radiance from unit direction `d`.
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        match self {
+            Environment::Black => Vec3::ZERO,
+            Environment::Constant(c) => *c,
+            Environment::Sky { zenith, horizon, ground } => {
+                if d.y >= 0.0 {
+                    horizon.lerp(*zenith, d.y.sqrt())
+                } else {
+                    *ground
+                }
+            }
+        }
+    }
+}
+
+/// A complete scene.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub name: String,
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub environment: Environment,
+}
+
+/// Errors in scene data.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SceneError {
+    Empty,
+    NonFinite { mesh: String, what: &'static str },
+    BadIndex { mesh: String, index: u32, vertices: usize },
+    BadMaterial { mesh: String, material: usize },
+    BadMaterialValue { material: usize, what: &'static str },
+    LengthMismatch { mesh: String, what: &'static str },
+    UvOutOfRange { mesh: String, u: f32, v: f32 },
+    Io(String),
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SceneError::Empty => write!(f, "the scene has no non-degenerate triangles"),
+            SceneError::NonFinite { mesh, what } => write!(f, "mesh '{mesh}': {what} contain NaN or Inf"),
+            SceneError::BadIndex { mesh, index, vertices } => write!(f, "mesh '{mesh}': index {index} out of range ({vertices} vertices)"),
+            SceneError::BadMaterial { mesh, material } => write!(f, "mesh '{mesh}': material {material} does not exist"),
+            SceneError::BadMaterialValue { material, what } => write!(f, "material {material}: {what}"),
+            SceneError::LengthMismatch { mesh, what } => write!(f, "mesh '{mesh}': {what} count differs from the vertex count"),
+            SceneError::UvOutOfRange { mesh, u, v } => {
+                write!(f, "mesh '{mesh}': lightmap UV ({u}, {v}) outside [0, 1] (lightmap UVs must lie in the unit square)")
+            }
+            SceneError::Io(s) => write!(f, "{s}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl Scene {
+    /// Checks the scene; returns the number of degenerate (zero-area) triangles, which
+    /// are skipped by the BVH and the layout (documented handling, not an error).
+    pub fn validate(&self) -> Result<usize, SceneError> {
+        let mut degenerate = 0;
+        let mut good = 0;
+        for (k, m) in self.materials.iter().enumerate() {
+            let ok = m.base_color.is_finite() && m.emissive.is_finite() && m.metallic.is_finite() && m.roughness.is_finite();
+            if !ok {
+                return Err(SceneError::BadMaterialValue { material: k, what: "non-finite value" });
+            }
+            if m.base_color.min_element() < 0.0 || m.base_color.max_element() > 1.0 || m.emissive.min_element() < 0.0 {
+                return Err(SceneError::BadMaterialValue { material: k, what: "base colour outside [0, 1] or negative emission" });
+            }
+        }
+        for m in &self.meshes {
+            if m.positions.iter().any(|p| !p.is_finite()) {
+                return Err(SceneError::NonFinite { mesh: m.name.clone(), what: "positions" });
+            }
+            if m.normals.len() != m.positions.len() {
+                return Err(SceneError::LengthMismatch { mesh: m.name.clone(), what: "normal" });
+            }
+            if m.normals.iter().any(|p| !p.is_finite()) {
+                return Err(SceneError::NonFinite { mesh: m.name.clone(), what: "normals" });
+            }
+            if m.material >= self.materials.len() {
+                return Err(SceneError::BadMaterial { mesh: m.name.clone(), material: m.material });
+            }
+            if let Some(uv) = &m.lightmap_uv {
+                if uv.len() != m.positions.len() {
+                    return Err(SceneError::LengthMismatch { mesh: m.name.clone(), what: "lightmap UV" });
+                }
+                if let Some(p) = uv.iter().find(|p| !p.is_finite() || p.min_element() < 0.0 || p.max_element() > 1.0) {
+                    return Err(SceneError::UvOutOfRange { mesh: m.name.clone(), u: p.x, v: p.y });
+                }
+            }
+            for t in &m.indices {
+                for &i in t {
+                    if i as usize >= m.positions.len() {
+                        return Err(SceneError::BadIndex { mesh: m.name.clone(), index: i, vertices: m.positions.len() });
+                    }
+                }
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                if (b - a).cross(c - a).length() > 0.0 {
+                    good += 1;
+                } else {
+                    degenerate += 1;
+                }
+            }
+        }
+        if good == 0 {
+            return Err(SceneError::Empty);
+        }
+        Ok(degenerate)
+    }
+
+    /// Whether any material has a GGX layer (else specular encodings are left out).
+    pub fn has_glossy(&self) -> bool {
+        self.meshes.iter().any(|m| self.materials[m.material].is_glossy())
+    }
+}
+
+/// A quad a, b, c, d (counter-clockwise seen from the side its normal faces).
+fn quad(name: &str, a: Vec3, b: Vec3, c: Vec3, d: Vec3, material: usize, lightmapped: bool) -> Mesh {
+    let n = (b - a).cross(d - a).normalize();
+    Mesh {
+        name: name.into(),
+        positions: vec![a, b, c, d],
+        normals: vec![n; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material,
+        lightmap_uv: None,
+        lightmapped,
+    }
+}
+
+/// An axis-aligned box's five visible faces (no bottom), normals outwards.
+fn block(name: &str, lo: Vec3, hi: Vec3, material: usize) -> Vec<Mesh> {
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let (a, b) = (lo, hi);
+    vec![
+        quad(&format!("{name}.top"), v(a.x, b.y, a.z), v(a.x, b.y, b.z), v(b.x, b.y, b.z), v(b.x, b.y, a.z), material, true),
+        quad(&format!("{name}.+x"), v(b.x, a.y, a.z), v(b.x, b.y, a.z), v(b.x, b.y, b.z), v(b.x, a.y, b.z), material, true),
+        quad(&format!("{name}.-x"), v(a.x, a.y, b.z), v(a.x, b.y, b.z), v(a.x, b.y, a.z), v(a.x, a.y, a.z), material, true),
+        quad(&format!("{name}.+z"), v(b.x, a.y, b.z), v(b.x, b.y, b.z), v(a.x, b.y, b.z), v(a.x, a.y, b.z), material, true),
+        quad(&format!("{name}.-z"), v(a.x, a.y, a.z), v(a.x, b.y, a.z), v(b.x, b.y, a.z), v(b.x, a.y, a.z), material, true),
+    ]
+}
+
+/// The six inward-facing walls of the box [−h, h]³, all with `material`, except that
+/// the front wall (z = +h) may have a window hole `window` = (x0, x1, y0, y1).
+fn room(h: f32, material: [usize; 6], window: Option<(f32, f32, f32, f32)>) -> Vec<Mesh> {
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let [floor, ceiling, back, left, right, front] = material;
+    let mut m = vec![
+        quad("floor", v(-h, -h, -h), v(-h, -h, h), v(h, -h, h), v(h, -h, -h), floor, true),
+        quad("ceiling", v(-h, h, -h), v(h, h, -h), v(h, h, h), v(-h, h, h), ceiling, true),
+        quad("back", v(-h, -h, -h), v(h, -h, -h), v(h, h, -h), v(-h, h, -h), back, true),
+        quad("left", v(-h, -h, -h), v(-h, h, -h), v(-h, h, h), v(-h, -h, h), left, true),
+        quad("right", v(h, -h, -h), v(h, -h, h), v(h, h, h), v(h, h, -h), right, true),
+    ];
+    // Front wall z = +h, normal −Z: quads around the window.
+    let fq =
+        |name: &str, x0: f32, x1: f32, y0: f32, y1: f32| quad(name, v(x1, y0, h), v(x0, y0, h), v(x0, y1, h), v(x1, y1, h), front, true);
+    match window {
+        None => m.push(fq("front", -h, h, -h, h)),
+        Some((x0, x1, y0, y1)) => {
+            m.push(fq("front.below", -h, h, -h, y0));
+            m.push(fq("front.above", -h, h, y1, h));
+            m.push(fq("front.left", -h, x0, y0, y1));
+            m.push(fq("front.right", x1, h, y0, y1));
+        }
+    }
+    m
+}
+
+/// The embedded default: a 2 m Cornell-style room (white floor/ceiling/back/front, red
+/// left, green right wall), a 0.5 m² area light under the ceiling, a glossy block and a
+/// matte block, and a window in the front wall open to a sky with a sun.
+pub fn cornell() -> Scene {
+    let materials = vec![
+        Material::lambert(Vec3::splat(0.73)),
+        Material::lambert(Vec3::new(0.63, 0.065, 0.05)),
+        Material::lambert(Vec3::new(0.14, 0.45, 0.091)),
+        Material::glossy(Vec3::new(0.8, 0.75, 0.6), 0.3),
+        Material::emitter(Vec3::splat(12.0)),
+    ];
+    let mut meshes = room(1.0, [0, 0, 0, 1, 2, 0], Some((-0.4, 0.4, -0.2, 0.5)));
+    meshes.extend(block("glossy", Vec3::new(-0.65, -1.0, -0.6), Vec3::new(-0.05, 0.2, 0.0), 3));
+    meshes.extend(block("matte", Vec3::new(0.15, -1.0, -0.1), Vec3::new(0.7, -0.45, 0.45), 0));
+    let s = 0.35;
+    let y = 0.999;
+    // Wound to face down (−Y).
+    meshes.push(quad("light", Vec3::new(-s, y, -s), Vec3::new(s, y, -s), Vec3::new(s, y, s), Vec3::new(-s, y, s), 4, false));
+    Scene {
+        name: "cornell".into(),
+        meshes,
+        materials,
+        lights: vec![Light::Directional { direction: Vec3::new(-0.3, 0.55, 1.0).normalize(), irradiance: Vec3::new(6.0, 5.6, 5.0) }],
+        environment: Environment::Sky {
+            zenith: Vec3::new(0.25, 0.45, 0.9),
+            horizon: Vec3::new(0.8, 0.85, 0.9),
+            ground: Vec3::new(0.2, 0.18, 0.15),
+        },
+    }
+}
+
+/// A closed box whose every wall emits `le` and reflects with Lambert albedo `albedo`:
+/// the radiance everywhere is exactly le/(1 − albedo) (the furnace test).
+pub fn furnace(le: f32, albedo: f32) -> Scene {
+    let mut mat = Material::lambert(Vec3::splat(albedo));
+    mat.emissive = Vec3::splat(le);
+    Scene { name: "furnace".into(), meshes: room(1.0, [0; 6], None), materials: vec![mat], lights: vec![], environment: Environment::Black }
+}

@@ -1,0 +1,167 @@
+//! CPU reference path: furnace, BVH against brute force, layout invariants, bad scenes.
+
+use baker::bake::{Bake, BakeConfig, BasisKind, Solver};
+use baker::bvh::{intersect_tri, Bvh};
+use baker::lightmap::Lightmap;
+use baker::scene::{self, Scene, SceneError};
+use baker::trace::Tracer;
+use sbf::glam::{Vec2, Vec3};
+use sbf::sampling::Pcg32;
+
+/// Furnace: a closed box emitting L_e with Lambert albedo a everywhere has radiance
+/// L_e/(1 − a) in every direction, so every texel's E/π is L_e/(1 − a).
+#[test]
+fn furnace_cpu() {
+    let (le, a) = (1.0f32, 0.5f32);
+    let s = scene::furnace(le, a);
+    let bvh = Bvh::build(&s);
+    let lm = Lightmap::build(&s, 4.0, 1).unwrap();
+    // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error; Russian
+    // roulette keeps the estimator unbiased anyway.
+    let tracer = Tracer::new(&s, &bvh, 64);
+    let cfg = BakeConfig { seed: 1, max_bounces: 64, bases: vec![BasisKind::Ad9], solver: Solver::Ls };
+    let mut bake = Bake::new(cfg, &lm, tracer);
+    for _ in 0..64 {
+        bake.pass();
+    }
+    let expect = (le / (1.0 - a)) as f64;
+    let e = bake.irradiance();
+    let se = bake.standard_error();
+    let (mut n, mut within, mut sum, mut var) = (0, 0, 0.0, 0.0);
+    for (k, t) in lm.texels.iter().enumerate() {
+        if !t.is_valid() {
+            continue;
+        }
+        for c in 0..3 {
+            n += 1;
+            sum += e[k][c];
+            var += se[k][c] * se[k][c];
+            if (e[k][c] - expect).abs() <= 4.0 * se[k][c] {
+                within += 1;
+            }
+        }
+    }
+    let mean = sum / n as f64;
+    let se_mean = var.sqrt() / n as f64;
+    println!("furnace: {n} texel-channels, mean {mean:.5} (expected {expect}, ± {se_mean:.2e}), {within} within 4σ");
+    // The mean over all texels: within 4 standard errors of the mean (independent texels).
+    assert!((mean - expect).abs() <= 4.0 * se_mean, "mean {mean} vs {expect} ± {se_mean}");
+    // Per texel: 4σ holds for 99.99% of normal errors; 99% leaves room for the
+    // heavier-than-normal tail of a 64-sample mean.
+    assert!(within as f64 >= 0.99 * n as f64, "{within}/{n} texels within 4σ");
+}
+
+/// The BVH finds the same closest hit as testing every triangle.
+#[test]
+fn bvh_matches_brute_force() {
+    let s = scene::cornell();
+    let bvh = Bvh::build(&s);
+    assert!(bvh.depth() < 64, "depth {} exceeds the traversal stack", bvh.depth());
+    let mut r = Pcg32::new(5, 5);
+    for _ in 0..20_000 {
+        let o = Vec3::new(r.next_f64() as f32 * 2.2 - 1.1, r.next_f64() as f32 * 2.2 - 1.1, r.next_f64() as f32 * 2.2 - 1.1);
+        let d = sbf::sampling::uniform_sphere(r.next_2d()).as_vec3();
+        let fast = bvh.intersect(o, d, 0.0, f32::INFINITY).map(|h| h.t);
+        let slow = bvh.tris.iter().filter_map(|t| intersect_tri(t, o, d, 0.0, f32::INFINITY).map(|x| x.0)).reduce(f32::min);
+        assert_eq!(fast, slow, "ray {o} {d}");
+        if let Some(t) = slow {
+            assert!(bvh.occluded(o, d, 0.0, t * 1.001));
+            assert!(!bvh.occluded(o, d, 0.0, t * 0.999));
+        }
+    }
+}
+
+/// Layout: charts do not overlap, every valid texel's points lie on its chart's plane,
+/// and the covered area matches the surface area (16 sub-samples per texel).
+#[test]
+fn layout_covers_the_surfaces() {
+    let s = scene::cornell();
+    let tpu = 16.0;
+    let lm = Lightmap::build(&s, tpu, 1).unwrap();
+    for (i, a) in lm.charts.iter().enumerate() {
+        for b in &lm.charts[i + 1..] {
+            let sep = a.offset.0 + a.size.0 <= b.offset.0
+                || b.offset.0 + b.size.0 <= a.offset.0
+                || a.offset.1 + a.size.1 <= b.offset.1
+                || b.offset.1 + b.size.1 <= a.offset.1;
+            assert!(sep, "charts overlap: {:?} {:?}", a.offset, b.offset);
+        }
+    }
+    let covered: f64 = lm.texels.iter().map(|t| t.coverage.count_ones() as f64 / 16.0).sum();
+    let area: f64 = s
+        .meshes
+        .iter()
+        .filter(|m| m.lightmapped)
+        .flat_map(|m| m.indices.iter().map(move |t| t.map(|i| m.positions[i as usize])))
+        .map(|[a, b, c]| 0.5 * (b - a).cross(c - a).length() as f64)
+        .sum();
+    let expected = area * (tpu * tpu) as f64;
+    println!("area {area:.3} m² → {expected:.0} texels; covered {covered:.0}; utilisation {:.3}", lm.utilisation());
+    // Sub-sampling a texel edge at 4 positions misplaces at most ¼ texel along each
+    // chart border: the perimeter term is ≤ 2% of the area at this resolution.
+    assert!((covered - expected).abs() / expected < 0.02, "covered {covered} vs {expected}");
+    assert!(lm.utilisation() > 0.5, "utilisation {}", lm.utilisation());
+}
+
+fn tri_mesh(p: Vec<Vec3>, idx: Vec<[u32; 3]>) -> Scene {
+    let n = p.len();
+    Scene {
+        name: "bad".into(),
+        meshes: vec![scene::Mesh {
+            name: "m".into(),
+            positions: p,
+            normals: vec![Vec3::Y; n],
+            indices: idx,
+            material: 0,
+            lightmap_uv: None,
+            lightmapped: true,
+        }],
+        materials: vec![scene::Material::lambert(Vec3::splat(0.5))],
+        lights: vec![],
+        environment: scene::Environment::Black,
+    }
+}
+
+#[test]
+fn bad_scenes_give_clear_errors() {
+    let ok = vec![Vec3::ZERO, Vec3::X, Vec3::Z];
+    assert_eq!(tri_mesh(ok.clone(), vec![[0, 1, 2]]).validate(), Ok(0));
+    assert_eq!(tri_mesh(ok.clone(), vec![]).validate(), Err(SceneError::Empty));
+    let nan = vec![Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Z];
+    assert!(matches!(tri_mesh(nan, vec![[0, 1, 2]]).validate(), Err(SceneError::NonFinite { .. })));
+    assert!(matches!(tri_mesh(ok.clone(), vec![[0, 1, 3]]).validate(), Err(SceneError::BadIndex { index: 3, .. })));
+    // Degenerate triangles are counted and skipped; a scene of only those is empty.
+    assert_eq!(tri_mesh(ok.clone(), vec![[0, 1, 2], [0, 0, 1]]).validate(), Ok(1));
+    assert_eq!(tri_mesh(ok.clone(), vec![[0, 0, 1]]).validate(), Err(SceneError::Empty));
+    let mut uv = tri_mesh(ok.clone(), vec![[0, 1, 2]]);
+    uv.meshes[0].lightmap_uv = Some(vec![Vec2::ZERO, Vec2::new(1.5, 0.0), Vec2::ONE]);
+    assert!(matches!(uv.validate(), Err(SceneError::UvOutOfRange { .. })));
+    let e = uv.validate().unwrap_err().to_string();
+    assert!(e.contains("outside [0, 1]"), "{e}");
+    let mut m = tri_mesh(ok, vec![[0, 1, 2]]);
+    m.meshes[0].material = 3;
+    assert!(matches!(m.validate(), Err(SceneError::BadMaterial { .. })));
+    assert!(Lightmap::build(&scene::cornell(), f32::NAN, 1).is_err());
+}
+
+/// Same seed → identical result on any thread count (rayon pools of 1 and 2).
+#[test]
+fn deterministic_across_thread_counts() {
+    let s = scene::cornell();
+    let bvh = Bvh::build(&s);
+    let lm = Lightmap::build(&s, 3.0, 1).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let cfg = BakeConfig { seed: 7, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Sg9], solver: Solver::Nnls };
+            let mut b = Bake::new(cfg, &lm, Tracer::new(&s, &bvh, 4));
+            for _ in 0..4 {
+                b.pass();
+            }
+            let coeffs: Vec<Vec<f64>> =
+                b.state.encoders.iter().flat_map(|e| e.iter().flatten().map(|x| x.coefficients().as_slice().to_vec())).collect();
+            (b.irradiance(), coeffs)
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
