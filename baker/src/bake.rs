@@ -1,24 +1,34 @@
-//! Progressive lightmap baking on the CPU (the reference path; rayon over texels).
+//! Progressive baking on the CPU (the reference path; rayon over items), and the state
+//! both paths share.
 //!
-//! Pass p of texel k: the sub-texel point (p mod covered points), a direction on the
-//! hemisphere about the texel's normal from an R2 sequence with a per-texel
-//! Cranley–Patterson shift (successive samples decorrelated, seed §7.3.1), the path's
-//! remaining dimensions from a PCG stream seeded by (seed, pass, texel). Every random
-//! number depends only on (seed, texel, pass), so results are identical for any thread
-//! count and a resumed bake equals an uninterrupted one.
+//! An item is a lightmap texel (hemisphere about its normal) or a light probe (whole
+//! sphere). Pass p of item k: its point (p mod its points), a direction from an R2
+//! sequence with a per-item Cranley–Patterson shift (successive samples decorrelated,
+//! seed §7.3.1), the path's remaining dimensions from a PCG stream seeded by
+//! (seed, pass, item id). Every random number depends only on (seed, id, pass), so
+//! results are identical for any thread count and a resumed bake equals an
+//! uninterrupted one.
 //!
 //! Each radiance sample L_in(ω) is (a) accumulated as plain irradiance E/π = 2·L·cosθ
-//! (uniform hemisphere pdf 1/2π), with its second moment for a standard error, and
-//! (b) added to every configured basis's progressive encoder (sbf's
-//! `ProgressiveEncoder<f32>`, the twin of the WGSL update), in tangent space (normal +Z).
+//! (uniform hemisphere pdf 1/2π; probes accumulate L, the sphere mean), with its second
+//! moment for a standard error, and (b) added to every configured basis's progressive
+//! encoder (sbf's `ProgressiveEncoder<f32>`, the twin of the WGSL update), in tangent
+//! space (normal +Z) for texels, world space for probes.
 
-use crate::lightmap::{frame, Lightmap};
+use crate::lightmap::{frame, Lightmap, SurfacePoint};
 use crate::trace::Tracer;
 use rayon::prelude::*;
 use sbf::glam::{DVec3, Vec3};
 use sbf::sampling::{Pcg32, R2};
 use sbf::solve::{ProgressiveEncoder, ProgressiveOptions};
 use sbf::Basis;
+
+/// Sharpness of the hemisphere SG sets (9 and 12 lobes), "experimentally selected" as
+/// in seed 004 §7.2 after Pettineo and Neubelt; the same λ = 6 as the `probes` tool's
+/// `sg9h`/`sg12h` and the Appendix C tests. (Probulator's spacing heuristic,
+/// `sbf::layout::sharpness_from_spacing`, is meant for sphere sets: on the 9-lobe
+/// hemisphere spiral it gives λ ≈ 56, lobes too narrow to represent a constant.)
+pub const SG_HEMISPHERE_SHARPNESS: f64 = 6.0;
 
 /// A basis the baker encodes into.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -52,14 +62,22 @@ impl BasisKind {
             BasisKind::ShL1 => Box::new(sbf::ShBasis::new(1).expect("order 1")),
             BasisKind::ShL2 => Box::new(sbf::ShBasis::new(2).expect("order 2")),
             BasisKind::Sg9 | BasisKind::Sg12 => {
-                let n = if self == BasisKind::Sg9 { 9 } else { 12 };
-                let axes = sbf::layout::vogel_hemisphere(n).expect("vogel layout");
-                let lambda = sbf::layout::sharpness_from_spacing(&axes).expect("sharpness");
+                let (axes, lambda) = self.sg_lobes();
                 Box::new(sbf::SgBasis::new(&axes, lambda, false).expect("SG basis"))
             }
             BasisKind::Ad9 => Box::new(sbf::AmbientDiceSrbf::nine_hemisphere()),
             BasisKind::Ad12 => Box::new(sbf::AmbientDiceSrbf::twelve()),
         }
+    }
+    /// SG lobe axes (Vogel hemisphere about +Z) and their shared sharpness
+    /// [`SG_HEMISPHERE_SHARPNESS`].
+    pub fn sg_lobes(self) -> (Vec<DVec3>, f64) {
+        let n = if self == BasisKind::Sg9 { 9 } else { 12 };
+        (sbf::layout::vogel_hemisphere(n).expect("vogel layout"), SG_HEMISPHERE_SHARPNESS)
+    }
+    /// Whether the basis covers the whole sphere (else the upper hemisphere).
+    pub fn is_sphere(self) -> bool {
+        matches!(self, BasisKind::ShL1 | BasisKind::ShL2 | BasisKind::Ad12)
     }
 }
 
@@ -79,7 +97,68 @@ pub struct BakeConfig {
     pub solver: Solver,
 }
 
-/// Per-texel accumulation of plain irradiance (E/π) and its second moment.
+impl BakeConfig {
+    /// The progressive options for `basis` on these targets: sphere bases on texels see
+    /// only the upper hemisphere, so mirrored zero samples pin the lower half (seed
+    /// §7.3's hemisphere handling); probes sample the whole sphere.
+    pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
+        let opts = match self.solver {
+            Solver::Ls => ProgressiveOptions::default(),
+            Solver::Nnls => ProgressiveOptions::non_negative(),
+        };
+        ProgressiveOptions { mirror_hemisphere: basis.is_sphere() && !sphere_targets, ..opts }
+    }
+}
+
+/// What a bake samples: lightmap texels or probe positions.
+#[derive(Debug, Clone)]
+pub struct Targets {
+    pub points: Vec<SurfacePoint>,
+    /// Per item: (first point, point count, id): the id is the texel index in the
+    /// lightmap or the probe index; it seeds the item's random numbers.
+    pub items: Vec<[u32; 3]>,
+    /// Probes: directions over the whole sphere in world space.
+    pub sphere: bool,
+    /// Number of ids (texels in the atlas, or probes).
+    pub slots: usize,
+}
+
+impl Targets {
+    /// Every valid texel of a lightmap.
+    pub fn lightmap(lm: &Lightmap) -> Targets {
+        let (mut points, mut items) = (Vec::new(), Vec::new());
+        for (k, t) in lm.texels.iter().enumerate() {
+            if t.is_valid() {
+                items.push([points.len() as u32, t.points.len() as u32, k as u32]);
+                points.extend_from_slice(&t.points);
+            }
+        }
+        Targets { points, items, sphere: false, slots: lm.texels.len() }
+    }
+
+    /// Light probes at the given positions.
+    pub fn probes(positions: &[Vec3]) -> Targets {
+        let points = positions.iter().map(|p| SurfacePoint { position: *p, normal: Vec3::Y }).collect();
+        let items = (0..positions.len() as u32).map(|k| [k, 1, k]).collect();
+        Targets { points, items, sphere: true, slots: positions.len() }
+    }
+
+    /// The sample direction of pass `p` for item id `id`: (direction in the item's frame,
+    /// world direction, the E/π weight of the sample: 2cosθ for texels, 1 for probes).
+    pub fn direction(&self, seed: u64, id: u32, p: u64, normal: Vec3) -> (DVec3, Vec3, f32) {
+        let u = R2::with_seed(seed ^ (id as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)).point(p);
+        if self.sphere {
+            let d = sbf::sampling::uniform_sphere(u);
+            return (d, d.as_vec3(), 1.0);
+        }
+        let local = sbf::sampling::uniform_hemisphere(u);
+        let (tn, bn) = frame(normal);
+        let dir = (tn.as_dvec3() * local.x + bn.as_dvec3() * local.y + normal.as_dvec3() * local.z).normalize().as_vec3();
+        (local, dir, 2.0 * local.z as f32)
+    }
+}
+
+/// Per-item accumulation of the plain estimate (E/π, or L for probes) and its square.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Moments {
     pub sum: [f64; 3],
@@ -90,15 +169,55 @@ pub struct Moments {
 #[derive(Debug, Clone)]
 pub struct BakeState {
     pub passes: u64,
+    /// Per item.
     pub moments: Vec<Moments>,
-    /// `encoders[b][texel]` for `config.bases[b]` (None for invalid texels).
-    pub encoders: Vec<Vec<Option<ProgressiveEncoder<f32>>>>,
+    /// `encoders[b][item]` for `config.bases[b]`.
+    pub encoders: Vec<Vec<ProgressiveEncoder<f32>>>,
 }
 
-/// A bake in progress.
+impl BakeState {
+    /// An empty state for `targets` under `config`.
+    pub fn new(config: &BakeConfig, targets: &Targets) -> BakeState {
+        let encoders = config
+            .bases
+            .iter()
+            .map(|b| {
+                let o = config.encoder_options(*b, targets.sphere);
+                let lobes = b.basis().len();
+                vec![ProgressiveEncoder::new(lobes, o); targets.items.len()]
+            })
+            .collect();
+        BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders }
+    }
+
+    /// Mean estimate per item (E/π for texels, mean L for probes).
+    pub fn mean(&self) -> Vec<[f64; 3]> {
+        let n = self.passes.max(1) as f64;
+        self.moments.iter().map(|m| m.sum.map(|s| s / n)).collect()
+    }
+
+    /// Standard error of the mean per item and channel (∞ below two passes).
+    pub fn standard_error(&self) -> Vec<[f64; 3]> {
+        let n = self.passes as f64;
+        self.moments
+            .iter()
+            .map(|m| {
+                std::array::from_fn(|c| {
+                    if n < 2.0 {
+                        return f64::INFINITY;
+                    }
+                    let mean = m.sum[c] / n;
+                    ((m.sum_sq[c] / n - mean * mean).max(0.0) / (n - 1.0)).sqrt()
+                })
+            })
+            .collect()
+    }
+}
+
+/// A bake in progress on the CPU.
 pub struct Bake<'a> {
     pub config: BakeConfig,
-    pub lightmap: &'a Lightmap,
+    pub targets: &'a Targets,
     pub tracer: Tracer<'a>,
     bases: Vec<Box<dyn Basis + Send + Sync>>,
     pub state: BakeState,
@@ -111,23 +230,24 @@ impl std::fmt::Debug for Bake<'_> {
 }
 
 impl<'a> Bake<'a> {
-    pub fn new(config: BakeConfig, lightmap: &'a Lightmap, tracer: Tracer<'a>) -> Self {
+    pub fn new(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>) -> Self {
         let bases: Vec<_> = config.bases.iter().map(|k| k.basis()).collect();
-        let opts = match config.solver {
-            Solver::Ls => ProgressiveOptions::default(),
-            Solver::Nnls => ProgressiveOptions::non_negative(),
+        let state = BakeState::new(&config, targets);
+        Bake { config, targets, tracer, bases, state }
+    }
+
+    /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
+    pub fn resume(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>, state: BakeState) -> Result<Self, String> {
+        let fresh = BakeState::new(&config, targets);
+        let shape = |s: &BakeState| {
+            (s.moments.len(), s.encoders.iter().map(|e| (e.len(), e.first().map(|x| x.coefficients().nrows()))).collect::<Vec<_>>())
         };
-        let encoders = bases
-            .iter()
-            .map(|b| {
-                // Sphere bases see only the upper hemisphere: mirrored zero samples pin the
-                // lower half (seed §7.3's hemisphere handling).
-                let o = ProgressiveOptions { mirror_hemisphere: b.domain() == sbf::Domain::Sphere, ..opts.clone() };
-                lightmap.texels.iter().map(|t| t.is_valid().then(|| ProgressiveEncoder::new(b.len(), o.clone()))).collect()
-            })
-            .collect();
-        let state = BakeState { passes: 0, moments: vec![Moments::default(); lightmap.texels.len()], encoders };
-        Bake { config, lightmap, tracer, bases, state }
+        if shape(&fresh) != shape(&state) {
+            return Err("the saved state does not match this bake's targets and bases".into());
+        }
+        let mut b = Bake::new(config, targets, tracer);
+        b.state = state;
+        Ok(b)
     }
 
     /// The configured bases' sbf objects.
@@ -135,75 +255,41 @@ impl<'a> Bake<'a> {
         &self.bases
     }
 
-    /// Runs one pass (one path per valid texel).
+    /// Runs one pass (one path per item).
     pub fn pass(&mut self) {
         let p = self.state.passes;
         let seed = self.config.seed;
         let tracer = &self.tracer;
-        let lm = self.lightmap;
-        // Trace in parallel, then feed the encoders per texel (the samples are kept so
-        // that each texel's update order is the pass order on any thread count).
-        let samples: Vec<Option<(DVec3, Vec3)>> = (0..lm.texels.len())
-            .into_par_iter()
-            .map(|k| {
-                let t = &lm.texels[k];
-                if !t.is_valid() {
-                    return None;
-                }
-                let pt = &t.points[(p % t.points.len() as u64) as usize];
-                let u = R2::with_seed(seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)).point(p);
-                let local = sbf::sampling::uniform_hemisphere(u);
-                let (tn, bn) = frame(pt.normal);
-                let dir = (tn.as_dvec3() * local.x + bn.as_dvec3() * local.y + pt.normal.as_dvec3() * local.z).normalize().as_vec3();
-                let mut rng = Pcg32::new(seed.wrapping_add(p.wrapping_mul(0x2545_F491_4F6C_DD1D)), k as u64);
-                let l = tracer.incoming(pt.position, pt.normal, dir, &mut rng);
-                Some((local, l))
+        let tg = self.targets;
+        // Trace in parallel, then feed the encoders per item (the samples are kept so
+        // that each item's update order is the pass order on any thread count).
+        let samples: Vec<(DVec3, Vec3, f32)> = tg
+            .items
+            .par_iter()
+            .map(|&[first, count, id]| {
+                let pt = &tg.points[(first as u64 + p % count as u64) as usize];
+                let (local, dir, w) = tg.direction(seed, id, p, pt.normal);
+                let mut rng = Pcg32::new(seed.wrapping_add(p.wrapping_mul(0x2545_F491_4F6C_DD1D)), id as u64);
+                let n = if tg.sphere { dir } else { pt.normal };
+                let l = tracer.incoming(pt.position, n, dir, &mut rng);
+                (local, l, w)
             })
             .collect();
-        let bases = &self.bases;
-        self.state.moments.par_iter_mut().zip(samples.par_iter()).for_each(|(m, s)| {
-            if let Some((local, l)) = s {
-                let e = *l * (2.0 * local.z as f32);
-                for c in 0..3 {
-                    m.sum[c] += e[c] as f64;
-                    m.sum_sq[c] += (e[c] as f64).powi(2);
-                }
+        self.state.moments.par_iter_mut().zip(samples.par_iter()).for_each(|(m, (_, l, w))| {
+            let e = *l * *w;
+            for c in 0..3 {
+                m.sum[c] += e[c] as f64;
+                m.sum_sq[c] += (e[c] as f64).powi(2);
             }
         });
         for (b, encs) in self.state.encoders.iter_mut().enumerate() {
-            let basis = &bases[b];
-            encs.par_iter_mut().zip(samples.par_iter()).for_each(|(enc, s)| {
-                if let (Some(enc), Some((local, l))) = (enc, s) {
-                    // Finite by construction (the estimator never returns NaN/Inf from
-                    // finite scene data); an error here would be a bug worth a panic.
-                    enc.add_sample(basis.as_ref(), *local, [l.x as f64, l.y as f64, l.z as f64], 1.0).expect("finite radiance sample");
-                }
+            let basis = &self.bases[b];
+            encs.par_iter_mut().zip(samples.par_iter()).for_each(|(enc, (local, l, _))| {
+                // Finite by construction (the estimator never returns NaN/Inf from
+                // finite scene data); an error here would be a bug worth a panic.
+                enc.add_sample(basis.as_ref(), *local, [l.x as f64, l.y as f64, l.z as f64], 1.0).expect("finite radiance sample");
             });
         }
         self.state.passes += 1;
-    }
-
-    /// Mean E/π per texel (zero for invalid texels).
-    pub fn irradiance(&self) -> Vec<[f64; 3]> {
-        let n = self.state.passes.max(1) as f64;
-        self.state.moments.iter().map(|m| m.sum.map(|s| s / n)).collect()
-    }
-
-    /// Standard error of the mean E/π per texel and channel.
-    pub fn standard_error(&self) -> Vec<[f64; 3]> {
-        let n = self.state.passes as f64;
-        self.state
-            .moments
-            .iter()
-            .map(|m| {
-                std::array::from_fn(|c| {
-                    if n < 2.0 {
-                        return f64::INFINITY;
-                    }
-                    let mean = m.sum[c] / n;
-                    ((m.sum_sq[c] / n - mean * mean).max(0.0) / (n - 1.0)).sqrt()
-                })
-            })
-            .collect()
     }
 }

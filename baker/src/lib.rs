@@ -12,6 +12,8 @@
 
 pub mod bake;
 pub mod bvh;
+pub mod checkpoint;
+pub mod gpu;
 pub mod lightmap;
 pub mod scene;
 pub mod trace;

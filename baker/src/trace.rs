@@ -21,6 +21,8 @@ pub struct Tracer<'a> {
     cdf: Vec<f64>,
     /// Probability of choosing triangle k by NEE (0 for non-emitters), per `bvh.tris`.
     select_pdf: Vec<f64>,
+    /// Σ over emitters of luminance × area (NEE's selection normaliser).
+    pub total_power: f64,
     pub max_bounces: u32,
     /// Ray offset from surfaces (scene-scale relative).
     pub epsilon: f32,
@@ -52,7 +54,12 @@ impl<'a> Tracer<'a> {
         }
         let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::ZERO, Vec3::ONE));
         let epsilon = 1e-4 * (hi - lo).max_element().max(1e-3);
-        Tracer { scene, bvh, emitters, cdf, select_pdf, max_bounces, epsilon }
+        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, epsilon }
+    }
+
+    /// Emissive triangles (indices into `bvh.tris`) with the CDF of their power.
+    pub fn emitter_table(&self) -> impl Iterator<Item = (u32, f64)> + '_ {
+        self.emitters.iter().copied().zip(self.cdf.iter().copied())
     }
 
     /// Radiance arriving at `x` (geometric normal `n`) from unit direction `dir`.
@@ -172,7 +179,7 @@ fn offset(p: Vec3, n: Vec3, dir: Vec3, eps: f32) -> Vec3 {
 }
 
 /// Probability of sampling the GGX layer.
-fn specular_probability(m: &Material) -> f64 {
+pub fn specular_probability(m: &Material) -> f64 {
     match (m.diffuse_albedo().max_element() > 0.0, m.is_glossy()) {
         (true, true) => 0.5,
         (false, true) => 1.0,

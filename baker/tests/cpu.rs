@@ -1,6 +1,6 @@
 //! CPU reference path: furnace, BVH against brute force, layout invariants, bad scenes.
 
-use baker::bake::{Bake, BakeConfig, BasisKind, Solver};
+use baker::bake::{Bake, BakeConfig, BasisKind, Solver, Targets};
 use baker::bvh::{intersect_tri, Bvh};
 use baker::lightmap::Lightmap;
 use baker::scene::{self, Scene, SceneError};
@@ -20,18 +20,16 @@ fn furnace_cpu() {
     // roulette keeps the estimator unbiased anyway.
     let tracer = Tracer::new(&s, &bvh, 64);
     let cfg = BakeConfig { seed: 1, max_bounces: 64, bases: vec![BasisKind::Ad9], solver: Solver::Ls };
-    let mut bake = Bake::new(cfg, &lm, tracer);
+    let targets = Targets::lightmap(&lm);
+    let mut bake = Bake::new(cfg, &targets, tracer);
     for _ in 0..64 {
         bake.pass();
     }
     let expect = (le / (1.0 - a)) as f64;
-    let e = bake.irradiance();
-    let se = bake.standard_error();
+    let e = bake.state.mean();
+    let se = bake.state.standard_error();
     let (mut n, mut within, mut sum, mut var) = (0, 0, 0.0, 0.0);
-    for (k, t) in lm.texels.iter().enumerate() {
-        if !t.is_valid() {
-            continue;
-        }
+    for k in 0..targets.items.len() {
         for c in 0..3 {
             n += 1;
             sum += e[k][c];
@@ -154,13 +152,14 @@ fn deterministic_across_thread_counts() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             let cfg = BakeConfig { seed: 7, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Sg9], solver: Solver::Nnls };
-            let mut b = Bake::new(cfg, &lm, Tracer::new(&s, &bvh, 4));
+            let targets = Targets::lightmap(&lm);
+            let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 4));
             for _ in 0..4 {
                 b.pass();
             }
             let coeffs: Vec<Vec<f64>> =
-                b.state.encoders.iter().flat_map(|e| e.iter().flatten().map(|x| x.coefficients().as_slice().to_vec())).collect();
-            (b.irradiance(), coeffs)
+                b.state.encoders.iter().flat_map(|e| e.iter().map(|x| x.coefficients().as_slice().to_vec())).collect();
+            (b.state.mean(), coeffs)
         })
     };
     assert_eq!(run(1), run(2));

@@ -231,6 +231,14 @@ impl Composed {
 
 /// Composes the modules a configuration needs, pruned to the items reachable from its roots.
 pub fn compose(config: &Config) -> Result<Composed, String> {
+    let roots: Vec<&str> = config.features.iter().flat_map(|f| f.roots().iter().copied()).collect();
+    compose_roots(config.clone(), &roots)
+}
+
+/// Composes the items reachable from `roots` (any top-level WGSL names: functions,
+/// constants, structs), e.g. for a kernel that calls helpers no feature exposes;
+/// `config` only names the result.
+pub fn compose_roots(config: Config, roots: &[&str]) -> Result<Composed, String> {
     let splits: Vec<Split> = modules::all().iter().map(split).collect();
     let mut by_name: HashMap<&str, &Item> = HashMap::new();
     for s in &splits {
@@ -242,13 +250,11 @@ pub fn compose(config: &Config) -> Result<Composed, String> {
     }
     let mut keep: BTreeSet<String> = BTreeSet::new();
     let mut stack: Vec<String> = Vec::new();
-    for f in &config.features {
-        for r in f.roots() {
-            if !by_name.contains_key(r) {
-                return Err(format!("feature {f:?} names '{r}', which no module declares"));
-            }
-            stack.push(r.to_string());
+    for r in roots {
+        if !by_name.contains_key(r) {
+            return Err(format!("configuration '{}' names '{r}', which no module declares", config.name));
         }
+        stack.push(r.to_string());
     }
     while let Some(n) = stack.pop() {
         if !keep.insert(n.clone()) {
@@ -281,5 +287,5 @@ pub fn compose(config: &Config) -> Result<Composed, String> {
             included.push((s.module.to_string(), it.name.clone()));
         }
     }
-    Ok(Composed { config: config.clone(), source, included, left_out })
+    Ok(Composed { config, source, included, left_out })
 }

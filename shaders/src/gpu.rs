@@ -78,6 +78,16 @@ impl Gpu {
         Ok(Gpu { device, queue, adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info) })
     }
 
+    /// The wgpu device (for callers that build their own pipelines, e.g. the baker).
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue of [`Gpu::device`].
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
     /// The full kernel source for a launch (library, harness bindings, kernel body).
     pub fn kernel_source(l: &Launch) -> String {
         let (library, body, count) = (l.library, l.body, l.count);
@@ -256,7 +266,28 @@ impl Gpu {
         Ok(Output { out: out[..count * out_per_item].to_vec(), io, seconds_per_dispatch: per_dispatch })
     }
 
-    fn wait(&self) -> Result<(), String> {
+    /// Copies a buffer (with `COPY_SRC` usage) back to the host.
+    pub fn read_back(&self, src: &wgpu::Buffer) -> Result<Vec<u8>, String> {
+        let size = src.size();
+        let dst = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("read-back"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(src, 0, &dst, 0, size);
+        self.queue.submit([enc.finish()]);
+        let slice = dst.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |r| r.expect("mapping a read-back buffer"));
+        self.wait()?;
+        let bytes = slice.get_mapped_range().map_err(|e| format!("read-back: {e}"))?.to_vec();
+        dst.unmap();
+        Ok(bytes)
+    }
+
+    /// Blocks until the queue's submitted work is done.
+    pub fn wait(&self) -> Result<(), String> {
         self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| format!("device poll: {e}"))
     }
 }

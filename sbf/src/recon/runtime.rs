@@ -64,7 +64,7 @@ pub fn sh_l1_geomerics_irradiance(c: &[Vec3; 4], n: Vec3) -> Vec3 {
     Vec3::from_array(out)
 }
 
-/// E/π from SG lobes of one shared sharpness with Hill's fit (λ ≥ 2) or, below, the
+/// E/π from SG lobes of one shared sharpness with Hill's fit (fitgen's c₀; λ ≥ 2) or, below, the
 /// exact zonal expansion (computed in f64, as in [`super::sg::irradiance_hill`]).
 pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) -> Vec3 {
     debug_assert_eq!(axes.len(), coeffs.len());
@@ -78,7 +78,9 @@ pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) ->
         return e;
     }
     let lam = sharpness;
-    let (c0, c1) = (0.36f32, 1.0 / (4.0 * 0.36f32));
+    // fitgen's re-fitted c₀ (the WGSL `sg_hill_irradiance` reads the same constant).
+    let c0 = crate::luts::committed::constants::HILL_C0 as f32;
+    let c1 = 1.0 / (4.0 * c0);
     let e1 = (-lam).exp();
     let e2 = e1 * e1;
     let r = 1.0 / lam;

@@ -145,12 +145,14 @@ pub fn irradiance_zonal(sg: &Sg, n: DVec3) -> f64 {
     sg.amplitude * total
 }
 
-/// Runtime SG irradiance E/π: Hill's fit for λ ≥ 2, the zonal expansion below.
+/// Runtime SG irradiance E/π: Hill's curve with fitgen's re-fitted c₀
+/// ([`crate::luts::committed::constants::HILL_C0`], the constant the WGSL runtime reads
+/// too) for λ ≥ 2, the zonal expansion below.
 pub fn irradiance_hill(sg: &Sg, n: DVec3) -> f64 {
     if sg.sharpness < HILL_MIN_SHARPNESS {
         irradiance_zonal(sg, n)
     } else {
-        hill_fit(sg, n)
+        hill_curve(crate::luts::committed::constants::HILL_C0, sg.sharpness, sg.axis.dot(n)) * sg.integral() / PI
     }
 }
 

@@ -166,6 +166,41 @@ impl<T: Real> ProgressiveEncoder<T> {
         }
     }
 
+    /// Rebuilds an encoder from saved state (a checkpoint, or a GPU texel read back):
+    /// per-lobe RGB amplitudes, running means of B_i², total weight and update count.
+    /// Values are converted to `T` (exact for state that was saved from a `T` encoder).
+    /// Mismatched lengths, non-finite values or a negative weight are errors.
+    pub fn from_state(
+        opts: ProgressiveOptions,
+        amplitudes: &[[f64; 3]],
+        integrals: &[f64],
+        total_weight: f64,
+        samples: u64,
+    ) -> Result<Self, SbfError> {
+        crate::error::check_len("saved integrals vs amplitudes", amplitudes.len(), integrals.len())?;
+        if let Some(v) = amplitudes.iter().flatten().chain(integrals).find(|v| !v.is_finite()) {
+            return Err(SbfError::InvalidParameter { name: "saved progressive state", value: *v, reason: "must be finite" });
+        }
+        if !(total_weight.is_finite() && total_weight >= 0.0) {
+            return Err(SbfError::InvalidParameter { name: "saved total weight", value: total_weight, reason: "must be finite and >= 0" });
+        }
+        let mut e = Self::new(amplitudes.len(), opts);
+        for (dst, src) in e.amplitudes.iter_mut().zip(amplitudes) {
+            *dst = src.map(T::from_f64);
+        }
+        for (dst, src) in e.integrals.iter_mut().zip(integrals) {
+            *dst = T::from_f64(*src);
+        }
+        e.total_weight = T::from_f64(total_weight);
+        e.samples = samples;
+        Ok(e)
+    }
+
+    /// The options this encoder runs with.
+    pub fn options(&self) -> &ProgressiveOptions {
+        &self.opts
+    }
+
     /// Adds one sample (and its mirrored zero twin if configured). Zero-weight
     /// samples are ignored; a negative or non-finite weight, a non-finite value, or a
     /// basis of the wrong size is an error (the state is left unchanged).

@@ -1,0 +1,142 @@
+//! Checkpoints of the progressive state, written atomically (a temporary file in the
+//! same directory, synced, then renamed over the old one), so a bake killed at any
+//! moment leaves either the previous or the new checkpoint, never a torn one.
+//!
+//! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
+//! (scene, layout, seed, bounces, bases, solver: a resumed bake must be the same bake);
+//! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments;
+//! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
+//! weight) and the u64 update count. f32 state round-trips exactly, so a resumed bake
+//! continues bit for bit.
+
+use crate::bake::{BakeConfig, BakeState, Moments, Targets};
+use sbf::solve::ProgressiveEncoder;
+use std::io::Write;
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"SBFBAKE1";
+
+/// FNV-1a 64 of a description of the bake (its identity).
+pub fn fingerprint(identity: &str) -> u64 {
+    identity.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// Serialises a state.
+pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
+    let mut v = Vec::new();
+    v.extend_from_slice(MAGIC);
+    v.extend_from_slice(&fingerprint.to_le_bytes());
+    v.extend_from_slice(&state.passes.to_le_bytes());
+    v.extend_from_slice(&(state.moments.len() as u32).to_le_bytes());
+    v.extend_from_slice(&(state.encoders.len() as u32).to_le_bytes());
+    for e in &state.encoders {
+        let lobes = e.first().map(|x| x.coefficients().nrows()).unwrap_or(0);
+        v.extend_from_slice(&(lobes as u32).to_le_bytes());
+    }
+    for m in &state.moments {
+        for x in m.sum.iter().chain(&m.sum_sq) {
+            v.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    for encs in &state.encoders {
+        for e in encs {
+            let c = e.coefficients();
+            for (i, g) in e.integrals().iter().enumerate() {
+                for x in [c[(i, 0)], c[(i, 1)], c[(i, 2)], *g] {
+                    v.extend_from_slice(&(x as f32).to_le_bytes());
+                }
+            }
+            v.extend_from_slice(&(e.total_weight() as f32).to_le_bytes());
+            v.extend_from_slice(&e.sample_count().to_le_bytes());
+        }
+    }
+    v
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        let s = self.b.get(self.at..self.at + n).ok_or_else(|| format!("checkpoint truncated at byte {}", self.at))?;
+        self.at += n;
+        Ok(s)
+    }
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+    }
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+    }
+    fn f32(&mut self) -> Result<f32, String> {
+        Ok(f32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+    }
+}
+
+/// Reads a state saved for the bake with this fingerprint, config and targets.
+pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: &Targets) -> Result<BakeState, String> {
+    let mut r = Reader { b: bytes, at: 0 };
+    if r.take(8)? != MAGIC {
+        return Err("not a baker checkpoint (bad magic)".into());
+    }
+    let fp = r.u64()?;
+    if fp != fingerprint {
+        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): same scene, layout, seed, bounces, bases and solver are required to resume"));
+    }
+    let passes = r.u64()?;
+    let (items, nb) = (r.u32()? as usize, r.u32()? as usize);
+    let mut state = BakeState::new(config, targets);
+    if items != state.moments.len() || nb != state.encoders.len() {
+        return Err(format!("checkpoint has {items} items × {nb} bases, this bake {} × {}", state.moments.len(), state.encoders.len()));
+    }
+    let mut lobes = Vec::with_capacity(nb);
+    for b in 0..nb {
+        let l = r.u32()? as usize;
+        let want = config.bases[b].basis().len();
+        if l != want {
+            return Err(format!("checkpoint basis {b} has {l} lobes, {} has {want}", config.bases[b].name()));
+        }
+        lobes.push(l);
+    }
+    for m in state.moments.iter_mut() {
+        let mut x = [0.0; 6];
+        for v in x.iter_mut() {
+            *v = r.f64()?;
+        }
+        *m = Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]] };
+    }
+    for (b, encs) in state.encoders.iter_mut().enumerate() {
+        let opts = config.encoder_options(config.bases[b], targets.sphere);
+        for e in encs.iter_mut() {
+            let mut amp = vec![[0.0; 3]; lobes[b]];
+            let mut integ = vec![0.0; lobes[b]];
+            for i in 0..lobes[b] {
+                amp[i] = [r.f32()? as f64, r.f32()? as f64, r.f32()? as f64];
+                integ[i] = r.f32()? as f64;
+            }
+            let w = r.f32()? as f64;
+            let n = r.u64()?;
+            *e = ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))?;
+        }
+    }
+    if r.at != bytes.len() {
+        return Err(format!("checkpoint has {} trailing bytes", bytes.len() - r.at));
+    }
+    state.passes = passes;
+    Ok(state)
+}
+
+/// Writes `bytes` to `path` atomically (temporary file + fsync + rename).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let tmp = path.with_extension("tmp");
+    let mut f = std::fs::File::create(&tmp).map_err(|e| format!("creating {}: {e}", tmp.display()))?;
+    f.write_all(bytes).map_err(|e| format!("writing {}: {e}", tmp.display()))?;
+    f.sync_all().map_err(|e| format!("syncing {}: {e}", tmp.display()))?;
+    drop(f);
+    std::fs::rename(&tmp, path).map_err(|e| format!("renaming {} to {}: {e}", tmp.display(), path.display()))
+}

@@ -1,0 +1,486 @@
+//! The wgpu path: the same estimator as [`crate::trace`] in WGSL (`wgsl/trace.wgsl`),
+//! traversing the CPU-built BVH nodes, one path per item and pass, each sample fed to
+//! the `shaders` crate's `progressive_update` for every configured basis.
+//!
+//! The kernel is composed per bake: the `shaders` items it calls (the encoder, the
+//! configured bases' evaluators, the GGX terms only when a material is glossy) plus a
+//! generated part (SG lobe tables, per-basis `basis_k` and the `encode` function with
+//! each basis's encoder options as constants). What was left out is reported.
+//!
+//! Random numbers: PCG hashes of (seed, pass, item id) and an R2 point with a per-item
+//! shift — a different stream from the CPU's, so CPU and GPU bakes agree statistically,
+//! not bit for bit (the CPU↔GPU test checks means within 4σ).
+
+use crate::bake::{BakeConfig, BakeState, BasisKind, Moments, Targets};
+use crate::scene::{Environment, Light};
+use crate::trace::{specular_probability, Tracer};
+use shaders::gpu::Gpu;
+use shaders::progressive::{EncoderParams, EncoderState};
+use wgpu::util::DeviceExt;
+
+/// Uniform parameters of a pass (WGSL `TraceParams`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TraceParams {
+    pub pass_index: u32,
+    pub seed: u32,
+    pub item_count: u32,
+    pub max_bounces: u32,
+    pub emitter_count: u32,
+    pub light_count: u32,
+    pub env_kind: u32,
+    pub mode: u32,
+    pub epsilon: f32,
+    pub inv_total_power: f32,
+    pub count_rays: u32,
+    pub primary_only: u32,
+    pub light_offset: u32,
+    pub emitter_offset: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub env0: [f32; 4],
+    pub env1: [f32; 4],
+    pub env2: [f32; 4],
+}
+shaders::gpu_struct!(
+    TraceParams,
+    "TraceParams",
+    [
+        pass_index,
+        seed,
+        item_count,
+        max_bounces,
+        emitter_count,
+        light_count,
+        env_kind,
+        mode,
+        epsilon,
+        inv_total_power,
+        count_rays,
+        primary_only,
+        light_offset,
+        emitter_offset,
+        pad0,
+        pad1,
+        env0,
+        env1,
+        env2
+    ]
+);
+shaders::gpu_struct!(crate::bvh::Node, "Node", [min, left_first, max, count]);
+shaders::gpu_struct!(crate::bvh::Tri, "Tri", [v0, material, e1, mesh, e2, prim]);
+
+const WG: u32 = 64;
+const TRACE_WGSL: &str = include_str!("../wgsl/trace.wgsl");
+const GLOSSY_WGSL: &str = include_str!("../wgsl/glossy.wgsl");
+const GLOSSY_NONE_WGSL: &str = include_str!("../wgsl/glossy_none.wgsl");
+
+/// The kernel source for a bake and what its composition left out.
+#[derive(Debug, Clone)]
+pub struct Kernel {
+    pub source: String,
+    /// One line per left-out part ("GGX layer: no glossy material", shaders items).
+    pub left_out: Vec<String>,
+}
+
+fn f(x: f64) -> String {
+    format!("{:?}", x as f32)
+}
+
+fn v3(a: sbf::glam::DVec3) -> String {
+    format!("vec3<f32>({}, {}, {})", f(a.x), f(a.y), f(a.z))
+}
+
+/// Composes the bake kernel for `config` (`glossy`: whether any material has a GGX layer).
+pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
+    let mut roots = vec!["progressive_update", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
+    if glossy {
+        roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
+    }
+    let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
+    let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
+    for (k, b) in config.bases.iter().enumerate() {
+        let lobes = b.basis().len();
+        let body = match b {
+            BasisKind::ShL1 | BasisKind::ShL2 => {
+                let (name, n) = if *b == BasisKind::ShL1 { ("sh_eval_l1", 4) } else { ("sh_eval_l2", 9) };
+                roots.push(name);
+                format!("    let v = {name}(d);\n    for (var i = 0u; i < {n}u; i++) {{\n        b[i] = v[i];\n    }}\n")
+            }
+            BasisKind::Sg9 | BasisKind::Sg12 => {
+                roots.push("sg_eval");
+                let (axes, lambda) = b.sg_lobes();
+                let items: Vec<String> = axes.iter().map(|a| format!("    {},", v3(*a))).collect();
+                gen += &format!(
+                    "const BASIS_{k}_AXES: array<vec3<f32>, {lobes}> = array<vec3<f32>, {lobes}>(\n{}\n);\nconst BASIS_{k}_SHARPNESS: f32 = {};\n",
+                    items.join("\n"),
+                    f(lambda)
+                );
+                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = sg_eval(BASIS_{k}_AXES[i], BASIS_{k}_SHARPNESS, d);\n    }}\n")
+            }
+            BasisKind::Ad9 | BasisKind::Ad12 => {
+                let axes = if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" };
+                roots.extend(["ad_srbf_eval", axes]);
+                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = ad_srbf_eval({axes}[i], d);\n    }}\n")
+            }
+        };
+        gen += &format!(
+            "// {} ({lobes} lobes)\nfn basis_{k}(d: vec3<f32>) -> array<f32, 12> {{\n    var b: array<f32, 12>;\n{body}    return b;\n}}\n",
+            b.name()
+        );
+        let opts = config.encoder_options(*b, sphere_targets);
+        let mirror = opts.mirror_hemisphere;
+        let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts }, lobes)?;
+        let tm: Vec<String> = p
+            .true_mean
+            .iter()
+            .map(|r| format!("vec4<f32>({}, {}, {}, {})", f(r[0] as f64), f(r[1] as f64), f(r[2] as f64), f(r[3] as f64)))
+            .collect();
+        gen += &format!(
+            "const ENCODER_{k}: EncoderParams = EncoderParams({}, {}u, {}u, {}u, array<vec4<f32>, 3>({}));\n\n",
+            f(p.acceleration as f64),
+            p.lobes,
+            p.flags,
+            p.denominator,
+            tm.join(", ")
+        );
+        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update(&st, ENCODER_{k}, basis_{k}(d), l, 1.0);\n");
+        if mirror {
+            // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
+            encode += &format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), 1.0);\n");
+        }
+        encode += "        states[s] = st;\n    }\n";
+    }
+    encode += "}\n";
+    let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
+    let lib = shaders::compose::compose_roots(config_name, &roots)?;
+    let mut left_out = Vec::new();
+    if !glossy {
+        left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
+    }
+    left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
+    let source = format!("{}\n{gen}{encode}\n{TRACE_WGSL}\n{}", lib.source, if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL });
+    shaders::export::validate(&source).map_err(|e| format!("bake kernel: {e}"))?;
+    Ok(Kernel { source, left_out })
+}
+
+/// Rays traced and the time they took.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RayStats {
+    pub primary: u64,
+    pub extension: u64,
+    pub shadow: u64,
+    /// Seconds of the primary-only dispatches and of the full ones.
+    pub primary_seconds: f64,
+    pub full_seconds: f64,
+}
+
+impl RayStats {
+    /// Primary rays per second (first segments only, closest hit).
+    pub fn primary_rate(&self) -> f64 {
+        self.primary as f64 / self.primary_seconds
+    }
+    /// Secondary (extension + shadow) rays per second: their count over the full
+    /// passes' time minus the primary-only time.
+    pub fn secondary_rate(&self) -> f64 {
+        (self.extension + self.shadow) as f64 / (self.full_seconds - self.primary_seconds).max(1e-9)
+    }
+}
+
+/// A bake on the GPU.
+#[derive(Debug)]
+pub struct GpuBake<'g> {
+    gpu: &'g Gpu,
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    params_buf: wgpu::Buffer,
+    moments_buf: wgpu::Buffer,
+    states_buf: wgpu::Buffer,
+    counters_buf: wgpu::Buffer,
+    pub params: TraceParams,
+    groups: (u32, u32),
+    config: BakeConfig,
+    sphere: bool,
+    items: usize,
+    pub passes: u64,
+    pub kernel: Kernel,
+}
+
+/// Materials, lights and emitters packed as vec4s (see `aux` in trace.wgsl).
+fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, u32, u32, u32) {
+    let mut aux = Vec::new();
+    for m in &tracer.scene.materials {
+        let (d, f0, e) = (m.diffuse_albedo(), m.specular_f0(), m.emissive);
+        aux.push([d.x, d.y, d.z, specular_probability(m) as f32]);
+        aux.push([f0.x, f0.y, f0.z, m.alpha()]);
+        aux.push([e.x, e.y, e.z, if m.is_glossy() { 1.0 } else { 0.0 }]);
+    }
+    let light_offset = aux.len() as u32;
+    for l in &tracer.scene.lights {
+        match *l {
+            Light::Directional { direction: d, irradiance: e } => {
+                aux.push([d.x, d.y, d.z, 0.0]);
+                aux.push([e.x, e.y, e.z, 0.0]);
+            }
+            Light::Point { position: p, intensity: i } => {
+                aux.push([p.x, p.y, p.z, 1.0]);
+                aux.push([i.x, i.y, i.z, 0.0]);
+            }
+        }
+    }
+    let emitter_offset = aux.len() as u32;
+    let mut emitters = 0;
+    for (tri, cdf) in tracer.emitter_table() {
+        aux.push([f32::from_bits(tri), cdf as f32, 0.0, 0.0]);
+        emitters += 1;
+    }
+    // The last CDF entry is 1 up to rounding; the search clamps to the last emitter.
+    if aux.is_empty() {
+        aux.push([0.0; 4]);
+    }
+    (aux, light_offset, emitter_offset, emitters)
+}
+
+impl<'g> GpuBake<'g> {
+    /// Uploads the scene, BVH and targets and compiles the kernel.
+    pub fn new(gpu: &'g Gpu, tracer: &Tracer, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
+        if targets.items.is_empty() {
+            return Err("nothing to bake: no valid texels or probes".into());
+        }
+        if targets.sphere && config.bases.iter().any(|b| !b.is_sphere()) {
+            return Err("probes need sphere bases (sh1, sh2, ad12)".into());
+        }
+        let glossy = tracer.scene.has_glossy();
+        let kernel = kernel(config, targets.sphere, glossy)?;
+        let d = gpu.device();
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bake"),
+            source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
+        });
+        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("bake"),
+            layout: None,
+            module: &module,
+            entry_point: Some("bake_pass"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let (aux, light_offset, emitter_offset, emitter_count) = aux_data(tracer);
+        let (env_kind, env) = match tracer.scene.environment {
+            Environment::Black => (0, [[0.0; 4]; 3]),
+            Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
+            Environment::Sky { zenith: z, horizon: h, ground: g } => {
+                (2, [[z.x, z.y, z.z, 0.0], [h.x, h.y, h.z, 0.0], [g.x, g.y, g.z, 0.0]])
+            }
+        };
+        let items = targets.items.len();
+        let params = TraceParams {
+            pass_index: 0,
+            seed: (config.seed ^ (config.seed >> 32)) as u32,
+            item_count: items as u32,
+            max_bounces: config.max_bounces,
+            emitter_count,
+            light_count: tracer.scene.lights.len() as u32,
+            env_kind,
+            mode: targets.sphere as u32,
+            epsilon: tracer.epsilon,
+            inv_total_power: if tracer.total_power > 0.0 { (1.0 / tracer.total_power) as f32 } else { 0.0 },
+            count_rays: 0,
+            primary_only: 0,
+            light_offset,
+            emitter_offset,
+            pad0: 0,
+            pad1: 0,
+            env0: env[0],
+            env1: env[1],
+            env2: env[2],
+        };
+        let storage = |label: &str, bytes: &[u8], extra: wgpu::BufferUsages| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE | extra,
+            })
+        };
+        let rw = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let nodes = storage("nodes", bytemuck::cast_slice(&tracer.bvh.nodes), wgpu::BufferUsages::empty());
+        let tris = storage("tris", bytemuck::cast_slice(&tracer.bvh.tris), wgpu::BufferUsages::empty());
+        let auxb = storage("aux", bytemuck::cast_slice(&aux), wgpu::BufferUsages::empty());
+        let item_data: Vec<[u32; 4]> = targets.items.iter().map(|&[a, b, c]| [a, b, c, 0]).collect();
+        let itemb = storage("items", bytemuck::cast_slice(&item_data), wgpu::BufferUsages::empty());
+        let pts: Vec<[f32; 4]> =
+            targets.points.iter().flat_map(|p| [p.position.extend(1.0).to_array(), p.normal.extend(0.0).to_array()]).collect();
+        let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
+        let moments_buf = storage("moments", &vec![0u8; items * 32], rw);
+        let states_len = (config.bases.len() * items).max(1) * std::mem::size_of::<EncoderState>();
+        let limit = d.limits().max_storage_buffer_binding_size as usize;
+        if states_len > limit {
+            return Err(format!(
+                "encoder state of {states_len} bytes exceeds the adapter's storage binding limit {limit}: fewer bases or texels"
+            ));
+        }
+        let states_buf = storage("states", &vec![0u8; states_len], rw);
+        let counters_buf = storage("counters", &[0u8; 16], rw);
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: params_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: tris.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 3, resource: auxb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 4, resource: itemb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: pointb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 6, resource: moments_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 8, resource: counters_buf.as_entire_binding() },
+        ];
+        if !config.bases.is_empty() {
+            entries.push(wgpu::BindGroupEntry { binding: 7, resource: states_buf.as_entire_binding() });
+        }
+        let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bake"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let g = (items as u32).div_ceil(WG);
+        let groups = if g <= 65535 { (g, 1) } else { (65535, g.div_ceil(65535)) };
+        Ok(GpuBake {
+            gpu,
+            pipeline,
+            bind_group,
+            params_buf,
+            moments_buf,
+            states_buf,
+            counters_buf,
+            params,
+            groups,
+            config: config.clone(),
+            sphere: targets.sphere,
+            items,
+            passes: 0,
+            kernel,
+        })
+    }
+
+    fn dispatch(&self) {
+        let d = self.gpu.device();
+        self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+        let mut enc = d.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+        }
+        self.gpu.queue().submit([enc.finish()]);
+    }
+
+    /// Runs `n` passes (waits for them).
+    pub fn run(&mut self, n: u64) -> Result<(), String> {
+        for _ in 0..n {
+            self.params.pass_index = self.passes as u32;
+            self.dispatch();
+            self.passes += 1;
+        }
+        self.gpu.wait()
+    }
+
+    /// Reads the progressive state back (moments as f64, encoder states exactly).
+    pub fn state(&self) -> Result<BakeState, String> {
+        let m: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.moments_buf)?);
+        let moments = (0..self.items)
+            .map(|i| Moments { sum: std::array::from_fn(|c| m[2 * i][c] as f64), sum_sq: std::array::from_fn(|c| m[2 * i + 1][c] as f64) })
+            .collect();
+        let raw: Vec<EncoderState> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.states_buf)?);
+        let mut encoders = Vec::new();
+        for (b, kind) in self.config.bases.iter().enumerate() {
+            let lobes = kind.basis().len();
+            let opts = self.config.encoder_options(*kind, self.sphere);
+            let mut encs = Vec::with_capacity(self.items);
+            for st in &raw[b * self.items..(b + 1) * self.items] {
+                let amp: Vec<[f64; 3]> = st.coefficients(lobes).iter().map(|c| c.map(|x| x as f64)).collect();
+                let integ: Vec<f64> = st.integrals(lobes).iter().map(|x| *x as f64).collect();
+                encs.push(
+                    sbf::solve::ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, st.total_weight as f64, st.samples as u64)
+                        .map_err(|e| format!("GPU encoder state of item {}: {e}", encs.len()))?,
+                );
+            }
+            encoders.push(encs);
+        }
+        Ok(BakeState { passes: self.passes, moments, encoders })
+    }
+
+    /// Replaces the GPU state with `state` (resuming a checkpoint).
+    pub fn upload(&mut self, state: &BakeState) -> Result<(), String> {
+        if state.moments.len() != self.items || state.encoders.len() != self.config.bases.len() {
+            return Err("the saved state does not match this bake's targets and bases".into());
+        }
+        let m: Vec<[f32; 4]> = state
+            .moments
+            .iter()
+            .flat_map(|m| {
+                [
+                    [m.sum[0] as f32, m.sum[1] as f32, m.sum[2] as f32, 0.0],
+                    [m.sum_sq[0] as f32, m.sum_sq[1] as f32, m.sum_sq[2] as f32, 0.0],
+                ]
+            })
+            .collect();
+        let q = self.gpu.queue();
+        q.write_buffer(&self.moments_buf, 0, bytemuck::cast_slice(&m));
+        let mut raw = Vec::with_capacity(self.items * state.encoders.len());
+        for encs in &state.encoders {
+            for e in encs {
+                let mut st: EncoderState = bytemuck::Zeroable::zeroed();
+                let c = e.coefficients();
+                for (i, g) in e.integrals().iter().enumerate() {
+                    st.lobes[i] = [c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32, *g as f32];
+                }
+                st.total_weight = e.total_weight() as f32;
+                st.samples = e.sample_count() as u32;
+                raw.push(st);
+            }
+        }
+        if !raw.is_empty() {
+            q.write_buffer(&self.states_buf, 0, bytemuck::cast_slice(&raw));
+        }
+        self.passes = state.passes;
+        self.gpu.wait()
+    }
+
+    /// Measures rays per second over `passes` passes: primary-only dispatches (closest
+    /// hit of each path's first segment) and full ones, with ray counters on. The bake's
+    /// state is modified (use a throw-away bake).
+    pub fn time_rays(&mut self, passes: u64) -> Result<RayStats, String> {
+        let mut s = RayStats::default();
+        let q = self.gpu.queue();
+        let read_counters = |b: &wgpu::Buffer| -> Result<[u32; 4], String> { Ok(bytemuck::pod_read_unaligned(&self.gpu.read_back(b)?)) };
+        // Warm-up (pipeline compilation, caches).
+        self.run(1)?;
+        for primary in [true, false] {
+            q.write_buffer(&self.counters_buf, 0, &[0u8; 16]);
+            self.params.primary_only = primary as u32;
+            self.params.count_rays = 1;
+            self.run(passes)?;
+            let c = read_counters(&self.counters_buf)?;
+            if primary {
+                s.primary = c[0] as u64;
+            } else {
+                (s.extension, s.shadow) = (c[1] as u64, c[2] as u64);
+            }
+            // Timed without counters (atomics would perturb the timing).
+            self.params.count_rays = 0;
+            let t = std::time::Instant::now();
+            self.run(passes)?;
+            let secs = t.elapsed().as_secs_f64();
+            if primary {
+                s.primary_seconds = secs;
+            } else {
+                s.full_seconds = secs;
+            }
+        }
+        self.params.primary_only = 0;
+        Ok(s)
+    }
+}

@@ -1,0 +1,495 @@
+// trace.wgsl — the GPU twin of baker::trace (seed 004 ch. 6): BVH traversal of the
+// CPU-built nodes (no hardware ray queries), and the path-traced estimator of incoming
+// radiance: NEE on emissive triangles chosen by power with power-heuristic MIS against
+// BSDF sampling (Veach 1997, §9.2), directional and point lights by NEE, the environment
+// by BSDF sampling, Russian roulette from the third bounce. Material: Lambert + GGX
+// layers added (§6.3.1), layer chosen with the stored probability, mixture pdf.
+// Needs from `shaders`: tangent_frame, PI, INV_PI; the GGX layer's functions come from
+// glossy.wgsl (or its leave-out twin when no material in the scene is glossy).
+
+struct Node {
+    min: vec3<f32>,
+    left_first: u32,
+    max: vec3<f32>,
+    count: u32,
+}
+
+struct Tri {
+    v0: vec3<f32>,
+    material: u32,
+    e1: vec3<f32>,
+    mesh: u32,
+    e2: vec3<f32>,
+    prim: u32,
+}
+
+// Bake parameters (uniform; Rust twin baker::gpu::TraceParams).
+struct TraceParams {
+    pass_index: u32,
+    seed: u32,
+    item_count: u32,
+    max_bounces: u32,
+    emitter_count: u32,
+    light_count: u32,
+    env_kind: u32,
+    // 0: lightmap texels (hemisphere about the normal), 1: probes (whole sphere).
+    mode: u32,
+    epsilon: f32,
+    inv_total_power: f32,
+    // 1: count rays into `counters`.
+    count_rays: u32,
+    // 1: trace only the first segment (primary-ray timing).
+    primary_only: u32,
+    // Offsets into `aux` (in vec4s) of the lights and the emitters.
+    light_offset: u32,
+    emitter_offset: u32,
+    pad0: u32,
+    pad1: u32,
+    env0: vec4<f32>,
+    env1: vec4<f32>,
+    env2: vec4<f32>,
+}
+
+struct Hit {
+    t: f32,
+    tri: u32,
+}
+
+const NO_HIT: u32 = 0xffffffffu;
+const T_FAR: f32 = 3.0e38;
+const ENV_BLACK: u32 = 0u;
+const ENV_CONSTANT: u32 = 1u;
+const ENV_SKY: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 0u;
+
+@group(0) @binding(0) var<uniform> P: TraceParams;
+@group(0) @binding(1) var<storage, read> nodes: array<Node>;
+@group(0) @binding(2) var<storage, read> tris: array<Tri>;
+// Materials (3 vec4 each: diffuse albedo + GGX probability, F0 + α, emission + glossy
+// flag), then lights (2 vec4 each: kind + position/direction, intensity/irradiance),
+// then emitters (1 vec4 each: triangle index as bits, CDF of power); offsets below.
+@group(0) @binding(3) var<storage, read> aux: array<vec4<f32>>;
+// Per item: (first point, point count, output index, 0); points are (position, normal) pairs.
+@group(0) @binding(4) var<storage, read> items: array<vec4<u32>>;
+@group(0) @binding(5) var<storage, read> points: array<vec4<f32>>;
+// Per item: Σ E/π (or Σ L for probes) and Σ of squares, RGB.
+@group(0) @binding(6) var<storage, read_write> moments: array<vec4<f32>>;
+@group(0) @binding(7) var<storage, read_write> states: array<EncoderState>;
+// Rays traced: primary, extension, shadow (only when P.count_rays = 1).
+@group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, 4>;
+
+struct Material {
+    diffuse: vec3<f32>,
+    specular_probability: f32,
+    f0: vec3<f32>,
+    alpha: f32,
+    emissive: vec3<f32>,
+    glossy: bool,
+}
+
+fn load_material(m: u32) -> Material {
+    let a = aux[3u * m];
+    let b = aux[3u * m + 1u];
+    let c = aux[3u * m + 2u];
+    return Material(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w > 0.5);
+}
+
+fn max3(v: vec3<f32>) -> f32 {
+    return max(v.x, max(v.y, v.z));
+}
+
+fn luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
+}
+
+// ---- random numbers ----
+
+// PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").
+fn pcg_hash(x: u32) -> u32 {
+    let state = x * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// A PCG32 stream (LCG step, RXS-M-XS output) seeded per (seed, pass, item).
+fn rng_next(s: ptr<function, u32>) -> f32 {
+    *s = *s * 747796405u + 2891336453u;
+    let x = *s;
+    let word = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
+    return f32(((word >> 22u) ^ word) >> 8u) * (1.0 / 16777216.0);
+}
+
+// R2 (Roberts 2018) point `n` with a per-item Cranley–Patterson shift, in 32-bit fixed
+// point so that any pass index stays exact: frac(shift + n·(1/φ₂, 1/φ₂²)).
+fn r2_point(n: u32, item: u32) -> vec2<f32> {
+    let h = pcg_hash(P.seed ^ pcg_hash(item + 0x9e3779b9u));
+    let shift = vec2<u32>(h, pcg_hash(h));
+    let v = shift + n * vec2<u32>(3242174889u, 2447445414u);
+    return vec2<f32>(v >> vec2<u32>(8u)) * (1.0 / 16777216.0);
+}
+
+// ---- traversal ----
+
+fn slab(n: Node, o: vec3<f32>, inv: vec3<f32>, tmax: f32) -> f32 {
+    let t0 = (n.min - o) * inv;
+    let t1 = (n.max - o) * inv;
+    let lo = min(t0, t1);
+    let hi = max(t0, t1);
+    let near = max(max(lo.x, lo.y), max(lo.z, 0.0));
+    let far = min(min(hi.x, hi.y), min(hi.z, tmax));
+    return select(T_FAR, near, near <= far);
+}
+
+// Möller–Trumbore, two-sided; t in (0, tmax) or T_FAR (CPU twin: bvh::intersect_tri).
+fn intersect_tri(tri: Tri, o: vec3<f32>, d: vec3<f32>, tmax: f32) -> f32 {
+    let p = cross(d, tri.e2);
+    let det = dot(tri.e1, p);
+    if (abs(det) < 1e-12) {
+        return T_FAR;
+    }
+    let inv = 1.0 / det;
+    let s = o - tri.v0;
+    let u = dot(s, p) * inv;
+    if (u < 0.0 || u > 1.0) {
+        return T_FAR;
+    }
+    let q = cross(s, tri.e1);
+    let v = dot(d, q) * inv;
+    if (v < 0.0 || u + v > 1.0) {
+        return T_FAR;
+    }
+    let t = dot(tri.e2, q) * inv;
+    return select(T_FAR, t, t > 0.0 && t < tmax);
+}
+
+// Closest hit (any = false) or any hit (any = true) within (0, tmax).
+fn traverse(o: vec3<f32>, d: vec3<f32>, tmax: f32, any: bool) -> Hit {
+    var best = Hit(tmax, NO_HIT);
+    // Guard 1/d against zero components (the CPU's IEEE ∞ gives the same slabs).
+    let dd = select(d, vec3<f32>(1e-30), abs(d) < vec3<f32>(1e-30));
+    let inv = 1.0 / dd;
+    var stack: array<u32, 64>;
+    var sp = 1u;
+    stack[0] = 0u;
+    while (sp > 0u) {
+        sp -= 1u;
+        let n = nodes[stack[sp]];
+        if (n.count > 0u) {
+            for (var k = n.left_first; k < n.left_first + n.count; k++) {
+                let t = intersect_tri(tris[k], o, d, best.t);
+                if (t < best.t) {
+                    best = Hit(t, k);
+                    if (any) {
+                        return best;
+                    }
+                }
+            }
+            continue;
+        }
+        let a = n.left_first;
+        let b = a + 1u;
+        let ta = slab(nodes[a], o, inv, best.t);
+        let tb = slab(nodes[b], o, inv, best.t);
+        let hit_a = ta < T_FAR;
+        let hit_b = tb < T_FAR;
+        if (hit_a && hit_b) {
+            let near_a = ta <= tb;
+            stack[sp] = select(a, b, near_a);
+            stack[sp + 1u] = select(b, a, near_a);
+            sp += 2u;
+        } else if (hit_a) {
+            stack[sp] = a;
+            sp += 1u;
+        } else if (hit_b) {
+            stack[sp] = b;
+            sp += 1u;
+        }
+    }
+    return best;
+}
+
+fn count_ray(k: u32) {
+    if (P.count_rays == 1u) {
+        atomicAdd(&counters[k], 1u);
+    }
+}
+
+// ---- scene ----
+
+fn environment(d: vec3<f32>) -> vec3<f32> {
+    switch P.env_kind {
+        case ENV_CONSTANT: {
+            return P.env0.xyz;
+        }
+        case ENV_SKY: {
+            if (d.y >= 0.0) {
+                return mix(P.env1.xyz, P.env0.xyz, sqrt(d.y));
+            }
+            return P.env2.xyz;
+        }
+        default: {
+            return vec3<f32>(0.0);
+        }
+    }
+}
+
+fn offset_origin(p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    return select(p - n * P.epsilon, p + n * P.epsilon, dot(dir, n) >= 0.0);
+}
+
+fn to_local(w: vec3<f32>, f: array<vec3<f32>, 2>, n: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(w, f[0]), dot(w, f[1]), dot(w, n));
+}
+
+// Concentric disk → cosine-weighted hemisphere (Shirley & Chiu 1997; CPU twin
+// sbf::sampling::cosine_hemisphere).
+fn cosine_hemisphere(u: vec2<f32>) -> vec3<f32> {
+    let a = 2.0 * u - vec2<f32>(1.0);
+    var p = vec2<f32>(0.0);
+    if (a.x != 0.0 || a.y != 0.0) {
+        if (abs(a.x) > abs(a.y)) {
+            let phi = (PI / 4.0) * (a.y / a.x);
+            p = a.x * vec2<f32>(cos(phi), sin(phi));
+        } else {
+            let phi = PI / 2.0 - (PI / 4.0) * (a.x / a.y);
+            p = a.y * vec2<f32>(cos(phi), sin(phi));
+        }
+    }
+    return vec3<f32>(p, sqrt(max(1.0 - dot(p, p), 0.0)));
+}
+
+// (f, pdf) of the layered material for unit wo, wi about shading normal ns.
+struct BsdfValue {
+    f: vec3<f32>,
+    pdf: f32,
+}
+
+fn eval_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> BsdfValue {
+    let ci = dot(wi, ns);
+    let co = dot(wo, ns);
+    if (ci <= 0.0 || co <= 0.0) {
+        return BsdfValue(vec3<f32>(0.0), 0.0);
+    }
+    var f = m.diffuse * INV_PI;
+    var pdf = (1.0 - m.specular_probability) * ci * INV_PI;
+    if (m.glossy) {
+        let fr = tangent_frame(ns);
+        let g = glossy_eval(to_local(wo, fr, ns), to_local(wi, fr, ns), m.alpha, m.f0);
+        f += g.f;
+        pdf += m.specular_probability * g.pdf;
+    }
+    return BsdfValue(f, pdf);
+}
+
+struct BsdfSample {
+    wi: vec3<f32>,
+    f: vec3<f32>,
+    pdf: f32,
+}
+
+// Samples wi (pdf 0 when the sample is lost: below the surface or zero throughput).
+fn sample_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, rng: ptr<function, u32>) -> BsdfSample {
+    let choose = rng_next(rng);
+    let u = vec2<f32>(rng_next(rng), rng_next(rng));
+    let fr = tangent_frame(ns);
+    var local: vec3<f32>;
+    if (choose < m.specular_probability) {
+        local = glossy_sample(to_local(wo, fr, ns), m.alpha, u);
+    } else if (m.specular_probability < 1.0) {
+        local = cosine_hemisphere(u);
+    } else {
+        return BsdfSample(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    }
+    let wi = normalize(fr[0] * local.x + fr[1] * local.y + ns * local.z);
+    let e = eval_bsdf(m, ns, wo, wi);
+    if (!(e.pdf > 0.0) || max3(e.f) <= 0.0) {
+        return BsdfSample(wi, vec3<f32>(0.0), 0.0);
+    }
+    return BsdfSample(wi, e.f, e.pdf);
+}
+
+// Next-event estimation at p (shading normal ns facing wo).
+fn direct(p: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, u32>) -> vec3<f32> {
+    var l = vec3<f32>(0.0);
+    if (P.emitter_count > 0u) {
+        // Emitter by power: binary search of the CDF (first entry ≥ u).
+        let u = rng_next(rng);
+        var lo = 0u;
+        var hi = P.emitter_count - 1u;
+        while (lo < hi) {
+            let mid = (lo + hi) / 2u;
+            if (aux[P.emitter_offset + mid].y < u) {
+                lo = mid + 1u;
+            } else {
+                hi = mid;
+            }
+        }
+        let ti = bitcast<u32>(aux[P.emitter_offset + lo].x);
+        let tri = tris[ti];
+        var a = rng_next(rng);
+        var b = rng_next(rng);
+        if (a + b > 1.0) {
+            a = 1.0 - a;
+            b = 1.0 - b;
+        }
+        let q = tri.v0 + tri.e1 * a + tri.e2 * b;
+        let to = q - p;
+        let dist2 = dot(to, to);
+        let wi = to / sqrt(dist2);
+        let nl = normalize(cross(tri.e1, tri.e2));
+        let cos_l = -dot(wi, nl);
+        let cos_i = dot(wi, ns);
+        if (cos_l > 0.0 && cos_i > 0.0) {
+            let le = load_material(tri.material).emissive;
+            // Selection pdf / area = luminance / total power (the area cancels).
+            let pl = max(luminance(le), 1e-12) * P.inv_total_power * dist2 / cos_l;
+            let e = eval_bsdf(m, ns, wo, wi);
+            if (max3(e.f) > 0.0) {
+                let o = offset_origin(p, ns, wi);
+                let tmax = length(q - o) * (1.0 - 1e-4);
+                count_ray(2u);
+                if (traverse(o, wi, tmax, true).tri == NO_HIT) {
+                    let w = pl * pl / (pl * pl + e.pdf * e.pdf);
+                    l += e.f * le * (cos_i * w / pl);
+                }
+            }
+        }
+    }
+    for (var k = 0u; k < P.light_count; k++) {
+        let a = aux[P.light_offset + 2u * k];
+        let c = aux[P.light_offset + 2u * k + 1u].xyz;
+        var wi: vec3<f32>;
+        var e: vec3<f32>;
+        var tmax: f32;
+        if (u32(a.w) == LIGHT_DIRECTIONAL) {
+            wi = a.xyz;
+            e = c;
+            tmax = T_FAR;
+        } else {
+            let to = a.xyz - p;
+            let d2 = dot(to, to);
+            wi = to / sqrt(d2);
+            e = c / d2;
+            tmax = sqrt(d2) * (1.0 - 1e-4);
+        }
+        let cos_i = dot(wi, ns);
+        if (cos_i <= 0.0) {
+            continue;
+        }
+        let f = eval_bsdf(m, ns, wo, wi).f;
+        if (max3(f) > 0.0) {
+            count_ray(2u);
+            if (traverse(offset_origin(p, ns, wi), wi, tmax, true).tri == NO_HIT) {
+                l += f * e * cos_i;
+            }
+        }
+    }
+    return l;
+}
+
+// Radiance arriving at x from unit direction dir; `o` is the ray origin (already offset
+// for surface points).
+fn incoming(origin: vec3<f32>, dir: vec3<f32>, rng: ptr<function, u32>) -> vec3<f32> {
+    var o = origin;
+    var d = dir;
+    var throughput = vec3<f32>(1.0);
+    var radiance = vec3<f32>(0.0);
+    // pdf of the BSDF sample that produced d (< 0: the first segment, counted fully).
+    var prev_pdf = -1.0;
+    for (var bounce = 0u; bounce <= P.max_bounces; bounce++) {
+        count_ray(select(1u, 0u, bounce == 0u));
+        let hit = traverse(o, d, T_FAR, false);
+        if (hit.tri == NO_HIT) {
+            radiance += throughput * environment(d);
+            break;
+        }
+        if (P.primary_only == 1u) {
+            // Timing mode: the first segment only (its hit distance keeps the work live).
+            radiance += vec3<f32>(hit.t);
+            break;
+        }
+        let tri = tris[hit.tri];
+        let m = load_material(tri.material);
+        let ng = normalize(cross(tri.e1, tri.e2));
+        let front = dot(d, ng) < 0.0;
+        if (front && max3(m.emissive) > 0.0) {
+            var w = 1.0;
+            if (prev_pdf >= 0.0) {
+                let pl = max(luminance(m.emissive), 1e-12) * P.inv_total_power * hit.t * hit.t / (-dot(d, ng));
+                w = prev_pdf * prev_pdf / (prev_pdf * prev_pdf + pl * pl);
+            }
+            radiance += throughput * m.emissive * w;
+        }
+        if (bounce == P.max_bounces) {
+            break;
+        }
+        let p = o + d * hit.t;
+        let ns = select(-ng, ng, front);
+        let wo = -d;
+        radiance += throughput * direct(p, ns, wo, m, rng);
+        let s = sample_bsdf(m, ns, wo, rng);
+        if (!(s.pdf > 0.0)) {
+            break;
+        }
+        throughput *= s.f * (dot(s.wi, ns) / s.pdf);
+        if (!(max3(throughput) > 0.0) || max3(throughput) > 3.0e38) {
+            break;
+        }
+        if (bounce >= 2u) {
+            let q = min(max3(throughput), 0.95);
+            if (rng_next(rng) >= q) {
+                break;
+            }
+            throughput /= q;
+        }
+        prev_pdf = s.pdf;
+        o = offset_origin(p, ns, s.wi);
+        d = s.wi;
+    }
+    return radiance;
+}
+
+// One pass: one path per item (texel or probe), its sample added to the moments and to
+// every configured basis's progressive encoder (`encode`, generated per bake).
+@compute @workgroup_size(64)
+fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let i = gid.x + gid.y * nwg.x * 64u;
+    if (i >= P.item_count) {
+        return;
+    }
+    let it = items[i];
+    let k = it.x + P.pass_index % it.y;
+    let pos = points[2u * k].xyz;
+    let nrm = points[2u * k + 1u].xyz;
+    let u = r2_point(P.pass_index, it.z);
+    var rng = pcg_hash(P.seed ^ pcg_hash(P.pass_index ^ pcg_hash(it.z + 0x68e31da4u)));
+    var local: vec3<f32>;
+    var dir: vec3<f32>;
+    var origin = pos;
+    var weight: f32;
+    if (P.mode == 0u) {
+        // Uniform hemisphere about the normal (pdf 1/2π): E/π sample = 2·L·cosθ.
+        let z = 1.0 - u.x;
+        let r = sqrt(max(1.0 - z * z, 0.0));
+        let phi = 2.0 * PI * u.y;
+        local = vec3<f32>(r * cos(phi), r * sin(phi), z);
+        let fr = tangent_frame(nrm);
+        dir = normalize(fr[0] * local.x + fr[1] * local.y + nrm * local.z);
+        origin = offset_origin(pos, nrm, dir);
+        weight = 2.0 * local.z;
+    } else {
+        // Uniform sphere in world space (probes): the sample is L itself.
+        let z = 1.0 - 2.0 * u.x;
+        let r = sqrt(max(1.0 - z * z, 0.0));
+        let phi = 2.0 * PI * u.y;
+        local = vec3<f32>(r * cos(phi), r * sin(phi), z);
+        dir = local;
+        weight = 1.0;
+    }
+    let l = incoming(origin, dir, &rng);
+    let e = l * weight;
+    let out = i;
+    moments[2u * out] += vec4<f32>(e, 0.0);
+    moments[2u * out + 1u] += vec4<f32>(e * e, 0.0);
+    encode(out, local, l);
+}
