@@ -36,8 +36,8 @@ pub struct TraceParams {
     pub primary_only: u32,
     pub light_offset: u32,
     pub emitter_offset: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub env_offset: u32,
+    pub env_width: u32,
     pub env0: [f32; 4],
     pub env1: [f32; 4],
     pub env2: [f32; 4],
@@ -60,8 +60,8 @@ shaders::gpu_struct!(
         primary_only,
         light_offset,
         emitter_offset,
-        pad0,
-        pad1,
+        env_offset,
+        env_width,
         env0,
         env1,
         env2
@@ -207,7 +207,7 @@ pub struct GpuBake<'g> {
 }
 
 /// Materials, lights and emitters packed as vec4s (see `aux` in trace.wgsl).
-fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, u32, u32, u32) {
+fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, u32, u32, u32, u32) {
     let mut aux = Vec::new();
     for m in &tracer.scene.materials {
         let (d, f0, e) = (m.diffuse_albedo(), m.specular_f0(), m.emissive);
@@ -235,10 +235,14 @@ fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, u32, u32, u32) {
         emitters += 1;
     }
     // The last CDF entry is 1 up to rounding; the search clamps to the last emitter.
+    let env_offset = aux.len() as u32;
+    if let Environment::Map(m) = &tracer.scene.environment {
+        aux.extend(m.texels.iter().map(|t| [t[0], t[1], t[2], 0.0]));
+    }
     if aux.is_empty() {
         aux.push([0.0; 4]);
     }
-    (aux, light_offset, emitter_offset, emitters)
+    (aux, light_offset, emitter_offset, emitters, env_offset)
 }
 
 impl<'g> GpuBake<'g> {
@@ -265,13 +269,18 @@ impl<'g> GpuBake<'g> {
             compilation_options: Default::default(),
             cache: None,
         });
-        let (aux, light_offset, emitter_offset, emitter_count) = aux_data(tracer);
+        let (aux, light_offset, emitter_offset, emitter_count, env_offset) = aux_data(tracer);
         let (env_kind, env) = match tracer.scene.environment {
             Environment::Black => (0, [[0.0; 4]; 3]),
             Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
             Environment::Sky { zenith: z, horizon: h, ground: g } => {
                 (2, [[z.x, z.y, z.z, 0.0], [h.x, h.y, h.z, 0.0], [g.x, g.y, g.z, 0.0]])
             }
+            Environment::Map(_) => (3, [[0.0; 4]; 3]),
+        };
+        let env_width = match &tracer.scene.environment {
+            Environment::Map(m) => m.geometry.width as u32,
+            _ => 0,
         };
         let items = targets.items.len();
         let params = TraceParams {
@@ -289,8 +298,8 @@ impl<'g> GpuBake<'g> {
             primary_only: 0,
             light_offset,
             emitter_offset,
-            pad0: 0,
-            pad1: 0,
+            env_offset,
+            env_width,
             env0: env[0],
             env1: env[1],
             env2: env[2],

@@ -49,6 +49,9 @@ pub struct Chart {
     pub size: (usize, usize),
     /// Top-left texel in the atlas.
     pub offset: (usize, usize),
+    /// The mesh's own lightmap UVs (TEXCOORD_1) scaled into this chart (one chart per
+    /// such mesh; `normal`/`axes`/`origin` unused).
+    pub from_uv: bool,
 }
 
 /// A packed lightmap.
@@ -100,8 +103,9 @@ impl Lightmap {
     }
 
     /// Lays out every lightmapped mesh of `scene` at `texels_per_unit` with `padding`.
-    /// Meshes with their own lightmap UVs are charted the same way for now (their UVs are
-    /// not used yet; the generated list says which meshes were charted).
+    /// A mesh with its own lightmap UVs becomes one square chart of side
+    /// ⌈√(surface area / UV area)·texels_per_unit⌉ (so the texel density matches) holding
+    /// its UV square; other meshes get generated planar charts (listed in `generated_for`).
     pub fn build(scene: &Scene, texels_per_unit: f32, padding: usize) -> Result<Lightmap, LayoutError> {
         if !(texels_per_unit.is_finite() && texels_per_unit > 0.0) {
             return Err(LayoutError::BadResolution(texels_per_unit));
@@ -109,6 +113,30 @@ impl Lightmap {
         let mut charts = Vec::new();
         let mut generated_for = Vec::new();
         for (mi, m) in scene.meshes.iter().enumerate().filter(|(_, m)| m.lightmapped) {
+            if let Some(uv) = &m.lightmap_uv {
+                let (mut area, mut uv_area) = (0.0f64, 0.0f64);
+                for t in &m.indices {
+                    let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                    area += 0.5 * (b - a).cross(c - a).length() as f64;
+                    let [p, q, r] = t.map(|i| uv[i as usize]);
+                    uv_area += 0.5 * cross2(q - p, r - p).abs() as f64;
+                }
+                if area <= 0.0 {
+                    continue;
+                }
+                let side = if uv_area > 0.0 { ((area / uv_area).sqrt() * texels_per_unit as f64).ceil() as usize } else { 1 }.max(1);
+                charts.push(Chart {
+                    mesh: mi,
+                    triangles: (0..m.indices.len()).collect(),
+                    normal: Vec3::Z,
+                    axes: (Vec3::X, Vec3::Y),
+                    origin: Vec2::ZERO,
+                    size: (side + 2 * padding, side + 2 * padding),
+                    offset: (0, 0),
+                    from_uv: true,
+                });
+                continue;
+            }
             generated_for.push(m.name.clone());
             // Group by plane: key = quantised (normal, offset).
             let mut groups: Vec<(Vec3, f32, Vec<usize>)> = Vec::new();
@@ -139,7 +167,7 @@ impl Lightmap {
                 }
                 let ext = (hi - lo) * texels_per_unit;
                 let size = ((ext.x.ceil() as usize).max(1) + 2 * padding, (ext.y.ceil() as usize).max(1) + 2 * padding);
-                charts.push(Chart { mesh: mi, triangles: tris, normal: n, axes: (t, b), origin: lo, size, offset: (0, 0) });
+                charts.push(Chart { mesh: mi, triangles: tris, normal: n, axes: (t, b), origin: lo, size, offset: (0, 0), from_uv: false });
             }
         }
         if charts.is_empty() {
@@ -157,11 +185,22 @@ impl Lightmap {
                 let q = Vec2::new(p.dot(c.axes.0), p.dot(c.axes.1));
                 (q - c.origin) * texels_per_unit + Vec2::new((c.offset.0 + padding) as f32, (c.offset.1 + padding) as f32)
             };
+            let corner = Vec2::new((c.offset.0 + padding) as f32, (c.offset.1 + padding) as f32);
+            let side = (c.size.0 - 2 * padding) as f32;
             for &ti in &c.triangles {
                 let p = m.indices[ti].map(|i| m.positions[i as usize]);
-                let uv = p.map(to_atlas);
+                let (uv, normal) = match (&m.lightmap_uv, c.from_uv) {
+                    (Some(uvs), true) => {
+                        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                        if n.length() <= 0.0 {
+                            continue; // degenerate: no texels
+                        }
+                        (m.indices[ti].map(|i| corner + uvs[i as usize] * side), n.normalize())
+                    }
+                    _ => (p.map(to_atlas), c.normal),
+                };
                 triangle_uv[c.mesh][ti] = uv;
-                rasterise(&mut texels, width, uv, p, c.normal);
+                rasterise(&mut texels, width, uv, p, normal);
             }
         }
         Ok(Lightmap { width, height, texels_per_unit, padding, charts, texels, triangle_uv, generated_for })

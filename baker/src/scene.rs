@@ -81,7 +81,7 @@ pub enum Light {
 }
 
 /// Radiance arriving from directions that leave the scene.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum Environment {
     Black,
     Constant(Vec3),
@@ -91,6 +91,31 @@ pub enum Environment {
         horizon: Vec3,
         ground: Vec3,
     },
+    /// A lat-long HDR map (sbf's convention: +Y up, u from atan2(x, −z)), looked up at
+    /// the nearest texel (CPU and GPU alike).
+    Map(std::sync::Arc<sbf::envmap::LatLongImage>),
+}
+
+impl PartialEq for Environment {
+    fn eq(&self, o: &Self) -> bool {
+        match (self, o) {
+            (Environment::Black, Environment::Black) => true,
+            (Environment::Constant(a), Environment::Constant(b)) => a == b,
+            (Environment::Sky { zenith: a, horizon: b, ground: c }, Environment::Sky { zenith: x, horizon: y, ground: z }) => {
+                a == x && b == y && c == z
+            }
+            (Environment::Map(a), Environment::Map(b)) => std::sync::Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
+}
+
+/// Nearest texel (column, row) of a `width × width/2` lat-long map for unit `d`.
+pub fn latlong_texel(d: Vec3, width: usize) -> (usize, usize) {
+    let h = width / 2;
+    let u = 0.5 * (1.0 + d.x.atan2(-d.z) / std::f32::consts::PI);
+    let v = d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+    (((u * width as f32) as usize).min(width - 1), ((v * h as f32) as usize).min(h - 1))
 }
 
 impl Environment {
@@ -105,6 +130,10 @@ impl Environment {
                 } else {
                     *ground
                 }
+            }
+            Environment::Map(m) => {
+                let (i, j) = latlong_texel(d, m.geometry.width);
+                Vec3::from(m.texel(i, j))
             }
         }
     }

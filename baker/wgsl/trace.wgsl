@@ -43,8 +43,9 @@ struct TraceParams {
     // Offsets into `aux` (in vec4s) of the lights and the emitters.
     light_offset: u32,
     emitter_offset: u32,
-    pad0: u32,
-    pad1: u32,
+    // ENV_MAP: the lat-long map's texels in `aux` from env_offset, env_width × env_width/2.
+    env_offset: u32,
+    env_width: u32,
     env0: vec4<f32>,
     env1: vec4<f32>,
     env2: vec4<f32>,
@@ -60,6 +61,7 @@ const T_FAR: f32 = 3.0e38;
 const ENV_BLACK: u32 = 0u;
 const ENV_CONSTANT: u32 = 1u;
 const ENV_SKY: u32 = 2u;
+const ENV_MAP: u32 = 3u;
 const LIGHT_DIRECTIONAL: u32 = 0u;
 
 @group(0) @binding(0) var<uniform> P: TraceParams;
@@ -67,7 +69,8 @@ const LIGHT_DIRECTIONAL: u32 = 0u;
 @group(0) @binding(2) var<storage, read> tris: array<Tri>;
 // Materials (3 vec4 each: diffuse albedo + GGX probability, F0 + α, emission + glossy
 // flag), then lights (2 vec4 each: kind + position/direction, intensity/irradiance),
-// then emitters (1 vec4 each: triangle index as bits, CDF of power); offsets below.
+// then emitters (1 vec4 each: triangle index as bits, CDF of power), then the
+// environment map's texels (ENV_MAP); offsets in TraceParams.
 @group(0) @binding(3) var<storage, read> aux: array<vec4<f32>>;
 // Per item: (first point, point count, output index, 0); points are (position, normal) pairs.
 @group(0) @binding(4) var<storage, read> items: array<vec4<u32>>;
@@ -226,6 +229,16 @@ fn environment(d: vec3<f32>) -> vec3<f32> {
                 return mix(P.env1.xyz, P.env0.xyz, sqrt(d.y));
             }
             return P.env2.xyz;
+        }
+        case ENV_MAP: {
+            // Nearest texel (CPU twin: scene::latlong_texel).
+            let w = P.env_width;
+            let h = w / 2u;
+            let u = 0.5 * (1.0 + atan2(d.x, -d.z) / PI);
+            let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+            let i = min(u32(u * f32(w)), w - 1u);
+            let j = min(u32(v * f32(h)), h - 1u);
+            return aux[P.env_offset + j * w + i].xyz;
         }
         default: {
             return vec3<f32>(0.0);

@@ -1,0 +1,137 @@
+//! baker: bake lightmaps and light probes into sbf bases, on the GPU or the CPU.
+
+use baker::bake::{BasisKind, Solver};
+use baker::run::{self, Device, Options};
+use clap::Parser;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    version,
+    about = "Bake lightmaps and light probes into spherical bases (SH, SG, Ambient Dice), progressively, on the GPU (wgpu) or the CPU.",
+    after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)"
+)]
+struct Cli {
+    /// Scene: `cornell` (built-in), `furnace` (test box), or a .gltf/.glb file.
+    #[arg(long, default_value = "cornell")]
+    scene: String,
+    /// Lat-long .hdr/.exr environment map replacing the scene's environment.
+    #[arg(long)]
+    env: Option<PathBuf>,
+    /// Lightmap texels per scene unit.
+    #[arg(long, default_value_t = 16.0)]
+    texels_per_unit: f32,
+    /// Texels of padding around each chart (also the dilation rings, + 1).
+    #[arg(long, default_value_t = 2)]
+    padding: usize,
+    /// Passes (one path per texel and probe each).
+    #[arg(long, default_value_t = 128)]
+    passes: u64,
+    /// Maximum bounces per path.
+    #[arg(long, default_value_t = 4)]
+    bounces: u32,
+    /// Lightmap bases: sh1, sh2, sg9, sg12, ad9, ad12 (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "sh2,ad9")]
+    bases: Vec<String>,
+    /// Progressive solver: ls or nnls.
+    #[arg(long, default_value = "nnls")]
+    solver: String,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// auto (GPU if an adapter exists), gpu, or cpu.
+    #[arg(long, default_value = "auto")]
+    device: String,
+    /// Output folder.
+    #[arg(long, default_value = "bake-out")]
+    out: PathBuf,
+    /// Passes between checkpoints (0: none).
+    #[arg(long, default_value_t = 32)]
+    checkpoint_every: u64,
+    /// Continue from the checkpoint in the output folder.
+    #[arg(long)]
+    resume: bool,
+    /// Probe grid NX,NY,NZ inside the scene bounds (0,0,0: no probes).
+    #[arg(long, value_delimiter = ',', default_value = "3,3,3")]
+    probes: Vec<usize>,
+    /// Probe bases (sphere bases: sh1, sh2, ad12).
+    #[arg(long, value_delimiter = ',', default_value = "sh2,ad12")]
+    probe_bases: Vec<String>,
+    /// Preview image width in pixels.
+    #[arg(long, default_value_t = 480)]
+    preview_width: usize,
+}
+
+fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
+    v.iter()
+        .map(|s| {
+            BasisKind::parse(s.trim()).ok_or_else(|| {
+                let names: Vec<&str> = BasisKind::ALL.iter().map(|(_, n)| *n).collect();
+                format!("unknown basis '{s}' (expected one of {})", names.join(", "))
+            })
+        })
+        .collect()
+}
+
+fn options(c: Cli) -> Result<Options, String> {
+    let d = Options::default();
+    let solver = match c.solver.as_str() {
+        "ls" => Solver::Ls,
+        "nnls" => Solver::Nnls,
+        s => return Err(format!("unknown solver '{s}' (ls or nnls)")),
+    };
+    let device = match c.device.as_str() {
+        "auto" => Device::Auto,
+        "gpu" => Device::Gpu,
+        "cpu" => Device::Cpu,
+        s => return Err(format!("unknown device '{s}' (auto, gpu or cpu)")),
+    };
+    let probes = match c.probes.as_slice() {
+        [0, 0, 0] => None,
+        [x, y, z] if *x > 0 && *y > 0 && *z > 0 => Some([*x, *y, *z]),
+        p => return Err(format!("--probes takes NX,NY,NZ (all > 0, or 0,0,0 for none), not {p:?}")),
+    };
+    let probe_bases = parse_bases(&c.probe_bases)?;
+    if let Some(b) = probe_bases.iter().find(|b| !b.is_sphere()) {
+        return Err(format!("probe basis '{}' covers a hemisphere; probes need sh1, sh2 or ad12", b.name()));
+    }
+    if c.passes == 0 {
+        return Err("--passes must be at least 1".into());
+    }
+    Ok(Options {
+        scene: c.scene,
+        environment: c.env,
+        texels_per_unit: c.texels_per_unit,
+        padding: c.padding,
+        passes: c.passes,
+        config: baker::bake::BakeConfig { seed: c.seed, max_bounces: c.bounces, bases: parse_bases(&c.bases)?, solver },
+        device,
+        out: c.out,
+        checkpoint_every: c.checkpoint_every,
+        resume: c.resume,
+        probes,
+        probe_bases,
+        preview_width: c.preview_width.max(8),
+        quiet: d.quiet,
+    })
+}
+
+fn main() -> ExitCode {
+    let o = match options(Cli::parse()) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("baker: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match run::bake(&o, &mut |s| eprintln!("{s}")) {
+        Ok(s) => {
+            eprintln!("done: {} passes in {:.1} s on {}", s.lightmap.passes, s.seconds, s.device);
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("baker: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,254 @@
+//! What a bake writes: EXR images (plain E/π and one per basis lobe, RGB + a validity
+//! alpha), dilation of empty texels, JSON metadata, probe coefficients, the runtime WGSL
+//! composed for the scene (with only the LUTs it needs), and a preview PNG of the scene
+//! lit by the baked irradiance (CPU ray cast through the same BVH).
+
+use crate::bake::{BakeConfig, BakeState, BasisKind, Targets};
+use crate::bvh::Bvh;
+use crate::lightmap::Lightmap;
+use crate::scene::Scene;
+use sbf::glam::{Vec2, Vec3};
+use serde_json::json;
+use std::path::Path;
+
+/// Per-atlas-texel images of a lightmap bake.
+#[derive(Debug, Clone)]
+pub struct LightmapImages {
+    pub width: usize,
+    pub height: usize,
+    /// 1 for baked texels, 0 for empty ones (dilated or not).
+    pub validity: Vec<f32>,
+    /// Mean E/π.
+    pub irradiance: Vec<[f32; 3]>,
+    /// Standard error of E/π.
+    pub standard_error: Vec<[f32; 3]>,
+    /// `coefficients[b][lobe][texel]` for the configured bases.
+    pub coefficients: Vec<Vec<Vec<[f32; 3]>>>,
+}
+
+impl LightmapImages {
+    /// Scatters a state's per-item results into the atlas.
+    pub fn new(lm: &Lightmap, targets: &Targets, state: &BakeState) -> Self {
+        let n = lm.width * lm.height;
+        let mut img = LightmapImages {
+            width: lm.width,
+            height: lm.height,
+            validity: vec![0.0; n],
+            irradiance: vec![[0.0; 3]; n],
+            standard_error: vec![[0.0; 3]; n],
+            coefficients: state
+                .encoders
+                .iter()
+                .map(|e| vec![vec![[0.0; 3]; n]; e.first().map(|x| x.coefficients().nrows()).unwrap_or(0)])
+                .collect(),
+        };
+        let (mean, se) = (state.mean(), state.standard_error());
+        for (k, it) in targets.items.iter().enumerate() {
+            let t = it[2] as usize;
+            img.validity[t] = 1.0;
+            img.irradiance[t] = mean[k].map(|x| x as f32);
+            img.standard_error[t] = se[k].map(|x| if x.is_finite() { x as f32 } else { 0.0 });
+            for (b, encs) in state.encoders.iter().enumerate() {
+                let c = encs[k].coefficients();
+                for (l, lobe) in img.coefficients[b].iter_mut().enumerate() {
+                    lobe[t] = [c[(l, 0)] as f32, c[(l, 1)] as f32, c[(l, 2)] as f32];
+                }
+            }
+        }
+        img
+    }
+
+    /// Fills empty texels from the mean of their filled 8-neighbours, ring by ring, for
+    /// `rings` rings (the padding around charts: bilinear filtering at chart edges then
+    /// reads baked values, not black). Validity stays 0 for filled texels. Returns the
+    /// number of texels filled.
+    pub fn dilate(&mut self, rings: usize) -> usize {
+        let (w, h) = (self.width, self.height);
+        let mut filled: Vec<bool> = self.validity.iter().map(|v| *v > 0.0).collect();
+        let mut total = 0;
+        for _ in 0..rings {
+            let mut add = Vec::new();
+            for y in 0..h {
+                for x in 0..w {
+                    if filled[y * w + x] {
+                        continue;
+                    }
+                    let mut src = Vec::new();
+                    for (dx, dy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                        if nx >= 0 && ny >= 0 && (nx as usize) < w && (ny as usize) < h && filled[ny as usize * w + nx as usize] {
+                            src.push(ny as usize * w + nx as usize);
+                        }
+                    }
+                    if !src.is_empty() {
+                        add.push((y * w + x, src));
+                    }
+                }
+            }
+            if add.is_empty() {
+                break;
+            }
+            let avg = |v: &[[f32; 3]], src: &[usize]| -> [f32; 3] {
+                let mut a = [0.0; 3];
+                for &s in src {
+                    for c in 0..3 {
+                        a[c] += v[s][c] / src.len() as f32;
+                    }
+                }
+                a
+            };
+            for (t, src) in &add {
+                self.irradiance[*t] = avg(&self.irradiance, src);
+                self.standard_error[*t] = avg(&self.standard_error, src);
+                for b in self.coefficients.iter_mut() {
+                    for lobe in b.iter_mut() {
+                        lobe[*t] = avg(lobe, src);
+                    }
+                }
+            }
+            for (t, _) in &add {
+                filled[*t] = true;
+            }
+            total += add.len();
+        }
+        total
+    }
+
+    /// Bilinear E/π at atlas coordinates in texels (texel centres at +0.5).
+    pub fn sample(&self, uv: Vec2) -> Vec3 {
+        let p = uv - Vec2::splat(0.5);
+        let (x0, y0) = (p.x.floor(), p.y.floor());
+        let (fx, fy) = (p.x - x0, p.y - y0);
+        let at = |x: f32, y: f32| {
+            let xi = (x.max(0.0) as usize).min(self.width - 1);
+            let yi = (y.max(0.0) as usize).min(self.height - 1);
+            Vec3::from(self.irradiance[yi * self.width + xi])
+        };
+        let top = at(x0, y0).lerp(at(x0 + 1.0, y0), fx);
+        let bottom = at(x0, y0 + 1.0).lerp(at(x0 + 1.0, y0 + 1.0), fx);
+        top.lerp(bottom, fy)
+    }
+}
+
+/// Writes RGB + alpha (validity) as a 32-bit float OpenEXR file.
+pub fn write_exr(path: &Path, width: usize, height: usize, rgb: &[[f32; 3]], alpha: &[f32]) -> Result<(), String> {
+    let data: Vec<f32> = rgb.iter().zip(alpha).flat_map(|(c, a)| [c[0], c[1], c[2], *a]).collect();
+    let img = image::Rgba32FImage::from_raw(width as u32, height as u32, data).ok_or("image size mismatch")?;
+    img.save_with_format(path, image::ImageFormat::OpenExr).map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
+/// The EXR files of a lightmap bake: `irradiance.exr`, `irradiance_se.exr` and
+/// `{basis}_{lobe:02}.exr`; returns their names.
+pub fn write_lightmap(dir: &Path, img: &LightmapImages, config: &BakeConfig) -> Result<Vec<String>, String> {
+    let mut names = vec!["irradiance.exr".to_string(), "irradiance_se.exr".to_string()];
+    write_exr(&dir.join(&names[0]), img.width, img.height, &img.irradiance, &img.validity)?;
+    write_exr(&dir.join(&names[1]), img.width, img.height, &img.standard_error, &img.validity)?;
+    for (b, kind) in config.bases.iter().enumerate() {
+        for (l, lobe) in img.coefficients[b].iter().enumerate() {
+            let name = format!("{}_{l:02}.exr", kind.name());
+            write_exr(&dir.join(&name), img.width, img.height, lobe, &img.validity)?;
+            names.push(name);
+        }
+    }
+    Ok(names)
+}
+
+/// The runtime features for the baked bases: Lambert irradiance always, specular only
+/// when the scene has a glossy material. Returns (features, LUT files needed).
+pub fn runtime_features(bases: &[BasisKind], glossy: bool) -> (Vec<&'static str>, Vec<&'static str>) {
+    let mut f = Vec::new();
+    let mut luts = Vec::new();
+    for b in bases {
+        let (irr, spec, lut): (&str, Option<&str>, Option<&str>) = match b {
+            BasisKind::ShL1 => ("sh-l1-irradiance", None, None),
+            BasisKind::ShL2 => ("sh-l2-irradiance", None, None),
+            BasisKind::Sg9 | BasisKind::Sg12 => ("sg-irradiance", Some("sg-specular"), None),
+            BasisKind::Ad9 => ("ad9-irradiance", Some("ad9-specular"), Some("ad_specular_2d.sbflut")),
+            BasisKind::Ad12 => ("ad12-irradiance", Some("ad12-specular"), Some("ad_specular_2d.sbflut")),
+        };
+        f.push(irr);
+        if glossy {
+            f.extend(spec);
+            luts.extend(lut);
+        }
+    }
+    f.sort_unstable();
+    f.dedup();
+    luts.sort_unstable();
+    luts.dedup();
+    (f, luts)
+}
+
+/// A preview of the scene lit by the baked E/π (diffuse albedo × E/π + emission; the
+/// environment where rays leave), ray cast from inside the scene's bounds towards −Z,
+/// exposed to a mean of 0.18 and tone mapped with x/(1 + x), sRGB-encoded.
+pub fn preview(scene: &Scene, bvh: &Bvh, lm: &Lightmap, img: &LightmapImages, width: usize) -> image::RgbImage {
+    let height = (width * 3 / 4).max(1);
+    let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+    let centre = 0.5 * (lo + hi);
+    let eye = centre + Vec3::new(0.0, 0.0, 0.49 * (hi.z - lo.z));
+    let tan = (80f32.to_radians() * 0.5).tan();
+    let mut hdr = vec![Vec3::ZERO; width * height];
+    for y in 0..height {
+        for x in 0..width {
+            let sx = ((x as f32 + 0.5) / width as f32 * 2.0 - 1.0) * tan;
+            let sy = (1.0 - (y as f32 + 0.5) / height as f32 * 2.0) * tan * height as f32 / width as f32;
+            let d = Vec3::new(sx, sy, -1.0).normalize();
+            hdr[y * width + x] = match bvh.intersect(eye, d, 0.0, f32::INFINITY) {
+                None => scene.environment.radiance(d),
+                Some(h) => {
+                    let tri = &bvh.tris[h.tri as usize];
+                    let m = &scene.materials[tri.material as usize];
+                    let mesh = &scene.meshes[tri.mesh as usize];
+                    let lit = if mesh.lightmapped {
+                        let uv = lm.triangle_uv[tri.mesh as usize][tri.prim as usize];
+                        let a = uv[0] * (1.0 - h.u - h.v) + uv[1] * h.u + uv[2] * h.v;
+                        m.diffuse_albedo() * img.sample(a)
+                    } else {
+                        Vec3::ZERO
+                    };
+                    let front = d.dot(tri.normal()) < 0.0;
+                    lit + if front { m.emissive } else { Vec3::ZERO }
+                }
+            };
+        }
+    }
+    let lum: f32 = hdr.iter().map(|c| c.dot(Vec3::new(0.2126, 0.7152, 0.0722))).sum::<f32>() / hdr.len() as f32;
+    let exposure = if lum > 0.0 { 0.18 / lum } else { 1.0 };
+    let srgb = |v: f32| {
+        let v = v.clamp(0.0, 1.0);
+        let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+        (s * 255.0 + 0.5) as u8
+    };
+    image::RgbImage::from_fn(width as u32, height as u32, |x, y| {
+        let c = hdr[y as usize * width + x as usize] * exposure;
+        let t = c / (Vec3::ONE + c);
+        image::Rgb([srgb(t.x), srgb(t.y), srgb(t.z)])
+    })
+}
+
+/// Per-mesh lightmap mapping for the metadata: scale/bias from TEXCOORD_1 to the atlas
+/// (normalised), or the generated per-triangle atlas UVs.
+pub fn mesh_mapping(scene: &Scene, lm: &Lightmap) -> serde_json::Value {
+    let (w, h) = (lm.width as f32, lm.height as f32);
+    let meshes: Vec<serde_json::Value> = scene
+        .meshes
+        .iter()
+        .enumerate()
+        .map(|(mi, m)| {
+            if !m.lightmapped {
+                return json!({"name": m.name, "lightmapped": false});
+            }
+            if let Some(c) = lm.charts.iter().find(|c| c.mesh == mi && c.from_uv) {
+                let side = (c.size.0 - 2 * lm.padding) as f32;
+                let corner = ((c.offset.0 + lm.padding) as f32, (c.offset.1 + lm.padding) as f32);
+                return json!({"name": m.name, "lightmapped": true, "uv": "TEXCOORD_1",
+                    "scale": [side / w, side / h], "bias": [corner.0 / w, corner.1 / h]});
+            }
+            let uvs: Vec<[f32; 6]> =
+                lm.triangle_uv[mi].iter().map(|t| [t[0].x / w, t[0].y / h, t[1].x / w, t[1].y / h, t[2].x / w, t[2].y / h]).collect();
+            json!({"name": m.name, "lightmapped": true, "uv": "generated", "triangle_uv": uvs})
+        })
+        .collect();
+    serde_json::Value::Array(meshes)
+}

@@ -1,0 +1,382 @@
+//! A whole bake as the `baker` command runs it: scene → BVH → layout → passes on the
+//! GPU or the CPU (progress with ETA, a checkpoint every N passes, resume) → outputs.
+//! Tests drive the same function ([`bake`]) to kill and resume bakes.
+
+use crate::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use crate::bvh::Bvh;
+use crate::checkpoint;
+use crate::gpu::GpuBake;
+use crate::lightmap::Lightmap;
+use crate::output::{self, LightmapImages};
+use crate::scene::{self, Environment, Scene};
+use crate::trace::Tracer;
+use sbf::glam::Vec3;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Which engine traces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Device {
+    /// The GPU if an adapter exists, else the CPU (and say so).
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+/// Everything a bake needs.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// "cornell" (default), "furnace", or a .gltf/.glb path.
+    pub scene: String,
+    /// A lat-long .hdr/.exr environment replacing the scene's.
+    pub environment: Option<PathBuf>,
+    pub texels_per_unit: f32,
+    pub padding: usize,
+    pub passes: u64,
+    pub config: BakeConfig,
+    pub device: Device,
+    pub out: PathBuf,
+    /// Passes between checkpoints (0: none).
+    pub checkpoint_every: u64,
+    pub resume: bool,
+    /// Probe grid (nx, ny, nz) inside the scene bounds, baked into `probe_bases`.
+    pub probes: Option<[usize; 3]>,
+    pub probe_bases: Vec<BasisKind>,
+    pub preview_width: usize,
+    /// No progress bar.
+    pub quiet: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            scene: "cornell".into(),
+            environment: None,
+            texels_per_unit: 16.0,
+            padding: 2,
+            passes: 128,
+            config: BakeConfig { seed: 1, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Ad9], solver: Solver::Nnls },
+            device: Device::Auto,
+            out: PathBuf::from("bake-out"),
+            checkpoint_every: 32,
+            resume: false,
+            probes: Some([3, 3, 3]),
+            probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
+            preview_width: 480,
+            quiet: false,
+        }
+    }
+}
+
+/// What a bake produced.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    pub device: String,
+    pub lightmap: BakeState,
+    pub probes: Option<BakeState>,
+    /// Passes run by this invocation (the rest came from a checkpoint).
+    pub passes_run: u64,
+    pub seconds: f64,
+}
+
+/// Loads the named scene (built-in or glTF) and the optional environment map.
+pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String)) -> Result<Scene, String> {
+    let mut s = match name {
+        "cornell" => scene::cornell(),
+        "furnace" => scene::furnace(1.0, 0.5),
+        path => {
+            let (s, report) = crate::import::load(Path::new(path)).map_err(|e| e.to_string())?;
+            for n in report.notes {
+                log(format!("import: {n}"));
+            }
+            s
+        }
+    };
+    if let Some(p) = environment {
+        let (map, _) = probes::input::load_map(p, false).map_err(|e| e.to_string())?;
+        s.environment = Environment::Map(std::sync::Arc::new(map));
+    }
+    let degenerate = s.validate().map_err(|e| e.to_string())?;
+    if degenerate > 0 {
+        log(format!("scene: {degenerate} degenerate triangles skipped"));
+    }
+    Ok(s)
+}
+
+enum Engine<'a> {
+    Cpu(Bake<'a>),
+    Gpu(GpuBake<'a>),
+}
+
+impl Engine<'_> {
+    fn run(&mut self, n: u64) -> Result<(), String> {
+        match self {
+            Engine::Cpu(b) => {
+                for _ in 0..n {
+                    b.pass();
+                }
+                Ok(())
+            }
+            Engine::Gpu(g) => g.run(n),
+        }
+    }
+    fn state(&self) -> Result<BakeState, String> {
+        match self {
+            Engine::Cpu(b) => Ok(b.state.clone()),
+            Engine::Gpu(g) => g.state(),
+        }
+    }
+    fn passes(&self) -> u64 {
+        match self {
+            Engine::Cpu(b) => b.state.passes,
+            Engine::Gpu(g) => g.passes,
+        }
+    }
+}
+
+/// The bake's identity for checkpoints: a resumed bake must be the same bake.
+fn identity(o: &Options, what: &str, items: usize) -> String {
+    let bases: Vec<&str> = o.config.bases.iter().map(|b| b.name()).collect();
+    format!(
+        "{what}|{}|{:?}|{}|{}|{}|{}|{:?}|{:?}|{items}",
+        o.scene, o.environment, o.texels_per_unit, o.padding, o.config.seed, o.config.max_bounces, bases, o.config.solver
+    )
+}
+
+/// Runs passes on `targets` with progress, checkpoints and resume; returns the state.
+#[allow(clippy::too_many_arguments)]
+fn run_targets<'s>(
+    o: &Options,
+    config: &BakeConfig,
+    gpu: Option<&shaders::gpu::Gpu>,
+    tracer_of: &dyn Fn() -> Tracer<'s>,
+    targets: &Targets,
+    what: &str,
+    log: &mut dyn FnMut(String),
+) -> Result<(BakeState, u64), String> {
+    let ckpt = o.out.join(format!("{what}.checkpoint"));
+    let fp = checkpoint::fingerprint(&identity(&Options { config: config.clone(), ..o.clone() }, what, targets.items.len()));
+    let saved = if o.resume && ckpt.exists() {
+        let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
+        let st = checkpoint::from_bytes(&bytes, fp, config, targets).map_err(|e| format!("{}: {e}", ckpt.display()))?;
+        log(format!("{what}: resuming from {} at pass {}", ckpt.display(), st.passes));
+        Some(st)
+    } else {
+        if o.resume {
+            log(format!("{what}: --resume given but no checkpoint at {}; starting from pass 0", ckpt.display()));
+        }
+        None
+    };
+    let mut engine = match gpu {
+        Some(g) => {
+            let mut b = GpuBake::new(g, &tracer_of(), targets, config)?;
+            for l in &b.kernel.left_out {
+                log(format!("{what}: left out of the GPU kernel: {l}"));
+            }
+            if let Some(st) = &saved {
+                b.upload(st)?;
+            }
+            Engine::Gpu(b)
+        }
+        None => match saved {
+            Some(st) => Engine::Cpu(Bake::resume(config.clone(), targets, tracer_of(), st)?),
+            None => Engine::Cpu(Bake::new(config.clone(), targets, tracer_of())),
+        },
+    };
+    let start = engine.passes();
+    let todo = o.passes.saturating_sub(start);
+    let bar = if o.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(o.passes) };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} passes, {per_sec}, ETA {eta}")
+            .expect("template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar.set_position(start);
+    let chunk = if o.checkpoint_every > 0 { o.checkpoint_every } else { todo.max(1) };
+    let mut run = 0;
+    while engine.passes() < o.passes {
+        let n = chunk.min(o.passes - engine.passes());
+        // Progress granularity: at most 8 passes per call between bar updates.
+        let mut left = n;
+        while left > 0 {
+            let k = left.min(8);
+            engine.run(k)?;
+            bar.inc(k);
+            left -= k;
+        }
+        run += n;
+        if o.checkpoint_every > 0 {
+            let st = engine.state()?;
+            checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes(&st, fp))?;
+        }
+    }
+    bar.finish_and_clear();
+    Ok((engine.state()?, run))
+}
+
+/// Probe positions: an nx × ny × nz grid inside the scene bounds (cell centres).
+pub fn probe_grid(bvh: &Bvh, n: [usize; 3]) -> Vec<Vec3> {
+    let (lo, hi) = bvh.nodes.first().map(|x| (Vec3::from(x.min), Vec3::from(x.max))).unwrap_or((Vec3::ZERO, Vec3::ONE));
+    let mut v = Vec::new();
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
+                let f = Vec3::new((i as f32 + 0.5) / n[0] as f32, (j as f32 + 0.5) / n[1] as f32, (k as f32 + 0.5) / n[2] as f32);
+                v.push(lo + (hi - lo) * f);
+            }
+        }
+    }
+    v
+}
+
+/// Runs a whole bake and writes its outputs (unless stopped early).
+pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String> {
+    let t0 = Instant::now();
+    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
+    let scene = load_scene(&o.scene, o.environment.as_deref(), log)?;
+    let bvh = Bvh::build(&scene);
+    let tris: usize = bvh.tris.len();
+    log(format!(
+        "scene '{}': {} meshes, {tris} triangles, BVH {} nodes (depth {})",
+        scene.name,
+        scene.meshes.len(),
+        bvh.nodes.len(),
+        bvh.depth()
+    ));
+    let lm = Lightmap::build(&scene, o.texels_per_unit, o.padding).map_err(|e| e.to_string())?;
+    if !lm.generated_for.is_empty() {
+        log(format!("layout: charts generated for {} mesh(es) without lightmap UVs", lm.generated_for.len()));
+    }
+    log(format!("layout: {}×{} atlas, {} valid texels, utilisation {:.3}", lm.width, lm.height, lm.valid_count(), lm.utilisation()));
+    let glossy = scene.has_glossy();
+    if !glossy {
+        log("leave-out: no glossy material — specular runtime features, LUTs and the GPU kernel's GGX layer skipped".into());
+    }
+    let gpu = match o.device {
+        Device::Cpu => None,
+        Device::Gpu => Some(shaders::gpu::Gpu::new()?),
+        Device::Auto => match shaders::gpu::Gpu::new() {
+            Ok(g) => Some(g),
+            Err(e) => {
+                log(format!("no GPU adapter ({e}); baking on the CPU"));
+                None
+            }
+        },
+    };
+    let device = match &gpu {
+        Some(g) => format!("GPU: {}", g.adapter),
+        None => format!("CPU: {} threads (rayon)", rayon::current_num_threads()),
+    };
+    log(format!("device: {device}"));
+    let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
+    let targets = Targets::lightmap(&lm);
+    let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &targets, "lightmap", log)?;
+    let mut probe_state = None;
+    let mut probe_positions = Vec::new();
+    if let Some(n) = o.probes {
+        probe_positions = probe_grid(&bvh, n);
+        let pt = Targets::probes(&probe_positions);
+        let pcfg = BakeConfig { bases: o.probe_bases.clone(), ..o.config.clone() };
+        probe_state = Some(run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &pt, "probes", log)?.0);
+    }
+    write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &probe_positions, &device, glossy, t0, log)?;
+    Ok(Summary { device, lightmap: state, probes: probe_state, passes_run: run, seconds: t0.elapsed().as_secs_f64() })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn write_outputs(
+    o: &Options,
+    scene: &Scene,
+    bvh: &Bvh,
+    lm: &Lightmap,
+    targets: &Targets,
+    state: &BakeState,
+    probes: Option<&BakeState>,
+    probe_positions: &[Vec3],
+    device: &str,
+    glossy: bool,
+    t0: Instant,
+    log: &mut dyn FnMut(String),
+) -> Result<(), String> {
+    let mut img = LightmapImages::new(lm, targets, state);
+    let dilated = img.dilate(o.padding + 1);
+    let files = output::write_lightmap(&o.out, &img, &o.config)?;
+    let png = output::preview(scene, bvh, lm, &img, o.preview_width);
+    png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
+    let (features, luts) = output::runtime_features(&o.config.bases, glossy);
+    let cfg = shaders::compose::Config::parse(&features.join(","))?;
+    let runtime = shaders::compose::compose(&cfg)?;
+    std::fs::write(o.out.join("runtime.wgsl"), &runtime.source).map_err(|e| format!("runtime.wgsl: {e}"))?;
+    for l in &luts {
+        let data = match *l {
+            "ad_specular_2d.sbflut" => sbf::luts::committed::AD_SPECULAR_2D_DATA,
+            other => return Err(format!("no embedded LUT named {other}")),
+        };
+        std::fs::write(o.out.join(l), data).map_err(|e| format!("{l}: {e}"))?;
+    }
+    let bases: Vec<serde_json::Value> = o
+        .config
+        .bases
+        .iter()
+        .map(|b| {
+            let lobes = b.basis().len();
+            let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
+            json!({"name": b.name(), "lobes": lobes, "domain": if b.is_sphere() { "sphere" } else { "upper hemisphere" },
+                   "space": "tangent (normal +Z, tangent frame of Duff et al. 2017 about the texel normal)",
+                   "files": files, "mirrored_lower_hemisphere": b.is_sphere()})
+        })
+        .collect();
+    let mut meta = json!({
+        "scene": scene.name,
+        "device": device,
+        "passes": state.passes,
+        "seed": o.config.seed,
+        "max_bounces": o.config.max_bounces,
+        "solver": format!("{:?}", o.config.solver),
+        "layout": {"width": lm.width, "height": lm.height, "texels_per_unit": lm.texels_per_unit, "padding": lm.padding,
+                   "valid_texels": lm.valid_count(), "utilisation": lm.utilisation(), "dilated_texels": dilated,
+                   "validity": "alpha channel of every EXR: 1 = baked, 0 = empty or dilated"},
+        "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
+        "bases": bases,
+        "meshes": output::mesh_mapping(scene, lm),
+        "runtime": {"wgsl": "runtime.wgsl", "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),
+                    "specular": if glossy { "included" } else { "left out: no glossy material" }},
+        "files": files,
+        "preview": "preview.png",
+        "seconds": t0.elapsed().as_secs_f64(),
+    });
+    if let Some(ps) = probes {
+        let (mean, se) = (ps.mean(), ps.standard_error());
+        let list: Vec<serde_json::Value> = probe_positions
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let coeffs: serde_json::Map<String, serde_json::Value> = o
+                    .probe_bases
+                    .iter()
+                    .enumerate()
+                    .map(|(b, kind)| {
+                        let c = ps.encoders[b][k].coefficients();
+                        let rows: Vec<[f64; 3]> = (0..c.nrows()).map(|i| [c[(i, 0)], c[(i, 1)], c[(i, 2)]]).collect();
+                        (kind.name().to_string(), json!(rows))
+                    })
+                    .collect();
+                json!({"position": [p.x, p.y, p.z], "mean_radiance": mean[k], "standard_error": se[k], "coefficients": coeffs})
+            })
+            .collect();
+        let pj = json!({"space": "world (+Y up)", "passes": ps.passes, "bases": o.probe_bases.iter().map(|b| b.name()).collect::<Vec<_>>(), "probes": list});
+        std::fs::write(o.out.join("probes.json"), serde_json::to_string_pretty(&pj).expect("json"))
+            .map_err(|e| format!("probes.json: {e}"))?;
+        meta["probes"] = json!({"file": "probes.json", "count": probe_positions.len()});
+    }
+    std::fs::write(o.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("bake.json: {e}"))?;
+    log(format!(
+        "wrote {} ({} EXR files, bake.json, preview.png, runtime.wgsl{})",
+        o.out.display(),
+        files.len(),
+        if probes.is_some() { ", probes.json" } else { "" }
+    ));
+    Ok(())
+}

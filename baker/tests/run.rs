@@ -1,0 +1,328 @@
+//! The `baker` command end to end: kill and resume, glTF import, bad scenes, leave-out.
+
+use baker::bake::{BakeConfig, BasisKind, Solver};
+use baker::import;
+use baker::output::runtime_features;
+use baker::scene::SceneError;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("baker-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn baker(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_baker"));
+    c.args(args);
+    c
+}
+
+/// Passes recorded in a checkpoint header (bytes 16..24, after magic and fingerprint).
+fn checkpoint_passes(p: &Path) -> Option<u64> {
+    let b = std::fs::read(p).ok()?;
+    Some(u64::from_le_bytes(b.get(16..24)?.try_into().ok()?))
+}
+
+/// A bake killed (SIGKILL) mid-run and resumed from its checkpoint writes exactly the
+/// same lightmap and probe files as an uninterrupted bake.
+#[test]
+fn killed_bake_resumes_to_the_identical_result() {
+    let (a, b) = (tmp("uninterrupted"), tmp("killed"));
+    let common = [
+        "--device",
+        "cpu",
+        "--texels-per-unit",
+        "6",
+        "--passes",
+        "300",
+        "--checkpoint-every",
+        "5",
+        "--probes",
+        "2,2,2",
+        "--preview-width",
+        "32",
+    ];
+    let run = |dir: &Path, extra: &[&str]| {
+        let mut args: Vec<&str> = common.to_vec();
+        args.extend(["--out", dir.to_str().unwrap()]);
+        args.extend(extra);
+        baker(&args).output().unwrap()
+    };
+    let out = run(&a, &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Kill the second bake as soon as it has written a checkpoint (mid-run: 300 passes).
+    let mut args: Vec<&str> = common.to_vec();
+    args.extend(["--out", b.to_str().unwrap()]);
+    let mut child = baker(&args).stderr(std::process::Stdio::null()).spawn().unwrap();
+    let ck = b.join("lightmap.checkpoint");
+    let t = std::time::Instant::now();
+    while !ck.exists() && t.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let at = checkpoint_passes(&ck).expect("a checkpoint was written before the kill");
+    assert!(at > 0 && at < 300, "killed at pass {at}: not mid-run");
+    assert!(!b.join("irradiance.exr").exists(), "the killed bake must not have finished");
+    let out = run(&b, &["--resume"]);
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{log}");
+    assert!(log.contains(&format!("resuming from {} at pass {at}", ck.display())), "{log}");
+    let mut files = vec!["irradiance.exr".to_string(), "irradiance_se.exr".into(), "probes.json".into(), "preview.png".into()];
+    files.extend((0..9).map(|l| format!("sh2_{l:02}.exr")));
+    files.extend((0..9).map(|l| format!("ad9_{l:02}.exr")));
+    for f in &files {
+        let (x, y) = (std::fs::read(a.join(f)).unwrap(), std::fs::read(b.join(f)).unwrap());
+        assert!(x == y, "{f} differs after kill + resume (killed at pass {at})");
+    }
+    println!("killed at pass {at} of 300, resumed: {} files identical", files.len());
+}
+
+/// A checkpoint of another bake is refused with a message, not silently mixed in.
+#[test]
+fn resume_refuses_a_different_bake() {
+    let d = tmp("mismatch");
+    let base = [
+        "--device",
+        "cpu",
+        "--texels-per-unit",
+        "4",
+        "--passes",
+        "4",
+        "--checkpoint-every",
+        "2",
+        "--probes",
+        "0,0,0",
+        "--preview-width",
+        "16",
+    ];
+    let mut a: Vec<&str> = base.to_vec();
+    a.extend(["--out", d.to_str().unwrap()]);
+    assert!(baker(&a).output().unwrap().status.success());
+    a.extend(["--resume", "--seed", "7"]);
+    let out = baker(&a).output().unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && log.contains("belongs to a different bake"), "{log}");
+}
+
+/// Minimal glTF writer for tests: one buffer as a base64 data URI.
+struct Gltf {
+    bin: Vec<u8>,
+    views: Vec<String>,
+    accessors: Vec<String>,
+    meshes: Vec<String>,
+}
+
+fn b64(data: &[u8]) -> String {
+    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for c in data.chunks(3) {
+        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+        for k in 0..4 {
+            s.push(if k <= c.len() { T[(n >> (18 - 6 * k) & 63) as usize] as char } else { '=' });
+        }
+    }
+    s
+}
+
+impl Gltf {
+    fn new() -> Self {
+        Gltf { bin: vec![], views: vec![], accessors: vec![], meshes: vec![] }
+    }
+    fn accessor(&mut self, data: &[f32], ty: &str, n: usize) -> usize {
+        let off = self.bin.len();
+        for v in data {
+            self.bin.extend_from_slice(&v.to_le_bytes());
+        }
+        self.views.push(format!(r#"{{"buffer":0,"byteOffset":{off},"byteLength":{}}}"#, data.len() * 4));
+        // glTF requires min/max on POSITION; from the finite values (a NaN stays in the buffer).
+        let k = data.len() / n;
+        let (lo, hi): (Vec<String>, Vec<String>) = (0..k)
+            .map(|c| {
+                let v = data.iter().skip(c).step_by(k).filter(|x| x.is_finite());
+                (format!("{:?}", v.clone().fold(f32::MAX, |a, b| a.min(*b))), format!("{:?}", v.fold(f32::MIN, |a, b| a.max(*b))))
+            })
+            .unzip();
+        self.accessors.push(format!(
+            r#"{{"bufferView":{},"componentType":5126,"count":{n},"type":"{ty}","min":[{}],"max":[{}]}}"#,
+            self.views.len() - 1,
+            lo.join(","),
+            hi.join(",")
+        ));
+        self.accessors.len() - 1
+    }
+    fn indices(&mut self, idx: &[u32]) -> usize {
+        let off = self.bin.len();
+        for v in idx {
+            self.bin.extend_from_slice(&v.to_le_bytes());
+        }
+        self.views.push(format!(r#"{{"buffer":0,"byteOffset":{off},"byteLength":{}}}"#, idx.len() * 4));
+        self.accessors.push(format!(
+            r#"{{"bufferView":{},"componentType":5125,"count":{},"type":"SCALAR"}}"#,
+            self.views.len() - 1,
+            idx.len()
+        ));
+        self.accessors.len() - 1
+    }
+    /// A mesh from positions, indices, optional TEXCOORD_1, material index.
+    fn mesh(&mut self, pos: &[[f32; 3]], idx: &[u32], uv1: Option<&[[f32; 2]]>, material: usize, mode: u32) {
+        let p: Vec<f32> = pos.iter().flatten().copied().collect();
+        let pa = self.accessor(&p, "VEC3", pos.len());
+        let ia = self.indices(idx);
+        let uv = uv1.map(|u| {
+            let f: Vec<f32> = u.iter().flatten().copied().collect();
+            format!(r#","TEXCOORD_1":{}"#, self.accessor(&f, "VEC2", u.len()))
+        });
+        self.meshes.push(format!(
+            r#"{{"name":"m{}","primitives":[{{"attributes":{{"POSITION":{pa}{}}},"indices":{ia},"material":{material},"mode":{mode}}}]}}"#,
+            self.meshes.len(),
+            uv.unwrap_or_default()
+        ));
+    }
+    fn write(&self, path: &Path) {
+        let nodes: Vec<String> = (0..self.meshes.len()).map(|k| format!(r#"{{"mesh":{k}}}"#)).collect();
+        let node_ids: Vec<String> = (0..self.meshes.len()).map(|k| k.to_string()).collect();
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],"meshes":[{}],
+"materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0.7,0.7,0.7,1],"metallicFactor":0,"roughnessFactor":1}}}},
+{{"pbrMetallicRoughness":{{"baseColorFactor":[0,0,0,1]}},"emissiveFactor":[1,1,1]}}],
+"accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}}"#,
+            node_ids.join(","),
+            nodes.join(","),
+            self.meshes.join(","),
+            self.accessors.join(","),
+            self.views.join(","),
+            self.bin.len(),
+            b64(&self.bin)
+        );
+        std::fs::write(path, json).unwrap();
+    }
+}
+
+/// A floor quad with TEXCOORD_1, a wall without (charts generated), an emissive quad.
+fn room(uv: [[f32; 2]; 4], floor_y: f32) -> Gltf {
+    let mut g = Gltf::new();
+    let q = [0, 1, 2, 0, 2, 3];
+    g.mesh(&[[-1.0, floor_y, 1.0], [1.0, -1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, -1.0, -1.0]], &q, Some(&uv), 0, 4);
+    g.mesh(&[[-1.0, -1.0, -1.0], [1.0, -1.0, -1.0], [1.0, 1.0, -1.0], [-1.0, 1.0, -1.0]], &q, None, 0, 4);
+    g.mesh(&[[-0.3, 0.9, -0.3], [0.3, 0.9, -0.3], [0.3, 0.9, 0.3], [-0.3, 0.9, 0.3]], &q, None, 1, 4);
+    g
+}
+
+const UNIT_UV: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+
+/// A glTF scene imports (TEXCOORD_1 used as a scaled chart, charts generated for the
+/// rest and said so), bakes, and the metadata carries the mesh's scale/bias.
+#[test]
+fn gltf_scene_imports_and_bakes() {
+    let d = tmp("gltf");
+    let path = d.join("room.gltf");
+    room(UNIT_UV, -1.0).write(&path);
+    let (scene, report) = import::load(&path).unwrap();
+    assert_eq!(scene.meshes.len(), 3);
+    assert!(scene.meshes[0].lightmap_uv.is_some() && !scene.meshes[2].lightmapped);
+    assert!(report.notes.iter().any(|n| n.contains("no TEXCOORD_1")), "{:?}", report.notes);
+    let out = d.join("out");
+    let o = baker(&[
+        "--scene",
+        path.to_str().unwrap(),
+        "--device",
+        "cpu",
+        "--passes",
+        "8",
+        "--texels-per-unit",
+        "8",
+        "--probes",
+        "0,0,0",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .output()
+    .unwrap();
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{log}");
+    assert!(log.contains("charts generated for"), "{log}");
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("bake.json")).unwrap()).unwrap();
+    let m0 = &meta["meshes"][0];
+    assert_eq!(m0["uv"], "TEXCOORD_1");
+    // The 2 m × 2 m floor at 8 texels/unit: a 16-texel square chart; its scale is 16/W.
+    let w = meta["layout"]["width"].as_f64().unwrap();
+    assert!((m0["scale"][0].as_f64().unwrap() - 16.0 / w).abs() < 1e-9, "{m0}");
+    assert_eq!(meta["meshes"][1]["uv"], "generated");
+    // No glossy material (roughness 1 dielectric is glossy in glTF: F0 = 0.04), so the
+    // runtime keeps specular; the report says which LUTs travel.
+    assert!(meta["runtime"]["features"].as_array().unwrap().iter().any(|f| f == "ad9-irradiance"));
+}
+
+/// Bad scenes give errors that name the problem; degenerate triangles are skipped and
+/// counted; nothing panics.
+#[test]
+fn bad_gltf_scenes_give_clear_errors() {
+    let d = tmp("bad");
+    // Missing file.
+    match import::load(&d.join("missing.glb")) {
+        Err(SceneError::Io(m)) => assert!(m.contains("missing.glb"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+    // Not glTF.
+    std::fs::write(d.join("junk.gltf"), b"{not json").unwrap();
+    assert!(matches!(import::load(&d.join("junk.gltf")), Err(SceneError::Io(m)) if m.contains("not a valid glTF")));
+    // No triangles: a points primitive only.
+    let mut g = Gltf::new();
+    g.mesh(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2], None, 0, 0);
+    g.write(&d.join("points.gltf"));
+    assert_eq!(import::load(&d.join("points.gltf")).unwrap_err(), SceneError::Empty);
+    // NaN vertex.
+    room(UNIT_UV, f32::NAN).write(&d.join("nan.gltf"));
+    assert!(matches!(import::load(&d.join("nan.gltf")), Err(SceneError::NonFinite { what: "positions", .. })));
+    // Lightmap UV outside [0, 1].
+    room([[0.0, 0.0], [1.5, 0.0], [1.0, 1.0], [0.0, 1.0]], -1.0).write(&d.join("uv.gltf"));
+    assert!(matches!(import::load(&d.join("uv.gltf")), Err(SceneError::UvOutOfRange { u, .. }) if u == 1.5));
+    // Degenerate triangles: skipped and reported.
+    let mut g = room(UNIT_UV, -1.0);
+    g.mesh(&[[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]], &[0, 1, 2], None, 0, 4);
+    g.write(&d.join("degenerate.gltf"));
+    let (_, report) = import::load(&d.join("degenerate.gltf")).unwrap();
+    assert!(report.notes.iter().any(|n| n.contains("1 degenerate")), "{:?}", report.notes);
+    // The command reports the error and exits non-zero.
+    let o = baker(&["--scene", d.join("nan.gltf").to_str().unwrap(), "--device", "cpu", "--out", d.join("o").to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("NaN"));
+}
+
+/// Leave-out: with no glossy material the runtime gets no specular features and no LUT.
+#[test]
+fn scenes_without_gloss_leave_specular_out() {
+    let bases = [BasisKind::Ad9, BasisKind::Sg12, BasisKind::ShL2];
+    let (f, l) = runtime_features(&bases, false);
+    assert!(f.iter().all(|x| x.ends_with("irradiance")) && l.is_empty(), "{f:?} {l:?}");
+    let (f, l) = runtime_features(&bases, true);
+    assert!(f.contains(&"ad9-specular") && f.contains(&"sg-specular") && l == ["ad_specular_2d.sbflut"]);
+    let cfg = BakeConfig { seed: 1, max_bounces: 2, bases: bases.to_vec(), solver: Solver::Ls };
+    let k = baker::gpu::kernel(&cfg, false, false).unwrap();
+    assert!(!k.source.contains("fn ggx_d(") && k.left_out[0].starts_with("GGX layer"));
+    let d = tmp("furnace");
+    let o = baker(&[
+        "--scene",
+        "furnace",
+        "--device",
+        "cpu",
+        "--passes",
+        "2",
+        "--texels-per-unit",
+        "2",
+        "--probes",
+        "0,0,0",
+        "--out",
+        d.to_str().unwrap(),
+    ])
+    .output()
+    .unwrap();
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && log.contains("leave-out: no glossy material"), "{log}");
+    assert!(!d.join("ad_specular_2d.sbflut").exists());
+}
