@@ -459,8 +459,11 @@ impl<'g> GpuBake<'g> {
     }
 
     /// Measures rays per second over `passes` passes: primary-only dispatches (closest
-    /// hit of each path's first segment) and full ones, with ray counters on. The bake's
-    /// state is modified (use a throw-away bake).
+    /// hit of each path's first segment, no shading, no encoding) and full ones (paths,
+    /// shadow rays, and the per-sample encoders), counted in a separate run with ray
+    /// counters on. Secondary rays/s = (extension + shadow) / (full − primary time), so
+    /// shading and encoding are charged to the secondary rays. The bake's state is
+    /// modified (use a throw-away bake).
     pub fn time_rays(&mut self, passes: u64) -> Result<RayStats, String> {
         let mut s = RayStats::default();
         let q = self.gpu.queue();

@@ -13,7 +13,8 @@ use std::process::ExitCode;
     after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace` (test box), or a .gltf/.glb file.
+    /// Scene: `cornell` (built-in), `furnace` (test box), `dense` (cornell + a 1 M-triangle
+    /// sphere), or a .gltf/.glb file.
     #[arg(long, default_value = "cornell")]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
@@ -60,6 +61,10 @@ struct Cli {
     /// Preview image width in pixels.
     #[arg(long, default_value_t = 480)]
     preview_width: usize,
+    /// Measure GPU rays/s (primary and secondary) over this many passes instead of
+    /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
+    #[arg(long)]
+    measure_rays: Option<u64>,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
@@ -113,6 +118,7 @@ fn options(c: Cli) -> Result<Options, String> {
         probe_bases,
         preview_width: c.preview_width.max(8),
         quiet: d.quiet,
+        measure_rays: c.measure_rays,
     })
 }
 

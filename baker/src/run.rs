@@ -46,6 +46,8 @@ pub struct Options {
     pub preview_width: usize,
     /// No progress bar.
     pub quiet: bool,
+    /// Instead of baking: measure GPU rays/s over this many passes and print them.
+    pub measure_rays: Option<u64>,
 }
 
 impl Default for Options {
@@ -64,6 +66,7 @@ impl Default for Options {
             probes: Some([3, 3, 3]),
             probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
             preview_width: 480,
+            measure_rays: None,
             quiet: false,
         }
     }
@@ -85,6 +88,7 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
     let mut s = match name {
         "cornell" => scene::cornell(),
         "furnace" => scene::furnace(1.0, 0.5),
+        "dense" => scene::dense(1 << 20),
         path => {
             let (s, report) = crate::import::load(Path::new(path)).map_err(|e| e.to_string())?;
             for n in report.notes {
@@ -272,6 +276,24 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     log(format!("device: {device}"));
     let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
     let targets = Targets::lightmap(&lm);
+    if let Some(passes) = o.measure_rays {
+        let g = gpu.as_ref().ok_or("--measure-rays needs a GPU adapter")?;
+        let mut b = GpuBake::new(g, &tracer_of(), &targets, &o.config)?;
+        let r = b.time_rays(passes)?;
+        log(format!(
+            "rays over {passes} passes × {} texels: primary {} in {:.4} s = {:.3} G rays/s; secondary {} extension + {} shadow in {:.4} s (full − primary) = {:.3} G rays/s; all rays {:.3} G rays/s",
+            targets.items.len(),
+            r.primary,
+            r.primary_seconds,
+            r.primary_rate() * 1e-9,
+            r.extension,
+            r.shadow,
+            r.full_seconds - r.primary_seconds,
+            r.secondary_rate() * 1e-9,
+            (r.primary + r.extension + r.shadow) as f64 / r.full_seconds * 1e-9
+        ));
+        return Ok(Summary { device, lightmap: b.state()?, probes: None, passes_run: passes, seconds: t0.elapsed().as_secs_f64() });
+    }
     let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &targets, "lightmap", log)?;
     let mut probe_state = None;
     let mut probe_positions = Vec::new();

@@ -335,3 +335,39 @@ pub fn furnace(le: f32, albedo: f32) -> Scene {
     mat.emissive = Vec3::splat(le);
     Scene { name: "furnace".into(), meshes: room(1.0, [0; 6], None), materials: vec![mat], lights: vec![], environment: Environment::Black }
 }
+
+/// The built-in scene plus a displaced sphere of at least `min_triangles` triangles
+/// (not lightmapped: it only makes rays expensive) — the ray-throughput test scene.
+pub fn dense(min_triangles: usize) -> Scene {
+    let mut s = cornell();
+    // A UV sphere has 2·nu·nv triangles (poles included as thin quads' halves).
+    let nv = ((min_triangles as f64 / 4.0).sqrt().ceil() as usize).max(4);
+    let nu = 2 * nv;
+    let (centre, r0) = (Vec3::new(0.4, 0.1, 0.35), 0.3f32);
+    let mut positions = Vec::with_capacity((nu + 1) * (nv + 1));
+    let mut normals = Vec::with_capacity(positions.capacity());
+    for j in 0..=nv {
+        let th = std::f32::consts::PI * j as f32 / nv as f32;
+        for i in 0..=nu {
+            let ph = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
+            let d = Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin());
+            // A bumpy surface: ±5% radius at 12 cycles per turn.
+            let r = r0 * (1.0 + 0.05 * (12.0 * th).sin() * (12.0 * ph).sin());
+            positions.push(centre + d * r);
+            normals.push(d);
+        }
+    }
+    let mut indices = Vec::with_capacity(2 * nu * nv);
+    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+    for j in 0..nv {
+        for i in 0..nu {
+            indices.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
+            indices.push([at(i, j), at(i, j + 1), at(i + 1, j + 1)]);
+        }
+    }
+    s.materials.push(Material::lambert(Vec3::splat(0.6)));
+    let material = s.materials.len() - 1;
+    s.meshes.push(Mesh { name: "dense sphere".into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: false });
+    s.name = "dense".into();
+    s
+}

@@ -500,8 +500,13 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         weight = 1.0;
     }
     let l = incoming(origin, dir, &rng);
-    let e = l * weight;
     let out = i;
+    if (P.primary_only == 1u) {
+        // Timing mode: keep the traced result live with one write, skip the encoders.
+        moments[2u * out] += vec4<f32>(l, 0.0);
+        return;
+    }
+    let e = l * weight;
     moments[2u * out] += vec4<f32>(e, 0.0);
     moments[2u * out + 1u] += vec4<f32>(e * e, 0.0);
     encode(out, local, l);
