@@ -1,14 +1,22 @@
 //! # baker — bakes lightmaps and light probes into any `sbf` basis, progressively
 //!
-//! - [`scene`]: meshes, materials (Lambert + GGX layers), lights, environment, and the
-//!   built-in scenes ([`scene::cornell`], the default; [`scene::furnace`] for tests).
+//! - [`scene`]: meshes, materials (Lambert + GGX layers), lights, environment (analytic
+//!   sky or a lat-long map), and the built-in scenes ([`scene::cornell`], the default;
+//!   [`scene::furnace`] for tests; [`scene::dense`] with a 1 M-triangle sphere for timing).
+//! - [`import`]: glTF 2.0 (TEXCOORD_1 lightmap UVs, metallic/roughness, emission,
+//!   KHR_lights_punctual) with a report of what was skipped.
 //! - [`bvh`]: binned-SAH BVH flattened into GPU-shaped nodes, CPU traversal.
-//! - [`lightmap`]: planar charts, shelf packing, 16 sub-texel sample positions per texel.
-//! - [`trace`]: the path-traced L_in estimator (NEE + MIS, Russian roulette).
-//! - [`bake`]: progressive passes feeding plain irradiance and the per-sample encoders.
-//!
-//! Status: the CPU reference path. The wgpu path (WGSL traversal with the `shaders`
-//! progressive update), glTF import, probes, checkpoints and previews follow.
+//! - [`lightmap`]: planar charts (or the mesh's own UVs), shelf packing, 16 sub-texel
+//!   sample positions per texel with a coverage mask.
+//! - [`trace`]: the path-traced L_in estimator (NEE + MIS, Russian roulette), CPU.
+//! - [`bake`]: targets (texels or probes), progressive passes feeding plain irradiance
+//!   and the per-sample encoders on the CPU (the reference path), the shared state.
+//! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
+//!   progressive update, composed per bake; ray-throughput measurement.
+//! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
+//! - [`output`]: EXR images with a validity alpha, dilation, metadata, runtime WGSL,
+//!   preview PNG.
+//! - [`run`]: a whole bake as the `baker` command runs it.
 
 pub mod bake;
 pub mod bvh;
