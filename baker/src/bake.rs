@@ -9,11 +9,15 @@
 //! results are identical for any thread count and a resumed bake equals an
 //! uninterrupted one.
 //!
-//! Each radiance sample L_in(ω) is (a) accumulated as plain irradiance E/π = 2·L·cosθ
-//! (uniform hemisphere pdf 1/2π; probes accumulate L, the sphere mean), with its second
-//! moment for a standard error, and (b) added to every configured basis's progressive
-//! encoder (sbf's `ProgressiveEncoder<f32>`, the twin of the WGSL update), in tangent
-//! space (normal +Z) for texels, world space for probes.
+//! Each pass at an item yields a point sample L_in(ω_s) and light samples (ω_l, c_l)
+//! (`trace::Tracer::sample_point`). They are (a) accumulated as plain irradiance
+//! E/π = 2·L·cosθ_s + Σ c_l·cosθ_l/π (uniform hemisphere pdf 1/2π; probes accumulate the
+//! sphere mean of L: L + Σ c_l/4π), with its second moment for a standard error, and
+//! (b) added to every configured basis's progressive encoder (sbf's
+//! `ProgressiveEncoder<f32>`, the twin of the WGSL update) with the light samples as
+//! known projections p_s·c_l at ω_l, in tangent space (normal +Z) for texels, world
+//! space for probes. A sample whose first hit is a single-sided back face is rejected
+//! and counted; the means divide by the accepted count.
 
 use crate::lightmap::{frame, Lightmap, SurfacePoint};
 use crate::trace::Tracer;
@@ -82,6 +86,11 @@ impl BasisKind {
         let n = if self == BasisKind::Sg9 { 9 } else { 12 };
         (sbf::layout::vogel_hemisphere(n).expect("vogel layout"), SG_HEMISPHERE_SHARPNESS)
     }
+    /// Whether every basis function is ≥ 0 (so a non-negativity constraint on the
+    /// coefficients means something): SG and Ambient Dice SRBF lobes, not SH.
+    pub fn non_negative(self) -> bool {
+        !matches!(self, BasisKind::ShL1 | BasisKind::ShL2)
+    }
     /// Whether the basis covers the whole sphere (else the upper hemisphere).
     pub fn is_sphere(self) -> bool {
         matches!(self, BasisKind::ShL1 | BasisKind::ShL2 | BasisKind::Ad12)
@@ -109,10 +118,13 @@ impl BakeConfig {
     /// eq. 7.15 denominator at acceleration [`BAKE_ACCELERATION`]; sphere bases on
     /// texels see only the upper hemisphere, so mirrored zero samples pin the lower half
     /// (seed §7.3's hemisphere handling); probes sample the whole sphere.
+    /// NNLS applies only to bases whose functions are non-negative (SG, Ambient Dice):
+    /// SH coefficients of a non-negative signal are legitimately negative, so SH is
+    /// always least squares ([`BasisKind::non_negative`]).
     pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
         let opts = match self.solver {
-            Solver::Ls => ProgressiveOptions::default(),
-            Solver::Nnls => ProgressiveOptions::non_negative(),
+            Solver::Nnls if basis.non_negative() => ProgressiveOptions::non_negative(),
+            _ => ProgressiveOptions::default(),
         };
         ProgressiveOptions { acceleration: BAKE_ACCELERATION, mirror_hemisphere: basis.is_sphere() && !sphere_targets, ..opts }
     }
@@ -166,11 +178,81 @@ impl Targets {
     }
 }
 
-/// Per-item accumulation of the plain estimate (E/π, or L for probes) and its square.
+impl Targets {
+    /// Turns a traced point sample into the item's frame: the light samples' directions
+    /// (tangent frame about `normal` for texels) with c scaled by the point sample's pdf
+    /// p_s (1/2π, 1/4π), and the plain estimate's sample (`w`: 2cosθ or 1).
+    pub fn item_sample(&self, normal: Vec3, local: DVec3, w: f32, s: crate::trace::PointSample) -> ItemSample {
+        let (tn, bn) = frame(normal);
+        let to_local = |d: Vec3| -> DVec3 {
+            if self.sphere {
+                d.as_dvec3()
+            } else {
+                DVec3::new(d.dot(tn) as f64, d.dot(bn) as f64, d.dot(normal) as f64)
+            }
+        };
+        let p_s = if self.sphere { 0.25 / std::f64::consts::PI } else { 0.5 / std::f64::consts::PI };
+        let mut estimate = s.radiance * w;
+        let mut lights = Vec::with_capacity(s.lights.len());
+        for (d, c) in &s.lights {
+            let ld = to_local(*d);
+            // E/π gains c·cosθ/π (texels) or the sphere mean gains c/4π (probes).
+            let k = if self.sphere { p_s } else { ld.z.max(0.0) / std::f64::consts::PI };
+            estimate += *c * k as f32;
+            lights.push((ld, [c.x as f64 * p_s, c.y as f64 * p_s, c.z as f64 * p_s]));
+        }
+        ItemSample { local, radiance: s.radiance, lights, estimate, back_face: s.back_face }
+    }
+}
+
+/// Per-item accumulation of the plain estimate (E/π, or L for probes) and its square,
+/// over accepted samples; and the counts of accepted and back-face-rejected samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Moments {
     pub sum: [f64; 3],
     pub sum_sq: [f64; 3],
+    pub accepted: u64,
+    pub back_faces: u64,
+    /// Samples whose value overflowed f32 (a light of extreme intensity very close to
+    /// the point): dropped from the estimate and the encoders, counted and reported.
+    pub non_finite: u64,
+}
+
+impl Moments {
+    /// Fraction of this item's samples that met a back face first (0 without samples).
+    pub fn back_face_fraction(&self) -> f64 {
+        let n = self.accepted + self.back_faces;
+        if n == 0 {
+            0.0
+        } else {
+            self.back_faces as f64 / n as f64
+        }
+    }
+}
+
+/// An item with more than this fraction of back-face samples is inside geometry:
+/// invalid (texels: alpha 0 and dilated over; probes: flagged).
+pub const MAX_BACK_FACE_FRACTION: f64 = 0.5;
+
+/// One pass's result at an item, in the item's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ItemSample {
+    /// The point sample's direction (tangent space for texels, world for probes).
+    pub local: DVec3,
+    pub radiance: Vec3,
+    /// Known projections: (direction in the item's frame, p_s·c_l) per light sample.
+    pub lights: Vec<(DVec3, [f64; 3])>,
+    /// The plain estimate's sample (E/π for texels, sphere-mean L for probes).
+    pub estimate: Vec3,
+    /// Rejected: the first hit was a single-sided back face.
+    pub back_face: bool,
+}
+
+impl ItemSample {
+    /// Whether every value is finite (else the sample is dropped and counted).
+    pub fn is_finite(&self) -> bool {
+        self.radiance.is_finite() && self.estimate.is_finite() && self.lights.iter().all(|(_, c)| c.iter().all(|x| x.is_finite()))
+    }
 }
 
 /// The progressive state of a bake: everything needed to continue it.
@@ -198,18 +280,24 @@ impl BakeState {
         BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders }
     }
 
-    /// Mean estimate per item (E/π for texels, mean L for probes).
+    /// Mean estimate per item over its accepted samples (E/π for texels, mean L for
+    /// probes; 0 for an item with none).
     pub fn mean(&self) -> Vec<[f64; 3]> {
-        let n = self.passes.max(1) as f64;
-        self.moments.iter().map(|m| m.sum.map(|s| s / n)).collect()
+        self.moments.iter().map(|m| m.sum.map(|s| s / m.accepted.max(1) as f64)).collect()
     }
 
-    /// Standard error of the mean per item and channel (∞ below two passes).
+    /// Whether each item is valid: some accepted samples and a back-face fraction of at
+    /// most [`MAX_BACK_FACE_FRACTION`].
+    pub fn valid(&self) -> Vec<bool> {
+        self.moments.iter().map(|m| m.accepted > 0 && m.back_face_fraction() <= MAX_BACK_FACE_FRACTION).collect()
+    }
+
+    /// Standard error of the mean per item and channel (∞ below two accepted samples).
     pub fn standard_error(&self) -> Vec<[f64; 3]> {
-        let n = self.passes as f64;
         self.moments
             .iter()
             .map(|m| {
+                let n = m.accepted as f64;
                 std::array::from_fn(|c| {
                     if n < 2.0 {
                         return f64::INFINITY;
@@ -268,40 +356,50 @@ impl<'a> Bake<'a> {
         self.pass_samples();
     }
 
-    /// Runs one pass and returns its samples per item: (direction in the item's frame,
-    /// L_in, E/π weight) — e.g. to fit the same samples in batch.
-    pub fn pass_samples(&mut self) -> Vec<(DVec3, Vec3, f32)> {
+    /// Runs one pass and returns its samples per item — e.g. to fit the same samples in
+    /// batch.
+    pub fn pass_samples(&mut self) -> Vec<ItemSample> {
         let p = self.state.passes;
         let seed = self.config.seed;
         let tracer = &self.tracer;
         let tg = self.targets;
         // Trace in parallel, then feed the encoders per item (the samples are kept so
         // that each item's update order is the pass order on any thread count).
-        let samples: Vec<(DVec3, Vec3, f32)> = tg
+        let samples: Vec<ItemSample> = tg
             .items
             .par_iter()
             .map(|&[first, count, id]| {
                 let pt = &tg.points[(first as u64 + p % count as u64) as usize];
                 let (local, dir, w) = tg.direction(seed, id, p, pt.normal);
                 let mut rng = Pcg32::new(seed.wrapping_add(p.wrapping_mul(0x2545_F491_4F6C_DD1D)), id as u64);
-                let n = if tg.sphere { dir } else { pt.normal };
-                let l = tracer.incoming(pt.position, n, dir, &mut rng);
-                (local, l, w)
+                let normal = (!tg.sphere).then_some(pt.normal);
+                let s = tracer.sample_point(pt.position, normal, dir, &mut rng);
+                tg.item_sample(pt.normal, local, w, s)
             })
             .collect();
-        self.state.moments.par_iter_mut().zip(samples.par_iter()).for_each(|(m, (_, l, w))| {
-            let e = *l * *w;
+        self.state.moments.par_iter_mut().zip(samples.par_iter()).for_each(|(m, s)| {
+            if s.back_face {
+                m.back_faces += 1;
+                return;
+            }
+            if !s.is_finite() {
+                m.non_finite += 1;
+                return;
+            }
+            m.accepted += 1;
             for c in 0..3 {
-                m.sum[c] += e[c] as f64;
-                m.sum_sq[c] += (e[c] as f64).powi(2);
+                m.sum[c] += s.estimate[c] as f64;
+                m.sum_sq[c] += (s.estimate[c] as f64).powi(2);
             }
         });
         for (b, encs) in self.state.encoders.iter_mut().enumerate() {
             let basis = &self.bases[b];
-            encs.par_iter_mut().zip(samples.par_iter()).for_each(|(enc, (local, l, _))| {
-                // Finite by construction (the estimator never returns NaN/Inf from
-                // finite scene data); an error here would be a bug worth a panic.
-                enc.add_sample(basis.as_ref(), *local, [l.x as f64, l.y as f64, l.z as f64], 1.0).expect("finite radiance sample");
+            encs.par_iter_mut().zip(samples.par_iter()).filter(|(_, s)| !s.back_face && s.is_finite()).for_each(|(enc, s)| {
+                let l = [s.radiance.x as f64, s.radiance.y as f64, s.radiance.z as f64];
+                // Finite (checked above) and of the encoder's size: cannot fail.
+                if let Err(e) = enc.add_sample_projected(basis.as_ref(), s.local, l, 1.0, &s.lights) {
+                    panic!("encoder refused a finite sample: {e}");
+                }
             });
         }
         self.state.passes += 1;

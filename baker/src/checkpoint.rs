@@ -4,7 +4,8 @@
 //!
 //! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
 //! (scene, layout, seed, bounces, bases, solver: a resumed bake must be the same bake);
-//! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments;
+//! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
+//! and the u64 counts of accepted, back-face and non-finite samples;
 //! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
 //! weight) and the u64 update count. f32 state round-trips exactly, so a resumed bake
 //! continues bit for bit.
@@ -14,7 +15,7 @@ use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"SBFBAKE1";
+const MAGIC: &[u8; 8] = b"SBFBAKE2";
 
 /// FNV-1a 64 of a description of the bake (its identity).
 pub fn fingerprint(identity: &str) -> u64 {
@@ -36,6 +37,9 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
     for m in &state.moments {
         for x in m.sum.iter().chain(&m.sum_sq) {
             v.extend_from_slice(&x.to_le_bytes());
+        }
+        for n in [m.accepted, m.back_faces, m.non_finite] {
+            v.extend_from_slice(&n.to_le_bytes());
         }
     }
     for encs in &state.encoders {
@@ -108,7 +112,8 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
         for v in x.iter_mut() {
             *v = r.f64()?;
         }
-        *m = Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]] };
+        let (accepted, back_faces, non_finite) = (r.u64()?, r.u64()?, r.u64()?);
+        *m = Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]], accepted, back_faces, non_finite };
     }
     for (b, encs) in state.encoders.iter_mut().enumerate() {
         let opts = config.encoder_options(config.bases[b], targets.sphere);
@@ -138,5 +143,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     f.write_all(bytes).map_err(|e| format!("writing {}: {e}", tmp.display()))?;
     f.sync_all().map_err(|e| format!("syncing {}: {e}", tmp.display()))?;
     drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| format!("renaming {} to {}: {e}", tmp.display(), path.display()))
+    std::fs::rename(&tmp, path).map_err(|e| format!("renaming {} to {}: {e}", tmp.display(), path.display()))?;
+    // The rename is durable only once the directory entry is (POSIX): sync the folder.
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    #[cfg(unix)]
+    std::fs::File::open(dir).and_then(|d| d.sync_all()).map_err(|e| format!("syncing {}: {e}", dir.display()))?;
+    #[cfg(not(unix))]
+    let _ = dir;
+    Ok(())
 }

@@ -13,6 +13,7 @@
 
 use crate::bake::{BakeConfig, BakeState, BasisKind, Moments, Targets};
 use crate::scene::{Environment, Light};
+use sbf::glam::Vec3;
 use crate::trace::{specular_probability, Tracer};
 use shaders::gpu::Gpu;
 use shaders::progressive::{EncoderParams, EncoderState};
@@ -30,7 +31,7 @@ pub struct TraceParams {
     pub light_count: u32,
     pub env_kind: u32,
     pub mode: u32,
-    pub epsilon: f32,
+    pub env_cells_offset: u32,
     pub inv_total_power: f32,
     pub count_rays: u32,
     pub primary_only: u32,
@@ -38,6 +39,10 @@ pub struct TraceParams {
     pub emitter_offset: u32,
     pub env_offset: u32,
     pub env_width: u32,
+    pub env_rows_offset: u32,
+    pub env_cdf_width: u32,
+    pub env_cdf_height: u32,
+    pub pad0: u32,
     pub env0: [f32; 4],
     pub env1: [f32; 4],
     pub env2: [f32; 4],
@@ -54,7 +59,7 @@ shaders::gpu_struct!(
         light_count,
         env_kind,
         mode,
-        epsilon,
+        env_cells_offset,
         inv_total_power,
         count_rays,
         primary_only,
@@ -62,6 +67,10 @@ shaders::gpu_struct!(
         emitter_offset,
         env_offset,
         env_width,
+        env_rows_offset,
+        env_cdf_width,
+        env_cdf_height,
+        pad0,
         env0,
         env1,
         env2
@@ -93,12 +102,15 @@ fn v3(a: sbf::glam::DVec3) -> String {
 
 /// Composes the bake kernel for `config` (`glossy`: whether any material has a GGX layer).
 pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
-    let mut roots = vec!["progressive_update", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
+    let mut roots = vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
     if glossy {
         roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
     }
     let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
     let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
+    // Known projections of the baked point's light samples, per basis (sbf
+    // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
+    let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
     for (k, b) in config.bases.iter().enumerate() {
         let lobes = b.basis().len();
         let body = match b {
@@ -144,7 +156,9 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             p.denominator,
             tm.join(", ")
         );
-        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update(&st, ENCODER_{k}, basis_{k}(d), l, 1.0);\n");
+        gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
+        project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
+        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, 1.0, Q_{k});\n");
         if mirror {
             // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
             encode += &format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), 1.0);\n");
@@ -152,6 +166,8 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         encode += "        states[s] = st;\n    }\n";
     }
     encode += "}\n";
+    project += "}\n";
+    encode += &project;
     let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
     let lib = shaders::compose::compose_roots(config_name, &roots)?;
     let mut left_out = Vec::new();
@@ -206,43 +222,67 @@ pub struct GpuBake<'g> {
     pub kernel: Kernel,
 }
 
-/// Materials, lights and emitters packed as vec4s (see `aux` in trace.wgsl).
-fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, u32, u32, u32, u32) {
+/// Offsets (in vec4s) of the parts of `aux` (see trace.wgsl).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct AuxLayout {
+    lights: u32,
+    emitters: u32,
+    emitter_count: u32,
+    env_texels: u32,
+    env_rows: u32,
+    env_cells: u32,
+    env_cdf: (u32, u32),
+}
+
+/// Materials, lights, emitters, the environment map and its sampler packed as vec4s
+/// (see `aux` in trace.wgsl).
+fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, AuxLayout) {
     let mut aux = Vec::new();
+    let mut at = AuxLayout::default();
     for m in &tracer.scene.materials {
         let (d, f0, e) = (m.diffuse_albedo(), m.specular_f0(), m.emissive);
+        let flags = m.is_glossy() as u32 | (m.double_sided as u32) << 1;
         aux.push([d.x, d.y, d.z, specular_probability(m) as f32]);
         aux.push([f0.x, f0.y, f0.z, m.alpha()]);
-        aux.push([e.x, e.y, e.z, if m.is_glossy() { 1.0 } else { 0.0 }]);
+        aux.push([e.x, e.y, e.z, flags as f32]);
     }
-    let light_offset = aux.len() as u32;
+    at.lights = aux.len() as u32;
     for l in &tracer.scene.lights {
-        match *l {
-            Light::Directional { direction: d, irradiance: e } => {
-                aux.push([d.x, d.y, d.z, 0.0]);
-                aux.push([e.x, e.y, e.z, 0.0]);
+        // 4 vec4 per light: (position or direction, kind), (colour, range),
+        // (spot axis, cos inner), (cos outer, 0, 0, 0).
+        let (a, kind, c, range, axis, ci, co) = match *l {
+            Light::Directional { direction, irradiance } => (direction, 0.0, irradiance, f32::INFINITY, Vec3::Z, 1.0, -1.0),
+            Light::Point { position, intensity, range } => (position, 1.0, intensity, range, Vec3::Z, 1.0, -1.0),
+            Light::Spot { position, direction, intensity, cos_inner, cos_outer, range } => {
+                (position, 2.0, intensity, range, direction, cos_inner, cos_outer)
             }
-            Light::Point { position: p, intensity: i } => {
-                aux.push([p.x, p.y, p.z, 1.0]);
-                aux.push([i.x, i.y, i.z, 0.0]);
-            }
-        }
+        };
+        aux.push([a.x, a.y, a.z, kind]);
+        aux.push([c.x, c.y, c.z, if range.is_finite() { range } else { -1.0 }]);
+        aux.push([axis.x, axis.y, axis.z, ci]);
+        aux.push([co, 0.0, 0.0, 0.0]);
     }
-    let emitter_offset = aux.len() as u32;
-    let mut emitters = 0;
+    at.emitters = aux.len() as u32;
     for (tri, cdf) in tracer.emitter_table() {
         aux.push([f32::from_bits(tri), cdf as f32, 0.0, 0.0]);
-        emitters += 1;
+        at.emitter_count += 1;
     }
     // The last CDF entry is 1 up to rounding; the search clamps to the last emitter.
-    let env_offset = aux.len() as u32;
+    at.env_texels = aux.len() as u32;
     if let Environment::Map(m) = &tracer.scene.environment {
         aux.extend(m.texels.iter().map(|t| [t[0], t[1], t[2], 0.0]));
+    }
+    if let Some(env) = &tracer.env {
+        at.env_rows = aux.len() as u32;
+        aux.extend(env.row_cdf.iter().map(|c| [*c, 0.0, 0.0, 0.0]));
+        at.env_cells = aux.len() as u32;
+        aux.extend(env.col_cdf.iter().zip(&env.cell_p).map(|(c, p)| [*c, *p, 0.0, 0.0]));
+        at.env_cdf = (env.width as u32, env.height as u32);
     }
     if aux.is_empty() {
         aux.push([0.0; 4]);
     }
-    (aux, light_offset, emitter_offset, emitters, env_offset)
+    (aux, at)
 }
 
 impl<'g> GpuBake<'g> {
@@ -269,7 +309,21 @@ impl<'g> GpuBake<'g> {
             compilation_options: Default::default(),
             cache: None,
         });
-        let (aux, light_offset, emitter_offset, emitter_count, env_offset) = aux_data(tracer);
+        let (aux, at) = aux_data(tracer);
+        let limits = d.limits();
+        let max_binding = limits.max_storage_buffer_binding_size as u64;
+        for (what, bytes) in [
+            ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
+            ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
+            ("materials, lights and environment", (aux.len() * 16) as u64),
+            ("sample points", (targets.points.len() * 32) as u64),
+        ] {
+            if bytes > max_binding {
+                return Err(format!(
+                    "{what}: {bytes} bytes exceed the adapter's storage-buffer binding limit of {max_binding} bytes (bake on the CPU with --device cpu, or simplify the scene)"
+                ));
+            }
+        }
         let (env_kind, env) = match tracer.scene.environment {
             Environment::Black => (0, [[0.0; 4]; 3]),
             Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
@@ -288,18 +342,22 @@ impl<'g> GpuBake<'g> {
             seed: (config.seed ^ (config.seed >> 32)) as u32,
             item_count: items as u32,
             max_bounces: config.max_bounces,
-            emitter_count,
+            emitter_count: at.emitter_count,
             light_count: tracer.scene.lights.len() as u32,
             env_kind,
             mode: targets.sphere as u32,
-            epsilon: tracer.epsilon,
+            env_cells_offset: at.env_cells,
             inv_total_power: if tracer.total_power > 0.0 { (1.0 / tracer.total_power) as f32 } else { 0.0 },
             count_rays: 0,
             primary_only: 0,
-            light_offset,
-            emitter_offset,
-            env_offset,
+            light_offset: at.lights,
+            emitter_offset: at.emitters,
+            env_offset: at.env_texels,
             env_width,
+            env_rows_offset: at.env_rows,
+            env_cdf_width: at.env_cdf.0,
+            env_cdf_height: at.env_cdf.1,
+            pad0: 0,
             env0: env[0],
             env1: env[1],
             env2: env[2],
@@ -325,7 +383,7 @@ impl<'g> GpuBake<'g> {
         let pts: Vec<[f32; 4]> =
             targets.points.iter().flat_map(|p| [p.position.extend(1.0).to_array(), p.normal.extend(0.0).to_array()]).collect();
         let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
-        let moments_buf = storage("moments", &vec![0u8; items * 32], rw);
+        let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
         let states_len = (config.bases.len() * items).max(1) * std::mem::size_of::<EncoderState>();
         let limit = d.limits().max_storage_buffer_binding_size as usize;
         if states_len > limit {
@@ -400,7 +458,13 @@ impl<'g> GpuBake<'g> {
     pub fn state(&self) -> Result<BakeState, String> {
         let m: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.moments_buf)?);
         let moments = (0..self.items)
-            .map(|i| Moments { sum: std::array::from_fn(|c| m[2 * i][c] as f64), sum_sq: std::array::from_fn(|c| m[2 * i + 1][c] as f64) })
+            .map(|i| Moments {
+                sum: std::array::from_fn(|c| m[3 * i][c] as f64),
+                sum_sq: std::array::from_fn(|c| m[3 * i + 1][c] as f64),
+                accepted: m[3 * i][3] as u64,
+                back_faces: m[3 * i + 1][3] as u64,
+                non_finite: m[3 * i + 2][0] as u64,
+            })
             .collect();
         let raw: Vec<EncoderState> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.states_buf)?);
         let mut encoders = Vec::new();
@@ -431,8 +495,9 @@ impl<'g> GpuBake<'g> {
             .iter()
             .flat_map(|m| {
                 [
-                    [m.sum[0] as f32, m.sum[1] as f32, m.sum[2] as f32, 0.0],
-                    [m.sum_sq[0] as f32, m.sum_sq[1] as f32, m.sum_sq[2] as f32, 0.0],
+                    [m.sum[0] as f32, m.sum[1] as f32, m.sum[2] as f32, m.accepted as f32],
+                    [m.sum_sq[0] as f32, m.sum_sq[1] as f32, m.sum_sq[2] as f32, m.back_faces as f32],
+                    [m.non_finite as f32, 0.0, 0.0, 0.0],
                 ]
             })
             .collect();

@@ -1,7 +1,8 @@
 //! glTF 2.0 import (the `gltf` crate, without its `import` feature): triangle
 //! primitives of the default scene's node tree in world space, lightmap UVs from
-//! TEXCOORD_1, metallic/roughness materials with emission, and KHR_lights_punctual
-//! directional and point lights (spot lights are taken as point lights, and said so).
+//! TEXCOORD_1, metallic/roughness materials with emission (× KHR_materials_emissive_strength)
+//! and `doubleSided`, and KHR_lights_punctual directional, point and spot lights (cones
+//! and ranges honoured).
 //! Buffers come from the GLB blob, external files next to the asset, or base64 data URIs.
 //! Everything skipped is listed in the [`ImportReport`]; bad data is a [`SceneError`].
 
@@ -93,7 +94,8 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         let c = pbr.base_color_factor();
         let mut mat = Material::glossy(Vec3::new(c[0], c[1], c[2]), pbr.roughness_factor());
         mat.metallic = pbr.metallic_factor();
-        mat.emissive = Vec3::from(m.emissive_factor());
+        mat.emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
+        mat.double_sided = m.double_sided();
         if pbr.base_color_texture().is_some() || pbr.metallic_roughness_texture().is_some() || m.emissive_texture().is_some() {
             report.notes.push(format!("material '{}': textures are not sampled (factors used)", m.name().unwrap_or("?")));
         }
@@ -118,13 +120,21 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
                     let towards = world.transform_vector3(Vec3::Z).normalize();
                     scene.lights.push(Light::Directional { direction: towards, irradiance: col });
                 }
-                kind => {
-                    if matches!(kind, gltf::khr_lights_punctual::Kind::Spot { .. }) {
-                        report
-                            .notes
-                            .push(format!("light '{}': spot light taken as a point light (cone ignored)", light.name().unwrap_or("?")));
-                    }
-                    scene.lights.push(Light::Point { position: world.transform_point3(Vec3::ZERO), intensity: col });
+                gltf::khr_lights_punctual::Kind::Point => {
+                    let range = light.range().unwrap_or(f32::INFINITY);
+                    scene.lights.push(Light::Point { position: world.transform_point3(Vec3::ZERO), intensity: col, range });
+                }
+                gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+                    // The spot shines along the node's −Z.
+                    let direction = world.transform_vector3(-Vec3::Z).normalize();
+                    scene.lights.push(Light::Spot {
+                        position: world.transform_point3(Vec3::ZERO),
+                        direction,
+                        intensity: col,
+                        cos_inner: inner_cone_angle.cos(),
+                        cos_outer: outer_cone_angle.cos(),
+                        range: light.range().unwrap_or(f32::INFINITY),
+                    });
                 }
             }
         }

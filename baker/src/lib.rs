@@ -8,7 +8,10 @@
 //! - [`bvh`]: binned-SAH BVH flattened into GPU-shaped nodes, CPU traversal.
 //! - [`lightmap`]: planar charts (or the mesh's own UVs), shelf packing, 16 sub-texel
 //!   sample positions per texel with a coverage mask.
-//! - [`trace`]: the path-traced L_in estimator (NEE + MIS, Russian roulette), CPU.
+//! - [`lights`]: delta lights at a point (directional, point, spot with cone and range),
+//!   the self-intersection-safe ray offset, the environment's importance sampler.
+//! - [`trace`]: the path-traced L_in estimator with next-event estimation of every light
+//!   kind at the baked point and along the path (MIS), Russian roulette, CPU.
 //! - [`bake`]: targets (texels or probes), progressive passes feeding plain irradiance
 //!   and the per-sample encoders on the CPU (the reference path), the shared state.
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
@@ -24,6 +27,7 @@ pub mod checkpoint;
 pub mod gpu;
 pub mod import;
 pub mod lightmap;
+pub mod lights;
 pub mod output;
 pub mod run;
 pub mod scene;

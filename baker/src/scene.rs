@@ -21,20 +21,24 @@ pub struct Material {
     pub specular: f32,
     /// Emitted radiance (W/(m²·sr), linear RGB).
     pub emissive: Vec3,
+    /// glTF `doubleSided`. A single-sided surface has no back: a baked point whose
+    /// sample ray first meets a back face is inside geometry, and the sample is
+    /// rejected and counted (texel validity). Reflection is two-sided either way.
+    pub double_sided: bool,
 }
 
 impl Material {
     /// Pure Lambert with albedo `c`.
     pub fn lambert(c: Vec3) -> Self {
-        Material { base_color: c, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: Vec3::ZERO }
+        Material { base_color: c, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: Vec3::ZERO, double_sided: false }
     }
     /// glTF-style dielectric with GGX roughness.
     pub fn glossy(c: Vec3, roughness: f32) -> Self {
-        Material { base_color: c, metallic: 0.0, roughness, specular: 1.0, emissive: Vec3::ZERO }
+        Material { base_color: c, metallic: 0.0, roughness, specular: 1.0, emissive: Vec3::ZERO, double_sided: false }
     }
     /// A black emitter.
     pub fn emitter(radiance: Vec3) -> Self {
-        Material { base_color: Vec3::ZERO, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: radiance }
+        Material { base_color: Vec3::ZERO, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: radiance, double_sided: false }
     }
     /// Albedo of the Lambert layer: base·(1 − metallic).
     pub fn diffuse_albedo(&self) -> Vec3 {
@@ -71,13 +75,18 @@ pub struct Mesh {
     pub lightmapped: bool,
 }
 
-/// Light sources other than emissive triangles.
+/// Delta light sources (area lights are emissive triangles: see [`disk_light`] and
+/// [`sphere_light`]). Evaluation: [`crate::lights`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
     /// Direction *towards* the light (unit) and irradiance at normal incidence (W/m²).
     Directional { direction: Vec3, irradiance: Vec3 },
-    /// Point light: intensity (W/sr).
-    Point { position: Vec3, intensity: Vec3 },
+    /// Point light: intensity (W/sr); `range` > 0 windows the falloff to zero at that
+    /// distance (KHR_lights_punctual; ∞ = unbounded).
+    Point { position: Vec3, intensity: Vec3, range: f32 },
+    /// Spot light: a point light shining along unit `direction`, with the smooth cone of
+    /// KHR_lights_punctual between the cosines of its inner and outer angles.
+    Spot { position: Vec3, direction: Vec3, intensity: Vec3, cos_inner: f32, cos_outer: f32, range: f32 },
 }
 
 /// Radiance arriving from directions that leave the scene.
@@ -159,6 +168,7 @@ pub enum SceneError {
     BadMaterialValue { material: usize, what: &'static str },
     LengthMismatch { mesh: String, what: &'static str },
     UvOutOfRange { mesh: String, u: f32, v: f32 },
+    BadLight { light: usize, what: &'static str },
     Io(String),
 }
 
@@ -174,6 +184,7 @@ impl std::fmt::Display for SceneError {
             SceneError::UvOutOfRange { mesh, u, v } => {
                 write!(f, "mesh '{mesh}': lightmap UV ({u}, {v}) outside [0, 1] (lightmap UVs must lie in the unit square)")
             }
+            SceneError::BadLight { light, what } => write!(f, "light {light}: {what}"),
             SceneError::Io(s) => write!(f, "{s}"),
         }
     }
@@ -195,6 +206,9 @@ impl Scene {
             if m.base_color.min_element() < 0.0 || m.base_color.max_element() > 1.0 || m.emissive.min_element() < 0.0 {
                 return Err(SceneError::BadMaterialValue { material: k, what: "base colour outside [0, 1] or negative emission" });
             }
+        }
+        for (k, l) in self.lights.iter().enumerate() {
+            crate::lights::validate(l).map_err(|what| SceneError::BadLight { light: k, what })?;
         }
         for m in &self.meshes {
             if m.positions.iter().any(|p| !p.is_finite()) {
@@ -295,6 +309,49 @@ fn room(h: f32, material: [usize; 6], window: Option<(f32, f32, f32, f32)>) -> V
         }
     }
     m
+}
+
+/// A disk area light: a fan of `segments` emissive triangles (normal `normal`, one-sided)
+/// whose polygon has the disk's area (circumradius r·√(2π/(n·sin(2π/n)))). Not lightmapped.
+pub fn disk_light(name: &str, centre: Vec3, normal: Vec3, radius: f32, material: usize, segments: usize) -> Mesh {
+    let n = normal.normalize();
+    let (t, b) = crate::lightmap::frame(n);
+    let k = segments.max(3);
+    let step = 2.0 * std::f64::consts::PI / k as f64;
+    let rc = radius as f64 * (2.0 * std::f64::consts::PI / (k as f64 * step.sin())).sqrt();
+    let mut positions = vec![centre];
+    for i in 0..k {
+        let a = step * i as f64;
+        positions.push(centre + (t * a.cos() as f32 + b * a.sin() as f32) * rc as f32);
+    }
+    let indices = (0..k as u32).map(|i| [0, 1 + i, 1 + (i + 1) % k as u32]).collect();
+    Mesh { name: name.into(), normals: vec![n; k + 1], positions, indices, material, lightmap_uv: None, lightmapped: false }
+}
+
+/// A sphere area light: a UV sphere of `rings` × 2·`rings` quads, normals outwards.
+/// Not lightmapped.
+pub fn sphere_light(name: &str, centre: Vec3, radius: f32, material: usize, rings: usize) -> Mesh {
+    let nv = rings.max(3);
+    let nu = 2 * nv;
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    for j in 0..=nv {
+        let th = std::f32::consts::PI * j as f32 / nv as f32;
+        for i in 0..=nu {
+            let ph = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
+            let d = Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin());
+            positions.push(centre + d * radius);
+            normals.push(d);
+        }
+    }
+    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+    let mut indices = Vec::new();
+    for j in 0..nv {
+        for i in 0..nu {
+            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: false }
 }
 
 /// The embedded default: a 2 m Cornell-style room (white floor/ceiling/back/front, red

@@ -1,13 +1,30 @@
-//! The path-traced estimator of incoming radiance L_in(x, ω) (seed 004 ch. 6): next-event
-//! estimation on emissive triangles (chosen by power, area-uniform points) combined with
-//! BSDF sampling by the power heuristic (Veach 1997, §9.2); directional and point lights
-//! by NEE only (delta lights); the environment by BSDF sampling only (it is reached
-//! through openings). Russian roulette from the third bounce with survival probability
-//! min(max throughput, 0.95). Material: Lambert + GGX layers added (§6.3.1); the layer
-//! is chosen with probability ½ each when both are present, and the mixture pdf is used.
+//! The path-traced estimator of incoming radiance L_in(x, ω) (seed 004 ch. 6).
+//!
+//! **At the baked point** (a texel's surface point or a probe) one pass draws the point
+//! sample ω_s (uniform over the item's domain, pdf p_s = 1/2π for texels, 1/4π for
+//! probes) and, by next-event estimation, one sample of every light kind (§6.1: delta
+//! lights cannot be reached by a random direction): every directional, point and spot
+//! light; one emissive triangle chosen by power (area lights: disks, spheres, meshes);
+//! one environment direction by luminance × solid angle. Area-light and environment
+//! samples are combined with the point sample by the power heuristic (Veach 1997, §9.2),
+//! so the point sample's own hit on an emitter or the sky is weighted too. The light
+//! samples reach the basis encoders as known projections (sbf `update_projected`) and
+//! the plain irradiance as Σ c·cosθ/π.
+//!
+//! **Along the path**: the same light kinds by NEE at every vertex, BSDF sampling
+//! (Lambert + GGX layers added, §6.3.1; the layer chosen with probability ½ each when
+//! both are present, mixture pdf), MIS for emitters and the environment, Russian roulette
+//! from the third bounce with survival min(max throughput, 0.95). Lights are evaluated
+//! at the shaded point itself; shadow rays start at the offset point
+//! ([`crate::lights::offset_ray`]) and are aimed and measured from it.
+//!
+//! **Validity**: a point sample whose first hit is the back face of a single-sided
+//! surface is rejected (the baked point is inside geometry, seed 003's valid-sample
+//! count); the caller counts it.
 
 use crate::bvh::Bvh;
-use crate::scene::{Light, Material, Scene};
+use crate::lights::{delta_at, luminance, offset_ray, offset_towards, shadow_ray, EnvSampler};
+use crate::scene::{Material, Scene};
 use sbf::glam::{DVec3, Vec3};
 use sbf::sampling::Pcg32;
 
@@ -24,12 +41,27 @@ pub struct Tracer<'a> {
     /// Σ over emitters of luminance × area (NEE's selection normaliser).
     pub total_power: f64,
     pub max_bounces: u32,
-    /// Ray offset from surfaces (scene-scale relative).
-    pub epsilon: f32,
+    /// The environment's importance sampler (None: black).
+    pub env: Option<EnvSampler>,
 }
 
-fn luminance(c: Vec3) -> f64 {
-    (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
+/// A light sample at the baked point: world direction towards the light and c = L·w/p·V
+/// (radiance × MIS weight / solid-angle pdf × visibility; E·V for a delta light).
+pub type LightSample = (Vec3, Vec3);
+
+/// One pass at a baked point.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PointSample {
+    /// L_in along the point sample's direction (emitter and sky hits MIS-weighted).
+    pub radiance: Vec3,
+    /// The light samples (see [`LightSample`]).
+    pub lights: Vec<LightSample>,
+    /// The first hit was the back face of a single-sided surface: reject the sample.
+    pub back_face: bool,
+}
+
+fn power2(a: f64, b: f64) -> f64 {
+    a * a / (a * a + b * b)
 }
 
 impl<'a> Tracer<'a> {
@@ -52,9 +84,8 @@ impl<'a> Tracer<'a> {
             cdf.push(acc);
             select_pdf[*k as usize] = p / total;
         }
-        let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::ZERO, Vec3::ONE));
-        let epsilon = 1e-4 * (hi - lo).max_element().max(1e-3);
-        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, epsilon }
+        let env = EnvSampler::new(&scene.environment);
+        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, env }
     }
 
     /// Emissive triangles (indices into `bvh.tris`) with the CDF of their power.
@@ -62,30 +93,126 @@ impl<'a> Tracer<'a> {
         self.emitters.iter().copied().zip(self.cdf.iter().copied())
     }
 
-    /// Radiance arriving at `x` (geometric normal `n`) from unit direction `dir`.
-    pub fn incoming(&self, x: Vec3, n: Vec3, dir: Vec3, rng: &mut Pcg32) -> Vec3 {
-        let mut o = offset(x, n, dir, self.epsilon);
+    /// Solid-angle pdf of NEE choosing triangle `tri` and hitting it at distance t with
+    /// cosine `cos_l` at the light.
+    fn emitter_pdf(&self, tri: u32, t: f32, cos_l: f32) -> f64 {
+        self.select_pdf[tri as usize] / self.bvh.tris[tri as usize].area() as f64 * (t as f64).powi(2) / cos_l as f64
+    }
+
+    /// One pass at a baked point `x`: texels pass their normal (hemisphere domain, the
+    /// point offset along it), probes None (sphere). `dir` is the point sample's world
+    /// direction, drawn uniformly over the domain.
+    pub fn sample_point(&self, x: Vec3, normal: Option<Vec3>, dir: Vec3, rng: &mut Pcg32) -> PointSample {
+        let p_s = if normal.is_some() { 1.0 / (2.0 * std::f64::consts::PI) } else { 1.0 / (4.0 * std::f64::consts::PI) };
+        let origin = |d: Vec3| match normal {
+            Some(n) => offset_towards(x, n, d),
+            None => x,
+        };
+        let in_domain = |d: Vec3| normal.is_none_or(|n| d.dot(n) > 0.0);
+        let mut lights = Vec::new();
+        // Delta lights: every one, evaluated at x; the shadow ray from the offset origin.
+        for l in &self.scene.lights {
+            if let Some((wi, e, _)) = delta_at(l, x) {
+                if in_domain(wi) && e.max_element() > 0.0 && self.visible_delta(l, origin(wi)) {
+                    lights.push((wi, e));
+                }
+            }
+        }
+        // One emitter by power, MIS against the point sample.
+        if let Some((tri, q)) = self.pick_emitter(rng) {
+            let to = q - x;
+            let dist = to.length();
+            let wi = to / dist;
+            let t = &self.bvh.tris[tri as usize];
+            let cos_l = -wi.dot(t.normal());
+            if cos_l > 0.0 && in_domain(wi) && self.visible_point(origin(wi), q) {
+                let pl = self.emitter_pdf(tri, dist, cos_l);
+                let le = self.scene.materials[t.material as usize].emissive;
+                lights.push((wi, le * (power2(pl, p_s) / pl) as f32));
+            }
+        } else {
+            rng.next_f64();
+            rng.next_2d();
+        }
+        // One environment direction, MIS against the point sample.
+        let u = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
+        if let Some(env) = &self.env {
+            let (wi, pe) = env.sample(u);
+            if pe > 0.0 && in_domain(wi) {
+                let o = origin(wi);
+                if !self.bvh.occluded(o, wi, 0.0, f32::INFINITY) {
+                    lights.push((wi, self.scene.environment.radiance(wi) * (power2(pe, p_s) / pe) as f32));
+                }
+            }
+        }
+        let (radiance, back_face) = self.path(origin(dir), dir, p_s, true, rng);
+        PointSample { radiance, lights, back_face }
+    }
+
+    /// Radiance arriving at an offset origin `o` from unit direction `dir` (the first
+    /// segment counted fully): the estimator along a path, for callers without MIS at
+    /// the start (the preview).
+    pub fn incoming(&self, o: Vec3, dir: Vec3, rng: &mut Pcg32) -> Vec3 {
+        self.path(o, dir, 0.0, false, rng).0
+    }
+
+    /// Whether a shadow ray from offset origin `o` reaches the delta light.
+    fn visible_delta(&self, l: &crate::scene::Light, o: Vec3) -> bool {
+        let (d, len) = shadow_ray(l, o);
+        !self.bvh.occluded(o, d, 0.0, len)
+    }
+
+    /// Whether a shadow ray from offset origin `o` reaches point `q` (aimed and measured
+    /// from `o`, stopped 1e-4 relative short of q so the light's own surface is not hit).
+    fn visible_point(&self, o: Vec3, q: Vec3) -> bool {
+        let to = q - o;
+        let d = to.length();
+        d > 0.0 && !self.bvh.occluded(o, to / d, 0.0, d * (1.0 - 1e-4))
+    }
+
+    fn pick_emitter(&self, rng: &mut Pcg32) -> Option<(u32, Vec3)> {
+        if self.emitters.is_empty() {
+            return None;
+        }
+        let u = rng.next_f64();
+        let k = self.cdf.partition_point(|c| *c < u).min(self.emitters.len() - 1);
+        let ti = self.emitters[k];
+        let tri = &self.bvh.tris[ti as usize];
+        let [a, b] = rng.next_2d();
+        let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+        Some((ti, tri.v0() + tri.e1() * a as f32 + tri.e2() * b as f32))
+    }
+
+    /// The path from origin `o` along `dir`. `first_pdf` > 0: the pdf of the strategy
+    /// that chose `dir` (MIS for the first hit); 0: the first segment counts fully.
+    /// `reject_back`: report a first hit on a single-sided back face (and stop).
+    fn path(&self, o: Vec3, dir: Vec3, first_pdf: f64, reject_back: bool, rng: &mut Pcg32) -> (Vec3, bool) {
+        let mut o = o;
         let mut d = dir;
         let mut throughput = Vec3::ONE;
         let mut radiance = Vec3::ZERO;
-        // pdf of the BSDF sample that produced `d` (None: the first segment, counted fully).
-        let mut prev_pdf: Option<f64> = None;
+        // pdf of the sample that produced `d` (None: counted fully).
+        let mut prev_pdf: Option<f64> = (first_pdf > 0.0).then_some(first_pdf);
         for bounce in 0..=self.max_bounces {
             let Some(hit) = self.bvh.intersect(o, d, 0.0, f32::INFINITY) else {
-                radiance += throughput * self.scene.environment.radiance(d);
+                let w = match (prev_pdf, &self.env) {
+                    (Some(pb), Some(env)) => power2(pb, env.pdf(d)),
+                    _ => 1.0,
+                };
+                radiance += throughput * self.scene.environment.radiance(d) * w as f32;
                 break;
             };
             let tri = &self.bvh.tris[hit.tri as usize];
             let mat = &self.scene.materials[tri.material as usize];
             let ng = tri.normal();
             let front = d.dot(ng) < 0.0;
+            if bounce == 0 && reject_back && !front && !mat.double_sided {
+                return (Vec3::ZERO, true);
+            }
             if front && mat.emissive.max_element() > 0.0 {
                 let w = match prev_pdf {
                     None => 1.0,
-                    Some(pb) => {
-                        let pl = self.select_pdf[hit.tri as usize] / tri.area() as f64 * (hit.t as f64).powi(2) / (-d.dot(ng)) as f64;
-                        pb * pb / (pb * pb + pl * pl)
-                    }
+                    Some(pb) => power2(pb, self.emitter_pdf(hit.tri, hit.t, -d.dot(ng))),
                 };
                 radiance += throughput * mat.emissive * w as f32;
             }
@@ -110,71 +237,60 @@ impl<'a> Tracer<'a> {
                 throughput /= q;
             }
             prev_pdf = Some(pdf);
-            o = offset(p, ns, wi, self.epsilon);
+            o = offset_ray(p, ns);
             d = wi;
         }
-        radiance
+        (radiance, false)
     }
 
-    /// Next-event estimation at p (shading normal ns facing wo).
+    /// Next-event estimation at p (shading normal ns facing wo): one emitter by power and
+    /// one environment direction, each MIS-weighted against the BSDF; every delta light.
+    /// Shadow rays start at the offset point and aim from it.
     fn direct(&self, p: Vec3, ns: Vec3, wo: Vec3, mat: &Material, rng: &mut Pcg32) -> Vec3 {
         let mut l = Vec3::ZERO;
-        if !self.emitters.is_empty() {
-            let u = rng.next_f64();
-            let k = self.cdf.partition_point(|c| *c < u).min(self.emitters.len() - 1);
-            let ti = self.emitters[k];
-            let tri = &self.bvh.tris[ti as usize];
-            let [a, b] = rng.next_2d();
-            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
-            let q = tri.v0() + tri.e1() * a as f32 + tri.e2() * b as f32;
+        let o = offset_ray(p, ns);
+        if let Some((ti, q)) = self.pick_emitter(rng) {
             let to = q - p;
-            let dist2 = to.length_squared();
-            let wi = to / dist2.sqrt();
-            let nl = tri.normal();
-            let cos_l = -wi.dot(nl);
+            let dist = to.length();
+            let wi = to / dist;
+            let tri = &self.bvh.tris[ti as usize];
+            let cos_l = -wi.dot(tri.normal());
             let cos_i = wi.dot(ns);
             if cos_l > 0.0 && cos_i > 0.0 {
-                let pl = self.select_pdf[ti as usize] / tri.area() as f64 * dist2 as f64 / cos_l as f64;
                 let (f, pb) = eval_bsdf(mat, ns, wo, wi);
-                if f.max_element() > 0.0 {
-                    let o = offset(p, ns, wi, self.epsilon);
-                    let tmax = (q - o).length() * (1.0 - 1e-4);
-                    if !self.bvh.occluded(o, wi, 0.0, tmax) {
-                        let w = pl * pl / (pl * pl + pb * pb);
-                        let le = self.scene.materials[tri.material as usize].emissive;
-                        l += f * le * (cos_i * (w / pl) as f32);
-                    }
+                if f.max_element() > 0.0 && self.visible_point(o, q) {
+                    let pl = self.emitter_pdf(ti, dist, cos_l);
+                    let le = self.scene.materials[tri.material as usize].emissive;
+                    l += f * le * (cos_i * (power2(pl, pb) / pl) as f32);
+                }
+            }
+        } else {
+            rng.next_f64();
+            rng.next_2d();
+        }
+        let u = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
+        if let Some(env) = &self.env {
+            let (wi, pe) = env.sample(u);
+            let cos_i = wi.dot(ns);
+            if pe > 0.0 && cos_i > 0.0 {
+                let (f, pb) = eval_bsdf(mat, ns, wo, wi);
+                if f.max_element() > 0.0 && !self.bvh.occluded(o, wi, 0.0, f32::INFINITY) {
+                    l += f * self.scene.environment.radiance(wi) * (cos_i * (power2(pe, pb) / pe) as f32);
                 }
             }
         }
         for light in &self.scene.lights {
-            let (wi, e, tmax) = match *light {
-                Light::Directional { direction, irradiance } => (direction, irradiance, f32::INFINITY),
-                Light::Point { position, intensity } => {
-                    let to = position - p;
-                    let d2 = to.length_squared();
-                    (to / d2.sqrt(), intensity / d2, d2.sqrt() * (1.0 - 1e-4))
-                }
-            };
+            let Some((wi, e, _)) = delta_at(light, p) else { continue };
             let cos_i = wi.dot(ns);
             if cos_i <= 0.0 {
                 continue;
             }
             let (f, _) = eval_bsdf(mat, ns, wo, wi);
-            if f.max_element() > 0.0 && !self.bvh.occluded(offset(p, ns, wi, self.epsilon), wi, 0.0, tmax) {
+            if f.max_element() > 0.0 && self.visible_delta(light, o) {
                 l += f * e * cos_i;
             }
         }
         l
-    }
-}
-
-/// Origin moved off the surface to the side `dir` leaves from.
-fn offset(p: Vec3, n: Vec3, dir: Vec3, eps: f32) -> Vec3 {
-    if dir.dot(n) >= 0.0 {
-        p + n * eps
-    } else {
-        p - n * eps
     }
 }
 

@@ -8,7 +8,7 @@ use baker::lightmap::Lightmap;
 use baker::scene;
 use baker::trace::Tracer;
 use sbf::glam::DVec3;
-use sbf::solve::{nnls_design, NnlsOptions};
+use sbf::solve::{nnls_gram, NnlsOptions};
 use std::time::Instant;
 
 /// RMSE of per-texel E/π against the reference over all texel-channels, with the
@@ -42,15 +42,15 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
     );
     // Progressive bakes, recording every sample for the batch fit.
     let mut b = Bake::new(cfg(1), &targets, Tracer::new(&s, &bvh, 4));
-    let mut samples: Vec<Vec<(DVec3, [f64; 3])>> = vec![Vec::new(); targets.items.len()];
+    let mut samples: Vec<Vec<Sample>> = vec![Vec::new(); targets.items.len()];
     let t = Instant::now();
     let mut rows = Vec::new();
     println!("| passes | seconds (CPU, 2 threads) | RMSE E/π | RMSE·√N |");
     println!("|---|---|---|---|");
     for n in 1..=1024u64 {
-        for (k, (d, l, _)) in b.pass_samples().into_iter().enumerate() {
-            if n <= 256 {
-                samples[k].push((d, [l.x as f64, l.y as f64, l.z as f64]));
+        for (k, s) in b.pass_samples().into_iter().enumerate() {
+            if n <= 256 && !s.back_face {
+                samples[k].push((s.local, [s.radiance.x as f64, s.radiance.y as f64, s.radiance.z as f64], s.lights));
             }
         }
         if [16, 64, 256, 1024].contains(&n) {
@@ -74,9 +74,15 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
     }
 }
 
+/// A recorded pass: point-sample direction and radiance, light samples (known projections).
+type Sample = (DVec3, [f64; 3], Vec<(DVec3, [f64; 3])>);
+
 /// The AD9 irradiance of the progressive NNLS fit vs a batch NNLS fit of the same 256
-/// samples per texel, both against the reference plain E/π.
-fn progressive_vs_batch(b: &Bake, samples: &[Vec<(DVec3, [f64; 3])>], reference: &[[f64; 3]], ref_var: f64) {
+/// samples per texel, both against the reference plain E/π. The batch fit solves the
+/// normal equations the progressive update iterates on: Ĝ = (1/N)Σ B Bᵀ over the point
+/// samples, right-hand side (1/N)Σ (B(ω)·L + Σ_l B(ω_l)·c_l) with the light samples'
+/// known projections (Lawson–Hanson in Gram form).
+fn progressive_vs_batch(b: &Bake, samples: &[Vec<Sample>], reference: &[[f64; 3]], ref_var: f64) {
     let basis = BasisKind::Ad9.basis();
     // Lambert weights: E/π at the normal = Σ c_i w_i, w_i = (1/π)∫ B_i(ω) cosθ dω over the
     // upper hemisphere (20 000 Fibonacci directions; quadrature error ~1e-4).
@@ -98,15 +104,30 @@ fn progressive_vs_batch(b: &Bake, samples: &[Vec<(DVec3, [f64; 3])>], reference:
     for (t, smp) in samples.iter().enumerate() {
         let c = b.state.encoders[0][t].coefficients();
         prog.push(irr(&|j, ch| c[(j, ch)]));
-        let a = sbf::nalgebra::DMatrix::from_fn(smp.len(), basis.len(), |r, j| {
-            basis.eval_into(smp[r].0, &mut v.clone());
-            let mut row = vec![0.0; basis.len()];
-            basis.eval_into(smp[r].0, &mut row);
-            row[j]
-        });
-        let sol: Vec<Vec<f64>> = (0..3)
-            .map(|ch| nnls_design(&a, &smp.iter().map(|s| s.1[ch]).collect::<Vec<_>>(), NnlsOptions::default()).unwrap().coeffs)
-            .collect();
+        let nb = basis.len();
+        let mut g = sbf::nalgebra::DMatrix::zeros(nb, nb);
+        let mut rhs = vec![vec![0.0; nb]; 3];
+        let mut row = vec![0.0; nb];
+        for (d, l, lights) in smp {
+            basis.eval_into(*d, &mut row);
+            for i in 0..nb {
+                for j in 0..nb {
+                    g[(i, j)] += row[i] * row[j];
+                }
+                for ch in 0..3 {
+                    rhs[ch][i] += row[i] * l[ch];
+                }
+            }
+            for (ld, c) in lights {
+                basis.eval_into(*ld, &mut row);
+                for i in 0..nb {
+                    for ch in 0..3 {
+                        rhs[ch][i] += row[i] * c[ch];
+                    }
+                }
+            }
+        }
+        let sol: Vec<Vec<f64>> = (0..3).map(|ch| nnls_gram(&g, &rhs[ch], NnlsOptions::default()).unwrap().coeffs).collect();
         batch.push(irr(&|j, ch| sol[ch][j]));
     }
     let (ep, eb) = (rmse(&prog, reference, ref_var), rmse(&batch, reference, ref_var));

@@ -1,9 +1,14 @@
 // trace.wgsl — the GPU twin of baker::trace (seed 004 ch. 6): BVH traversal of the
 // CPU-built nodes (no hardware ray queries), and the path-traced estimator of incoming
-// radiance: NEE on emissive triangles chosen by power with power-heuristic MIS against
-// BSDF sampling (Veach 1997, §9.2), directional and point lights by NEE, the environment
-// by BSDF sampling, Russian roulette from the third bounce. Material: Lambert + GGX
-// layers added (§6.3.1), layer chosen with the stored probability, mixture pdf.
+// radiance. At the baked point: the point sample plus next-event estimation of every
+// delta light (directional, point, spot), one emitter by power and one environment
+// direction by luminance × solid angle, both MIS-weighted (power heuristic, Veach 1997
+// §9.2) against the point sample; the light samples reach the encoders as known
+// projections (`project`, generated per bake). Along the path: the same NEE with MIS
+// against BSDF sampling, Russian roulette from the third bounce. Shadow rays start at
+// the offset point (offset_ray) and aim from it. Material: Lambert + GGX layers added
+// (§6.3.1), layer chosen with the stored probability, mixture pdf. A point sample whose
+// first hit is a single-sided back face is rejected and counted (validity).
 // Needs from `shaders`: tangent_frame, PI, INV_PI; the GGX layer's functions come from
 // glossy.wgsl (or its leave-out twin when no material in the scene is glossy).
 
@@ -34,7 +39,8 @@ struct TraceParams {
     env_kind: u32,
     // 0: lightmap texels (hemisphere about the normal), 1: probes (whole sphere).
     mode: u32,
-    epsilon: f32,
+    // The environment sampler's cells (col CDF, probability) in `aux` from here.
+    env_cells_offset: u32,
     inv_total_power: f32,
     // 1: count rays into `counters`.
     count_rays: u32,
@@ -46,6 +52,11 @@ struct TraceParams {
     // ENV_MAP: the lat-long map's texels in `aux` from env_offset, env_width × env_width/2.
     env_offset: u32,
     env_width: u32,
+    // The sampler's row CDF in `aux` from env_rows_offset; its grid (0 × 0: none).
+    env_rows_offset: u32,
+    env_cdf_width: u32,
+    env_cdf_height: u32,
+    pad0: u32,
     env0: vec4<f32>,
     env1: vec4<f32>,
     env2: vec4<f32>,
@@ -63,19 +74,23 @@ const ENV_CONSTANT: u32 = 1u;
 const ENV_SKY: u32 = 2u;
 const ENV_MAP: u32 = 3u;
 const LIGHT_DIRECTIONAL: u32 = 0u;
+const LIGHT_POINT: u32 = 1u;
+const LIGHT_SPOT: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> P: TraceParams;
 @group(0) @binding(1) var<storage, read> nodes: array<Node>;
 @group(0) @binding(2) var<storage, read> tris: array<Tri>;
-// Materials (3 vec4 each: diffuse albedo + GGX probability, F0 + α, emission + glossy
-// flag), then lights (2 vec4 each: kind + position/direction, intensity/irradiance),
-// then emitters (1 vec4 each: triangle index as bits, CDF of power), then the
-// environment map's texels (ENV_MAP); offsets in TraceParams.
+// Materials (3 vec4 each: diffuse albedo + GGX probability, F0 + α, emission + flags
+// (1 glossy, 2 double-sided)), then lights (4 vec4 each: position/direction + kind,
+// colour + range (< 0: none), spot axis + cos inner, cos outer), then emitters (1 vec4
+// each: triangle index as bits, CDF of power), then the environment map's texels
+// (ENV_MAP), then its sampler's row CDF and cells; offsets in TraceParams.
 @group(0) @binding(3) var<storage, read> aux: array<vec4<f32>>;
 // Per item: (first point, point count, output index, 0); points are (position, normal) pairs.
 @group(0) @binding(4) var<storage, read> items: array<vec4<u32>>;
 @group(0) @binding(5) var<storage, read> points: array<vec4<f32>>;
-// Per item: Σ E/π (or Σ L for probes) and Σ of squares, RGB.
+// Per item, 3 vec4: (Σ E/π (or Σ L for probes), accepted count), (Σ of squares,
+// back-face count), (non-finite count, 0, 0, 0). Counts are exact up to 2²⁴ passes.
 @group(0) @binding(6) var<storage, read_write> moments: array<vec4<f32>>;
 @group(0) @binding(7) var<storage, read_write> states: array<EncoderState>;
 // Rays traced: primary, extension, shadow (only when P.count_rays = 1).
@@ -88,13 +103,19 @@ struct Material {
     alpha: f32,
     emissive: vec3<f32>,
     glossy: bool,
+    double_sided: bool,
 }
 
 fn load_material(m: u32) -> Material {
     let a = aux[3u * m];
     let b = aux[3u * m + 1u];
     let c = aux[3u * m + 2u];
-    return Material(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w > 0.5);
+    let flags = u32(c.w);
+    return Material(a.xyz, a.w, b.xyz, b.w, c.xyz, (flags & 1u) != 0u, (flags & 2u) != 0u);
+}
+
+fn power2(a: f32, b: f32) -> f32 {
+    return a * a / (a * a + b * b);
 }
 
 fn max3(v: vec3<f32>) -> f32 {
@@ -246,8 +267,184 @@ fn environment(d: vec3<f32>) -> vec3<f32> {
     }
 }
 
-fn offset_origin(p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
-    return select(p - n * P.epsilon, p + n * P.epsilon, dot(dir, n) >= 0.0);
+// Ray origin moved off a surface towards the side of unit n (Wächter & Binder, Ray
+// Tracing Gems ch. 6): 256 ulps per coordinate along n, 1/65536 of n near the origin.
+// CPU twin: baker::lights::offset_ray.
+fn offset_ray(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let k = vec3<i32>(n * 256.0);
+    let pi = bitcast<vec3<f32>>(bitcast<vec3<i32>>(p) + select(k, -k, p < vec3<f32>(0.0)));
+    return select(pi, p + n * (1.0 / 65536.0), abs(p) < vec3<f32>(1.0 / 32.0));
+}
+
+fn offset_towards(p: vec3<f32>, n: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    return offset_ray(p, select(-n, n, dot(dir, n) >= 0.0));
+}
+
+// ---- lights ----
+
+// A delta light seen from o: direction towards it, irradiance at normal incidence, and
+// the shadow-ray length, all from o (CPU twin: baker::lights::delta_at); e = 0: nothing.
+struct DeltaLight {
+    wi: vec3<f32>,
+    e: vec3<f32>,
+    dist: f32,
+}
+
+fn delta_at(k: u32, o: vec3<f32>) -> DeltaLight {
+    let a = aux[P.light_offset + 4u * k];
+    let c = aux[P.light_offset + 4u * k + 1u];
+    let kind = u32(a.w);
+    if (kind == LIGHT_DIRECTIONAL) {
+        return DeltaLight(a.xyz, c.xyz, T_FAR);
+    }
+    let to = a.xyz - o;
+    let d2 = dot(to, to);
+    if (!(d2 > 0.0)) {
+        return DeltaLight(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0);
+    }
+    let d = sqrt(d2);
+    let wi = to / d;
+    // KHR_lights_punctual range window clamp(1 − (d/range)⁴, 0, 1)², none if range < 0.
+    var w = 1.0;
+    if (c.w > 0.0) {
+        let r = pow(d / c.w, 4.0);
+        w = pow(clamp(1.0 - r, 0.0, 1.0), 2.0);
+    }
+    if (kind == LIGHT_SPOT) {
+        let s = aux[P.light_offset + 4u * k + 2u];
+        let co = aux[P.light_offset + 4u * k + 3u].x;
+        let scale = 1.0 / max(s.w - co, 1e-3);
+        let t = clamp((dot(-wi, s.xyz) - co) * scale, 0.0, 1.0);
+        w *= t * t;
+    }
+    return DeltaLight(wi, c.xyz * (w / d2), d);
+}
+
+// Whether a shadow ray from offset origin o reaches delta light k (aimed and measured
+// from o; CPU twin: Tracer::visible_delta).
+fn visible_delta(k: u32, o: vec3<f32>) -> bool {
+    let a = aux[P.light_offset + 4u * k];
+    count_ray(2u);
+    if (u32(a.w) == LIGHT_DIRECTIONAL) {
+        return traverse(o, a.xyz, T_FAR, true).tri == NO_HIT;
+    }
+    let to = a.xyz - o;
+    let d = length(to);
+    return traverse(o, to / d, d * (1.0 - 1e-4), true).tri == NO_HIT;
+}
+
+// Whether a shadow ray from offset origin o reaches point q (stopped 1e-4 relative short
+// of q; CPU twin: Tracer::visible_point).
+fn visible_point(o: vec3<f32>, q: vec3<f32>) -> bool {
+    let to = q - o;
+    let d = length(to);
+    count_ray(2u);
+    return d > 0.0 && traverse(o, to / d, d * (1.0 - 1e-4), true).tri == NO_HIT;
+}
+
+// An emitter point chosen by power: triangle index and point (CPU twin: pick_emitter).
+struct EmitterPoint {
+    tri: u32,
+    q: vec3<f32>,
+}
+
+fn pick_emitter(rng: ptr<function, u32>) -> EmitterPoint {
+    let u = rng_next(rng);
+    var a = rng_next(rng);
+    var b = rng_next(rng);
+    if (P.emitter_count == 0u) {
+        return EmitterPoint(NO_HIT, vec3<f32>(0.0));
+    }
+    // Binary search of the CDF (first entry ≥ u).
+    var lo = 0u;
+    var hi = P.emitter_count - 1u;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (aux[P.emitter_offset + mid].y < u) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let ti = bitcast<u32>(aux[P.emitter_offset + lo].x);
+    let tri = tris[ti];
+    if (a + b > 1.0) {
+        a = 1.0 - a;
+        b = 1.0 - b;
+    }
+    return EmitterPoint(ti, tri.v0 + tri.e1 * a + tri.e2 * b);
+}
+
+// Solid-angle pdf of NEE reaching a point of emitter `le` at distance t, cosine cos_l:
+// selection pdf / area = luminance / total power (the area cancels).
+fn emitter_pdf(le: vec3<f32>, t: f32, cos_l: f32) -> f32 {
+    return max(luminance(le), 1e-12) * P.inv_total_power * t * t / cos_l;
+}
+
+// Environment importance sampling (CPU twin: baker::lights::EnvSampler).
+fn env_cell_solid_angle(j: u32) -> f32 {
+    let h = f32(P.env_cdf_height);
+    return 2.0 * PI / f32(P.env_cdf_width) * (cos(PI * f32(j) / h) - cos(PI * f32(j + 1u) / h));
+}
+
+struct EnvSample {
+    wi: vec3<f32>,
+    pdf: f32,
+}
+
+fn env_sample(u: vec3<f32>) -> EnvSample {
+    let w = P.env_cdf_width;
+    let h = P.env_cdf_height;
+    if (w == 0u) {
+        return EnvSample(vec3<f32>(0.0, 1.0, 0.0), 0.0);
+    }
+    // First row (then column) whose CDF exceeds u.
+    var lo = 0u;
+    var hi = h - 1u;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (aux[P.env_rows_offset + mid].x <= u.x) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let j = lo;
+    let row = P.env_cells_offset + j * w;
+    lo = 0u;
+    hi = w - 1u;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (aux[row + mid].x <= u.y) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let i = lo;
+    let c_lo = select(0.0, aux[row + i - 1u].x, i > 0u);
+    let c_hi = aux[row + i].x;
+    let f = select(0.5, clamp((u.y - c_lo) / (c_hi - c_lo), 0.0, 1.0), c_hi > c_lo);
+    let c0 = cos(PI * f32(j) / f32(h));
+    let c1 = cos(PI * f32(j + 1u) / f32(h));
+    let ct = c0 + (c1 - c0) * u.z;
+    let phi = (2.0 * (f32(i) + f) / f32(w) - 1.0) * PI;
+    let st = sqrt(max(1.0 - ct * ct, 0.0));
+    let wi = vec3<f32>(st * sin(phi), ct, -st * cos(phi));
+    return EnvSample(wi, aux[row + i].y / env_cell_solid_angle(j));
+}
+
+fn env_pdf(d: vec3<f32>) -> f32 {
+    let w = P.env_cdf_width;
+    if (w == 0u) {
+        return 0.0;
+    }
+    let h = P.env_cdf_height;
+    let u = 0.5 * (1.0 + atan2(d.x, -d.z) / PI);
+    let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+    let i = min(u32(u * f32(w)), w - 1u);
+    let j = min(u32(v * f32(h)), h - 1u);
+    return aux[P.env_cells_offset + j * w + i].y / env_cell_solid_angle(j);
 }
 
 fn to_local(w: vec3<f32>, f: array<vec3<f32>, 2>, n: vec3<f32>) -> vec3<f32> {
@@ -321,99 +518,83 @@ fn sample_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, rng: ptr<function, u32
     return BsdfSample(wi, e.f, e.pdf);
 }
 
-// Next-event estimation at p (shading normal ns facing wo).
+// Next-event estimation at p (shading normal ns facing wo): one emitter by power and one
+// environment direction, MIS against the BSDF; every delta light. Shadow rays start at
+// the offset point and aim from it.
 fn direct(p: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, u32>) -> vec3<f32> {
     var l = vec3<f32>(0.0);
-    if (P.emitter_count > 0u) {
-        // Emitter by power: binary search of the CDF (first entry ≥ u).
-        let u = rng_next(rng);
-        var lo = 0u;
-        var hi = P.emitter_count - 1u;
-        while (lo < hi) {
-            let mid = (lo + hi) / 2u;
-            if (aux[P.emitter_offset + mid].y < u) {
-                lo = mid + 1u;
-            } else {
-                hi = mid;
-            }
-        }
-        let ti = bitcast<u32>(aux[P.emitter_offset + lo].x);
-        let tri = tris[ti];
-        var a = rng_next(rng);
-        var b = rng_next(rng);
-        if (a + b > 1.0) {
-            a = 1.0 - a;
-            b = 1.0 - b;
-        }
-        let q = tri.v0 + tri.e1 * a + tri.e2 * b;
-        let to = q - p;
-        let dist2 = dot(to, to);
-        let wi = to / sqrt(dist2);
-        let nl = normalize(cross(tri.e1, tri.e2));
-        let cos_l = -dot(wi, nl);
+    let o = offset_ray(p, ns);
+    let em = pick_emitter(rng);
+    if (em.tri != NO_HIT) {
+        let tri = tris[em.tri];
+        let to = em.q - p;
+        let dist = length(to);
+        let wi = to / dist;
+        let cos_l = -dot(wi, normalize(cross(tri.e1, tri.e2)));
         let cos_i = dot(wi, ns);
         if (cos_l > 0.0 && cos_i > 0.0) {
             let le = load_material(tri.material).emissive;
-            // Selection pdf / area = luminance / total power (the area cancels).
-            let pl = max(luminance(le), 1e-12) * P.inv_total_power * dist2 / cos_l;
             let e = eval_bsdf(m, ns, wo, wi);
             if (max3(e.f) > 0.0) {
-                let o = offset_origin(p, ns, wi);
-                let tmax = length(q - o) * (1.0 - 1e-4);
-                count_ray(2u);
-                if (traverse(o, wi, tmax, true).tri == NO_HIT) {
-                    let w = pl * pl / (pl * pl + e.pdf * e.pdf);
-                    l += e.f * le * (cos_i * w / pl);
+                if (visible_point(o, em.q)) {
+                    let pl = emitter_pdf(le, dist, cos_l);
+                    l += e.f * le * (cos_i * power2(pl, e.pdf) / pl);
                 }
             }
         }
     }
-    for (var k = 0u; k < P.light_count; k++) {
-        let a = aux[P.light_offset + 2u * k];
-        let c = aux[P.light_offset + 2u * k + 1u].xyz;
-        var wi: vec3<f32>;
-        var e: vec3<f32>;
-        var tmax: f32;
-        if (u32(a.w) == LIGHT_DIRECTIONAL) {
-            wi = a.xyz;
-            e = c;
-            tmax = T_FAR;
-        } else {
-            let to = a.xyz - p;
-            let d2 = dot(to, to);
-            wi = to / sqrt(d2);
-            e = c / d2;
-            tmax = sqrt(d2) * (1.0 - 1e-4);
+    let u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
+    let es = env_sample(u);
+    let cos_e = dot(es.wi, ns);
+    if (es.pdf > 0.0 && cos_e > 0.0) {
+        let e = eval_bsdf(m, ns, wo, es.wi);
+        if (max3(e.f) > 0.0) {
+            count_ray(2u);
+            if (traverse(o, es.wi, T_FAR, true).tri == NO_HIT) {
+                l += e.f * environment(es.wi) * (cos_e * power2(es.pdf, e.pdf) / es.pdf);
+            }
         }
-        let cos_i = dot(wi, ns);
-        if (cos_i <= 0.0) {
+    }
+    for (var k = 0u; k < P.light_count; k++) {
+        let dl = delta_at(k, p);
+        let cos_i = dot(dl.wi, ns);
+        if (cos_i <= 0.0 || max3(dl.e) <= 0.0) {
             continue;
         }
-        let f = eval_bsdf(m, ns, wo, wi).f;
+        let f = eval_bsdf(m, ns, wo, dl.wi).f;
         if (max3(f) > 0.0) {
-            count_ray(2u);
-            if (traverse(offset_origin(p, ns, wi), wi, tmax, true).tri == NO_HIT) {
-                l += f * e * cos_i;
+            if (visible_delta(k, o)) {
+                l += f * dl.e * cos_i;
             }
         }
     }
     return l;
 }
 
-// Radiance arriving at x from unit direction dir; `o` is the ray origin (already offset
-// for surface points).
-fn incoming(origin: vec3<f32>, dir: vec3<f32>, rng: ptr<function, u32>) -> vec3<f32> {
+// The path from origin o along unit dir. first_pdf > 0: the pdf of the strategy that
+// chose dir (MIS at the first hit); reject_back: a first hit on a single-sided back face
+// ends the path and sets `back`.
+struct PathResult {
+    radiance: vec3<f32>,
+    back: bool,
+}
+
+fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, rng: ptr<function, u32>) -> PathResult {
     var o = origin;
     var d = dir;
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
-    // pdf of the BSDF sample that produced d (< 0: the first segment, counted fully).
-    var prev_pdf = -1.0;
+    // pdf of the sample that produced d (≤ 0: counted fully).
+    var prev_pdf = first_pdf;
     for (var bounce = 0u; bounce <= P.max_bounces; bounce++) {
         count_ray(select(1u, 0u, bounce == 0u));
         let hit = traverse(o, d, T_FAR, false);
         if (hit.tri == NO_HIT) {
-            radiance += throughput * environment(d);
+            var w = 1.0;
+            if (prev_pdf > 0.0 && P.env_cdf_width > 0u) {
+                w = power2(prev_pdf, env_pdf(d));
+            }
+            radiance += throughput * environment(d) * w;
             break;
         }
         if (P.primary_only == 1u) {
@@ -425,11 +606,13 @@ fn incoming(origin: vec3<f32>, dir: vec3<f32>, rng: ptr<function, u32>) -> vec3<
         let m = load_material(tri.material);
         let ng = normalize(cross(tri.e1, tri.e2));
         let front = dot(d, ng) < 0.0;
+        if (bounce == 0u && reject_back && !front && !m.double_sided) {
+            return PathResult(vec3<f32>(0.0), true);
+        }
         if (front && max3(m.emissive) > 0.0) {
             var w = 1.0;
-            if (prev_pdf >= 0.0) {
-                let pl = max(luminance(m.emissive), 1e-12) * P.inv_total_power * hit.t * hit.t / (-dot(d, ng));
-                w = prev_pdf * prev_pdf / (prev_pdf * prev_pdf + pl * pl);
+            if (prev_pdf > 0.0) {
+                w = power2(prev_pdf, emitter_pdf(m.emissive, hit.t, -dot(d, ng)));
             }
             radiance += throughput * m.emissive * w;
         }
@@ -456,14 +639,20 @@ fn incoming(origin: vec3<f32>, dir: vec3<f32>, rng: ptr<function, u32>) -> vec3<
             throughput /= q;
         }
         prev_pdf = s.pdf;
-        o = offset_origin(p, ns, s.wi);
+        o = offset_ray(p, ns);
         d = s.wi;
     }
-    return radiance;
+    return PathResult(radiance, false);
 }
 
-// One pass: one path per item (texel or probe), its sample added to the moments and to
-// every configured basis's progressive encoder (`encode`, generated per bake).
+fn finite3(v: vec3<f32>) -> bool {
+    // NaN fails every comparison; ±∞ exceeds the largest finite f32.
+    return all(abs(v) <= vec3<f32>(3.4028235e38));
+}
+
+// One pass: one point sample per item (texel or probe) plus its light samples, added to
+// the moments and to every configured basis's progressive encoder (`encode` and
+// `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let i = gid.x + gid.y * nwg.x * 64u;
@@ -476,20 +665,21 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     let nrm = points[2u * k + 1u].xyz;
     let u = r2_point(P.pass_index, it.z);
     var rng = pcg_hash(P.seed ^ pcg_hash(P.pass_index ^ pcg_hash(it.z + 0x68e31da4u)));
+    let texel = P.mode == 0u;
+    let fr = tangent_frame(nrm);
     var local: vec3<f32>;
     var dir: vec3<f32>;
-    var origin = pos;
     var weight: f32;
-    if (P.mode == 0u) {
+    var p_s: f32;
+    if (texel) {
         // Uniform hemisphere about the normal (pdf 1/2π): E/π sample = 2·L·cosθ.
         let z = 1.0 - u.x;
         let r = sqrt(max(1.0 - z * z, 0.0));
         let phi = 2.0 * PI * u.y;
         local = vec3<f32>(r * cos(phi), r * sin(phi), z);
-        let fr = tangent_frame(nrm);
         dir = normalize(fr[0] * local.x + fr[1] * local.y + nrm * local.z);
-        origin = offset_origin(pos, nrm, dir);
         weight = 2.0 * local.z;
+        p_s = 0.5 * INV_PI;
     } else {
         // Uniform sphere in world space (probes): the sample is L itself.
         let z = 1.0 - 2.0 * u.x;
@@ -498,16 +688,74 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         local = vec3<f32>(r * cos(phi), r * sin(phi), z);
         dir = local;
         weight = 1.0;
+        p_s = 0.25 * INV_PI;
     }
-    let l = incoming(origin, dir, &rng);
     let out = i;
     if (P.primary_only == 1u) {
-        // Timing mode: keep the traced result live with one write, skip the encoders.
-        moments[2u * out] += vec4<f32>(l, 0.0);
+        // Timing mode: the first segment only; keep the result live with one write.
+        let l = path(select(pos, offset_towards(pos, nrm, dir), texel), dir, 0.0, false, &rng).radiance;
+        moments[3u * out] += vec4<f32>(l, 0.0);
         return;
     }
-    let e = l * weight;
-    moments[2u * out] += vec4<f32>(e, 0.0);
-    moments[2u * out + 1u] += vec4<f32>(e * e, 0.0);
-    encode(out, local, l);
+    // Light samples at the baked point: (ω_l, c = L·w/p·V) → the plain estimate gains
+    // c·cosθ/π (texels) or c·p_s (probes); the encoders gain p_s·c at ω_l.
+    var e_lights = vec3<f32>(0.0);
+    var finite = true;
+    for (var k = 0u; k < P.light_count; k++) {
+        let dl = delta_at(k, pos);
+        if (max3(dl.e) <= 0.0 || (texel && dot(dl.wi, nrm) <= 0.0)) {
+            continue;
+        }
+        if (visible_delta(k, select(pos, offset_towards(pos, nrm, dl.wi), texel))) {
+            let ld = select(dl.wi, to_local(dl.wi, fr, nrm), texel);
+            e_lights += dl.e * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
+            finite = finite && finite3(dl.e);
+            project(ld, dl.e * p_s);
+        }
+    }
+    let em = pick_emitter(&rng);
+    if (em.tri != NO_HIT) {
+        let tri = tris[em.tri];
+        let to = em.q - pos;
+        let dist = length(to);
+        let wi = to / dist;
+        let cos_l = -dot(wi, normalize(cross(tri.e1, tri.e2)));
+        if (cos_l > 0.0 && (!texel || dot(wi, nrm) > 0.0)) {
+            if (visible_point(select(pos, offset_towards(pos, nrm, wi), texel), em.q)) {
+                let le = load_material(tri.material).emissive;
+                let pl = emitter_pdf(le, dist, cos_l);
+                let c = le * (power2(pl, p_s) / pl);
+                let ld = select(wi, to_local(wi, fr, nrm), texel);
+                e_lights += c * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
+                finite = finite && finite3(c);
+                project(ld, c * p_s);
+            }
+        }
+    }
+    let ue = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
+    let es = env_sample(ue);
+    if (es.pdf > 0.0 && (!texel || dot(es.wi, nrm) > 0.0)) {
+        let o = select(pos, offset_towards(pos, nrm, es.wi), texel);
+        count_ray(2u);
+        if (traverse(o, es.wi, T_FAR, true).tri == NO_HIT) {
+            let c = environment(es.wi) * (power2(es.pdf, p_s) / es.pdf);
+            let ld = select(es.wi, to_local(es.wi, fr, nrm), texel);
+            e_lights += c * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
+            finite = finite && finite3(c);
+            project(ld, c * p_s);
+        }
+    }
+    let pr = path(select(pos, offset_towards(pos, nrm, dir), texel), dir, p_s, true, &rng);
+    if (pr.back) {
+        moments[3u * out + 1u].w += 1.0;
+        return;
+    }
+    let e = pr.radiance * weight + e_lights;
+    if (!(finite && finite3(pr.radiance) && finite3(e) && finite3(e * e))) {
+        moments[3u * out + 2u].x += 1.0;
+        return;
+    }
+    moments[3u * out] += vec4<f32>(e, 1.0);
+    moments[3u * out + 1u] += vec4<f32>(e * e, 0.0);
+    encode(out, local, pr.radiance);
 }

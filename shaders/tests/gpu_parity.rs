@@ -331,7 +331,10 @@ fn lut_parity() {
 /// One progressive-encoder parity case: `texels` independent texels, each fed
 /// `samples` samples of `basis` at random directions, on the GPU (EncoderParams as a
 /// uniform, EncoderState as a read-write storage array: the Rust byte layouts go through
-/// the GPU both ways) and in `ProgressiveEncoder<f32>`.
+/// the GPU both ways) and in `ProgressiveEncoder<f32>`. With `projected`, every sample
+/// also carries known projections q (random RGB per lobe, a delta light's size) through
+/// `progressive_update_projected` / `update_projected`.
+#[allow(clippy::too_many_arguments)]
 fn progressive_case(
     g: &Gpu,
     name: &str,
@@ -340,13 +343,15 @@ fn progressive_case(
     texels: usize,
     samples: usize,
     seed: u64,
+    projected: bool,
 ) {
     use shaders::progressive::{EncoderParams, EncoderState};
     let lib = library("progressive");
     let n = basis.len();
     let params = EncoderParams::new(&opts, n).unwrap();
     let mut r = Pcg32::new(seed, 9);
-    let per = n + 4;
+    let nq = if projected { 3 * n } else { 0 };
+    let per = n + 4 + nq;
     let mut inp = Vec::with_capacity(texels * samples * per);
     let mut b64 = vec![0.0; n];
     let hemi = basis.domain() == sbf::Domain::UpperHemisphere;
@@ -363,9 +368,18 @@ fn progressive_case(
             inp.push((2.0 * r.next_2d()[0] * spike) as f32);
         }
         inp.push((0.05 + 0.95 * r.next_2d()[0]) as f32);
+        // q: signed, up to a sun's projection (E·B/4π with E ~ 60).
+        for _ in 0..nq {
+            inp.push(((r.next_2d()[0] - 0.3) * 10.0) as f32);
+        }
     }
+    let update = if projected {
+        format!("var q: array<vec3<f32>, 12>;\n        for (var j = 0u; j < {n}u; j++) {{\n            q[j] = ld3(o + {n}u + 4u + 3u * j);\n        }}\n        progressive_update_projected(&st, uni, b, ld3(o + {n}u), inp[o + {n}u + 3u], q);")
+    } else {
+        format!("progressive_update(&st, uni, b, ld3(o + {n}u), inp[o + {n}u + 3u]);")
+    };
     let body = format!(
-        "    var st = io[i];\n    for (var k = 0u; k < {samples}u; k++) {{\n        let o = (i * {samples}u + k) * {per}u;\n        var b: array<f32, 12>;\n        for (var j = 0u; j < {n}u; j++) {{\n            b[j] = inp[o + j];\n        }}\n        progressive_update(&st, uni, b, ld3(o + {n}u), inp[o + {n}u + 3u]);\n    }}\n    io[i] = st;\n    outp[i] = st.total_weight;"
+        "    var st = io[i];\n    for (var k = 0u; k < {samples}u; k++) {{\n        let o = (i * {samples}u + k) * {per}u;\n        var b: array<f32, 12>;\n        for (var j = 0u; j < {n}u; j++) {{\n            b[j] = inp[o + j];\n        }}\n        {update}\n    }}\n    io[i] = st;\n    outp[i] = st.total_weight;"
     );
     let init = vec![<EncoderState as bytemuck::Zeroable>::zeroed(); texels];
     let o = g
@@ -387,7 +401,8 @@ fn progressive_case(
         for k in 0..samples {
             let s = &inp[(t * samples + k) * per..][..per];
             let b: Vec<f64> = s[..n].iter().map(|x| *x as f64).collect();
-            enc.update(&b, [s[n] as f64, s[n + 1] as f64, s[n + 2] as f64], s[n + 3] as f64);
+            let q: Vec<[f64; 3]> = s[n + 4..].chunks(3).map(|c| [c[0] as f64, c[1] as f64, c[2] as f64]).collect();
+            enc.update_projected(&b, [s[n] as f64, s[n + 1] as f64, s[n + 2] as f64], s[n + 3] as f64, &q);
         }
         let st = &states[t];
         assert_eq!(st.samples as u64, enc.sample_count(), "{name}: texel {t} sample count");
@@ -428,17 +443,21 @@ fn progressive_parity() {
     // α = 3, eq. 7.15) on AD12, progressive NNLS on SH L2 (signed basis values, so the
     // clamp is active), and the public running average (Jacobi, α = 1, clamp to the exact
     // mean of Y² = 1/4π for orthonormal SH) on SH L1.
-    progressive_case(&g, "LS/AD12", &ad12, ProgressiveOptions::default(), N, 8, 31);
-    progressive_case(&g, "NNLS/SH2", &sh2, ProgressiveOptions::non_negative(), N, 8, 32);
+    progressive_case(&g, "LS/AD12", &ad12, ProgressiveOptions::default(), N, 8, 31, false);
+    progressive_case(&g, "NNLS/SH2", &sh2, ProgressiveOptions::non_negative(), N, 8, 32, false);
     let ra = ProgressiveOptions::running_average(&[1.0; 4], 4.0 * std::f64::consts::PI, false);
-    progressive_case(&g, "running-average/SH1", &sh1, ra, N, 8, 33);
+    progressive_case(&g, "running-average/SH1", &sh1, ra, N, 8, 33, false);
     // The raw running mean as denominator (noisy at low counts by design: amplitudes reach
     // 1e10 here) on short runs, where the GPU's rounding differences cannot compound far.
     let raw = ProgressiveOptions { denominator: Denominator::Raw, iteration: Iteration::Jacobi, ..ProgressiveOptions::default() };
-    progressive_case(&g, "raw-Jacobi/SH2", &sh2, raw, N, 8, 34);
+    progressive_case(&g, "raw-Jacobi/SH2", &sh2, raw, N, 8, 34, false);
     // Long runs: s = w/W falls to ~1e-3, where f32 updates lose the most digits.
-    progressive_case(&g, "LS/AD9 long", &ad9, ProgressiveOptions::default(), 2000, 1024, 36);
-    progressive_case(&g, "NNLS/AD9 long", &ad9, ProgressiveOptions::non_negative(), 2000, 1024, 35);
+    progressive_case(&g, "LS/AD9 long", &ad9, ProgressiveOptions::default(), 2000, 1024, 36, false);
+    progressive_case(&g, "NNLS/AD9 long", &ad9, ProgressiveOptions::non_negative(), 2000, 1024, 35, false);
+    // Known projections (delta lights, MIS light samples) on the bake's configurations.
+    let bake = ProgressiveOptions { acceleration: 1.0, ..ProgressiveOptions::default() };
+    progressive_case(&g, "projected LS/SH2", &sh2, bake.clone(), N, 8, 37, true);
+    progressive_case(&g, "projected NNLS/AD9 long", &ad9, ProgressiveOptions { non_negative: true, ..bake }, 2000, 256, 38, true);
 }
 
 #[test]

@@ -9,7 +9,10 @@
 //   Δ ← Δ − b_i·(a_i,new − a_i,old) after each lobe, Jacobi keeps the first Δ.
 // Samples with weight ≤ 0 (or NaN) are ignored; values must be finite (the caller's
 // check: a GPU cannot report an error from here).
-// CPU twin: sbf::solve::ProgressiveEncoder<f32>::update. The two structs are shared
+// progressive_update_projected also takes known projections q (one RGB vector per lobe:
+// p(ω)·E·B_i(ω_l) for a delta light, or an MIS-weighted light sample) and moves lobe i by
+// α·s·(b_i·Δ + q_i)/Ī_i (sbf::solve::progressive's module documentation).
+// CPU twins: sbf::solve::ProgressiveEncoder<f32>::update and ::update_projected. The two structs are shared
 // with Rust (shaders::progressive, #[repr(C)] + bytemuck, layout checked against naga).
 
 const ENCODER_MAX_LOBES: u32 = 12u;
@@ -40,6 +43,18 @@ struct EncoderState {
 }
 
 fn progressive_update(state: ptr<function, EncoderState>, p: EncoderParams, b: array<f32, 12>, value: vec3<f32>, weight: f32) {
+    var q: array<vec3<f32>, 12>;
+    progressive_update_projected(state, p, b, value, weight, q);
+}
+
+fn progressive_update_projected(
+    state: ptr<function, EncoderState>,
+    p: EncoderParams,
+    b: array<f32, 12>,
+    value: vec3<f32>,
+    weight: f32,
+    q: array<vec3<f32>, 12>,
+) {
     if (!(weight > 0.0)) {
         return;
     }
@@ -69,9 +84,9 @@ fn progressive_update(state: ptr<function, EncoderState>, p: EncoderParams, b: a
         }
         // denom ≤ 0: B_i has been zero on every sample so far; the amplitude stays.
         if (denom > 0.0) {
-            let scale = p.acceleration * s * bi / denom;
+            let scale = p.acceleration * s / denom;
             let old = lobe.xyz;
-            var amp = old + scale * delta;
+            var amp = old + scale * (bi * delta + q[i]);
             if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
                 amp = max(amp, vec3<f32>(0.0));
             }

@@ -13,6 +13,18 @@
 //!                                                      without the clamp; exact with it)
 //! Jacobi uses the Δ computed before any lobe moves.
 //!
+//! **Known projections** ([`ProgressiveEncoder::update_projected`]): a sample may carry,
+//! besides its value at ω, a vector q_i that is an unbiased estimate of
+//! p(ω)·∫B_i(ω')L'(ω')dω' for radiance L' that point samples cannot reach — delta lights
+//! (directional, point, spot: q_i = p(ω)·E·B_i(ω_l)·V) or light samples combined with
+//! the point sample by multiple importance sampling (q_i = p(ω)·w_l·B_i(ω_l)L(ω_l)/p_l).
+//! p(ω) is the pdf of the point sample's direction. The lobe update becomes
+//!   b_i ← b_i + α·s·(B_i(ω)·Δ + q_i)/Ī_i
+//! Its expectation per unit weight is (1/Ω)(∫B_i(L + L') − (Gb)_i) for uniform ω, so the
+//! stochastic iteration converges to the LS (or, with the clamp, NNLS) fit of L + L' —
+//! the normal equations of a delta light are well defined although its radiance is not
+//! a function (seed 004 §6.1 explains why such lights need explicit sampling).
+//!
 //! **Sample order matters.** The update is a stochastic iteration: consecutive samples
 //! must be decorrelated (Halton, R2, shuffled). A Hammersley set consumed in index
 //! order sweeps one coordinate monotonically and the encoder chases it (seed Fig. 7.6;
@@ -226,6 +238,52 @@ impl<T: Real> ProgressiveEncoder<T> {
         Ok(())
     }
 
+    /// [`Self::add_sample`] plus known projections from `lights`: pairs (direction ω_l,
+    /// RGB c_l) with q_i = Σ_l B_i(ω_l)·c_l, where c_l is already scaled by the point
+    /// sample's pdf (module documentation). The mirrored twin, if configured, carries
+    /// none. Non-finite light values are errors (the state is left unchanged).
+    pub fn add_sample_projected(
+        &mut self,
+        basis: &dyn Basis,
+        direction: DVec3,
+        value: [f64; 3],
+        weight: f64,
+        lights: &[(DVec3, [f64; 3])],
+    ) -> Result<(), SbfError> {
+        if lights.is_empty() {
+            return self.add_sample(basis, direction, value, weight);
+        }
+        crate::error::check_len("basis size vs encoder lobes", self.amplitudes.len(), basis.len())?;
+        if !weight.is_finite() || weight < 0.0 {
+            return Err(SbfError::InvalidParameter { name: "sample weight", value: weight, reason: "must be finite and >= 0" });
+        }
+        if let Some(v) = value.iter().chain(lights.iter().flat_map(|l| l.1.iter())).find(|v| !v.is_finite()) {
+            return Err(SbfError::InvalidParameter { name: "sample or light value", value: *v, reason: "must be finite" });
+        }
+        if weight == 0.0 {
+            return Ok(());
+        }
+        let n = self.amplitudes.len();
+        let mut b = std::mem::take(&mut self.scratch);
+        let mut q = vec![[0.0f64; 3]; n];
+        for (d, c) in lights {
+            basis.eval_into(*d, &mut b);
+            for i in 0..n {
+                for ch in 0..3 {
+                    q[i][ch] += b[i] * c[ch];
+                }
+            }
+        }
+        basis.eval_into(direction, &mut b);
+        self.update_projected(&b, value, weight, &q);
+        if self.opts.mirror_hemisphere {
+            basis.eval_into(DVec3::new(direction.x, direction.y, -direction.z), &mut b);
+            self.update(&b, [0.0; 3], weight);
+        }
+        self.scratch = b;
+        Ok(())
+    }
+
     /// Adds a [`RadianceSample`] (see [`Self::add_sample`]).
     pub fn add(&mut self, basis: &dyn Basis, s: &RadianceSample) -> Result<(), SbfError> {
         self.add_sample(basis, s.direction, s.value, s.weight)
@@ -234,7 +292,15 @@ impl<T: Real> ProgressiveEncoder<T> {
     /// One update with precomputed basis values `b` (the GPU kernel's body).
     /// Preconditions (debug-asserted): `b.len()` = lobes, `weight` > 0 and finite.
     pub fn update(&mut self, b: &[f64], value: [f64; 3], weight: f64) {
+        self.update_projected(b, value, weight, &[]);
+    }
+
+    /// [`Self::update`] with known projections `q` (one RGB vector per lobe, or empty
+    /// for none; see the module documentation): lobe i moves by α·s·(B_i·Δ + q_i)/Ī_i.
+    /// The WGSL twin is `progressive_update_projected`.
+    pub fn update_projected(&mut self, b: &[f64], value: [f64; 3], weight: f64, q: &[[f64; 3]]) {
         debug_assert_eq!(b.len(), self.amplitudes.len());
+        debug_assert!(q.is_empty() || q.len() == b.len());
         debug_assert!(weight > 0.0 && weight.is_finite());
         let n = self.amplitudes.len();
         self.samples += 1;
@@ -262,10 +328,14 @@ impl<T: Real> ProgressiveEncoder<T> {
             if denom.partial_cmp(&T::ZERO) != Some(std::cmp::Ordering::Greater) {
                 continue; // B_i has been zero on every sample so far
             }
-            let scale = acc * s * bi / denom;
+            let scale = acc * s / denom;
             for c in 0..3 {
                 let old = self.amplitudes[i][c];
-                let mut new = old + scale * delta[c];
+                let g = match q.get(i) {
+                    Some(qi) => bi * delta[c] + T::from_f64(qi[c]),
+                    None => bi * delta[c],
+                };
+                let mut new = old + scale * g;
                 if self.opts.non_negative {
                     new = new.max(T::ZERO);
                 }
