@@ -13,8 +13,8 @@
 
 use crate::bake::{BakeConfig, BakeState, BasisKind, Moments, Targets};
 use crate::scene::{Environment, Light};
-use sbf::glam::Vec3;
 use crate::trace::{specular_probability, Tracer};
+use sbf::glam::Vec3;
 use shaders::gpu::Gpu;
 use shaders::progressive::{EncoderParams, EncoderState};
 use wgpu::util::DeviceExt;
@@ -102,7 +102,8 @@ fn v3(a: sbf::glam::DVec3) -> String {
 
 /// Composes the bake kernel for `config` (`glossy`: whether any material has a GGX layer).
 pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
-    let mut roots = vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
+    let mut roots =
+        vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
     if glossy {
         roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
     }
@@ -311,7 +312,7 @@ impl<'g> GpuBake<'g> {
         });
         let (aux, at) = aux_data(tracer);
         let limits = d.limits();
-        let max_binding = limits.max_storage_buffer_binding_size as u64;
+        let max_binding = limits.max_storage_buffer_binding_size;
         for (what, bytes) in [
             ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
             ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),

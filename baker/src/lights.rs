@@ -150,7 +150,8 @@ pub struct EnvSampler {
 impl EnvSampler {
     /// The sampler for `env`, or None for a black environment.
     pub fn new(env: &Environment) -> Option<EnvSampler> {
-        let (w, h, lum): (usize, usize, Box<dyn Fn(usize, usize) -> f64>) = match env {
+        type Luminance<'e> = Box<dyn Fn(usize, usize) -> f64 + 'e>;
+        let (w, h, lum): (usize, usize, Luminance) = match env {
             Environment::Black => return None,
             Environment::Map(m) => {
                 let w = m.geometry.width;

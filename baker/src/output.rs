@@ -42,8 +42,12 @@ impl LightmapImages {
                 .map(|e| vec![vec![[0.0; 3]; n]; e.first().map(|x| x.coefficients().nrows()).unwrap_or(0)])
                 .collect(),
         };
-        let (mean, se) = (state.mean(), state.standard_error());
+        let (mean, se, valid) = (state.mean(), state.standard_error(), state.valid());
         for (k, it) in targets.items.iter().enumerate() {
+            // Inside geometry (back-face samples): left empty, dilated over.
+            if !valid[k] {
+                continue;
+            }
             let t = it[2] as usize;
             img.validity[t] = 1.0;
             img.irradiance[t] = mean[k].map(|x| x as f32);

@@ -18,7 +18,8 @@ use std::time::Instant;
 /// Which engine traces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Device {
-    /// The GPU if an adapter exists, else the CPU (and say so).
+    /// A hardware GPU adapter if one exists, else the CPU path (a software rasteriser
+    /// such as lavapipe/llvmpipe is slower than the CPU path: used only with `Gpu`).
     Auto,
     Gpu,
     Cpu,
@@ -262,6 +263,10 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         Device::Cpu => None,
         Device::Gpu => Some(shaders::gpu::Gpu::new()?),
         Device::Auto => match shaders::gpu::Gpu::new() {
+            Ok(g) if g.software => {
+                log(format!("the only adapter is a software rasteriser ({}); baking on the CPU path (--device gpu forces it)", g.adapter));
+                None
+            }
             Ok(g) => Some(g),
             Err(e) => {
                 log(format!("no GPU adapter ({e}); baking on the CPU"));
@@ -323,6 +328,19 @@ fn write_outputs(
     log: &mut dyn FnMut(String),
 ) -> Result<(), String> {
     let mut img = LightmapImages::new(lm, targets, state);
+    let validity = |st: &BakeState| {
+        let valid = st.valid();
+        let sum = |f: &dyn Fn(&crate::bake::Moments) -> u64| st.moments.iter().map(f).sum::<u64>();
+        json!({"invalid": valid.iter().filter(|v| !**v).count(),
+               "max_back_face_fraction": crate::bake::MAX_BACK_FACE_FRACTION,
+               "back_face_samples": sum(&|m| m.back_faces), "non_finite_samples": sum(&|m| m.non_finite),
+               "accepted_samples": sum(&|m| m.accepted)})
+    };
+    let lm_validity = validity(state);
+    log(format!(
+        "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
+        lm_validity["invalid"], targets.items.len(), crate::bake::MAX_BACK_FACE_FRACTION, lm_validity["back_face_samples"], lm_validity["non_finite_samples"]
+    ));
     let dilated = img.dilate(o.padding + 1);
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width);
@@ -359,7 +377,8 @@ fn write_outputs(
         "solver": format!("{:?}", o.config.solver),
         "layout": {"width": lm.width, "height": lm.height, "texels_per_unit": lm.texels_per_unit, "padding": lm.padding,
                    "valid_texels": lm.valid_count(), "utilisation": lm.utilisation(), "dilated_texels": dilated,
-                   "validity": "alpha channel of every EXR: 1 = baked, 0 = empty or dilated"},
+                   "validity": "alpha channel of every EXR: 1 = baked, 0 = empty, inside geometry or dilated",
+                   "texel_validity": lm_validity},
         "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
         "bases": bases,
         "meshes": output::mesh_mapping(scene, lm),
@@ -385,13 +404,17 @@ fn write_outputs(
                         (kind.name().to_string(), json!(rows))
                     })
                     .collect();
-                json!({"position": [p.x, p.y, p.z], "mean_radiance": mean[k], "standard_error": se[k], "coefficients": coeffs})
+                let m = &ps.moments[k];
+                json!({"position": [p.x, p.y, p.z], "mean_radiance": mean[k], "standard_error": se[k], "coefficients": coeffs,
+                       "valid": ps.valid()[k], "back_face_fraction": m.back_face_fraction()})
             })
             .collect();
         let pj = json!({"space": "world (+Y up)", "passes": ps.passes, "bases": o.probe_bases.iter().map(|b| b.name()).collect::<Vec<_>>(), "probes": list});
         std::fs::write(o.out.join("probes.json"), serde_json::to_string_pretty(&pj).expect("json"))
             .map_err(|e| format!("probes.json: {e}"))?;
-        meta["probes"] = json!({"file": "probes.json", "count": probe_positions.len()});
+        let pv = validity(ps);
+        log(format!("probes: {} of {} inside geometry (flagged \"valid\": false in probes.json)", pv["invalid"], probe_positions.len()));
+        meta["probes"] = json!({"file": "probes.json", "count": probe_positions.len(), "validity": pv});
     }
     std::fs::write(o.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("bake.json: {e}"))?;
     log(format!(

@@ -280,9 +280,12 @@ fn sh2_projection(delta: Option<(f64, f64)>, constant: f64) -> f64 {
 
 /// SH L2 and AD9 encodings of (a) and (e) (LS): the irradiance reconstructed from each
 /// texel's coefficients, averaged over texels, matches the analytic irradiance within
-/// the basis' projection error plus 3σ (σ: the texel-to-texel spread / √n). SH's
-/// projection error is the Legendre closed form above; AD9's is the LS projection
-/// G⁻¹b with the hemisphere Gram matrix (quadrature) and b = E·B(ω_l) or L·∫B.
+/// the basis' projection error plus 3σ (σ: the texel-to-texel spread / √n) plus the
+/// progressive encoder's convergence allowance: its distance to the LS fit of the same
+/// samples falls like 1/N, and sbf's tests bound it by 1% at 8192 samples
+/// (`progressive_converges_to_batch_ls`), the pass count used here. SH's projection
+/// error is the Legendre closed form above; AD9's is the LS projection G⁻¹b with the
+/// hemisphere Gram matrix (quadrature) and b = E·B(ω_l) or L·∫B.
 #[test]
 fn basis_encodings_match_their_projections() {
     let sh2 = BasisKind::ShL2.basis();
@@ -293,7 +296,9 @@ fn basis_encodings_match_their_projections() {
     for (name, g) in engines() {
         let el = 50f64.to_radians();
         let (e, lc) = (2.0f64, 0.6f64);
-        let cases: [(&str, Scene, f64, Option<(f64, f64)>, f64); 2] = [
+        // (name, scene, analytic E, delta light (E, cos θ), constant radiance)
+        type Case = (&'static str, Scene, f64, Option<(f64, f64)>, f64);
+        let cases: [Case; 2] = [
             (
                 "directional",
                 plane_scene(
@@ -310,8 +315,8 @@ fn basis_encodings_match_their_projections() {
             ("constant environment", plane_scene(vec![], Environment::Constant(Vec3::splat(lc as f32))), PI * lc, None, lc),
         ];
         for (case, s, e_true, delta, constant) in cases {
-            let passes = 256;
-            let (_, _, st) = bake(&s, g.as_ref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 4.0);
+            let passes = 8192;
+            let (_, _, st) = bake(&s, g.as_ref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
             // The delta's direction in the texels' tangent frame (all texels share it).
             let ld = delta.map(|_| {
                 let (t, b) = baker::lightmap::frame(Vec3::Y);
@@ -329,7 +334,8 @@ fn basis_encodings_match_their_projections() {
             let c = gram.matrix.clone().lu().solve(&sbf::nalgebra::DVector::from_vec(b)).unwrap();
             let proj_ad: f64 = c.iter().zip(&w_ad).map(|(a, b)| a * b).sum();
             for (bi, w, proj, bname) in [(0usize, &w_sh, proj_sh, "SH L2"), (1, &w_ad, proj_ad, "AD9")] {
-                let rec: Vec<f64> = st.encoders[bi].iter().map(|enc| (0..w.len()).map(|i| enc.coefficients()[(i, 1)] * w[i]).sum()).collect();
+                let rec: Vec<f64> =
+                    st.encoders[bi].iter().map(|enc| (0..w.len()).map(|i| enc.coefficients()[(i, 1)] * w[i]).sum()).collect();
                 let n = rec.len() as f64;
                 let mean = rec.iter().sum::<f64>() / n;
                 let sd = (rec.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
@@ -339,8 +345,10 @@ fn basis_encodings_match_their_projections() {
                     proj - e_true,
                     mean - proj
                 );
+                let conv = 0.01 * proj.abs();
+                assert!((mean - proj).abs() <= conv + 3.0 * sigma, "{name} {case} {bname}: {mean} vs projection {proj} (σ {sigma})");
                 assert!(
-                    (mean - e_true).abs() <= (proj - e_true).abs() + 3.0 * sigma + 1e-4 * e_true,
+                    (mean - e_true).abs() <= (proj - e_true).abs() + conv + 3.0 * sigma,
                     "{name} {case} {bname}: {mean} vs analytic {e_true} (projection {proj}, σ {sigma})"
                 );
             }

@@ -17,6 +17,8 @@ pub struct Gpu {
     queue: wgpu::Queue,
     /// "name (backend, driver)" of the adapter that ran.
     pub adapter: String,
+    /// The adapter is a software rasteriser on the CPU (lavapipe, llvmpipe, WARP).
+    pub software: bool,
 }
 
 const WG: u32 = 64;
@@ -75,7 +77,8 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| format!("requesting a device from {}: {e}", info.name))?;
-        Ok(Gpu { device, queue, adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info) })
+        let software = info.device_type == wgpu::DeviceType::Cpu;
+        Ok(Gpu { device, queue, adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info), software })
     }
 
     /// The wgpu device (for callers that build their own pipelines, e.g. the baker).
