@@ -11,15 +11,116 @@
 //! continues bit for bit.
 
 use crate::bake::{BakeConfig, BakeState, Moments, Targets};
+use crate::scene::{Environment, Light, Scene};
 use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"SBFBAKE2";
 
-/// FNV-1a 64 of a description of the bake (its identity).
-pub fn fingerprint(identity: &str) -> u64 {
-    identity.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+/// FNV-1a 64 (Fowler–Noll–Vo), fed with the bytes that determine a bake.
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    pub fn bytes(&mut self, b: &[u8]) {
+        for x in b {
+            self.0 = (self.0 ^ *x as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    pub fn u64(&mut self, x: u64) {
+        self.bytes(&x.to_le_bytes());
+    }
+    pub fn f32s(&mut self, v: &[f32]) {
+        for x in v {
+            self.bytes(&x.to_bits().to_le_bytes());
+        }
+    }
+    pub fn vec3(&mut self, v: sbf::glam::Vec3) {
+        self.f32s(&v.to_array());
+    }
+    pub fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// The identity of a bake: a hash of the scene content (geometry, normals, lightmap UVs,
+/// materials, lights, environment texels), the targets (every sample point and item —
+/// so the layout and the probe positions), and the settings that change the result.
+pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig, what: &str) -> u64 {
+    let mut h = Fnv::default();
+    h.bytes(what.as_bytes());
+    for m in &scene.meshes {
+        h.u64(m.positions.len() as u64);
+        m.positions.iter().chain(&m.normals).for_each(|v| h.vec3(*v));
+        m.indices.iter().flatten().for_each(|i| h.u64(*i as u64));
+        if let Some(uv) = &m.lightmap_uv {
+            uv.iter().for_each(|v| h.f32s(&v.to_array()));
+        }
+        h.u64(m.material as u64);
+        h.u64(m.lightmapped as u64);
+    }
+    for m in &scene.materials {
+        h.vec3(m.base_color);
+        h.vec3(m.emissive);
+        h.f32s(&[m.metallic, m.roughness, m.specular]);
+        h.u64(m.double_sided as u64);
+    }
+    for l in &scene.lights {
+        match *l {
+            Light::Directional { direction, irradiance } => {
+                h.u64(0);
+                h.vec3(direction);
+                h.vec3(irradiance);
+            }
+            Light::Point { position, intensity, range } => {
+                h.u64(1);
+                h.vec3(position);
+                h.vec3(intensity);
+                h.f32s(&[range]);
+            }
+            Light::Spot { position, direction, intensity, cos_inner, cos_outer, range } => {
+                h.u64(2);
+                h.vec3(position);
+                h.vec3(direction);
+                h.vec3(intensity);
+                h.f32s(&[cos_inner, cos_outer, range]);
+            }
+        }
+    }
+    match &scene.environment {
+        Environment::Black => h.u64(10),
+        Environment::Constant(c) => {
+            h.u64(11);
+            h.vec3(*c);
+        }
+        Environment::Sky { zenith, horizon, ground } => {
+            h.u64(12);
+            [zenith, horizon, ground].iter().for_each(|c| h.vec3(**c));
+        }
+        Environment::Map(m) => {
+            h.u64(13);
+            h.u64(m.geometry.width as u64);
+            m.texels.iter().for_each(|t| h.f32s(t));
+        }
+    }
+    h.u64(targets.sphere as u64);
+    for p in &targets.points {
+        h.vec3(p.position);
+        h.vec3(p.normal);
+    }
+    targets.items.iter().flatten().for_each(|x| h.u64(*x as u64));
+    h.u64(config.seed);
+    h.u64(config.max_bounces as u64);
+    config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
+    h.bytes(format!("{:?}", config.solver).as_bytes());
+    h.finish()
 }
 
 /// Serialises a state.
@@ -90,7 +191,7 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
     }
     let fp = r.u64()?;
     if fp != fingerprint {
-        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): same scene, layout, seed, bounces, bases and solver are required to resume"));
+        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases or solver changed"));
     }
     let passes = r.u64()?;
     let (items, nb) = (r.u32()? as usize, r.u32()? as usize);

@@ -140,15 +140,6 @@ impl Engine<'_> {
     }
 }
 
-/// The bake's identity for checkpoints: a resumed bake must be the same bake.
-fn identity(o: &Options, what: &str, items: usize) -> String {
-    let bases: Vec<&str> = o.config.bases.iter().map(|b| b.name()).collect();
-    format!(
-        "{what}|{}|{:?}|{}|{}|{}|{}|{:?}|{:?}|{items}",
-        o.scene, o.environment, o.texels_per_unit, o.padding, o.config.seed, o.config.max_bounces, bases, o.config.solver
-    )
-}
-
 /// Runs passes on `targets` with progress, checkpoints and resume; returns the state.
 #[allow(clippy::too_many_arguments)]
 fn run_targets<'s>(
@@ -156,12 +147,13 @@ fn run_targets<'s>(
     config: &BakeConfig,
     gpu: Option<&shaders::gpu::Gpu>,
     tracer_of: &dyn Fn() -> Tracer<'s>,
+    scene: &Scene,
     targets: &Targets,
     what: &str,
     log: &mut dyn FnMut(String),
 ) -> Result<(BakeState, u64), String> {
     let ckpt = o.out.join(format!("{what}.checkpoint"));
-    let fp = checkpoint::fingerprint(&identity(&Options { config: config.clone(), ..o.clone() }, what, targets.items.len()));
+    let fp = checkpoint::content_fingerprint(scene, targets, config, what);
     let saved = if o.resume && ckpt.exists() {
         let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
         let st = checkpoint::from_bytes(&bytes, fp, config, targets).map_err(|e| format!("{}: {e}", ckpt.display()))?;
@@ -299,14 +291,14 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         ));
         return Ok(Summary { device, lightmap: b.state()?, probes: None, passes_run: passes, seconds: t0.elapsed().as_secs_f64() });
     }
-    let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &targets, "lightmap", log)?;
+    let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &scene, &targets, "lightmap", log)?;
     let mut probe_state = None;
     let mut probe_positions = Vec::new();
     if let Some(n) = o.probes {
         probe_positions = probe_grid(&bvh, n);
         let pt = Targets::probes(&probe_positions);
         let pcfg = BakeConfig { bases: o.probe_bases.clone(), ..o.config.clone() };
-        probe_state = Some(run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &pt, "probes", log)?.0);
+        probe_state = Some(run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &scene, &pt, "probes", log)?.0);
     }
     write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &probe_positions, &device, glossy, t0, log)?;
     Ok(Summary { device, lightmap: state, probes: probe_state, passes_run: run, seconds: t0.elapsed().as_secs_f64() })

@@ -108,6 +108,101 @@ fn resume_refuses_a_different_bake() {
     assert!(!out.status.success() && log.contains("belongs to a different bake"), "{log}");
 }
 
+/// The checkpoint identity is the content, not the path: an edited scene with the same
+/// texel count, and a probe grid of the same size (2,2,2 → 1,1,8), are refused.
+#[test]
+fn resume_refuses_edited_scenes_and_other_probe_grids() {
+    let d = tmp("content");
+    let path = d.join("room.gltf");
+    room(UNIT_UV, -1.0).write(&path);
+    let out = d.join("out");
+    let args = |probes: &'static str| {
+        vec![
+            "--scene".to_string(),
+            path.to_str().unwrap().to_string(),
+            "--device".into(),
+            "cpu".into(),
+            "--passes".into(),
+            "4".into(),
+            "--checkpoint-every".into(),
+            "2".into(),
+            "--texels-per-unit".into(),
+            "4".into(),
+            "--probes".into(),
+            probes.into(),
+            "--preview-width".into(),
+            "16".into(),
+            "--out".into(),
+            out.to_str().unwrap().to_string(),
+        ]
+    };
+    let run = |a: Vec<String>| {
+        let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+        baker(&a).output().unwrap()
+    };
+    assert!(run(args("2,2,2")).status.success());
+    // Same file, same texel count, one material colour changed.
+    let text = std::fs::read_to_string(&path).unwrap().replace("[0.7,0.7,0.7,1]", "[0.6,0.7,0.7,1]");
+    std::fs::write(&path, text).unwrap();
+    let mut a = args("2,2,2");
+    a.push("--resume".into());
+    let o = run(a);
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && log.contains("belongs to a different bake"), "edited scene resumed: {log}");
+    // Fresh bake of the edited scene, then the same probe count on another grid.
+    assert!(run(args("2,2,2")).status.success());
+    let mut a = args("1,1,8");
+    a.push("--resume".into());
+    let o = run(a);
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && log.contains("probes.checkpoint") && log.contains("different bake"), "other grid resumed: {log}");
+}
+
+/// Resume on the GPU path: 24 passes, then --resume to 48, writes the same files as 48
+/// uninterrupted passes (the state round-trips exactly through the checkpoint).
+#[test]
+fn gpu_bake_resumes_to_the_identical_result() {
+    if let Err(e) = shaders::gpu::Gpu::new() {
+        assert!(std::env::var("SBF_REQUIRE_GPU").map_or(true, |v| v != "1"), "SBF_REQUIRE_GPU=1 but {e}");
+        println!("skipped: {e}");
+        return;
+    }
+    let (a, b) = (tmp("gpu-straight"), tmp("gpu-resumed"));
+    let run = |dir: &Path, passes: &str, extra: &[&str]| {
+        let mut args = vec![
+            "--device",
+            "gpu",
+            "--texels-per-unit",
+            "6",
+            "--passes",
+            passes,
+            "--checkpoint-every",
+            "8",
+            "--probes",
+            "2,2,2",
+            "--preview-width",
+            "32",
+            "--out",
+            dir.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = baker(&args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).to_string()
+    };
+    run(&a, "48", &[]);
+    run(&b, "24", &[]);
+    let log = run(&b, "48", &["--resume"]);
+    assert!(log.contains("resuming from") && log.contains("at pass 24"), "{log}");
+    let mut files = vec!["irradiance.exr".to_string(), "irradiance_se.exr".into(), "probes.json".into()];
+    files.extend((0..9).map(|l| format!("sh2_{l:02}.exr")));
+    files.extend((0..9).map(|l| format!("ad9_{l:02}.exr")));
+    for f in &files {
+        let (x, y) = (std::fs::read(a.join(f)).unwrap(), std::fs::read(b.join(f)).unwrap());
+        assert!(x == y, "{f} differs after a GPU resume");
+    }
+}
+
 /// Minimal glTF writer for tests: one buffer as a base64 data URI.
 struct Gltf {
     bin: Vec<u8>,
