@@ -72,6 +72,10 @@ pub struct Bvh {
 const BINS: usize = 16;
 const LEAF_MAX: usize = 4;
 
+/// The deepest a built tree may be: the traversal stacks (CPU and WGSL) hold 64 entries
+/// and a depth-first walk needs at most depth + 1.
+pub const MAX_DEPTH: usize = 62;
+
 #[derive(Clone, Copy)]
 struct Aabb {
     lo: Vec3,
@@ -113,15 +117,22 @@ impl Bvh {
         Self::from_tris(tris)
     }
 
-    /// Builds over the given triangles (reordered into leaf order).
-    pub fn from_tris(mut tris: Vec<Tri>) -> Bvh {
+    /// Builds over the given triangles (reordered into leaf order), at most
+    /// [`MAX_DEPTH`] + 1 levels deep.
+    pub fn from_tris(tris: Vec<Tri>) -> Bvh {
+        Self::from_tris_bounded(tris, MAX_DEPTH)
+    }
+
+    /// [`Self::from_tris`] with another depth bound (≥ ⌈log2(n/4)⌉ + 1 for n triangles):
+    /// SAH splits until a subtree could run past it, object-median splits from there.
+    pub fn from_tris_bounded(mut tris: Vec<Tri>, max_depth: usize) -> Bvh {
         let bounds: Vec<(Vec3, Vec3)> = tris.iter().map(|t| t.bounds()).collect();
         let centroids: Vec<Vec3> = bounds.iter().map(|(l, h)| 0.5 * (*l + *h)).collect();
         let mut order: Vec<usize> = (0..tris.len()).collect();
         let mut nodes = vec![Node { min: [0.0; 3], left_first: 0, max: [0.0; 3], count: 0 }];
-        // (node index, first, count)
-        let mut stack = vec![(0usize, 0usize, tris.len())];
-        while let Some((ni, first, count)) = stack.pop() {
+        // (node index, first, count, depth)
+        let mut stack = vec![(0usize, 0usize, tris.len(), 0usize)];
+        while let Some((ni, first, count, depth)) = stack.pop() {
             let mut bb = Aabb::EMPTY;
             let mut cb = Aabb::EMPTY;
             for &k in &order[first..first + count] {
@@ -130,29 +141,52 @@ impl Bvh {
             }
             nodes[ni].min = bb.lo.into();
             nodes[ni].max = bb.hi.into();
-            let split = if count > LEAF_MAX { best_split(&order[first..first + count], &bounds, &centroids, cb, bb) } else { None };
-            let Some((axis, pos)) = split else {
-                nodes[ni].left_first = first as u32;
-                nodes[ni].count = count as u32;
-                continue;
-            };
-            // Partition by the split plane.
-            let slice = &mut order[first..first + count];
-            let mut i = 0;
-            for j in 0..slice.len() {
-                if centroids[slice[j]][axis] < pos {
-                    slice.swap(i, j);
-                    i += 1;
+            // Depth bound: where SAH splits could run past MAX_DEPTH (pathological size
+            // distributions make them peel one triangle per level), split at the object
+            // median instead, which halves the count: ⌈log2(count/LEAF_MAX)⌉ more levels.
+            let levels_needed = (count.div_ceil(LEAF_MAX) as f64).log2().ceil() as usize;
+            let median = count > LEAF_MAX && depth + levels_needed + 1 >= max_depth;
+            let split =
+                if count > LEAF_MAX && !median { best_split(&order[first..first + count], &bounds, &centroids, cb, bb) } else { None };
+            let left_count = if median {
+                let ext = cb.hi - cb.lo;
+                let axis = if ext.x >= ext.y && ext.x >= ext.z {
+                    0
+                } else if ext.y >= ext.z {
+                    1
+                } else {
+                    2
+                };
+                order[first..first + count].sort_by(|a, b| centroids[*a][axis].total_cmp(&centroids[*b][axis]).then(a.cmp(b)));
+                count / 2
+            } else {
+                let Some((axis, pos)) = split else {
+                    nodes[ni].left_first = first as u32;
+                    nodes[ni].count = count as u32;
+                    continue;
+                };
+                // Partition by the split plane.
+                let slice = &mut order[first..first + count];
+                let mut i = 0;
+                for j in 0..slice.len() {
+                    if centroids[slice[j]][axis] < pos {
+                        slice.swap(i, j);
+                        i += 1;
+                    }
                 }
-            }
-            let left_count = if i == 0 || i == count { count / 2 } else { i };
+                if i == 0 || i == count {
+                    count / 2
+                } else {
+                    i
+                }
+            };
             let l = nodes.len();
             nodes.push(Node { min: [0.0; 3], left_first: 0, max: [0.0; 3], count: 0 });
             nodes.push(Node { min: [0.0; 3], left_first: 0, max: [0.0; 3], count: 0 });
             nodes[ni].left_first = l as u32;
             nodes[ni].count = 0;
-            stack.push((l + 1, first + left_count, count - left_count));
-            stack.push((l, first, left_count));
+            stack.push((l + 1, first + left_count, count - left_count, depth + 1));
+            stack.push((l, first, left_count, depth + 1));
         }
         let reordered: Vec<Tri> = order.iter().map(|&k| tris[k]).collect();
         tris = reordered;

@@ -47,6 +47,83 @@ fn base64(s: &str) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
+/// Reads an external buffer file: a regular file, at most `declared` bytes taken (so a
+/// special file such as /dev/zero or a huge file costs no more than the asset declares).
+fn read_bounded(p: &Path, declared: usize, index: usize) -> Result<Vec<u8>, SceneError> {
+    use std::io::Read;
+    let err = |e: String| SceneError::Io(format!("buffer {index}: {}: {e}", p.display()));
+    let f = std::fs::File::open(p).map_err(|e| err(e.to_string()))?;
+    let meta = f.metadata().map_err(|e| err(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(err("not a regular file".into()));
+    }
+    let mut data = Vec::with_capacity(declared.min(meta.len() as usize));
+    f.take(declared as u64).read_to_end(&mut data).map_err(|e| err(e.to_string()))?;
+    Ok(data)
+}
+
+/// What an accessor must be for its use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Use {
+    Position,
+    Normal,
+    LightmapUv,
+    Indices,
+}
+
+/// Checks an accessor before the `gltf` reader touches it: a type the use allows
+/// (indices: unsigned SCALAR; positions and normals: float VEC3; lightmap UVs: float or
+/// normalised unsigned VEC2), no sparse storage, and every element inside its buffer
+/// view and the view inside the loaded buffer. The error names mesh, accessor and what
+/// is out of range.
+fn check_accessor(a: &gltf::Accessor, usage: Use, mesh: &str, data: &[Vec<u8>]) -> Result<(), SceneError> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    let bad = |what: String| SceneError::Io(format!("mesh '{mesh}': accessor {} ({usage:?}): {what}", a.index()));
+    let ok_type = match usage {
+        Use::Position | Use::Normal => a.data_type() == T::F32 && a.dimensions() == D::Vec3,
+        Use::LightmapUv => {
+            a.dimensions() == D::Vec2 && (a.data_type() == T::F32 || (a.normalized() && matches!(a.data_type(), T::U8 | T::U16)))
+        }
+        Use::Indices => a.dimensions() == D::Scalar && matches!(a.data_type(), T::U8 | T::U16 | T::U32),
+    };
+    if !ok_type {
+        return Err(bad(format!(
+            "type {:?} {:?}{} is not allowed here",
+            a.data_type(),
+            a.dimensions(),
+            if a.normalized() { " normalized" } else { "" }
+        )));
+    }
+    if a.sparse().is_some() {
+        return Err(bad("sparse accessors are not supported".into()));
+    }
+    let view = a.view().ok_or_else(|| bad("no bufferView".into()))?;
+    let buf = data.get(view.buffer().index()).ok_or_else(|| bad(format!("buffer {} was not loaded", view.buffer().index())))?;
+    let view_end = view.offset().checked_add(view.length()).ok_or_else(|| bad("bufferView range overflows".into()))?;
+    if view_end > buf.len() {
+        return Err(bad(format!("bufferView {} ends at byte {view_end}, its buffer has {} bytes", view.index(), buf.len())));
+    }
+    let elem = a.size();
+    let stride = view.stride().unwrap_or(elem);
+    if a.count() > 0 {
+        let last = (a.count() - 1)
+            .checked_mul(stride)
+            .and_then(|x| x.checked_add(a.offset()))
+            .and_then(|x| x.checked_add(elem))
+            .ok_or_else(|| bad(format!("count {} overflows", a.count())))?;
+        if last > view.length() {
+            return Err(bad(format!(
+                "count {} × stride {stride} from offset {} needs {last} bytes, bufferView {} has {}",
+                a.count(),
+                a.offset(),
+                view.index(),
+                view.length()
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn buffers(doc: &gltf::Document, blob: Option<Vec<u8>>, base: &Path) -> Result<Vec<Vec<u8>>, SceneError> {
     let mut blob = blob;
     let mut out = Vec::new();
@@ -62,8 +139,7 @@ fn buffers(doc: &gltf::Document, blob: Option<Vec<u8>>, base: &Path) -> Result<V
                         .ok_or_else(|| SceneError::Io(format!("buffer {}: data URI is not base64", b.index())))?;
                     base64(payload).map_err(|e| SceneError::Io(format!("buffer {}: {e}", b.index())))?
                 } else {
-                    let p = base.join(uri);
-                    std::fs::read(&p).map_err(|e| SceneError::Io(format!("buffer {}: {}: {e}", b.index(), p.display())))?
+                    read_bounded(&base.join(uri), b.length(), b.index())?
                 }
             }
         };
@@ -75,10 +151,45 @@ fn buffers(doc: &gltf::Document, blob: Option<Vec<u8>>, base: &Path) -> Result<V
     Ok(out)
 }
 
+/// Checks the accessor references of every primitive (attributes, indices, morph targets)
+/// before the `gltf` crate validates the document: its validation hook indexes the
+/// accessor list with the POSITION reference unchecked and panics on a bad one.
+fn precheck_references(json: &[u8]) -> Result<(), String> {
+    let v: serde_json::Value = serde_json::from_slice(json).map_err(|e| format!("not valid JSON: {e}"))?;
+    let accessors = v.get("accessors").and_then(|a| a.as_array()).map_or(0, |a| a.len());
+    let check = |what: String, r: &serde_json::Value| -> Result<(), String> {
+        match r.as_u64() {
+            Some(i) if (i as usize) < accessors => Ok(()),
+            _ => Err(format!("{what} refers to accessor {r}, the asset has {accessors}")),
+        }
+    };
+    for (mi, m) in v.get("meshes").and_then(|m| m.as_array()).into_iter().flatten().enumerate() {
+        for (pi, p) in m.get("primitives").and_then(|p| p.as_array()).into_iter().flatten().enumerate() {
+            let maps = p.get("attributes").into_iter().chain(p.get("targets").and_then(|t| t.as_array()).into_iter().flatten());
+            for attrs in maps {
+                for (k, r) in attrs.as_object().into_iter().flatten() {
+                    check(format!("mesh {mi} primitive {pi} attribute {k}"), r)?;
+                }
+            }
+            if let Some(r) = p.get("indices") {
+                check(format!("mesh {mi} primitive {pi} indices"), r)?;
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Loads a .gltf or .glb file into a scene (validated) with a report.
 pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
     let bytes = std::fs::read(path).map_err(|e| SceneError::Io(format!("{}: {e}", path.display())))?;
-    let g = gltf::Gltf::from_slice(&bytes).map_err(|e| SceneError::Io(format!("{}: not a valid glTF 2.0 asset: {e}", path.display())))?;
+    let invalid = |e: String| SceneError::Io(format!("{}: not a valid glTF 2.0 asset: {e}", path.display()));
+    let json: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
+        gltf::Glb::from_slice(&bytes).map_err(|e| invalid(e.to_string()))?.json
+    } else {
+        std::borrow::Cow::Borrowed(&bytes[..])
+    };
+    precheck_references(&json).map_err(invalid)?;
+    let g = gltf::Gltf::from_slice(&bytes).map_err(|e| invalid(e.to_string()))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let data = buffers(&g.document, g.blob.clone(), base)?;
     let mut report = ImportReport::default();
@@ -108,7 +219,15 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
     // Depth-first in document order (the stack holds siblings reversed).
     let mut stack: Vec<(gltf::Node, Mat4)> = gscene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
     stack.reverse();
+    // glTF nodes form disjoint trees: a node reached twice is a cycle or has two parents.
+    let mut seen = vec![false; g.document.nodes().len()];
     while let Some((node, parent)) = stack.pop() {
+        if std::mem::replace(&mut seen[node.index()], true) {
+            return Err(SceneError::Io(format!(
+                "node {} is reached twice from the scene (a cycle in `children` or a node with two parents)",
+                node.index()
+            )));
+        }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         let children: Vec<gltf::Node> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
@@ -146,10 +265,30 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
                 report.notes.push(format!("{name}: {:?} primitive skipped (triangles only)", prim.mode()));
                 continue;
             }
-            let reader = prim.reader(|b| data.get(b.index()).map(|v| &v[..]));
-            let Some(pos) = reader.read_positions() else {
+            let Some(pa) = prim.get(&gltf::Semantic::Positions) else {
                 report.notes.push(format!("{name}: no POSITION, skipped"));
                 continue;
+            };
+            check_accessor(&pa, Use::Position, &name, &data)?;
+            let vertices = pa.count();
+            for (sem, usage) in [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(1), Use::LightmapUv)] {
+                if let Some(a) = prim.get(&sem) {
+                    check_accessor(&a, usage, &name, &data)?;
+                    if a.count() != vertices {
+                        return Err(SceneError::Io(format!(
+                            "mesh '{name}': accessor {} ({usage:?}) has {} elements, POSITION has {vertices}",
+                            a.index(),
+                            a.count()
+                        )));
+                    }
+                }
+            }
+            if let Some(a) = prim.indices() {
+                check_accessor(&a, Use::Indices, &name, &data)?;
+            }
+            let reader = prim.reader(|b| data.get(b.index()).map(|v| &v[..]));
+            let Some(pos) = reader.read_positions() else {
+                return Err(SceneError::Io(format!("mesh '{name}': POSITION accessor {} could not be read", pa.index())));
             };
             let positions: Vec<Vec3> = pos.map(|p| world.transform_point3(Vec3::from(p))).collect();
             let indices: Vec<u32> = match reader.read_indices() {

@@ -11,27 +11,32 @@ pub fn luminance(c: Vec3) -> f64 {
     (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
 }
 
+/// The largest light intensity, irradiance or emitted radiance a scene may hold: the
+/// estimator squares per-sample values in f32 (variance, GPU moments), and 1e18² = 1e36
+/// stays below f32's 3.4e38.
+pub const MAX_LIGHT_VALUE: f32 = 1e18;
+
 /// Checks a light's parameters; the error names what is wrong.
 pub fn validate(l: &Light) -> Result<(), &'static str> {
     let unit = |d: Vec3| d.is_finite() && (d.length() - 1.0).abs() < 1e-3;
-    let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0;
+    let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= MAX_LIGHT_VALUE;
     match *l {
         Light::Directional { direction, irradiance } => {
             if !unit(direction) {
                 return Err("direction must be a finite unit vector");
             }
             if !colour(irradiance) {
-                return Err("irradiance must be finite and non-negative");
+                return Err("irradiance must be finite, non-negative and at most 1e18");
             }
         }
         Light::Point { position, intensity, range } => {
             if !position.is_finite() || !colour(intensity) || range.is_nan() || range <= 0.0 {
-                return Err("point light: position and intensity must be finite, intensity ≥ 0, range > 0");
+                return Err("point light: position must be finite, intensity in [0, 1e18], range > 0");
             }
         }
         Light::Spot { position, direction, intensity, cos_inner, cos_outer, range } => {
             if !position.is_finite() || !colour(intensity) || range.is_nan() || range <= 0.0 || !unit(direction) {
-                return Err("spot light: finite position, unit direction, intensity ≥ 0 and range > 0 required");
+                return Err("spot light: finite position, unit direction, intensity in [0, 1e18] and range > 0 required");
             }
             if !(cos_outer.is_finite() && cos_inner.is_finite() && (-1.0..=1.0).contains(&cos_outer) && cos_inner >= cos_outer) {
                 return Err("spot light: cone cosines must satisfy −1 ≤ cos(outer) ≤ cos(inner)");

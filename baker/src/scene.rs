@@ -158,6 +158,10 @@ pub struct Scene {
     pub environment: Environment,
 }
 
+/// The largest coordinate magnitude a scene may hold (cross products of edges must stay
+/// finite in f32).
+pub const MAX_COORDINATE: f32 = 1e15;
+
 /// Errors in scene data.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SceneError {
@@ -169,6 +173,7 @@ pub enum SceneError {
     LengthMismatch { mesh: String, what: &'static str },
     UvOutOfRange { mesh: String, u: f32, v: f32 },
     BadLight { light: usize, what: &'static str },
+    OutOfRange { mesh: String, what: &'static str },
     Io(String),
 }
 
@@ -185,6 +190,7 @@ impl std::fmt::Display for SceneError {
                 write!(f, "mesh '{mesh}': lightmap UV ({u}, {v}) outside [0, 1] (lightmap UVs must lie in the unit square)")
             }
             SceneError::BadLight { light, what } => write!(f, "light {light}: {what}"),
+            SceneError::OutOfRange { mesh, what } => write!(f, "mesh '{mesh}': {what}"),
             SceneError::Io(s) => write!(f, "{s}"),
         }
     }
@@ -206,6 +212,9 @@ impl Scene {
             if m.base_color.min_element() < 0.0 || m.base_color.max_element() > 1.0 || m.emissive.min_element() < 0.0 {
                 return Err(SceneError::BadMaterialValue { material: k, what: "base colour outside [0, 1] or negative emission" });
             }
+            if m.emissive.max_element() > crate::lights::MAX_LIGHT_VALUE {
+                return Err(SceneError::BadMaterialValue { material: k, what: "emission above 1e18 (beyond f32 estimation)" });
+            }
         }
         for (k, l) in self.lights.iter().enumerate() {
             crate::lights::validate(l).map_err(|what| SceneError::BadLight { light: k, what })?;
@@ -213,6 +222,12 @@ impl Scene {
         for m in &self.meshes {
             if m.positions.iter().any(|p| !p.is_finite()) {
                 return Err(SceneError::NonFinite { mesh: m.name.clone(), what: "positions" });
+            }
+            if m.positions.iter().any(|p| p.abs().max_element() > MAX_COORDINATE) {
+                return Err(SceneError::OutOfRange {
+                    mesh: m.name.clone(),
+                    what: "a coordinate beyond ±1e15 (f32 ray arithmetic would overflow: scale the scene)",
+                });
             }
             if m.normals.len() != m.positions.len() {
                 return Err(SceneError::LengthMismatch { mesh: m.name.clone(), what: "normal" });

@@ -382,6 +382,90 @@ fn bad_gltf_scenes_give_clear_errors() {
     g.write(&d.join("degenerate.gltf"));
     let (_, report) = import::load(&d.join("degenerate.gltf")).unwrap();
     assert!(report.notes.iter().any(|n| n.contains("1 degenerate")), "{:?}", report.notes);
+    // Corrupt accessors, index types, node graphs, light values and buffers (the
+    // mutation campaign's findings): each a clear error naming the problem, no panic.
+    let base: serde_json::Value = {
+        room(UNIT_UV, -1.0).write(&d.join("base.gltf"));
+        serde_json::from_str(&std::fs::read_to_string(d.join("base.gltf")).unwrap()).unwrap()
+    };
+    let case = |name: &str, edit: &dyn Fn(&mut serde_json::Value), expect: &str| {
+        let mut v = base.clone();
+        edit(&mut v);
+        let p = d.join(format!("{name}.gltf"));
+        std::fs::write(&p, serde_json::to_string(&v).unwrap()).unwrap();
+        let r = std::panic::catch_unwind(|| import::load(&p));
+        let msg = match r {
+            Ok(Err(e)) => e.to_string(),
+            Ok(Ok(_)) => panic!("{name}: imported without an error"),
+            Err(_) => panic!("{name}: the importer panicked"),
+        };
+        assert!(msg.contains(expect), "{name}: '{msg}' does not say '{expect}'");
+        println!("{name}: {msg}");
+    };
+    case("index-past-buffer", &|v| v["accessors"][1]["count"] = 600.into(), "needs");
+    case("truncated-position", &|v| v["accessors"][0]["count"] = 5.into(), "Position): count 5");
+    case("truncated-uv", &|v| v["accessors"][2]["count"] = 5.into(), "LightmapUv): count 5");
+    case("float-indices", &|v| v["accessors"][1]["componentType"] = 5126.into(), "not allowed");
+    case("indices-are-positions", &|v| v["meshes"][0]["primitives"][0]["indices"] = 0.into(), "not allowed");
+    case("self-child", &|v| v["nodes"][0]["children"] = serde_json::json!([0]), "reached twice");
+    case(
+        "mutual-children",
+        &|v| {
+            v["nodes"][0]["children"] = serde_json::json!([1]);
+            v["nodes"][1]["children"] = serde_json::json!([0]);
+        },
+        "reached twice",
+    );
+    let with_light = |v: &mut serde_json::Value, intensity: f64| {
+        v["extensionsUsed"] = serde_json::json!(["KHR_lights_punctual"]);
+        v["extensions"] = serde_json::json!({"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": intensity}]}});
+        v["nodes"][0]["extensions"] = serde_json::json!({"KHR_lights_punctual": {"light": 0}});
+    };
+    case("light-1e38", &|v| with_light(v, 1e38), "intensity in [0, 1e18]");
+    case(
+        "emissive-strength-1e38",
+        &|v| {
+            v["extensionsUsed"] = serde_json::json!(["KHR_materials_emissive_strength"]);
+            v["materials"][1]["extensions"] = serde_json::json!({"KHR_materials_emissive_strength": {"emissiveStrength": 1e38}});
+        },
+        "emission above 1e18",
+    );
+    case(
+        "emissive-strength-overflow",
+        &|v| {
+            v["extensionsUsed"] = serde_json::json!(["KHR_materials_emissive_strength"]);
+            v["materials"][1]["emissiveFactor"] = serde_json::json!([1, 1, 1]);
+            v["materials"][1]["extensions"] = serde_json::json!({"KHR_materials_emissive_strength": {"emissiveStrength": 3e38}});
+            v["materials"][1]["emissiveFactor"] = serde_json::json!([10, 10, 10]);
+        },
+        "non-finite",
+    );
+    #[cfg(unix)]
+    case("dev-zero-buffer", &|v| v["buffers"][0]["uri"] = "/dev/zero".into(), "not a regular file");
+    case(
+        "missing-buffer-bytes",
+        &|v| {
+            std::fs::write(d.join("short.bin"), [0u8; 16]).unwrap();
+            v["buffers"][0]["uri"] = "short.bin".into();
+        },
+        "the asset declares",
+    );
+    // Spot cones and ranges are honoured (not reported as ignored).
+    let mut v = base.clone();
+    v["extensionsUsed"] = serde_json::json!(["KHR_lights_punctual"]);
+    v["extensions"] = serde_json::json!({"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 5, "range": 3,
+        "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}}]}});
+    v["nodes"][0]["extensions"] = serde_json::json!({"KHR_lights_punctual": {"light": 0}});
+    std::fs::write(d.join("spot.gltf"), serde_json::to_string(&v).unwrap()).unwrap();
+    let (sc, rep) = import::load(&d.join("spot.gltf")).unwrap();
+    match sc.lights[0] {
+        baker::scene::Light::Spot { cos_inner, cos_outer, range, direction, .. } => {
+            assert!((cos_inner - 0.2f32.cos()).abs() < 1e-6 && (cos_outer - 0.5f32.cos()).abs() < 1e-6 && range == 3.0);
+            assert!((direction - sbf::glam::Vec3::NEG_Z).length() < 1e-6, "spot shines along the node's −Z");
+        }
+        l => panic!("{l:?}"),
+    }
+    assert!(!rep.notes.iter().any(|n| n.contains("spot")), "{:?}", rep.notes);
     // The command reports the error and exits non-zero.
     let o = baker(&["--scene", d.join("nan.gltf").to_str().unwrap(), "--device", "cpu", "--out", d.join("o").to_str().unwrap()])
         .output()
