@@ -158,7 +158,7 @@ impl Targets {
 
     /// Light probes at the given positions.
     pub fn probes(positions: &[Vec3]) -> Targets {
-        let points = positions.iter().map(|p| SurfacePoint { position: *p, normal: Vec3::Y }).collect();
+        let points = positions.iter().map(|p| SurfacePoint::flat(*p, Vec3::Y)).collect();
         let items = (0..positions.len() as u32).map(|k| [k, 1, k]).collect();
         Targets { points, items, sphere: true, slots: positions.len() }
     }
@@ -372,7 +372,7 @@ impl<'a> Bake<'a> {
                 let pt = &tg.points[(first as u64 + p % count as u64) as usize];
                 let (local, dir, w) = tg.direction(seed, id, p, pt.normal);
                 let mut rng = Pcg32::new(seed.wrapping_add(p.wrapping_mul(0x2545_F491_4F6C_DD1D)), id as u64);
-                let normal = (!tg.sphere).then_some(pt.normal);
+                let normal = (!tg.sphere).then_some((pt.normal, pt.geometric));
                 let s = tracer.sample_point(pt.position, normal, dir, &mut rng);
                 tg.item_sample(pt.normal, local, w, s)
             })

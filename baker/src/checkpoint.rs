@@ -114,6 +114,7 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     for p in &targets.points {
         h.vec3(p.position);
         h.vec3(p.normal);
+        h.vec3(p.geometric);
     }
     targets.items.iter().flatten().for_each(|x| h.u64(*x as u64));
     h.u64(config.seed);

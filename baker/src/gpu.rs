@@ -317,7 +317,7 @@ impl<'g> GpuBake<'g> {
             ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
             ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
             ("materials, lights and environment", (aux.len() * 16) as u64),
-            ("sample points", (targets.points.len() * 32) as u64),
+            ("sample points", (targets.points.len() * 48) as u64),
         ] {
             if bytes > max_binding {
                 return Err(format!(
@@ -381,8 +381,11 @@ impl<'g> GpuBake<'g> {
         let auxb = storage("aux", bytemuck::cast_slice(&aux), wgpu::BufferUsages::empty());
         let item_data: Vec<[u32; 4]> = targets.items.iter().map(|&[a, b, c]| [a, b, c, 0]).collect();
         let itemb = storage("items", bytemuck::cast_slice(&item_data), wgpu::BufferUsages::empty());
-        let pts: Vec<[f32; 4]> =
-            targets.points.iter().flat_map(|p| [p.position.extend(1.0).to_array(), p.normal.extend(0.0).to_array()]).collect();
+        let pts: Vec<[f32; 4]> = targets
+            .points
+            .iter()
+            .flat_map(|p| [p.position.extend(1.0).to_array(), p.normal.extend(0.0).to_array(), p.geometric.extend(0.0).to_array()])
+            .collect();
         let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
         let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
         let states_len = (config.bases.len() * items).max(1) * std::mem::size_of::<EncoderState>();

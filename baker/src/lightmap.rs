@@ -18,8 +18,19 @@ pub const SUBSAMPLES: usize = 16;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfacePoint {
     pub position: Vec3,
-    /// Unit geometric normal (the side the lightmap records).
+    /// Unit shading normal: the mesh's vertex normals interpolated barycentrically
+    /// (glTF NORMAL, or generated), the face normal where they vanish or face away from
+    /// it. The texel's hemisphere, cosine and basis frame are about this normal.
     pub normal: Vec3,
+    /// Unit geometric (face) normal: ray offsets and the surface's own horizon.
+    pub geometric: Vec3,
+}
+
+impl SurfacePoint {
+    /// A point whose shading and geometric normals coincide.
+    pub fn flat(position: Vec3, normal: Vec3) -> Self {
+        SurfacePoint { position, normal, geometric: normal }
+    }
 }
 
 /// One texel: coverage bits and the points of its covered sub-positions (in bit order).
@@ -189,18 +200,18 @@ impl Lightmap {
             let side = (c.size.0 - 2 * padding) as f32;
             for &ti in &c.triangles {
                 let p = m.indices[ti].map(|i| m.positions[i as usize]);
-                let (uv, normal) = match (&m.lightmap_uv, c.from_uv) {
-                    (Some(uvs), true) => {
-                        let n = (p[1] - p[0]).cross(p[2] - p[0]);
-                        if n.length() <= 0.0 {
-                            continue; // degenerate: no texels
-                        }
-                        (m.indices[ti].map(|i| corner + uvs[i as usize] * side), n.normalize())
-                    }
-                    _ => (p.map(to_atlas), c.normal),
+                let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                if n.length() <= 0.0 {
+                    continue; // degenerate: no texels
+                }
+                let normal = n.normalize();
+                let uv = match (&m.lightmap_uv, c.from_uv) {
+                    (Some(uvs), true) => m.indices[ti].map(|i| corner + uvs[i as usize] * side),
+                    _ => p.map(to_atlas),
                 };
                 triangle_uv[c.mesh][ti] = uv;
-                rasterise(&mut texels, width, uv, p, normal);
+                let vn = m.indices[ti].map(|i| m.normals[i as usize]);
+                rasterise(&mut texels, width, uv, p, normal, vn);
             }
         }
         Ok(Lightmap { width, height, texels_per_unit, padding, charts, texels, triangle_uv, generated_for })
@@ -236,9 +247,19 @@ fn pack(charts: &mut [Chart]) -> (usize, usize) {
     (width, (y + row_h).div_ceil(4) * 4)
 }
 
+/// The shading normal at barycentrics (w0, w1, w2): interpolated vertex normals, or the
+/// face normal `ng` where they cancel or turn more than 90° away from it.
+pub fn shading_normal(vn: [Vec3; 3], w: [f32; 3], ng: Vec3) -> Vec3 {
+    let n = vn[0] * w[0] + vn[1] * w[1] + vn[2] * w[2];
+    match n.try_normalize() {
+        Some(n) if n.dot(ng) > 0.0 => n,
+        _ => ng,
+    }
+}
+
 /// Marks the sub-positions of the texels under triangle `uv` (atlas texel coordinates)
-/// and records their surface points.
-fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], normal: Vec3) {
+/// and records their surface points (face normal `normal`, vertex normals `vn`).
+fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], normal: Vec3, vn: [Vec3; 3]) {
     let lo = uv[0].min(uv[1]).min(uv[2]).floor().max(Vec2::ZERO);
     let hi = uv[0].max(uv[1]).max(uv[2]).ceil();
     let height = texels.len() / width;
@@ -265,7 +286,8 @@ fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], no
                 texel.coverage |= 1 << s;
                 // Keep `points` in bit order.
                 let before = (texel.coverage & ((1u16 << s) - 1)).count_ones() as usize;
-                texel.points.insert(before, SurfacePoint { position, normal });
+                let shading = shading_normal(vn, [w0, w1, w2], normal);
+                texel.points.insert(before, SurfacePoint { position, normal: shading, geometric: normal });
             }
         }
     }

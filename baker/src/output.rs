@@ -24,6 +24,9 @@ pub struct LightmapImages {
     pub standard_error: Vec<[f32; 3]>,
     /// `coefficients[b][lobe][texel]` for the configured bases.
     pub coefficients: Vec<Vec<Vec<[f32; 3]>>>,
+    /// World-space unit shading normal of each texel (the normalised mean of its
+    /// sub-texel points' normals): the frame its coefficients are in.
+    pub normals: Vec<[f32; 3]>,
 }
 
 impl LightmapImages {
@@ -41,6 +44,7 @@ impl LightmapImages {
                 .iter()
                 .map(|e| vec![vec![[0.0; 3]; n]; e.first().map(|x| x.coefficients().nrows()).unwrap_or(0)])
                 .collect(),
+            normals: vec![[0.0; 3]; n],
         };
         let (mean, se, valid) = (state.mean(), state.standard_error(), state.valid());
         for (k, it) in targets.items.iter().enumerate() {
@@ -50,6 +54,8 @@ impl LightmapImages {
             }
             let t = it[2] as usize;
             img.validity[t] = 1.0;
+            let sum: Vec3 = lm.texels[t].points.iter().map(|p| p.normal).sum();
+            img.normals[t] = sum.normalize_or_zero().to_array();
             img.irradiance[t] = mean[k].map(|x| x as f32);
             img.standard_error[t] = se[k].map(|x| if x.is_finite() { x as f32 } else { 0.0 });
             for (b, encs) in state.encoders.iter().enumerate() {
@@ -104,6 +110,7 @@ impl LightmapImages {
             for (t, src) in &add {
                 self.irradiance[*t] = avg(&self.irradiance, src);
                 self.standard_error[*t] = avg(&self.standard_error, src);
+                self.normals[*t] = Vec3::from(avg(&self.normals, src)).normalize_or_zero().to_array();
                 for b in self.coefficients.iter_mut() {
                     for lobe in b.iter_mut() {
                         lobe[*t] = avg(lobe, src);
@@ -144,9 +151,10 @@ pub fn write_exr(path: &Path, width: usize, height: usize, rgb: &[[f32; 3]], alp
 /// The EXR files of a lightmap bake: `irradiance.exr`, `irradiance_se.exr` and
 /// `{basis}_{lobe:02}.exr`; returns their names.
 pub fn write_lightmap(dir: &Path, img: &LightmapImages, config: &BakeConfig) -> Result<Vec<String>, String> {
-    let mut names = vec!["irradiance.exr".to_string(), "irradiance_se.exr".to_string()];
+    let mut names = vec!["irradiance.exr".to_string(), "irradiance_se.exr".to_string(), "normals.exr".to_string()];
     write_exr(&dir.join(&names[0]), img.width, img.height, &img.irradiance, &img.validity)?;
     write_exr(&dir.join(&names[1]), img.width, img.height, &img.standard_error, &img.validity)?;
+    write_exr(&dir.join(&names[2]), img.width, img.height, &img.normals, &img.validity)?;
     for (b, kind) in config.bases.iter().enumerate() {
         for (l, lobe) in img.coefficients[b].iter().enumerate() {
             let name = format!("{}_{l:02}.exr", kind.name());

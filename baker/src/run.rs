@@ -356,7 +356,7 @@ fn write_outputs(
             let lobes = b.basis().len();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
             json!({"name": b.name(), "lobes": lobes, "domain": if b.is_sphere() { "sphere" } else { "upper hemisphere" },
-                   "space": "tangent (normal +Z, tangent frame of Duff et al. 2017 about the texel normal)",
+                   "space": "tangent: normal +Z, tangent frame of Duff et al. 2017 (sbf::basis::ambient_dice_bezier::tangent_frame, WGSL tangent_frame) about the texel's shading normal in normals.exr (world space, the normalised mean of the interpolated vertex normals at its sub-texel points)",
                    "files": files, "mirrored_lower_hemisphere": b.is_sphere()})
         })
         .collect();
@@ -372,6 +372,7 @@ fn write_outputs(
                    "validity": "alpha channel of every EXR: 1 = baked, 0 = empty, inside geometry or dilated",
                    "texel_validity": lm_validity},
         "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
+        "normals": {"file": "normals.exr", "quantity": "world-space unit shading normal per texel (the basis frame's +Z)"},
         "bases": bases,
         "meshes": output::mesh_mapping(scene, lm),
         "runtime": {"wgsl": "runtime.wgsl", "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),

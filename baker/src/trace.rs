@@ -99,16 +99,18 @@ impl<'a> Tracer<'a> {
         self.select_pdf[tri as usize] / self.bvh.tris[tri as usize].area() as f64 * (t as f64).powi(2) / cos_l as f64
     }
 
-    /// One pass at a baked point `x`: texels pass their normal (hemisphere domain, the
-    /// point offset along it), probes None (sphere). `dir` is the point sample's world
-    /// direction, drawn uniformly over the domain.
-    pub fn sample_point(&self, x: Vec3, normal: Option<Vec3>, dir: Vec3, rng: &mut Pcg32) -> PointSample {
+    /// One pass at a baked point `x`: texels pass their (shading, geometric) normals —
+    /// the hemisphere about the shading normal is the domain, rays leave from the point
+    /// offset along the geometric one, and directions below the geometric plane see the
+    /// surface itself (radiance 0) — probes None (sphere). `dir` is the point sample's
+    /// world direction, drawn uniformly over the domain.
+    pub fn sample_point(&self, x: Vec3, normal: Option<(Vec3, Vec3)>, dir: Vec3, rng: &mut Pcg32) -> PointSample {
         let p_s = if normal.is_some() { 1.0 / (2.0 * std::f64::consts::PI) } else { 1.0 / (4.0 * std::f64::consts::PI) };
         let origin = |d: Vec3| match normal {
-            Some(n) => offset_towards(x, n, d),
+            Some((_, ng)) => offset_towards(x, ng, d),
             None => x,
         };
-        let in_domain = |d: Vec3| normal.is_none_or(|n| d.dot(n) > 0.0);
+        let in_domain = |d: Vec3| normal.is_none_or(|(ns, ng)| d.dot(ns) > 0.0 && d.dot(ng) > 0.0);
         let mut lights = Vec::new();
         // Delta lights: every one, evaluated at x; the shadow ray from the offset origin.
         for l in &self.scene.lights {
@@ -144,6 +146,10 @@ impl<'a> Tracer<'a> {
                     lights.push((wi, self.scene.environment.radiance(wi) * (power2(pe, p_s) / pe) as f32));
                 }
             }
+        }
+        if normal.is_some_and(|(_, ng)| dir.dot(ng) <= 0.0) {
+            // Between the shading and the geometric horizon: the surface occludes.
+            return PointSample { radiance: Vec3::ZERO, lights, back_face: false };
         }
         let (radiance, back_face) = self.path(origin(dir), dir, p_s, true, rng);
         PointSample { radiance, lights, back_face }

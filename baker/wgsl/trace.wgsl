@@ -86,7 +86,8 @@ const LIGHT_SPOT: u32 = 2u;
 // each: triangle index as bits, CDF of power), then the environment map's texels
 // (ENV_MAP), then its sampler's row CDF and cells; offsets in TraceParams.
 @group(0) @binding(3) var<storage, read> aux: array<vec4<f32>>;
-// Per item: (first point, point count, output index, 0); points are (position, normal) pairs.
+// Per item: (first point, point count, output index, 0); points are (position, shading
+// normal, geometric normal) triples.
 @group(0) @binding(4) var<storage, read> items: array<vec4<u32>>;
 @group(0) @binding(5) var<storage, read> points: array<vec4<f32>>;
 // Per item, 3 vec4: (Σ E/π (or Σ L for probes), accepted count), (Σ of squares,
@@ -661,8 +662,11 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
     let it = items[i];
     let k = it.x + P.pass_index % it.y;
-    let pos = points[2u * k].xyz;
-    let nrm = points[2u * k + 1u].xyz;
+    let pos = points[3u * k].xyz;
+    // Shading normal (the texel's hemisphere and frame) and geometric normal (offsets and
+    // the surface's own horizon: directions below it see the surface, radiance 0).
+    let nrm = points[3u * k + 1u].xyz;
+    let ng = points[3u * k + 2u].xyz;
     let u = r2_point(P.pass_index, it.z);
     var rng = pcg_hash(P.seed ^ pcg_hash(P.pass_index ^ pcg_hash(it.z + 0x68e31da4u)));
     let texel = P.mode == 0u;
@@ -693,7 +697,7 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     let out = i;
     if (P.primary_only == 1u) {
         // Timing mode: the first segment only; keep the result live with one write.
-        let l = path(select(pos, offset_towards(pos, nrm, dir), texel), dir, 0.0, false, &rng).radiance;
+        let l = path(select(pos, offset_towards(pos, ng, dir), texel), dir, 0.0, false, &rng).radiance;
         moments[3u * out] += vec4<f32>(l, 0.0);
         return;
     }
@@ -703,10 +707,10 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     var finite = true;
     for (var k = 0u; k < P.light_count; k++) {
         let dl = delta_at(k, pos);
-        if (max3(dl.e) <= 0.0 || (texel && dot(dl.wi, nrm) <= 0.0)) {
+        if (max3(dl.e) <= 0.0 || (texel && (dot(dl.wi, nrm) <= 0.0 || dot(dl.wi, ng) <= 0.0))) {
             continue;
         }
-        if (visible_delta(k, select(pos, offset_towards(pos, nrm, dl.wi), texel))) {
+        if (visible_delta(k, select(pos, offset_towards(pos, ng, dl.wi), texel))) {
             let ld = select(dl.wi, to_local(dl.wi, fr, nrm), texel);
             e_lights += dl.e * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
             finite = finite && finite3(dl.e);
@@ -720,8 +724,8 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         let dist = length(to);
         let wi = to / dist;
         let cos_l = -dot(wi, normalize(cross(tri.e1, tri.e2)));
-        if (cos_l > 0.0 && (!texel || dot(wi, nrm) > 0.0)) {
-            if (visible_point(select(pos, offset_towards(pos, nrm, wi), texel), em.q)) {
+        if (cos_l > 0.0 && (!texel || (dot(wi, nrm) > 0.0 && dot(wi, ng) > 0.0))) {
+            if (visible_point(select(pos, offset_towards(pos, ng, wi), texel), em.q)) {
                 let le = load_material(tri.material).emissive;
                 let pl = emitter_pdf(le, dist, cos_l);
                 let c = le * (power2(pl, p_s) / pl);
@@ -734,8 +738,8 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
     let ue = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
     let es = env_sample(ue);
-    if (es.pdf > 0.0 && (!texel || dot(es.wi, nrm) > 0.0)) {
-        let o = select(pos, offset_towards(pos, nrm, es.wi), texel);
+    if (es.pdf > 0.0 && (!texel || (dot(es.wi, nrm) > 0.0 && dot(es.wi, ng) > 0.0))) {
+        let o = select(pos, offset_towards(pos, ng, es.wi), texel);
         count_ray(2u);
         if (traverse(o, es.wi, T_FAR, true).tri == NO_HIT) {
             let c = environment(es.wi) * (power2(es.pdf, p_s) / es.pdf);
@@ -745,7 +749,10 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
             project(ld, c * p_s);
         }
     }
-    let pr = path(select(pos, offset_towards(pos, nrm, dir), texel), dir, p_s, true, &rng);
+    var pr = PathResult(vec3<f32>(0.0), false);
+    if (!texel || dot(dir, ng) > 0.0) {
+        pr = path(select(pos, offset_towards(pos, ng, dir), texel), dir, p_s, true, &rng);
+    }
     if (pr.back) {
         moments[3u * out + 1u].w += 1.0;
         return;
