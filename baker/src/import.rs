@@ -319,7 +319,9 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
             };
             let lightmap_uv: Option<Vec<Vec2>> = reader.read_tex_coords(1).map(|t| t.into_f32().map(Vec2::from).collect());
             if lightmap_uv.is_none() {
-                report.notes.push(format!("{name}: no TEXCOORD_1, lightmap charts generated (planar grouping)"));
+                report
+                    .notes
+                    .push(format!("{name}: no TEXCOORD_1, lightmap charts generated (uvunwrap: normal-cone charts, planar or LSCM)"));
             }
             let material = prim.material().index().unwrap_or(default_material);
             let emissive = scene.materials.get(material).is_some_and(|m| m.emissive.max_element() > 0.0);

@@ -19,6 +19,8 @@
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
 //! - [`output`]: EXR images with a validity alpha, dilation, metadata, runtime WGSL,
 //!   preview PNG.
+//! - [`placement`]: the probe grid; probes inside geometry found (back-face fraction)
+//!   and moved out.
 //! - [`run`]: a whole bake as the `baker` command runs it.
 
 pub mod bake;
@@ -29,6 +31,7 @@ pub mod import;
 pub mod lightmap;
 pub mod lights;
 pub mod output;
+pub mod placement;
 pub mod run;
 pub mod scene;
 pub mod trace;

@@ -1,9 +1,15 @@
 //! Lightmap layout: charts, packing, and per-texel sample points (seed 004 ch. 4).
 //!
-//! Charts: the triangles of each lightmapped mesh grouped by plane (same normal and
-//! offset to 1e-4), projected onto the plane's tangent frame ("planar grouping by
-//! normal"). Packing: a shelf packer (charts sorted by height, rows left to right) with
-//! `padding` texels around every chart; the measured utilisation is reported.
+//! Charts: a mesh with its own lightmap UVs (glTF TEXCOORD_1) becomes one square chart
+//! holding its UV square at the requested texel density. The other lightmapped meshes
+//! are unwrapped together by the `uvunwrap` crate (pure Rust, after xatlas): faces
+//! grouped by region growing within a normal cone ([`MAX_CHART_ANGLE`]), each chart
+//! flattened by planar projection when flat or least-squares conformal maps otherwise,
+//! charts with flipped triangles, overlaps or area distortion beyond
+//! [`MAX_AREA_DISTORTION`] split and retried, then shape-packed at the requested texel
+//! density into one block (ARCHITECTURE.md says why this crate). Packing of the blocks:
+//! a shelf packer (sorted by height, rows left to right) with `padding` texels around
+//! every chart; the measured utilisation is reported.
 //! Coverage (§4.2): every texel has 16 fixed sub-texel sample positions (a 4 × 4 grid);
 //! the bits of a `u16` say which lie on a triangle, and each covered position stores the
 //! surface point it maps to. A texel is valid when any bit is set.
@@ -13,6 +19,13 @@ use sbf::glam::{Vec2, Vec3};
 
 /// Sub-texel positions per texel (4 × 4).
 pub const SUBSAMPLES: usize = 16;
+
+/// Largest angle (degrees) between a face normal and its generated chart's mean normal.
+pub const MAX_CHART_ANGLE: f32 = 60.0;
+
+/// Largest ratio of a triangle's share of its chart's UV area to its share of the
+/// surface area (either way) before a generated chart is split.
+pub const MAX_AREA_DISTORTION: f32 = 2.0;
 
 /// A surface point a texel samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,11 +46,14 @@ impl SurfacePoint {
     }
 }
 
-/// One texel: coverage bits and the points of its covered sub-positions (in bit order).
+/// One texel: coverage bits, the points of its covered sub-positions (in bit order),
+/// and the chart its first covering triangle belongs to.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Texel {
     pub coverage: u16,
     pub points: Vec<SurfacePoint>,
+    /// Index into [`Lightmap::chart_meshes`] (meaningful when valid).
+    pub chart: u32,
 }
 
 impl Texel {
@@ -46,23 +62,16 @@ impl Texel {
     }
 }
 
-/// A chart: a planar group of one mesh's triangles and its place in the atlas.
+/// A packed block of the atlas: one TEXCOORD_1 mesh's UV square, or the block of
+/// generated charts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chart {
-    pub mesh: usize,
-    /// Triangle indices within the mesh.
-    pub triangles: Vec<usize>,
-    pub normal: Vec3,
-    /// Plane axes (tangent, bitangent) and the plane coordinates of the chart's corner.
-    pub axes: (Vec3, Vec3),
-    pub origin: Vec2,
+    /// The mesh whose own UVs fill the block; None for the generated block.
+    pub mesh: Option<usize>,
     /// Size in texels, padding included.
     pub size: (usize, usize),
     /// Top-left texel in the atlas.
     pub offset: (usize, usize),
-    /// The mesh's own lightmap UVs (TEXCOORD_1) scaled into this chart (one chart per
-    /// such mesh; `normal`/`axes`/`origin` unused).
-    pub from_uv: bool,
 }
 
 /// A packed lightmap.
@@ -72,6 +81,7 @@ pub struct Lightmap {
     pub height: usize,
     pub texels_per_unit: f32,
     pub padding: usize,
+    /// The packed blocks.
     pub charts: Vec<Chart>,
     /// Row-major, `width × height`.
     pub texels: Vec<Texel>,
@@ -79,6 +89,12 @@ pub struct Lightmap {
     pub triangle_uv: Vec<Vec<[Vec2; 3]>>,
     /// Lightmapped meshes that had no lightmap UVs (charts were generated for them).
     pub generated_for: Vec<String>,
+    /// The mesh of every chart (TEXCOORD_1 squares and generated charts), by the id
+    /// stored in [`Texel::chart`].
+    pub chart_meshes: Vec<usize>,
+    /// Generated charts: how many, and the generated block's own utilisation.
+    pub generated_charts: usize,
+    pub generated_utilisation: f64,
 }
 
 /// Layout errors.
@@ -87,6 +103,7 @@ pub enum LayoutError {
     BadResolution(f32),
     TooLarge { width: usize, height: usize },
     NothingToBake,
+    Unwrap(String),
 }
 
 impl std::fmt::Display for LayoutError {
@@ -97,11 +114,15 @@ impl std::fmt::Display for LayoutError {
                 write!(f, "the lightmap would be {width}×{height} texels (limit 8192 per side): lower the resolution")
             }
             LayoutError::NothingToBake => write!(f, "no lightmapped mesh has a non-degenerate triangle"),
+            LayoutError::Unwrap(e) => write!(f, "generating lightmap charts: {e}"),
         }
     }
 }
 
 impl std::error::Error for LayoutError {}
+
+/// Side limit of the atlas (texels).
+const MAX_SIDE: usize = 8192;
 
 impl Lightmap {
     /// Number of valid texels.
@@ -116,106 +137,158 @@ impl Lightmap {
     /// Lays out every lightmapped mesh of `scene` at `texels_per_unit` with `padding`.
     /// A mesh with its own lightmap UVs becomes one square chart of side
     /// ⌈√(surface area / UV area)·texels_per_unit⌉ (so the texel density matches) holding
-    /// its UV square; other meshes get generated planar charts (listed in `generated_for`).
+    /// its UV square; the other meshes get generated charts (listed in `generated_for`).
     pub fn build(scene: &Scene, texels_per_unit: f32, padding: usize) -> Result<Lightmap, LayoutError> {
         if !(texels_per_unit.is_finite() && texels_per_unit > 0.0) {
             return Err(LayoutError::BadResolution(texels_per_unit));
         }
         let mut charts = Vec::new();
         let mut generated_for = Vec::new();
+        let mut gen_meshes = Vec::new();
         for (mi, m) in scene.meshes.iter().enumerate().filter(|(_, m)| m.lightmapped) {
-            if let Some(uv) = &m.lightmap_uv {
-                let (mut area, mut uv_area) = (0.0f64, 0.0f64);
-                for t in &m.indices {
-                    let [a, b, c] = t.map(|i| m.positions[i as usize]);
-                    area += 0.5 * (b - a).cross(c - a).length() as f64;
+            let (mut area, mut uv_area) = (0.0f64, 0.0f64);
+            for t in &m.indices {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                area += 0.5 * (b - a).cross(c - a).length() as f64;
+                if let Some(uv) = &m.lightmap_uv {
                     let [p, q, r] = t.map(|i| uv[i as usize]);
                     uv_area += 0.5 * cross2(q - p, r - p).abs() as f64;
                 }
-                if area <= 0.0 {
-                    continue;
-                }
-                let side = if uv_area > 0.0 { ((area / uv_area).sqrt() * texels_per_unit as f64).ceil() as usize } else { 1 }.max(1);
-                charts.push(Chart {
-                    mesh: mi,
-                    triangles: (0..m.indices.len()).collect(),
-                    normal: Vec3::Z,
-                    axes: (Vec3::X, Vec3::Y),
-                    origin: Vec2::ZERO,
-                    size: (side + 2 * padding, side + 2 * padding),
-                    offset: (0, 0),
-                    from_uv: true,
-                });
+            }
+            if area <= 0.0 {
                 continue;
             }
-            generated_for.push(m.name.clone());
-            // Group by plane: key = quantised (normal, offset).
-            let mut groups: Vec<(Vec3, f32, Vec<usize>)> = Vec::new();
-            for (ti, t) in m.indices.iter().enumerate() {
-                let [a, b, c] = t.map(|i| m.positions[i as usize]);
-                let n = (b - a).cross(c - a);
-                if n.length() <= 0.0 {
-                    continue; // degenerate: no texels
+            if m.lightmap_uv.is_some() {
+                let side = if uv_area > 0.0 { ((area / uv_area).sqrt() * texels_per_unit as f64).ceil() } else { 1.0 };
+                if side > MAX_SIDE as f64 {
+                    return Err(LayoutError::TooLarge { width: side as usize, height: side as usize });
                 }
-                let n = n.normalize();
-                let d = n.dot(a);
-                match groups.iter_mut().find(|(gn, gd, _)| gn.dot(n) > 1.0 - 1e-4 && (gd - d).abs() < 1e-4) {
-                    Some(g) => g.2.push(ti),
-                    None => groups.push((n, d, vec![ti])),
-                }
+                let side = (side as usize).max(1);
+                charts.push(Chart { mesh: Some(mi), size: (side + 2 * padding, side + 2 * padding), offset: (0, 0) });
+            } else {
+                generated_for.push(m.name.clone());
+                gen_meshes.push(mi);
             }
-            for (n, _, tris) in groups {
-                let (t, b) = frame(n);
-                let mut lo = Vec2::splat(f32::INFINITY);
-                let mut hi = Vec2::splat(f32::NEG_INFINITY);
-                for &ti in &tris {
-                    for &i in &m.indices[ti] {
-                        let p = m.positions[i as usize];
-                        let q = Vec2::new(p.dot(t), p.dot(b));
-                        lo = lo.min(q);
-                        hi = hi.max(q);
-                    }
-                }
-                let ext = (hi - lo) * texels_per_unit;
-                let size = ((ext.x.ceil() as usize).max(1) + 2 * padding, (ext.y.ceil() as usize).max(1) + 2 * padding);
-                charts.push(Chart { mesh: mi, triangles: tris, normal: n, axes: (t, b), origin: lo, size, offset: (0, 0), from_uv: false });
+        }
+        // Generated charts: one uvunwrap block (its own padding inside, `padding` texels
+        // around and between charts), per-triangle UVs in block texels.
+        let mut gen_uv: Vec<Vec<[Vec2; 3]>> = Vec::new();
+        let mut gen_chart_ids: Vec<Vec<u32>> = Vec::new();
+        let (mut generated_charts, mut generated_utilisation) = (0, 0.0);
+        if !gen_meshes.is_empty() {
+            // A surface needs area·tpu² texels: refuse before unwrapping an atlas that
+            // cannot fit (a mutated scene may declare kilometres at 16 texels/unit).
+            let area: f64 = gen_meshes
+                .iter()
+                .flat_map(|mi| scene.meshes[*mi].indices.iter().map(move |t| t.map(|i| scene.meshes[*mi].positions[i as usize])))
+                .map(|[a, b, c]| 0.5 * (b - a).cross(c - a).length() as f64)
+                .sum();
+            let texels = area * (texels_per_unit as f64).powi(2);
+            if texels > (MAX_SIDE * MAX_SIDE) as f64 {
+                let side = texels.sqrt() as usize;
+                return Err(LayoutError::TooLarge { width: side, height: side });
             }
+            let pos: Vec<Vec<[f32; 3]>> =
+                gen_meshes.iter().map(|mi| scene.meshes[*mi].positions.iter().map(|p| p.to_array()).collect()).collect();
+            let idx: Vec<Vec<u32>> = gen_meshes.iter().map(|mi| scene.meshes[*mi].indices.iter().flatten().copied().collect()).collect();
+            let inputs: Vec<uvunwrap::MeshInput> = pos.iter().zip(&idx).map(|(p, i)| uvunwrap::MeshInput::new(p, i)).collect();
+            let opts = uvunwrap::Options {
+                max_chart_angle: MAX_CHART_ANGLE,
+                max_area_distortion: MAX_AREA_DISTORTION,
+                density: uvunwrap::Density::Fixed { texels_per_unit, page_size: None },
+                padding: padding as u32,
+                ..Default::default()
+            };
+            let atlas = uvunwrap::generate(&inputs, &opts).map_err(|e| LayoutError::Unwrap(e.to_string()))?;
+            let (w, h) = (atlas.width as usize, atlas.height as usize);
+            if w > MAX_SIDE || h > MAX_SIDE || atlas.page_count != 1 {
+                return Err(LayoutError::TooLarge { width: w, height: h });
+            }
+            generated_charts = atlas.chart_count as usize;
+            generated_utilisation = atlas.utilization as f64;
+            for out in &atlas.meshes {
+                let uv = |k: usize| {
+                    let v = &out.vertices[out.indices[k] as usize];
+                    Vec2::new(v.uv[0] * w as f32, v.uv[1] * h as f32)
+                };
+                let chart = |k: usize| out.vertices[out.indices[k] as usize].chart.unwrap_or(u32::MAX);
+                gen_uv.push((0..out.indices.len() / 3).map(|t| [uv(3 * t), uv(3 * t + 1), uv(3 * t + 2)]).collect());
+                gen_chart_ids.push((0..out.indices.len() / 3).map(|t| chart(3 * t).min(chart(3 * t + 1)).min(chart(3 * t + 2))).collect());
+            }
+            charts.push(Chart { mesh: None, size: (w, h), offset: (0, 0) });
         }
         if charts.is_empty() {
             return Err(LayoutError::NothingToBake);
         }
         let (width, height) = pack(&mut charts);
-        if width > 8192 || height > 8192 {
+        if width > MAX_SIDE || height > MAX_SIDE {
             return Err(LayoutError::TooLarge { width, height });
         }
         let mut texels = vec![Texel::default(); width * height];
         let mut triangle_uv: Vec<Vec<[Vec2; 3]>> = scene.meshes.iter().map(|m| vec![[Vec2::ZERO; 3]; m.indices.len()]).collect();
+        // Chart ids: TEXCOORD_1 squares first (in block order), then the generated charts.
+        let mut chart_meshes: Vec<usize> = charts.iter().filter_map(|c| c.mesh).collect();
+        let first_generated = chart_meshes.len() as u32;
+        chart_meshes.extend(std::iter::repeat_n(usize::MAX, generated_charts));
+        let mut own = 0u32;
         for c in &charts {
-            let m = &scene.meshes[c.mesh];
-            let to_atlas = |p: Vec3| {
-                let q = Vec2::new(p.dot(c.axes.0), p.dot(c.axes.1));
-                (q - c.origin) * texels_per_unit + Vec2::new((c.offset.0 + padding) as f32, (c.offset.1 + padding) as f32)
-            };
             let corner = Vec2::new((c.offset.0 + padding) as f32, (c.offset.1 + padding) as f32);
-            let side = (c.size.0 - 2 * padding) as f32;
-            for &ti in &c.triangles {
-                let p = m.indices[ti].map(|i| m.positions[i as usize]);
-                let n = (p[1] - p[0]).cross(p[2] - p[0]);
-                if n.length() <= 0.0 {
-                    continue; // degenerate: no texels
+            match c.mesh {
+                Some(mi) => {
+                    let m = &scene.meshes[mi];
+                    let uvs = m.lightmap_uv.as_ref().expect("TEXCOORD_1 chart");
+                    let side = (c.size.0 - 2 * padding) as f32;
+                    for (ti, t) in m.indices.iter().enumerate() {
+                        let uv = t.map(|i| corner + uvs[i as usize] * side);
+                        triangle_uv[mi][ti] = uv;
+                        rasterise_triangle(&mut texels, width, scene, mi, ti, uv, own);
+                    }
+                    own += 1;
                 }
-                let normal = n.normalize();
-                let uv = match (&m.lightmap_uv, c.from_uv) {
-                    (Some(uvs), true) => m.indices[ti].map(|i| corner + uvs[i as usize] * side),
-                    _ => p.map(to_atlas),
-                };
-                triangle_uv[c.mesh][ti] = uv;
-                let vn = m.indices[ti].map(|i| m.normals[i as usize]);
-                rasterise(&mut texels, width, uv, p, normal, vn);
+                None => {
+                    let block = Vec2::new(c.offset.0 as f32, c.offset.1 as f32);
+                    for (g, mi) in gen_meshes.iter().enumerate() {
+                        for ti in 0..scene.meshes[*mi].indices.len() {
+                            let uv = gen_uv[g][ti].map(|p| p + block);
+                            triangle_uv[*mi][ti] = uv;
+                            let id = gen_chart_ids[g][ti];
+                            if id == u32::MAX {
+                                continue; // degenerate: no chart, no texels
+                            }
+                            chart_meshes[(first_generated + id) as usize] = *mi;
+                            rasterise_triangle(&mut texels, width, scene, *mi, ti, uv, first_generated + id);
+                        }
+                    }
+                }
             }
         }
-        Ok(Lightmap { width, height, texels_per_unit, padding, charts, texels, triangle_uv, generated_for })
+        Ok(Lightmap {
+            width,
+            height,
+            texels_per_unit,
+            padding,
+            charts,
+            texels,
+            triangle_uv,
+            generated_for,
+            chart_meshes,
+            generated_charts,
+            generated_utilisation,
+        })
     }
+}
+
+/// Rasterises triangle `ti` of mesh `mi` at atlas texel coordinates `uv` (skipping a
+/// degenerate one), tagging its texels with `chart`.
+fn rasterise_triangle(texels: &mut [Texel], width: usize, scene: &Scene, mi: usize, ti: usize, uv: [Vec2; 3], chart: u32) {
+    let m = &scene.meshes[mi];
+    let p = m.indices[ti].map(|i| m.positions[i as usize]);
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    if n.length() <= 0.0 {
+        return;
+    }
+    let vn = m.indices[ti].map(|i| m.normals[i as usize]);
+    rasterise(texels, width, uv, p, n.normalize(), vn, chart);
 }
 
 /// Duff et al.'s orthonormal frame as f32 (see `sbf::basis::ambient_dice_bezier::tangent_frame`).
@@ -224,27 +297,36 @@ pub fn frame(n: Vec3) -> (Vec3, Vec3) {
     (t.as_vec3(), b.as_vec3())
 }
 
-/// Shelf packing; returns the atlas size. Width: the square root of the total chart area
-/// (10% slack), at least the widest chart, rounded up to a multiple of 4.
+/// Shelf packing; returns the atlas size (multiples of 4). Charts sorted by height fill
+/// rows left to right; the row width is chosen among the widest chart and √(total area)
+/// × {1, 1.1, 1.25, 1.5} as the one giving the smallest atlas.
 fn pack(charts: &mut [Chart]) -> (usize, usize) {
     let area: usize = charts.iter().map(|c| c.size.0 * c.size.1).sum();
     let widest = charts.iter().map(|c| c.size.0).max().unwrap_or(1);
-    let width = (((area as f64 * 1.1).sqrt().ceil() as usize).max(widest)).div_ceil(4) * 4;
     let mut order: Vec<usize> = (0..charts.len()).collect();
     order.sort_by(|&a, &b| charts[b].size.1.cmp(&charts[a].size.1).then(a.cmp(&b)));
-    let (mut x, mut y, mut row_h) = (0, 0, 0);
-    for k in order {
-        let (w, h) = charts[k].size;
-        if x + w > width {
-            x = 0;
-            y += row_h;
-            row_h = 0;
+    let shelf = |width: usize, charts: &mut [Chart], place: bool| -> usize {
+        let (mut x, mut y, mut row_h) = (0, 0, 0);
+        for &k in &order {
+            let (w, h) = charts[k].size;
+            if x + w > width {
+                x = 0;
+                y += row_h;
+                row_h = 0;
+            }
+            if place {
+                charts[k].offset = (x, y);
+            }
+            x += w;
+            row_h = row_h.max(h);
         }
-        charts[k].offset = (x, y);
-        x += w;
-        row_h = row_h.max(h);
-    }
-    (width, (y + row_h).div_ceil(4) * 4)
+        (y + row_h).div_ceil(4) * 4
+    };
+    let candidates = [1.0, 1.1, 1.25, 1.5].map(|f| ((area as f64 * f).sqrt().ceil() as usize).max(widest).div_ceil(4) * 4);
+    let widest4 = widest.div_ceil(4) * 4;
+    let width = std::iter::once(widest4).chain(candidates).min_by_key(|w| (w * shelf(*w, charts, false), *w)).expect("candidates");
+    let height = shelf(width, charts, true);
+    (width, height)
 }
 
 /// The shading normal at barycentrics (w0, w1, w2): interpolated vertex normals, or the
@@ -259,7 +341,7 @@ pub fn shading_normal(vn: [Vec3; 3], w: [f32; 3], ng: Vec3) -> Vec3 {
 
 /// Marks the sub-positions of the texels under triangle `uv` (atlas texel coordinates)
 /// and records their surface points (face normal `normal`, vertex normals `vn`).
-fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], normal: Vec3, vn: [Vec3; 3]) {
+fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], normal: Vec3, vn: [Vec3; 3], chart: u32) {
     let lo = uv[0].min(uv[1]).min(uv[2]).floor().max(Vec2::ZERO);
     let hi = uv[0].max(uv[1]).max(uv[2]).ceil();
     let height = texels.len() / width;
@@ -283,6 +365,9 @@ fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], no
                     continue;
                 }
                 let position = p[0] * w0 + p[1] * w1 + p[2] * w2;
+                if texel.coverage == 0 {
+                    texel.chart = chart;
+                }
                 texel.coverage |= 1 << s;
                 // Keep `points` in bit order.
                 let before = (texel.coverage & ((1u16 << s) - 1)).count_ones() as usize;

@@ -55,6 +55,10 @@ struct Cli {
     /// Probe grid NX,NY,NZ inside the scene bounds (0,0,0: no probes).
     #[arg(long, value_delimiter = ',', default_value = "3,3,3")]
     probes: Vec<usize>,
+    /// Move probes that sit inside geometry out through the nearest back face (else they
+    /// are only flagged "valid": false in probes.json).
+    #[arg(long)]
+    relocate_probes: bool,
     /// Probe bases (sphere bases: sh1, sh2, ad12).
     #[arg(long, value_delimiter = ',', default_value = "sh2,ad12")]
     probe_bases: Vec<String>,
@@ -115,6 +119,7 @@ fn options(c: Cli) -> Result<Options, String> {
         checkpoint_every: c.checkpoint_every,
         resume: c.resume,
         probes,
+        relocate_probes: c.relocate_probes,
         probe_bases,
         preview_width: c.preview_width.max(8),
         quiet: d.quiet,

@@ -251,7 +251,7 @@ pub fn mesh_mapping(scene: &Scene, lm: &Lightmap) -> serde_json::Value {
             if !m.lightmapped {
                 return json!({"name": m.name, "lightmapped": false});
             }
-            if let Some(c) = lm.charts.iter().find(|c| c.mesh == mi && c.from_uv) {
+            if let Some(c) = lm.charts.iter().find(|c| c.mesh == Some(mi)) {
                 let side = (c.size.0 - 2 * lm.padding) as f32;
                 let corner = ((c.offset.0 + lm.padding) as f32, (c.offset.1 + lm.padding) as f32);
                 return json!({"name": m.name, "lightmapped": true, "uv": "TEXCOORD_1",

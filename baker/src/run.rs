@@ -43,6 +43,8 @@ pub struct Options {
     pub resume: bool,
     /// Probe grid (nx, ny, nz) inside the scene bounds, baked into `probe_bases`.
     pub probes: Option<[usize; 3]>,
+    /// Move probes found inside geometry out through the nearest back face before baking.
+    pub relocate_probes: bool,
     pub probe_bases: Vec<BasisKind>,
     pub preview_width: usize,
     /// No progress bar.
@@ -65,6 +67,7 @@ impl Default for Options {
             checkpoint_every: 32,
             resume: false,
             probes: Some([3, 3, 3]),
+            relocate_probes: false,
             probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
             preview_width: 480,
             measure_rays: None,
@@ -213,20 +216,7 @@ fn run_targets<'s>(
     Ok((engine.state()?, run))
 }
 
-/// Probe positions: an nx × ny × nz grid inside the scene bounds (cell centres).
-pub fn probe_grid(bvh: &Bvh, n: [usize; 3]) -> Vec<Vec3> {
-    let (lo, hi) = bvh.nodes.first().map(|x| (Vec3::from(x.min), Vec3::from(x.max))).unwrap_or((Vec3::ZERO, Vec3::ONE));
-    let mut v = Vec::new();
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
-                let f = Vec3::new((i as f32 + 0.5) / n[0] as f32, (j as f32 + 0.5) / n[1] as f32, (k as f32 + 0.5) / n[2] as f32);
-                v.push(lo + (hi - lo) * f);
-            }
-        }
-    }
-    v
-}
+pub use crate::placement::probe_grid;
 
 /// Runs a whole bake and writes its outputs (unless stopped early).
 pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String> {
@@ -294,13 +284,32 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &scene, &targets, "lightmap", log)?;
     let mut probe_state = None;
     let mut probe_positions = Vec::new();
+    let mut relocated: Vec<(usize, Vec3)> = Vec::new();
     if let Some(n) = o.probes {
         probe_positions = probe_grid(&bvh, n);
+        if o.relocate_probes {
+            let (lo, hi) = bvh.nodes.first().map(|x| (Vec3::from(x.min), Vec3::from(x.max))).unwrap_or((Vec3::ZERO, Vec3::ONE));
+            let margin = 1e-3 * (hi - lo).max_element();
+            for (k, p) in probe_positions.iter_mut().enumerate() {
+                let (fraction, _) = crate::placement::back_face_hits(&bvh, &scene, *p);
+                if fraction <= crate::bake::MAX_BACK_FACE_FRACTION {
+                    continue;
+                }
+                match crate::placement::relocate(&bvh, &scene, *p, crate::bake::MAX_BACK_FACE_FRACTION, margin) {
+                    Some(q) => {
+                        log(format!("probes: probe {k} at {p} was inside geometry (back-face fraction {fraction:.2}); moved to {q}"));
+                        relocated.push((k, *p));
+                        *p = q;
+                    }
+                    None => log(format!("probes: probe {k} at {p} is inside geometry and could not be moved out; it stays flagged")),
+                }
+            }
+        }
         let pt = Targets::probes(&probe_positions);
         let pcfg = BakeConfig { bases: o.probe_bases.clone(), ..o.config.clone() };
         probe_state = Some(run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &scene, &pt, "probes", log)?.0);
     }
-    write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &probe_positions, &device, glossy, t0, log)?;
+    write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &probe_positions, &relocated, &device, glossy, t0, log)?;
     Ok(Summary { device, lightmap: state, probes: probe_state, passes_run: run, seconds: t0.elapsed().as_secs_f64() })
 }
 
@@ -314,6 +323,7 @@ fn write_outputs(
     state: &BakeState,
     probes: Option<&BakeState>,
     probe_positions: &[Vec3],
+    relocated: &[(usize, Vec3)],
     device: &str,
     glossy: bool,
     t0: Instant,
@@ -398,8 +408,12 @@ fn write_outputs(
                     })
                     .collect();
                 let m = &ps.moments[k];
-                json!({"position": [p.x, p.y, p.z], "mean_radiance": mean[k], "standard_error": se[k], "coefficients": coeffs,
-                       "valid": ps.valid()[k], "back_face_fraction": m.back_face_fraction()})
+                let mut j = json!({"position": [p.x, p.y, p.z], "mean_radiance": mean[k], "standard_error": se[k], "coefficients": coeffs,
+                       "valid": ps.valid()[k], "back_face_fraction": m.back_face_fraction()});
+                if let Some((_, from)) = relocated.iter().find(|r| r.0 == k) {
+                    j["relocated_from"] = json!([from.x, from.y, from.z]);
+                }
+                j
             })
             .collect();
         let pj = json!({"space": "world (+Y up)", "passes": ps.passes, "bases": o.probe_bases.iter().map(|b| b.name()).collect::<Vec<_>>(), "probes": list});
@@ -407,7 +421,7 @@ fn write_outputs(
             .map_err(|e| format!("probes.json: {e}"))?;
         let pv = validity(ps);
         log(format!("probes: {} of {} inside geometry (flagged \"valid\": false in probes.json)", pv["invalid"], probe_positions.len()));
-        meta["probes"] = json!({"file": "probes.json", "count": probe_positions.len(), "validity": pv});
+        meta["probes"] = json!({"file": "probes.json", "count": probe_positions.len(), "validity": pv, "relocated": relocated.len()});
     }
     std::fs::write(o.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("bake.json: {e}"))?;
     log(format!(

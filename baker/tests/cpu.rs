@@ -196,3 +196,111 @@ fn bvh_depth_is_bounded() {
         assert_eq!(fast, slow);
     }
 }
+
+/// A UV sphere of exactly 6 200 triangles (50 rings × 62 segments) without lightmap UVs.
+fn sphere_6200() -> Scene {
+    let (nv, nu) = (50usize, 62usize);
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    for j in 0..=nv {
+        let th = std::f32::consts::PI * j as f32 / nv as f32;
+        for i in 0..=nu {
+            let ph = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
+            let d = Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin());
+            positions.push(d);
+            normals.push(d);
+        }
+    }
+    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+    let mut indices = Vec::new();
+    for j in 0..nv {
+        for i in 0..nu {
+            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let mut s = tri_mesh(positions, indices);
+    s.meshes[0].normals = normals;
+    s
+}
+
+/// Generated charts a user can live with: the 6 200-triangle sphere gets a handful of
+/// charts (≤ 24) and an atlas utilisation ≥ 0.5; every triangle's UVs keep its winding
+/// (no flips: positive signed area, as uvunwrap promises and this checks independently),
+/// and the covered texel area matches the surface area within the parameterisation's
+/// distortion bound (every chart's area ratio is within MAX_AREA_DISTORTION of its
+/// mean, so the total coverage is within ±50% of area·tpu²; measured much closer).
+#[test]
+fn generated_charts_for_a_sphere() {
+    let s = sphere_6200();
+    assert_eq!(s.meshes[0].indices.len(), 6200);
+    let tpu = 24.0;
+    let lm = Lightmap::build(&s, tpu, 2).unwrap();
+    let area: f64 = s.meshes[0]
+        .indices
+        .iter()
+        .map(|t| t.map(|i| s.meshes[0].positions[i as usize]))
+        .map(|[a, b, c]| 0.5 * (b - a).cross(c - a).length() as f64)
+        .sum();
+    let covered: f64 = lm.texels.iter().map(|t| t.coverage.count_ones() as f64 / 16.0).sum();
+    println!(
+        "sphere of 6200 triangles at {tpu} texels/unit: {} charts, atlas {}×{}, utilisation {:.3} (block {:.3}); covered {covered:.0} texels for {:.0} of surface",
+        lm.generated_charts,
+        lm.width,
+        lm.height,
+        lm.utilisation(),
+        lm.generated_utilisation,
+        area * (tpu * tpu) as f64
+    );
+    assert!(lm.generated_charts >= 2 && lm.generated_charts <= 24, "{} charts", lm.generated_charts);
+    assert!(lm.utilisation() >= 0.5, "utilisation {}", lm.utilisation());
+    // (Near-)degenerate triangles — the poles' collapsed quad halves, whose f32 corners
+    // differ by sin(π) ≈ 1e-7 at the south pole — get no chart (uvunwrap's own
+    // tolerance); only triangles of real area must keep their winding.
+    let m = &s.meshes[0];
+    let mean = area / m.indices.len() as f64;
+    let solid = |k: &usize| {
+        let [a, b, c] = m.indices[*k].map(|i| m.positions[i as usize]);
+        0.5 * (b - a).cross(c - a).length() as f64 > 1e-6 * mean
+    };
+    let flips = (0..m.indices.len()).filter(solid).filter(|k| {
+        let t = lm.triangle_uv[0][*k];
+        (t[1] - t[0]).perp_dot(t[2] - t[0]) <= 0.0
+    });
+    let flips = flips.count();
+    assert_eq!(flips, 0, "{flips} flipped triangles");
+    let ratio = covered / (area * (tpu * tpu) as f64);
+    assert!((0.5..1.5).contains(&ratio), "coverage ratio {ratio}");
+}
+
+/// The built-in scene: no valid texel is exactly zero (every one sees the area light, the
+/// sky or the sun, directly or by a bounce), the texels inside the blocks and above the
+/// light are invalid, and the probe inside the matte block is found and can be moved out.
+#[test]
+fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
+    let s = scene::cornell();
+    let bvh = Bvh::build(&s);
+    let lm = Lightmap::build(&s, 8.0, 1).unwrap();
+    let targets = Targets::lightmap(&lm);
+    let cfg = BakeConfig { seed: 2, max_bounces: 3, bases: vec![], solver: Solver::Ls };
+    let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 3));
+    for _ in 0..32 {
+        b.pass();
+    }
+    let (mean, valid) = (b.state.mean(), b.state.valid());
+    let black = (0..mean.len()).filter(|k| valid[*k] && mean[*k].iter().all(|x| *x == 0.0)).count();
+    let invalid = valid.iter().filter(|v| !**v).count();
+    println!("cornell at 8 texels/m: {} texels, {invalid} invalid (inside geometry), {black} valid and black", mean.len());
+    assert_eq!(black, 0);
+    assert!(invalid > 0, "the texels under the blocks must be found");
+    // The default 3×3×3 grid puts probe 4 (centre column, lowest layer … ) inside the
+    // matte block; whichever it is, the inside test finds it and relocation frees it.
+    let grid = baker::placement::probe_grid(&bvh, [3, 3, 3]);
+    let inside: Vec<usize> = (0..grid.len()).filter(|k| baker::placement::back_face_hits(&bvh, &s, grid[*k]).0 > 0.5).collect();
+    assert!(!inside.is_empty(), "a default probe sits inside the matte block");
+    for k in inside {
+        let q = baker::placement::relocate(&bvh, &s, grid[k], 0.5, 1e-3).expect("relocated");
+        let (f, _) = baker::placement::back_face_hits(&bvh, &s, q);
+        println!("probe {k}: {} → {q} (back-face fraction {f:.3})", grid[k]);
+        assert!(f <= 0.5 && (q - grid[k]).length() < 1.0);
+    }
+}

@@ -143,17 +143,12 @@ fn chart_differences(
     diff: &dyn Fn(usize) -> f64,
     se: Option<&dyn Fn(usize) -> f64>,
 ) -> Vec<(String, f64, f64, usize)> {
-    let chart_of = |texel: usize| {
-        let (x, y) = (texel % lm.width, texel / lm.width);
-        lm.charts.iter().position(|c| x >= c.offset.0 && x < c.offset.0 + c.size.0 && y >= c.offset.1 && y < c.offset.1 + c.size.1)
-    };
-    let mut groups: Vec<Vec<usize>> = vec![Vec::new(); lm.charts.len() + 1];
+    let charts = lm.chart_meshes.len();
+    let mut groups: Vec<Vec<usize>> = vec![Vec::new(); charts + 1];
     for (k, it) in targets.items.iter().enumerate() {
         if valid[k] {
-            if let Some(c) = chart_of(it[2] as usize) {
-                groups[c].push(k);
-            }
-            groups[lm.charts.len()].push(k);
+            groups[lm.texels[it[2] as usize].chart as usize].push(k);
+            groups[charts].push(k);
         }
     }
     groups
@@ -168,7 +163,7 @@ fn chart_differences(
                 Some(f) => g.iter().map(|k| f(*k)).sum::<f64>().sqrt() / n,
                 None => (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt(),
             };
-            let name = if c == lm.charts.len() { "scene".to_string() } else { format!("chart {c}") };
+            let name = if c == charts { "scene".to_string() } else { format!("chart {c}") };
             (name, mean, sigma, g.len())
         })
         .collect()
