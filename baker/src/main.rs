@@ -35,12 +35,14 @@ struct Cli {
     /// Lightmap bases: sh1, sh2, sg9, sg12, ad9, ad12 (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "sh2,ad9")]
     bases: Vec<String>,
-    /// Progressive solver: ls or nnls.
+    /// Progressive solver: ls or nnls. NNLS applies to the non-negative bases (SG, Ambient
+    /// Dice); SH is always least squares (its coefficients are legitimately negative).
     #[arg(long, default_value = "nnls")]
     solver: String,
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// auto (GPU if an adapter exists), gpu, or cpu.
+    /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
+    /// rasterisers such as lavapipe included), or cpu.
     #[arg(long, default_value = "auto")]
     device: String,
     /// Output folder.

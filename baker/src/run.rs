@@ -237,6 +237,13 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         log(format!("layout: charts generated for {} mesh(es) without lightmap UVs", lm.generated_for.len()));
     }
     log(format!("layout: {}×{} atlas, {} valid texels, utilisation {:.3}", lm.width, lm.height, lm.valid_count(), lm.utilisation()));
+    let sh: Vec<&str> = o.config.bases.iter().chain(&o.probe_bases).filter(|b| !b.non_negative()).map(|b| b.name()).collect();
+    if o.config.solver == Solver::Nnls && !sh.is_empty() {
+        log(format!(
+            "solver: NNLS applies to the non-negative bases (SG, Ambient Dice); {} fitted by least squares (SH coefficients of non-negative radiance are legitimately negative)",
+            sh.join(", ")
+        ));
+    }
     let glossy = scene.has_glossy();
     if !glossy {
         log("leave-out: no glossy material — specular runtime features, LUTs and the GPU kernel's GGX layer skipped".into());
@@ -365,7 +372,8 @@ fn write_outputs(
         .map(|b| {
             let lobes = b.basis().len();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
-            json!({"name": b.name(), "lobes": lobes, "domain": if b.is_sphere() { "sphere" } else { "upper hemisphere" },
+            let solver = if o.config.solver == Solver::Nnls && b.non_negative() { "progressive NNLS" } else { "progressive LS" };
+            json!({"name": b.name(), "lobes": lobes, "domain": if b.is_sphere() { "sphere" } else { "upper hemisphere" }, "solver": solver,
                    "space": "tangent: normal +Z, tangent frame of Duff et al. 2017 (sbf::basis::ambient_dice_bezier::tangent_frame, WGSL tangent_frame) about the texel's shading normal in normals.exr (world space, the normalised mean of the interpolated vertex normals at its sub-texel points)",
                    "files": files, "mirrored_lower_hemisphere": b.is_sphere()})
         })
