@@ -3,32 +3,14 @@
 //! chart_layout -- OUT.png [cornell|sphere6200] [texels-per-unit]`.
 
 use baker::lightmap::Lightmap;
-use baker::scene::{self, Environment, Material, Mesh, Scene};
+use baker::scene::{self, Environment, Material, Scene};
 use sbf::glam::Vec3;
 
 /// A UV sphere of 6 200 triangles (50 rings × 62 segments), no lightmap UVs.
 fn sphere6200() -> Scene {
-    let (nv, nu) = (50usize, 62usize);
-    let mut positions = Vec::new();
-    for j in 0..=nv {
-        let th = std::f32::consts::PI * j as f32 / nv as f32;
-        for i in 0..=nu {
-            let ph = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
-            positions.push(Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()));
-        }
-    }
-    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
-    let mut indices = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    let normals = positions.clone();
     Scene {
         name: "sphere6200".into(),
-        meshes: vec![Mesh { name: "sphere".into(), positions, normals, indices, material: 0, lightmap_uv: None, lightmapped: true }],
+        meshes: vec![scene::uv_sphere("sphere", Vec3::ZERO, 1.0, 50, 62, 0)],
         materials: vec![Material::lambert(Vec3::splat(0.5))],
         lights: vec![],
         environment: Environment::Black,

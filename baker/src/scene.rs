@@ -343,11 +343,11 @@ pub fn disk_light(name: &str, centre: Vec3, normal: Vec3, radius: f32, material:
     Mesh { name: name.into(), normals: vec![n; k + 1], positions, indices, material, lightmap_uv: None, lightmapped: false }
 }
 
-/// A sphere area light: a UV sphere of `rings` × 2·`rings` quads, normals outwards.
-/// Not lightmapped.
-pub fn sphere_light(name: &str, centre: Vec3, radius: f32, material: usize, rings: usize) -> Mesh {
-    let nv = rings.max(3);
-    let nu = 2 * nv;
+/// A UV sphere of `rings` × `segments` quads (2·rings·segments triangles; the poles'
+/// quads collapse to near-degenerate halves), outward normals and winding, lightmapped,
+/// without lightmap UVs.
+pub fn uv_sphere(name: &str, centre: Vec3, radius: f32, rings: usize, segments: usize, material: usize) -> Mesh {
+    let (nv, nu) = (rings.max(2), segments.max(3));
     let (mut positions, mut normals) = (Vec::new(), Vec::new());
     for j in 0..=nv {
         let th = std::f32::consts::PI * j as f32 / nv as f32;
@@ -366,7 +366,13 @@ pub fn sphere_light(name: &str, centre: Vec3, radius: f32, material: usize, ring
             indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
     }
-    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: false }
+    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: true }
+}
+
+/// A sphere area light: a UV sphere of `rings` × 2·`rings` quads, normals outwards.
+/// Not lightmapped.
+pub fn sphere_light(name: &str, centre: Vec3, radius: f32, material: usize, rings: usize) -> Mesh {
+    Mesh { lightmapped: false, ..uv_sphere(name, centre, radius, rings.max(3), 2 * rings.max(3), material) }
 }
 
 /// The embedded default: a 2 m Cornell-style room (white floor/ceiling/back/front, red

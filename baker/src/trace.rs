@@ -60,6 +60,18 @@ pub struct PointSample {
     pub back_face: bool,
 }
 
+/// A next-event sample of an area light (emitter point or environment direction).
+#[derive(Debug, Clone, Copy)]
+struct AreaSample {
+    wi: Vec3,
+    radiance: Vec3,
+    /// Solid-angle pdf of drawing `wi`.
+    pdf: f64,
+    /// The emitter point a shadow ray must reach; None: the environment (unbounded).
+    target: Option<Vec3>,
+}
+
+/// The power heuristic (β = 2) weight of the strategy with pdf `a` against one with `b`.
 fn power2(a: f64, b: f64) -> f64 {
     a * a / (a * a + b * b)
 }
@@ -120,31 +132,11 @@ impl<'a> Tracer<'a> {
                 }
             }
         }
-        // One emitter by power, MIS against the point sample.
-        if let Some((tri, q)) = self.pick_emitter(rng) {
-            let to = q - x;
-            let dist = to.length();
-            let wi = to / dist;
-            let t = &self.bvh.tris[tri as usize];
-            let cos_l = -wi.dot(t.normal());
-            if cos_l > 0.0 && in_domain(wi) && self.visible_point(origin(wi), q) {
-                let pl = self.emitter_pdf(tri, dist, cos_l);
-                let le = self.scene.materials[t.material as usize].emissive;
-                lights.push((wi, le * (power2(pl, p_s) / pl) as f32));
-            }
-        } else {
-            rng.next_f64();
-            rng.next_2d();
-        }
-        // One environment direction, MIS against the point sample.
-        let u = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
-        if let Some(env) = &self.env {
-            let (wi, pe) = env.sample(u);
-            if pe > 0.0 && in_domain(wi) {
-                let o = origin(wi);
-                if !self.bvh.occluded(o, wi, 0.0, f32::INFINITY) {
-                    lights.push((wi, self.scene.environment.radiance(wi) * (power2(pe, p_s) / pe) as f32));
-                }
+        // One emitter point by power and one environment direction, MIS against the
+        // point sample.
+        for a in self.area_samples(x, rng).into_iter().flatten() {
+            if in_domain(a.wi) && self.visible(origin(a.wi), &a) {
+                lights.push((a.wi, a.radiance * (power2(a.pdf, p_s) / a.pdf) as f32));
             }
         }
         if normal.is_some_and(|(_, ng)| dir.dot(ng) <= 0.0) {
@@ -160,6 +152,48 @@ impl<'a> Tracer<'a> {
     /// the start (the preview).
     pub fn incoming(&self, o: Vec3, dir: Vec3, rng: &mut Pcg32) -> Vec3 {
         self.path(o, dir, 0.0, false, rng).0
+    }
+
+    /// One next-event sample of the area lights seen from `x`: an emitter point chosen by
+    /// power (area-uniform on its triangle) and an environment direction (luminance ×
+    /// solid angle), each with its solid-angle pdf; None where a light kind is absent or
+    /// the emitter faces away. The random numbers drawn do not depend on the scene's
+    /// lights (3 for the emitter, 3 for the environment).
+    fn area_samples(&self, x: Vec3, rng: &mut Pcg32) -> [Option<AreaSample>; 2] {
+        let emitter = match self.pick_emitter(rng) {
+            Some((tri, q)) => {
+                let to = q - x;
+                let dist = to.length();
+                let wi = to / dist;
+                let t = &self.bvh.tris[tri as usize];
+                let cos_l = -wi.dot(t.normal());
+                (cos_l > 0.0).then(|| AreaSample {
+                    wi,
+                    radiance: self.scene.materials[t.material as usize].emissive,
+                    pdf: self.emitter_pdf(tri, dist, cos_l),
+                    target: Some(q),
+                })
+            }
+            None => {
+                rng.next_f64();
+                rng.next_2d();
+                None
+            }
+        };
+        let u = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
+        let env = self.env.as_ref().and_then(|env| {
+            let (wi, pdf) = env.sample(u);
+            (pdf > 0.0).then(|| AreaSample { wi, radiance: self.scene.environment.radiance(wi), pdf, target: None })
+        });
+        [emitter, env]
+    }
+
+    /// Whether a shadow ray from offset origin `o` reaches an area sample.
+    fn visible(&self, o: Vec3, a: &AreaSample) -> bool {
+        match a.target {
+            Some(q) => self.visible_point(o, q),
+            None => !self.bvh.occluded(o, a.wi, 0.0, f32::INFINITY),
+        }
     }
 
     /// Whether a shadow ray from offset origin `o` reaches the delta light.
@@ -255,33 +289,12 @@ impl<'a> Tracer<'a> {
     fn direct(&self, p: Vec3, ns: Vec3, wo: Vec3, mat: &Material, rng: &mut Pcg32) -> Vec3 {
         let mut l = Vec3::ZERO;
         let o = offset_ray(p, ns);
-        if let Some((ti, q)) = self.pick_emitter(rng) {
-            let to = q - p;
-            let dist = to.length();
-            let wi = to / dist;
-            let tri = &self.bvh.tris[ti as usize];
-            let cos_l = -wi.dot(tri.normal());
-            let cos_i = wi.dot(ns);
-            if cos_l > 0.0 && cos_i > 0.0 {
-                let (f, pb) = eval_bsdf(mat, ns, wo, wi);
-                if f.max_element() > 0.0 && self.visible_point(o, q) {
-                    let pl = self.emitter_pdf(ti, dist, cos_l);
-                    let le = self.scene.materials[tri.material as usize].emissive;
-                    l += f * le * (cos_i * (power2(pl, pb) / pl) as f32);
-                }
-            }
-        } else {
-            rng.next_f64();
-            rng.next_2d();
-        }
-        let u = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
-        if let Some(env) = &self.env {
-            let (wi, pe) = env.sample(u);
-            let cos_i = wi.dot(ns);
-            if pe > 0.0 && cos_i > 0.0 {
-                let (f, pb) = eval_bsdf(mat, ns, wo, wi);
-                if f.max_element() > 0.0 && !self.bvh.occluded(o, wi, 0.0, f32::INFINITY) {
-                    l += f * self.scene.environment.radiance(wi) * (cos_i * (power2(pe, pb) / pe) as f32);
+        for a in self.area_samples(p, rng).into_iter().flatten() {
+            let cos_i = a.wi.dot(ns);
+            if cos_i > 0.0 {
+                let (f, pb) = eval_bsdf(mat, ns, wo, a.wi);
+                if f.max_element() > 0.0 && self.visible(o, &a) {
+                    l += f * a.radiance * (cos_i * (power2(a.pdf, pb) / a.pdf) as f32);
                 }
             }
         }

@@ -199,27 +199,8 @@ fn bvh_depth_is_bounded() {
 
 /// A UV sphere of exactly 6 200 triangles (50 rings × 62 segments) without lightmap UVs.
 fn sphere_6200() -> Scene {
-    let (nv, nu) = (50usize, 62usize);
-    let (mut positions, mut normals) = (Vec::new(), Vec::new());
-    for j in 0..=nv {
-        let th = std::f32::consts::PI * j as f32 / nv as f32;
-        for i in 0..=nu {
-            let ph = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
-            let d = Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin());
-            positions.push(d);
-            normals.push(d);
-        }
-    }
-    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
-    let mut indices = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    let mut s = tri_mesh(positions, indices);
-    s.meshes[0].normals = normals;
+    let mut s = tri_mesh(vec![Vec3::ZERO, Vec3::X, Vec3::Z], vec![[0, 1, 2]]);
+    s.meshes[0] = scene::uv_sphere("sphere", Vec3::ZERO, 1.0, 50, 62, 0);
     s
 }
 

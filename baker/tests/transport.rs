@@ -59,25 +59,30 @@ fn plane_scene(lights: Vec<Light>, environment: Environment) -> Scene {
 /// Bakes `scene` for `passes` on the CPU or the GPU; returns the targets, the layout and
 /// the state.
 fn bake(scene: &Scene, gpu: Option<&Gpu>, passes: u64, bases: Vec<BasisKind>, tpu: f32) -> (Targets, Lightmap, BakeState) {
-    let bvh = Bvh::build(scene);
     let lm = Lightmap::build(scene, tpu, 1).unwrap();
     let targets = Targets::lightmap(&lm);
     let cfg = BakeConfig { seed: 7, max_bounces: 2, bases, solver: Solver::Ls };
-    let state = match gpu {
+    let state = run_targets(scene, gpu, &targets, &cfg, passes);
+    (targets, lm, state)
+}
+
+/// Runs `passes` of `targets` on the CPU or the GPU; returns the state.
+fn run_targets(scene: &Scene, gpu: Option<&Gpu>, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {
+    let bvh = Bvh::build(scene);
+    match gpu {
         Some(g) => {
-            let mut b = GpuBake::new(g, &Tracer::new(scene, &bvh, 2), &targets, &cfg).unwrap();
+            let mut b = GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
             b.run(passes).unwrap();
             b.state().unwrap()
         }
         None => {
-            let mut b = Bake::new(cfg, &targets, Tracer::new(scene, &bvh, 2));
+            let mut b = Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
             for _ in 0..passes {
                 b.pass();
             }
             b.state
         }
-    };
-    (targets, lm, state)
+    }
 }
 
 /// Per texel: the analytic E/π averaged over the sub-texel points the passes used
@@ -435,27 +440,13 @@ fn probes_over_a_lit_disk() {
     let heights = [0.05f64, 0.5, 2.0, 6.0];
     const PER: usize = 16;
     let positions: Vec<Vec3> = heights.iter().flat_map(|h| std::iter::repeat_n(Vec3::new(0.0, *h as f32, 0.0), PER)).collect();
-    let bvh = Bvh::build(&s);
     let targets = Targets::probes(&positions);
     let cfg = BakeConfig { seed: 5, max_bounces: 3, bases: vec![BasisKind::ShL2], solver: Solver::Ls };
     let passes = 8192;
     let l_floor = rho * e * el.sin() / PI;
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
     for (name, g) in engines() {
-        let st = match &g {
-            Some(g) => {
-                let mut b = GpuBake::new(g, &Tracer::new(&s, &bvh, 3), &targets, &cfg).unwrap();
-                b.run(passes).unwrap();
-                b.state().unwrap()
-            }
-            None => {
-                let mut b = Bake::new(cfg.clone(), &targets, Tracer::new(&s, &bvh, 3));
-                for _ in 0..passes {
-                    b.pass();
-                }
-                b.state
-            }
-        };
+        let st = run_targets(&s, g.as_ref(), &targets, &cfg, passes);
         let (m, se) = (st.mean(), st.standard_error());
         for (hi, h) in heights.iter().enumerate() {
             let omega = 2.0 * PI * (1.0 - h / (h * h + rad * rad).sqrt());
@@ -573,7 +564,6 @@ fn disk_light_probe_encodings_match_their_projections() {
     s.materials[0] = Material::lambert(Vec3::ZERO);
     s.materials.push(Material::emitter(Vec3::splat(l as f32)));
     s.meshes.push(disk_light("disk", Vec3::new(0.0, hd, 0.0), -Vec3::Y, rad as f32, 1, 256));
-    let bvh = Bvh::build(&s);
     let positions = vec![Vec3::new(0.0, y0, 0.0); 16];
     let targets = Targets::probes(&positions);
     let cfg = BakeConfig { seed: 9, max_bounces: 1, bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls };
@@ -593,20 +583,7 @@ fn disk_light_probe_encodings_match_their_projections() {
     let truth = PI * l * (1.0 - cos0 * cos0);
     for (name, g) in engines() {
         let passes = 8192;
-        let st = match &g {
-            Some(g) => {
-                let mut b = GpuBake::new(g, &Tracer::new(&s, &bvh, 1), &targets, &cfg).unwrap();
-                b.run(passes).unwrap();
-                b.state().unwrap()
-            }
-            None => {
-                let mut b = Bake::new(cfg.clone(), &targets, Tracer::new(&s, &bvh, 1));
-                for _ in 0..passes {
-                    b.pass();
-                }
-                b.state
-            }
-        };
+        let st = run_targets(&s, g.as_ref(), &targets, &cfg, passes);
         for (bi, kind) in cfg.bases.iter().enumerate() {
             let basis = kind.basis();
             let nb = basis.len();

@@ -448,6 +448,53 @@ fn env_pdf(d: vec3<f32>) -> f32 {
     return aux[P.env_cells_offset + j * w + i].y / env_cell_solid_angle(j);
 }
 
+// A next-event sample of an area light seen from x (CPU twin: Tracer::area_samples):
+// direction, radiance, solid-angle pdf (0: none), the emitter point (goal) a shadow ray must
+// reach, and whether that target is a point (else the unbounded environment).
+struct AreaSample {
+    wi: vec3<f32>,
+    radiance: vec3<f32>,
+    pdf: f32,
+    goal: vec3<f32>,
+    bounded: bool,
+}
+
+// k = 0: an emitter point by power; k = 1: an environment direction. Each draws 3 random
+// numbers whatever the scene holds.
+fn area_sample(k: u32, x: vec3<f32>, rng: ptr<function, u32>) -> AreaSample {
+    if (k == 0u) {
+        let em = pick_emitter(rng);
+        if (em.tri == NO_HIT) {
+            return AreaSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0), true);
+        }
+        let tri = tris[em.tri];
+        let to = em.q - x;
+        let dist = length(to);
+        let wi = to / dist;
+        let cos_l = -dot(wi, normalize(cross(tri.e1, tri.e2)));
+        if (!(cos_l > 0.0)) {
+            return AreaSample(wi, vec3<f32>(0.0), 0.0, em.q, true);
+        }
+        let le = load_material(tri.material).emissive;
+        return AreaSample(wi, le, emitter_pdf(le, dist, cos_l), em.q, true);
+    }
+    let u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
+    let es = env_sample(u);
+    if (!(es.pdf > 0.0)) {
+        return AreaSample(es.wi, vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
+    }
+    return AreaSample(es.wi, environment(es.wi), es.pdf, vec3<f32>(0.0), false);
+}
+
+// Whether a shadow ray from offset origin o reaches an area sample (CPU twin: visible).
+fn visible_area(o: vec3<f32>, a: AreaSample) -> bool {
+    if (a.bounded) {
+        return visible_point(o, a.goal);
+    }
+    count_ray(2u);
+    return traverse(o, a.wi, T_FAR, true).tri == NO_HIT;
+}
+
 fn to_local(w: vec3<f32>, f: array<vec3<f32>, 2>, n: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(w, f[0]), dot(w, f[1]), dot(w, n));
 }
@@ -525,34 +572,13 @@ fn sample_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, rng: ptr<function, u32
 fn direct(p: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, u32>) -> vec3<f32> {
     var l = vec3<f32>(0.0);
     let o = offset_ray(p, ns);
-    let em = pick_emitter(rng);
-    if (em.tri != NO_HIT) {
-        let tri = tris[em.tri];
-        let to = em.q - p;
-        let dist = length(to);
-        let wi = to / dist;
-        let cos_l = -dot(wi, normalize(cross(tri.e1, tri.e2)));
-        let cos_i = dot(wi, ns);
-        if (cos_l > 0.0 && cos_i > 0.0) {
-            let le = load_material(tri.material).emissive;
-            let e = eval_bsdf(m, ns, wo, wi);
-            if (max3(e.f) > 0.0) {
-                if (visible_point(o, em.q)) {
-                    let pl = emitter_pdf(le, dist, cos_l);
-                    l += e.f * le * (cos_i * power2(pl, e.pdf) / pl);
-                }
-            }
-        }
-    }
-    let u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
-    let es = env_sample(u);
-    let cos_e = dot(es.wi, ns);
-    if (es.pdf > 0.0 && cos_e > 0.0) {
-        let e = eval_bsdf(m, ns, wo, es.wi);
-        if (max3(e.f) > 0.0) {
-            count_ray(2u);
-            if (traverse(o, es.wi, T_FAR, true).tri == NO_HIT) {
-                l += e.f * environment(es.wi) * (cos_e * power2(es.pdf, e.pdf) / es.pdf);
+    for (var k = 0u; k < 2u; k++) {
+        let a = area_sample(k, p, rng);
+        let cos_i = dot(a.wi, ns);
+        if (a.pdf > 0.0 && cos_i > 0.0) {
+            let e = eval_bsdf(m, ns, wo, a.wi);
+            if (max3(e.f) > 0.0 && visible_area(o, a)) {
+                l += e.f * a.radiance * (cos_i * power2(a.pdf, e.pdf) / a.pdf);
             }
         }
     }
@@ -717,36 +743,18 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
             project(ld, dl.e * p_s);
         }
     }
-    let em = pick_emitter(&rng);
-    if (em.tri != NO_HIT) {
-        let tri = tris[em.tri];
-        let to = em.q - pos;
-        let dist = length(to);
-        let wi = to / dist;
-        let cos_l = -dot(wi, normalize(cross(tri.e1, tri.e2)));
-        if (cos_l > 0.0 && (!texel || (dot(wi, nrm) > 0.0 && dot(wi, ng) > 0.0))) {
-            if (visible_point(select(pos, offset_towards(pos, ng, wi), texel), em.q)) {
-                let le = load_material(tri.material).emissive;
-                let pl = emitter_pdf(le, dist, cos_l);
-                let c = le * (power2(pl, p_s) / pl);
-                let ld = select(wi, to_local(wi, fr, nrm), texel);
+    // One emitter point by power and one environment direction, MIS against the point
+    // sample.
+    for (var a_k = 0u; a_k < 2u; a_k++) {
+        let a = area_sample(a_k, pos, &rng);
+        if (a.pdf > 0.0 && (!texel || (dot(a.wi, nrm) > 0.0 && dot(a.wi, ng) > 0.0))) {
+            if (visible_area(select(pos, offset_towards(pos, ng, a.wi), texel), a)) {
+                let c = a.radiance * (power2(a.pdf, p_s) / a.pdf);
+                let ld = select(a.wi, to_local(a.wi, fr, nrm), texel);
                 e_lights += c * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
                 finite = finite && finite3(c);
                 project(ld, c * p_s);
             }
-        }
-    }
-    let ue = vec3<f32>(rng_next(&rng), rng_next(&rng), rng_next(&rng));
-    let es = env_sample(ue);
-    if (es.pdf > 0.0 && (!texel || (dot(es.wi, nrm) > 0.0 && dot(es.wi, ng) > 0.0))) {
-        let o = select(pos, offset_towards(pos, ng, es.wi), texel);
-        count_ray(2u);
-        if (traverse(o, es.wi, T_FAR, true).tri == NO_HIT) {
-            let c = environment(es.wi) * (power2(es.pdf, p_s) / es.pdf);
-            let ld = select(es.wi, to_local(es.wi, fr, nrm), texel);
-            e_lights += c * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
-            finite = finite && finite3(c);
-            project(ld, c * p_s);
         }
     }
     var pr = PathResult(vec3<f32>(0.0), false);
