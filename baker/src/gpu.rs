@@ -223,6 +223,19 @@ pub struct GpuBake<'g> {
     pub kernel: Kernel,
 }
 
+/// Checks every storage buffer of a bake against the adapter's binding limit before
+/// anything is uploaded; the error names the buffer and both sizes.
+pub fn check_bindings(buffers: &[(&str, u64)], max_binding: u64) -> Result<(), String> {
+    for (what, bytes) in buffers {
+        if *bytes > max_binding {
+            return Err(format!(
+                "{what}: {bytes} bytes exceed the adapter's storage-buffer binding limit of {max_binding} bytes (bake on the CPU with --device cpu, fewer bases or texels, or a simpler scene)"
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Offsets (in vec4s) of the parts of `aux` (see trace.wgsl).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct AuxLayout {
@@ -311,20 +324,18 @@ impl<'g> GpuBake<'g> {
             cache: None,
         });
         let (aux, at) = aux_data(tracer);
-        let limits = d.limits();
-        let max_binding = limits.max_storage_buffer_binding_size;
-        for (what, bytes) in [
-            ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
-            ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
-            ("materials, lights and environment", (aux.len() * 16) as u64),
-            ("sample points", (targets.points.len() * 48) as u64),
-        ] {
-            if bytes > max_binding {
-                return Err(format!(
-                    "{what}: {bytes} bytes exceed the adapter's storage-buffer binding limit of {max_binding} bytes (bake on the CPU with --device cpu, or simplify the scene)"
-                ));
-            }
-        }
+        let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
+        check_bindings(
+            &[
+                ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
+                ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
+                ("materials, lights and environment", (aux.len() * 16) as u64),
+                ("sample points", (targets.points.len() * 48) as u64),
+                ("encoder states", states_len as u64),
+                ("moments", (targets.items.len() * 48) as u64),
+            ],
+            d.limits().max_storage_buffer_binding_size,
+        )?;
         let (env_kind, env) = match tracer.scene.environment {
             Environment::Black => (0, [[0.0; 4]; 3]),
             Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
@@ -388,13 +399,6 @@ impl<'g> GpuBake<'g> {
             .collect();
         let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
         let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
-        let states_len = (config.bases.len() * items).max(1) * std::mem::size_of::<EncoderState>();
-        let limit = d.limits().max_storage_buffer_binding_size as usize;
-        if states_len > limit {
-            return Err(format!(
-                "encoder state of {states_len} bytes exceeds the adapter's storage binding limit {limit}: fewer bases or texels"
-            ));
-        }
         let states_buf = storage("states", &vec![0u8; states_len], rw);
         let counters_buf = storage("counters", &[0u8; 16], rw);
         let mut entries = vec![

@@ -181,6 +181,10 @@ fn precheck_references(json: &[u8]) -> Result<(), String> {
 
 /// Loads a .gltf or .glb file into a scene (validated) with a report.
 pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
+    let meta = std::fs::metadata(path).map_err(|e| SceneError::Io(format!("{}: {e}", path.display())))?;
+    if !meta.is_file() {
+        return Err(SceneError::Io(format!("{}: not a regular file", path.display())));
+    }
     let bytes = std::fs::read(path).map_err(|e| SceneError::Io(format!("{}: {e}", path.display())))?;
     let invalid = |e: String| SceneError::Io(format!("{}: not a valid glTF 2.0 asset: {e}", path.display()));
     let json: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {

@@ -248,3 +248,12 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
     println!("GPU × 1.05: {ok5}/{n5} within 3σ (scene means agree: {scene5})");
     assert!(!scene5 || (ok5 as f64) < 0.97 * n5 as f64, "a 5% scaling of the GPU result went unnoticed");
 }
+
+/// Buffers over the adapter's binding limit are refused before upload, naming the buffer
+/// (checked with a small limit: a real over-limit scene needs gigabytes).
+#[test]
+fn over_limit_buffers_are_refused() {
+    let e = baker::gpu::check_bindings(&[("BVH nodes", 100), ("triangles", 4096)], 1024).unwrap_err();
+    assert!(e.contains("triangles") && e.contains("4096") && e.contains("1024"), "{e}");
+    assert!(baker::gpu::check_bindings(&[("BVH nodes", 1024)], 1024).is_ok());
+}

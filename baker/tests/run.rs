@@ -363,6 +363,9 @@ fn bad_gltf_scenes_give_clear_errors() {
         Err(SceneError::Io(m)) => assert!(m.contains("missing.glb"), "{m}"),
         other => panic!("{other:?}"),
     }
+    // A special file as the scene (read would never end).
+    #[cfg(unix)]
+    assert!(matches!(import::load(Path::new("/dev/zero")), Err(SceneError::Io(m)) if m.contains("not a regular file")));
     // Not glTF.
     std::fs::write(d.join("junk.gltf"), b"{not json").unwrap();
     assert!(matches!(import::load(&d.join("junk.gltf")), Err(SceneError::Io(m)) if m.contains("not a valid glTF")));
