@@ -62,12 +62,16 @@ impl Texel {
     }
 }
 
-/// A packed block of the atlas: one TEXCOORD_1 mesh's UV square, or the block of
-/// generated charts.
+/// A packed block of the atlas: the bounding rectangle of one TEXCOORD_1 mesh's UVs, or
+/// the block of generated charts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chart {
     /// The mesh whose own UVs fill the block; None for the generated block.
     pub mesh: Option<usize>,
+    /// TEXCOORD_1 blocks: the smallest UV of the mesh and the texels per UV unit
+    /// (atlas texel = offset + padding + (uv − uv_min)·uv_scale).
+    pub uv_min: Vec2,
+    pub uv_scale: f32,
     /// Size in texels, padding included.
     pub size: (usize, usize),
     /// Top-left texel in the atlas.
@@ -101,7 +105,7 @@ pub struct Lightmap {
 #[derive(Debug, Clone, PartialEq)]
 pub enum LayoutError {
     BadResolution(f32),
-    TooLarge { width: usize, height: usize },
+    TooLarge { width: usize, height: usize, fits: f32 },
     NothingToBake,
     Unwrap(String),
 }
@@ -110,9 +114,10 @@ impl std::fmt::Display for LayoutError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             LayoutError::BadResolution(r) => write!(f, "texels per unit must be finite and > 0, not {r}"),
-            LayoutError::TooLarge { width, height } => {
-                write!(f, "the lightmap would be {width}×{height} texels (limit 8192 per side): lower the resolution")
-            }
+            LayoutError::TooLarge { width, height, fits } => write!(
+                f,
+                "the lightmap would be {width}×{height} texels (limit 8192 per side): lower the resolution (about --texels-per-unit {fits:.3} fits; check the scene's units)"
+            ),
             LayoutError::NothingToBake => write!(f, "no lightmapped mesh has a non-degenerate triangle"),
             LayoutError::Unwrap(e) => write!(f, "generating lightmap charts: {e}"),
         }
@@ -123,6 +128,12 @@ impl std::error::Error for LayoutError {}
 
 /// Side limit of the atlas (texels).
 const MAX_SIDE: usize = 8192;
+
+/// The texel density at which an atlas of `side` texels at `tpu` would shrink to 90% of
+/// the side limit (a suggestion for the error message; padding makes it approximate).
+fn too_large_fit(tpu: f32, side: f64) -> f32 {
+    (tpu as f64 * 0.9 * MAX_SIDE as f64 / side.max(1.0)) as f32
+}
 
 impl Lightmap {
     /// Number of valid texels.
@@ -135,9 +146,10 @@ impl Lightmap {
     }
 
     /// Lays out every lightmapped mesh of `scene` at `texels_per_unit` with `padding`.
-    /// A mesh with its own lightmap UVs becomes one square chart of side
-    /// ⌈√(surface area / UV area)·texels_per_unit⌉ (so the texel density matches) holding
-    /// its UV square; the other meshes get generated charts (listed in `generated_for`).
+    /// A mesh with its own lightmap UVs becomes one block holding the bounding rectangle
+    /// of its UVs at √(surface area / UV area)·texels_per_unit texels per UV unit (so the
+    /// texel density matches; meshes that share an authored atlas each use their own
+    /// part); the other meshes get generated charts (listed in `generated_for`).
     pub fn build(scene: &Scene, texels_per_unit: f32, padding: usize) -> Result<Lightmap, LayoutError> {
         if !(texels_per_unit.is_finite() && texels_per_unit > 0.0) {
             return Err(LayoutError::BadResolution(texels_per_unit));
@@ -158,13 +170,14 @@ impl Lightmap {
             if area <= 0.0 {
                 continue;
             }
-            if m.lightmap_uv.is_some() {
-                let side = if uv_area > 0.0 { ((area / uv_area).sqrt() * texels_per_unit as f64).ceil() } else { 1.0 };
-                if side > MAX_SIDE as f64 {
-                    return Err(LayoutError::TooLarge { width: side as usize, height: side as usize });
-                }
-                let side = (side as usize).max(1);
-                charts.push(Chart { mesh: Some(mi), size: (side + 2 * padding, side + 2 * padding), offset: (0, 0) });
+            if let Some(uv) = &m.lightmap_uv {
+                let scale = if uv_area > 0.0 { (area / uv_area).sqrt() * texels_per_unit as f64 } else { 1.0 };
+                let (lo, hi) =
+                    uv.iter().fold((Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)), |(a, b), p| (a.min(*p), b.max(*p)));
+                // Checked with the others' below; saturate so the product cannot overflow.
+                let ext = |e: f32| ((e as f64 * scale).ceil().min(1e6) as usize).max(1) + 2 * padding;
+                let uv_scale = scale.min(1e9) as f32;
+                charts.push(Chart { mesh: Some(mi), uv_min: lo, uv_scale, size: (ext(hi.x - lo.x), ext(hi.y - lo.y)), offset: (0, 0) });
             } else {
                 generated_for.push(m.name.clone());
                 gen_meshes.push(mi);
@@ -185,8 +198,12 @@ impl Lightmap {
                 .sum();
             let texels = area * (texels_per_unit as f64).powi(2);
             if texels > (MAX_SIDE * MAX_SIDE) as f64 {
-                let side = texels.sqrt() as usize;
-                return Err(LayoutError::TooLarge { width: side, height: side });
+                let side = texels.sqrt();
+                return Err(LayoutError::TooLarge {
+                    width: side as usize,
+                    height: side as usize,
+                    fits: too_large_fit(texels_per_unit, side),
+                });
             }
             let pos: Vec<Vec<[f32; 3]>> =
                 gen_meshes.iter().map(|mi| scene.meshes[*mi].positions.iter().map(|p| p.to_array()).collect()).collect();
@@ -202,7 +219,7 @@ impl Lightmap {
             let atlas = uvunwrap::generate(&inputs, &opts).map_err(|e| LayoutError::Unwrap(e.to_string()))?;
             let (w, h) = (atlas.width as usize, atlas.height as usize);
             if w > MAX_SIDE || h > MAX_SIDE || atlas.page_count != 1 {
-                return Err(LayoutError::TooLarge { width: w, height: h });
+                return Err(LayoutError::TooLarge { width: w, height: h, fits: too_large_fit(texels_per_unit, w.max(h) as f64) });
             }
             generated_charts = atlas.chart_count as usize;
             generated_utilisation = atlas.utilization as f64;
@@ -215,14 +232,20 @@ impl Lightmap {
                 gen_uv.push((0..out.indices.len() / 3).map(|t| [uv(3 * t), uv(3 * t + 1), uv(3 * t + 2)]).collect());
                 gen_chart_ids.push((0..out.indices.len() / 3).map(|t| chart(3 * t).min(chart(3 * t + 1)).min(chart(3 * t + 2))).collect());
             }
-            charts.push(Chart { mesh: None, size: (w, h), offset: (0, 0) });
+            charts.push(Chart { mesh: None, uv_min: Vec2::ZERO, uv_scale: 0.0, size: (w, h), offset: (0, 0) });
         }
         if charts.is_empty() {
             return Err(LayoutError::NothingToBake);
         }
+        // The blocks cannot fit one atlas if their area alone exceeds it.
+        let total: f64 = charts.iter().map(|c| (c.size.0 * c.size.1) as f64).sum();
+        if total > (MAX_SIDE * MAX_SIDE) as f64 {
+            let side = total.sqrt();
+            return Err(LayoutError::TooLarge { width: side as usize, height: side as usize, fits: too_large_fit(texels_per_unit, side) });
+        }
         let (width, height) = pack(&mut charts);
         if width > MAX_SIDE || height > MAX_SIDE {
-            return Err(LayoutError::TooLarge { width, height });
+            return Err(LayoutError::TooLarge { width, height, fits: too_large_fit(texels_per_unit, width.max(height) as f64) });
         }
         let mut texels = vec![Texel::default(); width * height];
         let mut triangle_uv: Vec<Vec<[Vec2; 3]>> = scene.meshes.iter().map(|m| vec![[Vec2::ZERO; 3]; m.indices.len()]).collect();
@@ -237,9 +260,8 @@ impl Lightmap {
                 Some(mi) => {
                     let m = &scene.meshes[mi];
                     let uvs = m.lightmap_uv.as_ref().expect("TEXCOORD_1 chart");
-                    let side = (c.size.0 - 2 * padding) as f32;
                     for (ti, t) in m.indices.iter().enumerate() {
-                        let uv = t.map(|i| corner + uvs[i as usize] * side);
+                        let uv = t.map(|i| corner + (uvs[i as usize] - c.uv_min) * c.uv_scale);
                         triangle_uv[mi][ti] = uv;
                         rasterise_triangle(&mut texels, width, scene, mi, ti, uv, own);
                     }

@@ -252,10 +252,11 @@ pub fn mesh_mapping(scene: &Scene, lm: &Lightmap) -> serde_json::Value {
                 return json!({"name": m.name, "lightmapped": false});
             }
             if let Some(c) = lm.charts.iter().find(|c| c.mesh == Some(mi)) {
-                let side = (c.size.0 - 2 * lm.padding) as f32;
-                let corner = ((c.offset.0 + lm.padding) as f32, (c.offset.1 + lm.padding) as f32);
+                // atlas uv = TEXCOORD_1 · scale + bias (the block maps uv_min to its corner).
+                let s = c.uv_scale;
+                let corner = ((c.offset.0 + lm.padding) as f32 - c.uv_min.x * s, (c.offset.1 + lm.padding) as f32 - c.uv_min.y * s);
                 return json!({"name": m.name, "lightmapped": true, "uv": "TEXCOORD_1",
-                    "scale": [side / w, side / h], "bias": [corner.0 / w, corner.1 / h]});
+                    "scale": [s / w, s / h], "bias": [corner.0 / w, corner.1 / h]});
             }
             let uvs: Vec<[f32; 6]> =
                 lm.triangle_uv[mi].iter().map(|t| [t[0].x / w, t[0].y / h, t[1].x / w, t[1].y / h, t[2].x / w, t[2].y / h]).collect();

@@ -237,7 +237,9 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         log(format!("layout: charts generated for {} mesh(es) without lightmap UVs", lm.generated_for.len()));
     }
     log(format!("layout: {}×{} atlas, {} valid texels, utilisation {:.3}", lm.width, lm.height, lm.valid_count(), lm.utilisation()));
-    let sh: Vec<&str> = o.config.bases.iter().chain(&o.probe_bases).filter(|b| !b.non_negative()).map(|b| b.name()).collect();
+    let mut sh: Vec<&str> = o.config.bases.iter().chain(&o.probe_bases).filter(|b| !b.non_negative()).map(|b| b.name()).collect();
+    sh.sort_unstable();
+    sh.dedup();
     if o.config.solver == Solver::Nnls && !sh.is_empty() {
         log(format!(
             "solver: NNLS applies to the non-negative bases (SG, Ambient Dice); {} fitted by least squares (SH coefficients of non-negative radiance are legitimately negative)",

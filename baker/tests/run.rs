@@ -509,3 +509,45 @@ fn scenes_without_gloss_leave_specular_out() {
     assert!(o.status.success() && log.contains("leave-out: no glossy material"), "{log}");
     assert!(!d.join("ad_specular_2d.sbflut").exists());
 }
+
+/// The real glTF scenes in ../shared/scenes (lightmap UVs authored outside this project:
+/// Bevy's Cornell box in millimetres, the mixed-lighting room with a 40 k-triangle chair)
+/// import and bake; every mesh keeps its TEXCOORD_1 block and the blocks do not overlap.
+/// Skipped when the folder is absent unless SBF_REQUIRE_PROBES=1.
+#[test]
+fn shared_gltf_scenes_import_and_bake() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
+    if !root.exists() {
+        assert!(std::env::var("SBF_REQUIRE_PROBES").map_or(true, |v| v != "1"), "SBF_REQUIRE_PROBES=1 but {} is missing", root.display());
+        println!("skipped: {} is absent", root.display());
+        return;
+    }
+    for (file, tpu) in [("bevy_CornellBox/CornellBox.glb", "0.05"), ("bevy_MixedLightingExample/MixedLightingExample.gltf", "8")] {
+        let out = tmp(&format!("shared-{}", file.len()));
+        let o = baker(&[
+            "--scene",
+            root.join(file).to_str().unwrap(),
+            "--device",
+            "cpu",
+            "--passes",
+            "4",
+            "--texels-per-unit",
+            tpu,
+            "--probes",
+            "2,2,2",
+            "--preview-width",
+            "32",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+        let log = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{file}: {log}");
+        let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("bake.json")).unwrap()).unwrap();
+        let valid = meta["layout"]["valid_texels"].as_u64().unwrap();
+        let uv1 = meta["meshes"].as_array().unwrap().iter().filter(|m| m["uv"] == "TEXCOORD_1").count();
+        println!("{file}: {valid} valid texels, {uv1} meshes on their TEXCOORD_1, utilisation {}", meta["layout"]["utilisation"]);
+        assert!(valid > 100 && uv1 >= 2, "{file}: {valid} texels, {uv1} TEXCOORD_1 meshes");
+    }
+}
