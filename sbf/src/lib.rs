@@ -18,6 +18,7 @@
 //! | [`gram`] | Gram matrices (closed form or quadrature with error estimate), condition numbers, Cholesky solve |
 //! | [`recon`] | Lambert irradiance and GGX specular from coefficients (SH, SG, Ambient Dice, projected), reference integrators |
 //! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
+//! | [`slc`] | stochastic light culling (seeds 000–002): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
 //! | [`error`] | [`SbfError`] and input checks |
 //!
 //! ## Conventions
@@ -53,6 +54,7 @@ pub mod luts;
 pub mod quadrature;
 pub mod recon;
 pub mod sampling;
+pub mod slc;
 pub mod solve;
 
 pub use basis::{
