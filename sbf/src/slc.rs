@@ -200,6 +200,17 @@ macro_rules! slc_impl {
             phi * t * t / (3.0 * (3.0 as $f).sqrt() * $pi)
         }
 
+        /// What tiled culling stores per light (002 §5.2): M = B·S and M·c for the
+        /// ellipsoid `e` moved to view space by rotation `view` and translation `origin`
+        /// (x_view = view·x + origin). A tile's frustum transformed by M meets the unit
+        /// sphere about M·c exactly when the frustum meets the ellipsoid.
+        pub fn cull_transform(e: &Ellipsoid, view: $m, origin: $v) -> ($m, $v) {
+            let axes = view * e.axes;
+            let s = axes * $m::from_diagonal(e.radii.recip()) * axes.transpose();
+            let m = test_space_rotation(s) * s;
+            (m, m * (view * e.center + origin))
+        }
+
         /// The test-space rotation B (002 eq. 17) for a stretching matrix S: with
         /// b_x = S·x̂, b_y = S·ŷ, b_z = b_x × b_y, its rows are an orthonormal frame whose
         /// third row is b_z/|b_z|, so that B·S keeps view-space depth planes (z = const)

@@ -32,11 +32,12 @@ pub enum Feature {
     Ggx,
     AdBezier,
     Progressive,
+    Slc,
 }
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 17] = [
+    pub const ALL: [(Feature, &'static str); 18] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -54,6 +55,7 @@ impl Feature {
         (Feature::Ggx, "ggx"),
         (Feature::AdBezier, "ad-bezier"),
         (Feature::Progressive, "progressive"),
+        (Feature::Slc, "slc"),
     ];
 
     /// The WGSL functions this feature exposes (the roots of its composition).
@@ -76,6 +78,20 @@ impl Feature {
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
             Feature::Progressive => &["progressive_update"],
+            Feature::Slc => &[
+                "slc_acceptance",
+                "slc_random_range",
+                "slc_culled_estimate",
+                "slc_schlick_max",
+                "slc_dielectric_max",
+                "slc_g1_dist",
+                "slc_spheroid_scale",
+                "slc_bound_surface",
+                "slc_ggx_spheroid",
+                "slc_diffuse_sphere",
+                "slc_diffuse_intensity_bound",
+                "slc_cull_transform",
+            ],
         }
     }
 

@@ -78,5 +78,6 @@ pub fn all() -> Vec<Module> {
             source: Cow::Owned(format!("{}\n{}", include_str!("../wgsl/ambient_dice_bezier.wgsl"), bezier_tables_wgsl())),
         },
         Module { name: "progressive", source: Cow::Borrowed(include_str!("../wgsl/progressive.wgsl")) },
+        Module { name: "slc", source: Cow::Borrowed(include_str!("../wgsl/slc.wgsl")) },
     ]
 }

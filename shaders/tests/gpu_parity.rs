@@ -705,3 +705,138 @@ fn every_wgsl_function_has_a_parity_test() {
     assert!(functions >= 39, "only {functions} WGSL functions found");
     assert!(missing.is_empty(), "WGSL functions without a parity test: {missing:?}");
 }
+
+/// Stochastic light culling (slc.wgsl) against sbf::slc::runtime on 10⁵ random lights:
+/// α log-uniform in [0.01, 1], cos θ_i in [1e-3, 1], η in [0.2, 5], ξ in [0.01, 1], random
+/// view transforms. Scales: a vector's or matrix row's largest magnitude (rounding is
+/// relative to it). Items where a branch is decided by a near tie — p ≈ ξ in the culled
+/// estimate, |b_x| ≈ |b_y| in eq. 17 — are excluded (both branches are valid; rounding
+/// picks one) and counted.
+#[test]
+fn slc_parity() {
+    use sbf::slc::runtime as rt;
+    let Some(g) = gpu() else { return };
+    let lib = library("slc");
+    let mut r = Pcg32::new(77, 3);
+    const PER: usize = 30;
+    const OUT: usize = 64;
+    let delta = 1e-3f32;
+    let mut inp = Vec::with_capacity(N * PER);
+    for _ in 0..N {
+        let n = dir(&mut r);
+        let mut wi = dir(&mut r);
+        let c = (1e-3 + (1.0 - 1e-3) * r.next_2d()[0]) as f32;
+        // ω_i at cos θ_i = c from n.
+        let t = (wi - n * wi.dot(n)).normalize_or(n.any_orthonormal_vector());
+        wi = (n * c + t * (1.0 - c * c).max(0.0).sqrt()).normalize();
+        let q = Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r)) * 5.0;
+        let alpha = (0.01f64 * 100f64.powf(r.next_2d()[0])) as f32;
+        let xi = (0.01 + 0.99 * r.next_2d()[0]) as f32;
+        let phi = (0.1 + 10.0 * r.next_2d()[0]) as f32;
+        let eta = (0.2 * 25f64.powf(r.next_2d()[0])) as f32;
+        let f0 = r.next_2d()[0] as f32;
+        let view = sbf::glam::Mat3::from_quat(sbf::glam::Quat::from_axis_angle(dir(&mut r), (6.0 * r.next_2d()[0]) as f32));
+        let origin = Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r)) * 3.0;
+        let (intensity, l, theta, dn) =
+            ((r.next_2d()[0] * 2.0) as f32, (r.next_2d()[0] * 30.0) as f32, (r.next_2d()[0] * std::f64::consts::PI) as f32, coeff(&mut r));
+        for x in [q, wi, n] {
+            push3(&mut inp, x);
+        }
+        inp.extend_from_slice(&[alpha, xi, phi, eta, f0]);
+        inp.extend_from_slice(&view.to_cols_array());
+        push3(&mut inp, origin);
+        inp.extend_from_slice(&[intensity, l, theta, dn]);
+        assert_eq!(inp.len() % PER, 0);
+    }
+    let body = format!(
+        "    let o = i * {PER}u;\n    let q = ld3(o);\n    let wi = ld3(o + 3u);\n    let n = ld3(o + 6u);\n    let alpha = inp[o + 9u];\n    let xi = inp[o + 10u];\n    let phi = inp[o + 11u];\n    let eta = inp[o + 12u];\n    let f0 = inp[o + 13u];\n    let view = mat3x3<f32>(ld3(o + 14u), ld3(o + 17u), ld3(o + 20u));\n    let origin = ld3(o + 23u);\n    let intensity = inp[o + 26u];\n    let l = inp[o + 27u];\n    let theta = inp[o + 28u];\n    let dn = inp[o + 29u];\n    let delta = {delta:?};\n    let cos_i = dot(wi, n);\n    var v: array<f32, {OUT}>;\n    let p = slc_acceptance(intensity, delta, l);\n    v[0] = p;\n    v[1] = slc_random_range(intensity, delta, xi);\n    v[2] = slc_culled_estimate(intensity / (l * l), p, xi);\n    v[3] = slc_schlick_max(f0, cos_i);\n    v[4] = slc_dielectric_max(eta, cos_i);\n    v[5] = slc_g1_dist(cos_i, alpha);\n    let r = slc_spheroid_scale(phi, v[4], v[5], cos_i, delta, xi);\n    v[6] = r;\n    v[7] = slc_bound_surface(theta, r, alpha);\n    let e = slc_ggx_spheroid(q, wi, n, alpha, r);\n    for (var k = 0u; k < 3u; k++) {{\n        v[8u + k] = e.center[k];\n        v[11u + k] = e.axes[0][k];\n        v[14u + k] = e.axes[1][k];\n        v[17u + k] = e.axes[2][k];\n        v[20u + k] = e.radii[k];\n    }}\n    let s = slc_diffuse_sphere(q, n, phi, delta, xi);\n    v[23] = s.center.x;\n    v[24] = s.center.y;\n    v[25] = s.center.z;\n    v[26] = s.radius;\n    v[27] = slc_diffuse_intensity_bound(dn, phi);\n    let c = slc_cull_transform(e, view, origin);\n    for (var k = 0u; k < 3u; k++) {{\n        v[28u + k] = c.transform[0][k];\n        v[31u + k] = c.transform[1][k];\n        v[34u + k] = c.transform[2][k];\n        v[37u + k] = c.center[k];\n    }}\n    v[40] = slc_cos_theta_h_max(cos_i);\n    v[41] = slc_dielectric_fresnel(eta, cos_i);\n    v[42] = slc_ggx_ndf(cos_i, alpha);\n    let ao = slc_any_orthonormal(n);\n    let sw = slc_stretching(e);\n    let bw = slc_test_space_rotation(sw);\n    for (var k = 0u; k < 3u; k++) {{\n        v[43u + k] = ao[k];\n        v[46u + k] = sw[0][k];\n        v[49u + k] = sw[1][k];\n        v[52u + k] = sw[2][k];\n        v[55u + k] = bw[0][k];\n        v[58u + k] = bw[1][k];\n        v[61u + k] = bw[2][k];\n    }}\n    for (var k = 0u; k < {OUT}u; k++) {{\n        outp[i * {OUT}u + k] = v[k];\n    }}"
+    );
+    let (out, _) = g.run(&lib, &body, &inp, OUT, N, None, 0).unwrap();
+    let (mut gk, mut cpu, mut scale) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut ties_p, mut ties_b) = (0, 0);
+    for k in 0..N {
+        let s = &inp[k * PER..(k + 1) * PER];
+        let v3 = |j: usize| Vec3::new(s[j], s[j + 1], s[j + 2]);
+        let (q, wi, n) = (v3(0), v3(3), v3(6));
+        let (alpha, xi, phi, eta, f0) = (s[9], s[10], s[11], s[12], s[13]);
+        let view = sbf::glam::Mat3::from_cols(v3(14), v3(17), v3(20));
+        let origin = v3(23);
+        let (intensity, l, theta, dn) = (s[26], s[27], s[28], s[29]);
+        let cos_i = wi.dot(n);
+        let p = rt::acceptance_probability(intensity, delta, l);
+        let fmax = rt::dielectric_max(eta, cos_i);
+        let g1 = rt::g1_dist(cos_i, alpha);
+        let rr = rt::spheroid_scale(phi, fmax, g1, cos_i, delta, xi);
+        let e = rt::ggx_spheroid(q, wi, n, alpha, rr);
+        let sph = rt::diffuse_sphere(q, n, phi, delta, xi);
+        let (m, mc) = rt::cull_transform(&e, view, origin);
+        // Near ties: skip the item (both branches valid).
+        let axes_v = view * e.axes;
+        let sv = axes_v * sbf::glam::Mat3::from_diagonal(e.radii.recip()) * axes_v.transpose();
+        let (bx, by) = ((sv * Vec3::X).length_squared(), (sv * Vec3::Y).length_squared());
+        if (p - xi).abs() < 1e-5 {
+            ties_p += 1;
+            continue;
+        }
+        let sw = e.stretching();
+        let (wx, wy) = ((sw * Vec3::X).length_squared(), (sw * Vec3::Y).length_squared());
+        if (bx - by).abs() < 2e-5 * bx.max(by) || (wx - wy).abs() < 2e-5 * wx.max(wy) {
+            ties_b += 1;
+            continue;
+        }
+        let mut c = vec![
+            p,
+            rt::random_range(intensity, delta, xi),
+            rt::culled_estimate(intensity / (l * l), p, xi),
+            rt::schlick_max(f0, cos_i),
+            fmax,
+            g1,
+            rr,
+            rt::bound_surface(theta, rr, alpha),
+        ];
+        c.extend(e.center.to_array());
+        c.extend(e.axes.to_cols_array());
+        c.extend(e.radii.to_array());
+        c.extend(sph.center.to_array());
+        c.push(sph.radius);
+        c.push(rt::diffuse_intensity_bound(dn, phi));
+        c.extend(m.to_cols_array());
+        c.extend(mc.to_array());
+        c.push(rt::cos_theta_h_max(cos_i));
+        c.push(rt::dielectric_fresnel(eta, cos_i));
+        c.push(rt::ggx_ndf(cos_i, alpha));
+        c.extend(n.any_orthonormal_vector().to_array());
+        c.extend(sw.to_cols_array());
+        c.extend(rt::test_space_rotation(sw).to_cols_array());
+        let mag = |v: &[f32]| v.iter().fold(0.0f64, |a, x| a.max(x.abs() as f64));
+        let mut sc = vec![0.0f64; OUT];
+        for j in [0, 1, 2, 3, 4, 5, 6, 7, 40, 41, 42] {
+            sc[j] = c[j].abs() as f64;
+        }
+        let ranges = [(8, 11), (11, 20), (20, 23), (23, 26), (26, 28), (28, 37), (37, 40), (43, 46), (46, 55), (55, 64)];
+        for (a, b) in ranges {
+            let m = mag(&c[a..b]);
+            for x in sc.iter_mut().take(b).skip(a) {
+                *x = m;
+            }
+        }
+        // The centre comes from q + offset: its rounding scales with |q| + r_u.
+        for x in sc.iter_mut().take(11).skip(8) {
+            *x = *x + q.length() as f64 + e.radii.x as f64;
+        }
+        for x in sc.iter_mut().take(26).skip(23) {
+            *x = *x + q.length() as f64 + sph.radius as f64;
+        }
+        // M·c: |M|·|c| (the product's rounding scale).
+        let cscale = mag(&m.to_cols_array()) * ((view * e.center + origin).length() as f64) * 3.0;
+        for x in sc.iter_mut().take(40).skip(37) {
+            *x = x.max(cscale);
+        }
+        gk.extend_from_slice(&out[k * OUT..(k + 1) * OUT]);
+        cpu.extend(c.iter().map(|x| *x as f64));
+        scale.extend(sc);
+    }
+    println!("slc parity: {} items compared, {ties_p} near p = ξ and {ties_b} near |b_x| = |b_y| excluded", cpu.len() / OUT);
+    assert!(ties_p + ties_b < N / 100, "too many ties excluded");
+    check("slc (all outputs)", &gk, &cpu, &scale);
+}
