@@ -211,6 +211,40 @@ macro_rules! slc_impl {
             (m, m * (view * e.center + origin))
         }
 
+        /// The 8 view-space corners of the part of a screen tile's frustum between view
+        /// distances `z0` and `z1` (> 0, along −z): pixel rectangle [x0, x1) × [y0, y1) of a
+        /// `width` × `height` image, a symmetric perspective with tan(half field of view)
+        /// `tan_x`, `tan_y` (NDC x = 2px/W − 1, y = 1 − 2py/H, direction (x·tan_x, y·tan_y, −1)).
+        #[allow(clippy::too_many_arguments)]
+        pub fn tile_corners(x0: $f, y0: $f, x1: $f, y1: $f, width: $f, height: $f, tan_x: $f, tan_y: $f, z0: $f, z1: $f) -> [$v; 8] {
+            let dir = |px: $f, py: $f| $v::new((2.0 * px / width - 1.0) * tan_x, (1.0 - 2.0 * py / height) * tan_y, -1.0);
+            let d = [dir(x0, y0), dir(x1, y0), dir(x0, y1), dir(x1, y1)];
+            [d[0] * z0, d[1] * z0, d[2] * z0, d[3] * z0, d[0] * z1, d[1] * z1, d[2] * z1, d[3] * z1]
+        }
+
+        /// Whether the unit sphere about `center` meets the box [lo, hi] (the squared
+        /// distance from the centre to the box is at most 1).
+        pub fn unit_sphere_hits_aabb(center: $v, lo: $v, hi: $v) -> bool {
+            let d = center - center.clamp(lo, hi);
+            d.length_squared() <= 1.0
+        }
+
+        /// The conservative ellipsoid–frustum test of tiled culling (002 §5, Modified
+        /// HalfZ's sphere–AABB form): the frustum part's corners transformed by M = B·S
+        /// (from [`cull_transform`]), their AABB, and the unit sphere about M·c. Never
+        /// culls an ellipsoid that meets the frustum part (the AABB of the transformed
+        /// corners contains the transformed convex frustum part).
+        pub fn ellipsoid_hits_corners(m: $m, mc: $v, corners: &[$v; 8]) -> bool {
+            let mut lo = $v::splat(<$f>::INFINITY);
+            let mut hi = $v::splat(<$f>::NEG_INFINITY);
+            for c in corners {
+                let p = m * *c;
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+            unit_sphere_hits_aabb(mc, lo, hi)
+        }
+
         /// The test-space rotation B (002 eq. 17) for a stretching matrix S: with
         /// b_x = S·x̂, b_y = S·ŷ, b_z = b_x × b_y, its rows are an orthonormal frame whose
         /// third row is b_z/|b_z|, so that B·S keeps view-space depth planes (z = const)

@@ -296,3 +296,145 @@ fn culled_estimate_is_unbiased_and_a_range_cut_is_not() {
     // A light inside its range is always accepted (p = 1) and counted at full weight.
     assert_eq!(slc::culled_estimate(2.0, slc::acceptance_probability(1.0, delta, 1.0), 0.999), 2.0);
 }
+
+/// The tile test never culls an ellipsoid that meets the tile's frustum part: random
+/// spheroids in view space and random tiles; 2 000 random points inside each frustum part
+/// (pixel position and depth uniform); whenever one lies inside the ellipsoid the test must
+/// keep the light. Reports how often the test keeps a light no sampled point touches.
+#[test]
+fn tile_test_is_conservative() {
+    let mut rng = Pcg32::new(31, 7);
+    let (w, h, tx, ty) = (256.0, 128.0, 0.7, 0.35);
+    let (mut kept, mut touched, mut cases) = (0, 0, 0);
+    for _ in 0..400 {
+        let q = DVec3::new(4.0 * rng.next_f64() - 2.0, 2.0 * rng.next_f64() - 1.0, -1.0 - 8.0 * rng.next_f64());
+        let n = uniform_sphere(rng.next_2d());
+        let mut wi = uniform_sphere(rng.next_2d());
+        if wi.dot(n) < 0.0 {
+            wi = -wi;
+        }
+        let alpha = 0.05 + 0.95 * rng.next_f64();
+        let e = slc::ggx_spheroid(q, wi, n, alpha, 0.2 + 1.5 * rng.next_f64());
+        let (m, mc) = slc::cull_transform(&e, DMat3::IDENTITY, DVec3::ZERO);
+        let (x0, y0) = ((rng.next_f64() * 15.0).floor() * 16.0, (rng.next_f64() * 7.0).floor() * 16.0);
+        let z0 = 0.5 + 6.0 * rng.next_f64();
+        let z1 = z0 + 4.0 * rng.next_f64();
+        let corners = slc::tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, w, h, tx, ty, z0, z1);
+        let hit = slc::ellipsoid_hits_corners(m, mc, &corners);
+        let mut inside = false;
+        for _ in 0..2000 {
+            let [a, b] = rng.next_2d();
+            let z = z0 + (z1 - z0) * rng.next_f64();
+            let p = slc::tile_corners(x0 + 16.0 * a, y0 + 16.0 * b, 0.0, 0.0, w, h, tx, ty, z, z)[0];
+            inside |= e.contains(p, -1e-9);
+        }
+        assert!(hit || !inside, "a light meeting the tile was culled");
+        kept += hit as usize;
+        touched += inside as usize;
+        cases += 1;
+    }
+    println!("{cases} tile/ellipsoid cases: kept {kept}, of which a sampled point touches {touched}");
+    assert!(touched > 20, "the cases should include real intersections");
+}
+
+/// Ellipsoid culling beats sphere culling on glossy VPLs (002 §7, Fig. 9–10): a fixed
+/// scene — a camera looking down −z at a floor y = −1, 256 glossy VPLs on a wall z = −7
+/// facing the camera, lit from (0.3, 0.5, 0.8) so their mirror lobes fall on the floor —
+/// culled per 16 × 16 tile with two HalfZ depth ranges by (a) the GGX spheroid, (b) the
+/// sphere enclosing it (centre c, radius r_u), (c) TH16's sphere about the VPL with radius
+/// r/α. False discovery rate = culled-in (tile, VPL) pairs where no pixel of the tile
+/// accepts the VPL (exact GGX intensity, p = min(I/(δl²), 1) > ξ) / culled-in pairs.
+/// Reported: FDR and false-positive counts of the three; asserted: the spheroid, which
+/// lies inside its enclosing sphere, keeps a subset of the sphere's pairs (fewer false
+/// positives), and fewer than TH16's sphere. (The "FDR −80%" acceptance belongs
+/// to the culling harness; here the FDR drops by about a third while the false-positive
+/// count drops by 77–86% — the paper's "false positives reduced by over 90%" is a count.)
+#[test]
+fn ellipsoid_culling_cuts_false_discoveries() {
+    let (w, h, tx, ty) = (256usize, 128usize, 0.9f64, 0.45f64);
+    let (delta, phi) = (1e-3, 0.05);
+    let wi = DVec3::new(0.3, 0.5, 0.8).normalize();
+    // G-buffer: the floor y = −1 where the pixel's ray goes down, else background.
+    let point = |px: f64, py: f64| -> Option<DVec3> {
+        let d = slc::tile_corners(px, py, 0.0, 0.0, w as f64, h as f64, tx, ty, 1.0, 1.0)[0];
+        (d.y < -1e-3).then(|| d * (-1.0 / d.y))
+    };
+    for alpha in [0.1, 0.3] {
+        let mut rng = Pcg32::new(99, 1);
+        let vpls: Vec<(DVec3, f64)> = (0..256)
+            .map(|_| (DVec3::new(8.0 * rng.next_f64() - 4.0, -1.0 + 2.5 * rng.next_f64(), -7.0), 0.05 + 0.95 * rng.next_f64()))
+            .collect();
+        let fresnel = |c: f64| 0.04 + 0.96 * (1.0 - c).powi(5);
+        let (mut kept, mut false_pos) = ([0usize; 3], [0usize; 3]);
+        for ty_ in 0..h / 16 {
+            for tx_ in 0..w / 16 {
+                let pts: Vec<DVec3> =
+                    (0..256).filter_map(|k| point((tx_ * 16 + k % 16) as f64 + 0.5, (ty_ * 16 + k / 16) as f64 + 0.5)).collect();
+                if pts.is_empty() {
+                    continue;
+                }
+                let (zmin, zmax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(-p.z), b.max(-p.z)));
+                let mid = 0.5 * (zmin + zmax);
+                let halves: Vec<[DVec3; 8]> = [(zmin, mid), (mid, zmax)]
+                    .iter()
+                    .map(|(a, b)| {
+                        let (x0, y0) = ((tx_ * 16) as f64, (ty_ * 16) as f64);
+                        slc::tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, w as f64, h as f64, tx, ty, *a, *b)
+                    })
+                    .collect();
+                for (q, xi) in &vpls {
+                    let r = slc::spheroid_scale(phi, slc::schlick_max(0.04, wi.z), slc::g1_dist(wi.z, alpha), wi.z, delta, *xi);
+                    let e = slc::ggx_spheroid(*q, wi, DVec3::Z, alpha, r);
+                    let enclosing = slc::Ellipsoid { center: e.center, axes: DMat3::IDENTITY, radii: DVec3::splat(e.radii.x) };
+                    let th16 = slc::Ellipsoid { center: *q, axes: DMat3::IDENTITY, radii: DVec3::splat(r / alpha) };
+                    let tests: Vec<bool> = [e, enclosing, th16]
+                        .iter()
+                        .map(|v| {
+                            let (m, mc) = slc::cull_transform(v, DMat3::IDENTITY, DVec3::ZERO);
+                            halves.iter().any(|c| slc::ellipsoid_hits_corners(m, mc, c))
+                        })
+                        .collect();
+                    if !tests.iter().any(|t| *t) {
+                        continue;
+                    }
+                    // Exact: does any pixel of the tile accept the VPL? (VPL frame: n = +Z.)
+                    let accepted = pts.iter().any(|x| {
+                        let to = *x - *q;
+                        let l = to.length();
+                        let intensity = slc::ggx_vpl_intensity(phi, wi, to / l, alpha, &fresnel);
+                        slc::acceptance_probability(intensity, delta, l) > *xi
+                    });
+                    for k in 0..3 {
+                        if tests[k] {
+                            kept[k] += 1;
+                            false_pos[k] += !accepted as usize;
+                        }
+                    }
+                }
+            }
+        }
+        let fdr: Vec<f64> = (0..3).map(|k| false_pos[k] as f64 / kept[k].max(1) as f64).collect();
+        println!(
+            "α {alpha}: culled-in (tile, VPL) pairs spheroid {} / enclosing sphere {} / TH16 sphere {}; FDR {:.3} / {:.3} / {:.3} (−{:.1}%, −{:.1}%); false positives {} / {} / {} (−{:.1}%, −{:.1}%)",
+            kept[0],
+            kept[1],
+            kept[2],
+            fdr[0],
+            fdr[1],
+            fdr[2],
+            100.0 * (1.0 - fdr[0] / fdr[1]),
+            100.0 * (1.0 - fdr[0] / fdr[2]),
+            false_pos[0],
+            false_pos[1],
+            false_pos[2],
+            100.0 * (1.0 - false_pos[0] as f64 / false_pos[1] as f64),
+            100.0 * (1.0 - false_pos[0] as f64 / false_pos[2] as f64)
+        );
+        assert!(kept[0] > 0, "the scene must have culled-in pairs");
+        assert!(
+            kept[0] <= kept[1] && false_pos[0] <= false_pos[1],
+            "α {alpha}: the spheroid must keep a subset of its enclosing sphere's pairs"
+        );
+        assert!(false_pos[0] < false_pos[2], "α {alpha}: more false positives than TH16's sphere");
+    }
+}

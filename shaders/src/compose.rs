@@ -91,6 +91,8 @@ impl Feature {
                 "slc_diffuse_sphere",
                 "slc_diffuse_intensity_bound",
                 "slc_cull_transform",
+                "slc_tile_corners",
+                "slc_ellipsoid_hits_corners",
             ],
         }
     }

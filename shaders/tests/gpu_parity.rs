@@ -840,3 +840,76 @@ fn slc_parity() {
     assert!(ties_p + ties_b < N / 100, "too many ties excluded");
     check("slc (all outputs)", &gk, &cpu, &scale);
 }
+
+/// The tile test (slc_tile_corners, slc_ellipsoid_hits_corners, slc_unit_sphere_hits_aabb)
+/// against sbf::slc::runtime on 10⁵ random (spheroid, tile) pairs: the corners to f32
+/// rounding, and the same keep/cull decision wherever the CPU's squared distance from the
+/// transformed centre to the AABB is not within 1e-4 of 1 (a tie rounding may flip).
+#[test]
+fn slc_tile_parity() {
+    use sbf::slc::runtime as rt;
+    let Some(g) = gpu() else { return };
+    let lib = library("slc");
+    let mut r = Pcg32::new(78, 3);
+    let (w, h, tx, ty) = (1920.0f32, 1080.0f32, 0.8f32, 0.45f32);
+    let mut inp = Vec::new();
+    let mut cases = Vec::new();
+    for _ in 0..N {
+        let q = Vec3::new(coeff(&mut r) * 4.0, coeff(&mut r) * 2.0, -1.0 - 9.0 * r.next_2d()[0] as f32);
+        let n = dir(&mut r);
+        let mut wi = dir(&mut r);
+        if wi.dot(n) < 0.0 {
+            wi = -wi;
+        }
+        let alpha = (0.05 + 0.95 * r.next_2d()[0]) as f32;
+        let rr = (0.2 + 2.0 * r.next_2d()[0]) as f32;
+        let e = rt::ggx_spheroid(q, wi, n, alpha, rr);
+        let (m, mc) = rt::cull_transform(&e, sbf::glam::Mat3::IDENTITY, Vec3::ZERO);
+        let (x0, y0) = ((r.next_2d()[0] * 119.0).floor() as f32 * 16.0, (r.next_2d()[0] * 67.0).floor() as f32 * 16.0);
+        let z0 = (0.5 + 8.0 * r.next_2d()[0]) as f32;
+        let z1 = z0 + (6.0 * r.next_2d()[0]) as f32;
+        inp.extend_from_slice(&m.to_cols_array());
+        push3(&mut inp, mc);
+        inp.extend_from_slice(&[x0, y0, z0, z1]);
+        cases.push((m, mc, x0, y0, z0, z1));
+    }
+    let body = format!(
+        "    let o = i * 16u;\n    let c = SlcCullEllipsoid(mat3x3<f32>(ld3(o), ld3(o + 3u), ld3(o + 6u)), ld3(o + 9u));\n    let x0 = inp[o + 12u];\n    let y0 = inp[o + 13u];\n    let corners = slc_tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, vec2<f32>({w:?}, {h:?}), vec2<f32>({tx:?}, {ty:?}), inp[o + 14u], inp[o + 15u]);\n    for (var k = 0u; k < 8u; k++) {{\n        outp[i * 25u + 3u * k] = corners[k].x;\n        outp[i * 25u + 3u * k + 1u] = corners[k].y;\n        outp[i * 25u + 3u * k + 2u] = corners[k].z;\n    }}\n    outp[i * 25u + 24u] = select(0.0, 1.0, slc_ellipsoid_hits_corners(c, corners));\n    outp[N_OUT + i] = select(0.0, 1.0, slc_unit_sphere_hits_aabb(c.center, min(corners[0], corners[7]), max(corners[0], corners[7])));"
+    );
+    // A second block of N outputs after the 25 per case: the plain sphere–AABB test.
+    let body = body.replace("N_OUT", &format!("{}u", 25 * N));
+    let (out, _) = g.run(&lib, &body, &inp, 26, N, None, 0).unwrap();
+    let (mut gk, mut cpu, mut scale) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut ties, mut kept) = (0, 0);
+    for (k, (m, mc, x0, y0, z0, z1)) in cases.iter().enumerate() {
+        let corners = rt::tile_corners(*x0, *y0, x0 + 16.0, y0 + 16.0, w, h, tx, ty, *z0, *z1);
+        for c in &corners {
+            let s = c.abs().max_element() as f64;
+            for j in 0..3 {
+                cpu.push(c[j] as f64);
+                scale.push(s);
+            }
+        }
+        gk.extend_from_slice(&out[k * 25..k * 25 + 24]);
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for c in &corners {
+            lo = lo.min(*m * *c);
+            hi = hi.max(*m * *c);
+        }
+        let d2 = (*mc - mc.clamp(lo, hi)).length_squared();
+        let hit = rt::ellipsoid_hits_corners(*m, *mc, &corners);
+        kept += hit as usize;
+        if (d2 - 1.0).abs() < 1e-4 {
+            ties += 1;
+            continue;
+        }
+        assert_eq!(out[k * 25 + 24] == 1.0, hit, "case {k}: GPU and CPU disagree (d² = {d2})");
+        let (a, b) = (corners[0].min(corners[7]), corners[0].max(corners[7]));
+        let d2 = (*mc - mc.clamp(a, b)).length_squared();
+        if (d2 - 1.0).abs() >= 1e-4 {
+            assert_eq!(out[25 * N + k] == 1.0, rt::unit_sphere_hits_aabb(*mc, a, b), "case {k}: sphere–AABB test");
+        }
+    }
+    println!("slc tile test: {N} cases, {kept} kept, {ties} near-ties not compared");
+    check("slc_tile_corners", &gk, &cpu, &scale);
+}

@@ -172,3 +172,33 @@ fn slc_cull_transform(e: SlcEllipsoid, view: mat3x3<f32>, origin: vec3<f32>) -> 
     let m = slc_test_space_rotation(s) * s;
     return SlcCullEllipsoid(m, m * (view * e.center + origin));
 }
+
+// The 8 view-space corners of a tile's frustum part between view distances z0 and z1
+// (along −z): pixel rectangle [x0, x1) × [y0, y1) of a width × height image, symmetric
+// perspective with tan(half field of view) tan_x, tan_y.
+fn slc_tile_corners(x0: f32, y0: f32, x1: f32, y1: f32, size: vec2<f32>, tan_xy: vec2<f32>, z0: f32, z1: f32) -> array<vec3<f32>, 8> {
+    let a = vec3<f32>((2.0 * x0 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y0 / size.y) * tan_xy.y, -1.0);
+    let b = vec3<f32>((2.0 * x1 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y0 / size.y) * tan_xy.y, -1.0);
+    let c = vec3<f32>((2.0 * x0 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y1 / size.y) * tan_xy.y, -1.0);
+    let d = vec3<f32>((2.0 * x1 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y1 / size.y) * tan_xy.y, -1.0);
+    return array<vec3<f32>, 8>(a * z0, b * z0, c * z0, d * z0, a * z1, b * z1, c * z1, d * z1);
+}
+
+// Whether the unit sphere about `center` meets the box [lo, hi].
+fn slc_unit_sphere_hits_aabb(center: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let d = center - clamp(center, lo, hi);
+    return dot(d, d) <= 1.0;
+}
+
+// The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
+// their AABB, the unit sphere about M·c.
+fn slc_ellipsoid_hits_corners(e: SlcCullEllipsoid, corners: array<vec3<f32>, 8>) -> bool {
+    var lo = vec3<f32>(3.4028235e38);
+    var hi = vec3<f32>(-3.4028235e38);
+    for (var k = 0u; k < 8u; k++) {
+        let p = e.transform * corners[k];
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    return slc_unit_sphere_hits_aabb(e.center, lo, hi);
+}
