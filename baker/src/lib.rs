@@ -22,6 +22,8 @@
 //! - [`placement`]: the probe grid; probes inside geometry found (back-face fraction)
 //!   and moved out.
 //! - [`run`]: a whole bake as the `baker` command runs it.
+//! - [`slc`], [`slc_gpu`]: stochastic light culling of VPLs on a G-buffer (seeds 000–002):
+//!   tiled culling by random-range bounds and shading, CPU reference and wgpu twin.
 
 pub mod bake;
 pub mod bvh;
@@ -34,4 +36,6 @@ pub mod output;
 pub mod placement;
 pub mod run;
 pub mod scene;
+pub mod slc;
+pub mod slc_gpu;
 pub mod trace;

@@ -1,0 +1,171 @@
+//! The wgpu path of [`crate::slc`]: `wgsl/slc_cull.wgsl` composed with the `shaders` slc
+//! module (bounds per light on the GPU, one workgroup per 16 × 16 tile with shared-memory
+//! light lists), run on a G-buffer and a VPL set; results read back in the CPU twin's form.
+
+use crate::slc::{GBuffer, Mode, Render, Vpl, TILE};
+use shaders::gpu::Gpu;
+use wgpu::util::DeviceExt;
+
+/// Uniform parameters (WGSL `SlcParams`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SlcParams {
+    pub width: u32,
+    pub height: u32,
+    pub light_count: u32,
+    pub mode: u32,
+    pub tan_x: f32,
+    pub tan_y: f32,
+    pub delta: f32,
+    pub pad: u32,
+}
+shaders::gpu_struct!(SlcParams, "SlcParams", [width, height, light_count, mode, tan_x, tan_y, delta, pad]);
+
+const KERNEL: &str = include_str!("../wgsl/slc_cull.wgsl");
+
+/// The composed kernel source (validated by naga).
+pub fn kernel() -> Result<String, String> {
+    let roots = [
+        "slc_diffuse_sphere",
+        "slc_spheroid_scale",
+        "slc_schlick_max",
+        "slc_g1_dist",
+        "slc_ggx_spheroid",
+        "slc_cull_transform",
+        "slc_tile_corners",
+        "slc_ellipsoid_hits_corners",
+        "slc_acceptance",
+        "slc_culled_estimate",
+        "slc_random_range",
+        "ggx_d",
+        "ggx_g2",
+        "schlick_weight",
+        "tangent_frame",
+        "PI",
+        "INV_PI",
+    ];
+    let cfg = shaders::compose::Config { name: "slc-cull".into(), features: Default::default() };
+    let lib = shaders::compose::compose_roots(cfg, &roots)?;
+    let source = format!("{}\n{KERNEL}", lib.source);
+    shaders::export::validate(&source).map_err(|e| format!("slc kernel: {e}"))?;
+    Ok(source)
+}
+
+/// Renders on the GPU (same result as [`crate::slc::render`] up to f32 rounding).
+pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode) -> Result<Render, String> {
+    let d = gpu.device();
+    let source = kernel()?;
+    let module =
+        d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("slc"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    };
+    let storage = |read_only| wgpu::BufferBindingType::Storage { read_only };
+    let layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("slc"),
+        entries: &[
+            entry(0, wgpu::BufferBindingType::Uniform),
+            entry(1, storage(true)),
+            entry(2, storage(true)),
+            entry(3, storage(false)),
+            entry(4, storage(false)),
+            entry(5, storage(false)),
+        ],
+    });
+    let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("slc"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = |name: &str| {
+        d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(name),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some(name),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    let (prepare, shade) = (pipeline("slc_prepare"), pipeline("slc_cull_shade"));
+    let params = SlcParams {
+        width: g.width as u32,
+        height: g.height as u32,
+        light_count: vpls.len() as u32,
+        mode: match mode {
+            Mode::Culled => 0,
+            Mode::BruteForce => 1,
+            Mode::RangeCut => 2,
+        },
+        tan_x: g.tan_xy.0,
+        tan_y: g.tan_xy.1,
+        delta,
+        pad: 0,
+    };
+    let gb: Vec<[f32; 4]> = g
+        .texels
+        .iter()
+        .flat_map(|t| match t {
+            Some((x, n, a)) => [[x.x, x.y, x.z, 1.0], [n.x, n.y, n.z, *a]],
+            None => [[0.0; 4], [0.0, 0.0, 1.0, 0.0]],
+        })
+        .collect();
+    let lv: Vec<[f32; 4]> = vpls
+        .iter()
+        .flat_map(|v| {
+            [
+                v.position.extend(v.flux).to_array(),
+                v.normal.extend(v.diffuse).to_array(),
+                v.incoming.extend(v.alpha).to_array(),
+                [v.f0, v.xi, 0.0, 0.0],
+            ]
+        })
+        .collect();
+    let rw = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+    let init = |label: &str, bytes: &[u8], usage| {
+        d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage })
+    };
+    let pb = init("params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+    let gbb = init("gbuffer", bytemuck::cast_slice(&gb), wgpu::BufferUsages::STORAGE);
+    let lb = init("lights", bytemuck::cast_slice(if lv.is_empty() { &[[0.0f32; 4]][..] } else { &lv }), wgpu::BufferUsages::STORAGE);
+    let bb = init("bounds", &vec![0u8; vpls.len().max(1) * 64], rw);
+    let ib = init("image", &vec![0u8; g.width * g.height * 16], rw);
+    let sb = init("stats", &[0u8; 8], rw);
+    let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("slc"),
+        layout: &layout,
+        entries: &[
+            pb.as_entire_binding(),
+            gbb.as_entire_binding(),
+            lb.as_entire_binding(),
+            bb.as_entire_binding(),
+            ib.as_entire_binding(),
+            sb.as_entire_binding(),
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(k, resource)| wgpu::BindGroupEntry { binding: k as u32, resource })
+        .collect::<Vec<_>>(),
+    });
+    let mut enc = d.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_bind_group(0, &group, &[]);
+        pass.set_pipeline(&prepare);
+        pass.dispatch_workgroups((vpls.len() as u32).div_ceil(64).max(1), 1, 1);
+        pass.set_pipeline(&shade);
+        pass.dispatch_workgroups(g.width.div_ceil(TILE) as u32, g.height.div_ceil(TILE) as u32, 1);
+    }
+    gpu.queue().submit([enc.finish()]);
+    let img: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&gpu.read_back(&ib)?);
+    let st: Vec<u32> = bytemuck::pod_collect_to_vec(&gpu.read_back(&sb)?);
+    Ok(Render {
+        image: img.iter().map(|p| p[0]).collect(),
+        lights_per_pixel: img.iter().map(|p| p[1] as u32).collect(),
+        kept: st[0] as u64,
+        false_positives: st[1] as u64,
+    })
+}

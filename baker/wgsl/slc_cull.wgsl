@@ -1,0 +1,207 @@
+// slc_cull.wgsl — stochastic light culling of VPLs on a view-space G-buffer (seed 002
+// §5–6), the GPU twin of baker::slc::render. Two entry points:
+//   slc_prepare     one thread per light: its bound (diffuse sphere or GGX spheroid) as
+//                   the culling transform M = B·S and M·c (the shaders slc module);
+//   slc_cull_shade  one 16 × 16 workgroup per tile: the tile's depth range from the
+//                   G-buffer (workgroup atomics), split in two (Modified HalfZ); lights in
+//                   chunks of 256, each thread testing one light and appending the kept
+//                   ones to a shared list; every pixel then shades the list with the
+//                   stochastic falloff L/p where p > ξ; per kept light a shared flag says
+//                   whether any pixel accepted it (false positives for the FDR).
+// Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
+// INV_PI.
+
+struct SlcParams {
+    width: u32,
+    height: u32,
+    light_count: u32,
+    // 0 culled (stochastic falloff), 1 brute force, 2 deterministic range cut (ξ = ½).
+    mode: u32,
+    tan_x: f32,
+    tan_y: f32,
+    delta: f32,
+    pad: u32,
+}
+
+@group(0) @binding(0) var<uniform> SP: SlcParams;
+// Per pixel 2 vec4: (view-space position, 1 if valid), (normal, albedo).
+@group(0) @binding(1) var<storage, read> gbuffer: array<vec4<f32>>;
+// Per light 4 vec4: (position, flux), (normal, diffuse k), (incoming ω_i, α), (F0, ξ, 0, 0).
+@group(0) @binding(2) var<storage, read> lights: array<vec4<f32>>;
+// Per light 4 vec4: M's columns and M·c (w unused).
+@group(0) @binding(3) var<storage, read_write> bounds: array<vec4<f32>>;
+// Per pixel: (radiance, lights shaded, 0, 0).
+@group(0) @binding(4) var<storage, read_write> image: array<vec4<f32>>;
+// Kept (tile, light) pairs and false positives.
+@group(0) @binding(5) var<storage, read_write> stats: array<atomic<u32>, 2>;
+
+struct SlcVpl {
+    position: vec3<f32>,
+    flux: f32,
+    normal: vec3<f32>,
+    diffuse: f32,
+    incoming: vec3<f32>,
+    alpha: f32,
+    f0: f32,
+    xi: f32,
+}
+
+fn slc_load_vpl(j: u32) -> SlcVpl {
+    let a = lights[4u * j];
+    let b = lights[4u * j + 1u];
+    let c = lights[4u * j + 2u];
+    let d = lights[4u * j + 3u];
+    return SlcVpl(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w, d.x, d.y);
+}
+
+// Radiant intensity towards unit wo (CPU twin: Vpl::intensity).
+fn slc_vpl_intensity(v: SlcVpl, wo: vec3<f32>) -> f32 {
+    let c = dot(wo, v.normal);
+    if (c <= 0.0) {
+        return 0.0;
+    }
+    if (v.diffuse > 0.0) {
+        return v.flux * v.diffuse * c * INV_PI;
+    }
+    let fr = tangent_frame(v.normal);
+    let wi = vec3<f32>(dot(v.incoming, fr[0]), dot(v.incoming, fr[1]), dot(v.incoming, v.normal));
+    let wl = vec3<f32>(dot(wo, fr[0]), dot(wo, fr[1]), c);
+    if (wi.z <= 0.0) {
+        return 0.0;
+    }
+    let h = normalize(wi + wl);
+    let f = (v.f0 + (1.0 - v.f0) * schlick_weight(dot(wi, h))) * ggx_g2(wi, wl, v.alpha) * ggx_d(h, v.alpha) / (4.0 * wi.z * wl.z);
+    return v.flux * f * wl.z;
+}
+
+@compute @workgroup_size(64)
+fn slc_prepare(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let j = gid.x;
+    if (j >= SP.light_count) {
+        return;
+    }
+    let v = slc_load_vpl(j);
+    var e: SlcEllipsoid;
+    if (v.diffuse > 0.0) {
+        let s = slc_diffuse_sphere(v.position, v.normal, v.flux * v.diffuse, SP.delta, v.xi);
+        e = SlcEllipsoid(s.center, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(s.radius));
+    } else {
+        let cos_i = dot(v.incoming, v.normal);
+        let r = slc_spheroid_scale(v.flux, slc_schlick_max(v.f0, cos_i), slc_g1_dist(cos_i, v.alpha), cos_i, SP.delta, v.xi);
+        e = slc_ggx_spheroid(v.position, v.incoming, v.normal, v.alpha, r);
+    }
+    let ident = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
+    let c = slc_cull_transform(e, ident, vec3<f32>(0.0));
+    bounds[4u * j] = vec4<f32>(c.transform[0], 0.0);
+    bounds[4u * j + 1u] = vec4<f32>(c.transform[1], 0.0);
+    bounds[4u * j + 2u] = vec4<f32>(c.transform[2], 0.0);
+    bounds[4u * j + 3u] = vec4<f32>(c.center, 0.0);
+}
+
+const SLC_TILE: u32 = 16u;
+const SLC_CHUNK: u32 = 256u;
+
+var<workgroup> wg_zmin: atomic<u32>;
+var<workgroup> wg_zmax: atomic<u32>;
+var<workgroup> wg_count: atomic<u32>;
+var<workgroup> wg_list: array<u32, 256>;
+var<workgroup> wg_accepted: array<atomic<u32>, 256>;
+
+@compute @workgroup_size(16, 16)
+fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) t: u32, @builtin(local_invocation_id) lid: vec3<u32>) {
+    let px = tile.x * SLC_TILE + lid.x;
+    let py = tile.y * SLC_TILE + lid.y;
+    let inside = px < SP.width && py < SP.height;
+    let k = py * SP.width + px;
+    var x = vec3<f32>(0.0);
+    var n = vec3<f32>(0.0, 0.0, 1.0);
+    var albedo = 0.0;
+    var valid = false;
+    if (inside) {
+        let a = gbuffer[2u * k];
+        let b = gbuffer[2u * k + 1u];
+        valid = a.w > 0.5;
+        x = a.xyz;
+        n = b.xyz;
+        albedo = b.w;
+    }
+    if (t == 0u) {
+        atomicStore(&wg_zmin, 0x7f800000u);
+        atomicStore(&wg_zmax, 0u);
+    }
+    workgroupBarrier();
+    if (valid) {
+        // Positive floats order like their bits.
+        atomicMin(&wg_zmin, bitcast<u32>(-x.z));
+        atomicMax(&wg_zmax, bitcast<u32>(-x.z));
+    }
+    workgroupBarrier();
+    let zmin_bits = atomicLoad(&wg_zmin);
+    let zmin = bitcast<f32>(zmin_bits);
+    let zmax = bitcast<f32>(atomicLoad(&wg_zmax));
+    let any_valid = zmin_bits != 0x7f800000u;
+    let mid = 0.5 * (zmin + zmax);
+    let x0 = f32(tile.x * SLC_TILE);
+    let y0 = f32(tile.y * SLC_TILE);
+    let size = vec2<f32>(f32(SP.width), f32(SP.height));
+    let tan_xy = vec2<f32>(SP.tan_x, SP.tan_y);
+    let near_half = slc_tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, size, tan_xy, zmin, mid);
+    let far_half = slc_tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, size, tan_xy, mid, zmax);
+    var radiance = 0.0;
+    var shaded = 0u;
+    for (var base = 0u; base < SP.light_count; base += SLC_CHUNK) {
+        if (t == 0u) {
+            atomicStore(&wg_count, 0u);
+        }
+        workgroupBarrier();
+        let j = base + t;
+        if (any_valid && j < SP.light_count) {
+            var keep = true;
+            if (SP.mode == 0u) {
+                let c = SlcCullEllipsoid(mat3x3<f32>(bounds[4u * j].xyz, bounds[4u * j + 1u].xyz, bounds[4u * j + 2u].xyz), bounds[4u * j + 3u].xyz);
+                keep = slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half);
+            }
+            if (keep) {
+                let slot = atomicAdd(&wg_count, 1u);
+                wg_list[slot] = j;
+                atomicStore(&wg_accepted[slot], 0u);
+            }
+        }
+        workgroupBarrier();
+        let count = atomicLoad(&wg_count);
+        if (valid) {
+            for (var s = 0u; s < count; s++) {
+                let v = slc_load_vpl(wg_list[s]);
+                let to = x - v.position;
+                let d2 = dot(to, to);
+                let d = sqrt(d2);
+                let wo = to / d;
+                let intensity = slc_vpl_intensity(v, wo);
+                let l = intensity * max(dot(-wo, n), 0.0) / d2 * albedo * INV_PI;
+                shaded += 1u;
+                if (SP.mode == 1u) {
+                    radiance += l;
+                } else if (SP.mode == 2u) {
+                    radiance += select(0.0, l, d <= slc_random_range(intensity, SP.delta, 0.5));
+                } else {
+                    let p = slc_acceptance(intensity, SP.delta, d);
+                    if (p > v.xi) {
+                        atomicStore(&wg_accepted[s], 1u);
+                    }
+                    radiance += slc_culled_estimate(l, p, v.xi);
+                }
+            }
+        }
+        workgroupBarrier();
+        if (SP.mode == 0u && t < count && atomicLoad(&wg_accepted[t]) == 0u) {
+            atomicAdd(&stats[1], 1u);
+        }
+        if (t == 0u) {
+            atomicAdd(&stats[0], count);
+        }
+        workgroupBarrier();
+    }
+    if (inside) {
+        image[k] = vec4<f32>(radiance, f32(shaded), 0.0, 0.0);
+    }
+}
