@@ -67,6 +67,19 @@ struct Cli {
     /// Preview image width in pixels.
     #[arg(long, default_value_t = 480)]
     preview_width: usize,
+    /// Instead of baking: render single-bounce indirect light from this many VPL light
+    /// paths with stochastic light culling (seeds 000–002) from the preview camera.
+    #[arg(long)]
+    slc: Option<usize>,
+    /// Image size for --slc, WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x540")]
+    slc_size: String,
+    /// Variance control δ of the random light ranges (the paper uses 1e-3).
+    #[arg(long, default_value_t = 1e-3)]
+    slc_delta: f32,
+    /// Also render the brute-force reference (every VPL at every pixel) with --slc.
+    #[arg(long)]
+    slc_brute: bool,
     /// Measure GPU rays/s (primary and secondary) over this many passes instead of
     /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
     #[arg(long)]
@@ -130,13 +143,39 @@ fn options(c: Cli) -> Result<Options, String> {
 }
 
 fn main() -> ExitCode {
-    let o = match options(Cli::parse()) {
+    let cli = Cli::parse();
+    let slc = match cli.slc.map(|n| -> Result<run::SlcOptions, String> {
+        let (w, h) = cli.slc_size.split_once('x').ok_or_else(|| format!("--slc-size takes WIDTHxHEIGHT, not {}", cli.slc_size))?;
+        let (width, height) =
+            (w.parse::<usize>().map_err(|e| format!("--slc-size: {e}"))?, h.parse::<usize>().map_err(|e| format!("--slc-size: {e}"))?);
+        if width == 0 || height == 0 || n == 0 || !(cli.slc_delta > 0.0 && cli.slc_delta.is_finite()) {
+            return Err("--slc needs VPLs > 0, a non-empty --slc-size and --slc-delta > 0".into());
+        }
+        Ok(run::SlcOptions { vpls: n, width, height, delta: cli.slc_delta, brute: cli.slc_brute, frames: 10 })
+    }) {
+        None => None,
+        Some(Ok(s)) => Some(s),
+        Some(Err(e)) => {
+            eprintln!("baker: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let o = match options(cli) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("baker: {e}");
             return ExitCode::from(2);
         }
     };
+    if let Some(s) = slc {
+        return match run::slc_harness(&o, &s, &mut |m| eprintln!("{m}")) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("baker: {e}");
+                ExitCode::FAILURE
+            }
+        };
+    }
     match run::bake(&o, &mut |s| eprintln!("{s}")) {
         Ok(s) => {
             eprintln!("done: {} passes in {:.1} s on {}", s.lightmap.passes, s.seconds, s.device);

@@ -442,3 +442,94 @@ fn write_outputs(
     ));
     Ok(())
 }
+
+/// The stochastic-light-culling harness (`baker --slc N`): what to render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlcOptions {
+    pub vpls: usize,
+    pub width: usize,
+    pub height: usize,
+    pub delta: f32,
+    /// Also render the brute-force reference (every VPL at every pixel).
+    pub brute: bool,
+    /// Timed GPU frames (median reported).
+    pub frames: usize,
+}
+
+/// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
+/// light culling (crate::slc) on the GPU or the CPU; writes slc.exr/png, the VPLs per
+/// pixel, and slc.json (counts, false discovery rate, frame time).
+pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> Result<(), String> {
+    use crate::slc::{self, Camera, Mode};
+    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
+    let scene = load_scene(&o.scene, o.environment.as_deref(), log)?;
+    let bvh = Bvh::build(&scene);
+    let cam = Camera::preview(&bvh);
+    let t = Instant::now();
+    let g = slc::gbuffer_from_scene(&scene, &bvh, cam, s.width, s.height);
+    let vpls = slc::vpls_from_scene(&scene, &bvh, cam, s.vpls, o.config.seed);
+    let glossy = vpls.iter().filter(|v| v.diffuse == 0.0).count();
+    log(format!(
+        "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} light paths in {:.2} s",
+        s.width,
+        s.height,
+        vpls.len(),
+        vpls.len() - glossy,
+        s.vpls,
+        t.elapsed().as_secs_f64()
+    ));
+    let gpu = match o.device {
+        Device::Cpu => None,
+        Device::Gpu => Some(shaders::gpu::Gpu::new()?),
+        Device::Auto => shaders::gpu::Gpu::new().ok().filter(|g| !g.software),
+    };
+    let (culled, brute, seconds, device) = match &gpu {
+        Some(gp) => {
+            let mut r = crate::slc_gpu::SlcGpu::new(gp, &g, &vpls, s.delta)?;
+            let culled = r.run(Mode::Culled)?;
+            let seconds = r.time(Mode::Culled, s.frames)?;
+            let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
+            (culled, brute, seconds, format!("GPU: {}", gp.adapter))
+        }
+        None => {
+            let t = Instant::now();
+            let culled = slc::render(&g, &vpls, s.delta, Mode::Culled);
+            let seconds = t.elapsed().as_secs_f64();
+            let brute = s.brute.then(|| {
+                let t = Instant::now();
+                (slc::render(&g, &vpls, s.delta, Mode::BruteForce), t.elapsed().as_secs_f64())
+            });
+            (culled, brute, seconds, "CPU (one thread)".to_string())
+        }
+    };
+    let n = (s.width * s.height) as f64;
+    let lpp = culled.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>() / n;
+    let fdr = culled.false_positives as f64 / culled.kept.max(1) as f64;
+    log(format!(
+        "slc on {device}: {:.3} ms per frame (bounds + culling + shading), {lpp:.1} VPLs per pixel, {} kept (tile, VPL) pairs, false discovery rate {fdr:.3}",
+        seconds * 1e3,
+        culled.kept
+    ));
+    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    let valid: Vec<f32> = g.texels.iter().map(|t| t.is_some() as u8 as f32).collect();
+    output::write_exr(&o.out.join("slc.exr"), s.width, s.height, &gray(&culled.image), &valid)?;
+    let lmax = culled.lights_per_pixel.iter().copied().max().unwrap_or(1).max(1) as f32;
+    let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32 / lmax).collect();
+    output::write_exr(&o.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
+    let mut meta = json!({
+        "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
+        "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE,
+        "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
+        "false_positives": culled.false_positives, "false_discovery_rate": fdr,
+        "image": "slc.exr", "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (divided by the maximum, see vpls_per_pixel_max)",
+        "vpls_per_pixel_max": lmax,
+    });
+    if let Some((b, bs)) = brute {
+        output::write_exr(&o.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), &valid)?;
+        let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
+        log(format!("slc brute force: {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}", bs * 1e3));
+        meta["brute_force"] = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm});
+    }
+    std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
+    Ok(())
+}

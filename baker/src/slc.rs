@@ -175,3 +175,151 @@ pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode) -> Render {
     }
     out
 }
+
+/// A pinhole camera at `eye` looking down −z (world axes; the bake preview's camera):
+/// view space is world space moved by −eye.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    /// tan of the horizontal half field of view (80° like the preview).
+    pub tan_x: f32,
+}
+
+impl Camera {
+    /// The preview camera of a scene: at the front of its bounds, centred.
+    pub fn preview(bvh: &crate::bvh::Bvh) -> Camera {
+        let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+        let centre = 0.5 * (lo + hi);
+        Camera { eye: centre + Vec3::new(0.0, 0.0, 0.49 * (hi.z - lo.z)), tan_x: (40f32).to_radians().tan() }
+    }
+}
+
+/// The G-buffer of `scene` seen by `cam` at `width` × `height` (primary rays through the
+/// BVH): view-space position, the face normal turned towards the camera, and the
+/// luminance of the diffuse albedo; emitters and misses are background.
+pub fn gbuffer_from_scene(scene: &crate::scene::Scene, bvh: &crate::bvh::Bvh, cam: Camera, width: usize, height: usize) -> GBuffer {
+    let tan_y = cam.tan_x * height as f32 / width as f32;
+    let texels = (0..width * height)
+        .map(|k| {
+            let (x, y) = (k % width, k / width);
+            let d = Vec3::new(
+                (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * cam.tan_x,
+                (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * tan_y,
+                -1.0,
+            );
+            let h = bvh.intersect(cam.eye, d.normalize(), 0.0, f32::INFINITY)?;
+            let tri = &bvh.tris[h.tri as usize];
+            let m = &scene.materials[tri.material as usize];
+            if m.emissive.max_element() > 0.0 {
+                return None;
+            }
+            let n = tri.normal();
+            let n = if n.dot(d) > 0.0 { -n } else { n };
+            let p = d.normalize() * h.t;
+            Some((p, n, crate::lights::luminance(m.diffuse_albedo()) as f32))
+        })
+        .collect();
+    GBuffer { width, height, tan_xy: (cam.tan_x, tan_y), texels }
+}
+
+/// `count` VPLs of `scene` (view space for `cam`) — the reflective-shadow-map equivalent:
+/// light paths start at a light chosen by luminance power (directional lights over a disk
+/// covering the scene bounds, point and spot lights over the sphere weighted by their cone,
+/// emissive triangles by area with cosine directions) and end at their first surface hit,
+/// which becomes a diffuse VPL (flux × Lambert albedo) and, on a glossy material, a GGX VPL
+/// (α, F0); each carries the total light power / count. One ξ per VPL from `seed`.
+pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::bvh::Bvh, cam: Camera, count: usize, seed: u64) -> Vec<Vpl> {
+    use crate::lights::luminance;
+    use crate::scene::Light;
+    let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+    let (centre, radius) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+    // Sources with their power (luminance, W).
+    let mut sources: Vec<(usize, f64)> = Vec::new();
+    for (k, l) in scene.lights.iter().enumerate() {
+        let p = match *l {
+            Light::Directional { irradiance, .. } => luminance(irradiance) * std::f64::consts::PI * (radius as f64).powi(2),
+            Light::Point { intensity, .. } | Light::Spot { intensity, .. } => luminance(intensity) * 4.0 * std::f64::consts::PI,
+        };
+        sources.push((k, p));
+    }
+    let emitters: Vec<(usize, f64)> = bvh
+        .tris
+        .iter()
+        .enumerate()
+        .filter_map(|(k, t)| {
+            let le = scene.materials[t.material as usize].emissive;
+            (le.max_element() > 0.0).then(|| (k, luminance(le) * t.area() as f64 * std::f64::consts::PI))
+        })
+        .collect();
+    let emitter_power: f64 = emitters.iter().map(|e| e.1).sum();
+    let total: f64 = sources.iter().map(|s| s.1).sum::<f64>() + emitter_power;
+    let mut out = Vec::with_capacity(count);
+    if total <= 0.0 || count == 0 {
+        return out;
+    }
+    let per_path = (total / count as f64) as f32;
+    let mut rng = sbf::sampling::Pcg32::new(seed, 0x5c1);
+    let pick = |u: f64, items: &[(usize, f64)], sum: f64| -> usize {
+        let mut acc = 0.0;
+        for (k, (_, p)) in items.iter().enumerate() {
+            acc += p / sum;
+            if u < acc {
+                return k;
+            }
+        }
+        items.len() - 1
+    };
+    for path in 0..count {
+        let u = rng.next_f64() * total;
+        let [a, b] = rng.next_2d();
+        let [c, d] = rng.next_2d();
+        // (origin, direction, weight relative to the power the choice assumed, range)
+        let (o, dir, w, range) = if u < total - emitter_power {
+            let s = &sources[pick(u / (total - emitter_power), &sources, 1.0)];
+            match scene.lights[s.0] {
+                Light::Directional { direction, .. } => {
+                    let (t, bt) = crate::lightmap::frame(direction);
+                    let r = radius * (a as f32).sqrt();
+                    let phi = std::f32::consts::TAU * b as f32;
+                    (centre + direction * (2.0 * radius) + (t * phi.cos() + bt * phi.sin()) * r, -direction, 1.0, f32::INFINITY)
+                }
+                Light::Point { position, range, .. } => (position, sbf::sampling::uniform_sphere([a, b]).as_vec3(), 1.0, range),
+                Light::Spot { position, direction, cos_inner, cos_outer, range, .. } => {
+                    let dir = sbf::sampling::uniform_sphere([a, b]).as_vec3();
+                    (position, dir, crate::lights::spot_attenuation(dir.dot(direction), cos_inner, cos_outer), range)
+                }
+            }
+        } else {
+            let (ti, _) = emitters[pick((u - (total - emitter_power)) / emitter_power, &emitters, 1.0)];
+            let t = &bvh.tris[ti];
+            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+            let p = t.v0() + t.e1() * a as f32 + t.e2() * b as f32;
+            let n = t.normal();
+            let l = sbf::sampling::cosine_hemisphere([c, d]);
+            let (tt, bt) = crate::lightmap::frame(n);
+            let dir = (tt * l.x as f32 + bt * l.y as f32 + n * l.z as f32).normalize();
+            (crate::lights::offset_ray(p, n), dir, 1.0, f32::INFINITY)
+        };
+        let Some(h) = bvh.intersect(o, dir, 0.0, f32::INFINITY) else { continue };
+        let tri = &bvh.tris[h.tri as usize];
+        let m = &scene.materials[tri.material as usize];
+        let ng = tri.normal();
+        let n = if ng.dot(dir) > 0.0 { -ng } else { ng };
+        let x = o + dir * h.t - cam.eye;
+        let xi = 1.0 - sbf::sampling::Pcg32::new(seed ^ 0x9e37_79b9, path as u64).next_f64() as f32;
+        let flux = per_path * w * crate::lights::range_window(h.t, range);
+        if flux <= 0.0 {
+            continue;
+        }
+        let base =
+            Vpl { position: x, normal: n, incoming: -dir, flux, diffuse: 0.0, alpha: m.alpha(), f0: luminance(m.specular_f0()) as f32, xi };
+        let k = luminance(m.diffuse_albedo()) as f32;
+        if k > 0.0 {
+            out.push(Vpl { diffuse: k, ..base });
+        }
+        if m.is_glossy() {
+            out.push(base);
+        }
+    }
+    out
+}

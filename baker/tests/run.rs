@@ -551,3 +551,25 @@ fn shared_gltf_scenes_import_and_bake() {
         assert!(valid > 100 && uv1 >= 2, "{file}: {valid} texels, {uv1} TEXCOORD_1 meshes");
     }
 }
+
+/// The stochastic-light-culling harness end to end on the built-in scene (CPU): it writes
+/// the image, the VPLs-per-pixel image and slc.json, and the culled image's mean is
+/// close to the brute-force one (one ξ draw: within 5% — the unbiasedness itself is
+/// tested over many draws in tests/slc.rs).
+#[test]
+fn slc_harness_writes_its_outputs() {
+    let d = tmp("slc");
+    let o =
+        baker(&["--slc", "512", "--slc-size", "64x36", "--slc-brute", "--device", "cpu", "--out", d.to_str().unwrap()]).output().unwrap();
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{log}");
+    for f in ["slc.exr", "slc_vpls_per_pixel.exr", "slc_brute.exr", "slc.json"] {
+        assert!(d.join(f).exists(), "{f} missing: {log}");
+    }
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(d.join("slc.json")).unwrap()).unwrap();
+    let (c, b) = (meta["brute_force"]["culled_mean"].as_f64().unwrap(), meta["brute_force"]["mean"].as_f64().unwrap());
+    println!("{meta}");
+    assert!(meta["vpls"].as_u64().unwrap() > 100 && (c - b).abs() <= 0.05 * b, "culled {c} vs brute {b}");
+    let bad = baker(&["--slc", "0", "--out", d.to_str().unwrap()]).output().unwrap();
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("--slc needs"));
+}
