@@ -454,6 +454,8 @@ pub struct SlcOptions {
     pub brute: bool,
     /// Timed GPU frames (median reported).
     pub frames: usize,
+    /// Interleaved sampling: I × I subregions each shading 1/I² of the VPLs (1: off).
+    pub interleave: usize,
 }
 
 /// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
@@ -485,7 +487,7 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     };
     let (culled, brute, seconds, device) = match &gpu {
         Some(gp) => {
-            let mut r = crate::slc_gpu::SlcGpu::new(gp, &g, &vpls, s.delta)?;
+            let mut r = crate::slc_gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
             let culled = r.run(Mode::Culled)?;
             let seconds = r.time(Mode::Culled, s.frames)?;
             let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
@@ -493,11 +495,11 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
         }
         None => {
             let t = Instant::now();
-            let culled = slc::render(&g, &vpls, s.delta, Mode::Culled);
+            let culled = slc::render(&g, &vpls, s.delta, Mode::Culled, s.interleave);
             let seconds = t.elapsed().as_secs_f64();
             let brute = s.brute.then(|| {
                 let t = Instant::now();
-                (slc::render(&g, &vpls, s.delta, Mode::BruteForce), t.elapsed().as_secs_f64())
+                (slc::render(&g, &vpls, s.delta, Mode::BruteForce, s.interleave), t.elapsed().as_secs_f64())
             });
             (culled, brute, seconds, "CPU (one thread)".to_string())
         }
@@ -506,8 +508,10 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     let lpp = culled.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>() / n;
     let fdr = culled.false_positives as f64 / culled.kept.max(1) as f64;
     log(format!(
-        "slc on {device}: {:.3} ms per frame (bounds + culling + shading), {lpp:.1} VPLs per pixel, {} kept (tile, VPL) pairs, false discovery rate {fdr:.3}",
+        "slc on {device}: {:.3} ms per frame (bounds + culling + shading, {}×{} interleaving), {lpp:.1} VPLs per pixel, {} kept (tile, VPL) pairs, false discovery rate {fdr:.3}",
         seconds * 1e3,
+        s.interleave,
+        s.interleave,
         culled.kept
     ));
     let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
@@ -518,7 +522,7 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     output::write_exr(&o.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
     let mut meta = json!({
         "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
-        "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE,
+        "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
         "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
         "false_positives": culled.false_positives, "false_discovery_rate": fdr,
         "image": "slc.exr", "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (divided by the maximum, see vpls_per_pixel_max)",

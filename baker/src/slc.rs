@@ -115,14 +115,42 @@ fn receive(v: &Vpl, x: Vec3, n: Vec3, albedo: f32) -> (f32, f32) {
     (v.intensity(wo) * cos_r / d2 * albedo * std::f32::consts::FRAC_1_PI, d)
 }
 
-/// Renders `g` lit by `vpls` in `mode` (CPU reference of the GPU kernel).
-pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode) -> Render {
+/// Renders `g` lit by `vpls` in `mode` (CPU reference of the GPU kernel). `interleave` I
+/// (1: off) splits the screen into I × I subregions (002 §6): pixel (x, y) belongs to
+/// subregion s = (x mod I) + I·(y mod I) and shades only the VPLs j ≡ s (mod I²), weighted
+/// by I²; tiles are 16 × 16 pixels of one subregion.
+pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Render {
+    let il = interleave.max(1);
     let mut out = Render { image: vec![0.0; g.width * g.height], lights_per_pixel: vec![0; g.width * g.height], ..Default::default() };
     let bounds: Vec<(Mat3, Vec3)> = vpls.iter().map(|v| v.bound(delta)).collect();
-    for ty in 0..g.height.div_ceil(TILE) {
-        for tx in 0..g.width.div_ceil(TILE) {
-            let pixels: Vec<usize> = (ty * TILE..((ty + 1) * TILE).min(g.height))
-                .flat_map(|y| (tx * TILE..((tx + 1) * TILE).min(g.width)).map(move |x| y * g.width + x))
+    let weight = (il * il) as f32;
+    for sub in 0..il * il {
+        let (sx, sy) = (sub % il, sub / il);
+        let subset: Vec<usize> = (sub..vpls.len()).step_by(il * il).collect();
+        render_subregion(g, vpls, &bounds, delta, mode, (il, sx, sy), &subset, weight, &mut out);
+    }
+    out
+}
+
+#[allow(clippy::too_many_arguments)]
+fn render_subregion(
+    g: &GBuffer,
+    vpls: &[Vpl],
+    bounds: &[(Mat3, Vec3)],
+    delta: f32,
+    mode: Mode,
+    (il, sx, sy): (usize, usize, usize),
+    subset: &[usize],
+    weight: f32,
+    out: &mut Render,
+) {
+    let (sw, sh) = (g.width.div_ceil(il), g.height.div_ceil(il));
+    for ty in 0..sh.div_ceil(TILE) {
+        for tx in 0..sw.div_ceil(TILE) {
+            let pixels: Vec<usize> = (ty * TILE..(ty + 1) * TILE)
+                .flat_map(|y| (tx * TILE..(tx + 1) * TILE).map(move |x| (il * x + sx, il * y + sy)))
+                .filter(|(x, y)| *x < g.width && *y < g.height)
+                .map(|(x, y)| y * g.width + x)
                 .filter(|k| g.texels[*k].is_some())
                 .collect();
             if pixels.is_empty() {
@@ -133,12 +161,14 @@ pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode) -> Render {
                 (a.min(z), b.max(z))
             });
             let mid = 0.5 * (zmin + zmax);
-            let (x0, y0) = ((tx * TILE) as f32, (ty * TILE) as f32);
+            let (x0, y0) = ((il * tx * TILE + sx) as f32, (il * ty * TILE + sy) as f32);
+            let span = (il * (TILE - 1) + 1) as f32;
             let part = |a: f32, b: f32| {
-                slc::tile_corners(x0, y0, x0 + TILE as f32, y0 + TILE as f32, g.width as f32, g.height as f32, g.tan_xy.0, g.tan_xy.1, a, b)
+                slc::tile_corners(x0, y0, x0 + span, y0 + span, g.width as f32, g.height as f32, g.tan_xy.0, g.tan_xy.1, a, b)
             };
             let halves = [part(zmin, mid), part(mid, zmax)];
-            for (j, v) in vpls.iter().enumerate() {
+            for &j in subset {
+                let v = &vpls[j];
                 let keep = match mode {
                     Mode::Culled => halves.iter().any(|c| slc::ellipsoid_hits_corners(bounds[j].0, bounds[j].1, c)),
                     Mode::BruteForce | Mode::RangeCut => true,
@@ -166,14 +196,13 @@ pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode) -> Render {
                             }
                         }
                     };
-                    out.image[k] += add;
+                    out.image[k] += add * weight;
                     out.lights_per_pixel[k] += 1;
                 }
                 out.false_positives += (mode == Mode::Culled && !accepted) as u64;
             }
         }
     }
-    out
 }
 
 /// A pinhole camera at `eye` looking down −z (world axes; the bake preview's camera):

@@ -17,9 +17,9 @@ pub struct SlcParams {
     pub tan_x: f32,
     pub tan_y: f32,
     pub delta: f32,
-    pub pad: u32,
+    pub interleave: u32,
 }
-shaders::gpu_struct!(SlcParams, "SlcParams", [width, height, light_count, mode, tan_x, tan_y, delta, pad]);
+shaders::gpu_struct!(SlcParams, "SlcParams", [width, height, light_count, mode, tan_x, tan_y, delta, interleave]);
 
 const KERNEL: &str = include_str!("../wgsl/slc_cull.wgsl");
 
@@ -63,12 +63,16 @@ pub struct SlcGpu<'g> {
     image_buf: wgpu::Buffer,
     stats_buf: wgpu::Buffer,
     lights: u32,
-    tiles: (u32, u32),
+    tiles: (u32, u32, u32),
 }
 
 impl<'g> SlcGpu<'g> {
-    /// Uploads `g` and `vpls` and compiles the kernel.
-    pub fn new(gpu: &'g Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32) -> Result<Self, String> {
+    /// Uploads `g` and `vpls` and compiles the kernel; `interleave` I (1: off) splits the
+    /// screen into I × I subregions that each shade 1/I² of the VPLs (weighted by I²).
+    pub fn new(gpu: &'g Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, interleave: usize) -> Result<Self, String> {
+        if interleave == 0 || interleave > 16 {
+            return Err(format!("interleave must be 1..=16, not {interleave}"));
+        }
         let d = gpu.device();
         let source = kernel()?;
         let module =
@@ -114,7 +118,7 @@ impl<'g> SlcGpu<'g> {
             tan_x: g.tan_xy.0,
             tan_y: g.tan_xy.1,
             delta,
-            pad: 0,
+            interleave: interleave as u32,
         };
         let gb: Vec<[f32; 4]> = g
             .texels
@@ -175,7 +179,11 @@ impl<'g> SlcGpu<'g> {
             image_buf,
             stats_buf,
             lights: vpls.len() as u32,
-            tiles: (g.width.div_ceil(TILE) as u32, g.height.div_ceil(TILE) as u32),
+            tiles: (
+                g.width.div_ceil(interleave).div_ceil(TILE) as u32,
+                g.height.div_ceil(interleave).div_ceil(TILE) as u32,
+                (interleave * interleave) as u32,
+            ),
         })
     }
 
@@ -195,7 +203,7 @@ impl<'g> SlcGpu<'g> {
             pass.set_pipeline(&self.prepare);
             pass.dispatch_workgroups(self.lights.div_ceil(64).max(1), 1, 1);
             pass.set_pipeline(&self.shade);
-            pass.dispatch_workgroups(self.tiles.0, self.tiles.1, 1);
+            pass.dispatch_workgroups(self.tiles.0, self.tiles.1, self.tiles.2);
         }
         q.submit([enc.finish()]);
     }
@@ -233,6 +241,6 @@ impl<'g> SlcGpu<'g> {
 }
 
 /// Renders one frame on the GPU (same result as [`crate::slc::render`] up to f32 rounding).
-pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode) -> Result<Render, String> {
-    SlcGpu::new(gpu, g, vpls, delta)?.run(mode)
+pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Result<Render, String> {
+    SlcGpu::new(gpu, g, vpls, delta, interleave)?.run(mode)
 }

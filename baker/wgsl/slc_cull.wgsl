@@ -2,7 +2,8 @@
 // §5–6), the GPU twin of baker::slc::render. Two entry points:
 //   slc_prepare     one thread per light: its bound (diffuse sphere or GGX spheroid) as
 //                   the culling transform M = B·S and M·c (the shaders slc module);
-//   slc_cull_shade  one 16 × 16 workgroup per tile: the tile's depth range from the
+//   slc_cull_shade  one 16 × 16 workgroup per tile of one interleaving subregion
+//                   (workgroup z; pixel (I·(16·tile + lid) + s)): the tile's depth range from the
 //                   G-buffer (workgroup atomics), split in two (Modified HalfZ); lights in
 //                   chunks of 256, each thread testing one light and appending the kept
 //                   ones to a shared list; every pixel then shades the list with the
@@ -20,7 +21,9 @@ struct SlcParams {
     tan_x: f32,
     tan_y: f32,
     delta: f32,
-    pad: u32,
+    // Interleaved sampling (002 §6): I × I subregions, subregion s shading VPLs j ≡ s
+    // (mod I²) weighted by I² (1: off).
+    interleave: u32,
 }
 
 @group(0) @binding(0) var<uniform> SP: SlcParams;
@@ -109,8 +112,14 @@ var<workgroup> wg_accepted: array<atomic<u32>, 256>;
 
 @compute @workgroup_size(16, 16)
 fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) t: u32, @builtin(local_invocation_id) lid: vec3<u32>) {
-    let px = tile.x * SLC_TILE + lid.x;
-    let py = tile.y * SLC_TILE + lid.y;
+    let il = SP.interleave;
+    let sx = tile.z % il;
+    let sy = tile.z / il;
+    let px = il * (tile.x * SLC_TILE + lid.x) + sx;
+    let py = il * (tile.y * SLC_TILE + lid.y) + sy;
+    // This subregion's VPLs: j = tile.z + I²·m, m < its count.
+    let stride = il * il;
+    let sub_count = select(0u, (SP.light_count - tile.z + stride - 1u) / stride, tile.z < SP.light_count);
     let inside = px < SP.width && py < SP.height;
     let k = py * SP.width + px;
     var x = vec3<f32>(0.0);
@@ -141,21 +150,25 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let zmax = bitcast<f32>(atomicLoad(&wg_zmax));
     let any_valid = zmin_bits != 0x7f800000u;
     let mid = 0.5 * (zmin + zmax);
-    let x0 = f32(tile.x * SLC_TILE);
-    let y0 = f32(tile.y * SLC_TILE);
+    // The tile's pixels span [x0, x1) × [y0, y1) on screen (every I-th pixel).
+    let x0 = f32(il * tile.x * SLC_TILE + sx);
+    let y0 = f32(il * tile.y * SLC_TILE + sy);
+    let x1 = x0 + f32(il * (SLC_TILE - 1u) + 1u);
+    let y1 = y0 + f32(il * (SLC_TILE - 1u) + 1u);
     let size = vec2<f32>(f32(SP.width), f32(SP.height));
     let tan_xy = vec2<f32>(SP.tan_x, SP.tan_y);
-    let near_half = slc_tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, size, tan_xy, zmin, mid);
-    let far_half = slc_tile_corners(x0, y0, x0 + 16.0, y0 + 16.0, size, tan_xy, mid, zmax);
+    let near_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, zmin, mid);
+    let far_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, mid, zmax);
     var radiance = 0.0;
     var shaded = 0u;
-    for (var base = 0u; base < SP.light_count; base += SLC_CHUNK) {
+    for (var base = 0u; base < sub_count; base += SLC_CHUNK) {
         if (t == 0u) {
             atomicStore(&wg_count, 0u);
         }
         workgroupBarrier();
-        let j = base + t;
-        if (any_valid && j < SP.light_count) {
+        let m = base + t;
+        let j = tile.z + stride * m;
+        if (any_valid && m < sub_count) {
             var keep = true;
             if (SP.mode == 0u) {
                 let c = SlcCullEllipsoid(mat3x3<f32>(bounds[4u * j].xyz, bounds[4u * j + 1u].xyz, bounds[4u * j + 2u].xyz), bounds[4u * j + 3u].xyz);
@@ -202,6 +215,6 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         workgroupBarrier();
     }
     if (inside) {
-        image[k] = vec4<f32>(radiance, f32(shaded), 0.0, 0.0);
+        image[k] = vec4<f32>(radiance * f32(stride), f32(shaded), 0.0, 0.0);
     }
 }
