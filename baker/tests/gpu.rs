@@ -1,27 +1,14 @@
 //! The wgpu path against analytic results and against the CPU reference. Runs on any
 //! Vulkan/GL adapter (lavapipe in CI); with `SBF_REQUIRE_GPU=1` a missing adapter fails.
 
+mod common;
 use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
 use baker::bvh::Bvh;
 use baker::gpu::{kernel, GpuBake, TraceParams};
 use baker::lightmap::Lightmap;
 use baker::scene;
 use baker::trace::Tracer;
-use shaders::gpu::Gpu;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => {
-            println!("adapter: {}", g.adapter);
-            Some(g)
-        }
-        Err(e) if std::env::var("SBF_REQUIRE_GPU").is_ok_and(|v| v == "1") => panic!("SBF_REQUIRE_GPU=1 but {e}"),
-        Err(e) => {
-            println!("skipped: {e}");
-            None
-        }
-    }
-}
+use common::gpu;
 
 const ALL_BASES: [BasisKind; 6] = [BasisKind::ShL1, BasisKind::ShL2, BasisKind::Sg9, BasisKind::Sg12, BasisKind::Ad9, BasisKind::Ad12];
 

@@ -4,23 +4,14 @@
 //! deterministic range cut does not), CPU and GPU agree, and the statistics are reported.
 //! GPU part on any adapter (lavapipe in CI); `SBF_REQUIRE_GPU=1` makes a missing one fail.
 
+mod common;
 use baker::slc::{render, GBuffer, Mode, Render, Vpl};
+use common::gpu;
 use sbf::glam::Vec3;
 use sbf::sampling::{uniform_hemisphere, Pcg32};
 use shaders::gpu::Gpu;
 
 const DELTA: f32 = 1e-3;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("SBF_REQUIRE_GPU").is_ok_and(|v| v == "1") => panic!("SBF_REQUIRE_GPU=1 but {e}"),
-        Err(e) => {
-            println!("GPU part skipped: {e}");
-            None
-        }
-    }
-}
 
 /// 96 × 48 pixels: the floor y = −1 (albedo 0.7) below, the wall z = −6 (albedo 0.5) above
 /// up to y = 2.5, background beyond.

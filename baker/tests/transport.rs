@@ -12,27 +12,18 @@
 //! environment) are checked against the bake's own per-texel standard error σ: scene
 //! mean within 3σ_mean, every texel within 5σ (plus the same rounding bound).
 
+mod common;
 use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
 use baker::bvh::Bvh;
 use baker::gpu::GpuBake;
 use baker::lightmap::Lightmap;
 use baker::scene::{disk_light, Environment, Light, Material, Mesh, Scene};
 use baker::trace::Tracer;
+use common::gpu;
 use sbf::glam::{DVec3, Vec3};
 use sbf::quadrature::{Domain, SphereQuadrature};
 use shaders::gpu::Gpu;
 use std::f64::consts::PI;
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("SBF_REQUIRE_GPU").is_ok_and(|v| v == "1") => panic!("SBF_REQUIRE_GPU=1 but {e}"),
-        Err(e) => {
-            println!("GPU part skipped: {e}");
-            None
-        }
-    }
-}
 
 /// A 2 × 2 single-sided plane at y = 0 facing +Y (albedo 0.5: the incident E/π the
 /// lightmap stores does not depend on it).
@@ -509,6 +500,39 @@ fn projected_irradiance(kind: BasisKind, deltas: &[(DVec3, f64)], constant: f64)
     c.iter().zip(&w).map(|(a, b)| a * b).sum()
 }
 
+/// Compares a bake's `kind` encodings (basis index `bi` in the state) with their LS
+/// projections for the texels `items`, each given by its fit target as deltas (local
+/// direction, irradiance): per texel the reconstructed irradiance at the normal, the
+/// projection's and the analytic one; asserts the mean (rec − proj) within the encoder's 1%
+/// convergence allowance plus 3σ (σ: the spread of the per-texel differences) and the
+/// acceptance form |rec − analytic| ≤ |proj − analytic| + allowance + 3σ.
+fn compare_encodings(label: &str, kind: BasisKind, st: &BakeState, bi: usize, items: &[(usize, Vec<(DVec3, f64)>)]) {
+    let basis = kind.basis();
+    let (w, _) = lambert_weights(basis.as_ref());
+    let (mut diffs, mut recs, mut projs, mut trues) = (Vec::new(), 0.0, 0.0, 0.0);
+    for (k, deltas) in items {
+        let proj = projected_irradiance(kind, deltas, 0.0);
+        let truth: f64 = deltas.iter().map(|(d, e)| e * d.z).sum();
+        let rec: f64 = (0..w.len()).map(|j| st.encoders[bi][*k].coefficients()[(j, 1)] * w[j]).sum();
+        diffs.push(rec - proj);
+        recs += rec;
+        projs += proj;
+        trues += truth;
+    }
+    let n = diffs.len() as f64;
+    let mean = diffs.iter().sum::<f64>() / n;
+    let sigma = (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    let (rec, proj, truth) = (recs / n, projs / n, trues / n);
+    println!(
+        "{label}, {} texels, {}: E reconstructed {rec:.5}, projection {proj:.5}, analytic {truth:.5}; rec − proj {mean:+.2e} ± {sigma:.1e}",
+        items.len(),
+        kind.name()
+    );
+    let conv = 0.01 * proj.abs();
+    assert!(mean.abs() <= conv + 3.0 * sigma, "{label} {}: rec − proj {mean}", kind.name());
+    assert!((rec - truth).abs() <= (proj - truth).abs() + conv + 3.0 * sigma, "{label} {}: {rec} vs {truth}", kind.name());
+}
+
 /// (b) in SH L2 and AD9: a point light 0.7 above the plane. Each texel's fit target is
 /// the mean over its sub-texel points (the passes cycle through them) of a delta of
 /// irradiance I·/r² from the light's direction; its LS projection's irradiance comes from
@@ -531,39 +555,24 @@ fn point_light_encodings_match_their_projections() {
     for (name, g) in engines() {
         let passes = 8192;
         let (tg, _, st) = bake(&s, g.as_ref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
-        for (bi, kind) in [BasisKind::ShL2, BasisKind::Ad9].into_iter().enumerate() {
-            let basis = kind.basis();
-            let (w, _) = lambert_weights(basis.as_ref());
-            let (mut diffs, mut recs, mut projs, mut trues) = (Vec::new(), 0.0, 0.0, 0.0);
-            for (k, &[first, count, _]) in tg.items.iter().enumerate() {
+        let items: Vec<(usize, Vec<(DVec3, f64)>)> = tg
+            .items
+            .iter()
+            .enumerate()
+            .map(|(k, &[first, count, _])| {
                 let pts = &tg.points[first as usize..(first + count) as usize];
-                let deltas: Vec<(DVec3, f64)> = pts
+                let deltas = pts
                     .iter()
                     .map(|p| {
                         let to = pos - p.position;
-                        let r2 = to.length_squared() as f64;
-                        (local(to.normalize()), i as f64 / r2 / pts.len() as f64)
+                        (local(to.normalize()), i as f64 / to.length_squared() as f64 / pts.len() as f64)
                     })
                     .collect();
-                let proj = projected_irradiance(kind, &deltas, 0.0);
-                let truth: f64 = deltas.iter().map(|(d, e)| e * d.z).sum();
-                let rec: f64 = (0..w.len()).map(|j| st.encoders[bi][k].coefficients()[(j, 1)] * w[j]).sum();
-                diffs.push(rec - proj);
-                recs += rec;
-                projs += proj;
-                trues += truth;
-            }
-            let n = diffs.len() as f64;
-            let mean = diffs.iter().sum::<f64>() / n;
-            let sigma = (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
-            let (rec, proj, truth) = (recs / n, projs / n, trues / n);
-            println!(
-                "{name} point light {}: mean E reconstructed {rec:.5}, projection {proj:.5}, analytic {truth:.5}; mean (rec − proj) {mean:+.2e} ± {sigma:.1e}",
-                kind.name()
-            );
-            let conv = 0.01 * proj.abs();
-            assert!(mean.abs() <= conv + 3.0 * sigma, "{name} {}: rec − proj {mean}", kind.name());
-            assert!((rec - truth).abs() <= (proj - truth).abs() + conv + 3.0 * sigma, "{name} {}: {rec} vs {truth}", kind.name());
+                (k, deltas)
+            })
+            .collect();
+        for (bi, kind) in [BasisKind::ShL2, BasisKind::Ad9].into_iter().enumerate() {
+            compare_encodings(&format!("{name} point light"), kind, &st, bi, &items);
         }
     }
 }
@@ -681,39 +690,20 @@ fn disk_light_texel_encodings_match_their_projections() {
                 })
                 .collect();
             assert!(near.len() >= 9, "{} texels near the axis", near.len());
-            for (bi, kind) in [BasisKind::ShL2, BasisKind::Ad9].into_iter().enumerate() {
-                let basis = kind.basis();
-                let (w, _) = lambert_weights(basis.as_ref());
-                let (mut diffs, mut recs, mut projs, mut trues) = (Vec::new(), 0.0, 0.0, 0.0);
-                for &k in &near {
+            let items: Vec<(usize, Vec<(DVec3, f64)>)> = near
+                .iter()
+                .map(|&k| {
                     let [first, count, _] = tg.items[k];
                     let pts = &tg.points[first as usize..(first + count) as usize];
-                    let mut deltas = Vec::new();
-                    for p in pts {
-                        deltas.extend(disk_from(p.position).into_iter().map(|(d, e)| (d, e / pts.len() as f64)));
-                    }
-                    let proj = projected_irradiance(kind, &deltas, 0.0);
-                    let truth: f64 = deltas.iter().map(|(d, e)| e * d.z).sum();
-                    let rec: f64 = (0..w.len()).map(|j| st.encoders[bi][k].coefficients()[(j, 1)] * w[j]).sum();
-                    diffs.push(rec - proj);
-                    recs += rec;
-                    projs += proj;
-                    trues += truth;
-                }
-                let n = diffs.len() as f64;
-                let mean = diffs.iter().sum::<f64>() / n;
-                let sigma = (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
-                let (rec, proj, truth) = (recs / n, projs / n, trues / n);
-                // The exact on-axis value for scale: πL·R²/(R² + h²).
-                println!(
-                    "{name} disk at h = {hr} R, {} texels, {}: E reconstructed {rec:.5}, projection {proj:.5}, analytic {truth:.5} (on axis {:.5}); rec − proj {mean:+.2e} ± {sigma:.1e}",
-                    near.len(),
-                    kind.name(),
-                    PI * l * rad * rad / (rad * rad + h * h)
-                );
-                let conv = 0.01 * proj.abs();
-                assert!(mean.abs() <= conv + 3.0 * sigma, "{name} {}: rec − proj {mean}", kind.name());
-                assert!((rec - truth).abs() <= (proj - truth).abs() + conv + 3.0 * sigma, "{name} {}: {rec} vs {truth}", kind.name());
+                    let deltas =
+                        pts.iter().flat_map(|p| disk_from(p.position).into_iter().map(|(d, e)| (d, e / pts.len() as f64))).collect();
+                    (k, deltas)
+                })
+                .collect();
+            // For scale, the exact on-axis value πL·R²/(R² + h²).
+            println!("disk at h = {hr} R: on-axis E {:.5}", PI * l * rad * rad / (rad * rad + h * h));
+            for (bi, kind) in [BasisKind::ShL2, BasisKind::Ad9].into_iter().enumerate() {
+                compare_encodings(&format!("{name} disk at h = {hr} R"), kind, &st, bi, &items);
             }
         }
     }
