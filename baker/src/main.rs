@@ -84,6 +84,16 @@ struct Cli {
     /// (002 §6 uses 8; 1 turns it off). Unbiased only in expectation over the VPL set.
     #[arg(long, default_value_t = 8)]
     slc_interleave: usize,
+    /// Bound of glossy VPLs for --slc: tight (the GGX spheroid) or sphere (its enclosing
+    /// sphere, for comparison).
+    #[arg(long, default_value = "tight")]
+    slc_bound: String,
+    /// VPLs for --slc: both, diffuse (glossy dropped) or glossy (every VPL made GGX with
+    /// --slc-glossy-alpha and F0 0.9).
+    #[arg(long, default_value = "both")]
+    slc_kind: String,
+    #[arg(long, default_value_t = 0.2)]
+    slc_glossy_alpha: f32,
     /// Measure GPU rays/s (primary and secondary) over this many passes instead of
     /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
     #[arg(long)]
@@ -160,6 +170,14 @@ fn main() -> ExitCode {
         {
             return Err("--slc needs VPLs > 0, a non-empty --slc-size, --slc-delta > 0 and --slc-interleave 1..=16".into());
         }
+        let bound = match cli.slc_bound.as_str() {
+            "tight" => baker::slc::Bound::Tight,
+            "sphere" => baker::slc::Bound::Sphere,
+            b => return Err(format!("--slc-bound takes tight or sphere, not {b}")),
+        };
+        if !(cli.slc_glossy_alpha > 0.0 && cli.slc_glossy_alpha <= 1.0) {
+            return Err("--slc-glossy-alpha must be in (0, 1]".into());
+        }
         Ok(run::SlcOptions {
             vpls: n,
             width,
@@ -168,6 +186,9 @@ fn main() -> ExitCode {
             brute: cli.slc_brute,
             frames: 10,
             interleave: cli.slc_interleave,
+            bound,
+            kind: cli.slc_kind.clone(),
+            glossy_alpha: cli.slc_glossy_alpha,
         })
     }) {
         None => None,

@@ -456,6 +456,12 @@ pub struct SlcOptions {
     pub frames: usize,
     /// Interleaved sampling: I × I subregions each shading 1/I² of the VPLs (1: off).
     pub interleave: usize,
+    /// The bound of glossy VPLs (the spheroid, or its enclosing sphere for comparison).
+    pub bound: crate::slc::Bound,
+    /// Which VPLs: "both", "diffuse" (glossy ones dropped) or "glossy" (every VPL made a
+    /// GGX VPL of α `glossy_alpha` and F0 0.9 — the seed's glossy-only workload).
+    pub kind: String,
+    pub glossy_alpha: f32,
 }
 
 /// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
@@ -469,7 +475,18 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     let cam = Camera::preview(&bvh);
     let t = Instant::now();
     let g = slc::gbuffer_from_scene(&scene, &bvh, cam, s.width, s.height);
-    let vpls = slc::vpls_from_scene(&scene, &bvh, cam, s.vpls, o.config.seed);
+    let mut vpls = slc::vpls_from_scene(&scene, &bvh, cam, s.vpls, o.config.seed);
+    match s.kind.as_str() {
+        "both" => {}
+        "diffuse" => vpls.retain(|v| v.diffuse > 0.0),
+        "glossy" => {
+            vpls.retain(|v| v.diffuse > 0.0);
+            for v in vpls.iter_mut() {
+                *v = slc::Vpl { diffuse: 0.0, alpha: s.glossy_alpha, f0: 0.9, ..*v };
+            }
+        }
+        k => return Err(format!("--slc-kind takes both, diffuse or glossy, not {k}")),
+    }
     let glossy = vpls.iter().filter(|v| v.diffuse == 0.0).count();
     log(format!(
         "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} light paths in {:.2} s",
@@ -488,6 +505,7 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     let (culled, brute, seconds, device) = match &gpu {
         Some(gp) => {
             let mut r = crate::slc_gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
+            r.set_bound(s.bound);
             let culled = r.run(Mode::Culled)?;
             let seconds = r.time(Mode::Culled, s.frames)?;
             let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
@@ -495,7 +513,7 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
         }
         None => {
             let t = Instant::now();
-            let culled = slc::render(&g, &vpls, s.delta, Mode::Culled, s.interleave);
+            let culled = slc::render_with(&g, &vpls, s.delta, Mode::Culled, s.interleave, s.bound);
             let seconds = t.elapsed().as_secs_f64();
             let brute = s.brute.then(|| {
                 let t = Instant::now();
@@ -523,6 +541,7 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     let mut meta = json!({
         "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
         "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
+        "glossy_bound": format!("{:?}", s.bound), "kind": s.kind, "glossy_alpha": s.glossy_alpha,
         "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
         "false_positives": culled.false_positives, "false_discovery_rate": fdr,
         "image": "slc.exr", "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (divided by the maximum, see vpls_per_pixel_max)",

@@ -56,8 +56,10 @@ impl Vpl {
     }
 
     /// The culling transform (M = B·S, M·c) of the light's bound for random-range
-    /// parameter δ: the diffuse sphere or the GGX spheroid (view space = bound space).
-    pub fn bound(&self, delta: f32) -> (Mat3, Vec3) {
+    /// parameter δ: the diffuse sphere or the GGX spheroid (view space = bound space);
+    /// with `Bound::Sphere` a glossy VPL gets the sphere enclosing its spheroid instead
+    /// (centre c, radius r_u — the comparison of 002 §7).
+    pub fn bound(&self, delta: f32, kind: Bound) -> (Mat3, Vec3) {
         let e = if self.diffuse > 0.0 {
             let s = slc::diffuse_sphere(self.position, self.normal, self.flux * self.diffuse, delta, self.xi);
             slc::Ellipsoid { center: s.center, axes: Mat3::IDENTITY, radii: Vec3::splat(s.radius) }
@@ -65,7 +67,11 @@ impl Vpl {
             let cos_i = self.incoming.dot(self.normal);
             let r =
                 slc::spheroid_scale(self.flux, slc::schlick_max(self.f0, cos_i), slc::g1_dist(cos_i, self.alpha), cos_i, delta, self.xi);
-            slc::ggx_spheroid(self.position, self.incoming, self.normal, self.alpha, r)
+            let e = slc::ggx_spheroid(self.position, self.incoming, self.normal, self.alpha, r);
+            match kind {
+                Bound::Tight => e,
+                Bound::Sphere => slc::Ellipsoid { center: e.center, axes: Mat3::IDENTITY, radii: Vec3::splat(e.radii.x) },
+            }
         };
         slc::cull_transform(&e, Mat3::IDENTITY, Vec3::ZERO)
     }
@@ -79,6 +85,16 @@ pub struct GBuffer {
     /// tan of the half field of view in x and y (symmetric perspective).
     pub tan_xy: (f32, f32),
     pub texels: Vec<Option<(Vec3, Vec3, f32)>>,
+}
+
+/// Which bound culls a glossy VPL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Bound {
+    /// The GGX spheroid (002 eq. 13–15).
+    #[default]
+    Tight,
+    /// The sphere enclosing the spheroid (centre c, radius r_u).
+    Sphere,
 }
 
 /// How lights are selected per pixel.
@@ -120,9 +136,14 @@ fn receive(v: &Vpl, x: Vec3, n: Vec3, albedo: f32) -> (f32, f32) {
 /// subregion s = (x mod I) + I·(y mod I) and shades only the VPLs j ≡ s (mod I²), weighted
 /// by I²; tiles are 16 × 16 pixels of one subregion.
 pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Render {
+    render_with(g, vpls, delta, mode, interleave, Bound::Tight)
+}
+
+/// [`render`] with a choice of bound for glossy VPLs.
+pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize, bound: Bound) -> Render {
     let il = interleave.max(1);
     let mut out = Render { image: vec![0.0; g.width * g.height], lights_per_pixel: vec![0; g.width * g.height], ..Default::default() };
-    let bounds: Vec<(Mat3, Vec3)> = vpls.iter().map(|v| v.bound(delta)).collect();
+    let bounds: Vec<(Mat3, Vec3)> = vpls.iter().map(|v| v.bound(delta, bound)).collect();
     let weight = (il * il) as f32;
     for sub in 0..il * il {
         let (sx, sy) = (sub % il, sub / il);

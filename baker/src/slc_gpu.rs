@@ -2,7 +2,7 @@
 //! module (bounds per light on the GPU, one workgroup per 16 × 16 tile with shared-memory
 //! light lists), run on a G-buffer and a VPL set; results read back in the CPU twin's form.
 
-use crate::slc::{GBuffer, Mode, Render, Vpl, TILE};
+use crate::slc::{Bound, GBuffer, Mode, Render, Vpl, TILE};
 use shaders::gpu::Gpu;
 use wgpu::util::DeviceExt;
 
@@ -64,6 +64,7 @@ pub struct SlcGpu<'g> {
     stats_buf: wgpu::Buffer,
     lights: u32,
     tiles: (u32, u32, u32),
+    bound: Bound,
 }
 
 impl<'g> SlcGpu<'g> {
@@ -184,7 +185,13 @@ impl<'g> SlcGpu<'g> {
                 g.height.div_ceil(interleave).div_ceil(TILE) as u32,
                 (interleave * interleave) as u32,
             ),
+            bound: Bound::Tight,
         })
+    }
+
+    /// Which bound culls glossy VPLs in the following frames.
+    pub fn set_bound(&mut self, bound: Bound) {
+        self.bound = bound;
     }
 
     fn dispatch(&mut self, mode: Mode) {
@@ -192,7 +199,7 @@ impl<'g> SlcGpu<'g> {
             Mode::Culled => 0,
             Mode::BruteForce => 1,
             Mode::RangeCut => 2,
-        };
+        } | if self.bound == Bound::Sphere { 4 } else { 0 };
         let q = self.gpu.queue();
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         q.write_buffer(&self.stats_buf, 0, &[0u8; 8]);

@@ -144,14 +144,29 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
 fn gpu_matches_cpu() {
     let Some(g) = gpu() else { return };
     let gb = gbuffer();
-    for (mode, il) in [(Mode::Culled, 1), (Mode::BruteForce, 1), (Mode::Culled, 8), (Mode::BruteForce, 8)] {
+    let sphere = baker::slc::Bound::Sphere;
+    let tight = baker::slc::Bound::Tight;
+    let mut fdr = Vec::new();
+    for (mode, il, bound) in [
+        (Mode::Culled, 1, tight),
+        (Mode::BruteForce, 1, tight),
+        (Mode::Culled, 8, tight),
+        (Mode::BruteForce, 8, tight),
+        (Mode::Culled, 1, sphere),
+    ] {
         let l = vpls(7);
-        let (c, gg) = (render(&gb, &l, DELTA, mode, il), baker::slc_gpu::render(&g, &gb, &l, DELTA, mode, il).unwrap());
+        let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
+        let mut run = baker::slc_gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
+        run.set_bound(bound);
+        let gg = run.run(mode).unwrap();
+        if mode == Mode::Culled && il == 1 {
+            fdr.push((c.kept, c.false_positives));
+        }
         let top = c.image.iter().fold(0.0f32, |a, x| a.max(*x));
         let bad = c.image.iter().zip(&gg.image).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * top).count();
         let mean = |v: &[f32]| v.iter().map(|x| *x as f64).sum::<f64>() / v.len() as f64;
         println!(
-            "{mode:?} interleave {il}: CPU kept {} fp {}, GPU kept {} fp {}; {bad} pixels differ; image mean {:.6}",
+            "{mode:?} interleave {il} {bound:?}: CPU kept {} fp {}, GPU kept {} fp {}; {bad} pixels differ; image mean {:.6}",
             c.kept,
             c.false_positives,
             gg.kept,
@@ -162,4 +177,6 @@ fn gpu_matches_cpu() {
         assert!((c.kept as f64 - gg.kept as f64).abs() <= 0.005 * c.kept as f64);
         assert!((c.false_positives as f64 - gg.false_positives as f64).abs() <= 0.005 * c.kept as f64);
     }
+    // The enclosing sphere keeps a superset of the spheroid's pairs.
+    assert!(fdr[1].0 >= fdr[0].0 && fdr[1].1 >= fdr[0].1, "sphere {:?} vs spheroid {:?}", fdr[1], fdr[0]);
 }

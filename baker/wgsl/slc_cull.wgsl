@@ -16,7 +16,8 @@ struct SlcParams {
     width: u32,
     height: u32,
     light_count: u32,
-    // 0 culled (stochastic falloff), 1 brute force, 2 deterministic range cut (ξ = ½).
+    // Bits 0–1: 0 culled (stochastic falloff), 1 brute force, 2 deterministic range cut
+    // (ξ = ½); bit 2: glossy VPLs bounded by the sphere enclosing their spheroid.
     mode: u32,
     tan_x: f32,
     tan_y: f32,
@@ -92,6 +93,9 @@ fn slc_prepare(@builtin(global_invocation_id) gid: vec3<u32>) {
         let cos_i = dot(v.incoming, v.normal);
         let r = slc_spheroid_scale(v.flux, slc_schlick_max(v.f0, cos_i), slc_g1_dist(cos_i, v.alpha), cos_i, SP.delta, v.xi);
         e = slc_ggx_spheroid(v.position, v.incoming, v.normal, v.alpha, r);
+        if ((SP.mode & 4u) != 0u) {
+            e = SlcEllipsoid(e.center, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(e.radii.x));
+        }
     }
     let ident = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
     let c = slc_cull_transform(e, ident, vec3<f32>(0.0));
@@ -170,7 +174,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         let j = tile.z + stride * m;
         if (any_valid && m < sub_count) {
             var keep = true;
-            if (SP.mode == 0u) {
+            if ((SP.mode & 3u) == 0u) {
                 let c = SlcCullEllipsoid(mat3x3<f32>(bounds[4u * j].xyz, bounds[4u * j + 1u].xyz, bounds[4u * j + 2u].xyz), bounds[4u * j + 3u].xyz);
                 keep = slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half);
             }
@@ -192,9 +196,9 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 let intensity = slc_vpl_intensity(v, wo);
                 let l = intensity * max(dot(-wo, n), 0.0) / d2 * albedo * INV_PI;
                 shaded += 1u;
-                if (SP.mode == 1u) {
+                if ((SP.mode & 3u) == 1u) {
                     radiance += l;
-                } else if (SP.mode == 2u) {
+                } else if ((SP.mode & 3u) == 2u) {
                     radiance += select(0.0, l, d <= slc_random_range(intensity, SP.delta, 0.5));
                 } else {
                     let p = slc_acceptance(intensity, SP.delta, d);
@@ -206,7 +210,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
             }
         }
         workgroupBarrier();
-        if (SP.mode == 0u && t < count && atomicLoad(&wg_accepted[t]) == 0u) {
+        if ((SP.mode & 3u) == 0u && t < count && atomicLoad(&wg_accepted[t]) == 0u) {
             atomicAdd(&stats[1], 1u);
         }
         if (t == 0u) {
