@@ -80,12 +80,16 @@ struct Cli {
     /// Also render the brute-force reference (every VPL at every pixel) with --slc.
     #[arg(long)]
     slc_brute: bool,
+    /// With --slc: also cull with each glossy bound (tight, sphere, th16) and report their
+    /// false discovery rates and frame times side by side.
+    #[arg(long)]
+    slc_compare_bounds: bool,
     /// Interleaved sampling for --slc: I × I subregions each shading 1/I² of the VPLs
     /// (002 §6 uses 8; 1 turns it off). Unbiased only in expectation over the VPL set.
     #[arg(long, default_value_t = 8)]
     slc_interleave: usize,
-    /// Bound of glossy VPLs for --slc: tight (the GGX spheroid) or sphere (its enclosing
-    /// sphere, for comparison).
+    /// Bound of glossy VPLs for --slc: tight (the GGX spheroid), sphere (its enclosing
+    /// sphere) or th16 (the sphere at the VPL of radius r/α), the last two for comparison.
     #[arg(long, default_value = "tight")]
     slc_bound: String,
     /// VPLs for --slc: both, diffuse (glossy dropped) or glossy (every VPL made GGX with
@@ -170,11 +174,7 @@ fn main() -> ExitCode {
         {
             return Err("--slc needs VPLs > 0, a non-empty --slc-size, --slc-delta > 0 and --slc-interleave 1..=16".into());
         }
-        let bound = match cli.slc_bound.as_str() {
-            "tight" => baker::slc::Bound::Tight,
-            "sphere" => baker::slc::Bound::Sphere,
-            b => return Err(format!("--slc-bound takes tight or sphere, not {b}")),
-        };
+        let bound = baker::slc::Bound::parse(&cli.slc_bound).map_err(|e| format!("--slc-bound: {e}"))?;
         if !(cli.slc_glossy_alpha > 0.0 && cli.slc_glossy_alpha <= 1.0) {
             return Err("--slc-glossy-alpha must be in (0, 1]".into());
         }
@@ -189,6 +189,7 @@ fn main() -> ExitCode {
             bound,
             kind: cli.slc_kind.clone(),
             glossy_alpha: cli.slc_glossy_alpha,
+            compare_bounds: cli.slc_compare_bounds,
         })
     }) {
         None => None,

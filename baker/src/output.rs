@@ -225,18 +225,59 @@ pub fn preview(scene: &Scene, bvh: &Bvh, lm: &Lightmap, img: &LightmapImages, wi
             };
         }
     }
-    let lum: f32 = hdr.iter().map(|c| c.dot(Vec3::new(0.2126, 0.7152, 0.0722))).sum::<f32>() / hdr.len() as f32;
-    let exposure = if lum > 0.0 { 0.18 / lum } else { 1.0 };
-    let srgb = |v: f32| {
-        let v = v.clamp(0.0, 1.0);
-        let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
-        (s * 255.0 + 0.5) as u8
-    };
+    let lum: Vec<f32> = hdr.iter().map(|c| c.dot(Vec3::new(0.2126, 0.7152, 0.0722))).collect();
+    let exposure = exposure_scale(&lum);
     image::RgbImage::from_fn(width as u32, height as u32, |x, y| {
         let c = hdr[y as usize * width + x as usize] * exposure;
         let t = c / (Vec3::ONE + c);
-        image::Rgb([srgb(t.x), srgb(t.y), srgb(t.z)])
+        image::Rgb([srgb8(t.x), srgb8(t.y), srgb8(t.z)])
     })
+}
+
+/// The exposure that maps the mean of the finite non-negative values of `v` to 0.18
+/// (1 when there are none, or their mean is 0).
+pub fn exposure_scale(v: &[f32]) -> f32 {
+    let (sum, n) = v.iter().filter(|x| x.is_finite() && **x >= 0.0).fold((0.0f64, 0usize), |(s, n), x| (s + *x as f64, n + 1));
+    if n == 0 || sum <= 0.0 {
+        1.0
+    } else {
+        (0.18 / (sum / n as f64)) as f32
+    }
+}
+
+/// A linear value in [0, 1] (clamped) as an 8-bit sRGB code.
+pub fn srgb8(v: f32) -> u8 {
+    let v = if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 };
+    let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// A gray radiance image × `exposure`, tone mapped x/(1 + x) and sRGB-encoded.
+pub fn tonemap(width: usize, height: usize, v: &[f32], exposure: f32) -> image::RgbImage {
+    image::RgbImage::from_fn(width as u32, height as u32, |x, y| {
+        let c = v[y as usize * width + x as usize].max(0.0) * exposure;
+        let g = srgb8(c / (1.0 + c));
+        image::Rgb([g, g, g])
+    })
+}
+
+/// A rate in [0, 1] per pixel as hue (blue 0 → red 1, through cyan, green and yellow) with
+/// the brightness of `weight` / its maximum — 002 Fig. 9's false-discovery picture.
+pub fn heat(width: usize, height: usize, rate: &[f32], weight: &[f32]) -> image::RgbImage {
+    let top = weight.iter().copied().filter(|w| w.is_finite()).fold(0.0f32, f32::max);
+    image::RgbImage::from_fn(width as u32, height as u32, |x, y| {
+        let k = y as usize * width + x as usize;
+        let h = 4.0 * rate[k].clamp(0.0, 1.0);
+        // Piecewise-linear hue: 0 blue, 1 cyan, 2 green, 3 yellow, 4 red.
+        let rgb = [(h - 2.0).clamp(0.0, 1.0), (h.min(4.0 - h)).clamp(0.0, 1.0), (2.0 - h).clamp(0.0, 1.0)];
+        let b = if top > 0.0 { weight[k] / top } else { 0.0 };
+        image::Rgb(rgb.map(|c| srgb8(c * b)))
+    })
+}
+
+/// Saves an 8-bit image as PNG.
+pub fn save_png(path: &Path, img: &image::RgbImage) -> Result<(), String> {
+    img.save_with_format(path, image::ImageFormat::Png).map_err(|e| format!("writing {}: {e}", path.display()))
 }
 
 /// Per-mesh lightmap mapping for the metadata: scale/bias from TEXCOORD_1 to the atlas

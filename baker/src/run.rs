@@ -462,6 +462,9 @@ pub struct SlcOptions {
     /// GGX VPL of α `glossy_alpha` and F0 0.9 — the seed's glossy-only workload).
     pub kind: String,
     pub glossy_alpha: f32,
+    /// Also cull the same VPLs with each glossy bound (spheroid, enclosing sphere, TH16
+    /// sphere) and report their false discovery rates and times.
+    pub compare_bounds: bool,
 }
 
 /// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
@@ -524,28 +527,71 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     };
     let n = (s.width * s.height) as f64;
     let lpp = culled.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>() / n;
-    let fdr = culled.false_positives as f64 / culled.kept.max(1) as f64;
+    let fdr = culled.pixel_fdr();
     log(format!(
-        "slc on {device}: {:.3} ms per frame (bounds + culling + shading, {}×{} interleaving), {lpp:.1} VPLs per pixel, {} kept (tile, VPL) pairs, false discovery rate {fdr:.3}",
+        "slc on {device}: {:.3} ms per frame (bounds + culling + shading + filter, {}×{} interleaving), {lpp:.1} VPLs per pixel, false discovery rate {fdr:.3} ({} false discoveries; {} kept (tile, VPL) pairs, {} accepted by no pixel)",
         seconds * 1e3,
         s.interleave,
         s.interleave,
-        culled.kept
+        culled.false_discoveries(),
+        culled.kept,
+        culled.false_positives
     ));
     let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
     let valid: Vec<f32> = g.texels.iter().map(|t| t.is_some() as u8 as f32).collect();
+    let filtered = &culled.filtered;
     output::write_exr(&o.out.join("slc.exr"), s.width, s.height, &gray(&culled.image), &valid)?;
-    let lmax = culled.lights_per_pixel.iter().copied().max().unwrap_or(1).max(1) as f32;
-    let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32 / lmax).collect();
+    output::write_exr(&o.out.join("slc_filtered.exr"), s.width, s.height, &gray(filtered), &valid)?;
+    let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32).collect();
     output::write_exr(&o.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
+    let fdr_img: Vec<f32> = culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
+    output::write_exr(&o.out.join("slc_fdr.exr"), s.width, s.height, &gray(&fdr_img), &valid)?;
+    let scale = output::exposure_scale(filtered);
+    output::save_png(&o.out.join("slc.png"), &output::tonemap(s.width, s.height, &culled.image, scale))?;
+    output::save_png(&o.out.join("slc_filtered.png"), &output::tonemap(s.width, s.height, filtered, scale))?;
+    output::save_png(&o.out.join("slc_fdr.png"), &output::heat(s.width, s.height, &fdr_img, &lp))?;
+    // The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
+    // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
+    let mut bounds = serde_json::Map::new();
+    if s.compare_bounds && glossy > 0 {
+        for b in [slc::Bound::Tight, slc::Bound::Sphere, slc::Bound::Th16] {
+            let (r, sec) = match &gpu {
+                Some(gp) => {
+                    let mut r = crate::slc_gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
+                    r.set_bound(b);
+                    (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
+                }
+                None => {
+                    let t = Instant::now();
+                    (slc::render_with(&g, &vpls, s.delta, Mode::Culled, s.interleave, b), t.elapsed().as_secs_f64())
+                }
+            };
+            let shaded: u64 = r.lights_per_pixel.iter().map(|x| *x as u64).sum();
+            log(format!(
+                "slc bound {b:?}: {:.3} ms per frame, {:.1} VPLs per pixel, false discovery rate {:.3}, {} false discoveries",
+                sec * 1e3,
+                shaded as f64 / n,
+                r.pixel_fdr(),
+                r.false_discoveries()
+            ));
+            bounds.insert(
+                format!("{b:?}").to_lowercase(),
+                json!({"seconds_per_frame": sec, "vpls_per_pixel": shaded as f64 / n, "false_discovery_rate": r.pixel_fdr(),
+                       "false_discoveries": r.false_discoveries(), "shaded": shaded, "kept_pairs": r.kept, "pairs_accepted_by_no_pixel": r.false_positives}),
+            );
+        }
+    }
     let mut meta = json!({
         "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
         "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
         "glossy_bound": format!("{:?}", s.bound), "kind": s.kind, "glossy_alpha": s.glossy_alpha,
         "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
-        "false_positives": culled.false_positives, "false_discovery_rate": fdr,
-        "image": "slc.exr", "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (divided by the maximum, see vpls_per_pixel_max)",
-        "vpls_per_pixel_max": lmax,
+        "pairs_accepted_by_no_pixel": culled.false_positives, "false_discoveries": culled.false_discoveries(),
+        "false_discovery_rate": fdr,
+        "image": "slc.exr (slc.png)", "filtered_image": "slc_filtered.exr (slc_filtered.png): the cross-bilateral filter over the interleaving period",
+        "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (counts)",
+        "false_discovery_image": "slc_fdr.exr (per pixel; slc_fdr.png: hue blue→red 0→100%, brightness VPLs per pixel)",
+        "bounds": bounds,
     });
     if let Some((b, bs)) = brute {
         output::write_exr(&o.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), &valid)?;

@@ -58,7 +58,9 @@ impl Vpl {
     /// The culling transform (M = B·S, M·c) of the light's bound for random-range
     /// parameter δ: the diffuse sphere or the GGX spheroid (view space = bound space);
     /// with `Bound::Sphere` a glossy VPL gets the sphere enclosing its spheroid instead
-    /// (centre c, radius r_u — the comparison of 002 §7).
+    /// (centre c, radius r_u), with `Bound::Th16` the sphere at the VPL of radius r/α
+    /// (the maximum of s(ω_o) = r√(πD), 002 eq. 12, πD ≤ 1/α²) — the two comparisons of
+    /// 002 §7 and Fig. 9.
     pub fn bound(&self, delta: f32, kind: Bound) -> (Mat3, Vec3) {
         let e = if self.diffuse > 0.0 {
             let s = slc::diffuse_sphere(self.position, self.normal, self.flux * self.diffuse, delta, self.xi);
@@ -71,6 +73,7 @@ impl Vpl {
             match kind {
                 Bound::Tight => e,
                 Bound::Sphere => slc::Ellipsoid { center: e.center, axes: Mat3::IDENTITY, radii: Vec3::splat(e.radii.x) },
+                Bound::Th16 => slc::Ellipsoid { center: self.position, axes: Mat3::IDENTITY, radii: Vec3::splat(r / self.alpha) },
             }
         };
         slc::cull_transform(&e, Mat3::IDENTITY, Vec3::ZERO)
@@ -95,6 +98,20 @@ pub enum Bound {
     Tight,
     /// The sphere enclosing the spheroid (centre c, radius r_u).
     Sphere,
+    /// The sphere of TH16 as 002 §7 sets it up: centre at the VPL, radius r/α.
+    Th16,
+}
+
+impl Bound {
+    /// Parses `tight`, `sphere` or `th16`.
+    pub fn parse(s: &str) -> Result<Bound, String> {
+        match s {
+            "tight" => Ok(Bound::Tight),
+            "sphere" => Ok(Bound::Sphere),
+            "th16" => Ok(Bound::Th16),
+            b => Err(format!("the glossy bound is tight, sphere or th16, not {b}")),
+        }
+    }
 }
 
 /// How lights are selected per pixel.
@@ -113,11 +130,30 @@ pub enum Mode {
 pub struct Render {
     /// Radiance towards the camera per pixel.
     pub image: Vec<f32>,
+    /// The image after the cross-bilateral filter over the interleaving period ([`filter`]).
+    pub filtered: Vec<f32>,
     /// Lights shaded per pixel (kept by its tile).
     pub lights_per_pixel: Vec<u32>,
+    /// Of those, the false discoveries: lights kept whose random range does not reach the
+    /// pixel (p ≤ ξ: they contribute 0). Per-pixel false discovery rate = this / shaded.
+    pub false_per_pixel: Vec<u32>,
     /// Kept (tile, light) pairs, and those no pixel of the tile accepted (p ≤ ξ everywhere).
     pub kept: u64,
     pub false_positives: u64,
+}
+
+impl Render {
+    /// The false discovery rate over all pixels: Σ false discoveries / Σ lights shaded
+    /// (002 Fig. 9's quantity, aggregated).
+    pub fn pixel_fdr(&self) -> f64 {
+        let shaded: u64 = self.lights_per_pixel.iter().map(|x| *x as u64).sum();
+        self.false_per_pixel.iter().map(|x| *x as u64).sum::<u64>() as f64 / shaded.max(1) as f64
+    }
+
+    /// False discoveries summed over pixels.
+    pub fn false_discoveries(&self) -> u64 {
+        self.false_per_pixel.iter().map(|x| *x as u64).sum()
+    }
 }
 
 /// The radiance a Lambert receiver at `x` (normal `n`, albedo ρ) sends to the camera from
@@ -142,7 +178,8 @@ pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usi
 /// [`render`] with a choice of bound for glossy VPLs.
 pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize, bound: Bound) -> Render {
     let il = interleave.max(1);
-    let mut out = Render { image: vec![0.0; g.width * g.height], lights_per_pixel: vec![0; g.width * g.height], ..Default::default() };
+    let n = g.width * g.height;
+    let mut out = Render { image: vec![0.0; n], lights_per_pixel: vec![0; n], false_per_pixel: vec![0; n], ..Default::default() };
     let bounds: Vec<(Mat3, Vec3)> = vpls.iter().map(|v| v.bound(delta, bound)).collect();
     let weight = (il * il) as f32;
     for sub in 0..il * il {
@@ -150,6 +187,7 @@ pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave
         let subset: Vec<usize> = (sub..vpls.len()).step_by(il * il).collect();
         render_subregion(g, vpls, &bounds, delta, mode, (il, sx, sy), &subset, weight, &mut out);
     }
+    out.filtered = filter(g, &out.image, il);
     out
 }
 
@@ -207,6 +245,7 @@ fn render_subregion(
                         Mode::Culled => {
                             let p = slc::acceptance_probability(v.intensity((x - v.position) / d), delta, d);
                             accepted |= p > v.xi;
+                            out.false_per_pixel[k] += (p <= v.xi) as u32;
                             slc::culled_estimate(l, p, v.xi)
                         }
                         Mode::RangeCut => {
@@ -225,6 +264,55 @@ fn render_subregion(
         }
     }
 }
+
+/// The cross-bilateral filter for the interleaving noise (002 §6, Fig. 8: "variance is
+/// visible as noise which can be removed using a denoising filter"): each valid pixel p
+/// averages the irradiance (radiance / albedo) of the valid pixels q of the I × I window
+/// at offsets −⌊I/2⌋ ..= I − 1 − ⌊I/2⌋ — one pixel of every interleaving subregion — that
+/// lie on p's surface: n_p·n_q ≥ cos 25° and plane distance |n_p·(x_q − x_p)| ≤ the
+/// window's lateral extent at p (I pixels of 2·tan_x·|x_p|/width); the mean is re-modulated
+/// by p's albedo. Box weights: on a plane every subregion counts once, so the VPL subsets
+/// recombine into the full set (E = Σ_s E_s) up to the irradiance's change over the window.
+/// `I` = 1 returns the image unchanged. Pixels without a G-buffer sample stay 0.
+pub fn filter(g: &GBuffer, image: &[f32], interleave: usize) -> Vec<f32> {
+    let il = interleave.max(1) as i64;
+    if il == 1 {
+        return image.to_vec();
+    }
+    let lo = -(il / 2);
+    let footprint = 2.0 * g.tan_xy.0 / g.width as f32 * il as f32;
+    (0..g.width * g.height)
+        .map(|k| {
+            let Some((xp, np, ap)) = g.texels[k] else { return 0.0 };
+            let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
+            let tau = footprint * xp.length();
+            let (mut sum, mut count) = (0.0f32, 0u32);
+            for dy in lo..lo + il {
+                for dx in lo..lo + il {
+                    let (qx, qy) = (px + dx, py + dy);
+                    if qx < 0 || qy < 0 || qx >= g.width as i64 || qy >= g.height as i64 {
+                        continue;
+                    }
+                    let q = (qy as usize) * g.width + qx as usize;
+                    let Some((xq, nq, aq)) = g.texels[q] else { continue };
+                    if np.dot(nq) < FILTER_COS || np.dot(xq - xp).abs() > tau || aq <= 0.0 {
+                        continue;
+                    }
+                    sum += image[q] / aq;
+                    count += 1;
+                }
+            }
+            if count == 0 {
+                image[k]
+            } else {
+                sum / count as f32 * ap
+            }
+        })
+        .collect()
+}
+
+/// cos 25°: the largest normal difference the filter averages over.
+pub const FILTER_COS: f32 = 0.906_307_8;
 
 /// A pinhole camera at `eye` looking down −z (world axes; the bake preview's camera):
 /// view space is world space moved by −eye.

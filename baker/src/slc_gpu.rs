@@ -57,11 +57,14 @@ pub struct SlcGpu<'g> {
     gpu: &'g Gpu,
     prepare: wgpu::ComputePipeline,
     shade: wgpu::ComputePipeline,
+    filter: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
     params: SlcParams,
     params_buf: wgpu::Buffer,
     image_buf: wgpu::Buffer,
     stats_buf: wgpu::Buffer,
+    filtered_buf: wgpu::Buffer,
+    pixels: (u32, u32),
     lights: u32,
     tiles: (u32, u32, u32),
     bound: Bound,
@@ -94,6 +97,7 @@ impl<'g> SlcGpu<'g> {
                 entry(3, storage(false)),
                 entry(4, storage(false)),
                 entry(5, storage(false)),
+                entry(6, storage(false)),
             ],
         });
         let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -154,6 +158,7 @@ impl<'g> SlcGpu<'g> {
         let bb = init("bounds", &vec![0u8; vpls.len().max(1) * 64], rw);
         let image_buf = init("image", &vec![0u8; g.width * g.height * 16], rw);
         let stats_buf = init("stats", &[0u8; 8], rw);
+        let filtered_buf = init("filtered", &vec![0u8; g.width * g.height * 4], rw);
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slc"),
             layout: &layout,
@@ -164,6 +169,7 @@ impl<'g> SlcGpu<'g> {
                 bb.as_entire_binding(),
                 image_buf.as_entire_binding(),
                 stats_buf.as_entire_binding(),
+                filtered_buf.as_entire_binding(),
             ]
             .into_iter()
             .enumerate()
@@ -174,11 +180,14 @@ impl<'g> SlcGpu<'g> {
             gpu,
             prepare: pipeline("slc_prepare"),
             shade: pipeline("slc_cull_shade"),
+            filter: pipeline("slc_filter"),
             group,
             params,
             params_buf,
             image_buf,
             stats_buf,
+            filtered_buf,
+            pixels: (g.width as u32, g.height as u32),
             lights: vpls.len() as u32,
             tiles: (
                 g.width.div_ceil(interleave).div_ceil(TILE) as u32,
@@ -199,7 +208,11 @@ impl<'g> SlcGpu<'g> {
             Mode::Culled => 0,
             Mode::BruteForce => 1,
             Mode::RangeCut => 2,
-        } | if self.bound == Bound::Sphere { 4 } else { 0 };
+        } | match self.bound {
+            Bound::Tight => 0,
+            Bound::Sphere => 4,
+            Bound::Th16 => 8,
+        };
         let q = self.gpu.queue();
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         q.write_buffer(&self.stats_buf, 0, &[0u8; 8]);
@@ -211,24 +224,30 @@ impl<'g> SlcGpu<'g> {
             pass.dispatch_workgroups(self.lights.div_ceil(64).max(1), 1, 1);
             pass.set_pipeline(&self.shade);
             pass.dispatch_workgroups(self.tiles.0, self.tiles.1, self.tiles.2);
+            pass.set_pipeline(&self.filter);
+            pass.dispatch_workgroups(self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8), 1);
         }
         q.submit([enc.finish()]);
     }
 
-    /// One frame: bounds, culling and shading; the image and statistics read back.
+    /// One frame: bounds, culling, shading and the filter; the images and statistics read
+    /// back.
     pub fn run(&mut self, mode: Mode) -> Result<Render, String> {
         self.dispatch(mode);
         let img: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.image_buf)?);
         let st: Vec<u32> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.stats_buf)?);
+        let filtered: Vec<f32> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.filtered_buf)?);
         Ok(Render {
             image: img.iter().map(|p| p[0]).collect(),
+            filtered,
             lights_per_pixel: img.iter().map(|p| p[1] as u32).collect(),
+            false_per_pixel: img.iter().map(|p| p[2] as u32).collect(),
             kept: st[0] as u64,
             false_positives: st[1] as u64,
         })
     }
 
-    /// Seconds per frame (bounds + culling + shading), median of `frames` timed frames
+    /// Seconds per frame (bounds + culling + shading + filter), median of `frames` timed frames
     /// after two warm-up frames, each waited for (wall time around submit + wait).
     pub fn time(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
         for _ in 0..2 {

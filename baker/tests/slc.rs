@@ -153,6 +153,8 @@ fn gpu_matches_cpu() {
         (Mode::Culled, 8, tight),
         (Mode::BruteForce, 8, tight),
         (Mode::Culled, 1, sphere),
+        (Mode::Culled, 1, baker::slc::Bound::Th16),
+        (Mode::Culled, 8, sphere),
     ] {
         let l = vpls(7);
         let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
@@ -176,7 +178,215 @@ fn gpu_matches_cpu() {
         assert!(bad <= c.image.len() / 200, "{mode:?}: {bad} pixels differ");
         assert!((c.kept as f64 - gg.kept as f64).abs() <= 0.005 * c.kept as f64);
         assert!((c.false_positives as f64 - gg.false_positives as f64).abs() <= 0.005 * c.kept as f64);
+        let shaded = c.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>();
+        assert!((c.false_discoveries() as f64 - gg.false_discoveries() as f64).abs() <= 0.005 * shaded, "false discoveries");
+        let ftop = c.filtered.iter().fold(0.0f32, |a, x| a.max(*x));
+        let fbad = c.filtered.iter().zip(&gg.filtered).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * ftop).count();
+        assert!(fbad <= c.filtered.len() / 200, "{mode:?}: {fbad} filtered pixels differ");
     }
-    // The enclosing sphere keeps a superset of the spheroid's pairs.
+    // The enclosing sphere keeps a superset of the spheroid's pairs, the TH16 sphere (which
+    // contains the enclosing one: |c − q| + r_u = r/α) a superset of both.
     assert!(fdr[1].0 >= fdr[0].0 && fdr[1].1 >= fdr[0].1, "sphere {:?} vs spheroid {:?}", fdr[1], fdr[0]);
+    assert!(fdr[2].0 >= fdr[1].0 && fdr[2].1 >= fdr[1].1, "TH16 {:?} vs sphere {:?}", fdr[2], fdr[1]);
+}
+
+/// 002 §7 / Fig. 10: glossy VPLs reflecting a light onto a wall (glossy caustics). 768 × 768
+/// pixels see the wall z = −6 (normal +z, albedo 0.5) head on; 100 GGX VPLs (F0 0.9) on
+/// a glossy patch at z ∈ [−2.5, −1.5], facing the wall, lit from within 10° of their
+/// normal, with their own ξ, flux 0.1 and δ = 0.01 (spheroid cross-sections at the wall
+/// of a few 16-pixel tiles, so the tile granularity does not swamp the bound's slack). The same VPLs culled by the spheroid, its enclosing sphere
+/// (centre c, radius r_u) and the TH16 sphere (centre q, radius r/α), per pixel.
+fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
+    let (w, h, t) = (768usize, 768usize, 0.6f32);
+    let texels = (0..w * h)
+        .map(|k| {
+            let d = Vec3::new((2.0 * ((k % w) as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * ((k / w) as f32 + 0.5) / h as f32) * t, -1.0);
+            Some((d * 6.0, Vec3::Z, 0.5))
+        })
+        .collect();
+    let g = GBuffer { width: w, height: h, tan_xy: (t, t), texels };
+    let mut r = Pcg32::new(77, 3);
+    let normal = -Vec3::Z;
+    let (ta, tb) = baker::lightmap::frame(normal);
+    let vpls: Vec<Vpl> = (0..100)
+        .map(|_| {
+            let [a, b] = r.next_2d();
+            let (s, phi) = ((10f64.to_radians().sin()) * a.sqrt(), std::f64::consts::TAU * b);
+            let incoming = (normal * (1.0 - s * s).sqrt() as f32 + ta * (s * phi.cos()) as f32 + tb * (s * phi.sin()) as f32).normalize();
+            let [x, y] = r.next_2d();
+            Vpl {
+                position: Vec3::new(5.0 * x as f32 - 2.5, 5.0 * y as f32 - 2.5, -1.5 - r.next_f64() as f32),
+                normal,
+                incoming,
+                flux: 0.1,
+                diffuse: 0.0,
+                alpha,
+                f0: 0.9,
+                xi: 1.0 - r.next_f64() as f32,
+            }
+        })
+        .collect();
+    baker::slc::render_with(&g, &vpls, 0.01, Mode::Culled, 1, bound)
+}
+
+/// Ellipsoid culling beats sphere culling on glossy VPLs (002 §7: "false positives are
+/// reduced by over 90%"). Every bound contains the isosurface, so all three shade the same
+/// true discoveries (asserted); the false ones — lights kept for a pixel whose random range
+/// does not reach it — drop with the spheroid by ≥ 90% in number and the per-pixel false
+/// discovery rate by ≥ 80%, against the enclosing sphere and the TH16 sphere, at α 0.1,
+/// 0.2 and 0.3. The thresholds are the issue's and the seed's claims, not measured values
+/// (measured: FDR −86…−89%, counts −93…−98%). At 1920 × 1080 with the cornell box's
+/// random incidences the per-pixel drop is smaller (tile granularity, oblique lobes): see
+/// `baker --slc … --slc-compare-bounds`.
+#[test]
+fn spheroids_cut_false_discoveries() {
+    use baker::slc::Bound;
+    for alpha in [0.1f32, 0.2, 0.3] {
+        let [t, s, th] = [Bound::Tight, Bound::Sphere, Bound::Th16].map(|b| caustic_fdr(alpha, b));
+        let tp = |r: &Render| r.lights_per_pixel.iter().map(|x| *x as u64).sum::<u64>() - r.false_discoveries();
+        println!(
+            "α {alpha}: FDR spheroid {:.3}, sphere {:.3}, TH16 {:.3}; false discoveries {} / {} / {}; true {}",
+            t.pixel_fdr(),
+            s.pixel_fdr(),
+            th.pixel_fdr(),
+            t.false_discoveries(),
+            s.false_discoveries(),
+            th.false_discoveries(),
+            tp(&t)
+        );
+        assert!(tp(&t) > 0 && tp(&t) == tp(&s) && tp(&t) == tp(&th), "the bounds disagree on true discoveries");
+        for (name, other) in [("enclosing sphere", &s), ("TH16 sphere", &th)] {
+            assert!(t.pixel_fdr() <= 0.2 * other.pixel_fdr(), "α {alpha}: FDR {} vs {name} {}", t.pixel_fdr(), other.pixel_fdr());
+            assert!(
+                t.false_discoveries() as f64 <= 0.1 * other.false_discoveries() as f64,
+                "α {alpha}: false discoveries {} vs {name} {}",
+                t.false_discoveries(),
+                other.false_discoveries()
+            );
+        }
+    }
+}
+
+/// A view-space plane z = `z` facing the camera, `w` × `h` pixels, tan of the half field
+/// of view `t` in x and y, albedo per pixel from `albedo(x, y)`.
+fn plane(w: usize, h: usize, t: f32, z: f32, albedo: impl Fn(usize, usize) -> f32) -> GBuffer {
+    let texels = (0..w * h)
+        .map(|k| {
+            let (x, y) = (k % w, k / w);
+            let d = Vec3::new((2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * t, -1.0);
+            Some((d * -z, Vec3::Z, albedo(x, y)))
+        })
+        .collect();
+    GBuffer { width: w, height: h, tan_xy: (t, t), texels }
+}
+
+/// The filter recombines the interleaving subsets exactly: on a plane whose subregion s
+/// carries the irradiance I²·c_s (any c_s) under a checkerboard albedo, every pixel whose
+/// I × I window lies inside the image returns albedo·Σ c_s/π — the full set's value — to
+/// f32 rounding (64 terms: 1e-5 relative); pixels of different surfaces are not mixed: on
+/// the floor/wall G-buffer and on two parallel planes 3 apart (a depth step), an image that
+/// is a constant irradiance per surface comes back unchanged (1e-6 relative).
+#[test]
+fn filter_recombines_subsets_and_keeps_surfaces_apart() {
+    let il = 8usize;
+    let mut r = Pcg32::new(9, 9);
+    let c: Vec<f32> = (0..il * il).map(|_| r.next_f64() as f32).collect();
+    let total: f32 = c.iter().sum();
+    let g = plane(61, 45, 0.5, -6.0, |x, y| 0.2 + 0.6 * ((x + y) % 2) as f32);
+    let pi = std::f32::consts::PI;
+    let img: Vec<f32> = (0..g.width * g.height)
+        .map(|k| {
+            let (x, y) = (k % g.width, k / g.width);
+            (il * il) as f32 * c[(x % il) + il * (y % il)] * g.texels[k].unwrap().2 / pi
+        })
+        .collect();
+    let f = baker::slc::filter(&g, &img, il);
+    let mut checked = 0;
+    for y in il / 2..g.height - il / 2 {
+        for x in il / 2..g.width - il / 2 {
+            let k = y * g.width + x;
+            let want = g.texels[k].unwrap().2 * total / pi;
+            assert!((f[k] - want).abs() <= 1e-5 * want, "pixel ({x}, {y}): {} vs {want}", f[k]);
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000);
+    // Surfaces apart: the floor/wall G-buffer, and a near plane over the left half.
+    let mut step = plane(64, 48, 0.5, -6.0, |_, _| 0.5);
+    for k in 0..step.texels.len() {
+        if k % 64 < 32 {
+            let (x, n, a) = step.texels[k].unwrap();
+            step.texels[k] = Some((x * 0.5, n, a));
+        }
+    }
+    for gb in [gbuffer(), step] {
+        let e = |x: Vec3, n: Vec3| if n.y > 0.5 { 1.0 } else if x.z < -4.0 { 7.0 } else { 3.0 };
+        let img: Vec<f32> = gb.texels.iter().map(|t| t.map_or(0.0, |(x, n, a)| e(x, n) * a / pi)).collect();
+        let f = baker::slc::filter(&gb, &img, il);
+        for (k, t) in gb.texels.iter().enumerate() {
+            assert!((f[k] - img[k]).abs() <= 1e-6 * img[k].abs(), "pixel {k} ({t:?}): {} vs {}", f[k], img[k]);
+        }
+    }
+}
+
+/// On a VPL-lit plane the filtered interleaved brute-force image approaches the full
+/// brute-force image (the independent reference: every VPL at every pixel). Error model:
+/// the filter sums each subset's irradiance E_s at a pixel y of the window instead of at x,
+/// and each light's f_j(y) ≤ f_j(x)·e^{G_j·|y − x|} with G_j = 1/(d·cos_l) + 4/d the
+/// bound on |∇ ln f_j| along the plane (the receiver cosine is constant on it), so
+/// |filtered − E| ≤ Σ_j f_j(x)·(e^{G_j·h} − 1), h the window's largest pixel offset in
+/// world units (√2·I/2 pixels). Interior pixels (full windows) only; the unfiltered
+/// interleaved image's error is reported next to it.
+#[test]
+fn filter_error_is_within_the_lipschitz_bound() {
+    let il = 8usize;
+    let g = plane(160, 160, 0.6, -6.0, |_, _| 0.5);
+    let mut r = Pcg32::new(21, 2);
+    let vpls: Vec<Vpl> = (0..256)
+        .map(|_| Vpl {
+            position: Vec3::new(5.0 * r.next_f64() as f32 - 2.5, 5.0 * r.next_f64() as f32 - 2.5, -2.0 - r.next_f64() as f32),
+            normal: -Vec3::Z,
+            incoming: -Vec3::Z,
+            flux: 0.1 + r.next_f64() as f32,
+            diffuse: 0.7,
+            alpha: 0.5,
+            f0: 0.04,
+            xi: 1.0,
+        })
+        .collect();
+    let full = render(&g, &vpls, DELTA, Mode::BruteForce, 1);
+    let inter = render(&g, &vpls, DELTA, Mode::BruteForce, il);
+    let pix = 2.0 * 0.6 * 6.0 / 160.0;
+    let h = std::f32::consts::SQRT_2 * (il / 2) as f32 * pix;
+    let (mut worst, mut rms_f, mut rms_u, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
+    for y in il / 2..g.height - il / 2 {
+        for x in il / 2..g.width - il / 2 {
+            let k = y * g.width + x;
+            let (p, nrm, a) = g.texels[k].unwrap();
+            let bound: f64 = vpls
+                .iter()
+                .map(|v| {
+                    let to = p - v.position;
+                    let d = to.length();
+                    let (cl, cr) = (v.normal.dot(to / d), nrm.dot(-to / d));
+                    let fj = v.flux * v.diffuse / std::f32::consts::PI * cl.max(0.0) * cr.max(0.0) / (d * d) * a / std::f32::consts::PI;
+                    let gj = 1.0 / (d * cl) + 4.0 / d;
+                    fj as f64 * ((gj * h) as f64).exp_m1()
+                })
+                .sum::<f64>()
+                * 1.001
+                + 1e-5 * full.image[k] as f64;
+            let e = (inter.filtered[k] - full.image[k]) as f64;
+            worst = worst.max(e.abs() / bound);
+            rms_f += (e / full.image[k] as f64).powi(2);
+            rms_u += ((inter.image[k] - full.image[k]) as f64 / full.image[k] as f64).powi(2);
+            n += 1;
+        }
+    }
+    println!(
+        "filter: relative RMS error {:.2e} filtered vs {:.2e} unfiltered (interleave {il}); worst error / bound {worst:.3}",
+        (rms_f / n as f64).sqrt(),
+        (rms_u / n as f64).sqrt()
+    );
+    assert!(worst <= 1.0, "the filtered image leaves the Lipschitz bound ({worst})");
 }

@@ -9,6 +9,8 @@
 //                   ones to a shared list; every pixel then shades the list with the
 //                   stochastic falloff L/p where p > ξ; per kept light a shared flag says
 //                   whether any pixel accepted it (false positives for the FDR).
+//   slc_filter      one thread per pixel: the cross-bilateral filter over the interleaving
+//                   period (CPU twin baker::slc::filter).
 // Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
 // INV_PI.
 
@@ -17,7 +19,8 @@ struct SlcParams {
     height: u32,
     light_count: u32,
     // Bits 0–1: 0 culled (stochastic falloff), 1 brute force, 2 deterministic range cut
-    // (ξ = ½); bit 2: glossy VPLs bounded by the sphere enclosing their spheroid.
+    // (ξ = ½); bits 2–3: glossy VPLs bounded by 0 their spheroid, 1 the sphere enclosing
+    // it, 2 the TH16 sphere (centre at the VPL, radius r/α; 002 §7).
     mode: u32,
     tan_x: f32,
     tan_y: f32,
@@ -34,10 +37,12 @@ struct SlcParams {
 @group(0) @binding(2) var<storage, read> lights: array<vec4<f32>>;
 // Per light 4 vec4: M's columns and M·c (w unused).
 @group(0) @binding(3) var<storage, read_write> bounds: array<vec4<f32>>;
-// Per pixel: (radiance, lights shaded, 0, 0).
+// Per pixel: (radiance, lights shaded, of those lights with p ≤ ξ (false discoveries), 0).
 @group(0) @binding(4) var<storage, read_write> image: array<vec4<f32>>;
 // Kept (tile, light) pairs and false positives.
 @group(0) @binding(5) var<storage, read_write> stats: array<atomic<u32>, 2>;
+// Per pixel: the radiance after the cross-bilateral filter (slc_filter).
+@group(0) @binding(6) var<storage, read_write> filtered: array<f32>;
 
 struct SlcVpl {
     position: vec3<f32>,
@@ -93,8 +98,12 @@ fn slc_prepare(@builtin(global_invocation_id) gid: vec3<u32>) {
         let cos_i = dot(v.incoming, v.normal);
         let r = slc_spheroid_scale(v.flux, slc_schlick_max(v.f0, cos_i), slc_g1_dist(cos_i, v.alpha), cos_i, SP.delta, v.xi);
         e = slc_ggx_spheroid(v.position, v.incoming, v.normal, v.alpha, r);
-        if ((SP.mode & 4u) != 0u) {
-            e = SlcEllipsoid(e.center, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(e.radii.x));
+        let ident = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
+        let bound = (SP.mode >> 2u) & 3u;
+        if (bound == 1u) {
+            e = SlcEllipsoid(e.center, ident, vec3<f32>(e.radii.x));
+        } else if (bound == 2u) {
+            e = SlcEllipsoid(v.position, ident, vec3<f32>(r / v.alpha));
         }
     }
     let ident = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
@@ -165,6 +174,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let far_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, mid, zmax);
     var radiance = 0.0;
     var shaded = 0u;
+    var false_hits = 0u;
     for (var base = 0u; base < sub_count; base += SLC_CHUNK) {
         if (t == 0u) {
             atomicStore(&wg_count, 0u);
@@ -204,6 +214,8 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                     let p = slc_acceptance(intensity, SP.delta, d);
                     if (p > v.xi) {
                         atomicStore(&wg_accepted[s], 1u);
+                    } else {
+                        false_hits += 1u;
                     }
                     radiance += slc_culled_estimate(l, p, v.xi);
                 }
@@ -219,6 +231,54 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         workgroupBarrier();
     }
     if (inside) {
-        image[k] = vec4<f32>(radiance * f32(stride), f32(shaded), 0.0, 0.0);
+        image[k] = vec4<f32>(radiance * f32(stride), f32(shaded), f32(false_hits), 0.0);
     }
+}
+
+// cos 25° (CPU twin: baker::slc::FILTER_COS).
+const SLC_FILTER_COS: f32 = 0.9063078;
+
+// The cross-bilateral filter for the interleaving noise, one thread per pixel (CPU twin:
+// baker::slc::filter): the irradiance (radiance / albedo) of the I × I window's valid
+// pixels on p's surface (normals within 25°, plane distance within the window's lateral
+// extent at p), averaged with box weights and re-modulated by p's albedo.
+@compute @workgroup_size(8, 8)
+fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= SP.width || gid.y >= SP.height) {
+        return;
+    }
+    let k = gid.y * SP.width + gid.x;
+    let a = gbuffer[2u * k];
+    let b = gbuffer[2u * k + 1u];
+    if (a.w < 0.5) {
+        filtered[k] = 0.0;
+        return;
+    }
+    let il = i32(SP.interleave);
+    if (il == 1) {
+        filtered[k] = image[k].x;
+        return;
+    }
+    let lo = -(il / 2);
+    let tau = 2.0 * SP.tan_x / f32(SP.width) * f32(il) * length(a.xyz);
+    var sum = 0.0;
+    var count = 0u;
+    for (var dy = lo; dy < lo + il; dy++) {
+        for (var dx = lo; dx < lo + il; dx++) {
+            let qx = i32(gid.x) + dx;
+            let qy = i32(gid.y) + dy;
+            if (qx < 0 || qy < 0 || qx >= i32(SP.width) || qy >= i32(SP.height)) {
+                continue;
+            }
+            let q = u32(qy) * SP.width + u32(qx);
+            let qa = gbuffer[2u * q];
+            let qb = gbuffer[2u * q + 1u];
+            if (qa.w < 0.5 || dot(b.xyz, qb.xyz) < SLC_FILTER_COS || abs(dot(b.xyz, qa.xyz - a.xyz)) > tau || qb.w <= 0.0) {
+                continue;
+            }
+            sum += image[q].x / qb.w;
+            count += 1u;
+        }
+    }
+    filtered[k] = select(sum / f32(count) * b.w, image[k].x, count == 0u);
 }
