@@ -23,7 +23,10 @@
 //!   and moved out.
 //! - [`run`]: a whole bake as the `baker` command runs it.
 //! - [`slc`], [`slc_gpu`]: stochastic light culling of VPLs on a G-buffer (seeds 000–002):
-//!   tiled culling by random-range bounds and shading, CPU reference and wgpu twin.
+//!   tiled culling by random-range bounds and shading, CPU reference and wgpu twin,
+//!   the cross-bilateral filter for interleaved sampling.
+//! - [`slc_media`]: the same for single scattering in a homogeneous slab (seed 001): point
+//!   lights and diffuse VPLs, equiangular sampling inside the inner sphere, uniform outside.
 
 pub mod bake;
 pub mod bvh;
@@ -38,4 +41,5 @@ pub mod run;
 pub mod scene;
 pub mod slc;
 pub mod slc_gpu;
+pub mod slc_media;
 pub mod trace;

@@ -84,6 +84,11 @@ struct Cli {
     /// false discovery rates and frame times side by side.
     #[arg(long)]
     slc_compare_bounds: bool,
+    /// With --slc: also render single scattering in a homogeneous medium filling the view
+    /// depths NEAR..FAR, lit by the scene's point lights and the diffuse VPLs (seed 001),
+    /// culled and brute force: SIGMA_S,SIGMA_T,NEAR,FAR (e.g. 0.2,0.3,0.5,4).
+    #[arg(long)]
+    slc_medium: Option<String>,
     /// Interleaved sampling for --slc: I × I subregions each shading 1/I² of the VPLs
     /// (002 §6 uses 8; 1 turns it off). Unbiased only in expectation over the VPL set.
     #[arg(long, default_value_t = 8)]
@@ -190,6 +195,22 @@ fn main() -> ExitCode {
             kind: cli.slc_kind.clone(),
             glossy_alpha: cli.slc_glossy_alpha,
             compare_bounds: cli.slc_compare_bounds,
+            medium: cli
+                .slc_medium
+                .as_deref()
+                .map(|m| -> Result<baker::slc_media::Medium, String> {
+                    let v: Vec<f32> = m
+                        .split(',')
+                        .map(|x| x.trim().parse::<f32>().map_err(|e| format!("--slc-medium {m}: {e}")))
+                        .collect::<Result<_, _>>()?;
+                    let [sigma_s, sigma_t, near, far] = v[..] else {
+                        return Err(format!("--slc-medium takes SIGMA_S,SIGMA_T,NEAR,FAR, not {m}"));
+                    };
+                    let medium = baker::slc_media::Medium { sigma_s, sigma_t, near, far };
+                    medium.validate().map_err(|e| format!("--slc-medium: {e}"))?;
+                    Ok(medium)
+                })
+                .transpose()?,
         })
     }) {
         None => None,

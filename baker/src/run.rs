@@ -465,6 +465,86 @@ pub struct SlcOptions {
     /// Also cull the same VPLs with each glossy bound (spheroid, enclosing sphere, TH16
     /// sphere) and report their false discovery rates and times.
     pub compare_bounds: bool,
+    /// Also render single scattering in this medium (CPU, culled and brute force).
+    pub medium: Option<crate::slc_media::Medium>,
+}
+
+/// The single-scattering part of [`slc_harness`] (crate::slc_media, CPU on every core):
+/// the scene's point lights (spot lights too, as the point lights they are inside their
+/// cone — logged) and the diffuse VPLs in medium `m`, culled and brute force with the same
+/// ξ; writes slc_medium.exr/png and slc_medium_brute.exr; returns the numbers.
+#[allow(clippy::too_many_arguments)]
+fn slc_medium(
+    o: &Options,
+    s: &SlcOptions,
+    m: &crate::slc_media::Medium,
+    scene: &Scene,
+    cam: crate::slc::Camera,
+    g: &crate::slc::GBuffer,
+    vpls: &[crate::slc::Vpl],
+    log: &mut dyn FnMut(String),
+) -> Result<serde_json::Value, String> {
+    use crate::scene::Light;
+    use crate::slc_media::{render, MediaLight, MediaMode};
+    let mut rng = sbf::sampling::Pcg32::new(o.config.seed, 0x3ed1);
+    let mut lights: Vec<MediaLight> = Vec::new();
+    let (mut spots, mut directional) = (0, 0);
+    for l in &scene.lights {
+        match *l {
+            Light::Point { position, intensity, .. } | Light::Spot { position, intensity, .. } => {
+                spots += matches!(l, Light::Spot { .. }) as usize;
+                let xi = 1.0 - rng.next_f64() as f32;
+                let power = (crate::lights::luminance(intensity) * 4.0 * std::f64::consts::PI) as f32;
+                lights.push(MediaLight { position: position - cam.eye, normal: Vec3::ZERO, power, xi });
+            }
+            Light::Directional { .. } => directional += 1,
+        }
+    }
+    if spots + directional > 0 {
+        log(format!(
+            "slc medium: {spots} spot light(s) scatter as isotropic point lights (no cone), {directional} directional light(s) left out (single scattering from VPLs and point lights only)"
+        ));
+    }
+    lights.extend(vpls.iter().filter(|v| v.diffuse > 0.0).map(|v| MediaLight {
+        position: v.position,
+        normal: v.normal,
+        power: v.flux * v.diffuse,
+        xi: v.xi,
+    }));
+    let t = Instant::now();
+    let culled = render(g, m, &lights, s.delta, MediaMode::Culled, o.config.seed);
+    let ct = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let brute = render(g, m, &lights, s.delta, MediaMode::BruteForce, o.config.seed);
+    let bt = t.elapsed().as_secs_f64();
+    let n = (g.width * g.height) as f64;
+    let mean = |v: &[f32]| v.iter().map(|x| *x as f64).sum::<f64>() / n;
+    let shaded: u64 = culled.lights_per_pixel.iter().map(|x| *x as u64).sum();
+    let fd: u64 = culled.false_per_pixel.iter().map(|x| *x as u64).sum();
+    log(format!(
+        "slc medium ({} lights, CPU on {} threads): culled {:.1} ms ({:.1} lights per pixel, false discovery rate {:.3}), brute force {:.1} ms; image means {:.6e} / {:.6e}",
+        lights.len(),
+        rayon::current_num_threads(),
+        ct * 1e3,
+        shaded as f64 / n,
+        fd as f64 / shaded.max(1) as f64,
+        bt * 1e3,
+        mean(&culled.image),
+        mean(&brute.image)
+    ));
+    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    let ones = vec![1.0f32; g.width * g.height];
+    output::write_exr(&o.out.join("slc_medium.exr"), g.width, g.height, &gray(&culled.image), &ones)?;
+    output::write_exr(&o.out.join("slc_medium_brute.exr"), g.width, g.height, &gray(&brute.image), &ones)?;
+    let scale = output::exposure_scale(&brute.image);
+    output::save_png(&o.out.join("slc_medium.png"), &output::tonemap(g.width, g.height, &culled.image, scale))?;
+    Ok(json!({
+        "sigma_s": m.sigma_s, "sigma_t": m.sigma_t, "near": m.near, "far": m.far, "lights": lights.len(),
+        "spot_lights_as_points": spots, "directional_lights_left_out": directional,
+        "culled_seconds": ct, "brute_force_seconds": bt, "lights_per_pixel": shaded as f64 / n,
+        "false_discovery_rate": fd as f64 / shaded.max(1) as f64, "culled_mean": mean(&culled.image), "brute_force_mean": mean(&brute.image),
+        "image": "slc_medium.exr (slc_medium.png)", "brute_force_image": "slc_medium_brute.exr",
+    }))
 }
 
 /// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
@@ -544,7 +624,8 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
     output::write_exr(&o.out.join("slc_filtered.exr"), s.width, s.height, &gray(filtered), &valid)?;
     let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32).collect();
     output::write_exr(&o.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
-    let fdr_img: Vec<f32> = culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
+    let fdr_img: Vec<f32> =
+        culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
     output::write_exr(&o.out.join("slc_fdr.exr"), s.width, s.height, &gray(&fdr_img), &valid)?;
     let scale = output::exposure_scale(filtered);
     output::save_png(&o.out.join("slc.png"), &output::tonemap(s.width, s.height, &culled.image, scale))?;
@@ -598,6 +679,9 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
         let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
         log(format!("slc brute force: {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}", bs * 1e3));
         meta["brute_force"] = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm});
+    }
+    if let Some(m) = &s.medium {
+        meta["medium"] = slc_medium(o, s, m, &scene, cam, &g, &vpls, log)?;
     }
     std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
     Ok(())

@@ -200,7 +200,8 @@ fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
     let (w, h, t) = (768usize, 768usize, 0.6f32);
     let texels = (0..w * h)
         .map(|k| {
-            let d = Vec3::new((2.0 * ((k % w) as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * ((k / w) as f32 + 0.5) / h as f32) * t, -1.0);
+            let d =
+                Vec3::new((2.0 * ((k % w) as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * ((k / w) as f32 + 0.5) / h as f32) * t, -1.0);
             Some((d * 6.0, Vec3::Z, 0.5))
         })
         .collect();
@@ -320,7 +321,15 @@ fn filter_recombines_subsets_and_keeps_surfaces_apart() {
         }
     }
     for gb in [gbuffer(), step] {
-        let e = |x: Vec3, n: Vec3| if n.y > 0.5 { 1.0 } else if x.z < -4.0 { 7.0 } else { 3.0 };
+        let e = |x: Vec3, n: Vec3| {
+            if n.y > 0.5 {
+                1.0
+            } else if x.z < -4.0 {
+                7.0
+            } else {
+                3.0
+            }
+        };
         let img: Vec<f32> = gb.texels.iter().map(|t| t.map_or(0.0, |(x, n, a)| e(x, n) * a / pi)).collect();
         let f = baker::slc::filter(&gb, &img, il);
         for (k, t) in gb.texels.iter().enumerate() {

@@ -200,6 +200,47 @@ macro_rules! slc_impl {
             phi * t * t / (3.0 * (3.0 as $f).sqrt() * $pi)
         }
 
+        /// The bounding sphere of a point light of radiant intensity I (isotropic): the
+        /// random range √(I/(δξ)) about the light — its isosurface itself.
+        pub fn point_sphere(q: $v, intensity: $f, delta: $f, xi: $f) -> Sphere {
+            Sphere { center: q, radius: random_range(intensity, delta, xi) }
+        }
+
+        /// The chord [t0, t1] (t0 ≤ t1) of the ray o + t·d (unit d) through sphere `s`, or
+        /// None when it misses. Stable roots (math.md): q = −(b + sign(b)·√disc), roots q
+        /// and c/q, with b = d·(o − centre), c = |o − centre|² − r².
+        pub fn ray_sphere(o: $v, d: $v, s: &Sphere) -> Option<($f, $f)> {
+            let oc = o - s.center;
+            let b = d.dot(oc);
+            let c = oc.length_squared() - s.radius * s.radius;
+            let disc = b * b - c;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            let q = -(b + disc.sqrt().copysign(b));
+            if q == 0.0 {
+                return Some((0.0, 0.0));
+            }
+            let (t0, t1) = (q, c / q);
+            Some((t0.min(t1), t0.max(t1)))
+        }
+
+        /// Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1 inside the inner
+        /// sphere) on [a, b] along a ray whose closest point to the light is at t_c, at
+        /// distance h > 0: pdf ∝ 1/(h² + (t − t_c)²). Returns (t, pdf) for uniform u ∈ [0, 1).
+        /// The angles θ = atan((t − t_c)/h) stay finite for h → 0 (callers clamp h > 0).
+        pub fn equiangular_sample(tc: $f, h: $f, a: $f, b: $f, u: $f) -> ($f, $f) {
+            let (ta, tb) = ((a - tc).atan2(h), (b - tc).atan2(h));
+            let t = (tc + h * (ta + u * (tb - ta)).tan()).clamp(a, b);
+            (t, equiangular_pdf(tc, h, a, b, t))
+        }
+
+        /// The pdf of [`equiangular_sample`] at t ∈ [a, b]: h/((θ_b − θ_a)(h² + (t − t_c)²)).
+        pub fn equiangular_pdf(tc: $f, h: $f, a: $f, b: $f, t: $f) -> $f {
+            let (ta, tb) = ((a - tc).atan2(h), (b - tc).atan2(h));
+            h / ((tb - ta) * (h * h + (t - tc) * (t - tc)))
+        }
+
         /// What tiled culling stores per light (002 §5.2): M = B·S and M·c for the
         /// ellipsoid `e` moved to view space by rotation `view` and translation `origin`
         /// (x_view = view·x + origin). A tile's frustum transformed by M meets the unit

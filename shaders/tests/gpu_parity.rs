@@ -862,6 +862,78 @@ fn slc_parity() {
     check("slc (all outputs)", &gk, &cpu, &scale);
 }
 
+/// The single-scattering helpers (slc_point_sphere, slc_ray_sphere, slc_equiangular_sample
+/// and _pdf) against sbf::slc::runtime on 10⁵ random rays, lights and spheres. Error
+/// model: the chord's roots carry the rounding of b and √disc, relative to |b| + √|c| +
+/// their own size (not to the root, which cancels for a grazing ray — scale = |t| +
+/// |b| + √|c|); equiangular t = t_c + h·tan θ moves by (h² + (t − t_c)²)/h per unit of θ,
+/// and θ = atan2 carries ~1e-7 rad of rounding, so t's scale is that factor plus |t|, and
+/// the pdf's relative scale 1 + 2|t − t_c|/h; near-tangent rays (disc < 1e-4·(b² + |c|))
+/// whose hit/miss may flip are excluded and counted.
+#[test]
+fn slc_media_parity() {
+    use sbf::slc::runtime as rt;
+    let Some(g) = gpu() else { return };
+    let lib = library("slc");
+    let mut r = Pcg32::new(79, 5);
+    const PER: usize = 12;
+    const OUT: usize = 9;
+    let mut inp = Vec::with_capacity(N * PER);
+    for _ in 0..N {
+        let o = Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r)) * 2.0;
+        let d = dir(&mut r);
+        let q = Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r)) * 6.0;
+        let intensity = (0.01 + 2.0 * r.next_2d()[0]) as f32;
+        let xi = (0.01 + 0.99 * r.next_2d()[0]) as f32;
+        let u = r.next_2d()[0] as f32;
+        push3(&mut inp, o);
+        push3(&mut inp, d);
+        push3(&mut inp, q);
+        inp.extend_from_slice(&[intensity, xi, u]);
+    }
+    let body = format!(
+        "    let o = i * {PER}u;\n    let ro = ld3(o);\n    let d = ld3(o + 3u);\n    let q = ld3(o + 6u);\n    let s = slc_point_sphere(q, inp[o + 9u], 0.01, inp[o + 10u]);\n    let c = slc_ray_sphere(ro, d, s);\n    let tc = dot(d, q - ro);\n    let h = max(length(q - ro - d * tc), 1e-3);\n    let e = slc_equiangular_sample(tc, h, tc - 4.0, tc + 3.0, inp[o + 11u]);\n    outp[i * {OUT}u] = s.center.x;\n    outp[i * {OUT}u + 1u] = s.center.y;\n    outp[i * {OUT}u + 2u] = s.center.z;\n    outp[i * {OUT}u + 3u] = s.radius;\n    outp[i * {OUT}u + 4u] = c.x;\n    outp[i * {OUT}u + 5u] = c.y;\n    outp[i * {OUT}u + 6u] = c.z;\n    outp[i * {OUT}u + 7u] = e.x;\n    outp[i * {OUT}u + 8u] = e.y;"
+    );
+    let (out, _) = g.run(&lib, &body, &inp, OUT, N, None, 0).unwrap();
+    let (mut gk, mut cpu, mut scale, mut grazing) = (Vec::new(), Vec::new(), Vec::new(), 0);
+    for k in 0..N {
+        let s = &inp[k * PER..(k + 1) * PER];
+        let v3 = |j: usize| Vec3::new(s[j], s[j + 1], s[j + 2]);
+        let (o, d, q) = (v3(0), v3(3), v3(6));
+        let sph = rt::point_sphere(q, s[9], 0.01, s[10]);
+        let oc = o - sph.center;
+        let (b, c) = (d.dot(oc), oc.length_squared() - sph.radius * sph.radius);
+        if (b * b - c).abs() < 1e-4 * (b * b + c.abs()) {
+            grazing += 1;
+            continue;
+        }
+        let chord = rt::ray_sphere(o, d, &sph);
+        let tc = d.dot(q - o);
+        let h = (q - o - d * tc).length().max(1e-3);
+        let (t, pdf) = rt::equiangular_sample(tc, h, tc - 4.0, tc + 3.0, s[11]);
+        let (t0, t1, hit) = chord.map_or((0.0, 0.0, 0.0), |(a, b)| (a, b, 1.0));
+        let root = (b.abs() + c.abs().sqrt()) as f64;
+        let dt = ((h * h + (t - tc) * (t - tc)) / h) as f64;
+        gk.extend_from_slice(&out[k * OUT..(k + 1) * OUT]);
+        cpu.extend([sph.center.x, sph.center.y, sph.center.z, sph.radius, t0, t1, hit, t, pdf].map(|x| x as f64));
+        let cs = sph.center.length() as f64;
+        scale.extend([
+            cs,
+            cs,
+            cs,
+            sph.radius as f64,
+            t0.abs() as f64 + root,
+            t1.abs() as f64 + root,
+            1.0,
+            dt + t.abs() as f64,
+            pdf as f64 * (1.0 + 2.0 * ((t - tc).abs() / h) as f64),
+        ]);
+    }
+    println!("slc media parity: {} items, {grazing} near-tangent rays excluded", cpu.len() / OUT);
+    assert!(grazing < N / 100, "too many near-tangent rays");
+    check("slc media helpers", &gk, &cpu, &scale);
+}
+
 /// The tile test (slc_tile_corners, slc_ellipsoid_hits_corners, slc_unit_sphere_hits_aabb)
 /// against sbf::slc::runtime on 10⁵ random (spheroid, tile) pairs: the corners to f32
 /// rounding, and the same keep/cull decision wherever the CPU's squared distance from the

@@ -136,6 +136,46 @@ fn slc_diffuse_sphere(q: vec3<f32>, n: vec3<f32>, phi_k: f32, delta: f32, xi: f3
     return SlcSphere(q + n * (pow(1.0 / 3.0, 0.75) * a), pow(4.0 / 27.0, 0.25) * a);
 }
 
+// A point light's bounding sphere: its random range √(I/(δξ)) about q.
+fn slc_point_sphere(q: vec3<f32>, intensity: f32, delta: f32, xi: f32) -> SlcSphere {
+    return SlcSphere(q, slc_random_range(intensity, delta, xi));
+}
+
+// The chord of the ray o + t·d (unit d) through sphere s: (t0, t1, 1) with t0 ≤ t1, or
+// (0, 0, 0) when it misses. Stable roots q = −(b + sign(b)√disc), q and c/q.
+fn slc_ray_sphere(o: vec3<f32>, d: vec3<f32>, s: SlcSphere) -> vec3<f32> {
+    let oc = o - s.center;
+    let b = dot(d, oc);
+    let c = dot(oc, oc) - s.radius * s.radius;
+    let disc = b * b - c;
+    if (!(disc >= 0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let q = -(b + select(-sqrt(disc), sqrt(disc), b >= 0.0));
+    if (q == 0.0) {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    let t0 = q;
+    let t1 = c / q;
+    return vec3<f32>(min(t0, t1), max(t0, t1), 1.0);
+}
+
+// The pdf of equiangular sampling on [a, b] (closest point t_c, distance h > 0) at t:
+// h/((θ_b − θ_a)(h² + (t − t_c)²)).
+fn slc_equiangular_pdf(tc: f32, h: f32, a: f32, b: f32, t: f32) -> f32 {
+    let ta = atan2(a - tc, h);
+    let tb = atan2(b - tc, h);
+    return h / ((tb - ta) * (h * h + (t - tc) * (t - tc)));
+}
+
+// Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1): (t, pdf) for u ∈ [0, 1).
+fn slc_equiangular_sample(tc: f32, h: f32, a: f32, b: f32, u: f32) -> vec2<f32> {
+    let ta = atan2(a - tc, h);
+    let tb = atan2(b - tc, h);
+    let t = clamp(tc + h * tan(ta + u * (tb - ta)), a, b);
+    return vec2<f32>(t, slc_equiangular_pdf(tc, h, a, b, t));
+}
+
 // I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) (001 eq. 7).
 fn slc_diffuse_intensity_bound(d_dot_n: f32, phi: f32) -> f32 {
     let t = d_dot_n + sqrt(d_dot_n * d_dot_n + 1.0);
