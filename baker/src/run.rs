@@ -590,7 +590,11 @@ pub fn slc_harness(o: &Options, s: &SlcOptions, log: &mut dyn FnMut(String)) -> 
             let mut r = crate::slc_gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
             r.set_bound(s.bound);
             let culled = r.run(Mode::Culled)?;
+            r.set_filter(false);
+            let unfiltered = r.time(Mode::Culled, s.frames)?;
+            r.set_filter(true);
             let seconds = r.time(Mode::Culled, s.frames)?;
+            log(format!("slc GPU frame without the filter: {:.3} ms", unfiltered * 1e3));
             let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
             (culled, brute, seconds, format!("GPU: {}", gp.adapter))
         }

@@ -68,6 +68,7 @@ pub struct SlcGpu<'g> {
     lights: u32,
     tiles: (u32, u32, u32),
     bound: Bound,
+    filter_on: bool,
 }
 
 impl<'g> SlcGpu<'g> {
@@ -195,7 +196,13 @@ impl<'g> SlcGpu<'g> {
                 (interleave * interleave) as u32,
             ),
             bound: Bound::Tight,
+            filter_on: true,
         })
+    }
+
+    /// Whether frames run the cross-bilateral filter (default on; off to time without it).
+    pub fn set_filter(&mut self, on: bool) {
+        self.filter_on = on;
     }
 
     /// Which bound culls glossy VPLs in the following frames.
@@ -224,8 +231,10 @@ impl<'g> SlcGpu<'g> {
             pass.dispatch_workgroups(self.lights.div_ceil(64).max(1), 1, 1);
             pass.set_pipeline(&self.shade);
             pass.dispatch_workgroups(self.tiles.0, self.tiles.1, self.tiles.2);
-            pass.set_pipeline(&self.filter);
-            pass.dispatch_workgroups(self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8), 1);
+            if self.filter_on {
+                pass.set_pipeline(&self.filter);
+                pass.dispatch_workgroups(self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8), 1);
+            }
         }
         q.submit([enc.finish()]);
     }
