@@ -877,7 +877,7 @@ fn slc_media_parity() {
     let lib = library("slc");
     let mut r = Pcg32::new(79, 5);
     const PER: usize = 12;
-    const OUT: usize = 9;
+    const OUT: usize = 10;
     let mut inp = Vec::with_capacity(N * PER);
     for _ in 0..N {
         let o = Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r)) * 2.0;
@@ -892,7 +892,7 @@ fn slc_media_parity() {
         inp.extend_from_slice(&[intensity, xi, u]);
     }
     let body = format!(
-        "    let o = i * {PER}u;\n    let ro = ld3(o);\n    let d = ld3(o + 3u);\n    let q = ld3(o + 6u);\n    let s = slc_point_sphere(q, inp[o + 9u], 0.01, inp[o + 10u]);\n    let c = slc_ray_sphere(ro, d, s);\n    let tc = dot(d, q - ro);\n    let h = max(length(q - ro - d * tc), 1e-3);\n    let e = slc_equiangular_sample(tc, h, tc - 4.0, tc + 3.0, inp[o + 11u]);\n    outp[i * {OUT}u] = s.center.x;\n    outp[i * {OUT}u + 1u] = s.center.y;\n    outp[i * {OUT}u + 2u] = s.center.z;\n    outp[i * {OUT}u + 3u] = s.radius;\n    outp[i * {OUT}u + 4u] = c.x;\n    outp[i * {OUT}u + 5u] = c.y;\n    outp[i * {OUT}u + 6u] = c.z;\n    outp[i * {OUT}u + 7u] = e.x;\n    outp[i * {OUT}u + 8u] = e.y;"
+        "    let o = i * {PER}u;\n    let ro = ld3(o);\n    let d = ld3(o + 3u);\n    let q = ld3(o + 6u);\n    let s = slc_point_sphere(q, inp[o + 9u], 0.01, inp[o + 10u]);\n    let c = slc_ray_sphere(ro, d, s);\n    let tc = dot(d, q - ro);\n    let h = max(length(q - ro - d * tc), 1e-3);\n    let e = slc_equiangular_sample(tc, h, tc - 4.0, tc + 3.0, inp[o + 11u]);\n    outp[i * {OUT}u] = s.center.x;\n    outp[i * {OUT}u + 1u] = s.center.y;\n    outp[i * {OUT}u + 2u] = s.center.z;\n    outp[i * {OUT}u + 3u] = s.radius;\n    outp[i * {OUT}u + 4u] = c.x;\n    outp[i * {OUT}u + 5u] = c.y;\n    outp[i * {OUT}u + 6u] = c.z;\n    outp[i * {OUT}u + 7u] = e.x;\n    outp[i * {OUT}u + 8u] = e.y;\n    outp[i * {OUT}u + 9u] = slc_equiangular_pdf(tc, h, tc - 4.0, tc + 3.0, tc + 0.5);"
     );
     let (out, _) = g.run(&lib, &body, &inp, OUT, N, None, 0).unwrap();
     let (mut gk, mut cpu, mut scale, mut grazing) = (Vec::new(), Vec::new(), Vec::new(), 0);
@@ -915,7 +915,8 @@ fn slc_media_parity() {
         let root = (b.abs() + c.abs().sqrt()) as f64;
         let dt = ((h * h + (t - tc) * (t - tc)) / h) as f64;
         gk.extend_from_slice(&out[k * OUT..(k + 1) * OUT]);
-        cpu.extend([sph.center.x, sph.center.y, sph.center.z, sph.radius, t0, t1, hit, t, pdf].map(|x| x as f64));
+        let pdf_mid = rt::equiangular_pdf(tc, h, tc - 4.0, tc + 3.0, tc + 0.5);
+        cpu.extend([sph.center.x, sph.center.y, sph.center.z, sph.radius, t0, t1, hit, t, pdf, pdf_mid].map(|x| x as f64));
         let cs = sph.center.length() as f64;
         scale.extend([
             cs,
@@ -927,6 +928,8 @@ fn slc_media_parity() {
             1.0,
             dt + t.abs() as f64,
             pdf as f64 * (1.0 + 2.0 * ((t - tc).abs() / h) as f64),
+            // At a fixed t the pdf is well conditioned: relative.
+            pdf_mid as f64,
         ]);
     }
     println!("slc media parity: {} items, {grazing} near-tangent rays excluded", cpu.len() / OUT);
