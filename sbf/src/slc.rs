@@ -59,10 +59,12 @@ macro_rules! slc_impl {
 
         /// cos θ_h^max for an incoming cosine (000 eq. 2): the largest angle between ω_i
         /// and a half vector of any ω_o in the upper hemisphere, θ_h^max = ½·acos(cos_i) +
-        /// π/4, as √((1 − √(1 − cos_i²))/2).
+        /// π/4, as √((1 − √(1 − cos_i²))/2) — evaluated as |cos_i|/√(2(1 + s)), s =
+        /// √(1 − cos_i²), since 1 − s = cos_i²/(1 + s): the printed form cancels at
+        /// grazing incidence (relative error 2⁻²⁴/cos_i² in f32).
         pub fn cos_theta_h_max(cos_i: $f) -> $f {
             let s = (1.0 - cos_i * cos_i).max(0.0).sqrt();
-            ((1.0 - s) * 0.5).max(0.0).sqrt()
+            cos_i.abs() / (2.0 * (1.0 + s)).sqrt()
         }
 
         /// Maximum Schlick Fresnel factor over the outgoing hemisphere (000 eq. 1–2):

@@ -128,12 +128,38 @@ fn sh_parity() {
                 // is bounded by 2|r0| + 2|r1|).
                 let s: f64 = (0..n_terms).map(|k| (c[k][ch] * y[k] * rt[band(k)]).abs() as f64).sum::<f64>()
                     + if f >= 3 { c[0][ch].abs() as f64 } else { 0.0 };
-                scale.push(s);
+                scale.push(s + if f == 3 { geomerics_pow_scale(c, *d, ch) } else { 0.0 });
                 gpu_f.push(out[j * 15 + 3 * f + ch]);
             }
         }
         check(name, &gpu_f, &cpu, &scale);
     }
+}
+
+/// The conditioning of Geomerics' r0·(1 − a)(p + 1)·q^p in f32, as a parity scale (the
+/// error allowed is BAR × scale). A conformant pow is exp2(p·log2 q) (Vulkan/GLSL
+/// precision: log2 to 2⁻²¹ absolute in [0.5, 2], 3 ulp outside; exp2 to 3 + 2|x| ulp), and
+/// q = ½(1 + n·r1/|r1|) carries ~4 roundings of 2⁻²⁴ absolute, which p multiplies:
+/// relative error ε = p·ln 2·(2⁻²¹ + 4·2⁻²⁴/(q ln 2)) + (3 + 2|p log2 q|)·2⁻²⁴ on the power
+/// term. Backends that fuse or round differently (GL llvmpipe) land inside ε; ×2 margin.
+fn geomerics_pow_scale(c: &[Vec3], n: Vec3, ch: usize) -> f64 {
+    let k0 = 0.5 / std::f64::consts::PI.sqrt();
+    let k1 = (3.0 / (4.0 * std::f64::consts::PI)).sqrt() / 3.0;
+    let r0 = c[0][ch] as f64 * k0;
+    let r1 = sbf::glam::DVec3::new(c[3][ch] as f64, c[1][ch] as f64, c[2][ch] as f64) * k1;
+    let len = r1.length();
+    if r0 <= 0.0 || len <= 0.0 {
+        return 0.0;
+    }
+    let q = (0.5 * (1.0 + n.as_dvec3().dot(r1 / len))).max(1e-30);
+    let ratio = len / r0;
+    let p = 1.0 + 2.0 * ratio;
+    let a = (1.0 - ratio) / (1.0 + ratio);
+    let term = (r0 * (1.0 - a) * (p + 1.0) * q.powf(p)).abs();
+    let u = 2f64.powi(-24);
+    let ln2 = std::f64::consts::LN_2;
+    let eps = p * ln2 * (2f64.powi(-21) + 4.0 * u / (q * ln2)) + (3.0 + 2.0 * (p * q.log2()).abs()) * u;
+    2.0 * term * eps / BAR
 }
 
 #[test]
@@ -825,6 +851,16 @@ fn slc_parity() {
         for j in [0, 1, 2, 3, 4, 5, 6, 7, 40, 41, 42] {
             sc[j] = c[j].abs() as f64;
         }
+        // GGX D = α²/(π t²), t = α²c² + (1 − c²), at c = cos θ_i from a 3-term dot product
+        // (≤ 3·2⁻²⁴ relative on either side, so c² may differ by 6·2⁻²⁴) plus the roundings
+        // of c² and 1 − c² (2·2⁻²⁴ absolute): t is off by up to 8·2⁻²⁴ absolute, and D ∝ 1/t²
+        // by twice that relative to t. Near the peak (c → 1, small α: t ~ α²) that is
+        // 16·2⁻²⁴/t — a backend that fuses or orders these differently (GL llvmpipe) does.
+        let t_ndf = {
+            let (c2, a2) = ((cos_i as f64).powi(2), (alpha as f64).powi(2));
+            a2 * c2 + (1.0 - c2).max(0.0)
+        };
+        sc[42] *= (16.0 * 2f64.powi(-24) / t_ndf / BAR).max(1.0);
         // Dielectric Fresnel F = ((c − g)/(c + g))² (and its parallel twin) cancels for
         // η → 1: c − g carries an absolute rounding of ~1e-7·(c + g), so F's absolute error
         // is ~2√F·1e-7 ≤ 1e-4·(2e-3·√F); the scale is max(F, 2e-3·√F)·… with 5× headroom.

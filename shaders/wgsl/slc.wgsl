@@ -27,10 +27,11 @@ fn slc_culled_estimate(radiance: f32, p: f32, xi: f32) -> f32 {
     return select(0.0, radiance / p, p > xi);
 }
 
-// cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2).
+// cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2), as |cos_i|/√(2(1 + s)), s =
+// √(1 − cos_i²) (no cancellation at grazing incidence).
 fn slc_cos_theta_h_max(cos_i: f32) -> f32 {
     let s = sqrt(max(1.0 - cos_i * cos_i, 0.0));
-    return sqrt(max((1.0 - s) * 0.5, 0.0));
+    return abs(cos_i) / sqrt(2.0 * (1.0 + s));
 }
 
 // Maximum Schlick Fresnel over the outgoing hemisphere (000 eq. 1–2).
