@@ -7,6 +7,7 @@
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
 //! peer tool (Probulator) does, so numbers are comparable.
 
+pub mod azimuthal;
 pub mod images;
 pub mod input;
 pub mod metrics;

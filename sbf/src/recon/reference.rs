@@ -185,6 +185,27 @@ pub fn ggx_specular_mis(
     samples: u32,
 ) -> [f64; 3] {
     let Some(ms) = sampler else { return ggx_specular(|w| map.bilinear(w), n, v, alpha, f0, f90, samples) };
+    ggx_specular_mis_shifted(map, ms, n, v, alpha, f0, f90, samples, [0.0; 4])
+}
+
+/// [`ggx_specular_mis`] with both point sets moved by a Cranley–Patterson rotation
+/// (u ↦ frac(u + shift), the first two shift components for the visible-normal Halton
+/// points, the last two for the map's R2 points): with a uniformly random shift each
+/// estimate is unbiased and independent of the others, so replicates give a standard
+/// error (Owen 2013, "Monte Carlo theory, methods and examples", §17.3).
+#[allow(clippy::too_many_arguments)]
+pub fn ggx_specular_mis_shifted(
+    map: &LatLongImage,
+    ms: &MapSampler,
+    n: DVec3,
+    v: DVec3,
+    alpha: f64,
+    f0: f64,
+    f90: f64,
+    samples: u32,
+    shift: [f64; 4],
+) -> [f64; 3] {
+    let rot = |u: [f64; 2], s: [f64; 2]| [(u[0] + s[0]).fract(), (u[1] + s[1]).fract()];
     let alpha = alpha.clamp(1e-4, 1.0);
     let (t, b) = tangent_frame(n);
     let vt = DVec3::new(v.dot(t), v.dot(b), v.dot(n));
@@ -221,12 +242,12 @@ pub fn ggx_specular_mis(
         }
     };
     for i in 0..samples.max(1) {
-        let h = ggx::sample_vndf(vt, alpha, halton2(i as u64 + 1));
+        let h = ggx::sample_vndf(vt, alpha, rot(halton2(i as u64 + 1), [shift[0], shift[1]]));
         add(ggx::reflect(vt, h));
     }
     let r2 = crate::sampling::R2::new();
     for i in 0..samples.max(1) {
-        let (w, _) = ms.sample(r2.point(i as u64));
+        let (w, _) = ms.sample(rot(r2.point(i as u64), [shift[2], shift[3]]));
         add(DVec3::new(w.dot(t), w.dot(b), w.dot(n)));
     }
     acc

@@ -1,0 +1,171 @@
+//! The deterministic GGX reference (azimuthal FFT quadrature, issue 19 item 1): its FFT and
+//! folding machinery against a direct sum of the same quadrature rule, and the reference
+//! against a 2^20-sample MIS estimate (16 Cranley–Patterson replicates) on the five
+//! probes. The probe part needs `../shared/probes`; with SBF_REQUIRE_PROBES=1 (CI) a
+//! missing folder fails instead of skipping.
+
+use probes::modes::Context;
+use probes::specular::{ggx_kernel, reference_fft, subdivision};
+use sbf::envmap::{LatLong, LatLongImage};
+use sbf::glam::DVec3;
+use sbf::sampling::Pcg32;
+use sbf::Domain;
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+/// The quadrature rule written out directly: every sub-cell of every texel, bilinear
+/// radiance at its centre (`bilinear_uv`), the kernel at (output direction, centre), the
+/// sub-cell's exact solid angle — no FFT, no folding.
+fn direct(map: &LatLongImage, out: LatLong, domain: Domain, alpha: f64, sub: usize, i: usize, j: usize) -> [f64; 3] {
+    let g = map.geometry;
+    let d = out.texel_direction(i, j);
+    let mut acc = [0.0; 3];
+    for row in 0..g.height * sub {
+        let (t0, t1) = (PI * row as f64 / (g.height * sub) as f64, PI * (row + 1) as f64 / (g.height * sub) as f64);
+        let omega = 2.0 * PI / (g.width * sub) as f64 * (t0.cos() - t1.cos());
+        let v = (row as f64 + 0.5) / (g.height * sub) as f64;
+        for col in 0..g.width * sub {
+            let u = (col as f64 + 0.5) / (g.width * sub) as f64;
+            let l = LatLong::uv_to_direction(u, v);
+            let k = match domain {
+                Domain::Sphere => ggx_kernel(d, d, l, alpha),
+                Domain::UpperHemisphere => ggx_kernel(DVec3::Y, d, l, alpha),
+            };
+            if k != 0.0 {
+                let r = map.bilinear_uv(u, v);
+                for c in 0..3 {
+                    acc[c] += omega * k * r[c];
+                }
+            }
+        }
+    }
+    acc
+}
+
+/// A 32 × 16 map of random radiance with a few bright texels (a dynamic range of 10⁴).
+fn random_map() -> LatLongImage {
+    let mut r = Pcg32::new(5, 5);
+    let texels = (0..32 * 16)
+        .map(|k| {
+            let spike = if k % 97 == 13 { 1e4 } else { 1.0 };
+            [0, 1, 2].map(|_| (r.next_f64() * spike) as f32)
+        })
+        .collect();
+    LatLongImage::new(32, 16, texels).unwrap()
+}
+
+/// FFT + folding = the direct sum, to f64 rounding: both domains, α 0.1 and 0.6,
+/// subdivisions 1–3, output grids of the map's width and of half of it, every output
+/// texel. Tolerance 1e-11 of Σ|terms| (≈ the largest value here): the FFT of length 32
+/// and the folding reorder ~10⁵ products, each rounded to 2⁻⁵³.
+#[test]
+fn fft_quadrature_equals_the_direct_sum() {
+    let map = random_map();
+    for domain in [Domain::UpperHemisphere, Domain::Sphere] {
+        for (alpha, sub) in [(0.1, 3), (0.6, 1), (0.6, 2)] {
+            for out in [LatLong { width: 32, height: 16 }, LatLong { width: 16, height: 8 }] {
+                let q = probes::azimuthal::Quadrature::new(&map, out).unwrap();
+                let theta = |j: usize| PI * (j as f64 + 0.5) / out.height as f64;
+                let kernel = |j: usize, tl: f64, dphi: f64| {
+                    let l = probes::azimuthal::direction(tl, 0.0);
+                    let v = probes::azimuthal::direction(theta(j), dphi);
+                    match domain {
+                        Domain::Sphere => ggx_kernel(v, v, l, alpha),
+                        Domain::UpperHemisphere => ggx_kernel(DVec3::Y, v, l, alpha),
+                    }
+                };
+                let fft = q.integrate(0..out.height, sub, &kernel);
+                let top = fft.iter().flat_map(|x| x.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
+                for j in 0..out.height {
+                    for i in 0..out.width {
+                        let want = direct(&map, out, domain, alpha, sub, i, j);
+                        let got = fft[j * out.width + i];
+                        for c in 0..3 {
+                            assert!(
+                                (got[c] - want[c]).abs() <= 1e-11 * top.max(1.0),
+                                "{domain:?} α {alpha} S {sub} {}×{} texel ({i}, {j}): {} vs {}",
+                                out.width,
+                                out.height,
+                                got[c],
+                                want[c]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Widths that do not divide are refused, not approximated.
+    assert!(probes::azimuthal::Quadrature::new(&map, LatLong { width: 12, height: 6 }).is_err());
+}
+
+fn probe(name: &str) -> Option<LatLongImage> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../shared/probes/{name}.hdr"));
+    if !p.exists() {
+        assert!(std::env::var("SBF_REQUIRE_PROBES").map_or(true, |v| v != "1"), "SBF_REQUIRE_PROBES=1 but {} is missing", p.display());
+        eprintln!("skipping: {} not found", p.display());
+        return None;
+    }
+    Some(probes::input::load_map(&p, true).expect("probe loads").0)
+}
+
+/// The reference against Monte Carlo (issue 19 acceptance): on each of the five probes,
+/// Appendix C geometry (normal +Y, view over the upper hemisphere), α 0.1, 0.2, 0.4, 0.6,
+/// 0.8, three output texels (θ_v ≈ 22°, 45°, 67°), the MIS estimator of the same
+/// bilinear radiance with 2^20 visible-normal and 2^20 map samples — 16 independent
+/// Cranley–Patterson replicates of 2^16, σ from their spread — must contain the reference
+/// within 3σ + the reference's own quadrature error (4/3·|R_S − R_2S| at that texel,
+/// computed here), per channel. Reported: the largest |z| and the cells beyond 3σ — where
+/// the quadrature error (≈ 1e-4 of the signal beside uffizi's bright window at S = 2–4)
+/// exceeds the MIS estimate's σ (a few 1e-5): 2^20 QMC samples resolve it.
+#[test]
+fn fft_reference_matches_mis_within_3_sigma() {
+    let names = ["ennis", "grace", "pisa", "uffizi", "wells"];
+    let mut worst = 0.0f64;
+    for name in names {
+        let Some(map) = probe(name) else { return };
+        let ctx = Context::with_domain(map, Domain::UpperHemisphere);
+        let sampler = sbf::recon::reference::MapSampler::new(&ctx.map).expect("the probes are not black");
+        let (w, h) = (ctx.grid.width, ctx.grid.height);
+        let texels = [(w / 5, h / 8), (w / 2, h / 4), (4 * w / 5, 3 * h / 8)];
+        for alpha in [0.1, 0.2, 0.4, 0.6, 0.8] {
+            let img = reference_fft(&ctx, alpha).unwrap().image;
+            let sub = subdivision(alpha, ctx.map.geometry.height);
+            let q = probes::azimuthal::Quadrature::new(&ctx.map, ctx.grid).unwrap();
+            let kernel = |j: usize, tl: f64, dphi: f64| {
+                let v = probes::azimuthal::direction(PI * (j as f64 + 0.5) / h as f64, dphi);
+                ggx_kernel(DVec3::Y, v, probes::azimuthal::direction(tl, 0.0), alpha)
+            };
+            for (i, j) in texels {
+                let fine = q.integrate(j..j + 1, 2 * sub, &kernel)[i];
+                let v = ctx.grid.texel_direction(i, j);
+                let mut rng = Pcg32::new(0x5eed ^ (i * 1000 + j) as u64, (alpha * 100.0) as u64);
+                let reps: Vec<[f64; 3]> = (0..16)
+                    .map(|_| {
+                        let s = [rng.next_f64(), rng.next_f64(), rng.next_f64(), rng.next_f64()];
+                        sbf::recon::reference::ggx_specular_mis_shifted(&ctx.map, &sampler, DVec3::Y, v, alpha, 1.0, 1.0, 1 << 16, s)
+                    })
+                    .collect();
+                for c in 0..3 {
+                    let mean = reps.iter().map(|r| r[c]).sum::<f64>() / 16.0;
+                    let sigma = (reps.iter().map(|r| (r[c] - mean).powi(2)).sum::<f64>() / 15.0 / 16.0).sqrt();
+                    let quad = 4.0 / 3.0 * (img[j * w + i][c] - fine[c]).abs();
+                    let diff = (img[j * w + i][c] - mean).abs();
+                    worst = worst.max(diff / sigma.max(1e-300));
+                    if diff > 3.0 * sigma {
+                        println!(
+                            "{name} α {alpha} ({i}, {j}) channel {c}: reference {:.6e}, MIS {mean:.6e} ± {sigma:.1e}: {diff:.1e} apart, quadrature error {quad:.1e}",
+                            img[j * w + i][c]
+                        );
+                    }
+                    assert!(
+                        diff <= 3.0 * sigma + quad,
+                        "{name} α {alpha} texel ({i}, {j}) channel {c}: reference {} vs MIS {mean} ± {sigma} (quadrature {quad:.1e})",
+                        img[j * w + i][c]
+                    );
+                }
+            }
+        }
+    }
+    println!("largest |reference − MIS|/σ over 5 probes × 5 α × 3 texels × 3 channels: {worst:.2}");
+}
