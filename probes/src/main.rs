@@ -167,14 +167,21 @@ fn compare(
             irradiance.negative_fraction = neg;
         }
         let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
-        let (mut specular, mut specular_images) = (Vec::new(), Vec::new());
+        let (mut specular, mut specular_images, mut specular_parts) = (Vec::new(), Vec::new(), Vec::new());
         for sr in &spec_refs {
             if let Some(img) = probes::specular::reconstruct(&r, &ctx, sr.alpha) {
                 specular.push((sr.alpha, metrics::compute_rows(ctx.grid, &img, &sr.image, ctx.metric_rows())));
+                // Basis-limited error (exact GGX of the reconstructed radiance vs the
+                // reference) and what the runtime path adds (runtime vs basis-limited).
+                if let Some(b) = r.radiance.as_ref().and_then(|rad| probes::specular::basis_limited(&ctx, rad, sr.alpha)) {
+                    let basis = metrics::compute_rows(ctx.grid, &b, &sr.image, ctx.metric_rows()).rms;
+                    let runtime = metrics::compute_rows(ctx.grid, &img, &b, ctx.metric_rows()).rms;
+                    specular_parts.push((sr.alpha, basis, runtime));
+                }
                 specular_images.push(img);
             }
         }
-        rows.push(report::Row { result: r, radiance: rad, irradiance, specular, specular_images });
+        rows.push(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts });
         pb.inc(1);
     }
     pb.finish_and_clear();

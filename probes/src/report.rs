@@ -14,6 +14,9 @@ pub struct Row {
     pub specular: Vec<(f64, Metrics)>,
     /// The specular images, parallel to `specular`.
     pub specular_images: Vec<Vec<[f64; 3]>>,
+    /// (α, basis-limited RMS, runtime RMS): the exact GGX integral of the mode's
+    /// reconstructed radiance against the reference, and the runtime path against that.
+    pub specular_parts: Vec<(f64, f64, f64)>,
 }
 
 /// The specular reference for one roughness.
@@ -122,8 +125,22 @@ pub fn json(maps: &[MapReport]) -> String {
                 .collect::<Vec<_>>()
                 .join(", ");
             let rad = r.radiance.as_ref().map_or("null".to_string(), metrics_json);
-            let spec =
-                format!("{{{}}}", r.specular.iter().map(|(a, m)| format!("\"{a}\": {}", metrics_json(m))).collect::<Vec<_>>().join(", "));
+            let spec = format!(
+                "{{{}}}",
+                r.specular
+                    .iter()
+                    .map(|(a, m)| {
+                        let parts = r
+                            .specular_parts
+                            .iter()
+                            .find(|p| p.0 == *a)
+                            .map_or(String::new(), |p| format!(", \"basis_limited_rms\": {}, \"runtime_rms\": {}", num(p.1), num(p.2)));
+                        let mj = metrics_json(m);
+                        format!("\"{a}\": {}{parts}}}", &mj[..mj.len() - 1])
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
             let radiance_img = if x.radiance.is_some() {
                 format!(", \"radiance\": \"{0}/{1}_radiance.exr\", \"radiance_png\": \"{0}/{1}_radiance.png\"", m.slug, x.id)
             } else {
@@ -222,6 +239,27 @@ pub fn markdown(maps: &[MapReport]) -> String {
                     match r.specular.iter().find(|(x, _)| x == a) {
                         Some((_, mm)) => {
                             let _ = write!(s, " {:.5} |", mm.rms);
+                        }
+                        None => s.push_str(" — |"),
+                    }
+                }
+                s.push('\n');
+            }
+        }
+        if m.rows.iter().any(|r| !r.specular_parts.is_empty()) {
+            s.push_str("\nGGX specular error decomposition, RMS per α: *basis-limited* (the exact GGX integral of the mode's reconstructed radiance against the reference) / *runtime* (the mode's runtime path against that integral). Where the runtime part dominates, the runtime approximation, not the basis, limits the mode.\n\n| mode |");
+            for a in &alphas {
+                let _ = write!(s, " α = {a} |");
+            }
+            s.push_str("\n|---|");
+            s.push_str(&"---|".repeat(alphas.len()));
+            s.push('\n');
+            for r in m.rows.iter().filter(|r| !r.specular_parts.is_empty()) {
+                let _ = write!(s, "| `{}` |", r.result.id);
+                for a in &alphas {
+                    match r.specular_parts.iter().find(|p| p.0 == *a) {
+                        Some(p) => {
+                            let _ = write!(s, " {:.4} / {:.4} |", p.1, p.2);
                         }
                         None => s.push_str(" — |"),
                     }

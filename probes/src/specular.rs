@@ -15,6 +15,7 @@
 
 use crate::modes::{Context, ModeResult};
 use rayon::prelude::*;
+use sbf::envmap::{LatLong, LatLongImage};
 use sbf::glam::DVec3;
 use sbf::recon::reference::MapSampler;
 use sbf::recon::{ambient_dice as adr, sg as sgr, sh as shr};
@@ -63,9 +64,12 @@ pub fn ggx_kernel(n: DVec3, v: DVec3, l: DVec3, alpha: f64) -> f64 {
 
 /// Sub-cells per texel side for the deterministic reference at roughness α on a map of
 /// `height` rows: the sub-cell's angular size at most α/16 (the lobe's half-vector width
-/// is ~α, its reflected width ~2α), between 2 and 16.
+/// is ~α, its reflected width ~2α), even, between 2 and 16. Even, so that the bilinear
+/// radiance's kinks (at texel centres) fall on sub-cell edges and the midpoint rule keeps
+/// its h² error on every sub-cell (with odd S the kink inside a sub-cell costs O(h)).
 pub fn subdivision(alpha: f64, height: usize) -> usize {
-    ((16.0 * std::f64::consts::PI / height as f64 / alpha.max(1e-3)).ceil() as usize).clamp(2, 16)
+    let s = ((16.0 * std::f64::consts::PI / height as f64 / alpha.max(1e-3)).ceil() as usize).clamp(2, 16);
+    s + s % 2
 }
 
 /// Output row stride of the deterministic reference's quadrature check.
@@ -82,28 +86,10 @@ pub const FFT_CHECK_STRIDE: usize = 8;
 /// reported. Errors with why the grid does not allow it.
 pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> {
     let q = crate::azimuthal::Quadrature::new(&ctx.map, ctx.grid)?;
-    let h_out = ctx.grid.height;
-    let rows = match ctx.domain {
-        Domain::Sphere => 0..h_out,
-        // Rows whose centre is above the horizon (d.y > 0).
-        Domain::UpperHemisphere => 0..h_out / 2,
-    };
-    let theta_v = |j: usize| std::f64::consts::PI * (j as f64 + 0.5) / h_out as f64;
-    let domain = ctx.domain;
-    let kernel = move |j: usize, theta_l: f64, dphi: f64| -> f64 {
-        let l = crate::azimuthal::direction(theta_l, 0.0);
-        let v = crate::azimuthal::direction(theta_v(j), dphi);
-        match domain {
-            Domain::Sphere => ggx_kernel(v, v, l, alpha),
-            Domain::UpperHemisphere => ggx_kernel(DVec3::Y, v, l, alpha),
-        }
-    };
     let sub = subdivision(alpha, ctx.map.geometry.height);
-    let mut image = vec![[0.0; 3]; ctx.dirs.len()];
+    let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
+    let image = fft_image(&q, ctx.grid, rows.clone(), sub, &kernel);
     let w_out = ctx.grid.width;
-    for (k, v) in q.integrate(rows.clone(), sub, &kernel).into_iter().enumerate() {
-        image[rows.start * w_out + k] = v;
-    }
     let check: Vec<usize> = rows.clone().step_by(FFT_CHECK_STRIDE).collect();
     let (mut e2, mut s2, mut n) = (0.0, 0.0, 0usize);
     for &j in &check {
@@ -118,6 +104,56 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
     }
     let m = (3 * n).max(1) as f64;
     Ok(FftReference { image, error_rms: (e2 / m).sqrt() * 4.0 / 3.0, signal_rms: (s2 / m).sqrt(), texels_checked: n, subdivision: sub })
+}
+
+/// The output rows where the signal is defined and the GGX kernel for `domain`.
+fn fft_setup(grid: LatLong, domain: Domain, alpha: f64) -> (std::ops::Range<usize>, impl Fn(usize, f64, f64) -> f64 + Sync) {
+    let h_out = grid.height;
+    let rows = match domain {
+        Domain::Sphere => 0..h_out,
+        // Rows whose centre is above the horizon (d.y > 0).
+        Domain::UpperHemisphere => 0..h_out / 2,
+    };
+    let kernel = move |j: usize, theta_l: f64, dphi: f64| -> f64 {
+        let l = crate::azimuthal::direction(theta_l, 0.0);
+        let v = crate::azimuthal::direction(std::f64::consts::PI * (j as f64 + 0.5) / h_out as f64, dphi);
+        match domain {
+            Domain::Sphere => ggx_kernel(v, v, l, alpha),
+            Domain::UpperHemisphere => ggx_kernel(DVec3::Y, v, l, alpha),
+        }
+    };
+    (rows, kernel)
+}
+
+/// The quadrature on `rows`, placed in a full output image (zero elsewhere).
+fn fft_image(
+    q: &crate::azimuthal::Quadrature,
+    grid: LatLong,
+    rows: std::ops::Range<usize>,
+    sub: usize,
+    kernel: &(dyn Fn(usize, f64, f64) -> f64 + Sync),
+) -> Vec<[f64; 3]> {
+    let mut image = vec![[0.0; 3]; grid.width * grid.height];
+    for (k, v) in q.integrate(rows.clone(), sub, kernel).into_iter().enumerate() {
+        image[rows.start * grid.width + k] = v;
+    }
+    image
+}
+
+/// The *basis-limited* specular image of a mode (issue 19 item 2): the exact GGX integral
+/// of its reconstructed radiance — `radiance` at the output grid's texel centres, read
+/// bilinearly like the map — by the same azimuthal quadrature as the reference, with half
+/// its subdivision rounded up to even (at least 2; see [`subdivision`]). Compared with the
+/// reference it is the error of the basis; the runtime path's image compared with it is
+/// what the runtime approximation adds. None when the grid does not allow the quadrature.
+pub fn basis_limited(ctx: &Context, radiance: &[[f64; 3]], alpha: f64) -> Option<Vec<[f64; 3]>> {
+    let texels = radiance.iter().map(|c| c.map(|x| x as f32)).collect();
+    let img = LatLongImage::new(ctx.grid.width, ctx.grid.height, texels).ok()?;
+    let q = crate::azimuthal::Quadrature::new(&img, ctx.grid).ok()?;
+    let half = subdivision(alpha, ctx.grid.height) / 2;
+    let sub = (half + half % 2).max(2);
+    let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
+    Some(fft_image(&q, ctx.grid, rows, sub, &kernel))
 }
 
 /// A deterministic specular reference and its estimated error.

@@ -108,7 +108,14 @@ fn results_json_coefficients_match_dense_ls() {
         .map(|id| {
             let r = modes::run(id, &ctx, 1).unwrap();
             let irradiance = metrics::compute(ctx.grid, &r.irradiance, &ctx.irradiance);
-            report::Row { result: r, radiance: None, irradiance, specular: Vec::new(), specular_images: Vec::new() }
+            report::Row {
+                result: r,
+                radiance: None,
+                irradiance,
+                specular: Vec::new(),
+                specular_images: Vec::new(),
+                specular_parts: Vec::new(),
+            }
         })
         .collect();
     let json = report::json(&[report::MapReport {

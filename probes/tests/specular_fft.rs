@@ -169,3 +169,36 @@ fn fft_reference_matches_mis_within_3_sigma() {
     }
     println!("largest |reference − MIS|/σ over 5 probes × 5 α × 3 texels × 3 channels: {worst:.2}");
 }
+
+/// The basis-limited image's plumbing (issue 19 item 2): when the "reconstruction" is the
+/// map itself (its radiance at the output texel centres, which are the map's texel
+/// centres here), the basis-limited image is the reference computed with (at most) half
+/// the subdivision, so they differ only by quadrature error. Error model: midpoint rule on
+/// even subdivisions, error ∝ h², so R_{S/2} is off by ≤ 4e where e ≈ the reference's
+/// stated error (4/3 × RMS of R_S − R_2S): RMS(B − R) ≤ 5e, asserted ≤ 6·error_rms. A 64 × 32 smooth map with a bright spot,
+/// both domains, α 0.2 and 0.6; the same map with the radiance × 1.01 must fail the bound.
+#[test]
+fn basis_limited_image_of_the_map_itself_is_the_reference() {
+    let map = LatLongImage::from_fn(64, 32, |d| {
+        let spot = (40.0 * (d.dot(DVec3::new(0.6, 0.6, 0.529).normalize()) - 1.0)).exp() * 20.0;
+        [1.0 + 0.5 * d.x + spot, 0.7 + 0.3 * d.y * d.z, 0.4 + spot * 0.5]
+    })
+    .unwrap();
+    for domain in [Domain::UpperHemisphere, Domain::Sphere] {
+        let ctx = Context::with_domain(map.clone(), domain);
+        for alpha in [0.2, 0.6] {
+            let r = reference_fft(&ctx, alpha).unwrap();
+            let rad = ctx.radiance();
+            let rms = |img: &[[f64; 3]]| {
+                let s: f64 = img.iter().zip(&r.image).map(|(a, b)| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>()).sum();
+                (s / (3 * img.len()) as f64).sqrt()
+            };
+            let b = probes::specular::basis_limited(&ctx, &rad, alpha).unwrap();
+            let bound = 6.0 * r.error_rms;
+            println!("{domain:?} α {alpha}: RMS(B − R) {:.2e}, bound {bound:.2e} (signal RMS {:.3})", rms(&b), r.signal_rms);
+            assert!(rms(&b) <= bound, "{domain:?} α {alpha}: {} > {bound}", rms(&b));
+            let scaled: Vec<[f64; 3]> = rad.iter().map(|c| c.map(|x| 1.01 * x)).collect();
+            assert!(rms(&probes::specular::basis_limited(&ctx, &scaled, alpha).unwrap()) > bound, "the bound must catch 1%");
+        }
+    }
+}
