@@ -252,17 +252,39 @@ pub fn negative_fraction(coeffs: &[f64], dirs: &[DVec3]) -> Result<f64, SbfError
 }
 
 /// Normalised zonal (Legendre) coefficients g_l/g_0 = i_l(λ)/i_0(λ), l = 0..=lmax, of an
-/// SG lobe of sharpness λ, from the continued fraction i_l/i_{l−1} = λ/(2l + 1 + λ·i_{l+1}/i_l)
-/// evaluated backwards (stable for every λ ≥ 0; Gautschi 1967).
+/// SG lobe e^{λ(μ−1)} of sharpness λ ≥ 0 (non-finite or negative λ: the constant lobe).
+///
+/// - λ < max(64, lmax²): the continued fraction i_l/i_{l−1} = λ/(2l + 1 + λ·i_{l+1}/i_l)
+///   evaluated backwards (Gautschi 1967) from N = lmax + 40 + ⌈2λ⌉: the start error is
+///   damped by Π r_l² over the ≥ 2λ + 40 extra terms, where r_l = i_l/i_{l−1} < λ/(l + λ)…
+///   falls below ½ beyond l ≈ λ (a fixed 40 terms left the odd bands wrong for λ ≳ 500).
+/// - λ ≥ max(64, lmax²): the exact finite form with t = λ(1 − μ):
+///   g_l/g_0 = Σ_k (−1)^k (l+k)!/((l−k)!·k!·(2λ)^k) · γ(k+1, 2λ)/(k!·γ(1, 2λ)), where the
+///   incomplete-gamma factors equal 1 to within e^{−2λ}(2λ)^k/k! < 1e-25 here; the terms
+///   shrink by ≤ l²/(2λ) ≤ ½ per k, so the alternating sum loses no precision.
 pub fn sg_zonal_ratios(lambda: f64, lmax: usize) -> Vec<f64> {
     let mut out = vec![0.0; lmax + 1];
     out[0] = 1.0;
-    if lambda <= 0.0 {
+    if lambda.is_nan() || lambda <= 0.0 {
         return out;
     }
+    let lambda = lambda.min(1e300);
+    if lambda >= 64f64.max((lmax * lmax) as f64) {
+        for (l, o) in out.iter_mut().enumerate().skip(1) {
+            // term_k = (l+k)!/((l−k)!·k!·(2λ)^k), by the ratio of consecutive terms.
+            let (mut term, mut sum) = (1.0f64, 1.0f64);
+            for k in 0..l {
+                term *= -((l + k + 1) as f64) * ((l - k) as f64) / (((k + 1) as f64) * 2.0 * lambda);
+                sum += term;
+            }
+            *o = sum;
+        }
+        return out;
+    }
+    let start = lmax + 40 + (2.0 * lambda).ceil() as usize;
     let mut r = 0.0;
     let mut ratios = vec![0.0; lmax + 1];
-    for l in (1..=lmax + 40).rev() {
+    for l in (1..=start).rev() {
         r = lambda / ((2 * l + 1) as f64 + lambda * r);
         if l <= lmax {
             ratios[l] = r;
