@@ -29,14 +29,20 @@ use sbf::envmap::{LatLong, LatLongImage};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-/// A map prepared for azimuthal quadratures: the spectra of its rows, per channel.
+/// FFT plans for a map geometry and an output grid, and the row spectra of one map.
 pub struct Quadrature {
     map: LatLong,
     out: LatLong,
-    /// Row spectra, `spectra[row][channel]`, length W.
-    spectra: Vec<[Vec<Complex64>; 3]>,
+    /// Row spectra of the map given to [`Quadrature::new`].
+    spectra: Spectra,
     fft: Arc<dyn rustfft::Fft<f64>>,
     ifft: Arc<dyn rustfft::Fft<f64>>,
+}
+
+/// The row spectra of a map, `rows[row][channel]`, length W (from [`Quadrature::spectra`]).
+#[derive(Debug, Clone)]
+pub struct Spectra {
+    rows: Vec<[Vec<Complex64>; 3]>,
 }
 
 impl std::fmt::Debug for Quadrature {
@@ -55,16 +61,29 @@ impl Quadrature {
         let mut planner = FftPlanner::<f64>::new();
         let fft = planner.plan_fft_forward(g.width);
         let ifft = planner.plan_fft_inverse(g.width);
-        let spectra = (0..g.height)
+        let mut q = Quadrature { map: g, out, spectra: Spectra { rows: Vec::new() }, fft, ifft };
+        q.spectra = q.spectra(map)?;
+        Ok(q)
+    }
+
+    /// The row spectra of another map of the same geometry (for [`Quadrature::integrate_many`]).
+    pub fn spectra(&self, map: &LatLongImage) -> Result<Spectra, String> {
+        if map.geometry != self.map {
+            return Err(format!(
+                "map is {}×{}, the quadrature {}×{}",
+                map.geometry.width, map.geometry.height, self.map.width, self.map.height
+            ));
+        }
+        let rows = (0..self.map.height)
             .map(|j| {
                 [0, 1, 2].map(|c| {
-                    let mut row: Vec<Complex64> = (0..g.width).map(|i| Complex64::new(map.texel(i, j)[c] as f64, 0.0)).collect();
-                    fft.process(&mut row);
+                    let mut row: Vec<Complex64> = (0..self.map.width).map(|i| Complex64::new(map.texel(i, j)[c] as f64, 0.0)).collect();
+                    self.fft.process(&mut row);
                     row
                 })
             })
             .collect();
-        Ok(Quadrature { map: g, out, spectra, fft, ifft })
+        Ok(Spectra { rows })
     }
 
     /// ∫ L_bilinear(ω)·K(j, θ_ω, φ_d − φ_ω) dω at every texel centre of output rows
@@ -72,9 +91,23 @@ impl Quadrature {
     /// texel. `kernel(j, θ_ω, Δφ)` is the kernel for output row j (its θ_d is the row's
     /// centre), Δφ = φ_d − φ_ω in radians (any real; it must be 2π-periodic).
     pub fn integrate(&self, rows: std::ops::Range<usize>, sub: usize, kernel: &(dyn Fn(usize, f64, f64) -> f64 + Sync)) -> Vec<[f64; 3]> {
+        self.integrate_many(&[&self.spectra], rows, sub, kernel).pop().expect("one map")
+    }
+
+    /// [`Quadrature::integrate`] for several maps of this geometry at once: the kernel is
+    /// evaluated, folded and transformed once per (output row, source row) and applied to
+    /// every map's spectra (the cost of one more map is 3·H·W products and 3 inverse FFTs
+    /// per output row).
+    pub fn integrate_many(
+        &self,
+        maps: &[&Spectra],
+        rows: std::ops::Range<usize>,
+        sub: usize,
+        kernel: &(dyn Fn(usize, f64, f64) -> f64 + Sync),
+    ) -> Vec<Vec<[f64; 3]>> {
         let (w, h, s) = (self.map.width, self.map.height, sub.max(1));
         let k = w / self.out.width;
-        let per_row: Vec<Vec<[f64; 3]>> = rows
+        let per_row: Vec<Vec<Vec<[f64; 3]>>> = rows
             .clone()
             .into_par_iter()
             .map(|jv| {
@@ -123,8 +156,8 @@ impl Quadrature {
                         }
                     }
                 }
-                // Σ_r spectrum(T_r)·spectrum(G_r), one inverse FFT per channel.
-                let mut acc = [0, 1, 2].map(|_| vec![Complex64::new(0.0, 0.0); w]);
+                // Σ_r spectrum(T_r)·spectrum(G_r), one inverse FFT per map and channel.
+                let mut acc: Vec<[Vec<Complex64>; 3]> = maps.iter().map(|_| [0, 1, 2].map(|_| vec![Complex64::new(0.0, 0.0); w])).collect();
                 let mut buf = vec![Complex64::new(0.0, 0.0); w];
                 for (r, gr) in g.iter().enumerate() {
                     if gr.iter().all(|x| *x == 0.0) {
@@ -134,19 +167,26 @@ impl Quadrature {
                         *b = Complex64::new(*x, 0.0);
                     }
                     self.fft.process(&mut buf);
-                    for c in 0..3 {
-                        for (a, (t, gg)) in acc[c].iter_mut().zip(self.spectra[r][c].iter().zip(&buf)) {
-                            *a += t * gg;
+                    for (m, a) in maps.iter().zip(acc.iter_mut()) {
+                        for c in 0..3 {
+                            for (x, (t, gg)) in a[c].iter_mut().zip(m.rows[r][c].iter().zip(&buf)) {
+                                *x += t * gg;
+                            }
                         }
                     }
                 }
-                for a in acc.iter_mut() {
-                    self.ifft.process(a);
-                }
-                (0..self.out.width).map(|i| [0, 1, 2].map(|c| acc[c][k * i].re / w as f64)).collect()
+                acc.into_iter()
+                    .map(|mut a| {
+                        for ch in a.iter_mut() {
+                            self.ifft.process(ch);
+                        }
+                        (0..self.out.width).map(|i| [0, 1, 2].map(|c| a[c][k * i].re / w as f64)).collect::<Vec<[f64; 3]>>()
+                    })
+                    .collect::<Vec<_>>()
             })
             .collect();
-        per_row.into_iter().flatten().collect()
+        // per_row[row][map] → per map, rows concatenated.
+        (0..maps.len()).map(|m| per_row.iter().flat_map(|r| r[m].iter().copied()).collect()).collect()
     }
 }
 

@@ -167,22 +167,33 @@ fn compare(
             irradiance.negative_fraction = neg;
         }
         let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
-        let (mut specular, mut specular_images, mut specular_parts) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut specular, mut specular_images) = (Vec::new(), Vec::new());
         for sr in &spec_refs {
             if let Some(img) = probes::specular::reconstruct(&r, &ctx, sr.alpha) {
                 specular.push((sr.alpha, metrics::compute_rows(ctx.grid, &img, &sr.image, ctx.metric_rows())));
-                // Basis-limited error (exact GGX of the reconstructed radiance vs the
-                // reference) and what the runtime path adds (runtime vs basis-limited).
-                if let Some(b) = r.radiance.as_ref().and_then(|rad| probes::specular::basis_limited(&ctx, rad, sr.alpha)) {
-                    let basis = metrics::compute_rows(ctx.grid, &b, &sr.image, ctx.metric_rows()).rms;
-                    let runtime = metrics::compute_rows(ctx.grid, &img, &b, ctx.metric_rows()).rms;
-                    specular_parts.push((sr.alpha, basis, runtime));
-                }
                 specular_images.push(img);
             }
         }
-        rows.push(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts });
+        rows.push(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts: Vec::new() });
         pb.inc(1);
+    }
+    // Basis-limited error (the exact GGX integral of each reconstructed radiance against the
+    // reference) and what each runtime path adds (runtime against basis-limited), all modes
+    // of one α in one quadrature pass.
+    for sr in &spec_refs {
+        pb.set_message(format!("specular decomposition α = {}", sr.alpha));
+        let idx: Vec<usize> = (0..rows.len())
+            .filter(|k| rows[*k].result.radiance.is_some() && rows[*k].specular.iter().any(|(a, _)| *a == sr.alpha))
+            .collect();
+        let rads: Vec<&[[f64; 3]]> = idx.iter().map(|k| rows[*k].result.radiance.as_deref().expect("filtered")).collect();
+        let Some(basis) = probes::specular::basis_limited(&ctx, &rads, sr.alpha) else { continue };
+        for (k, b) in idx.into_iter().zip(basis) {
+            let row = &mut rows[k];
+            let i = row.specular.iter().position(|(a, _)| *a == sr.alpha).expect("filtered");
+            let basis_rms = metrics::compute_rows(ctx.grid, &b, &sr.image, ctx.metric_rows()).rms;
+            let runtime_rms = metrics::compute_rows(ctx.grid, &row.specular_images[i], &b, ctx.metric_rows()).rms;
+            row.specular_parts.push((sr.alpha, basis_rms, runtime_rms));
+        }
     }
     pb.finish_and_clear();
     let slug: String = Path::new(label)

@@ -84,7 +84,7 @@ impl Context {
         let grid = reference::output_grid(&map);
         let dirs: Vec<DVec3> =
             (0..grid.height).flat_map(|j| (0..grid.width).map(move |i| (i, j))).map(|(i, j)| grid.texel_direction(i, j)).collect();
-        let (irradiance, reference_method) = reference::reference_irradiance(&map, &dirs);
+        let (irradiance, reference_method) = reference::reference_irradiance_grid(&map, grid);
         Context { samples: map_samples(&map), map, grid, dirs, irradiance, reference_method, domain, sg_irradiance: SgIrradiance::Hill }
     }
 

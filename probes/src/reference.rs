@@ -111,6 +111,38 @@ pub fn reference_irradiance(map: &LatLongImage, dirs: &[DVec3]) -> (Vec<[f64; 3]
     }
 }
 
+/// Exact E/π at every texel centre of `grid` by the azimuthal FFT quadrature
+/// ([`crate::azimuthal`]) with one cell per texel — the same sum as [`irradiance_image`]
+/// (each texel constant at its centre value, exact solid angles: the bilinear radiance at
+/// a texel centre is the texel), computed as one FFT convolution per (output row, source
+/// row) because max(0, n·ω)/π depends only on the two polar angles and Δφ. Cost
+/// O(H_out·H·W log W) instead of O(H_out·W_out·H·W); any map size, exact (no SH
+/// truncation). Errors when W_out does not divide W.
+pub fn irradiance_image_fft(map: &LatLongImage, grid: LatLong) -> Result<Vec<[f64; 3]>, String> {
+    let q = crate::azimuthal::Quadrature::new(map, grid)?;
+    let h_out = grid.height;
+    let kernel = move |j: usize, theta: f64, dphi: f64| -> f64 {
+        let n = crate::azimuthal::direction(PI * (j as f64 + 0.5) / h_out as f64, dphi);
+        n.dot(crate::azimuthal::direction(theta, 0.0)).max(0.0) / PI
+    };
+    Ok(q.integrate(0..h_out, 1, &kernel))
+}
+
+/// The reference E/π at every texel centre of `grid`: the azimuthal FFT quadrature over
+/// all texels when the grids allow it (always for [`output_grid`]), else
+/// [`reference_irradiance`] at the texel directions. Returns the image and the method.
+pub fn reference_irradiance_grid(map: &LatLongImage, grid: LatLong) -> (Vec<[f64; 3]>, String) {
+    let g = map.geometry;
+    match irradiance_image_fft(map, grid) {
+        Ok(img) => (img, format!("exact quadrature over all {}×{} texels (azimuthal FFT convolution per row pair)", g.width, g.height)),
+        Err(_) => {
+            let dirs: Vec<DVec3> =
+                (0..grid.height).flat_map(|j| (0..grid.width).map(move |i| (i, j))).map(|(i, j)| grid.texel_direction(i, j)).collect();
+            reference_irradiance(map, &dirs)
+        }
+    }
+}
+
 /// E/π from an SH projection of the whole map (rows in parallel, summed in row order:
 /// deterministic for any thread count).
 pub fn irradiance_image_sh(map: &LatLongImage, dirs: &[DVec3], order: usize) -> Vec<[f64; 3]> {

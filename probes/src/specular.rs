@@ -140,20 +140,36 @@ fn fft_image(
     image
 }
 
-/// The *basis-limited* specular image of a mode (issue 19 item 2): the exact GGX integral
-/// of its reconstructed radiance — `radiance` at the output grid's texel centres, read
-/// bilinearly like the map — by the same azimuthal quadrature as the reference, with half
-/// its subdivision rounded up to even (at least 2; see [`subdivision`]). Compared with the
-/// reference it is the error of the basis; the runtime path's image compared with it is
-/// what the runtime approximation adds. None when the grid does not allow the quadrature.
-pub fn basis_limited(ctx: &Context, radiance: &[[f64; 3]], alpha: f64) -> Option<Vec<[f64; 3]>> {
-    let texels = radiance.iter().map(|c| c.map(|x| x as f32)).collect();
-    let img = LatLongImage::new(ctx.grid.width, ctx.grid.height, texels).ok()?;
-    let q = crate::azimuthal::Quadrature::new(&img, ctx.grid).ok()?;
+/// The *basis-limited* specular images of several modes (issue 19 item 2): the exact GGX
+/// integral of each mode's reconstructed radiance — given at the output grid's texel
+/// centres, read bilinearly like the map — by the same azimuthal quadrature as the
+/// reference, with half its subdivision rounded up to even (at least 2; see
+/// [`subdivision`]); the kernel is folded once for all modes. Compared with the reference
+/// it is the error of the basis; the runtime path's image compared with it is what the
+/// runtime approximation adds. None when the grid does not allow the quadrature.
+pub fn basis_limited(ctx: &Context, radiances: &[&[[f64; 3]]], alpha: f64) -> Option<Vec<Vec<[f64; 3]>>> {
+    let images: Vec<LatLongImage> = radiances
+        .iter()
+        .map(|r| LatLongImage::new(ctx.grid.width, ctx.grid.height, r.iter().map(|c| c.map(|x| x as f32)).collect()).ok())
+        .collect::<Option<_>>()?;
+    let first = images.first()?;
+    let q = crate::azimuthal::Quadrature::new(first, ctx.grid).ok()?;
+    let spectra: Vec<crate::azimuthal::Spectra> = images.iter().map(|i| q.spectra(i).ok()).collect::<Option<_>>()?;
     let half = subdivision(alpha, ctx.grid.height) / 2;
     let sub = (half + half % 2).max(2);
     let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
-    Some(fft_image(&q, ctx.grid, rows, sub, &kernel))
+    let refs: Vec<&crate::azimuthal::Spectra> = spectra.iter().collect();
+    let parts = q.integrate_many(&refs, rows.clone(), sub, &kernel);
+    Some(
+        parts
+            .into_iter()
+            .map(|p| {
+                let mut image = vec![[0.0; 3]; ctx.grid.width * ctx.grid.height];
+                image[rows.start * ctx.grid.width..rows.start * ctx.grid.width + p.len()].copy_from_slice(&p);
+                image
+            })
+            .collect(),
+    )
 }
 
 /// A deterministic specular reference and its estimated error.
