@@ -134,6 +134,72 @@ pub fn dfg_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     acc.map(|a| a / n as f64)
 }
 
+/// The DFG entry of [`dfg_entry`] by deterministic quadrature — an independent method for
+/// checking the tables (issue 19 item 4). In half-vector form
+/// ∫ f·cos dl = ∫ D(h)·G2(v, l)·F·(v·h)/(n·v) dω_h (dl = 4(v·h) dω_h), and the GGX NDF's
+/// own CDF ξ = tan²θ_h/(α² + tan²θ_h) turns D(h)(n·h) dω_h into dξ dφ/(2π), so the
+/// integrand G2·F·(v·h)/((n·v)(n·h)) is bounded on [0, 1] × [0, π] (v in the xz-plane:
+/// symmetric in φ). Per ξ the azimuths where l stays above the surface form one interval
+/// [0, φ_max] (closed form below), integrated alone, so the rule never straddles the
+/// cut-off. Gauss–Legendre: `n` nodes in φ, and in ξ n/8 nodes on each of 52 geometric
+/// panels towards ξ = 1; callers state its error by comparing n and 2n. Same clamps as
+/// [`dfg_entry`].
+pub fn dfg_quadrature(n_dot_v: f64, alpha: f64, n: usize) -> [f64; 2] {
+    let nv = n_dot_v.clamp(1e-6, 1.0);
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
+    let (x, w) = crate::quadrature::gauss_legendre(n.max(1));
+    // ξ on geometric panels [1 − 2^−i, 1 − 2^−(i+1)], i < 52, with n/8 nodes each (at least
+    // 4): at grazing views only the NDF's tail (ξ → 1) reflects above the horizon.
+    let m = (n / 8).max(4);
+    let (xp, wp_) = crate::quadrature::gauss_legendre(m);
+    let xi_nodes: Vec<(f64, f64)> = (0..52)
+        .flat_map(|i| {
+            let (a, b) = (1.0 - 0.5f64.powi(i), 1.0 - 0.5f64.powi(i + 1));
+            xp.iter().zip(&wp_).map(move |(t, wt)| (a + 0.5 * (b - a) * (t + 1.0), 0.5 * (b - a) * wt)).collect::<Vec<_>>()
+        })
+        .collect();
+    let mut acc = [0.0; 2];
+    for &(xi, dxi) in &xi_nodes {
+        // tan²θ = α²ξ/(1 − ξ): cos²θ = (1 − ξ)/(1 − ξ + α²ξ).
+        let c2 = (1.0 - xi) / (1.0 - xi + alpha * alpha * xi);
+        let (ct, st) = (c2.sqrt(), (1.0 - c2).max(0.0).sqrt());
+        // l_z = 2(v·h)h_z − v_z > 0 ⇔ cos φ > c* = (n·v/(2h_z) − n·v·h_z)/(v_x sin θ_h): the
+        // valid azimuths are [0, φ_max], integrated alone so the rule never meets the cut.
+        let den = v.x * st;
+        let cstar = if den > 0.0 {
+            (nv / (2.0 * ct) - nv * ct) / den
+        } else if 2.0 * nv * ct * ct > nv {
+            -1.0
+        } else {
+            1.0
+        };
+        let phi_max = cstar.clamp(-1.0, 1.0).acos();
+        if phi_max <= 0.0 {
+            continue;
+        }
+        for (phi_node, wp) in x.iter().zip(&w) {
+            let phi = 0.5 * phi_max * (phi_node + 1.0);
+            let h = DVec3::new(st * phi.cos(), st * phi.sin(), ct);
+            let vh = v.dot(h);
+            if vh <= 0.0 || ct <= 0.0 {
+                continue;
+            }
+            let l = reflect(v, h);
+            if l.z <= 0.0 {
+                continue;
+            }
+            let val = g2(v, l, alpha) * vh / (nv * ct);
+            let fc = schlick_weight(vh);
+            // Weights: dξ, dφ = (φ_max/2) dy, both halves of [−π, π] (symmetry), / 2π.
+            let wt = dxi * wp * 0.5 * phi_max * 2.0 / (2.0 * PI);
+            acc[0] += wt * (1.0 - fc) * val;
+            acc[1] += wt * fc * val;
+        }
+    }
+    acc
+}
+
 /// Multiple-scattering DFG entry in the form used by public engines: (ΣF_c·V, ΣV)
 /// with V = G2/G1, so that single-scatter E = mix(x, y, f0) and the multiscatter
 /// compensation uses y (Fdez-Agüera 2019; Filament). Same sampling and clamps as
