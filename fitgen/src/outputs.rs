@@ -292,35 +292,42 @@ pub fn generate(only: &[String], multi: &indicatif::MultiProgress) -> Result<Vec
         })
         .collect();
     outs.extend(twins);
-    if want("fits") {
+    // fits.rs and fits.wgsl come from one derivation; either name produces its own file.
+    if want("fits") || want("fits-wgsl") {
         let t = Instant::now();
         let fits = crate::outputs::fits::derive();
         let (rs, wgsl) = fits.render(&table_sizes());
         let wall = t.elapsed().as_secs_f64();
-        outs.push(Output {
-            name: "fits",
-            file: "fits.rs".into(),
-            bytes: rs.into_bytes(),
-            parameters: fits.parameters(),
-            samples: 0,
-            seed: "deterministic grids".into(),
-            error: (
-                fits.quadratic_rms,
-                fits.quadratic_max,
-                "AD lobe irradiance, exact quartic, 4001-point grid in cos θ (quadratic fit)".into(),
-            ),
-            wall_time_s: wall,
-        });
-        outs.push(Output {
-            name: "fits-wgsl",
-            file: "fits.wgsl".into(),
-            bytes: wgsl.into_bytes(),
-            parameters: "WGSL twin of fits.rs".into(),
-            samples: 0,
-            seed: "deterministic grids".into(),
-            error: (fits.quadratic_rms, fits.quadratic_max, "as fits.rs".into()),
-            wall_time_s: 0.0,
-        });
+        let fit_outs = [
+            Output {
+                name: "fits",
+                file: "fits.rs".into(),
+                bytes: rs.into_bytes(),
+                parameters: fits.parameters(),
+                samples: 0,
+                seed: "deterministic grids".into(),
+                error: (
+                    fits.quadratic_rms,
+                    fits.quadratic_max,
+                    "AD lobe irradiance, exact quartic, 4001-point grid in cos θ (quadratic fit)".into(),
+                ),
+                wall_time_s: wall,
+            },
+            Output {
+                name: "fits-wgsl",
+                file: "fits.wgsl".into(),
+                bytes: wgsl.into_bytes(),
+                parameters: "WGSL twin of fits.rs".into(),
+                samples: 0,
+                seed: "deterministic grids".into(),
+                error: (fits.quadratic_rms, fits.quadratic_max, "as fits.rs".into()),
+                wall_time_s: 0.0,
+            },
+        ];
+        outs.extend(fit_outs.into_iter().filter(|o| want(o.name)));
+    }
+    if outs.is_empty() {
+        return Err(format!("no output produced for {only:?}"));
     }
     Ok(outs)
 }

@@ -186,3 +186,14 @@ fn manifest_dfg_errors_agree_with_quadrature() {
         assert!((rms - m_rms).abs() <= quad + 1e-7, "{file}: RMS {rms} vs MANIFEST {m_rms}");
     }
 }
+
+/// `fitgen fits-wgsl` generates fits.wgsl — it used to generate nothing and exit 0 — equal
+/// to the committed file, and `fitgen fits` still generates both twins.
+#[test]
+fn fits_wgsl_alone_is_generated() {
+    let o = fitgen::generate(&["fits-wgsl".to_string()], &quiet()).unwrap();
+    assert_eq!(o.iter().map(|x| x.file.as_str()).collect::<Vec<_>>(), ["fits.wgsl"]);
+    assert_eq!(o[0].bytes, std::fs::read(luts_dir().join("fits.wgsl")).unwrap(), "fits.wgsl differs from the committed one");
+    let both = fitgen::generate(&["fits".to_string()], &quiet()).unwrap();
+    assert_eq!(both.iter().map(|x| x.file.as_str()).collect::<Vec<_>>(), ["fits.rs", "fits.wgsl"]);
+}
