@@ -39,7 +39,8 @@ pub struct Quadrature {
     ifft: Arc<dyn rustfft::Fft<f64>>,
 }
 
-/// The row spectra of a map, `rows[row][channel]`, length W (from [`Quadrature::spectra`]).
+/// The row spectra of a map, `rows[row][channel]`, bins 0..=W/2 of the length-W DFT (the
+/// rest follows by Hermitian symmetry; from [`Quadrature::spectra`]).
 #[derive(Debug, Clone)]
 pub struct Spectra {
     rows: Vec<[Vec<Complex64>; 3]>,
@@ -79,6 +80,8 @@ impl Quadrature {
                 [0, 1, 2].map(|c| {
                     let mut row: Vec<Complex64> = (0..self.map.width).map(|i| Complex64::new(map.texel(i, j)[c] as f64, 0.0)).collect();
                     self.fft.process(&mut row);
+                    // Real rows: the spectrum is Hermitian, bins 0..=W/2 carry all of it.
+                    row.truncate(self.map.width / 2 + 1);
                     row
                 })
             })
@@ -91,102 +94,193 @@ impl Quadrature {
     /// texel. `kernel(j, θ_ω, Δφ)` is the kernel for output row j (its θ_d is the row's
     /// centre), Δφ = φ_d − φ_ω in radians (any real; it must be 2π-periodic).
     pub fn integrate(&self, rows: std::ops::Range<usize>, sub: usize, kernel: &(dyn Fn(usize, f64, f64) -> f64 + Sync)) -> Vec<[f64; 3]> {
+        self.integrate_rows(rows, sub, &Pointwise(kernel))
+    }
+
+    /// [`Quadrature::integrate`] with a kernel evaluated a fine azimuth row at a time.
+    pub fn integrate_rows(&self, rows: std::ops::Range<usize>, sub: usize, kernel: &dyn RowKernel) -> Vec<[f64; 3]> {
         self.integrate_many(&[&self.spectra], rows, sub, kernel).pop().expect("one map")
     }
 
-    /// [`Quadrature::integrate`] for several maps of this geometry at once: the kernel is
-    /// evaluated, folded and transformed once per (output row, source row) and applied to
-    /// every map's spectra (the cost of one more map is 3·H·W products and 3 inverse FFTs
-    /// per output row).
+    /// [`Quadrature::integrate_rows`] for several maps of this geometry at once: the kernel
+    /// is evaluated, folded and transformed once per (output row, source row) and applied
+    /// to every map's spectra (the cost of one more map is 3·H·W products and 3 inverse
+    /// FFTs per output row).
     pub fn integrate_many(
         &self,
         maps: &[&Spectra],
         rows: std::ops::Range<usize>,
         sub: usize,
-        kernel: &(dyn Fn(usize, f64, f64) -> f64 + Sync),
+        kernel: &dyn RowKernel,
     ) -> Vec<Vec<[f64; 3]>> {
         let (w, h, s) = (self.map.width, self.map.height, sub.max(1));
         let k = w / self.out.width;
-        let per_row: Vec<Vec<Vec<[f64; 3]>>> = rows
-            .clone()
-            .into_par_iter()
-            .map(|jv| {
-                // The kernel folded per source row: g[r][Δ], Δ = k·i_out − m (mod W).
-                let mut g = vec![vec![0.0f64; w]; h];
-                let mut fine = vec![0.0f64; w * s];
-                // Azimuth of fine index x: Δφ = 2π(x/S + c0)/W with c0 = k/2 − 1/(2S) (the
-                // offset between an output column centre and sub-column 0's centre).
-                let c0 = 0.5 * k as f64 - 0.5 / s as f64;
-                for j in 0..h {
-                    for b in 0..s {
-                        // Sub-row b of row j: polar angles, exact ring solid angle per sub-cell.
-                        let t0 = PI * (j as f64 + b as f64 / s as f64) / h as f64;
-                        let t1 = PI * (j as f64 + (b + 1) as f64 / s as f64) / h as f64;
-                        let tc = 0.5 * (t0 + t1);
-                        let omega = (2.0 * PI / (w * s) as f64) * 2.0 * tc.sin() * (0.5 * (t1 - t0)).sin();
-                        let mut any = false;
-                        for (x, f) in fine.iter_mut().enumerate() {
-                            *f = kernel(jv, tc, 2.0 * PI * (x as f64 / s as f64 + c0) / w as f64);
-                            any |= *f != 0.0;
-                        }
-                        if !any {
-                            continue;
-                        }
-                        // Bilinear rows of the sub-row centre (v·H − ½, clamped).
-                        let y = (j as f64 + (b as f64 + 0.5) / s as f64 - 0.5).clamp(0.0, (h - 1) as f64);
-                        let (r0, fy) = (y.floor() as usize, y - y.floor());
-                        let r1 = (r0 + 1).min(h - 1);
-                        // Fold: G(Δ) = Σ_a Σ_d hat_a(d)·fine[(Δ + d)·S − a].
-                        for a in 0..s {
-                            let e = (a as f64 + 0.5) / s as f64 - 0.5;
-                            for d in -1i64..=1 {
-                                let hat = (1.0 - (d as f64 - e).abs()).max(0.0);
-                                if hat == 0.0 {
-                                    continue;
-                                }
-                                for delta in 0..w {
-                                    let x = ((delta as i64 + d) * s as i64 - a as i64).rem_euclid((w * s) as i64) as usize;
-                                    let v = omega * hat * fine[x];
-                                    g[r0][delta] += (1.0 - fy) * v;
-                                    if fy > 0.0 {
-                                        g[r1][delta] += fy * v;
-                                    }
-                                }
-                            }
-                        }
-                    }
-                }
-                // Σ_r spectrum(T_r)·spectrum(G_r), one inverse FFT per map and channel.
-                let mut acc: Vec<[Vec<Complex64>; 3]> = maps.iter().map(|_| [0, 1, 2].map(|_| vec![Complex64::new(0.0, 0.0); w])).collect();
-                let mut buf = vec![Complex64::new(0.0, 0.0); w];
-                for (r, gr) in g.iter().enumerate() {
-                    if gr.iter().all(|x| *x == 0.0) {
-                        continue;
-                    }
-                    for (b, x) in buf.iter_mut().zip(gr) {
-                        *b = Complex64::new(*x, 0.0);
-                    }
-                    self.fft.process(&mut buf);
-                    for (m, a) in maps.iter().zip(acc.iter_mut()) {
-                        for c in 0..3 {
-                            for (x, (t, gg)) in a[c].iter_mut().zip(m.rows[r][c].iter().zip(&buf)) {
-                                *x += t * gg;
-                            }
-                        }
-                    }
-                }
-                acc.into_iter()
-                    .map(|mut a| {
-                        for ch in a.iter_mut() {
-                            self.ifft.process(ch);
-                        }
-                        (0..self.out.width).map(|i| [0, 1, 2].map(|c| a[c][k * i].re / w as f64)).collect::<Vec<[f64; 3]>>()
-                    })
-                    .collect::<Vec<_>>()
+        // Azimuth of fine index x: Δφ = 2π(x/S + c0)/W with c0 = k/2 − 1/(2S) (the offset
+        // between an output column centre and sub-column 0's centre); shared by every row.
+        let c0 = 0.5 * k as f64 - 0.5 / s as f64;
+        let dphi: Vec<f64> = (0..w * s).map(|x| 2.0 * PI * (x as f64 / s as f64 + c0) / w as f64).collect();
+        let (sin, cos): (Vec<f64>, Vec<f64>) = dphi.iter().map(|p| p.sin_cos()).unzip();
+        let az = Azimuths { dphi: &dphi, cos: &cos, sin: &sin };
+        // Hat weights of sub-column a towards the texel columns d = −1, 0, +1 of its
+        // bilinear footprint: e = (a + ½)/S − ½ is its offset from the texel centre.
+        let hats: Vec<[f64; 3]> = (0..s)
+            .map(|a| {
+                let e = (a as f64 + 0.5) / s as f64 - 0.5;
+                [-1.0f64, 0.0, 1.0].map(|d| (1.0 - (d - e).abs()).max(0.0))
             })
             .collect();
+        // Output rows in blocks, so that each pass over the maps' spectra (3·H·(W/2 + 1)
+        // complex values per map) serves several rows.
+        let rows_v: Vec<usize> = rows.collect();
+        let per_block: Vec<Vec<Vec<Vec<[f64; 3]>>>> = rows_v
+            .par_chunks(ROW_BLOCK)
+            .map(|block| {
+                // The kernel folded per source row: g[row of block][r][Δ], Δ = k·i_out − m (mod W).
+                let g: Vec<Vec<Vec<f64>>> = block.iter().map(|&jv| self.fold(jv, s, kernel, &az, &hats)).collect();
+                // Spectra of the folded kernels (Hermitian half), None for all-zero rows.
+                let nb = w / 2 + 1;
+                let mut buf = vec![Complex64::new(0.0, 0.0); w];
+                let gs: Vec<Vec<Option<Vec<Complex64>>>> = g
+                    .iter()
+                    .map(|gj| {
+                        gj.iter()
+                            .map(|gr| {
+                                if gr.iter().all(|x| *x == 0.0) {
+                                    return None;
+                                }
+                                for (b, x) in buf.iter_mut().zip(gr) {
+                                    *b = Complex64::new(*x, 0.0);
+                                }
+                                self.fft.process(&mut buf);
+                                Some(buf[..nb].to_vec())
+                            })
+                            .collect()
+                    })
+                    .collect();
+                // Σ_r spectrum(T_r)·spectrum(G_r) per map, channel and row of the block.
+                let mut acc: Vec<Vec<[Vec<Complex64>; 3]>> =
+                    block.iter().map(|_| maps.iter().map(|_| [0, 1, 2].map(|_| vec![Complex64::new(0.0, 0.0); nb])).collect()).collect();
+                for r in 0..h {
+                    for (m, map) in maps.iter().enumerate() {
+                        for c in 0..3 {
+                            let t = &map.rows[r][c];
+                            for (bj, gj) in gs.iter().enumerate() {
+                                let Some(gg) = &gj[r] else { continue };
+                                for (x, (tv, gv)) in acc[bj][m][c].iter_mut().zip(t.iter().zip(gg)) {
+                                    *x += tv * gv;
+                                }
+                            }
+                        }
+                    }
+                }
+                // One inverse FFT per row, map and channel (the full spectrum rebuilt by symmetry).
+                acc.into_iter()
+                    .map(|per_map| {
+                        per_map
+                            .into_iter()
+                            .map(|chans| {
+                                let chans = chans.map(|half| {
+                                    for (x, v) in buf.iter_mut().enumerate() {
+                                        *v = if x < nb { half[x] } else { half[w - x].conj() };
+                                    }
+                                    self.ifft.process(&mut buf);
+                                    (0..self.out.width).map(|i| buf[k * i].re / w as f64).collect::<Vec<f64>>()
+                                });
+                                (0..self.out.width).map(|i| [chans[0][i], chans[1][i], chans[2][i]]).collect::<Vec<[f64; 3]>>()
+                            })
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        let per_row: Vec<Vec<Vec<[f64; 3]>>> = per_block.into_iter().flatten().collect();
         // per_row[row][map] → per map, rows concatenated.
         (0..maps.len()).map(|m| per_row.iter().flat_map(|r| r[m].iter().copied()).collect()).collect()
+    }
+}
+
+/// Output rows per task of [`Quadrature::integrate_many`].
+const ROW_BLOCK: usize = 8;
+
+impl Quadrature {
+    /// The kernel of output row `jv` sampled on the fine grid of every sub-row, weighted by
+    /// the sub-cells' solid angles and the bilinear hat weights, folded onto the W columns
+    /// of every source row: g[r][Δ].
+    fn fold(&self, jv: usize, s: usize, kernel: &dyn RowKernel, az: &Azimuths, hats: &[[f64; 3]]) -> Vec<Vec<f64>> {
+        let (w, h) = (self.map.width, self.map.height);
+        let mut g = vec![vec![0.0f64; w]; h];
+        let mut fine = vec![0.0f64; w * s];
+        let mut u = [vec![0.0f64; w], vec![0.0f64; w], vec![0.0f64; w]];
+        for j in 0..h {
+            for b in 0..s {
+                // Sub-row b of row j: polar angles, exact ring solid angle per sub-cell.
+                let t0 = PI * (j as f64 + b as f64 / s as f64) / h as f64;
+                let t1 = PI * (j as f64 + (b + 1) as f64 / s as f64) / h as f64;
+                let tc = 0.5 * (t0 + t1);
+                let omega = (2.0 * PI / (w * s) as f64) * 2.0 * tc.sin() * (0.5 * (t1 - t0)).sin();
+                if !kernel.row(jv, tc, az, &mut fine) {
+                    continue;
+                }
+                // Bilinear rows of the sub-row centre (v·H − ½, clamped).
+                let y = (j as f64 + (b as f64 + 0.5) / s as f64 - 0.5).clamp(0.0, (h - 1) as f64);
+                let (r0, fy) = (y.floor() as usize, y - y.floor());
+                let r1 = (r0 + 1).min(h - 1);
+                // G(Δ) = Σ_d u_d[Δ + d], u_d[q] = Σ_a hat_a(d)·fine[q·S − a] (hat d = −1, 0, +1).
+                for q in 0..w {
+                    let mut acc = [0.0f64; 3];
+                    for (a, hat) in hats.iter().enumerate() {
+                        let x = if q == 0 && a > 0 { w * s - a } else { q * s - a };
+                        let f = fine[x];
+                        for (t, hd) in acc.iter_mut().zip(hat) {
+                            *t += hd * f;
+                        }
+                    }
+                    for (ud, t) in u.iter_mut().zip(acc) {
+                        ud[q] = omega * t;
+                    }
+                }
+                for delta in 0..w {
+                    let v = u[0][(delta + w - 1) % w] + u[1][delta] + u[2][(delta + 1) % w];
+                    g[r0][delta] += (1.0 - fy) * v;
+                    if fy > 0.0 {
+                        g[r1][delta] += fy * v;
+                    }
+                }
+            }
+        }
+        g
+    }
+}
+
+/// The fine azimuth grid of one quadrature: Δφ_x and its cosine and sine (the same for
+/// every row pair).
+#[derive(Debug, Clone, Copy)]
+pub struct Azimuths<'a> {
+    pub dphi: &'a [f64],
+    pub cos: &'a [f64],
+    pub sin: &'a [f64],
+}
+
+/// A kernel evaluated along one fine azimuth row, so that what is constant along the row
+/// (polar angles, masking terms) is computed once.
+pub trait RowKernel: Sync {
+    /// Writes K(j, θ_ω, Δφ_x) into `out[x]` for every fine azimuth x of `az` (output row
+    /// j, source polar angle θ_ω); returns whether any value is non-zero.
+    fn row(&self, j: usize, theta: f64, az: &Azimuths, out: &mut [f64]) -> bool;
+}
+
+/// A pointwise kernel (j, θ_ω, Δφ) ↦ K as a [`RowKernel`].
+#[derive(Debug)]
+pub struct Pointwise<F>(pub F);
+
+impl<F: Fn(usize, f64, f64) -> f64 + Sync> RowKernel for Pointwise<F> {
+    fn row(&self, j: usize, theta: f64, az: &Azimuths, out: &mut [f64]) -> bool {
+        let mut any = false;
+        for (o, p) in out.iter_mut().zip(az.dphi) {
+            *o = (self.0)(j, theta, *p);
+            any |= *o != 0.0;
+        }
+        any
     }
 }
 

@@ -158,6 +158,8 @@ fn compare(
             ),
         }
     };
+    let spec_s = ts.elapsed().as_secs_f64();
+    let tm = std::time::Instant::now();
     let mut rows = Vec::new();
     for id in ids {
         pb.set_message(id.clone());
@@ -177,6 +179,8 @@ fn compare(
         rows.push(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts: Vec::new() });
         pb.inc(1);
     }
+    let modes_s = tm.elapsed().as_secs_f64();
+    let tb = std::time::Instant::now();
     // Basis-limited error (the exact GGX integral of each reconstructed radiance against the
     // reference) and what each runtime path adds (runtime against basis-limited), all modes
     // of one α in one quadrature pass.
@@ -196,6 +200,12 @@ fn compare(
         }
     }
     pb.finish_and_clear();
+    let stage_s = report::StageTimes {
+        reference_irradiance: ref_s,
+        specular_reference: spec_s,
+        modes: modes_s,
+        specular_decomposition: tb.elapsed().as_secs_f64(),
+    };
     let slug: String = Path::new(label)
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())
@@ -218,6 +228,7 @@ fn compare(
         grid: ctx.grid,
         reference: ctx.irradiance.clone(),
         slug,
+        stages: stage_s,
     })
 }
 

@@ -50,6 +50,21 @@ pub struct MapReport {
     pub reference: Vec<[f64; 3]>,
     /// Folder name of this map's images inside the report folder.
     pub slug: String,
+    /// Wall time of each stage.
+    pub stages: StageTimes,
+}
+
+/// Wall time of each stage of one map's comparison, seconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// The exact irradiance reference (and the map's samples).
+    pub reference_irradiance: f64,
+    /// Every α's specular reference with its error check.
+    pub specular_reference: f64,
+    /// Every mode: encode (repeats), reconstruction images, cost measurement, specular images.
+    pub modes: f64,
+    /// Basis-limited specular images of every mode and α.
+    pub specular_decomposition: f64,
 }
 
 /// File stem of a specular image for roughness α (`specular_a0.4`).

@@ -93,7 +93,7 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
     let check: Vec<usize> = rows.clone().step_by(FFT_CHECK_STRIDE).collect();
     let (mut e2, mut s2, mut n) = (0.0, 0.0, 0usize);
     for &j in &check {
-        let fine = q.integrate(j..j + 1, 2 * sub, &kernel);
+        let fine = q.integrate_rows(j..j + 1, 2 * sub, &kernel);
         for (i, f) in fine.iter().enumerate() {
             for c in 0..3 {
                 e2 += (image[j * w_out + i][c] - f[c]).powi(2);
@@ -107,22 +107,89 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
 }
 
 /// The output rows where the signal is defined and the GGX kernel for `domain`.
-fn fft_setup(grid: LatLong, domain: Domain, alpha: f64) -> (std::ops::Range<usize>, impl Fn(usize, f64, f64) -> f64 + Sync) {
+fn fft_setup(grid: LatLong, domain: Domain, alpha: f64) -> (std::ops::Range<usize>, GgxRows) {
     let h_out = grid.height;
     let rows = match domain {
         Domain::Sphere => 0..h_out,
         // Rows whose centre is above the horizon (d.y > 0).
         Domain::UpperHemisphere => 0..h_out / 2,
     };
-    let kernel = move |j: usize, theta_l: f64, dphi: f64| -> f64 {
-        let l = crate::azimuthal::direction(theta_l, 0.0);
-        let v = crate::azimuthal::direction(std::f64::consts::PI * (j as f64 + 0.5) / h_out as f64, dphi);
-        match domain {
-            Domain::Sphere => ggx_kernel(v, v, l, alpha),
-            Domain::UpperHemisphere => ggx_kernel(DVec3::Y, v, l, alpha),
+    (rows, GgxRows { domain, alpha: alpha.clamp(1e-4, 1.0), h_out })
+}
+
+/// [`ggx_kernel`] along a fine azimuth row of the quadrature ([`crate::azimuthal`]): view
+/// v at output row j's polar angle θ_v and azimuth Δφ, light l at (θ_l, 0). What does not
+/// depend on Δφ is computed once per row, the rest from cos Δφ and sin Δφ, with the
+/// half-vector's cosines as ratios of exact squared lengths (no normalisation, no
+/// cancellation):
+/// - hemisphere (n = +Y): m = |v + l|² = p + q with p = (n·(v + l))² and
+///   q = |n × (v + l)|²; D = α²m²/(π(α²p + q)²) (Walter et al. 2007, eq. 33, times m²/m²),
+///   G2 constant along the row (its Λ depend on θ_v and θ_l only);
+/// - sphere (n = v): n·l = cos γ, cos²θ_h = (1 + cos γ)/2, sin²θ_h = (1 − cos γ)/2 with
+///   1 − cos γ = |v − l|²/2; D = α²/(π(α²c² + s²)²), G2 = 1/(1 + Λ(l)) (Λ(v) = 0).
+///
+/// Equals [`ggx_kernel`] to rounding (test `row_kernel_equals_the_pointwise_kernel`).
+#[derive(Debug, Clone, Copy)]
+pub struct GgxRows {
+    pub domain: Domain,
+    pub alpha: f64,
+    /// Output grid rows (θ_v of row j is π(j + ½)/h_out).
+    pub h_out: usize,
+}
+
+impl crate::azimuthal::RowKernel for GgxRows {
+    fn row(&self, j: usize, theta_l: f64, az: &crate::azimuthal::Azimuths, out: &mut [f64]) -> bool {
+        let (sv, cv) = (std::f64::consts::PI * (j as f64 + 0.5) / self.h_out as f64).sin_cos();
+        let (sl, cl) = theta_l.sin_cos();
+        let a2 = self.alpha * self.alpha;
+        let inv_pi = std::f64::consts::FRAC_1_PI;
+        // Smith Λ from cos and sin of the angle to the normal: a = α² tan², Λ = a/(2(1 + √(1 + a))).
+        let lambda = |s: f64, c: f64| {
+            let a = a2 * s * s / (c * c);
+            a / (2.0 * (1.0 + (1.0 + a).sqrt()))
+        };
+        let mut any = false;
+        match self.domain {
+            Domain::UpperHemisphere => {
+                if cv <= 0.0 || cl <= 0.0 {
+                    out.fill(0.0);
+                    return false;
+                }
+                let g2 = 1.0 / (1.0 + lambda(sv, cv) + lambda(sl, cl));
+                let scale = a2 * inv_pi * g2 / (4.0 * cv);
+                let p = (cv + cl) * (cv + cl);
+                for (o, (c, s)) in out.iter_mut().zip(az.cos.iter().zip(az.sin)) {
+                    // v + l = (s_v sin Δφ, c_v + c_l, −s_v cos Δφ − s_l).
+                    let (x, z) = (sv * s, sv * c + sl);
+                    let q = x * x + z * z;
+                    let m = p + q;
+                    let t = a2 * p + q;
+                    *o = scale * m * m / (t * t);
+                    any = true;
+                }
+            }
+            Domain::Sphere => {
+                for (o, (c, s)) in out.iter_mut().zip(az.cos.iter().zip(az.sin)) {
+                    let nl = cv * cl + sv * sl * c;
+                    if nl <= 0.0 {
+                        *o = 0.0;
+                        continue;
+                    }
+                    // v − l = (s_v sin Δφ, c_v − c_l, −s_v cos Δφ + s_l).
+                    let (x, y, z) = (sv * s, cv - cl, sl - sv * c);
+                    let one_minus = 0.5 * (x * x + y * y + z * z);
+                    let (c2, s2) = (0.5 * (1.0 + nl), 0.5 * one_minus);
+                    let t = a2 * c2 + s2;
+                    let sin_l2 = one_minus * (1.0 + nl);
+                    let a = a2 * sin_l2 / (nl * nl);
+                    let g2 = 1.0 / (1.0 + a / (2.0 * (1.0 + (1.0 + a).sqrt())));
+                    *o = 0.25 * a2 * inv_pi / (t * t) * g2;
+                    any = true;
+                }
+            }
         }
-    };
-    (rows, kernel)
+        any
+    }
 }
 
 /// The quadrature on `rows`, placed in a full output image (zero elsewhere).
@@ -131,10 +198,10 @@ fn fft_image(
     grid: LatLong,
     rows: std::ops::Range<usize>,
     sub: usize,
-    kernel: &(dyn Fn(usize, f64, f64) -> f64 + Sync),
+    kernel: &dyn crate::azimuthal::RowKernel,
 ) -> Vec<[f64; 3]> {
     let mut image = vec![[0.0; 3]; grid.width * grid.height];
-    for (k, v) in q.integrate(rows.clone(), sub, kernel).into_iter().enumerate() {
+    for (k, v) in q.integrate_rows(rows.clone(), sub, kernel).into_iter().enumerate() {
         image[rows.start * grid.width + k] = v;
     }
     image
@@ -236,6 +303,15 @@ pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64
     let chans = [chan(0), chan(1), chan(2)];
     let dfg = sbf::luts::committed::dfg();
     let lut = sbf::luts::committed::ad_specular_2d();
+    // SH: n·v is constant along an output row in both domains, so is the band filter.
+    let sh_filters: Vec<Vec<f64>> = if is_sh(r.id) {
+        let order = (c.len() as f64).sqrt().round() as usize - 1;
+        (0..ctx.grid.height)
+            .map(|j| geometry(ctx, j * ctx.grid.width).map_or_else(Vec::new, |(n, v)| shr::specular_zonal_filter(order, n.dot(v), alpha)))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let out = (0..ctx.dirs.len())
         .into_par_iter()
         .map(|k| {
@@ -243,7 +319,8 @@ pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64
             let nv = n.dot(v).clamp(0.0, 1.0);
             if is_sh(r.id) {
                 let d = dfg.sample2(nv as f32, alpha as f32);
-                [0, 1, 2].map(|ch| shr::specular_zonal(&chans[ch], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64]).unwrap_or(f64::NAN))
+                shr::specular_zonal_rgb(c, &sh_filters[k / ctx.grid.width], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64])
+                    .unwrap_or([f64::NAN; 3])
             } else if is_sg(r.id) {
                 let warp = sgr::AsgWarp::new(n, v, alpha, 1.0, 1.0);
                 let d = dfg.sample2(nv as f32, alpha as f32);

@@ -132,6 +132,7 @@ fn results_json_coefficients_match_dense_ls() {
         grid: ctx.grid,
         reference: ctx.irradiance.clone(),
         slug: "wells".into(),
+        stages: Default::default(),
     }]);
     let v: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
     let vogel = sbf::layout::vogel_sphere(12).unwrap();

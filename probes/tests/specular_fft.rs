@@ -236,3 +236,60 @@ fn constant_map_reflects_the_dfg_quadrature() {
         }
     }
 }
+
+/// The reference's row kernel (`GgxRows`: half-vector cosines as ratios of squared lengths,
+/// masking constant along a row) against the pointwise `ggx_kernel` (normalised vectors,
+/// `sbf::ggx`): both domains, α from 1e-4 to 1, every output row of a 64-row grid, light
+/// polar angles across the sphere (poles and horizon included), 512 azimuths. Error model:
+/// each side is ≲ 30 correctly rounded operations (≲ 1e-14 relative) except for one sum
+/// that can cancel — n·l = c_v c_l + s_v s_l cos Δφ on the sphere, the half-vector's
+/// q = x² + (s_v cos Δφ + s_l)² on the hemisphere — whose rounding is amplified by its
+/// condition number κ (Σ|terms| / |sum|) and by the kernel's sensitivity to it (≤ 4 in
+/// log-log: G2 through tan², D through (α²p + q)²); asserted ≤ 1e-13·(1 + κ) relative to
+/// the larger value (absolute 1e-300 for zeros). Mutations tried: G2's Λ(l) dropped
+/// in the sphere branch, the hemisphere branch scaled by 1.01 — both fail.
+#[test]
+fn row_kernel_equals_the_pointwise_kernel() {
+    use probes::azimuthal::{Azimuths, RowKernel};
+    use probes::specular::GgxRows;
+    let h_out = 64;
+    let dphi: Vec<f64> = (0..512).map(|x| 2.0 * PI * (x as f64 + 0.37) / 512.0 - 0.3).collect();
+    let (sin, cos): (Vec<f64>, Vec<f64>) = dphi.iter().map(|p| p.sin_cos()).unzip();
+    let az = Azimuths { dphi: &dphi, cos: &cos, sin: &sin };
+    let mut out = vec![0.0; 512];
+    let mut checked = 0usize;
+    for domain in [Domain::UpperHemisphere, Domain::Sphere] {
+        for alpha in [1e-4, 0.01, 0.1, 0.37, 1.0] {
+            let k = GgxRows { domain, alpha, h_out };
+            for j in 0..h_out {
+                for tl in [1e-9, 0.05, 0.4, 1.0, PI / 2.0 - 1e-6, PI / 2.0, 2.0, PI - 1e-9] {
+                    k.row(j, tl, &az, &mut out);
+                    let v_theta = PI * (j as f64 + 0.5) / h_out as f64;
+                    for (x, p) in dphi.iter().enumerate() {
+                        let l = probes::azimuthal::direction(tl, 0.0);
+                        let v = probes::azimuthal::direction(v_theta, *p);
+                        let want = match domain {
+                            Domain::Sphere => ggx_kernel(v, v, l, alpha),
+                            Domain::UpperHemisphere => ggx_kernel(DVec3::Y, v, l, alpha),
+                        };
+                        let got = out[x];
+                        let (cv, sv, cl, sl, c) = (v_theta.cos(), v_theta.sin(), tl.cos(), tl.sin(), p.cos());
+                        let kappa = match domain {
+                            Domain::Sphere => ((cv * cl).abs() + (sv * sl * c).abs()) / (cv * cl + sv * sl * c).abs(),
+                            Domain::UpperHemisphere => {
+                                let x2 = (sv * p.sin()).powi(2);
+                                (x2 + ((sv * c).abs() + sl).powi(2)) / (x2 + (sv * c + sl).powi(2))
+                            }
+                        };
+                        assert!(
+                            (got - want).abs() <= 1e-13 * (1.0 + kappa) * got.abs().max(want.abs()) + 1e-300,
+                            "{domain:?} α {alpha} row {j} θ_l {tl} Δφ {p}: {got} vs {want} (κ {kappa:.1e})"
+                        );
+                        checked += usize::from(want > 0.0);
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 100_000, "only {checked} non-zero values compared");
+}

@@ -306,21 +306,52 @@ pub fn sg_zonal_ratios(lambda: f64, lmax: usize) -> Vec<f64> {
 /// warp and horizon clipping are ignored.
 pub fn specular_zonal(radiance: &[f64], n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64, dfg: [f64; 2]) -> Result<f64, SbfError> {
     let order = order_of(radiance.len())?;
+    let g = specular_zonal_filter(order, n.dot(v), alpha);
+    let rgb: Vec<[f64; 3]> = radiance.iter().map(|c| [*c, 0.0, 0.0]).collect();
+    Ok(specular_zonal_rgb(&rgb, &g, n, v, alpha, f0, f90, dfg)?[0])
+}
+
+/// The band filter g_l/g_0 of [`specular_zonal`], l = 0…order: it depends only on n·v
+/// (clamped below at 1e-4) and α (clamped to [1e-4, 1]), so callers that shade many points
+/// of equal n·v compute it once.
+pub fn specular_zonal_filter(order: usize, nv: f64, alpha: f64) -> Vec<f64> {
     let alpha = alpha.clamp(1e-4, 1.0);
-    let nv = n.dot(v).max(1e-4);
+    let nv = nv.max(1e-4);
+    sg_zonal_ratios(2.0 / (alpha * alpha) / (4.0 * nv), order)
+}
+
+/// [`specular_zonal`] for three channels at once with the band filter `g` from
+/// [`specular_zonal_filter`] (for this n·v and α).
+#[allow(clippy::too_many_arguments)]
+pub fn specular_zonal_rgb(
+    radiance: &[[f64; 3]],
+    g: &[f64],
+    n: DVec3,
+    v: DVec3,
+    alpha: f64,
+    f0: f64,
+    f90: f64,
+    dfg: [f64; 2],
+) -> Result<[f64; 3], SbfError> {
+    let order = order_of(radiance.len())?;
+    if g.len() != order + 1 {
+        return Err(SbfError::LengthMismatch { what: "band filter", expected: order + 1, got: g.len() });
+    }
+    let alpha = alpha.clamp(1e-4, 1.0);
     let r = crate::ggx::reflect(v, n);
     let rd = crate::recon::ambient_dice::ggx_dominant_direction(n, r, alpha);
-    let lambda = 2.0 / (alpha * alpha) / (4.0 * nv);
-    let g = sg_zonal_ratios(lambda, order);
     let sh = ShBasis::new(order)?;
     let mut y = vec![0.0; sh.len()];
     sh.try_eval_into(rd, &mut y)?;
-    let mut s = 0.0;
+    let mut s = [0.0; 3];
     for l in 0..=order {
         for m in 0..2 * l + 1 {
-            s += g[l] * radiance[l * l + m] * y[l * l + m];
+            let w = g[l] * y[l * l + m];
+            for (sc, c) in s.iter_mut().zip(radiance[l * l + m]) {
+                *sc += w * c;
+            }
         }
     }
     // The filtered radiance at R_d is Σ g_l c_lm Y_lm; a constant L gives c₀₀Y₀₀ = L.
-    Ok(s * (f0 * dfg[0] + f90 * dfg[1]))
+    Ok(s.map(|x| x * (f0 * dfg[0] + f90 * dfg[1])))
 }
