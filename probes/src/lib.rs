@@ -8,10 +8,13 @@
 //! peer tool (Probulator) does, so numbers are comparable.
 
 pub mod azimuthal;
+pub mod cost;
+pub mod decide;
 pub mod images;
 pub mod input;
 pub mod metrics;
 pub mod modes;
 pub mod reference;
 pub mod report;
+pub mod results;
 pub mod specular;

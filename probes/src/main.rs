@@ -57,6 +57,10 @@ enum Cmd {
         /// reproduces its published figures).
         #[arg(long, default_value = "hill")]
         sg_irradiance: String,
+        /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
+        /// or `none`.
+        #[arg(long, default_value = "png")]
+        images: String,
     },
     /// Write a procedural environment map.
     Env {
@@ -176,7 +180,16 @@ fn compare(
                 specular_images.push(img);
             }
         }
-        rows.push(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts: Vec::new() });
+        let specular_cost = alphas.first().and_then(|a| probes::specular::cost(&r, &ctx, *a));
+        rows.push(report::Row {
+            result: r,
+            radiance: rad,
+            irradiance,
+            specular,
+            specular_images,
+            specular_parts: Vec::new(),
+            specular_cost,
+        });
         pb.inc(1);
     }
     let modes_s = tm.elapsed().as_secs_f64();
@@ -206,13 +219,6 @@ fn compare(
         modes: modes_s,
         specular_decomposition: tb.elapsed().as_secs_f64(),
     };
-    let slug: String = Path::new(label)
-        .file_stem()
-        .map(|s| s.to_string_lossy().to_string())
-        .unwrap_or_else(|| "map".into())
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
-        .collect();
     let domain_name = if domain == sbf::Domain::Sphere { "sphere" } else { "upper hemisphere" };
     Ok(report::MapReport {
         path: label.to_string(),
@@ -227,26 +233,66 @@ fn compare(
         specular_reference: spec_refs,
         grid: ctx.grid,
         reference: ctx.irradiance.clone(),
-        slug,
+        slug: slug(label),
         stages: stage_s,
     })
 }
 
-fn write_reports(out: &Path, maps: &[report::MapReport], print_json: bool) -> Result<(), String> {
+/// A file-name-safe folder name from a map's path (its file stem).
+fn slug(label: &str) -> String {
+    Path::new(label)
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "map".into())
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .collect()
+}
+
+/// Makes the maps' image folders unique: the second `pisa` becomes `pisa-2`, and so on.
+fn unique_slugs(maps: &mut [report::MapReport]) {
+    let mut seen = std::collections::BTreeSet::new();
+    for m in maps.iter_mut() {
+        let base = m.slug.clone();
+        let mut k = 1;
+        while !seen.insert(m.slug.clone()) {
+            k += 1;
+            m.slug = format!("{base}-{k}");
+        }
+    }
+}
+
+fn write_reports(out: &Path, maps: &mut [report::MapReport], print_json: bool, images: &str) -> Result<(), String> {
+    let (png, exr) = match images {
+        "png" => (true, false),
+        "exr" => (true, true),
+        "none" => (false, false),
+        other => return Err(format!("--images {other}: expected `png`, `exr` or `none`")),
+    };
+    unique_slugs(maps);
     std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
-    let json = report::json(maps);
-    let md = report::markdown(maps);
+    let results: Vec<probes::results::MapResults> = maps.iter().map(|m| probes::results::from_report(m, exr)).collect();
+    let json = probes::results::to_json(&results);
+    let md = report::markdown(maps, &results);
     std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
     std::fs::write(out.join("report.md"), &md).map_err(|e| format!("writing report.md: {e}"))?;
-    std::fs::write(out.join("report.html"), report::html(maps)).map_err(|e| format!("writing report.html: {e}"))?;
-    for m in maps {
-        report::write_images(out, m)?;
+    std::fs::write(out.join("report.html"), report::html(maps, &results)).map_err(|e| format!("writing report.html: {e}"))?;
+    if png {
+        for m in maps.iter() {
+            report::write_images(out, m, exr)?;
+        }
     }
     if print_json {
         print!("{json}");
     } else {
-        print!("{md}");
-        println!("\nwrote {0}/report.html, {0}/report.md, {0}/results.json and the images", out.display());
+        for r in &results {
+            println!("{}", report::summary_line(r));
+        }
+        println!(
+            "wrote {0}/report.md (decision tables first), {0}/report.html, {0}/results.json{1}",
+            out.display(),
+            if png { " and the images" } else { "" }
+        );
     }
     Ok(())
 }
@@ -284,6 +330,7 @@ fn main() -> ExitCode {
             specular_samples,
             no_specular,
             sg_irradiance,
+            images,
         }) => (|| {
             let sgi = match sg_irradiance.as_str() {
                 "hill" => modes::SgIrradiance::Hill,
@@ -326,14 +373,14 @@ fn main() -> ExitCode {
                 }
                 reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom, &alphas, specular_samples, sgi)?);
             }
-            write_reports(&out, &reports, json)
+            write_reports(&out, &mut reports, json, &images)
         })(),
         None => (|| {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
             let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256, modes::SgIrradiance::Hill)?;
-            write_reports(Path::new("probes-report"), &[rep], false)
+            write_reports(Path::new("probes-report"), &mut [rep], false, "png")
         })(),
     };
     match result {

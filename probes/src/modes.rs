@@ -34,6 +34,11 @@ pub struct Context {
     pub domain: Domain,
     /// How the 12-lobe SG modes turn lobes into irradiance.
     pub sg_irradiance: SgIrradiance,
+    /// Seconds it took to make `irradiance` (charged to the modes that fit it).
+    pub reference_s: f64,
+    /// Evaluations per direction in the cost measurement (1; the cost-axis test sets 2 as
+    /// its "twice as expensive" mutation, see [`crate::cost::ns_per_direction`]).
+    pub eval_work: usize,
 }
 
 /// Irradiance reconstruction of the SG 12 batch modes (`sg`, `sgls`, `sglsa`, `sgnnls`).
@@ -84,8 +89,21 @@ impl Context {
         let grid = reference::output_grid(&map);
         let dirs: Vec<DVec3> =
             (0..grid.height).flat_map(|j| (0..grid.width).map(move |i| (i, j))).map(|(i, j)| grid.texel_direction(i, j)).collect();
+        let t = Instant::now();
         let (irradiance, reference_method) = reference::reference_irradiance_grid(&map, grid);
-        Context { samples: map_samples(&map), map, grid, dirs, irradiance, reference_method, domain, sg_irradiance: SgIrradiance::Hill }
+        let reference_s = t.elapsed().as_secs_f64();
+        Context {
+            samples: map_samples(&map),
+            map,
+            grid,
+            dirs,
+            irradiance,
+            reference_method,
+            domain,
+            sg_irradiance: SgIrradiance::Hill,
+            reference_s,
+            eval_work: 1,
+        }
     }
 
     /// The map's radiance at the output grid's texel centres (bilinear).
@@ -110,10 +128,15 @@ pub struct ModeResult {
     /// Fraction of texels whose irradiance was negative before a clamp (SH modes clamp
     /// at 0 like the peer; `None` when the mode does not clamp).
     pub clamped_negative_fraction: Option<f64>,
-    /// Encode time (median of `repeats` runs), seconds.
+    /// Encode time (median of `repeats` runs), seconds, from the mode's input.
     pub encode_s: f64,
-    /// CPU irradiance reconstruction cost per direction, ns.
-    pub eval_ns_per_dir: f64,
+    /// The mode fits the exact irradiance image, not the radiance map: its encode is
+    /// charged [`Context::reference_s`] on top (see [`ModeResult::encode_total_s`]).
+    pub needs_reference: bool,
+    /// Steady-state CPU cost of the irradiance runtime evaluation ([`crate::cost`]).
+    pub eval: crate::cost::CostStat,
+    /// Scalars stored per probe/texel (RGB coefficients × 3, or per YCoCg channel).
+    pub stored_scalars: usize,
     /// Per-sample encoders: (samples taken, irradiance RMS over the metric rows) at
     /// 16, 32, 64, … samples and at the end (an untimed second pass); empty otherwise.
     pub convergence: Vec<(u64, f64)>,
@@ -201,6 +224,19 @@ fn channel(c: &[[f64; 3]], k: usize) -> Vec<f64> {
     c.iter().map(|v| v[k]).collect()
 }
 
+impl ModeResult {
+    /// Encode time from the radiance map: the encode plus, for modes that fit the
+    /// irradiance image, the time it took to make it.
+    pub fn encode_total_s(&self, reference_s: f64) -> f64 {
+        self.encode_s + if self.needs_reference { reference_s } else { 0.0 }
+    }
+
+    /// Bytes per probe/texel at the runtime precision (f32).
+    pub fn storage_bytes(&self) -> usize {
+        crate::cost::storage_bytes(self.stored_scalars)
+    }
+}
+
 /// Median wall time of `repeats` runs of `f` and its last result.
 fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
     let mut times = Vec::with_capacity(repeats);
@@ -214,11 +250,45 @@ fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
     (out.expect("ran at least once"), times[times.len() / 2])
 }
 
-/// Per-direction cost of `f` over the output directions (one pass, ns/dir).
-fn eval_cost(dirs: &[DVec3], f: impl Fn(DVec3) -> [f64; 3]) -> (Vec<[f64; 3]>, f64) {
-    let t = Instant::now();
-    let out: Vec<[f64; 3]> = dirs.iter().map(|d| f(*d)).collect();
-    (out, t.elapsed().as_secs_f64() * 1e9 / dirs.len().max(1) as f64)
+/// The image of `f` over the output directions and its steady-state cost
+/// ([`crate::cost::ns_per_direction`]).
+fn eval_cost(ctx: &Context, mut f: impl FnMut(DVec3) -> [f64; 3]) -> (Vec<[f64; 3]>, crate::cost::CostStat) {
+    let out: Vec<[f64; 3]> = ctx.dirs.iter().map(|d| f(*d)).collect();
+    let cost = crate::cost::ns_per_direction(&ctx.dirs, ctx.eval_work, f);
+    (out, cost)
+}
+
+/// Σ_i w_i·c_i over RGB coefficients: the runtime's form (each basis function's weight
+/// computed once, then one multiply-add per channel).
+fn dot_rgb(c: &[[f64; 3]], w: impl Iterator<Item = f64>) -> [f64; 3] {
+    let mut e = [0.0; 3];
+    for (ci, wi) in c.iter().zip(w) {
+        for k in 0..3 {
+            e[k] += wi * ci[k];
+        }
+    }
+    e
+}
+
+/// E/π of an SG 12 mode from RGB coefficients (each lobe's kernel once), the same
+/// function as [`sg_irradiance`] per channel.
+fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
+    let k = basis.lobe_count();
+    let kl = SgIrradiance::peer_kernel_sharpness(id);
+    let mut e = dot_rgb(
+        &c[..k],
+        (0..k).map(|i| match method {
+            SgIrradiance::Hill => sgr::irradiance_hill(&basis.lobe(i), n),
+            SgIrradiance::Peer => sgr::irradiance_sg_kernel(&basis.lobe(i), n, kl),
+        }),
+    );
+    // The ambient function (a constant) reflects its coefficient under any kernel of integral π.
+    if basis.has_ambient() {
+        for ch in 0..3 {
+            e[ch] += c[k][ch];
+        }
+    }
+    e
 }
 
 /// E/π of one channel of an SG 12 mode.
@@ -233,6 +303,18 @@ fn sg_irradiance(method: SgIrradiance, id: &str, basis: &SgBasis, coeffs: &[f64]
             lobes + if basis.has_ambient() { coeffs[k] } else { 0.0 }
         }
     }
+}
+
+/// A basis's reconstruction from RGB coefficients as the irradiance evaluation (fits to
+/// the irradiance image), with its cost.
+fn eval_basis(ctx: &Context, basis: &dyn Basis, c: &[[f64; 3]]) -> (Vec<[f64; 3]>, crate::cost::CostStat) {
+    let chans = [channel(c, 0), channel(c, 1), channel(c, 2)];
+    let mut s = vec![0.0; basis.len()];
+    let _ = chans;
+    eval_cost(ctx, |d| {
+        basis.eval_into(d, &mut s);
+        dot_rgb(c, s.iter().copied())
+    })
 }
 
 fn reconstruct(basis: &dyn Basis, c: &[[f64; 3]], dirs: &[DVec3]) -> Vec<[f64; 3]> {
@@ -275,18 +357,20 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
               radiance: Option<Vec<[f64; 3]>>,
               irradiance: Vec<[f64; 3]>,
               encode_s: f64,
-              eval_ns_per_dir: f64| ModeResult {
+              eval: crate::cost::CostStat| ModeResult {
         id: name,
         name: MODES.iter().find(|(m, _)| *m == id).map(|(_, d)| *d).unwrap_or(""),
         basis,
         solver,
-        coefficients,
         lobes,
         radiance,
         irradiance,
         clamped_negative_fraction: None,
+        stored_scalars: 3 * coefficients.len(),
         encode_s,
-        eval_ns_per_dir,
+        needs_reference: false,
+        eval,
+        coefficients,
         convergence: Vec::new(),
     };
     match id {
@@ -311,7 +395,16 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     })
                     .collect::<Vec<_>>()
             });
-            Ok(mk("none".into(), "Monte Carlo", Vec::new(), Vec::new(), None, irr, t, t * 1e9 / dirs.len() as f64))
+            Ok(mk(
+                "none".into(),
+                "Monte Carlo",
+                Vec::new(),
+                Vec::new(),
+                None,
+                irr,
+                t,
+                crate::cost::CostStat::single(t * 1e9 / dirs.len() as f64, dirs.len()),
+            ))
         }
         "ac" | "acproj" => {
             let ac = AmbientCube;
@@ -337,12 +430,12 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 })
             };
             let c = c?;
-            let (irr, ns) = eval_cost(dirs, |d| {
+            let (irr, ns) = eval_cost(ctx, |d| {
                 let mut w = [0.0; 6];
                 ac.eval_into(d, &mut w);
                 [0, 1, 2].map(|k| (0..6).map(|i| w[i] * c[i][k]).sum())
             });
-            Ok(mk(
+            let mut r = mk(
                 ac.name(),
                 if id == "ac" { "NNLS on the irradiance image" } else { "projection (six axes)" },
                 c,
@@ -351,7 +444,9 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 irr,
                 t,
                 ns,
-            ))
+            );
+            r.needs_reference = id == "ac";
+            Ok(r)
         }
         "shl1" | "shl2" | "shl3" | "shl4" | "shl1g" | "shl1zh3" => {
             let order = match id {
@@ -365,23 +460,21 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let c = channels(&m);
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let (irr, ns) = match id {
-                "shl1g" => eval_cost(dirs, |d| [0, 1, 2].map(|k| shr::irradiance_l1_geomerics(&chans[k].clone().try_into().unwrap(), d))),
+                "shl1g" => {
+                    let rgb: [[f64; 4]; 3] = [0, 1, 2].map(|k| chans[k].clone().try_into().expect("4 coefficients"));
+                    eval_cost(ctx, |d| [0, 1, 2].map(|k| shr::irradiance_l1_geomerics(&rgb[k], d)))
+                }
                 "shl1zh3" => {
                     let rgb: [[f64; 4]; 3] = [0, 1, 2].map(|k| chans[k].clone().try_into().unwrap());
-                    eval_cost(dirs, |d| shr::irradiance_l1_zh3(&rgb, d).unwrap_or([f64::NAN; 3]))
+                    eval_cost(ctx, |d| shr::irradiance_l1_zh3(&rgb, d).unwrap_or([f64::NAN; 3]))
                 }
                 _ => {
                     let e = [0, 1, 2].map(|k| shr::irradiance_coefficients(&chans[k]).expect("(L+1)² coefficients"));
                     let mut y = vec![0.0; sh.len()];
-                    let t0 = Instant::now();
-                    let out: Vec<[f64; 3]> = dirs
-                        .iter()
-                        .map(|d| {
-                            sh.eval_into(*d, &mut y);
-                            [0, 1, 2].map(|k| e[k].iter().zip(&y).map(|(a, b)| a * b).sum())
-                        })
-                        .collect();
-                    (out, t0.elapsed().as_secs_f64() * 1e9 / dirs.len() as f64)
+                    eval_cost(ctx, |d| {
+                        sh.eval_into(d, &mut y);
+                        [0, 1, 2].map(|k| e[k].iter().zip(&y).map(|(a, b)| a * b).sum())
+                    })
                 }
             };
             let (mut irr, rad) = (irr, reconstruct(&sh, &c, dirs));
@@ -399,7 +492,12 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 });
                 let c = c.map_err(err)?;
                 let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
-                let (irr, ns) = eval_cost(dirs, |d| [0, 1, 2].map(|k| adr::irradiance(ad.lobes(), &chans[k], d)));
+                let (irr, ns) = eval_cost(ctx, |d| dot_rgb(&c, ad.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d)))));
+                debug_assert!(dirs
+                    .iter()
+                    .take(8)
+                    .zip(&irr)
+                    .all(|(d, e)| (0..3).all(|k| (adr::irradiance(ad.lobes(), &chans[k], *d) - e[k]).abs() <= 1e-12 * (1.0 + e[k].abs()))));
                 let rad = reconstruct(&ad, &c, dirs);
                 Ok(mk(ad.name(), "least squares (radiance)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), Some(rad), irr, t, ns))
             } else {
@@ -408,10 +506,11 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     solve_gram(&sbf::solve::sample_gram(&ad, &s), &moments(&ad, &s), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
                 let c = c.map_err(err)?;
-                let t0 = Instant::now();
-                let irr = reconstruct(&ad, &c, dirs);
-                let ns = t0.elapsed().as_secs_f64() * 1e9 / dirs.len() as f64;
-                Ok(mk(ad.name(), "least squares (irradiance image)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), None, irr, t, ns))
+                let (irr, ns) = eval_basis(ctx, &ad, &c);
+                let mut r =
+                    mk(ad.name(), "least squares (irradiance image)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), None, irr, t, ns);
+                r.needs_reference = true;
+                Ok(r)
             }
         }
         "sg" | "sgls" | "sglsa" | "sgnnls" => {
@@ -446,7 +545,16 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             });
             let c = c?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
-            let (irr, ns) = eval_cost(dirs, |d| [0, 1, 2].map(|k| sg_irradiance(ctx.sg_irradiance, id, &basis, &chans[k], d)));
+            let (irr, ns) = eval_cost(ctx, |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &basis, &c, d));
+            debug_assert!(dirs.iter().take(8).zip(&irr).all(|(d, e)| (0..3).all(|k| (sg_irradiance(
+                ctx.sg_irradiance,
+                id,
+                &basis,
+                &chans[k],
+                *d
+            ) - e[k])
+                .abs()
+                <= 1e-12 * (1.0 + e[k].abs()))));
             let rad = reconstruct(&basis, &c, dirs);
             let solver = match id {
                 "sg" => "naive projection",
@@ -483,8 +591,9 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let c = c?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let e = [0, 1, 2].map(|k| shr::irradiance_coefficients(&chans[k]).expect("9 coefficients"));
-            let (mut irr, ns) = eval_cost(dirs, |d| {
-                let y = sh.eval(d);
+            let mut y = vec![0.0; sh.len()];
+            let (mut irr, ns) = eval_cost(ctx, |d| {
+                sh.eval_into(d, &mut y);
                 [0, 1, 2].map(|k| e[k].iter().zip(&y).map(|(a, b)| a * b).sum())
             });
             let neg = clamp_negative(&mut irr);
@@ -502,10 +611,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     solve_gram(&sbf::solve::sample_gram(&bz, &s), &moments(&bz, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
                 });
                 let c = c.map_err(err)?;
-                let t0 = Instant::now();
-                let irr = reconstruct(&bz, &c, dirs);
-                let ns = t0.elapsed().as_secs_f64() * 1e9 / dirs.len() as f64;
-                Ok(mk(bz.name(), "least squares (irradiance image)", c, Vec::new(), None, irr, t, ns))
+                let (irr, ns) = eval_basis(ctx, &bz, &c);
+                let mut r = mk(bz.name(), "least squares (irradiance image)", c, Vec::new(), None, irr, t, ns);
+                r.needs_reference = true;
+                Ok(r)
             } else {
                 let lin = sbf::AmbientDiceLinear::new();
                 let ys: Vec<RadianceSample> =
@@ -524,10 +633,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 let yc = sbf::AmbientDiceYCoCg::new();
                 let (ya, coa, cga): ([f64; 36], [f64; 12], [f64; 12]) =
                     (y.clone().try_into().unwrap(), co.clone().try_into().unwrap(), cg.clone().try_into().unwrap());
-                let (irr, ns) = eval_cost(dirs, |d| yc.eval_rgb(&ya, &coa, &cga, d));
+                let (irr, ns) = eval_cost(ctx, |d| yc.eval_rgb(&ya, &coa, &cga, d));
                 // Coefficients as written: Y (36) then Co (12) then Cg (12), one value each.
                 let coeffs: Vec<[f64; 3]> = y.iter().chain(&co).chain(&cg).map(|v| [*v, *v, *v]).collect();
-                Ok(mk(
+                let mut r = mk(
                     "AD YCoCg (Bézier Y 36 + linear Co, Cg 12+12)".into(),
                     "least squares (irradiance image, per YCoCg channel)",
                     coeffs,
@@ -536,7 +645,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     irr,
                     t,
                     ns,
-                ))
+                );
+                r.needs_reference = true;
+                r.stored_scalars = 60;
+                Ok(r)
             }
         }
         "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "adpls" | "adpnnls" => {
@@ -587,15 +699,14 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let ad = AmbientDiceSrbf::twelve();
             // Irradiance of one direction from RGB coefficients. The peer's running
             // averages use Hill's fit too (their figures match it).
-            let irradiance_at = |c: &[Vec<f64>; 3], d: DVec3| -> [f64; 3] {
+            let irradiance_at = |c: &[[f64; 3]], d: DVec3| -> [f64; 3] {
                 if id.starts_with("sg") {
-                    [0, 1, 2].map(|k| sgr::irradiance_basis(&sgb, &c[k], d))
+                    sg_irradiance_rgb(SgIrradiance::Hill, id, &sgb, c, d)
                 } else {
-                    [0, 1, 2].map(|k| adr::irradiance(ad.lobes(), &c[k], d))
+                    dot_rgb(c, ad.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d))))
                 }
             };
-            let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
-            let (irr, ns) = eval_cost(dirs, |d| irradiance_at(&chans, d));
+            let (irr, ns) = eval_cost(ctx, |d| irradiance_at(&c, d));
             // Error against sample count: an untimed second pass with snapshots. The
             // irradiance is linear in the coefficients, so each snapshot is a product with
             // the per-lobe irradiance K[d][i] (same functions as above, one lobe at a time).
@@ -675,11 +786,17 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 let a = world(sbf::layout::vogel_hemisphere(n).map_err(err)?);
                 (a.clone(), a.iter().map(|x| (*x, 6.0)).collect())
             };
+            let sharpness = vec![6.0; axes.len()];
             let (irr, ns) = if is_ad {
-                eval_cost(dirs, |d| [0, 1, 2].map(|k| adr::irradiance_fit(&axes, &chans[k], d, &adr::DIFFUSE_FIT_EQ_8_14)))
+                eval_cost(ctx, |d| [0, 1, 2].map(|k| adr::irradiance_fit(&axes, &chans[k], d, &adr::DIFFUSE_FIT_EQ_8_14)))
             } else {
-                eval_cost(dirs, |d| {
-                    [0, 1, 2].map(|k| sgr::sum_lobes(&axes, &vec![6.0; axes.len()], &chans[k], |s| sgr::irradiance_hill(s, d)))
+                eval_cost(ctx, |d| {
+                    dot_rgb(
+                        &c,
+                        axes.iter()
+                            .zip(&sharpness)
+                            .map(|(a, l)| sgr::irradiance_hill(&sbf::Sg { axis: *a, sharpness: *l, amplitude: 1.0 }, d)),
+                    )
                 })
             };
             let rad = reconstruct(basis.as_ref(), &c, dirs);
@@ -702,20 +819,17 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let c = c.map_err(err)?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let mut sc = vec![0.0; h.len()];
-            let t0 = Instant::now();
-            let irr: Vec<[f64; 3]> = dirs
-                .iter()
-                .map(|d| {
-                    let tt = world_to_tangent(*d);
-                    if tt.z < 0.0 {
-                        [0.0; 3]
-                    } else {
-                        [0, 1, 2].map(|k| h.reconstruct(&chans[k], tt, &mut sc))
-                    }
-                })
-                .collect();
-            let ns = t0.elapsed().as_secs_f64() * 1e9 / dirs.len() as f64;
-            Ok(mk(h.name(), "least squares (irradiance image, upper hemisphere)", c, Vec::new(), None, irr, t, ns))
+            let (irr, ns) = eval_cost(ctx, |d| {
+                let tt = world_to_tangent(d);
+                if tt.z < 0.0 {
+                    [0.0; 3]
+                } else {
+                    [0, 1, 2].map(|k| h.reconstruct(&chans[k], tt, &mut sc))
+                }
+            });
+            let mut r = mk(h.name(), "least squares (irradiance image, upper hemisphere)", c, Vec::new(), None, irr, t, ns);
+            r.needs_reference = true;
+            Ok(r)
         }
         _ => Err(format!("mode '{id}' is listed but not implemented")),
     }

@@ -17,6 +17,8 @@ pub struct Row {
     /// (α, basis-limited RMS, runtime RMS): the exact GGX integral of the mode's
     /// reconstructed radiance against the reference, and the runtime path against that.
     pub specular_parts: Vec<(f64, f64, f64)>,
+    /// Steady-state CPU cost of the specular runtime path (modes that have one).
+    pub specular_cost: Option<crate::cost::CostStat>,
 }
 
 /// The specular reference for one roughness.
@@ -55,7 +57,7 @@ pub struct MapReport {
 }
 
 /// Wall time of each stage of one map's comparison, seconds.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StageTimes {
     /// The exact irradiance reference (and the map's samples).
     pub reference_irradiance: f64,
@@ -72,158 +74,127 @@ pub fn specular_stem(alpha: f64) -> String {
     format!("specular_a{alpha}")
 }
 
-fn esc(s: &str) -> String {
-    s.replace('\\', "\\\\").replace('"', "\\\"")
-}
-
-fn num(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.9e}")
-    } else {
-        "null".into()
-    }
-}
-
-fn metrics_json(m: &Metrics) -> String {
-    format!(
-        "{{\"rms\": {}, \"rms_weighted\": {}, \"rel_rms\": {}, \"max_abs\": {}, \"smape\": {}, \"negative_fraction\": {}}}",
-        num(m.rms),
-        num(m.rms_weighted),
-        num(m.rel_rms),
-        num(m.max_abs),
-        num(m.smape),
-        num(m.negative_fraction)
-    )
-}
-
-/// `results.json` for several maps (an array of map objects).
-pub fn json(maps: &[MapReport]) -> String {
-    let mut s = String::from("[\n");
-    for (mi, m) in maps.iter().enumerate() {
-        let _ = writeln!(
+/// The decision section of one map: per signal, the best mode within each budget of
+/// storage (rows) and CPU cost (columns), and the Pareto fronts.
+pub fn decision_markdown(r: &crate::results::MapResults) -> String {
+    let mut s = String::new();
+    for sd in &r.decision.signals {
+        let _ = write!(
             s,
-            "  {{\"map\": {{\"path\": \"{}\", \"width\": {}, \"height\": {}, \"sanitized_texels\": {}}}, \"domain\": \"{}\", \"reference\": {{\"method\": \"{}\", \"specular_method\": \"{}\", \"samples\": {}, \"specular_error\": {{{}}}, \"images\": {{\"irradiance\": \"{}/reference_irradiance.exr\", \"specular\": {{{}}}}}}}, \"modes\": [",
-            esc(&m.path),
-            m.width,
-            m.height,
-            m.sanitized,
-            m.domain,
-            esc(&m.reference_method),
-            esc(&m.specular_method),
-            m.specular_samples,
-            m.specular_reference
-                .iter()
-                .map(|r| format!(
-                    "\"{}\": {{\"rms\": {}, \"signal_rms\": {}, \"texels_checked\": {}}}",
-                    r.alpha,
-                    num(r.error_rms),
-                    num(r.signal_rms),
-                    r.texels_checked
-                ))
-                .collect::<Vec<_>>()
-                .join(", "),
-            m.slug,
-            m.specular_reference
-                .iter()
-                .map(|r| format!("\"{}\": \"{}/reference_{}.exr\"", r.alpha, m.slug, specular_stem(r.alpha)))
-                .collect::<Vec<_>>()
-                .join(", ")
+            "\n**{}** — best mode (lowest RMS) within a budget of storage per probe (f32) and CPU reconstruction cost:\n\n| ≤ bytes |",
+            sd.signal
         );
-        for (ri, r) in m.rows.iter().enumerate() {
-            let x = &r.result;
-            let coeffs =
-                x.coefficients.iter().map(|c| format!("[{}, {}, {}]", num(c[0]), num(c[1]), num(c[2]))).collect::<Vec<_>>().join(", ");
-            let lobes = x
-                .lobes
-                .iter()
-                .map(|(a, l)| format!("{{\"axis\": [{}, {}, {}], \"sharpness\": {}}}", num(a.x), num(a.y), num(a.z), num(*l)))
-                .collect::<Vec<_>>()
-                .join(", ");
-            let rad = r.radiance.as_ref().map_or("null".to_string(), metrics_json);
-            let spec = format!(
-                "{{{}}}",
-                r.specular
-                    .iter()
-                    .map(|(a, m)| {
-                        let parts = r
-                            .specular_parts
-                            .iter()
-                            .find(|p| p.0 == *a)
-                            .map_or(String::new(), |p| format!(", \"basis_limited_rms\": {}, \"runtime_rms\": {}", num(p.1), num(p.2)));
-                        let mj = metrics_json(m);
-                        format!("\"{a}\": {}{parts}}}", &mj[..mj.len() - 1])
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-            let radiance_img = if x.radiance.is_some() {
-                format!(", \"radiance\": \"{0}/{1}_radiance.exr\", \"radiance_png\": \"{0}/{1}_radiance.png\"", m.slug, x.id)
-            } else {
-                String::new()
-            };
-            let spec_img = r
-                .specular
-                .iter()
-                .map(|(a, _)| format!("\"{a}\": \"{}/{}_{}.exr\"", m.slug, x.id, specular_stem(*a)))
-                .collect::<Vec<_>>()
-                .join(", ");
-            let images = format!("{{\"irradiance\": \"{0}/{1}_irradiance.exr\", \"irradiance_png\": \"{0}/{1}_irradiance.png\", \"irradiance_error_png\": \"{0}/{1}_irradiance_error.png\"{2}, \"specular\": {{{3}}}}}", m.slug, x.id, radiance_img, spec_img);
-            let convergence = x.convergence.iter().map(|(n, e)| format!("[{n}, {}]", num(*e))).collect::<Vec<_>>().join(", ");
-            let _ = writeln!(
-                s,
-                "    {{\"id\": \"{}\", \"name\": \"{}\", \"basis\": \"{}\", \"solver\": \"{}\", \"coefficient_count\": {}, \"coefficients\": [{}], \"lobes\": [{}], \"metrics\": {{\"radiance\": {}, \"irradiance\": {}, \"specular\": {}}}, \"timing\": {{\"encode_s\": {}, \"eval_ns_per_dir\": {}}}, \"convergence\": [{}], \"images\": {}}}{}",
-                x.id,
-                esc(x.name),
-                esc(&x.basis),
-                esc(x.solver),
-                x.coefficients.len(),
-                coeffs,
-                lobes,
-                rad,
-                metrics_json(&r.irradiance),
-                spec,
-                num(x.encode_s),
-                num(x.eval_ns_per_dir),
-                convergence,
-                images,
-                if ri + 1 < m.rows.len() { "," } else { "" }
-            );
+        for t in &sd.budget.ns {
+            match t {
+                Some(t) => {
+                    let _ = write!(s, " ≤ {t} ns |");
+                }
+                None => s.push_str(" any cost |"),
+            }
         }
-        let _ = writeln!(s, "  ]}}{}", if mi + 1 < maps.len() { "," } else { "" });
+        s.push_str("\n|---|");
+        s.push_str(&"---|".repeat(sd.budget.ns.len()));
+        s.push('\n');
+        for (b, row) in sd.budget.bytes.iter().zip(&sd.budget.best) {
+            let _ = write!(s, "| {b} |");
+            for cell in row {
+                match cell {
+                    Some(p) => {
+                        let _ = write!(s, " `{}` {:.3e} |", p.id, p.error);
+                    }
+                    None => s.push_str(" — |"),
+                }
+            }
+            s.push('\n');
+        }
+        for f in &sd.fronts {
+            let unit = match f.axis.as_str() {
+                "storage_bytes" => "bytes",
+                "eval_ns" => "ns",
+                _ => "s encode",
+            };
+            let pts: Vec<String> = f.points.iter().map(|p| format!("`{}` ({} {unit}, {:.3e})", p.id, fmt_cost(p.cost), p.error)).collect();
+            let _ = writeln!(s, "\nPareto front, error vs {}: {}", f.axis, pts.join(" → "));
+        }
     }
-    s.push_str("]\n");
     s
 }
 
-/// `report.md`: per map, a table of irradiance and radiance errors and timings.
-pub fn markdown(maps: &[MapReport]) -> String {
-    let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted).\n");
+fn fmt_cost(x: f64) -> String {
+    if x >= 100.0 || x == x.round() {
+        format!("{x:.0}")
+    } else if x >= 1.0 {
+        format!("{x:.1}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// One line per map for the terminal: the best irradiance mode overall and the best within
+/// the smallest storage budget, with the fronts' sizes.
+pub fn summary_line(r: &crate::results::MapResults) -> String {
+    let Some(irr) = r.decision.signals.first() else { return format!("{}: no candidates", r.map.path) };
+    let overall = irr.budget.best.last().and_then(|row| row.last().cloned().flatten());
+    let small = irr.budget.best.first().and_then(|row| row.last().cloned().flatten());
+    let f = |p: Option<crate::decide::Point>| p.map_or("—".to_string(), |p| format!("{} (RMS {:.3e})", p.id, p.error));
+    let spec = r.decision.signals.iter().skip(1).map(|sd| {
+        let best = sd.budget.best.last().and_then(|row| row.last().cloned().flatten());
+        format!("{}: {}", sd.signal, best.map_or("—".into(), |p| p.id))
+    });
+    let spec: Vec<String> = spec.collect();
+    format!(
+        "{}: irradiance best {}, best in {} bytes {}{}",
+        r.map.path,
+        f(overall),
+        irr.budget.bytes.first().copied().unwrap_or(0),
+        f(small),
+        if spec.is_empty() { String::new() } else { format!("; {}", spec.join(", ")) }
+    )
+}
+
+/// `report.md`: per map, the decision section, then the tables of errors and costs.
+pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
+    let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (median of 5 passes over ≥ 16 384 directions, spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it).\n");
+    for (m, res) in maps.iter().zip(results) {
+        let _ = write!(s, "\n## {} — which basis\n", m.path);
+        s.push_str(&decision_markdown(res));
+        let _ = write!(
+            s,
+            "\n![irradiance error vs CPU cost]({}/error_vs_eval_cost.png) ![irradiance error vs storage]({}/error_vs_storage.png)\n",
+            m.slug, m.slug
+        );
+    }
     for m in maps {
         let _ = write!(s, "\n## {} ({}×{}, {})\n\nReference: {}.", m.path, m.width, m.height, m.domain, m.reference_method);
         if m.sanitized > 0 {
             let _ = write!(s, " {} texel channels were sanitised to 0.", m.sanitized);
         }
-        s.push_str("\n\n| mode | basis | solver | coeffs | irradiance RMS | Ω-RMS | rel | max | neg. | radiance RMS | encode ms | eval ns/dir |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        s.push_str("\n\n| mode | basis | solver | coeffs | bytes | irradiance RMS | Ω-RMS | rel | max | neg. | radiance RMS | encode ms (from map) | eval ns/dir (min–max) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for r in &m.rows {
             let x = &r.result;
             let rad = r.radiance.map_or("—".to_string(), |v| format!("{:.4}", v.rms));
             let _ = writeln!(
                 s,
-                "| `{}` | {} | {} | {} | {:.5} | {:.5} | {:.4} | {:.4} | {:.3} | {} | {:.3} | {:.1} |",
+                "| `{}` | {} | {} | {} | {} | {:.5} | {:.5} | {:.4} | {:.4} | {:.3} | {} | {:.3}{} | {:.1} ({:.1}–{:.1}) |",
                 x.id,
                 x.basis,
                 x.solver,
                 x.coefficients.len(),
+                x.storage_bytes(),
                 r.irradiance.rms,
                 r.irradiance.rms_weighted,
                 r.irradiance.rel_rms,
                 r.irradiance.max_abs,
                 r.irradiance.negative_fraction,
                 rad,
-                x.encode_s * 1e3,
-                x.eval_ns_per_dir
+                x.encode_total_s(m.stages.reference_irradiance) * 1e3,
+                if x.needs_reference { " ‡" } else { "" },
+                x.eval.median_ns,
+                x.eval.min_ns,
+                x.eval.max_ns
             );
         }
+        s.push_str("\n‡ fits the irradiance reference: charged the reference's time.\n");
         let alphas: Vec<f64> = m.rows.iter().flat_map(|r| r.specular.iter().map(|(a, _)| *a)).fold(Vec::new(), |mut v, a| {
             if !v.contains(&a) {
                 v.push(a);
@@ -317,8 +288,37 @@ pub fn markdown(maps: &[MapReport]) -> String {
 }
 
 /// `report.html`: the markdown table's content with the irradiance and error images.
-pub fn html(maps: &[MapReport]) -> String {
+pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
     let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}img.s{width:128px}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p>");
+    for (m, res) in maps.iter().zip(results) {
+        let _ = write!(s, "<h2>{} — which basis</h2>", esc_html(&m.path));
+        for sd in &res.decision.signals {
+            let _ = write!(s, "<h3>{}</h3><p>Best mode (lowest RMS) within a budget of storage per probe (f32, rows) and CPU reconstruction cost (columns):</p><table><tr><th>≤ bytes</th>", esc_html(&sd.signal));
+            for t in &sd.budget.ns {
+                let _ = write!(s, "<th>{}</th>", t.map_or("any cost".to_string(), |t| format!("≤ {t} ns")));
+            }
+            s.push_str("</tr>");
+            for (b, row) in sd.budget.bytes.iter().zip(&sd.budget.best) {
+                let _ = write!(s, "<tr><td>{b}</td>");
+                for cell in row {
+                    match cell {
+                        Some(p) => {
+                            let _ = write!(s, "<td><code>{}</code> {:.3e}</td>", p.id, p.error);
+                        }
+                        None => s.push_str("<td>—</td>"),
+                    }
+                }
+                s.push_str("</tr>");
+            }
+            s.push_str("</table><ul>");
+            for f in &sd.fronts {
+                let pts: Vec<String> =
+                    f.points.iter().map(|p| format!("<code>{}</code> ({}, {:.3e})", p.id, fmt_cost(p.cost), p.error)).collect();
+                let _ = write!(s, "<li>Pareto front, error vs {}: {}</li>", f.axis, pts.join(" → "));
+            }
+            s.push_str("</ul>");
+        }
+    }
     for m in maps {
         let exposure = crate::images::auto_exposure(&m.reference);
         let _ = write!(
@@ -332,7 +332,7 @@ pub fn html(maps: &[MapReport]) -> String {
             exposure,
             m.slug
         );
-        let _ = write!(s, "<p><img src=\"{0}/error_vs_encode_time.png\" style=\"width:480px\"> <img src=\"{0}/error_vs_eval_cost.png\" style=\"width:480px\">", m.slug);
+        let _ = write!(s, "<p><img src=\"{0}/error_vs_encode_time.png\" style=\"width:480px\"> <img src=\"{0}/error_vs_eval_cost.png\" style=\"width:480px\"> <img src=\"{0}/error_vs_storage.png\" style=\"width:480px\">", m.slug);
         if m.rows.iter().any(|r| !r.result.convergence.is_empty()) {
             let _ = write!(s, " <img src=\"{0}/error_vs_samples.png\" style=\"width:480px\">", m.slug);
         }
@@ -352,7 +352,7 @@ pub fn html(maps: &[MapReport]) -> String {
                 r.irradiance.max_abs,
                 r.irradiance.negative_fraction,
                 x.encode_s * 1e3,
-                x.eval_ns_per_dir,
+                x.eval.median_ns,
                 if x.radiance.is_some() { format!("<img src=\"{}/{}_radiance.png\">", m.slug, x.id) } else { "—".into() },
                 m.slug,
                 x.id,
@@ -409,29 +409,37 @@ fn esc_html(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
-/// Writes every image and plot of one map into `dir/<slug>/`.
-pub fn write_images(dir: &std::path::Path, m: &MapReport) -> Result<(), String> {
+/// Writes every image and plot of one map into `dir/<slug>/`: /// PNG previews always; float EXRs when `exr`.
+pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(), String> {
     use crate::images;
     let d = dir.join(&m.slug);
     std::fs::create_dir_all(&d).map_err(|e| format!("creating {}: {e}", d.display()))?;
     let ev = images::auto_exposure(&m.reference);
-    images::write_exr(&d.join("reference_irradiance.exr"), m.grid, &m.reference)?;
+    if exr {
+        images::write_exr(&d.join("reference_irradiance.exr"), m.grid, &m.reference)?;
+    }
     images::write_png(&d.join("reference_irradiance.png"), m.grid, &m.reference, ev)?;
     for r in &m.rows {
         let x = &r.result;
-        images::write_exr(&d.join(format!("{}_irradiance.exr", x.id)), m.grid, &x.irradiance)?;
+        if exr {
+            images::write_exr(&d.join(format!("{}_irradiance.exr", x.id)), m.grid, &x.irradiance)?;
+        }
         images::write_png(&d.join(format!("{}_irradiance.png", x.id)), m.grid, &x.irradiance, ev)?;
         let err: Vec<[f64; 3]> = x.irradiance.iter().zip(&m.reference).map(|(a, b)| [0, 1, 2].map(|k| (a[k] - b[k]).abs())).collect();
         images::write_png(&d.join(format!("{}_irradiance_error.png", x.id)), m.grid, &err, ev + 4.0)?;
         if let Some(rad) = &x.radiance {
-            images::write_exr(&d.join(format!("{}_radiance.exr", x.id)), m.grid, rad)?;
+            if exr {
+                images::write_exr(&d.join(format!("{}_radiance.exr", x.id)), m.grid, rad)?;
+            }
             images::write_png(&d.join(format!("{}_radiance.png", x.id)), m.grid, rad, ev)?;
         }
         for ((a, _), img) in r.specular.iter().zip(&r.specular_images) {
             let Some(sr) = m.specular_reference.iter().find(|s| s.alpha == *a) else { continue };
             let sev = images::auto_exposure(&sr.image);
             let st = specular_stem(*a);
-            images::write_exr(&d.join(format!("{}_{st}.exr", x.id)), m.grid, img)?;
+            if exr {
+                images::write_exr(&d.join(format!("{}_{st}.exr", x.id)), m.grid, img)?;
+            }
             images::write_png(&d.join(format!("{}_{st}.png", x.id)), m.grid, img, sev)?;
             let err: Vec<[f64; 3]> = img.iter().zip(&sr.image).map(|(p, q)| [0, 1, 2].map(|k| (p[k] - q[k]).abs())).collect();
             images::write_png(&d.join(format!("{}_{st}_error.png", x.id)), m.grid, &err, sev + 4.0)?;
@@ -439,7 +447,9 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport) -> Result<(), String> 
     }
     for sr in &m.specular_reference {
         let st = specular_stem(sr.alpha);
-        images::write_exr(&d.join(format!("reference_{st}.exr")), m.grid, &sr.image)?;
+        if exr {
+            images::write_exr(&d.join(format!("reference_{st}.exr")), m.grid, &sr.image)?;
+        }
         images::write_png(&d.join(format!("reference_{st}.png")), m.grid, &sr.image, images::auto_exposure(&sr.image))?;
     }
     let series: Vec<(String, Vec<(f64, f64)>)> = m
@@ -463,14 +473,21 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport) -> Result<(), String> 
         &format!("{}: irradiance error vs encode time", m.path),
         "encode time (s)",
         "irradiance RMS (E/π)",
-        &pts(&|r| r.result.encode_s),
+        &pts(&|r| r.result.encode_total_s(m.stages.reference_irradiance)),
+    )?;
+    images::scatter(
+        &d.join("error_vs_storage.png"),
+        &format!("{}: irradiance error vs storage", m.path),
+        "bytes per probe (f32)",
+        "irradiance RMS (E/π)",
+        &pts(&|r| r.result.storage_bytes() as f64),
     )?;
     images::scatter(
         &d.join("error_vs_eval_cost.png"),
         &format!("{}: irradiance error vs reconstruction cost", m.path),
         "CPU reconstruction (ns per direction)",
         "irradiance RMS (E/π)",
-        &pts(&|r| r.result.eval_ns_per_dir),
+        &pts(&|r| r.result.eval.median_ns),
     )?;
     Ok(())
 }

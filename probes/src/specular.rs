@@ -295,6 +295,21 @@ pub fn supported(id: &str) -> bool {
 
 /// Specular image of a mode for roughness `alpha`, or `None` for irradiance-only modes.
 pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64; 3]>> {
+    let texel = texel_fn(r, ctx, alpha)?;
+    Some((0..ctx.dirs.len()).into_par_iter().map(&texel).collect())
+}
+
+/// Steady-state CPU cost of a mode's specular runtime path at roughness `alpha`
+/// ([`crate::cost::ns_per_direction`] over the output texels where the signal is defined),
+/// or `None` for irradiance-only modes.
+pub fn cost(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<crate::cost::CostStat> {
+    let texel = texel_fn(r, ctx, alpha)?;
+    let ks: Vec<usize> = (0..ctx.dirs.len()).filter(|k| geometry(ctx, *k).is_some()).collect();
+    Some(crate::cost::ns_per_item(&ks, ctx.eval_work, texel))
+}
+
+/// The specular runtime path of a mode as a function of the output texel index.
+fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl Fn(usize) -> [f64; 3] + Sync + 'a> {
     if !supported(r.id) {
         return None;
     }
@@ -312,35 +327,35 @@ pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64
     } else {
         Vec::new()
     };
-    let out = (0..ctx.dirs.len())
-        .into_par_iter()
-        .map(|k| {
-            let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
-            let nv = n.dot(v).clamp(0.0, 1.0);
-            if is_sh(r.id) {
-                let d = dfg.sample2(nv as f32, alpha as f32);
-                shr::specular_zonal_rgb(c, &sh_filters[k / ctx.grid.width], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64])
-                    .unwrap_or([f64::NAN; 3])
-            } else if is_sg(r.id) {
-                let warp = sgr::AsgWarp::new(n, v, alpha, 1.0, 1.0);
-                let d = dfg.sample2(nv as f32, alpha as f32);
-                [0, 1, 2].map(|ch| {
-                    let lobes: f64 = r
-                        .lobes
-                        .iter()
-                        .enumerate()
-                        .map(|(i, (axis, lam))| chans[ch][i] * warp.lobe(&sbf::Sg { axis: *axis, sharpness: *lam, amplitude: 1.0 }))
-                        .sum();
-                    // An ambient (constant) function reflects its value times the albedo.
-                    let ambient = if chans[ch].len() > r.lobes.len() { chans[ch][r.lobes.len()] * (d[0] + d[1]) as f64 } else { 0.0 };
-                    lobes + ambient
-                })
-            } else {
-                let axes: Vec<DVec3> = r.lobes.iter().map(|(a, _)| *a).collect();
-                let l = lut.sample2(nv as f32, alpha as f32);
-                [0, 1, 2].map(|ch| adr::specular(&axes, &chans[ch], n, v, alpha, 1.0, 1.0, [l[0] as f64, l[1] as f64]))
+    let axes: Vec<DVec3> = r.lobes.iter().map(|(a, _)| *a).collect();
+    Some(move |k: usize| {
+        let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
+        let nv = n.dot(v).clamp(0.0, 1.0);
+        if is_sh(r.id) {
+            let d = dfg.sample2(nv as f32, alpha as f32);
+            shr::specular_zonal_rgb(c, &sh_filters[k / ctx.grid.width], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64])
+                .unwrap_or([f64::NAN; 3])
+        } else if is_sg(r.id) {
+            let warp = sgr::AsgWarp::new(n, v, alpha, 1.0, 1.0);
+            let d = dfg.sample2(nv as f32, alpha as f32);
+            // Each lobe's warped integral once, then RGB (the runtime's form).
+            let mut e = [0.0; 3];
+            for ((axis, lam), ci) in r.lobes.iter().zip(c) {
+                let w = warp.lobe(&sbf::Sg { axis: *axis, sharpness: *lam, amplitude: 1.0 });
+                for ch in 0..3 {
+                    e[ch] += w * ci[ch];
+                }
             }
-        })
-        .collect();
-    Some(out)
+            // An ambient (constant) function reflects its value times the albedo.
+            if c.len() > r.lobes.len() {
+                for ch in 0..3 {
+                    e[ch] += c[r.lobes.len()][ch] * (d[0] + d[1]) as f64;
+                }
+            }
+            e
+        } else {
+            let l = lut.sample2(nv as f32, alpha as f32);
+            [0, 1, 2].map(|ch| adr::specular(&axes, &chans[ch], n, v, alpha, 1.0, 1.0, [l[0] as f64, l[1] as f64]))
+        }
+    })
 }

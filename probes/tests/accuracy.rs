@@ -115,25 +115,29 @@ fn results_json_coefficients_match_dense_ls() {
                 specular: Vec::new(),
                 specular_images: Vec::new(),
                 specular_parts: Vec::new(),
+                specular_cost: None,
             }
         })
         .collect();
-    let json = report::json(&[report::MapReport {
-        path: "wells".into(),
-        width: 256,
-        height: 128,
-        domain: "sphere",
-        reference_method: String::new(),
-        sanitized: 0,
-        rows,
-        specular_method: String::new(),
-        specular_samples: 0,
-        specular_reference: Vec::new(),
-        grid: ctx.grid,
-        reference: ctx.irradiance.clone(),
-        slug: "wells".into(),
-        stages: Default::default(),
-    }]);
+    let json = probes::results::to_json(&[probes::results::from_report(
+        &report::MapReport {
+            path: "wells".into(),
+            width: 256,
+            height: 128,
+            domain: "sphere",
+            reference_method: String::new(),
+            sanitized: 0,
+            rows,
+            specular_method: String::new(),
+            specular_samples: 0,
+            specular_reference: Vec::new(),
+            grid: ctx.grid,
+            reference: ctx.irradiance.clone(),
+            slug: "wells".into(),
+            stages: Default::default(),
+        },
+        false,
+    )]);
     let v: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
     let vogel = sbf::layout::vogel_sphere(12).unwrap();
     let bases: Vec<(&str, Box<dyn sbf::Basis>)> = vec![

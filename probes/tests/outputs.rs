@@ -1,5 +1,7 @@
-//! The report folder is complete and self-consistent: `results.json` parses, follows
-//! the documented schema, and every image it names exists with the map's size.
+//! The report folder is complete and self-consistent: `results.json` reads back into the
+//! tool's serde types and writes out identically, every image it names exists with the
+//! map's size, maps with equal file names get separate folders, `--images exr` adds the
+//! float images, and the decision section equals a brute-force recomputation.
 
 use std::process::Command;
 
@@ -20,50 +22,209 @@ fn results_json_names_existing_images() {
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
-    let m = &v[0];
-    assert_eq!(m["map"]["width"], 64);
-    let check = |rel: &serde_json::Value| {
-        let p = out.join(rel.as_str().expect("a path"));
+    // Read back with the same serde types the tool writes.
+    let text = std::fs::read_to_string(out.join("results.json")).unwrap();
+    let all = probes::results::from_json(&text).unwrap();
+    assert_eq!(probes::results::from_json(&probes::results::to_json(&all)).unwrap(), all, "results.json round-trips");
+    let m = &all[0];
+    assert_eq!(m.map.width, 64);
+    let check = |rel: &str| {
+        let p = out.join(rel);
         let img = image::open(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         assert_eq!((img.width(), img.height()), (64, 32), "{}", p.display());
     };
-    check(&m["reference"]["images"]["irradiance"]);
+    // Default images: PNG previews only.
+    check(&m.reference.images.irradiance.png);
+    assert!(m.reference.images.irradiance.exr.is_none());
     for a in ["0.2", "0.6"] {
-        check(&m["reference"]["images"]["specular"][a]);
-        let e = &m["reference"]["specular_error"][a];
-        assert!(e["rms"].as_f64().unwrap() >= 0.0 && e["texels_checked"].as_u64().unwrap() > 0);
+        check(&m.reference.images.specular[a].png);
+        let e = &m.reference.specular_error[a];
+        assert!(e.rms >= 0.0 && e.texels_checked > 0);
     }
-    let modes = m["modes"].as_array().unwrap();
-    assert_eq!(modes.len(), 5);
-    for mode in modes {
-        let id = mode["id"].as_str().unwrap();
-        for key in ["irradiance", "irradiance_png", "irradiance_error_png"] {
-            check(&mode["images"][key]);
-        }
-        let spec = mode["images"]["specular"].as_object().unwrap();
+    assert_eq!(m.modes.len(), 5);
+    for mode in &m.modes {
+        let id = mode.id.as_str();
+        check(&mode.images.irradiance.png);
+        check(&mode.images.irradiance_error_png);
         // Every radiance mode reconstructs specular; `ac` stores irradiance only.
-        assert_eq!(spec.len(), if id == "ac" { 0 } else { 2 }, "{id}");
-        for p in spec.values() {
-            check(p);
+        assert_eq!(mode.images.specular.len(), if id == "ac" { 0 } else { 2 }, "{id}");
+        for p in mode.images.specular.values() {
+            check(&p.image.png);
+            check(&p.error_png);
         }
-        for sig in ["rms", "rms_weighted", "rel_rms", "max_abs", "smape", "negative_fraction"] {
-            assert!(mode["metrics"]["irradiance"][sig].is_number(), "{id}/{sig}");
+        assert!(mode.metrics.irradiance.rms.is_finite(), "{id}");
+        // Cost axes: a measured steady state with its spread, storage at f32, and the
+        // reference's time charged to the one mode here that fits it (`ac`).
+        let c = &mode.cost;
+        assert!(
+            c.eval.repeats >= 5
+                && c.eval.batch >= probes::cost::MIN_BATCH
+                && c.eval.min_ns <= c.eval.median_ns
+                && c.eval.median_ns <= c.eval.max_ns,
+            "{id}: {:?}",
+            c.eval
+        );
+        assert_eq!(c.storage_bytes, 12 * mode.coefficient_count, "{id}");
+        let charged = c.encode_total_s - c.encode_s;
+        if id == "ac" {
+            assert_eq!(c.encode_input, "irradiance reference");
+            assert!((charged - m.reference.irradiance_seconds).abs() < 1e-12, "{id}: {charged}");
+        } else {
+            assert_eq!(charged, 0.0, "{id}");
         }
+        assert_eq!(c.specular_eval.is_some(), id != "ac", "{id}");
         // The per-sample encoder reports error against 16, 32, …, 4096 samples.
-        let conv = mode["convergence"].as_array().unwrap();
+        let conv = &mode.convergence;
         assert_eq!(conv.len(), if id == "sgpls" { 9 } else { 0 }, "{id}");
         // Its last point is the reported result (same samples, same order, same f32 state;
         // the snapshot sums lobes in a different order: 1e-9 relative).
-        if let Some(last) = conv.last() {
-            let (n, e) = (last[0].as_u64().unwrap(), last[1].as_f64().unwrap());
-            let rms = mode["metrics"]["irradiance"]["rms"].as_f64().unwrap();
+        if let Some(&(n, e)) = conv.last() {
+            let rms = mode.metrics.irradiance.rms;
             assert_eq!(n, 4096);
             assert!((e - rms).abs() <= 1e-9 * rms, "{id}: {e} vs {rms}");
         }
     }
-    for f in ["report.html", "report.md", "sky/error_vs_encode_time.png", "sky/error_vs_eval_cost.png", "sky/error_vs_samples.png"] {
+    for f in [
+        "report.html",
+        "report.md",
+        "sky/error_vs_encode_time.png",
+        "sky/error_vs_eval_cost.png",
+        "sky/error_vs_storage.png",
+        "sky/error_vs_samples.png",
+    ] {
         assert!(out.join(f).is_file(), "{f}");
+    }
+    assert!(
+        !std::fs::read_dir(out.join("sky")).unwrap().any(|e| e.unwrap().path().extension().is_some_and(|x| x == "exr")),
+        "no EXR by default"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}
+
+fn run(args: &[&std::ffi::OsStr]) {
+    let o = Command::new(env!("CARGO_BIN_EXE_probes")).args(args).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Two maps named `sky` in different folders: two image folders, each map's images in its
+/// own; `--images exr` writes the EXRs results.json names.
+#[test]
+fn equal_names_get_their_own_folders_and_exr_on_request() {
+    let d = std::env::temp_dir().join(format!("probes-names-{}", std::process::id()));
+    for (sub, preset) in [("a", "sky"), ("b", "sky-nosun")] {
+        std::fs::create_dir_all(d.join(sub)).unwrap();
+        let p = d.join(sub).join("sky.hdr");
+        run(&["env".as_ref(), "--preset".as_ref(), preset.as_ref(), "--width".as_ref(), "32".as_ref(), "--out".as_ref(), p.as_os_str()]);
+    }
+    let out = d.join("report");
+    run(&[
+        "compare".as_ref(),
+        d.join("a/sky.hdr").as_os_str(),
+        d.join("b/sky.hdr").as_os_str(),
+        "--modes".as_ref(),
+        "shl2,ac".as_ref(),
+        "--no-specular".as_ref(),
+        "--repeats".as_ref(),
+        "1".as_ref(),
+        "--images".as_ref(),
+        "exr".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let all = probes::results::from_json(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(all.len(), 2);
+    assert_eq!((all[0].map.folder.as_str(), all[1].map.folder.as_str()), ("sky", "sky-2"));
+    // Different maps, different reference images in the two folders.
+    let img = |rel: &str| image::open(out.join(rel)).unwrap().to_rgb32f().into_raw();
+    let (a, b) = (all[0].reference.images.irradiance.exr.clone().unwrap(), all[1].reference.images.irradiance.exr.clone().unwrap());
+    assert_ne!(a, b);
+    assert_ne!(img(&a), img(&b), "the second map overwrote the first");
+    for m in &all {
+        for mode in &m.modes {
+            img(mode.images.irradiance.exr.as_deref().expect("exr requested"));
+        }
+    }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// The decision section against brute force, on a real run's results.json: every front
+/// point is dominated by no candidate, every other candidate is dominated by (or equal to)
+/// a front point, and every budget cell holds the lowest error among the candidates that
+/// fit. Mutations tried: a front that keeps points up to 1.5× the last error, a budget using
+/// `<` for the byte limit — both fail here.
+#[test]
+fn decision_matches_brute_force_from_results_json() {
+    let d = std::env::temp_dir().join(format!("probes-decide-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let map = d.join("sky.hdr");
+    run(&["env".as_ref(), "--preset".as_ref(), "sky".as_ref(), "--width".as_ref(), "32".as_ref(), "--out".as_ref(), map.as_os_str()]);
+    let out = d.join("report");
+    run(&[
+        "compare".as_ref(),
+        map.as_os_str(),
+        "--modes".as_ref(),
+        "ac,acproj,shl1,shl2,shl4,adrbf,adrbf-irr,sgls,sglsa".as_ref(),
+        "--alphas".as_ref(),
+        "0.3".as_ref(),
+        "--repeats".as_ref(),
+        "1".as_ref(),
+        "--images".as_ref(),
+        "none".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let all = probes::results::from_json(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let r = &all[0];
+    // What the tool wrote equals what the library computes from the file.
+    assert_eq!(probes::decide::decide(r), r.decision);
+    assert_eq!(r.decision.signals.len(), 2, "irradiance and specular α=0.3");
+    for sd in &r.decision.signals {
+        // Candidates by brute force: (id, error, [bytes, ns, encode s]).
+        let cands: Vec<(String, f64, [f64; 3])> = r
+            .modes
+            .iter()
+            .filter_map(|m| {
+                let (err, ns) = if sd.signal == "irradiance" {
+                    (m.metrics.irradiance.rms, m.cost.eval.median_ns)
+                } else {
+                    (m.metrics.specular.get("0.3")?.metrics.rms, m.cost.specular_eval?.median_ns)
+                };
+                Some((m.id.clone(), err, [m.cost.storage_bytes as f64, ns, m.cost.encode_total_s]))
+            })
+            .collect();
+        // 9 modes with irradiance; 6 of them store radiance and have specular.
+        assert_eq!(cands.len(), if sd.signal == "irradiance" { 9 } else { 6 }, "{}", sd.signal);
+        let dominates = |a: &(String, f64, [f64; 3]), b: &(String, f64, [f64; 3]), k: usize| {
+            a.2[k] <= b.2[k] && a.1 <= b.1 && (a.2[k] < b.2[k] || a.1 < b.1)
+        };
+        for (k, f) in sd.fronts.iter().enumerate() {
+            let on: Vec<&str> = f.points.iter().map(|p| p.id.as_str()).collect();
+            for c in &cands {
+                let dominated = cands.iter().any(|o| dominates(o, c, k));
+                if on.contains(&c.0.as_str()) {
+                    assert!(!dominated, "{} {}: {} is on the front but dominated", sd.signal, f.axis, c.0);
+                } else {
+                    assert!(
+                        dominated || cands.iter().any(|o| on.contains(&o.0.as_str()) && o.1 == c.1 && o.2[k] == c.2[k]),
+                        "{} {}: {} is missing from the front",
+                        sd.signal,
+                        f.axis,
+                        c.0
+                    );
+                }
+            }
+        }
+        for (bi, b) in sd.budget.bytes.iter().enumerate() {
+            for (ti, t) in sd.budget.ns.iter().enumerate() {
+                let fit: Vec<&(String, f64, [f64; 3])> =
+                    cands.iter().filter(|c| c.2[0] <= *b as f64 && t.is_none_or(|t| c.2[1] <= t)).collect();
+                let want = fit.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+                match &sd.budget.best[bi][ti] {
+                    Some(p) => assert_eq!(p.error, want, "{} ≤ {b} B, {t:?} ns", sd.signal),
+                    None => assert!(fit.is_empty(), "{} ≤ {b} B, {t:?} ns: {} fit but none chosen", sd.signal, fit.len()),
+                }
+            }
+        }
     }
     std::fs::remove_dir_all(&d).ok();
 }

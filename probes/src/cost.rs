@@ -1,0 +1,87 @@
+//! Cost axes, measured the same way for every mode (issue 18 item 2): CPU reconstruction
+//! cost as steady-state nanoseconds per direction over a large batch, and storage.
+//!
+//! Method: the mode's runtime evaluation (coefficients → value at a direction, exactly
+//! what the report's images come from) runs over the output directions, cycled to at
+//! least [`MIN_BATCH`] evaluations; one untimed pass warms caches and branch predictors,
+//! then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
+//! nothing is allocated inside the loop (the evaluators hoist their scratch). Reported:
+//! the median pass and the spread (min, max). Measured serially, one mode at a time, so
+//! no other work of this process competes for the core.
+
+use sbf::glam::DVec3;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Timed passes per measurement.
+pub const REPEATS: usize = 5;
+/// Smallest batch, in evaluations.
+pub const MIN_BATCH: usize = 1 << 14;
+
+/// A steady-state cost: ns per evaluation, median of `repeats` passes of `batch`
+/// evaluations, with the fastest and slowest pass.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct CostStat {
+    pub median_ns: f64,
+    pub min_ns: f64,
+    pub max_ns: f64,
+    pub repeats: usize,
+    pub batch: usize,
+}
+
+impl CostStat {
+    /// A cost measured once (no spread), e.g. a Monte Carlo estimate's per-texel cost.
+    pub fn single(ns: f64, batch: usize) -> CostStat {
+        CostStat { median_ns: ns, min_ns: ns, max_ns: ns, repeats: 1, batch }
+    }
+}
+
+/// Steady-state ns per direction of `f` (see the module docs). `work` ≥ 1 evaluates each
+/// direction that many times and still divides by the batch: the cost-axis test uses
+/// `work = 2` as its "twice as expensive" mutation.
+pub fn ns_per_direction(dirs: &[DVec3], work: usize, f: impl FnMut(DVec3) -> [f64; 3]) -> CostStat {
+    ns_per_item(dirs, work, f)
+}
+
+/// [`ns_per_direction`] over any inputs (e.g. output texel indices).
+pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, mut f: impl FnMut(T) -> [f64; 3]) -> CostStat {
+    if dirs.is_empty() {
+        return CostStat::default();
+    }
+    // Large inputs: an evenly strided subset of about MIN_BATCH items.
+    let stride = (dirs.len() / MIN_BATCH).max(1);
+    let subset: Vec<T> = dirs.iter().step_by(stride).copied().collect();
+    let dirs = &subset[..];
+    let passes = MIN_BATCH.div_ceil(dirs.len());
+    let batch = passes * dirs.len();
+    let work = work.max(1);
+    let mut pass = || {
+        let mut acc = 0.0;
+        for _ in 0..passes {
+            for d in dirs {
+                for _ in 0..work {
+                    let v = black_box(f(black_box(*d)));
+                    acc += v[0];
+                }
+            }
+        }
+        black_box(acc);
+    };
+    pass();
+    let mut times: Vec<f64> = (0..REPEATS)
+        .map(|_| {
+            let t = Instant::now();
+            pass();
+            t.elapsed().as_secs_f64() * 1e9 / batch as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    CostStat { median_ns: times[REPEATS / 2], min_ns: times[0], max_ns: times[REPEATS - 1], repeats: REPEATS, batch }
+}
+
+/// Bytes per probe (or lightmap texel) at the runtime precision (f32): the scalars the
+/// runtime reads. Lobe axes and sharpness are shared by every probe of a basis and not
+/// counted.
+pub fn storage_bytes(scalars: usize) -> usize {
+    4 * scalars
+}

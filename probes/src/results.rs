@@ -1,0 +1,298 @@
+//! `results.json`: the machine-readable results, written and read with serde (derive).
+//!
+//! One [`MapResults`] per map, in an array. Every number a report shows comes from here,
+//! including the decision section ([`crate::decide`]), which a test recomputes from the
+//! file. Non-finite values are written as `null` and read back as NaN.
+
+use crate::cost::CostStat;
+use crate::metrics::Metrics;
+use crate::report::{specular_stem, MapReport, StageTimes};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Numbers that may be non-finite: `null` in JSON, NaN in memory.
+pub mod nullable {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if x.is_finite() {
+            s.serialize_f64(*x)
+        } else {
+            s.serialize_none()
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+    }
+}
+
+/// The results of one map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapResults {
+    pub map: MapInfo,
+    /// `sphere` or `upper hemisphere` (where errors are measured).
+    pub domain: String,
+    pub reference: ReferenceInfo,
+    /// Wall time of each stage, seconds.
+    pub stage_seconds: StageTimes,
+    pub modes: Vec<ModeRecord>,
+    /// Pareto fronts and budget tables ([`crate::decide`]).
+    pub decision: crate::decide::Decision,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapInfo {
+    pub path: String,
+    pub width: usize,
+    pub height: usize,
+    pub sanitized_texels: usize,
+    /// Folder of this map's images inside the report folder (unique per run).
+    pub folder: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceInfo {
+    /// How the irradiance reference was computed.
+    pub method: String,
+    /// How the specular references were computed ("" without specular).
+    pub specular_method: String,
+    /// Per α (as written on the command line): the reference's estimated error.
+    pub specular_error: BTreeMap<String, ReferenceError>,
+    /// Seconds it took to make the irradiance reference (charged to modes that fit it).
+    pub irradiance_seconds: f64,
+    pub images: ReferenceImages,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceError {
+    #[serde(with = "nullable")]
+    pub rms: f64,
+    #[serde(with = "nullable")]
+    pub signal_rms: f64,
+    pub texels_checked: usize,
+}
+
+/// Image paths relative to the report folder; PNG always, EXR with `--images exr`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceImages {
+    pub irradiance: ImagePair,
+    pub specular: BTreeMap<String, ImagePair>,
+}
+
+/// A PNG preview and, when written, the float EXR of the same image.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ImagePair {
+    pub png: String,
+    pub exr: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeRecord {
+    pub id: String,
+    pub name: String,
+    pub basis: String,
+    pub solver: String,
+    pub coefficient_count: usize,
+    pub coefficients: Vec<[f64; 3]>,
+    pub lobes: Vec<Lobe>,
+    pub metrics: ModeMetrics,
+    pub cost: Cost,
+    /// Per-sample encoders: (samples taken, irradiance RMS).
+    pub convergence: Vec<(u64, f64)>,
+    pub images: ModeImages,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Lobe {
+    pub axis: [f64; 3],
+    pub sharpness: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeMetrics {
+    pub radiance: Option<MetricsJson>,
+    pub irradiance: MetricsJson,
+    /// Per α: the specular metrics and the error split.
+    pub specular: BTreeMap<String, SpecularMetrics>,
+}
+
+/// [`Metrics`] as written (non-finite as null).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MetricsJson {
+    #[serde(with = "nullable")]
+    pub rms: f64,
+    #[serde(with = "nullable")]
+    pub rms_weighted: f64,
+    #[serde(with = "nullable")]
+    pub rel_rms: f64,
+    #[serde(with = "nullable")]
+    pub max_abs: f64,
+    #[serde(with = "nullable")]
+    pub smape: f64,
+    #[serde(with = "nullable")]
+    pub negative_fraction: f64,
+}
+
+impl From<Metrics> for MetricsJson {
+    fn from(m: Metrics) -> Self {
+        MetricsJson {
+            rms: m.rms,
+            rms_weighted: m.rms_weighted,
+            rel_rms: m.rel_rms,
+            max_abs: m.max_abs,
+            smape: m.smape,
+            negative_fraction: m.negative_fraction,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpecularMetrics {
+    #[serde(flatten)]
+    pub metrics: MetricsJson,
+    /// The exact GGX integral of the mode's reconstructed radiance against the reference.
+    pub basis_limited_rms: Option<f64>,
+    /// The runtime path against that integral.
+    pub runtime_rms: Option<f64>,
+}
+
+/// The cost axes of one mode, each measured the same way for every mode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Cost {
+    /// What the encoder reads: `radiance map` or `irradiance reference`.
+    pub encode_input: String,
+    /// Median encode time from that input, seconds.
+    pub encode_s: f64,
+    /// Encode time from the radiance map: `encode_s` plus, for modes that fit the
+    /// irradiance reference, the time it took to make it.
+    pub encode_total_s: f64,
+    /// Steady-state CPU cost of the irradiance runtime evaluation.
+    pub eval: CostStat,
+    /// Steady-state CPU cost of the specular runtime path (modes that have one).
+    pub specular_eval: Option<CostStat>,
+    /// Bytes per probe/texel at the runtime precision.
+    pub storage_bytes: usize,
+    pub storage_precision: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeImages {
+    pub irradiance: ImagePair,
+    /// |approximation − reference| at 4 EV more.
+    pub irradiance_error_png: String,
+    pub radiance: Option<ImagePair>,
+    /// Per α: the specular image and its error PNG.
+    pub specular: BTreeMap<String, SpecularImages>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpecularImages {
+    #[serde(flatten)]
+    pub image: ImagePair,
+    pub error_png: String,
+}
+
+/// The key of roughness α in the per-α maps (as `{α}` prints: `0.1`, `0.25`).
+pub fn alpha_key(alpha: f64) -> String {
+    format!("{alpha}")
+}
+
+fn pair(folder: &str, stem: &str, exr: bool) -> ImagePair {
+    ImagePair { png: format!("{folder}/{stem}.png"), exr: exr.then(|| format!("{folder}/{stem}.exr")) }
+}
+
+/// The results of one map (the decision section computed from them).
+pub fn from_report(m: &MapReport, exr: bool) -> MapResults {
+    let f = &m.slug;
+    let modes = m
+        .rows
+        .iter()
+        .map(|r| {
+            let x = &r.result;
+            let specular = r
+                .specular
+                .iter()
+                .map(|(a, mm)| {
+                    let parts = r.specular_parts.iter().find(|p| p.0 == *a);
+                    (
+                        alpha_key(*a),
+                        SpecularMetrics { metrics: (*mm).into(), basis_limited_rms: parts.map(|p| p.1), runtime_rms: parts.map(|p| p.2) },
+                    )
+                })
+                .collect();
+            ModeRecord {
+                id: x.id.to_string(),
+                name: x.name.to_string(),
+                basis: x.basis.clone(),
+                solver: x.solver.to_string(),
+                coefficient_count: x.coefficients.len(),
+                coefficients: x.coefficients.clone(),
+                lobes: x.lobes.iter().map(|(a, l)| Lobe { axis: [a.x, a.y, a.z], sharpness: *l }).collect(),
+                metrics: ModeMetrics { radiance: r.radiance.map(Into::into), irradiance: r.irradiance.into(), specular },
+                cost: Cost {
+                    encode_input: if x.needs_reference { "irradiance reference" } else { "radiance map" }.into(),
+                    encode_s: x.encode_s,
+                    encode_total_s: x.encode_total_s(m.stages.reference_irradiance),
+                    eval: x.eval,
+                    specular_eval: r.specular_cost,
+                    storage_bytes: x.storage_bytes(),
+                    storage_precision: "f32".into(),
+                },
+                convergence: x.convergence.clone(),
+                images: ModeImages {
+                    irradiance: pair(f, &format!("{}_irradiance", x.id), exr),
+                    irradiance_error_png: format!("{f}/{}_irradiance_error.png", x.id),
+                    radiance: x.radiance.as_ref().map(|_| pair(f, &format!("{}_radiance", x.id), exr)),
+                    specular: r
+                        .specular
+                        .iter()
+                        .map(|(a, _)| {
+                            let st = format!("{}_{}", x.id, specular_stem(*a));
+                            (alpha_key(*a), SpecularImages { image: pair(f, &st, exr), error_png: format!("{f}/{st}_error.png") })
+                        })
+                        .collect(),
+                },
+            }
+        })
+        .collect::<Vec<_>>();
+    let mut out = MapResults {
+        map: MapInfo { path: m.path.clone(), width: m.width, height: m.height, sanitized_texels: m.sanitized, folder: f.clone() },
+        domain: m.domain.to_string(),
+        reference: ReferenceInfo {
+            method: m.reference_method.clone(),
+            specular_method: m.specular_method.clone(),
+            specular_error: m
+                .specular_reference
+                .iter()
+                .map(|r| {
+                    (alpha_key(r.alpha), ReferenceError { rms: r.error_rms, signal_rms: r.signal_rms, texels_checked: r.texels_checked })
+                })
+                .collect(),
+            irradiance_seconds: m.stages.reference_irradiance,
+            images: ReferenceImages {
+                irradiance: pair(f, "reference_irradiance", exr),
+                specular: m
+                    .specular_reference
+                    .iter()
+                    .map(|r| (alpha_key(r.alpha), pair(f, &format!("reference_{}", specular_stem(r.alpha)), exr)))
+                    .collect(),
+            },
+        },
+        stage_seconds: m.stages,
+        modes,
+        decision: Default::default(),
+    };
+    out.decision = crate::decide::decide(&out);
+    out
+}
+
+/// `results.json` text for several maps.
+pub fn to_json(maps: &[MapResults]) -> String {
+    serde_json::to_string_pretty(maps).expect("results serialise") + "\n"
+}
+
+/// Reads `results.json` text.
+pub fn from_json(text: &str) -> Result<Vec<MapResults>, String> {
+    serde_json::from_str(text).map_err(|e| format!("results.json: {e}"))
+}
