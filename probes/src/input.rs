@@ -63,6 +63,9 @@ pub fn load_map(path: &Path, sanitize: bool) -> Result<(LatLongImage, SanitizeRe
         _ => return Err(InputError::UnsupportedFormat { path: p, extension: ext }),
     };
     let bytes = std::fs::read(path).map_err(|e| InputError::Decode { path: p.clone(), message: e.to_string() })?;
+    if format == image::ImageFormat::Hdr {
+        check_hdr(&bytes).map_err(|message| InputError::Decode { path: p.clone(), message })?;
+    }
     let img = image::load_from_memory_with_format(&bytes, format)
         .map_err(|e| InputError::Decode { path: p.clone(), message: e.to_string() })?
         .to_rgb32f();
@@ -111,4 +114,66 @@ pub fn validate(path: &str, width: u32, texels: &mut [[f32; 3]], sanitize: bool)
         }
     }
     Ok(r)
+}
+
+/// Checks a Radiance `.hdr` file where the `image` decoder is lenient, before it decodes:
+/// every `EXPOSURE=` header value must be finite and positive (it scales the radiance),
+/// and in a new-style RLE file every scanline's width field must equal the image width
+/// and its runs must fill the scanline exactly (walked, not decoded). Flat and old-style
+/// files are left to the decoder.
+pub fn check_hdr(bytes: &[u8]) -> Result<(), String> {
+    let mut pos = 0;
+    let mut line = || -> Option<&[u8]> {
+        let start = pos;
+        let end = start + bytes.get(start..)?.iter().position(|b| *b == b'\n')?;
+        pos = end + 1;
+        Some(&bytes[start..end])
+    };
+    loop {
+        let Some(l) = line() else { return Ok(()) }; // truncated header: the decoder says so
+        if l.is_empty() {
+            break;
+        }
+        if let Some(v) = l.strip_prefix(b"EXPOSURE=") {
+            let text = String::from_utf8_lossy(v);
+            let e: f64 = text.trim().parse().map_err(|_| format!("header EXPOSURE={text} is not a number"))?;
+            if !(e.is_finite() && e > 0.0) {
+                return Err(format!("header EXPOSURE={text} must be finite and positive"));
+            }
+        }
+    }
+    let Some(res) = line() else { return Ok(()) };
+    let res = String::from_utf8_lossy(res).to_string();
+    let f: Vec<&str> = res.split_whitespace().collect();
+    let (Some(h), Some(w)) = (f.get(1).and_then(|x| x.parse::<usize>().ok()), f.get(3).and_then(|x| x.parse::<usize>().ok())) else {
+        return Ok(());
+    };
+    if !(8..=0x7fff).contains(&w) {
+        return Ok(());
+    }
+    for y in 0..h {
+        let Some(head) = bytes.get(pos..pos + 4) else { return Ok(()) };
+        if head[0] != 2 || head[1] != 2 || head[2] & 0x80 != 0 {
+            // Not new-style RLE (flat or old-style): only the first scanline can tell.
+            return Ok(());
+        }
+        let field = ((head[2] as usize) << 8) | head[3] as usize;
+        if field != w {
+            return Err(format!("RLE scanline {y} says it is {field} pixels wide, the image is {w}"));
+        }
+        pos += 4;
+        for c in 0..4 {
+            let mut x = 0;
+            while x < w {
+                let Some(&n) = bytes.get(pos) else { return Ok(()) };
+                let (count, skip) = if n > 128 { (n as usize - 128, 2) } else { (n as usize, 1 + n as usize) };
+                if count == 0 || x + count > w {
+                    return Err(format!("RLE scanline {y}, channel {c}: a run of {count} at pixel {x} does not fit the width {w}"));
+                }
+                x += count;
+                pos += skip;
+            }
+        }
+    }
+    Ok(())
 }

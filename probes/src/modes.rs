@@ -153,6 +153,18 @@ pub const MODES: &[(&str, &str)] = &[
     ("shl2", "SH L2 (9), A_l convolution"),
     ("shl3", "SH L3 (16)"),
     ("shl4", "SH L4 (25)"),
+    ("shl5", "SH L5 (36)"),
+    ("shl6", "SH L6 (49)"),
+    ("shl7", "SH L7 (64)"),
+    ("shl8", "SH L8 (81)"),
+    ("shl9", "SH L9 (100)"),
+    ("shl10", "SH L10 (121)"),
+    ("shl11", "SH L11 (144)"),
+    ("shl12", "SH L12 (169)"),
+    ("shl13", "SH L13 (196)"),
+    ("shl14", "SH L14 (225)"),
+    ("shl15", "SH L15 (256)"),
+    ("shl16", "SH L16 (289)"),
     ("adrbf", "Ambient Dice SRBF 12, radiance LS, irradiance by the exact lobe integral"),
     ("adrbf-irr", "Ambient Dice SRBF 12 fitted to the irradiance image (as the peer)"),
     ("sg", "SG 12 (λ 6, Vogel), naive projection with the peer's normalisation, Hill irradiance"),
@@ -323,6 +335,14 @@ fn reconstruct(basis: &dyn Basis, c: &[[f64; 3]], dirs: &[DVec3]) -> Vec<[f64; 3
     dirs.iter().map(|d| [0, 1, 2].map(|k| basis.reconstruct(&chans[k], *d, &mut s))).collect()
 }
 
+/// SH order of the SH modes: `shl1g`, `shl1zh3` and `shlN` for N = 1…16.
+pub fn sh_order(id: &str) -> Option<usize> {
+    match id {
+        "shl1g" | "shl1zh3" => Some(1),
+        _ => id.strip_prefix("shl").and_then(|n| n.parse::<usize>().ok()).filter(|n| (1..=16).contains(n) && id == format!("shl{n}")),
+    }
+}
+
 /// Irradiance image as samples for fits to E/π. Like the peer, every output texel
 /// weighs the same: these fits minimise exactly the unweighted RMS the reports quote.
 fn irradiance_samples(ctx: &Context) -> Vec<RadianceSample> {
@@ -448,13 +468,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             r.needs_reference = id == "ac";
             Ok(r)
         }
-        "shl1" | "shl2" | "shl3" | "shl4" | "shl1g" | "shl1zh3" => {
-            let order = match id {
-                "shl2" => 2,
-                "shl3" => 3,
-                "shl4" => 4,
-                _ => 1,
-            };
+        _ if sh_order(id).is_some() => {
+            let order = sh_order(id).expect("guarded");
             let sh = ShBasis::new(order).map_err(err)?;
             let (m, t) = timed(repeats, || moments(&sh, &ctx.samples));
             let c = channels(&m);

@@ -58,6 +58,37 @@ fn bad_inputs_are_clear_errors() {
     let p = d.join("garbage.hdr");
     std::fs::write(&p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 16\n\x01\x02").unwrap();
     cases.push((p, "cannot decode"));
+    // Radiance files the `image` decoder would accept: a scanline whose RLE width field
+    // disagrees with the image width, and non-finite or non-positive EXPOSURE headers.
+    let sky = d.join("sky-source.hdr");
+    let env = Command::new(env!("CARGO_BIN_EXE_probes")).args(["env", "--width", "32", "--out"]).arg(&sky).output().unwrap();
+    assert!(env.status.success());
+    let src = std::fs::read(&sky).unwrap();
+    let (ok, err) = run(&sky, &[]);
+    assert!(ok, "the tool's own .hdr must load: {err}");
+    let data = src.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let first = data + src[data..].iter().position(|b| *b == b'\n').unwrap() + 1;
+    // Scanline 0 starts at `first`: 2 2 hi lo. Say 31 pixels.
+    let mut bad = src.clone();
+    assert_eq!(&bad[first..first + 4], &[2, 2, 0, 32]);
+    bad[first + 3] = 31;
+    let p = d.join("rle-width.hdr");
+    std::fs::write(&p, &bad).unwrap();
+    cases.push((p, "RLE scanline 0 says it is 31 pixels wide, the image is 32"));
+    for (name, value, want) in [
+        ("exposure-nan.hdr", "nan", "must be finite and positive"),
+        ("exposure-inf.hdr", "inf", "must be finite and positive"),
+        ("exposure-zero.hdr", "0", "must be finite and positive"),
+        ("exposure-text.hdr", "abc", "is not a number"),
+    ] {
+        let header_end = src.windows(2).position(|w| w == b"\n\n").unwrap() + 1;
+        let mut b = src[..header_end].to_vec();
+        b.extend_from_slice(format!("EXPOSURE={value}\n").as_bytes());
+        b.extend_from_slice(&src[header_end..]);
+        let p = d.join(name);
+        std::fs::write(&p, &b).unwrap();
+        cases.push((p, want));
+    }
     let p = d.join("notes.txt");
     std::fs::write(&p, b"hello").unwrap();
     cases.push((p, "unsupported format '.txt'"));
