@@ -86,8 +86,8 @@ fn loglog_png(
             .configure_mesh()
             .x_desc(labels.0)
             .y_desc(labels.1)
-            .x_label_formatter(&|v| if x_digits == 0 { format!("{v:.0}") } else { format!("{v:.x_digits$e}") })
-            .y_label_formatter(&|v| format!("{v:.3e}"))
+            .x_label_formatter(&|v| if x_digits == 0 { format!("{v:.0}") } else { tick(*v) })
+            .y_label_formatter(&|v| tick(*v))
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| e.to_string())?;
@@ -106,20 +106,107 @@ fn loglog_png(
     image::RgbImage::from_raw(w, h, buf).ok_or("bitmap size")?.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
 }
 
+/// An axis label a reader can take in at a glance: plain decimals from 0.001 to 99 999
+/// with three significant digits and no trailing zeros (`0.02`, `150`), otherwise
+/// `2.5e-5`.
+pub fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let e = v.abs().log10().floor() as i32;
+    let trim = |s: String| if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+    if (-3..5).contains(&e) {
+        let decimals = (2 - e).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
+    } else {
+        let m = v / 10f64.powi(e);
+        format!("{}e{e}", trim(format!("{m:.2}")))
+    }
+}
+
+/// The Pareto front of (cost, error) points: indices of the points no other point beats
+/// on both, by increasing cost.
+pub fn front(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..points.len()).collect();
+    idx.sort_by(|a, b| points[*a].0.total_cmp(&points[*b].0).then(points[*a].1.total_cmp(&points[*b].1)));
+    let mut out: Vec<usize> = Vec::new();
+    for i in idx {
+        if out.last().is_none_or(|j| points[i].1 < points[*j].1) {
+            out.push(i);
+        }
+    }
+    out
+}
+
+/// Label offsets (pixels from the point) tried in order; the first whose box overlaps no
+/// placed label and no point wins.
+const LABEL_OFFSETS: [(i32, i32); 10] = [(7, -16), (7, 2), (-7, -16), (-7, 2), (7, -30), (7, 16), (-7, -30), (-7, 16), (16, -7), (-16, -7)];
+
+/// Places labels of ~7 px per character and 14 px height without overlaps; `None` where no
+/// offset fits (the point is then labelled in the legend line below the plot).
+pub fn place_labels(px: &[(i32, i32)], labels: &[String]) -> Vec<Option<(i32, i32)>> {
+    let mut boxes: Vec<(i32, i32, i32, i32)> = px.iter().map(|p| (p.0 - 4, p.1 - 4, p.0 + 4, p.1 + 4)).collect();
+    let overlaps = |a: &(i32, i32, i32, i32), b: &(i32, i32, i32, i32)| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    px.iter()
+        .zip(labels)
+        .map(|(p, l)| {
+            let w = 7 * l.chars().count() as i32 + 2;
+            LABEL_OFFSETS.iter().find_map(|&(dx, dy)| {
+                let x0 = if dx < 0 { p.0 + dx - w } else { p.0 + dx };
+                let b = (x0, p.1 + dy, x0 + w, p.1 + dy + 14);
+                (!boxes.iter().any(|o| overlaps(o, &b))).then(|| {
+                    boxes.push(b);
+                    (x0 - p.0, p.1 + dy - p.1)
+                })
+            })
+        })
+        .collect()
+}
+
 fn plottable(x: f64, y: f64) -> bool {
     x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite()
 }
 
-/// A log–log scatter plot with one labelled point per mode.
+/// A log–log scatter plot with one labelled point per mode and the Pareto front (lower
+/// error at lower cost) drawn as a red staircase through its points; labels never overlap
+/// (those that find no free place are listed in the caption's footnote).
 pub fn scatter(path: &Path, title: &str, xlabel: &str, ylabel: &str, points: &[(String, f64, f64)]) -> Result<(), String> {
     let pts: Vec<&(String, f64, f64)> = points.iter().filter(|p| plottable(p.1, p.2)).collect();
     let xy: Vec<(f64, f64)> = pts.iter().map(|p| (p.1, p.2)).collect();
+    let on_front = front(&xy);
     loglog_png(path, title, (xlabel, ylabel), 3, 1.5, &xy, false, |chart| {
+        // The front as a staircase: from each front point right to the next one's cost, then down.
+        let mut stair = Vec::new();
+        for (k, &i) in on_front.iter().enumerate() {
+            stair.push(xy[i]);
+            if let Some(&j) = on_front.get(k + 1) {
+                stair.push((xy[j].0, xy[i].1));
+            }
+        }
+        chart.draw_series(LineSeries::new(stair, RED.stroke_width(2))).map_err(|e| e.to_string())?;
+        let px: Vec<(i32, i32)> = xy.iter().map(|p| chart.backend_coord(p)).collect();
+        let labels: Vec<String> = pts.iter().map(|p| p.0.clone()).collect();
+        let placed = place_labels(&px, &labels);
         chart
-            .draw_series(pts.iter().map(|p| {
-                EmptyElement::at((p.1, p.2)) + Circle::new((0, 0), 4, BLUE.filled()) + Text::new(p.0.clone(), (6, -6), ("sans-serif", 14))
+            .draw_series(pts.iter().enumerate().map(|(i, p)| {
+                let colour = if on_front.contains(&i) { RED } else { BLUE };
+                let label = match placed[i] {
+                    Some(off) => Text::new(p.0.clone(), off, ("sans-serif", 14)),
+                    None => Text::new(String::new(), (0, 0), ("sans-serif", 14)),
+                };
+                EmptyElement::at((p.1, p.2)) + Circle::new((0, 0), 4, colour.filled()) + label
             }))
             .map_err(|e| e.to_string())?;
+        let unplaced: Vec<&str> = placed.iter().zip(&labels).filter(|(p, _)| p.is_none()).map(|(_, l)| l.as_str()).collect();
+        if !unplaced.is_empty() {
+            let (x, y) = (chart.x_range().start, chart.y_range().start);
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((x, y))
+                        + Text::new(format!("unlabelled (crowded): {}", unplaced.join(", ")), (8, -20), ("sans-serif", 13)),
+                ))
+                .map_err(|e| e.to_string())?;
+        }
         Ok(())
     })
 }

@@ -273,7 +273,7 @@ fn write_reports(out: &Path, maps: &mut [report::MapReport], print_json: bool, i
     std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
     let results: Vec<probes::results::MapResults> = maps.iter().map(|m| probes::results::from_report(m, exr)).collect();
     let json = probes::results::to_json(&results);
-    let md = report::markdown(maps, &results);
+    let md = report::markdown(maps, &results, png);
     std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
     std::fs::write(out.join("report.md"), &md).map_err(|e| format!("writing report.md: {e}"))?;
     std::fs::write(out.join("report.html"), report::html(maps, &results)).map_err(|e| format!("writing report.html: {e}"))?;

@@ -144,7 +144,7 @@ pub struct ModeResult {
 
 /// (id, description) of every mode, in report order.
 pub const MODES: &[(&str, &str)] = &[
-    ("mcis", "Monte Carlo importance sampling, 5000 cosine samples per texel (the peer's reference), vs our exact one"),
+    ("mcis", "Monte Carlo importance sampling as the peer's reference: 5000 texels drawn by luminance × solid angle (fixed seed, shared by all output texels), vs our exact reference"),
     ("ac", "ambient cube fitted to the irradiance image, NNLS"),
     ("acproj", "ambient cube: irradiance sampled at the six axes"),
     ("shl1g", "SH L1, Geomerics reconstruction"),
@@ -198,6 +198,9 @@ pub fn world_to_tangent(w: DVec3) -> DVec3 {
 
 /// Y (36), Co (12), Cg (12) coefficient vectors of the YCoCg mode.
 type YCoCgCoeffs = (Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// Draws of the Monte Carlo mode (the peer's MCIS default).
+pub const MCIS_SAMPLES: usize = 5000;
 
 /// Samples taken by the progressive modes.
 pub const PROGRESSIVE_SAMPLES: u64 = 4096;
@@ -284,16 +287,13 @@ fn dot_rgb(c: &[[f64; 3]], w: impl Iterator<Item = f64>) -> [f64; 3] {
 
 /// E/π of an SG 12 mode from RGB coefficients (each lobe's kernel once), the same
 /// function as [`sg_irradiance`] per channel.
-fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
+fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, hill: &[sgr::HillLobe], c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
     let k = basis.lobe_count();
     let kl = SgIrradiance::peer_kernel_sharpness(id);
-    let mut e = dot_rgb(
-        &c[..k],
-        (0..k).map(|i| match method {
-            SgIrradiance::Hill => sgr::irradiance_hill(&basis.lobe(i), n),
-            SgIrradiance::Peer => sgr::irradiance_sg_kernel(&basis.lobe(i), n, kl),
-        }),
-    );
+    let mut e = match method {
+        SgIrradiance::Hill => dot_rgb(&c[..k], hill.iter().map(|h| h.eval(n))),
+        SgIrradiance::Peer => dot_rgb(&c[..k], (0..k).map(|i| sgr::irradiance_sg_kernel(&basis.lobe(i), n, kl))),
+    };
     // The ambient function (a constant) reflects its coefficient under any kernel of integral π.
     if basis.has_ambient() {
         for ch in 0..3 {
@@ -301,6 +301,11 @@ fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, c: &[[f64;
         }
     }
     e
+}
+
+/// The lobes of an SG basis with Hill's per-lobe constants precomputed.
+fn hill_lobes(basis: &SgBasis) -> Vec<sgr::HillLobe> {
+    (0..basis.lobe_count()).map(|i| sgr::HillLobe::new(&basis.lobe(i))).collect()
 }
 
 /// E/π of one channel of an SG 12 mode.
@@ -395,23 +400,52 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
     };
     match id {
         "mcis" => {
-            // Cosine-weighted QMC per texel (R2 with a per-texel Cranley–Patterson shift).
+            // As the peer's MCIS: texels drawn by luminance × solid angle (one discrete
+            // distribution over the map), MCIS_SAMPLES draws from one fixed-seed sequence
+            // shared by every output texel (the peer's non-jittered default), each draw
+            // contributing L·Ω·max(0, n·ω)/p at the texel centre; E/π = mean/π.
             let (irr, t) = timed(1, || {
                 use rayon::prelude::*;
+                let g = ctx.map.geometry;
+                let weights: Vec<f64> = (0..g.texel_count())
+                    .map(|k| {
+                        let t = ctx.map.texel(k % g.width, k / g.width);
+                        (0.2126 * t[0] as f64 + 0.7152 * t[1] as f64 + 0.0722 * t[2] as f64) * g.texel_solid_angle(k / g.width)
+                    })
+                    .collect();
+                let total: f64 = weights.iter().sum();
+                if total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                    return vec![[0.0; 3]; dirs.len()];
+                }
+                let mut cdf = Vec::with_capacity(weights.len());
+                let mut acc = 0.0;
+                for w in &weights {
+                    acc += w;
+                    cdf.push(acc / total);
+                }
+                let mut rng = sbf::sampling::Pcg32::new(0, 0);
+                // (direction, L·Ω/p) of each draw.
+                let draws: Vec<(DVec3, [f64; 3])> = (0..MCIS_SAMPLES)
+                    .map(|_| {
+                        let u = rng.next_f64();
+                        let k = cdf.partition_point(|c| *c <= u).min(weights.len() - 1);
+                        let (i, j) = (k % g.width, k / g.width);
+                        let p = weights[k] / total;
+                        let l = ctx.map.texel(i, j);
+                        let s = g.texel_solid_angle(j) / p;
+                        (g.texel_direction(i, j), [l[0] as f64 * s, l[1] as f64 * s, l[2] as f64 * s])
+                    })
+                    .collect();
                 dirs.par_iter()
-                    .enumerate()
-                    .map(|(k, n)| {
-                        let r2 = sbf::sampling::R2::with_seed(k as u64);
-                        let (tn, bn) = sbf::basis::ambient_dice_bezier::tangent_frame(*n);
+                    .map(|n| {
                         let mut e = [0.0; 3];
-                        for s in 0..5000u64 {
-                            let l = sbf::sampling::cosine_hemisphere(r2.point(s));
-                            let v = ctx.map.bilinear(tn * l.x + bn * l.y + *n * l.z);
-                            for c in 0..3 {
-                                e[c] += v[c] / 5000.0;
+                        for (d, v) in &draws {
+                            let c = n.dot(*d).max(0.0);
+                            for ch in 0..3 {
+                                e[ch] += v[ch] * c;
                             }
                         }
-                        e
+                        e.map(|x| x / (MCIS_SAMPLES as f64 * std::f64::consts::PI))
                     })
                     .collect::<Vec<_>>()
             });
@@ -560,7 +594,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             });
             let c = c?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
-            let (irr, ns) = eval_cost(ctx, |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &basis, &c, d));
+            let hill = hill_lobes(&basis);
+            let (irr, ns) = eval_cost(ctx, |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &basis, &hill, &c, d));
             debug_assert!(dirs.iter().take(8).zip(&irr).all(|(d, e)| (0..3).all(|k| (sg_irradiance(
                 ctx.sg_irradiance,
                 id,
@@ -714,9 +749,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let ad = AmbientDiceSrbf::twelve();
             // Irradiance of one direction from RGB coefficients. The peer's running
             // averages use Hill's fit too (their figures match it).
+            let sgb_hill = hill_lobes(&sgb);
             let irradiance_at = |c: &[[f64; 3]], d: DVec3| -> [f64; 3] {
                 if id.starts_with("sg") {
-                    sg_irradiance_rgb(SgIrradiance::Hill, id, &sgb, c, d)
+                    sg_irradiance_rgb(SgIrradiance::Hill, id, &sgb, &sgb_hill, c, d)
                 } else {
                     dot_rgb(c, ad.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d))))
                 }

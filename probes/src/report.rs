@@ -153,7 +153,7 @@ pub fn summary_line(r: &crate::results::MapResults) -> String {
 }
 
 /// `report.md`: per map, the decision section, then the tables of errors and costs.
-pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
+pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], images: bool) -> String {
     let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (median of 5 passes over ≥ 16 384 directions, spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it).\n");
     for (m, res) in maps.iter().zip(results) {
         let _ = write!(s, "\n## {} — which basis\n", m.path);
@@ -251,6 +251,16 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults]) -> S
                     }
                 }
                 s.push('\n');
+            }
+        }
+        if images {
+            let _ = write!(s, "\nIrradiance (E/π), reference then each mode, and |error| at 4 EV more:\n\n![reference]({}/reference_irradiance.png)\n\n| mode | irradiance | error |\n|---|---|---|\n", m.slug);
+            for r in &m.rows {
+                let _ = writeln!(
+                    s,
+                    "| `{0}` | ![{0}]({1}/{0}_irradiance.png) | ![{0} error]({1}/{0}_irradiance_error.png) |",
+                    r.result.id, m.slug
+                );
             }
         }
         let conv: Vec<&Row> = m.rows.iter().filter(|r| !r.result.convergence.is_empty()).collect();

@@ -149,10 +149,45 @@ pub fn irradiance_zonal(sg: &Sg, n: DVec3) -> f64 {
 /// ([`crate::luts::committed::constants::HILL_C0`], the constant the WGSL runtime reads
 /// too) for λ ≥ 2, the zonal expansion below.
 pub fn irradiance_hill(sg: &Sg, n: DVec3) -> f64 {
-    if sg.sharpness < HILL_MIN_SHARPNESS {
-        irradiance_zonal(sg, n)
-    } else {
-        hill_curve(crate::luts::committed::constants::HILL_C0, sg.sharpness, sg.axis.dot(n)) * sg.integral() / PI
+    HillLobe::new(sg).eval(n)
+}
+
+/// [`irradiance_hill`] with everything that depends only on the lobe (e^(−λ), Hill's
+/// scale and bias, the lobe integral) computed once: what a runtime keeps per basis
+/// function. `eval` performs the same operations as [`hill_curve`] on them, so the two
+/// agree bit for bit.
+#[derive(Debug, Clone, Copy)]
+pub struct HillLobe {
+    sg: Sg,
+    /// (c₀, c₁·√(1 − scale), √(1 − scale), scale, bias, integral); None below
+    /// [`HILL_MIN_SHARPNESS`] (the zonal expansion is used there).
+    hill: Option<[f64; 6]>,
+}
+
+impl HillLobe {
+    pub fn new(sg: &Sg) -> HillLobe {
+        if sg.sharpness < HILL_MIN_SHARPNESS {
+            return HillLobe { sg: *sg, hill: None };
+        }
+        let c0 = crate::luts::committed::constants::HILL_C0;
+        let lam = sg.sharpness.max(f64::MIN_POSITIVE);
+        let c1 = 1.0 / (4.0 * c0);
+        let e1 = (-lam).exp();
+        let e2 = e1 * e1;
+        let r = 1.0 / lam;
+        let scale = 1.0 + 2.0 * e2 - r;
+        let bias = (e1 - e2) * r - e2;
+        let xs = (1.0 - scale).max(0.0).sqrt();
+        HillLobe { sg: *sg, hill: Some([c0, c1 * xs, xs, scale, bias, sg.integral()]) }
+    }
+
+    /// E/π of the lobe at normal n.
+    pub fn eval(&self, n: DVec3) -> f64 {
+        let Some([c0, x1, xs, scale, bias, integral]) = self.hill else { return irradiance_zonal(&self.sg, n) };
+        let x = self.sg.axis.dot(n).clamp(-1.0, 1.0);
+        let x0 = c0 * x;
+        let y = if x0.abs() <= x1 && xs > 0.0 { (x0 + x1) * (x0 + x1) / xs } else { x.clamp(0.0, 1.0) };
+        (scale * y + bias) * integral / PI
     }
 }
 
