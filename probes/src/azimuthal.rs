@@ -43,7 +43,23 @@ pub struct Quadrature {
 /// rest follows by Hermitian symmetry; from [`Quadrature::spectra`]).
 #[derive(Debug, Clone)]
 pub struct Spectra {
-    rows: Vec<[Vec<Complex64>; 3]>,
+    /// (real parts, imaginary parts) per row and channel: split, so that the products
+    /// below run as plain vector arithmetic.
+    rows: Vec<[SplitComplex; 3]>,
+}
+
+/// A complex vector as split (real parts, imaginary parts).
+type SplitComplex = (Vec<f64>, Vec<f64>);
+
+/// a += t·g over complex vectors given as split (re, im) slices of equal length.
+#[inline]
+fn complex_mac(ar: &mut [f64], ai: &mut [f64], tr: &[f64], ti: &[f64], gr: &[f64], gi: &[f64]) {
+    let n = ar.len();
+    let (ai, tr, ti, gr, gi) = (&mut ai[..n], &tr[..n], &ti[..n], &gr[..n], &gi[..n]);
+    for x in 0..n {
+        ar[x] += tr[x] * gr[x] - ti[x] * gi[x];
+        ai[x] += tr[x] * gi[x] + ti[x] * gr[x];
+    }
 }
 
 impl std::fmt::Debug for Quadrature {
@@ -82,7 +98,7 @@ impl Quadrature {
                     self.fft.process(&mut row);
                     // Real rows: the spectrum is Hermitian, bins 0..=W/2 carry all of it.
                     row.truncate(self.map.width / 2 + 1);
-                    row
+                    (row.iter().map(|z| z.re).collect(), row.iter().map(|z| z.im).collect())
                 })
             })
             .collect();
@@ -140,7 +156,7 @@ impl Quadrature {
                 // Spectra of the folded kernels (Hermitian half), None for all-zero rows.
                 let nb = w / 2 + 1;
                 let mut buf = vec![Complex64::new(0.0, 0.0); w];
-                let gs: Vec<Vec<Option<Vec<Complex64>>>> = g
+                let gs: Vec<Vec<Option<SplitComplex>>> = g
                     .iter()
                     .map(|gj| {
                         gj.iter()
@@ -152,23 +168,22 @@ impl Quadrature {
                                     *b = Complex64::new(*x, 0.0);
                                 }
                                 self.fft.process(&mut buf);
-                                Some(buf[..nb].to_vec())
+                                Some((buf[..nb].iter().map(|z| z.re).collect(), buf[..nb].iter().map(|z| z.im).collect()))
                             })
                             .collect()
                     })
                     .collect();
                 // Σ_r spectrum(T_r)·spectrum(G_r) per map, channel and row of the block.
-                let mut acc: Vec<Vec<[Vec<Complex64>; 3]>> =
-                    block.iter().map(|_| maps.iter().map(|_| [0, 1, 2].map(|_| vec![Complex64::new(0.0, 0.0); nb])).collect()).collect();
+                let mut acc: Vec<Vec<[SplitComplex; 3]>> =
+                    block.iter().map(|_| maps.iter().map(|_| [0, 1, 2].map(|_| (vec![0.0; nb], vec![0.0; nb]))).collect()).collect();
                 for r in 0..h {
                     for (m, map) in maps.iter().enumerate() {
                         for c in 0..3 {
-                            let t = &map.rows[r][c];
+                            let (tr, ti) = &map.rows[r][c];
                             for (bj, gj) in gs.iter().enumerate() {
-                                let Some(gg) = &gj[r] else { continue };
-                                for (x, (tv, gv)) in acc[bj][m][c].iter_mut().zip(t.iter().zip(gg)) {
-                                    *x += tv * gv;
-                                }
+                                let Some((gr, gi)) = &gj[r] else { continue };
+                                let (ar, ai) = &mut acc[bj][m][c];
+                                complex_mac(ar, ai, tr, ti, gr, gi);
                             }
                         }
                     }
@@ -179,9 +194,9 @@ impl Quadrature {
                         per_map
                             .into_iter()
                             .map(|chans| {
-                                let chans = chans.map(|half| {
+                                let chans = chans.map(|(hr, hi)| {
                                     for (x, v) in buf.iter_mut().enumerate() {
-                                        *v = if x < nb { half[x] } else { half[w - x].conj() };
+                                        *v = if x < nb { Complex64::new(hr[x], hi[x]) } else { Complex64::new(hr[w - x], -hi[w - x]) };
                                     }
                                     self.ifft.process(&mut buf);
                                     (0..self.out.width).map(|i| buf[k * i].re / w as f64).collect::<Vec<f64>>()

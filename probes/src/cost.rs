@@ -3,7 +3,8 @@
 //!
 //! Method: the mode's runtime evaluation (coefficients → value at a direction, exactly
 //! what the report's images come from) runs over the output directions, cycled to at
-//! least [`MIN_BATCH`] evaluations; one untimed pass warms caches and branch predictors,
+//! least [`MIN_BATCH`] evaluations; one untimed pass (or the image pass just before) warms
+//! caches and branch predictors,
 //! then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
 //! nothing is allocated inside the loop (the evaluators hoist their scratch). Reported:
 //! the median pass and the spread (min, max). Measured serially, one mode at a time, so
@@ -44,7 +45,17 @@ pub fn ns_per_direction(dirs: &[DVec3], work: usize, f: impl FnMut(DVec3) -> [f6
 }
 
 /// [`ns_per_direction`] over any inputs (e.g. output texel indices).
-pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, mut f: impl FnMut(T) -> [f64; 3]) -> CostStat {
+pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
+    measure(dirs, work, true, f)
+}
+
+/// [`ns_per_item`] for a caller that has just run `f` over all of `dirs` (that pass is
+/// the warm-up).
+pub fn ns_per_item_warm<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
+    measure(dirs, work, false, f)
+}
+
+fn measure<T: Copy>(dirs: &[T], work: usize, warm_up: bool, mut f: impl FnMut(T) -> [f64; 3]) -> CostStat {
     if dirs.is_empty() {
         return CostStat::default();
     }
@@ -67,7 +78,9 @@ pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, mut f: impl FnMut(T) -> [f6
         }
         black_box(acc);
     };
-    pass();
+    if warm_up {
+        pass();
+    }
     let mut times: Vec<f64> = (0..REPEATS)
         .map(|_| {
             let t = Instant::now();

@@ -20,14 +20,23 @@ pub fn write_exr(path: &Path, grid: LatLong, px: &[[f64; 3]]) -> Result<(), Stri
 /// Negative values show as 0 (the metrics report them).
 pub fn write_png(path: &Path, grid: LatLong, px: &[[f64; 3]], exposure: f64) -> Result<(), String> {
     let scale = 2f64.powf(exposure);
+    let levels = gamma_thresholds();
     let img = image::RgbImage::from_fn(grid.width as u32, grid.height as u32, |x, y| {
         let p = px[y as usize * grid.width + x as usize];
         image::Rgb(p.map(|v| {
             let t = (v * scale).max(0.0);
-            ((t / (1.0 + t)).powf(1.0 / 2.2) * 255.0).round().clamp(0.0, 255.0) as u8
+            let r = t / (1.0 + t);
+            // round(255·r^(1/2.2)) without a pow per channel: the byte whose interval holds r.
+            levels.partition_point(|l| *l <= r) as u8
         }))
     });
     img.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
+/// The 255 values of r at which round(255·r^(1/2.2)) steps up: ((b + ½)/255)^2.2, b = 0…254.
+fn gamma_thresholds() -> &'static [f64; 255] {
+    static T: std::sync::OnceLock<[f64; 255]> = std::sync::OnceLock::new();
+    T.get_or_init(|| std::array::from_fn(|b| ((b as f64 + 0.5) / 255.0).powf(2.2)))
 }
 
 /// Exposure (EV) that maps the image's mean luminance to 0.18.

@@ -269,7 +269,8 @@ fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
 /// ([`crate::cost::ns_per_direction`]).
 fn eval_cost(ctx: &Context, mut f: impl FnMut(DVec3) -> [f64; 3]) -> (Vec<[f64; 3]>, crate::cost::CostStat) {
     let out: Vec<[f64; 3]> = ctx.dirs.iter().map(|d| f(*d)).collect();
-    let cost = crate::cost::ns_per_direction(&ctx.dirs, ctx.eval_work, f);
+    // The image pass just ran f over every direction: it is the warm-up.
+    let cost = crate::cost::ns_per_item_warm(&ctx.dirs, ctx.eval_work, f);
     (out, cost)
 }
 
@@ -334,10 +335,19 @@ fn eval_basis(ctx: &Context, basis: &dyn Basis, c: &[[f64; 3]]) -> (Vec<[f64; 3]
     })
 }
 
-fn reconstruct(basis: &dyn Basis, c: &[[f64; 3]], dirs: &[DVec3]) -> Vec<[f64; 3]> {
-    let chans = [channel(c, 0), channel(c, 1), channel(c, 2)];
-    let mut s = vec![0.0; basis.len()];
-    dirs.iter().map(|d| [0, 1, 2].map(|k| basis.reconstruct(&chans[k], *d, &mut s))).collect()
+/// The radiance image of RGB coefficients (basis evaluated once per direction; parallel,
+/// untimed).
+fn reconstruct(basis: &(dyn Basis + Sync), c: &[[f64; 3]], dirs: &[DVec3]) -> Vec<[f64; 3]> {
+    use rayon::prelude::*;
+    dirs.par_iter()
+        .map_init(
+            || vec![0.0; basis.len()],
+            |s, d| {
+                basis.eval_into(*d, s);
+                dot_rgb(c, s.iter().copied())
+            },
+        )
+        .collect()
 }
 
 /// SH order of the SH modes: `shl1g`, `shl1zh3` and `shlN` for N = 1…16.
@@ -703,7 +713,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
         }
         "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "adpls" | "adpnnls" => {
             let vogel12 = vogel.clone();
-            let (basis, lobes): (Box<dyn Basis>, Vec<(DVec3, f64)>) = if id.starts_with("sg") {
+            let (basis, lobes): (Box<dyn Basis + Sync>, Vec<(DVec3, f64)>) = if id.starts_with("sg") {
                 (Box::new(SgBasis::new(&vogel12, 6.0, false).map_err(err)?), vogel12.iter().map(|a| (*a, 6.0)).collect())
             } else {
                 let ad = AmbientDiceSrbf::twelve();
@@ -762,18 +772,18 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             // irradiance is linear in the coefficients, so each snapshot is a product with
             // the per-lobe irradiance K[d][i] (same functions as above, one lobe at a time).
             let nb = basis.len();
-            let kmat: Vec<f64> = dirs
-                .iter()
-                .flat_map(|d| {
-                    (0..nb).map(|i| {
-                        if id.starts_with("sg") {
-                            sgr::irradiance_hill(&sgb.lobe(i), *d)
-                        } else {
-                            adr::lobe_irradiance_cos(ad.lobes()[i].dot(*d))
-                        }
+            let kmat: Vec<f64> =
+                dirs.iter()
+                    .flat_map(|d| {
+                        (0..nb).map(|i| {
+                            if id.starts_with("sg") {
+                                sgb_hill[i].eval(*d)
+                            } else {
+                                adr::lobe_irradiance_cos(ad.lobes()[i].dot(*d))
+                            }
+                        })
                     })
-                })
-                .collect();
+                    .collect();
             let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(basis.len(), opts.clone());
             let mut convergence = Vec::new();
             let mut next = 16usize;
@@ -782,8 +792,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 let n = i + 1;
                 if n == next || n == samples.len() {
                     let cc = channels(&enc.coefficients());
-                    let img: Vec<[f64; 3]> =
-                        kmat.chunks_exact(nb).map(|k| [0, 1, 2].map(|c| k.iter().zip(&cc).map(|(a, b)| a * b[c]).sum())).collect();
+                    let img: Vec<[f64; 3]> = {
+                        use rayon::prelude::*;
+                        kmat.par_chunks_exact(nb).map(|k| dot_rgb(&cc, k.iter().copied())).collect()
+                    };
                     convergence.push((n as u64, crate::metrics::compute_rows(ctx.grid, &img, &ctx.irradiance, ctx.metric_rows()).rms));
                     while next <= n {
                         next *= 2;
@@ -805,7 +817,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             // Appendix C: lobes laid out in tangent space (normal +Z), rotated to world
             // (+Y up); least squares over the whole sphere.
             let world = |v: Vec<DVec3>| v.into_iter().map(tangent_to_world).collect::<Vec<_>>();
-            let (basis, is_ad): (Box<dyn Basis>, bool) = match id {
+            let (basis, is_ad): (Box<dyn Basis + Sync>, bool) = match id {
                 "ad9" => (
                     Box::new(AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron_hemisphere()), Domain::Sphere).map_err(err)?),
                     true,

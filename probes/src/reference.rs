@@ -120,12 +120,28 @@ pub fn reference_irradiance(map: &LatLongImage, dirs: &[DVec3]) -> (Vec<[f64; 3]
 /// truncation). Errors when W_out does not divide W.
 pub fn irradiance_image_fft(map: &LatLongImage, grid: LatLong) -> Result<Vec<[f64; 3]>, String> {
     let q = crate::azimuthal::Quadrature::new(map, grid)?;
-    let h_out = grid.height;
-    let kernel = move |j: usize, theta: f64, dphi: f64| -> f64 {
-        let n = crate::azimuthal::direction(PI * (j as f64 + 0.5) / h_out as f64, dphi);
-        n.dot(crate::azimuthal::direction(theta, 0.0)).max(0.0) / PI
-    };
-    Ok(q.integrate(0..h_out, 1, &kernel))
+    Ok(q.integrate_rows(0..grid.height, 1, &CosineRows { h_out: grid.height }))
+}
+
+/// max(0, n·ω)/π along a fine azimuth row: n at output row j's polar angle θ_n and
+/// azimuth Δφ, ω at (θ, 0), so n·ω = cos θ_n cos θ + sin θ_n sin θ cos Δφ.
+#[derive(Debug, Clone, Copy)]
+pub struct CosineRows {
+    pub h_out: usize,
+}
+
+impl crate::azimuthal::RowKernel for CosineRows {
+    fn row(&self, j: usize, theta: f64, az: &crate::azimuthal::Azimuths, out: &mut [f64]) -> bool {
+        let (sn, cn) = (PI * (j as f64 + 0.5) / self.h_out as f64).sin_cos();
+        let (s, c) = theta.sin_cos();
+        let (a, b) = (cn * c, sn * s);
+        let mut any = false;
+        for (o, cp) in out.iter_mut().zip(az.cos) {
+            *o = (a + b * cp).max(0.0) / PI;
+            any |= *o > 0.0;
+        }
+        any
+    }
 }
 
 /// The reference E/π at every texel centre of `grid`: the azimuthal FFT quadrature over

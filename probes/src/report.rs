@@ -429,7 +429,9 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(
         images::write_exr(&d.join("reference_irradiance.exr"), m.grid, &m.reference)?;
     }
     images::write_png(&d.join("reference_irradiance.png"), m.grid, &m.reference, ev)?;
-    for r in &m.rows {
+    // Each mode's images on its own task (encoding dominates; the files are distinct).
+    use rayon::prelude::*;
+    m.rows.par_iter().try_for_each(|r| -> Result<(), String> {
         let x = &r.result;
         if exr {
             images::write_exr(&d.join(format!("{}_irradiance.exr", x.id)), m.grid, &x.irradiance)?;
@@ -454,7 +456,8 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(
             let err: Vec<[f64; 3]> = img.iter().zip(&sr.image).map(|(p, q)| [0, 1, 2].map(|k| (p[k] - q[k]).abs())).collect();
             images::write_png(&d.join(format!("{}_{st}_error.png", x.id)), m.grid, &err, sev + 4.0)?;
         }
-    }
+        Ok(())
+    })?;
     for sr in &m.specular_reference {
         let st = specular_stem(sr.alpha);
         if exr {

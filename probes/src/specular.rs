@@ -318,6 +318,7 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
     let chans = [chan(0), chan(1), chan(2)];
     let dfg = sbf::luts::committed::dfg();
     let lut = sbf::luts::committed::ad_specular_2d();
+    let sh = sbf::ShBasis::new(if is_sh(r.id) { (c.len() as f64).sqrt().round() as usize - 1 } else { 0 }).ok()?;
     // SH: n·v is constant along an output row in both domains, so is the band filter.
     let sh_filters: Vec<Vec<f64>> = if is_sh(r.id) {
         let order = (c.len() as f64).sqrt().round() as usize - 1;
@@ -333,7 +334,7 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
         let nv = n.dot(v).clamp(0.0, 1.0);
         if is_sh(r.id) {
             let d = dfg.sample2(nv as f32, alpha as f32);
-            shr::specular_zonal_rgb(c, &sh_filters[k / ctx.grid.width], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64])
+            shr::specular_zonal_rgb(&sh, c, &sh_filters[k / ctx.grid.width], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64])
                 .unwrap_or([f64::NAN; 3])
         } else if is_sg(r.id) {
             let warp = sgr::AsgWarp::new(n, v, alpha, 1.0, 1.0);

@@ -196,6 +196,18 @@ pub fn specular(lobes: &[DVec3], coeffs: &[f64], n: DVec3, v: DVec3, alpha: f64,
     s * (f0 * lut[0] + f90 * lut[1])
 }
 
+/// [`specular`] for RGB coefficients: each lobe's fit computed once.
+pub fn specular_rgb(lobes: &[DVec3], coeffs: &[[f64; 3]], n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64, lut: [f64; 2]) -> [f64; 3] {
+    let mut s = [0.0; 3];
+    for (l, b) in lobes.iter().zip(coeffs) {
+        let w = lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, *l, n, v, alpha);
+        for c in 0..3 {
+            s[c] += b[c] * w;
+        }
+    }
+    s.map(|x| x * (f0 * lut[0] + f90 * lut[1]))
+}
+
 /// One entry of the 3D variant the seed suggests (§8.4.2 "Results"): the LUT is also
 /// indexed by c = n·lobe. The lobe lies in the plane of n and v, at angle acos(c) from
 /// n towards the reflection side; the entry is ground truth / fit for that lobe.

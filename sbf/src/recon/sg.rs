@@ -182,6 +182,7 @@ impl HillLobe {
     }
 
     /// E/π of the lobe at normal n.
+    #[inline]
     pub fn eval(&self, n: DVec3) -> f64 {
         let Some([c0, x1, xs, scale, bias, integral]) = self.hill else { return irradiance_zonal(&self.sg, n) };
         let x = self.sg.axis.dot(n).clamp(-1.0, 1.0);

@@ -80,6 +80,7 @@ pub fn irradiance_l1_linear(c: &[f64; 4], n: DVec3) -> f64 {
 
 /// L1 Geomerics irradiance E/π (one channel); see the module docs for the scaling
 /// and the two degenerate cases.
+#[inline]
 pub fn irradiance_l1_geomerics(c: &[f64; 4], n: DVec3) -> f64 {
     let r0 = c[0] * 0.5 / PI.sqrt();
     let r1 = DVec3::new(c[3], c[1], c[2]) * ((3.0 / (4.0 * PI)).sqrt() / 3.0);
@@ -308,7 +309,7 @@ pub fn specular_zonal(radiance: &[f64], n: DVec3, v: DVec3, alpha: f64, f0: f64,
     let order = order_of(radiance.len())?;
     let g = specular_zonal_filter(order, n.dot(v), alpha);
     let rgb: Vec<[f64; 3]> = radiance.iter().map(|c| [*c, 0.0, 0.0]).collect();
-    Ok(specular_zonal_rgb(&rgb, &g, n, v, alpha, f0, f90, dfg)?[0])
+    Ok(specular_zonal_rgb(&ShBasis::new(order)?, &rgb, &g, n, v, alpha, f0, f90, dfg)?[0])
 }
 
 /// The band filter g_l/g_0 of [`specular_zonal`], l = 0…order: it depends only on n·v
@@ -321,9 +322,11 @@ pub fn specular_zonal_filter(order: usize, nv: f64, alpha: f64) -> Vec<f64> {
 }
 
 /// [`specular_zonal`] for three channels at once with the band filter `g` from
-/// [`specular_zonal_filter`] (for this n·v and α).
+/// [`specular_zonal_filter`] (for this n·v and α) and the basis `sh` of the radiance's
+/// order (built once by the caller). Allocates nothing up to L16.
 #[allow(clippy::too_many_arguments)]
 pub fn specular_zonal_rgb(
+    sh: &ShBasis,
     radiance: &[[f64; 3]],
     g: &[f64],
     n: DVec3,
@@ -334,15 +337,25 @@ pub fn specular_zonal_rgb(
     dfg: [f64; 2],
 ) -> Result<[f64; 3], SbfError> {
     let order = order_of(radiance.len())?;
+    if sh.order() != order {
+        return Err(SbfError::LengthMismatch { what: "SH coefficients for the basis", expected: sh.len(), got: radiance.len() });
+    }
     if g.len() != order + 1 {
         return Err(SbfError::LengthMismatch { what: "band filter", expected: order + 1, got: g.len() });
     }
     let alpha = alpha.clamp(1e-4, 1.0);
     let r = crate::ggx::reflect(v, n);
     let rd = crate::recon::ambient_dice::ggx_dominant_direction(n, r, alpha);
-    let sh = ShBasis::new(order)?;
-    let mut y = vec![0.0; sh.len()];
-    sh.try_eval_into(rd, &mut y)?;
+    // Basis values on the stack up to L16 (289 values), on the heap above.
+    let mut stack = [0.0; 289];
+    let mut heap = Vec::new();
+    let y: &mut [f64] = if sh.len() <= stack.len() {
+        &mut stack[..sh.len()]
+    } else {
+        heap.resize(sh.len(), 0.0);
+        &mut heap
+    };
+    sh.try_eval_into(rd, y)?;
     let mut s = [0.0; 3];
     for l in 0..=order {
         for m in 0..2 * l + 1 {
