@@ -18,3 +18,4 @@ pub mod reference;
 pub mod report;
 pub mod results;
 pub mod specular;
+pub mod viewer;

@@ -233,6 +233,7 @@ fn compare(
         specular_reference: spec_refs,
         grid: ctx.grid,
         reference: ctx.irradiance.clone(),
+        radiance,
         slug: slug(label),
         stages: stage_s,
     })

@@ -50,6 +50,8 @@ pub struct MapReport {
     /// Output grid and the reference irradiance on it (for the images).
     pub grid: sbf::envmap::LatLong,
     pub reference: Vec<[f64; 3]>,
+    /// The map's radiance at the output texel centres (bilinear; for the interactive view).
+    pub radiance: Vec<[f64; 3]>,
     /// Folder name of this map's images inside the report folder.
     pub slug: String,
     /// Wall time of each stage.
@@ -300,8 +302,9 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
 /// `report.html`: the markdown table's content with the irradiance and error images.
 pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
     let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}img.s{width:128px}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p>");
-    for (m, res) in maps.iter().zip(results) {
+    for (i, (m, res)) in maps.iter().zip(results).enumerate() {
         let _ = write!(s, "<h2>{} — which basis</h2>", esc_html(&m.path));
+        s.push_str(&crate::viewer::section(i));
         for sd in &res.decision.signals {
             let _ = write!(s, "<h3>{}</h3><p>Best mode (lowest RMS) within a budget of storage per probe (f32, rows) and CPU reconstruction cost (columns):</p><table><tr><th>≤ bytes</th>", esc_html(&sd.signal));
             for t in &sd.budget.ns {
@@ -411,6 +414,7 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
             s.push_str("</table>");
         }
     }
+    s.push_str(&crate::viewer::script(maps));
     s.push_str("</body></html>\n");
     s
 }
