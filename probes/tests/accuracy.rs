@@ -133,6 +133,7 @@ fn results_json_coefficients_match_dense_ls() {
             specular_reference: Vec::new(),
             grid: ctx.grid,
             reference: ctx.irradiance.clone(),
+            radiance: ctx.radiance(),
             slug: "wells".into(),
             stages: Default::default(),
         },
