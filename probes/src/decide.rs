@@ -25,8 +25,9 @@ pub struct SignalDecision {
     pub budget: Budget,
 }
 
-/// The cost axes.
-pub const AXES: [&str; 3] = ["storage_bytes", "eval_ns", "encode_total_s"];
+/// The cost axes; `gpu_ns` only where the run measured GPU costs (`--gpu-cost`), over
+/// the modes that have a WGSL runtime.
+pub const AXES: [&str; 4] = ["storage_bytes", "eval_ns", "encode_total_s", "gpu_ns"];
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Front {
@@ -57,11 +58,11 @@ pub struct Budget {
 /// CPU budgets tried (ns per evaluation); those below the cheapest candidate are dropped.
 pub const NS_LADDER: [f64; 8] = [5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0];
 
-/// A candidate: id, error, storage, CPU ns, encode s.
+/// A candidate: id, error, storage, CPU ns, encode s, GPU ns (NaN: not measured).
 struct Candidate {
     id: String,
     error: f64,
-    costs: [f64; 3],
+    costs: [f64; 4],
 }
 
 /// The decision for one map's results.
@@ -73,7 +74,12 @@ pub fn decide(r: &MapResults) -> Decision {
         .map(|m| Candidate {
             id: m.id.clone(),
             error: m.metrics.irradiance.rms,
-            costs: [m.cost.storage_bytes as f64, m.cost.eval.median_ns, m.cost.encode_total_s],
+            costs: [
+                m.cost.storage_bytes as f64,
+                m.cost.eval.median_ns,
+                m.cost.encode_total_s,
+                m.cost.gpu.as_ref().map_or(f64::NAN, |g| g.ns),
+            ],
         })
         .collect();
     signals.push(signal("irradiance".into(), irr));
@@ -84,7 +90,12 @@ pub fn decide(r: &MapResults) -> Decision {
             .filter_map(|m| {
                 let e = m.metrics.specular.get(&a)?;
                 let ns = m.cost.specular_eval?.median_ns;
-                Some(Candidate { id: m.id.clone(), error: e.metrics.rms, costs: [m.cost.storage_bytes as f64, ns, m.cost.encode_total_s] })
+                let gpu = m.cost.gpu.as_ref().and_then(|g| g.specular_ns).unwrap_or(f64::NAN);
+                Some(Candidate {
+                    id: m.id.clone(),
+                    error: e.metrics.rms,
+                    costs: [m.cost.storage_bytes as f64, ns, m.cost.encode_total_s, gpu],
+                })
             })
             .collect();
         if !c.is_empty() {
@@ -95,13 +106,21 @@ pub fn decide(r: &MapResults) -> Decision {
 }
 
 fn signal(name: String, mut c: Vec<Candidate>) -> SignalDecision {
-    c.retain(|x| x.error.is_finite() && x.costs.iter().all(|v| v.is_finite()));
-    let fronts = AXES.iter().enumerate().map(|(k, axis)| Front { axis: axis.to_string(), points: front(&c, k) }).collect();
+    c.retain(|x| x.error.is_finite() && x.costs[..3].iter().all(|v| v.is_finite()));
+    let fronts = AXES
+        .iter()
+        .enumerate()
+        .filter_map(|(k, axis)| {
+            // Only candidates measured on this axis; an axis nobody was measured on is left out.
+            let on: Vec<&Candidate> = c.iter().filter(|x| x.costs[k].is_finite()).collect();
+            (!on.is_empty()).then(|| Front { axis: axis.to_string(), points: front(&on, k) })
+        })
+        .collect();
     SignalDecision { signal: name, fronts, budget: budget(&c) }
 }
 
 /// The Pareto front of error against cost axis `k`.
-fn front(c: &[Candidate], k: usize) -> Vec<Point> {
+fn front(c: &[&Candidate], k: usize) -> Vec<Point> {
     let mut idx: Vec<usize> = (0..c.len()).collect();
     idx.sort_by(|a, b| c[*a].costs[k].total_cmp(&c[*b].costs[k]).then(c[*a].error.total_cmp(&c[*b].error)).then(c[*a].id.cmp(&c[*b].id)));
     let mut out: Vec<Point> = Vec::new();

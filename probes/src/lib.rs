@@ -10,6 +10,7 @@
 pub mod azimuthal;
 pub mod cost;
 pub mod decide;
+pub mod gpu_cost;
 pub mod images;
 pub mod input;
 pub mod metrics;

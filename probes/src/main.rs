@@ -61,6 +61,13 @@ enum Cmd {
         /// or `none`.
         #[arg(long, default_value = "png")]
         images: String,
+        /// Also measure each mode's GPU cost: the `shaders` runtime kernels of `shaders bench`
+        /// on the best adapter (ns per evaluation; a fourth Pareto axis).
+        #[arg(long)]
+        gpu_cost: bool,
+        /// Evaluations per dispatch of the GPU cost measurement.
+        #[arg(long, default_value_t = 1 << 20)]
+        gpu_count: usize,
     },
     /// Write a procedural environment map.
     Env {
@@ -263,7 +270,13 @@ fn unique_slugs(maps: &mut [report::MapReport]) {
     }
 }
 
-fn write_reports(out: &Path, maps: &mut [report::MapReport], print_json: bool, images: &str) -> Result<(), String> {
+fn write_reports(
+    out: &Path,
+    maps: &mut [report::MapReport],
+    print_json: bool,
+    images: &str,
+    gpu: Option<&probes::gpu_cost::GpuCosts>,
+) -> Result<(), String> {
     let (png, exr) = match images {
         "png" => (true, false),
         "exr" => (true, true),
@@ -272,7 +285,7 @@ fn write_reports(out: &Path, maps: &mut [report::MapReport], print_json: bool, i
     };
     unique_slugs(maps);
     std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
-    let results: Vec<probes::results::MapResults> = maps.iter().map(|m| probes::results::from_report(m, exr)).collect();
+    let results: Vec<probes::results::MapResults> = maps.iter().map(|m| probes::results::from_report(m, exr, gpu)).collect();
     let json = probes::results::to_json(&results);
     let md = report::markdown(maps, &results, png);
     std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
@@ -332,6 +345,8 @@ fn main() -> ExitCode {
             no_specular,
             sg_irradiance,
             images,
+            gpu_cost,
+            gpu_count,
         }) => (|| {
             let sgi = match sg_irradiance.as_str() {
                 "hill" => modes::SgIrradiance::Hill,
@@ -360,6 +375,20 @@ fn main() -> ExitCode {
                     return Err(format!("unknown mode '{id}' (see `probes list`)"));
                 }
             }
+            let gpu = if gpu_cost {
+                if gpu_count == 0 {
+                    return Err("--gpu-count must be > 0".into());
+                }
+                let g = probes::gpu_cost::measure(gpu_count, 10).map_err(|e| format!("--gpu-cost: {e}"))?;
+                eprintln!(
+                    "GPU costs measured on {}{}",
+                    g.adapter,
+                    if g.software { " (a software adapter: not a GPU's figures)" } else { "" }
+                );
+                Some(g)
+            } else {
+                None
+            };
             let mut reports = Vec::new();
             for path in &maps {
                 let (map, rep) = input::load_map(path, sanitize).map_err(|e| e.to_string())?;
@@ -374,14 +403,14 @@ fn main() -> ExitCode {
                 }
                 reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom, &alphas, specular_samples, sgi)?);
             }
-            write_reports(&out, &mut reports, json, &images)
+            write_reports(&out, &mut reports, json, &images, gpu.as_ref())
         })(),
         None => (|| {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
             let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256, modes::SgIrradiance::Hill)?;
-            write_reports(Path::new("probes-report"), &mut [rep], false, "png")
+            write_reports(Path::new("probes-report"), &mut [rep], false, "png", None)
         })(),
     };
     match result {

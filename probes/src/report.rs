@@ -113,6 +113,7 @@ pub fn decision_markdown(r: &crate::results::MapResults) -> String {
             let unit = match f.axis.as_str() {
                 "storage_bytes" => "bytes",
                 "eval_ns" => "ns",
+                "gpu_ns" => "GPU ns",
                 _ => "s encode",
             };
             let pts: Vec<String> = f.points.iter().map(|p| format!("`{}` ({} {unit}, {:.3e})", p.id, fmt_cost(p.cost), p.error)).collect();
@@ -159,6 +160,22 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
     let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (median of 5 passes over ≥ 16 384 directions, spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it).\n");
     for (m, res) in maps.iter().zip(results) {
         let _ = write!(s, "\n## {} — which basis\n", m.path);
+        if let Some(g) = res.modes.iter().find_map(|m| m.cost.gpu.as_ref()) {
+            let _ = write!(s, "\nGPU costs on {} (the `shaders bench` kernels; ns per evaluation):", g.adapter);
+            for m in &res.modes {
+                if let Some(g) = &m.cost.gpu {
+                    let _ = write!(
+                        s,
+                        " `{}` {} {:.3}{}",
+                        m.id,
+                        g.kernel,
+                        g.ns,
+                        g.specular_ns.map_or(String::new(), |x| format!(" (+ specular {x:.3})"))
+                    );
+                }
+            }
+            s.push('\n');
+        }
         s.push_str(&decision_markdown(res));
         let _ = write!(
             s,

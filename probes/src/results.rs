@@ -174,6 +174,9 @@ pub struct Cost {
     /// Bytes per probe/texel at the runtime precision.
     pub storage_bytes: usize,
     pub storage_precision: String,
+    /// GPU cost of the mode's WGSL runtime (`--gpu-cost`; None without it or without a
+    /// WGSL runtime for the mode).
+    pub gpu: Option<crate::gpu_cost::GpuCost>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -203,7 +206,7 @@ fn pair(folder: &str, stem: &str, exr: bool) -> ImagePair {
 }
 
 /// The results of one map (the decision section computed from them).
-pub fn from_report(m: &MapReport, exr: bool) -> MapResults {
+pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCosts>) -> MapResults {
     let f = &m.slug;
     let modes = m
         .rows
@@ -238,6 +241,7 @@ pub fn from_report(m: &MapReport, exr: bool) -> MapResults {
                     specular_eval: r.specular_cost,
                     storage_bytes: x.storage_bytes(),
                     storage_precision: "f32".into(),
+                    gpu: gpu.and_then(|g| g.for_mode(x.id)),
                 },
                 convergence: x.convergence.clone(),
                 images: ModeImages {

@@ -138,6 +138,7 @@ fn results_json_coefficients_match_dense_ls() {
             stages: Default::default(),
         },
         false,
+        None,
     )]);
     let v: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
     let vogel = sbf::layout::vogel_sphere(12).unwrap();

@@ -1,0 +1,64 @@
+//! The GPU cost axis (`--gpu-cost`, issue 18 item 2): nanoseconds per evaluation of the
+//! `shaders` runtime function of each mode, measured by the same kernels `shaders bench`
+//! times (each invocation reads its normal, view, α and one of 1024 coefficient sets from
+//! a buffer and writes the RGB sum; mean of back-to-back dispatches after a warm-up).
+//!
+//! Modes map to the WGSL runtime they would use: SH L2 → `sh_l2_irradiance`; SG 9/12 →
+//! Hill irradiance (+ ASG warp for specular); Ambient Dice SRBF 9/12 → `ad9`/`ad12`
+//! irradiance (+ the Listing 8.1 fit × LUT for specular). Modes without a WGSL runtime
+//! (ambient cube, SH L1 variants and L3+, the Bézier/YCoCg Ambient Dice, the H-basis, the
+//! Monte Carlo reference) get none and stay off the GPU front.
+
+use serde::{Deserialize, Serialize};
+
+/// One mode's GPU cost.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GpuCost {
+    /// The `shaders bench` kernel measured (e.g. `SG12`).
+    pub kernel: String,
+    /// Diffuse (irradiance) evaluation, ns per evaluation.
+    pub ns: f64,
+    /// Diffuse + specular evaluation, ns per evaluation, where the kernel has one.
+    pub specular_ns: Option<f64>,
+    /// The adapter that ran it.
+    pub adapter: String,
+}
+
+/// Every kernel's time on one adapter.
+#[derive(Debug, Clone)]
+pub struct GpuCosts {
+    pub adapter: String,
+    pub software: bool,
+    rows: Vec<shaders::bench::Row>,
+}
+
+/// Runs the `shaders bench` kernels once (`count` evaluations per dispatch, `repeats`
+/// dispatches). Errors when no adapter is available.
+pub fn measure(count: usize, repeats: usize) -> Result<GpuCosts, String> {
+    let gpu = shaders::gpu::Gpu::new()?;
+    let rows = shaders::bench::run(&gpu, count, repeats, shaders::bench::Inputs::Buffer)?;
+    Ok(GpuCosts { adapter: gpu.adapter.clone(), software: gpu.software, rows })
+}
+
+/// The `shaders bench` kernel of a mode, if it has a WGSL runtime.
+pub fn kernel_of(id: &str) -> Option<&'static str> {
+    match id {
+        "shl2" | "shl2w" => Some("SH9 (L2)"),
+        "sg9h" => Some("SG9"),
+        "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg12h" => Some("SG12"),
+        "ad9" => Some("AD9"),
+        "adrbf" | "adrbf-irr" | "adrbf-tangent" | "adpls" | "adpnnls" => Some("AD12"),
+        _ => None,
+    }
+}
+
+impl GpuCosts {
+    /// The GPU cost of a mode (None without a WGSL runtime).
+    pub fn for_mode(&self, id: &str) -> Option<GpuCost> {
+        let k = kernel_of(id)?;
+        let ns = |signal: &str| {
+            self.rows.iter().find(|r| r.name == k && r.signal == signal).map(|r| r.seconds_per_dispatch * 1e9 / r.count as f64)
+        };
+        Some(GpuCost { kernel: k.to_string(), ns: ns("diffuse")?, specular_ns: ns("diffuse + specular"), adapter: self.adapter.clone() })
+    }
+}
