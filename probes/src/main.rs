@@ -52,10 +52,11 @@ enum Cmd {
         /// Skip the specular signal (irradiance and radiance only).
         #[arg(long)]
         no_specular: bool,
-        /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the runtime path) or `peer`
+        /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the runtime path), `peer`
         /// (Probulator's cosine-as-SG kernel, λ 8.5 after naive projection, 3.0 otherwise;
-        /// reproduces its published figures).
-        #[arg(long, default_value = "hill")]
+        /// reproduces its published figures), or `auto`: the peer's kernel for `sg` (its naive
+        /// projection carries the peer's normalisation, tuned with that kernel), Hill for the others.
+        #[arg(long, default_value = "auto")]
         sg_irradiance: String,
         /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
         /// or `none`.
@@ -349,9 +350,10 @@ fn main() -> ExitCode {
             gpu_count,
         }) => (|| {
             let sgi = match sg_irradiance.as_str() {
+                "auto" => modes::SgIrradiance::Auto,
                 "hill" => modes::SgIrradiance::Hill,
                 "peer" => modes::SgIrradiance::Peer,
-                other => return Err(format!("--sg-irradiance {other}: expected `hill` or `peer`")),
+                other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill` or `peer`")),
             };
             let alphas = if no_specular { Vec::new() } else { alphas };
             if let Some(a) = alphas.iter().find(|a| !(a.is_finite() && **a >= 1e-4 && **a <= 1.0)) {
@@ -409,7 +411,7 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256, modes::SgIrradiance::Hill)?;
+            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256, modes::SgIrradiance::Auto)?;
             write_reports(Path::new("probes-report"), &mut [rep], false, "png", None)
         })(),
     };
