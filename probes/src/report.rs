@@ -440,7 +440,10 @@ fn esc_html(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
-/// Writes every image and plot of one map into `dir/<slug>/`: /// PNG previews always; float EXRs when `exr`.
+/// Writes every image and plot of one map into `dir/<slug>/`: /// (file, title, x label, labelled points) of one cost plot.
+type Plot = (&'static str, String, &'static str, Vec<(String, f64, f64)>);
+
+/// PNG previews always; float EXRs when `exr`.
 pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(), String> {
     use crate::images;
     let d = dir.join(&m.slug);
@@ -502,26 +505,27 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(
         )?;
     }
     let pts = |f: &dyn Fn(&Row) -> f64| m.rows.iter().map(|r| (r.result.id.to_string(), f(r), r.irradiance.rms)).collect::<Vec<_>>();
-    images::scatter(
-        &d.join("error_vs_encode_time.png"),
-        &format!("{}: irradiance error vs encode time", m.path),
-        "encode time (s)",
-        "irradiance RMS (E/π)",
-        &pts(&|r| r.result.encode_total_s(m.stages.reference_irradiance)),
-    )?;
-    images::scatter(
-        &d.join("error_vs_storage.png"),
-        &format!("{}: irradiance error vs storage", m.path),
-        "bytes per probe (f32)",
-        "irradiance RMS (E/π)",
-        &pts(&|r| r.result.storage_bytes() as f64),
-    )?;
-    images::scatter(
-        &d.join("error_vs_eval_cost.png"),
-        &format!("{}: irradiance error vs reconstruction cost", m.path),
-        "CPU reconstruction (ns per direction)",
-        "irradiance RMS (E/π)",
-        &pts(&|r| r.result.eval.median_ns),
-    )?;
+    // The three cost plots, each on its own task.
+    let plots: [Plot; 3] = [
+        (
+            "error_vs_encode_time.png",
+            format!("{}: irradiance error vs encode time", m.path),
+            "encode time (s)",
+            pts(&|r| r.result.encode_total_s(m.stages.reference_irradiance)),
+        ),
+        (
+            "error_vs_storage.png",
+            format!("{}: irradiance error vs storage", m.path),
+            "bytes per probe (f32)",
+            pts(&|r| r.result.storage_bytes() as f64),
+        ),
+        (
+            "error_vs_eval_cost.png",
+            format!("{}: irradiance error vs reconstruction cost", m.path),
+            "CPU reconstruction (ns per direction)",
+            pts(&|r| r.result.eval.median_ns),
+        ),
+    ];
+    plots.par_iter().try_for_each(|(file, title, xlabel, p)| images::scatter(&d.join(file), title, xlabel, "irradiance RMS (E/π)", p))?;
     Ok(())
 }
