@@ -154,8 +154,7 @@ pub fn irradiance_hill(sg: &Sg, n: DVec3) -> f64 {
 
 /// [`irradiance_hill`] with everything that depends only on the lobe (e^(−λ), Hill's
 /// scale and bias, the lobe integral) computed once: what a runtime keeps per basis
-/// function. `eval` performs the same operations as [`hill_curve`] on them, so the two
-/// agree bit for bit.
+/// function. `eval` and [`hill_curve`] share the same steps, so the two agree bit for bit.
 #[derive(Debug, Clone, Copy)]
 pub struct HillLobe {
     sg: Sg,
@@ -170,25 +169,15 @@ impl HillLobe {
             return HillLobe { sg: *sg, hill: None };
         }
         let c0 = crate::luts::committed::constants::HILL_C0;
-        let lam = sg.sharpness.max(f64::MIN_POSITIVE);
-        let c1 = 1.0 / (4.0 * c0);
-        let e1 = (-lam).exp();
-        let e2 = e1 * e1;
-        let r = 1.0 / lam;
-        let scale = 1.0 + 2.0 * e2 - r;
-        let bias = (e1 - e2) * r - e2;
-        let xs = (1.0 - scale).max(0.0).sqrt();
-        HillLobe { sg: *sg, hill: Some([c0, c1 * xs, xs, scale, bias, sg.integral()]) }
+        let [x1, xs, scale, bias] = hill_constants(c0, sg.sharpness);
+        HillLobe { sg: *sg, hill: Some([c0, x1, xs, scale, bias, sg.integral()]) }
     }
 
     /// E/π of the lobe at normal n.
     #[inline]
     pub fn eval(&self, n: DVec3) -> f64 {
         let Some([c0, x1, xs, scale, bias, integral]) = self.hill else { return irradiance_zonal(&self.sg, n) };
-        let x = self.sg.axis.dot(n).clamp(-1.0, 1.0);
-        let x0 = c0 * x;
-        let y = if x0.abs() <= x1 && xs > 0.0 { (x0 + x1) * (x0 + x1) / xs } else { x.clamp(0.0, 1.0) };
-        (scale * y + bias) * integral / PI
+        (scale * hill_y(c0, x1, xs, self.sg.axis.dot(n)) + bias) * integral / PI
     }
 }
 
@@ -198,8 +187,14 @@ pub const HILL_C0_PUBLISHED: f64 = 0.36;
 /// Hill's fitted irradiance curve for an SG light of *unit integral*, sharpness λ > 0,
 /// at x = cos(axis, normal), with a free constant c₀ (fitgen re-fits it).
 pub fn hill_curve(c0: f64, lambda: f64, x: f64) -> f64 {
+    let [x1, xs, scale, bias] = hill_constants(c0, lambda);
+    scale * hill_y(c0, x1, xs, x) + bias
+}
+
+/// Hill's per-lobe constants for c₀ and λ: (c₁·√(1 − scale), √(1 − scale), scale, bias)
+/// with c₁ = 1/(4c₀), scale = 1 + 2e^(−2λ) − 1/λ, bias = (e^(−λ) − e^(−2λ))/λ − e^(−2λ).
+fn hill_constants(c0: f64, lambda: f64) -> [f64; 4] {
     let lam = lambda.max(f64::MIN_POSITIVE);
-    let x = x.clamp(-1.0, 1.0);
     let c1 = 1.0 / (4.0 * c0);
     let e1 = (-lam).exp();
     let e2 = e1 * e1;
@@ -207,9 +202,20 @@ pub fn hill_curve(c0: f64, lambda: f64, x: f64) -> f64 {
     let scale = 1.0 + 2.0 * e2 - r;
     let bias = (e1 - e2) * r - e2;
     let xs = (1.0 - scale).max(0.0).sqrt();
-    let (x0, x1) = (c0 * x, c1 * xs);
-    let y = if x0.abs() <= x1 && xs > 0.0 { (x0 + x1) * (x0 + x1) / xs } else { x.clamp(0.0, 1.0) };
-    scale * y + bias
+    [c1 * xs, xs, scale, bias]
+}
+
+/// Hill's smooth step at x = cos(axis, normal): ((c₀x + x₁)²/x_s inside the transition band,
+/// the clamped cosine outside it.
+#[inline]
+fn hill_y(c0: f64, x1: f64, xs: f64, x: f64) -> f64 {
+    let x = x.clamp(-1.0, 1.0);
+    let x0 = c0 * x;
+    if x0.abs() <= x1 && xs > 0.0 {
+        (x0 + x1) * (x0 + x1) / xs
+    } else {
+        x.clamp(0.0, 1.0)
+    }
 }
 
 /// Hill's fit exactly as published (times the exact lobe integral, over π), any λ > 0.
