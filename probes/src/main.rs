@@ -210,13 +210,26 @@ fn compare(
         let idx: Vec<usize> = (0..rows.len())
             .filter(|k| rows[*k].result.radiance.is_some() && rows[*k].specular.iter().any(|(a, _)| *a == sr.alpha))
             .collect();
-        let rads: Vec<&[[f64; 3]]> = idx.iter().map(|k| rows[*k].result.radiance.as_deref().expect("filtered")).collect();
-        let Some(basis) = probes::specular::basis_limited(&ctx, &rads, sr.alpha) else { continue };
-        for (k, b) in idx.into_iter().zip(basis) {
+        // Modes that store the same radiance (the SH L1 variants share their coefficients)
+        // share one basis-limited image: the quadrature runs once per distinct image.
+        let mut unique: Vec<&[[f64; 3]]> = Vec::new();
+        let which: Vec<usize> = idx
+            .iter()
+            .map(|k| {
+                let r = rows[*k].result.radiance.as_deref().expect("filtered");
+                unique.iter().position(|u| *u == r).unwrap_or_else(|| {
+                    unique.push(r);
+                    unique.len() - 1
+                })
+            })
+            .collect();
+        let Some(basis) = probes::specular::basis_limited(&ctx, &unique, sr.alpha) else { continue };
+        for (k, u) in idx.into_iter().zip(which) {
+            let b = &basis[u];
             let row = &mut rows[k];
             let i = row.specular.iter().position(|(a, _)| *a == sr.alpha).expect("filtered");
-            let basis_rms = metrics::compute_rows(ctx.grid, &b, &sr.image, ctx.metric_rows()).rms;
-            let runtime_rms = metrics::compute_rows(ctx.grid, &row.specular_images[i], &b, ctx.metric_rows()).rms;
+            let basis_rms = metrics::compute_rows(ctx.grid, b, &sr.image, ctx.metric_rows()).rms;
+            let runtime_rms = metrics::compute_rows(ctx.grid, &row.specular_images[i], b, ctx.metric_rows()).rms;
             row.specular_parts.push((sr.alpha, basis_rms, runtime_rms));
         }
     }
