@@ -16,9 +16,45 @@ pub fn write_exr(path: &Path, grid: LatLong, px: &[[f64; 3]]) -> Result<(), Stri
     img.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
 }
 
-/// Writes a PNG preview: value × 2^exposure, Reinhard x/(1+x), sRGB-ish gamma 1/2.2.
+/// Box-filters a row-major image on `grid` by the smallest power of two that makes it at
+/// most `max_width` wide (as far as the grid halves evenly); returns the new grid and texels.
+pub fn box_shrink(grid: LatLong, px: &[[f64; 3]], max_width: usize) -> (LatLong, Vec<[f64; 3]>) {
+    let mut f = 1;
+    while grid.width / f > max_width && grid.width % (2 * f) == 0 && grid.height % (2 * f) == 0 {
+        f *= 2;
+    }
+    let small = LatLong { width: grid.width / f, height: grid.height / f };
+    let out = (0..small.width * small.height)
+        .map(|k| {
+            let (i, j) = (k % small.width, k / small.width);
+            let mut s = [0.0; 3];
+            for dj in 0..f {
+                for di in 0..f {
+                    let p = px[(j * f + dj) * grid.width + i * f + di];
+                    for c in 0..3 {
+                        s[c] += p[c];
+                    }
+                }
+            }
+            s.map(|x| x / (f * f) as f64)
+        })
+        .collect();
+    (small, out)
+}
+
+/// Widest PNG preview; larger images are box-filtered down (the EXRs keep full size).
+pub const PNG_MAX_WIDTH: usize = 256;
+
+/// Writes a PNG preview (at most [`PNG_MAX_WIDTH`] wide): value × 2^exposure, Reinhard x/(1+x), sRGB-ish gamma 1/2.2.
 /// Negative values show as 0 (the metrics report them).
 pub fn write_png(path: &Path, grid: LatLong, px: &[[f64; 3]], exposure: f64) -> Result<(), String> {
+    // Previews are thumbnails: grids wider than PNG_MAX_WIDTH are box-filtered by 2^k.
+    if grid.width > PNG_MAX_WIDTH {
+        let (small, shrunk) = box_shrink(grid, px, PNG_MAX_WIDTH);
+        if small != grid {
+            return write_png(path, small, &shrunk, exposure);
+        }
+    }
     let scale = 2f64.powf(exposure);
     let levels = gamma_thresholds();
     let img = image::RgbImage::from_fn(grid.width as u32, grid.height as u32, |x, y| {

@@ -16,32 +16,6 @@ use std::fmt::Write;
 /// Largest width of the embedded images.
 pub const VIEW_WIDTH: usize = 64;
 
-/// Box-filters a row-major image on `grid` by an integer factor so its width is at most
-/// [`VIEW_WIDTH`]; returns (width, height, texels).
-fn shrink(grid: LatLong, px: &[[f64; 3]]) -> (usize, usize, Vec<[f64; 3]>) {
-    let mut f = 1;
-    while grid.width / f > VIEW_WIDTH && grid.width % (2 * f) == 0 && grid.height % (2 * f) == 0 {
-        f *= 2;
-    }
-    let (w, h) = (grid.width / f, grid.height / f);
-    let out = (0..w * h)
-        .map(|k| {
-            let (i, j) = (k % w, k / w);
-            let mut s = [0.0; 3];
-            for dj in 0..f {
-                for di in 0..f {
-                    let p = px[(j * f + dj) * grid.width + i * f + di];
-                    for c in 0..3 {
-                        s[c] += p[c];
-                    }
-                }
-            }
-            s.map(|x| x / (f * f) as f64)
-        })
-        .collect();
-    (w, h, out)
-}
-
 /// RGBE (Ward 1991): mantissas m_c = ⌊v_c·256/2^e⌋ with 2^(e−1) ≤ max_c v_c < 2^e, byte 4 = e + 128;
 /// negative and non-finite values stored as 0.
 fn rgbe(px: &[[f64; 3]]) -> Vec<u8> {
@@ -77,7 +51,8 @@ fn base64(bytes: &[u8]) -> String {
 }
 
 fn image_js(grid: LatLong, px: &[[f64; 3]]) -> String {
-    let (w, h, small) = shrink(grid, px);
+    let (g, small) = crate::images::box_shrink(grid, px, VIEW_WIDTH);
+    let (w, h) = (g.width, g.height);
     format!("{{\"w\":{w},\"h\":{h},\"d\":\"{}\"}}", base64(&rgbe(&small)))
 }
 

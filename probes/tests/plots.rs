@@ -72,3 +72,29 @@ fn labels_do_not_overlap() {
     println!("{unplaced} of {total} labels found no free place");
     assert!(unplaced * 5 < total, "most labels must find a place ({unplaced} of {total} did not)");
 }
+
+/// Thumbnails (PNG previews, the interactive view's data): box filtering by 2^k to the
+/// width limit keeps every block's mean — checked block by block against a direct sum on a
+/// random 512 × 256 image — and leaves narrow images alone.
+#[test]
+fn box_shrink_averages_blocks() {
+    use probes::images::box_shrink;
+    use sbf::envmap::LatLong;
+    let mut r = Pcg32::new(8, 8);
+    let g = LatLong { width: 512, height: 256 };
+    let px: Vec<[f64; 3]> = (0..g.width * g.height).map(|_| [r.next_f64(), r.next_f64() * 10.0, 0.5]).collect();
+    let (s, out) = box_shrink(g, &px, 256);
+    assert_eq!((s.width, s.height), (256, 128));
+    for (k, o) in out.iter().enumerate() {
+        let (i, j) = (k % 256, k / 256);
+        let want: Vec<f64> = (0..3).map(|c| (0..4).map(|q| px[(2 * j + q / 2) * 512 + 2 * i + q % 2][c]).sum::<f64>() / 4.0).collect();
+        for c in 0..3 {
+            assert!((o[c] - want[c]).abs() <= 1e-15 * want[c].abs().max(1.0), "block ({i}, {j})");
+        }
+    }
+    let (s, out) = box_shrink(g, &px, 64);
+    assert_eq!((s.width, s.height, out.len()), (64, 32, 64 * 32));
+    let (s, same) = box_shrink(LatLong { width: 64, height: 32 }, &px[..2048], 256);
+    assert_eq!((s.width, s.height), (64, 32));
+    assert_eq!(same, px[..2048].to_vec());
+}
