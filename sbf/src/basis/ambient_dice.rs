@@ -226,6 +226,8 @@ impl Basis for AmbientDiceSrbf {
     }
     fn eval_into(&self, dir: DVec3, out: &mut [f64]) {
         debug_assert!(super::is_unit(dir), "direction must be unit length: {dir:?}");
+        // A short or long `out` would silently drop lobes or leave stale values.
+        assert_eq!(out.len(), self.lobes.len(), "AmbientDiceSrbf::eval_into: out has {} values for {} lobes", out.len(), self.lobes.len());
         for (o, p) in out.iter_mut().zip(&self.lobes) {
             *o = srbf_lobe(dir.dot(*p));
         }
@@ -269,6 +271,7 @@ impl Basis for AmbientDiceLinear {
     }
     fn eval_into(&self, dir: DVec3, out: &mut [f64]) {
         debug_assert!(super::is_unit(dir), "direction must be unit length: {dir:?}");
+        assert_eq!(out.len(), 12, "AmbientDiceLinear::eval_into: out has {} values for 12 vertices", out.len());
         out.fill(0.0);
         let (f, b) = self.ico.locate(dir);
         let s = b[0] + b[1] + b[2]; // ≥ 1 for unit d inside the face

@@ -46,17 +46,22 @@ impl Lut2 {
         self.data[(j * self.width + i) * self.channels + c]
     }
 
-    /// Bilinear lookup at (u, v) ∈ [0, 1]², clamped to texel centres; writes
-    /// `channels` values into `out`.
+    /// Bilinear lookup at (u, v) ∈ [0, 1]², clamped to texel centres (±∞ to the edges);
+    /// writes `channels` values into `out`. A NaN coordinate gives NaN values: an invalid
+    /// input stays visible instead of reading the table's corner.
     pub fn sample_into(&self, u: f32, v: f32, out: &mut [f32]) {
         debug_assert_eq!(out.len(), self.channels);
+        if u.is_nan() || v.is_nan() {
+            out.fill(f32::NAN);
+            return;
+        }
         let coord = |t: f32, n: usize| {
             let x = (t * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
             let i0 = (x.floor() as usize).min(n - 1);
             (i0, (i0 + 1).min(n - 1), x - i0 as f32)
         };
-        let (i0, i1, fx) = coord(if u.is_nan() { 0.0 } else { u }, self.width);
-        let (j0, j1, fy) = coord(if v.is_nan() { 0.0 } else { v }, self.height);
+        let (i0, i1, fx) = coord(u, self.width);
+        let (j0, j1, fy) = coord(v, self.height);
         for (c, o) in out.iter_mut().enumerate() {
             let a = self.texel(i0, j0, c) * (1.0 - fx) + self.texel(i1, j0, c) * fx;
             let b = self.texel(i0, j1, c) * (1.0 - fx) + self.texel(i1, j1, c) * fx;
@@ -115,15 +120,19 @@ impl Lut3 {
         self.data[((k * self.dims[1] + j) * self.dims[0] + i) * self.channels + c]
     }
 
-    /// Trilinear lookup at (u, v, w), u, v ∈ [0, 1], w ∈ [lo2, hi2]; clamped.
+    /// Trilinear lookup at (u, v, w), u, v ∈ [0, 1], w ∈ [lo2, hi2]; clamped (±∞ to the
+    /// edges). A NaN coordinate gives NaN values (see [`Lut2::sample_into`]).
     pub fn sample_into(&self, u: f32, v: f32, w: f32, out: &mut [f32]) {
+        let wn = (w - self.range2.0) / (self.range2.1 - self.range2.0);
+        if u.is_nan() || v.is_nan() || wn.is_nan() {
+            out.fill(f32::NAN);
+            return;
+        }
         let coord = |t: f32, n: usize| {
-            let t = if t.is_nan() { 0.0 } else { t };
             let x = (t * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
             let i0 = (x.floor() as usize).min(n - 1);
             (i0, (i0 + 1).min(n - 1), x - i0 as f32)
         };
-        let wn = (w - self.range2.0) / (self.range2.1 - self.range2.0);
         let (i0, i1, fx) = coord(u, self.dims[0]);
         let (j0, j1, fy) = coord(v, self.dims[1]);
         let (k0, k1, fz) = coord(wn, self.dims[2]);

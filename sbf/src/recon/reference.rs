@@ -111,24 +111,37 @@ pub struct MapSampler {
     /// Inclusive prefix sums of the texel weights, row-major.
     cdf: Vec<f64>,
     total: f64,
+    /// Texels whose weight was not finite (NaN/∞ radiance), given weight 0.
+    non_finite: usize,
 }
 
 impl MapSampler {
-    /// `None` when the map has no positive texel (nothing to importance-sample).
+    /// `None` when the map has no positive texel (nothing to importance-sample). Texels
+    /// with non-finite radiance get weight 0 and are counted ([`MapSampler::non_finite_texels`]).
     pub fn new(map: &LatLongImage) -> Option<Self> {
         let g = map.geometry;
         let mut cdf = Vec::with_capacity(g.texel_count());
         let mut acc = 0.0;
+        let mut non_finite = 0;
         for j in 0..g.height {
             let omega = g.texel_solid_angle(j);
             for i in 0..g.width {
                 let t = map.texel(i, j);
-                let w = ((t[0] as f64 + t[1] as f64 + t[2] as f64) / 3.0).max(0.0) * omega;
-                acc += if w.is_finite() { w } else { 0.0 };
+                // (f64::max would turn a NaN mean into 0 unnoticed: check the texel first.)
+                if t.iter().all(|c| c.is_finite()) {
+                    acc += ((t[0] as f64 + t[1] as f64 + t[2] as f64) / 3.0).max(0.0) * omega;
+                } else {
+                    non_finite += 1;
+                }
                 cdf.push(acc);
             }
         }
-        (acc > 0.0).then_some(MapSampler { geometry: g, cdf, total: acc })
+        (acc > 0.0).then_some(MapSampler { geometry: g, cdf, total: acc, non_finite })
+    }
+
+    /// How many texels had non-finite radiance (sampled with probability 0).
+    pub fn non_finite_texels(&self) -> usize {
+        self.non_finite
     }
 
     fn cos_bounds(&self, j: usize) -> (f64, f64) {
