@@ -181,7 +181,7 @@ pub const MODES: &[(&str, &str)] = &[
     ("shl16", "SH L16 (289)"),
     ("adrbf", "Ambient Dice SRBF 12, radiance LS, irradiance by the exact lobe integral"),
     ("adrbf-irr", "Ambient Dice SRBF 12 fitted to the irradiance image (as the peer)"),
-    ("sg", "SG 12 (λ 6, Vogel), naive projection with the peer's normalisation, Hill irradiance"),
+    ("sg", "SG 12 (λ 6, Vogel), naive projection with the peer's normalisation, irradiance by the peer's kernel (λ 8.5; `--sg-irradiance hill` for Hill)"),
     ("sgls", "SG 12, least squares"),
     ("sglsa", "SG 12 + ambient lobe, least squares"),
     ("sgnnls", "SG 12, non-negative least squares"),
