@@ -8,7 +8,7 @@
 //!
 //! | module | holds |
 //! |---|---|
-//! | [`basis`] | the [`Basis`] trait and every basis: [`ShBasis`] (any order) and the f32 SH fast paths ([`basis::sh_fast`]), [`SgBasis`]/[`Sg`], [`Asg`], Ambient Dice ([`AmbientDiceSrbf`] 12 and 9, [`AmbientDiceBezier`], [`AmbientDiceYCoCg`], [`AmbientDiceLinear`]), [`HBasis`], [`AmbientCube`] |
+//! | [`basis`] | the [`Basis`] trait and every basis: [`ShBasis`] (any order), its rotation ([`ShRotation`], any order) and the f32 SH fast paths ([`basis::sh_fast`]), [`SgBasis`]/[`Sg`], [`Asg`], Ambient Dice ([`AmbientDiceSrbf`] 12 and 9, [`AmbientDiceBezier`], [`AmbientDiceYCoCg`], [`AmbientDiceLinear`]), [`HBasis`], [`AmbientCube`] |
 //! | [`layout`] | lobe layouts: Vogel spiral (sphere, hemisphere), icosahedron (standard, face-up), sharpness heuristic |
 //! | [`sampling`] | Halton, Hammersley, R2; sphere/hemisphere/cosine/disk warps with pdfs and inverses; spherical Fibonacci; PCG32 |
 //! | [`ggx`] | GGX D, Λ, G1, G2 and visible-normal sampling (Heitz 2018) |
@@ -59,7 +59,7 @@ pub mod solve;
 
 pub use basis::{
     AmbientCube, AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg, Asg, Basis, HBasis, Icosahedron, Sg, SgBasis,
-    ShBasis,
+    ShBasis, ShRotation,
 };
 pub use error::SbfError;
 pub use glam;

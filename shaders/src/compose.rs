@@ -21,6 +21,7 @@ pub enum Feature {
     ShL4Irradiance,
     ShL1Geomerics,
     ShL1Zh3,
+    ShRotate,
     SgEval,
     SgIrradiance,
     SgSpecular,
@@ -37,13 +38,14 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 18] = [
+    pub const ALL: [(Feature, &'static str); 19] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
         (Feature::ShL4Irradiance, "sh-l4-irradiance"),
         (Feature::ShL1Geomerics, "sh-l1-geomerics"),
         (Feature::ShL1Zh3, "sh-l1-zh3"),
+        (Feature::ShRotate, "sh-rotate"),
         (Feature::SgEval, "sg-eval"),
         (Feature::SgIrradiance, "sg-irradiance"),
         (Feature::SgSpecular, "sg-specular"),
@@ -67,6 +69,7 @@ impl Feature {
             Feature::ShL4Irradiance => &["sh_l4_irradiance"],
             Feature::ShL1Geomerics => &["sh_l1_geomerics_irradiance"],
             Feature::ShL1Zh3 => &["sh_l1_zh3_irradiance"],
+            Feature::ShRotate => &["sh_rotate_l1", "sh_rotate_l2", "sh_rotate_l4"],
             Feature::SgEval => &["sg_eval", "sg_integral"],
             Feature::SgIrradiance => &["sg_hill_irradiance"],
             Feature::SgSpecular => &["sg_asg_warp", "sg_asg_lobe"],

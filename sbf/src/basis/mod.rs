@@ -3,6 +3,7 @@
 //! | type | functions | domain | module |
 //! |---|---|---|---|
 //! | [`ShBasis`] | (L+1)² real orthonormal SH, any order (f64); f32 fast paths to L4 | sphere | [`sh`], [`sh_fast`] |
+//! | [`ShRotation`] | the (L+1)² block-diagonal rotation of SH coefficients, any order (Ivanic–Ruedenberg) | — | [`sh_rotation`] |
 //! | [`SgBasis`] | N spherical Gaussians, any axes/sharpness, optional constant lobe | sphere | [`sg`] |
 //! | [`Asg`] | anisotropic SG (Xu et al. 2013), evaluation | sphere | [`asg`] |
 //! | [`AmbientDiceSrbf`] | Ambient Dice cosine-lobe SRBF: 12 (icosahedron) or 9 (seed §8.3.1 hemisphere set) | sphere | [`ambient_dice`] |
@@ -20,6 +21,7 @@ pub mod hbasis;
 pub mod sg;
 pub mod sh;
 pub mod sh_fast;
+pub mod sh_rotation;
 
 pub use ambient_cube::AmbientCube;
 pub use ambient_dice::{AmbientDiceLinear, AmbientDiceSrbf, Icosahedron};
@@ -28,6 +30,7 @@ pub use asg::Asg;
 pub use hbasis::HBasis;
 pub use sg::{Sg, SgBasis};
 pub use sh::ShBasis;
+pub use sh_rotation::ShRotation;
 
 use crate::error::{check_len, normalize_direction, SbfError};
 use crate::quadrature::Domain;
