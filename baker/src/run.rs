@@ -102,7 +102,7 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
         }
     };
     if let Some(p) = environment {
-        let (map, _) = probes::input::load_map(p, false).map_err(|e| e.to_string())?;
+        let (map, _) = sbf::io::load_map(p, false).map_err(|e| e.to_string())?;
         s.environment = Environment::Map(std::sync::Arc::new(map));
     }
     let degenerate = s.validate().map_err(|e| e.to_string())?;

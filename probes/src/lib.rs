@@ -12,7 +12,8 @@ pub mod cost;
 pub mod decide;
 pub mod gpu_cost;
 pub mod images;
-pub mod input;
+/// Map loading lives in `sbf::io` (shared with the baker); re-exported under its old name.
+pub use sbf::io as input;
 pub mod metrics;
 pub mod modes;
 pub mod reference;

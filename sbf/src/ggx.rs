@@ -208,3 +208,11 @@ pub fn dfg_multiscatter_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2
     let [x, y] = dfg_entry(n_dot_v, alpha, samples);
     [y, x + y]
 }
+
+/// GGX dominant direction (Listing 8.2, after Lagarde & de Rousiers 2014):
+/// normalize(mix(N, R, s·(√s + α))) with s = saturate(1 − α).
+pub fn dominant_direction(n: DVec3, r: DVec3, alpha: f64) -> DVec3 {
+    let s = (1.0 - alpha).clamp(0.0, 1.0);
+    let f = s * (s.sqrt() + alpha);
+    (n + (r - n) * f).normalize()
+}

@@ -1,8 +1,9 @@
 //! # sbf — spherical basis functions for real-time lighting
 //!
 //! The core library of the workspace: bases, sampling, quadrature, Gram
-//! matrices and solvers (reconstruction and LUT readers join in later modules).
-//! It does no file I/O, prints nothing and does not depend on wgpu.
+//! matrices and solvers, reconstruction and LUT readers. The core does no file I/O,
+//! prints nothing and does not depend on wgpu; the optional `io` feature (off by
+//! default) adds [`io`], the lat-long HDR/EXR loader both tools use.
 //!
 //! ## Map of the crate
 //!
@@ -20,6 +21,8 @@
 //! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
 //! | [`slc`] | stochastic light culling (seeds 000–002): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
 //! | [`error`] | [`SbfError`] and input checks |
+//! | [`frame`] | an orthonormal tangent frame for a unit normal (Duff et al. 2017) |
+//! | `io` | (feature `io`) loading and validating lat-long `.hdr`/`.exr` maps |
 //!
 //! ## Conventions
 //!
@@ -47,8 +50,11 @@
 pub mod basis;
 pub mod envmap;
 pub mod error;
+pub mod frame;
 pub mod ggx;
 pub mod gram;
+#[cfg(feature = "io")]
+pub mod io;
 pub mod layout;
 pub mod luts;
 pub mod quadrature;
@@ -57,10 +63,17 @@ pub mod sampling;
 pub mod slc;
 pub mod solve;
 
-pub use basis::{
-    AmbientCube, AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg, Asg, Basis, HBasis, Icosahedron, Sg, SgBasis,
-    ShBasis, ShRotation,
-};
+#[cfg(feature = "ambient-cube")]
+pub use basis::AmbientCube;
+#[cfg(feature = "h-basis")]
+pub use basis::HBasis;
+#[cfg(feature = "ambient-dice")]
+pub use basis::{AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg};
+#[cfg(feature = "sg")]
+pub use basis::{Asg, Sg, SgBasis};
+pub use basis::{Basis, Icosahedron};
+#[cfg(feature = "sh")]
+pub use basis::{ShBasis, ShRotation};
 pub use error::SbfError;
 pub use glam;
 pub use nalgebra;

@@ -1,12 +1,11 @@
-//! Ambient Dice (SRBF 12/9, Bézier, YCoCg, linear), H-basis and ambient cube identities.
+//! Ambient Dice (SRBF 12/9, Bézier, YCoCg, linear) identities.
 mod common;
 
 use sbf::basis::ambient_dice::{srbf_lobe, ICOSAHEDRON_EDGE_COS};
 use sbf::basis::ambient_dice_bezier::{rgb_to_ycocg, ycocg_to_rgb, BEZIER_A0, BEZIER_A1, BEZIER_A2};
 use sbf::glam::DVec3;
-use sbf::gram::{gram_with_rule, GramOptions};
-use sbf::quadrature::SphereQuadrature;
-use sbf::{AmbientCube, AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg, Basis, Domain, HBasis, Icosahedron};
+use sbf::gram::GramOptions;
+use sbf::{AmbientDiceBezier, AmbientDiceLinear, AmbientDiceSrbf, AmbientDiceYCoCg, Basis, Domain, Icosahedron};
 
 fn check_regular(ico: &Icosahedron) {
     for (i, a) in ico.vertices().iter().enumerate() {
@@ -189,31 +188,6 @@ fn ycocg_round_trip_and_constants() {
     let rgb = yc.eval_rgb(&y, &[col[1]; 12], &[col[2]; 12], DVec3::new(0.1, 0.7, -0.3).normalize());
     assert!(rgb.iter().all(|v| v.is_finite()));
     assert_eq!(AmbientDiceYCoCg::COEFFICIENTS, 36 + 12 + 12);
-}
-
-/// H-basis 4 and 6 are orthonormal on the upper hemisphere to 1e-8 (exact
-/// rule for degree 4, so the residual is rounding).
-#[test]
-fn hbasis_orthonormal_on_hemisphere() {
-    for n in [4, 6] {
-        let h = HBasis::new(n).unwrap();
-        assert_eq!(h.domain(), Domain::UpperHemisphere);
-        let rule = SphereQuadrature::exact_for_degree(Domain::UpperHemisphere, 4);
-        let g = gram_with_rule(&h, &rule);
-        let err = (g - sbf::nalgebra::DMatrix::<f64>::identity(n, n)).abs().max();
-        assert!(err < 1e-8, "H{n}: max |G − I| = {err:e}");
-    }
-    assert!(HBasis::new(5).is_err());
-}
-
-/// Ambient cube: partition of unity |n|² = 1, one lobe per axis active.
-#[test]
-fn ambient_cube_partition_of_unity() {
-    let mut w = [0.0; 6];
-    for d in common::random_directions(17, 10_000) {
-        AmbientCube.eval_into(d, &mut w);
-        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-14);
-    }
 }
 
 /// Quadrature error of the default Gram resolution is small for kinked bases.

@@ -30,16 +30,7 @@ pub const BEZIER_A0: f64 = -0.069_098_300_562_505_26; // (√5 − 5)/40
 pub const BEZIER_A1: f64 = 0.239_918_693_812_442_1; // (11√5 − 15)/40
 pub const BEZIER_A2: f64 = 0.223_606_797_749_979; // √5/10
 
-/// Orthonormal tangent frame (T, B) for a unit normal n, branchless
-/// (Duff et al. 2017, "Building an Orthonormal Basis, Revisited", Listing 3).
-pub fn tangent_frame(n: DVec3) -> (DVec3, DVec3) {
-    let sign = 1f64.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let t = DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    let bt = DVec3::new(b, sign + n.y * n.y * a, -n.y);
-    (t, bt)
-}
+pub use crate::frame::tangent_frame;
 
 /// Per-face precomputed data: for each corner k and each of its two edges, the
 /// derivative factors (sinθ/3)·(T·t, B·t).

@@ -13,23 +13,42 @@
 //! | [`HBasis`] | H-basis 4 or 6 (Habel & Wimmer 2010) | upper hemisphere | [`hbasis`] |
 //! | [`AmbientCube`] | 6 clamped squared-cosine lobes along ±X, ±Y, ±Z | sphere | [`ambient_cube`] |
 
+#[cfg(feature = "ambient-cube")]
 pub mod ambient_cube;
+#[cfg(feature = "ambient-dice")]
 pub mod ambient_dice;
+#[cfg(feature = "ambient-dice")]
 pub mod ambient_dice_bezier;
+#[cfg(feature = "sg")]
 pub mod asg;
+#[cfg(feature = "h-basis")]
 pub mod hbasis;
+pub mod icosahedron;
+#[cfg(feature = "sg")]
 pub mod sg;
+#[cfg(feature = "sh")]
 pub mod sh;
+#[cfg(feature = "sh")]
 pub mod sh_fast;
+#[cfg(feature = "sh")]
 pub mod sh_rotation;
 
+#[cfg(feature = "ambient-cube")]
 pub use ambient_cube::AmbientCube;
-pub use ambient_dice::{AmbientDiceLinear, AmbientDiceSrbf, Icosahedron};
+#[cfg(feature = "ambient-dice")]
+pub use ambient_dice::{AmbientDiceLinear, AmbientDiceSrbf};
+#[cfg(feature = "ambient-dice")]
 pub use ambient_dice_bezier::{AmbientDiceBezier, AmbientDiceYCoCg};
+#[cfg(feature = "sg")]
 pub use asg::Asg;
+#[cfg(feature = "h-basis")]
 pub use hbasis::HBasis;
+pub use icosahedron::Icosahedron;
+#[cfg(feature = "sg")]
 pub use sg::{Sg, SgBasis};
+#[cfg(feature = "sh")]
 pub use sh::ShBasis;
+#[cfg(feature = "sh")]
 pub use sh_rotation::ShRotation;
 
 use crate::error::{check_len, normalize_direction, SbfError};
@@ -101,6 +120,10 @@ impl<B: Basis + ?Sized> Basis for Box<B> {
 }
 
 /// Unit-length check used by debug assertions (tolerance 1e-6 on |d|²).
+#[cfg_attr(
+    not(any(feature = "sh", feature = "sg", feature = "ambient-dice", feature = "h-basis", feature = "ambient-cube")),
+    allow(dead_code)
+)]
 pub(crate) fn is_unit(d: DVec3) -> bool {
     d.is_finite() && (d.length_squared() - 1.0).abs() < 1e-6
 }

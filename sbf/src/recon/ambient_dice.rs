@@ -134,13 +134,7 @@ pub fn lobe_specular_fit(params: &[f64; 8], diffuse: &[f64; 3], lobe: DVec3, n: 
     SpecularFit::new(params, diffuse, n, v, alpha).lobe(lobe)
 }
 
-/// GGX dominant direction (Listing 8.2, after Lagarde & de Rousiers 2014):
-/// normalize(mix(N, R, s·(√s + α))) with s = saturate(1 − α).
-pub fn ggx_dominant_direction(n: DVec3, r: DVec3, alpha: f64) -> DVec3 {
-    let s = (1.0 - alpha).clamp(0.0, 1.0);
-    let f = s * (s.sqrt() + alpha);
-    (n + (r - n) * f).normalize()
-}
+pub use crate::ggx::dominant_direction as ggx_dominant_direction;
 
 /// Ground-truth GGX response of one SRBF lobe for f0 and f90 (∫B·(1 − F_c)·f·cos,
 /// ∫B·F_c·f·cos) with the normal at +Z, view at cos θ_v = `n_dot_v` in the YZ plane,
@@ -174,7 +168,7 @@ pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     let n = DVec3::Z;
     let v = DVec3::new(0.0, (1.0 - nv * nv).max(0.0).sqrt(), nv);
     let r = ggx::reflect(v, n);
-    let lobe = ggx_dominant_direction(n, r, alpha);
+    let lobe = crate::ggx::dominant_direction(n, r, alpha);
     let fit = lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, lobe, n, v, alpha);
     let gt = lobe_specular_reference(lobe, nv, alpha, samples);
     if fit > 0.0 {

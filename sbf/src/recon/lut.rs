@@ -149,6 +149,7 @@ impl Lut3 {
 
 /// The Ambient Dice specular LUT (Listing 8.2) over (n·v, α) at texel centres,
 /// two channels (f0, f90 scales), each entry from `samples` visible-normal samples.
+#[cfg(feature = "ambient-dice")]
 pub fn ad_specular_lut(n_nv: usize, n_alpha: usize, samples: u32) -> Result<Lut2, SbfError> {
     Lut2::from_fn(n_nv, n_alpha, 2, |nv, alpha| super::ambient_dice::specular_lut_entry(nv, alpha, samples).to_vec())
 }

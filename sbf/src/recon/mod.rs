@@ -4,6 +4,7 @@
 //! | what | where |
 //! |---|---|
 //! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`] |
+//! | the clamped-cosine band factors A_l shared by every family | [`zonal`] |
 //! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
 //! | SG: exact convolution, Hill's fit, cosine-SG inner product, punctual; ASG and plain-SG specular warps | [`sg`] |
 //! | f32 runtime API on glam `Vec3` (SH L1/L2/L4, Geomerics, SG Hill/ASG, AD poly / fit + LUT), batch form | [`runtime`] |
@@ -14,9 +15,13 @@
 //! reflects), matching the reports. Specular returns ∫ L·f_r·cos with Schlick's
 //! Fresnel F = f0(1 − F_c) + f90·F_c.
 
+#[cfg(feature = "ambient-dice")]
 pub mod ambient_dice;
 pub mod lut;
 pub mod reference;
 pub mod runtime;
+#[cfg(feature = "sg")]
 pub mod sg;
+#[cfg(feature = "sh")]
 pub mod sh;
+pub mod zonal;

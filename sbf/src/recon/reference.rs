@@ -11,8 +11,8 @@
 //!   source (a sun): visible-normal samples and map samples ([`MapSampler`], texels by
 //!   luminance × solid angle) combined by the balance heuristic (Veach 1997, §9.2).
 
-use crate::basis::ambient_dice_bezier::tangent_frame;
 use crate::envmap::{LatLong, LatLongImage};
+use crate::frame::tangent_frame;
 use crate::ggx;
 use crate::sampling::{cosine_hemisphere, halton2};
 use glam::DVec3;

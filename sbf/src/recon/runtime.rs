@@ -6,18 +6,25 @@
 //!
 //! Preconditions (debug-asserted): unit directions, slice lengths as documented.
 
+#[cfg(feature = "ambient-dice")]
 use super::ambient_dice::{SpecularFit, DIFFUSE_FIT_LISTING_8_1, DIFFUSE_FIT_MINIMAX, SPECULAR_FIT_LISTING_8_1};
+#[cfg(feature = "ambient-dice")]
 use super::lut::Lut2;
+#[cfg(feature = "sh")]
 use crate::basis::sh_fast::{eval_sh_l1, eval_sh_l2, eval_sh_l4};
+#[cfg(feature = "sg")]
 use crate::basis::Sg;
 use glam::Vec3;
 
 /// A_l/π for l = 0..=4 (E/π band factors): 1, 2/3, 1/4, 0, −1/24.
+#[cfg(feature = "sh")]
 pub const SH_IRRADIANCE_BAND: [f32; 5] = [1.0, 2.0 / 3.0, 0.25, 0.0, -1.0 / 24.0];
 
 /// Band l of coefficient index i (i < 25).
+#[cfg(feature = "sh")]
 const BAND_OF: [usize; 25] = [0, 1, 1, 1, 2, 2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4];
 
+#[cfg(feature = "sh")]
 fn sh_irradiance<const N: usize>(c: &[Vec3; N], y: &[f32; N]) -> Vec3 {
     let mut e = Vec3::ZERO;
     for i in 0..N {
@@ -27,22 +34,26 @@ fn sh_irradiance<const N: usize>(c: &[Vec3; N], y: &[f32; N]) -> Vec3 {
 }
 
 /// E/π from SH L1 (4 RGB coefficients).
+#[cfg(feature = "sh")]
 pub fn sh_l1_irradiance(c: &[Vec3; 4], n: Vec3) -> Vec3 {
     sh_irradiance(c, &eval_sh_l1(n))
 }
 
 /// E/π from SH L2 (9 RGB coefficients).
+#[cfg(feature = "sh")]
 pub fn sh_l2_irradiance(c: &[Vec3; 9], n: Vec3) -> Vec3 {
     sh_irradiance(c, &eval_sh_l2(n))
 }
 
 /// E/π from SH L4 (25 RGB coefficients).
+#[cfg(feature = "sh")]
 pub fn sh_l4_irradiance(c: &[Vec3; 25], n: Vec3) -> Vec3 {
     sh_irradiance(c, &eval_sh_l4(n))
 }
 
 /// E/π from SH L1 with the Geomerics reconstruction (f32 twin of
 /// [`super::sh::irradiance_l1_geomerics`]).
+#[cfg(feature = "sh")]
 pub fn sh_l1_geomerics_irradiance(c: &[Vec3; 4], n: Vec3) -> Vec3 {
     let k0 = 0.282_094_8_f32; // 1/(2√π)
     let k1 = 0.162_867_5_f32; // √(3/4π)/3
@@ -66,6 +77,7 @@ pub fn sh_l1_geomerics_irradiance(c: &[Vec3; 4], n: Vec3) -> Vec3 {
 
 /// E/π from SG lobes of one shared sharpness with Hill's fit (fitgen's c₀; λ ≥ 2) or, below, the
 /// exact zonal expansion (computed in f64, as in [`super::sg::irradiance_hill`]).
+#[cfg(feature = "sg")]
 pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) -> Vec3 {
     debug_assert_eq!(axes.len(), coeffs.len());
     let mut e = Vec3::ZERO;
@@ -100,6 +112,7 @@ pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) ->
 /// GGX specular from SG lobes of one shared sharpness with the ASG warp (f32 evaluation
 /// of [`super::sg::specular_asg_warp`], computed per lobe in f64 for stability at
 /// n·v → 0 and α → 1e-4, then accumulated in f32).
+#[cfg(feature = "sg")]
 pub fn sg_specular_asg(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3, v: Vec3, alpha: f32, f0: f32, f90: f32) -> Vec3 {
     let warp = super::sg::AsgWarp::new(n.as_dvec3(), v.as_dvec3(), alpha as f64, f0 as f64, f90 as f64);
     let mut s = Vec3::ZERO;
@@ -111,6 +124,7 @@ pub fn sg_specular_asg(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3, 
 
 /// E/π from Ambient Dice SRBF radiance lobes with the minimax quadratic (error ≤ 6.5e-4
 /// per unit coefficient; [`DIFFUSE_FIT_MINIMAX`]).
+#[cfg(feature = "ambient-dice")]
 pub fn ad_irradiance(lobes: &[Vec3], coeffs: &[Vec3], n: Vec3) -> Vec3 {
     debug_assert_eq!(lobes.len(), coeffs.len());
     let p = DIFFUSE_FIT_MINIMAX.map(|x| x as f32);
@@ -124,6 +138,7 @@ pub fn ad_irradiance(lobes: &[Vec3], coeffs: &[Vec3], n: Vec3) -> Vec3 {
 
 /// GGX specular from Ambient Dice SRBF radiance lobes: Listing 8.1's fit per lobe times
 /// the LUT (Listing 8.2) sampled at (n·v, α).
+#[cfg(feature = "ambient-dice")]
 pub fn ad_specular(lobes: &[Vec3], coeffs: &[Vec3], n: Vec3, v: Vec3, alpha: f32, f0: f32, f90: f32, lut: &Lut2) -> Vec3 {
     let l = lut.sample2(n.dot(v).clamp(0.0, 1.0), alpha);
     let scale = f0 * l[0] + f90 * l[1];

@@ -140,7 +140,7 @@ pub fn irradiance_zonal(sg: &Sg, n: DVec3) -> f64 {
         };
         // f = Σ (2l+1)/(4π)·g_l·P_l, g_l = 4π e^(−λ) i_l(λ); convolution multiplies by A_l/π.
         let g = 4.0 * PI * (-lam).exp() * il[l];
-        total += (2 * l + 1) as f64 / (4.0 * PI) * g * crate::recon::sh::lambert_band_factor(l) / PI * pl;
+        total += (2 * l + 1) as f64 / (4.0 * PI) * g * crate::recon::zonal::lambert_band_factor(l) / PI * pl;
     }
     sg.amplitude * total
 }
@@ -300,7 +300,7 @@ impl AsgWarp {
         let z = ggx::reflect(v, n);
         // Frame of the warped lobe: x in the plane of n and z (stretched), y ⟂ both.
         let y0 = n.cross(z);
-        let y = if y0.length_squared() > 1e-24 { y0.normalize() } else { crate::basis::ambient_dice_bezier::tangent_frame(z).1 };
+        let y = if y0.length_squared() > 1e-24 { y0.normalize() } else { crate::frame::tangent_frame(z).1 };
         let x = y.cross(z);
         AsgWarp { x, y, z, lx: lam / (8.0 * nv * nv), ly: lam / 8.0, mu, tail: vis_fresnel_cos(n, v, z, alpha, f0, f90) }
     }

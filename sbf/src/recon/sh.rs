@@ -25,20 +25,7 @@ use crate::error::SbfError;
 use glam::DVec3;
 use std::f64::consts::PI;
 
-/// Clamped-cosine band factor A_l.
-pub fn lambert_band_factor(l: usize) -> f64 {
-    match l {
-        0 => PI,
-        1 => 2.0 * PI / 3.0,
-        l if l % 2 == 1 => 0.0,
-        l => {
-            let m = l / 2;
-            let binom: f64 = (1..=m).map(|k| (2 * k - 1) as f64 / (2 * k) as f64).product();
-            let sign = if (m + 1) % 2 == 0 { 1.0 } else { -1.0 };
-            2.0 * PI * sign / ((l + 2) as f64 * (l - 1) as f64) * binom
-        }
-    }
-}
+pub use super::zonal::lambert_band_factor;
 
 /// Order L of a coefficient count (L+1)², or an error.
 fn order_of(n: usize) -> Result<usize, SbfError> {
@@ -345,7 +332,7 @@ pub fn specular_zonal_rgb(
     }
     let alpha = alpha.clamp(1e-4, 1.0);
     let r = crate::ggx::reflect(v, n);
-    let rd = crate::recon::ambient_dice::ggx_dominant_direction(n, r, alpha);
+    let rd = crate::ggx::dominant_direction(n, r, alpha);
     // Basis values on the stack up to L16 (289 values), on the heap above.
     let mut stack = [0.0; 289];
     let mut heap = Vec::new();

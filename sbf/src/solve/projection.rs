@@ -16,9 +16,9 @@
 //!   fixed R2 point set (weight G2/G1, Heitz 2018), 0 for v below the horizon.
 
 use super::lsq::{solve_gram, LsOptions};
-use crate::basis::ambient_dice_bezier::tangent_frame;
 use crate::basis::Basis;
 use crate::error::SbfError;
+use crate::frame::tangent_frame;
 use crate::ggx;
 use crate::gram::{gram_matrix, Gram, GramOptions};
 use crate::quadrature::{Domain, SphereQuadrature};

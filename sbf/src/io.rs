@@ -2,8 +2,12 @@
 //! validation: 2:1 aspect, and texels that are NaN, ±Inf or negative are an error
 //! naming the file, the problem, the first texel and the count — or, with
 //! `sanitize`, replaced by 0 and counted.
+//!
+//! Behind the `io` cargo feature (off by default: the core does no file I/O). The one
+//! place where both tools — `probes` (comparison) and `baker` (environment lighting) —
+//! read maps, so the baker does not depend on the comparison tool.
 
-use sbf::envmap::LatLongImage;
+use crate::envmap::LatLongImage;
 use std::fmt;
 use std::path::Path;
 
