@@ -67,9 +67,9 @@ fn vpls(draw: u64) -> Vec<Vpl> {
 
 type Renderer<'a> = Box<dyn Fn(&GBuffer, &[Vpl], Mode) -> Render + 'a>;
 
-fn engines(g: &Option<Gpu>) -> Vec<(&'static str, Renderer<'_>)> {
+fn engines(g: &Option<&'static Gpu>) -> Vec<(&'static str, Renderer<'static>)> {
     let mut v: Vec<(&'static str, Renderer)> = vec![("CPU", Box::new(|gb: &GBuffer, l: &[Vpl], m: Mode| render(gb, l, DELTA, m, 1)))];
-    if let Some(gpu) = g {
+    if let Some(gpu) = *g {
         v.push(("GPU", Box::new(move |gb: &GBuffer, l: &[Vpl], m: Mode| baker::slc_gpu::render(gpu, gb, l, DELTA, m, 1).unwrap())));
     }
     v
@@ -158,7 +158,7 @@ fn gpu_matches_cpu() {
     ] {
         let l = vpls(7);
         let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
-        let mut run = baker::slc_gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
+        let mut run = baker::slc_gpu::SlcGpu::new(g, &gb, &l, DELTA, il).unwrap();
         run.set_bound(bound);
         let gg = run.run(mode).unwrap();
         if mode == Mode::Culled && il == 1 {
