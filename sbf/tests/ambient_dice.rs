@@ -185,8 +185,23 @@ fn ycocg_round_trip_and_constants() {
     for i in 0..12 {
         y[3 * i] = col[0];
     }
-    let rgb = yc.eval_rgb(&y, &[col[1]; 12], &[col[2]; 12], DVec3::new(0.1, 0.7, -0.3).normalize());
-    assert!(rgb.iter().all(|v| v.is_finite()));
+    // By value: chroma is linear (partition of unity, exact), luma is the Bézier value
+    // weights' sum S(d) ∈ [0.938, 1] times Y (derivatives 0), and RGB follows from Malvar &
+    // Sullivan's inverse written out here: R = Y − Cg + Co, G = Y + Cg, B = Y − Cg − Co.
+    let bz = AmbientDiceBezier::new();
+    let mut w = [0.0; 36];
+    for d in common::random_directions(19, 2_000) {
+        let rgb = yc.eval_rgb(&y, &[col[1]; 12], &[col[2]; 12], d);
+        bz.eval_into(d, &mut w);
+        let luma = col[0] * (0..12).map(|i| w[3 * i]).sum::<f64>();
+        let want = [luma - col[2] + col[1], luma + col[2], luma - col[2] - col[1]];
+        for c in 0..3 {
+            assert!((rgb[c] - want[c]).abs() < 1e-14, "{d}: {rgb:?} vs {want:?}");
+        }
+    }
+    // The colour itself round-trips through the transform pair to rounding.
+    let back = ycocg_to_rgb(col);
+    assert!(back.iter().zip([0.8, 0.4, 0.2]).all(|(a, b)| (a - b).abs() < 1e-15), "{back:?}");
     assert_eq!(AmbientDiceYCoCg::COEFFICIENTS, 36 + 12 + 12);
 }
 

@@ -99,16 +99,25 @@ fn analytic_lobe_irradiance_matches_quadrature() {
     assert!(lobe_irradiance(PI).abs() < 1e-15);
 }
 
-/// The two closed forms meet at θ = π/2 (value and slope).
+/// θ = π/2 is where the seed's two printed closed forms (eq. 8.13 below, 8.11 above) hand
+/// over: they must meet there in value and slope — an identity of the seed's formulas that
+/// a transcription error breaks. And the quartic's slope there, dE/dθ = −sinθ·dE/dc =
+/// −31/240 at c = 0, must equal the central difference of the independent quadrature
+/// (error model: O(h²·E‴) ≈ 1e-9 at h = 1e-4, plus 2·1e-13/h of quadrature noise; bar 1e-7).
 #[test]
-fn analytic_lobe_irradiance_is_continuous_at_half_pi() {
+fn closed_forms_hand_over_at_half_pi() {
     let e = 1e-9;
-    let (lo, hi) = (lobe_irradiance(0.5 * PI - e), lobe_irradiance(0.5 * PI + e));
-    assert!((lo - hi).abs() < 1e-9, "jump {:e}", (lo - hi).abs());
+    let (lo, hi) = (seed_as_printed(0.5 * PI - e), seed_as_printed(0.5 * PI + e));
+    assert!((lo - hi).abs() < 1e-8, "seed branches jump by {:e}", (lo - hi).abs());
     let h = 1e-5;
-    let slope_lo = (lobe_irradiance(0.5 * PI - e) - lobe_irradiance(0.5 * PI - e - h)) / h;
-    let slope_hi = (lobe_irradiance(0.5 * PI + e + h) - lobe_irradiance(0.5 * PI + e)) / h;
-    assert!((slope_lo - slope_hi).abs() < 1e-4, "slopes {slope_lo} vs {slope_hi}");
+    let slope_lo = (seed_as_printed(0.5 * PI - e) - seed_as_printed(0.5 * PI - e - h)) / h;
+    let slope_hi = (seed_as_printed(0.5 * PI + e + h) - seed_as_printed(0.5 * PI + e)) / h;
+    assert!((slope_lo - slope_hi).abs() < 1e-4, "seed branch slopes {slope_lo} vs {slope_hi}");
+    let h = 1e-4;
+    let oracle_slope = (oracle(0.5 * PI + h) - oracle(0.5 * PI - h)) / (2.0 * h);
+    let quartic_slope = (lobe_irradiance(0.5 * PI + h) - lobe_irradiance(0.5 * PI - h)) / (2.0 * h);
+    assert!((oracle_slope + 31.0 / 240.0).abs() < 1e-7, "quadrature slope {oracle_slope} vs −31/240");
+    assert!((quartic_slope - oracle_slope).abs() < 1e-7, "quartic slope {quartic_slope} vs quadrature {oracle_slope}");
 }
 
 /// Quadratic fit error vs the analytic integral over c = cos θ ∈ [−1, 1]: the seed's

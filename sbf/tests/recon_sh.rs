@@ -70,11 +70,21 @@ fn geomerics_limits() {
     // A single directional light: radiance is a delta along a, SH L1 coefficients Y(a).
     let y = sh.eval(DVec3::Y);
     let delta = [y[0], y[1], y[2], y[3]];
+    // Closed form for a delta: r0 = Y00² = 1/4π, r1 = (Y1·a)·Y1/3 = a/4π, so the ratio is 1,
+    // p = 3, a = 0 and E/π = r0·4q³ = q³/π with q = (1 + n·a)/2 — non-negative everywhere.
     for n in &dirs {
         let g = irradiance_l1_geomerics(&delta, *n);
-        assert!(g.is_finite() && g >= 0.0, "{n}: {g}");
+        let q = 0.5 * (1.0 + n.dot(DVec3::Y));
+        assert!((g - q * q * q / PI).abs() < 1e-14, "{n}: {g} vs q³/π = {}", q * q * q / PI);
     }
-    assert!(irradiance_l1_geomerics(&[-1.0, 0.5, 0.0, 0.0], DVec3::Z).is_finite());
+    // A negative DC term takes the linear branch: r0 + 2·r1·n = −Y00 + 2·(0.5·Y1/3)·n_y.
+    let k00 = 0.5 / PI.sqrt();
+    let k1 = (3.0 / (4.0 * PI)).sqrt();
+    for n in &dirs {
+        let g = irradiance_l1_geomerics(&[-1.0, 0.5, 0.0, 0.0], *n);
+        let want = -k00 + 2.0 * (0.5 * k1 / 3.0) * n.y;
+        assert!((g - want).abs() < 1e-14, "{n}: {g} vs {want}");
+    }
     assert!(irradiance_l1_geomerics(&[0.0, 0.0, 0.0, 0.0], DVec3::Z) == 0.0);
 }
 
@@ -91,7 +101,13 @@ fn zh3_behaviour() {
     let r = 3f64.sqrt();
     let want = irradiance_l1_linear(&c, DVec3::Z) + a2 * c[0] * (0.08 * r + 0.6 * r * r) * y20;
     assert!((out[0] - want).abs() < 1e-13, "{out:?} vs {want}");
-    assert!(irradiance_l1_zh3(&[[1e300, -1e300, 1e300, 0.0]; 3], DVec3::X).unwrap().iter().all(|v| v.is_finite()));
+    // Homogeneous of degree 1 (r is a ratio): scaling the coefficients by 1e300 scales the
+    // result by 1e300, without overflow in the intermediate |L1|/L0.
+    let unit = irradiance_l1_zh3(&[[1.0, -1.0, 1.0, 0.0]; 3], DVec3::X).unwrap();
+    let huge = irradiance_l1_zh3(&[[1e300, -1e300, 1e300, 0.0]; 3], DVec3::X).unwrap();
+    for c in 0..3 {
+        assert!((huge[c] / 1e300 - unit[c]).abs() <= 1e-14 * unit[c].abs().max(1e-300), "{huge:?} vs 1e300 × {unit:?}");
+    }
     assert!(irradiance_l1_zh3(&[[f64::NAN, 0.0, 0.0, 0.0]; 3], DVec3::X).is_err());
 }
 

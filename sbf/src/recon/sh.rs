@@ -94,7 +94,10 @@ pub fn irradiance_l1_zh3(rgb: &[[f64; 4]; 3], n: DVec3) -> Result<[f64; 3], SbfE
     }
     let l1 = |c: &[f64; 4]| DVec3::new(c[3], c[1], c[2]);
     let lum = l1(&rgb[0]) * LUMINANCE[0] + l1(&rgb[1]) * LUMINANCE[1] + l1(&rgb[2]) * LUMINANCE[2];
-    let axis = if lum.length_squared() > 0.0 { lum.normalize() } else { DVec3::Z };
+    // Scaled by its largest component before normalising: |lum|² overflows for
+    // coefficients near f64::MAX (1e300 gave a zero axis and dropped the ZH3 term).
+    let big = lum.abs().max_element();
+    let axis = if big > 0.0 { (lum / big).normalize() } else { DVec3::Z };
     let y20 = |t: f64| (5.0 / (4.0 * PI)).sqrt() * 0.5 * (3.0 * t * t - 1.0);
     let a2 = lambert_band_factor(2) / PI;
     let mut out = [0.0; 3];

@@ -39,6 +39,26 @@ pub enum NnlsStatus {
     Converged,
     /// Stopped at the iteration cap; `kkt_residual` says how far from optimal.
     IterationCap,
+    /// No index can enter, but an index barred by the anti-cycling guard still has a
+    /// gradient above the entry tolerance and the KKT residual exceeds
+    /// [`BARRED_KKT_LIMIT`]: the solve stalled; `kkt_residual` says how far from optimal.
+    Stalled,
+}
+
+/// Largest relative KKT residual accepted as convergence when the only indices left
+/// with a positive gradient are barred (their gradients are rounding-level in the
+/// degenerate cases the guard exists for: duplicated columns, singular G).
+pub const BARRED_KKT_LIMIT: f64 = 1e-9;
+
+/// How a solve that finds no entering index ends: converged, unless a barred index's
+/// gradient exceeds `tol` and the KKT residual exceeds [`BARRED_KKT_LIMIT`].
+fn termination_status(barred: &[bool], w: &[f64], tol: f64, kkt: f64) -> NnlsStatus {
+    let barred_open = barred.iter().zip(w).any(|(b, wi)| *b && *wi > tol);
+    if barred_open && kkt > BARRED_KKT_LIMIT {
+        NnlsStatus::Stalled
+    } else {
+        NnlsStatus::Converged
+    }
 }
 
 /// An NNLS solution (one channel).
@@ -177,7 +197,8 @@ fn lawson_hanson(prob: &dyn Problem, opts: NnlsOptions) -> NnlsSolution {
         // Entering index: largest positive negative-gradient among active, non-barred.
         let t = (0..n).filter(|i| !passive[*i] && !barred[*i] && w[*i] > tol).max_by(|a, c| w[*a].total_cmp(&w[*c]));
         let Some(t) = t else {
-            return finish(b, &passive, NnlsStatus::Converged, iterations);
+            let kkt = kkt_residual(&b, &w, &passive, gnorm, mnorm);
+            return finish(b, &passive, termination_status(&barred, &w, tol, kkt), iterations);
         };
         passive[t] = true;
         // Inner loop: restore feasibility.
@@ -243,4 +264,25 @@ pub fn nnls_design(a: &DMatrix<f64>, y: &[f64], opts: NnlsOptions) -> Result<Nnl
     let yv = DVector::from_column_slice(y);
     let aty = (a.transpose() * &yv).iter().copied().collect();
     Ok(lawson_hanson(&DesignProblem { a, y: &yv, aty }, opts))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Converged is said only when every barred index's gradient is within the entry
+    /// tolerance or the KKT residual is within BARRED_KKT_LIMIT.
+    #[test]
+    fn barred_indices_must_pass_the_kkt_check() {
+        let tol = 1e-12;
+        // Nothing barred: converged whatever the residual (the active set is exhausted).
+        assert_eq!(termination_status(&[false, false], &[1.0, -1.0], tol, 0.5), NnlsStatus::Converged);
+        // Barred with a rounding-level gradient: converged.
+        assert_eq!(termination_status(&[true, false], &[5e-13, 0.0], tol, 1e-12), NnlsStatus::Converged);
+        // Barred with a real gradient but a tiny residual (scale): converged.
+        assert_eq!(termination_status(&[true, false], &[1e-6, 0.0], tol, 1e-10), NnlsStatus::Converged);
+        // Barred with a real gradient and a residual above the limit: stalled.
+        assert_eq!(termination_status(&[true, false], &[1e-3, 0.0], tol, 1e-3), NnlsStatus::Stalled);
+        assert_eq!(termination_status(&[false, true], &[0.0, 2e-9], tol, 2e-9), NnlsStatus::Stalled);
+    }
 }
