@@ -226,7 +226,7 @@ fn extreme_inputs_by_value() {
     let sky = sbf::envmap::ProceduralSky { sun_radiance: [1e6; 3], sun_radius: 2f64.to_radians(), ..Default::default() };
     let (w, h) = (128usize, 64usize);
     let map = sbf::envmap::LatLongImage::from_fn(w, h, |d| sky.radiance(d)).unwrap();
-    let no_sun = sbf::envmap::ProceduralSky { sun_radiance: [0.0; 3], ..sky.clone() };
+    let no_sun = sbf::envmap::ProceduralSky { sun_radiance: [0.0; 3], ..sky };
     let map_sky = sbf::envmap::LatLongImage::from_fn(w, h, |d| no_sun.radiance(d)).unwrap();
     let direct = |n: DVec3| {
         let mut e = 0.0f64;
