@@ -65,7 +65,7 @@ fn furnace_gpu() {
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error.
     let tracer = Tracer::new(&s, &bvh, 64);
     let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: ALL_BASES.to_vec(), solver: Solver::Ls };
-    let mut g = GpuBake::new(gpu, &tracer, &targets, &cfg).unwrap();
+    let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(128).unwrap();
     let st = g.state().unwrap();
     let expect = (le / (1.0 - a)) as f64;
@@ -172,7 +172,7 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
     let tracer = Tracer::new(&s, &bvh, 4);
     let cfg = BakeConfig { seed: 11, max_bounces: 4, bases: vec![BasisKind::Ad9, BasisKind::ShL2], solver: Solver::Nnls };
     let passes = 96;
-    let mut g = GpuBake::new(gpu, &tracer, &targets, &cfg).unwrap();
+    let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(passes).unwrap();
     let gs = g.state().unwrap();
     let mut c = Bake::new(cfg.clone(), &targets, Tracer::new(&s, &bvh, 4));

@@ -67,9 +67,9 @@ fn vpls(draw: u64) -> Vec<Vpl> {
 
 type Renderer<'a> = Box<dyn Fn(&GBuffer, &[Vpl], Mode) -> Render + 'a>;
 
-fn engines(g: &Option<&'static Gpu>) -> Vec<(&'static str, Renderer<'static>)> {
+fn engines(g: Option<&Gpu>) -> Vec<(&'static str, Renderer<'_>)> {
     let mut v: Vec<(&'static str, Renderer)> = vec![("CPU", Box::new(|gb: &GBuffer, l: &[Vpl], m: Mode| render(gb, l, DELTA, m, 1)))];
-    if let Some(gpu) = *g {
+    if let Some(gpu) = g {
         v.push(("GPU", Box::new(move |gb: &GBuffer, l: &[Vpl], m: Mode| baker::slc_gpu::render(gpu, gb, l, DELTA, m, 1).unwrap())));
     }
     v
@@ -84,7 +84,7 @@ fn engines(g: &Option<&'static Gpu>) -> Vec<(&'static str, Renderer<'static>)> {
 fn culled_image_is_unbiased_and_a_range_cut_is_not() {
     let g = gpu();
     let gb = gbuffer();
-    for (name, run) in engines(&g) {
+    for (name, run) in engines(g.as_deref()) {
         let brute = run(&gb, &vpls(0), Mode::BruteForce);
         let n = brute.image.len();
         let k = std::env::var("SLC_K").ok().and_then(|s| s.parse().ok()).unwrap_or(32u64);
@@ -158,7 +158,7 @@ fn gpu_matches_cpu() {
     ] {
         let l = vpls(7);
         let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
-        let mut run = baker::slc_gpu::SlcGpu::new(g, &gb, &l, DELTA, il).unwrap();
+        let mut run = baker::slc_gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
         run.set_bound(bound);
         let gg = run.run(mode).unwrap();
         if mode == Mode::Culled && il == 1 {

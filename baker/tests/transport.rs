@@ -133,7 +133,7 @@ fn check(what: &str, st: &BakeState, want: &[[f64; 3]], passes: u64, select: &dy
     worst_rel
 }
 
-fn engines() -> Vec<(&'static str, Option<&'static Gpu>)> {
+fn engines() -> Vec<(&'static str, Option<shaders::gpu::Lease>)> {
     let mut v = vec![("CPU", None)];
     if let Some(g) = gpu() {
         v.push(("GPU", Some(g)));
@@ -151,7 +151,7 @@ fn directional_light_over_a_plane() {
             let d = Vec3::new(el.to_radians().cos() as f32, el.to_radians().sin() as f32, 0.0);
             let s = plane_scene(vec![Light::Directional { direction: d, irradiance: e }], Environment::Black);
             let passes = 32;
-            let (t, _, st) = bake(&s, g, passes, vec![], 4.0);
+            let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 4.0);
             let want = analytic(&t, passes, &|_| std::array::from_fn(|c| el.to_radians().sin() * e[c] as f64 / PI));
             check(&format!("{name} directional {el}°"), &st, &want, passes, &|_| true);
         }
@@ -174,7 +174,7 @@ fn point_light_over_a_plane() {
             let pos = p0 + Vec3::Y * h;
             let s = plane_scene(vec![Light::Point { position: pos, intensity: i, range: f32::INFINITY }], Environment::Black);
             let passes = 32;
-            let (t, _, st) = bake(&s, g, passes, vec![], 4.0);
+            let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 4.0);
             let want = analytic(&t, passes, &|x| {
                 let r = (pos - x).as_dvec3().length();
                 std::array::from_fn(|c| i[c] as f64 * h as f64 / r.powi(3) / PI)
@@ -201,7 +201,7 @@ fn disk_light_over_a_plane() {
             s.materials.push(Material::emitter(l));
             s.meshes.push(disk_light("disk", Vec3::new(0.0, h as f32, 0.0), -Vec3::Y, rad as f32, 1, 256));
             let passes = 256;
-            let (t, _, st) = bake(&s, g, passes, vec![], 16.0);
+            let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 16.0);
             let f = |x: Vec3| {
                 let r = (x.x as f64).hypot(x.z as f64);
                 let (h2, r2, a2) = (h * h, r * r, rad * rad);
@@ -238,7 +238,7 @@ fn constant_environment_over_a_plane() {
         let l = Vec3::new(0.8, 1.0, 1.3);
         let s = plane_scene(vec![], Environment::Constant(l));
         let passes = 128;
-        let (t, _, st) = bake(&s, g, passes, vec![], 4.0);
+        let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 4.0);
         let want = analytic(&t, passes, &|_| std::array::from_fn(|c| l[c] as f64));
         check(&format!("{name} constant environment"), &st, &want, passes, &|_| true);
     }
@@ -317,7 +317,7 @@ fn basis_encodings_match_their_projections() {
         ];
         for (case, s, e_true, delta, constant) in cases {
             let passes = 8192;
-            let (_, _, st) = bake(&s, g, passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
+            let (_, _, st) = bake(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
             // The delta's direction in the texels' tangent frame (all texels share it).
             let ld = delta.map(|_| {
                 let (t, b) = baker::lightmap::frame(Vec3::Y);
@@ -377,7 +377,7 @@ fn shading_normals_are_interpolated() {
     };
     for (name, g) in engines() {
         let passes = 48;
-        let (t, lm, st) = bake(&s, g, passes, vec![], 8.0);
+        let (t, lm, st) = bake(&s, g.as_deref(), passes, vec![], 8.0);
         // Analytic per point: find its triangle (the texel's chart is one triangle here or
         // a planar group), interpolate the vertex normals by barycentrics.
         let tris: Vec<[Vec3; 3]> = sphere.indices.iter().map(|t| t.map(|i| sphere.positions[i as usize])).collect();
@@ -442,7 +442,7 @@ fn probes_over_a_lit_disk() {
     let l_floor = rho * e * el.sin() / PI;
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
     for (name, g) in engines() {
-        let st = run_targets(&s, g, &targets, &cfg, passes);
+        let st = run_targets(&s, g.as_deref(), &targets, &cfg, passes);
         let (m, se) = (st.mean(), st.standard_error());
         for (hi, h) in heights.iter().enumerate() {
             let omega = 2.0 * PI * (1.0 - h / (h * h + rad * rad).sqrt());
@@ -554,7 +554,7 @@ fn point_light_encodings_match_their_projections() {
     let local = |w: Vec3| DVec3::new(w.dot(t) as f64, w.dot(b) as f64, w.dot(Vec3::Y) as f64);
     for (name, g) in engines() {
         let passes = 8192;
-        let (tg, _, st) = bake(&s, g, passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
+        let (tg, _, st) = bake(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
         let items: Vec<(usize, Vec<(DVec3, f64)>)> = tg
             .items
             .iter()
@@ -609,7 +609,7 @@ fn disk_light_probe_encodings_match_their_projections() {
     let truth = PI * l * (1.0 - cos0 * cos0);
     for (name, g) in engines() {
         let passes = 8192;
-        let st = run_targets(&s, g, &targets, &cfg, passes);
+        let st = run_targets(&s, g.as_deref(), &targets, &cfg, passes);
         for (bi, kind) in cfg.bases.iter().enumerate() {
             let basis = kind.basis();
             let nb = basis.len();
@@ -680,7 +680,7 @@ fn disk_light_texel_encodings_match_their_projections() {
         };
         for (name, g) in engines() {
             let passes = 8192;
-            let (tg, _, st) = bake(&s, g, passes, vec![BasisKind::ShL2, BasisKind::Ad9], 24.0);
+            let (tg, _, st) = bake(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 24.0);
             let near: Vec<usize> = (0..tg.items.len())
                 .filter(|k| {
                     let [first, count, _] = tg.items[*k];

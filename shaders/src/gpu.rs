@@ -64,6 +64,37 @@ pub fn shared() -> Result<&'static Gpu, String> {
     GPU.get_or_init(Gpu::new).as_ref().map_err(|e| e.clone())
 }
 
+/// Exclusive use of the process-wide device for one test: holds a process-wide lock (GPU
+/// tests of one binary run one at a time — wgpu's GL backend guards its context with a
+/// lock that times out after a second, so concurrent tests on GL llvmpipe panicked with
+/// "Could not lock adapter context"), then arms a [`Watchdog`] for the test's own run time
+/// (waiting for the lock is not counted), then gets the device. Derefs to [`Gpu`].
+#[derive(Debug)]
+pub struct Lease {
+    gpu: &'static Gpu,
+    _watchdog: Watchdog,
+    _guard: std::sync::MutexGuard<'static, ()>,
+}
+
+impl std::ops::Deref for Lease {
+    type Target = Gpu;
+    fn deref(&self) -> &Gpu {
+        self.gpu
+    }
+}
+
+/// Takes the lease (see [`Lease`]): `what` names the test in the watchdog's message,
+/// `limit_s` is its default limit. Errors when no adapter exists.
+pub fn lease(what: &str, limit_s: u64) -> Result<Lease, String> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    // A test that panicked while holding the lock leaves it poisoned; the device is still
+    // usable for the next test.
+    let guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let watchdog = Watchdog::start(what, limit_s);
+    let gpu = shared()?;
+    Ok(Lease { gpu, _watchdog: watchdog, _guard: guard })
+}
+
 /// Fails the process loudly if a GPU test runs longer than its limit: a kernel or a driver
 /// call that hangs cannot be unwound, so the watchdog prints what was running and exits
 /// with status 124 (as `timeout` does). Dropping the guard disarms it. The limit is

@@ -11,21 +11,20 @@
 use sbf::glam::Vec3;
 use sbf::sampling::Pcg32;
 use shaders::compose::{self, Config};
-use shaders::gpu::{Gpu, Watchdog};
+use shaders::gpu::{Gpu, Lease};
 
 const N: usize = 100_000;
 const BAR: f64 = 1e-4;
 
-/// The process-wide device (one for all tests) and a watchdog that fails the run loudly if
-/// the calling test exceeds 300 s (warm, the whole binary takes seconds; lavapipe < 60 s).
-fn gpu() -> Option<(&'static Gpu, Watchdog)> {
-    // Armed before the device is asked for: its creation is a suspect of the stall.
+/// The process-wide device, leased for this test alone (GPU tests run one at a time), with
+/// a watchdog that fails the run loudly if the test exceeds 300 s (warm, the whole binary
+/// takes seconds; lavapipe < 60 s).
+fn gpu() -> Option<Lease> {
     let name = std::thread::current().name().unwrap_or("gpu parity test").to_string();
-    let watchdog = Watchdog::start(&name, 300);
-    match shaders::gpu::shared() {
+    match shaders::gpu::lease(&name, 300) {
         Ok(g) => {
             eprintln!("GPU parity on {}", g.adapter);
-            Some((g, watchdog))
+            Some(g)
         }
         Err(e) => {
             assert!(std::env::var("SBF_REQUIRE_GPU").is_err(), "SBF_REQUIRE_GPU is set but {e}");
@@ -83,7 +82,7 @@ fn push3(v: &mut Vec<f32>, x: Vec3) {
 
 #[test]
 fn sh_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("sh-eval,sh-l1-irradiance,sh-l2-irradiance,sh-l4-irradiance,sh-l1-geomerics,sh-l1-zh3");
     let mut r = Pcg32::new(7, 1);
     let (mut inp, mut dirs, mut coeffs) = (Vec::new(), Vec::new(), Vec::new());
@@ -148,7 +147,7 @@ fn sh_parity() {
 /// to (band 4's entries carry ~4 recurrence steps of a few ulp each: ≪ BAR).
 #[test]
 fn sh_rotation_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("sh-rotate");
     const M: usize = 8192;
     let mut r = Pcg32::new(31, 4);
@@ -219,7 +218,7 @@ fn geomerics_pow_scale(c: &[Vec3], n: Vec3, ch: usize) -> f64 {
 
 #[test]
 fn ggx_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("ggx");
     let mut r = Pcg32::new(11, 2);
     let mut inp = Vec::new();
@@ -265,7 +264,7 @@ fn ggx_parity() {
 
 #[test]
 fn sg_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("sg-eval,sg-irradiance,sg-specular");
     let mut r = Pcg32::new(13, 3);
     let mut inp = Vec::new();
@@ -332,7 +331,7 @@ fn sg_parity() {
 
 #[test]
 fn ambient_dice_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("ad-eval,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular");
     let lut = sbf::luts::committed::ad_specular_2d();
     let ad12: Vec<Vec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3()).collect();
@@ -392,7 +391,7 @@ fn ambient_dice_parity() {
 
 #[test]
 fn lut_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     // lut2_sample is reached through ad specular; compose a config holding it.
     let lib = library("ad12-specular");
     let lut = sbf::luts::committed::ad_specular_2d();
@@ -515,7 +514,7 @@ fn progressive_case(
 #[test]
 fn progressive_parity() {
     use sbf::solve::{Denominator, Iteration, ProgressiveOptions};
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let ad12 = sbf::AmbientDiceSrbf::twelve();
     let ad9 = sbf::AmbientDiceSrbf::nine_hemisphere();
     let sh2 = sbf::ShBasis::new(2).unwrap();
@@ -524,26 +523,26 @@ fn progressive_parity() {
     // α = 3, eq. 7.15) on AD12, progressive NNLS on SH L2 (signed basis values, so the
     // clamp is active), and the public running average (Jacobi, α = 1, clamp to the exact
     // mean of Y² = 1/4π for orthonormal SH) on SH L1.
-    progressive_case(g, "LS/AD12", &ad12, ProgressiveOptions::default(), N, 8, 31, false);
-    progressive_case(g, "NNLS/SH2", &sh2, ProgressiveOptions::non_negative(), N, 8, 32, false);
+    progressive_case(&g, "LS/AD12", &ad12, ProgressiveOptions::default(), N, 8, 31, false);
+    progressive_case(&g, "NNLS/SH2", &sh2, ProgressiveOptions::non_negative(), N, 8, 32, false);
     let ra = ProgressiveOptions::running_average(&[1.0; 4], 4.0 * std::f64::consts::PI, false);
-    progressive_case(g, "running-average/SH1", &sh1, ra, N, 8, 33, false);
+    progressive_case(&g, "running-average/SH1", &sh1, ra, N, 8, 33, false);
     // The raw running mean as denominator (noisy at low counts by design: amplitudes reach
     // 1e10 here) on short runs, where the GPU's rounding differences cannot compound far.
     let raw = ProgressiveOptions { denominator: Denominator::Raw, iteration: Iteration::Jacobi, ..ProgressiveOptions::default() };
-    progressive_case(g, "raw-Jacobi/SH2", &sh2, raw, N, 8, 34, false);
+    progressive_case(&g, "raw-Jacobi/SH2", &sh2, raw, N, 8, 34, false);
     // Long runs: s = w/W falls to ~1e-3, where f32 updates lose the most digits.
-    progressive_case(g, "LS/AD9 long", &ad9, ProgressiveOptions::default(), 2000, 1024, 36, false);
-    progressive_case(g, "NNLS/AD9 long", &ad9, ProgressiveOptions::non_negative(), 2000, 1024, 35, false);
+    progressive_case(&g, "LS/AD9 long", &ad9, ProgressiveOptions::default(), 2000, 1024, 36, false);
+    progressive_case(&g, "NNLS/AD9 long", &ad9, ProgressiveOptions::non_negative(), 2000, 1024, 35, false);
     // Known projections (delta lights, MIS light samples) on the bake's configurations.
     let bake = ProgressiveOptions { acceleration: 1.0, ..ProgressiveOptions::default() };
-    progressive_case(g, "projected LS/SH2", &sh2, bake.clone(), N, 8, 37, true);
-    progressive_case(g, "projected NNLS/AD9 long", &ad9, ProgressiveOptions { non_negative: true, ..bake }, 2000, 256, 38, true);
+    progressive_case(&g, "projected LS/SH2", &sh2, bake.clone(), N, 8, 37, true);
+    progressive_case(&g, "projected NNLS/AD9 long", &ad9, ProgressiveOptions { non_negative: true, ..bake }, 2000, 256, 38, true);
 }
 
 #[test]
 fn ambient_dice_bezier_parity() {
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("ad-bezier");
     let bez = sbf::AmbientDiceBezier::new();
     let ycocg = sbf::AmbientDiceYCoCg::new();
@@ -631,7 +630,7 @@ fn helper_parity() {
     use sbf::recon::ambient_dice::{
         lobe_irradiance_fit, SpecularFit, DIFFUSE_FIT_LISTING_8_1, DIFFUSE_FIT_MINIMAX, SPECULAR_FIT_LISTING_8_1,
     };
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("all");
     let lut = sbf::luts::committed::ad_specular_2d();
     let ad12: Vec<sbf::glam::DVec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3().as_dvec3()).collect();
@@ -870,7 +869,7 @@ fn string_literals(src: &str) -> String {
 #[test]
 fn slc_parity() {
     use sbf::slc::runtime as rt;
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("slc");
     let mut r = Pcg32::new(77, 3);
     const PER: usize = 30;
@@ -1038,7 +1037,7 @@ fn slc_parity() {
 #[test]
 fn slc_media_parity() {
     use sbf::slc::runtime as rt;
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("slc");
     let mut r = Pcg32::new(79, 5);
     const PER: usize = 12;
@@ -1109,7 +1108,7 @@ fn slc_media_parity() {
 #[test]
 fn slc_tile_parity() {
     use sbf::slc::runtime as rt;
-    let Some((g, _watchdog)) = gpu() else { return };
+    let Some(g) = gpu() else { return };
     let lib = library("slc");
     let mut r = Pcg32::new(78, 3);
     let (w, h, tx, ty) = (1920.0f32, 1080.0f32, 0.8f32, 0.45f32);

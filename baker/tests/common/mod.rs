@@ -1,15 +1,13 @@
 //! Helpers shared by the baker's integration tests.
 
-use shaders::gpu::Gpu;
-
-/// The process-wide device (shared by every test of the binary), or None (printed) when
-/// there is none — unless `SBF_REQUIRE_GPU=1` (CI), where a missing adapter fails the test.
-/// The first call arms a watchdog: the whole test binary must finish within 1 200 s
-/// (`SBF_GPU_TEST_TIMEOUT_S`), or it exits loudly with status 124 instead of hanging.
-pub fn gpu() -> Option<&'static Gpu> {
-    static WATCHDOG: std::sync::OnceLock<shaders::gpu::Watchdog> = std::sync::OnceLock::new();
-    WATCHDOG.get_or_init(|| shaders::gpu::Watchdog::start("baker GPU tests (this binary)", 1200));
-    match shaders::gpu::shared() {
+/// The process-wide device, leased for the calling test alone (GPU tests run one at a
+/// time: see `shaders::gpu::Lease`), or None (printed) when there is none — unless
+/// `SBF_REQUIRE_GPU=1` (CI), where a missing adapter fails the test. A watchdog fails the
+/// binary loudly (status 124) if one test holds the device longer than 900 s
+/// (`SBF_GPU_TEST_TIMEOUT_S`).
+pub fn gpu() -> Option<shaders::gpu::Lease> {
+    let name = std::thread::current().name().unwrap_or("baker GPU test").to_string();
+    match shaders::gpu::lease(&name, 900) {
         Ok(g) => {
             println!("adapter: {}", g.adapter);
             Some(g)
