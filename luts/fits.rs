@@ -18,6 +18,8 @@ pub const SG_AD_LOBE_SHARPNESS: f64 = 3.63438010322367111e0;
 pub const SG_AD_LOBE_AMPLITUDE: f64 = 6.38920349806589405e-1;
 /// Hill's c0 re-fitted (minimax over λ ∈ [2, 64]); max error / peak 1.368e-2 (published 0.36: 1.762e-2).
 pub const HILL_C0: f64 = 3.65201308538336655e-1;
+/// The error HILL_C0 reaches: max |Hill − exact| / peak E/π over λ ∈ {2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64} × 91 angles θ = kπ/90.
+pub const HILL_C0_MAX_ERROR: f64 = 1.36803766605584892e-2;
 /// Listing 8.1's parameters re-fitted with argmin Nelder–Mead (LUT-normalised error over 8 α × 8 n·v × 48 lobes, F = 1):
 /// seed constants RMS 1.495e-2 max 1.327e-1; these RMS 1.386e-2 max 1.328e-1. The committed AD LUTs use the seed constants.
 pub const AD_SPECULAR_PARAMS_REFIT: [f64; 8] = [4.25913775839102016e0, -9.33998575084712890e0, 8.87645446518562053e0, -2.90148922191655778e0, -6.11711956461809203e-1, 5.88242127216820343e0, -6.11324714205012754e0, 1.87107382213611939e0];

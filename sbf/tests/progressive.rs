@@ -73,10 +73,13 @@ fn hammersley_order_breaks_progressive() {
     let b_hamm = rmse_vs_map(&sg, &batch(&sg, &hamm), &map);
     println!("Halton: progressive {r_halton:.4} batch {b_halton:.4}; Hammersley: progressive {r_hamm:.4} batch {b_hamm:.4}");
     assert!((b_hamm - b_halton).abs() / b_halton < 0.05);
-    // Measured: 0.815 vs 0.730 (+12%); a correct encoder on a well-ordered sequence
-    // matches batch to 0.1%, so a 10% gap is far outside run-to-run variation
-    // (there is none: the sequences are deterministic).
-    assert!(r_hamm > 1.1 * r_halton, "Hammersley {r_hamm} vs Halton {r_halton}: the gap should be large");
+    // The claim under test is relative, within one run: the encoder's excess over batch LS
+    // on a decorrelated sequence (Halton) is its stochastic-approximation error at this N;
+    // a monotone sweep (Hammersley in index order) adds an ordering bias on top, which must
+    // dominate it by an order of magnitude (measured: excess 0.085 vs ≈ 0.001).
+    let (ex_halton, ex_hamm) = ((r_halton - b_halton).abs(), r_hamm - b_hamm);
+    println!("excess over batch LS: Halton {ex_halton:.2e}, Hammersley {ex_hamm:.2e}");
+    assert!(ex_hamm > 10.0 * ex_halton, "Hammersley excess {ex_hamm} vs Halton excess {ex_halton}: ordering should dominate");
 }
 
 /// f32 state (as on a GPU) stays close to f64 but is not identical; report the gap.

@@ -34,10 +34,13 @@ fn reference_irradiance(src: &LatLongImage, out: LatLong) -> LatLongImage {
 /// The seed (§7.4) quotes "at most around 15% increased RMSE for diffuse" for the
 /// projected irradiance AD relative to a direct fit. Measured here (unweighted RMSE):
 /// ennis 1.083, grace 1.078, pisa 1.288, uffizi 1.111, wells 1.152; mean 1.142.
-/// Bars: mean ratio ≤ 1.15 over the five probes, every probe ≤ 1.30 (pisa, whose
-/// irradiance is so smooth that the direct fit's error is tiny, is the outlier), and
-/// on Wells — the seed's probe — the projected RMSE is below the seed's own direct-fit
-/// figure (0.00964, Fig. 7.9c).
+/// Bars: the seed's own claims — mean ratio ≤ 1.15 over the five probes, and on Wells
+/// the projected RMSE below the seed's direct-fit figure (0.00964, Fig. 7.9c). Per probe
+/// (no ratio bar: pisa's smooth irradiance makes its direct error tiny, so its ratio is
+/// large), an identity: the solid-angle-weighted LS fit on the output grid is the
+/// orthogonal projection in that metric, so for the projected coefficients
+/// wp² = wd² + ‖f_p − f_d‖²_w exactly (Pythagoras); error model: f64 rounding of sums of
+/// 2 048 texels against f32 reference texels, bar 1e-9 relative.
 #[test]
 fn projected_irradiance_within_seed_bound() {
     let ad = AmbientDiceSrbf::twelve();
@@ -57,7 +60,13 @@ fn projected_irradiance_within_seed_bound() {
         let (rd, rp) = (rmse_vs_map(&ad, &direct, &reference), rmse_vs_map(&ad, &projected, &reference));
         let (wd, wp) = (weighted_rmse(&ad, &direct, &reference), weighted_rmse(&ad, &projected, &reference));
         println!("{name:>8} {rd:>12.5} {rp:>12.5} {:>8.3}   weighted {wd:.5} {wp:.5} {:.3}", rp / rd, wp / wd);
-        assert!(rp <= 1.30 * rd, "{name}: projected {rp} vs direct {rd}");
+        let samples = map_samples(&reference);
+        let optimum = solve_gram(&sbf::solve::sample_gram(&ad, &samples), &moments(&ad, &samples), LsOptions::default()).unwrap().coeffs;
+        let w_opt = weighted_rmse(&ad, &optimum, &reference);
+        let dist = weighted_distance(&ad, &projected, &optimum, out);
+        let pyth = (wp * wp - (w_opt * w_opt + dist * dist)).abs() / (wp * wp);
+        assert!(pyth < 1e-9, "{name}: wp² = {} but wd² + d² = {} (relative {pyth:e})", wp * wp, w_opt * w_opt + dist * dist);
+        assert!(w_opt <= wd * (1.0 + 1e-9) && w_opt <= wp, "{name}: the grid optimum {w_opt} must not lose to {wd} or {wp}");
         ratios.push(rp / rd);
         if name == "wells" {
             assert!(rp < 0.00964, "wells: projected {rp} vs the seed's direct fit 0.00964");
@@ -80,6 +89,25 @@ fn weighted_rmse(basis: &dyn Basis, coeffs: &DMatrix<f64>, map: &LatLongImage) -
             for c in 0..3 {
                 let r: f64 = (0..basis.len()).map(|k| coeffs[(k, c)] * b[k]).sum();
                 se += w * (r - t[c] as f64).powi(2);
+                sw += w;
+            }
+        }
+    }
+    (se / sw).sqrt()
+}
+
+/// Solid-angle-weighted RMS distance between two coefficient sets on the output grid (the
+/// metric of [`weighted_rmse`]).
+fn weighted_distance(basis: &dyn Basis, a: &DMatrix<f64>, b: &DMatrix<f64>, out: LatLong) -> f64 {
+    let mut y = vec![0.0; basis.len()];
+    let (mut se, mut sw) = (0.0, 0.0);
+    for j in 0..out.height {
+        let w = out.texel_solid_angle(j);
+        for i in 0..out.width {
+            basis.eval_into(out.texel_direction(i, j), &mut y);
+            for c in 0..3 {
+                let d: f64 = (0..basis.len()).map(|k| (a[(k, c)] - b[(k, c)]) * y[k]).sum();
+                se += w * d * d;
                 sw += w;
             }
         }
