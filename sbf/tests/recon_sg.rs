@@ -143,24 +143,53 @@ fn specular_warps_vs_reference() {
     }
 }
 
-/// Stiff and extreme inputs: α ∈ [1e-4, 1], n·v ∈ [1e-6, 1], λ up to 1e4 → finite.
+/// Stiff and extreme inputs (α ∈ [1e-4, 1], n·v ∈ [1e-6, 1], λ up to 1e4, amplitude
+/// 1e6), by value: every function is linear in the amplitude, so its value at amplitude
+/// 1e6 is 1e6 × its value at 1 (bar 1e-13 relative: one rounding of the scale) and
+/// non-negative; the exact convolution against a closed form in the two limits it has
+/// (λ → 0: a constant A gives E/π = A, to O(λ); λ = 1e4 along the normal: E/π → A·2π/(λπ)
+/// to O(1/λ)); Hill within fitgen's recorded error of the exact convolution (λ ≥ 2) or
+/// equal to the zonal expansion (λ < 2, exact to 1e-6); the punctual form equals the
+/// lobe's integral/π times the clamped cosine of its axis.
 #[test]
-fn extremes_are_finite() {
+fn extremes_by_value() {
+    let hill_bound = sbf::luts::committed::constants::HILL_C0_MAX_ERROR;
     for alpha in [1e-4, 1e-2, 0.5, 1.0] {
         for nv in [1e-6, 1e-3, 0.5, 1.0] {
             let v = DVec3::new((1.0f64 - nv * nv).sqrt(), 0.0, nv);
             for lam in [1e-4, 1.0, 1e4] {
                 for light_axis in [DVec3::Z, sbf::ggx::reflect(v, DVec3::Z), DVec3::NEG_Z, DVec3::X] {
-                    let l = Sg::new(light_axis, lam, 1e6).unwrap();
-                    let vals = [
-                        specular_asg_warp(&l, DVec3::Z, v, alpha, 0.04, 1.0),
-                        specular_sg_warp(&l, DVec3::Z, v, alpha, 0.04, 1.0),
-                        irradiance_hill(&l, DVec3::Z),
-                        irradiance_exact(&l, DVec3::Z),
-                        irradiance_cosine_sg(&l, DVec3::Z),
-                        irradiance_punctual(&l, DVec3::Z),
-                    ];
-                    assert!(vals.iter().all(|x| x.is_finite() && *x >= 0.0), "α={alpha} n·v={nv} λ={lam} axis={light_axis}: {vals:?}");
+                    let all = |amp: f64| {
+                        let l = Sg::new(light_axis, lam, amp).unwrap();
+                        [
+                            specular_asg_warp(&l, DVec3::Z, v, alpha, 0.04, 1.0),
+                            specular_sg_warp(&l, DVec3::Z, v, alpha, 0.04, 1.0),
+                            irradiance_hill(&l, DVec3::Z),
+                            irradiance_exact(&l, DVec3::Z),
+                            irradiance_cosine_sg(&l, DVec3::Z),
+                            irradiance_punctual(&l, DVec3::Z),
+                        ]
+                    };
+                    let (big, one) = (all(1e6), all(1.0));
+                    for (k, (b, o)) in big.iter().zip(&one).enumerate() {
+                        assert!(
+                            *b >= 0.0 && (b - 1e6 * o).abs() <= 1e-13 * b.abs().max(1e-300),
+                            "α={alpha} n·v={nv} λ={lam} axis={light_axis} f{k}: {b} vs 1e6 × {o}"
+                        );
+                    }
+                    let (hill, exact, punctual) = (one[2], one[3], one[5]);
+                    let integral = sbf::basis::sg::sg_unit_integral(lam) / PI;
+                    assert!((punctual - integral * light_axis.z.max(0.0)).abs() <= 1e-14 * integral, "punctual {punctual}");
+                    let peak = irradiance_exact(&Sg::new(DVec3::Z, lam, 1.0).unwrap(), DVec3::Z);
+                    let bar = if lam >= 2.0 { hill_bound + 1e-12 } else { 1e-6 };
+                    assert!((hill - exact).abs() <= bar * peak, "λ={lam} axis={light_axis}: Hill {hill} vs exact {exact}");
+                    if lam == 1e-4 {
+                        assert!((exact - 1.0).abs() <= 2.0 * lam, "λ → 0: E/π {exact} vs 1");
+                    }
+                    if lam == 1e4 && light_axis == DVec3::Z {
+                        let limit = 2.0 * PI / (lam * PI);
+                        assert!((exact - limit).abs() <= 2.0 / lam * limit, "λ = 1e4: E/π {exact} vs {limit}");
+                    }
                 }
             }
         }
