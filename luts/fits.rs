@@ -3,31 +3,13 @@
 
 /// AD SRBF lobe irradiance (E/π) as a degree-2 polynomial in cos θ, constant term first; max error 6.510e-4, RMS 4.567e-4.
 pub const AD_DIFFUSE_DEGREE_2: [f64; 3] = [6.00260416666666824e-2, 1.29166666666666707e-1, 6.97916666666668073e-2];
-/// AD SRBF lobe irradiance (E/π) as a degree-3 polynomial in cos θ, constant term first; max error 6.510e-4, RMS 4.567e-4.
-pub const AD_DIFFUSE_DEGREE_3: [f64; 4] = [6.00260416666666824e-2, 1.29166666666666680e-1, 6.97916666666668073e-2, 3.39550453184516716e-17];
-/// AD SRBF lobe irradiance (E/π) as a degree-4 polynomial in cos θ, constant term first; max error 2.220e-16, RMS 9.171e-17.
-pub const AD_DIFFUSE_DEGREE_4: [f64; 5] = [5.93749999999999833e-2, 1.29166666666666680e-1, 7.50000000000004136e-2, 3.45874965857349174e-17, -5.20833333333361060e-3];
-/// AD SRBF lobe irradiance (E/π) as a degree-5 polynomial in cos θ, constant term first; max error 2.220e-16, RMS 9.240e-17.
-pub const AD_DIFFUSE_DEGREE_5: [f64; 6] = [5.93749999999999833e-2, 1.29166666666666680e-1, 7.50000000000004136e-2, 7.48776368344948052e-17, -5.20833333333361060e-3, -3.22321121990079189e-17];
-/// AD SRBF lobe irradiance (E/π) as a degree-6 polynomial in cos θ, constant term first; max error 2.776e-16, RMS 9.635e-17.
-pub const AD_DIFFUSE_DEGREE_6: [f64; 7] = [5.93749999999999833e-2, 1.29166666666666680e-1, 7.50000000000004691e-2, 7.48776368344947559e-17, -5.20833333333374938e-3, -3.22321121990078819e-17, 9.27457965564586526e-17];
 /// Max error of seed eq. 8.14 on the same grid: 1.217e-3.
 pub const AD_DIFFUSE_SEED_EQ_8_14_MAX_ERROR: f64 = 1.21666666666664369e-3;
-/// SG (λ, μ) closest to the AD cosine lobe in L2 over the sphere; relative L2 error 7.090e-2.
-pub const SG_AD_LOBE_SHARPNESS: f64 = 3.63438010322367111e0;
-pub const SG_AD_LOBE_AMPLITUDE: f64 = 6.38920349806589405e-1;
 /// Hill's c0 re-fitted (minimax over λ ∈ [2, 64]); max error / peak 1.368e-2 (published 0.36: 1.762e-2).
 pub const HILL_C0: f64 = 3.65201308538336655e-1;
 /// The error HILL_C0 reaches: max |Hill − exact| / peak E/π over λ ∈ {2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64} × 91 angles θ = kπ/90.
 pub const HILL_C0_MAX_ERROR: f64 = 1.36803766605584892e-2;
-/// Listing 8.1's parameters re-fitted with argmin Nelder–Mead (LUT-normalised error over 8 α × 8 n·v × 48 lobes, F = 1):
-/// seed constants RMS 1.495e-2 max 1.327e-1; these RMS 1.386e-2 max 1.328e-1. The committed AD LUTs use the seed constants.
-pub const AD_SPECULAR_PARAMS_REFIT: [f64; 8] = [4.25913775839102016e0, -9.33998575084712890e0, 8.87645446518562053e0, -2.90148922191655778e0, -6.11711956461809203e-1, 5.88242127216820343e0, -6.11324714205012754e0, 1.87107382213611939e0];
 /// Byte size of luts/dfg.sbflut (asserted by sbf at compile time).
 pub const DFG_BYTES: usize = 131232;
-/// Byte size of luts/dfg_multiscatter.sbflut (asserted by sbf at compile time).
-pub const DFG_MULTISCATTER_BYTES: usize = 131232;
 /// Byte size of luts/ad_specular_2d.sbflut (asserted by sbf at compile time).
-pub const AD_SPECULAR_2D_BYTES: usize = 32928;
-/// Byte size of luts/ad_specular_3d.sbflut (asserted by sbf at compile time).
-pub const AD_SPECULAR_3D_BYTES: usize = 262336;
+pub const AD_SPECULAR_2D_BYTES: usize = 16544;

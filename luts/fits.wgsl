@@ -2,8 +2,6 @@
 
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
 const AD_DIFFUSE_QUADRATIC: vec3<f32> = vec3<f32>(0.060026042, 0.129166667, 0.069791667);
-const SG_AD_LOBE_SHARPNESS: f32 = 3.634380103;
-const SG_AD_LOBE_AMPLITUDE: f32 = 0.638920350;
 const HILL_C0: f32 = 0.365201309;
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.

@@ -4,9 +4,37 @@ use crate::manifest;
 use crate::outputs::Output;
 use std::path::Path;
 
-/// Differences found by [`check`], one readable line each (empty = all match).
-pub fn check(outputs: &[Output], dir: &Path) -> Vec<String> {
+/// Files in the tables folder that no generator writes.
+const NOT_GENERATED: [&str; 2] = ["MANIFEST", "README.md"];
+
+/// Differences found by [`check`], one readable line each (empty = all match). With
+/// `full` (a check of `all`), files in `dir` that `fitgen all` does not produce, and
+/// MANIFEST entries for such files, are problems too: a table nothing generates any more
+/// must not linger in the folder sbf embeds from.
+pub fn check(outputs: &[Output], dir: &Path, full: bool) -> Vec<String> {
     let mut problems = Vec::new();
+    if full {
+        let produced: Vec<&str> = outputs.iter().map(|o| o.file.as_str()).collect();
+        match std::fs::read_dir(dir) {
+            Err(e) => problems.push(format!("{}: cannot list ({e})", dir.display())),
+            Ok(entries) => {
+                let mut names: Vec<String> = entries.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+                names.sort();
+                for n in names {
+                    if !produced.contains(&n.as_str()) && !NOT_GENERATED.contains(&n.as_str()) {
+                        problems.push(format!("{}: stale — `fitgen all` does not produce it; delete it", dir.join(&n).display()));
+                    }
+                }
+            }
+        }
+        if let Ok(m) = std::fs::read_to_string(dir.join("MANIFEST")) {
+            for f in m.lines().filter_map(crate::manifest::file_of) {
+                if !produced.contains(&f) && f != "(all)" {
+                    problems.push(format!("{}: stale entry for {f}, which `fitgen all` does not produce", dir.join("MANIFEST").display()));
+                }
+            }
+        }
+    }
     for o in outputs {
         let path = dir.join(&o.file);
         match std::fs::read(&path) {

@@ -68,7 +68,7 @@ fn main() -> ExitCode {
         }
     };
     if cli.check {
-        let problems = fitgen::check::check(&outputs, &dir);
+        let problems = fitgen::check::check(&outputs, &dir, only.is_empty());
         if problems.is_empty() {
             println!(
                 "fitgen --check: {} outputs match the committed files in {} ({:.1} s)",
@@ -102,7 +102,10 @@ fn main() -> ExitCode {
     if only.is_empty() {
         lines.push(fitgen::manifest::total_line(t.elapsed().as_secs_f64()));
     }
-    if let Err(e) = std::fs::write(&mpath, fitgen::manifest::merge(&existing, &lines)) {
+    // `all` rewrites the manifest (entries of outputs it no longer makes disappear); a
+    // single output merges its line into the existing manifest.
+    let text = if only.is_empty() { lines.iter().map(|l| format!("{l}\n")).collect() } else { fitgen::manifest::merge(&existing, &lines) };
+    if let Err(e) = std::fs::write(&mpath, text) {
         eprintln!("fitgen: writing {}: {e}", mpath.display());
         return ExitCode::FAILURE;
     }

@@ -129,19 +129,6 @@ pub fn write_all(dir: &Path, fits: &crate::outputs::fits::Fits) -> Result<Vec<St
         ],
     )?;
     written.push(p.display().to_string());
-    // SG vs AD lobe profile.
-    let (lam, mu, _) = fits.sg_cosine;
-    let p = dir.join("sg_vs_ad_lobe.png");
-    lines(
-        &p,
-        "AD cosine lobe vs fitted SG (seed Fig. 8.1)",
-        "cos θ",
-        &[
-            ("AD lobe", curve(&sbf::basis::ambient_dice::srbf_lobe)),
-            (&format!("SG λ={lam:.3}, μ={mu:.3}"), curve(&|c| mu * (lam * (c - 1.0)).exp())),
-        ],
-    )?;
-    written.push(p.display().to_string());
     // DFG error heat map: |1024-sample entry − 16384-sample entry|, 32×32.
     let cells: Vec<(usize, usize)> = (0..32).flat_map(|j| (0..32).map(move |i| (i, j))).collect();
     let dfg_err: Vec<f64> = cells
