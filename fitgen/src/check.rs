@@ -8,13 +8,14 @@ use std::path::Path;
 const NOT_GENERATED: [&str; 2] = ["MANIFEST", "README.md"];
 
 /// Differences found by [`check`], one readable line each (empty = all match). With
-/// `full` (a check of `all`), files in `dir` that `fitgen all` does not produce, and
-/// MANIFEST entries for such files, are problems too: a table nothing generates any more
-/// must not linger in the folder sbf embeds from.
-pub fn check(outputs: &[Output], dir: &Path, full: bool) -> Vec<String> {
+/// `stale`, files in `dir` that `fitgen all` does not produce, and MANIFEST entries for
+/// such files, are problems too: a table nothing generates any more must not linger in the
+/// folder sbf embeds from.
+pub fn check(outputs: &[Output], dir: &Path, stale: bool) -> Vec<String> {
     let mut problems = Vec::new();
-    if full {
-        let produced: Vec<&str> = outputs.iter().map(|o| o.file.as_str()).collect();
+    if stale {
+        let all = crate::outputs::committed_files();
+        let produced: Vec<&str> = all.iter().map(|f| f.as_str()).collect();
         match std::fs::read_dir(dir) {
             Err(e) => problems.push(format!("{}: cannot list ({e})", dir.display())),
             Ok(entries) => {

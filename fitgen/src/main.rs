@@ -8,7 +8,7 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(
     version,
-    after_help = "Examples:\n  fitgen list\n  fitgen all\n  fitgen all --only dfg,ad-specular-2d\n  fitgen dfg --out /tmp/luts\n  fitgen --check\n  fitgen --plots target/plots"
+    after_help = "Examples:\n  fitgen list\n  fitgen all\n  fitgen all --only dfg,ad-specular-2d\n  fitgen --check --profile profiles/mobile-sh-l1.toml\n  fitgen dfg --out /tmp/luts\n  fitgen --check\n  fitgen --plots target/plots"
 )]
 struct Cli {
     /// `list`, `all`, or one output name (see `fitgen list`). Default with --check: all.
@@ -18,8 +18,12 @@ struct Cli {
     #[arg(long)]
     check: bool,
     /// Comma-separated subset of outputs (with `all` or --check).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', conflicts_with = "profile")]
     only: Vec<String>,
+    /// A lighting profile (TOML, see profiles/): generate or check only the tables and
+    /// fits its runtime paths read, and say what it leaves out.
+    #[arg(long)]
+    profile: Option<PathBuf>,
     /// Folder of the tables (default: the workspace's luts/).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -50,7 +54,28 @@ fn main() -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
+    let profile = match cli.profile.as_deref().map(sbf::profile::Profile::load).transpose() {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("fitgen: {e}");
+            return ExitCode::from(2);
+        }
+    };
     let only = match what.as_str() {
+        "all" if profile.is_some() => {
+            let p = profile.as_ref().expect("checked");
+            let needed = p.tables();
+            let left: Vec<(&str, &str, usize)> =
+                fitgen::outputs::table_sizes().into_iter().filter(|(n, _, _)| !needed.contains(n)).collect();
+            let bytes: usize = left.iter().map(|t| t.2).sum();
+            println!(
+                "profile '{}': left out {} ({bytes} bytes of embedded LUTs); sbf features for it: default-features = false, features = [{}]",
+                p.name,
+                if left.is_empty() { "no table".to_string() } else { left.iter().map(|(n, f, b)| format!("{n} ({f}, {b} bytes)")).collect::<Vec<_>>().join(", ") },
+                p.cargo_features().iter().map(|f| format!("\"{f}\"")).collect::<Vec<_>>().join(", ")
+            );
+            needed.iter().map(|s| s.to_string()).collect()
+        }
         "all" => cli.only.clone(),
         "" => {
             eprintln!("nothing to do: give `list`, `all`, an output name, or --check (see --help)");
@@ -68,7 +93,7 @@ fn main() -> ExitCode {
         }
     };
     if cli.check {
-        let problems = fitgen::check::check(&outputs, &dir, only.is_empty());
+        let problems = fitgen::check::check(&outputs, &dir, only.is_empty() || profile.is_some());
         if problems.is_empty() {
             println!(
                 "fitgen --check: {} outputs match the committed files in {} ({:.1} s)",

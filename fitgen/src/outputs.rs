@@ -112,6 +112,18 @@ fn spec(name: &str) -> (&'static str, Vec<Axis>, usize, ValueFormat) {
     (file, axes, ch, fmt)
 }
 
+/// Every file `fitgen all` writes into the tables folder (tables, their EXR twins, the
+/// fit constants), without generating anything.
+pub fn committed_files() -> Vec<String> {
+    let mut v: Vec<String> = table_specs()
+        .into_iter()
+        .filter(|t| !EXPERIMENTAL.contains(&t.0))
+        .flat_map(|t| [t.1.to_string(), t.1.replace(".sbflut", ".exr")])
+        .collect();
+    v.extend(["fits.rs".to_string(), "fits.wgsl".to_string()]);
+    v
+}
+
 /// Byte size of each committed table file (from its header and value count; no values
 /// needed); experimental tables are not committed and have no size constant.
 pub fn table_sizes() -> Vec<(&'static str, &'static str, usize)> {

@@ -23,6 +23,7 @@
 //! | [`error`] | [`SbfError`] and input checks |
 //! | [`frame`] | an orthonormal tangent frame for a unit normal (Duff et al. 2017) |
 //! | `io` | (feature `io`) loading and validating lat-long `.hdr`/`.exr` maps |
+//! | `profile` | (feature `profile`) the lighting profile (TOML) every tool takes with `--profile` |
 //!
 //! ## Conventions
 //!
@@ -57,6 +58,8 @@ pub mod gram;
 pub mod io;
 pub mod layout;
 pub mod luts;
+#[cfg(feature = "profile")]
+pub mod profile;
 pub mod quadrature;
 pub mod recon;
 pub mod sampling;

@@ -10,6 +10,7 @@
 //!   composition pruned to what a configuration reaches, with what was left out.
 //! - [`export`]: naga validation and HLSL/GLSL/MSL export.
 //! - [`layout`]: structs shared with Rust, checked against naga's reflection.
+//! - [`profile`]: the features a lighting profile (`sbf::profile`) needs.
 //! - [`progressive`]: the Rust twins of the progressive encoder's GPU structs.
 //! - `gpu` (feature `gpu`, default): a wgpu compute harness for the parity tests and
 //!   the throughput benchmark.
@@ -25,4 +26,5 @@ pub mod export;
 pub mod gpu;
 pub mod layout;
 pub mod modules;
+pub mod profile;
 pub mod progressive;

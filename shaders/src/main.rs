@@ -24,11 +24,15 @@ enum Cmd {
     /// Compose, validate and write one configuration in one language.
     Export {
         /// A preset (see `list`) or a comma-separated feature list.
+        #[arg(long, required_unless_present = "profile", conflicts_with = "profile")]
+        config: Option<String>,
+        /// A lighting profile (TOML, see profiles/): the features its bases and BRDF set
+        /// need, in its language (unless --lang is given).
         #[arg(long)]
-        config: String,
-        /// wgsl, hlsl, glsl or msl.
-        #[arg(long, default_value = "wgsl")]
-        lang: String,
+        profile: Option<PathBuf>,
+        /// wgsl, hlsl, glsl or msl (default: the profile's language, else wgsl).
+        #[arg(long)]
+        lang: Option<String>,
         /// Output file (default: stdout).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -81,11 +85,36 @@ fn main() -> ExitCode {
             println!("{}", shaders::bench::table(&gpu, count, repeats, inputs, &rows));
             Ok(())
         })(),
-        Cmd::Export { config, lang, out } => (|| {
-            let cfg = Config::parse(&config)?;
-            let lang = Lang::parse(&lang)?;
+        Cmd::Export { config, profile, lang, out } => (|| {
+            let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
+            let cfg = match (&config, &prof) {
+                (Some(c), _) => Config::parse(c)?,
+                (None, Some(p)) => shaders::profile::config(p)?,
+                (None, None) => unreachable!("clap requires --config or --profile"),
+            };
+            let lang = Lang::parse(lang.as_deref().or(prof.as_ref().map(|p| p.language.as_str())).unwrap_or("wgsl"))?;
             let c = compose::compose(&cfg)?;
             let text = export::export(&c.source, lang)?;
+            if let Some(p) = &prof {
+                let all = compose::compose(&Config::parse("all")?)?;
+                let (_, notes) = shaders::profile::features(p);
+                let families: std::collections::BTreeSet<&str> =
+                    c.left_out.iter().map(|(m, _, _)| m.as_str()).filter(|m| !c.included.iter().any(|(k, _)| k == m)).collect();
+                eprintln!(
+                    "profile '{}': left out {} of {} WGSL items ({} of {} bytes{}){}",
+                    p.name,
+                    c.left_out.len(),
+                    all.included.len(),
+                    c.left_out_bytes(),
+                    all.source.len(),
+                    if families.is_empty() {
+                        String::new()
+                    } else {
+                        format!("; whole modules: {}", families.into_iter().collect::<Vec<_>>().join(", "))
+                    },
+                    if notes.is_empty() { String::new() } else { format!("; not in WGSL: {}", notes.join("; ")) }
+                );
+            }
             eprintln!("{}", c.summary());
             if !c.left_out.is_empty() {
                 let names: Vec<String> = c.left_out.iter().map(|(m, n, _)| format!("{m}::{n}")).collect();

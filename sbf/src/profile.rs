@@ -1,0 +1,252 @@
+//! The lighting profile: one small TOML file that says what a scene's lighting needs —
+//! the bases per signal, the BRDF set and roughness range, the runtime precision and the
+//! target shading language — so that every tool leaves out the rest (`--profile FILE` on
+//! fitgen, shaders, baker and probes). Behind the `profile` feature.
+//!
+//! ```toml
+//! name = "AD9 diffuse + specular"
+//!
+//! [lightmap]
+//! bases = ["ad9"]             # sh1, sh2, sg9, sg12, ad9, ad12
+//!
+//! [probes]
+//! bases = ["sh2"]             # sphere bases: sh1, sh2, ad12 ([] = no probes)
+//!
+//! [brdf]
+//! models = ["lambert", "ggx"] # lambert and optionally ggx (specular)
+//! roughness = [0.1, 0.8]      # GGX α range, required with "ggx"
+//!
+//! [runtime]
+//! precision = "f32"           # the runtime library is f32
+//! language = "wgsl"           # wgsl, hlsl, glsl, msl
+//! ```
+//!
+//! Every table is required except `[probes]` (no probes) — an omitted key is an error
+//! naming it, as is an unknown key or value.
+
+use serde::Deserialize;
+use std::fmt;
+
+/// Lightmap bases a profile may name (the baker's `--bases`).
+pub const LIGHTMAP_BASES: [&str; 6] = ["sh1", "sh2", "sg9", "sg12", "ad9", "ad12"];
+/// Probe bases (sphere bases; the baker's `--probe-bases`).
+pub const PROBE_BASES: [&str; 3] = ["sh1", "sh2", "ad12"];
+/// BRDF models.
+pub const BRDF_MODELS: [&str; 2] = ["lambert", "ggx"];
+/// Target shading languages (`shaders export --lang`).
+pub const LANGUAGES: [&str; 4] = ["wgsl", "hlsl", "glsl", "msl"];
+
+/// A validated lighting profile.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    pub name: String,
+    /// Lightmap bases, in the order given.
+    pub lightmap_bases: Vec<String>,
+    /// Probe bases ([] = no probes).
+    pub probe_bases: Vec<String>,
+    /// GGX specular is part of the BRDF set.
+    pub specular: bool,
+    /// GGX α range (lo, hi), 0 < lo ≤ hi ≤ 1, when `specular`.
+    pub roughness: Option<(f64, f64)>,
+    /// Always "f32" today (the only runtime precision the library has).
+    pub precision: String,
+    pub language: String,
+}
+
+/// A profile that cannot be used, with the key at fault.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProfileError {
+    /// Dotted key ("brdf.roughness"), or "" for a syntax error.
+    pub key: String,
+    pub message: String,
+}
+
+impl fmt::Display for ProfileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "lighting profile: {}", self.message)
+        } else {
+            write!(f, "lighting profile: `{}`: {}", self.key, self.message)
+        }
+    }
+}
+
+impl std::error::Error for ProfileError {}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Raw {
+    name: String,
+    lightmap: RawBases,
+    probes: Option<RawBases>,
+    brdf: RawBrdf,
+    runtime: RawRuntime,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBases {
+    bases: Vec<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBrdf {
+    models: Vec<String>,
+    roughness: Option<Vec<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRuntime {
+    precision: String,
+    language: String,
+}
+
+fn err(key: &str, message: impl Into<String>) -> ProfileError {
+    ProfileError { key: key.into(), message: message.into() }
+}
+
+fn names(key: &str, given: &[String], allowed: &[&str], allow_empty: bool) -> Result<Vec<String>, ProfileError> {
+    if given.is_empty() && !allow_empty {
+        return Err(err(key, format!("must name at least one of {}", allowed.join(", "))));
+    }
+    let mut out: Vec<String> = Vec::new();
+    for g in given {
+        if !allowed.contains(&g.as_str()) {
+            return Err(err(key, format!("unknown '{g}' (expected one of {})", allowed.join(", "))));
+        }
+        if out.contains(g) {
+            return Err(err(key, format!("'{g}' is named twice")));
+        }
+        out.push(g.clone());
+    }
+    Ok(out)
+}
+
+impl Profile {
+    /// Parses and validates a profile's TOML text.
+    pub fn parse(text: &str) -> Result<Profile, ProfileError> {
+        let raw: Raw = toml::from_str(text).map_err(|e| {
+            // toml names the missing or unknown key in its message; keep it whole.
+            err("", e.message().to_string() + &e.span().map(|s| format!(" (at bytes {}..{})", s.start, s.end)).unwrap_or_default())
+        })?;
+        if raw.name.trim().is_empty() {
+            return Err(err("name", "must not be empty"));
+        }
+        let lightmap_bases = names("lightmap.bases", &raw.lightmap.bases, &LIGHTMAP_BASES, false)?;
+        let probe_bases = match &raw.probes {
+            Some(p) => names("probes.bases", &p.bases, &PROBE_BASES, true)?,
+            None => Vec::new(),
+        };
+        let models = names("brdf.models", &raw.brdf.models, &BRDF_MODELS, false)?;
+        if !models.iter().any(|m| m == "lambert") {
+            return Err(err("brdf.models", "must include \"lambert\" (every basis reconstructs diffuse irradiance)"));
+        }
+        let specular = models.iter().any(|m| m == "ggx");
+        let roughness = match (&raw.brdf.roughness, specular) {
+            (None, true) => return Err(err("brdf.roughness", "is required with \"ggx\": [lo, hi], 0 < lo <= hi <= 1")),
+            (Some(_), false) => return Err(err("brdf.roughness", "is only meaningful with \"ggx\" in brdf.models")),
+            (None, false) => None,
+            (Some(r), true) => {
+                let ok = r.len() == 2 && r.iter().all(|x| x.is_finite()) && r[0] > 0.0 && r[0] <= r[1] && r[1] <= 1.0;
+                if !ok {
+                    return Err(err("brdf.roughness", format!("{r:?} is not [lo, hi] with 0 < lo <= hi <= 1")));
+                }
+                Some((r[0], r[1]))
+            }
+        };
+        if raw.runtime.precision != "f32" {
+            return Err(err(
+                "runtime.precision",
+                format!("'{}' is not available: the runtime library (sbf f32 API and WGSL) computes in f32", raw.runtime.precision),
+            ));
+        }
+        if !LANGUAGES.contains(&raw.runtime.language.as_str()) {
+            return Err(err("runtime.language", format!("unknown '{}' (expected one of {})", raw.runtime.language, LANGUAGES.join(", "))));
+        }
+        Ok(Profile {
+            name: raw.name,
+            lightmap_bases,
+            probe_bases,
+            specular,
+            roughness,
+            precision: raw.runtime.precision,
+            language: raw.runtime.language,
+        })
+    }
+
+    /// Reads and validates a profile file (errors name the file).
+    pub fn load(path: &std::path::Path) -> Result<Profile, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Profile::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Every basis the profile names, lightmap then probes, without repeats.
+    pub fn all_bases(&self) -> Vec<&str> {
+        let mut v: Vec<&str> = Vec::new();
+        for b in self.lightmap_bases.iter().chain(&self.probe_bases) {
+            if !v.contains(&b.as_str()) {
+                v.push(b);
+            }
+        }
+        v
+    }
+
+    /// The embedded tables (fitgen output names) the profile's runtime paths read: the AD
+    /// specular LUT for GGX on Ambient Dice bases, the split-sum DFG for GGX on SH bases
+    /// (the zonal SH specular path); the fit constants always.
+    pub fn tables(&self) -> Vec<&'static str> {
+        let has = |prefix: &str| self.all_bases().iter().any(|b| b.starts_with(prefix));
+        let mut t = vec!["fits", "fits-wgsl"];
+        if self.specular && has("sh") {
+            t.push("dfg");
+        }
+        if self.specular && has("ad") {
+            t.push("ad-specular-2d");
+        }
+        t
+    }
+
+    /// The `sbf` cargo features an engine needs for this profile: the basis families it
+    /// names and the tables its runtime paths read.
+    pub fn cargo_features(&self) -> Vec<&'static str> {
+        let mut f = Vec::new();
+        for b in self.all_bases() {
+            let fam = if b.starts_with("sh") {
+                "sh"
+            } else if b.starts_with("sg") {
+                "sg"
+            } else {
+                "ambient-dice"
+            };
+            if !f.contains(&fam) {
+                f.push(fam);
+            }
+        }
+        for t in self.tables() {
+            match t {
+                "dfg" => f.push("lut-dfg"),
+                "ad-specular-2d" => f.push("lut-ad-specular-2d"),
+                _ => {}
+            }
+        }
+        f
+    }
+
+    /// One line describing the profile (for logs, bake.json and reports).
+    pub fn summary(&self) -> String {
+        format!(
+            "{}: lightmap {}, probes {}, BRDF lambert{}, {} {}",
+            self.name,
+            self.lightmap_bases.join("+"),
+            if self.probe_bases.is_empty() { "none".to_string() } else { self.probe_bases.join("+") },
+            match self.roughness {
+                Some((lo, hi)) => format!(" + ggx α {lo}–{hi}"),
+                None => String::new(),
+            },
+            self.precision,
+            self.language
+        )
+    }
+}

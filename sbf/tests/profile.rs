@@ -1,0 +1,64 @@
+//! Lighting profiles: the example profiles in `profiles/` parse; every kind of bad input is
+//! an error naming the key at fault.
+use sbf::profile::Profile;
+
+fn examples() -> Vec<(String, Profile)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../profiles");
+    let mut v: Vec<(String, Profile)> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), Profile::load(&p).unwrap()))
+        .collect();
+    v.sort_by(|a, b| a.0.cmp(&b.0));
+    v
+}
+
+#[test]
+fn example_profiles_parse() {
+    let ex = examples();
+    assert!(ex.len() >= 3, "{} example profiles", ex.len());
+    let get = |n: &str| &ex.iter().find(|(f, _)| f == n).unwrap_or_else(|| panic!("{n}")).1;
+    let mobile = get("mobile-sh-l1.toml");
+    assert_eq!((mobile.lightmap_bases.clone(), mobile.specular, mobile.language.as_str()), (vec!["sh1".to_string()], false, "glsl"));
+    let ad9 = get("ad9-diffuse-specular.toml");
+    assert_eq!((ad9.specular, ad9.roughness), (true, Some((0.1, 0.8))));
+    assert_eq!(ad9.all_bases(), vec!["ad9", "sh2"]);
+    let all = get("everything.toml");
+    assert_eq!(all.lightmap_bases.len(), 6);
+}
+
+const GOOD: &str = "name = \"t\"\n[lightmap]\nbases = [\"sh2\"]\n[brdf]\nmodels = [\"lambert\", \"ggx\"]\nroughness = [0.1, 0.5]\n[runtime]\nprecision = \"f32\"\nlanguage = \"wgsl\"\n";
+
+#[test]
+fn bad_profiles_name_the_key() {
+    assert!(Profile::parse(GOOD).is_ok());
+    let cases: [(&str, &str, &str); 10] = [
+        ("bases = [\"sh2\"]", "bases = [\"sh3\"]", "lightmap.bases"),
+        ("bases = [\"sh2\"]", "bases = []", "lightmap.bases"),
+        ("bases = [\"sh2\"]", "bases = [\"sh2\", \"sh2\"]", "lightmap.bases"),
+        ("roughness = [0.1, 0.5]\n", "", "brdf.roughness"),
+        ("roughness = [0.1, 0.5]", "roughness = [0.5, 0.1]", "brdf.roughness"),
+        ("models = [\"lambert\", \"ggx\"]", "models = [\"ggx\"]", "brdf.models"),
+        ("models = [\"lambert\", \"ggx\"]", "models = [\"lambert\", \"phong\"]", "brdf.models"),
+        ("precision = \"f32\"", "precision = \"f16\"", "runtime.precision"),
+        ("language = \"wgsl\"", "language = \"spirv\"", "runtime.language"),
+        ("name = \"t\"", "name = \" \"", "name"),
+    ];
+    for (from, to, key) in cases {
+        let text = GOOD.replacen(from, to, 1);
+        let e = Profile::parse(&text).unwrap_err();
+        assert_eq!(e.key, key, "{to}: {e}");
+        assert!(e.to_string().contains(key), "{e}");
+    }
+    // Unknown and missing keys: toml names them.
+    let e = Profile::parse(&GOOD.replacen("[runtime]", "[runtime]\nspeed = 3", 1)).unwrap_err();
+    assert!(e.to_string().contains("speed"), "{e}");
+    let e = Profile::parse(&GOOD.replacen("language = \"wgsl\"\n", "", 1)).unwrap_err();
+    assert!(e.to_string().contains("language"), "{e}");
+    let e = Profile::parse("not toml [").unwrap_err();
+    assert!(e.key.is_empty(), "{e}");
+    // Lambert-only with a roughness range is refused (it would be ignored silently).
+    let e = Profile::parse(&GOOD.replacen("models = [\"lambert\", \"ggx\"]", "models = [\"lambert\"]", 1)).unwrap_err();
+    assert_eq!(e.key, "brdf.roughness");
+}
