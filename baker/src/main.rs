@@ -35,6 +35,11 @@ struct Cli {
     /// Lightmap bases: sh1, sh2, sg9, sg12, ad9, ad12 (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "sh2,ad9")]
     bases: Vec<String>,
+    /// A lighting profile (TOML, see profiles/): lightmap and probe bases from it (no probes
+    /// if it names none), the specular runtime only if its BRDF set has GGX, the runtime
+    /// exported in its language too; recorded in bake.json. Replaces --bases/--probe-bases.
+    #[arg(long, conflicts_with_all = ["bases", "probe_bases"])]
+    profile: Option<PathBuf>,
     /// Progressive solver: ls or nnls. NNLS applies to the non-negative bases (SG, Ambient
     /// Dice); SH is always least squares (its coefficients are legitimately negative).
     #[arg(long, default_value = "nnls")]
@@ -138,7 +143,26 @@ fn options(c: Cli) -> Result<Options, String> {
         [x, y, z] if *x > 0 && *y > 0 && *z > 0 => Some([*x, *y, *z]),
         p => return Err(format!("--probes takes NX,NY,NZ (all > 0, or 0,0,0 for none), not {p:?}")),
     };
-    let probe_bases = parse_bases(&c.probe_bases)?;
+    let profile = c.profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
+    let (bases, probe_names) = match &profile {
+        Some(p) => (p.lightmap_bases.clone(), p.probe_bases.clone()),
+        None => (c.bases.clone(), c.probe_bases.clone()),
+    };
+    let probes = if profile.as_ref().is_some_and(|p| p.probe_bases.is_empty()) { None } else { probes };
+    if let Some(p) = &profile {
+        let d = Options::default();
+        let names = |v: &[baker::bake::BasisKind]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
+        eprintln!(
+            "profile '{}': lightmap bases {} (default {}), probe bases {} (default {}){}",
+            p.name,
+            bases.join(","),
+            names(&d.config.bases),
+            if probe_names.is_empty() { "none — no probes baked".to_string() } else { probe_names.join(",") },
+            names(&d.probe_bases),
+            if p.specular { String::new() } else { "; BRDF Lambert only: no specular runtime features or LUTs".to_string() }
+        );
+    }
+    let probe_bases = parse_bases(&probe_names)?;
     if let Some(b) = probe_bases.iter().find(|b| !b.is_sphere()) {
         return Err(format!("probe basis '{}' covers a hemisphere; probes need sh1, sh2 or ad12", b.name()));
     }
@@ -151,7 +175,7 @@ fn options(c: Cli) -> Result<Options, String> {
         texels_per_unit: c.texels_per_unit,
         padding: c.padding,
         passes: c.passes,
-        config: baker::bake::BakeConfig { seed: c.seed, max_bounces: c.bounces, bases: parse_bases(&c.bases)?, solver },
+        config: baker::bake::BakeConfig { seed: c.seed, max_bounces: c.bounces, bases: parse_bases(&bases)?, solver },
         device,
         out: c.out,
         checkpoint_every: c.checkpoint_every,
@@ -162,6 +186,7 @@ fn options(c: Cli) -> Result<Options, String> {
         preview_width: c.preview_width.max(8),
         quiet: d.quiet,
         measure_rays: c.measure_rays,
+        profile,
     })
 }
 

@@ -51,6 +51,10 @@ pub struct Options {
     pub quiet: bool,
     /// Instead of baking: measure GPU rays/s over this many passes and print them.
     pub measure_rays: Option<u64>,
+    /// The lighting profile the bases came from (`--profile`): its BRDF set decides whether
+    /// the specular runtime (features, LUTs) is written, its language the exported runtime;
+    /// it is recorded in bake.json.
+    pub profile: Option<sbf::profile::Profile>,
 }
 
 impl Default for Options {
@@ -71,6 +75,7 @@ impl Default for Options {
             probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
             preview_width: 480,
             measure_rays: None,
+            profile: None,
             quiet: false,
         }
     }
@@ -356,10 +361,37 @@ fn write_outputs(
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width);
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
-    let (features, luts) = output::runtime_features(&o.config.bases, glossy);
+    // Specular runtime: only for a scene with a glossy material and a profile (if any) whose
+    // BRDF set has GGX.
+    let specular = glossy && o.profile.as_ref().is_none_or(|p| p.specular);
+    let (features, luts) = output::runtime_features(&o.config.bases, specular);
     let cfg = shaders::compose::Config::parse(&features.join(","))?;
     let runtime = shaders::compose::compose(&cfg)?;
     std::fs::write(o.out.join("runtime.wgsl"), &runtime.source).map_err(|e| format!("runtime.wgsl: {e}"))?;
+    let mut runtime_files = vec!["runtime.wgsl".to_string()];
+    if let Some(p) = &o.profile {
+        let lang = shaders::export::Lang::parse(&p.language)?;
+        if p.language != "wgsl" {
+            let name = format!("runtime.{}", lang.extension());
+            std::fs::write(o.out.join(&name), shaders::export::export(&runtime.source, lang)?).map_err(|e| format!("{name}: {e}"))?;
+            runtime_files.push(name);
+        }
+        if glossy && !p.specular {
+            let (spec_features, spec_luts) = output::runtime_features(&o.config.bases, true);
+            let with = shaders::compose::compose(&shaders::compose::Config::parse(&spec_features.join(","))?)?;
+            let lut_bytes: usize =
+                spec_luts.iter().filter(|l| *l == &"ad_specular_2d.sbflut").map(|_| sbf::luts::committed::AD_SPECULAR_2D_DATA.len()).sum();
+            let saved = with.source.len() - runtime.source.len();
+            log(if saved + lut_bytes == 0 {
+                format!(
+                    "profile '{}': Lambert only — the scene is glossy, but these bases have no specular runtime path to leave out",
+                    p.name
+                )
+            } else {
+                format!("profile '{}': Lambert only — specular runtime left out although the scene is glossy: {saved} WGSL bytes and {lut_bytes} LUT bytes not written", p.name)
+            });
+        }
+    }
     for l in &luts {
         let data = match *l {
             "ad_specular_2d.sbflut" => sbf::luts::committed::AD_SPECULAR_2D_DATA,
@@ -395,8 +427,11 @@ fn write_outputs(
         "normals": {"file": "normals.exr", "quantity": "world-space unit shading normal per texel (the basis frame's +Z)"},
         "bases": bases,
         "meshes": output::mesh_mapping(scene, lm),
-        "runtime": {"wgsl": "runtime.wgsl", "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),
-                    "specular": if glossy { "included" } else { "left out: no glossy material" }},
+        "runtime": {"wgsl": "runtime.wgsl", "files": runtime_files, "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),
+                    "specular": if specular { "included" } else if glossy { "left out: the profile's BRDF set is Lambert only" } else { "left out: no glossy material" }},
+        "profile": o.profile.as_ref().map(|p| json!({"name": p.name, "summary": p.summary(), "lightmap_bases": p.lightmap_bases,
+                    "probe_bases": p.probe_bases, "specular": p.specular, "roughness": p.roughness.map(|(a, b)| [a, b]),
+                    "precision": p.precision, "language": p.language})),
         "files": files,
         "preview": "preview.png",
         "seconds": t0.elapsed().as_secs_f64(),

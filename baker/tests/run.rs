@@ -573,3 +573,40 @@ fn slc_harness_writes_its_outputs() {
     let bad = baker(&["--slc", "0", "--out", d.to_str().unwrap()]).output().unwrap();
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("--slc needs"));
 }
+
+/// `--profile`: a Lambert-only profile on the glossy built-in scene bakes only its bases,
+/// writes no specular runtime feature or LUT, exports the runtime in its language, records
+/// the profile in bake.json and prints the profile and left-out lines; the AD9 + GGX profile
+/// writes the AD specular runtime and its LUT.
+#[test]
+fn profile_leaves_out_what_it_does_not_need() {
+    let profiles = Path::new(env!("CARGO_MANIFEST_DIR")).join("../profiles");
+    let run = |name: &str| {
+        let out = tmp(&format!("profile-{name}"));
+        let o = baker(&["--device", "cpu", "--passes", "2", "--texels-per-unit", "4", "--probes", "2,2,2", "--profile"])
+            .arg(profiles.join(format!("{name}.toml")))
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("bake.json")).unwrap()).unwrap();
+        let files: Vec<String> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        (String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout), json, files, out)
+    };
+    let (log, json, files, out) = run("mobile-sh-l1");
+    assert!(log.contains("profile 'mobile diffuse SH L1': lightmap bases sh1"), "{log}");
+    assert!(log.contains("no specular runtime features or LUTs"), "{log}");
+    let features: Vec<&str> = json["runtime"]["features"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+    assert_eq!(features, ["sh-l1-irradiance"]);
+    assert!(json["runtime"]["specular"].as_str().unwrap().starts_with("left out"), "{}", json["runtime"]);
+    assert_eq!(json["profile"]["name"], "mobile diffuse SH L1");
+    assert!(files.iter().any(|f| f == "runtime.comp.glsl"), "{files:?}");
+    assert!(!files.iter().any(|f| f.ends_with(".sbflut") || f.starts_with("sh2") || f.starts_with("ad9")), "{files:?}");
+    let wgsl = std::fs::read_to_string(out.join("runtime.wgsl")).unwrap();
+    assert!(!wgsl.contains("specular"), "a Lambert-only runtime holds no specular code");
+    let (_, json, files, _) = run("ad9-diffuse-specular");
+    let features: Vec<&str> = json["runtime"]["features"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+    assert_eq!(features, ["ad9-irradiance", "ad9-specular"]);
+    assert!(files.iter().any(|f| f == "ad_specular_2d.sbflut") && files.iter().any(|f| f == "ad9_08.exr"), "{files:?}");
+}

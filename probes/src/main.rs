@@ -27,6 +27,11 @@ enum Cmd {
         /// Comma-separated mode ids (default: every mode with a peer figure).
         #[arg(long, value_delimiter = ',')]
         modes: Vec<String>,
+        /// A lighting profile (TOML, see profiles/): run only the modes of its bases, and
+        /// the specular signal only at roughness values inside its GGX range (none for a
+        /// Lambert-only profile). Replaces --modes, --alphas and --no-specular.
+        #[arg(long, conflicts_with_all = ["modes", "alphas", "no_specular"])]
+        profile: Option<PathBuf>,
         /// Where errors are measured: `sphere`, or `hemisphere` (upper, +Y; seed
         /// Appendix C; fits still use the whole sphere). Default modes follow the domain.
         #[arg(long, default_value = "sphere")]
@@ -93,7 +98,7 @@ fn preset(name: &str) -> Result<ProceduralSky, String> {
 }
 
 /// Default roughness values of the specular signal (seed Appendix C).
-const DEFAULT_ALPHAS: [f64; 5] = [0.1, 0.2, 0.4, 0.6, 0.8];
+use probes::profile::DEFAULT_ALPHAS;
 
 /// One map through every mode: reference, fits, metrics (irradiance, radiance, specular).
 fn compare(
@@ -349,6 +354,7 @@ fn main() -> ExitCode {
         Some(Cmd::Compare {
             maps,
             modes: m,
+            profile,
             domain,
             out,
             json,
@@ -368,7 +374,11 @@ fn main() -> ExitCode {
                 "peer" => modes::SgIrradiance::Peer,
                 other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill` or `peer`")),
             };
-            let alphas = if no_specular { Vec::new() } else { alphas };
+            let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
+            let (m, alphas) = match &prof {
+                Some(p) => (probes::profile::modes(p), probes::profile::alphas(p)),
+                None => (m, if no_specular { Vec::new() } else { alphas }),
+            };
             if let Some(a) = alphas.iter().find(|a| !(a.is_finite() && **a >= 1e-4 && **a <= 1.0)) {
                 return Err(format!("--alphas: {a} is outside [1e-4, 1]"));
             }
@@ -389,6 +399,24 @@ fn main() -> ExitCode {
                 if !modes::MODES.iter().any(|(x, _)| x == id) {
                     return Err(format!("unknown mode '{id}' (see `probes list`)"));
                 }
+            }
+            if let Some(p) = &prof {
+                let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
+                let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
+                println!(
+                    "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes ({} image sets per map not computed or written){}",
+                    p.name,
+                    ids.len(),
+                    ids.join(", "),
+                    left.len(),
+                    default.len(),
+                    left.len() * per_mode,
+                    if alphas.is_empty() {
+                        "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()
+                    } else {
+                        format!("; specular at α {}", alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))
+                    }
+                );
             }
             let gpu = if gpu_cost {
                 if gpu_count == 0 {

@@ -55,9 +55,11 @@ pub struct MapInfo {
 pub struct ReferenceInfo {
     /// How the irradiance reference was computed.
     pub method: String,
-    /// How the specular references were computed ("" without specular).
+    /// How the specular references were computed (absent without specular).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub specular_method: String,
     /// Per α (as written on the command line): the reference's estimated error.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub specular_error: BTreeMap<String, ReferenceError>,
     /// Seconds it took to make the irradiance reference (charged to modes that fit it).
     pub irradiance_seconds: f64,
@@ -77,6 +79,7 @@ pub struct ReferenceError {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceImages {
     pub irradiance: ImagePair,
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub specular: BTreeMap<String, ImagePair>,
 }
 
@@ -113,7 +116,8 @@ pub struct Lobe {
 pub struct ModeMetrics {
     pub radiance: Option<MetricsJson>,
     pub irradiance: MetricsJson,
-    /// Per α: the specular metrics and the error split.
+    /// Per α: the specular metrics and the error split (absent without specular).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub specular: BTreeMap<String, SpecularMetrics>,
 }
 
@@ -169,7 +173,9 @@ pub struct Cost {
     pub encode_total_s: f64,
     /// Steady-state CPU cost of the irradiance runtime evaluation.
     pub eval: CostStat,
-    /// Steady-state CPU cost of the specular runtime path (modes that have one).
+    /// Steady-state CPU cost of the specular runtime path (modes that have one; absent
+    /// without specular).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub specular_eval: Option<CostStat>,
     /// Bytes per probe/texel at the runtime precision.
     pub storage_bytes: usize,
@@ -185,7 +191,8 @@ pub struct ModeImages {
     /// |approximation − reference| at 4 EV more.
     pub irradiance_error_png: String,
     pub radiance: Option<ImagePair>,
-    /// Per α: the specular image and its error PNG.
+    /// Per α: the specular image and its error PNG (absent without specular).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub specular: BTreeMap<String, SpecularImages>,
 }
 

@@ -1,0 +1,28 @@
+//! `shaders export --profile`: only the modules a profile needs, in its language.
+use std::path::Path;
+use std::process::Command;
+
+/// A Lambert-only SH L1 profile exports GLSL with the SH L1 irradiance function and no
+/// specular, SG or Ambient Dice code, and prints the left-out line; the AD9 + GGX profile
+/// keeps the AD9 specular function.
+#[test]
+fn profile_export_leaves_out_specular() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../profiles");
+    let export = |name: &str| {
+        let o = Command::new(env!("CARGO_BIN_EXE_shaders"))
+            .args(["export", "--profile"])
+            .arg(dir.join(format!("{name}.toml")))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (code, log) = export("mobile-sh-l1");
+    assert!(log.contains("profile 'mobile diffuse SH L1': left out") && log.contains("bytes"), "{log}");
+    assert!(code.contains("sh_l1_irradiance") && code.contains("#version"), "GLSL with the SH L1 function expected");
+    for never in ["specular", "sg_", "ad9_", "ad12_", "ggx"] {
+        assert!(!code.contains(never), "{never} in a Lambert-only SH L1 export");
+    }
+    let (code, _) = export("ad9-diffuse-specular");
+    assert!(code.contains("ad9_specular") && code.contains("ad9_irradiance") && code.contains("sh_l2_irradiance"));
+}
