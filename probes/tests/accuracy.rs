@@ -11,6 +11,11 @@ use std::path::PathBuf;
 fn probe(name: &str) -> Option<sbf::envmap::LatLongImage> {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../shared/probes/{name}.hdr"));
     if !p.exists() {
+        assert!(
+            std::env::var("SBF_REQUIRE_PROBES").map_or(true, |v| v != "1"),
+            "SBF_REQUIRE_PROBES=1 but {} is missing (the bundled probes live in ../shared/probes)",
+            p.display()
+        );
         eprintln!("skipping: {} not found", p.display());
         return None;
     }

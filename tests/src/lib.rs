@@ -16,11 +16,17 @@ pub fn probe_dir() -> PathBuf {
 }
 
 /// Loads a bundled probe as a lat-long image, or `None` (with a message on stderr)
-/// when the folder is absent. Panics on a present but unreadable file: CI always
-/// has the probes, and a corrupt one must fail loudly.
+/// when the folder is absent — unless `SBF_REQUIRE_PROBES=1` (CI), where a missing folder
+/// fails the test with a message naming it. Panics on a present but unreadable file: a
+/// corrupt probe must fail loudly.
 pub fn load_probe(name: &str) -> Option<LatLongImage> {
     let path = probe_dir().join(format!("{name}.hdr"));
     if !probe_dir().is_dir() {
+        assert!(
+            std::env::var("SBF_REQUIRE_PROBES").map_or(true, |v| v != "1"),
+            "SBF_REQUIRE_PROBES=1 but {} is missing (the bundled probes live in ../shared/probes)",
+            probe_dir().display()
+        );
         eprintln!("skipping: {} not found (the bundled probes live in ../shared/probes)", probe_dir().display());
         return None;
     }
