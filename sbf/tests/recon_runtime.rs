@@ -314,3 +314,23 @@ fn extreme_inputs_by_value() {
         }
     }
 }
+
+/// The f32 zonal branch of the SG runtime (λ < 2) against the f64 zonal expansion (itself
+/// equal to the exact convolution to 1e-6, recon_sg): 1e-5 of the lobe's peak E/π (f32
+/// rounding of ~40 operations of size ≤ peak, ×10 margin), at λ ∈ [1e-4, 2) and every angle.
+#[test]
+fn sg_zonal_f32_matches_f64() {
+    let mut worst = 0.0f64;
+    for lam in [1e-4, 0.01, 0.3, 1.0, 1.5, 1.999] {
+        let peak = sgr::irradiance_zonal(&Sg::new(DVec3::Z, lam, 1.0).unwrap(), DVec3::Z);
+        for k in 0..=90 {
+            let t = PI * k as f64 / 90.0;
+            let sg = Sg::new(DVec3::new(t.sin(), 0.0, t.cos()), lam, 1.0).unwrap();
+            let want = sgr::irradiance_zonal(&sg, DVec3::Z);
+            let got = rt::sg_zonal_irradiance_f32(t.cos() as f32, lam as f32) as f64;
+            worst = worst.max((got - want).abs() / peak);
+        }
+    }
+    println!("f32 zonal vs f64: worst {worst:.2e} of peak");
+    assert!(worst < 1e-5, "{worst:e}");
+}

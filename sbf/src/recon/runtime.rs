@@ -1,19 +1,18 @@
 //! Runtime reconstruction in f32 on glam types: RGB coefficients as `Vec3` (one per
 //! basis function), unit normal/view as `Vec3`, results as RGB `Vec3`. Irradiance
 //! is E/π; specular is ∫L·f_r·cos with Schlick (f0, f90). Batch forms evaluate many
-//! normals into a slice. Each function has an f64 twin in the sibling modules and a
-//! parity test.
+//! normals into a slice. Everything computes in f32, as the WGSL twins do (the same
+//! formulas); each function has an f64 reference in the sibling modules and a test
+//! against it.
 //!
 //! Preconditions (debug-asserted): unit directions, slice lengths as documented.
 
 #[cfg(feature = "ambient-dice")]
-use super::ambient_dice::{SpecularFit, DIFFUSE_FIT_LISTING_8_1, DIFFUSE_FIT_MINIMAX, SPECULAR_FIT_LISTING_8_1};
+use super::ambient_dice::{DIFFUSE_FIT_LISTING_8_1, DIFFUSE_FIT_MINIMAX, SPECULAR_FIT_LISTING_8_1};
 #[cfg(feature = "ambient-dice")]
 use super::lut::Lut2;
 #[cfg(feature = "sh")]
 use crate::basis::sh_fast::{eval_sh_l1, eval_sh_l2, eval_sh_l4};
-#[cfg(feature = "sg")]
-use crate::basis::Sg;
 use glam::Vec3;
 
 /// A_l/π for l = 0..=4 (E/π band factors): 1, 2/3, 1/4, 0, −1/24.
@@ -76,16 +75,15 @@ pub fn sh_l1_geomerics_irradiance(c: &[Vec3; 4], n: Vec3) -> Vec3 {
 }
 
 /// E/π from SG lobes of one shared sharpness with Hill's fit (fitgen's c₀; λ ≥ 2) or, below, the
-/// exact zonal expansion (computed in f64, as in [`super::sg::irradiance_hill`]).
+/// zonal expansion — both in f32 (twin of [`super::sg::irradiance_hill`]; the zonal branch
+/// is [`sg_zonal_irradiance_f32`]).
 #[cfg(feature = "sg")]
 pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) -> Vec3 {
     debug_assert_eq!(axes.len(), coeffs.len());
     let mut e = Vec3::ZERO;
     if sharpness < super::sg::HILL_MIN_SHARPNESS as f32 {
         for (a, c) in axes.iter().zip(coeffs) {
-            let w =
-                super::sg::irradiance_zonal(&Sg { axis: a.as_dvec3(), sharpness: sharpness as f64, amplitude: 1.0 }, n.as_dvec3()) as f32;
-            e += *c * w;
+            e += *c * sg_zonal_irradiance_f32(a.dot(n), sharpness);
         }
         return e;
     }
@@ -109,17 +107,100 @@ pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) ->
     e
 }
 
-/// GGX specular from SG lobes of one shared sharpness with the ASG warp (f32 evaluation
-/// of [`super::sg::specular_asg_warp`], computed per lobe in f64 for stability at
-/// n·v → 0 and α → 1e-4, then accumulated in f32).
+/// (band l, A_l/π) of the bands the clamped cosine keeps up to l = 8 (Ramamoorthi &
+/// Hanrahan 2001; odd bands above 1 vanish): 1, 2/3, 1/4, −1/24, 1/64, −1/128.
+#[cfg(feature = "sg")]
+const ZONAL_BANDS: [(usize, f32); 6] = [(0, 1.0), (1, 2.0 / 3.0), (2, 0.25), (4, -1.0 / 24.0), (6, 1.0 / 64.0), (8, -1.0 / 128.0)];
+
+/// E/π of a unit-amplitude SG lobe of sharpness λ ≤ 2 at cos θ = `x` (axis·normal), in f32:
+/// Σ_l (2l+1)·e^(−λ)·i_l(λ)·(A_l/π)·P_l(x) over the bands of [`ZONAL_BANDS`], with the
+/// modified spherical Bessel functions by their power series
+/// i_l(λ) = λ^l/(2l+1)!!·Σ_k (λ²/2)^k/(k!·(2l+3)(2l+5)…(2l+2k+1)) (12 terms: below 1e-9
+/// relative for λ ≤ 2). Twin of [`super::sg::irradiance_zonal`] (f64).
+#[cfg(feature = "sg")]
+pub fn sg_zonal_irradiance_f32(x: f32, lambda: f32) -> f32 {
+    let x = x.clamp(-1.0, 1.0);
+    let h = 0.5 * lambda * lambda;
+    let decay = (-lambda).exp();
+    // Legendre P_0..P_8 by recurrence.
+    let mut p = [0.0f32; 9];
+    p[0] = 1.0;
+    p[1] = x;
+    for l in 2..9 {
+        p[l] = ((2 * l - 1) as f32 * x * p[l - 1] - (l - 1) as f32 * p[l - 2]) / l as f32;
+    }
+    let mut total = 0.0f32;
+    for (l, a) in ZONAL_BANDS {
+        // λ^l/(2l+1)!!
+        let mut lead = 1.0f32;
+        for k in 1..=l {
+            lead *= lambda / (2 * k + 1) as f32;
+        }
+        let (mut term, mut sum) = (1.0f32, 1.0f32);
+        for k in 1..12 {
+            term *= h / (k as f32 * (2 * l + 2 * k + 1) as f32);
+            sum += term;
+        }
+        total += (2 * l + 1) as f32 * decay * lead * sum * a * p[l];
+    }
+    total
+}
+
+/// GGX specular from SG lobes of one shared sharpness with the ASG warp, in f32: the CPU
+/// twin of the WGSL `sg_asg_warp` + `sg_asg_lobe` (f64 reference:
+/// [`super::sg::specular_asg_warp`]). n·v is clamped to 1e-4 ([`super::sg::NV_EPSILON`]).
 #[cfg(feature = "sg")]
 pub fn sg_specular_asg(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3, v: Vec3, alpha: f32, f0: f32, f90: f32) -> Vec3 {
-    let warp = super::sg::AsgWarp::new(n.as_dvec3(), v.as_dvec3(), alpha as f64, f0 as f64, f90 as f64);
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let a2 = alpha * alpha;
+    let (lam, mu) = (2.0 / a2, 1.0 / (std::f32::consts::PI * a2));
+    let nv = n.dot(v).max(super::sg::NV_EPSILON as f32);
+    let z = 2.0 * v.dot(n) * n - v;
+    let y0 = n.cross(z);
+    let y = if y0.length_squared() > 1e-12 { y0.normalize() } else { tangent_frame_f32(z).1 };
+    let x = y.cross(z);
+    // Tail: G2/(4 n·v n·l)·F·(n·l) at l = z (Smith Λ with n = +Z).
+    let nl = n.dot(z);
+    let tail = if nl > 0.0 {
+        let lambda_of = |c: f32| {
+            let t = alpha * alpha * (1.0 - c * c).max(0.0) / (c * c);
+            t / (2.0 * (1.0 + (1.0 + t).sqrt()))
+        };
+        let g2 = 1.0 / (1.0 + lambda_of(nv) + lambda_of(nl));
+        let hv = v + z;
+        let hl = hv.length();
+        let fc = if hl > 0.0 { schlick_weight_f32(v.dot(hv / hl)) } else { 0.0 };
+        g2 / (4.0 * nv) * (f0 * (1.0 - fc) + f90 * fc)
+    } else {
+        0.0
+    };
+    let (lx, ly) = (lam / (8.0 * nv * nv), lam / 8.0);
+    let nu = 0.5 * sharpness;
+    let (lx2, ly2) = (nu * lx / (nu + lx), nu * ly / (nu + ly));
+    let amp = std::f32::consts::PI / ((nu + lx) * (nu + ly)).sqrt();
     let mut s = Vec3::ZERO;
     for (a, c) in axes.iter().zip(coeffs) {
-        s += *c * warp.lobe(&Sg { axis: a.as_dvec3(), sharpness: sharpness as f64, amplitude: 1.0 }) as f32;
+        let (px, py) = (a.dot(x), a.dot(y));
+        s += *c * (mu * amp * a.dot(z).max(0.0) * (-lx2 * px * px - ly2 * py * py).exp() * tail);
     }
     s
+}
+
+/// Schlick's Fresnel weight (1 − v·h)^5, f32 (as the WGSL `schlick_weight`).
+#[cfg(feature = "sg")]
+fn schlick_weight_f32(v_dot_h: f32) -> f32 {
+    let x = (1.0 - v_dot_h).clamp(0.0, 1.0);
+    let x2 = x * x;
+    x2 * x2 * x
+}
+
+/// Duff et al. 2017's branchless tangent frame, f32 (twin of [`crate::frame::tangent_frame`]).
+#[cfg(feature = "sg")]
+fn tangent_frame_f32(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
 }
 
 /// E/π from Ambient Dice SRBF radiance lobes with the minimax quadratic (error ≤ 6.5e-4
@@ -137,15 +218,26 @@ pub fn ad_irradiance(lobes: &[Vec3], coeffs: &[Vec3], n: Vec3) -> Vec3 {
 }
 
 /// GGX specular from Ambient Dice SRBF radiance lobes: Listing 8.1's fit per lobe times
-/// the LUT (Listing 8.2) sampled at (n·v, α).
+/// the LUT (Listing 8.2) sampled at (n·v, α), in f32 — the CPU twin of the WGSL
+/// `ad_specular_fit` + `ad_specular_lobe` + `ad_specular_scale` (f64 reference:
+/// [`super::ambient_dice::SpecularFit`]).
 #[cfg(feature = "ambient-dice")]
 pub fn ad_specular(lobes: &[Vec3], coeffs: &[Vec3], n: Vec3, v: Vec3, alpha: f32, f0: f32, f90: f32, lut: &Lut2) -> Vec3 {
     let l = lut.sample2(n.dot(v).clamp(0.0, 1.0), alpha);
     let scale = f0 * l[0] + f90 * l[1];
-    let fit = SpecularFit::new(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, n.as_dvec3(), v.as_dvec3(), alpha as f64);
+    let k = SPECULAR_FIT_LISTING_8_1.map(|x| x as f32);
+    let p = DIFFUSE_FIT_LISTING_8_1.map(|x| x as f32);
+    let sa = alpha.sqrt();
+    let focus = (k[0] * sa + k[1] * alpha + k[2] * sa * alpha + k[3] * alpha * alpha).clamp(0.0, 1.0);
+    let alpha_lerp = (k[4] * sa + k[5] * alpha + k[6] * sa * alpha + k[7] * alpha * alpha).clamp(0.0, 1.0);
+    let r = 2.0 * v.dot(n) * n - v;
     let mut s = Vec3::ZERO;
     for (lobe, c) in lobes.iter().zip(coeffs) {
-        s += *c * fit.lobe(lobe.as_dvec3()) as f32;
+        let (r_dot, n_dot) = (r.dot(*lobe), n.dot(*lobe));
+        let mirror = crate::basis::ambient_dice::srbf_lobe_f32(r_dot);
+        let x = r_dot + (n_dot - r_dot) * focus;
+        let d = p[0] + x * (p[1] + x * p[2]);
+        s += *c * (mirror + (d - mirror) * alpha_lerp);
     }
     s * scale
 }
