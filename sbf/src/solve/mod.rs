@@ -40,13 +40,17 @@ pub struct RadianceSample {
 pub fn moments(basis: &dyn Basis, samples: &[RadianceSample]) -> DMatrix<f64> {
     let n = basis.len();
     let mut m = DMatrix::zeros(n, 3);
-    let mut b = vec![0.0; n];
+    let (mut b, mut wb) = (vec![0.0; n], vec![0.0; n]);
     for s in samples {
         basis.eval_into(s.direction, &mut b);
-        for i in 0..n {
-            let wb = s.weight * b[i];
-            for c in 0..3 {
-                m[(i, c)] += wb * s.value[c];
+        for (x, y) in wb.iter_mut().zip(&b) {
+            *x = s.weight * y;
+        }
+        // Column-major storage: each channel's column is contiguous.
+        for (c, col) in m.as_mut_slice().chunks_exact_mut(n).enumerate() {
+            let v = s.value[c];
+            for (o, x) in col.iter_mut().zip(&wb) {
+                *o += x * v;
             }
         }
     }
@@ -58,16 +62,21 @@ pub fn moments(basis: &dyn Basis, samples: &[RadianceSample]) -> DMatrix<f64> {
 pub fn sample_gram(basis: &dyn Basis, samples: &[RadianceSample]) -> DMatrix<f64> {
     let n = basis.len();
     let mut g = DMatrix::zeros(n, n);
-    let mut b = vec![0.0; n];
+    let (mut b, mut wb) = (vec![0.0; n], vec![0.0; n]);
     for s in samples {
         basis.eval_into(s.direction, &mut b);
-        for i in 0..n {
-            let wi = s.weight * b[i];
-            if wi == 0.0 {
+        for (x, y) in wb.iter_mut().zip(&b) {
+            *x = s.weight * y;
+        }
+        // Upper triangle, column by column (column-major: rows 0..=j of column j are
+        // contiguous): g_ij += (w·b_i)·b_j, the same products in the same order per entry.
+        for (j, col) in g.as_mut_slice().chunks_exact_mut(n).enumerate() {
+            let bj = b[j];
+            if bj == 0.0 {
                 continue;
             }
-            for j in i..n {
-                g[(i, j)] += wi * b[j];
+            for (o, x) in col[..=j].iter_mut().zip(&wb) {
+                *o += x * bj;
             }
         }
     }
