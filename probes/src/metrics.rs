@@ -24,6 +24,24 @@ pub fn compute(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]]) -> Me
     compute_rows(grid, approx, reference, 0..grid.height)
 }
 
+/// Unweighted RMS error over the texel rows `rows` (the `rms` of [`compute_rows`], same
+/// sum in the same order, without the other statistics; for convergence curves).
+pub fn rms_rows(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]], rows: std::ops::Range<usize>) -> f64 {
+    assert_eq!(approx.len(), grid.texel_count());
+    assert_eq!(reference.len(), grid.texel_count());
+    assert!(rows.end <= grid.height && !rows.is_empty());
+    let n = (3 * rows.len() * grid.width) as f64;
+    let (a, r) = (&approx[rows.start * grid.width..rows.end * grid.width], &reference[rows.start * grid.width..rows.end * grid.width]);
+    let mut se = 0.0;
+    for (x, y) in a.iter().zip(r) {
+        for c in 0..3 {
+            let e = x[c] - y[c];
+            se += e * e;
+        }
+    }
+    (se / n).sqrt()
+}
+
 /// Metrics over the texel rows `rows` only (the upper hemisphere is rows
 /// 0..height/2 of a lat-long grid with +Y up).
 pub fn compute_rows(grid: LatLong, approx: &[[f64; 3]], reference: &[[f64; 3]], rows: std::ops::Range<usize>) -> Metrics {
