@@ -7,12 +7,28 @@
 //! caches and branch predictors,
 //! then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
 //! nothing is allocated inside the loop (the evaluators hoist their scratch). Reported:
-//! the median pass and the spread (min, max). Measured serially, one mode at a time, so
-//! no other work of this process competes for the core.
+//! the median pass and the spread (min, max).
+//!
+//! Timed sections (these passes and the modes' encode timings) run one at a time, each
+//! on one thread, under [`exclusive`]: no other timed work competes for a core, while
+//! other modes' untimed work (images, metrics) may run on the remaining cores. A timed
+//! section never calls into rayon, so a thread holding the lock never picks up another
+//! mode's work.
 
 use sbf::glam::DVec3;
 use std::hint::black_box;
+use std::sync::Mutex;
 use std::time::Instant;
+
+static TIMING: Mutex<()> = Mutex::new(());
+
+/// Runs `f` while no other timed section of this process runs (see the module docs).
+/// `f` must not use rayon (a thread waiting in rayon may pick up a job that also wants
+/// the lock).
+pub fn exclusive<T>(f: impl FnOnce() -> T) -> T {
+    let _guard = TIMING.lock().unwrap_or_else(|e| e.into_inner());
+    f()
+}
 
 /// Timed passes per measurement.
 pub const REPEATS: usize = 5;
@@ -46,11 +62,11 @@ pub fn ns_per_direction(dirs: &[DVec3], work: usize, f: impl FnMut(DVec3) -> [f6
 
 /// [`ns_per_direction`] over any inputs (e.g. output texel indices).
 pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
-    measure(dirs, work, true, f)
+    exclusive(|| measure(dirs, work, true, f))
 }
 
 /// [`ns_per_item`] for a caller that has just run `f` over all of `dirs` (that pass is
-/// the warm-up).
+/// the warm-up); the caller holds [`exclusive`] across both.
 pub fn ns_per_item_warm<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
     measure(dirs, work, false, f)
 }

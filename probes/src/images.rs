@@ -16,6 +16,16 @@ pub fn write_exr(path: &Path, grid: LatLong, px: &[[f64; 3]]) -> Result<(), Stri
     img.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
 }
 
+/// Saves an 8-bit RGB image as PNG with fast deflate and adaptive filtering (previews and
+/// plots: lossless either way; the default deflate level costs more time than it saves
+/// bytes here).
+fn save_png(path: &Path, img: &image::RgbImage) -> Result<(), String> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let file = std::fs::File::create(path).map_err(|e| format!("writing {}: {e}", path.display()))?;
+    let enc = PngEncoder::new_with_quality(std::io::BufWriter::new(file), CompressionType::Fast, FilterType::Adaptive);
+    img.write_with_encoder(enc).map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
 /// Box-filters a row-major image on `grid` by the smallest power of two that makes it at
 /// most `max_width` wide (as far as the grid halves evenly); returns the new grid and texels.
 pub fn box_shrink(grid: LatLong, px: &[[f64; 3]], max_width: usize) -> (LatLong, Vec<[f64; 3]>) {
@@ -66,7 +76,7 @@ pub fn write_png(path: &Path, grid: LatLong, px: &[[f64; 3]], exposure: f64) -> 
             levels.partition_point(|l| *l <= r) as u8
         }))
     });
-    img.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
+    save_png(path, &img)
 }
 
 /// The 255 values of r at which round(255·r^(1/2.2)) steps up: ((b + ½)/255)^2.2, b = 0…254.
@@ -148,7 +158,7 @@ fn loglog_png(
         }
         root.present().map_err(|e| e.to_string())?;
     }
-    image::RgbImage::from_raw(w, h, buf).ok_or("bitmap size")?.save(path).map_err(|e| format!("writing {}: {e}", path.display()))
+    save_png(path, &image::RgbImage::from_raw(w, h, buf).ok_or("bitmap size")?)
 }
 
 /// An axis label a reader can take in at a glance: plain decimals from 0.001 to 99 999

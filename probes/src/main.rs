@@ -177,34 +177,33 @@ fn compare(
     };
     let spec_s = ts.elapsed().as_secs_f64();
     let tm = std::time::Instant::now();
-    let mut rows = Vec::new();
-    for id in ids {
-        pb.set_message(id.clone());
-        let r = modes::run(id, &ctx, repeats)?;
-        let mut irradiance = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
-        if let Some(neg) = r.clamped_negative_fraction {
-            irradiance.negative_fraction = neg;
-        }
-        let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
-        let (mut specular, mut specular_images) = (Vec::new(), Vec::new());
-        for sr in &spec_refs {
-            if let Some(img) = probes::specular::reconstruct(&r, &ctx, sr.alpha) {
-                specular.push((sr.alpha, metrics::compute_rows(ctx.grid, &img, &sr.image, ctx.metric_rows())));
-                specular_images.push(img);
+    // Modes run in parallel; their timed sections (encode, steady-state cost) one at a
+    // time on one thread each (`probes::cost::exclusive`), the rest on the other cores.
+    // Rows come back in the order of `ids`, and no value depends on the thread count.
+    use rayon::prelude::*;
+    pb.set_message("modes");
+    let rows: Vec<report::Row> = ids
+        .par_iter()
+        .map(|id| -> Result<report::Row, String> {
+            let r = modes::run(id, &ctx, repeats)?;
+            let mut irradiance = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
+            if let Some(neg) = r.clamped_negative_fraction {
+                irradiance.negative_fraction = neg;
             }
-        }
-        let specular_cost = alphas.first().and_then(|a| probes::specular::cost(&r, &ctx, *a));
-        rows.push(report::Row {
-            result: r,
-            radiance: rad,
-            irradiance,
-            specular,
-            specular_images,
-            specular_parts: Vec::new(),
-            specular_cost,
-        });
-        pb.inc(1);
-    }
+            let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
+            let (mut specular, mut specular_images) = (Vec::new(), Vec::new());
+            for sr in &spec_refs {
+                if let Some(img) = probes::specular::reconstruct(&r, &ctx, sr.alpha) {
+                    specular.push((sr.alpha, metrics::compute_rows(ctx.grid, &img, &sr.image, ctx.metric_rows())));
+                    specular_images.push(img);
+                }
+            }
+            let specular_cost = alphas.first().and_then(|a| probes::specular::cost(&r, &ctx, *a));
+            pb.inc(1);
+            Ok(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts: Vec::new(), specular_cost })
+        })
+        .collect::<Result<_, _>>()?;
+    let mut rows = rows;
     let modes_s = tm.elapsed().as_secs_f64();
     let tb = std::time::Instant::now();
     // Basis-limited error (the exact GGX integral of each reconstructed radiance against the

@@ -266,8 +266,13 @@ impl ModeResult {
     }
 }
 
-/// Median wall time of `repeats` runs of `f` and its last result.
-fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
+/// Median wall time of `repeats` runs of `f` and its last result (one timed section:
+/// `f` must not use rayon, see [`crate::cost::exclusive`]).
+fn timed<T>(repeats: usize, f: impl FnMut() -> T) -> (T, f64) {
+    crate::cost::exclusive(|| timed_now(repeats, f))
+}
+
+fn timed_now<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
     let mut times = Vec::with_capacity(repeats);
     let mut out = None;
     for _ in 0..repeats.max(1) {
@@ -282,10 +287,12 @@ fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
 /// The image of `f` over the output directions and its steady-state cost
 /// ([`crate::cost::ns_per_direction`]).
 fn eval_cost(ctx: &Context, mut f: impl FnMut(DVec3) -> [f64; 3]) -> (Vec<[f64; 3]>, crate::cost::CostStat) {
-    let out: Vec<[f64; 3]> = ctx.dirs.iter().map(|d| f(*d)).collect();
-    // The image pass just ran f over every direction: it is the warm-up.
-    let cost = crate::cost::ns_per_item_warm(&ctx.dirs, ctx.eval_work, f);
-    (out, cost)
+    crate::cost::exclusive(|| {
+        let out: Vec<[f64; 3]> = ctx.dirs.iter().map(|d| f(*d)).collect();
+        // The image pass just ran f over every direction: it is the warm-up.
+        let cost = crate::cost::ns_per_item_warm(&ctx.dirs, ctx.eval_work, f);
+        (out, cost)
+    })
 }
 
 /// Σ_i w_i·c_i over RGB coefficients: the runtime's form (each basis function's weight
@@ -413,8 +420,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             // distribution over the map), MCIS_SAMPLES draws from one fixed-seed sequence
             // shared by every output texel (the peer's non-jittered default), each draw
             // contributing L·Ω·max(0, n·ω)/p at the texel centre; E/π = mean/π.
+            // One timed run on one thread, like every other mode's encode.
             let (irr, t) = timed(1, || {
-                use rayon::prelude::*;
                 let g = ctx.map.geometry;
                 let weights: Vec<f64> = (0..g.texel_count())
                     .map(|k| {
@@ -450,8 +457,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 // lanes vectorise).
                 const LANES: usize = 4;
                 let norm = MCIS_SAMPLES as f64 * std::f64::consts::PI;
-                dirs.par_chunks(LANES)
-                    .flat_map_iter(|ns| {
+                dirs.chunks(LANES)
+                    .flat_map(|ns| {
                         let mut nx = [0.0; LANES];
                         let mut ny = [0.0; LANES];
                         let mut nz = [0.0; LANES];
@@ -501,8 +508,9 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 })
             } else {
                 timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
+                    // The exact quadrature over every texel at each axis (serial: a timed section).
                     let axes = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
-                    Ok(reference::reference_irradiance(&ctx.map, &axes).0)
+                    Ok(axes.iter().map(|a| reference::irradiance_at(&ctx.map, *a)).collect())
                 })
             };
             let c = c?;

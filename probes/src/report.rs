@@ -453,7 +453,16 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(
         images::write_exr(&d.join("reference_irradiance.exr"), m.grid, &m.reference)?;
     }
     images::write_png(&d.join("reference_irradiance.png"), m.grid, &m.reference, ev)?;
-    // Each mode's images on its own task (encoding dominates; the files are distinct).
+    // Each mode's images on its own task (encoding dominates; the files are distinct),
+    // alongside the plots.
+    let (modes, plots) = rayon::join(|| write_mode_images(&d, m, exr, ev), || write_plots(&d, m));
+    modes?;
+    plots
+}
+
+/// The images of every mode (and of the specular references) of one map.
+fn write_mode_images(d: &std::path::Path, m: &MapReport, exr: bool, ev: f64) -> Result<(), String> {
+    use crate::images;
     use rayon::prelude::*;
     m.rows.par_iter().try_for_each(|r| -> Result<(), String> {
         let x = &r.result;
@@ -489,21 +498,31 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(
         }
         images::write_png(&d.join(format!("reference_{st}.png")), m.grid, &sr.image, images::auto_exposure(&sr.image))?;
     }
+    Ok(())
+}
+
+/// The error-vs-samples plot and the three cost plots of one map, each on its own task.
+fn write_plots(d: &std::path::Path, m: &MapReport) -> Result<(), String> {
+    use crate::images;
+    use rayon::prelude::*;
     let series: Vec<(String, Vec<(f64, f64)>)> = m
         .rows
         .iter()
         .filter(|r| !r.result.convergence.is_empty())
         .map(|r| (r.result.id.to_string(), r.result.convergence.iter().map(|(n, e)| (*n as f64, *e)).collect()))
         .collect();
-    if !series.is_empty() {
+    let lines = || -> Result<(), String> {
+        if series.is_empty() {
+            return Ok(());
+        }
         images::lines(
             &d.join("error_vs_samples.png"),
             &format!("{}: per-sample encoders, irradiance error vs samples", m.path),
             "samples taken",
             "irradiance RMS (E/π)",
             &series,
-        )?;
-    }
+        )
+    };
     let pts = |f: &dyn Fn(&Row) -> f64| m.rows.iter().map(|r| (r.result.id.to_string(), f(r), r.irradiance.rms)).collect::<Vec<_>>();
     // The three cost plots, each on its own task.
     let plots: [Plot; 3] = [
@@ -526,6 +545,8 @@ pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(
             pts(&|r| r.result.eval.median_ns),
         ),
     ];
-    plots.par_iter().try_for_each(|(file, title, xlabel, p)| images::scatter(&d.join(file), title, xlabel, "irradiance RMS (E/π)", p))?;
-    Ok(())
+    let (a, b) = rayon::join(lines, || {
+        plots.par_iter().try_for_each(|(file, title, xlabel, p)| images::scatter(&d.join(file), title, xlabel, "irradiance RMS (E/π)", p))
+    });
+    a.and(b)
 }
