@@ -18,6 +18,8 @@
 //! - **Cost**: K is evaluated (output rows) × (H·S) × (W·S) times; one FFT of length W per
 //!   (output row, source row) pair and per channel one inverse FFT per output row.
 //!   Output rows are independent (rayon); the result is identical for any thread count.
+//!   Kernels symmetric about the equator ([`RowKernel::mirror_symmetric`]) fold one row
+//!   per mirror pair; products stop where both spectra have decayed ([`TAIL`]).
 //!
 //! The output grid must share the map's poles and have W_out dividing W (output column
 //! centres then fall on the finer grid); [`Quadrature::new`] says why otherwise.
@@ -46,6 +48,40 @@ pub struct Spectra {
     /// (real parts, imaginary parts) per row and channel: split, so that the products
     /// below run as plain vector arithmetic.
     rows: Vec<[SplitComplex; 3]>,
+    /// Per row and channel, the bins that carry the spectrum ([`significant_bins`]).
+    bins: Vec<[usize; 3]>,
+}
+
+/// Relative size of the spectral tail left out of the products: bins from n on are
+/// dropped when Σ_{b ≥ n} (|re_b| + |im_b|) ≤ TAIL · Σ_b (|re_b| + |im_b|).
+///
+/// Error bound: an output is (1/W)·Σ_b Σ_r T_rb·G_rb·e^{…} over all W bins; a row pair
+/// keeps the bins below min(n_T, n_G), and a dropped bin (with its Hermitian mirror) costs
+/// at most (2/W)·|T_rb|·|G_rb|. With |G_rb| ≤ ‖g_r‖₁ and |T_rb| ≤ ‖t_r‖₁ (the rows' sums
+/// of absolute values) and S ≤ (W/2 + 1)·‖·‖₁ for a half spectrum's L1 sum, the change is
+/// ≤ (4/W)·TAIL·(W/2 + 1)·Σ_r ‖t_r‖₁‖g_r‖₁ ≈ 2·TAIL·W × (the row mean of the quadrature
+/// of |L| against |K|): 4e-10 of it at W = 2048 in the worst case, and in practice
+/// ~TAIL (a smooth row's spectral L1 sum is a few times its DC bin). Broad spectra (a sun,
+/// the clamped cosine with its kink at the horizon) keep every bin; smooth rows (basis
+/// reconstructions: SH rows are trigonometric polynomials of degree ≤ L, SG rows decay
+/// like Bessel functions) and the GGX lobes near the poles and at large α keep fewer.
+pub const TAIL: f64 = 1e-13;
+
+/// The number of leading bins of a split spectrum to keep (see [`TAIL`]).
+pub fn significant_bins(re: &[f64], im: &[f64]) -> usize {
+    let mag = |b: usize| re[b].abs() + im[b].abs();
+    let total: f64 = (0..re.len()).map(mag).sum();
+    let mut tail = 0.0;
+    let mut n = re.len();
+    while n > 0 {
+        let t = tail + mag(n - 1);
+        if t > TAIL * total {
+            break;
+        }
+        tail = t;
+        n -= 1;
+    }
+    n
 }
 
 /// A complex vector as split (real parts, imaginary parts).
@@ -78,7 +114,7 @@ impl Quadrature {
         let mut planner = FftPlanner::<f64>::new();
         let fft = planner.plan_fft_forward(g.width);
         let ifft = planner.plan_fft_inverse(g.width);
-        let mut q = Quadrature { map: g, out, spectra: Spectra { rows: Vec::new() }, fft, ifft };
+        let mut q = Quadrature { map: g, out, spectra: Spectra { rows: Vec::new(), bins: Vec::new() }, fft, ifft };
         q.spectra = q.spectra(map)?;
         Ok(q)
     }
@@ -91,10 +127,24 @@ impl Quadrature {
                 map.geometry.width, map.geometry.height, self.map.width, self.map.height
             ));
         }
-        let rows = (0..self.map.height)
+        Ok(self.spectra_of(|i, j, c| map.texel(i, j)[c] as f64))
+    }
+
+    /// The row spectra of row-major f64 texels on this quadrature's map geometry (e.g. a
+    /// basis reconstruction, kept in f64: rounding to f32 would add a 1e-7 noise floor to
+    /// spectra that are otherwise band-limited). Errors on a wrong length.
+    pub fn spectra_f64(&self, texels: &[[f64; 3]]) -> Result<Spectra, String> {
+        if texels.len() != self.map.texel_count() {
+            return Err(format!("{} texels for a {}×{} quadrature", texels.len(), self.map.width, self.map.height));
+        }
+        Ok(self.spectra_of(|i, j, c| texels[j * self.map.width + i][c]))
+    }
+
+    fn spectra_of(&self, texel: impl Fn(usize, usize, usize) -> f64) -> Spectra {
+        let rows: Vec<[SplitComplex; 3]> = (0..self.map.height)
             .map(|j| {
                 [0, 1, 2].map(|c| {
-                    let mut row: Vec<Complex64> = (0..self.map.width).map(|i| Complex64::new(map.texel(i, j)[c] as f64, 0.0)).collect();
+                    let mut row: Vec<Complex64> = (0..self.map.width).map(|i| Complex64::new(texel(i, j, c), 0.0)).collect();
                     self.fft.process(&mut row);
                     // Real rows: the spectrum is Hermitian, bins 0..=W/2 carry all of it.
                     row.truncate(self.map.width / 2 + 1);
@@ -102,7 +152,8 @@ impl Quadrature {
                 })
             })
             .collect();
-        Ok(Spectra { rows })
+        let bins = rows.iter().map(|chans| chans.each_ref().map(|(re, im)| significant_bins(re, im))).collect();
+        Spectra { rows, bins }
     }
 
     /// ∫ L_bilinear(ω)·K(j, θ_ω, φ_d − φ_ω) dω at every texel centre of output rows
@@ -148,15 +199,35 @@ impl Quadrature {
         // Output rows in blocks, so that each pass over the maps' spectra (3·H·(W/2 + 1)
         // complex values per map) serves several rows.
         let rows_v: Vec<usize> = rows.collect();
-        let per_block: Vec<Vec<Vec<Vec<[f64; 3]>>>> = rows_v
+        // Mirror pairs: for a kernel symmetric about the equator, output row j' = H_out − 1 − j
+        // sees source row r as row j sees H − 1 − r (θ ↦ π − θ on both sides; the sub-rows,
+        // solid angles and bilinear rows mirror with them), so one fold serves both rows.
+        let h_out = self.out.height;
+        let mut wanted = vec![false; h_out];
+        for &j in &rows_v {
+            wanted[j] = true;
+        }
+        let primaries: Vec<(usize, Option<usize>)> = rows_v
+            .iter()
+            .filter_map(|&j| {
+                let m = h_out - 1 - j;
+                match kernel.mirror_symmetric() && wanted[m] && m != j {
+                    true if m < j => None,
+                    true => Some((j, Some(m))),
+                    false => Some((j, None)),
+                }
+            })
+            .collect();
+        let nb = w / 2 + 1;
+        let per_block: Vec<Vec<(usize, PerMap)>> = primaries
             .par_chunks(ROW_BLOCK)
             .map(|block| {
                 // The kernel folded per source row: g[row of block][r][Δ], Δ = k·i_out − m (mod W).
-                let g: Vec<Vec<Vec<f64>>> = block.iter().map(|&jv| self.fold(jv, s, kernel, &az, &hats)).collect();
-                // Spectra of the folded kernels (Hermitian half), None for all-zero rows.
-                let nb = w / 2 + 1;
+                let g: Vec<Vec<Vec<f64>>> = block.iter().map(|&(jv, _)| self.fold(jv, s, kernel, &az, &hats)).collect();
+                // Spectra of the folded kernels (Hermitian half) and their significant bins,
+                // None for all-zero rows.
                 let mut buf = vec![Complex64::new(0.0, 0.0); w];
-                let gs: Vec<Vec<Option<SplitComplex>>> = g
+                let gs: Vec<Vec<Option<(SplitComplex, usize)>>> = g
                     .iter()
                     .map(|gj| {
                         gj.iter()
@@ -168,30 +239,41 @@ impl Quadrature {
                                     *b = Complex64::new(*x, 0.0);
                                 }
                                 self.fft.process(&mut buf);
-                                Some((buf[..nb].iter().map(|z| z.re).collect(), buf[..nb].iter().map(|z| z.im).collect()))
+                                let (re, im): (Vec<f64>, Vec<f64>) = buf[..nb].iter().map(|z| (z.re, z.im)).unzip();
+                                let n = significant_bins(&re, &im);
+                                Some(((re, im), n))
                             })
                             .collect()
                     })
                     .collect();
-                // Σ_r spectrum(T_r)·spectrum(G_r) per map, channel and row of the block.
+                // Output rows of the block: (row, its fold, source row order reversed?).
+                let outs: Vec<(usize, usize, bool)> = block
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(b, &(j, m))| std::iter::once((j, b, false)).chain(m.map(|m| (m, b, true))))
+                    .collect();
+                // Σ_r spectrum(T_r)·spectrum(G_r) per map, channel and output row.
                 let mut acc: Vec<Vec<[SplitComplex; 3]>> =
-                    block.iter().map(|_| maps.iter().map(|_| [0, 1, 2].map(|_| (vec![0.0; nb], vec![0.0; nb]))).collect()).collect();
+                    outs.iter().map(|_| maps.iter().map(|_| [0, 1, 2].map(|_| (vec![0.0; nb], vec![0.0; nb]))).collect()).collect();
                 for r in 0..h {
                     for (m, map) in maps.iter().enumerate() {
                         for c in 0..3 {
                             let (tr, ti) = &map.rows[r][c];
-                            for (bj, gj) in gs.iter().enumerate() {
-                                let Some((gr, gi)) = &gj[r] else { continue };
-                                let (ar, ai) = &mut acc[bj][m][c];
-                                complex_mac(ar, ai, tr, ti, gr, gi);
+                            let nt = map.bins[r][c];
+                            for (o, &(_, b, mirrored)) in outs.iter().enumerate() {
+                                let Some(((gr, gi), ng)) = &gs[b][if mirrored { h - 1 - r } else { r }] else { continue };
+                                let n = nt.min(*ng);
+                                let (ar, ai) = &mut acc[o][m][c];
+                                complex_mac(&mut ar[..n], &mut ai[..n], &tr[..n], &ti[..n], &gr[..n], &gi[..n]);
                             }
                         }
                     }
                 }
                 // One inverse FFT per row, map and channel (the full spectrum rebuilt by symmetry).
-                acc.into_iter()
-                    .map(|per_map| {
-                        per_map
+                outs.iter()
+                    .zip(acc)
+                    .map(|(&(row, _, _), per_map)| {
+                        let images = per_map
                             .into_iter()
                             .map(|chans| {
                                 let chans = chans.map(|(hr, hi)| {
@@ -203,16 +285,24 @@ impl Quadrature {
                                 });
                                 (0..self.out.width).map(|i| [chans[0][i], chans[1][i], chans[2][i]]).collect::<Vec<[f64; 3]>>()
                             })
-                            .collect()
+                            .collect();
+                        (row, images)
                     })
                     .collect()
             })
             .collect();
-        let per_row: Vec<Vec<Vec<[f64; 3]>>> = per_block.into_iter().flatten().collect();
-        // per_row[row][map] → per map, rows concatenated.
+        // Back in the order of `rows`: per_row[row][map] → per map, rows concatenated.
+        let mut by_row: Vec<Option<PerMap>> = vec![None; h_out];
+        for (row, images) in per_block.into_iter().flatten() {
+            by_row[row] = Some(images);
+        }
+        let per_row: Vec<Vec<Vec<[f64; 3]>>> = rows_v.iter().map(|&j| by_row[j].clone().expect("every row computed")).collect();
         (0..maps.len()).map(|m| per_row.iter().flat_map(|r| r[m].iter().copied()).collect()).collect()
     }
 }
+
+/// One output row's values for every map (`[map][column]`).
+type PerMap = Vec<Vec<[f64; 3]>>;
 
 /// Output rows per task of [`Quadrature::integrate_many`].
 const ROW_BLOCK: usize = 8;
@@ -282,6 +372,14 @@ pub trait RowKernel: Sync {
     /// Writes K(j, θ_ω, Δφ_x) into `out[x]` for every fine azimuth x of `az` (output row
     /// j, source polar angle θ_ω); returns whether any value is non-zero.
     fn row(&self, j: usize, theta: f64, az: &Azimuths, out: &mut [f64]) -> bool;
+
+    /// Whether K(H_out − 1 − j, π − θ, Δφ) = K(j, θ, Δφ) for every output row j (the
+    /// kernel depends on the two polar angles only through cos θ_d·cos θ and
+    /// sin θ_d·sin θ, like anything zonal about the output direction); then
+    /// [`Quadrature::integrate_many`] folds one row of each mirror pair. Default false.
+    fn mirror_symmetric(&self) -> bool {
+        false
+    }
 }
 
 /// A pointwise kernel (j, θ_ω, Δφ) ↦ K as a [`RowKernel`].

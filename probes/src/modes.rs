@@ -142,8 +142,10 @@ pub struct ModeResult {
     /// Fraction of texels whose irradiance was negative before a clamp (SH modes clamp
     /// at 0 like the peer; `None` when the mode does not clamp).
     pub clamped_negative_fraction: Option<f64>,
-    /// Encode time (median of `repeats` runs), seconds, from the mode's input.
+    /// Encode time (median of `encode_runs` runs), seconds, from the mode's input.
     pub encode_s: f64,
+    /// Encode runs timed: `--repeats`, or fewer once they took [`ENCODE_BUDGET_S`].
+    pub encode_runs: usize,
     /// The mode fits the exact irradiance image, not the radiance map: its encode is
     /// charged [`Context::reference_s`] on top (see [`ModeResult::encode_total_s`]).
     pub needs_reference: bool,
@@ -266,22 +268,33 @@ impl ModeResult {
     }
 }
 
-/// Median wall time of `repeats` runs of `f` and its last result (one timed section:
-/// `f` must not use rayon, see [`crate::cost::exclusive`]).
-fn timed<T>(repeats: usize, f: impl FnMut() -> T) -> (T, f64) {
-    crate::cost::exclusive(|| timed_now(repeats, f))
+/// Encode runs stop repeating once they have taken this long together: a run of a
+/// tenth of a second is its own steady state (timer and scheduling noise are far below its
+/// length), and repeating it only lengthens the run on large maps.
+pub const ENCODE_BUDGET_S: f64 = 0.1;
+
+/// An encode's timing: the median of `runs` runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Timing {
+    pub median_s: f64,
+    pub runs: usize,
 }
 
-fn timed_now<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, f64) {
-    let mut times = Vec::with_capacity(repeats);
-    let mut out = None;
-    for _ in 0..repeats.max(1) {
-        let t = Instant::now();
-        out = Some(f());
-        times.push(t.elapsed().as_secs_f64());
-    }
-    times.sort_by(f64::total_cmp);
-    (out.expect("ran at least once"), times[times.len() / 2])
+/// `f` run `repeats` times — fewer once the runs have taken [`ENCODE_BUDGET_S`], at least
+/// once — with its last result and the median wall time (one timed section: `f` must not
+/// use rayon, see [`crate::cost::exclusive`]).
+fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, Timing) {
+    crate::cost::exclusive(|| {
+        let mut times = Vec::with_capacity(repeats);
+        let mut out = None;
+        while times.len() < repeats.max(1) && (times.is_empty() || times.iter().sum::<f64>() < ENCODE_BUDGET_S) {
+            let t = Instant::now();
+            out = Some(f());
+            times.push(t.elapsed().as_secs_f64());
+        }
+        times.sort_by(f64::total_cmp);
+        (out.expect("ran at least once"), Timing { median_s: times[times.len() / 2], runs: times.len() })
+    })
 }
 
 /// The image of `f` over the output directions and its steady-state cost
@@ -397,7 +410,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
               lobes: Vec<(DVec3, f64)>,
               radiance: Option<Vec<[f64; 3]>>,
               irradiance: Vec<[f64; 3]>,
-              encode_s: f64,
+              encode: Timing,
               eval: crate::cost::CostStat| ModeResult {
         id: name,
         name: MODES.iter().find(|(m, _)| *m == id).map(|(_, d)| *d).unwrap_or(""),
@@ -408,7 +421,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
         irradiance,
         clamped_negative_fraction: None,
         stored_scalars: 3 * coefficients.len(),
-        encode_s,
+        encode_s: encode.median_s,
+        encode_runs: encode.runs,
         needs_reference: false,
         eval,
         coefficients,
@@ -486,7 +500,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 None,
                 irr,
                 t,
-                crate::cost::CostStat::single(t * 1e9 / dirs.len() as f64, dirs.len()),
+                crate::cost::CostStat::single(t.median_s * 1e9 / dirs.len() as f64, dirs.len()),
             ))
         }
         "ac" | "acproj" => {

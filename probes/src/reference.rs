@@ -142,6 +142,11 @@ impl crate::azimuthal::RowKernel for CosineRows {
         }
         any
     }
+
+    /// n·ω is unchanged by θ_n ↦ π − θ_n, θ ↦ π − θ.
+    fn mirror_symmetric(&self) -> bool {
+        true
+    }
 }
 
 /// The reference E/π at every texel centre of `grid`: the azimuthal FFT quadrature over

@@ -168,6 +168,9 @@ pub struct Cost {
     pub encode_input: String,
     /// Median encode time from that input, seconds.
     pub encode_s: f64,
+    /// Runs timed for that median (`--repeats`, fewer once the runs took 0.1 s).
+    #[serde(default)]
+    pub encode_runs: usize,
     /// Encode time from the radiance map: `encode_s` plus, for modes that fit the
     /// irradiance reference, the time it took to make it.
     pub encode_total_s: f64,
@@ -243,6 +246,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                 cost: Cost {
                     encode_input: if x.needs_reference { "irradiance reference" } else { "radiance map" }.into(),
                     encode_s: x.encode_s,
+                    encode_runs: x.encode_runs,
                     encode_total_s: x.encode_total_s(m.stages.reference_irradiance),
                     eval: x.eval,
                     specular_eval: r.specular_cost,

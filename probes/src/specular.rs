@@ -81,6 +81,36 @@ pub fn subdivision(alpha: f64, height: usize) -> usize {
     }
 }
 
+/// Coarsening of the map for the deterministic reference at roughness α: the largest power
+/// of two D such that the D×D-block texels (solid-angle-weighted means,
+/// [`crate::reference::downsample`]) are still below α/16 — the same angular bound as
+/// [`subdivision`]'s, whose S = 1 case is D = 1 — while the output grid's width still
+/// divides the coarse map's (D ≤ W/W_out) and the map halves evenly. Maps no wider than
+/// the output grid (every map up to 512 wide) always get D = 1.
+pub fn coarsening(alpha: f64, map: LatLong, out: LatLong) -> usize {
+    let mut d = 1;
+    loop {
+        let next = 2 * d;
+        let (w, h) = (map.width / d, map.height / d);
+        let fits = w % 2 == 0 && h % 2 == 0 && (w / 2) % out.width == 0 && h / 2 >= out.height;
+        if !fits || std::f64::consts::PI * next as f64 / map.height as f64 > alpha.max(1e-3) / 16.0 {
+            return d;
+        }
+        d = next;
+    }
+}
+
+/// The map box-filtered by `d` (a power of two) in both directions.
+fn coarsened(map: &LatLongImage, d: usize) -> LatLongImage {
+    let mut m = map.clone();
+    let mut k = 1;
+    while k < d {
+        m = crate::reference::downsample(&m);
+        k *= 2;
+    }
+    m
+}
+
 /// Output row stride of the deterministic reference's quadrature check.
 pub const FFT_CHECK_STRIDE: usize = 8;
 
@@ -89,20 +119,29 @@ pub const FFT_CHECK_STRIDE: usize = 8;
 /// ([`crate::azimuthal`]) with [`subdivision`] sub-cells per texel side — exact in φ up
 /// to that midpoint rule, since the BRDF is invariant under rotation about the pole
 /// (Appendix C: normal +Y) or about the view itself (whole sphere: normal = view).
-/// Error estimate: the same quadrature with twice the subdivision on every
-/// [`FFT_CHECK_STRIDE`]-th output row where the signal is defined; for a midpoint rule
-/// (error ∝ h²) R_S − R_2S is ¾ of R_S's own error, so the RMS difference × 4/3 is
-/// reported. Errors with why the grid does not allow it.
+/// On maps wider than the output grid, texels far below α/16 are first merged
+/// ([`coarsening`]: D × D blocks, one sub-cell each) — the bilinear radiance of the
+/// box-filtered map differs from the map's by O(h²) for smooth radiance, like the
+/// quadrature itself, and the check below measures it.
+/// Error estimate: the same quadrature with the cells halved — twice the subdivision, or
+/// the map coarsened by D/2 — on every [`FFT_CHECK_STRIDE`]-th output row where the
+/// signal is defined; for an h² rule R_h − R_{h/2} is ¾ of R_h's own error, so the RMS
+/// difference × 4/3 is reported. Errors with why the grid does not allow it.
 pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> {
-    let q = crate::azimuthal::Quadrature::new(&ctx.map, ctx.grid)?;
-    let sub = subdivision(alpha, ctx.map.geometry.height);
+    let d = coarsening(alpha, ctx.map.geometry, ctx.grid);
+    let source = coarsened(&ctx.map, d);
+    let q = crate::azimuthal::Quadrature::new(&source, ctx.grid)?;
+    let sub = if d > 1 { 1 } else { subdivision(alpha, ctx.map.geometry.height) };
     let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
     let image = fft_image(&q, ctx.grid, rows.clone(), sub, &kernel);
+    // The check's quadrature: the map at D/2 (one sub-cell), or 2S sub-cells at D = 1.
+    let (check_q, check_sub) =
+        if d > 1 { (crate::azimuthal::Quadrature::new(&coarsened(&ctx.map, d / 2), ctx.grid)?, 1) } else { (q, 2 * sub) };
     let w_out = ctx.grid.width;
     let check: Vec<usize> = rows.clone().step_by(FFT_CHECK_STRIDE).collect();
     let (mut e2, mut s2, mut n) = (0.0, 0.0, 0usize);
     for &j in &check {
-        let fine = q.integrate_rows(j..j + 1, 2 * sub, &kernel);
+        let fine = check_q.integrate_rows(j..j + 1, check_sub, &kernel);
         for (i, f) in fine.iter().enumerate() {
             for c in 0..3 {
                 e2 += (image[j * w_out + i][c] - f[c]).powi(2);
@@ -112,7 +151,14 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
         }
     }
     let m = (3 * n).max(1) as f64;
-    Ok(FftReference { image, error_rms: (e2 / m).sqrt() * 4.0 / 3.0, signal_rms: (s2 / m).sqrt(), texels_checked: n, subdivision: sub })
+    Ok(FftReference {
+        image,
+        error_rms: (e2 / m).sqrt() * 4.0 / 3.0,
+        signal_rms: (s2 / m).sqrt(),
+        texels_checked: n,
+        subdivision: sub,
+        coarsening: d,
+    })
 }
 
 /// The output rows where the signal is defined and the GGX kernel for `domain`.
@@ -199,6 +245,12 @@ impl crate::azimuthal::RowKernel for GgxRows {
         }
         any
     }
+
+    /// Over the sphere the kernel is zonal about the view (a function of n·l = v·l and of
+    /// |v − l|², both unchanged by mirroring both polar angles); the hemisphere's is not.
+    fn mirror_symmetric(&self) -> bool {
+        self.domain == Domain::Sphere
+    }
 }
 
 /// The quadrature on `rows`, placed in a full output image (zero elsewhere).
@@ -219,20 +271,19 @@ fn fft_image(
 /// The *basis-limited* specular images of several modes (issue 19 item 2): the exact GGX
 /// integral of each mode's reconstructed radiance — given at the output grid's texel
 /// centres, read bilinearly like the map — by the same azimuthal quadrature as the
-/// reference, with half its subdivision rounded up to even (at least 2; see
-/// [`subdivision`]); the kernel is folded once for all modes. Compared with the reference
+/// reference, with half the subdivision [`subdivision`] gives the grid, rounded up to even
+/// (at least 2), or 1 where the grid's texels are already below α/16; the kernel is folded
+/// once for all modes. Compared with the reference
 /// it is the error of the basis; the runtime path's image compared with it is what the
 /// runtime approximation adds. None when the grid does not allow the quadrature.
 pub fn basis_limited(ctx: &Context, radiances: &[&[[f64; 3]]], alpha: f64) -> Option<Vec<Vec<[f64; 3]>>> {
-    let images: Vec<LatLongImage> = radiances
-        .iter()
-        .map(|r| LatLongImage::new(ctx.grid.width, ctx.grid.height, r.iter().map(|c| c.map(|x| x as f32)).collect()).ok())
-        .collect::<Option<_>>()?;
-    let first = images.first()?;
-    let q = crate::azimuthal::Quadrature::new(first, ctx.grid).ok()?;
-    let spectra: Vec<crate::azimuthal::Spectra> = images.iter().map(|i| q.spectra(i).ok()).collect::<Option<_>>()?;
-    let half = subdivision(alpha, ctx.grid.height) / 2;
-    let sub = (half + half % 2).max(2);
+    // The quadrature's geometry is the output grid's (its own row spectra are unused).
+    let first = LatLongImage::new(ctx.grid.width, ctx.grid.height, vec![[0.0; 3]; ctx.grid.texel_count()]).ok()?;
+    let q = crate::azimuthal::Quadrature::new(&first, ctx.grid).ok()?;
+    let spectra: Vec<crate::azimuthal::Spectra> = radiances.iter().map(|r| q.spectra_f64(r).ok()).collect::<Option<_>>()?;
+    let full = subdivision(alpha, ctx.grid.height);
+    let half = full / 2;
+    let sub = if full == 1 { 1 } else { (half + half % 2).max(2) };
     let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
     let refs: Vec<&crate::azimuthal::Spectra> = spectra.iter().collect();
     let parts = q.integrate_many(&refs, rows.clone(), sub, &kernel);
@@ -259,6 +310,8 @@ pub struct FftReference {
     pub texels_checked: usize,
     /// Sub-cells per texel side.
     pub subdivision: usize,
+    /// Texels of the map merged per side before the quadrature ([`coarsening`]).
+    pub coarsening: usize,
 }
 
 /// Texel stride of the reference's convergence check.

@@ -293,3 +293,135 @@ fn row_kernel_equals_the_pointwise_kernel() {
     }
     assert!(checked > 100_000, "only {checked} non-zero values compared");
 }
+
+/// The row kernels through the full machinery — `GgxRows` (mirror pairs over the sphere,
+/// spectral truncation) — against the direct sum of the same rule: both domains, α 0.1
+/// and 0.6, subdivisions 1–2, on the random map (broad spectra: every bin kept) and on a
+/// band-limited one (texels of a degree-2 polynomial in the direction: three φ bins per
+/// row, the rest truncated), every output texel. Tolerance as above plus the row kernel's
+/// own deviation from `ggx_kernel` (≤ 1e-13·(1 + κ), test below) — 1e-11 of the largest
+/// value. Mutations tried: the mirrored row reading source row r instead of H − 1 − r;
+/// truncation at 3 bins for every row; both fail.
+#[test]
+fn row_kernels_with_mirror_pairs_and_truncation_equal_the_direct_sum() {
+    let smooth =
+        LatLongImage::from_fn(32, 16, |d| [1.0 + 0.5 * d.x + 0.3 * d.y * d.z, 0.8 - 0.2 * d.y + 0.1 * d.x * d.x, 0.5 + 0.4 * d.z]).unwrap();
+    for map in [random_map(), smooth] {
+        for domain in [Domain::UpperHemisphere, Domain::Sphere] {
+            for (alpha, sub) in [(0.1, 2), (0.6, 1)] {
+                let out = LatLong { width: 16, height: 8 };
+                let q = probes::azimuthal::Quadrature::new(&map, out).unwrap();
+                let kernel = probes::specular::GgxRows { domain, alpha, h_out: out.height };
+                let got = q.integrate_rows(0..out.height, sub, &kernel);
+                let top = got.iter().flat_map(|x| x.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
+                for j in 0..out.height {
+                    for i in 0..out.width {
+                        let want = direct(&map, out, domain, alpha, sub, i, j);
+                        for c in 0..3 {
+                            let g = got[j * out.width + i][c];
+                            assert!(
+                                (g - want[c]).abs() <= 1e-11 * top.max(1.0),
+                                "{domain:?} α {alpha} S {sub} texel ({i}, {j}): {g} vs {}",
+                                want[c]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Spectral truncation keeps what matters: a trigonometric polynomial of degree 3 keeps
+/// 4 bins (its spectrum beyond is rounding noise), a flat spectrum keeps all, and the
+/// dropped tail is ≤ TAIL of the L1 sum (the bound the quadrature's error model uses).
+#[test]
+fn significant_bins_keep_the_spectrum() {
+    use probes::azimuthal::{significant_bins, TAIL};
+    let n = 64;
+    let mut re = vec![0.0; n / 2 + 1];
+    let mut im = vec![0.0; n / 2 + 1];
+    for (b, (r, i)) in re.iter_mut().zip(im.iter_mut()).enumerate() {
+        // Exact low bins, then noise at 1e-17 of them.
+        (*r, *i) = if b <= 3 { (1.0 / (b + 1) as f64, 0.5 / (b + 1) as f64) } else { (1e-17 * (b as f64).sin(), 1e-17) };
+    }
+    assert_eq!(significant_bins(&re, &im), 4);
+    let flat = vec![1.0; n / 2 + 1];
+    assert_eq!(significant_bins(&flat, &flat), n / 2 + 1);
+    let decay: Vec<f64> = (0..=n / 2).map(|b| (-(b as f64)).exp()).collect();
+    let k = significant_bins(&decay, &vec![0.0; decay.len()]);
+    let total: f64 = decay.iter().sum();
+    let tail: f64 = decay[k..].iter().sum();
+    assert!(tail <= TAIL * total && tail + decay[k - 1] > TAIL * total, "kept {k}: tail {tail:e} of {total}");
+}
+
+/// The coarsening rule: every map no wider than its output grid keeps D = 1 (the probes,
+/// 512-wide maps); a 2048 × 1024 map (output 512 × 256) merges 2 × 2 texels at α = 0.1
+/// (π·2/1024 ≤ 0.1/16) and 4 × 4 (the output width's limit) from α = 0.2.
+#[test]
+fn coarsening_follows_the_lobe_and_the_output_grid() {
+    use probes::specular::coarsening;
+    let g = |w: usize| LatLong { width: w, height: w / 2 };
+    for alpha in [1e-4, 0.1, 0.8, 1.0] {
+        assert_eq!(coarsening(alpha, g(256), g(256)), 1);
+        assert_eq!(coarsening(alpha, g(512), g(512)), 1);
+    }
+    assert_eq!(coarsening(0.1, g(2048), g(512)), 2);
+    assert_eq!(coarsening(0.05, g(2048), g(512)), 1);
+    for alpha in [0.2, 0.4, 0.8] {
+        assert_eq!(coarsening(alpha, g(2048), g(512)), 4);
+    }
+    assert_eq!(coarsening(0.8, g(1024), g(512)), 2);
+}
+
+/// The coarsened reference against a finer quadrature: a 1024 × 512 map (smooth sky, a
+/// sun of 1000 over a 0.05 rad disk) at α = 0.4 — D = 2, one cell per 2 × 2 texels —
+/// against the map itself at S = 2 (cells a quarter of the size: their own error ≈ 1/16
+/// of D = 2's for an h² rule), on output rows 4, 12, 20, … (not the rows the reference's
+/// own check uses). Both domains. The stated error is a Richardson estimate on other rows,
+/// so the measured RMS must lie within [½, 2]× of it: too low means the check does not see
+/// the coarsening, too high that the estimate hides error; and below 3× the h² model's
+/// (c/α)²/24 of the signal. Mutations tried: the coarse map × 1.01 (the stated error
+/// follows it, the h² bar fails), the check run at D instead of D/2 (stated error 0) —
+/// both fail.
+#[test]
+fn coarsened_reference_is_within_its_stated_error() {
+    let sun = DVec3::new(0.3, 0.8, -0.52).normalize();
+    let map = LatLongImage::from_fn(1024, 512, |d| {
+        let s = if d.dot(sun) > (0.05f64).cos() { 1000.0 } else { 0.0 };
+        [0.5 + 0.3 * d.y + s, 0.6 + 0.2 * d.x * d.y + s, 0.8 + 0.1 * d.z + 0.9 * s]
+    })
+    .unwrap();
+    for domain in [Domain::Sphere, Domain::UpperHemisphere] {
+        let ctx = Context::with_domain(map.clone(), domain);
+        let alpha = 0.4;
+        let r = reference_fft(&ctx, alpha).unwrap();
+        assert_eq!(r.coarsening, 2);
+        let (w, h) = (ctx.grid.width, ctx.grid.height);
+        let q = probes::azimuthal::Quadrature::new(&ctx.map, ctx.grid).unwrap();
+        let kernel = probes::specular::GgxRows { domain, alpha, h_out: h };
+        let rows = if domain == Domain::Sphere { h } else { h / 2 };
+        let (mut e2, mut n) = (0.0, 0usize);
+        for j in (4..rows).step_by(8) {
+            let fine = q.integrate_rows(j..j + 1, 2, &kernel);
+            for (i, f) in fine.iter().enumerate() {
+                for c in 0..3 {
+                    e2 += (r.image[j * w + i][c] - f[c]).powi(2);
+                }
+                n += 3;
+            }
+        }
+        let measured = (e2 / n as f64).sqrt();
+        println!("{domain:?}: measured RMS {measured:.3e}, stated {:.3e}, signal {:.3}", r.error_rms, r.signal_rms);
+        assert!(
+            measured <= 2.0 * r.error_rms && measured >= 0.5 * r.error_rms,
+            "{domain:?}: measured {measured:e} vs stated {:e}",
+            r.error_rms
+        );
+        // And small: a midpoint rule with cells of side c on a lobe of width α errs by
+        // ~(c/α)²/24 of the signal (the lobe's curvature); 3× that, c = 2π/512.
+        let c = 2.0 * PI / 512.0;
+        let bar = 3.0 * (c / alpha).powi(2) / 24.0 * r.signal_rms;
+        assert!(measured <= bar, "{domain:?}: measured {measured:e} above the h² model's {bar:e}");
+    }
+}
