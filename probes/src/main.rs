@@ -57,10 +57,11 @@ enum Cmd {
         /// Skip the specular signal (irradiance and radiance only).
         #[arg(long)]
         no_specular: bool,
-        /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the runtime path), `peer`
-        /// (Probulator's cosine-as-SG kernel, λ 8.5 after naive projection, 3.0 otherwise;
-        /// reproduces its published figures), or `auto`: the peer's kernel for `sg` (its naive
-        /// projection carries the peer's normalisation, tuned with that kernel), Hill for the others.
+        /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the WGSL runtime path),
+        /// `peer` (Probulator's cosine-as-SG kernel, λ 8.5 after naive projection, 3.0
+        /// otherwise; reproduces its published figures), `prior` (the best linear estimate
+        /// under an isotropic radiance prior, C_l ∝ l⁻²), or `auto`: the peer's kernel for
+        /// `sg` and `sgnnls`, the prior estimate for `sgls` and `sglsa`.
         #[arg(long, default_value = "auto")]
         sg_irradiance: String,
         /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
@@ -371,7 +372,8 @@ fn main() -> ExitCode {
                 "auto" => modes::SgIrradiance::Auto,
                 "hill" => modes::SgIrradiance::Hill,
                 "peer" => modes::SgIrradiance::Peer,
-                other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill` or `peer`")),
+                "prior" => modes::SgIrradiance::Prior,
+                other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill`, `peer` or `prior`")),
             };
             let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
             let (m, alphas) = match &prof {
