@@ -114,20 +114,82 @@ fn legendre_all(t: f64, p: &mut [f64]) {
     }
 }
 
-/// Σ_l a_l P_l(t) by the upward recurrence.
-fn legendre_series(a: &[f64], t: f64) -> f64 {
-    let (mut p0, mut p1) = (1.0, t);
-    let mut s = a.first().copied().unwrap_or(0.0);
-    if a.len() > 1 {
-        s += a[1] * t;
+/// Highest degree evaluated as a monomial polynomial (Horner); above it the Legendre
+/// recurrence. Converting a Legendre series of degree ≤ 24 to monomials multiplies its
+/// rounding by at most the monomial coefficients of P_l (< 3e5 at l = 24) times the
+/// decaying a_l; for the kernels here (a_l ≲ 1e-6·a_0 beyond l = 8) that stays near 1e-15
+/// of the value (the white-prior test checks 1e-12 against direct quadrature).
+const HORNER_MAX_DEGREE: usize = 24;
+
+/// A zonal kernel Σ_l a_l P_l(t), truncated where the rest of |a_l| sums to ≤ 1e-17 of
+/// the whole (|P_l| ≤ 1 on [−1, 1], so that bounds the dropped part), stored for fast
+/// evaluation: monomial coefficients (Horner) up to [`HORNER_MAX_DEGREE`], else the
+/// Legendre coefficients with the recurrence's constants.
+#[derive(Debug, Clone)]
+enum Kernel {
+    Monomial(Vec<f64>),
+    Legendre(Vec<f64>),
+}
+
+impl Kernel {
+    fn new(a: &[f64]) -> Kernel {
+        let total: f64 = a.iter().map(|x| x.abs()).sum();
+        let mut n = a.len();
+        let mut tail = 0.0;
+        while n > 1 && tail + a[n - 1].abs() <= 1e-17 * total {
+            tail += a[n - 1].abs();
+            n -= 1;
+        }
+        let a = &a[..n];
+        if n - 1 > HORNER_MAX_DEGREE {
+            return Kernel::Legendre(a.to_vec());
+        }
+        // Monomial coefficients of P_l by the recurrence (l+1)P_{l+1} = (2l+1)t P_l − l P_{l−1}.
+        let mut out = vec![0.0; n];
+        let (mut p0, mut p1) = (vec![0.0; n], vec![0.0; n]);
+        p0[0] = 1.0;
+        if n > 1 {
+            p1[1] = 1.0;
+        }
+        for (l, al) in a.iter().enumerate() {
+            let p = match l {
+                0 => p0.clone(),
+                1 => p1.clone(),
+                _ => {
+                    let k = (l - 1) as f64;
+                    let mut p2 = vec![0.0; n];
+                    for d in 0..n {
+                        let shifted = if d > 0 { p1[d - 1] } else { 0.0 };
+                        p2[d] = ((2.0 * k + 1.0) * shifted - k * p0[d]) / (k + 1.0);
+                    }
+                    p0 = std::mem::replace(&mut p1, p2);
+                    p1.clone()
+                }
+            };
+            for (o, c) in out.iter_mut().zip(&p) {
+                *o += al * c;
+            }
+        }
+        Kernel::Monomial(out)
     }
-    for (l, al) in a.iter().enumerate().skip(2) {
-        let k = l - 1;
-        let p2 = ((2 * k + 1) as f64 * t * p1 - k as f64 * p0) / l as f64;
-        s += al * p2;
-        (p0, p1) = (p1, p2);
+
+    #[inline]
+    fn eval(&self, t: f64) -> f64 {
+        match self {
+            Kernel::Monomial(c) => c.iter().rev().fold(0.0, |acc, ci| acc * t + ci),
+            Kernel::Legendre(a) => {
+                let (mut p0, mut p1) = (1.0, t);
+                let mut s = a[0] + a.get(1).map_or(0.0, |a1| a1 * t);
+                for (l, al) in a.iter().enumerate().skip(2) {
+                    let k = (l - 1) as f64;
+                    let p2 = ((2.0 * k + 1.0) * t * p1 - k * p0) / (k + 1.0);
+                    s += al * p2;
+                    (p0, p1) = (p1, p2);
+                }
+                s
+            }
+        }
     }
-    s
 }
 
 /// The estimator of the module docs for one basis: per function its axis and the Legendre
@@ -135,7 +197,7 @@ fn legendre_series(a: &[f64], t: f64) -> f64 {
 #[derive(Debug, Clone)]
 pub struct PriorIrradiance {
     axes: Vec<DVec3>,
-    kernels: Vec<Vec<f64>>,
+    kernels: Vec<Kernel>,
     transform: DMatrix<f64>,
     gram: DMatrix<f64>,
     chol: nalgebra::Cholesky<f64, nalgebra::Dyn>,
@@ -203,7 +265,11 @@ impl PriorIrradiance {
         let transform = chol.solve(&gram);
         let kernels = coeffs
             .iter()
-            .map(|c| (0..=lmax).map(|l| prior.power(l) * super::zonal::lambert_band_factor(l) / PI * c[l] * band(l)).collect())
+            .map(|c| {
+                Kernel::new(
+                    &(0..=lmax).map(|l| prior.power(l) * super::zonal::lambert_band_factor(l) / PI * c[l] * band(l)).collect::<Vec<_>>(),
+                )
+            })
             .collect();
         Ok(PriorIrradiance { axes, kernels, transform, gram, chol, prior, lmax, condition: hi / lo })
     }
@@ -250,7 +316,7 @@ impl PriorIrradiance {
     pub fn weights(&self, n: DVec3, out: &mut [f64]) {
         assert_eq!(out.len(), self.len(), "one weight per basis function");
         for ((o, a), k) in out.iter_mut().zip(&self.axes).zip(&self.kernels) {
-            *o = legendre_series(k, a.dot(n).clamp(-1.0, 1.0));
+            *o = k.eval(a.dot(n).clamp(-1.0, 1.0));
         }
     }
 
@@ -269,6 +335,6 @@ impl PriorIrradiance {
 
     /// Ê(n)/π = Σ_i c'_i g_i(a_i·n) for c' from [`PriorIrradiance::coefficients`].
     pub fn eval(&self, c_prime: &[f64], n: DVec3) -> f64 {
-        c_prime.iter().zip(self.axes.iter().zip(&self.kernels)).map(|(c, (a, k))| c * legendre_series(k, a.dot(n).clamp(-1.0, 1.0))).sum()
+        c_prime.iter().zip(self.axes.iter().zip(&self.kernels)).map(|(c, (a, k))| c * k.eval(a.dot(n).clamp(-1.0, 1.0))).sum()
     }
 }
