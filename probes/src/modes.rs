@@ -340,13 +340,12 @@ fn dot_rgb(c: &[[f64; 3]], w: impl Iterator<Item = f64>) -> [f64; 3] {
 /// E/π of an SG 12 mode from RGB coefficients (each lobe's kernel once), the same
 /// function as `sbf::recon::sg::irradiance_basis` per channel (test
 /// `runtime_evaluators_equal_the_per_channel_library`).
-fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, hill: &[sgr::HillLobe], c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
+fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, lobes: &SgLobes, c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
     let k = basis.lobe_count();
-    let kl = SgIrradiance::peer_kernel_sharpness(id);
     let mut e = match method.for_mode(id) {
         // (The prior estimate has its own evaluator, `PriorRgb`; Hill stands in here.)
-        SgIrradiance::Hill | SgIrradiance::Auto | SgIrradiance::Prior => dot_rgb(&c[..k], hill.iter().map(|h| h.eval(n))),
-        SgIrradiance::Peer => dot_rgb(&c[..k], (0..k).map(|i| sgr::irradiance_sg_kernel(&basis.lobe(i), n, kl))),
+        SgIrradiance::Hill | SgIrradiance::Auto | SgIrradiance::Prior => dot_rgb(&c[..k], lobes.hill.iter().map(|h| h.eval(n))),
+        SgIrradiance::Peer => dot_rgb(&c[..k], lobes.axes.iter().zip(&lobes.peer).map(|(a, p)| p.eval(a.dot(n).clamp(-1.0, 1.0)))),
     };
     // The ambient function (a constant) reflects its coefficient under any kernel of integral π.
     if basis.has_ambient() {
@@ -383,9 +382,23 @@ impl PriorRgb {
     }
 }
 
-/// The lobes of an SG basis with Hill's per-lobe constants precomputed.
-fn hill_lobes(basis: &SgBasis) -> Vec<sgr::HillLobe> {
-    (0..basis.lobe_count()).map(|i| sgr::HillLobe::new(&basis.lobe(i))).collect()
+/// The lobes of an SG basis with each reconstruction's per-lobe constants precomputed:
+/// Hill's, and the peer's kernel (sharpness for mode `id`) as a zonal series
+/// (`sbf::recon::prior::sg_kernel_series`, = `sg::irradiance_sg_kernel` to 1e-12).
+struct SgLobes {
+    axes: Vec<DVec3>,
+    hill: Vec<sgr::HillLobe>,
+    peer: Vec<sbf::recon::prior::Kernel>,
+}
+
+fn sg_lobes(basis: &SgBasis, id: &str) -> SgLobes {
+    let kl = SgIrradiance::peer_kernel_sharpness(id);
+    let lobes: Vec<sbf::Sg> = (0..basis.lobe_count()).map(|i| basis.lobe(i)).collect();
+    SgLobes {
+        axes: lobes.iter().map(|l| l.axis).collect(),
+        hill: lobes.iter().map(sgr::HillLobe::new).collect(),
+        peer: lobes.iter().map(|l| sbf::recon::prior::sg_kernel_series(l.sharpness, kl)).collect(),
+    }
 }
 
 /// A basis's reconstruction from RGB coefficients as the irradiance evaluation (fits to
@@ -687,10 +700,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 Ok((c, cp))
             });
             let (c, cp) = c?;
-            let hill = hill_lobes(&basis);
+            let lobes = sg_lobes(&basis, id);
             let (irr, ns) = match prior.as_mut() {
                 Some(p) => eval_cost(ctx, |d| p.eval(&cp, d)),
-                None => eval_cost(ctx, |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &basis, &hill, &c, d)),
+                None => eval_cost(ctx, |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &basis, &lobes, &c, d)),
             };
             let rad = reconstruct(&basis, &c, dirs);
             let solver = match id {
@@ -844,10 +857,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let ad = AmbientDiceSrbf::twelve();
             // Irradiance of one direction from RGB coefficients. The peer's running
             // averages use Hill's fit too (their figures match it).
-            let sgb_hill = hill_lobes(&sgb);
+            let sgb_lobes = sg_lobes(&sgb, id);
             let irradiance_at = |c: &[[f64; 3]], d: DVec3| -> [f64; 3] {
                 if id.starts_with("sg") {
-                    sg_irradiance_rgb(SgIrradiance::Hill, id, &sgb, &sgb_hill, c, d)
+                    sg_irradiance_rgb(SgIrradiance::Hill, id, &sgb, &sgb_lobes, c, d)
                 } else {
                     dot_rgb(c, ad.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d))))
                 }
@@ -857,18 +870,18 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             // irradiance is linear in the coefficients, so each snapshot is a product with
             // the per-lobe irradiance K[d][i] (same functions as above, one lobe at a time).
             let nb = basis.len();
-            let kmat: Vec<f64> =
-                dirs.iter()
-                    .flat_map(|d| {
-                        (0..nb).map(|i| {
-                            if id.starts_with("sg") {
-                                sgb_hill[i].eval(*d)
-                            } else {
-                                adr::lobe_irradiance_cos(ad.lobes()[i].dot(*d))
-                            }
-                        })
+            let kmat: Vec<f64> = dirs
+                .iter()
+                .flat_map(|d| {
+                    (0..nb).map(|i| {
+                        if id.starts_with("sg") {
+                            sgb_lobes.hill[i].eval(*d)
+                        } else {
+                            adr::lobe_irradiance_cos(ad.lobes()[i].dot(*d))
+                        }
                     })
-                    .collect();
+                })
+                .collect();
             let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(basis.len(), opts.clone());
             let mut convergence = Vec::new();
             let mut next = 16usize;

@@ -536,9 +536,24 @@ fn runtime_evaluators_equal_the_per_channel_library() {
             }
         }
     }
+    // The peer's kernel (sgnnls by default, sg): the zonal-series evaluator equals the
+    // closed-form SG inner product per channel (series ≤ 1e-12 of the peak per lobe: 1e-11
+    // of Σ|c_i| here).
+    ctx.sg_irradiance = modes::SgIrradiance::Auto;
+    for id in ["sgnnls", "sg"] {
+        let r = modes::run(id, &ctx, 1).unwrap();
+        let basis = sbf::SgBasis::new(&vogel, 6.0, false).unwrap();
+        let kl = modes::SgIrradiance::peer_kernel_sharpness(id);
+        for (d, e) in ctx.dirs.iter().zip(&r.irradiance) {
+            for k in 0..3 {
+                let want: f64 = (0..12).map(|i| r.coefficients[i][k] * sbf::recon::sg::irradiance_sg_kernel(&basis.lobe(i), *d, kl)).sum();
+                let scale: f64 = (0..12).map(|i| r.coefficients[i][k].abs()).sum();
+                assert!((e[k] - want).abs() <= 1e-11 * scale, "{id} at {d:?}: {} vs {want}", e[k]);
+            }
+        }
+    }
     // The prior estimate (sgls, sglsa by default): the RGB evaluator equals the library's
     // per-channel PriorIrradiance from the reported (radiance) coefficients.
-    ctx.sg_irradiance = modes::SgIrradiance::Auto;
     for id in ["sgls", "sglsa"] {
         let r = modes::run(id, &ctx, 1).unwrap();
         let basis = sbf::SgBasis::new(&vogel, 6.0, id == "sglsa").unwrap();

@@ -183,3 +183,23 @@ fn prior_estimator_rejects_bad_input() {
     let est = PriorIrradiance::for_sg_basis(&sg12(false), p).unwrap();
     assert!(est.coefficients(&[1.0; 11]).is_err());
 }
+
+/// The peer kernel's zonal series equals the closed-form SG inner product
+/// (`sg::irradiance_sg_kernel`) at 400 angles, λ 6 with λ_k 3 and 8.5 (the peer's), and
+/// λ 2 with λ_k 30: 1e-12 of the peak (series truncated at ≤ 1e-17; Horner conversion
+/// ~1e-15). Mutation tried: the (2l+1)/(4π) factor dropped — fails.
+#[test]
+fn sg_kernel_series_equals_the_closed_form() {
+    for (lam, lk) in [(6.0, 3.0), (6.0, 8.5), (2.0, 30.0)] {
+        let k = sbf::recon::prior::sg_kernel_series(lam, lk);
+        let lobe = sbf::Sg { axis: DVec3::Z, sharpness: lam, amplitude: 1.0 };
+        let peak = sbf::recon::sg::irradiance_sg_kernel(&lobe, DVec3::Z, lk);
+        for i in 0..400 {
+            let th = PI * i as f64 / 399.0;
+            let n = DVec3::new(th.sin(), 0.0, th.cos());
+            let want = sbf::recon::sg::irradiance_sg_kernel(&lobe, n, lk);
+            let got = k.eval(th.cos());
+            assert!((got - want).abs() <= 1e-12 * peak, "λ {lam} λk {lk} θ {th}: {got} vs {want}");
+        }
+    }
+}

@@ -114,25 +114,28 @@ fn legendre_all(t: f64, p: &mut [f64]) {
     }
 }
 
-/// Highest degree evaluated as a monomial polynomial (Horner); above it the Legendre
-/// recurrence. Converting a Legendre series of degree ≤ 24 to monomials multiplies its
-/// rounding by at most the monomial coefficients of P_l (< 3e5 at l = 24) times the
-/// decaying a_l; for the kernels here (a_l ≲ 1e-6·a_0 beyond l = 8) that stays near 1e-15
-/// of the value (the white-prior test checks 1e-12 against direct quadrature).
-const HORNER_MAX_DEGREE: usize = 24;
+/// Highest degree evaluated as a monomial polynomial (Horner); above it, or where the
+/// conversion would cost accuracy, the Legendre recurrence. Converting Σ a_l P_l to
+/// monomials and evaluating by Horner on [−1, 1] errs by ≲ (degree + 1)·ε·Σ_l |a_l|·‖P_l‖₁
+/// (‖P_l‖₁: the sum of |monomial coefficients| of P_l, 1.6e8 at l = 40); Horner is used only
+/// when that bound is ≤ 1e-13·Σ|a_l| — for the smooth kernels here, whose a_l decay like
+/// Gaussians, it is ~1e-15 (the white-prior and peer-kernel tests check 1e-12 against
+/// direct quadrature and the closed form).
+const HORNER_MAX_DEGREE: usize = 40;
 
 /// A zonal kernel Σ_l a_l P_l(t), truncated where the rest of |a_l| sums to ≤ 1e-17 of
 /// the whole (|P_l| ≤ 1 on [−1, 1], so that bounds the dropped part), stored for fast
 /// evaluation: monomial coefficients (Horner) up to [`HORNER_MAX_DEGREE`], else the
-/// Legendre coefficients with the recurrence's constants.
+/// Legendre coefficients with the recurrence.
 #[derive(Debug, Clone)]
-enum Kernel {
+pub enum Kernel {
     Monomial(Vec<f64>),
     Legendre(Vec<f64>),
 }
 
 impl Kernel {
-    fn new(a: &[f64]) -> Kernel {
+    /// From Legendre coefficients a_0, a_1, … (at least one).
+    pub fn new(a: &[f64]) -> Kernel {
         let total: f64 = a.iter().map(|x| x.abs()).sum();
         let mut n = a.len();
         let mut tail = 0.0;
@@ -146,6 +149,7 @@ impl Kernel {
         }
         // Monomial coefficients of P_l by the recurrence (l+1)P_{l+1} = (2l+1)t P_l − l P_{l−1}.
         let mut out = vec![0.0; n];
+        let mut amplified = 0.0;
         let (mut p0, mut p1) = (vec![0.0; n], vec![0.0; n]);
         p0[0] = 1.0;
         if n > 1 {
@@ -169,12 +173,17 @@ impl Kernel {
             for (o, c) in out.iter_mut().zip(&p) {
                 *o += al * c;
             }
+            amplified += al.abs() * p.iter().map(|c| c.abs()).sum::<f64>();
+        }
+        if n as f64 * f64::EPSILON * amplified > 1e-13 * total {
+            return Kernel::Legendre(a.to_vec());
         }
         Kernel::Monomial(out)
     }
 
+    /// The kernel at t ∈ [−1, 1].
     #[inline]
-    fn eval(&self, t: f64) -> f64 {
+    pub fn eval(&self, t: f64) -> f64 {
         match self {
             Kernel::Monomial(c) => c.iter().rev().fold(0.0, |acc, ci| acc * t + ci),
             Kernel::Legendre(a) => {
@@ -190,6 +199,17 @@ impl Kernel {
             }
         }
     }
+}
+
+/// E/π of a unit SG lobe (sharpness λ) with the clamped cosine replaced by an SG kernel
+/// of sharpness λ_k normalised to integrate to π — [`super::sg::irradiance_sg_kernel`] (the
+/// peer tool's reconstruction) — as a zonal series in t = axis·n: by Funk–Hecke
+/// Σ_l Λ_l(λ) Λ_l(λ_k) (2l+1)/(4π) P_l(t) / ∫K, with ∫K = Λ_0(λ_k). Bands up to
+/// ⌈√(40·max(λ, λ_k))⌉ + 8, like [`PriorIrradiance::new`].
+pub fn sg_kernel_series(sharpness: f64, kernel_sharpness: f64) -> Kernel {
+    let lmax = (40.0 * sharpness.max(kernel_sharpness).max(1.0)).sqrt().ceil() as usize + 8;
+    let (a, k) = (sg_legendre_coefficients(sharpness, lmax), sg_legendre_coefficients(kernel_sharpness, lmax));
+    Kernel::new(&(0..=lmax).map(|l| a[l] * k[l] * (2 * l + 1) as f64 / (4.0 * PI) / k[0]).collect::<Vec<_>>())
 }
 
 /// The estimator of the module docs for one basis: per function its axis and the Legendre
