@@ -3,8 +3,8 @@
 //!
 //! Method: the mode's runtime evaluation (coefficients → value at a direction, exactly
 //! what the report's images come from) runs over the output directions, cycled to at
-//! least [`MIN_BATCH`] evaluations; one untimed pass (or the image pass just before) warms
-//! caches and branch predictors,
+//! least [`MIN_BATCH`] evaluations and at least [`MIN_PASS_S`] per pass; one untimed pass
+//! over the batch's directions warms caches and branch predictors and sizes the batch,
 //! then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
 //! nothing is allocated inside the loop (the evaluators hoist their scratch). Reported:
 //! the median pass and the spread (min, max).
@@ -33,7 +33,10 @@ pub fn exclusive<T>(f: impl FnOnce() -> T) -> T {
 /// Timed passes per measurement.
 pub const REPEATS: usize = 5;
 /// Smallest batch, in evaluations.
-pub const MIN_BATCH: usize = 1 << 14;
+pub const MIN_BATCH: usize = 1 << 13;
+/// Shortest pass: cheap evaluators get larger batches, so that every timed pass lasts
+/// at least this long (timer resolution and per-pass overhead stay below 0.1%).
+pub const MIN_PASS_S: f64 = 5e-4;
 
 /// A steady-state cost: ns per evaluation, median of `repeats` passes of `batch`
 /// evaluations, with the fastest and slowest pass.
@@ -62,16 +65,10 @@ pub fn ns_per_direction(dirs: &[DVec3], work: usize, f: impl FnMut(DVec3) -> [f6
 
 /// [`ns_per_direction`] over any inputs (e.g. output texel indices).
 pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
-    exclusive(|| measure(dirs, work, true, f))
+    exclusive(|| measure(dirs, work, f))
 }
 
-/// [`ns_per_item`] for a caller that has just run `f` over all of `dirs` (that pass is
-/// the warm-up); the caller holds [`exclusive`] across both.
-pub fn ns_per_item_warm<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
-    measure(dirs, work, false, f)
-}
-
-fn measure<T: Copy>(dirs: &[T], work: usize, warm_up: bool, mut f: impl FnMut(T) -> [f64; 3]) -> CostStat {
+fn measure<T: Copy>(dirs: &[T], work: usize, mut f: impl FnMut(T) -> [f64; 3]) -> CostStat {
     if dirs.is_empty() {
         return CostStat::default();
     }
@@ -79,9 +76,22 @@ fn measure<T: Copy>(dirs: &[T], work: usize, warm_up: bool, mut f: impl FnMut(T)
     let stride = (dirs.len() / MIN_BATCH).max(1);
     let subset: Vec<T> = dirs.iter().step_by(stride).copied().collect();
     let dirs = &subset[..];
-    let passes = MIN_BATCH.div_ceil(dirs.len());
-    let batch = passes * dirs.len();
     let work = work.max(1);
+    // One untimed pass over the subset — the warm-up (caches, branch predictors) —
+    // estimates the cost per evaluation; the batch is MIN_BATCH evaluations or MIN_PASS_S
+    // worth, whichever is larger.
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for d in dirs {
+        for _ in 0..work {
+            acc += black_box(f(black_box(*d)))[0];
+        }
+    }
+    black_box(acc);
+    let per_eval = t.elapsed().as_secs_f64() / dirs.len() as f64;
+    let want = (MIN_PASS_S / per_eval.max(1e-12)).min(64.0 * MIN_BATCH as f64) as usize;
+    let passes = MIN_BATCH.max(want).div_ceil(dirs.len());
+    let batch = passes * dirs.len();
     let mut pass = || {
         let mut acc = 0.0;
         for _ in 0..passes {
@@ -94,9 +104,6 @@ fn measure<T: Copy>(dirs: &[T], work: usize, warm_up: bool, mut f: impl FnMut(T)
         }
         black_box(acc);
     };
-    if warm_up {
-        pass();
-    }
     let mut times: Vec<f64> = (0..REPEATS)
         .map(|_| {
             let t = Instant::now();

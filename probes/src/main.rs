@@ -309,12 +309,14 @@ fn write_reports(
     let md = report::markdown(maps, &results, png);
     std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
     std::fs::write(out.join("report.md"), &md).map_err(|e| format!("writing report.md: {e}"))?;
-    std::fs::write(out.join("report.html"), report::html(maps, &results)).map_err(|e| format!("writing report.html: {e}"))?;
-    if png {
-        for m in maps.iter() {
-            report::write_images(out, m, exr)?;
-        }
-    }
+    // report.html (its interactive view's data) alongside the images.
+    let maps: &[report::MapReport] = maps;
+    let (html, images) = rayon::join(
+        || std::fs::write(out.join("report.html"), report::html(maps, &results)).map_err(|e| format!("writing report.html: {e}")),
+        || if png { maps.iter().try_for_each(|m| report::write_images(out, m, exr)) } else { Ok(()) },
+    );
+    html?;
+    images?;
     if print_json {
         print!("{json}");
     } else {
