@@ -17,6 +17,8 @@
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
 //!   progressive update, composed per bake; ray-throughput measurement.
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
+//! - [`denoise`]: joint non-local means over valid texels within a chart (position, normal
+//!   guides, variance-normalised patches), the same weights for every coefficient.
 //! - [`output`]: EXR images with a validity alpha, dilation, metadata, runtime WGSL,
 //!   preview PNG.
 //! - [`placement`]: the probe grid; probes inside geometry found (back-face fraction)
@@ -31,6 +33,7 @@
 pub mod bake;
 pub mod bvh;
 pub mod checkpoint;
+pub mod denoise;
 pub mod gpu;
 pub mod import;
 pub mod lightmap;

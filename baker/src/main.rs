@@ -29,6 +29,13 @@ struct Cli {
     /// Passes (one path per texel and probe each).
     #[arg(long, default_value_t = 128)]
     passes: u64,
+    /// Denoise the lightmap (joint non-local means within charts, guided by position and
+    /// normal; the same weights for irradiance and every coefficient) before dilation.
+    #[arg(long)]
+    denoise: bool,
+    /// Denoiser window radius in texels (with --denoise).
+    #[arg(long, default_value_t = 5)]
+    denoise_radius: usize,
     /// Maximum bounces per path.
     #[arg(long, default_value_t = 4)]
     bounces: u32,
@@ -187,6 +194,7 @@ fn options(c: Cli) -> Result<Options, String> {
         quiet: d.quiet,
         measure_rays: c.measure_rays,
         profile,
+        denoise: c.denoise.then_some(baker::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
     })
 }
 

@@ -55,6 +55,9 @@ pub struct Options {
     /// the specular runtime (features, LUTs) is written, its language the exported runtime;
     /// it is recorded in bake.json.
     pub profile: Option<sbf::profile::Profile>,
+    /// Joint NLM denoising of every written coefficient set before dilation
+    /// ([`crate::denoise`]); None: off.
+    pub denoise: Option<crate::denoise::DenoiseOptions>,
 }
 
 impl Default for Options {
@@ -77,6 +80,7 @@ impl Default for Options {
             measure_rays: None,
             profile: None,
             quiet: false,
+            denoise: None,
         }
     }
 }
@@ -357,6 +361,26 @@ fn write_outputs(
         "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
         lm_validity["invalid"], targets.items.len(), crate::bake::MAX_BACK_FACE_FRACTION, lm_validity["back_face_samples"], lm_validity["non_finite_samples"]
     ));
+    // Denoise (optional) before dilation: the filter reads valid texels only.
+    let denoised = match o.denoise {
+        Some(opts) => {
+            let t = Instant::now();
+            let st = crate::denoise::denoise(&mut img, lm, opts)?;
+            let secs = t.elapsed().as_secs_f64();
+            log(format!(
+                "denoise: joint NLM over {} texels (window {}, patch {}, k {}), {:.1} effective neighbours on average, {secs:.2} s",
+                st.texels,
+                2 * opts.radius + 1,
+                2 * opts.patch + 1,
+                opts.strength,
+                st.mean_effective_neighbours
+            ));
+            json!({"method": "joint non-local means (Rousselle et al. 2012 patch distance; position, normal, chart guides)",
+                   "window": 2 * opts.radius + 1, "patch": 2 * opts.patch + 1, "strength": opts.strength,
+                   "texels": st.texels, "mean_effective_neighbours": st.mean_effective_neighbours, "seconds": secs})
+        }
+        None => json!(null),
+    };
     let dilated = img.dilate(o.padding + 1);
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width);
@@ -426,6 +450,7 @@ fn write_outputs(
         "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
         "normals": {"file": "normals.exr", "quantity": "world-space unit shading normal per texel (the basis frame's +Z)"},
         "bases": bases,
+        "denoise": denoised,
         "meshes": output::mesh_mapping(scene, lm),
         "runtime": {"wgsl": "runtime.wgsl", "files": runtime_files, "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),
                     "specular": if specular { "included" } else if glossy { "left out: the profile's BRDF set is Lambert only" } else { "left out: no glossy material" }},
