@@ -19,6 +19,8 @@
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
 //! - [`denoise`]: joint non-local means over valid texels within a chart (position, normal
 //!   guides, variance-normalised patches), the same weights for every coefficient.
+//! - [`seams`]: UV seams found from the geometry (welded edges, not creases), the seam
+//!   metric, least-squares stitching of the bilinear lookups across them.
 //! - [`output`]: EXR images with a validity alpha, dilation, metadata, runtime WGSL,
 //!   preview PNG.
 //! - [`placement`]: the probe grid; probes inside geometry found (back-face fraction)
@@ -42,6 +44,7 @@ pub mod output;
 pub mod placement;
 pub mod run;
 pub mod scene;
+pub mod seams;
 pub mod slc;
 pub mod slc_gpu;
 pub mod slc_media;

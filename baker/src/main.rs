@@ -36,6 +36,10 @@ struct Cli {
     /// Denoiser window radius in texels (with --denoise).
     #[arg(long, default_value_t = 5)]
     denoise_radius: usize,
+    /// Stitch UV seams (least squares on the bilinear lookups across every seam edge) after
+    /// the denoiser, before dilation; the seam metric is reported either way.
+    #[arg(long)]
+    stitch_seams: bool,
     /// Maximum bounces per path.
     #[arg(long, default_value_t = 4)]
     bounces: u32,
@@ -195,6 +199,7 @@ fn options(c: Cli) -> Result<Options, String> {
         measure_rays: c.measure_rays,
         profile,
         denoise: c.denoise.then_some(baker::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
+        stitch_seams: c.stitch_seams,
     })
 }
 

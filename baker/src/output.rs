@@ -73,8 +73,17 @@ impl LightmapImages {
     /// reads baked values, not black). Validity stays 0 for filled texels. Returns the
     /// number of texels filled.
     pub fn dilate(&mut self, rings: usize) -> usize {
+        self.dilate_keeping(rings, &[])
+    }
+
+    /// [`LightmapImages::dilate`] treating the empty texels `keep` as filled (they hold
+    /// values already, e.g. written by seam stitching; validity stays 0).
+    pub fn dilate_keeping(&mut self, rings: usize, keep: &[usize]) -> usize {
         let (w, h) = (self.width, self.height);
         let mut filled: Vec<bool> = self.validity.iter().map(|v| *v > 0.0).collect();
+        for t in keep {
+            filled[*t] = true;
+        }
         let mut total = 0;
         for _ in 0..rings {
             let mut add = Vec::new();
