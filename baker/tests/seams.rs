@@ -15,7 +15,7 @@ fn cut_plane(folded: bool) -> Scene {
     let mut s = baker::scene::cornell();
     let p = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
     // Folding lifts the far corner of B out of the plane about the diagonal 0–2.
-    let p3 = if folded { Vec3::new(0.5, 0.5, 0.7071) } else { p[3] };
+    let p3 = if folded { Vec3::new(0.5, 0.5, std::f32::consts::FRAC_1_SQRT_2) } else { p[3] };
     let uv = |q: Vec3, du: f32| Vec2::new(0.45 * q.x + du, 0.45 * q.y);
     let positions = vec![p[0], p[1], p[2], p[0], p[2], p3];
     let lightmap_uv = vec![uv(p[0], 0.0), uv(p[1], 0.0), uv(p[2], 0.0), uv(p[0], 0.55), uv(p[2], 0.55), uv(p[3], 0.55)];
