@@ -411,16 +411,17 @@ fn write_outputs(
         let after = crate::seams::seam_metric(&img, &seam_samples);
         let secs = t.elapsed().as_secs_f64();
         log(format!(
-            "seams: {} edges, {} samples; mean |ΔE/π| across them {metric_before:.3e} → {after:.3e} (texel noise {noise:.3e}), {} texels solved in ≤ {} CG iterations, {secs:.2} s",
+            "seams: {} edges, {} samples; mean |ΔE/π| across them {metric_before:.3e} → {after:.3e} (texel noise {noise:.3e}), {} texels solved in ≤ {} CG iterations{}, {secs:.2} s",
             seam_edges.len(),
             seam_samples.len(),
             st.texels,
-            st.iterations
+            st.iterations,
+            if st.converged { "" } else { " (NOT converged to 1e-7: the result is the last iterate)" }
         ));
         (
             dilated,
             json!({"edges": seam_edges.len(), "samples": seam_samples.len(), "metric_before": metric_before, "metric_after": after,
-                         "texel_noise": noise, "stitched": true, "texels": st.texels, "cg_iterations": st.iterations, "seconds": secs,
+                         "texel_noise": noise, "stitched": true, "texels": st.texels, "cg_iterations": st.iterations, "cg_converged": st.converged, "seconds": secs,
                          "metric": "mean |E/pi lookup A - lookup B| over seam samples and channels, after dilation"}),
         )
     } else {

@@ -33,6 +33,12 @@ pub const MAX_CREASE_COS: f32 = 0.9;
 pub const SEAM_WEIGHT: f64 = 100.0;
 /// Data weight of an empty (padding) texel under a seam tap.
 pub const EMPTY_WEIGHT: f64 = 0.01;
+/// Relative residual at which a solve stops: below the f32 the images store (6e-8) would
+/// buy nothing; 1e-7 of the right-hand side.
+pub const CG_TOLERANCE: f64 = 1e-7;
+/// Iteration cap (the system's condition is ≲ λ/μ_empty = 1e4: CG needs ~√1e4·ln(1e7)/2 ≈
+/// 800 iterations in the worst case).
+pub const MAX_CG_ITERATIONS: usize = 5000;
 
 /// One seam edge: the atlas UVs (texels) of its two endpoints on side A and on side B, in
 /// the same world order.
@@ -146,6 +152,8 @@ pub struct StitchStats {
     pub written_empty: Vec<usize>,
     /// Largest conjugate-gradient iteration count over the right-hand sides.
     pub iterations: usize,
+    /// Whether every solve reached [`CG_TOLERANCE`] within [`MAX_CG_ITERATIONS`].
+    pub converged: bool,
 }
 
 /// Stitches `img` along `samples` (see the module docs). `dilated` is the same images after
@@ -200,6 +208,7 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
         }
     };
     let mut iterations = 0;
+    let mut converged = true;
     // Solve (λCᵀC + M)x = M·x0 for one right-hand side; returns x.
     let mut solve = |x0: &[f64]| -> Vec<f64> {
         let b: Vec<f64> = (0..n).map(|i| mu[i] * x0[i]).collect();
@@ -212,8 +221,8 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
         let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
         let bnorm = b.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
         let mut ap = vec![0.0; n];
-        for it in 0..1000 {
-            if r.iter().map(|v| v * v).sum::<f64>().sqrt() <= 1e-10 * bnorm {
+        for it in 0..MAX_CG_ITERATIONS {
+            if r.iter().map(|v| v * v).sum::<f64>().sqrt() <= CG_TOLERANCE * bnorm {
                 iterations = iterations.max(it);
                 break;
             }
@@ -231,6 +240,9 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
                 p[i] = z[i] + beta * p[i];
             }
             iterations = iterations.max(it + 1);
+            if it + 1 == MAX_CG_ITERATIONS {
+                converged = false;
+            }
         }
         x
     };
@@ -256,5 +268,5 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
         img.normals[*t] = dilated.normals[*t];
         img.standard_error[*t] = dilated.standard_error[*t];
     }
-    StitchStats { samples: samples.len(), texels: n, written_empty, iterations }
+    StitchStats { samples: samples.len(), texels: n, written_empty, iterations, converged }
 }
