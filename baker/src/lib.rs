@@ -16,6 +16,8 @@
 //!   and the per-sample encoders on the CPU (the reference path), the shared state.
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
 //!   progressive update, composed per bake; ray-throughput measurement.
+//! - [`gpu_prims`]: reusable GPU primitives with CPU twins — exclusive prefix sum (any
+//!   length, multi-level), stream compaction — for the wavefront pipeline.
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
 //! - [`denoise`]: joint non-local means over valid texels within a chart (position, normal
 //!   guides, variance-normalised patches), the same weights for every coefficient.
@@ -37,6 +39,7 @@ pub mod bvh;
 pub mod checkpoint;
 pub mod denoise;
 pub mod gpu;
+pub mod gpu_prims;
 pub mod import;
 pub mod lightmap;
 pub mod lights;

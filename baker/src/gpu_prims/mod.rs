@@ -1,0 +1,314 @@
+//! Reusable GPU primitives for the wavefront pipeline (issue 15 item 2/10), each with a
+//! CPU twin that its tests compare against:
+//!
+//! | primitive | WGSL | CPU twin |
+//! |---|---|---|
+//! | exclusive prefix sum of u32 (wrapping), any length | `scan.wgsl` | [`exclusive_scan_cpu`] |
+//! | stream compaction by 0/1 flags (order kept) | `compact.wgsl` (+ the scan) | [`compact_cpu`] |
+//!
+//! The scan is the classic multi-level one: each 256-element block is scanned in
+//! workgroup memory and writes its total; the totals are scanned the same way (recursively,
+//! one level per factor of 256), then added back level by level. Workgroup-memory only —
+//! no subgroup operations, so it runs the same on every adapter (lavapipe in CI).
+//! Dispatches are 2D (≤ 65 535 workgroups per row).
+
+use wgpu::util::DeviceExt;
+
+/// Elements per workgroup block (the WGSL `BLOCK`).
+pub const BLOCK: usize = 256;
+/// Workgroups per dispatch row.
+const ROW: usize = 65_535;
+
+/// The CPU twin of the scan: out[i] = Σ_{k<i} v[k] (wrapping), and the total.
+pub fn exclusive_scan_cpu(v: &[u32]) -> (Vec<u32>, u32) {
+    let mut acc = 0u32;
+    let out = v
+        .iter()
+        .map(|x| {
+            let o = acc;
+            acc = acc.wrapping_add(*x);
+            o
+        })
+        .collect();
+    (out, acc)
+}
+
+/// The CPU twin of compaction: the items whose flag is 1, in order. Panics on a flag
+/// other than 0 or 1 (the GPU version's contract).
+pub fn compact_cpu(items: &[u32], flags: &[u32]) -> Vec<u32> {
+    assert_eq!(items.len(), flags.len(), "one flag per item");
+    items
+        .iter()
+        .zip(flags)
+        .filter(|(_, f)| {
+            assert!(**f <= 1, "flags are 0 or 1");
+            **f == 1
+        })
+        .map(|(i, _)| *i)
+        .collect()
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    n: u32,
+    row: u32,
+    _pad: [u32; 2],
+}
+
+fn grid(blocks: usize) -> (u32, u32) {
+    let blocks = blocks.max(1);
+    (blocks.min(ROW) as u32, blocks.div_ceil(ROW) as u32)
+}
+
+fn storage_layout_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn uniform_layout_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+fn pipeline(d: &wgpu::Device, layout: &wgpu::BindGroupLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+    let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(entry),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(&pl),
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// The compiled scan and compaction kernels of one device.
+#[derive(Debug)]
+pub struct Prims {
+    scan_layout: wgpu::BindGroupLayout,
+    scan_blocks: wgpu::ComputePipeline,
+    add_offsets: wgpu::ComputePipeline,
+    compact_layout: wgpu::BindGroupLayout,
+    scatter: wgpu::ComputePipeline,
+}
+
+impl Prims {
+    pub fn new(d: &wgpu::Device) -> Prims {
+        let scan = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("scan.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("scan.wgsl").into()),
+        });
+        let compact = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("compact.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("compact.wgsl").into()),
+        });
+        let scan_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scan"),
+            entries: &[storage_layout_entry(0, false), storage_layout_entry(1, false), uniform_layout_entry(2)],
+        });
+        let compact_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("compact"),
+            entries: &[
+                storage_layout_entry(0, true),
+                storage_layout_entry(1, true),
+                storage_layout_entry(2, true),
+                storage_layout_entry(3, false),
+                uniform_layout_entry(4),
+            ],
+        });
+        Prims {
+            scan_blocks: pipeline(d, &scan_layout, &scan, "scan_blocks"),
+            add_offsets: pipeline(d, &scan_layout, &scan, "add_offsets"),
+            scatter: pipeline(d, &compact_layout, &compact, "scatter"),
+            scan_layout,
+            compact_layout,
+        }
+    }
+
+    /// Records an in-place exclusive scan of the first `n` u32 of `data` (a storage buffer)
+    /// into `enc`; returns the one-element buffer that will hold the total. Allocates the
+    /// per-level block-total buffers it needs.
+    pub fn encode_scan(&self, d: &wgpu::Device, enc: &mut wgpu::CommandEncoder, data: &wgpu::Buffer, n: usize) -> wgpu::Buffer {
+        // Level sizes: n, ⌈n/256⌉, … down to 1 (the total).
+        let mut sizes = vec![n];
+        while *sizes.last().expect("non-empty") > 1 || sizes.len() == 1 {
+            let next = sizes.last().expect("non-empty").div_ceil(BLOCK).max(1);
+            sizes.push(next);
+            if next == 1 {
+                break;
+            }
+        }
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let sums: Vec<wgpu::Buffer> = sizes[1..]
+            .iter()
+            .map(|s| {
+                d.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("scan totals"),
+                    size: (4 * s.max(&1)) as u64,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
+        // A zero total for n = 0 (no block writes it).
+        enc.clear_buffer(&sums[0], 0, None);
+        let level_data = |k: usize| if k == 0 { data } else { &sums[k - 1] };
+        let bind = |k: usize| {
+            let (x, _) = grid(sizes[k + 1]);
+            let p = Params { n: sizes[k] as u32, row: x, _pad: [0; 2] };
+            let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scan params"),
+                contents: bytemuck::bytes_of(&p),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("scan level"),
+                layout: &self.scan_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: level_data(k).as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: sums[k].as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 2, resource: ub.as_entire_binding() },
+                ],
+            })
+        };
+        let groups: Vec<wgpu::BindGroup> = (0..sizes.len() - 1).map(bind).collect();
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("scan"), timestamp_writes: None });
+            for (k, g) in groups.iter().enumerate() {
+                let (x, y) = grid(sizes[k + 1]);
+                pass.set_pipeline(&self.scan_blocks);
+                pass.set_bind_group(0, g, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            // Top level down: each level's blocks get their scanned totals added.
+            for k in (0..groups.len().saturating_sub(1)).rev() {
+                let (x, y) = grid(sizes[k + 1]);
+                pass.set_pipeline(&self.add_offsets);
+                pass.set_bind_group(0, &groups[k], &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+        }
+        sums.into_iter().last().expect("at least one level")
+    }
+
+    /// Records the compaction of the first `n` items by their 0/1 flags into `out` (at least
+    /// `n` u32): `offsets` receives the flags' exclusive scan; returns the buffer holding the
+    /// number kept.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_compact(
+        &self,
+        d: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        items: &wgpu::Buffer,
+        flags: &wgpu::Buffer,
+        offsets: &wgpu::Buffer,
+        out: &wgpu::Buffer,
+        n: usize,
+    ) -> wgpu::Buffer {
+        if n > 0 {
+            enc.copy_buffer_to_buffer(flags, 0, offsets, 0, (4 * n) as u64);
+        }
+        let total = self.encode_scan(d, enc, offsets, n);
+        let (x, y) = grid(n.div_ceil(BLOCK));
+        let p = Params { n: n as u32, row: x, _pad: [0; 2] };
+        let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("compact params"),
+            contents: bytemuck::bytes_of(&p),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let g = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("compact"),
+            layout: &self.compact_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: items.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: flags.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: offsets.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: out.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: ub.as_entire_binding() },
+            ],
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
+        pass.set_pipeline(&self.scatter);
+        pass.set_bind_group(0, &g, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+        drop(pass);
+        total
+    }
+}
+
+/// Host convenience for tests and small inputs: uploads `v`, scans it on the GPU, reads
+/// the result and the total back.
+pub fn exclusive_scan(d: &wgpu::Device, q: &wgpu::Queue, prims: &Prims, v: &[u32]) -> (Vec<u32>, u32) {
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    let data = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("scan data"),
+        contents: bytemuck::cast_slice(&padded(v)),
+        usage,
+    });
+    let mut enc = d.create_command_encoder(&Default::default());
+    let total = prims.encode_scan(d, &mut enc, &data, v.len());
+    q.submit([enc.finish()]);
+    (read_u32(d, q, &data, v.len()), read_u32(d, q, &total, 1)[0])
+}
+
+/// Host convenience: compacts `items` by `flags` (0/1) on the GPU.
+pub fn compact(d: &wgpu::Device, q: &wgpu::Queue, prims: &Prims, items: &[u32], flags: &[u32]) -> Vec<u32> {
+    assert_eq!(items.len(), flags.len(), "one flag per item");
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    let buf = |v: &[u32], label| {
+        d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytemuck::cast_slice(&padded(v)), usage })
+    };
+    let (ib, fb, ob, out) =
+        (buf(items, "items"), buf(flags, "flags"), buf(&vec![0; items.len()], "offsets"), buf(&vec![0; items.len()], "compacted"));
+    let mut enc = d.create_command_encoder(&Default::default());
+    let total = prims.encode_compact(d, &mut enc, &ib, &fb, &ob, &out, items.len());
+    q.submit([enc.finish()]);
+    let kept = read_u32(d, q, &total, 1)[0] as usize;
+    read_u32(d, q, &out, kept)
+}
+
+/// At least one element (wgpu buffers cannot be empty).
+fn padded(v: &[u32]) -> Vec<u32> {
+    if v.is_empty() {
+        vec![0]
+    } else {
+        v.to_vec()
+    }
+}
+
+fn read_u32(d: &wgpu::Device, q: &wgpu::Queue, src: &wgpu::Buffer, n: usize) -> Vec<u32> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let staging = d.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: (4 * n) as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = d.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(src, 0, &staging, 0, (4 * n) as u64);
+    q.submit([enc.finish()]);
+    let slice = staging.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    d.poll(wgpu::PollType::wait_indefinitely()).expect("device poll");
+    let bytes = slice.get_mapped_range().expect("mapped read-back").to_vec();
+    bytemuck::pod_collect_to_vec::<u8, u32>(&bytes)
+}

@@ -1,0 +1,55 @@
+// Exclusive prefix sum of u32 (wrapping), one 256-element block per workgroup
+// (Hillis–Steele in workgroup memory), block totals written out for the next level;
+// then the scanned totals added back. Every invocation reaches every barrier (no early
+// return): the control flow around barriers is uniform.
+
+struct ScanParams {
+    n: u32,
+    // Workgroups per row of the 2D dispatch (counts above 65 535 blocks).
+    row: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+@group(0) @binding(0) var<storage, read_write> data: array<u32>;
+@group(0) @binding(1) var<storage, read_write> sums: array<u32>;
+@group(0) @binding(2) var<uniform> params: ScanParams;
+
+const BLOCK: u32 = 256u;
+var<workgroup> tmp: array<u32, 256>;
+
+@compute @workgroup_size(256)
+fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
+    let block = wid.x + wid.y * params.row;
+    let i = block * BLOCK + lid.x;
+    var v = 0u;
+    if (i < params.n) {
+        v = data[i];
+    }
+    tmp[lid.x] = v;
+    workgroupBarrier();
+    for (var off = 1u; off < BLOCK; off = off * 2u) {
+        var t = 0u;
+        if (lid.x >= off) {
+            t = tmp[lid.x - off];
+        }
+        workgroupBarrier();
+        tmp[lid.x] = tmp[lid.x] + t;
+        workgroupBarrier();
+    }
+    if (i < params.n) {
+        data[i] = tmp[lid.x] - v;
+    }
+    if (lid.x == BLOCK - 1u && block * BLOCK < params.n) {
+        sums[block] = tmp[BLOCK - 1u];
+    }
+}
+
+@compute @workgroup_size(256)
+fn add_offsets(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
+    let block = wid.x + wid.y * params.row;
+    let i = block * BLOCK + lid.x;
+    if (i < params.n) {
+        data[i] = data[i] + sums[block];
+    }
+}
