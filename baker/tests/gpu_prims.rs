@@ -5,7 +5,7 @@
 //! (lavapipe in CI); with SBF_REQUIRE_GPU=1 a missing adapter fails.
 
 mod common;
-use baker::gpu_prims::{compact, compact_cpu, exclusive_scan, exclusive_scan_cpu, Prims};
+use baker::gpu_prims::{compact, compact_cpu, exclusive_scan, exclusive_scan_cpu, sort_pairs, sort_pairs_cpu, Prims};
 use sbf::sampling::Pcg32;
 
 const SIZES: [usize; 12] = [0, 1, 2, 255, 256, 257, 511, 1000, 65_535, 65_536, 65_537, 300_001];
@@ -51,6 +51,38 @@ fn compaction_equals_its_cpu_twin() {
             let want = compact_cpu(&items, &flags);
             let got = compact(g.device(), g.queue(), &prims, &items, &flags);
             assert_eq!(got, want, "{what} n = {n}");
+        }
+    }
+}
+
+/// Stable radix sort of (key, value) pairs (values = the input index, so stability shows):
+/// full 32-bit keys, 20-bit keys (5 passes: odd, ends in the scratch buffers), keys with
+/// only 3 distinct values, all-equal keys, already sorted and reversed input.
+/// Mutations tried: the rank taken from the inclusive count without − 1 (off by one), the
+/// histogram laid out block-major instead of digit-major — both fail.
+#[test]
+fn radix_sort_equals_its_cpu_twin() {
+    let Some(g) = common::gpu() else { return };
+    let prims = Prims::new(g.device());
+    let mut r = Pcg32::new(2, 9);
+    for n in SIZES.into_iter().filter(|n| *n <= 65_537) {
+        let vals: Vec<u32> = (0..n as u32).collect();
+        let cases: [(&str, Vec<u32>, u32); 6] = [
+            ("random 32-bit", (0..n).map(|_| r.next_u32()).collect(), 32),
+            ("random 20-bit", (0..n).map(|_| r.next_u32() & 0xf_ffff).collect(), 20),
+            ("three values", (0..n).map(|_| [5u32, 1 << 20, 77][(r.next_u32() % 3) as usize]).collect(), 24),
+            ("all equal", vec![42; n], 32),
+            ("sorted", (0..n as u32).map(|k| 3 * k).collect(), 32),
+            ("reversed", (0..n as u32).rev().collect(), 32),
+        ];
+        for (what, keys, bits) in cases {
+            let want = sort_pairs_cpu(&keys, &vals, bits);
+            let got = sort_pairs(g.device(), g.queue(), &prims, &keys, &vals, bits);
+            assert!(
+                got == want,
+                "{what} n = {n} bits {bits}: first difference at {:?}",
+                (0..n).find(|k| got.0[*k] != want.0[*k] || got.1[*k] != want.1[*k])
+            );
         }
     }
 }

@@ -5,6 +5,7 @@
 //! |---|---|---|
 //! | exclusive prefix sum of u32 (wrapping), any length | `scan.wgsl` | [`exclusive_scan_cpu`] |
 //! | stream compaction by 0/1 flags (order kept) | `compact.wgsl` (+ the scan) | [`compact_cpu`] |
+//! | stable LSD radix sort of (key, value) u32 pairs by the low `bits` key bits, 4 per pass | `sort.wgsl` (+ the scan) | [`sort_pairs_cpu`] |
 //!
 //! The scan is the classic multi-level one: each 256-element block is scanned in
 //! workgroup memory and writes its total; the totals are scanned the same way (recursively,
@@ -46,6 +47,24 @@ pub fn compact_cpu(items: &[u32], flags: &[u32]) -> Vec<u32> {
         })
         .map(|(i, _)| *i)
         .collect()
+}
+
+/// The CPU twin of the radix sort: pairs stably ordered by the low `bits` bits of the key.
+pub fn sort_pairs_cpu(keys: &[u32], vals: &[u32], bits: u32) -> (Vec<u32>, Vec<u32>) {
+    assert_eq!(keys.len(), vals.len(), "one value per key");
+    let mask = if bits >= 32 { u32::MAX } else { (1u32 << bits) - 1 };
+    let mut pairs: Vec<(u32, u32)> = keys.iter().copied().zip(vals.iter().copied()).collect();
+    pairs.sort_by_key(|p| p.0 & mask);
+    pairs.into_iter().unzip()
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SortParams {
+    n: u32,
+    row: u32,
+    shift: u32,
+    blocks: u32,
 }
 
 #[repr(C)]
@@ -107,6 +126,9 @@ pub struct Prims {
     add_offsets: wgpu::ComputePipeline,
     compact_layout: wgpu::BindGroupLayout,
     scatter: wgpu::ComputePipeline,
+    sort_layout: wgpu::BindGroupLayout,
+    sort_histogram: wgpu::ComputePipeline,
+    sort_scatter: wgpu::ComputePipeline,
 }
 
 impl Prims {
@@ -133,7 +155,25 @@ impl Prims {
                 uniform_layout_entry(4),
             ],
         });
+        let sort = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("sort.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("sort.wgsl").into()),
+        });
+        let sort_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sort"),
+            entries: &[
+                storage_layout_entry(0, true),
+                storage_layout_entry(1, true),
+                storage_layout_entry(2, false),
+                storage_layout_entry(3, false),
+                storage_layout_entry(4, false),
+                uniform_layout_entry(5),
+            ],
+        });
         Prims {
+            sort_histogram: pipeline(d, &sort_layout, &sort, "histogram"),
+            sort_scatter: pipeline(d, &sort_layout, &sort, "scatter"),
+            sort_layout,
             scan_blocks: pipeline(d, &scan_layout, &scan, "scan_blocks"),
             add_offsets: pipeline(d, &scan_layout, &scan, "add_offsets"),
             scatter: pipeline(d, &compact_layout, &compact, "scatter"),
@@ -251,6 +291,86 @@ impl Prims {
         drop(pass);
         total
     }
+}
+
+impl Prims {
+    /// Records a stable radix sort of the first `n` (key, value) pairs by the low `bits` key
+    /// bits (⌈bits/4⌉ passes, ping-ponging with two scratch buffers); returns the buffers
+    /// holding the sorted keys and values (the inputs themselves after an even number of
+    /// passes, the scratch ones otherwise).
+    pub fn encode_sort(
+        &self,
+        d: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        keys: wgpu::Buffer,
+        vals: wgpu::Buffer,
+        n: usize,
+        bits: u32,
+    ) -> (wgpu::Buffer, wgpu::Buffer) {
+        let passes = bits.min(32).div_ceil(4);
+        let blocks = n.div_ceil(BLOCK).max(1);
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let scratch = |label| {
+            d.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: (4 * n.max(1)) as u64, usage, mapped_at_creation: false })
+        };
+        let counts = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sort counts"),
+            size: (4 * 16 * blocks) as u64,
+            usage,
+            mapped_at_creation: false,
+        });
+        let (mut src, mut dst) = ((keys, vals), (scratch("sort keys"), scratch("sort values")));
+        let (x, y) = grid(blocks);
+        for p in 0..passes {
+            let params = SortParams { n: n as u32, row: x, shift: 4 * p, blocks: blocks as u32 };
+            let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sort params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let g = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sort pass"),
+                layout: &self.sort_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: src.0.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: src.1.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 2, resource: dst.0.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 3, resource: dst.1.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 4, resource: counts.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 5, resource: ub.as_entire_binding() },
+                ],
+            });
+            {
+                let mut pass =
+                    enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("sort histogram"), timestamp_writes: None });
+                pass.set_pipeline(&self.sort_histogram);
+                pass.set_bind_group(0, &g, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            self.encode_scan(d, enc, &counts, 16 * blocks);
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("sort scatter"), timestamp_writes: None });
+                pass.set_pipeline(&self.sort_scatter);
+                pass.set_bind_group(0, &g, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            std::mem::swap(&mut src, &mut dst);
+        }
+        src
+    }
+}
+
+/// Host convenience: sorts (key, value) pairs by the low `bits` key bits on the GPU.
+pub fn sort_pairs(d: &wgpu::Device, q: &wgpu::Queue, prims: &Prims, keys: &[u32], vals: &[u32], bits: u32) -> (Vec<u32>, Vec<u32>) {
+    assert_eq!(keys.len(), vals.len(), "one value per key");
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    let buf = |v: &[u32], label| {
+        d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytemuck::cast_slice(&padded(v)), usage })
+    };
+    let mut enc = d.create_command_encoder(&Default::default());
+    let (k, v) = prims.encode_sort(d, &mut enc, buf(keys, "keys"), buf(vals, "values"), keys.len(), bits);
+    q.submit([enc.finish()]);
+    (read_u32(d, q, &k, keys.len()), read_u32(d, q, &v, keys.len()))
 }
 
 /// Host convenience for tests and small inputs: uploads `v`, scans it on the GPU, reads
