@@ -5,7 +5,10 @@
 //! (lavapipe in CI); with SBF_REQUIRE_GPU=1 a missing adapter fails.
 
 mod common;
-use baker::gpu_prims::{compact, compact_cpu, exclusive_scan, exclusive_scan_cpu, sort_pairs, sort_pairs_cpu, Prims};
+use baker::gpu_prims::{
+    compact, compact_cpu, exclusive_scan, exclusive_scan_cpu, offsets, sort_pairs, sort_pairs_cpu, texel_range, texel_ranges_cpu,
+    tile_coords, tile_index, Prims,
+};
 use sbf::sampling::Pcg32;
 
 const SIZES: [usize; 12] = [0, 1, 2, 255, 256, 257, 511, 1000, 65_535, 65_536, 65_537, 300_001];
@@ -83,6 +86,61 @@ fn radix_sort_equals_its_cpu_twin() {
                 "{what} n = {n} bits {bits}: first difference at {:?}",
                 (0..n).find(|k| got.0[*k] != want.0[*k] || got.1[*k] != want.1[*k])
             );
+        }
+    }
+}
+
+/// The offset buffer (sentinel fill + one pass, Listing 3.1) read back with the seed's rule
+/// equals the per-texel ranges found by counting: sorted path texels with gaps, dense, one
+/// path, none, every path on one texel, paths on the last texel only; 1 000 and 10 000
+/// texels. Mutation tried: the write at the previous texel + 1 dropped — texels after a gap
+/// read the wrong range, fails.
+#[test]
+fn offset_buffer_equals_the_counted_ranges() {
+    let Some(g) = common::gpu() else { return };
+    let prims = Prims::new(g.device());
+    let mut r = Pcg32::new(6, 1);
+    for texels in [1000usize, 10_000] {
+        let mut gaps: Vec<u32> = (0..3 * texels).map(|_| (r.next_u32() as usize % texels) as u32).filter(|t| t % 7 != 3).collect();
+        gaps.sort_unstable();
+        let cases: [(&str, Vec<u32>); 6] = [
+            ("gaps", gaps),
+            ("dense", (0..texels as u32).flat_map(|t| std::iter::repeat_n(t, 1 + (t as usize % 3))).collect()),
+            ("one path", vec![(texels / 2) as u32]),
+            ("none", Vec::new()),
+            ("one texel", vec![17; 600]),
+            ("last texel", vec![texels as u32 - 1; 300]),
+        ];
+        for (what, sorted) in cases {
+            let want = texel_ranges_cpu(&sorted, texels);
+            let got = offsets(g.device(), g.queue(), &prims, &sorted, texels);
+            for (t, w) in want.iter().enumerate() {
+                assert_eq!(texel_range(&got, t), *w, "{what}, {texels} texels: texel {t}");
+            }
+        }
+    }
+}
+
+/// Tile-format indices (eq. 5.2/5.3): the WGSL functions equal the Rust twins on every
+/// texel of grids whose sides are and are not multiples of the tile (8×8 and 4×4 tiles),
+/// and the inverse returns the texel. Mutation tried: the within-tile index as
+/// n·(x mod n) + (y mod n) in WGSL only — fails.
+#[test]
+fn tile_index_equals_its_twin_and_inverts() {
+    let Some(g) = common::gpu() else { return };
+    for (w, h, log2_n) in [(64u32, 32u32, 3u32), (37, 19, 3), (21, 50, 2)] {
+        let n = 1u32 << log2_n;
+        let tpr = w.div_ceil(n);
+        let count = (w * h) as usize;
+        let body = format!(
+            "    let x = i % {w}u + u32(inp[0]);\n    let y = i / {w}u;\n    let t = tile_index(x, y, {log2_n}u, {tpr}u);\n    let c = tile_coords(t, {log2_n}u, {tpr}u);\n    outp[3u * i] = f32(t);\n    outp[3u * i + 1u] = f32(c.x);\n    outp[3u * i + 2u] = f32(c.y);"
+        );
+        let out = g.run(baker::gpu_prims::TILE_WGSL, &body, &[0.0], 3, count, None, 0).unwrap().0;
+        for k in 0..count {
+            let (x, y) = (k as u32 % w, k as u32 / w);
+            let t = tile_index(x, y, log2_n, tpr);
+            assert_eq!(tile_coords(t, log2_n, tpr), (x, y), "{w}×{h}, n {n}: ({x}, {y})");
+            assert_eq!((out[3 * k] as u32, out[3 * k + 1] as u32, out[3 * k + 2] as u32), (t, x, y), "{w}×{h}, n {n}: ({x}, {y})");
         }
     }
 }

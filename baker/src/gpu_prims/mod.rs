@@ -6,6 +6,8 @@
 //! | exclusive prefix sum of u32 (wrapping), any length | `scan.wgsl` | [`exclusive_scan_cpu`] |
 //! | stream compaction by 0/1 flags (order kept) | `compact.wgsl` (+ the scan) | [`compact_cpu`] |
 //! | stable LSD radix sort of (key, value) u32 pairs by the low `bits` key bits, 4 per pass | `sort.wgsl` (+ the scan) | [`sort_pairs_cpu`] |
+//! | offset buffer of paths sorted by texel (seed 004 Listing 3.1: sentinel fill + one pass) | `offsets.wgsl` | [`texel_ranges_cpu`], read by [`texel_range`] |
+//! | tile-format index of a texel and its inverse (seed 004 eq. 5.2/5.3) | `tile.wgsl` ([`TILE_WGSL`]) | [`tile_index`], [`tile_coords`] |
 //!
 //! The scan is the classic multi-level one: each 256-element block is scanned in
 //! workgroup memory and writes its total; the totals are scanned the same way (recursively,
@@ -56,6 +58,60 @@ pub fn sort_pairs_cpu(keys: &[u32], vals: &[u32], bits: u32) -> (Vec<u32>, Vec<u
     let mut pairs: Vec<(u32, u32)> = keys.iter().copied().zip(vals.iter().copied()).collect();
     pairs.sort_by_key(|p| p.0 & mask);
     pairs.into_iter().unzip()
+}
+
+/// The offset buffer's sentinel (an unwritten entry).
+pub const SENTINEL: u32 = u32::MAX;
+
+/// The paths of texel `t` from an offset buffer (`texel count + 1` entries): the range
+/// [offsets[t], offsets[t + 1]), empty where either is the sentinel or they are equal
+/// (seed 004 §3.2).
+pub fn texel_range(offsets: &[u32], t: usize) -> std::ops::Range<usize> {
+    let (a, b) = (offsets[t], offsets[t + 1]);
+    if a == SENTINEL || b == SENTINEL || a >= b {
+        0..0
+    } else {
+        a as usize..b as usize
+    }
+}
+
+/// The CPU oracle for the offset buffer: each texel's range of paths in `sorted` (path
+/// texel indices in non-decreasing order), by counting.
+pub fn texel_ranges_cpu(sorted: &[u32], texels: usize) -> Vec<std::ops::Range<usize>> {
+    assert!(sorted.windows(2).all(|w| w[0] <= w[1]), "paths sorted by texel");
+    let mut count = vec![0usize; texels];
+    for t in sorted {
+        count[*t as usize] += 1;
+    }
+    let mut start = 0;
+    count
+        .iter()
+        .map(|c| {
+            let r = if *c == 0 { 0..0 } else { start..start + c };
+            start += c;
+            r
+        })
+        .collect()
+}
+
+/// The WGSL of the tile-format index functions (`tile_index`, `tile_coords`).
+pub const TILE_WGSL: &str = include_str!("tile.wgsl");
+
+/// Tile-format index of texel (x, y) (seed 004 eq. 5.2): tiles of 2^log2_n texels a side,
+/// `tiles_per_row` = ⌈width / n⌉.
+pub fn tile_index(x: u32, y: u32, log2_n: u32, tiles_per_row: u32) -> u32 {
+    let n = 1u32 << log2_n;
+    let tile = (x >> log2_n) + tiles_per_row * (y >> log2_n);
+    (tile << (2 * log2_n)) | ((x & (n - 1)) + n * (y & (n - 1)))
+}
+
+/// The texel of a tile-format index (the inverse of [`tile_index`]; eq. 5.3 for the
+/// tile's origin).
+pub fn tile_coords(i: u32, log2_n: u32, tiles_per_row: u32) -> (u32, u32) {
+    let n = 1u32 << log2_n;
+    let tile = i >> (2 * log2_n);
+    let within = i & (n * n - 1);
+    (n * (tile % tiles_per_row) + (within & (n - 1)), n * (tile / tiles_per_row) + (within >> log2_n))
 }
 
 #[repr(C)]
@@ -129,6 +185,8 @@ pub struct Prims {
     sort_layout: wgpu::BindGroupLayout,
     sort_histogram: wgpu::ComputePipeline,
     sort_scatter: wgpu::ComputePipeline,
+    offsets_layout: wgpu::BindGroupLayout,
+    offsets: wgpu::ComputePipeline,
 }
 
 impl Prims {
@@ -170,7 +228,17 @@ impl Prims {
                 uniform_layout_entry(5),
             ],
         });
+        let offsets = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("offsets.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("offsets.wgsl").into()),
+        });
+        let offsets_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("offsets"),
+            entries: &[storage_layout_entry(0, true), storage_layout_entry(1, false), uniform_layout_entry(2)],
+        });
         Prims {
+            offsets: pipeline(d, &offsets_layout, &offsets, "generate_offsets"),
+            offsets_layout,
             sort_histogram: pipeline(d, &sort_layout, &sort, "histogram"),
             sort_scatter: pipeline(d, &sort_layout, &sort, "scatter"),
             sort_layout,
@@ -358,6 +426,71 @@ impl Prims {
         }
         src
     }
+}
+
+impl Prims {
+    /// Records the offset buffer of `paths` path texel indices (sorted) into `offsets`
+    /// (`texels + 1` u32): the sentinel fill (a copy-side clear to 0xFF bytes) and one
+    /// thread per path.
+    pub fn encode_offsets(
+        &self,
+        d: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        path_texels: &wgpu::Buffer,
+        offsets: &wgpu::Buffer,
+        paths: usize,
+    ) {
+        let fill = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sentinels"),
+            contents: &vec![0xFFu8; offsets.size() as usize],
+            usage: wgpu::BufferUsages::COPY_SRC,
+        });
+        enc.copy_buffer_to_buffer(&fill, 0, offsets, 0, offsets.size());
+        if paths == 0 {
+            return;
+        }
+        let (x, y) = grid(paths.div_ceil(BLOCK));
+        let p = Params { n: paths as u32, row: x, _pad: [0; 2] };
+        let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("offset params"),
+            contents: bytemuck::bytes_of(&p),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let g = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("offsets"),
+            layout: &self.offsets_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: path_texels.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: offsets.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: ub.as_entire_binding() },
+            ],
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("offsets"), timestamp_writes: None });
+        pass.set_pipeline(&self.offsets);
+        pass.set_bind_group(0, &g, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
+/// Host convenience: the offset buffer (`texels + 1` entries) of sorted path texels.
+pub fn offsets(d: &wgpu::Device, q: &wgpu::Queue, prims: &Prims, sorted: &[u32], texels: usize) -> Vec<u32> {
+    assert!(sorted.iter().all(|t| (*t as usize) < texels), "texel indices below the texel count");
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    let pt = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("path texels"),
+        contents: bytemuck::cast_slice(&padded(sorted)),
+        usage,
+    });
+    let ob = d.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("offsets"),
+        size: (4 * (texels + 1)) as u64,
+        usage,
+        mapped_at_creation: false,
+    });
+    let mut enc = d.create_command_encoder(&Default::default());
+    prims.encode_offsets(d, &mut enc, &pt, &ob, sorted.len());
+    q.submit([enc.finish()]);
+    read_u32(d, q, &ob, texels + 1)
 }
 
 /// Host convenience: sorts (key, value) pairs by the low `bits` key bits on the GPU.
