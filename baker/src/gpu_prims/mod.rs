@@ -193,7 +193,7 @@ impl Prims {
     pub fn new(d: &wgpu::Device) -> Prims {
         let scan = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scan.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("scan.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("block_scan.wgsl"), include_str!("scan.wgsl")).into()),
         });
         let compact = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("compact.wgsl"),
@@ -215,7 +215,7 @@ impl Prims {
         });
         let sort = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("sort.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("sort.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("block_scan.wgsl"), include_str!("sort.wgsl")).into()),
         });
         let sort_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sort"),

@@ -1,5 +1,5 @@
 // Exclusive prefix sum of u32 (wrapping), one 256-element block per workgroup
-// (Hillis–Steele in workgroup memory), block totals written out for the next level;
+// (block_scan.wgsl, prepended), block totals written out for the next level;
 // then the scanned totals added back. Every invocation reaches every barrier (no early
 // return): the control flow around barriers is uniform.
 
@@ -16,7 +16,6 @@ struct ScanParams {
 @group(0) @binding(2) var<uniform> params: ScanParams;
 
 const BLOCK: u32 = 256u;
-var<workgroup> tmp: array<u32, 256>;
 
 @compute @workgroup_size(256)
 fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
@@ -26,22 +25,14 @@ fn scan_blocks(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_
     if (i < params.n) {
         v = data[i];
     }
-    tmp[lid.x] = v;
+    block_tmp[lid.x] = v;
     workgroupBarrier();
-    for (var off = 1u; off < BLOCK; off = off * 2u) {
-        var t = 0u;
-        if (lid.x >= off) {
-            t = tmp[lid.x - off];
-        }
-        workgroupBarrier();
-        tmp[lid.x] = tmp[lid.x] + t;
-        workgroupBarrier();
-    }
+    block_inclusive_scan(lid.x);
     if (i < params.n) {
-        data[i] = tmp[lid.x] - v;
+        data[i] = block_tmp[lid.x] - v;
     }
     if (lid.x == BLOCK - 1u && block * BLOCK < params.n) {
-        sums[block] = tmp[BLOCK - 1u];
+        sums[block] = block_tmp[BLOCK - 1u];
     }
 }
 

@@ -2,7 +2,8 @@
 // `shift`: `histogram` counts each 256-element block's digits into counts[digit · blocks +
 // block]; those counts are scanned (scan.wgsl) into global offsets; `scatter` writes each
 // pair to offset[digit, block] + its rank among the block's pairs with that digit (a
-// workgroup scan per digit: stable). Workgroup memory only (no subgroup operations).
+// workgroup scan per digit, block_scan.wgsl prepended: stable). Workgroup memory only (no
+// subgroup operations).
 
 struct SortParams {
     n: u32,
@@ -21,7 +22,6 @@ struct SortParams {
 const BLOCK: u32 = 256u;
 const RADIX: u32 = 16u;
 var<workgroup> hist: array<atomic<u32>, 16>;
-var<workgroup> flags: array<u32, 256>;
 
 @compute @workgroup_size(256)
 fn histogram(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
@@ -51,19 +51,11 @@ fn scatter(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) 
     }
     for (var d = 0u; d < RADIX; d = d + 1u) {
         let f = select(0u, 1u, digit == d);
-        flags[lid.x] = f;
+        block_tmp[lid.x] = f;
         workgroupBarrier();
-        for (var off = 1u; off < BLOCK; off = off * 2u) {
-            var t = 0u;
-            if (lid.x >= off) {
-                t = flags[lid.x - off];
-            }
-            workgroupBarrier();
-            flags[lid.x] = flags[lid.x] + t;
-            workgroupBarrier();
-        }
+        block_inclusive_scan(lid.x);
         if (f == 1u && block < params.blocks) {
-            let dst = counts[d * params.blocks + block] + flags[lid.x] - 1u;
+            let dst = counts[d * params.blocks + block] + block_tmp[lid.x] - 1u;
             keys_out[dst] = keys_in[i];
             vals_out[dst] = vals_in[i];
         }
