@@ -1,18 +1,11 @@
 // Stream compaction: items whose flag is non-zero, in order, to the front of `outp`;
 // `offsets` is the exclusive prefix sum of the flags (scan.wgsl).
 
-struct CompactParams {
-    n: u32,
-    row: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
-
 @group(0) @binding(0) var<storage, read> items: array<u32>;
 @group(0) @binding(1) var<storage, read> flags: array<u32>;
 @group(0) @binding(2) var<storage, read> offsets: array<u32>;
 @group(0) @binding(3) var<storage, read_write> outp: array<u32>;
-@group(0) @binding(4) var<uniform> params: CompactParams;
+@group(0) @binding(4) var<uniform> params: GridParams;
 
 @compute @workgroup_size(256)
 fn scatter(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {

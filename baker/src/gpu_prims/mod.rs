@@ -174,6 +174,28 @@ fn pipeline(d: &wgpu::Device, layout: &wgpu::BindGroupLayout, module: &wgpu::Sha
     })
 }
 
+/// A bind group of `buffers` at bindings 0, 1, … and a uniform buffer holding `params` at the
+/// next binding (the layout of every kernel here).
+fn bind(d: &wgpu::Device, layout: &wgpu::BindGroupLayout, label: &str, buffers: &[&wgpu::Buffer], params: &[u8]) -> wgpu::BindGroup {
+    let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: params,
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let mut entries: Vec<wgpu::BindGroupEntry> =
+        buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
+    entries.push(wgpu::BindGroupEntry { binding: buffers.len() as u32, resource: ub.as_entire_binding() });
+    d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+}
+
+/// One compute pass with one dispatch of `pipeline` over the 2D workgroup grid `(x, y)`.
+fn dispatch(enc: &mut wgpu::CommandEncoder, label: &str, pipeline: &wgpu::ComputePipeline, group: &wgpu::BindGroup, (x, y): (u32, u32)) {
+    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, group, &[]);
+    pass.dispatch_workgroups(x, y, 1);
+}
+
 /// The compiled scan and compaction kernels of one device.
 #[derive(Debug)]
 pub struct Prims {
@@ -193,11 +215,13 @@ impl Prims {
     pub fn new(d: &wgpu::Device) -> Prims {
         let scan = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scan.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("block_scan.wgsl"), include_str!("scan.wgsl")).into()),
+            source: wgpu::ShaderSource::Wgsl(
+                concat!(include_str!("grid_params.wgsl"), include_str!("block_scan.wgsl"), include_str!("scan.wgsl")).into(),
+            ),
         });
         let compact = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("compact.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("compact.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("grid_params.wgsl"), include_str!("compact.wgsl")).into()),
         });
         let scan_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scan"),
@@ -230,7 +254,7 @@ impl Prims {
         });
         let offsets = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("offsets.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("offsets.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("grid_params.wgsl"), include_str!("offsets.wgsl")).into()),
         });
         let offsets_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("offsets"),
@@ -278,25 +302,11 @@ impl Prims {
         // A zero total for n = 0 (no block writes it).
         enc.clear_buffer(&sums[0], 0, None);
         let level_data = |k: usize| if k == 0 { data } else { &sums[k - 1] };
-        let bind = |k: usize| {
-            let (x, _) = grid(sizes[k + 1]);
-            let p = Params { n: sizes[k] as u32, row: x, _pad: [0; 2] };
-            let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("scan params"),
-                contents: bytemuck::bytes_of(&p),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-            d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("scan level"),
-                layout: &self.scan_layout,
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: level_data(k).as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: sums[k].as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 2, resource: ub.as_entire_binding() },
-                ],
-            })
+        let bind_level = |k: usize| {
+            let p = Params { n: sizes[k] as u32, row: grid(sizes[k + 1]).0, _pad: [0; 2] };
+            bind(d, &self.scan_layout, "scan level", &[level_data(k), &sums[k]], bytemuck::bytes_of(&p))
         };
-        let groups: Vec<wgpu::BindGroup> = (0..sizes.len() - 1).map(bind).collect();
+        let groups: Vec<wgpu::BindGroup> = (0..sizes.len() - 1).map(bind_level).collect();
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("scan"), timestamp_writes: None });
             for (k, g) in groups.iter().enumerate() {
@@ -336,27 +346,8 @@ impl Prims {
         let total = self.encode_scan(d, enc, offsets, n);
         let (x, y) = grid(n.div_ceil(BLOCK));
         let p = Params { n: n as u32, row: x, _pad: [0; 2] };
-        let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("compact params"),
-            contents: bytemuck::bytes_of(&p),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let g = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("compact"),
-            layout: &self.compact_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: items.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: flags.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: offsets.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: out.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: ub.as_entire_binding() },
-            ],
-        });
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
-        pass.set_pipeline(&self.scatter);
-        pass.set_bind_group(0, &g, &[]);
-        pass.dispatch_workgroups(x, y, 1);
-        drop(pass);
+        let g = bind(d, &self.compact_layout, "compact", &[items, flags, offsets, out], bytemuck::bytes_of(&p));
+        dispatch(enc, "compact", &self.scatter, &g, (x, y));
         total
     }
 }
@@ -391,37 +382,10 @@ impl Prims {
         let (x, y) = grid(blocks);
         for p in 0..passes {
             let params = SortParams { n: n as u32, row: x, shift: 4 * p, blocks: blocks as u32 };
-            let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sort params"),
-                contents: bytemuck::bytes_of(&params),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-            let g = d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("sort pass"),
-                layout: &self.sort_layout,
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: src.0.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: src.1.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 2, resource: dst.0.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 3, resource: dst.1.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 4, resource: counts.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 5, resource: ub.as_entire_binding() },
-                ],
-            });
-            {
-                let mut pass =
-                    enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("sort histogram"), timestamp_writes: None });
-                pass.set_pipeline(&self.sort_histogram);
-                pass.set_bind_group(0, &g, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
+            let g = bind(d, &self.sort_layout, "sort pass", &[&src.0, &src.1, &dst.0, &dst.1, &counts], bytemuck::bytes_of(&params));
+            dispatch(enc, "sort histogram", &self.sort_histogram, &g, (x, y));
             self.encode_scan(d, enc, &counts, 16 * blocks);
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("sort scatter"), timestamp_writes: None });
-                pass.set_pipeline(&self.sort_scatter);
-                pass.set_bind_group(0, &g, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
+            dispatch(enc, "sort scatter", &self.sort_scatter, &g, (x, y));
             std::mem::swap(&mut src, &mut dst);
         }
         src
@@ -451,24 +415,8 @@ impl Prims {
         }
         let (x, y) = grid(paths.div_ceil(BLOCK));
         let p = Params { n: paths as u32, row: x, _pad: [0; 2] };
-        let ub = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("offset params"),
-            contents: bytemuck::bytes_of(&p),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let g = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("offsets"),
-            layout: &self.offsets_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: path_texels.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: offsets.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: ub.as_entire_binding() },
-            ],
-        });
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("offsets"), timestamp_writes: None });
-        pass.set_pipeline(&self.offsets);
-        pass.set_bind_group(0, &g, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        let g = bind(d, &self.offsets_layout, "offsets", &[path_texels, offsets], bytemuck::bytes_of(&p));
+        dispatch(enc, "offsets", &self.offsets, &g, (x, y));
     }
 }
 

@@ -7,21 +7,14 @@
 // offsets[t] or offsets[t + 1] is the sentinel or they are equal; else its paths are
 // [offsets[t], offsets[t + 1]).
 
-struct OffsetParams {
-    paths: u32,
-    row: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
-
 @group(0) @binding(0) var<storage, read> path_texels: array<u32>;
 @group(0) @binding(1) var<storage, read_write> offsets: array<u32>;
-@group(0) @binding(2) var<uniform> params: OffsetParams;
+@group(0) @binding(2) var<uniform> params: GridParams;
 
 @compute @workgroup_size(256)
 fn generate_offsets(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
     let j = (wid.x + wid.y * params.row) * 256u + lid.x;
-    if (j >= params.paths) {
+    if (j >= params.n) {
         return;
     }
     let t = path_texels[j];
@@ -34,7 +27,7 @@ fn generate_offsets(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workg
             offsets[prev + 1u] = j;
         }
     }
-    if (j + 1u == params.paths) {
-        offsets[t + 1u] = params.paths;
+    if (j + 1u == params.n) {
+        offsets[t + 1u] = params.n;
     }
 }

@@ -3,17 +3,9 @@
 // then the scanned totals added back. Every invocation reaches every barrier (no early
 // return): the control flow around barriers is uniform.
 
-struct ScanParams {
-    n: u32,
-    // Workgroups per row of the 2D dispatch (counts above 65 535 blocks).
-    row: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
-
 @group(0) @binding(0) var<storage, read_write> data: array<u32>;
 @group(0) @binding(1) var<storage, read_write> sums: array<u32>;
-@group(0) @binding(2) var<uniform> params: ScanParams;
+@group(0) @binding(2) var<uniform> params: GridParams;
 
 const BLOCK: u32 = 256u;
 
