@@ -23,7 +23,7 @@ use crate::lightmap::{frame, Lightmap, SurfacePoint};
 use crate::trace::Tracer;
 use rayon::prelude::*;
 use sbf::glam::{DVec3, Vec3};
-use sbf::sampling::{Pcg32, R2};
+use sbf::sampling::{Pcg32, R2, R3};
 use sbf::solve::{ProgressiveEncoder, ProgressiveOptions};
 use sbf::Basis;
 
@@ -111,6 +111,9 @@ pub struct BakeConfig {
     pub max_bounces: u32,
     pub bases: Vec<BasisKind>,
     pub solver: Solver,
+    /// First-bounce ray guiding of lightmap texels ([`crate::guiding`]); probes are never
+    /// guided.
+    pub guiding: Option<crate::guiding::GuidingOptions>,
 }
 
 impl BakeConfig {
@@ -141,6 +144,9 @@ pub struct Targets {
     pub sphere: bool,
     /// Number of ids (texels in the atlas, or probes).
     pub slots: usize,
+    /// Per item: its ray-guiding cluster ([`crate::guiding::clusters`]; 0 for probes).
+    pub clusters: Vec<u32>,
+    pub cluster_count: usize,
 }
 
 impl Targets {
@@ -153,14 +159,16 @@ impl Targets {
                 points.extend_from_slice(&t.points);
             }
         }
-        Targets { points, items, sphere: false, slots: lm.texels.len() }
+        let (clusters, cluster_count) = crate::guiding::clusters(lm);
+        Targets { points, items, sphere: false, slots: lm.texels.len(), clusters, cluster_count }
     }
 
     /// Light probes at the given positions.
     pub fn probes(positions: &[Vec3]) -> Targets {
         let points = positions.iter().map(|p| SurfacePoint::flat(*p, Vec3::Y)).collect();
         let items = (0..positions.len() as u32).map(|k| [k, 1, k]).collect();
-        Targets { points, items, sphere: true, slots: positions.len() }
+        let clusters = vec![0; positions.len()];
+        Targets { points, items, sphere: true, slots: positions.len(), clusters, cluster_count: 0 }
     }
 
     /// The sample direction of pass `p` for item id `id`: (direction in the item's frame,
@@ -176,13 +184,51 @@ impl Targets {
         let dir = (tn.as_dvec3() * local.x + bn.as_dvec3() * local.y + normal.as_dvec3() * local.z).normalize().as_vec3();
         (local, dir, 2.0 * local.z as f32)
     }
+
+    /// The sample direction of pass `p` of a texel in a guided bake with `learn` learning
+    /// passes: point p − start of an R3 sequence with a per-item, per-stage shift
+    /// ([`crate::guiding::stage`]) gives the direction (u₀, u₁) and the mixture choice u₂
+    /// — stratified over the stage's passes, so both components keep the low discrepancy
+    /// of the unguided sequence. With the cluster's distribution `dist` (after learning)
+    /// and u₂ < m the point is warped through it, else it is the uniform direction.
+    /// Returns (tangent-space direction, world direction, its pdf: 1/2π while learning,
+    /// the mixture's after).
+    #[allow(clippy::too_many_arguments)]
+    pub fn guided_direction(
+        &self,
+        seed: u64,
+        id: u32,
+        p: u64,
+        learn: u64,
+        normal: Vec3,
+        dist: Option<&[f32]>,
+        m: f64,
+    ) -> (DVec3, Vec3, f64) {
+        let (k, start) = crate::guiding::stage(p, learn);
+        let shift = seed ^ (id as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (k as u64).wrapping_mul(0xD1B5_4A32_D192_ED03);
+        let u = R3::with_seed(shift).point(p - start);
+        let local = match dist {
+            Some(d) if u[2] < m => crate::guiding::sample_guided(d, [u[0] as f32, u[1] as f32]),
+            _ => sbf::sampling::uniform_hemisphere([u[0], u[1]]),
+        };
+        let pdf = dist.map_or(0.5 / std::f64::consts::PI, |d| crate::guiding::mixture_pdf(d, local, m));
+        (local, world_of(normal, local), pdf)
+    }
+}
+
+/// A tangent-space direction about `normal` in world space.
+fn world_of(normal: Vec3, local: DVec3) -> Vec3 {
+    let (tn, bn) = frame(normal);
+    (tn.as_dvec3() * local.x + bn.as_dvec3() * local.y + normal.as_dvec3() * local.z).normalize().as_vec3()
 }
 
 impl Targets {
     /// Turns a traced point sample into the item's frame: the light samples' directions
     /// (tangent frame about `normal` for texels) with c scaled by the point sample's pdf
-    /// p_s (1/2π, 1/4π), and the plain estimate's sample (`w`: 2cosθ or 1).
-    pub fn item_sample(&self, normal: Vec3, local: DVec3, w: f32, s: crate::trace::PointSample) -> ItemSample {
+    /// `pdf` (1/2π, 1/4π, or the guided mixture's), the plain estimate's sample (`w`:
+    /// cosθ/(π·pdf) = 2cosθ uniform, or 1 for probes) and the encoders' weight
+    /// p_s/pdf (1 unguided; [`crate::guiding`]).
+    pub fn item_sample(&self, normal: Vec3, local: DVec3, w: f32, pdf: f64, s: crate::trace::PointSample) -> ItemSample {
         let (tn, bn) = frame(normal);
         let to_local = |d: Vec3| -> DVec3 {
             if self.sphere {
@@ -199,9 +245,10 @@ impl Targets {
             // E/π gains c·cosθ/π (texels) or the sphere mean gains c/4π (probes).
             let k = if self.sphere { p_s } else { ld.z.max(0.0) / std::f64::consts::PI };
             estimate += *c * k as f32;
-            lights.push((ld, [c.x as f64 * p_s, c.y as f64 * p_s, c.z as f64 * p_s]));
+            lights.push((ld, [c.x as f64 * pdf, c.y as f64 * pdf, c.z as f64 * pdf]));
         }
-        ItemSample { local, radiance: s.radiance, lights, estimate, back_face: s.back_face }
+        let weight = if pdf == p_s { 1.0 } else { p_s / pdf };
+        ItemSample { local, radiance: s.radiance, lights, delta: s.delta, estimate, back_face: s.back_face, weight }
     }
 }
 
@@ -240,12 +287,17 @@ pub struct ItemSample {
     /// The point sample's direction (tangent space for texels, world for probes).
     pub local: DVec3,
     pub radiance: Vec3,
-    /// Known projections: (direction in the item's frame, p_s·c_l) per light sample.
+    /// Known projections: (direction in the item's frame, p·c_l) per light sample (p: the
+    /// point sample's pdf), the delta lights first.
     pub lights: Vec<(DVec3, [f64; 3])>,
+    /// How many of `lights` are delta lights.
+    pub delta: usize,
     /// The plain estimate's sample (E/π for texels, sphere-mean L for probes).
     pub estimate: Vec3,
     /// Rejected: the first hit was a single-sided back face.
     pub back_face: bool,
+    /// The encoders' sample weight: the uniform pdf over the point sample's (1 unguided).
+    pub weight: f64,
 }
 
 impl ItemSample {
@@ -263,6 +315,11 @@ pub struct BakeState {
     pub moments: Vec<Moments>,
     /// `encoders[b][item]` for `config.bases[b]`.
     pub encoders: Vec<Vec<ProgressiveEncoder<f32>>>,
+    /// Ray guiding: the learned sums, 256 bins per cluster (empty without guiding).
+    pub guide_sums: Vec<f32>,
+    /// Ray guiding: the sums the current stage's distributions were built from
+    /// ([`crate::guiding::stage`]; empty without guiding).
+    pub guide_basis: Vec<f32>,
 }
 
 impl BakeState {
@@ -277,7 +334,12 @@ impl BakeState {
                 vec![ProgressiveEncoder::new(lobes, o); targets.items.len()]
             })
             .collect();
-        BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders }
+        let guide_sums = match config.guiding {
+            Some(_) if !targets.sphere => vec![0.0; targets.cluster_count * crate::guiding::BIN_COUNT],
+            _ => Vec::new(),
+        };
+        let guide_basis = guide_sums.clone();
+        BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders, guide_sums, guide_basis }
     }
 
     /// Mean estimate per item over its accepted samples (E/π for texels, mean L for
@@ -317,6 +379,8 @@ pub struct Bake<'a> {
     pub tracer: Tracer<'a>,
     bases: Vec<Box<dyn Basis + Send + Sync>>,
     pub state: BakeState,
+    /// Ray guiding's distributions once learning ended ([`crate::guiding::build`]).
+    guide: Option<Vec<f32>>,
 }
 
 impl std::fmt::Debug for Bake<'_> {
@@ -329,20 +393,30 @@ impl<'a> Bake<'a> {
     pub fn new(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>) -> Self {
         let bases: Vec<_> = config.bases.iter().map(|k| k.basis()).collect();
         let state = BakeState::new(&config, targets);
-        Bake { config, targets, tracer, bases, state }
+        Bake { config, targets, tracer, bases, state, guide: None }
     }
 
     /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
     pub fn resume(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>, state: BakeState) -> Result<Self, String> {
         let fresh = BakeState::new(&config, targets);
         let shape = |s: &BakeState| {
-            (s.moments.len(), s.encoders.iter().map(|e| (e.len(), e.first().map(|x| x.coefficients().nrows()))).collect::<Vec<_>>())
+            (
+                s.moments.len(),
+                s.encoders.iter().map(|e| (e.len(), e.first().map(|x| x.coefficients().nrows()))).collect::<Vec<_>>(),
+                s.guide_sums.len(),
+                s.guide_basis.len(),
+            )
         };
         if shape(&fresh) != shape(&state) {
             return Err("the saved state does not match this bake's targets and bases".into());
         }
         let mut b = Bake::new(config, targets, tracer);
         b.state = state;
+        if let Some(g) = b.config.guiding {
+            if !b.state.guide_basis.is_empty() && b.state.passes >= g.learn_passes {
+                b.guide = Some(crate::guiding::build(&b.state.guide_basis));
+            }
+        }
         Ok(b)
     }
 
@@ -356,6 +430,19 @@ impl<'a> Bake<'a> {
         self.pass_samples();
     }
 
+    /// Ray guiding: at the start of each stage ([`crate::guiding::stage`]) the
+    /// distributions are rebuilt from the sums of every pass so far, which are kept as
+    /// the stage's basis (a resumed bake rebuilds exactly what it had).
+    fn build_guide(&mut self) {
+        if let Some(g) = self.config.guiding {
+            let p = self.state.passes;
+            if !self.state.guide_sums.is_empty() && p >= g.learn_passes && crate::guiding::stage(p, g.learn_passes).1 == p {
+                self.state.guide_basis.clone_from(&self.state.guide_sums);
+                self.guide = Some(crate::guiding::build(&self.state.guide_basis));
+            }
+        }
+    }
+
     /// Runs one pass and returns its samples per item — e.g. to fit the same samples in
     /// batch.
     pub fn pass_samples(&mut self) -> Vec<ItemSample> {
@@ -363,20 +450,60 @@ impl<'a> Bake<'a> {
         let seed = self.config.seed;
         let tracer = &self.tracer;
         let tg = self.targets;
+        let guide = self.config.guiding.filter(|_| !self.state.guide_sums.is_empty());
+        let dists = self.guide.as_deref();
         // Trace in parallel, then feed the encoders per item (the samples are kept so
         // that each item's update order is the pass order on any thread count).
         let samples: Vec<ItemSample> = tg
             .items
             .par_iter()
-            .map(|&[first, count, id]| {
+            .zip(tg.clusters.par_iter())
+            .map(|(&[first, count, id], &cluster)| {
                 let pt = &tg.points[(first as u64 + p % count as u64) as usize];
-                let (local, dir, w) = tg.direction(seed, id, p, pt.normal);
                 let mut rng = Pcg32::new(seed.wrapping_add(p.wrapping_mul(0x2545_F491_4F6C_DD1D)), id as u64);
                 let normal = (!tg.sphere).then_some((pt.normal, pt.geometric));
-                let s = tracer.sample_point(pt.position, normal, dir, &mut rng);
-                tg.item_sample(pt.normal, local, w, s)
+                match guide {
+                    Some(g) => {
+                        use crate::guiding::CDF_LEN;
+                        let dist = dists.map(|d| &d[cluster as usize * CDF_LEN..(cluster as usize + 1) * CDF_LEN]);
+                        let (local, dir, pdf) = tg.guided_direction(seed, id, p, g.learn_passes, pt.normal, dist, g.guided_fraction);
+                        let (tn, bn) = frame(pt.normal);
+                        let pdf_of = |w: Vec3| match dist {
+                            Some(d) => {
+                                let l = DVec3::new(w.dot(tn) as f64, w.dot(bn) as f64, w.dot(pt.normal) as f64);
+                                crate::guiding::mixture_pdf(d, l, g.guided_fraction)
+                            }
+                            None => 0.5 / std::f64::consts::PI,
+                        };
+                        let s = tracer.sample_point_with(pt.position, normal, dir, &pdf_of, &mut rng);
+                        let w = (local.z / (std::f64::consts::PI * pdf)) as f32;
+                        tg.item_sample(pt.normal, local, w, pdf, s)
+                    }
+                    None => {
+                        let (local, dir, w) = tg.direction(seed, id, p, pt.normal);
+                        let s = tracer.sample_point(pt.position, normal, dir, &mut rng);
+                        let p_s = if tg.sphere { 0.25 / std::f64::consts::PI } else { 0.5 / std::f64::consts::PI };
+                        tg.item_sample(pt.normal, local, w, p_s, s)
+                    }
+                }
             })
             .collect();
+        if !self.state.guide_sums.is_empty() {
+            // Every pass learns from the point sample and the area-light samples, in item
+            // order: deterministic sums (the GPU gathers the same). Each value estimates
+            // (1/2π)·∫_bin L cosθ: the point sample's lum(L)·(1/2π)/p (L MIS-weighted), a
+            // light sample's lum(c)/2π (c = L·w/p_l, stored here as p·c).
+            let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+            for (s, &c) in samples.iter().zip(&tg.clusters) {
+                if !s.back_face && s.is_finite() {
+                    let v = crate::lights::luminance(s.radiance) * s.weight;
+                    crate::guiding::record(&mut self.state.guide_sums, c, s.local, v as f32);
+                    for (ld, cl) in &s.lights[s.delta..] {
+                        crate::guiding::record(&mut self.state.guide_sums, c, *ld, (lum(*cl) * s.weight) as f32);
+                    }
+                }
+            }
+        }
         self.state.moments.par_iter_mut().zip(samples.par_iter()).for_each(|(m, s)| {
             if s.back_face {
                 m.back_faces += 1;
@@ -397,12 +524,13 @@ impl<'a> Bake<'a> {
             encs.par_iter_mut().zip(samples.par_iter()).filter(|(_, s)| !s.back_face && s.is_finite()).for_each(|(enc, s)| {
                 let l = [s.radiance.x as f64, s.radiance.y as f64, s.radiance.z as f64];
                 // Finite (checked above) and of the encoder's size: cannot fail.
-                if let Err(e) = enc.add_sample_projected(basis.as_ref(), s.local, l, 1.0, &s.lights) {
+                if let Err(e) = enc.add_sample_projected(basis.as_ref(), s.local, l, s.weight, &s.lights) {
                     panic!("encoder refused a finite sample: {e}");
                 }
             });
         }
         self.state.passes += 1;
+        self.build_guide();
         samples
     }
 }

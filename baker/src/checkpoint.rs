@@ -7,8 +7,8 @@
 //! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
 //! and the u64 counts of accepted, back-face and non-finite samples;
 //! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
-//! weight) and the u64 update count. f32 state round-trips exactly, so a resumed bake
-//! continues bit for bit.
+//! weight) and the u64 update count; u32 count n and the f32 ray-guiding sums, then the n
+//! sums of the current stage's basis (n = 0 without guiding). f32 state round-trips exactly, so a resumed bake continues bit for bit.
 
 use crate::bake::{BakeConfig, BakeState, Moments, Targets};
 use crate::scene::{Environment, Light, Scene};
@@ -16,7 +16,7 @@ use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"SBFBAKE2";
+const MAGIC: &[u8; 8] = b"SBFBAKE3";
 
 /// FNV-1a 64 (Fowler–Noll–Vo), fed with the bytes that determine a bake.
 #[derive(Debug, Clone, Copy)]
@@ -121,6 +121,11 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     h.u64(config.max_bounces as u64);
     config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
     h.bytes(format!("{:?}", config.solver).as_bytes());
+    if let Some(g) = config.guiding {
+        h.bytes(b"guiding");
+        h.u64(g.learn_passes);
+        h.u64(g.guided_fraction.to_bits());
+    }
     h.finish()
 }
 
@@ -155,6 +160,10 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
             v.extend_from_slice(&(e.total_weight() as f32).to_le_bytes());
             v.extend_from_slice(&e.sample_count().to_le_bytes());
         }
+    }
+    v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
+    for x in state.guide_sums.iter().chain(&state.guide_basis) {
+        v.extend_from_slice(&x.to_le_bytes());
     }
     v
 }
@@ -192,7 +201,7 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
     }
     let fp = r.u64()?;
     if fp != fingerprint {
-        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases or solver changed"));
+        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver or ray guiding changed"));
     }
     let passes = r.u64()?;
     let (items, nb) = (r.u32()? as usize, r.u32()? as usize);
@@ -230,6 +239,13 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
             let n = r.u64()?;
             *e = ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))?;
         }
+    }
+    let sums = r.u32()? as usize;
+    if sums != state.guide_sums.len() {
+        return Err(format!("checkpoint has {sums} ray-guiding sums, this bake {}", state.guide_sums.len()));
+    }
+    for x in state.guide_sums.iter_mut().chain(state.guide_basis.iter_mut()) {
+        *x = r.f32()?;
     }
     if r.at != bytes.len() {
         return Err(format!("checkpoint has {} trailing bytes", bytes.len() - r.at));

@@ -42,7 +42,12 @@ pub struct TraceParams {
     pub env_rows_offset: u32,
     pub env_cdf_width: u32,
     pub env_cdf_height: u32,
-    pub pad0: u32,
+    pub guide_phase: u32,
+    /// Ray guiding: the pass's stage and the stage's first pass (`guiding::stage`).
+    pub guide_stage: u32,
+    pub guide_start: u32,
+    pub pad1: u32,
+    pub pad2: u32,
     pub env0: [f32; 4],
     pub env1: [f32; 4],
     pub env2: [f32; 4],
@@ -70,7 +75,11 @@ shaders::gpu_struct!(
         env_rows_offset,
         env_cdf_width,
         env_cdf_height,
-        pad0,
+        guide_phase,
+        guide_stage,
+        guide_start,
+        pad1,
+        pad2,
         env0,
         env1,
         env2
@@ -83,6 +92,9 @@ const WG: u32 = 64;
 const TRACE_WGSL: &str = include_str!("../wgsl/trace.wgsl");
 const GLOSSY_WGSL: &str = include_str!("../wgsl/glossy.wgsl");
 const GLOSSY_NONE_WGSL: &str = include_str!("../wgsl/glossy_none.wgsl");
+const GUIDE_WGSL: &str = include_str!("../wgsl/guide.wgsl");
+const GUIDE_NONE_WGSL: &str = include_str!("../wgsl/guide_none.wgsl");
+const GUIDE_BUILD_WGSL: &str = include_str!("../wgsl/guide_build.wgsl");
 
 /// The kernel source for a bake and what its composition left out.
 #[derive(Debug, Clone)]
@@ -108,7 +120,7 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
     }
     let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
-    let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
+    let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
     // Known projections of the baked point's light samples, per basis (sbf
     // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
     let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
@@ -159,10 +171,10 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         );
         gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
         project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
-        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, 1.0, Q_{k});\n");
+        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
         if mirror {
             // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
-            encode += &format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), 1.0);\n");
+            encode += &format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), w);\n");
         }
         encode += "        states[s] = st;\n    }\n";
     }
@@ -175,8 +187,15 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     if !glossy {
         left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
     }
+    let guiding = match config.guiding {
+        Some(g) if !sphere_targets => format!("const GUIDED_FRACTION: f32 = {};\n{GUIDE_WGSL}", f(g.guided_fraction)),
+        _ => {
+            left_out.push("ray guiding (not enabled, or probes): the guide bindings, sampler and pdf".to_string());
+            GUIDE_NONE_WGSL.to_string()
+        }
+    };
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
-    let source = format!("{}\n{gen}{encode}\n{TRACE_WGSL}\n{}", lib.source, if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL });
+    let source = format!("{}\n{gen}{encode}\n{TRACE_WGSL}\n{}\n{guiding}", lib.source, if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL });
     shaders::export::validate(&source).map_err(|e| format!("bake kernel: {e}"))?;
     Ok(Kernel { source, left_out })
 }
@@ -204,6 +223,139 @@ impl RayStats {
     }
 }
 
+/// Ray guiding on the GPU: the per-pass learning records, the learned sums, the
+/// distributions, and the gather and build kernels (`wgsl/guide_build.wgsl`).
+#[derive(Debug)]
+struct GuideGpu {
+    gather: wgpu::ComputePipeline,
+    gather_bind: wgpu::BindGroup,
+    build: wgpu::ComputePipeline,
+    build_bind: wgpu::BindGroup,
+    sums_buf: wgpu::Buffer,
+    /// The sums the current stage's distributions were built from.
+    basis_buf: wgpu::Buffer,
+    rec_buf: wgpu::Buffer,
+    dist_buf: wgpu::Buffer,
+    clusters: u32,
+    learn_passes: u64,
+    /// The distributions were built from the sums.
+    built: bool,
+}
+
+/// Workgroups for `n` threads of `wg` each, as a 2D grid within the 65 535 limit.
+fn grid(n: u32, wg: u32) -> (u32, u32) {
+    let g = n.div_ceil(wg);
+    if g <= 65535 {
+        (g, 1)
+    } else {
+        (65535, g.div_ceil(65535))
+    }
+}
+
+impl GuideGpu {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        d: &wgpu::Device,
+        targets: &Targets,
+        opts: crate::guiding::GuidingOptions,
+        rec_buf: wgpu::Buffer,
+        dist_buf: wgpu::Buffer,
+        sums_buf: wgpu::Buffer,
+    ) -> GuideGpu {
+        use crate::guiding::BIN_COUNT;
+        let clusters = targets.cluster_count as u32;
+        // CSR of the clusters' items in ascending item order.
+        let mut offsets = vec![0u32; clusters as usize + 1];
+        for c in &targets.clusters {
+            offsets[*c as usize + 1] += 1;
+        }
+        for k in 0..clusters as usize {
+            offsets[k + 1] += offsets[k];
+        }
+        let mut fill = offsets.clone();
+        let mut members = vec![0u32; targets.clusters.len()];
+        for (i, c) in targets.clusters.iter().enumerate() {
+            members[fill[*c as usize] as usize] = i as u32;
+            fill[*c as usize] += 1;
+        }
+        offsets.extend(members);
+        let csr = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("guide clusters"),
+            contents: bytemuck::cast_slice(&offsets),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let params = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("guide params"),
+            contents: bytemuck::cast_slice(&[clusters, 0, 0, 0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("guide_build"),
+            source: wgpu::ShaderSource::Wgsl(GUIDE_BUILD_WGSL.into()),
+        });
+        let pipe = |entry: &str| {
+            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let (gather, build) = (pipe("guide_gather"), pipe("guide_build"));
+        let bind = |p: &wgpu::ComputePipeline, e: &[(u32, &wgpu::Buffer)]| {
+            let entries: Vec<wgpu::BindGroupEntry> =
+                e.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
+            d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &p.get_bind_group_layout(0), entries: &entries })
+        };
+        let gather_bind = bind(&gather, &[(0, &params), (1, &csr), (2, &rec_buf), (3, &sums_buf)]);
+        let build_bind = bind(&build, &[(0, &params), (3, &sums_buf), (4, &dist_buf)]);
+        debug_assert_eq!(sums_buf.size(), (clusters as usize * BIN_COUNT * 4).max(4) as u64);
+        let basis_buf = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("guide basis"),
+            size: sums_buf.size(),
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        GuideGpu {
+            basis_buf,
+            gather,
+            gather_bind,
+            build,
+            build_bind,
+            sums_buf,
+            rec_buf,
+            dist_buf,
+            clusters,
+            learn_passes: opts.learn_passes,
+            built: false,
+        }
+    }
+
+    /// Records the build and the copy of the sums it used into the stage's basis.
+    fn record_build(&self, enc: &mut wgpu::CommandEncoder) {
+        self.record(enc, true);
+        enc.copy_buffer_to_buffer(&self.sums_buf, 0, &self.basis_buf, 0, self.sums_buf.size());
+    }
+
+    /// Records the gather (after a learning pass) or the build into `enc`.
+    fn record(&self, enc: &mut wgpu::CommandEncoder, build: bool) {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        if build {
+            let g = grid(self.clusters, 1);
+            pass.set_pipeline(&self.build);
+            pass.set_bind_group(0, &self.build_bind, &[]);
+            pass.dispatch_workgroups(g.0, g.1, 1);
+        } else {
+            let g = grid(self.clusters, 64);
+            pass.set_pipeline(&self.gather);
+            pass.set_bind_group(0, &self.gather_bind, &[]);
+            pass.dispatch_workgroups(g.0, g.1, 1);
+        }
+    }
+}
+
 /// A bake on the GPU.
 #[derive(Debug)]
 pub struct GpuBake<'g> {
@@ -221,6 +373,7 @@ pub struct GpuBake<'g> {
     items: usize,
     pub passes: u64,
     pub kernel: Kernel,
+    guide: Option<GuideGpu>,
 }
 
 /// Checks every storage buffer of a bake against the adapter's binding limit before
@@ -325,6 +478,8 @@ impl<'g> GpuBake<'g> {
         });
         let (aux, at) = aux_data(tracer);
         let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
+        let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
+        let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
         check_bindings(
             &[
                 ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
@@ -333,6 +488,8 @@ impl<'g> GpuBake<'g> {
                 ("sample points", (targets.points.len() * 48) as u64),
                 ("encoder states", states_len as u64),
                 ("moments", (targets.items.len() * 48) as u64),
+                ("ray-guiding distributions", (clusters * crate::guiding::CDF_LEN * 4) as u64),
+                ("ray-guiding records", (if clusters > 0 { targets.items.len() * 24 } else { 0 }) as u64),
             ],
             d.limits().max_storage_buffer_binding_size,
         )?;
@@ -369,7 +526,11 @@ impl<'g> GpuBake<'g> {
             env_rows_offset: at.env_rows,
             env_cdf_width: at.env_cdf.0,
             env_cdf_height: at.env_cdf.1,
-            pad0: 0,
+            guide_phase: 0,
+            guide_stage: 0,
+            guide_start: 0,
+            pad1: 0,
+            pad2: 0,
             env0: env[0],
             env1: env[1],
             env2: env[2],
@@ -390,7 +551,7 @@ impl<'g> GpuBake<'g> {
         let nodes = storage("nodes", bytemuck::cast_slice(&tracer.bvh.nodes), wgpu::BufferUsages::empty());
         let tris = storage("tris", bytemuck::cast_slice(&tracer.bvh.tris), wgpu::BufferUsages::empty());
         let auxb = storage("aux", bytemuck::cast_slice(&aux), wgpu::BufferUsages::empty());
-        let item_data: Vec<[u32; 4]> = targets.items.iter().map(|&[a, b, c]| [a, b, c, 0]).collect();
+        let item_data: Vec<[u32; 4]> = targets.items.iter().zip(&targets.clusters).map(|(&[a, b, c], k)| [a, b, c, *k]).collect();
         let itemb = storage("items", bytemuck::cast_slice(&item_data), wgpu::BufferUsages::empty());
         let pts: Vec<[f32; 4]> = targets
             .points
@@ -401,6 +562,12 @@ impl<'g> GpuBake<'g> {
         let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
         let states_buf = storage("states", &vec![0u8; states_len], rw);
         let counters_buf = storage("counters", &[0u8; 16], rw);
+        let guide = guiding.map(|g| {
+            let rec = storage("guide records", &vec![0xffu8; items * 24], wgpu::BufferUsages::empty());
+            let dist = storage("guide distributions", &vec![0u8; clusters * crate::guiding::CDF_LEN * 4], wgpu::BufferUsages::COPY_SRC);
+            let sums = storage("guide sums", &vec![0u8; clusters * crate::guiding::BIN_COUNT * 4], rw);
+            GuideGpu::new(d, targets, g, rec, dist, sums)
+        });
         let mut entries = vec![
             wgpu::BindGroupEntry { binding: 0, resource: params_buf.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
@@ -414,13 +581,16 @@ impl<'g> GpuBake<'g> {
         if !config.bases.is_empty() {
             entries.push(wgpu::BindGroupEntry { binding: 7, resource: states_buf.as_entire_binding() });
         }
+        if let Some(g) = &guide {
+            entries.push(wgpu::BindGroupEntry { binding: 9, resource: g.rec_buf.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 10, resource: g.dist_buf.as_entire_binding() });
+        }
         let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bake"),
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let g = (items as u32).div_ceil(WG);
-        let groups = if g <= 65535 { (g, 1) } else { (65535, g.div_ceil(65535)) };
+        let groups = grid(items as u32, WG);
         Ok(GpuBake {
             gpu,
             pipeline,
@@ -436,11 +606,23 @@ impl<'g> GpuBake<'g> {
             items,
             passes: 0,
             kernel,
+            guide,
         })
     }
 
-    fn dispatch(&self) {
+    /// One pass; with ray guiding, the gather of its learning records and, once learning
+    /// ends, the build of the distributions follow it in the same submission.
+    fn dispatch(&mut self) {
         let d = self.gpu.device();
+        self.params.guide_phase = match &self.guide {
+            Some(g) if self.passes < g.learn_passes => 1,
+            Some(_) => 2,
+            None => 0,
+        };
+        if let Some(g) = &self.guide {
+            let (k, start) = crate::guiding::stage(self.passes, g.learn_passes);
+            (self.params.guide_stage, self.params.guide_start) = (k, start as u32);
+        }
         self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         let mut enc = d.create_command_encoder(&Default::default());
         {
@@ -448,6 +630,16 @@ impl<'g> GpuBake<'g> {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
             pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+        }
+        if let Some(g) = &mut self.guide {
+            // Every pass learns; at the start of each stage the distributions are rebuilt
+            // from all sums (baker::guiding::stage).
+            g.record(&mut enc, false);
+            let next = self.passes + 1;
+            if next >= g.learn_passes && crate::guiding::stage(next, g.learn_passes).1 == next {
+                g.record_build(&mut enc);
+                g.built = true;
+            }
         }
         self.gpu.queue().submit([enc.finish()]);
     }
@@ -460,6 +652,15 @@ impl<'g> GpuBake<'g> {
             self.passes += 1;
         }
         self.gpu.wait()
+    }
+
+    /// Ray guiding's distributions as the GPU built them (None: no guiding, or not built
+    /// yet) — for comparison with [`crate::guiding::build`].
+    pub fn guide_distributions(&self) -> Result<Option<Vec<f32>>, String> {
+        match &self.guide {
+            Some(g) if g.built => Ok(Some(bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.dist_buf)?))),
+            _ => Ok(None),
+        }
     }
 
     /// Reads the progressive state back (moments as f64, encoder states exactly).
@@ -490,7 +691,14 @@ impl<'g> GpuBake<'g> {
             }
             encoders.push(encs);
         }
-        Ok(BakeState { passes: self.passes, moments, encoders })
+        let (guide_sums, guide_basis) = match &self.guide {
+            Some(g) => (
+                bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.sums_buf)?),
+                bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.basis_buf)?),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis })
     }
 
     /// Replaces the GPU state with `state` (resuming a checkpoint).
@@ -528,6 +736,28 @@ impl<'g> GpuBake<'g> {
             q.write_buffer(&self.states_buf, 0, bytemuck::cast_slice(&raw));
         }
         self.passes = state.passes;
+        if let Some(g) = &mut self.guide {
+            let n = g.clusters as usize * crate::guiding::BIN_COUNT;
+            if state.guide_sums.len() != n || state.guide_basis.len() != n {
+                return Err(format!(
+                    "the saved state has {} ray-guiding sums, this bake {} clusters × {}",
+                    state.guide_sums.len(),
+                    g.clusters,
+                    crate::guiding::BIN_COUNT
+                ));
+            }
+            // The stage's distributions from its basis, then the running sums.
+            q.write_buffer(&g.basis_buf, 0, bytemuck::cast_slice(&state.guide_basis));
+            g.built = false;
+            if self.passes >= g.learn_passes {
+                q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_basis));
+                let mut enc = self.gpu.device().create_command_encoder(&Default::default());
+                g.record(&mut enc, true);
+                g.built = true;
+                q.submit([enc.finish()]);
+            }
+            q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_sums));
+        }
         self.gpu.wait()
     }
 

@@ -2,7 +2,7 @@
 //!
 //! - [`scene`]: meshes, materials (Lambert + GGX layers), lights, environment (analytic
 //!   sky or a lat-long map), and the built-in scenes ([`scene::cornell`], the default;
-//!   [`scene::furnace`] for tests; [`scene::dense`] with a 1 M-triangle sphere for timing).
+//!   [`scene::furnace`] for tests; [`scene::slit`] lit through a slit (guiding); [`scene::dense`] with a 1 M-triangle sphere for timing).
 //! - [`import`]: glTF 2.0 (TEXCOORD_1 lightmap UVs, metallic/roughness, emission,
 //!   KHR_lights_punctual) with a report of what was skipped.
 //! - [`bvh`]: binned-SAH BVH flattened into GPU-shaped nodes, CPU traversal.
@@ -16,6 +16,8 @@
 //!   and the per-sample encoders on the CPU (the reference path), the shared state.
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
 //!   progressive update, composed per bake; ray-throughput measurement.
+//! - [`guiding`]: first-bounce ray guiding (seed 003): texel clusters, learned directional
+//!   bins on the concentric square, quadtree relaxation, CDFs, the mixture sampler and pdf.
 //! - [`gpu_prims`]: reusable GPU primitives with CPU twins — exclusive prefix sum (any
 //!   length, multi-level), stream compaction — for the wavefront pipeline.
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
@@ -40,6 +42,7 @@ pub mod checkpoint;
 pub mod denoise;
 pub mod gpu;
 pub mod gpu_prims;
+pub mod guiding;
 pub mod import;
 pub mod lightmap;
 pub mod lights;

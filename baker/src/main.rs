@@ -13,7 +13,7 @@ use std::process::ExitCode;
     after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace` (test box), `dense` (cornell + a 1 M-triangle
+    /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `dense` (cornell + a 1 M-triangle
     /// sphere), or a .gltf/.glb file.
     #[arg(long, default_value = "cornell")]
     scene: String,
@@ -29,6 +29,15 @@ struct Cli {
     /// Passes (one path per texel and probe each).
     #[arg(long, default_value_t = 128)]
     passes: u64,
+    /// First-bounce ray guiding of lightmap texels (seed 003): learn a directional
+    /// distribution per 8×8-texel cluster from the first passes, then draw half of the
+    /// point samples from it (mixture pdf, unbiased).
+    #[arg(long)]
+    guiding: bool,
+    /// Learning passes of --guiding (default: 1/16 of --passes, 4 to 32); the learned
+    /// distributions are rebuilt at this pass count, twice it, four times, …
+    #[arg(long)]
+    guiding_learn: Option<u64>,
     /// Denoise the lightmap (joint non-local means within charts, guided by position and
     /// normal; the same weights for irradiance and every coefficient) before dilation.
     #[arg(long)]
@@ -180,13 +189,26 @@ fn options(c: Cli) -> Result<Options, String> {
     if c.passes == 0 {
         return Err("--passes must be at least 1".into());
     }
+    if c.guiding_learn.is_some() && !c.guiding {
+        return Err("--guiding-learn needs --guiding".into());
+    }
+    let guiding = if c.guiding {
+        let mut g = baker::guiding::GuidingOptions::for_passes(c.passes);
+        if let Some(n) = c.guiding_learn {
+            g.learn_passes = n;
+        }
+        g.validate()?;
+        Some(g)
+    } else {
+        None
+    };
     Ok(Options {
         scene: c.scene,
         environment: c.env,
         texels_per_unit: c.texels_per_unit,
         padding: c.padding,
         passes: c.passes,
-        config: baker::bake::BakeConfig { seed: c.seed, max_bounces: c.bounces, bases: parse_bases(&bases)?, solver },
+        config: baker::bake::BakeConfig { seed: c.seed, max_bounces: c.bounces, bases: parse_bases(&bases)?, solver, guiding },
         device,
         out: c.out,
         checkpoint_every: c.checkpoint_every,

@@ -71,7 +71,13 @@ impl Default for Options {
             texels_per_unit: 16.0,
             padding: 2,
             passes: 128,
-            config: BakeConfig { seed: 1, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Ad9], solver: Solver::Nnls },
+            config: BakeConfig {
+                seed: 1,
+                max_bounces: 4,
+                bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+                solver: Solver::Nnls,
+                guiding: None,
+            },
             device: Device::Auto,
             out: PathBuf::from("bake-out"),
             checkpoint_every: 32,
@@ -105,6 +111,7 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
     let mut s = match name {
         "cornell" => scene::cornell(),
         "furnace" => scene::furnace(1.0, 0.5),
+        "slit" => scene::slit(),
         "dense" => scene::dense(1 << 20),
         path => {
             let (s, report) = crate::import::load(Path::new(path)).map_err(|e| e.to_string())?;
@@ -303,7 +310,24 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         ));
         return Ok(Summary { device, lightmap: b.state()?, probes: None, passes_run: passes, seconds: t0.elapsed().as_secs_f64() });
     }
+    if let Some(g) = o.config.guiding {
+        log(format!(
+            "guiding: {} clusters of ≤ {}×{} texels, {} learning passes, then {:.0}% of point samples from the learned distributions (rebuilt at passes {}, 2×, 4×, …)",
+            targets.cluster_count,
+            crate::guiding::TILE,
+            crate::guiding::TILE,
+            g.learn_passes,
+            100.0 * g.guided_fraction,
+            g.learn_passes
+        ));
+        if g.learn_passes >= o.passes {
+            log(format!("guiding: all {} passes learn (--guiding-learn {} ≥ --passes): no pass is guided", o.passes, g.learn_passes));
+        }
+    }
+    let t_passes = Instant::now();
     let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &scene, &targets, "lightmap", log)?;
+    let mut times = StageTimes { lightmap_passes: t_passes.elapsed().as_secs_f64(), probe_passes: None };
+    log(format!("lightmap: {run} passes in {:.2} s", times.lightmap_passes));
     let mut probe_state = None;
     let mut probe_positions = Vec::new();
     let mut relocated: Vec<(usize, Vec3)> = Vec::new();
@@ -329,10 +353,49 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         }
         let pt = Targets::probes(&probe_positions);
         let pcfg = BakeConfig { bases: o.probe_bases.clone(), ..o.config.clone() };
-        probe_state = Some(run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &scene, &pt, "probes", log)?.0);
+        let t = Instant::now();
+        let (ps, prun) = run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &scene, &pt, "probes", log)?;
+        times.probe_passes = Some(t.elapsed().as_secs_f64());
+        log(format!("probes: {prun} passes in {:.2} s", t.elapsed().as_secs_f64()));
+        probe_state = Some(ps);
     }
-    write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &probe_positions, &relocated, &device, glossy, t0, log)?;
+    let ctx = OutputContext { probe_positions: &probe_positions, relocated: &relocated, device: &device, glossy, t0, times };
+    write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &ctx, log)?;
     Ok(Summary { device, lightmap: state, probes: probe_state, passes_run: run, seconds: t0.elapsed().as_secs_f64() })
+}
+
+/// Wall time of the bake's stages, for bake.json.
+#[derive(Debug, Clone, Copy)]
+struct StageTimes {
+    lightmap_passes: f64,
+    probe_passes: Option<f64>,
+}
+
+/// What the outputs record besides the states.
+struct OutputContext<'a> {
+    probe_positions: &'a [Vec3],
+    relocated: &'a [(usize, Vec3)],
+    device: &'a str,
+    glossy: bool,
+    t0: Instant,
+    times: StageTimes,
+}
+
+/// bake.json's account of ray guiding (null when off).
+fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> serde_json::Value {
+    let Some(g) = o.config.guiding else { return json!(null) };
+    let bins = crate::guiding::BIN_COUNT;
+    let learned = state.guide_sums.chunks(bins).filter(|c| c.iter().any(|v| *v > 0.0)).count();
+    let mut rebuilds = Vec::new();
+    let mut p = g.learn_passes;
+    while p < state.passes && p > 0 {
+        rebuilds.push(p);
+        p *= 2;
+    }
+    json!({"method": "first-bounce ray guiding (seed 003): 8x8-texel clusters split by chart and normal, 16x16 equal-area concentric bins, quadtree relaxation, mixture with the uniform hemisphere",
+           "clusters": targets.cluster_count, "clusters_with_light": learned, "learn_passes": g.learn_passes,
+           "guided_fraction": g.guided_fraction, "rebuilt_at_passes": rebuilds,
+           "learning_samples": "kept (uniform samples with their correct pdf)"})
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -344,13 +407,10 @@ fn write_outputs(
     targets: &Targets,
     state: &BakeState,
     probes: Option<&BakeState>,
-    probe_positions: &[Vec3],
-    relocated: &[(usize, Vec3)],
-    device: &str,
-    glossy: bool,
-    t0: Instant,
+    ctx: &OutputContext,
     log: &mut dyn FnMut(String),
 ) -> Result<(), String> {
+    let OutputContext { probe_positions, relocated, device, glossy, t0, times } = *ctx;
     let mut img = LightmapImages::new(lm, targets, state);
     let validity = |st: &BakeState| {
         let valid = st.valid();
@@ -426,8 +486,9 @@ fn write_outputs(
         )
     } else {
         log(format!(
-            "seams: {} edges, mean |ΔE/π| across them {metric_before:.3e} (texel noise {noise:.3e}); not stitched",
-            seam_edges.len()
+            "seams: {} edges, mean |ΔE/π| across them {metric_before:.3e} (texel noise {noise:.3e}); not stitched, {:.2} s",
+            seam_edges.len(),
+            t.elapsed().as_secs_f64()
         ));
         let dilated = img.dilate(o.padding + 1);
         (
@@ -436,6 +497,8 @@ fn write_outputs(
                          "metric": "mean |E/pi lookup A - lookup B| over seam samples and channels, after dilation"}),
         )
     };
+    let seam_seconds = t.elapsed().as_secs_f64();
+    let t_out = Instant::now();
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width);
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
@@ -490,6 +553,7 @@ fn write_outputs(
                    "files": files, "mirrored_lower_hemisphere": b.is_sphere()})
         })
         .collect();
+    log(format!("outputs: images, preview and runtime written in {:.2} s", t_out.elapsed().as_secs_f64()));
     let mut meta = json!({
         "scene": scene.name,
         "device": device,
@@ -504,8 +568,11 @@ fn write_outputs(
         "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
         "normals": {"file": "normals.exr", "quantity": "world-space unit shading normal per texel (the basis frame's +Z)"},
         "bases": bases,
+        "guiding": guiding_json(o, targets, state),
         "denoise": denoised,
         "seams": seams,
+        "stage_seconds": {"lightmap_passes": times.lightmap_passes, "probe_passes": times.probe_passes,
+                          "denoise": denoised.get("seconds"), "seams": seam_seconds, "outputs": t_out.elapsed().as_secs_f64()},
         "meshes": output::mesh_mapping(scene, lm),
         "runtime": {"wgsl": "runtime.wgsl", "files": runtime_files, "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),
                     "specular": if specular { "included" } else if glossy { "left out: the profile's BRDF set is Lambert only" } else { "left out: no glossy material" }},

@@ -406,6 +406,20 @@ pub fn cornell() -> Scene {
     }
 }
 
+/// A 2 m room lit only through a vertical slit (0.1 m × 1.2 m) in its front wall: a
+/// uniform sky outside, dark grey walls inside (albedo 0.3) — the scene where first-bounce
+/// ray guiding ([`crate::guiding`]) should help: texels see the sky only through the slit,
+/// about 0.3% of a uniform hemisphere's samples, and the walls add little.
+pub fn slit() -> Scene {
+    Scene {
+        name: "slit".into(),
+        meshes: room(1.0, [0; 6], Some((-0.05, 0.05, -0.6, 0.6))),
+        materials: vec![Material::lambert(Vec3::splat(0.3))],
+        lights: vec![],
+        environment: Environment::Constant(Vec3::new(3.0, 3.3, 3.9)),
+    }
+}
+
 /// A closed box whose every wall emits `le` and reflects with Lambert albedo `albedo`:
 /// the radiance everywhere is exactly le/(1 − albedo) (the furnace test).
 pub fn furnace(le: f32, albedo: f32) -> Scene {

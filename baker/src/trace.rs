@@ -54,8 +54,11 @@ pub type LightSample = (Vec3, Vec3);
 pub struct PointSample {
     /// L_in along the point sample's direction (emitter and sky hits MIS-weighted).
     pub radiance: Vec3,
-    /// The light samples (see [`LightSample`]).
+    /// The light samples (see [`LightSample`]): the delta lights first, then the area
+    /// samples (emitter, environment).
     pub lights: Vec<LightSample>,
+    /// How many of `lights` are delta lights.
+    pub delta: usize,
     /// The first hit was the back face of a single-sided surface: reject the sample.
     pub back_face: bool,
 }
@@ -118,6 +121,21 @@ impl<'a> Tracer<'a> {
     /// world direction, drawn uniformly over the domain.
     pub fn sample_point(&self, x: Vec3, normal: Option<(Vec3, Vec3)>, dir: Vec3, rng: &mut Pcg32) -> PointSample {
         let p_s = if normal.is_some() { 1.0 / (2.0 * std::f64::consts::PI) } else { 1.0 / (4.0 * std::f64::consts::PI) };
+        self.sample_point_with(x, normal, dir, &|_| p_s, rng)
+    }
+
+    /// [`Self::sample_point`] for a point sample drawn from any density: `pdf_of(ω)` is
+    /// the solid-angle pdf of the point-sample strategy at a world direction in the
+    /// domain (ray guiding, [`crate::guiding`]); it weights the light samples and the
+    /// point sample's own emitter and sky hits by the power heuristic.
+    pub fn sample_point_with(
+        &self,
+        x: Vec3,
+        normal: Option<(Vec3, Vec3)>,
+        dir: Vec3,
+        pdf_of: &dyn Fn(Vec3) -> f64,
+        rng: &mut Pcg32,
+    ) -> PointSample {
         let origin = |d: Vec3| match normal {
             Some((_, ng)) => offset_towards(x, ng, d),
             None => x,
@@ -132,19 +150,20 @@ impl<'a> Tracer<'a> {
                 }
             }
         }
+        let delta = lights.len();
         // One emitter point by power and one environment direction, MIS against the
         // point sample.
         for a in self.area_samples(x, rng).into_iter().flatten() {
             if in_domain(a.wi) && self.visible(origin(a.wi), &a) {
-                lights.push((a.wi, a.radiance * (power2(a.pdf, p_s) / a.pdf) as f32));
+                lights.push((a.wi, a.radiance * (power2(a.pdf, pdf_of(a.wi)) / a.pdf) as f32));
             }
         }
         if normal.is_some_and(|(_, ng)| dir.dot(ng) <= 0.0) {
             // Between the shading and the geometric horizon: the surface occludes.
-            return PointSample { radiance: Vec3::ZERO, lights, back_face: false };
+            return PointSample { radiance: Vec3::ZERO, lights, delta, back_face: false };
         }
-        let (radiance, back_face) = self.path(origin(dir), dir, p_s, true, rng);
-        PointSample { radiance, lights, back_face }
+        let (radiance, back_face) = self.path(origin(dir), dir, pdf_of(dir), true, rng);
+        PointSample { radiance, lights, delta, back_face }
     }
 
     /// Radiance arriving at an offset origin `o` from unit direction `dir` (the first

@@ -18,10 +18,10 @@ const ALL_BASES: [BasisKind; 6] = [BasisKind::ShL1, BasisKind::ShL2, BasisKind::
 fn kernels_validate_and_structs_match() {
     for glossy in [false, true] {
         for b in ALL_BASES {
-            let cfg = BakeConfig { seed: 1, max_bounces: 4, bases: vec![b], solver: Solver::Nnls };
+            let cfg = BakeConfig { seed: 1, max_bounces: 4, bases: vec![b], solver: Solver::Nnls, guiding: None };
             kernel(&cfg, false, glossy).unwrap_or_else(|e| panic!("{b:?} glossy={glossy}: {e}"));
         }
-        let cfg = BakeConfig { seed: 1, max_bounces: 4, bases: ALL_BASES.to_vec(), solver: Solver::Ls };
+        let cfg = BakeConfig { seed: 1, max_bounces: 4, bases: ALL_BASES.to_vec(), solver: Solver::Ls, guiding: None };
         let k = kernel(&cfg, false, glossy).unwrap();
         // Left out: the GGX functions exactly when no material is glossy.
         assert_eq!(k.source.contains("fn ggx_d("), glossy);
@@ -31,7 +31,7 @@ fn kernels_validate_and_structs_match() {
         shaders::layout::check::<baker::bvh::Tri>(&k.source).unwrap();
         shaders::layout::check::<shaders::progressive::EncoderState>(&k.source).unwrap();
     }
-    let probes = BakeConfig { seed: 1, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls };
+    let probes = BakeConfig { seed: 1, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls, guiding: None };
     kernel(&probes, true, true).unwrap();
 }
 
@@ -64,7 +64,7 @@ fn furnace_gpu() {
     let targets = Targets::lightmap(&lm);
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error.
     let tracer = Tracer::new(&s, &bvh, 64);
-    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: ALL_BASES.to_vec(), solver: Solver::Ls };
+    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: ALL_BASES.to_vec(), solver: Solver::Ls, guiding: None };
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(128).unwrap();
     let st = g.state().unwrap();
@@ -170,7 +170,7 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
     let lm = Lightmap::build(&s, 6.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
     let tracer = Tracer::new(&s, &bvh, 4);
-    let cfg = BakeConfig { seed: 11, max_bounces: 4, bases: vec![BasisKind::Ad9, BasisKind::ShL2], solver: Solver::Nnls };
+    let cfg = BakeConfig { seed: 11, max_bounces: 4, bases: vec![BasisKind::Ad9, BasisKind::ShL2], solver: Solver::Nnls, guiding: None };
     let passes = 96;
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(passes).unwrap();

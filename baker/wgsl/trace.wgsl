@@ -56,7 +56,13 @@ struct TraceParams {
     env_rows_offset: u32,
     env_cdf_width: u32,
     env_cdf_height: u32,
-    pad0: u32,
+    // Ray guiding: 0 none, 1 learning (uniform samples recorded), 2 guided (and recorded).
+    guide_phase: u32,
+    // Ray guiding: the pass's stage and the stage's first pass (baker::guiding::stage).
+    guide_stage: u32,
+    guide_start: u32,
+    pad1: u32,
+    pad2: u32,
     env0: vec4<f32>,
     env1: vec4<f32>,
     env2: vec4<f32>,
@@ -701,15 +707,38 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     var dir: vec3<f32>;
     var weight: f32;
     var p_s: f32;
+    // The encoders' sample weight: 1, or (1/2π)/p for a guided point sample.
+    var w_enc = 1.0;
+    let guided = texel && P.guide_phase == 2u;
     if (texel) {
-        // Uniform hemisphere about the normal (pdf 1/2π): E/π sample = 2·L·cosθ.
-        let z = 1.0 - u.x;
-        let r = sqrt(max(1.0 - z * z, 0.0));
-        let phi = 2.0 * PI * u.y;
-        local = vec3<f32>(r * cos(phi), r * sin(phi), z);
+        // Guided bakes draw (direction, mixture choice) from an R3 point (baker::guiding).
+        var ud = u;
+        var choice = 1.0;
+        if (P.guide_phase != 0u) {
+            let u3 = guide_point(P.pass_index - P.guide_start, it.z);
+            ud = u3.xy;
+            choice = u3.z;
+        }
+        if (guided && choice < GUIDED_FRACTION) {
+            // The guided component of the mixture.
+            local = guide_sample(it.w, ud);
+        } else {
+            // Uniform hemisphere about the normal (pdf 1/2π).
+            let z = 1.0 - ud.x;
+            let r = sqrt(max(1.0 - z * z, 0.0));
+            let phi = 2.0 * PI * ud.y;
+            local = vec3<f32>(r * cos(phi), r * sin(phi), z);
+        }
         dir = normalize(fr[0] * local.x + fr[1] * local.y + nrm * local.z);
+        // E/π sample = L·cosθ/(π·p): 2·L·cosθ for the uniform pdf.
         weight = 2.0 * local.z;
         p_s = 0.5 * INV_PI;
+        if (guided) {
+            p_s = guide_pdf(it.w, local);
+            weight = local.z * INV_PI / p_s;
+            w_enc = 0.5 * INV_PI / p_s;
+        }
+        guide_clear(i);
     } else {
         // Uniform sphere in world space (probes): the sample is L itself.
         let z = 1.0 - 2.0 * u.x;
@@ -749,8 +778,14 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         let a = area_sample(a_k, pos, &rng);
         if (a.pdf > 0.0 && (!texel || (dot(a.wi, nrm) > 0.0 && dot(a.wi, ng) > 0.0))) {
             if (visible_area(select(pos, offset_towards(pos, ng, a.wi), texel), a)) {
-                let c = a.radiance * (power2(a.pdf, p_s) / a.pdf);
                 let ld = select(a.wi, to_local(a.wi, fr, nrm), texel);
+                // MIS against the point-sample strategy's pdf at ω_l.
+                let p_point = select(p_s, guide_pdf(it.w, ld), guided);
+                let c = a.radiance * (power2(a.pdf, p_point) / a.pdf);
+                if (texel) {
+                    // Learning: this sample's estimate of the bin's (1/2π)·∫L cosθ.
+                    guide_record(i, 1u + a_k, ld, luminance(c) * 0.5 * INV_PI);
+                }
                 e_lights += c * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
                 finite = finite && finite3(c);
                 project(ld, c * p_s);
@@ -763,14 +798,19 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
     if (pr.back) {
         moments[3u * out + 1u].w += 1.0;
+        guide_clear(i);
         return;
     }
     let e = pr.radiance * weight + e_lights;
     if (!(finite && finite3(pr.radiance) && finite3(e) && finite3(e * e))) {
         moments[3u * out + 2u].x += 1.0;
+        guide_clear(i);
         return;
     }
     moments[3u * out] += vec4<f32>(e, 1.0);
     moments[3u * out + 1u] += vec4<f32>(e * e, 0.0);
-    encode(out, local, pr.radiance);
+    encode(out, local, pr.radiance, w_enc);
+    if (texel) {
+        guide_record(i, 0u, local, luminance(pr.radiance) * w_enc);
+    }
 }

@@ -27,10 +27,18 @@ fn chi2_unit_square(points: &[[f64; 2]], bins: usize) -> f64 {
 #[test]
 fn sequences_are_uniform() {
     let r2 = R2::with_seed(3);
-    let sets: [(&str, Vec<[f64; 2]>); 4] = [
+    let r3 = R3::with_seed(3);
+    // R3: every pair of its three coordinates, and the first two restricted to points
+    // whose third is below ½ (a mixture choice keeps both halves stratified).
+    let r3p: Vec<[f64; 3]> = (0..2 * N as u64).map(|i| r3.point(i)).collect();
+    let sets: [(&str, Vec<[f64; 2]>); 8] = [
         ("halton", (0..N as u64).map(halton2).collect()),
         ("hammersley", (0..N as u64).map(|i| hammersley2(i, N as u64)).collect()),
         ("r2", (0..N as u64).map(|i| r2.point(i)).collect()),
+        ("r3 (0, 1)", r3p[..N].iter().map(|p| [p[0], p[1]]).collect()),
+        ("r3 (0, 2)", r3p[..N].iter().map(|p| [p[0], p[2]]).collect()),
+        ("r3 (1, 2)", r3p[..N].iter().map(|p| [p[1], p[2]]).collect()),
+        ("r3 (0, 1) | x2 < 1/2", r3p.iter().filter(|p| p[2] < 0.5).map(|p| [p[0], p[1]]).collect()),
         ("pcg32", {
             let mut rng = Pcg32::new(1, 2);
             (0..N).map(|_| rng.next_2d()).collect()
@@ -63,6 +71,9 @@ fn sphere_and_hemisphere_warps() {
     assert!(chi2_directions(&s, |_| UNIFORM_SPHERE_PDF, -1.0, 12, 24) < Z_MAX);
     let h: Vec<DVec3> = us.iter().map(|u| uniform_hemisphere(*u)).collect();
     assert!(chi2_directions(&h, |_| UNIFORM_HEMISPHERE_PDF, 0.0, 12, 24) < Z_MAX);
+    let hc: Vec<DVec3> = us.iter().map(|u| uniform_hemisphere_concentric(*u)).collect();
+    assert!(hc.iter().all(|d| (d.length() - 1.0).abs() < 1e-14 && d.z >= 0.0));
+    assert!(chi2_directions(&hc, |_| UNIFORM_HEMISPHERE_PDF, 0.0, 12, 24) < Z_MAX);
     let c: Vec<DVec3> = us.iter().map(|u| cosine_hemisphere(*u)).collect();
     assert!(chi2_directions(&c, cosine_hemisphere_pdf, 0.0, 12, 24) < Z_MAX);
     // A wrong pdf is rejected (the test has power).
@@ -85,6 +96,7 @@ fn warp_inverses_round_trip() {
             ("hemisphere", uniform_hemisphere_inv(uniform_hemisphere(u))),
             ("cosine", cosine_hemisphere_inv(cosine_hemisphere(u))),
             ("disk", concentric_disk_inv(concentric_disk(u))),
+            ("concentric hemisphere", uniform_hemisphere_concentric_inv(uniform_hemisphere_concentric(u))),
         ] {
             // Round trips lose a few ulps through acos/atan2/sqrt; 1e-9 is generous
             // except for φ at the seam, handled by comparing on the circle.

@@ -6,8 +6,10 @@
 //! | Halton (2, 3) | [`halton2`] | 1 on [0,1)² | — |
 //! | Hammersley | [`hammersley2`] | 1 on [0,1)² | — |
 //! | R2 (Roberts 2018), Cranley–Patterson shifted | [`R2`] | 1 on [0,1)² | — |
+//! | R3 (Roberts 2018), shifted | [`R3`] | 1 on [0,1)³ | — |
 //! | uniform sphere | [`uniform_sphere`] | 1/4π | [`uniform_sphere_inv`] |
 //! | uniform hemisphere | [`uniform_hemisphere`] | 1/2π | [`uniform_hemisphere_inv`] |
+//! | uniform hemisphere, equal-area via the concentric disk | [`uniform_hemisphere_concentric`] | 1/2π | [`uniform_hemisphere_concentric_inv`] |
 //! | cosine hemisphere | [`cosine_hemisphere`] | cos θ/π | [`cosine_hemisphere_inv`] |
 //! | concentric disk (Shirley & Chiu 1997) | [`concentric_disk`] | 1/π | [`concentric_disk_inv`] |
 //! | spherical Fibonacci point set | [`spherical_fibonacci`] | 1/4π (per point 4π/N) | [`spherical_fibonacci_nearest`] |
@@ -21,5 +23,5 @@ mod sequences;
 mod warp;
 
 pub use rng::Pcg32;
-pub use sequences::{halton2, hammersley2, radical_inverse, R2};
+pub use sequences::{halton2, hammersley2, radical_inverse, R2, R3};
 pub use warp::*;

@@ -62,6 +62,33 @@ impl R2 {
     }
 }
 
+/// R3 sequence (Roberts 2018, the d = 3 member of R_d): x_i = frac(s + i·(1/g, 1/g²,
+/// 1/g³)) with g = 1.2207440846… the root of x⁴ = x + 1; Cranley–Patterson shifted.
+/// Three stratified dimensions, e.g. a direction and the choice of a mixture component.
+#[derive(Debug, Clone, Copy)]
+pub struct R3 {
+    shift: [f64; 3],
+}
+
+impl R3 {
+    /// 1/g, 1/g², 1/g³.
+    pub const ALPHA: [f64; 3] = [0.819_172_513_396_164_4, 0.671_043_606_703_789_2, 0.549_700_477_901_970_3];
+
+    /// Shifted by a deterministic pseudo-random offset derived from `seed`.
+    pub fn with_seed(seed: u64) -> Self {
+        let mut rng = super::Pcg32::new(seed, 0x5233);
+        let [a, b] = rng.next_2d();
+        R3 { shift: [a, b, rng.next_f64()] }
+    }
+    /// Point i.
+    pub fn point(&self, i: u64) -> [f64; 3] {
+        std::array::from_fn(|k| {
+            let x = self.shift[k] + (i as f64) * Self::ALPHA[k];
+            x - x.floor()
+        })
+    }
+}
+
 impl Default for R2 {
     fn default() -> Self {
         Self::new()

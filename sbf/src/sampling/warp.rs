@@ -94,6 +94,27 @@ fn wrap_pi(t: f64) -> f64 {
     }
 }
 
+/// Uniform hemisphere direction through the concentric disk: [0,1)² → disk (Shirley–Chiu,
+/// area-preserving) → hemisphere by z = 1 − r², (x, y) = p·√(2 − r²) (the disk's area
+/// element r dr dφ maps to dz dφ/2, so equal areas of the square are equal solid angles:
+/// pdf 1/2π). Ray guiding bins directions on this square (seed 003, "concentric mapping").
+pub fn uniform_hemisphere_concentric(u: [f64; 2]) -> DVec3 {
+    let p = concentric_disk(u);
+    let r2 = p.length_squared().min(1.0);
+    let s = (2.0 - r2).sqrt();
+    DVec3::new(p.x * s, p.y * s, 1.0 - r2)
+}
+
+/// Inverse of [`uniform_hemisphere_concentric`] for a unit direction with z ≥ 0 (z < 0
+/// is treated as the horizon).
+pub fn uniform_hemisphere_concentric_inv(d: DVec3) -> [f64; 2] {
+    // r² = 1 − z; |p| = sinθ/√(1 + z) = √(1 − z) for a unit d (written with sinθ so a
+    // slightly non-unit d keeps its azimuth).
+    let z = d.z.clamp(0.0, 1.0);
+    let p = DVec2::new(d.x, d.y) / (1.0 + z).sqrt();
+    concentric_disk_inv(if p.length_squared() > 1.0 { p.normalize() } else { p })
+}
+
 /// Cosine-weighted hemisphere direction (Malley's method on the concentric disk).
 pub fn cosine_hemisphere(u: [f64; 2]) -> DVec3 {
     let p = concentric_disk(u);
