@@ -25,12 +25,15 @@ fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfi
     BakeConfig { seed, max_bounces: bounces, bases: vec![BasisKind::ShL2, BasisKind::Ad9], solver: Solver::Nnls, guiding }
 }
 
-/// A bake's state and its wall time (GPU: including the read-back).
+/// A bake's state and the wall time of its passes (GPU: the passes and the read-back;
+/// set-up and pipeline compilation excluded — steady state).
 fn bake(gpu: Option<&shaders::gpu::Gpu>, tracer: Tracer, targets: &Targets, cfg: BakeConfig, passes: u64) -> (BakeState, f64) {
-    let t = Instant::now();
+    let mut t = Instant::now();
     let state = match gpu {
         Some(g) => {
             let mut b = GpuBake::new(g, &tracer, targets, &cfg).expect("GPU bake");
+            g.wait().expect("set-up");
+            t = Instant::now();
             b.run(passes).expect("GPU passes");
             b.state().expect("read-back")
         }
@@ -81,17 +84,26 @@ fn main() {
         valid.iter().map(|t| (0..3).map(|c| (v[*t][c] as f64).powi(2)).sum::<f64>()).sum::<f64>() / (3 * valid.len()) as f64
     };
     let ref_se2 = ref_var(&reference.standard_error);
+    // RMS difference from the reference with the reference's own variance subtracted;
+    // None where that variance is more than half of the mean square (too close to call).
     let rms = |a: &[[f32; 3]], b: &[[f32; 3]], se2: f64| {
         let s: f64 = valid.iter().map(|t| (0..3).map(|c| ((a[*t][c] - b[*t][c]) as f64).powi(2)).sum::<f64>()).sum();
-        (s / (3 * valid.len().max(1)) as f64 - se2).max(0.0).sqrt()
+        let ms = s / (3 * valid.len().max(1)) as f64;
+        (ms > 2.0 * se2).then(|| (ms - se2).sqrt())
+    };
+    let cell = |v: Option<f64>, base: Option<f64>| match (v, base) {
+        (Some(v), Some(b)) => format!("{v:.5} | {:.2}×", b / v),
+        (Some(v), None) => format!("{v:.5} | —"),
+        (None, _) => "< 1.41 × reference σ | —".to_string(),
     };
     println!("{} valid texels; reference standard error (RMS) {:.5}", valid.len(), ref_se2.sqrt());
-    println!("| passes | option | bake s | post s | E/π RMS | gain | SH c0 RMS | gain |");
+    println!("| passes | option | passes s | post s | E/π RMS | gain | SH c0 RMS | gain |");
     println!("|---|---|---|---|---|---|---|---|");
     for (pi, passes) in pass_list.into_iter().enumerate() {
         let d = GuidingOptions::for_passes(passes);
         let g = GuidingOptions { learn_passes: learn.unwrap_or(d.learn_passes), guided_fraction: fraction.unwrap_or(d.guided_fraction) };
-        let mut base: Option<(f64, f64)> = None;
+        let mut base: Option<(Option<f64>, Option<f64>)> = None;
+        let mut shots = Vec::new();
         for (guided, post) in [(false, 0), (true, 0), (false, 1), (true, 1), (true, 2)] {
             let (st, bt) =
                 bake(gpu.as_ref(), Tracer::new(&scene, &bvh, bounces), &targets, config(1, bounces, guided.then_some(g)), passes);
@@ -117,12 +129,22 @@ fn main() {
                 (true, 1) => "guiding + denoise".to_string(),
                 _ => "guiding + denoise + stitch".to_string(),
             };
-            println!("| {passes} | {name} | {bt:.3} | {pt:.3} | {e:.5} | {:.2}× | {c0:.5} | {:.2}× |", e0 / e, c00 / c0);
-            if let (Some(dir), 0) = (&images, pi) {
-                std::fs::create_dir_all(dir).expect("image folder");
-                let file = dir.join(format!("{scene_name}_{passes}_{}.png", name.replace([' ', '(', ')', '+'], "")));
-                baker::output::save_png(&file, &baker::output::preview(&scene, &bvh, &lm, &img, 480)).expect("preview");
+            println!("| {passes} | {name} | {bt:.3} | {pt:.3} | {} | {} |", cell(e, e0), cell(c0, c00));
+            if images.is_some() && pi == 0 {
+                shots.push(baker::output::preview(&scene, &bvh, &lm, &img, 480));
             }
+        }
+        if let (Some(dir), false) = (&images, shots.is_empty()) {
+            // One strip per scene: plain, guiding, denoise, guiding + denoise, + stitch.
+            std::fs::create_dir_all(dir).expect("image folder");
+            let (w, h) = (shots[0].width(), shots[0].height());
+            let mut strip = image::RgbImage::new(w * shots.len() as u32, h);
+            for (k, s) in shots.iter().enumerate() {
+                image::imageops::replace(&mut strip, s, (k as u32 * w) as i64, 0);
+            }
+            let file = dir.join(format!("{scene_name}_{passes}.png"));
+            baker::output::save_png(&file, &strip).expect("preview strip");
+            println!("previews (plain, guiding, denoise, guiding + denoise, + stitch): {}", file.display());
         }
     }
 }
