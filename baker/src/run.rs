@@ -89,8 +89,9 @@ impl Default for Options {
             measure_rays: None,
             profile: None,
             quiet: false,
-            denoise: None,
-            stitch_seams: false,
+            // The CLI's defaults for 128 passes (`--denoise auto`, `--stitch-seams auto`).
+            denoise: Some(crate::denoise::DenoiseOptions::default()),
+            stitch_seams: true,
         }
     }
 }
