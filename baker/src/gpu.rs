@@ -94,7 +94,23 @@ const GLOSSY_WGSL: &str = include_str!("../wgsl/glossy.wgsl");
 const GLOSSY_NONE_WGSL: &str = include_str!("../wgsl/glossy_none.wgsl");
 const GUIDE_WGSL: &str = include_str!("../wgsl/guide.wgsl");
 const GUIDE_NONE_WGSL: &str = include_str!("../wgsl/guide_none.wgsl");
+const GUIDE_COMMON_WGSL: &str = include_str!("../wgsl/guide_common.wgsl");
 const GUIDE_BUILD_WGSL: &str = include_str!("../wgsl/guide_build.wgsl");
+const GUIDE_BUILD_SUBGROUP_WGSL: &str = include_str!("../wgsl/guide_build_subgroup.wgsl");
+
+/// The WGSL of ray guiding's kernels: (gather + workgroup build, subgroup build).
+pub fn guide_build_sources() -> (String, String) {
+    (format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_WGSL}"), format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_SUBGROUP_WGSL}"))
+}
+
+/// How ray guiding's distributions are built on this device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GuideBuild {
+    /// Row and marginal prefix sums by subgroup scans (seed 003's wave prefix sums).
+    Subgroup,
+    /// Serial sums in workgroup memory (no subgroups, or subgroups narrower than a row).
+    Workgroup,
+}
 
 /// The kernel source for a bake and what its composition left out.
 #[derive(Debug, Clone)]
@@ -240,6 +256,7 @@ struct GuideGpu {
     learn_passes: u64,
     /// The distributions were built from the sums.
     built: bool,
+    path: GuideBuild,
 }
 
 /// Workgroups for `n` threads of `wg` each, as a 2D grid within the 65 535 limit.
@@ -261,6 +278,7 @@ impl GuideGpu {
         rec_buf: wgpu::Buffer,
         dist_buf: wgpu::Buffer,
         sums_buf: wgpu::Buffer,
+        subgroup_sizes: Option<(u32, u32)>,
     ) -> GuideGpu {
         use crate::guiding::BIN_COUNT;
         let clusters = targets.cluster_count as u32;
@@ -289,21 +307,34 @@ impl GuideGpu {
             contents: bytemuck::cast_slice(&[clusters, 0, 0, 0]),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("guide_build"),
-            source: wgpu::ShaderSource::Wgsl(GUIDE_BUILD_WGSL.into()),
-        });
-        let pipe = |entry: &str| {
+        // Subgroup scans need every row of 16 bins inside one subgroup.
+        let path = match subgroup_sizes {
+            Some((min, _)) if min >= crate::guiding::BINS as u32 => GuideBuild::Subgroup,
+            _ => GuideBuild::Workgroup,
+        };
+        let module = |label: &str, src: String| {
+            d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(src.into()) })
+        };
+        let (fallback_src, subgroup_src) = guide_build_sources();
+        let fallback = module("guide_build", fallback_src);
+        let pipe = |m: &wgpu::ShaderModule, entry: &str| {
             d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: None,
-                module: &module,
+                module: m,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
                 cache: None,
             })
         };
-        let (gather, build) = (pipe("guide_gather"), pipe("guide_build"));
+        let gather = pipe(&fallback, "guide_gather");
+        let build = match path {
+            GuideBuild::Subgroup => {
+                let m = module("guide_build_subgroup", subgroup_src);
+                pipe(&m, "guide_build")
+            }
+            GuideBuild::Workgroup => pipe(&fallback, "guide_build"),
+        };
         let bind = |p: &wgpu::ComputePipeline, e: &[(u32, &wgpu::Buffer)]| {
             let entries: Vec<wgpu::BindGroupEntry> =
                 e.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
@@ -330,6 +361,7 @@ impl GuideGpu {
             clusters,
             learn_passes: opts.learn_passes,
             built: false,
+            path,
         }
     }
 
@@ -566,7 +598,7 @@ impl<'g> GpuBake<'g> {
             let rec = storage("guide records", &vec![0xffu8; items * 24], wgpu::BufferUsages::empty());
             let dist = storage("guide distributions", &vec![0u8; clusters * crate::guiding::CDF_LEN * 4], wgpu::BufferUsages::COPY_SRC);
             let sums = storage("guide sums", &vec![0u8; clusters * crate::guiding::BIN_COUNT * 4], rw);
-            GuideGpu::new(d, targets, g, rec, dist, sums)
+            GuideGpu::new(d, targets, g, rec, dist, sums, gpu.subgroup_sizes)
         });
         let mut entries = vec![
             wgpu::BindGroupEntry { binding: 0, resource: params_buf.as_entire_binding() },
@@ -652,6 +684,11 @@ impl<'g> GpuBake<'g> {
             self.passes += 1;
         }
         self.gpu.wait()
+    }
+
+    /// How this bake builds ray guiding's distributions (None: no guiding).
+    pub fn guide_build_path(&self) -> Option<GuideBuild> {
+        self.guide.as_ref().map(|g| g.path)
     }
 
     /// Ray guiding's distributions as the GPU built them (None: no guiding, or not built

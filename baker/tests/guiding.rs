@@ -36,6 +36,12 @@ fn cpu_bake(scene: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> 
     b.state
 }
 
+/// The build path a guided GPU bake of `targets` takes on this device.
+fn bake_path(g: &shaders::gpu::Gpu, scene: &Scene, targets: &Targets, cfg: &BakeConfig) -> baker::gpu::GuideBuild {
+    let bvh = Bvh::build(scene);
+    GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap().guide_build_path().expect("guided")
+}
+
 fn gpu_bake(g: &shaders::gpu::Gpu, scene: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> (BakeState, Option<Vec<f32>>) {
     let bvh = Bvh::build(scene);
     let mut b = GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
@@ -168,8 +174,25 @@ fn gpu_build_matches_the_cpu_twin() {
     assert_ne!(st.guide_basis, st.guide_sums);
     let cpu = guiding::build(&st.guide_basis);
     let worst = cpu.iter().zip(&dist).map(|(a, b)| (a - b).abs()).fold(0f32, f32::max);
-    println!("{} clusters ({learned} learned), worst |CPU − GPU| CDF entry {worst:.2e}", targets.cluster_count);
+    let path = bake_path(&g, &scene, &targets, &cfg);
+    println!("{} clusters ({learned} learned), {path:?} build, worst |CPU − GPU| CDF entry {worst:.2e}", targets.cluster_count);
+    // Every CDF is non-decreasing and ends at exactly 1 (what the sampler relies on).
+    for c in dist.chunks(guiding::CDF_LEN) {
+        for row in c.chunks(BINS) {
+            assert!(row.windows(2).all(|w| w[0] <= w[1]) && row[BINS - 1] == 1.0, "{path:?}: {row:?}");
+        }
+    }
     assert!(worst < 1e-5, "GPU build differs from the CPU twin by {worst}");
+}
+
+/// Both build kernels are valid WGSL (the subgroup one with the subgroup capabilities): CI's
+/// lavapipe has subgroups of 8 and runs the workgroup build only.
+#[test]
+fn guide_kernels_validate() {
+    let (fallback, subgroup) = baker::gpu::guide_build_sources();
+    shaders::export::validate(&fallback).unwrap();
+    shaders::export::validate_subgroups(&subgroup).unwrap();
+    assert!(shaders::export::validate(&subgroup).is_err(), "the subgroup kernel must need the subgroup capability");
 }
 
 /// Per-chart and scene means of E/π: (sum over the chart's texels, variance of that sum).

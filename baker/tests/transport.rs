@@ -779,6 +779,8 @@ fn guided_bakes_match_the_closed_forms() {
             }
             assert!(st.guide_sums.iter().any(|v| *v > 0.0), "{name}: guiding learned nothing");
             check(&format!("{name} guided disk light at h = {hr} R"), &st, &want, passes, &near);
+            let (_, _, plain) = bake(&s, g.as_deref(), passes, vec![], 16.0);
+            agree(&format!("{name} disk light at h = {hr} R"), &plain, &st);
         }
         let le = Vec3::new(0.8, 1.0, 1.3);
         let s = plane_scene(vec![], Environment::Constant(le));
@@ -786,5 +788,21 @@ fn guided_bakes_match_the_closed_forms() {
         let (t, _, st) = bake_guided(&s, g.as_deref(), passes, vec![], 4.0, guiding);
         let want = analytic(&t, passes, &|_| std::array::from_fn(|c| le[c] as f64));
         check(&format!("{name} guided constant environment"), &st, &want, passes, &|_| true);
+        let (_, _, plain) = bake(&s, g.as_deref(), passes, vec![], 4.0);
+        agree(&format!("{name} constant environment"), &plain, &st);
     }
+}
+
+/// The guided bake's scene mean of E/π (the plane is one chart) agrees with the unguided
+/// bake's within 3σ, σ² the sum of both means' variances from their texel standard errors.
+fn agree(what: &str, plain: &BakeState, guided: &BakeState) {
+    let mean_var = |st: &BakeState| {
+        let (m, se) = (st.mean(), st.standard_error());
+        let n = (3 * m.len()) as f64;
+        (m.iter().flatten().sum::<f64>() / n, se.iter().flatten().map(|s| s * s).sum::<f64>() / (n * n))
+    };
+    let ((a, va), (b, vb)) = (mean_var(plain), mean_var(guided));
+    let z = (a - b).abs() / (va + vb).sqrt();
+    println!("{what}: guided {b:.5} vs unguided {a:.5} ({z:.2}σ)");
+    assert!(z <= 3.0, "{what}: guided {b} vs unguided {a} ({z:.2}σ)");
 }

@@ -45,6 +45,19 @@ pub fn validate(source: &str) -> Result<(naga::Module, ModuleInfo), String> {
     Ok((module, info))
 }
 
+/// [`validate`] for a module that calls subgroup built-ins: validated with the subgroup
+/// capabilities a device with `Features::SUBGROUP` has (naga 30 does not take
+/// `enable subgroups;` yet; the built-ins need no directive).
+pub fn validate_subgroups(source: &str) -> Result<(naga::Module, ModuleInfo), String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    let caps = Capabilities::SUBGROUP;
+    let mut v = Validator::new(ValidationFlags::all(), caps);
+    v.subgroup_stages(naga::valid::ShaderStages::COMPUTE);
+    v.subgroup_operations(naga::valid::SubgroupOperationSet::all());
+    let info = v.validate(&module).map_err(|e| format!("validation: {}", e.emit_to_string(source)))?;
+    Ok((module, info))
+}
+
 /// The trivial entry point appended for export.
 pub const EXPORT_ENTRY: &str = "\n@compute @workgroup_size(1)\nfn sbf_export_main() {}\n";
 

@@ -19,6 +19,9 @@ pub struct Gpu {
     pub adapter: String,
     /// The adapter is a software rasteriser on the CPU (lavapipe, llvmpipe, WARP).
     pub software: bool,
+    /// (smallest, largest) subgroup size where the adapter has subgroup operations (the
+    /// device is created with `Features::SUBGROUP` then); None without them.
+    pub subgroup_sizes: Option<(u32, u32)>,
 }
 
 const WG: u32 = 64;
@@ -152,15 +155,23 @@ impl Gpu {
         }))
         .map_err(|e| format!("no GPU adapter (Vulkan or GL): {e}"))?;
         let info = adapter.get_info();
+        let subgroups = adapter.features().contains(wgpu::Features::SUBGROUP);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sbf shaders harness"),
-            required_features: wgpu::Features::empty(),
+            required_features: if subgroups { wgpu::Features::SUBGROUP } else { wgpu::Features::empty() },
             required_limits: adapter.limits(),
             ..Default::default()
         }))
         .map_err(|e| format!("requesting a device from {}: {e}", info.name))?;
         let software = info.device_type == wgpu::DeviceType::Cpu;
-        Ok(Gpu { device, queue, adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info), software })
+        let subgroup_sizes = subgroups.then_some((info.subgroup_min_size, info.subgroup_max_size));
+        Ok(Gpu {
+            device,
+            queue,
+            adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info),
+            software,
+            subgroup_sizes,
+        })
     }
 
     /// The wgpu device (for callers that build their own pipelines, e.g. the baker).
