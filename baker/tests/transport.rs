@@ -206,42 +206,50 @@ fn point_light_over_a_plane() {
 /// the tolerance as a bias bound.
 #[test]
 fn disk_light_over_a_plane() {
-    let (rad, l) = (0.5f64, Vec3::new(4.0, 3.0, 2.0));
     for (name, g) in engines() {
         for hr in [0.01f64, 0.1, 1.0, 4.0] {
-            let h = hr * rad;
-            let mut s = plane_scene(vec![], Environment::Black);
-            s.materials.push(Material::emitter(l));
-            s.meshes.push(disk_light("disk", Vec3::new(0.0, h as f32, 0.0), -Vec3::Y, rad as f32, 1, 256));
-            let passes = 256;
-            let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 16.0);
-            let f = |x: Vec3| {
-                let r = (x.x as f64).hypot(x.z as f64);
-                let (h2, r2, a2) = (h * h, r * r, rad * rad);
-                let ff = 0.5 * (1.0 - (h2 + r2 - a2) / ((h2 + r2 + a2).powi(2) - 4.0 * r2 * a2).sqrt());
-                std::array::from_fn(|c| l[c] as f64 * ff)
-            };
-            let want = analytic(&t, passes, &f);
-            let near = |k: usize| {
-                let [first, count, _] = t.items[k];
-                t.points[first as usize..(first + count) as usize].iter().all(|p| p.position.x.hypot(p.position.z) < (rad / 2.0) as f32)
-            };
-            // Polygon-vs-disk bias bound at the worst checked point (r = R/2).
-            let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
-            let d2 = h * h + (rad / 2.0).powi(2);
-            let bias = a_sym * h * h / (d2 * d2) / PI;
-            let mut st = st;
-            // Fold the bias bound into σ (a conservative, documented widening).
-            for (k, m) in st.moments.iter_mut().enumerate() {
-                if near(k) {
-                    for c in 0..3 {
-                        m.sum_sq[c] += (bias * l[c] as f64 / 5.0).powi(2) * (m.accepted as f64 - 1.0) * m.accepted as f64;
-                    }
-                }
-            }
-            check(&format!("{name} disk light at h = {hr} R"), &st, &want, passes, &near);
+            disk_light_case(name, g.as_deref(), hr, None);
         }
     }
+}
+
+/// One height of [`disk_light_over_a_plane`] (optionally guided): bakes 256 passes and
+/// checks them against the closed form; returns the scene and the state.
+fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<GuidingOptions>) -> (Scene, BakeState) {
+    let (rad, l) = (0.5f64, Vec3::new(4.0, 3.0, 2.0));
+    let h = hr * rad;
+    let mut s = plane_scene(vec![], Environment::Black);
+    s.materials.push(Material::emitter(l));
+    s.meshes.push(disk_light("disk", Vec3::new(0.0, h as f32, 0.0), -Vec3::Y, rad as f32, 1, 256));
+    let passes = 256;
+    let (t, _, st) = bake_guided(&s, g, passes, vec![], 16.0, guiding);
+    let f = |x: Vec3| {
+        let r = (x.x as f64).hypot(x.z as f64);
+        let (h2, r2, a2) = (h * h, r * r, rad * rad);
+        let ff = 0.5 * (1.0 - (h2 + r2 - a2) / ((h2 + r2 + a2).powi(2) - 4.0 * r2 * a2).sqrt());
+        std::array::from_fn(|c| l[c] as f64 * ff)
+    };
+    let want = analytic(&t, passes, &f);
+    let near = |k: usize| {
+        let [first, count, _] = t.items[k];
+        t.points[first as usize..(first + count) as usize].iter().all(|p| p.position.x.hypot(p.position.z) < (rad / 2.0) as f32)
+    };
+    // Polygon-vs-disk bias bound at the worst checked point (r = R/2).
+    let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
+    let d2 = h * h + (rad / 2.0).powi(2);
+    let bias = a_sym * h * h / (d2 * d2) / PI;
+    let mut st = st;
+    // Fold the bias bound into σ (a conservative, documented widening).
+    for (k, m) in st.moments.iter_mut().enumerate() {
+        if near(k) {
+            for c in 0..3 {
+                m.sum_sq[c] += (bias * l[c] as f64 / 5.0).powi(2) * (m.accepted as f64 - 1.0) * m.accepted as f64;
+            }
+        }
+    }
+    let label = if guiding.is_some() { "guided disk light" } else { "disk light" };
+    check(&format!("{name} {label} at h = {hr} R"), &st, &want, passes, &near);
+    (s, st)
 }
 
 /// (e) Constant environment L over the plane: E/π = L in every texel.
@@ -745,41 +753,11 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
 #[test]
 fn guided_bakes_match_the_closed_forms() {
     let guiding = Some(GuidingOptions { learn_passes: 16, guided_fraction: 0.5 });
-    let (rad, l) = (0.5f64, Vec3::new(4.0, 3.0, 2.0));
     for (name, g) in engines() {
         for hr in [0.1f64, 1.0] {
-            let h = hr * rad;
-            let mut s = plane_scene(vec![], Environment::Black);
-            s.materials.push(Material::emitter(l));
-            s.meshes.push(disk_light("disk", Vec3::new(0.0, h as f32, 0.0), -Vec3::Y, rad as f32, 1, 256));
-            let passes = 256;
-            let (t, _, st) = bake_guided(&s, g.as_deref(), passes, vec![], 16.0, guiding);
-            let f = |x: Vec3| {
-                let r = (x.x as f64).hypot(x.z as f64);
-                let (h2, r2, a2) = (h * h, r * r, rad * rad);
-                let ff = 0.5 * (1.0 - (h2 + r2 - a2) / ((h2 + r2 + a2).powi(2) - 4.0 * r2 * a2).sqrt());
-                std::array::from_fn(|c| l[c] as f64 * ff)
-            };
-            let want = analytic(&t, passes, &f);
-            let near = |k: usize| {
-                let [first, count, _] = t.items[k];
-                t.points[first as usize..(first + count) as usize].iter().all(|p| p.position.x.hypot(p.position.z) < (rad / 2.0) as f32)
-            };
-            // The polygon-vs-disk bias bound of `disk_light_over_a_plane`, folded into σ.
-            let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
-            let d2 = h * h + (rad / 2.0).powi(2);
-            let bias = a_sym * h * h / (d2 * d2) / PI;
-            let mut st = st;
-            for (k, m) in st.moments.iter_mut().enumerate() {
-                if near(k) {
-                    for c in 0..3 {
-                        m.sum_sq[c] += (bias * l[c] as f64 / 5.0).powi(2) * (m.accepted as f64 - 1.0) * m.accepted as f64;
-                    }
-                }
-            }
+            let (s, st) = disk_light_case(name, g.as_deref(), hr, guiding);
             assert!(st.guide_sums.iter().any(|v| *v > 0.0), "{name}: guiding learned nothing");
-            check(&format!("{name} guided disk light at h = {hr} R"), &st, &want, passes, &near);
-            let (_, _, plain) = bake(&s, g.as_deref(), passes, vec![], 16.0);
+            let (_, _, plain) = bake(&s, g.as_deref(), 256, vec![], 16.0);
             agree(&format!("{name} disk light at h = {hr} R"), &plain, &st);
         }
         let le = Vec3::new(0.8, 1.0, 1.3);
