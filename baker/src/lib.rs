@@ -2,7 +2,8 @@
 //!
 //! - [`scene`]: meshes, materials (Lambert + GGX layers), lights, environment (analytic
 //!   sky or a lat-long map), and the built-in scenes ([`scene::cornell`], the default;
-//!   [`scene::furnace`] for tests; [`scene::slit`] lit through a slit (guiding); [`scene::dense`] with a 1 M-triangle sphere for timing).
+//!   [`scene::furnace`] for tests; [`scene::slit`] lit through a slit (guiding); [`scene::room_1m`]
+//!   with 1 M lightmapped triangles (the fair benchmark); [`scene::dense`] with a 1 M-triangle sphere for timing).
 //! - [`import`]: glTF 2.0 (TEXCOORD_1 lightmap UVs, metallic/roughness, emission,
 //!   KHR_lights_punctual) with a report of what was skipped.
 //! - [`bvh`]: binned-SAH BVH flattened into GPU-shaped nodes, CPU traversal.

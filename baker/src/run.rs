@@ -113,6 +113,7 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
         "cornell" => scene::cornell(),
         "furnace" => scene::furnace(1.0, 0.5),
         "slit" => scene::slit(),
+        "room-1m" => scene::room_1m(),
         "dense" => scene::dense(1 << 20),
         path => {
             let (s, report) = crate::import::load(Path::new(path)).map_err(|e| e.to_string())?;

@@ -406,6 +406,91 @@ pub fn cornell() -> Scene {
     }
 }
 
+/// A planar grid of `nu` × `nv` quads (2 triangles each) spanning corner + s·u + t·v
+/// (s, t ∈ [0, 1]), facing u × v, lightmapped, with planar lightmap UVs (s·|u|, t·|v|)
+/// divided by the longer side (in the unit square, aspect kept): every triangle carries
+/// texels.
+fn grid(name: &str, corner: Vec3, u: Vec3, v: Vec3, nu: usize, nv: usize, material: usize) -> Mesh {
+    let n = u.cross(v).normalize();
+    let side = u.length().max(v.length());
+    let (mut positions, mut uv) = (Vec::with_capacity((nu + 1) * (nv + 1)), Vec::with_capacity((nu + 1) * (nv + 1)));
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let (a, b) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            positions.push(corner + u * a + v * b);
+            uv.push(sbf::glam::Vec2::new(a * u.length(), b * v.length()) / side);
+        }
+    }
+    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+    let mut indices = Vec::with_capacity(2 * nu * nv);
+    for j in 0..nv {
+        for i in 0..nu {
+            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let normals = vec![n; positions.len()];
+    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: Some(uv), lightmapped: true }
+}
+
+/// Quads per metre of [`room_1m`]'s surfaces (1.8 cm cells).
+const ROOM_1M_CELLS_PER_METRE: f32 = 55.5;
+
+/// The fair benchmark scene of the wavefront-pipeline issue: a 6 × 3 × 6 m room and four
+/// 0.4 m pillars, every surface tessellated into 1.8 cm quads — 1.05 M triangles, all
+/// lightmapped (planar lightmap UVs), so every ray meets triangles that carry texels and
+/// the pillars make paths incoherent. Lit by two ceiling panels (not lightmapped), a spot
+/// light and nothing outside (closed).
+pub fn room_1m() -> Scene {
+    let materials = vec![
+        Material::lambert(Vec3::splat(0.7)),
+        Material::lambert(Vec3::new(0.6, 0.3, 0.2)),
+        Material::lambert(Vec3::new(0.25, 0.4, 0.6)),
+        Material::emitter(Vec3::splat(20.0)),
+    ];
+    let v = Vec3::new;
+    let cells = |len: f32| (len * ROOM_1M_CELLS_PER_METRE).ceil() as usize;
+    let (h, y) = (3.0f32, 3.0f32);
+    let g = |name: &str, c: Vec3, u: Vec3, w: Vec3, m: usize| grid(name, c, u, w, cells(u.length()), cells(w.length()), m);
+    let mut meshes = vec![
+        // Inward-facing walls (u × v points into the room).
+        g("floor", v(-h, 0.0, -h), v(0.0, 0.0, 2.0 * h), v(2.0 * h, 0.0, 0.0), 0),
+        g("ceiling", v(-h, y, -h), v(2.0 * h, 0.0, 0.0), v(0.0, 0.0, 2.0 * h), 0),
+        g("back", v(-h, 0.0, -h), v(2.0 * h, 0.0, 0.0), v(0.0, y, 0.0), 1),
+        g("front", v(h, 0.0, h), v(-2.0 * h, 0.0, 0.0), v(0.0, y, 0.0), 0),
+        g("left", v(-h, 0.0, h), v(0.0, 0.0, -2.0 * h), v(0.0, y, 0.0), 2),
+        g("right", v(h, 0.0, -h), v(0.0, 0.0, 2.0 * h), v(0.0, y, 0.0), 0),
+    ];
+    // Pillars: four outward-facing sides each.
+    for (k, (px, pz)) in [(-1.5f32, -1.5f32), (1.5, -1.5), (-1.5, 1.5), (1.5, 1.5)].into_iter().enumerate() {
+        let (a, b) = (v(px - 0.2, 0.0, pz - 0.2), v(px + 0.2, y, pz + 0.2));
+        let up = v(0.0, y, 0.0);
+        meshes.push(g(&format!("pillar{k}.-z"), v(b.x, 0.0, a.z), v(a.x - b.x, 0.0, 0.0), up, 0));
+        meshes.push(g(&format!("pillar{k}.+z"), v(a.x, 0.0, b.z), v(b.x - a.x, 0.0, 0.0), up, 0));
+        meshes.push(g(&format!("pillar{k}.-x"), v(a.x, 0.0, a.z), v(0.0, 0.0, b.z - a.z), up, 0));
+        meshes.push(g(&format!("pillar{k}.+x"), v(b.x, 0.0, b.z), v(0.0, 0.0, a.z - b.z), up, 0));
+    }
+    // Two ceiling panels facing down.
+    for (k, x) in [-1.5f32, 1.5].into_iter().enumerate() {
+        let (s, yy) = (0.5f32, y - 0.001);
+        meshes.push(quad(&format!("panel{k}"), v(x - s, yy, -s), v(x + s, yy, -s), v(x + s, yy, s), v(x - s, yy, s), 3, false));
+    }
+    Scene {
+        name: "room-1m".into(),
+        meshes,
+        materials,
+        lights: vec![Light::Spot {
+            position: v(0.0, 2.8, 2.5),
+            direction: v(0.0, -0.6, -1.0).normalize(),
+            intensity: Vec3::splat(30.0),
+            cos_inner: 0.9,
+            cos_outer: 0.8,
+            range: f32::INFINITY,
+        }],
+        environment: Environment::Black,
+    }
+}
+
 /// A 2 m room lit only through a vertical slit (0.1 m × 1.2 m) in its front wall: a
 /// uniform sky outside, dark grey walls inside (albedo 0.3) — the scene where first-bounce
 /// ray guiding ([`crate::guiding`]) should help: texels see the sky only through the slit,

@@ -286,3 +286,26 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
         assert!(f <= 0.5 && (q - grid[k]).length() < 1.0);
     }
 }
+
+/// The fair benchmark scene (`room-1m`, issue 15): at least 1 M triangles, every one in a
+/// lightmapped mesh with lightmap UVs; every surface gets texels; from points inside the
+/// room no ray meets a back face (every wall and pillar side faces the room; mutation: the
+/// floor's two edge vectors swapped → fails).
+#[test]
+fn room_1m_is_a_fair_benchmark_scene() {
+    let scene = baker::scene::room_1m();
+    let lit: usize = scene.meshes.iter().filter(|m| m.lightmapped).map(|m| m.indices.len()).sum();
+    let all: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
+    assert!(lit >= 1_000_000, "{lit} lightmapped triangles");
+    assert_eq!(all - lit, 4, "only the two ceiling panels are not lightmapped");
+    assert!(scene.meshes.iter().filter(|m| m.lightmapped).all(|m| m.lightmap_uv.is_some()));
+    let bvh = Bvh::build(&scene);
+    for p in [Vec3::new(0.0, 1.5, 0.0), Vec3::new(2.5, 0.5, -2.5), Vec3::new(-0.7, 2.5, 1.9)] {
+        let (fraction, _) = baker::placement::back_face_hits(&bvh, &scene, p);
+        assert_eq!(fraction, 0.0, "back faces seen from {p}");
+    }
+    let lm = Lightmap::build(&scene, 8.0, 1).unwrap();
+    let mut per_chart = vec![0usize; lm.chart_meshes.len()];
+    lm.texels.iter().filter(|t| t.is_valid()).for_each(|t| per_chart[t.chart as usize] += 1);
+    assert!(per_chart.iter().all(|n| *n > 0), "a surface without texels: {per_chart:?}");
+}
