@@ -20,7 +20,8 @@
 //! - [`guiding`]: first-bounce ray guiding (seed 003): texel clusters, learned directional
 //!   bins on the concentric square, quadtree relaxation, CDFs, the mixture sampler and pdf.
 //! - [`gpu_prims`]: reusable GPU primitives with CPU twins — exclusive prefix sum (any
-//!   length, multi-level), stream compaction — for the wavefront pipeline.
+//!   length, multi-level), stream compaction, radix sort, the offset buffer, tile indices,
+//!   the filtered gather (box, Gaussian, Mitchell, within a chart) — for the wavefront pipeline.
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
 //! - [`denoise`]: joint non-local means over valid texels within a chart (position, normal
 //!   guides, variance-normalised patches), the same weights for every coefficient.

@@ -8,6 +8,7 @@
 //! | stable LSD radix sort of (key, value) u32 pairs by the low `bits` key bits, 4 per pass | `sort.wgsl` (+ the scan) | [`sort_pairs_cpu`] |
 //! | offset buffer of paths sorted by texel (seed 004 Listing 3.1: sentinel fill + one pass) | `offsets.wgsl` | [`texel_ranges_cpu`], read by [`texel_range`] |
 //! | tile-format index of a texel and its inverse (seed 004 eq. 5.2/5.3) | `tile.wgsl` ([`TILE_WGSL`]) | [`tile_index`], [`tile_coords`] |
+//! | filtered gather of sorted paths into texels through the offset buffer (seed 004 §3.2.2, Listing 3.2; box, Gaussian, Mitchell; within a chart) | `gather.wgsl` | [`gather_cpu`] |
 //!
 //! The scan is the classic multi-level one: each 256-element block is scanned in
 //! workgroup memory and writes its total; the totals are scanned the same way (recursively,
@@ -114,6 +115,147 @@ pub fn tile_coords(i: u32, log2_n: u32, tiles_per_row: u32) -> (u32, u32) {
     (n * (tile % tiles_per_row) + (within & (n - 1)), n * (tile / tiles_per_row) + (within >> log2_n))
 }
 
+/// The reconstruction filter of the gather: separable, w(d) = f(d.x)·f(d.y) for the offset
+/// d of a path's continuous atlas position from the texel centre, zero from `radius` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GatherFilter {
+    /// 1 inside the radius.
+    Box,
+    /// exp(−d²/2σ²) − exp(−r²/2σ²), σ = r/2, clamped at 0 (zero at the radius).
+    Gaussian,
+    /// Mitchell–Netravali with B = C = 1/3 over [−r, r] (negative lobes included).
+    Mitchell,
+}
+
+impl GatherFilter {
+    fn code(self) -> u32 {
+        match self {
+            GatherFilter::Box => 0,
+            GatherFilter::Gaussian => 1,
+            GatherFilter::Mitchell => 2,
+        }
+    }
+    /// The 1D weight at offset `d` for radius `r` (the WGSL `filter_1d`, same f32 steps).
+    pub fn weight_1d(self, r: f32, d: f32) -> f32 {
+        let a = d.abs();
+        match self {
+            GatherFilter::Box => (a < r) as u32 as f32,
+            GatherFilter::Gaussian => {
+                let s2 = 2.0 * (0.5 * r) * (0.5 * r);
+                ((-d * d / s2).exp() - (-r * r / s2).exp()).max(0.0)
+            }
+            GatherFilter::Mitchell => {
+                let x = 2.0 * a / r;
+                let (b, c) = (1.0f32 / 3.0, 1.0f32 / 3.0);
+                if x < 1.0 {
+                    ((12.0 - 9.0 * b - 6.0 * c) * x * x * x + (-18.0 + 12.0 * b + 6.0 * c) * x * x + (6.0 - 2.0 * b)) / 6.0
+                } else if x < 2.0 {
+                    ((-b - 6.0 * c) * x * x * x + (6.0 * b + 30.0 * c) * x * x + (-12.0 * b - 48.0 * c) * x + (8.0 * b + 24.0 * c)) / 6.0
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+}
+
+/// The chart id of a texel that neither gathers nor is gathered from.
+pub const INVALID_CHART: u32 = u32::MAX;
+
+/// Texels on each side a gather of radius `r` must visit: a path of texel x + k lies at
+/// least k − ½ from the centre of x, so k < r + ½.
+pub fn gather_reach(r: f32) -> u32 {
+    ((r + 0.5).ceil() as u32).saturating_sub(1)
+}
+
+/// The gather's inputs: a `width` × `height` atlas (row-major texel indices), the offset
+/// buffer of the paths sorted by texel (`width·height + 1` entries), each path's continuous
+/// atlas position (inside its texel) and value (RGB, fourth component unused), each
+/// texel's chart ([`INVALID_CHART`]: left alone).
+#[derive(Debug, Clone, Copy)]
+pub struct GatherInput<'a> {
+    pub width: usize,
+    pub height: usize,
+    pub offsets: &'a [u32],
+    pub positions: &'a [[f32; 2]],
+    pub values: &'a [[f32; 4]],
+    pub charts: &'a [u32],
+    pub filter: GatherFilter,
+    pub radius: f32,
+}
+
+impl GatherInput<'_> {
+    /// Checks sizes and the radius (finite, in (0, 16]).
+    pub fn validate(&self, acc_len: usize) -> Result<(), String> {
+        let texels = self.width * self.height;
+        if self.offsets.len() != texels + 1 || self.charts.len() != texels || acc_len != texels {
+            return Err(format!(
+                "gather: {} offsets, {} charts and {acc_len} accumulators for {texels} texels (need texels + 1, texels, texels)",
+                self.offsets.len(),
+                self.charts.len()
+            ));
+        }
+        if self.positions.len() != self.values.len() {
+            return Err(format!("gather: {} positions but {} values", self.positions.len(), self.values.len()));
+        }
+        if !(self.radius > 0.0 && self.radius <= 16.0) {
+            return Err(format!("gather: filter radius must be in (0, 16] texels, not {}", self.radius));
+        }
+        Ok(())
+    }
+}
+
+/// The CPU twin of the gather: adds (Σ w·v, Σ w) of every texel's neighbourhood to `acc`
+/// (same order and f32 steps as `gather.wgsl`).
+pub fn gather_cpu(g: &GatherInput, acc: &mut [[f32; 4]]) -> Result<(), String> {
+    g.validate(acc.len())?;
+    let reach = gather_reach(g.radius) as i64;
+    for (t, a) in acc.iter_mut().enumerate() {
+        let chart = g.charts[t];
+        if chart == INVALID_CHART {
+            continue;
+        }
+        let (x, y) = ((t % g.width) as i64, (t / g.width) as i64);
+        let centre = [x as f32 + 0.5, y as f32 + 0.5];
+        let (mut sum, mut weight) = ([0f32; 3], 0f32);
+        for ny in (y - reach).max(0)..=(y + reach).min(g.height as i64 - 1) {
+            for nx in (x - reach).max(0)..=(x + reach).min(g.width as i64 - 1) {
+                let n = ny as usize * g.width + nx as usize;
+                if g.charts[n] != chart {
+                    continue;
+                }
+                for p in texel_range(g.offsets, n) {
+                    let d = [g.positions[p][0] - centre[0], g.positions[p][1] - centre[1]];
+                    let w = g.filter.weight_1d(g.radius, d[0]) * g.filter.weight_1d(g.radius, d[1]);
+                    if w != 0.0 {
+                        for c in 0..3 {
+                            sum[c] += w * g.values[p][c];
+                        }
+                        weight += w;
+                    }
+                }
+            }
+        }
+        for c in 0..3 {
+            a[c] += sum[c];
+        }
+        a[3] += weight;
+    }
+    Ok(())
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GatherParams {
+    width: u32,
+    height: u32,
+    row: u32,
+    kernel: u32,
+    radius: f32,
+    reach: u32,
+    _pad: [u32; 2],
+}
+
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SortParams {
@@ -209,6 +351,8 @@ pub struct Prims {
     sort_scatter: wgpu::ComputePipeline,
     offsets_layout: wgpu::BindGroupLayout,
     offsets: wgpu::ComputePipeline,
+    gather_layout: wgpu::BindGroupLayout,
+    gather: wgpu::ComputePipeline,
 }
 
 impl Prims {
@@ -260,7 +404,24 @@ impl Prims {
             label: Some("offsets"),
             entries: &[storage_layout_entry(0, true), storage_layout_entry(1, false), uniform_layout_entry(2)],
         });
+        let gather = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("gather.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("gather.wgsl").into()),
+        });
+        let gather_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gather"),
+            entries: &[
+                storage_layout_entry(0, true),
+                storage_layout_entry(1, true),
+                storage_layout_entry(2, true),
+                storage_layout_entry(3, true),
+                storage_layout_entry(4, false),
+                uniform_layout_entry(5),
+            ],
+        });
         Prims {
+            gather: pipeline(d, &gather_layout, &gather, "gather"),
+            gather_layout,
             offsets: pipeline(d, &offsets_layout, &offsets, "generate_offsets"),
             offsets_layout,
             sort_histogram: pipeline(d, &sort_layout, &sort, "histogram"),
@@ -418,6 +579,61 @@ impl Prims {
         let g = bind(d, &self.offsets_layout, "offsets", &[path_texels, offsets], bytemuck::bytes_of(&p));
         dispatch(enc, "offsets", &self.offsets, &g, (x, y));
     }
+}
+
+impl Prims {
+    /// Records the filtered gather of `width` × `height` texels into `acc` (one vec4 per
+    /// texel: Σ w·v, Σ w added): buffers as in [`GatherInput`] (positions as vec2<f32>,
+    /// values and `acc` as vec4<f32>).
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_gather(
+        &self,
+        d: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        [offsets, positions, values, charts, acc]: [&wgpu::Buffer; 5],
+        (width, height): (usize, usize),
+        filter: GatherFilter,
+        radius: f32,
+    ) {
+        let texels = width * height;
+        if texels == 0 {
+            return;
+        }
+        let (x, y) = grid(texels.div_ceil(BLOCK));
+        let p = GatherParams {
+            width: width as u32,
+            height: height as u32,
+            row: x,
+            kernel: filter.code(),
+            radius,
+            reach: gather_reach(radius),
+            _pad: [0; 2],
+        };
+        let g = bind(d, &self.gather_layout, "gather", &[offsets, positions, values, charts, acc], bytemuck::bytes_of(&p));
+        dispatch(enc, "gather", &self.gather, &g, (x, y));
+    }
+}
+
+/// Host convenience: the GPU gather of `g` added to `acc` (returned).
+pub fn gather(d: &wgpu::Device, q: &wgpu::Queue, prims: &Prims, g: &GatherInput, acc: &[[f32; 4]]) -> Result<Vec<[f32; 4]>, String> {
+    g.validate(acc.len())?;
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    let buf = |bytes: &[u8], label| {
+        let contents = if bytes.is_empty() { &[0u8; 16][..] } else { bytes };
+        d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+    };
+    let b = [
+        buf(bytemuck::cast_slice(g.offsets), "gather offsets"),
+        buf(bytemuck::cast_slice(g.positions), "gather positions"),
+        buf(bytemuck::cast_slice(g.values), "gather values"),
+        buf(bytemuck::cast_slice(g.charts), "gather charts"),
+        buf(bytemuck::cast_slice(acc), "gather accumulators"),
+    ];
+    let mut enc = d.create_command_encoder(&Default::default());
+    prims.encode_gather(d, &mut enc, [&b[0], &b[1], &b[2], &b[3], &b[4]], (g.width, g.height), g.filter, g.radius);
+    q.submit([enc.finish()]);
+    let raw = read_u32(d, q, &b[4], 4 * acc.len());
+    Ok(bytemuck::cast_slice::<u32, f32>(&raw).chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect())
 }
 
 /// Host convenience: the offset buffer (`texels + 1` entries) of sorted path texels.
