@@ -18,7 +18,24 @@ const SIZES: [usize; 12] = [0, 1, 2, 255, 256, 257, 511, 1000, 65_535, 65_536, 6
 #[test]
 fn scan_equals_its_cpu_twin() {
     let Some(g) = common::gpu() else { return };
-    let prims = Prims::new(g.device());
+    for prims in variants(g.device()) {
+        scan_case(&g, &prims);
+    }
+}
+
+/// The kernels with the workgroup-memory block scan and, where the device has subgroups,
+/// with the subgroup one (both must pass every test here).
+fn variants(d: &wgpu::Device) -> Vec<Prims> {
+    let mut v = vec![Prims::with_subgroups(d, false)];
+    if d.features().contains(wgpu::Features::SUBGROUP) {
+        v.push(Prims::with_subgroups(d, true));
+    } else {
+        println!("no subgroups on this adapter: the subgroup block scan is not run");
+    }
+    v
+}
+
+fn scan_case(g: &shaders::gpu::Gpu, prims: &Prims) {
     let mut r = Pcg32::new(21, 5);
     for n in SIZES {
         let cases: [(&str, Vec<u32>); 3] = [
@@ -28,10 +45,10 @@ fn scan_equals_its_cpu_twin() {
         ];
         for (what, v) in cases {
             let (want, want_total) = exclusive_scan_cpu(&v);
-            let (got, total) = exclusive_scan(g.device(), g.queue(), &prims, &v);
-            assert_eq!(total, want_total, "{what} n = {n}: total");
+            let (got, total) = exclusive_scan(g.device(), g.queue(), prims, &v);
+            assert_eq!(total, want_total, "{what} n = {n}, subgroups {}: total", prims.subgroups);
             if let Some(k) = (0..n).find(|k| got[*k] != want[*k]) {
-                panic!("{what} n = {n}: first difference at {k}: {} vs {}", got[k], want[k]);
+                panic!("{what} n = {n}, subgroups {}: first difference at {k}: {} vs {}", prims.subgroups, got[k], want[k]);
             }
         }
     }
@@ -41,7 +58,12 @@ fn scan_equals_its_cpu_twin() {
 #[test]
 fn compaction_equals_its_cpu_twin() {
     let Some(g) = common::gpu() else { return };
-    let prims = Prims::new(g.device());
+    for prims in variants(g.device()) {
+        compaction_case(&g, &prims);
+    }
+}
+
+fn compaction_case(g: &shaders::gpu::Gpu, prims: &Prims) {
     let mut r = Pcg32::new(8, 13);
     for n in SIZES {
         let items: Vec<u32> = (0..n).map(|_| r.next_u32()).collect();
@@ -52,8 +74,8 @@ fn compaction_equals_its_cpu_twin() {
             ("last only", (0..n).map(|k| (k + 1 == n) as u32).collect()),
         ] {
             let want = compact_cpu(&items, &flags);
-            let got = compact(g.device(), g.queue(), &prims, &items, &flags);
-            assert_eq!(got, want, "{what} n = {n}");
+            let got = compact(g.device(), g.queue(), prims, &items, &flags);
+            assert_eq!(got, want, "{what} n = {n}, subgroups {}", prims.subgroups);
         }
     }
 }
@@ -66,7 +88,12 @@ fn compaction_equals_its_cpu_twin() {
 #[test]
 fn radix_sort_equals_its_cpu_twin() {
     let Some(g) = common::gpu() else { return };
-    let prims = Prims::new(g.device());
+    for prims in variants(g.device()) {
+        sort_case(&g, &prims);
+    }
+}
+
+fn sort_case(g: &shaders::gpu::Gpu, prims: &Prims) {
     let mut r = Pcg32::new(2, 9);
     for n in SIZES.into_iter().filter(|n| *n <= 65_537) {
         let vals: Vec<u32> = (0..n as u32).collect();
@@ -80,10 +107,11 @@ fn radix_sort_equals_its_cpu_twin() {
         ];
         for (what, keys, bits) in cases {
             let want = sort_pairs_cpu(&keys, &vals, bits);
-            let got = sort_pairs(g.device(), g.queue(), &prims, &keys, &vals, bits);
+            let got = sort_pairs(g.device(), g.queue(), prims, &keys, &vals, bits);
             assert!(
                 got == want,
-                "{what} n = {n} bits {bits}: first difference at {:?}",
+                "{what} n = {n} bits {bits}, subgroups {}: first difference at {:?}",
+                prims.subgroups,
                 (0..n).find(|k| got.0[*k] != want.0[*k] || got.1[*k] != want.1[*k])
             );
         }
@@ -318,4 +346,15 @@ fn gather_equals_its_cpu_twin_and_the_brute_force() {
     assert!(gather_cpu(&bad, &mut acc).unwrap_err().contains("radius"));
     let short = GatherInput { offsets: &c.offsets[..16], radius: 1.5, ..bad };
     assert!(gather_cpu(&short, &mut acc).unwrap_err().contains("offsets"));
+}
+
+/// Both block-scan variants of the prefix sum and the radix sort are valid WGSL (the
+/// subgroup ones with the subgroup capabilities, and not without them).
+#[test]
+fn block_scan_variants_validate() {
+    for (workgroup, subgroup) in baker::gpu_prims::block_scan_sources() {
+        shaders::export::validate(&workgroup).unwrap();
+        shaders::export::validate_subgroups(&subgroup).unwrap();
+        assert!(shaders::export::validate(&subgroup).is_err());
+    }
 }

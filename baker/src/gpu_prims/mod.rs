@@ -12,8 +12,12 @@
 //!
 //! The scan is the classic multi-level one: each 256-element block is scanned in
 //! workgroup memory and writes its total; the totals are scanned the same way (recursively,
-//! one level per factor of 256), then added back level by level. Workgroup-memory only —
-//! no subgroup operations, so it runs the same on every adapter (lavapipe in CI).
+//! one level per factor of 256), then added back level by level. The block scan (shared by
+//! the prefix sum and the radix sort's stable ranks) has two variants: subgroup
+//! (`subgroupInclusiveAdd` per subgroup plus the earlier subgroups' totals,
+//! `block_scan_subgroup.wgsl`) where the device has `Features::SUBGROUP`, and
+//! workgroup memory (Hillis–Steele, `block_scan.wgsl`) elsewhere; [`Prims::with_subgroups`]
+//! picks one explicitly so tests run both.
 //! Dispatches are 2D (≤ 65 535 workgroups per row).
 
 use wgpu::util::DeviceExt;
@@ -338,9 +342,11 @@ fn dispatch(enc: &mut wgpu::CommandEncoder, label: &str, pipeline: &wgpu::Comput
     pass.dispatch_workgroups(x, y, 1);
 }
 
-/// The compiled scan and compaction kernels of one device.
+/// The compiled kernels of one device.
 #[derive(Debug)]
 pub struct Prims {
+    /// The block scans (prefix sum, radix sort) use subgroup operations.
+    pub subgroups: bool,
     scan_layout: wgpu::BindGroupLayout,
     scan_blocks: wgpu::ComputePipeline,
     add_offsets: wgpu::ComputePipeline,
@@ -355,13 +361,37 @@ pub struct Prims {
     gather: wgpu::ComputePipeline,
 }
 
+/// The workgroup block scan of the prefix sum and the radix sort: subgroup or
+/// workgroup-memory variant.
+fn block_scan_source(subgroups: bool) -> &'static str {
+    if subgroups {
+        include_str!("block_scan_subgroup.wgsl")
+    } else {
+        include_str!("block_scan.wgsl")
+    }
+}
+
+/// The WGSL of the prefix sum and the radix sort, for validation: (workgroup variant,
+/// subgroup variant) of each.
+pub fn block_scan_sources() -> [(String, String); 2] {
+    let scan = |sg| format!("{}{}{}", include_str!("grid_params.wgsl"), block_scan_source(sg), include_str!("scan.wgsl"));
+    let sort = |sg| format!("{}{}", block_scan_source(sg), include_str!("sort.wgsl"));
+    [(scan(false), scan(true)), (sort(false), sort(true))]
+}
+
 impl Prims {
+    /// The kernels for `d`, with the subgroup block scan where the device has subgroups.
     pub fn new(d: &wgpu::Device) -> Prims {
+        Prims::with_subgroups(d, d.features().contains(wgpu::Features::SUBGROUP))
+    }
+
+    /// The kernels with the subgroup (`true`, the device must have `Features::SUBGROUP`) or
+    /// the workgroup-memory block scan — tests run both where they can.
+    pub fn with_subgroups(d: &wgpu::Device, subgroups: bool) -> Prims {
+        let [(scan_wg, scan_sg), (sort_wg, sort_sg)] = block_scan_sources();
         let scan = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scan.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(
-                concat!(include_str!("grid_params.wgsl"), include_str!("block_scan.wgsl"), include_str!("scan.wgsl")).into(),
-            ),
+            source: wgpu::ShaderSource::Wgsl(if subgroups { scan_sg } else { scan_wg }.into()),
         });
         let compact = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("compact.wgsl"),
@@ -383,7 +413,7 @@ impl Prims {
         });
         let sort = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("sort.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("block_scan.wgsl"), include_str!("sort.wgsl")).into()),
+            source: wgpu::ShaderSource::Wgsl(if subgroups { sort_sg } else { sort_wg }.into()),
         });
         let sort_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sort"),
@@ -420,6 +450,7 @@ impl Prims {
             ],
         });
         Prims {
+            subgroups,
             gather: pipeline(d, &gather_layout, &gather, "gather"),
             gather_layout,
             offsets: pipeline(d, &offsets_layout, &offsets, "generate_offsets"),
