@@ -18,6 +18,10 @@
 //! known projections p_s·c_l at ω_l, in tangent space (normal +Z) for texels, world
 //! space for probes. A sample whose first hit is a single-sided back face is rejected
 //! and counted; the means divide by the accepted count.
+//!
+//! With ray guiding ([`crate::guiding`]) a texel's point sample comes from a mixture of
+//! density p instead: the estimate uses L·cosθ/(π·p), the encoders take the sample with
+//! weight (1/2π)/p and the light samples' projections scaled by p.
 
 use crate::lightmap::{frame, Lightmap, SurfacePoint};
 use crate::trace::Tracer;
@@ -180,9 +184,7 @@ impl Targets {
             return (d, d.as_vec3(), 1.0);
         }
         let local = sbf::sampling::uniform_hemisphere(u);
-        let (tn, bn) = frame(normal);
-        let dir = (tn.as_dvec3() * local.x + bn.as_dvec3() * local.y + normal.as_dvec3() * local.z).normalize().as_vec3();
-        (local, dir, 2.0 * local.z as f32)
+        (local, world_of(normal, local), 2.0 * local.z as f32)
     }
 
     /// The sample direction of pass `p` of a texel in a guided bake with `learn` learning

@@ -52,6 +52,16 @@
 //! probability exactly. The estimate divides by it; the basis encoders take the sample
 //! with weight (1/2π)/p and the light samples' known projections scaled by p (see
 //! [`crate::bake`]): unbiased by construction, whatever was learned.
+//!
+//! **On the GPU** (`wgsl/guide.wgsl` in the bake kernel, `guide_common.wgsl`,
+//! `guide_build.wgsl`, `guide_build_subgroup.wgsl`): the bake pass writes the records, a
+//! gather kernel adds them per cluster, and the CDFs are built one workgroup per cluster —
+//! by subgroup prefix sums where every subgroup holds whole rows of 16 bins, else by serial
+//! sums in workgroup memory ([`crate::gpu::GuideBuild`]); [`build_cluster`] is their twin.
+//!
+//! **Measured** (`examples/options_gain.rs`, H200): in the `slit` room E/π error 1.30× lower
+//! at 128 passes and 1.46× at 512 at +13% time per pass; on the built-in scene 0.96× (the
+//! light is mostly already found by next-event estimation) — so `--guiding` is off by default.
 
 use crate::lightmap::Lightmap;
 use sbf::glam::DVec3;
