@@ -46,8 +46,9 @@ pub struct TraceParams {
     /// Ray guiding: the pass's stage and the stage's first pass (`guiding::stage`).
     pub guide_stage: u32,
     pub guide_start: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    /// The items of this dispatch, [item_offset, item_end) (a pass may take several).
+    pub item_offset: u32,
+    pub item_end: u32,
     pub env0: [f32; 4],
     pub env1: [f32; 4],
     pub env2: [f32; 4],
@@ -78,8 +79,8 @@ shaders::gpu_struct!(
         guide_phase,
         guide_stage,
         guide_start,
-        pad1,
-        pad2,
+        item_offset,
+        item_end,
         env0,
         env1,
         env2
@@ -399,14 +400,32 @@ pub struct GpuBake<'g> {
     states_buf: wgpu::Buffer,
     counters_buf: wgpu::Buffer,
     pub params: TraceParams,
-    groups: (u32, u32),
     config: BakeConfig,
     sphere: bool,
     items: usize,
     pub passes: u64,
     pub kernel: Kernel,
     guide: Option<GuideGpu>,
+    batching: Batching,
 }
+
+/// Items per dispatch (seed 004 §3.4.1, frame-time load balancing): a pass is split into
+/// dispatches of `chunk` items, and `chunk` follows N ← N·T_target/T (eq. 3.1–3.2) from
+/// the measured time per dispatch, so every dispatch stays near the target whatever the
+/// atlas size — far below driver watchdogs. Measured (one wait) at passes 0, 1, 2, 4, …,
+/// then every 64 passes; between them the passes are queued back to back.
+#[derive(Debug, Clone, Copy)]
+struct Batching {
+    /// Target seconds per dispatch; None: `chunk` fixed.
+    target: Option<f64>,
+    chunk: usize,
+}
+
+/// Items of the first dispatches, before any measurement (2¹⁸: a few ms on a large GPU,
+/// well under a second on a software rasteriser's worst scenes).
+const INITIAL_CHUNK: usize = 1 << 18;
+/// The default target time per dispatch (a 60 Hz frame).
+pub const BATCH_TARGET_SECONDS: f64 = 0.016;
 
 /// Checks every storage buffer of a bake against the adapter's binding limit before
 /// anything is uploaded; the error names the buffer and both sizes.
@@ -561,8 +580,8 @@ impl<'g> GpuBake<'g> {
             guide_phase: 0,
             guide_stage: 0,
             guide_start: 0,
-            pad1: 0,
-            pad2: 0,
+            item_offset: 0,
+            item_end: items as u32,
             env0: env[0],
             env1: env[1],
             env2: env[2],
@@ -622,7 +641,6 @@ impl<'g> GpuBake<'g> {
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let groups = grid(items as u32, WG);
         Ok(GpuBake {
             gpu,
             pipeline,
@@ -632,18 +650,34 @@ impl<'g> GpuBake<'g> {
             states_buf,
             counters_buf,
             params,
-            groups,
             config: config.clone(),
             sphere: targets.sphere,
             items,
             passes: 0,
             kernel,
             guide,
+            batching: Batching { target: Some(BATCH_TARGET_SECONDS), chunk: items.min(INITIAL_CHUNK) },
         })
     }
 
-    /// One pass; with ray guiding, the gather of its learning records and, once learning
-    /// ends, the build of the distributions follow it in the same submission.
+    /// Sets the target time per dispatch (None: keep the items per dispatch fixed).
+    pub fn set_batch_target(&mut self, seconds: Option<f64>) {
+        self.batching.target = seconds.filter(|s| s.is_finite() && *s > 0.0);
+    }
+
+    /// Fixes the items per dispatch (at least 1; adaptation off).
+    pub fn set_chunk(&mut self, items: usize) {
+        self.batching = Batching { target: None, chunk: items.clamp(1, self.items) };
+    }
+
+    /// The current items per dispatch.
+    pub fn chunk(&self) -> usize {
+        self.batching.chunk
+    }
+
+    /// One pass, as dispatches of at most `chunk` items (one submission each); with ray
+    /// guiding, the gather of its learning records and, once learning ends, the build of
+    /// the distributions follow the last one. Per-item results do not depend on the split.
     fn dispatch(&mut self) {
         let d = self.gpu.device();
         self.params.guide_phase = match &self.guide {
@@ -655,14 +689,26 @@ impl<'g> GpuBake<'g> {
             let (k, start) = crate::guiding::stage(self.passes, g.learn_passes);
             (self.params.guide_stage, self.params.guide_start) = (k, start as u32);
         }
-        self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
-        let mut enc = d.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
-        }
+        let chunk = self.batching.chunk.max(1);
+        let mut start = 0;
+        let mut enc = loop {
+            let end = (start + chunk).min(self.items);
+            (self.params.item_offset, self.params.item_end) = (start as u32, end as u32);
+            self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+            let mut enc = d.create_command_encoder(&Default::default());
+            {
+                let groups = grid((end - start) as u32, WG);
+                let mut pass = enc.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.dispatch_workgroups(groups.0, groups.1, 1);
+            }
+            if end == self.items {
+                break enc;
+            }
+            self.gpu.queue().submit([enc.finish()]);
+            start = end;
+        };
         if let Some(g) = &mut self.guide {
             // Every pass learns; at the start of each stage the distributions are rebuilt
             // from all sums (baker::guiding::stage).
@@ -680,8 +726,25 @@ impl<'g> GpuBake<'g> {
     pub fn run(&mut self, n: u64) -> Result<(), String> {
         for _ in 0..n {
             self.params.pass_index = self.passes as u32;
+            let p = self.passes;
+            let measure = self.batching.target.is_some() && (p.is_power_of_two() || p == 0 || p % 64 == 0);
+            if measure {
+                // Time this pass alone: wait for the queue first.
+                self.gpu.wait()?;
+            }
+            let t = std::time::Instant::now();
             self.dispatch();
             self.passes += 1;
+            if let (true, Some(target)) = (measure, self.batching.target) {
+                self.gpu.wait()?;
+                let chunks = self.items.div_ceil(self.batching.chunk.max(1));
+                let per = t.elapsed().as_secs_f64() / chunks as f64;
+                // Eq. 3.1–3.2: N ← N·T_target/T, at most doubling or halving per step,
+                // a multiple of the workgroup size.
+                let scale = (target / per.max(1e-9)).clamp(0.5, 2.0);
+                let next = ((self.batching.chunk as f64 * scale) as usize).div_ceil(WG as usize) * WG as usize;
+                self.batching.chunk = next.max(WG as usize).min(self.items).max(1);
+            }
         }
         self.gpu.wait()
     }

@@ -150,6 +150,11 @@ struct Cli {
     /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
     #[arg(long)]
     measure_rays: Option<u64>,
+    /// GPU: target milliseconds per dispatch — a pass over a large atlas is split into
+    /// dispatches of about this length (frame-time load balancing, seed 004 §3.4.1), far
+    /// below driver watchdogs; 0: one dispatch per pass.
+    #[arg(long, default_value_t = 16.0)]
+    batch_ms: f64,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
@@ -207,6 +212,9 @@ fn options(c: Cli) -> Result<Options, String> {
     if c.passes == 0 {
         return Err("--passes must be at least 1".into());
     }
+    if !(c.batch_ms.is_finite() && c.batch_ms >= 0.0) {
+        return Err(format!("--batch-ms must be ≥ 0 (0: one dispatch per pass), not {}", c.batch_ms));
+    }
     if c.guiding_learn.is_some() && !c.guiding {
         return Err("--guiding-learn needs --guiding".into());
     }
@@ -237,6 +245,7 @@ fn options(c: Cli) -> Result<Options, String> {
         preview_width: c.preview_width.max(8),
         quiet: d.quiet,
         measure_rays: c.measure_rays,
+        batch_seconds: (c.batch_ms > 0.0).then_some(c.batch_ms * 1e-3),
         profile,
         denoise: match c.denoise {
             Toggle::On => true,

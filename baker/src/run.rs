@@ -51,6 +51,9 @@ pub struct Options {
     pub quiet: bool,
     /// Instead of baking: measure GPU rays/s over this many passes and print them.
     pub measure_rays: Option<u64>,
+    /// GPU: target seconds per dispatch (frame-time load balancing, seed 004 §3.4.1); None:
+    /// one dispatch per pass.
+    pub batch_seconds: Option<f64>,
     /// The lighting profile the bases came from (`--profile`): its BRDF set decides whether
     /// the specular runtime (features, LUTs) is written, its language the exported runtime;
     /// it is recorded in bake.json.
@@ -87,6 +90,7 @@ impl Default for Options {
             probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
             preview_width: 480,
             measure_rays: None,
+            batch_seconds: Some(crate::gpu::BATCH_TARGET_SECONDS),
             profile: None,
             quiet: false,
             // The CLI's defaults for 128 passes (`--denoise auto`, `--stitch-seams auto`).
@@ -135,8 +139,8 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
 }
 
 enum Engine<'a> {
-    Cpu(Bake<'a>),
-    Gpu(GpuBake<'a>),
+    Cpu(Box<Bake<'a>>),
+    Gpu(Box<GpuBake<'a>>),
 }
 
 impl Engine<'_> {
@@ -193,17 +197,21 @@ fn run_targets<'s>(
     let mut engine = match gpu {
         Some(g) => {
             let mut b = GpuBake::new(g, &tracer_of(), targets, config)?;
+            match o.batch_seconds {
+                Some(s) => b.set_batch_target(Some(s)),
+                None => b.set_chunk(usize::MAX),
+            }
             for l in &b.kernel.left_out {
                 log(format!("{what}: left out of the GPU kernel: {l}"));
             }
             if let Some(st) = &saved {
                 b.upload(st)?;
             }
-            Engine::Gpu(b)
+            Engine::Gpu(Box::new(b))
         }
         None => match saved {
-            Some(st) => Engine::Cpu(Bake::resume(config.clone(), targets, tracer_of(), st)?),
-            None => Engine::Cpu(Bake::new(config.clone(), targets, tracer_of())),
+            Some(st) => Engine::Cpu(Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?)),
+            None => Engine::Cpu(Box::new(Bake::new(config.clone(), targets, tracer_of()))),
         },
     };
     let start = engine.passes();

@@ -61,8 +61,9 @@ struct TraceParams {
     // Ray guiding: the pass's stage and the stage's first pass (baker::guiding::stage).
     guide_stage: u32,
     guide_start: u32,
-    pad1: u32,
-    pad2: u32,
+    // The items of this dispatch: [item_offset, item_end) (a pass may take several).
+    item_offset: u32,
+    item_end: u32,
     env0: vec4<f32>,
     env1: vec4<f32>,
     env2: vec4<f32>,
@@ -688,8 +689,8 @@ fn finite3(v: vec3<f32>) -> bool {
 // `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = gid.x + gid.y * nwg.x * 64u;
-    if (i >= P.item_count) {
+    let i = P.item_offset + gid.x + gid.y * nwg.x * 64u;
+    if (i >= P.item_end) {
         return;
     }
     let it = items[i];
