@@ -13,3 +13,9 @@ pub const HILL_C0_MAX_ERROR: f64 = 1.36803766605584892e-2;
 pub const DFG_BYTES: usize = 131232;
 /// Byte size of luts/ad_specular_2d.sbflut (asserted by sbf at compile time).
 pub const AD_SPECULAR_2D_BYTES: usize = 16544;
+/// Byte size of luts/lobe_ggx_sg6.sbflut (asserted by sbf at compile time).
+pub const LOBE_GGX_SG6_BYTES: usize = 442592;
+/// Byte size of luts/lobe_ggx_ad.sbflut (asserted by sbf at compile time).
+pub const LOBE_GGX_AD_BYTES: usize = 442592;
+/// Node counts of the lobe GGX tables: n·v, √α, γ, ψ.
+pub const LOBE_GGX_NODES: [usize; 4] = [12, 12, 32, 24];

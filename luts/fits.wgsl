@@ -7,3 +7,5 @@ const HILL_C0: f32 = 0.365201309;
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
 const AD_SPECULAR_PARAMS: array<f32, 8> = array<f32, 8>(3.049891052, -6.983002510, 7.388270436, -2.662756922, -0.400542949, 5.626699352, -6.040098717, 1.900612494);
 const AD_SPECULAR_DIFFUSE: vec3<f32> = vec3<f32>(0.060000000, 0.129000000, 0.069700000);
+// Lobe GGX tables (texture_2d_array: x = ψ, y = γ, layer = n·v node × this + √α node).
+const LOBE_GGX_SQRT_ALPHA_NODES: i32 = 12;

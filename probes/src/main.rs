@@ -64,6 +64,11 @@ enum Cmd {
         /// `sg` and `sgnnls`, the prior estimate for `sgls` and `sglsa`.
         #[arg(long, default_value = "auto")]
         sg_irradiance: String,
+        /// Specular runtime of the SG and AD modes: `table` (per-lobe GGX response tables,
+        /// luts/lobe_ggx_*.sbflut; interpolation is the only approximation) or `fit` (the
+        /// ASG warp for SG, seed Listing 8.1 × its LUT for AD).
+        #[arg(long, default_value = "table")]
+        specular_runtime: String,
         /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
         /// or `none`.
         #[arg(long, default_value = "png")]
@@ -112,11 +117,13 @@ fn compare(
     alphas: &[f64],
     spec_samples: u32,
     sg_irradiance: modes::SgIrradiance,
+    specular_runtime: probes::specular::SpecularRuntime,
 ) -> Result<report::MapReport, String> {
     let (w, h) = (map.geometry.width, map.geometry.height);
     let t = std::time::Instant::now();
     let mut ctx = modes::Context::with_domain(map, domain);
     ctx.sg_irradiance = sg_irradiance;
+    ctx.specular_runtime = specular_runtime;
     let ref_s = t.elapsed().as_secs_f64();
     let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(ids.len() as u64);
@@ -255,6 +262,7 @@ fn compare(
         sanitized,
         rows,
         specular_method,
+        specular_runtime: if alphas.is_empty() { String::new() } else { specular_runtime.describe().to_string() },
         specular_samples: spec_samples,
         specular_reference: spec_refs,
         grid: ctx.grid,
@@ -366,6 +374,7 @@ fn main() -> ExitCode {
             specular_samples,
             no_specular,
             sg_irradiance,
+            specular_runtime,
             images,
             gpu_cost,
             gpu_count,
@@ -377,6 +386,7 @@ fn main() -> ExitCode {
                 "prior" => modes::SgIrradiance::Prior,
                 other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill`, `peer` or `prior`")),
             };
+            let spec_rt = probes::specular::SpecularRuntime::parse(&specular_runtime)?;
             let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
             let (m, alphas) = match &prof {
                 Some(p) => (probes::profile::modes(p), probes::profile::alphas(p)),
@@ -447,7 +457,18 @@ fn main() -> ExitCode {
                         rep.negative
                     );
                 }
-                reports.push(compare(&path.display().to_string(), map, rep.total(), &ids, repeats, dom, &alphas, specular_samples, sgi)?);
+                reports.push(compare(
+                    &path.display().to_string(),
+                    map,
+                    rep.total(),
+                    &ids,
+                    repeats,
+                    dom,
+                    &alphas,
+                    specular_samples,
+                    sgi,
+                    spec_rt,
+                )?);
             }
             write_reports(&out, &mut reports, json, &images, gpu.as_ref())
         })(),
@@ -455,7 +476,18 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare("procedural-sky", map, 0, &ids, 3, sbf::Domain::Sphere, &DEFAULT_ALPHAS, 256, modes::SgIrradiance::Auto)?;
+            let rep = compare(
+                "procedural-sky",
+                map,
+                0,
+                &ids,
+                3,
+                sbf::Domain::Sphere,
+                &DEFAULT_ALPHAS,
+                256,
+                modes::SgIrradiance::Auto,
+                Default::default(),
+            )?;
             write_reports(Path::new("probes-report"), &mut [rep], false, "png", None)
         })(),
     };

@@ -34,6 +34,8 @@ pub struct Context {
     pub domain: Domain,
     /// How the 12-lobe SG modes turn lobes into irradiance.
     pub sg_irradiance: SgIrradiance,
+    /// The specular runtime path of the SG and AD modes.
+    pub specular_runtime: crate::specular::SpecularRuntime,
     /// Seconds it took to make `irradiance` (charged to the modes that fit it).
     pub reference_s: f64,
     /// Evaluations per direction in the cost measurement (1; the cost-axis test sets 2 as
@@ -125,6 +127,7 @@ impl Context {
             reference_method,
             domain,
             sg_irradiance: SgIrradiance::Auto,
+            specular_runtime: Default::default(),
             reference_s,
             eval_work: 1,
         }

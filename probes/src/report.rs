@@ -44,6 +44,8 @@ pub struct MapReport {
     pub rows: Vec<Row>,
     /// How the specular references were computed ("" when no α was requested).
     pub specular_method: String,
+    /// The lobe modes' specular runtime path ("" when no α was requested).
+    pub specular_runtime: String,
     /// Visible-normal samples per texel of the specular references.
     pub specular_samples: u32,
     pub specular_reference: Vec<SpecularReference>,
@@ -221,7 +223,11 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
             v
         });
         if !alphas.is_empty() {
-            let _ = write!(s, "\nGGX specular (f0 = f90 = 1), RMS per α. Reference: {}.\n\n| mode |", m.specular_method);
+            let _ = write!(
+                s,
+                "\nGGX specular (f0 = f90 = 1), RMS per α. Reference: {}. Runtime: {}.\n\n| mode |",
+                m.specular_method, m.specular_runtime
+            );
             for a in &alphas {
                 let _ = write!(s, " α = {a} |");
             }
@@ -394,8 +400,9 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
         if !m.specular_reference.is_empty() {
             let _ = write!(
                 s,
-                "<h3>GGX specular (f0 = f90 = 1)</h3><p>Reference: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
-                esc_html(&m.specular_method)
+                "<h3>GGX specular (f0 = f90 = 1)</h3><p>Reference: {}. Runtime: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
+                esc_html(&m.specular_method),
+                esc_html(&m.specular_runtime)
             );
             for r in &m.specular_reference {
                 let _ = write!(s, "<th>α = {}</th>", r.alpha);

@@ -34,6 +34,9 @@ pub struct MapResults {
     /// `sphere` or `upper hemisphere` (where errors are measured).
     pub domain: String,
     pub reference: ReferenceInfo,
+    /// The lobe modes' specular runtime path (absent without specular).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub specular_runtime: String,
     /// Wall time of each stage, seconds.
     pub stage_seconds: StageTimes,
     pub modes: Vec<ModeRecord>,
@@ -294,6 +297,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                     .collect(),
             },
         },
+        specular_runtime: m.specular_runtime.clone(),
         stage_seconds: m.stages,
         modes,
         decision: Default::default(),

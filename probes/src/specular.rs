@@ -350,6 +350,38 @@ fn is_ad(id: &str) -> bool {
     matches!(id, "adrbf" | "adrbf-tangent" | "ad9" | "adpls" | "adpnnls")
 }
 
+/// The runtime path of the lobe modes (SG and Ambient Dice); SH always uses its zonal
+/// convolution with the DFG.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SpecularRuntime {
+    /// Per-lobe GGX response tables (`sbf::recon::lobe_ggx`, 4D over (n·v, √α, γ, ψ)):
+    /// interpolation is the only approximation.
+    #[default]
+    Table,
+    /// The closed-form fits: SG through the ASG warp (Xu et al. 2013, Pettineo), AD through
+    /// seed Listing 8.1 × the 2D LUT of Listing 8.2.
+    Fit,
+}
+
+impl SpecularRuntime {
+    /// Parses `table` or `fit`.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "table" => Ok(SpecularRuntime::Table),
+            "fit" => Ok(SpecularRuntime::Fit),
+            other => Err(format!("--specular-runtime {other}: expected `table` or `fit`")),
+        }
+    }
+
+    /// One line for the report.
+    pub fn describe(&self) -> &'static str {
+        match self {
+            SpecularRuntime::Table => "SG and AD lobes through per-lobe GGX response tables (luts/lobe_ggx_*.sbflut: 4D over n·v, √α and the lobe axis about the mirror direction, multilinear; table error in luts/MANIFEST); SH by its zonal GGX convolution × DFG",
+            SpecularRuntime::Fit => "SG lobes through the ASG warp (Xu et al. 2013, as Pettineo), AD lobes through seed Listing 8.1 × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
+        }
+    }
+}
+
 /// Whether a mode reconstructs specular.
 pub fn supported(id: &str) -> bool {
     is_sh(id) || is_sg(id) || is_ad(id)
@@ -391,7 +423,27 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
         Vec::new()
     };
     let axes: Vec<DVec3> = r.lobes.iter().map(|(a, _)| *a).collect();
+    let table = match ctx.specular_runtime {
+        SpecularRuntime::Table if is_sg(r.id) => Some(sbf::luts::committed::lobe_ggx_sg6()),
+        SpecularRuntime::Table if is_ad(r.id) => Some(sbf::luts::committed::lobe_ggx_ad()),
+        _ => None,
+    };
+    // Every SG mode here uses λ = 6, the one sharpness with a table; another would take
+    // the fit path.
+    let table = table.filter(|_| !(is_sg(r.id) && r.lobes.iter().any(|(_, l)| *l != 6.0)));
     Some(move |k: usize| {
+        if let Some(t) = table {
+            let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
+            let mut e = sbf::recon::lobe_ggx::specular_rgb(t, &axes, c, n, v, alpha, 1.0, 1.0);
+            // An ambient (constant) function reflects its value times the albedo.
+            if c.len() > r.lobes.len() {
+                let d = dfg.sample2(n.dot(v).clamp(0.0, 1.0) as f32, alpha as f32);
+                for ch in 0..3 {
+                    e[ch] += c[r.lobes.len()][ch] * (d[0] + d[1]) as f64;
+                }
+            }
+            return e;
+        }
         let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
         let nv = n.dot(v).clamp(0.0, 1.0);
         if is_sh(r.id) {

@@ -172,6 +172,7 @@ fn results_json_coefficients_match_dense_ls() {
             sanitized: 0,
             rows,
             specular_method: String::new(),
+            specular_runtime: String::new(),
             specular_samples: 0,
             specular_reference: Vec::new(),
             grid: ctx.grid,

@@ -145,21 +145,35 @@ pub fn dfg_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
 /// panels towards ξ = 1; callers state its error by comparing n and 2n. Same clamps as
 /// [`dfg_entry`].
 pub fn dfg_quadrature(n_dot_v: f64, alpha: f64, n: usize) -> [f64; 2] {
+    let mut acc = [0.0; 2];
+    reflection_quadrature(n_dot_v, alpha, n, (n / 8).max(4), |_, fc, wt, val| {
+        acc[0] += wt * (1.0 - fc) * val;
+        acc[1] += wt * fc * val;
+    });
+    acc
+}
+
+/// The nodes of [`dfg_quadrature`]'s rule for any integrand g(l) over the GGX lobe:
+/// ∫ g(l)·f(v, l)·cos θ_l dl ≈ Σ wt·val·g(l) with F ≡ 1, Schlick's weight F_c = `fc`
+/// passed along (F = f0(1 − F_c) + f90·F_c). Normal +Z, v = (√(1 − (n·v)²), 0, n·v).
+/// Only the half φ_h ∈ [0, φ_max] is visited and `wt` counts both halves: an integrand
+/// that is not symmetric under y → −y must average g at l and at (l.x, −l.y, l.z).
+/// `n` Gauss–Legendre nodes in φ_h, `m` in ξ on each of the 52 panels. Calls
+/// `visit(l, fc, wt, val)`.
+pub fn reflection_quadrature(n_dot_v: f64, alpha: f64, n: usize, m: usize, mut visit: impl FnMut(DVec3, f64, f64, f64)) {
     let nv = n_dot_v.clamp(1e-6, 1.0);
     let alpha = alpha.clamp(1e-4, 1.0);
     let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
     let (x, w) = crate::quadrature::gauss_legendre(n.max(1));
-    // ξ on geometric panels [1 − 2^−i, 1 − 2^−(i+1)], i < 52, with n/8 nodes each (at least
-    // 4): at grazing views only the NDF's tail (ξ → 1) reflects above the horizon.
-    let m = (n / 8).max(4);
-    let (xp, wp_) = crate::quadrature::gauss_legendre(m);
+    // ξ on geometric panels [1 − 2^−i, 1 − 2^−(i+1)], i < 52, with m nodes each: at grazing
+    // views only the NDF's tail (ξ → 1) reflects above the horizon.
+    let (xp, wp_) = crate::quadrature::gauss_legendre(m.max(1));
     let xi_nodes: Vec<(f64, f64)> = (0..52)
         .flat_map(|i| {
             let (a, b) = (1.0 - 0.5f64.powi(i), 1.0 - 0.5f64.powi(i + 1));
             xp.iter().zip(&wp_).map(move |(t, wt)| (a + 0.5 * (b - a) * (t + 1.0), 0.5 * (b - a) * wt)).collect::<Vec<_>>()
         })
         .collect();
-    let mut acc = [0.0; 2];
     for &(xi, dxi) in &xi_nodes {
         // tan²θ = α²ξ/(1 − ξ): cos²θ = (1 − ξ)/(1 − ξ + α²ξ).
         let c2 = (1.0 - xi) / (1.0 - xi + alpha * alpha * xi);
@@ -190,23 +204,11 @@ pub fn dfg_quadrature(n_dot_v: f64, alpha: f64, n: usize) -> [f64; 2] {
                 continue;
             }
             let val = g2(v, l, alpha) * vh / (nv * ct);
-            let fc = schlick_weight(vh);
             // Weights: dξ, dφ = (φ_max/2) dy, both halves of [−π, π] (symmetry), / 2π.
             let wt = dxi * wp * 0.5 * phi_max * 2.0 / (2.0 * PI);
-            acc[0] += wt * (1.0 - fc) * val;
-            acc[1] += wt * fc * val;
+            visit(l, schlick_weight(vh), wt, val);
         }
     }
-    acc
-}
-
-/// Multiple-scattering DFG entry in the form used by public engines: (ΣF_c·V, ΣV)
-/// with V = G2/G1, so that single-scatter E = mix(x, y, f0) and the multiscatter
-/// compensation uses y (Fdez-Agüera 2019; Filament). Same sampling and clamps as
-/// [`dfg_entry`].
-pub fn dfg_multiscatter_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
-    let [x, y] = dfg_entry(n_dot_v, alpha, samples);
-    [y, x + y]
 }
 
 /// GGX dominant direction (Listing 8.2, after Lagarde & de Rousiers 2014):

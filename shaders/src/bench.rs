@@ -119,6 +119,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let count = if encodes { count.min(MAX_ENCODE_COUNT) } else { count };
         let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
         let o = gpu.launch(&Launch {
+            lobe: None,
             library: &lib,
             body: &body,
             input: &inp,

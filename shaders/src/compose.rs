@@ -30,6 +30,7 @@ pub enum Feature {
     Ad12Irradiance,
     Ad9Specular,
     Ad12Specular,
+    LobeGgxSpecular,
     Ggx,
     AdBezier,
     Progressive,
@@ -38,7 +39,7 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 19] = [
+    pub const ALL: [(Feature, &'static str); 20] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -54,6 +55,7 @@ impl Feature {
         (Feature::Ad12Irradiance, "ad12-irradiance"),
         (Feature::Ad9Specular, "ad9-specular"),
         (Feature::Ad12Specular, "ad12-specular"),
+        (Feature::LobeGgxSpecular, "lobe-ggx-specular"),
         (Feature::Ggx, "ggx"),
         (Feature::AdBezier, "ad-bezier"),
         (Feature::Progressive, "progressive"),
@@ -78,6 +80,7 @@ impl Feature {
             Feature::Ad12Irradiance => &["ad12_irradiance"],
             Feature::Ad9Specular => &["ad9_specular"],
             Feature::Ad12Specular => &["ad12_specular"],
+            Feature::LobeGgxSpecular => &["lobe_ggx_pixel", "lobe_ggx_lobe"],
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
             Feature::Progressive => &["progressive_update"],

@@ -4,7 +4,8 @@
 //!
 //! Kernel layout: binding 0 `inp: array<f32>` (read), binding 1 `outp: array<f32>`
 //! (write), optional binding 2 `lut: texture_2d<f32>` (an rg32float table), binding 3
-//! `uni` (a uniform struct) and binding 4 `io` (a read-write array of structs). The body
+//! `uni` (a uniform struct), binding 4 `io` (a read-write array of structs) and binding 5
+//! `lobe_tab: texture_2d_array<f32>` (a lobe GGX table, see `wgsl/lobe_ggx.wgsl`). The body
 //! sees the invocation index `i` (< `count`) and the helper `ld3(k)` (three floats of
 //! `inp` from k). Dispatch is 2D so counts above 65535 × 64 work.
 
@@ -44,6 +45,9 @@ pub struct Launch<'a> {
     pub uniform: Option<(&'a str, &'a [u8])>,
     /// Binding 4, `io: array<T>` read-write (WGSL type name, initial bytes); read back.
     pub io: Option<(&'a str, &'a [u8])>,
+    /// Binding 5, `lobe_tab: texture_2d_array<f32>` (rg32float; x = ψ, y = γ, layer =
+    /// n·v node × N_√α + √α node).
+    pub lobe: Option<&'a sbf::recon::lobe_ggx::Table>,
     /// Timed dispatches after the checked one.
     pub repeats: usize,
 }
@@ -197,6 +201,9 @@ impl Gpu {
         if let Some((ty, _)) = l.io {
             bindings += &format!("@group(0) @binding(4) var<storage, read_write> io: array<{ty}>;\n");
         }
+        if l.lobe.is_some() {
+            bindings += "@group(0) @binding(5) var lobe_tab: texture_2d_array<f32>;\n";
+        }
         format!(
             "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{bindings}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {{\n    let i = gid.x + gid.y * nwg.x * {WG}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n{body}\n}}\n"
         )
@@ -279,6 +286,29 @@ impl Gpu {
             );
             tex.create_view(&Default::default())
         });
+        let lobe_view = l.lobe.map(|t| {
+            let g = t.grid;
+            let tex = d.create_texture_with_data(
+                &self.queue,
+                &wgpu::TextureDescriptor {
+                    label: Some("lobe_tab"),
+                    size: wgpu::Extent3d {
+                        width: g.psi as u32,
+                        height: g.gamma as u32,
+                        depth_or_array_layers: (g.theta_v * g.alpha) as u32,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::Rg32Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                },
+                wgpu::util::TextureDataOrder::LayerMajor,
+                bytemuck::cast_slice(&t.values),
+            );
+            tex.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
+        });
         let unib = l.uniform.map(|(_, bytes)| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("uni"),
@@ -314,6 +344,9 @@ impl Gpu {
         }
         if let Some(b) = &iob {
             entries.push(wgpu::BindGroupEntry { binding: 4, resource: b.as_entire_binding() });
+        }
+        if let Some(v) = &lobe_view {
+            entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(v) });
         }
         let bg =
             d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipeline.get_bind_group_layout(0), entries: &entries });

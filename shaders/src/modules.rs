@@ -70,6 +70,7 @@ pub fn all() -> Vec<Module> {
         Module { name: "layouts", source: Cow::Owned(layouts_wgsl()) },
         Module { name: "ggx", source: Cow::Borrowed(include_str!("../wgsl/ggx.wgsl")) },
         Module { name: "lut", source: Cow::Borrowed(include_str!("../wgsl/lut.wgsl")) },
+        Module { name: "lobe_ggx", source: Cow::Borrowed(include_str!("../wgsl/lobe_ggx.wgsl")) },
         Module { name: "sh", source: Cow::Borrowed(include_str!("../wgsl/sh.wgsl")) },
         Module { name: "sh_rotation", source: Cow::Borrowed(include_str!("../wgsl/sh_rotation.wgsl")) },
         Module { name: "sg", source: Cow::Borrowed(include_str!("../wgsl/sg.wgsl")) },

@@ -389,6 +389,73 @@ fn ambient_dice_parity() {
     check("ad_srbf_eval", &ge, &ce, &vec![0.6; N]);
 }
 
+/// lobe_ggx_pixel + lobe_ggx_lobe against the f64 table lookup (`Table::lobe` at the
+/// `MirrorFrame` angles) on the same f32 table values, both tables. Error model: f32
+/// rounding of the multilinear sum (values ≤ ~1, 16 taps) and input conditioning — γ and ψ
+/// come from acos of f32 dot products, so near γ = 0 a rounding of 6e-8 in r·p moves γ by
+/// ~3.5e-4 rad in any f32 implementation; as in the SG test, the change of the f64 value
+/// when n, v and the axis move by 1.2e-7 (four random directions) ×1e4 (= 1/BAR) is an
+/// allowed error, and values are measured against a floor of 1e-3 of the table's peak.
+#[test]
+fn lobe_ggx_parity() {
+    let Some(g) = gpu() else { return };
+    let lib = library("lobe-ggx-specular");
+    for (table, seed) in [(sbf::luts::committed::lobe_ggx_sg6(), 31), (sbf::luts::committed::lobe_ggx_ad(), 32)] {
+        let peak = table.values.iter().fold(0.0f32, |a, b| a.max(b.abs())) as f64;
+        let mut r = Pcg32::new(seed, 9);
+        let mut inp = Vec::new();
+        let mut cases = Vec::new();
+        let count = N / 4;
+        for _ in 0..count {
+            let n = dir(&mut r);
+            let v = view(&mut r, n);
+            let axis = dir(&mut r);
+            let a = alpha(&mut r);
+            for x in [n, v, axis] {
+                push3(&mut inp, x);
+            }
+            inp.push(a);
+            cases.push((n, v, axis, a));
+        }
+        let body = "    let b = i * 10u;\n    let px = lobe_ggx_pixel(lobe_tab, ld3(b), ld3(b + 3u), inp[b + 9u]);\n    let e = lobe_ggx_lobe(lobe_tab, px, ld3(b + 6u));\n    outp[i * 2u] = e.x;\n    outp[i * 2u + 1u] = e.y;";
+        let o = g
+            .launch(&shaders::gpu::Launch {
+                library: &lib,
+                body,
+                input: &inp,
+                out_per_item: 2,
+                count,
+                lobe: Some(table),
+                ..Default::default()
+            })
+            .unwrap();
+        let mut r2 = Pcg32::new(seed, 10);
+        let f64_at = |n: sbf::glam::DVec3, v: sbf::glam::DVec3, p: sbf::glam::DVec3, a: f64| {
+            let (gm, ps) = sbf::recon::lobe_ggx::MirrorFrame::new(n, v).angles(p);
+            table.lobe(&table.pixel(n.dot(v), a), gm, ps)
+        };
+        let (mut cpu, mut scale) = (Vec::new(), Vec::new());
+        for (n, v, axis, a) in &cases {
+            let (n, v, p, a) = (n.as_dvec3(), v.as_dvec3(), axis.as_dvec3(), *a as f64);
+            let val = f64_at(n, v, p, a);
+            let mut dmax = [0.0f64; 2];
+            for _ in 0..4 {
+                let mut jitter = |x: sbf::glam::DVec3| (x + dir(&mut r2).as_dvec3() * 1.2e-7).normalize();
+                let (np, vp, pp) = (jitter(n), jitter(v), jitter(p));
+                let w = f64_at(np, vp, pp, a);
+                for c in 0..2 {
+                    dmax[c] = dmax[c].max((w[c] - val[c]).abs());
+                }
+            }
+            for c in 0..2 {
+                cpu.push(val[c]);
+                scale.push((1e-3 * peak).max(dmax[c] * 1e4));
+            }
+        }
+        check(if seed == 31 { "lobe_ggx (sg6)" } else { "lobe_ggx (ad)" }, &o.out, &cpu, &scale);
+    }
+}
+
 #[test]
 fn lut_parity() {
     let Some(g) = gpu() else { return };

@@ -2,9 +2,8 @@
 //! into `sbf`: `include_bytes!` for the tables, `include!` for the constants, and a
 //! compile-time size check of every table against the size fitgen recorded.
 //! Each table is parsed once on first use. Each table is compiled in only with its cargo
-//! feature (`lut-dfg`, `lut-ad-specular-2d`; both in the default `luts`); the fit
-//! constants are always present (a few hundred bytes). Tables that no runtime path reads
-//! (the multiple-scattering DFG, the 3D AD LUT) are not committed (fitgen: experimental).
+//! feature (`lut-dfg`, `lut-ad-specular-2d`, `lut-lobe-ggx-sg6`, `lut-lobe-ggx-ad`; all in
+//! the default `luts`); the fit constants are always present (a few hundred bytes).
 
 // Used by whichever tables are enabled (none, some or all).
 #[allow(unused_imports)]
@@ -48,4 +47,37 @@ pub fn dfg() -> &'static Lut2 {
 pub fn ad_specular_2d() -> &'static Lut2 {
     static L: OnceLock<Lut2> = OnceLock::new();
     L.get_or_init(|| parse2(AD_SPECULAR_2D_DATA, "ad_specular_2d.sbflut"))
+}
+
+/// Raw bytes of luts/lobe_ggx_sg6.sbflut (GGX response of an SG lobe, λ = 6).
+#[cfg(feature = "lut-lobe-ggx-sg6")]
+pub static LOBE_GGX_SG6_DATA: &[u8] = include_bytes!("../../../luts/lobe_ggx_sg6.sbflut");
+/// Raw bytes of luts/lobe_ggx_ad.sbflut (GGX response of an Ambient Dice SRBF lobe).
+#[cfg(feature = "lut-lobe-ggx-ad")]
+pub static LOBE_GGX_AD_DATA: &[u8] = include_bytes!("../../../luts/lobe_ggx_ad.sbflut");
+
+#[cfg(feature = "lut-lobe-ggx-sg6")]
+const _: () = assert!(LOBE_GGX_SG6_DATA.len() == constants::LOBE_GGX_SG6_BYTES, "luts/lobe_ggx_sg6.sbflut size mismatch: rerun fitgen");
+#[cfg(feature = "lut-lobe-ggx-ad")]
+const _: () = assert!(LOBE_GGX_AD_DATA.len() == constants::LOBE_GGX_AD_BYTES, "luts/lobe_ggx_ad.sbflut size mismatch: rerun fitgen");
+
+#[cfg(any(feature = "lut-lobe-ggx-sg6", feature = "lut-lobe-ggx-ad"))]
+fn parse_lobe(bytes: &'static [u8], what: &str) -> crate::recon::lobe_ggx::Table {
+    crate::recon::lobe_ggx::Table::from_file(&LutFile::parse(bytes).unwrap_or_else(|e| panic!("committed {what}: {e}")))
+        .unwrap_or_else(|e| panic!("committed {what}: {e}"))
+}
+
+/// The GGX response table of an SG lobe of sharpness 6 (every SG basis of `probes`):
+/// see [`crate::recon::lobe_ggx`].
+#[cfg(feature = "lut-lobe-ggx-sg6")]
+pub fn lobe_ggx_sg6() -> &'static crate::recon::lobe_ggx::Table {
+    static T: OnceLock<crate::recon::lobe_ggx::Table> = OnceLock::new();
+    T.get_or_init(|| parse_lobe(LOBE_GGX_SG6_DATA, "lobe_ggx_sg6.sbflut"))
+}
+
+/// The GGX response table of an Ambient Dice SRBF lobe: see [`crate::recon::lobe_ggx`].
+#[cfg(feature = "lut-lobe-ggx-ad")]
+pub fn lobe_ggx_ad() -> &'static crate::recon::lobe_ggx::Table {
+    static T: OnceLock<crate::recon::lobe_ggx::Table> = OnceLock::new();
+    T.get_or_init(|| parse_lobe(LOBE_GGX_AD_DATA, "lobe_ggx_ad.sbflut"))
 }

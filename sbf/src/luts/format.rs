@@ -7,12 +7,12 @@
 //! |---|---|---|
 //! | 0 | 8 | magic `SBFLUT01` |
 //! | 8 | 4 | u32 data offset (header size, a multiple of 16) |
-//! | 12 | 4 | u32 number of axes (1–3) |
+//! | 12 | 4 | u32 number of axes (1–4) |
 //! | 16 | 4 | u32 channels |
 //! | 20 | 4 | u32 value format: 0 = f32, 1 = f16 (IEEE binary16) |
 //! | 24 | 32 × axes | per axis: u32 size, f32 lo, f32 hi, 20-byte NUL-padded name |
 //! | … | 4 + n | u32 byte length of the note, then the note (UTF-8: the command that made it) |
-//! | data offset | … | values, channel fastest, then axis 0, axis 1, axis 2 |
+//! | data offset | … | values, channel fastest, then axis 0, axis 1, axis 2, axis 3 |
 //!
 //! Axis semantics: texel k of an axis of size n sits at lo + (hi − lo)(k + ½)/n
 //! (texel centres), which is how every table here is sampled.
@@ -141,8 +141,8 @@ impl LutFile {
             1 => ValueFormat::F16,
             _ => return Err(bad("unknown value format")),
         };
-        if !(1..=3).contains(&naxes) || channels == 0 {
-            return Err(bad("axis count must be 1–3 and channels > 0"));
+        if !(1..=4).contains(&naxes) || channels == 0 {
+            return Err(bad("axis count must be 1–4 and channels > 0"));
         }
         let mut axes = Vec::with_capacity(naxes);
         for a in 0..naxes {

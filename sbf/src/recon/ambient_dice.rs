@@ -160,6 +160,15 @@ pub fn lobe_specular_reference(lobe: DVec3, n_dot_v: f64, alpha: f64, samples: u
     acc.map(|a| a / k as f64)
 }
 
+/// [`lobe_specular_reference`] by deterministic quadrature ([`crate::recon::lobe_ggx`],
+/// `n` nodes per dimension) — the independent method the tables' errors are stated against.
+pub fn lobe_specular_quadrature(lobe: DVec3, n_dot_v: f64, alpha: f64, n: usize) -> [f64; 2] {
+    use crate::recon::lobe_ggx as lg;
+    // lobe_ggx's frame has v in the xz-plane: rotate (x, y) → (y, −x).
+    let p = DVec3::new(lobe.y, -lobe.x, lobe.z);
+    lg::response_from_nodes(lg::RadialLobe::AdSrbf, &lg::nodes(n_dot_v, alpha, n), p)
+}
+
 /// One entry of the Ambient Dice specular LUT (seed Listing 8.2): ground truth for a
 /// lobe along the GGX dominant direction, divided by the fit's value there.
 pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
@@ -200,24 +209,4 @@ pub fn specular_rgb(lobes: &[DVec3], coeffs: &[[f64; 3]], n: DVec3, v: DVec3, al
         }
     }
     s.map(|x| x * (f0 * lut[0] + f90 * lut[1]))
-}
-
-/// One entry of the 3D variant the seed suggests (§8.4.2 "Results"): the LUT is also
-/// indexed by c = n·lobe. The lobe lies in the plane of n and v, at angle acos(c) from
-/// n towards the reflection side; the entry is ground truth / fit for that lobe.
-pub fn specular_lut3_entry(n_dot_v: f64, alpha: f64, n_dot_lobe: f64, samples: u32) -> [f64; 2] {
-    let nv = n_dot_v.clamp(1e-6, 1.0);
-    let alpha = alpha.clamp(1e-4, 1.0);
-    let c = n_dot_lobe.clamp(-1.0, 1.0);
-    let n = DVec3::Z;
-    let v = DVec3::new(0.0, (1.0 - nv * nv).max(0.0).sqrt(), nv);
-    // Reflection side is −Y for v in +Y.
-    let lobe = DVec3::new(0.0, -(1.0 - c * c).max(0.0).sqrt(), c);
-    let fit = lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, lobe, n, v, alpha);
-    let gt = lobe_specular_reference(lobe, nv, alpha, samples);
-    if fit > 1e-12 {
-        gt.map(|g| g / fit)
-    } else {
-        [0.0; 2]
-    }
 }

@@ -242,6 +242,74 @@ pub fn ad_specular(lobes: &[Vec3], coeffs: &[Vec3], n: Vec3, v: Vec3, alpha: f32
     s * scale
 }
 
+/// GGX specular from lobes of one radial shape through its response table
+/// ([`super::lobe_ggx`]), in f32: the CPU twin of the WGSL `lobe_ggx_pixel` +
+/// `lobe_ggx_lobe` (f64 reference: [`super::lobe_ggx::specular_rgb`]). Σ_i c_i·(f0·R₀ + f90·R₁)(p_i).
+pub fn lobe_ggx_specular(
+    table: &super::lobe_ggx::Table,
+    axes: &[Vec3],
+    coeffs: &[Vec3],
+    n: Vec3,
+    v: Vec3,
+    alpha: f32,
+    f0: f32,
+    f90: f32,
+) -> Vec3 {
+    debug_assert_eq!(axes.len(), coeffs.len());
+    let g = table.grid;
+    let locate = |x: f32, size: usize| {
+        let t = x.clamp(0.0, 1.0) * (size - 1) as f32;
+        let i = (t.floor() as usize).min(size - 2);
+        (i, t - i as f32)
+    };
+    let (i, a) = locate(n.dot(v), g.theta_v);
+    let (j, b) = locate(alpha.clamp(0.0, 1.0).sqrt(), g.alpha);
+    let slab = g.gamma * g.psi;
+    let layers =
+        [(i * g.alpha + j) * slab, (i * g.alpha + j + 1) * slab, ((i + 1) * g.alpha + j) * slab, ((i + 1) * g.alpha + j + 1) * slab];
+    let lw = [(1.0 - a) * (1.0 - b), (1.0 - a) * b, a * (1.0 - b), a * b];
+    let r = 2.0 * v.dot(n) * n - v;
+    let t0 = n - n.dot(r) * r;
+    let t = if t0.length_squared() > 1e-12 { t0.normalize() } else { Vec3::ZERO };
+    let pi = std::f32::consts::PI;
+    let mut s = Vec3::ZERO;
+    for (p, c) in axes.iter().zip(coeffs) {
+        let rp = r.dot(*p).clamp(-1.0, 1.0);
+        let st2 = (1.0 - rp * rp).max(0.0);
+        let psi = if st2 > 1e-12 && t != Vec3::ZERO { acos_f32((t.dot(*p) / st2.sqrt()).clamp(-1.0, 1.0)) } else { 0.0 };
+        let (k, fc) = locate(acos_f32(rp) / pi, g.gamma);
+        let (l, fd) = locate(psi / pi, g.psi);
+        let mut e = [0.0f32; 2];
+        for (base, w) in layers.iter().zip(lw) {
+            for (dk, dl, tw) in [(0, 0, (1.0 - fc) * (1.0 - fd)), (0, 1, (1.0 - fc) * fd), (1, 0, fc * (1.0 - fd)), (1, 1, fc * fd)] {
+                let o = 2 * (base + (k + dk) * g.psi + l + dl);
+                e[0] += w * tw * table.values[o];
+                e[1] += w * tw * table.values[o + 1];
+            }
+        }
+        s += *c * (f0 * e[0] + f90 * e[1]);
+    }
+    s
+}
+
+/// acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad), as the WGSL `lobe_ggx_acos`
+/// (Vulkan bounds the built-in acos only loosely).
+// The first coefficient is A&S's fitted 1.5707963050, not π/2.
+#[allow(clippy::approx_constant)]
+pub fn acos_f32(x: f32) -> f32 {
+    let a = x.abs();
+    let p = 1.570_796_3
+        + a * (-0.214_598_8
+            + a * (0.088_978_99
+                + a * (-0.050_174_303 + a * (0.030_891_88 + a * (-0.017_088_126 + a * (0.006_670_09 - a * 0.001_262_491_1))))));
+    let r = (1.0 - a).max(0.0).sqrt() * p;
+    if x < 0.0 {
+        std::f32::consts::PI - r
+    } else {
+        r
+    }
+}
+
 /// Evaluates `f` at every normal into `out` (the batch form of any function above).
 /// `out.len()` must equal `normals.len()` (debug-asserted).
 pub fn batch(normals: &[Vec3], out: &mut [Vec3], f: impl Fn(Vec3) -> Vec3) {

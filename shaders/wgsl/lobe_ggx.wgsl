@@ -1,0 +1,74 @@
+// lobe_ggx.wgsl — GGX specular from radial lobes (SG λ 6, Ambient Dice SRBF) through their
+// per-lobe response tables (luts/lobe_ggx_*.sbflut), uploaded as an rg32float
+// texture_2d_array: x = ψ node, y = γ node, layer = n·v node × LOBE_GGX_SQRT_ALPHA_NODES
+// + √α node; every axis's nodes span its range edge to edge (n·v, √α ∈ [0, 1]; γ, ψ ∈ [0, π]).
+// γ is the angle of the lobe axis from the mirror direction r, ψ its azimuth about r from
+// the normal's side. Multilinear by hand from textureLoad (hardware filtering has 8-bit
+// weights on many GPUs; see lut.wgsl). Per pixel `lobe_ggx_pixel`, per lobe
+// `lobe_ggx_lobe` → (R₀, R₁): the lobe reflects c·(f0·R₀ + f90·R₁).
+// CPU twins: sbf::recon::runtime::lobe_ggx_specular (f32), sbf::recon::lobe_ggx (f64).
+
+struct LobeGgxPixel {
+    r: vec3<f32>,
+    t: vec3<f32>,
+    layer: vec4<i32>,
+    w: vec4<f32>,
+}
+
+// acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad on [−1, 1]): Vulkan only bounds
+// the built-in acos through atan's 4096 ulp (≈ 3e-4 rad measured on lavapipe), which moves
+// a lookup by up to 0.1% of its value.
+fn lobe_ggx_acos(x: f32) -> f32 {
+    let a = abs(x);
+    let p = 1.5707963050 + a * (-0.2145988016 + a * (0.0889789874 + a * (-0.0501743046 + a * (0.0308918810 + a * (-0.0170881256 + a * (0.0066700901 - a * 0.0012624911))))));
+    let r = sqrt(max(1.0 - a, 0.0)) * p;
+    return select(r, PI - r, x < 0.0);
+}
+
+// (lower node, fraction) of x ∈ [0, 1] on `size` nodes, clamped.
+fn lobe_ggx_locate(x: f32, size: i32) -> vec2<f32> {
+    let t = clamp(x, 0.0, 1.0) * f32(size - 1);
+    let i = min(floor(t), f32(size - 2));
+    return vec2<f32>(i, t - i);
+}
+
+fn lobe_ggx_pixel(tab: texture_2d_array<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32) -> LobeGgxPixel {
+    let na = LOBE_GGX_SQRT_ALPHA_NODES;
+    let nv_nodes = i32(textureNumLayers(tab)) / na;
+    let a = lobe_ggx_locate(dot(n, v), nv_nodes);
+    let b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), na);
+    let i = i32(a.x);
+    let j = i32(b.x);
+    let layer = vec4<i32>(i * na + j, i * na + j + 1, (i + 1) * na + j, (i + 1) * na + j + 1);
+    let w = vec4<f32>((1.0 - a.y) * (1.0 - b.y), (1.0 - a.y) * b.y, a.y * (1.0 - b.y), a.y * b.y);
+    let r = 2.0 * dot(v, n) * n - v;
+    let t0 = n - dot(n, r) * r;
+    var t = vec3<f32>(0.0);
+    if (dot(t0, t0) > 1e-12) {
+        t = normalize(t0);
+    }
+    return LobeGgxPixel(r, t, layer, w);
+}
+
+// (R₀, R₁) of one unit lobe with axis `axis`.
+fn lobe_ggx_lobe(tab: texture_2d_array<f32>, px: LobeGgxPixel, axis: vec3<f32>) -> vec2<f32> {
+    let size = vec2<i32>(textureDimensions(tab));
+    let rp = clamp(dot(px.r, axis), -1.0, 1.0);
+    let st2 = max(1.0 - rp * rp, 0.0);
+    var psi = 0.0;
+    if (st2 > 1e-12 && dot(px.t, px.t) > 0.0) {
+        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
+    }
+    let g = lobe_ggx_locate(lobe_ggx_acos(rp) / PI, size.y);
+    let p = lobe_ggx_locate(psi / PI, size.x);
+    let k = i32(g.x);
+    let l = i32(p.x);
+    var e = vec2<f32>(0.0);
+    for (var c = 0; c < 4; c++) {
+        let lay = px.layer[c];
+        let lo = textureLoad(tab, vec2<i32>(l, k), lay, 0).xy * (1.0 - p.y) + textureLoad(tab, vec2<i32>(l + 1, k), lay, 0).xy * p.y;
+        let hi = textureLoad(tab, vec2<i32>(l, k + 1), lay, 0).xy * (1.0 - p.y) + textureLoad(tab, vec2<i32>(l + 1, k + 1), lay, 0).xy * p.y;
+        e += px.w[c] * (lo * (1.0 - g.y) + hi * g.y);
+    }
+    return e;
+}
