@@ -372,6 +372,26 @@ impl BakeState {
             })
             .collect()
     }
+
+    /// Mean E/π over each chart's texels (RGB averaged) and over the whole lightmap (the
+    /// last entry), with the variance of that mean from the texels' standard errors
+    /// (independent texels): (mean, variance) for every chart with texels, then the scene.
+    /// `targets` must be [`Targets::lightmap`] of `lm`.
+    pub fn chart_means(&self, lm: &Lightmap, targets: &Targets) -> Vec<(f64, f64)> {
+        let (m, se) = (self.mean(), self.standard_error());
+        let mut out = vec![(0.0, 0.0, 0usize); lm.chart_meshes.len() + 1];
+        for (k, &[_, _, id]) in targets.items.iter().enumerate() {
+            let ch = lm.texels[id as usize].chart as usize;
+            for slot in [ch, lm.chart_meshes.len()] {
+                for c in 0..3 {
+                    out[slot].0 += m[k][c];
+                    out[slot].1 += se[k][c] * se[k][c];
+                }
+                out[slot].2 += 3;
+            }
+        }
+        out.into_iter().filter(|x| x.2 > 0).map(|(s, v, n)| (s / n as f64, v / (n * n) as f64)).collect()
+    }
 }
 
 /// A bake in progress on the CPU.

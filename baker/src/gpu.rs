@@ -46,9 +46,19 @@ pub struct TraceParams {
     /// Ray guiding: the pass's stage and the stage's first pass (`guiding::stage`).
     pub guide_stage: u32,
     pub guide_start: u32,
-    /// The items of this dispatch, [item_offset, item_end) (a pass may take several).
+    /// The items of this dispatch, [item_offset, item_end) (a pass may take several), as
+    /// positions in this device's share of the items.
     pub item_offset: u32,
     pub item_end: u32,
+    /// Multi-GPU partition ([`crate::multi_gpu`]): the items are dealt out in blocks of
+    /// `part_block`, block b to device b mod `part_count`; this device is `part_index`.
+    /// Position v of its share is item (v / B)·B·count + index·B + v mod B (one device: v).
+    pub part_block: u32,
+    pub part_count: u32,
+    pub part_index: u32,
+    /// Passes this dispatch runs, from `pass_index` (each thread takes its item through
+    /// them in order, so an item's state sees exactly the one-pass-per-dispatch updates).
+    pub pass_count: u32,
     pub env0: [f32; 4],
     pub env1: [f32; 4],
     pub env2: [f32; 4],
@@ -81,6 +91,10 @@ shaders::gpu_struct!(
         guide_start,
         item_offset,
         item_end,
+        part_block,
+        part_count,
+        part_index,
+        pass_count,
         env0,
         env1,
         env2
@@ -141,6 +155,8 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     // Known projections of the baked point's light samples, per basis (sbf
     // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
     let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
+    // The projections start at zero for every pass of an item (a dispatch may run several).
+    let mut project_reset = String::from("fn project_reset() {\n");
     for (k, b) in config.bases.iter().enumerate() {
         let lobes = b.basis().len();
         let body = match b {
@@ -187,6 +203,7 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             tm.join(", ")
         );
         gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
+        project_reset += &format!("    Q_{k} = array<vec3<f32>, 12>();\n");
         project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
         encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
         if mirror {
@@ -197,7 +214,9 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     }
     encode += "}\n";
     project += "}\n";
+    project_reset += "}\n";
     encode += &project;
+    encode += &project_reset;
     let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
     let lib = shaders::compose::compose_roots(config_name, &roots)?;
     let mut left_out = Vec::new();
@@ -407,7 +426,13 @@ pub struct GpuBake<'g> {
     pub kernel: Kernel,
     guide: Option<GuideGpu>,
     batching: Batching,
+    /// Items this device dispatches (all by default; its blocks when the bake is one
+    /// device of a [`crate::multi_gpu::MultiGpuBake`]: see [`TraceParams::part_block`]).
+    share: usize,
 }
+
+/// The partition block of a single-device bake (any positive value is the identity).
+const PART_BLOCK_DEFAULT: u32 = 64;
 
 /// Items per dispatch (seed 004 §3.4.1, frame-time load balancing): a pass is split into
 /// dispatches of `chunk` items, and `chunk` follows N ← N·T_target/T (eq. 3.1–3.2) from
@@ -419,7 +444,17 @@ struct Batching {
     /// Target seconds per dispatch; None: `chunk` fixed.
     target: Option<f64>,
     chunk: usize,
+    /// Passes per dispatch once a whole pass is one dispatch and takes less than the
+    /// target (1 with ray guiding, whose learning runs between passes): every dispatch
+    /// ends in a tail where the last, longest paths leave the GPU idle — ~0.5 ms per
+    /// dispatch on an H200 — which several passes per dispatch share.
+    passes: u64,
+    /// Dispatches so far (the measurement schedule).
+    dispatches: u64,
 }
+
+/// The most passes one dispatch runs (also the progress granularity of `baker::run`).
+pub const MAX_PASSES_PER_DISPATCH: u64 = 8;
 
 /// Items of the first dispatches, before any measurement (2¹⁸: a few ms on a large GPU,
 /// well under a second on a software rasteriser's worst scenes).
@@ -582,6 +617,10 @@ impl<'g> GpuBake<'g> {
             guide_start: 0,
             item_offset: 0,
             item_end: items as u32,
+            part_block: PART_BLOCK_DEFAULT,
+            part_count: 1,
+            part_index: 0,
+            pass_count: 1,
             env0: env[0],
             env1: env[1],
             env2: env[2],
@@ -656,7 +695,8 @@ impl<'g> GpuBake<'g> {
             passes: 0,
             kernel,
             guide,
-            batching: Batching { target: Some(BATCH_TARGET_SECONDS), chunk: items.min(INITIAL_CHUNK) },
+            batching: Batching { target: Some(BATCH_TARGET_SECONDS), chunk: items.min(INITIAL_CHUNK), passes: 1, dispatches: 0 },
+            share: items,
         })
     }
 
@@ -667,12 +707,54 @@ impl<'g> GpuBake<'g> {
 
     /// Fixes the items per dispatch (at least 1; adaptation off).
     pub fn set_chunk(&mut self, items: usize) {
-        self.batching = Batching { target: None, chunk: items.clamp(1, self.items) };
+        self.batching = Batching { target: None, chunk: items.clamp(1, self.range_len()), passes: 1, dispatches: self.batching.dispatches };
+    }
+
+    /// Makes this bake device `index` of `count`: it dispatches only the items of blocks
+    /// b ≡ index (mod count), blocks of `block` items (the others keep their state). Ray
+    /// guiding learns from every texel of a cluster in each pass, so a guided bake cannot
+    /// be partitioned.
+    pub fn set_partition(&mut self, index: usize, count: usize, block: usize) -> Result<(), String> {
+        if count == 0 || index >= count || block == 0 || block > u32::MAX as usize {
+            return Err(format!("partition {index} of {count} with blocks of {block} items is invalid"));
+        }
+        if self.guide.is_some() && count > 1 {
+            return Err("a guided bake cannot be split across devices (guiding learns from whole clusters every pass)".into());
+        }
+        (self.params.part_block, self.params.part_count, self.params.part_index) = (block as u32, count as u32, index as u32);
+        self.share = (0..self.items.div_ceil(block)).filter(|b| b % count == index).map(|b| block.min(self.items - b * block)).sum();
+        self.batching.chunk = self.batching.chunk.clamp(1, self.share.max(1));
+        Ok(())
+    }
+
+    /// Whether this bake dispatches `item` (see [`GpuBake::set_partition`]).
+    pub fn owns(&self, item: usize) -> bool {
+        let p = &self.params;
+        (item / p.part_block as usize) % p.part_count as usize == p.part_index as usize
+    }
+
+    /// Items this bake dispatches per pass.
+    pub fn share(&self) -> usize {
+        self.share
+    }
+
+    /// Items in the bake (all targets, whatever its partition).
+    pub fn item_count(&self) -> usize {
+        self.items
+    }
+
+    fn range_len(&self) -> usize {
+        self.share.max(1)
     }
 
     /// The current items per dispatch.
     pub fn chunk(&self) -> usize {
         self.batching.chunk
+    }
+
+    /// The current passes per dispatch.
+    pub fn passes_per_dispatch(&self) -> u64 {
+        self.batching.passes
     }
 
     /// One pass, as dispatches of at most `chunk` items (one submission each); with ray
@@ -690,9 +772,9 @@ impl<'g> GpuBake<'g> {
             (self.params.guide_stage, self.params.guide_start) = (k, start as u32);
         }
         let chunk = self.batching.chunk.max(1);
-        let mut start = 0;
+        let (mut start, last) = (0, self.share);
         let mut enc = loop {
-            let end = (start + chunk).min(self.items);
+            let end = (start + chunk).min(last);
             (self.params.item_offset, self.params.item_end) = (start as u32, end as u32);
             self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
             let mut enc = d.create_command_encoder(&Default::default());
@@ -703,7 +785,7 @@ impl<'g> GpuBake<'g> {
                 pass.set_bind_group(0, &self.bind_group, &[]);
                 pass.dispatch_workgroups(groups.0, groups.1, 1);
             }
-            if end == self.items {
+            if end == last {
                 break enc;
             }
             self.gpu.queue().submit([enc.finish()]);
@@ -724,26 +806,43 @@ impl<'g> GpuBake<'g> {
 
     /// Runs `n` passes (waits for them).
     pub fn run(&mut self, n: u64) -> Result<(), String> {
-        for _ in 0..n {
+        if self.share == 0 {
+            // A device of a partition that received no block.
+            self.passes += n;
+            return Ok(());
+        }
+        let mut done = 0;
+        while done < n {
+            let k = self.batching.passes.clamp(1, n - done);
             self.params.pass_index = self.passes as u32;
-            let p = self.passes;
-            let measure = self.batching.target.is_some() && (p.is_power_of_two() || p == 0 || p % 64 == 0);
+            self.params.pass_count = k as u32;
+            let d = self.batching.dispatches;
+            let measure = self.batching.target.is_some() && (d.is_power_of_two() || d == 0 || d % 64 == 0);
             if measure {
-                // Time this pass alone: wait for the queue first.
+                // Time this dispatch alone: wait for the queue first.
                 self.gpu.wait()?;
             }
             let t = std::time::Instant::now();
             self.dispatch();
-            self.passes += 1;
+            self.passes += k;
+            done += k;
+            self.batching.dispatches += 1;
             if let (true, Some(target)) = (measure, self.batching.target) {
                 self.gpu.wait()?;
-                let chunks = self.items.div_ceil(self.batching.chunk.max(1));
-                let per = t.elapsed().as_secs_f64() / chunks as f64;
-                // Eq. 3.1–3.2: N ← N·T_target/T, at most doubling or halving per step,
-                // a multiple of the workgroup size.
-                let scale = (target / per.max(1e-9)).clamp(0.5, 2.0);
-                let next = ((self.batching.chunk as f64 * scale) as usize).div_ceil(WG as usize) * WG as usize;
-                self.batching.chunk = next.max(WG as usize).min(self.items).max(1);
+                let chunks = self.range_len().div_ceil(self.batching.chunk.max(1));
+                // Seconds per dispatch of one pass over `chunk` items.
+                let per = t.elapsed().as_secs_f64() / (chunks as u64 * k) as f64;
+                // Eq. 3.1–3.2: N ← N·T_target/T, at most doubling or halving per step: first
+                // the passes per dispatch (whole passes only, no guiding), then the items.
+                let scale = (target / (per * self.batching.passes as f64).max(1e-9)).clamp(0.5, 2.0);
+                let whole = self.batching.chunk >= self.range_len();
+                if whole && self.guide.is_none() && (scale > 1.0 || self.batching.passes > 1) {
+                    self.batching.passes = ((self.batching.passes as f64 * scale) as u64).clamp(1, MAX_PASSES_PER_DISPATCH);
+                } else {
+                    let scale = (target / per.max(1e-9)).clamp(0.5, 2.0);
+                    let next = ((self.batching.chunk as f64 * scale) as usize).div_ceil(WG as usize) * WG as usize;
+                    self.batching.chunk = next.max(WG as usize).min(self.range_len()).max(1);
+                }
             }
         }
         self.gpu.wait()

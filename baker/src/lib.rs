@@ -17,6 +17,8 @@
 //!   and the per-sample encoders on the CPU (the reference path), the shared state.
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
 //!   progressive update, composed per bake; ray-throughput measurement.
+//! - [`multi_gpu`]: one bake split across several GPUs (contiguous item ranges, a thread
+//!   per device, the merged state equal to the single-device one).
 //! - [`guiding`]: first-bounce ray guiding (seed 003): texel clusters, learned directional
 //!   bins on the concentric square, quadtree relaxation, CDFs, the mixture sampler and pdf.
 //! - [`gpu_prims`]: reusable GPU primitives with CPU twins — exclusive prefix sum (any
@@ -48,6 +50,7 @@ pub mod guiding;
 pub mod import;
 pub mod lightmap;
 pub mod lights;
+pub mod multi_gpu;
 pub mod output;
 pub mod placement;
 pub mod run;

@@ -155,6 +155,10 @@ struct Cli {
     /// below driver watchdogs; 0: one dispatch per pass.
     #[arg(long, default_value_t = 16.0)]
     batch_ms: f64,
+    /// Bake on this many GPUs of this host (hardware adapters; the targets are split into
+    /// one contiguous range per GPU and the results merged exactly). Not with --guiding.
+    #[arg(long, default_value_t = 1)]
+    gpus: usize,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
@@ -246,6 +250,7 @@ fn options(c: Cli) -> Result<Options, String> {
         quiet: d.quiet,
         measure_rays: c.measure_rays,
         batch_seconds: (c.batch_ms > 0.0).then_some(c.batch_ms * 1e-3),
+        gpus: c.gpus,
         profile,
         denoise: match c.denoise {
             Toggle::On => true,

@@ -7,6 +7,7 @@ use crate::bvh::Bvh;
 use crate::checkpoint;
 use crate::gpu::GpuBake;
 use crate::lightmap::Lightmap;
+use crate::multi_gpu::MultiGpuBake;
 use crate::output::{self, LightmapImages};
 use crate::scene::{self, Environment, Scene};
 use crate::trace::Tracer;
@@ -54,6 +55,9 @@ pub struct Options {
     /// GPU: target seconds per dispatch (frame-time load balancing, seed 004 §3.4.1); None:
     /// one dispatch per pass.
     pub batch_seconds: Option<f64>,
+    /// GPUs to bake on (hardware adapters, one thread and queue each; [`crate::multi_gpu`]).
+    /// 1: the best adapter.
+    pub gpus: usize,
     /// The lighting profile the bases came from (`--profile`): its BRDF set decides whether
     /// the specular runtime (features, LUTs) is written, its language the exported runtime;
     /// it is recorded in bake.json.
@@ -91,6 +95,7 @@ impl Default for Options {
             preview_width: 480,
             measure_rays: None,
             batch_seconds: Some(crate::gpu::BATCH_TARGET_SECONDS),
+            gpus: 1,
             profile: None,
             quiet: false,
             // The CLI's defaults for 128 passes (`--denoise auto`, `--stitch-seams auto`).
@@ -140,7 +145,7 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
 
 enum Engine<'a> {
     Cpu(Box<Bake<'a>>),
-    Gpu(Box<GpuBake<'a>>),
+    Gpu(Box<MultiGpuBake<'a>>),
 }
 
 impl Engine<'_> {
@@ -164,7 +169,7 @@ impl Engine<'_> {
     fn passes(&self) -> u64 {
         match self {
             Engine::Cpu(b) => b.state.passes,
-            Engine::Gpu(g) => g.passes,
+            Engine::Gpu(g) => g.passes(),
         }
     }
 }
@@ -174,7 +179,7 @@ impl Engine<'_> {
 fn run_targets<'s>(
     o: &Options,
     config: &BakeConfig,
-    gpu: Option<&shaders::gpu::Gpu>,
+    gpus: &'s [shaders::gpu::Gpu],
     tracer_of: &dyn Fn() -> Tracer<'s>,
     scene: &Scene,
     targets: &Targets,
@@ -194,25 +199,29 @@ fn run_targets<'s>(
         }
         None
     };
-    let mut engine = match gpu {
-        Some(g) => {
-            let mut b = GpuBake::new(g, &tracer_of(), targets, config)?;
+    let mut engine = match gpus {
+        [] => match saved {
+            Some(st) => Engine::Cpu(Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?)),
+            None => Engine::Cpu(Box::new(Bake::new(config.clone(), targets, tracer_of()))),
+        },
+        gpus => {
+            let mut b = MultiGpuBake::new(gpus, tracer_of, targets, config)?;
             match o.batch_seconds {
                 Some(s) => b.set_batch_target(Some(s)),
                 None => b.set_chunk(usize::MAX),
             }
-            for l in &b.kernel.left_out {
+            for l in &b.devices()[0].kernel.left_out {
                 log(format!("{what}: left out of the GPU kernel: {l}"));
+            }
+            if gpus.len() > 1 {
+                let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();
+                log(format!("{what}: items dealt to {} GPUs in blocks of {}: {} items each", gpus.len(), b.block(), shares.join(", ")));
             }
             if let Some(st) = &saved {
                 b.upload(st)?;
             }
             Engine::Gpu(Box::new(b))
         }
-        None => match saved {
-            Some(st) => Engine::Cpu(Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?)),
-            None => Engine::Cpu(Box::new(Bake::new(config.clone(), targets, tracer_of()))),
-        },
     };
     let start = engine.passes();
     let todo = o.passes.saturating_sub(start);
@@ -280,30 +289,36 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     if !glossy {
         log("leave-out: no glossy material — specular runtime features, LUTs and the GPU kernel's GGX layer skipped".into());
     }
-    let gpu = match o.device {
-        Device::Cpu => None,
-        Device::Gpu => Some(shaders::gpu::Gpu::new()?),
+    if o.gpus == 0 || (o.gpus > 1 && o.device == Device::Cpu) {
+        return Err(format!("--gpus {} with --device {:?}: give ≥ 1 GPU, and more than one only on a GPU device", o.gpus, o.device));
+    }
+    let gpus: Vec<shaders::gpu::Gpu> = match o.device {
+        _ if o.gpus > 1 => shaders::gpu::Gpu::hardware(o.gpus)?,
+        Device::Cpu => Vec::new(),
+        Device::Gpu => vec![shaders::gpu::Gpu::new()?],
         Device::Auto => match shaders::gpu::Gpu::new() {
             Ok(g) if g.software => {
                 log(format!("the only adapter is a software rasteriser ({}); baking on the CPU path (--device gpu forces it)", g.adapter));
-                None
+                Vec::new()
             }
-            Ok(g) => Some(g),
+            Ok(g) => vec![g],
             Err(e) => {
                 log(format!("no GPU adapter ({e}); baking on the CPU"));
-                None
+                Vec::new()
             }
         },
     };
-    let device = match &gpu {
-        Some(g) => format!("GPU: {}", g.adapter),
-        None => format!("CPU: {} threads (rayon)", rayon::current_num_threads()),
+    let gpu = gpus.first();
+    let device = match gpus.as_slice() {
+        [] => format!("CPU: {} threads (rayon)", rayon::current_num_threads()),
+        [g] => format!("GPU: {}", g.adapter),
+        gs => format!("{} GPUs: {}", gs.len(), gs.iter().map(|g| g.adapter.as_str()).collect::<Vec<_>>().join("; ")),
     };
     log(format!("device: {device}"));
     let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
     let targets = Targets::lightmap(&lm);
     if let Some(passes) = o.measure_rays {
-        let g = gpu.as_ref().ok_or("--measure-rays needs a GPU adapter")?;
+        let g = gpu.ok_or("--measure-rays needs a GPU adapter")?;
         let mut b = GpuBake::new(g, &tracer_of(), &targets, &o.config)?;
         let r = b.time_rays(passes)?;
         log(format!(
@@ -335,7 +350,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         }
     }
     let t_passes = Instant::now();
-    let (state, run) = run_targets(o, &o.config, gpu.as_ref(), &tracer_of, &scene, &targets, "lightmap", log)?;
+    let (state, run) = run_targets(o, &o.config, &gpus, &tracer_of, &scene, &targets, "lightmap", log)?;
     let mut times = StageTimes { lightmap_passes: t_passes.elapsed().as_secs_f64(), probe_passes: None };
     log(format!("lightmap: {run} passes in {:.2} s", times.lightmap_passes));
     let mut probe_state = None;
@@ -364,7 +379,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         let pt = Targets::probes(&probe_positions);
         let pcfg = BakeConfig { bases: o.probe_bases.clone(), ..o.config.clone() };
         let t = Instant::now();
-        let (ps, prun) = run_targets(o, &pcfg, gpu.as_ref(), &tracer_of, &scene, &pt, "probes", log)?;
+        let (ps, prun) = run_targets(o, &pcfg, &gpus, &tracer_of, &scene, &pt, "probes", log)?;
         times.probe_passes = Some(t.elapsed().as_secs_f64());
         log(format!("probes: {prun} passes in {:.2} s", t.elapsed().as_secs_f64()));
         probe_state = Some(ps);

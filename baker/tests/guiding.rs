@@ -195,21 +195,9 @@ fn guide_kernels_validate() {
     assert!(shaders::export::validate(&subgroup).is_err(), "the subgroup kernel must need the subgroup capability");
 }
 
-/// Per-chart and scene means of E/π: (sum over the chart's texels, variance of that sum).
+/// Per-chart and scene means of E/π with their variances ([`BakeState::chart_means`]).
 fn chart_means(lm: &Lightmap, targets: &Targets, st: &BakeState) -> Vec<(f64, f64)> {
-    let (m, se) = (st.mean(), st.standard_error());
-    let mut out = vec![(0.0, 0.0, 0usize); lm.chart_meshes.len() + 1];
-    for (k, &[_, _, id]) in targets.items.iter().enumerate() {
-        let ch = lm.texels[id as usize].chart as usize;
-        for slot in [ch, lm.chart_meshes.len()] {
-            for c in 0..3 {
-                out[slot].0 += m[k][c];
-                out[slot].1 += se[k][c] * se[k][c];
-            }
-            out[slot].2 += 3;
-        }
-    }
-    out.into_iter().filter(|x| x.2 > 0).map(|(s, v, n)| (s / n as f64, v / (n * n) as f64)).collect()
+    st.chart_means(lm, targets)
 }
 
 /// Guiding is unbiased where no closed form is at hand: on the furnace (every texel's

@@ -61,9 +61,18 @@ struct TraceParams {
     // Ray guiding: the pass's stage and the stage's first pass (baker::guiding::stage).
     guide_stage: u32,
     guide_start: u32,
-    // The items of this dispatch: [item_offset, item_end) (a pass may take several).
+    // The items of this dispatch: [item_offset, item_end) (a pass may take several), as
+    // positions in this device's share of the items.
     item_offset: u32,
     item_end: u32,
+    // Multi-GPU partition (baker::multi_gpu): blocks of part_block items, block b to device
+    // b mod part_count; this device is part_index.
+    part_block: u32,
+    part_count: u32,
+    part_index: u32,
+    // Passes of this dispatch, from pass_index: each thread takes its item through them in
+    // order (the item's state sees exactly the one-pass-per-dispatch updates).
+    pass_count: u32,
     env0: vec4<f32>,
     env1: vec4<f32>,
     env2: vec4<f32>,
@@ -689,19 +698,29 @@ fn finite3(v: vec3<f32>) -> bool {
 // `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let i = P.item_offset + gid.x + gid.y * nwg.x * 64u;
-    if (i >= P.item_end) {
+    let v = P.item_offset + gid.x + gid.y * nwg.x * 64u;
+    if (v >= P.item_end) {
         return;
     }
+    // Position v of this device's share → the item (the identity on one device).
+    let i = (v / P.part_block) * P.part_block * P.part_count + P.part_index * P.part_block + v % P.part_block;
+    for (var j = 0u; j < P.pass_count; j++) {
+        bake_item(i, P.pass_index + j);
+    }
+}
+
+// Pass `pass_index` of item i.
+fn bake_item(i: u32, pass_index: u32) {
+    project_reset();
     let it = items[i];
-    let k = it.x + P.pass_index % it.y;
+    let k = it.x + pass_index % it.y;
     let pos = points[3u * k].xyz;
     // Shading normal (the texel's hemisphere and frame) and geometric normal (offsets and
     // the surface's own horizon: directions below it see the surface, radiance 0).
     let nrm = points[3u * k + 1u].xyz;
     let ng = points[3u * k + 2u].xyz;
-    let u = r2_point(P.pass_index, it.z);
-    var rng = pcg_hash(P.seed ^ pcg_hash(P.pass_index ^ pcg_hash(it.z + 0x68e31da4u)));
+    let u = r2_point(pass_index, it.z);
+    var rng = pcg_hash(P.seed ^ pcg_hash(pass_index ^ pcg_hash(it.z + 0x68e31da4u)));
     let texel = P.mode == 0u;
     let fr = tangent_frame(nrm);
     var local: vec3<f32>;
@@ -716,7 +735,7 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         var ud = u;
         var choice = 1.0;
         if (P.guide_phase != 0u) {
-            let u3 = guide_point(P.pass_index - P.guide_start, it.z);
+            let u3 = guide_point(pass_index - P.guide_start, it.z);
             ud = u3.xy;
             choice = u3.z;
         }

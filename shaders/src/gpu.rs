@@ -147,10 +147,7 @@ impl Drop for Watchdog {
 impl Gpu {
     /// The best Vulkan or GL adapter (NVIDIA, or lavapipe / llvmpipe without a GPU).
     pub fn new() -> Result<Gpu, String> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::VULKAN | wgpu::Backends::GL,
-            ..wgpu::InstanceDescriptor::new_without_display_handle()
-        });
+        let instance = Self::instance();
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
@@ -158,6 +155,18 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| format!("no GPU adapter (Vulkan or GL): {e}"))?;
+        Self::on(&adapter)
+    }
+
+    fn instance() -> wgpu::Instance {
+        wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::VULKAN | wgpu::Backends::GL,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        })
+    }
+
+    /// A device on `adapter` (with `Features::SUBGROUP` where it has them).
+    fn on(adapter: &wgpu::Adapter) -> Result<Gpu, String> {
         let info = adapter.get_info();
         let subgroups = adapter.features().contains(wgpu::Features::SUBGROUP);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -176,6 +185,55 @@ impl Gpu {
             software,
             subgroup_sizes,
         })
+    }
+
+    /// One device on each of the first `n` hardware adapters (Vulkan preferred over GL for
+    /// the same GPU: adapters are taken in enumeration order, Vulkan first, and a GL adapter
+    /// is skipped when a Vulkan one has the same name). Errs, listing what was found, when
+    /// fewer than `n` exist.
+    pub fn hardware(n: usize) -> Result<Vec<Gpu>, String> {
+        let instance = Self::instance();
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN | wgpu::Backends::GL));
+        adapters.sort_by_key(|a| a.get_info().backend != wgpu::Backend::Vulkan);
+        let mut seen: Vec<(String, wgpu::Backend)> = Vec::new();
+        let mut software = Vec::new();
+        let mut picked = Vec::new();
+        for a in adapters {
+            let info = a.get_info();
+            if info.device_type == wgpu::DeviceType::Cpu {
+                software.push(info.name);
+                continue;
+            }
+            if info.backend == wgpu::Backend::Gl && seen.iter().any(|(name, b)| *name == info.name && *b == wgpu::Backend::Vulkan) {
+                continue;
+            }
+            seen.push((info.name.clone(), info.backend));
+            picked.push(a);
+        }
+        if picked.len() < n {
+            return Err(format!(
+                "{n} GPUs requested, {} hardware adapter(s) found{}",
+                picked.len(),
+                if seen.is_empty() {
+                    String::new()
+                } else {
+                    format!(": {}", seen.iter().map(|(n, b)| format!("{n} ({b:?})")).collect::<Vec<_>>().join(", "))
+                }
+            ));
+        }
+        picked.iter().take(n).map(Self::on).collect()
+    }
+
+    /// `n` logical devices on the best adapter (each its own device and queue): the
+    /// multi-device code paths on a machine with one adapter (CI's lavapipe).
+    pub fn logical(n: usize) -> Result<Vec<Gpu>, String> {
+        let instance = Self::instance();
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| format!("no GPU adapter (Vulkan or GL): {e}"))?;
+        (0..n).map(|_| Self::on(&adapter)).collect()
     }
 
     /// The wgpu device (for callers that build their own pipelines, e.g. the baker).
