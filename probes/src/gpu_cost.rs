@@ -4,8 +4,9 @@
 //! a buffer and writes the RGB sum; mean of back-to-back dispatches after a warm-up).
 //!
 //! Modes map to the WGSL runtime they would use: SH L2 → `sh_l2_irradiance`; SG 9/12 →
-//! Hill irradiance (+ ASG warp for specular); Ambient Dice SRBF 9/12 → `ad9`/`ad12`
-//! irradiance (+ the Listing 8.1 fit × LUT for specular). Modes without a WGSL runtime
+//! Hill irradiance (+ for specular the per-lobe GGX tables, or the ASG warp with
+//! `--specular-runtime fit`); Ambient Dice SRBF 9/12 → `ad9`/`ad12` irradiance (+ the tables,
+//! or the Listing 8.1 fit × LUT). Modes without a WGSL runtime
 //! (ambient cube, SH L1 variants and L3+, the Bézier/YCoCg Ambient Dice, the H-basis, the
 //! Monte Carlo reference) get none and stay off the GPU front.
 
@@ -53,12 +54,17 @@ pub fn kernel_of(id: &str) -> Option<&'static str> {
 }
 
 impl GpuCosts {
-    /// The GPU cost of a mode (None without a WGSL runtime).
-    pub fn for_mode(&self, id: &str) -> Option<GpuCost> {
+    /// The GPU cost of a mode with the specular runtime `runtime` (None without a WGSL
+    /// runtime). SH has one specular path whatever `runtime` says.
+    pub fn for_mode(&self, id: &str, runtime: crate::specular::SpecularRuntime) -> Option<GpuCost> {
         let k = kernel_of(id)?;
         let ns = |signal: &str| {
             self.rows.iter().find(|r| r.name == k && r.signal == signal).map(|r| r.seconds_per_dispatch * 1e9 / r.count as f64)
         };
-        Some(GpuCost { kernel: k.to_string(), ns: ns("diffuse")?, specular_ns: ns("diffuse + specular"), adapter: self.adapter.clone() })
+        let specular = match runtime {
+            crate::specular::SpecularRuntime::Table if !k.starts_with("SH") => shaders::bench::TABLE_SPECULAR,
+            _ => "diffuse + specular",
+        };
+        Some(GpuCost { kernel: k.to_string(), ns: ns("diffuse")?, specular_ns: ns(specular), adapter: self.adapter.clone() })
     }
 }

@@ -263,6 +263,7 @@ fn compare(
         rows,
         specular_method,
         specular_runtime: if alphas.is_empty() { String::new() } else { specular_runtime.describe().to_string() },
+        runtime: specular_runtime,
         specular_samples: spec_samples,
         specular_reference: spec_refs,
         grid: ctx.grid,

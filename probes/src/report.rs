@@ -46,6 +46,8 @@ pub struct MapReport {
     pub specular_method: String,
     /// The lobe modes' specular runtime path ("" when no α was requested).
     pub specular_runtime: String,
+    /// That runtime (it also picks the GPU kernel of `--gpu-cost`).
+    pub runtime: crate::specular::SpecularRuntime,
     /// Visible-normal samples per texel of the specular references.
     pub specular_samples: u32,
     pub specular_reference: Vec<SpecularReference>,

@@ -255,7 +255,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                     specular_eval: r.specular_cost,
                     storage_bytes: x.storage_bytes(),
                     storage_precision: "f32".into(),
-                    gpu: gpu.filter(|_| x.wgsl_irradiance).and_then(|g| g.for_mode(x.id)),
+                    gpu: gpu.filter(|_| x.wgsl_irradiance).and_then(|g| g.for_mode(x.id, m.runtime)),
                 },
                 convergence: x.convergence.clone(),
                 images: ModeImages {

@@ -431,10 +431,15 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
     // Every SG mode here uses λ = 6, the one sharpness with a table; another would take
     // the fit path.
     let table = table.filter(|_| !(is_sg(r.id) && r.lobes.iter().any(|(_, l)| *l != 6.0)));
+    // The table path runs the f32 runtime (the WGSL's CPU twin), as the fit paths of the
+    // runtime module do in an engine.
+    let axes32: Vec<sbf::glam::Vec3> = axes.iter().map(|a| a.as_vec3()).collect();
+    let c32: Vec<sbf::glam::Vec3> = c.iter().map(|x| sbf::glam::Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32)).collect();
     Some(move |k: usize| {
         if let Some(t) = table {
             let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
-            let mut e = sbf::recon::lobe_ggx::specular_rgb(t, &axes, c, n, v, alpha, 1.0, 1.0);
+            let e32 = sbf::recon::runtime::lobe_ggx_specular(t, &axes32, &c32, n.as_vec3(), v.as_vec3(), alpha as f32, 1.0, 1.0);
+            let mut e = [e32.x as f64, e32.y as f64, e32.z as f64];
             // An ambient (constant) function reflects its value times the albedo.
             if c.len() > r.lobes.len() {
                 let d = dfg.sample2(n.dot(v).clamp(0.0, 1.0) as f32, alpha as f32);

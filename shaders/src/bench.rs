@@ -39,6 +39,9 @@ pub enum Inputs {
 }
 
 /// (name, configuration, lobes, signal, WGSL body).
+/// The signal of the kernels that take specular through the per-lobe GGX tables.
+pub const TABLE_SPECULAR: &str = "diffuse + specular (lobe tables)";
+
 fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static str, String)> {
     // Input layout: 12 axes (36 floats), the SG sharpness (read, so the compiler cannot
     // fold exp(−λ)), then SETS × 12 RGB coefficients, then per invocation n (3), v (3),
@@ -58,6 +61,21 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         if spec {
             b += &format!("    let w = sg_asg_warp(n, v, a, 0.04, 1.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_asg_lobe(w, ld3(3u * j), lam);\n    }}\n");
         }
+        b + "    outp[i] = e.x + e.y + e.z;"
+    };
+    // The per-lobe GGX tables (lobe_ggx.wgsl) instead of the fits: SG axes from the buffer,
+    // AD axes from the layout constants; f0 = 0.04, f90 = 1.
+    let table = |k: usize, sg: bool| {
+        let mut b = pre(k);
+        b += &if sg {
+            format!("    var e = vec3<f32>(0.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_hill_irradiance(ld3(3u * j), lam, n);\n    }}\n")
+        } else {
+            format!("    var e = ad{k}_irradiance(c, n);\n")
+        };
+        let axis = if sg { "ld3(3u * j)".to_string() } else { format!("AD{k}_AXES[j]") };
+        b += &format!(
+            "    let px = lobe_ggx_pixel(lobe_tab, n, v, a);\n    for (var j = 0u; j < {k}u; j++) {{\n        let r = lobe_ggx_lobe(lobe_tab, px, {axis});\n        e += c[j] * (0.04 * r.x + r.y);\n    }}\n"
+        );
         b + "    outp[i] = e.x + e.y + e.z;"
     };
     let ad = |k: usize, spec: bool| {
@@ -88,6 +106,10 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         ("AD9", "ad9-irradiance,ad9-specular", 9, "diffuse + specular", ad(9, true)),
         ("AD12", "ad12-irradiance", 12, "diffuse", ad(12, false)),
         ("AD12", "ad12-irradiance,ad12-specular", 12, "diffuse + specular", ad(12, true)),
+        ("SG9", "sg-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, true)),
+        ("SG12", "sg-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, true)),
+        ("AD9", "ad9-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, false)),
+        ("AD12", "ad12-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, false)),
         ("AD12 progressive LS", "ad-eval,progressive", 12, "encode", encode(12)),
     ]
 }
@@ -118,8 +140,15 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let encodes = signal == "encode";
         let count = if encodes { count.min(MAX_ENCODE_COUNT) } else { count };
         let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
+        let lobe = body.contains("lobe_tab").then(|| {
+            if name.starts_with("SG") {
+                sbf::luts::committed::lobe_ggx_sg6()
+            } else {
+                sbf::luts::committed::lobe_ggx_ad()
+            }
+        });
         let o = gpu.launch(&Launch {
-            lobe: None,
+            lobe,
             library: &lib,
             body: &body,
             input: &inp,
