@@ -327,45 +327,13 @@ impl Gpu {
                     [a, b]
                 })
                 .collect();
-            let tex = d.create_texture_with_data(
-                &self.queue,
-                &wgpu::TextureDescriptor {
-                    label: Some("lut"),
-                    size: wgpu::Extent3d { width: l.width as u32, height: l.height as u32, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu::TextureFormat::Rg32Float,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                },
-                wgpu::util::TextureDataOrder::LayerMajor,
-                bytemuck::cast_slice(&data),
-            );
-            tex.create_view(&Default::default())
+            self.rg32_texture("lut", [l.width as u32, l.height as u32, 1], &data).create_view(&Default::default())
         });
         let lobe_view = l.lobe.map(|t| {
             let g = t.grid;
-            let tex = d.create_texture_with_data(
-                &self.queue,
-                &wgpu::TextureDescriptor {
-                    label: Some("lobe_tab"),
-                    size: wgpu::Extent3d {
-                        width: g.psi as u32,
-                        height: g.gamma as u32,
-                        depth_or_array_layers: (g.theta_v * g.alpha) as u32,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu::TextureFormat::Rg32Float,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                },
-                wgpu::util::TextureDataOrder::LayerMajor,
-                bytemuck::cast_slice(&t.values),
-            );
-            tex.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
+            let size = [g.psi as u32, g.gamma as u32, (g.theta_v * g.alpha) as u32];
+            self.rg32_texture("lobe_tab", size, &t.values)
+                .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
         });
         let unib = l.uniform.map(|(_, bytes)| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -451,6 +419,26 @@ impl Gpu {
             b.unmap();
         }
         Ok(Output { out: out[..count * out_per_item].to_vec(), io, seconds_per_dispatch: per_dispatch })
+    }
+
+    /// An rg32float 2D texture (array: `size[2]` layers) holding `data` (two floats per
+    /// texel, layer-major), for sampling by textureLoad.
+    fn rg32_texture(&self, label: &str, size: [u32; 3], data: &[f32]) -> wgpu::Texture {
+        self.device.create_texture_with_data(
+            &self.queue,
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: size[2] },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rg32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(data),
+        )
     }
 
     /// Copies a buffer (with `COPY_SRC` usage) back to the host.
