@@ -17,7 +17,15 @@ use baker::trace::Tracer;
 use std::time::Instant;
 
 fn config(seed: u64) -> BakeConfig {
-    BakeConfig { seed, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Ad9], solver: Solver::Nnls, guiding: None }
+    BakeConfig {
+        seed,
+        max_bounces: 4,
+        bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+        solver: Solver::Nnls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive: None,
+    }
 }
 
 /// A bake's state and its wall time (GPU: including the read-back).

@@ -22,7 +22,15 @@ use baker::trace::Tracer;
 use std::time::Instant;
 
 fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfig {
-    BakeConfig { seed, max_bounces: bounces, bases: vec![BasisKind::ShL2, BasisKind::Ad9], solver: Solver::Nnls, guiding }
+    BakeConfig {
+        seed,
+        max_bounces: bounces,
+        bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+        solver: Solver::Nnls,
+        guiding,
+        sampler: Default::default(),
+        adaptive: None,
+    }
 }
 
 /// A bake's state and the wall time of its passes (GPU: the passes and the read-back;

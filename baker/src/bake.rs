@@ -2,12 +2,14 @@
 //! both paths share.
 //!
 //! An item is a lightmap texel (hemisphere about its normal) or a light probe (whole
-//! sphere). Pass p of item k: its point (p mod its points), a direction from an R2
-//! sequence with a per-item Cranley–Patterson shift (successive samples decorrelated,
-//! seed §7.3.1), the path's remaining dimensions from a PCG stream seeded by
-//! (seed, pass, item id). Every random number depends only on (seed, id, pass), so
-//! results are identical for any thread count and a resumed bake equals an
-//! uninterrupted one.
+//! sphere). Sample p of item k uses its point p mod (its points) — every `count`
+//! consecutive samples visit each point once — and draws every number from
+//! [`crate::sampler`]: by default a shuffled, Owen-scrambled Sobol' point per (item, path
+//! vertex, use) indexed by p — the baked point's direction with the guided mixture
+//! choice, and each bounce's BSDF sample and next-event samples (seed 004 §6.2;
+//! power-of-two prefixes of passes are nets, the order §7.3.1 asks for). Every random
+//! number depends only on (seed, id, pass), so results are identical for any thread
+//! count and a resumed bake equals an uninterrupted one.
 //!
 //! Each pass at an item yields a point sample L_in(ω_s) and light samples (ω_l, c_l)
 //! (`trace::Tracer::sample_point`). They are (a) accumulated as plain irradiance
@@ -24,10 +26,10 @@
 //! weight (1/2π)/p and the light samples' projections scaled by p.
 
 use crate::lightmap::{frame, Lightmap, SurfacePoint};
+use crate::sampler::{PathSampler, Sequence, DIRECTION};
 use crate::trace::Tracer;
 use rayon::prelude::*;
 use sbf::glam::{DVec3, Vec3};
-use sbf::sampling::{Pcg32, R2, R3};
 use sbf::solve::{ProgressiveEncoder, ProgressiveOptions};
 use sbf::Basis;
 
@@ -118,9 +120,28 @@ pub struct BakeConfig {
     /// First-bounce ray guiding of lightmap texels ([`crate::guiding`]); probes are never
     /// guided.
     pub guiding: Option<crate::guiding::GuidingOptions>,
+    /// The sample sequences ([`crate::sampler`]).
+    pub sampler: Sequence,
+    /// Adaptive sampling of lightmap texels ([`crate::adapt`]); None: every texel every
+    /// pass. Not with ray guiding, probes or several GPUs.
+    pub adaptive: Option<crate::adapt::AdaptiveOptions>,
 }
 
 impl BakeConfig {
+    /// Refuses combinations the bake cannot run, with the reason.
+    pub fn check(&self, targets: &Targets) -> Result<(), String> {
+        if let Some(a) = &self.adaptive {
+            a.validate()?;
+            if targets.sphere {
+                return Err("adaptive sampling applies to lightmap texels, not probes".into());
+            }
+            if self.guiding.is_some() {
+                return Err("adaptive sampling and ray guiding cannot be combined (guiding learns from whole passes)".into());
+            }
+        }
+        Ok(())
+    }
+
     /// The progressive options for `basis` on these targets: Gauss–Seidel with the
     /// eq. 7.15 denominator at acceleration [`BAKE_ACCELERATION`]; sphere bases on
     /// texels see only the upper hemisphere, so mirrored zero samples pin the lower half
@@ -151,6 +172,8 @@ pub struct Targets {
     /// Per item: its ray-guiding cluster ([`crate::guiding::clusters`]; 0 for probes).
     pub clusters: Vec<u32>,
     pub cluster_count: usize,
+    /// The atlas width in texels (ids are y·width + x); 0 for probes.
+    pub width: usize,
 }
 
 impl Targets {
@@ -164,7 +187,7 @@ impl Targets {
             }
         }
         let (clusters, cluster_count) = crate::guiding::clusters(lm);
-        Targets { points, items, sphere: false, slots: lm.texels.len(), clusters, cluster_count }
+        Targets { points, items, sphere: false, slots: lm.texels.len(), clusters, cluster_count, width: lm.width }
     }
 
     /// Light probes at the given positions.
@@ -172,13 +195,14 @@ impl Targets {
         let points = positions.iter().map(|p| SurfacePoint::flat(*p, Vec3::Y)).collect();
         let items = (0..positions.len() as u32).map(|k| [k, 1, k]).collect();
         let clusters = vec![0; positions.len()];
-        Targets { points, items, sphere: true, slots: positions.len(), clusters, cluster_count: 0 }
+        Targets { points, items, sphere: true, slots: positions.len(), clusters, cluster_count: 0, width: 0 }
     }
 
-    /// The sample direction of pass `p` for item id `id`: (direction in the item's frame,
-    /// world direction, the E/π weight of the sample: 2cosθ for texels, 1 for probes).
-    pub fn direction(&self, seed: u64, id: u32, p: u64, normal: Vec3) -> (DVec3, Vec3, f32) {
-        let u = R2::with_seed(seed ^ (id as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)).point(p);
+    /// The sample direction of a pass from (u₀, u₁) of its direction group: (direction in
+    /// the item's frame, world direction, the E/π weight of the sample: 2cosθ for texels,
+    /// 1 for probes).
+    pub fn direction(&self, u: [f64; 4], normal: Vec3) -> (DVec3, Vec3, f32) {
+        let u = [u[0], u[1]];
         if self.sphere {
             let d = sbf::sampling::uniform_sphere(u);
             return (d, d.as_vec3(), 1.0);
@@ -187,30 +211,15 @@ impl Targets {
         (local, world_of(normal, local), 2.0 * local.z as f32)
     }
 
-    /// The sample direction of pass `p` of a texel in a guided bake with `learn` learning
-    /// passes: point p − start of an R3 sequence with a per-item, per-stage shift
-    /// ([`crate::guiding::stage`]) gives the direction (u₀, u₁) and the mixture choice u₂
-    /// — stratified over the stage's passes, so both components keep the low discrepancy
-    /// of the unguided sequence. With the cluster's distribution `dist` (after learning)
-    /// and u₂ < m the point is warped through it, else it is the uniform direction.
-    /// Returns (tangent-space direction, world direction, its pdf: 1/2π while learning,
-    /// the mixture's after).
-    #[allow(clippy::too_many_arguments)]
-    pub fn guided_direction(
-        &self,
-        seed: u64,
-        id: u32,
-        p: u64,
-        learn: u64,
-        normal: Vec3,
-        dist: Option<&[f32]>,
-        m: f64,
-    ) -> (DVec3, Vec3, f64) {
-        let (k, start) = crate::guiding::stage(p, learn);
-        let shift = seed ^ (id as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (k as u64).wrapping_mul(0xD1B5_4A32_D192_ED03);
-        let u = R3::with_seed(shift).point(p - start);
+    /// The sample direction of a texel in a guided bake from its stage's direction point
+    /// ([`PathSampler::staged_direction`]: stratified over the stage's passes): the
+    /// direction (u₀, u₁) and the mixture choice u₃. With the cluster's distribution
+    /// `dist` (after learning) and u₃ < m the point is warped through it, else it is the
+    /// uniform direction. Returns (tangent-space direction, world direction, its pdf:
+    /// 1/2π while learning, the mixture's after).
+    pub fn guided_direction(&self, u: [f64; 4], normal: Vec3, dist: Option<&[f32]>, m: f64) -> (DVec3, Vec3, f64) {
         let local = match dist {
-            Some(d) if u[2] < m => crate::guiding::sample_guided(d, [u[0] as f32, u[1] as f32]),
+            Some(d) if u[3] < m => crate::guiding::sample_guided(d, [u[0] as f32, u[1] as f32]),
             _ => sbf::sampling::uniform_hemisphere([u[0], u[1]]),
         };
         let pdf = dist.map_or(0.5 / std::f64::consts::PI, |d| crate::guiding::mixture_pdf(d, local, m));
@@ -268,6 +277,12 @@ pub struct Moments {
 }
 
 impl Moments {
+    /// Samples this item has had (accepted, rejected at a back face, or not finite): the
+    /// index of its next sample.
+    pub fn count(&self) -> u64 {
+        self.accepted + self.back_faces + self.non_finite
+    }
+
     /// Fraction of this item's samples that met a back face first (0 without samples).
     pub fn back_face_fraction(&self) -> f64 {
         let n = self.accepted + self.back_faces;
@@ -403,6 +418,8 @@ pub struct Bake<'a> {
     pub state: BakeState,
     /// Ray guiding's distributions once learning ended ([`crate::guiding::build`]).
     guide: Option<Vec<f32>>,
+    /// Adaptive sampling's tiles (None: uniform passes).
+    tiles: Option<crate::adapt::Tiles>,
 }
 
 impl std::fmt::Debug for Bake<'_> {
@@ -412,10 +429,16 @@ impl std::fmt::Debug for Bake<'_> {
 }
 
 impl<'a> Bake<'a> {
+    /// Panics on a configuration [`BakeConfig::check`] refuses (the `baker` command
+    /// checks first and reports).
     pub fn new(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>) -> Self {
+        if let Err(e) = config.check(targets) {
+            panic!("{e}");
+        }
         let bases: Vec<_> = config.bases.iter().map(|k| k.basis()).collect();
         let state = BakeState::new(&config, targets);
-        Bake { config, targets, tracer, bases, state, guide: None }
+        let tiles = config.adaptive.map(|_| crate::adapt::Tiles::new(targets, targets.width).expect("checked"));
+        Bake { config, targets, tracer, bases, state, guide: None, tiles }
     }
 
     /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
@@ -447,9 +470,29 @@ impl<'a> Bake<'a> {
         &self.bases
     }
 
-    /// Runs one pass (one path per item).
+    /// Runs one pass (one path per item) — or, in an adaptive bake after its pilot
+    /// passes, one batch ([`crate::adapt`]).
     pub fn pass(&mut self) {
-        self.pass_samples();
+        match (self.config.adaptive, &self.tiles) {
+            (Some(a), Some(tiles)) if self.state.passes >= a.pilot_passes => {
+                let q = crate::adapt::probabilities(tiles, &self.state.moments, &a);
+                let (seq, seed, batch) = (self.config.sampler, self.config.seed, self.state.passes);
+                let list: Vec<(u32, u64)> = (0..self.targets.items.len())
+                    .filter(|&k| crate::adapt::joins(seq, seed, self.targets.items[k][2], batch, q[k]))
+                    .map(|k| (k as u32, self.state.moments[k].count()))
+                    .collect();
+                let samples = self.trace_items(&list);
+                self.absorb(&list, &samples);
+            }
+            _ => {
+                self.pass_samples();
+            }
+        }
+    }
+
+    /// Paths traced so far: the sum of every item's sample count.
+    pub fn paths(&self) -> u64 {
+        self.state.moments.iter().map(Moments::count).sum()
     }
 
     /// Ray guiding: at the start of each stage ([`crate::guiding::stage`]) the
@@ -469,26 +512,40 @@ impl<'a> Bake<'a> {
     /// batch.
     pub fn pass_samples(&mut self) -> Vec<ItemSample> {
         let p = self.state.passes;
+        let all: Vec<(u32, u64)> = (0..self.targets.items.len() as u32).map(|k| (k, p)).collect();
+        let samples = self.trace_items(&all);
+        self.absorb(&all, &samples);
+        samples
+    }
+
+    /// Traces sample p_k of each listed item (k, p_k), in parallel.
+    fn trace_items(&self, list: &[(u32, u64)]) -> Vec<ItemSample> {
+        let p = self.state.passes;
         let seed = self.config.seed;
+        let sampler = self.config.sampler;
         let tracer = &self.tracer;
         let tg = self.targets;
         let guide = self.config.guiding.filter(|_| !self.state.guide_sums.is_empty());
         let dists = self.guide.as_deref();
-        // Trace in parallel, then feed the encoders per item (the samples are kept so
-        // that each item's update order is the pass order on any thread count).
-        let samples: Vec<ItemSample> = tg
-            .items
-            .par_iter()
-            .zip(tg.clusters.par_iter())
-            .map(|(&[first, count, id], &cluster)| {
-                let pt = &tg.points[(first as u64 + p % count as u64) as usize];
-                let mut rng = Pcg32::new(seed.wrapping_add(p.wrapping_mul(0x2545_F491_4F6C_DD1D)), id as u64);
+        list.par_iter()
+            .map(|&(k, pk)| {
+                let ([first, count, id], cluster) = (tg.items[k as usize], tg.clusters[k as usize]);
+                let mut smp = PathSampler::new(sampler, seed, id, pk);
+                // The baked point's direction group: unguided, or the guiding stage's own.
+                let u = match guide {
+                    Some(g) => {
+                        let (k, start) = crate::guiding::stage(p, g.learn_passes);
+                        smp.staged_direction(k, start)
+                    }
+                    None => smp.get(DIRECTION),
+                };
+                let pt = &tg.points[(first as u64 + pk % count as u64) as usize];
                 let normal = (!tg.sphere).then_some((pt.normal, pt.geometric));
                 match guide {
                     Some(g) => {
                         use crate::guiding::CDF_LEN;
                         let dist = dists.map(|d| &d[cluster as usize * CDF_LEN..(cluster as usize + 1) * CDF_LEN]);
-                        let (local, dir, pdf) = tg.guided_direction(seed, id, p, g.learn_passes, pt.normal, dist, g.guided_fraction);
+                        let (local, dir, pdf) = tg.guided_direction(u, pt.normal, dist, g.guided_fraction);
                         let (tn, bn) = frame(pt.normal);
                         let pdf_of = |w: Vec3| match dist {
                             Some(d) => {
@@ -497,26 +554,38 @@ impl<'a> Bake<'a> {
                             }
                             None => 0.5 / std::f64::consts::PI,
                         };
-                        let s = tracer.sample_point_with(pt.position, normal, dir, &pdf_of, &mut rng);
+                        let s = tracer.sample_point_with(pt.position, normal, dir, &pdf_of, &mut smp);
                         let w = (local.z / (std::f64::consts::PI * pdf)) as f32;
                         tg.item_sample(pt.normal, local, w, pdf, s)
                     }
                     None => {
-                        let (local, dir, w) = tg.direction(seed, id, p, pt.normal);
-                        let s = tracer.sample_point(pt.position, normal, dir, &mut rng);
+                        let (local, dir, w) = tg.direction(u, pt.normal);
+                        let s = tracer.sample_point(pt.position, normal, dir, &mut smp);
                         let p_s = if tg.sphere { 0.25 / std::f64::consts::PI } else { 0.5 / std::f64::consts::PI };
                         tg.item_sample(pt.normal, local, w, p_s, s)
                     }
                 }
             })
-            .collect();
+            .collect()
+    }
+
+    /// Feeds the listed items' samples to the guiding sums (uniform passes), the moments
+    /// and the encoders, in item order; one more pass or batch.
+    fn absorb(&mut self, list: &[(u32, u64)], samples: &[ItemSample]) {
+        let tg = self.targets;
+        // Per item, its sample of this pass (None: not in this batch).
+        let mut of_item: Vec<Option<&ItemSample>> = vec![None; tg.items.len()];
+        for (&(k, _), s) in list.iter().zip(samples) {
+            of_item[k as usize] = Some(s);
+        }
         if !self.state.guide_sums.is_empty() {
             // Every pass learns from the point sample and the area-light samples, in item
             // order: deterministic sums (the GPU gathers the same). Each value estimates
             // (1/2π)·∫_bin L cosθ: the point sample's lum(L)·(1/2π)/p (L MIS-weighted), a
             // light sample's lum(c)/2π (c = L·w/p_l, stored here as p·c).
             let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-            for (s, &c) in samples.iter().zip(&tg.clusters) {
+            for (s, &c) in of_item.iter().zip(&tg.clusters) {
+                let Some(s) = s else { continue };
                 if !s.back_face && s.is_finite() {
                     let v = crate::lights::luminance(s.radiance) * s.weight;
                     crate::guiding::record(&mut self.state.guide_sums, c, s.local, v as f32);
@@ -526,7 +595,8 @@ impl<'a> Bake<'a> {
                 }
             }
         }
-        self.state.moments.par_iter_mut().zip(samples.par_iter()).for_each(|(m, s)| {
+        self.state.moments.par_iter_mut().zip(of_item.par_iter()).for_each(|(m, s)| {
+            let Some(s) = s else { return };
             if s.back_face {
                 m.back_faces += 1;
                 return;
@@ -543,7 +613,8 @@ impl<'a> Bake<'a> {
         });
         for (b, encs) in self.state.encoders.iter_mut().enumerate() {
             let basis = &self.bases[b];
-            encs.par_iter_mut().zip(samples.par_iter()).filter(|(_, s)| !s.back_face && s.is_finite()).for_each(|(enc, s)| {
+            encs.par_iter_mut().zip(of_item.par_iter()).for_each(|(enc, s)| {
+                let Some(s) = s.filter(|s| !s.back_face && s.is_finite()) else { return };
                 let l = [s.radiance.x as f64, s.radiance.y as f64, s.radiance.z as f64];
                 // Finite (checked above) and of the encoder's size: cannot fail.
                 if let Err(e) = enc.add_sample_projected(basis.as_ref(), s.local, l, s.weight, &s.lights) {
@@ -553,6 +624,5 @@ impl<'a> Bake<'a> {
         }
         self.state.passes += 1;
         self.build_guide();
-        samples
     }
 }

@@ -3,7 +3,7 @@
 //! moment leaves either the previous or the new checkpoint, never a torn one.
 //!
 //! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
-//! (scene, layout, seed, bounces, bases, solver: a resumed bake must be the same bake);
+//! (scene, layout, seed, bounces, bases, solver, sample sequence, adaptive sampling: a resumed bake must be the same bake);
 //! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
 //! and the u64 counts of accepted, back-face and non-finite samples;
 //! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
@@ -121,6 +121,13 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     h.u64(config.max_bounces as u64);
     config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
     h.bytes(format!("{:?}", config.solver).as_bytes());
+    h.bytes(config.sampler.name().as_bytes());
+    if let Some(a) = config.adaptive {
+        h.bytes(b"adaptive");
+        h.u64(a.pilot_passes);
+        h.u64(a.batch_fraction.to_bits());
+        h.u64(a.floor.to_bits());
+    }
     if let Some(g) = config.guiding {
         h.bytes(b"guiding");
         h.u64(g.learn_passes);
@@ -201,7 +208,7 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
     }
     let fp = r.u64()?;
     if fp != fingerprint {
-        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver or ray guiding changed"));
+        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver, sample sequence, adaptive sampling or ray guiding changed"));
     }
     let passes = r.u64()?;
     let (items, nb) = (r.u32()? as usize, r.u32()? as usize);

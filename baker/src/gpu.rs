@@ -7,9 +7,9 @@
 //! generated part (SG lobe tables, per-basis `basis_k` and the `encode` function with
 //! each basis's encoder options as constants). What was left out is reported.
 //!
-//! Random numbers: PCG hashes of (seed, pass, item id) and an R2 point with a per-item
-//! shift — a different stream from the CPU's, so CPU and GPU bakes agree statistically,
-//! not bit for bit (the CPU↔GPU test checks means within 4σ).
+//! Random numbers: the same sequences as the CPU's ([`crate::sampler`], `wgsl/sampler.wgsl`,
+//! bit for bit); the estimator runs in f32 (the CPU's partly in f64), so CPU and GPU bakes
+//! agree statistically, not bit for bit (the CPU↔GPU test checks means within 4σ).
 
 use crate::bake::{BakeConfig, BakeState, BasisKind, Moments, Targets};
 use crate::scene::{Environment, Light};
@@ -59,6 +59,12 @@ pub struct TraceParams {
     /// Passes this dispatch runs, from `pass_index` (each thread takes its item through
     /// them in order, so an item's state sees exactly the one-pass-per-dispatch updates).
     pub pass_count: u32,
+    /// [`crate::sampler::Sequence::code`].
+    pub sampler: u32,
+    /// 1: the dispatch runs an adaptive batch (indirect, its items listed).
+    pub batch_mode: u32,
+    pub pad1: u32,
+    pub pad2: u32,
     pub env0: [f32; 4],
     pub env1: [f32; 4],
     pub env2: [f32; 4],
@@ -95,6 +101,10 @@ shaders::gpu_struct!(
         part_count,
         part_index,
         pass_count,
+        sampler,
+        batch_mode,
+        pad1,
+        pad2,
         env0,
         env1,
         env2
@@ -105,9 +115,13 @@ shaders::gpu_struct!(crate::bvh::Tri, "Tri", [v0, material, e1, mesh, e2, prim])
 
 const WG: u32 = 64;
 const TRACE_WGSL: &str = include_str!("../wgsl/trace.wgsl");
+/// The sample sequences in WGSL (`wgsl/sampler.wgsl`; reads `P.seed`, `P.sampler`).
+pub const SAMPLER_WGSL: &str = include_str!("../wgsl/sampler.wgsl");
 const GLOSSY_WGSL: &str = include_str!("../wgsl/glossy.wgsl");
 const GLOSSY_NONE_WGSL: &str = include_str!("../wgsl/glossy_none.wgsl");
 const GUIDE_WGSL: &str = include_str!("../wgsl/guide.wgsl");
+const ADAPT_BATCH_WGSL: &str = include_str!("../wgsl/adapt_batch.wgsl");
+const ADAPT_NONE_WGSL: &str = include_str!("../wgsl/adapt_none.wgsl");
 const GUIDE_NONE_WGSL: &str = include_str!("../wgsl/guide_none.wgsl");
 const GUIDE_COMMON_WGSL: &str = include_str!("../wgsl/guide_common.wgsl");
 const GUIDE_BUILD_WGSL: &str = include_str!("../wgsl/guide_build.wgsl");
@@ -230,8 +244,18 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             GUIDE_NONE_WGSL.to_string()
         }
     };
+    let adapt = if config.adaptive.is_some() && !sphere_targets {
+        ADAPT_BATCH_WGSL
+    } else {
+        left_out.push("adaptive sampling (not enabled, or probes): the batch bindings".to_string());
+        ADAPT_NONE_WGSL
+    };
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
-    let source = format!("{}\n{gen}{encode}\n{TRACE_WGSL}\n{}\n{guiding}", lib.source, if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL });
+    let source = format!(
+        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}",
+        lib.source,
+        if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL }
+    );
     shaders::export::validate(&source).map_err(|e| format!("bake kernel: {e}"))?;
     Ok(Kernel { source, left_out })
 }
@@ -429,6 +453,8 @@ pub struct GpuBake<'g> {
     /// Items this device dispatches (all by default; its blocks when the bake is one
     /// device of a [`crate::multi_gpu::MultiGpuBake`]: see [`TraceParams::part_block`]).
     share: usize,
+    /// Adaptive sampling's selection (None: uniform passes).
+    adapt: Option<crate::adapt_gpu::AdaptGpu>,
 }
 
 /// The partition block of a single-device bake (any positive value is the identity).
@@ -547,6 +573,7 @@ impl<'g> GpuBake<'g> {
         if targets.sphere && config.bases.iter().any(|b| !b.is_sphere()) {
             return Err("probes need sphere bases (sh1, sh2, ad12)".into());
         }
+        config.check(targets)?;
         let glossy = tracer.scene.has_glossy();
         let kernel = kernel(config, targets.sphere, glossy)?;
         let d = gpu.device();
@@ -594,7 +621,7 @@ impl<'g> GpuBake<'g> {
         let items = targets.items.len();
         let params = TraceParams {
             pass_index: 0,
-            seed: (config.seed ^ (config.seed >> 32)) as u32,
+            seed: crate::sampler::gpu_seed(config.seed),
             item_count: items as u32,
             max_bounces: config.max_bounces,
             emitter_count: at.emitter_count,
@@ -621,6 +648,10 @@ impl<'g> GpuBake<'g> {
             part_count: 1,
             part_index: 0,
             pass_count: 1,
+            sampler: config.sampler.code(),
+            batch_mode: 0,
+            pad1: 0,
+            pad2: 0,
             env0: env[0],
             env1: env[1],
             env2: env[2],
@@ -675,6 +706,14 @@ impl<'g> GpuBake<'g> {
             entries.push(wgpu::BindGroupEntry { binding: 9, resource: g.rec_buf.as_entire_binding() });
             entries.push(wgpu::BindGroupEntry { binding: 10, resource: g.dist_buf.as_entire_binding() });
         }
+        let adapt = match config.adaptive {
+            Some(a) => Some(crate::adapt_gpu::AdaptGpu::new(d, targets, a, config, &moments_buf)?),
+            None => None,
+        };
+        if let Some(a) = &adapt {
+            entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 12, resource: a.count.as_entire_binding() });
+        }
         let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bake"),
             layout: &pipeline.get_bind_group_layout(0),
@@ -697,6 +736,7 @@ impl<'g> GpuBake<'g> {
             guide,
             batching: Batching { target: Some(BATCH_TARGET_SECONDS), chunk: items.min(INITIAL_CHUNK), passes: 1, dispatches: 0 },
             share: items,
+            adapt,
         })
     }
 
@@ -720,6 +760,9 @@ impl<'g> GpuBake<'g> {
         }
         if self.guide.is_some() && count > 1 {
             return Err("a guided bake cannot be split across devices (guiding learns from whole clusters every pass)".into());
+        }
+        if self.adapt.is_some() && count > 1 {
+            return Err("an adaptive bake cannot be split across devices (each batch draws from the whole atlas's noise)".into());
         }
         (self.params.part_block, self.params.part_count, self.params.part_index) = (block as u32, count as u32, index as u32);
         self.share = (0..self.items.div_ceil(block)).filter(|b| b % count == index).map(|b| block.min(self.items - b * block)).sum();
@@ -804,7 +847,27 @@ impl<'g> GpuBake<'g> {
         self.gpu.queue().submit([enc.finish()]);
     }
 
-    /// Runs `n` passes (waits for them).
+    /// One adaptive batch: the selection, then the bake kernel over the listed items by
+    /// an indirect dispatch, in one submission.
+    fn batch(&mut self) {
+        let Some(a) = self.adapt.as_mut() else { return };
+        let (d, q) = (self.gpu.device(), self.gpu.queue());
+        self.params.batch_mode = 1;
+        self.params.pass_count = 1;
+        q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+        let mut enc = d.create_command_encoder(&Default::default());
+        a.record_select(d, q, &mut enc, self.passes);
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups_indirect(&a.args, 0);
+        }
+        q.submit([enc.finish()]);
+        self.params.batch_mode = 0;
+    }
+
+    /// Runs `n` passes — in an adaptive bake after its pilot, batches — (waits for them).
     pub fn run(&mut self, n: u64) -> Result<(), String> {
         if self.share == 0 {
             // A device of a partition that received no block.
@@ -813,7 +876,17 @@ impl<'g> GpuBake<'g> {
         }
         let mut done = 0;
         while done < n {
-            let k = self.batching.passes.clamp(1, n - done);
+            if self.adapt.as_ref().is_some_and(|a| self.passes >= a.options.pilot_passes) {
+                self.batch();
+                self.passes += 1;
+                done += 1;
+                continue;
+            }
+            let mut k = self.batching.passes.clamp(1, n - done);
+            if let Some(a) = &self.adapt {
+                // Uniform passes stop at the end of the pilot.
+                k = k.min(a.options.pilot_passes - self.passes);
+            }
             self.params.pass_index = self.passes as u32;
             self.params.pass_count = k as u32;
             let d = self.batching.dispatches;

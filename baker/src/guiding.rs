@@ -27,13 +27,14 @@
 //! **Stages** (iterative refinement with doubling, as in Müller et al.'s practical path
 //! guiding): the distribution is built from all sums at the start of pass L (L =
 //! `learn_passes`) and rebuilt at passes 2L, 4L, 8L, … ([`stage`]). Each stage draws its
-//! texels' points from an R3 sequence with its own per-stage shift, numbered from the
-//! stage's first pass. That independence is what keeps the estimate unbiased: a
+//! texels' points from its own scrambled Sobol' sequence (a per-stage seed,
+//! [`crate::sampler::PathSampler::staged_direction`]), numbered from the stage's first
+//! pass. That independence is what keeps the estimate unbiased: a
 //! quasi-random point is predictable from the earlier points of its own sequence (it
 //! falls in their gaps), and a distribution learned from those earlier points is lower
 //! exactly there — a texel's samples would be weighted up where it had not looked yet
 //! (+0.3% on the furnace when the distribution was rebuilt every pass from one sequence).
-//! With a fresh shift per stage, a stage's points are independent of everything its
+//! With a fresh seed per stage, a stage's points are independent of everything its
 //! distribution was built from.
 //!
 //! **Relaxation and CDF.** The sums are smoothed over the quadtree of the 16×16 grid

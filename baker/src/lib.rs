@@ -2,7 +2,7 @@
 //!
 //! - [`scene`]: meshes, materials (Lambert + GGX layers), lights, environment (analytic
 //!   sky or a lat-long map), and the built-in scenes ([`scene::cornell`], the default;
-//!   [`scene::furnace`] for tests; [`scene::slit`] lit through a slit (guiding); [`scene::room_1m`]
+//!   [`scene::furnace`] for tests; [`scene::slit`] lit through a slit (guiding); [`scene::sunbeam`] a sun through the slit (adaptive sampling); [`scene::room_1m`]
 //!   with 1 M lightmapped triangles (the fair benchmark); [`scene::dense`] with a 1 M-triangle sphere for timing).
 //! - [`import`]: glTF 2.0 (TEXCOORD_1 lightmap UVs, metallic/roughness, emission,
 //!   KHR_lights_punctual) with a report of what was skipped.
@@ -11,8 +11,13 @@
 //!   sample positions per texel with a coverage mask.
 //! - [`lights`]: delta lights at a point (directional, point, spot with cone and range),
 //!   the self-intersection-safe ray offset, the environment's importance sampler.
+//! - [`sampler`]: every random number of a pass from (seed, item, pass, path vertex, use):
+//!   shuffled Owen-scrambled Sobol' points per vertex (seed 004 §6.2) or white noise.
 //! - [`trace`]: the path-traced L_in estimator with next-event estimation of every light
 //!   kind at the baked point and along the path (MIS), Russian roulette, CPU.
+//! - [`adapt`]: adaptive sampling — pilot passes, then batches whose texels join with
+//!   probability from their 8×8 tile's mean σ (Neyman allocation, a defensive floor);
+//!   [`adapt_gpu`]: the same selection on the GPU (compaction, indirect dispatch).
 //! - [`bake`]: targets (texels or probes), progressive passes feeding plain irradiance
 //!   and the per-sample encoders on the CPU (the reference path), the shared state.
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
@@ -40,6 +45,8 @@
 //! - [`slc_media`]: the same for single scattering in a homogeneous slab (seed 001): point
 //!   lights and diffuse VPLs, equiangular sampling inside the inner sphere, uniform outside.
 
+pub mod adapt;
+pub mod adapt_gpu;
 pub mod bake;
 pub mod bvh;
 pub mod checkpoint;
@@ -54,6 +61,7 @@ pub mod multi_gpu;
 pub mod output;
 pub mod placement;
 pub mod run;
+pub mod sampler;
 pub mod scene;
 pub mod seams;
 pub mod slc;

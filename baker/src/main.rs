@@ -26,7 +26,7 @@ const DENOISE_AUTO_MAX_PASSES: u64 = 2048;
     after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `room-1m` (1 M lightmapped triangles, the fair benchmark), `dense` (cornell + a 1 M-triangle
+    /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `sunbeam` (the slit room lit by a sun through the slit: a small bright indirect region), `room-1m` (1 M lightmapped triangles, the fair benchmark), `dense` (cornell + a 1 M-triangle
     /// sphere), or a .gltf/.glb file.
     #[arg(long, default_value = "cornell")]
     scene: String,
@@ -51,6 +51,19 @@ struct Cli {
     /// distributions are rebuilt at this pass count, twice it, four times, …
     #[arg(long)]
     guiding_learn: Option<u64>,
+    /// Adaptive sampling of lightmap texels (seed 004 §3.3): after --adaptive-pilot
+    /// uniform passes, batches whose texels join with probability from their 8×8 tile's
+    /// noise (σ); the batches spend about the paths of --passes uniform passes. Not with
+    /// --guiding or several GPUs; probes stay uniform.
+    #[arg(long)]
+    adaptive: bool,
+    /// Uniform passes before adapting (with --adaptive).
+    #[arg(long, default_value_t = 8)]
+    adaptive_pilot: u64,
+    /// Expected paths per batch as a fraction of the texels, (0, 1] (with --adaptive): a
+    /// texel can receive up to 1/fraction times the uniform rate.
+    #[arg(long, default_value_t = 0.25)]
+    adaptive_fraction: f64,
     /// Denoise the lightmap (joint non-local means within charts, guided by position and
     /// normal; the same weights for irradiance and every coefficient) before dilation.
     /// `auto`: on up to 2048 passes, where it was measured to lower the error (2.0× at 128
@@ -84,6 +97,10 @@ struct Cli {
     solver: String,
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Sample sequences: sobol (shuffled, Owen-scrambled Sobol' points per path vertex,
+    /// seed 004 §6.2) or independent (white noise, for comparison).
+    #[arg(long, default_value = "sobol")]
+    sampler: String,
     /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
     /// rasterisers such as lavapipe included), or cpu.
     #[arg(long, default_value = "auto")]
@@ -222,6 +239,19 @@ fn options(c: Cli) -> Result<Options, String> {
     if c.guiding_learn.is_some() && !c.guiding {
         return Err("--guiding-learn needs --guiding".into());
     }
+    if (c.adaptive_pilot != 8 || c.adaptive_fraction != 0.25) && !c.adaptive {
+        return Err("--adaptive-pilot and --adaptive-fraction need --adaptive".into());
+    }
+    let adaptive = if c.adaptive {
+        if c.guiding {
+            return Err("--adaptive and --guiding cannot be combined (guiding learns from whole passes)".into());
+        }
+        let a = baker::adapt::AdaptiveOptions { pilot_passes: c.adaptive_pilot, batch_fraction: c.adaptive_fraction, ..Default::default() };
+        a.validate()?;
+        Some(a)
+    } else {
+        None
+    };
     let guiding = if c.guiding {
         let mut g = baker::guiding::GuidingOptions::for_passes(c.passes);
         if let Some(n) = c.guiding_learn {
@@ -238,7 +268,16 @@ fn options(c: Cli) -> Result<Options, String> {
         texels_per_unit: c.texels_per_unit,
         padding: c.padding,
         passes: c.passes,
-        config: baker::bake::BakeConfig { seed: c.seed, max_bounces: c.bounces, bases: parse_bases(&bases)?, solver, guiding },
+        config: baker::bake::BakeConfig {
+            seed: c.seed,
+            max_bounces: c.bounces,
+            bases: parse_bases(&bases)?,
+            solver,
+            guiding,
+            sampler: baker::sampler::Sequence::parse(&c.sampler)
+                .ok_or_else(|| format!("unknown --sampler '{}': sobol or independent", c.sampler))?,
+            adaptive,
+        },
         device,
         out: c.out,
         checkpoint_every: c.checkpoint_every,

@@ -84,6 +84,8 @@ impl Default for Options {
                 bases: vec![BasisKind::ShL2, BasisKind::Ad9],
                 solver: Solver::Nnls,
                 guiding: None,
+                sampler: Default::default(),
+                adaptive: None,
             },
             device: Device::Auto,
             out: PathBuf::from("bake-out"),
@@ -122,6 +124,7 @@ pub fn load_scene(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(St
         "cornell" => scene::cornell(),
         "furnace" => scene::furnace(1.0, 0.5),
         "slit" => scene::slit(),
+        "sunbeam" => scene::sunbeam(),
         "room-1m" => scene::room_1m(),
         "dense" => scene::dense(1 << 20),
         path => {
@@ -186,6 +189,7 @@ fn run_targets<'s>(
     what: &str,
     log: &mut dyn FnMut(String),
 ) -> Result<(BakeState, u64), String> {
+    config.check(targets)?;
     let ckpt = o.out.join(format!("{what}.checkpoint"));
     let fp = checkpoint::content_fingerprint(scene, targets, config, what);
     let saved = if o.resume && ckpt.exists() {
@@ -223,11 +227,14 @@ fn run_targets<'s>(
             Engine::Gpu(Box::new(b))
         }
     };
+    // Adaptive bakes count pilot passes and batches (about the paths of o.passes passes).
+    let total = config.adaptive.map_or(o.passes, |a| a.batches_for(o.passes));
+    let unit = if config.adaptive.is_some() { "passes + batches" } else { "passes" };
     let start = engine.passes();
-    let todo = o.passes.saturating_sub(start);
-    let bar = if o.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(o.passes) };
+    let todo = total.saturating_sub(start);
+    let bar = if o.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(total) };
     bar.set_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} passes, {per_sec}, ETA {eta}")
+        indicatif::ProgressStyle::with_template(&format!("{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}, {{per_sec}}, ETA {{eta}}"))
             .expect("template")
             .progress_chars("=> "),
     );
@@ -235,8 +242,8 @@ fn run_targets<'s>(
     bar.set_position(start);
     let chunk = if o.checkpoint_every > 0 { o.checkpoint_every } else { todo.max(1) };
     let mut run = 0;
-    while engine.passes() < o.passes {
-        let n = chunk.min(o.passes - engine.passes());
+    while engine.passes() < total {
+        let n = chunk.min(total - engine.passes());
         // Progress granularity: at most 8 passes per call between bar updates.
         let mut left = n;
         while left > 0 {
@@ -377,7 +384,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
             }
         }
         let pt = Targets::probes(&probe_positions);
-        let pcfg = BakeConfig { bases: o.probe_bases.clone(), ..o.config.clone() };
+        let pcfg = BakeConfig { bases: o.probe_bases.clone(), adaptive: None, ..o.config.clone() };
         let t = Instant::now();
         let (ps, prun) = run_targets(o, &pcfg, &gpus, &tracer_of, &scene, &pt, "probes", log)?;
         times.probe_passes = Some(t.elapsed().as_secs_f64());
@@ -584,6 +591,9 @@ fn write_outputs(
         "device": device,
         "passes": state.passes,
         "seed": o.config.seed,
+        "sampler": o.config.sampler.name(),
+        "adaptive": o.config.adaptive.map(|a| json!({"pilot_passes": a.pilot_passes, "batch_fraction": a.batch_fraction, "floor": a.floor})),
+        "paths": state.moments.iter().map(crate::bake::Moments::count).sum::<u64>(),
         "max_bounces": o.config.max_bounces,
         "solver": format!("{:?}", o.config.solver),
         "layout": {"width": lm.width, "height": lm.height, "texels_per_unit": lm.texels_per_unit, "padding": lm.padding,

@@ -505,6 +505,35 @@ pub fn slit() -> Scene {
     }
 }
 
+/// A 1 m hut with a slit in its front wall on an 8 m × 8 m ground, under a sky and a
+/// sun that shines straight in through the slit at 26.6° elevation: inside, a bright
+/// stripe on the floor and the back wall lights the hut indirectly — a small bright
+/// indirect region (about a tenth of the texels) whose texels are far noisier than the
+/// ground's (sun by next-event estimation, exact; the sky by MIS, smooth). The scene
+/// adaptive sampling ([`crate::adapt`]) is for.
+pub fn sunbeam() -> Scene {
+    let h = 0.5;
+    let mut hut = room(h, [0; 6], Some((-0.03, 0.03, -0.3, 0.3)));
+    for m in &mut hut {
+        m.name = format!("hut.{}", m.name);
+        m.positions.iter_mut().for_each(|p| p.y += h);
+    }
+    let g = 4.0;
+    let v = Vec3::new;
+    hut.push(quad("ground", v(-g, -0.002, -g), v(-g, -0.002, g), v(g, -0.002, g), v(g, -0.002, -g), 1, true));
+    let mut walls = Material::lambert(Vec3::splat(0.6));
+    walls.double_sided = true;
+    Scene {
+        name: "sunbeam".into(),
+        meshes: hut,
+        materials: vec![walls, Material::lambert(Vec3::splat(0.4))],
+        lights: vec![Light::Directional { direction: Vec3::new(0.0, 0.5, 1.0).normalize(), irradiance: Vec3::new(40.0, 38.0, 34.0) }],
+        // A dim dusk sky: the ground's noise (≈ L/√3 per sample from a constant sky under
+        // uniform hemisphere sampling) stays well below the hut's.
+        environment: Environment::Constant(Vec3::new(0.1, 0.11, 0.13)),
+    }
+}
+
 /// A closed box whose every wall emits `le` and reflects with Lambert albedo `albedo`:
 /// the radiance everywhere is exactly le/(1 − albedo) (the furnace test).
 pub fn furnace(le: f32, albedo: f32) -> Scene {

@@ -24,9 +24,9 @@
 
 use crate::bvh::Bvh;
 use crate::lights::{delta_at, luminance, offset_ray, offset_towards, shadow_ray, EnvSampler};
+use crate::sampler::{PathSampler, DIRECTION, EMITTER, ENVIRONMENT};
 use crate::scene::{Material, Scene};
 use sbf::glam::{DVec3, Vec3};
-use sbf::sampling::Pcg32;
 
 /// Scene data the estimator needs.
 #[derive(Debug)]
@@ -119,9 +119,10 @@ impl<'a> Tracer<'a> {
     /// offset along the geometric one, and directions below the geometric plane see the
     /// surface itself (radiance 0) — probes None (sphere). `dir` is the point sample's
     /// world direction, drawn uniformly over the domain.
-    pub fn sample_point(&self, x: Vec3, normal: Option<(Vec3, Vec3)>, dir: Vec3, rng: &mut Pcg32) -> PointSample {
+    /// `smp` is at vertex 0 (the baked point); the path moves it along.
+    pub fn sample_point(&self, x: Vec3, normal: Option<(Vec3, Vec3)>, dir: Vec3, smp: &mut PathSampler) -> PointSample {
         let p_s = if normal.is_some() { 1.0 / (2.0 * std::f64::consts::PI) } else { 1.0 / (4.0 * std::f64::consts::PI) };
-        self.sample_point_with(x, normal, dir, &|_| p_s, rng)
+        self.sample_point_with(x, normal, dir, &|_| p_s, smp)
     }
 
     /// [`Self::sample_point`] for a point sample drawn from any density: `pdf_of(ω)` is
@@ -134,7 +135,7 @@ impl<'a> Tracer<'a> {
         normal: Option<(Vec3, Vec3)>,
         dir: Vec3,
         pdf_of: &dyn Fn(Vec3) -> f64,
-        rng: &mut Pcg32,
+        smp: &mut PathSampler,
     ) -> PointSample {
         let origin = |d: Vec3| match normal {
             Some((_, ng)) => offset_towards(x, ng, d),
@@ -153,7 +154,7 @@ impl<'a> Tracer<'a> {
         let delta = lights.len();
         // One emitter point by power and one environment direction, MIS against the
         // point sample.
-        for a in self.area_samples(x, rng).into_iter().flatten() {
+        for a in self.area_samples(x, smp).into_iter().flatten() {
             if in_domain(a.wi) && self.visible(origin(a.wi), &a) {
                 lights.push((a.wi, a.radiance * (power2(a.pdf, pdf_of(a.wi)) / a.pdf) as f32));
             }
@@ -162,24 +163,25 @@ impl<'a> Tracer<'a> {
             // Between the shading and the geometric horizon: the surface occludes.
             return PointSample { radiance: Vec3::ZERO, lights, delta, back_face: false };
         }
-        let (radiance, back_face) = self.path(origin(dir), dir, pdf_of(dir), true, rng);
+        let (radiance, back_face) = self.path(origin(dir), dir, pdf_of(dir), true, smp);
         PointSample { radiance, lights, delta, back_face }
     }
 
     /// Radiance arriving at an offset origin `o` from unit direction `dir` (the first
     /// segment counted fully): the estimator along a path, for callers without MIS at
     /// the start (the preview).
-    pub fn incoming(&self, o: Vec3, dir: Vec3, rng: &mut Pcg32) -> Vec3 {
-        self.path(o, dir, 0.0, false, rng).0
+    pub fn incoming(&self, o: Vec3, dir: Vec3, smp: &mut PathSampler) -> Vec3 {
+        self.path(o, dir, 0.0, false, smp).0
     }
 
     /// One next-event sample of the area lights seen from `x`: an emitter point chosen by
     /// power (area-uniform on its triangle) and an environment direction (luminance ×
     /// solid angle), each with its solid-angle pdf; None where a light kind is absent or
-    /// the emitter faces away. The random numbers drawn do not depend on the scene's
-    /// lights (3 for the emitter, 3 for the environment).
-    fn area_samples(&self, x: Vec3, rng: &mut Pcg32) -> [Option<AreaSample>; 2] {
-        let emitter = match self.pick_emitter(rng) {
+    /// the emitter faces away. The numbers come from the vertex's [`EMITTER`] and
+    /// [`ENVIRONMENT`] groups.
+    fn area_samples(&self, x: Vec3, smp: &PathSampler) -> [Option<AreaSample>; 2] {
+        let ue = smp.get(EMITTER);
+        let emitter = match self.pick_emitter([ue[0], ue[1], ue[2]]) {
             Some((tri, q)) => {
                 let to = q - x;
                 let dist = to.length();
@@ -193,13 +195,10 @@ impl<'a> Tracer<'a> {
                     target: Some(q),
                 })
             }
-            None => {
-                rng.next_f64();
-                rng.next_2d();
-                None
-            }
+            None => None,
         };
-        let u = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
+        let uv = smp.get(ENVIRONMENT);
+        let u = [uv[0], uv[1], uv[2]];
         let env = self.env.as_ref().and_then(|env| {
             let (wi, pdf) = env.sample(u);
             (pdf > 0.0).then(|| AreaSample { wi, radiance: self.scene.environment.radiance(wi), pdf, target: None })
@@ -229,15 +228,15 @@ impl<'a> Tracer<'a> {
         d > 0.0 && !self.bvh.occluded(o, to / d, 0.0, d * (1.0 - 1e-4))
     }
 
-    fn pick_emitter(&self, rng: &mut Pcg32) -> Option<(u32, Vec3)> {
+    /// An emitter by power (u₀) and a point uniform on it (u₁, u₂).
+    fn pick_emitter(&self, u: [f64; 3]) -> Option<(u32, Vec3)> {
         if self.emitters.is_empty() {
             return None;
         }
-        let u = rng.next_f64();
-        let k = self.cdf.partition_point(|c| *c < u).min(self.emitters.len() - 1);
+        let k = self.cdf.partition_point(|c| *c < u[0]).min(self.emitters.len() - 1);
         let ti = self.emitters[k];
         let tri = &self.bvh.tris[ti as usize];
-        let [a, b] = rng.next_2d();
+        let [a, b] = [u[1], u[2]];
         let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
         Some((ti, tri.v0() + tri.e1() * a as f32 + tri.e2() * b as f32))
     }
@@ -245,7 +244,8 @@ impl<'a> Tracer<'a> {
     /// The path from origin `o` along `dir`. `first_pdf` > 0: the pdf of the strategy
     /// that chose `dir` (MIS for the first hit); 0: the first segment counts fully.
     /// `reject_back`: report a first hit on a single-sided back face (and stop).
-    fn path(&self, o: Vec3, dir: Vec3, first_pdf: f64, reject_back: bool, rng: &mut Pcg32) -> (Vec3, bool) {
+    /// Hit k (bounce k − 1) draws from vertex k of `smp`.
+    fn path(&self, o: Vec3, dir: Vec3, first_pdf: f64, reject_back: bool, smp: &mut PathSampler) -> (Vec3, bool) {
         let mut o = o;
         let mut d = dir;
         let mut throughput = Vec3::ONE;
@@ -281,16 +281,18 @@ impl<'a> Tracer<'a> {
             let p = o + d * hit.t;
             let ns = if front { ng } else { -ng };
             let wo = -d;
-            radiance += throughput * self.direct(p, ns, wo, mat, rng);
-            // BSDF sampling.
-            let Some((wi, f, pdf)) = sample_bsdf(mat, ns, wo, rng) else { break };
+            smp.at_vertex(bounce + 1);
+            radiance += throughput * self.direct(p, ns, wo, mat, smp);
+            // BSDF sampling: layer choice u₀, direction (u₁, u₂); Russian roulette u₃.
+            let u = smp.get(DIRECTION);
+            let Some((wi, f, pdf)) = sample_bsdf(mat, ns, wo, [u[0], u[1], u[2]]) else { break };
             throughput *= f * (wi.dot(ns) / pdf as f32);
             if !throughput.is_finite() || throughput.max_element() <= 0.0 {
                 break;
             }
             if bounce >= 2 {
                 let q = throughput.max_element().min(0.95);
-                if rng.next_f64() as f32 >= q {
+                if u[3] as f32 >= q {
                     break;
                 }
                 throughput /= q;
@@ -305,10 +307,10 @@ impl<'a> Tracer<'a> {
     /// Next-event estimation at p (shading normal ns facing wo): one emitter by power and
     /// one environment direction, each MIS-weighted against the BSDF; every delta light.
     /// Shadow rays start at the offset point and aim from it.
-    fn direct(&self, p: Vec3, ns: Vec3, wo: Vec3, mat: &Material, rng: &mut Pcg32) -> Vec3 {
+    fn direct(&self, p: Vec3, ns: Vec3, wo: Vec3, mat: &Material, smp: &PathSampler) -> Vec3 {
         let mut l = Vec3::ZERO;
         let o = offset_ray(p, ns);
-        for a in self.area_samples(p, rng).into_iter().flatten() {
+        for a in self.area_samples(p, smp).into_iter().flatten() {
             let cos_i = a.wi.dot(ns);
             if cos_i > 0.0 {
                 let (f, pb) = eval_bsdf(mat, ns, wo, a.wi);
@@ -369,11 +371,12 @@ pub fn eval_bsdf(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> (Vec3, f64) {
     (f, pdf)
 }
 
-/// Samples wi for the layered material: (wi, f, pdf) or None.
-pub fn sample_bsdf(m: &Material, ns: Vec3, wo: Vec3, rng: &mut Pcg32) -> Option<(Vec3, Vec3, f64)> {
+/// Samples wi for the layered material from u = (layer choice, 2D direction): (wi, f,
+/// pdf) or None.
+pub fn sample_bsdf(m: &Material, ns: Vec3, wo: Vec3, u: [f64; 3]) -> Option<(Vec3, Vec3, f64)> {
     let ps = specular_probability(m);
-    let choose = rng.next_f64();
-    let u = rng.next_2d();
+    let choose = u[0];
+    let u = [u[1], u[2]];
     let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(ns.as_dvec3());
     let n = ns.as_dvec3();
     let world = |l: DVec3| (t * l.x + b * l.y + n * l.z).as_vec3();

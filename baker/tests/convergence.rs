@@ -25,7 +25,15 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
     let bvh = Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = |seed| BakeConfig { seed, max_bounces: 4, bases: vec![BasisKind::Ad9], solver: Solver::Nnls, guiding: None };
+    let cfg = |seed| BakeConfig {
+        seed,
+        max_bounces: 4,
+        bases: vec![BasisKind::Ad9],
+        solver: Solver::Nnls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive: None,
+    };
     // Reference: 16 384 passes, another seed.
     let t = Instant::now();
     let mut r = Bake::new(cfg(1000), &targets, Tracer::new(&s, &bvh, 4));

@@ -18,10 +18,26 @@ const ALL_BASES: [BasisKind; 6] = [BasisKind::ShL1, BasisKind::ShL2, BasisKind::
 fn kernels_validate_and_structs_match() {
     for glossy in [false, true] {
         for b in ALL_BASES {
-            let cfg = BakeConfig { seed: 1, max_bounces: 4, bases: vec![b], solver: Solver::Nnls, guiding: None };
+            let cfg = BakeConfig {
+                seed: 1,
+                max_bounces: 4,
+                bases: vec![b],
+                solver: Solver::Nnls,
+                guiding: None,
+                sampler: Default::default(),
+                adaptive: None,
+            };
             kernel(&cfg, false, glossy).unwrap_or_else(|e| panic!("{b:?} glossy={glossy}: {e}"));
         }
-        let cfg = BakeConfig { seed: 1, max_bounces: 4, bases: ALL_BASES.to_vec(), solver: Solver::Ls, guiding: None };
+        let cfg = BakeConfig {
+            seed: 1,
+            max_bounces: 4,
+            bases: ALL_BASES.to_vec(),
+            solver: Solver::Ls,
+            guiding: None,
+            sampler: Default::default(),
+            adaptive: None,
+        };
         let k = kernel(&cfg, false, glossy).unwrap();
         // Left out: the GGX functions exactly when no material is glossy.
         assert_eq!(k.source.contains("fn ggx_d("), glossy);
@@ -31,7 +47,15 @@ fn kernels_validate_and_structs_match() {
         shaders::layout::check::<baker::bvh::Tri>(&k.source).unwrap();
         shaders::layout::check::<shaders::progressive::EncoderState>(&k.source).unwrap();
     }
-    let probes = BakeConfig { seed: 1, max_bounces: 4, bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls, guiding: None };
+    let probes = BakeConfig {
+        seed: 1,
+        max_bounces: 4,
+        bases: vec![BasisKind::ShL2, BasisKind::Ad12],
+        solver: Solver::Ls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive: None,
+    };
     kernel(&probes, true, true).unwrap();
 }
 
@@ -64,7 +88,15 @@ fn furnace_gpu() {
     let targets = Targets::lightmap(&lm);
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error.
     let tracer = Tracer::new(&s, &bvh, 64);
-    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: ALL_BASES.to_vec(), solver: Solver::Ls, guiding: None };
+    let cfg = BakeConfig {
+        seed: 3,
+        max_bounces: 64,
+        bases: ALL_BASES.to_vec(),
+        solver: Solver::Ls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive: None,
+    };
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(128).unwrap();
     let st = g.state().unwrap();
@@ -160,8 +192,14 @@ fn chart_differences(
 /// mean GPU−CPU difference of E/π (σ from both bakes' per-texel standard errors) and of
 /// every AD9 and SH L2 coefficient (σ from the spread of per-texel differences) is
 /// within 3σ (Bonferroni-free: 3σ per chart, so a handful of the ~80 tests may graze it;
-/// ≥ 97% must pass and the scene means must). The same check on the GPU state scaled by
-/// 1.05 must fail (the test has power).
+/// ≥ 97% must pass and the scene means must), the CPU bake with another seed so that the
+/// two are independent. The same check on the GPU state scaled by 1.05 must fail (the
+/// test has power). With the same seed both draw the same numbers, and ≥ 90% of texels
+/// must agree within 1e-4 relative: f32 rounding over a path's ~10³ operations is
+/// ≈ 10³·2⁻²⁴ ≈ 6e-5; a texel fails only where one of its 96 paths diverged (a
+/// comparison decided differently in f32 and f64). Measured: 1 054 of 1 056 texels.
+/// Mutation tried: the WGSL white-noise / Sobol' sampler with a changed constant — the
+/// same-seed agreement falls to 0 of 1 054 texels.
 #[test]
 fn gpu_matches_cpu_on_the_builtin_scene() {
     let Some(gpu) = gpu() else { return };
@@ -170,16 +208,40 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
     let lm = Lightmap::build(&s, 6.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
     let tracer = Tracer::new(&s, &bvh, 4);
-    let cfg = BakeConfig { seed: 11, max_bounces: 4, bases: vec![BasisKind::Ad9, BasisKind::ShL2], solver: Solver::Nnls, guiding: None };
+    let cfg = BakeConfig {
+        seed: 11,
+        max_bounces: 4,
+        bases: vec![BasisKind::Ad9, BasisKind::ShL2],
+        solver: Solver::Nnls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive: None,
+    };
     let passes = 96;
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(passes).unwrap();
     let gs = g.state().unwrap();
-    let mut c = Bake::new(cfg.clone(), &targets, Tracer::new(&s, &bvh, 4));
-    for _ in 0..passes {
-        c.pass();
-    }
-    let cs = c.state;
+    // Same seed: the same sample sequences (baker::sampler, bit-identical twins), so the
+    // bakes agree texel by texel up to f32 rounding, except where a path diverges (a
+    // comparison decided differently in f32 and f64 sends it elsewhere).
+    let cpu_bake = |seed: u64| {
+        let mut c = Bake::new(BakeConfig { seed, ..cfg.clone() }, &targets, Tracer::new(&s, &bvh, 4));
+        for _ in 0..passes {
+            c.pass();
+        }
+        c.state
+    };
+    let same = cpu_bake(cfg.seed);
+    let (gm, sm) = (gs.mean(), same.mean());
+    let rel: Vec<f64> = (0..gm.len())
+        .filter(|&k| gs.moments[k].accepted > 0 && same.moments[k].accepted > 0)
+        .map(|k| (0..3).map(|c| (gm[k][c] - sm[k][c]).abs() / sm[k][c].abs().max(1e-6)).fold(0.0, f64::max))
+        .collect();
+    let close = rel.iter().filter(|r| **r <= 1e-4).count();
+    println!("same seed: {close}/{} texels agree within 1e-4 relative (worst {:.2e})", rel.len(), rel.iter().cloned().fold(0.0, f64::max));
+    assert!(close as f64 >= 0.9 * rel.len() as f64, "same seed: only {close}/{} texels agree within 1e-4", rel.len());
+    // The statistical comparison needs independent bakes: the CPU with another seed.
+    let cs = cpu_bake(cfg.seed + 1000);
     let valid: Vec<bool> = gs.valid().iter().zip(cs.valid()).map(|(a, b)| *a && b).collect();
     let agree = |gs: &BakeState, label: &str| -> (usize, usize, bool) {
         let (gm, gse, cm, cse) = (gs.mean(), gs.standard_error(), cs.mean(), cs.standard_error());
@@ -265,6 +327,8 @@ fn chunked_dispatches_give_the_identical_bake() {
         bases: vec![BasisKind::ShL2, BasisKind::Ad9],
         solver: Solver::Nnls,
         guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
+        sampler: Default::default(),
+        adaptive: None,
     };
     let run = |setup: &dyn Fn(&mut GpuBake)| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();

@@ -11,16 +11,6 @@ const GUIDE_CDF_LEN: u32 = 272u;
 const GUIDE_NONE: u32 = 0xffffffffu;
 const GUIDE_RECORDS: u32 = 3u;
 
-// Point n of item's R3 sequence of this stage (sbf::sampling::R3, α·2³² in integers, a
-// shift hashed from the seed, item and stage — independent per stage, baker::guiding):
-// the direction and the mixture choice of a guided bake.
-fn guide_point(n: u32, item: u32) -> vec3<f32> {
-    let h = pcg_hash(P.seed ^ pcg_hash(item + 0x7f4a7c15u) ^ pcg_hash(P.guide_stage * 0x9e3779b9u + 0x632be5abu));
-    let shift = vec3<u32>(h, pcg_hash(h), pcg_hash(h ^ 0x5bd1e995u));
-    let v = shift + n * vec3<u32>(3518319155u, 2882110345u, 2360945575u);
-    return vec3<f32>(v >> vec3<u32>(8u)) * (1.0 / 16777216.0);
-}
-
 // Shirley–Chiu concentric map [0,1)² → unit disk (sbf::sampling::concentric_disk).
 fn guide_disk(u: vec2<f32>) -> vec2<f32> {
     let a = 2.0 * u.x - 1.0;

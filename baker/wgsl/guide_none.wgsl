@@ -9,10 +9,6 @@ fn guide_pdf(c: u32, local: vec3<f32>) -> f32 {
     return 0.5 * INV_PI;
 }
 
-fn guide_point(n: u32, item: u32) -> vec3<f32> {
-    return vec3<f32>(0.5);
-}
-
 fn guide_record(i: u32, slot: u32, local: vec3<f32>, lum: f32) {
 }
 

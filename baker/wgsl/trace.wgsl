@@ -73,6 +73,12 @@ struct TraceParams {
     // Passes of this dispatch, from pass_index: each thread takes its item through them in
     // order (the item's state sees exactly the one-pass-per-dispatch updates).
     pass_count: u32,
+    // Sample sequences (baker::sampler::Sequence::code): 0 Sobol', 1 independent.
+    sampler: u32,
+    // 1: this dispatch runs an adaptive batch (its items listed by adapt_batch.wgsl).
+    batch_mode: u32,
+    pad1: u32,
+    pad2: u32,
     env0: vec4<f32>,
     env1: vec4<f32>,
     env2: vec4<f32>,
@@ -143,31 +149,8 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-// ---- random numbers ----
+// ---- random numbers: sampler.wgsl (composed after this file) ----
 
-// PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").
-fn pcg_hash(x: u32) -> u32 {
-    let state = x * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
-// A PCG32 stream (LCG step, RXS-M-XS output) seeded per (seed, pass, item).
-fn rng_next(s: ptr<function, u32>) -> f32 {
-    *s = *s * 747796405u + 2891336453u;
-    let x = *s;
-    let word = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
-    return f32(((word >> 22u) ^ word) >> 8u) * (1.0 / 16777216.0);
-}
-
-// R2 (Roberts 2018) point `n` with a per-item Cranley–Patterson shift, in 32-bit fixed
-// point so that any pass index stays exact: frac(shift + n·(1/φ₂, 1/φ₂²)).
-fn r2_point(n: u32, item: u32) -> vec2<f32> {
-    let h = pcg_hash(P.seed ^ pcg_hash(item + 0x9e3779b9u));
-    let shift = vec2<u32>(h, pcg_hash(h));
-    let v = shift + n * vec2<u32>(3242174889u, 2447445414u);
-    return vec2<f32>(v >> vec2<u32>(8u)) * (1.0 / 16777216.0);
-}
 
 // ---- traversal ----
 
@@ -365,13 +348,11 @@ struct EmitterPoint {
     q: vec3<f32>,
 }
 
-fn pick_emitter(rng: ptr<function, u32>) -> EmitterPoint {
-    let u = rng_next(rng);
-    var a = rng_next(rng);
-    var b = rng_next(rng);
-    if (P.emitter_count == 0u) {
-        return EmitterPoint(NO_HIT, vec3<f32>(0.0));
-    }
+// An emitter by power (u.x) and a point uniform on it (u.y, u.z).
+fn pick_emitter(u3: vec3<f32>) -> EmitterPoint {
+    let u = u3.x;
+    var a = u3.y;
+    var b = u3.z;
     // Binary search of the CDF (first entry ≥ u).
     var lo = 0u;
     var hi = P.emitter_count - 1u;
@@ -475,14 +456,14 @@ struct AreaSample {
     bounded: bool,
 }
 
-// k = 0: an emitter point by power; k = 1: an environment direction. Each draws 3 random
-// numbers whatever the scene holds.
-fn area_sample(k: u32, x: vec3<f32>, rng: ptr<function, u32>) -> AreaSample {
+// k = 0: an emitter point by power; k = 1: an environment direction — from the vertex's
+// emitter and environment groups.
+fn area_sample(k: u32, x: vec3<f32>, smp: Sampler) -> AreaSample {
     if (k == 0u) {
-        let em = pick_emitter(rng);
-        if (em.tri == NO_HIT) {
+        if (P.emitter_count == 0u) {
             return AreaSample(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0), true);
         }
+        let em = pick_emitter(sample4(smp, USE_EMITTER).xyz);
         let tri = tris[em.tri];
         let to = em.q - x;
         let dist = length(to);
@@ -494,8 +475,7 @@ fn area_sample(k: u32, x: vec3<f32>, rng: ptr<function, u32>) -> AreaSample {
         let le = load_material(tri.material).emissive;
         return AreaSample(wi, le, emitter_pdf(le, dist, cos_l), em.q, true);
     }
-    let u = vec3<f32>(rng_next(rng), rng_next(rng), rng_next(rng));
-    let es = env_sample(u);
+    let es = env_sample(sample4(smp, USE_ENVIRONMENT).xyz);
     if (!(es.pdf > 0.0)) {
         return AreaSample(es.wi, vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
     }
@@ -562,9 +542,10 @@ struct BsdfSample {
 }
 
 // Samples wi (pdf 0 when the sample is lost: below the surface or zero throughput).
-fn sample_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, rng: ptr<function, u32>) -> BsdfSample {
-    let choose = rng_next(rng);
-    let u = vec2<f32>(rng_next(rng), rng_next(rng));
+// u = (layer choice, 2D direction).
+fn sample_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, u3: vec3<f32>) -> BsdfSample {
+    let choose = u3.x;
+    let u = u3.yz;
     let fr = tangent_frame(ns);
     var local: vec3<f32>;
     if (choose < m.specular_probability) {
@@ -585,11 +566,11 @@ fn sample_bsdf(m: Material, ns: vec3<f32>, wo: vec3<f32>, rng: ptr<function, u32
 // Next-event estimation at p (shading normal ns facing wo): one emitter by power and one
 // environment direction, MIS against the BSDF; every delta light. Shadow rays start at
 // the offset point and aim from it.
-fn direct(p: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, rng: ptr<function, u32>) -> vec3<f32> {
+fn direct(p: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, smp: Sampler) -> vec3<f32> {
     var l = vec3<f32>(0.0);
     let o = offset_ray(p, ns);
     for (var k = 0u; k < 2u; k++) {
-        let a = area_sample(k, p, rng);
+        let a = area_sample(k, p, smp);
         let cos_i = dot(a.wi, ns);
         if (a.pdf > 0.0 && cos_i > 0.0) {
             let e = eval_bsdf(m, ns, wo, a.wi);
@@ -622,7 +603,9 @@ struct PathResult {
     back: bool,
 }
 
-fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, rng: ptr<function, u32>) -> PathResult {
+// Hit k (bounce k − 1) draws from vertex k of the sampler.
+fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, smp0: Sampler) -> PathResult {
+    var smp = smp0;
     var o = origin;
     var d = dir;
     var throughput = vec3<f32>(1.0);
@@ -665,8 +648,11 @@ fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, rn
         let p = o + d * hit.t;
         let ns = select(-ng, ng, front);
         let wo = -d;
-        radiance += throughput * direct(p, ns, wo, m, rng);
-        let s = sample_bsdf(m, ns, wo, rng);
+        smp.vertex = bounce + 1u;
+        radiance += throughput * direct(p, ns, wo, m, smp);
+        // BSDF: layer choice, direction; Russian roulette: the fourth number.
+        let ub = sample4(smp, USE_DIRECTION);
+        let s = sample_bsdf(m, ns, wo, ub.xyz);
         if (!(s.pdf > 0.0)) {
             break;
         }
@@ -676,7 +662,7 @@ fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, rn
         }
         if (bounce >= 2u) {
             let q = min(max3(throughput), 0.95);
-            if (rng_next(rng) >= q) {
+            if (ub.w >= q) {
                 break;
             }
             throughput /= q;
@@ -698,6 +684,13 @@ fn finite3(v: vec3<f32>) -> bool {
 // `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    if (P.batch_mode == 1u) {
+        let b = batch_item(gid.x + gid.y * nwg.x * 64u);
+        if (b.x != NO_HIT) {
+            bake_item(b.x, b.y);
+        }
+        return;
+    }
     let v = P.item_offset + gid.x + gid.y * nwg.x * 64u;
     if (v >= P.item_end) {
         return;
@@ -713,14 +706,19 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
 fn bake_item(i: u32, pass_index: u32) {
     project_reset();
     let it = items[i];
+    let smp = sampler_new(it.z, pass_index);
+    // The baked point's direction group (u₀, u₁ direction, u₃ guided mixture choice):
+    // unguided, or the guiding stage's own; the sub-texel point from the sample index.
+    var u4 = sample4(smp, USE_DIRECTION);
+    if (P.guide_phase != 0u) {
+        u4 = sample_staged(smp, P.guide_stage, P.guide_start);
+    }
     let k = it.x + pass_index % it.y;
     let pos = points[3u * k].xyz;
     // Shading normal (the texel's hemisphere and frame) and geometric normal (offsets and
     // the surface's own horizon: directions below it see the surface, radiance 0).
     let nrm = points[3u * k + 1u].xyz;
     let ng = points[3u * k + 2u].xyz;
-    let u = r2_point(pass_index, it.z);
-    var rng = pcg_hash(P.seed ^ pcg_hash(pass_index ^ pcg_hash(it.z + 0x68e31da4u)));
     let texel = P.mode == 0u;
     let fr = tangent_frame(nrm);
     var local: vec3<f32>;
@@ -731,14 +729,8 @@ fn bake_item(i: u32, pass_index: u32) {
     var w_enc = 1.0;
     let guided = texel && P.guide_phase == 2u;
     if (texel) {
-        // Guided bakes draw (direction, mixture choice) from an R3 point (baker::guiding).
-        var ud = u;
-        var choice = 1.0;
-        if (P.guide_phase != 0u) {
-            let u3 = guide_point(pass_index - P.guide_start, it.z);
-            ud = u3.xy;
-            choice = u3.z;
-        }
+        let ud = u4.xy;
+        let choice = u4.w;
         if (guided && choice < GUIDED_FRACTION) {
             // The guided component of the mixture.
             local = guide_sample(it.w, ud);
@@ -761,9 +753,9 @@ fn bake_item(i: u32, pass_index: u32) {
         guide_clear(i);
     } else {
         // Uniform sphere in world space (probes): the sample is L itself.
-        let z = 1.0 - 2.0 * u.x;
+        let z = 1.0 - 2.0 * u4.x;
         let r = sqrt(max(1.0 - z * z, 0.0));
-        let phi = 2.0 * PI * u.y;
+        let phi = 2.0 * PI * u4.y;
         local = vec3<f32>(r * cos(phi), r * sin(phi), z);
         dir = local;
         weight = 1.0;
@@ -772,7 +764,7 @@ fn bake_item(i: u32, pass_index: u32) {
     let out = i;
     if (P.primary_only == 1u) {
         // Timing mode: the first segment only; keep the result live with one write.
-        let l = path(select(pos, offset_towards(pos, ng, dir), texel), dir, 0.0, false, &rng).radiance;
+        let l = path(select(pos, offset_towards(pos, ng, dir), texel), dir, 0.0, false, smp).radiance;
         moments[3u * out] += vec4<f32>(l, 0.0);
         return;
     }
@@ -795,7 +787,7 @@ fn bake_item(i: u32, pass_index: u32) {
     // One emitter point by power and one environment direction, MIS against the point
     // sample.
     for (var a_k = 0u; a_k < 2u; a_k++) {
-        let a = area_sample(a_k, pos, &rng);
+        let a = area_sample(a_k, pos, smp);
         if (a.pdf > 0.0 && (!texel || (dot(a.wi, nrm) > 0.0 && dot(a.wi, ng) > 0.0))) {
             if (visible_area(select(pos, offset_towards(pos, ng, a.wi), texel), a)) {
                 let ld = select(a.wi, to_local(a.wi, fr, nrm), texel);
@@ -814,7 +806,7 @@ fn bake_item(i: u32, pass_index: u32) {
     }
     var pr = PathResult(vec3<f32>(0.0), false);
     if (!texel || dot(dir, ng) > 0.0) {
-        pr = path(select(pos, offset_towards(pos, ng, dir), texel), dir, p_s, true, &rng);
+        pr = path(select(pos, offset_towards(pos, ng, dir), texel), dir, p_s, true, smp);
     }
     if (pr.back) {
         moments[3u * out + 1u].w += 1.0;
