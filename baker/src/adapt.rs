@@ -2,23 +2,28 @@
 //! drawn where the error is.
 //!
 //! A bake starts with `pilot_passes` uniform passes (every texel, every pass). After
-//! them it runs **batches**: each texel joins a batch with probability
+//! them it runs **batches**: texel k's expected samples in a batch are
 //!
-//! q_k = min(1, f·((1 − m)·N·s_k / Σ_j s_j + m)),
+//! λ_k = min(L, f·((1 − m)·N·s_k / Σ_j s_j + m)),
 //!
-//! where f is the batch fraction (the expected paths per batch are about f·N for N
-//! texels), m the defensive share (every texel keeps at least f·m, so none starves and
-//! a preview of the whole atlas keeps refining, §3.4), and s_k the mean over the texel's
-//! 8×8 atlas tile of σ_j, each texel's per-sample standard deviation of E/π (RMS over
-//! the channels, from its running moments). Drawing paths ∝ σ minimises Σ_k σ_k²/n_k
-//! for a fixed total (the Neyman allocation); averaging σ over the tile smooths the
-//! noisy per-texel estimate. A texel takes at most one path per batch, so the batch is a
-//! random subset — the GPU compacts it into a list and dispatches it indirectly.
+//! where f is the batch size as a fraction of the texels (the expected paths per batch
+//! are about f·N for N texels; the default 1 makes a batch cost about a pass), m the
+//! defensive share (every texel keeps at least f·m, so none starves and a preview of the
+//! whole atlas keeps refining, §3.4), L the most samples a texel takes per batch
+//! (`max_per_batch`: one thread takes them in order, so L bounds a batch's critical path
+//! at L path lengths), and s_k the mean over
+//! the texel's 8×8 atlas tile of σ_j, each texel's per-sample standard deviation of E/π
+//! (RMS over the channels, from its running moments). Drawing paths ∝ σ minimises
+//! Σ_k σ_k²/n_k for a fixed total (the Neyman allocation); averaging σ over the tile
+//! smooths the noisy per-texel estimate. The texel takes ⌊λ⌋ samples, plus one with
+//! probability λ − ⌊λ⌋; texels with none are left out, so a batch is a random subset —
+//! the GPU compacts it into a list and dispatches it indirectly, one thread per listed
+//! texel taking its samples in order.
 //!
 //! Each texel's samples stay one progressive sequence: its k-th sample is sample k of its
-//! [`crate::sampler`] streams whatever batch it lands in. Its join decisions use one more
-//! stream of its own (an Owen-scrambled Sobol' dimension over the batches): stratified,
-//! so for a steady q its joins over B batches stay close to q·B.
+//! [`crate::sampler`] streams whatever batch it lands in. The fractional part's decision
+//! uses one more stream of its own (an Owen-scrambled Sobol' dimension over the
+//! batches): stratified, so for a steady λ its samples over B batches stay close to λ·B.
 //!
 //! **Bias** (Kirk & Arvo 1991, the section's caveat): how many samples a texel gets
 //! depends on σ estimated from its own (and its tile's) earlier samples, so its mean is
@@ -33,14 +38,19 @@ use sbf::sampling::sobol::{hash_combine, pcg_hash};
 /// Tile edge in texels.
 pub const TILE: u32 = 8;
 
+/// The largest allowed `max_per_batch` (L).
+pub const MAX_SAMPLES_PER_BATCH: u32 = 64;
+
 /// Adaptive-sampling settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveOptions {
     /// Uniform passes before the first batch.
     pub pilot_passes: u64,
-    /// Expected paths per batch as a fraction f of the texels, in (0, 1]: a texel can
-    /// get up to 1/f times the uniform rate.
+    /// Expected paths per batch as a fraction f of the texels, in (0, L]: a texel gets
+    /// at most L samples per batch, L/f times the uniform rate.
     pub batch_fraction: f64,
+    /// L: the most samples a texel takes in one batch, 1 to [`MAX_SAMPLES_PER_BATCH`].
+    pub max_per_batch: u32,
     /// The defensive share m in [0, 1]: every texel joins with probability ≥ f·m.
     pub floor: f64,
 }
@@ -48,8 +58,14 @@ pub struct AdaptiveOptions {
 impl AdaptiveOptions {
     /// Checks the ranges (clear errors for bad input).
     pub fn validate(&self) -> Result<(), String> {
-        if !(self.batch_fraction > 0.0 && self.batch_fraction <= 1.0) {
-            return Err(format!("adaptive batch fraction {} must be in (0, 1]", self.batch_fraction));
+        if !(1..=MAX_SAMPLES_PER_BATCH).contains(&self.max_per_batch) {
+            return Err(format!("adaptive samples per batch {} must be in 1..={MAX_SAMPLES_PER_BATCH}", self.max_per_batch));
+        }
+        if !(self.batch_fraction > 0.0 && self.batch_fraction <= self.max_per_batch as f64) {
+            return Err(format!(
+                "adaptive batch fraction {} must be in (0, {}] (the samples per batch)",
+                self.batch_fraction, self.max_per_batch
+            ));
         }
         if !(0.0..=1.0).contains(&self.floor) {
             return Err(format!("adaptive floor {} must be in [0, 1]", self.floor));
@@ -70,7 +86,7 @@ impl AdaptiveOptions {
 
 impl Default for AdaptiveOptions {
     fn default() -> Self {
-        AdaptiveOptions { pilot_passes: 8, batch_fraction: 0.25, floor: 0.2 }
+        AdaptiveOptions { pilot_passes: 8, batch_fraction: 1.0, floor: 0.2, max_per_batch: 8 }
     }
 }
 
@@ -133,8 +149,8 @@ pub fn sigma(m: &Moments) -> f64 {
     var.sqrt()
 }
 
-/// Per item, its probability q_k of joining the next batch (see the module docs).
-pub fn probabilities(tiles: &Tiles, moments: &[Moments], o: &AdaptiveOptions) -> Vec<f64> {
+/// Per item, its expected samples λ_k in the next batch (see the module docs).
+pub fn rates(tiles: &Tiles, moments: &[Moments], o: &AdaptiveOptions) -> Vec<f64> {
     let n = moments.len();
     let mut tile_mean = vec![0.0; tiles.count()];
     let mut total = 0.0;
@@ -147,7 +163,7 @@ pub fn probabilities(tiles: &Tiles, moments: &[Moments], o: &AdaptiveOptions) ->
     (0..n)
         .map(|k| {
             let share = if total > 0.0 { tile_mean[tiles.tile_of[k] as usize] * n as f64 / total } else { 1.0 };
-            (o.batch_fraction * ((1.0 - o.floor) * share + o.floor)).min(1.0)
+            (o.batch_fraction * ((1.0 - o.floor) * share + o.floor)).min(o.max_per_batch as f64)
         })
         .collect()
 }
@@ -157,9 +173,12 @@ pub fn join_seed(seed: u64, id: u32) -> u32 {
     pcg_hash(hash_combine(item_key(seed, id), 0x5e1e_c700))
 }
 
-/// Whether item `id` joins batch `batch` with probability q: u < q for u the batch's
-/// point of the item's join stream (a 24-bit fraction, as the GPU compares it).
-pub fn joins(sequence: Sequence, seed: u64, id: u32, batch: u64, q: f64) -> bool {
+/// The samples item `id` takes in batch `batch` at rate λ: ⌊λ⌋, plus one if u < λ − ⌊λ⌋
+/// for u the batch's point of the item's join stream (24-bit fractions and f32
+/// arithmetic, as the GPU computes them).
+pub fn samples_in_batch(sequence: Sequence, seed: u64, id: u32, batch: u64, rate: f64) -> u32 {
     let u = (group_point(sequence, join_seed(seed, id), batch as u32)[0] >> 8) as f32 * (1.0 / 16_777_216.0);
-    u < q as f32
+    let r = rate as f32;
+    let whole = r.floor();
+    whole as u32 + (u < r - whole) as u32
 }

@@ -1,11 +1,13 @@
 //! Adaptive sampling on the GPU (CPU twin [`crate::adapt`], WGSL `wgsl/adapt.wgsl`): per
 //! batch, recorded into one command encoder before the bake's dispatch — the tiles' mean
 //! σ (a workgroup per 8×8 tile), their sum (the distribution's normaliser), each texel's
-//! join flag from its own Sobol' stream, the compaction of the flags into the batch's
-//! item list (prefix sum + scatter, [`crate::gpu_prims`]) and the indirect dispatch
+//! samples in the batch (from its own Sobol' stream), the compaction of the texels with
+//! samples into the batch's item list (prefix sum + scatter, [`crate::gpu_prims`]) and the indirect dispatch
 //! arguments from its length. The bake kernel then runs the batch by
-//! `dispatch_workgroups_indirect`, each thread taking one listed texel at its own sample
-//! index (`wgsl/adapt_batch.wgsl`). Nothing is read back between batches.
+//! `dispatch_workgroups_indirect`, each thread taking one listed texel through its samples
+//! from its own sample index (`wgsl/adapt_batch.wgsl`). Nothing is read back between batches, and nothing is
+//! allocated per batch: the batch index lives on the GPU (advanced by each batch), so a
+//! run of batches is recorded into one submission.
 //!
 //! A batch is one dispatch (about f·N texels): the frame-time load balancing of uniform
 //! passes does not split it.
@@ -25,27 +27,27 @@ struct AdaptParams {
     sampler: u32,
     items: u32,
     tiles: u32,
-    batch: u32,
+    pad0: u32,
     fraction: f32,
     floor: f32,
-    pad: u32,
+    max_per_batch: f32,
 }
 
 /// The selection kernels, their buffers and bind groups.
 #[derive(Debug)]
 pub struct AdaptGpu {
     pub options: AdaptiveOptions,
-    params: AdaptParams,
-    params_buf: wgpu::Buffer,
     pipelines: [wgpu::ComputePipeline; 4],
     groups: [wgpu::BindGroup; 4],
-    iota: wgpu::Buffer,
-    flags: wgpu::Buffer,
-    offsets: wgpu::Buffer,
+    /// The next batch's index (advanced on the GPU by each batch's `batch_args`).
+    batch_index: wgpu::Buffer,
+    compact: crate::gpu_prims::CompactPlan,
     /// The batch's items (read by the bake kernel, binding 11).
     pub selected: wgpu::Buffer,
     /// The batch's length (binding 12).
     pub count: wgpu::Buffer,
+    /// Per item, its samples in the batch (binding 13).
+    pub samples: wgpu::Buffer,
     /// Indirect dispatch arguments of the bake kernel.
     pub args: wgpu::Buffer,
     prims: Prims,
@@ -69,10 +71,10 @@ impl AdaptGpu {
             sampler: config.sampler.code(),
             items: items as u32,
             tiles: tiles.count() as u32,
-            batch: 0,
+            pad0: 0,
             fraction: options.batch_fraction as f32,
             floor: options.floor as f32,
-            pad: 0,
+            max_per_batch: options.max_per_batch as f32,
         };
         let source = format!("{ADAPT_WGSL}\n{}", crate::gpu::SAMPLER_WGSL);
         shaders::export::validate(&source).map_err(|e| format!("adaptive sampling kernel: {e}"))?;
@@ -118,6 +120,8 @@ impl AdaptGpu {
         let selected = buf("batch items", &vec![0u8; 4 * items], copy);
         let count = buf("batch count", &[0u8; 4], copy);
         let args = buf("batch args", bytemuck::cast_slice(&[1u32, 1, 1]), wgpu::BufferUsages::INDIRECT);
+        let batch_index = buf("batch index", &[0u8; 4], copy);
+        let samples = buf("batch samples", &vec![0u8; 4 * items], copy);
         let entries = |k: usize, list: &[(u32, &wgpu::Buffer)]| {
             let entries: Vec<wgpu::BindGroupEntry> =
                 list.iter().map(|(b, buffer)| wgpu::BindGroupEntry { binding: *b, resource: buffer.as_entire_binding() }).collect();
@@ -130,32 +134,35 @@ impl AdaptGpu {
         let groups = [
             entries(0, &[(0, &params_buf), (1, moments), (2, &tile_items), (3, &tile_start), (4, &tile_mean), (5, &tile_sum)]),
             entries(1, &[(0, &params_buf), (5, &tile_sum), (6, &total)]),
-            entries(2, &[(0, &params_buf), (4, &tile_mean), (6, &total), (7, &item_info), (8, &flags)]),
-            entries(3, &[(9, &count), (10, &args)]),
+            entries(2, &[(0, &params_buf), (4, &tile_mean), (6, &total), (7, &item_info), (8, &flags), (11, &batch_index), (12, &samples)]),
+            entries(3, &[(9, &count), (10, &args), (11, &batch_index)]),
         ];
+        let prims = Prims::new(d);
+        let compact = prims.compact_plan(d, &iota, &flags, &offsets, &selected, items);
         Ok(AdaptGpu {
             options,
-            params,
-            params_buf,
             pipelines,
             groups,
-            iota,
-            flags,
-            offsets,
+            batch_index,
+            compact,
             selected,
             count,
+            samples,
             args,
-            prims: Prims::new(d),
+            prims,
             items,
             tiles: tiles.count(),
         })
     }
 
-    /// Records batch `batch`'s selection into `enc`: after it, `selected`, `count` and
-    /// `args` describe the batch.
-    pub fn record_select(&mut self, d: &wgpu::Device, q: &wgpu::Queue, enc: &mut wgpu::CommandEncoder, batch: u64) {
-        self.params.batch = batch as u32;
-        q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+    /// Sets the index of the next batch recorded (before a submission of batches).
+    pub fn set_batch(&self, q: &wgpu::Queue, batch: u64) {
+        q.write_buffer(&self.batch_index, 0, &(batch as u32).to_le_bytes());
+    }
+
+    /// Records the next batch's selection into `enc`: after it, `selected`, `count` and
+    /// `args` describe the batch, and the batch index has advanced.
+    pub fn record_select(&self, enc: &mut wgpu::CommandEncoder) {
         let grid = |n: usize| {
             let n = n.max(1) as u32;
             if n <= 65535 {
@@ -173,8 +180,8 @@ impl AdaptGpu {
                 pass.dispatch_workgroups(x, y, 1);
             }
         }
-        let total = self.prims.encode_compact(d, enc, &self.iota, &self.flags, &self.offsets, &self.selected, self.items);
-        enc.copy_buffer_to_buffer(&total, 0, &self.count, 0, 4);
+        self.prims.record_compact(enc, &self.compact);
+        enc.copy_buffer_to_buffer(self.compact.total(), 0, &self.count, 0, 4);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("adapt args"), timestamp_writes: None });
         pass.set_pipeline(&self.pipelines[3]);
         pass.set_bind_group(0, &self.groups[3], &[]);

@@ -475,11 +475,15 @@ impl<'a> Bake<'a> {
     pub fn pass(&mut self) {
         match (self.config.adaptive, &self.tiles) {
             (Some(a), Some(tiles)) if self.state.passes >= a.pilot_passes => {
-                let q = crate::adapt::probabilities(tiles, &self.state.moments, &a);
+                let rate = crate::adapt::rates(tiles, &self.state.moments, &a);
                 let (seq, seed, batch) = (self.config.sampler, self.config.seed, self.state.passes);
+                // Each texel's samples of this batch, in order: (item, sample index).
                 let list: Vec<(u32, u64)> = (0..self.targets.items.len())
-                    .filter(|&k| crate::adapt::joins(seq, seed, self.targets.items[k][2], batch, q[k]))
-                    .map(|k| (k as u32, self.state.moments[k].count()))
+                    .flat_map(|k| {
+                        let n = crate::adapt::samples_in_batch(seq, seed, self.targets.items[k][2], batch, rate[k]);
+                        let first = self.state.moments[k].count();
+                        (0..n as u64).map(move |j| (k as u32, first + j))
+                    })
                     .collect();
                 let samples = self.trace_items(&list);
                 self.absorb(&list, &samples);
@@ -573,10 +577,15 @@ impl<'a> Bake<'a> {
     /// and the encoders, in item order; one more pass or batch.
     fn absorb(&mut self, list: &[(u32, u64)], samples: &[ItemSample]) {
         let tg = self.targets;
-        // Per item, its sample of this pass (None: not in this batch).
-        let mut of_item: Vec<Option<&ItemSample>> = vec![None; tg.items.len()];
-        for (&(k, _), s) in list.iter().zip(samples) {
-            of_item[k as usize] = Some(s);
+        // Per item, its samples of this pass or batch, in order (the list is sorted by
+        // item, then sample index).
+        let mut of_item: Vec<&[ItemSample]> = vec![&[]; tg.items.len()];
+        let mut start = 0;
+        while start < list.len() {
+            let k = list[start].0;
+            let end = start + list[start..].iter().take_while(|(j, _)| *j == k).count();
+            of_item[k as usize] = &samples[start..end];
+            start = end;
         }
         if !self.state.guide_sums.is_empty() {
             // Every pass learns from the point sample and the area-light samples, in item
@@ -584,9 +593,8 @@ impl<'a> Bake<'a> {
             // (1/2π)·∫_bin L cosθ: the point sample's lum(L)·(1/2π)/p (L MIS-weighted), a
             // light sample's lum(c)/2π (c = L·w/p_l, stored here as p·c).
             let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-            for (s, &c) in of_item.iter().zip(&tg.clusters) {
-                let Some(s) = s else { continue };
-                if !s.back_face && s.is_finite() {
+            for (ss, &c) in of_item.iter().zip(&tg.clusters) {
+                for s in ss.iter().filter(|s| !s.back_face && s.is_finite()) {
                     let v = crate::lights::luminance(s.radiance) * s.weight;
                     crate::guiding::record(&mut self.state.guide_sums, c, s.local, v as f32);
                     for (ld, cl) in &s.lights[s.delta..] {
@@ -595,30 +603,30 @@ impl<'a> Bake<'a> {
                 }
             }
         }
-        self.state.moments.par_iter_mut().zip(of_item.par_iter()).for_each(|(m, s)| {
-            let Some(s) = s else { return };
-            if s.back_face {
-                m.back_faces += 1;
-                return;
-            }
-            if !s.is_finite() {
-                m.non_finite += 1;
-                return;
-            }
-            m.accepted += 1;
-            for c in 0..3 {
-                m.sum[c] += s.estimate[c] as f64;
-                m.sum_sq[c] += (s.estimate[c] as f64).powi(2);
+        self.state.moments.par_iter_mut().zip(of_item.par_iter()).for_each(|(m, ss)| {
+            for s in ss.iter() {
+                if s.back_face {
+                    m.back_faces += 1;
+                } else if !s.is_finite() {
+                    m.non_finite += 1;
+                } else {
+                    m.accepted += 1;
+                    for c in 0..3 {
+                        m.sum[c] += s.estimate[c] as f64;
+                        m.sum_sq[c] += (s.estimate[c] as f64).powi(2);
+                    }
+                }
             }
         });
         for (b, encs) in self.state.encoders.iter_mut().enumerate() {
             let basis = &self.bases[b];
-            encs.par_iter_mut().zip(of_item.par_iter()).for_each(|(enc, s)| {
-                let Some(s) = s.filter(|s| !s.back_face && s.is_finite()) else { return };
-                let l = [s.radiance.x as f64, s.radiance.y as f64, s.radiance.z as f64];
-                // Finite (checked above) and of the encoder's size: cannot fail.
-                if let Err(e) = enc.add_sample_projected(basis.as_ref(), s.local, l, s.weight, &s.lights) {
-                    panic!("encoder refused a finite sample: {e}");
+            encs.par_iter_mut().zip(of_item.par_iter()).for_each(|(enc, ss)| {
+                for s in ss.iter().filter(|s| !s.back_face && s.is_finite()) {
+                    let l = [s.radiance.x as f64, s.radiance.y as f64, s.radiance.z as f64];
+                    // Finite (checked above) and of the encoder's size: cannot fail.
+                    if let Err(e) = enc.add_sample_projected(basis.as_ref(), s.local, l, s.weight, &s.lights) {
+                        panic!("encoder refused a finite sample: {e}");
+                    }
                 }
             });
         }

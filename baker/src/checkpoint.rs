@@ -127,6 +127,7 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
         h.u64(a.pilot_passes);
         h.u64(a.batch_fraction.to_bits());
         h.u64(a.floor.to_bits());
+        h.u64(a.max_per_batch as u64);
     }
     if let Some(g) = config.guiding {
         h.bytes(b"guiding");

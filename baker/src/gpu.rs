@@ -479,6 +479,9 @@ struct Batching {
     dispatches: u64,
 }
 
+/// The most adaptive batches recorded into one submission.
+const MAX_BATCHES_PER_SUBMISSION: u64 = 16;
+
 /// The most passes one dispatch runs (also the progress granularity of `baker::run`).
 pub const MAX_PASSES_PER_DISPATCH: u64 = 8;
 
@@ -713,6 +716,7 @@ impl<'g> GpuBake<'g> {
         if let Some(a) = &adapt {
             entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
             entries.push(wgpu::BindGroupEntry { binding: 12, resource: a.count.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 13, resource: a.samples.as_entire_binding() });
         }
         let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("bake"),
@@ -847,17 +851,18 @@ impl<'g> GpuBake<'g> {
         self.gpu.queue().submit([enc.finish()]);
     }
 
-    /// One adaptive batch: the selection, then the bake kernel over the listed items by
-    /// an indirect dispatch, in one submission.
-    fn batch(&mut self) {
-        let Some(a) = self.adapt.as_mut() else { return };
+    /// `k` adaptive batches in one submission: each the selection, then the bake kernel
+    /// over the listed items by an indirect dispatch.
+    fn batches(&mut self, k: u64) {
+        let Some(a) = self.adapt.as_ref() else { return };
         let (d, q) = (self.gpu.device(), self.gpu.queue());
         self.params.batch_mode = 1;
         self.params.pass_count = 1;
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+        a.set_batch(q, self.passes);
         let mut enc = d.create_command_encoder(&Default::default());
-        a.record_select(d, q, &mut enc, self.passes);
-        {
+        for _ in 0..k {
+            a.record_select(&mut enc);
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
@@ -877,9 +882,10 @@ impl<'g> GpuBake<'g> {
         let mut done = 0;
         while done < n {
             if self.adapt.as_ref().is_some_and(|a| self.passes >= a.options.pilot_passes) {
-                self.batch();
-                self.passes += 1;
-                done += 1;
+                let k = (n - done).min(MAX_BATCHES_PER_SUBMISSION);
+                self.batches(k);
+                self.passes += k;
+                done += k;
                 continue;
             }
             let mut k = self.batching.passes.clamp(1, n - done);

@@ -60,10 +60,14 @@ struct Cli {
     /// Uniform passes before adapting (with --adaptive).
     #[arg(long, default_value_t = 8)]
     adaptive_pilot: u64,
-    /// Expected paths per batch as a fraction of the texels, (0, 1] (with --adaptive): a
-    /// texel can receive up to 1/fraction times the uniform rate.
-    #[arg(long, default_value_t = 0.25)]
+    /// Expected paths per batch as a fraction of the texels, (0, 8] (with --adaptive; 1: a
+    /// batch costs about a pass): a texel takes at most 8 samples per batch.
+    #[arg(long, default_value_t = 1.0)]
     adaptive_fraction: f64,
+    /// The most samples a texel takes per batch (with --adaptive; one GPU thread takes
+    /// them in order, so this bounds a batch's longest thread), 1 to 64.
+    #[arg(long, default_value_t = 8)]
+    adaptive_max: u32,
     /// Denoise the lightmap (joint non-local means within charts, guided by position and
     /// normal; the same weights for irradiance and every coefficient) before dilation.
     /// `auto`: on up to 2048 passes, where it was measured to lower the error (2.0× at 128
@@ -239,14 +243,19 @@ fn options(c: Cli) -> Result<Options, String> {
     if c.guiding_learn.is_some() && !c.guiding {
         return Err("--guiding-learn needs --guiding".into());
     }
-    if (c.adaptive_pilot != 8 || c.adaptive_fraction != 0.25) && !c.adaptive {
-        return Err("--adaptive-pilot and --adaptive-fraction need --adaptive".into());
+    if (c.adaptive_pilot != 8 || c.adaptive_fraction != 1.0 || c.adaptive_max != 8) && !c.adaptive {
+        return Err("--adaptive-pilot, --adaptive-fraction and --adaptive-max need --adaptive".into());
     }
     let adaptive = if c.adaptive {
         if c.guiding {
             return Err("--adaptive and --guiding cannot be combined (guiding learns from whole passes)".into());
         }
-        let a = baker::adapt::AdaptiveOptions { pilot_passes: c.adaptive_pilot, batch_fraction: c.adaptive_fraction, ..Default::default() };
+        let a = baker::adapt::AdaptiveOptions {
+            pilot_passes: c.adaptive_pilot,
+            batch_fraction: c.adaptive_fraction,
+            max_per_batch: c.adaptive_max,
+            ..Default::default()
+        };
         a.validate()?;
         Some(a)
     } else {

@@ -592,7 +592,7 @@ fn write_outputs(
         "passes": state.passes,
         "seed": o.config.seed,
         "sampler": o.config.sampler.name(),
-        "adaptive": o.config.adaptive.map(|a| json!({"pilot_passes": a.pilot_passes, "batch_fraction": a.batch_fraction, "floor": a.floor})),
+        "adaptive": o.config.adaptive.map(|a| json!({"pilot_passes": a.pilot_passes, "batch_fraction": a.batch_fraction, "floor": a.floor, "max_per_batch": a.max_per_batch})),
         "paths": state.moments.iter().map(crate::bake::Moments::count).sum::<u64>(),
         "max_bounces": o.config.max_bounces,
         "solver": format!("{:?}", o.config.solver),

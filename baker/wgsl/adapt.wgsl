@@ -1,18 +1,19 @@
 // Adaptive sampling's batch selection (CPU twin: baker::adapt). Per batch: tile_sigma
 // (one workgroup per 8×8 tile: the mean per-sample σ of its texels and their sum),
 // sum_tiles (one workgroup: Σ over tiles, the distribution's normaliser), select_items
-// (per texel: joins with q = min(1, f·((1 − m)·N·s/Σ + m)) by its own Sobol' stream),
-// then the flags are compacted (gpu_prims) and batch_args writes the indirect dispatch.
+// (per texel: its samples in the batch from λ = min(L, f·((1 − m)·N·s/Σ + m)) — ⌊λ⌋ plus
+// one with probability λ − ⌊λ⌋ by its own Sobol' stream), then the texels with samples
+// are compacted (gpu_prims) and batch_args writes the indirect dispatch.
 
 struct AdaptParams {
     seed: u32,
     sampler: u32,
     items: u32,
     tiles: u32,
-    batch: u32,
+    pad0: u32,
     fraction: f32,
     floor: f32,
-    pad: u32,
+    max_per_batch: f32,
 }
 
 @group(0) @binding(0) var<uniform> P: AdaptParams;
@@ -25,10 +26,16 @@ struct AdaptParams {
 // Per item: (tile, seed of its join stream).
 @group(0) @binding(7) var<storage, read> item_info: array<vec2<u32>>;
 @group(0) @binding(8) var<storage, read_write> flags: array<u32>;
+// Per item, its samples in this batch (read by the bake kernel).
+@group(0) @binding(12) var<storage, read_write> batch_samples: array<u32>;
+
 // The compacted batch's length (copied from the compaction's total) and the indirect
 // dispatch arguments written from it.
 @group(0) @binding(9) var<storage, read> batch_len: array<u32>;
 @group(0) @binding(10) var<storage, read_write> args: array<u32>;
+// The batch index, advanced on the GPU by batch_args so that consecutive batches can be
+// recorded into one submission.
+@group(0) @binding(11) var<storage, read_write> batch_index: array<u32>;
 
 var<workgroup> partial: array<f32, 256>;
 
@@ -102,14 +109,19 @@ fn select_items(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (total[0] > 0.0) {
         share = tile_mean[info.x] * f32(P.items) / total[0];
     }
-    let q = min(1.0, P.fraction * ((1.0 - P.floor) * share + P.floor));
-    let u = f32(group_point(info.y, P.batch).x >> 8u) * (1.0 / 16777216.0);
-    flags[i] = select(0u, 1u, u < q);
+    let rate = min(P.max_per_batch, P.fraction * ((1.0 - P.floor) * share + P.floor));
+    let u = f32(group_point(info.y, batch_index[0]).x >> 8u) * (1.0 / 16777216.0);
+    let whole = floor(rate);
+    let n = u32(whole) + select(0u, 1u, u < rate - whole);
+    batch_samples[i] = n;
+    flags[i] = select(0u, 1u, n > 0u);
 }
 
-// Indirect dispatch of the batch: ⌈len/64⌉ workgroups as a 2D grid (x ≤ 65 535).
+// Indirect dispatch of the batch: ⌈len/64⌉ workgroups as a 2D grid (x ≤ 65 535); the
+// next batch's index.
 @compute @workgroup_size(1)
 fn batch_args() {
+    batch_index[0] += 1u;
     let groups = (batch_len[0] + 63u) / 64u;
     let x = min(groups, 65535u);
     args[0] = max(x, 1u);

@@ -1,14 +1,17 @@
 // ---- adaptive sampling: this dispatch runs a batch (baker::adapt) ----
-// The batch's items (compacted by adapt.wgsl's selection) and their number.
+// The batch's items (compacted by adapt.wgsl's selection), their number, and per item
+// its samples in the batch.
 @group(0) @binding(11) var<storage, read> batch_items: array<u32>;
 @group(0) @binding(12) var<storage, read> batch_count: array<u32>;
+@group(0) @binding(13) var<storage, read> batch_samples: array<u32>;
 
-// Position v of the batch → (item, its sample index: the samples it has had).
-fn batch_item(v: u32) -> vec2<u32> {
+// Position v of the batch → (item, its first sample index: the samples it has had, its
+// samples in this batch); item NO_HIT past the end.
+fn batch_item(v: u32) -> vec3<u32> {
     if (v >= batch_count[0]) {
-        return vec2<u32>(NO_HIT, 0u);
+        return vec3<u32>(NO_HIT, 0u, 0u);
     }
     let i = batch_items[v];
     let n = moments[3u * i].w + moments[3u * i + 1u].w + moments[3u * i + 2u].x;
-    return vec2<u32>(i, u32(n));
+    return vec3<u32>(i, u32(n), batch_samples[i]);
 }

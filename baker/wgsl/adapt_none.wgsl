@@ -1,4 +1,4 @@
 // ---- no adaptive sampling in this bake ----
-fn batch_item(v: u32) -> vec2<u32> {
-    return vec2<u32>(NO_HIT, 0u);
+fn batch_item(v: u32) -> vec3<u32> {
+    return vec3<u32>(NO_HIT, 0u, 0u);
 }

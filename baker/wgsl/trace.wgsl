@@ -684,21 +684,22 @@ fn finite3(v: vec3<f32>) -> bool {
 // `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    // (item, first sample index, samples): a pass range, or an adaptive batch's entry.
+    // One call site of bake_item keeps the kernel's code (and registers) single.
+    var job: vec3<u32>;
     if (P.batch_mode == 1u) {
-        let b = batch_item(gid.x + gid.y * nwg.x * 64u);
-        if (b.x != NO_HIT) {
-            bake_item(b.x, b.y);
-        }
+        job = batch_item(gid.x + gid.y * nwg.x * 64u);
+    } else {
+        let v = P.item_offset + gid.x + gid.y * nwg.x * 64u;
+        // Position v of this device's share → the item (the identity on one device).
+        let i = (v / P.part_block) * P.part_block * P.part_count + P.part_index * P.part_block + v % P.part_block;
+        job = vec3<u32>(select(i, NO_HIT, v >= P.item_end), P.pass_index, P.pass_count);
+    }
+    if (job.x == NO_HIT) {
         return;
     }
-    let v = P.item_offset + gid.x + gid.y * nwg.x * 64u;
-    if (v >= P.item_end) {
-        return;
-    }
-    // Position v of this device's share → the item (the identity on one device).
-    let i = (v / P.part_block) * P.part_block * P.part_count + P.part_index * P.part_block + v % P.part_block;
-    for (var j = 0u; j < P.pass_count; j++) {
-        bake_item(i, P.pass_index + j);
+    for (var j = 0u; j < job.z; j++) {
+        bake_item(job.x, job.y + j);
     }
 }
 

@@ -468,8 +468,16 @@ impl Prims {
 
     /// Records an in-place exclusive scan of the first `n` u32 of `data` (a storage buffer)
     /// into `enc`; returns the one-element buffer that will hold the total. Allocates the
-    /// per-level block-total buffers it needs.
+    /// per-level block-total buffers it needs ([`Prims::scan_plan`] keeps them for reuse).
     pub fn encode_scan(&self, d: &wgpu::Device, enc: &mut wgpu::CommandEncoder, data: &wgpu::Buffer, n: usize) -> wgpu::Buffer {
+        let plan = self.scan_plan(d, data, n);
+        self.record_scan(enc, &plan);
+        plan.sums.into_iter().last().expect("at least one level")
+    }
+
+    /// The buffers and bind groups of a scan of the first `n` u32 of `data`, for recording
+    /// it any number of times without allocating ([`Prims::record_scan`]).
+    pub fn scan_plan(&self, d: &wgpu::Device, data: &wgpu::Buffer, n: usize) -> ScanPlan {
         // Level sizes: n, ⌈n/256⌉, … down to 1 (the total).
         let mut sizes = vec![n];
         while *sizes.last().expect("non-empty") > 1 || sizes.len() == 1 {
@@ -491,31 +499,34 @@ impl Prims {
                 })
             })
             .collect();
-        // A zero total for n = 0 (no block writes it).
-        enc.clear_buffer(&sums[0], 0, None);
         let level_data = |k: usize| if k == 0 { data } else { &sums[k - 1] };
         let bind_level = |k: usize| {
             let p = Params { n: sizes[k] as u32, row: grid(sizes[k + 1]).0, _pad: [0; 2] };
             bind(d, &self.scan_layout, "scan level", &[level_data(k), &sums[k]], bytemuck::bytes_of(&p))
         };
         let groups: Vec<wgpu::BindGroup> = (0..sizes.len() - 1).map(bind_level).collect();
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("scan"), timestamp_writes: None });
-            for (k, g) in groups.iter().enumerate() {
-                let (x, y) = grid(sizes[k + 1]);
-                pass.set_pipeline(&self.scan_blocks);
-                pass.set_bind_group(0, g, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
-            // Top level down: each level's blocks get their scanned totals added.
-            for k in (0..groups.len().saturating_sub(1)).rev() {
-                let (x, y) = grid(sizes[k + 1]);
-                pass.set_pipeline(&self.add_offsets);
-                pass.set_bind_group(0, &groups[k], &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
+        ScanPlan { sizes, sums, groups }
+    }
+
+    /// Records a planned scan into `enc`; the plan's [`ScanPlan::total`] then holds the sum.
+    pub fn record_scan(&self, enc: &mut wgpu::CommandEncoder, plan: &ScanPlan) {
+        let (sizes, groups) = (&plan.sizes, &plan.groups);
+        // A zero total for n = 0 (no block writes it).
+        enc.clear_buffer(&plan.sums[0], 0, None);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("scan"), timestamp_writes: None });
+        for (k, g) in groups.iter().enumerate() {
+            let (x, y) = grid(sizes[k + 1]);
+            pass.set_pipeline(&self.scan_blocks);
+            pass.set_bind_group(0, g, &[]);
+            pass.dispatch_workgroups(x, y, 1);
         }
-        sums.into_iter().last().expect("at least one level")
+        // Top level down: each level's blocks get their scanned totals added.
+        for k in (0..groups.len().saturating_sub(1)).rev() {
+            let (x, y) = grid(sizes[k + 1]);
+            pass.set_pipeline(&self.add_offsets);
+            pass.set_bind_group(0, &groups[k], &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
     }
 
     /// Records the compaction of the first `n` items by their 0/1 flags into `out` (at least
@@ -532,15 +543,68 @@ impl Prims {
         out: &wgpu::Buffer,
         n: usize,
     ) -> wgpu::Buffer {
-        if n > 0 {
-            enc.copy_buffer_to_buffer(flags, 0, offsets, 0, (4 * n) as u64);
-        }
-        let total = self.encode_scan(d, enc, offsets, n);
+        let plan = self.compact_plan(d, items, flags, offsets, out, n);
+        self.record_compact(enc, &plan);
+        plan.scan.sums.into_iter().last().expect("at least one level")
+    }
+
+    /// A compaction's buffers and bind groups (see [`Prims::encode_compact`]) for
+    /// recording it repeatedly ([`Prims::record_compact`]).
+    pub fn compact_plan(
+        &self,
+        d: &wgpu::Device,
+        items: &wgpu::Buffer,
+        flags: &wgpu::Buffer,
+        offsets: &wgpu::Buffer,
+        out: &wgpu::Buffer,
+        n: usize,
+    ) -> CompactPlan {
         let (x, y) = grid(n.div_ceil(BLOCK));
         let p = Params { n: n as u32, row: x, _pad: [0; 2] };
-        let g = bind(d, &self.compact_layout, "compact", &[items, flags, offsets, out], bytemuck::bytes_of(&p));
-        dispatch(enc, "compact", &self.scatter, &g, (x, y));
-        total
+        let group = bind(d, &self.compact_layout, "compact", &[items, flags, offsets, out], bytemuck::bytes_of(&p));
+        CompactPlan { scan: self.scan_plan(d, offsets, n), group, flags: flags.clone(), offsets: offsets.clone(), n, grid: (x, y) }
+    }
+
+    /// Records a planned compaction; [`CompactPlan::total`] then holds the number kept.
+    pub fn record_compact(&self, enc: &mut wgpu::CommandEncoder, plan: &CompactPlan) {
+        if plan.n > 0 {
+            enc.copy_buffer_to_buffer(&plan.flags, 0, &plan.offsets, 0, (4 * plan.n) as u64);
+        }
+        self.record_scan(enc, &plan.scan);
+        dispatch(enc, "compact", &self.scatter, &plan.group, plan.grid);
+    }
+}
+
+/// A scan's level buffers and bind groups ([`Prims::scan_plan`]).
+#[derive(Debug)]
+pub struct ScanPlan {
+    sizes: Vec<usize>,
+    sums: Vec<wgpu::Buffer>,
+    groups: Vec<wgpu::BindGroup>,
+}
+
+impl ScanPlan {
+    /// The one-element buffer that holds the total after the scan ran.
+    pub fn total(&self) -> &wgpu::Buffer {
+        self.sums.last().expect("at least one level")
+    }
+}
+
+/// A compaction's scan plan and scatter bind group ([`Prims::compact_plan`]).
+#[derive(Debug)]
+pub struct CompactPlan {
+    scan: ScanPlan,
+    group: wgpu::BindGroup,
+    flags: wgpu::Buffer,
+    offsets: wgpu::Buffer,
+    n: usize,
+    grid: (u32, u32),
+}
+
+impl CompactPlan {
+    /// The one-element buffer that holds the number kept after the compaction ran.
+    pub fn total(&self) -> &wgpu::Buffer {
+        self.scan.total()
     }
 }
 

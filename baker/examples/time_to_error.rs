@@ -1,0 +1,173 @@
+//! Time to a fixed error (issue 15's benchmark; not a test): bakes a scene on the GPU with
+//! each sampling configuration and reports the GPU time each needs to bring the E/π RMSE
+//! over texels — against a long reference bake with another seed, its own variance
+//! subtracted — down to a target, plus the time to the first full-atlas preview (every
+//! texel with at least one sample).
+//!
+//!     cargo run --release -p baker --example time_to_error -- \
+//!         [--scene sunbeam] [--texels-per-unit 16] [--reference-passes 8192] \
+//!         [--target-passes 256] [--bounces 4] [--adaptive 1:8,2:4]
+//!
+//! Configurations: megakernel uniform with white noise (the baseline), megakernel uniform
+//! with the Sobol' sequences, megakernel adaptive with the Sobol' sequences (one per
+//! `--adaptive f:L`: batch fraction f, at most L samples per texel and batch). The target
+//! RMSE is what the baseline reaches at `--target-passes`; each configuration then runs in
+//! doubling steps of passes (batches count as 1/f of a pass) and the time to the target is
+//! interpolated log-linearly between the two steps around it (RMSE falls like a power of
+//! the time). Times are the `run` calls only (the state read-back for the error is not
+//! timed); pipeline compilation and upload precede the clock (each bake runs a few passes
+//! and batches first, then its state is reset).
+
+use baker::adapt::AdaptiveOptions;
+use baker::bake::{BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::bvh::Bvh;
+use baker::gpu::GpuBake;
+use baker::lightmap::Lightmap;
+use baker::run::load_scene;
+use baker::sampler::Sequence;
+use baker::trace::Tracer;
+use std::time::Instant;
+
+fn arg<T: std::str::FromStr>(args: &[String], name: &str, default: T) -> Result<T, String> {
+    match args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)) {
+        Some(s) => s.parse().map_err(|_| format!("{name}: cannot parse '{s}'")),
+        None => Ok(default),
+    }
+}
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("time_to_error: {e}");
+        std::process::exit(1);
+    }
+}
+
+/// Mean squared error of E/π over the texels the reference measured (≥ 2 accepted
+/// samples: a finite standard error), minus the reference's own mean variance there.
+fn mse(st: &BakeState, rm: &[[f64; 3]], keep: &[bool], ref_var: f64) -> f64 {
+    let m = st.mean();
+    let (mut sq, mut n) = (0.0, 0usize);
+    for k in (0..m.len()).filter(|k| keep[*k]) {
+        sq += (0..3).map(|c| (m[k][c] - rm[k][c]).powi(2)).sum::<f64>() / 3.0;
+        n += 1;
+    }
+    (sq / n.max(1) as f64 - ref_var).max(1e-30)
+}
+
+fn run() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let scene_name: String = arg(&args, "--scene", "sunbeam".to_string())?;
+    let tpu: f32 = arg(&args, "--texels-per-unit", 16.0)?;
+    let ref_passes: u64 = arg(&args, "--reference-passes", 8192)?;
+    let target_passes: u64 = arg(&args, "--target-passes", 256)?;
+    let bounces: u32 = arg(&args, "--bounces", 4)?;
+    // Adaptive configurations: "f:L,f:L" (batch fraction, most samples per batch).
+    let adaptive: Vec<(f64, u32)> = arg(&args, "--adaptive", "1:8".to_string())?
+        .split(',')
+        .map(|p| {
+            let (f, l) = p.split_once(':').ok_or_else(|| format!("--adaptive: '{p}' is not f:L"))?;
+            Ok((f.parse().map_err(|_| format!("--adaptive: {f}"))?, l.parse().map_err(|_| format!("--adaptive: {l}"))?))
+        })
+        .collect::<Result<_, String>>()?;
+    let scene = load_scene(&scene_name, None, &mut |l| println!("{l}"))?;
+    let bvh = Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, tpu, 2).map_err(|e| e.to_string())?;
+    let targets = Targets::lightmap(&lm);
+    let gpu = shaders::gpu::Gpu::new()?;
+    println!("{} on {}: {} texels, {} triangles", scene.name, gpu.adapter, targets.items.len(), bvh.tris.len());
+    let cfg = |seed, sampler, adaptive| BakeConfig {
+        seed,
+        max_bounces: bounces,
+        bases: vec![BasisKind::ShL2],
+        solver: Solver::Ls,
+        guiding: None,
+        sampler,
+        adaptive,
+    };
+    let tracer = || Tracer::new(&scene, &bvh, bounces);
+    // The reference: uniform, Sobol', another seed.
+    let t = Instant::now();
+    let mut r = GpuBake::new(&gpu, &tracer(), &targets, &cfg(1000, Sequence::Sobol, None))?;
+    r.run(ref_passes)?;
+    let reference = r.state()?;
+    drop(r);
+    let (rm, rse) = (reference.mean(), reference.standard_error());
+    let keep: Vec<bool> = rse.iter().map(|s| s.iter().all(|x| x.is_finite())).collect();
+    let kept = keep.iter().filter(|k| **k).count();
+    let ref_var: f64 =
+        rse.iter().zip(&keep).filter(|(_, k)| **k).flat_map(|(s, _)| s.iter()).map(|s| s * s).sum::<f64>() / (3 * kept) as f64;
+    println!("{kept} of {} texels measured by the reference (the rest met back faces)", rse.len());
+    println!("reference: {ref_passes} passes in {:.1} s, its RMS standard error {:.3e}", t.elapsed().as_secs_f64(), ref_var.sqrt());
+    let a = AdaptiveOptions::default();
+    let mut configs: Vec<(String, BakeConfig)> = vec![
+        ("megakernel uniform, white noise".into(), cfg(1, Sequence::Independent, None)),
+        ("megakernel uniform, Sobol'".into(), cfg(1, Sequence::Sobol, None)),
+    ];
+    for (f, l) in adaptive {
+        let o = AdaptiveOptions { batch_fraction: f, max_per_batch: l, ..a };
+        configs.push((format!("megakernel adaptive (f {f}, L {l}), Sobol'"), cfg(1, Sequence::Sobol, Some(o))));
+    }
+    let mut target = None;
+    println!("| configuration | first full preview (ms) | passes to target | paths to target | GPU s to target | × vs baseline |");
+    println!("|---|---|---|---|---|---|");
+    let mut baseline_s = None;
+    for (name, c) in configs {
+        let mut b = GpuBake::new(&gpu, &tracer(), &targets, &c)?;
+        // Warm-up (pipeline compilation, first-use costs of every kernel: a few uniform
+        // passes and batches), then the state is reset to empty.
+        b.run(c.adaptive.map_or(2, |a| a.pilot_passes + 2))?;
+        b.upload(&BakeState::new(&c, &targets))?;
+        let mut elapsed = 0.0;
+        // The first pass: every texel has a sample (the uniform pass, or the pilot's first).
+        let t = Instant::now();
+        b.run(1)?;
+        elapsed += t.elapsed().as_secs_f64();
+        let preview_ms = 1e3 * elapsed;
+        let steps_to = |passes: u64| c.adaptive.map_or(passes, |a| a.batches_for(passes));
+        let mut done_passes = 1u64;
+        let mut prev: Option<(f64, f64, u64, u64)> = None; // (seconds, mse, passes, paths)
+        let mut result = None;
+        let limit = ref_passes.min(1 << 14);
+        while done_passes <= limit {
+            let next = (done_passes * 2).max(2);
+            let (from, to) = (steps_to(done_passes), steps_to(next));
+            let t = Instant::now();
+            b.run(to - from)?;
+            elapsed += t.elapsed().as_secs_f64();
+            done_passes = next;
+            let st = b.state()?;
+            let e = mse(&st, &rm, &keep, ref_var);
+            let paths: u64 = st.moments.iter().map(|m| m.count()).sum();
+            if target.is_none() && done_passes >= target_passes {
+                target = Some(e);
+            }
+            if let Some(tg) = target {
+                if e <= tg {
+                    // Log-linear interpolation between the previous step and this one.
+                    let (s, p, q) = match prev {
+                        Some((s0, e0, p0, q0)) if e0 > tg => {
+                            let w = (e0.ln() - tg.ln()) / (e0.ln() - e.ln());
+                            let lerp = |a: f64, b: f64| (a.ln() + w * (b.ln() - a.ln())).exp();
+                            (lerp(s0, elapsed), lerp(p0 as f64, done_passes as f64), lerp(q0 as f64, paths as f64))
+                        }
+                        _ => (elapsed, done_passes as f64, paths as f64),
+                    };
+                    result = Some((s, p, q));
+                    break;
+                }
+            }
+            prev = Some((elapsed, e, done_passes, paths));
+        }
+        match result {
+            Some((s, p, q)) => {
+                let base = *baseline_s.get_or_insert(s);
+                println!("| {name} | {preview_ms:.1} | {p:.0} | {q:.3e} | {s:.3} | {:.2} |", base / s);
+            }
+            None => println!("| {name} | {preview_ms:.1} | not reached in {limit} passes | | | |"),
+        }
+    }
+    if let Some(tg) = target {
+        println!("target: E/π RMSE {:.4e} (the baseline's at {target_passes} passes)", tg.sqrt());
+    }
+    Ok(())
+}
