@@ -25,6 +25,7 @@ fn config(seed: u64) -> BakeConfig {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     }
 }
 

@@ -30,6 +30,7 @@ fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfi
         guiding,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     }
 }
 
@@ -139,7 +140,7 @@ fn main() {
             };
             println!("| {passes} | {name} | {bt:.3} | {pt:.3} | {} | {} |", cell(e, e0), cell(c0, c00));
             if images.is_some() && pi == 0 {
-                shots.push(baker::output::preview(&scene, &bvh, &lm, &img, 480));
+                shots.push(baker::output::preview(&scene, &bvh, &lm, &img, 480, None));
             }
         }
         if let (Some(dir), false) = (&images, shots.is_empty()) {

@@ -6,7 +6,7 @@
 //!
 //!     cargo run --release -p baker --example time_to_error -- \
 //!         [--scene sunbeam] [--texels-per-unit 16] [--reference-passes 8192] \
-//!         [--target-passes 256] [--bounces 4] [--adaptive 1:8,2:4]
+//!         [--target-passes 256] [--bounces 4] [--adaptive 1:8,2:4] [--camera 0,1,3:0,1,0:60]
 //!
 //! Configurations: megakernel uniform with white noise (the baseline), megakernel uniform
 //! with the Sobol' sequences, megakernel adaptive with the Sobol' sequences (one per
@@ -69,6 +69,8 @@ fn run() -> Result<(), String> {
             Ok((f.parse().map_err(|_| format!("--adaptive: {f}"))?, l.parse().map_err(|_| format!("--adaptive: {l}"))?))
         })
         .collect::<Result<_, String>>()?;
+    // Camera-based sampling: "eye:target[:fov]" (its error is over every texel, seen or not).
+    let camera: Option<String> = args.iter().position(|a| a == "--camera").and_then(|i| args.get(i + 1).cloned());
     let scene = load_scene(&scene_name, None, &mut |l| println!("{l}"))?;
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, tpu, 2).map_err(|e| e.to_string())?;
@@ -83,6 +85,7 @@ fn run() -> Result<(), String> {
         guiding: None,
         sampler,
         adaptive,
+        camera: None,
     };
     let tracer = || Tracer::new(&scene, &bvh, bounces);
     // The reference: uniform, Sobol', another seed.
@@ -106,6 +109,13 @@ fn run() -> Result<(), String> {
     for (f, l) in adaptive {
         let o = AdaptiveOptions { batch_fraction: f, max_per_batch: l, ..a };
         configs.push((format!("megakernel adaptive (f {f}, L {l}), Sobol'"), cfg(1, Sequence::Sobol, Some(o))));
+    }
+    if let Some(spec) = &camera {
+        let c = baker::camera::CameraSampling { camera: baker::camera::ViewCamera::parse(spec, 0, 0)?, pilot_passes: 1, max_per_batch: 8 };
+        configs.push((
+            "megakernel camera-based, Sobol'".into(),
+            BakeConfig { camera: Some(c.sized_for(targets.items.len())), ..cfg(1, Sequence::Sobol, None) },
+        ));
     }
     let mut target = None;
     println!("| configuration | first full preview (ms) | passes to target | paths to target | GPU s to target | × vs baseline |");

@@ -125,11 +125,23 @@ pub struct BakeConfig {
     /// Adaptive sampling of lightmap texels ([`crate::adapt`]); None: every texel every
     /// pass. Not with ray guiding, probes or several GPUs.
     pub adaptive: Option<crate::adapt::AdaptiveOptions>,
+    /// Camera-based sampling of lightmap texels ([`crate::camera`]); not with
+    /// `adaptive`, guiding, probes or several GPUs.
+    pub camera: Option<crate::camera::CameraSampling>,
 }
 
 impl BakeConfig {
     /// Refuses combinations the bake cannot run, with the reason.
     pub fn check(&self, targets: &Targets) -> Result<(), String> {
+        if let Some(c) = &self.camera {
+            c.validate()?;
+            if targets.sphere {
+                return Err("camera-based sampling applies to lightmap texels, not probes".into());
+            }
+            if self.guiding.is_some() || self.adaptive.is_some() {
+                return Err("camera-based sampling cannot be combined with ray guiding or adaptive sampling".into());
+            }
+        }
         if let Some(a) = &self.adaptive {
             a.validate()?;
             if targets.sphere {
@@ -172,8 +184,12 @@ pub struct Targets {
     /// Per item: its ray-guiding cluster ([`crate::guiding::clusters`]; 0 for probes).
     pub clusters: Vec<u32>,
     pub cluster_count: usize,
-    /// The atlas width in texels (ids are y·width + x); 0 for probes.
+    /// The atlas size in texels (ids are y·width + x); 0 × 0 for probes.
     pub width: usize,
+    pub height: usize,
+    /// Atlas UV (in texels) of every vertex of every triangle, `[mesh][triangle]` (see
+    /// [`Lightmap::triangle_uv`]; empty for probes): camera-based sampling finds texels by it.
+    pub triangle_uv: Vec<Vec<[sbf::glam::Vec2; 3]>>,
 }
 
 impl Targets {
@@ -187,7 +203,17 @@ impl Targets {
             }
         }
         let (clusters, cluster_count) = crate::guiding::clusters(lm);
-        Targets { points, items, sphere: false, slots: lm.texels.len(), clusters, cluster_count, width: lm.width }
+        Targets {
+            points,
+            items,
+            sphere: false,
+            slots: lm.texels.len(),
+            clusters,
+            cluster_count,
+            width: lm.width,
+            height: lm.height,
+            triangle_uv: lm.triangle_uv.clone(),
+        }
     }
 
     /// Light probes at the given positions.
@@ -195,7 +221,17 @@ impl Targets {
         let points = positions.iter().map(|p| SurfacePoint::flat(*p, Vec3::Y)).collect();
         let items = (0..positions.len() as u32).map(|k| [k, 1, k]).collect();
         let clusters = vec![0; positions.len()];
-        Targets { points, items, sphere: true, slots: positions.len(), clusters, cluster_count: 0, width: 0 }
+        Targets {
+            points,
+            items,
+            sphere: true,
+            slots: positions.len(),
+            clusters,
+            cluster_count: 0,
+            width: 0,
+            height: 0,
+            triangle_uv: Vec::new(),
+        }
     }
 
     /// The sample direction of a pass from (u₀, u₁) of its direction group: (direction in
@@ -212,7 +248,7 @@ impl Targets {
     }
 
     /// The sample direction of a texel in a guided bake from its stage's direction point
-    /// ([`PathSampler::staged_direction`]: stratified over the stage's passes): the
+    /// ([`PathSampler::staged`]: stratified over the stage's passes): the
     /// direction (u₀, u₁) and the mixture choice u₃. With the cluster's distribution
     /// `dist` (after learning) and u₃ < m the point is warped through it, else it is the
     /// uniform direction. Returns (tangent-space direction, world direction, its pdf:
@@ -488,9 +524,23 @@ impl<'a> Bake<'a> {
                 let samples = self.trace_items(&list);
                 self.absorb(&list, &samples);
             }
-            _ => {
-                self.pass_samples();
-            }
+            _ => match self.config.camera {
+                Some(c) if self.state.passes >= c.pilot_passes => {
+                    let batch = self.state.passes;
+                    let counts = crate::camera::pixel_counts(&c.camera, crate::camera::jitter(batch), self.tracer.bvh, self.targets);
+                    let list: Vec<(u32, u64)> = (0..self.targets.items.len())
+                        .flat_map(|k| {
+                            let first = self.state.moments[k].count();
+                            (0..counts[k].min(c.max_per_batch) as u64).map(move |j| (k as u32, first + j))
+                        })
+                        .collect();
+                    let samples = self.trace_items(&list);
+                    self.absorb(&list, &samples);
+                }
+                _ => {
+                    self.pass_samples();
+                }
+            },
         }
     }
 
@@ -535,14 +585,12 @@ impl<'a> Bake<'a> {
             .map(|&(k, pk)| {
                 let ([first, count, id], cluster) = (tg.items[k as usize], tg.clusters[k as usize]);
                 let mut smp = PathSampler::new(sampler, seed, id, pk);
-                // The baked point's direction group: unguided, or the guiding stage's own.
-                let u = match guide {
-                    Some(g) => {
-                        let (k, start) = crate::guiding::stage(p, g.learn_passes);
-                        smp.staged_direction(k, start)
-                    }
-                    None => smp.get(DIRECTION),
-                };
+                if let Some(g) = guide {
+                    // A guided bake's numbers: the stage's own (PathSampler::staged).
+                    let (k, start) = crate::guiding::stage(p, g.learn_passes);
+                    smp = smp.staged(k, start);
+                }
+                let u = smp.get(DIRECTION);
                 let pt = &tg.points[(first as u64 + pk % count as u64) as usize];
                 let normal = (!tg.sphere).then_some((pt.normal, pt.geometric));
                 match guide {

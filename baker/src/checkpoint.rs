@@ -122,6 +122,15 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
     h.bytes(format!("{:?}", config.solver).as_bytes());
     h.bytes(config.sampler.name().as_bytes());
+    if let Some(c) = config.camera {
+        h.bytes(b"camera");
+        h.vec3(c.camera.eye);
+        h.vec3(c.camera.target);
+        h.u64(c.camera.fov_y.to_bits() as u64);
+        h.u64(((c.camera.width as u64) << 32) | c.camera.height as u64);
+        h.u64(c.pilot_passes);
+        h.u64(c.max_per_batch as u64);
+    }
     if let Some(a) = config.adaptive {
         h.bytes(b"adaptive");
         h.u64(a.pilot_passes);

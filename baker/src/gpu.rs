@@ -244,10 +244,10 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             GUIDE_NONE_WGSL.to_string()
         }
     };
-    let adapt = if config.adaptive.is_some() && !sphere_targets {
+    let adapt = if (config.adaptive.is_some() || config.camera.is_some()) && !sphere_targets {
         ADAPT_BATCH_WGSL
     } else {
-        left_out.push("adaptive sampling (not enabled, or probes): the batch bindings".to_string());
+        left_out.push("adaptive and camera-based sampling (not enabled, or probes): the batch bindings".to_string());
         ADAPT_NONE_WGSL
     };
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
@@ -710,8 +710,17 @@ impl<'g> GpuBake<'g> {
             entries.push(wgpu::BindGroupEntry { binding: 10, resource: g.dist_buf.as_entire_binding() });
         }
         let adapt = match config.adaptive {
-            Some(a) => Some(crate::adapt_gpu::AdaptGpu::new(d, targets, a, config, &moments_buf)?),
-            None => None,
+            Some(a) => Some(crate::adapt_gpu::AdaptGpu::new(d, targets, crate::adapt_gpu::BatchSource::Variance(a), config, &moments_buf)?),
+            None => match &config.camera {
+                Some(c) => Some(crate::adapt_gpu::AdaptGpu::new(
+                    d,
+                    targets,
+                    crate::adapt_gpu::BatchSource::Camera(c, tracer.bvh),
+                    config,
+                    &moments_buf,
+                )?),
+                None => None,
+            },
         };
         if let Some(a) = &adapt {
             entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
@@ -766,7 +775,7 @@ impl<'g> GpuBake<'g> {
             return Err("a guided bake cannot be split across devices (guiding learns from whole clusters every pass)".into());
         }
         if self.adapt.is_some() && count > 1 {
-            return Err("an adaptive bake cannot be split across devices (each batch draws from the whole atlas's noise)".into());
+            return Err("an adaptive or camera-based bake cannot be split across devices (each batch draws from the whole atlas)".into());
         }
         (self.params.part_block, self.params.part_count, self.params.part_index) = (block as u32, count as u32, index as u32);
         self.share = (0..self.items.div_ceil(block)).filter(|b| b % count == index).map(|b| block.min(self.items - b * block)).sum();
@@ -860,15 +869,21 @@ impl<'g> GpuBake<'g> {
         self.params.pass_count = 1;
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         a.set_batch(q, self.passes);
-        let mut enc = d.create_command_encoder(&Default::default());
-        for _ in 0..k {
-            a.record_select(&mut enc);
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups_indirect(&a.args, 0);
+        // Camera batches write their jitter from here: one batch per submission.
+        let per = a.per_submission();
+        let mut b = 0;
+        while b < k {
+            let mut enc = d.create_command_encoder(&Default::default());
+            for j in b..(b + per).min(k) {
+                a.record_select(q, &mut enc, self.passes + j);
+                let mut pass = enc.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.dispatch_workgroups_indirect(&a.args, 0);
+            }
+            q.submit([enc.finish()]);
+            b += per;
         }
-        q.submit([enc.finish()]);
         self.params.batch_mode = 0;
     }
 
@@ -881,7 +896,7 @@ impl<'g> GpuBake<'g> {
         }
         let mut done = 0;
         while done < n {
-            if self.adapt.as_ref().is_some_and(|a| self.passes >= a.options.pilot_passes) {
+            if self.adapt.as_ref().is_some_and(|a| self.passes >= a.pilot_passes) {
                 let k = (n - done).min(MAX_BATCHES_PER_SUBMISSION);
                 self.batches(k);
                 self.passes += k;
@@ -891,7 +906,7 @@ impl<'g> GpuBake<'g> {
             let mut k = self.batching.passes.clamp(1, n - done);
             if let Some(a) = &self.adapt {
                 // Uniform passes stop at the end of the pilot.
-                k = k.min(a.options.pilot_passes - self.passes);
+                k = k.min(a.pilot_passes - self.passes);
             }
             self.params.pass_index = self.passes as u32;
             self.params.pass_count = k as u32;

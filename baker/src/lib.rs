@@ -6,6 +6,8 @@
 //!   with 1 M lightmapped triangles (the fair benchmark); [`scene::dense`] with a 1 M-triangle sphere for timing).
 //! - [`import`]: glTF 2.0 (TEXCOORD_1 lightmap UVs, metallic/roughness, emission,
 //!   KHR_lights_punctual) with a report of what was skipped.
+//! - [`camera`]: camera-based lightmap sampling — a view camera, per-batch jitter, the
+//!   texels its pixels see (CPU ray cast twin of the GPU raster in [`adapt_gpu`]).
 //! - [`bvh`]: binned-SAH BVH flattened into GPU-shaped nodes, CPU traversal.
 //! - [`lightmap`]: planar charts (or the mesh's own UVs), shelf packing, 16 sub-texel
 //!   sample positions per texel with a coverage mask.
@@ -49,6 +51,7 @@ pub mod adapt;
 pub mod adapt_gpu;
 pub mod bake;
 pub mod bvh;
+pub mod camera;
 pub mod checkpoint;
 pub mod denoise;
 pub mod gpu;

@@ -68,6 +68,14 @@ struct Cli {
     /// them in order, so this bounds a batch's longest thread), 1 to 64.
     #[arg(long, default_value_t = 8)]
     adaptive_max: u32,
+    /// Camera-based sampling (seed 004 §3.4.2): after one uniform pass, each batch traces
+    /// one path per pixel of this view (jittered), so the texels it sees converge first
+    /// and the rest keep their first pass; the preview uses the same view.
+    /// EYE:TARGET[:FOV] in scene units and degrees (vertical), e.g. 0,1,2.5:0,1,0:60.
+    /// The image has about as many pixels as the atlas has texels (4:3). Not with
+    /// --adaptive, --guiding or several GPUs.
+    #[arg(long)]
+    camera: Option<String>,
     /// Denoise the lightmap (joint non-local means within charts, guided by position and
     /// normal; the same weights for irradiance and every coefficient) before dilation.
     /// `auto`: on up to 2048 passes, where it was measured to lower the error (2.0× at 128
@@ -286,6 +294,20 @@ fn options(c: Cli) -> Result<Options, String> {
             sampler: baker::sampler::Sequence::parse(&c.sampler)
                 .ok_or_else(|| format!("unknown --sampler '{}': sobol or independent", c.sampler))?,
             adaptive,
+            camera: match &c.camera {
+                Some(spec) => {
+                    if c.adaptive || c.guiding {
+                        return Err("--camera cannot be combined with --adaptive or --guiding".into());
+                    }
+                    // Image size 0 × 0: sized from the atlas once it is laid out.
+                    Some(baker::camera::CameraSampling {
+                        camera: baker::camera::ViewCamera::parse(spec, 0, 0)?,
+                        pilot_passes: 1,
+                        max_per_batch: 8,
+                    })
+                }
+                None => None,
+            },
         },
         device,
         out: c.out,

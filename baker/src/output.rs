@@ -201,20 +201,28 @@ pub fn runtime_features(bases: &[BasisKind], glossy: bool) -> (Vec<&'static str>
 }
 
 /// A preview of the scene lit by the baked E/π (diffuse albedo × E/π + emission; the
-/// environment where rays leave), ray cast from inside the scene's bounds towards −Z,
-/// exposed to a mean of 0.18 and tone mapped with x/(1 + x), sRGB-encoded.
-pub fn preview(scene: &Scene, bvh: &Bvh, lm: &Lightmap, img: &LightmapImages, width: usize) -> image::RgbImage {
+/// environment where rays leave), ray cast from a view camera, exposed to a mean of 0.18
+/// and tone mapped with x/(1 + x), sRGB-encoded.
+/// `camera`: the view (camera-based sampling's), else the default one
+/// ([`crate::camera::ViewCamera::preview`]); either is rendered `width` wide at 4:3.
+pub fn preview(
+    scene: &Scene,
+    bvh: &Bvh,
+    lm: &Lightmap,
+    img: &LightmapImages,
+    width: usize,
+    camera: Option<crate::camera::ViewCamera>,
+) -> image::RgbImage {
     let height = (width * 3 / 4).max(1);
-    let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-    let centre = 0.5 * (lo + hi);
-    let eye = centre + Vec3::new(0.0, 0.0, 0.49 * (hi.z - lo.z));
-    let tan = (80f32.to_radians() * 0.5).tan();
+    let (w, h) = (width as u32, height as u32);
+    let cam = match camera {
+        Some(c) => crate::camera::ViewCamera { width: w, height: h, ..c },
+        None => crate::camera::ViewCamera::preview(bvh, w, h),
+    };
     let mut hdr = vec![Vec3::ZERO; width * height];
     for y in 0..height {
         for x in 0..width {
-            let sx = ((x as f32 + 0.5) / width as f32 * 2.0 - 1.0) * tan;
-            let sy = (1.0 - (y as f32 + 0.5) / height as f32 * 2.0) * tan * height as f32 / width as f32;
-            let d = Vec3::new(sx, sy, -1.0).normalize();
+            let (eye, d) = cam.ray(x as f32 + 0.5, y as f32 + 0.5);
             hdr[y * width + x] = match bvh.intersect(eye, d, 0.0, f32::INFINITY) {
                 None => scene.environment.radiance(d),
                 Some(h) => {

@@ -86,6 +86,7 @@ impl Default for Options {
                 guiding: None,
                 sampler: Default::default(),
                 adaptive: None,
+                camera: None,
             },
             device: Device::Auto,
             out: PathBuf::from("bake-out"),
@@ -324,9 +325,24 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     log(format!("device: {device}"));
     let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
     let targets = Targets::lightmap(&lm);
+    // The camera's image (camera-based sampling) sized from the atlas where not given.
+    let config = BakeConfig { camera: o.config.camera.map(|c| c.sized_for(targets.items.len())), ..o.config.clone() };
+    if let Some(c) = &config.camera {
+        let v = &c.camera;
+        log(format!(
+            "camera sampling: {}×{} pixels from {} towards {}, {:.0}° vertical field of view, {} uniform pass(es) first, ≤ {} samples per texel and batch",
+            v.width,
+            v.height,
+            v.eye,
+            v.target,
+            v.fov_y.to_degrees(),
+            c.pilot_passes,
+            c.max_per_batch
+        ));
+    }
     if let Some(passes) = o.measure_rays {
         let g = gpu.ok_or("--measure-rays needs a GPU adapter")?;
-        let mut b = GpuBake::new(g, &tracer_of(), &targets, &o.config)?;
+        let mut b = GpuBake::new(g, &tracer_of(), &targets, &config)?;
         let r = b.time_rays(passes)?;
         log(format!(
             "rays over {passes} passes × {} texels: primary {} in {:.4} s = {:.3} G rays/s; secondary {} extension + {} shadow in {:.4} s (full − primary) = {:.3} G rays/s; all rays {:.3} G rays/s",
@@ -357,7 +373,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         }
     }
     let t_passes = Instant::now();
-    let (state, run) = run_targets(o, &o.config, &gpus, &tracer_of, &scene, &targets, "lightmap", log)?;
+    let (state, run) = run_targets(o, &config, &gpus, &tracer_of, &scene, &targets, "lightmap", log)?;
     let mut times = StageTimes { lightmap_passes: t_passes.elapsed().as_secs_f64(), probe_passes: None };
     log(format!("lightmap: {run} passes in {:.2} s", times.lightmap_passes));
     let mut probe_state = None;
@@ -384,7 +400,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
             }
         }
         let pt = Targets::probes(&probe_positions);
-        let pcfg = BakeConfig { bases: o.probe_bases.clone(), adaptive: None, ..o.config.clone() };
+        let pcfg = BakeConfig { bases: o.probe_bases.clone(), adaptive: None, camera: None, ..o.config.clone() };
         let t = Instant::now();
         let (ps, prun) = run_targets(o, &pcfg, &gpus, &tracer_of, &scene, &pt, "probes", log)?;
         times.probe_passes = Some(t.elapsed().as_secs_f64());
@@ -532,7 +548,7 @@ fn write_outputs(
     let seam_seconds = t.elapsed().as_secs_f64();
     let t_out = Instant::now();
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
-    let png = output::preview(scene, bvh, lm, &img, o.preview_width);
+    let png = output::preview(scene, bvh, lm, &img, o.preview_width, o.config.camera.map(|c| c.camera));
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
     // Specular runtime: only for a scene with a glossy material and a profile (if any) whose
     // BRDF set has GGX.

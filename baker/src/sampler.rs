@@ -124,12 +124,13 @@ impl PathSampler {
         to_unit(group_point(self.sequence, Self::group_seed(self.key, self.vertex, use_), self.index))
     }
 
-    /// The baked point's direction group in a ray-guiding stage (`guiding::stage`):
-    /// indexed by the pass within the stage and seeded per stage, so each stage's
-    /// passes are stratified on their own (its distribution differs from the last).
-    pub fn staged_direction(&self, stage: u32, start: u64) -> [f64; 4] {
-        let s = pcg_hash(hash_combine(Self::group_seed(self.key, 0, DIRECTION), 0x5a0e_0000 + stage));
-        to_unit(group_point(self.sequence, s, self.index.wrapping_sub(start as u32)))
+    /// The sampler of a ray-guiding stage (`guiding::stage`): every group reseeded per
+    /// stage and indexed by the pass within the stage, so a stage's numbers are
+    /// independent of the earlier stages its distributions were learned from (a
+    /// quasi-random point falls in the gaps of its own sequence's earlier points — which a
+    /// distribution, or an MIS weight, learned from those points would bias).
+    pub fn staged(self, stage: u32, start: u64) -> PathSampler {
+        PathSampler { key: pcg_hash(hash_combine(self.key, 0x5a0e_0000 + stage)), index: self.index.wrapping_sub(start as u32), ..self }
     }
 }
 

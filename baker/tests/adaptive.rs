@@ -23,7 +23,16 @@ use baker::lightmap::Lightmap;
 use baker::trace::Tracer;
 
 fn config(seed: u64, adaptive: Option<AdaptiveOptions>) -> BakeConfig {
-    BakeConfig { seed, max_bounces: 3, bases: vec![], solver: Solver::Ls, guiding: None, sampler: Default::default(), adaptive }
+    BakeConfig {
+        seed,
+        max_bounces: 3,
+        bases: vec![],
+        solver: Solver::Ls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive,
+        camera: None,
+    }
 }
 
 /// Runs `passes` passes (pilot + batches for an adaptive bake) on the CPU or the GPU.

@@ -33,6 +33,7 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     // Reference: 16 384 passes, another seed.
     let t = Instant::now();

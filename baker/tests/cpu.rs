@@ -27,6 +27,7 @@ fn furnace_cpu() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, tracer);
@@ -167,6 +168,7 @@ fn deterministic_across_thread_counts() {
                 guiding: None,
                 sampler: Default::default(),
                 adaptive: None,
+                camera: None,
             };
             let targets = Targets::lightmap(&lm);
             let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 4));
@@ -286,6 +288,7 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 3));
     for _ in 0..32 {

@@ -251,6 +251,7 @@ fn furnace_bake_stays_within_noise() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, baker::trace::Tracer::new(&s, &bvh, 64));

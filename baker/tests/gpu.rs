@@ -26,6 +26,7 @@ fn kernels_validate_and_structs_match() {
                 guiding: None,
                 sampler: Default::default(),
                 adaptive: None,
+                camera: None,
             };
             kernel(&cfg, false, glossy).unwrap_or_else(|e| panic!("{b:?} glossy={glossy}: {e}"));
         }
@@ -37,6 +38,7 @@ fn kernels_validate_and_structs_match() {
             guiding: None,
             sampler: Default::default(),
             adaptive: None,
+            camera: None,
         };
         let k = kernel(&cfg, false, glossy).unwrap();
         // Left out: the GGX functions exactly when no material is glossy.
@@ -55,6 +57,7 @@ fn kernels_validate_and_structs_match() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     kernel(&probes, true, true).unwrap();
 }
@@ -96,6 +99,7 @@ fn furnace_gpu() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(128).unwrap();
@@ -216,6 +220,7 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let passes = 96;
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
@@ -329,6 +334,7 @@ fn chunked_dispatches_give_the_identical_bake() {
         guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let run = |setup: &dyn Fn(&mut GpuBake)| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();

@@ -32,6 +32,7 @@ fn config(seed: u64, guiding: Option<GuidingOptions>) -> BakeConfig {
         guiding,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     }
 }
 

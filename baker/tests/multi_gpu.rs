@@ -60,8 +60,16 @@ fn merged_bakes_equal_the_single_device_bake() {
     for (targets, bases, what) in
         [(&lightmap, vec![BasisKind::ShL2, BasisKind::Ad9], "lightmap"), (&probes, vec![BasisKind::ShL2], "probes")]
     {
-        let cfg =
-            BakeConfig { seed: 7, max_bounces: 3, bases, solver: Solver::Nnls, guiding: None, sampler: Default::default(), adaptive: None };
+        let cfg = BakeConfig {
+            seed: 7,
+            max_bounces: 3,
+            bases,
+            solver: Solver::Nnls,
+            guiding: None,
+            sampler: Default::default(),
+            adaptive: None,
+            camera: None,
+        };
         let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
         one.set_chunk(usize::MAX);
         one.run(6).unwrap();
@@ -91,6 +99,7 @@ fn merged_bakes_equal_the_single_device_bake() {
         guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let err = MultiGpuBake::new(&gpus[..2], &tracer_of, &lightmap, &guided).unwrap_err();
     assert!(err.contains("guiding"), "{err}");
@@ -116,6 +125,7 @@ fn several_passes_per_dispatch_give_the_identical_bake() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let run = |target: Option<f64>| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();

@@ -70,7 +70,16 @@ fn bake_guided(
 ) -> (Targets, Lightmap, BakeState) {
     let lm = Lightmap::build(scene, tpu, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = BakeConfig { seed: 7, max_bounces: 2, bases, solver: Solver::Ls, guiding, sampler: Default::default(), adaptive: None };
+    let cfg = BakeConfig {
+        seed: 7,
+        max_bounces: 2,
+        bases,
+        solver: Solver::Ls,
+        guiding,
+        sampler: Default::default(),
+        adaptive: None,
+        camera: None,
+    };
     let state = run_targets(scene, gpu, &targets, &cfg, passes);
     (targets, lm, state)
 }
@@ -291,7 +300,16 @@ fn sobol_sequences_lower_the_error_at_equal_passes() {
         let mut rmse = Vec::new();
         let mut predicted = 0.0;
         for sampler in [Sequence::Sobol, Sequence::Independent] {
-            let cfg = BakeConfig { seed: 7, max_bounces: 2, bases: vec![], solver: Solver::Ls, guiding: None, sampler, adaptive: None };
+            let cfg = BakeConfig {
+                seed: 7,
+                max_bounces: 2,
+                bases: vec![],
+                solver: Solver::Ls,
+                guiding: None,
+                sampler,
+                adaptive: None,
+                camera: None,
+            };
             let st = run_targets(&s, g.as_deref(), &t, &cfg, passes);
             let (m, se) = (st.mean(), st.standard_error());
             let (mut sq, mut var) = (0.0, 0.0);
@@ -534,6 +552,7 @@ fn probes_over_a_lit_disk() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let passes = 8192;
     let l_floor = rho * e * el.sin() / PI;
@@ -697,6 +716,7 @@ fn disk_light_probe_encodings_match_their_projections() {
         guiding: None,
         sampler: Default::default(),
         adaptive: None,
+        camera: None,
     };
     let cos0 = ((hd - y0) as f64) / (((hd - y0) as f64).powi(2) + rad * rad).sqrt();
     // Cap (μ from cos0 to 1 about +Y) and upper-hemisphere (μ from 0) quadratures, world frame.

@@ -89,8 +89,8 @@ fn sample4(s: Sampler, use_: u32) -> vec4<f32> {
     return to_unit4(group_point(pcg_hash(hash_combine(s.key, s.vertex * 3u + use_)), s.index));
 }
 
-// The baked point's direction group in ray-guiding stage `stage` from pass `start`.
-fn sample_staged(s: Sampler, stage: u32, start: u32) -> vec4<f32> {
-    let gs = pcg_hash(hash_combine(pcg_hash(hash_combine(s.key, USE_DIRECTION)), 0x5a0e0000u + stage));
-    return to_unit4(group_point(gs, s.index - start));
+// The sampler of ray-guiding stage `stage` from pass `start` (CPU twin
+// PathSampler::staged): every group reseeded per stage, indexed within the stage.
+fn sampler_staged(s: Sampler, stage: u32, start: u32) -> Sampler {
+    return Sampler(pcg_hash(hash_combine(s.key, 0x5a0e0000u + stage)), s.index - start, s.vertex);
 }

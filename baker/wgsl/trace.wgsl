@@ -707,13 +707,14 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
 fn bake_item(i: u32, pass_index: u32) {
     project_reset();
     let it = items[i];
-    let smp = sampler_new(it.z, pass_index);
-    // The baked point's direction group (u₀, u₁ direction, u₃ guided mixture choice):
-    // unguided, or the guiding stage's own; the sub-texel point from the sample index.
-    var u4 = sample4(smp, USE_DIRECTION);
+    var smp = sampler_new(it.z, pass_index);
     if (P.guide_phase != 0u) {
-        u4 = sample_staged(smp, P.guide_stage, P.guide_start);
+        // A guided bake's numbers: the stage's own.
+        smp = sampler_staged(smp, P.guide_stage, P.guide_start);
     }
+    // The baked point's direction group (u₀, u₁ direction, u₃ guided mixture choice); the
+    // sub-texel point from the sample index.
+    let u4 = sample4(smp, USE_DIRECTION);
     let k = it.x + pass_index % it.y;
     let pos = points[3u * k].xyz;
     // Shading normal (the texel's hemisphere and frame) and geometric normal (offsets and
