@@ -143,17 +143,7 @@ impl AdaptGpu {
         shaders::export::validate(&wgsl).map_err(|e| format!("adaptive sampling kernel: {e}"))?;
         let module =
             d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("adapt"), source: wgpu::ShaderSource::Wgsl(wgsl.into()) });
-        let pipeline = |entry: &str| {
-            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipelines = ["tile_sigma", "sum_tiles", "select_items", "batch_args"].map(pipeline);
+        let pipelines = ["tile_sigma", "sum_tiles", "select_items", "batch_args"].map(|e| compute_pipeline(d, &module, e));
         let buf = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -389,17 +379,7 @@ impl CameraGpu {
         };
         let texel_item = storage("camera texel items", bytemuck::cast_slice(&texel_item));
         let counts = storage("camera pixel counts", &vec![0u8; 4 * targets.items.len().max(1)]);
-        let compute = |entry: &str| {
-            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipelines = ["count_pixels", "camera_flags"].map(compute);
+        let pipelines = ["count_pixels", "camera_flags"].map(|e| compute_pipeline(d, &module, e));
         let group = |k: usize, entries: &[wgpu::BindGroupEntry]| {
             d.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("camera"),
@@ -483,4 +463,16 @@ impl CameraGpu {
         pass.set_bind_group(0, &self.groups[1], &[]);
         pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
     }
+}
+
+/// A compute pipeline of `module`'s `entry` with the layout its bindings imply.
+fn compute_pipeline(d: &wgpu::Device, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+    d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
 }

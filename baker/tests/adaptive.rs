@@ -18,7 +18,6 @@ mod common;
 use baker::adapt::AdaptiveOptions;
 use baker::bake::{Bake, BakeConfig, BakeState, Solver, Targets};
 use baker::bvh::Bvh;
-use baker::gpu::GpuBake;
 use baker::lightmap::Lightmap;
 use baker::trace::Tracer;
 
@@ -35,25 +34,6 @@ fn config(seed: u64, adaptive: Option<AdaptiveOptions>) -> BakeConfig {
     }
 }
 
-/// Runs `passes` passes (pilot + batches for an adaptive bake) on the CPU or the GPU.
-fn bake(g: Option<&shaders::gpu::Gpu>, scene: &baker::scene::Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {
-    let bvh = Bvh::build(scene);
-    match g {
-        Some(g) => {
-            let mut b = GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
-            b.run(passes).unwrap();
-            b.state().unwrap()
-        }
-        None => {
-            let mut b = Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
-            for _ in 0..passes {
-                b.pass();
-            }
-            b.state
-        }
-    }
-}
-
 fn paths(st: &BakeState) -> u64 {
     st.moments.iter().map(|m| m.count()).sum()
 }
@@ -63,7 +43,7 @@ fn adaptive_sampling_lowers_the_error_at_equal_paths_without_bias() {
     let scene = baker::scene::sunbeam();
     let lm = Lightmap::build(&scene, 8.0, 2).unwrap();
     let targets = Targets::lightmap(&lm);
-    let reference = bake(None, &scene, &targets, &config(100, None), 4096);
+    let reference = common::bake_on(None, &scene, &targets, &config(100, None), 4096);
     let (rm, rse) = (reference.mean(), reference.standard_error());
     let ref_var: f64 = rse.iter().flatten().map(|s| s * s).sum::<f64>() / (3 * rse.len()) as f64;
     let errors = |st: &BakeState| -> Vec<f64> {
@@ -76,8 +56,8 @@ fn adaptive_sampling_lowers_the_error_at_equal_paths_without_bias() {
         engines.push(("GPU", Some(g)));
     }
     for (name, g) in &engines {
-        let uniform = bake(g.as_deref(), &scene, &targets, &config(1, None), passes);
-        let adaptive = bake(g.as_deref(), &scene, &targets, &config(1, Some(a)), a.batches_for(passes));
+        let uniform = common::bake_on(g.as_deref(), &scene, &targets, &config(1, None), passes);
+        let adaptive = common::bake_on(g.as_deref(), &scene, &targets, &config(1, Some(a)), a.batches_for(passes));
         let (pu, pa) = (paths(&uniform), paths(&adaptive));
         let (eu, ea) = (errors(&uniform), errors(&adaptive));
         let n = eu.len() as f64;
@@ -100,7 +80,7 @@ fn adaptive_sampling_lowers_the_error_at_equal_paths_without_bias() {
         assert!(gain > 1.2, "{name}: adaptive sampling gained only {gain:.2}× (± {:.2})", gain * rel);
         // Bias (Kirk–Arvo): per chart and for the scene, the adaptive mean against the
         // reference within 3σ (σ from both bakes' per-texel standard errors).
-        let long = bake(g.as_deref(), &scene, &targets, &config(2, Some(a)), a.batches_for(512));
+        let long = common::bake_on(g.as_deref(), &scene, &targets, &config(2, Some(a)), a.batches_for(512));
         let (lm_, lse) = (long.mean(), long.standard_error());
         // (beyond 3σ, worst |d|/σ) of the mean difference over texels `ks`, per channel.
         let check = |label: &str, ks: &[usize]| -> (usize, f64) {
@@ -151,8 +131,8 @@ fn adaptive_bakes_resume_exactly_and_refuse_what_they_cannot_do() {
     let targets = Targets::lightmap(&lm);
     let a = AdaptiveOptions { pilot_passes: 4, ..Default::default() };
     let cfg = config(5, Some(a));
-    let straight = bake(None, &scene, &targets, &cfg, 40);
-    let first = bake(None, &scene, &targets, &cfg, 20);
+    let straight = common::bake_on(None, &scene, &targets, &cfg, 40);
+    let first = common::bake_on(None, &scene, &targets, &cfg, 20);
     let fp = baker::checkpoint::content_fingerprint(&scene, &targets, &cfg, "lightmap");
     assert_ne!(fp, baker::checkpoint::content_fingerprint(&scene, &targets, &config(5, None), "lightmap"));
     let other = config(5, Some(AdaptiveOptions { batch_fraction: 0.5, ..a }));
@@ -187,7 +167,7 @@ fn adaptive_bakes_resume_exactly_and_refuse_what_they_cannot_do() {
     let guided = BakeConfig { guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }), ..cfg.clone() };
     assert!(guided.check(&targets).unwrap_err().contains("guiding"));
     let Some(g) = common::gpu() else { return };
-    let (x, y) = (bake(Some(&g), &scene, &targets, &cfg, 40), bake(Some(&g), &scene, &targets, &cfg, 40));
+    let (x, y) = (common::bake_on(Some(&g), &scene, &targets, &cfg, 40), common::bake_on(Some(&g), &scene, &targets, &cfg, 40));
     assert_eq!(x.moments, y.moments, "GPU adaptive bakes differ");
     // The GPU's σ comes from f32 moments: a texel near a join threshold may go the other
     // way, so the path counts agree closely, not exactly.

@@ -14,12 +14,10 @@
 //! every pixel for item 0 — both fail.
 
 mod common;
-use baker::bake::{Bake, BakeConfig, BakeState, Solver, Targets};
+use baker::bake::{BakeConfig, Solver, Targets};
 use baker::bvh::Bvh;
 use baker::camera::{jitter, pixel_counts, CameraSampling, ViewCamera};
-use baker::gpu::GpuBake;
 use baker::lightmap::Lightmap;
-use baker::trace::Tracer;
 use sbf::glam::Vec3;
 
 fn config(seed: u64, camera: Option<CameraSampling>) -> BakeConfig {
@@ -40,24 +38,6 @@ fn view(width: u32, height: u32) -> ViewCamera {
     ViewCamera { eye: Vec3::new(0.2, 0.5, 0.9), target: Vec3::new(-0.3, 0.35, 0.0), fov_y: 55f32.to_radians(), width, height }
 }
 
-fn bake(g: Option<&shaders::gpu::Gpu>, scene: &baker::scene::Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {
-    let bvh = Bvh::build(scene);
-    match g {
-        Some(g) => {
-            let mut b = GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
-            b.run(passes).unwrap();
-            b.state().unwrap()
-        }
-        None => {
-            let mut b = Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
-            for _ in 0..passes {
-                b.pass();
-            }
-            b.state
-        }
-    }
-}
-
 #[test]
 fn the_gpu_raster_takes_the_texels_the_cpu_rays_see() {
     let scene = baker::scene::cornell();
@@ -74,11 +54,11 @@ fn the_gpu_raster_takes_the_texels_the_cpu_rays_see() {
     assert!(total > (cam.width * cam.height / 2) as u64, "the view sees too little of the lightmap");
     assert!(seen < targets.items.len() / 2 && seen > 100, "the view should see some texels, not all");
     // The CPU bake takes exactly these.
-    let cpu = bake(None, &scene, &targets, &config(3, Some(c)), 2);
+    let cpu = common::bake_on(None, &scene, &targets, &config(3, Some(c)), 2);
     let got: Vec<u64> = cpu.moments.iter().map(|m| m.count() - 1).collect();
     assert_eq!(got, want, "the CPU bake's batch differs from its pixel counts");
     let Some(g) = common::gpu() else { return };
-    let gpu = bake(Some(&g), &scene, &targets, &config(3, Some(c)), 2);
+    let gpu = common::bake_on(Some(&g), &scene, &targets, &config(3, Some(c)), 2);
     let got: Vec<u64> = gpu.moments.iter().map(|m| m.count() - 1).collect();
     let diff: u64 = got.iter().zip(&want).map(|(a, b)| a.abs_diff(*b)).sum();
     println!("GPU raster vs CPU rays: Σ|Δ| = {diff} of {total} samples ({:.3}%)", 100.0 * diff as f64 / total as f64);
@@ -90,7 +70,7 @@ fn camera_based_bakes_are_unbiased_and_leave_unseen_texels_alone() {
     let scene = baker::scene::cornell();
     let lm = Lightmap::build(&scene, 8.0, 2).unwrap();
     let targets = Targets::lightmap(&lm);
-    let reference = bake(None, &scene, &targets, &config(100, None), 2048);
+    let reference = common::bake_on(None, &scene, &targets, &config(100, None), 2048);
     let (rm, rse) = (reference.mean(), reference.standard_error());
     let c = CameraSampling { camera: view(64, 48), pilot_passes: 1, max_per_batch: 8 };
     let mut engines: Vec<(&str, Option<shaders::gpu::Lease>)> = vec![("CPU", None)];
@@ -98,7 +78,7 @@ fn camera_based_bakes_are_unbiased_and_leave_unseen_texels_alone() {
         engines.push(("GPU", Some(g)));
     }
     for (name, g) in &engines {
-        let st = bake(g.as_deref(), &scene, &targets, &config(1, Some(c)), 257);
+        let st = common::bake_on(g.as_deref(), &scene, &targets, &config(1, Some(c)), 257);
         let (m, se) = (st.mean(), st.standard_error());
         let seen: Vec<usize> = (0..targets.items.len()).filter(|&k| st.moments[k].count() > 1).collect();
         let unseen = targets.items.len() - seen.len();

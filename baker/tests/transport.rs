@@ -13,13 +13,10 @@
 //! mean within 3σ_mean, every texel within 5σ (plus the same rounding bound).
 
 mod common;
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
-use baker::bvh::Bvh;
-use baker::gpu::GpuBake;
+use baker::bake::{BakeConfig, BakeState, BasisKind, Solver, Targets};
 use baker::guiding::GuidingOptions;
 use baker::lightmap::Lightmap;
 use baker::scene::{disk_light, Environment, Light, Material, Mesh, Scene};
-use baker::trace::Tracer;
 use common::gpu;
 use sbf::glam::{DVec3, Vec3};
 use sbf::quadrature::{Domain, SphereQuadrature};
@@ -80,27 +77,8 @@ fn bake_guided(
         adaptive: None,
         camera: None,
     };
-    let state = run_targets(scene, gpu, &targets, &cfg, passes);
+    let state = common::bake_on(gpu, scene, &targets, &cfg, passes);
     (targets, lm, state)
-}
-
-/// Runs `passes` of `targets` on the CPU or the GPU; returns the state.
-fn run_targets(scene: &Scene, gpu: Option<&Gpu>, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {
-    let bvh = Bvh::build(scene);
-    match gpu {
-        Some(g) => {
-            let mut b = GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
-            b.run(passes).unwrap();
-            b.state().unwrap()
-        }
-        None => {
-            let mut b = Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
-            for _ in 0..passes {
-                b.pass();
-            }
-            b.state
-        }
-    }
 }
 
 /// Per texel: the analytic E/π averaged over the sub-texel points the passes used
@@ -310,7 +288,7 @@ fn sobol_sequences_lower_the_error_at_equal_passes() {
                 adaptive: None,
                 camera: None,
             };
-            let st = run_targets(&s, g.as_deref(), &t, &cfg, passes);
+            let st = common::bake_on(g.as_deref(), &s, &t, &cfg, passes);
             let (m, se) = (st.mean(), st.standard_error());
             let (mut sq, mut var) = (0.0, 0.0);
             for &k in &near {
@@ -558,7 +536,7 @@ fn probes_over_a_lit_disk() {
     let l_floor = rho * e * el.sin() / PI;
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
     for (name, g) in engines() {
-        let st = run_targets(&s, g.as_deref(), &targets, &cfg, passes);
+        let st = common::bake_on(g.as_deref(), &s, &targets, &cfg, passes);
         let (m, se) = (st.mean(), st.standard_error());
         for (hi, h) in heights.iter().enumerate() {
             let omega = 2.0 * PI * (1.0 - h / (h * h + rad * rad).sqrt());
@@ -734,7 +712,7 @@ fn disk_light_probe_encodings_match_their_projections() {
     let truth = PI * l * (1.0 - cos0 * cos0);
     for (name, g) in engines() {
         let passes = 8192;
-        let st = run_targets(&s, g.as_deref(), &targets, &cfg, passes);
+        let st = common::bake_on(g.as_deref(), &s, &targets, &cfg, passes);
         for (bi, kind) in cfg.bases.iter().enumerate() {
             let basis = kind.basis();
             let nb = basis.len();

@@ -19,3 +19,31 @@ pub fn gpu() -> Option<shaders::gpu::Lease> {
         }
     }
 }
+
+/// Runs `passes` passes (or pilot passes and batches) of `targets` on the GPU `gpu`, or on
+/// the CPU reference path without one; returns the state.
+#[allow(dead_code)]
+pub fn bake_on(
+    gpu: Option<&shaders::gpu::Gpu>,
+    scene: &baker::scene::Scene,
+    targets: &baker::bake::Targets,
+    cfg: &baker::bake::BakeConfig,
+    passes: u64,
+) -> baker::bake::BakeState {
+    use baker::trace::Tracer;
+    let bvh = baker::bvh::Bvh::build(scene);
+    match gpu {
+        Some(g) => {
+            let mut b = baker::gpu::GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
+            b.run(passes).unwrap();
+            b.state().unwrap()
+        }
+        None => {
+            let mut b = baker::bake::Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
+            for _ in 0..passes {
+                b.pass();
+            }
+            b.state
+        }
+    }
+}
