@@ -31,14 +31,14 @@ pub fn exclusive<T>(f: impl FnOnce() -> T) -> T {
 }
 
 /// Timed passes per measurement.
-pub const REPEATS: usize = 9;
+pub const REPEATS: usize = 7;
 /// Smallest batch, in evaluations.
 pub const MIN_BATCH: usize = 1 << 13;
 /// Shortest pass: cheap evaluators get larger batches, so that every timed pass lasts
 /// at least this long (timer resolution and per-pass overhead stay below 0.1%; a
 /// scheduler tick or a frequency step lands in few of the passes, and the median drops
 /// it — at 0.5 ms × 5 passes two runs on a shared 2-core CI machine differed by 1.20×).
-pub const MIN_PASS_S: f64 = 2e-3;
+pub const MIN_PASS_S: f64 = 5e-4;
 
 /// A steady-state cost: ns per evaluation, median of `repeats` passes of `batch`
 /// evaluations, with the fastest and slowest pass.
