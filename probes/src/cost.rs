@@ -4,8 +4,8 @@
 //! Method: the mode's runtime evaluation (coefficients → value at a direction, exactly
 //! what the report's images come from) runs over the output directions, cycled to at
 //! least [`MIN_BATCH`] evaluations and at least [`MIN_PASS_S`] per pass; one untimed pass
-//! over the batch's directions warms caches and branch predictors and sizes the batch,
-//! then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
+//! over the batch's directions warms caches and branch predictors and sizes the batch, a
+//! full-size untimed pass settles the clock, then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
 //! nothing is allocated inside the loop (the evaluators hoist their scratch). Reported:
 //! the median pass and the spread (min, max).
 //!
@@ -30,14 +30,15 @@ pub fn exclusive<T>(f: impl FnOnce() -> T) -> T {
     f()
 }
 
-/// Timed passes per measurement.
+/// Timed passes per measurement (5 medians once disagreed by 1.20× on a shared 2-core CI
+/// machine, the first run the slow one; 7 after a full-size warm-up pass stayed within
+/// 1.13× in 90 pairs (30 runs) here with a busy loop on the other core, for +0.05 s on `probes
+/// compare pisa.hdr --no-specular`; 9 passes of 2 ms cost +0.35 s).
 pub const REPEATS: usize = 7;
 /// Smallest batch, in evaluations.
 pub const MIN_BATCH: usize = 1 << 13;
 /// Shortest pass: cheap evaluators get larger batches, so that every timed pass lasts
-/// at least this long (timer resolution and per-pass overhead stay below 0.1%; a
-/// scheduler tick or a frequency step lands in few of the passes, and the median drops
-/// it — at 0.5 ms × 5 passes two runs on a shared 2-core CI machine differed by 1.20×).
+/// at least this long (timer resolution and per-pass overhead stay below 0.1%).
 pub const MIN_PASS_S: f64 = 5e-4;
 
 /// A steady-state cost: ns per evaluation, median of `repeats` passes of `batch`
@@ -106,6 +107,9 @@ fn measure<T: Copy>(dirs: &[T], work: usize, mut f: impl FnMut(T) -> [f64; 3]) -
         }
         black_box(acc);
     };
+    // A full-size untimed pass: the core reaches its steady clock before timing (the first
+    // of two measurements was the slow one when CI saw them disagree).
+    pass();
     let mut times: Vec<f64> = (0..REPEATS)
         .map(|_| {
             let t = Instant::now();

@@ -4,9 +4,11 @@
 //! measurements of the same mode agree within 20%. One test function in its own binary,
 //! so no other test of this process competes for the cores while it times.
 //!
-//! Error model: a median of 9 passes of ≥ 8 192 evaluations and ≥ 2 ms each, after a full-size warm-up pass — timer
-//! resolution is negligible; the spread comes from frequency and cache state, which a
-//! warm-up pass and the median contain to a few percent on an idle core. 1.6 leaves 20%
+//! Error model: a median of 7 passes of ≥ 8 192 evaluations and ≥ 0.5 ms each, after a
+//! full-size warm-up pass — timer resolution is negligible; the spread comes from
+//! frequency, cache state and the scheduler, which the warm-up pass and the median contain
+//! to a few percent on an idle core (within 1.13× in 90 pairs here with the other core
+//! busy). 1.6 leaves 20%
 //! for noise on the 2× and for the loop's own overhead, which does not double.
 
 use probes::modes::{run, Context};
