@@ -595,83 +595,118 @@ fn direct(p: vec3<f32>, ns: vec3<f32>, wo: vec3<f32>, m: Material, smp: Sampler)
     return l;
 }
 
+// A path's state between its segments (also the wavefront's per-path record, 64 bytes):
+// the next segment's origin and direction, the pdf of the sample that chose it (≤ 0:
+// counted fully), the hit index of that segment (bounce), throughput and gathered
+// radiance, and the flags below.
+struct PathState {
+    o: vec3<f32>,
+    prev_pdf: f32,
+    d: vec3<f32>,
+    bounce: u32,
+    throughput: vec3<f32>,
+    flags: u32,
+    radiance: vec3<f32>,
+    pad: u32,
+}
+
+// A first hit on a single-sided back face ends the path and sets PATH_BACK.
+const PATH_REJECT_BACK: u32 = 1u;
+const PATH_BACK: u32 = 2u;
+
 // The path from origin o along unit dir. first_pdf > 0: the pdf of the strategy that
-// chose dir (MIS at the first hit); reject_back: a first hit on a single-sided back face
-// ends the path and sets `back`.
+// chose dir (MIS at the first hit); reject_back: see PATH_REJECT_BACK.
+fn path_start(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool) -> PathState {
+    return PathState(origin, first_pdf, dir, 0u, vec3<f32>(1.0), select(0u, PATH_REJECT_BACK, reject_back), vec3<f32>(0.0), 0u);
+}
+
 struct PathResult {
     radiance: vec3<f32>,
     back: bool,
 }
 
-// Hit k (bounce k − 1) draws from vertex k of the sampler.
-fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, smp0: Sampler) -> PathResult {
-    var smp = smp0;
-    var o = origin;
-    var d = dir;
-    var throughput = vec3<f32>(1.0);
-    var radiance = vec3<f32>(0.0);
-    // pdf of the sample that produced d (≤ 0: counted fully).
-    var prev_pdf = first_pdf;
-    for (var bounce = 0u; bounce <= P.max_bounces; bounce++) {
-        count_ray(select(1u, 0u, bounce == 0u));
-        let hit = traverse(o, d, T_FAR, false);
-        if (hit.tri == NO_HIT) {
-            var w = 1.0;
-            if (prev_pdf > 0.0 && P.env_cdf_width > 0u) {
-                w = power2(prev_pdf, env_pdf(d));
-            }
-            radiance += throughput * environment(d) * w;
-            break;
+// One segment's hit (or miss) handled: environment or emission (MIS), then at a surface
+// vertex next-event estimation, the BSDF sample and Russian roulette. Hit k (bounce
+// k − 1) draws from vertex k of the sampler. Returns whether the path goes on (its next
+// segment in st.o, st.d). Shared by the megakernel's loop (`path`) and the wavefront's
+// shade pass, so both run the same estimator.
+fn path_step(st: ptr<function, PathState>, hit: Hit, smp0: Sampler) -> bool {
+    let bounce = (*st).bounce;
+    let d = (*st).d;
+    if (hit.tri == NO_HIT) {
+        var w = 1.0;
+        if ((*st).prev_pdf > 0.0 && P.env_cdf_width > 0u) {
+            w = power2((*st).prev_pdf, env_pdf(d));
         }
-        if (P.primary_only == 1u) {
-            // Timing mode: the first segment only (its hit distance keeps the work live).
-            radiance += vec3<f32>(hit.t);
-            break;
-        }
-        let tri = tris[hit.tri];
-        let m = load_material(tri.material);
-        let ng = normalize(cross(tri.e1, tri.e2));
-        let front = dot(d, ng) < 0.0;
-        if (bounce == 0u && reject_back && !front && !m.double_sided) {
-            return PathResult(vec3<f32>(0.0), true);
-        }
-        if (front && max3(m.emissive) > 0.0) {
-            var w = 1.0;
-            if (prev_pdf > 0.0) {
-                w = power2(prev_pdf, emitter_pdf(m.emissive, hit.t, -dot(d, ng)));
-            }
-            radiance += throughput * m.emissive * w;
-        }
-        if (bounce == P.max_bounces) {
-            break;
-        }
-        let p = o + d * hit.t;
-        let ns = select(-ng, ng, front);
-        let wo = -d;
-        smp.vertex = bounce + 1u;
-        radiance += throughput * direct(p, ns, wo, m, smp);
-        // BSDF: layer choice, direction; Russian roulette: the fourth number.
-        let ub = sample4(smp, USE_DIRECTION);
-        let s = sample_bsdf(m, ns, wo, ub.xyz);
-        if (!(s.pdf > 0.0)) {
-            break;
-        }
-        throughput *= s.f * (dot(s.wi, ns) / s.pdf);
-        if (!(max3(throughput) > 0.0) || max3(throughput) > 3.0e38) {
-            break;
-        }
-        if (bounce >= 2u) {
-            let q = min(max3(throughput), 0.95);
-            if (ub.w >= q) {
-                break;
-            }
-            throughput /= q;
-        }
-        prev_pdf = s.pdf;
-        o = offset_ray(p, ns);
-        d = s.wi;
+        (*st).radiance += (*st).throughput * environment(d) * w;
+        return false;
     }
-    return PathResult(radiance, false);
+    if (P.primary_only == 1u) {
+        // Timing mode: the first segment only (its hit distance keeps the work live).
+        (*st).radiance += vec3<f32>(hit.t);
+        return false;
+    }
+    let tri = tris[hit.tri];
+    let m = load_material(tri.material);
+    let ng = normalize(cross(tri.e1, tri.e2));
+    let front = dot(d, ng) < 0.0;
+    if (bounce == 0u && ((*st).flags & PATH_REJECT_BACK) != 0u && !front && !m.double_sided) {
+        (*st).radiance = vec3<f32>(0.0);
+        (*st).flags |= PATH_BACK;
+        return false;
+    }
+    if (front && max3(m.emissive) > 0.0) {
+        var w = 1.0;
+        if ((*st).prev_pdf > 0.0) {
+            w = power2((*st).prev_pdf, emitter_pdf(m.emissive, hit.t, -dot(d, ng)));
+        }
+        (*st).radiance += (*st).throughput * m.emissive * w;
+    }
+    if (bounce == P.max_bounces) {
+        return false;
+    }
+    let p = (*st).o + d * hit.t;
+    let ns = select(-ng, ng, front);
+    let wo = -d;
+    var smp = smp0;
+    smp.vertex = bounce + 1u;
+    (*st).radiance += (*st).throughput * direct(p, ns, wo, m, smp);
+    // BSDF: layer choice, direction; Russian roulette: the fourth number.
+    let ub = sample4(smp, USE_DIRECTION);
+    let s = sample_bsdf(m, ns, wo, ub.xyz);
+    if (!(s.pdf > 0.0)) {
+        return false;
+    }
+    var throughput = (*st).throughput * s.f * (dot(s.wi, ns) / s.pdf);
+    if (!(max3(throughput) > 0.0) || max3(throughput) > 3.0e38) {
+        return false;
+    }
+    if (bounce >= 2u) {
+        let q = min(max3(throughput), 0.95);
+        if (ub.w >= q) {
+            return false;
+        }
+        throughput /= q;
+    }
+    (*st).throughput = throughput;
+    (*st).prev_pdf = s.pdf;
+    (*st).o = offset_ray(p, ns);
+    (*st).d = s.wi;
+    (*st).bounce = bounce + 1u;
+    return true;
+}
+
+// The whole path in one thread (the megakernel).
+fn path(origin: vec3<f32>, dir: vec3<f32>, first_pdf: f32, reject_back: bool, smp: Sampler) -> PathResult {
+    var st = path_start(origin, dir, first_pdf, reject_back);
+    loop {
+        count_ray(select(1u, 0u, st.bounce == 0u));
+        let hit = traverse(st.o, st.d, T_FAR, false);
+        if (!path_step(&st, hit, smp)) {
+            break;
+        }
+    }
+    return PathResult(st.radiance, (st.flags & PATH_BACK) != 0u);
 }
 
 fn finite3(v: vec3<f32>) -> bool {
@@ -703,9 +738,31 @@ fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
 }
 
-// Pass `pass_index` of item i.
-fn bake_item(i: u32, pass_index: u32) {
-    project_reset();
+// The baked point of pass `pass_index` of item i and its point sample's direction
+// (CPU twin: Tracer::sample_point + Targets::item_sample).
+struct FirstVertex {
+    smp: Sampler,
+    pos: vec3<f32>,
+    // Shading normal (the texel's hemisphere and frame) and geometric normal (offsets and
+    // the surface's own horizon: directions below it see the surface, radiance 0).
+    nrm: vec3<f32>,
+    ng: vec3<f32>,
+    texel: bool,
+    guided: bool,
+    // The direction in the normal's frame (texels) or world space (probes), and in world.
+    local: vec3<f32>,
+    dir: vec3<f32>,
+    // The plain estimate's weight of the path radiance, the point sample's pdf, and the
+    // encoders' sample weight: 1, or (1/2π)/p for a guided point sample.
+    weight: f32,
+    p_s: f32,
+    w_enc: f32,
+    // The path's origin, and whether it is traced at all (texels: dir above the surface).
+    origin: vec3<f32>,
+    traced: bool,
+}
+
+fn first_vertex(i: u32, pass_index: u32) -> FirstVertex {
     let it = items[i];
     var smp = sampler_new(it.z, pass_index);
     if (P.guide_phase != 0u) {
@@ -717,20 +774,17 @@ fn bake_item(i: u32, pass_index: u32) {
     let u4 = sample4(smp, USE_DIRECTION);
     let k = it.x + pass_index % it.y;
     let pos = points[3u * k].xyz;
-    // Shading normal (the texel's hemisphere and frame) and geometric normal (offsets and
-    // the surface's own horizon: directions below it see the surface, radiance 0).
     let nrm = points[3u * k + 1u].xyz;
     let ng = points[3u * k + 2u].xyz;
     let texel = P.mode == 0u;
-    let fr = tangent_frame(nrm);
     var local: vec3<f32>;
     var dir: vec3<f32>;
     var weight: f32;
     var p_s: f32;
-    // The encoders' sample weight: 1, or (1/2π)/p for a guided point sample.
     var w_enc = 1.0;
     let guided = texel && P.guide_phase == 2u;
     if (texel) {
+        let fr = tangent_frame(nrm);
         let ud = u4.xy;
         let choice = u4.w;
         if (guided && choice < GUIDED_FRACTION) {
@@ -752,7 +806,6 @@ fn bake_item(i: u32, pass_index: u32) {
             weight = local.z * INV_PI / p_s;
             w_enc = 0.5 * INV_PI / p_s;
         }
-        guide_clear(i);
     } else {
         // Uniform sphere in world space (probes): the sample is L itself.
         let z = 1.0 - 2.0 * u4.x;
@@ -763,13 +816,41 @@ fn bake_item(i: u32, pass_index: u32) {
         weight = 1.0;
         p_s = 0.25 * INV_PI;
     }
-    let out = i;
+    let origin = select(pos, offset_towards(pos, ng, dir), texel);
+    let traced = !texel || dot(dir, ng) > 0.0;
+    return FirstVertex(smp, pos, nrm, ng, texel, guided, local, dir, weight, p_s, w_enc, origin, traced);
+}
+
+// Pass `pass_index` of item i: the point sample's path, then the rest (megakernel).
+fn bake_item(i: u32, pass_index: u32) {
+    let fv = first_vertex(i, pass_index);
     if (P.primary_only == 1u) {
         // Timing mode: the first segment only; keep the result live with one write.
-        let l = path(select(pos, offset_towards(pos, ng, dir), texel), dir, 0.0, false, smp).radiance;
-        moments[3u * out] += vec4<f32>(l, 0.0);
+        let l = path(fv.origin, fv.dir, 0.0, false, fv.smp).radiance;
+        moments[3u * i] += vec4<f32>(l, 0.0);
         return;
     }
+    var pr = PathResult(vec3<f32>(0.0), false);
+    if (fv.traced) {
+        pr = path(fv.origin, fv.dir, fv.p_s, true, fv.smp);
+    }
+    finish_item(i, fv, pr);
+}
+
+// The rest of a pass of item i once its point sample's path radiance is known (the
+// megakernel's tail and the wavefront's accumulate pass): the light samples at the baked
+// point, then the moments, the encoders and ray guiding's records.
+fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
+    project_reset();
+    guide_clear(i);
+    let it = items[i];
+    let texel = fv.texel;
+    let pos = fv.pos;
+    let nrm = fv.nrm;
+    let ng = fv.ng;
+    let p_s = fv.p_s;
+    let fr = tangent_frame(nrm);
+    let out = i;
     // Light samples at the baked point: (ω_l, c = L·w/p·V) → the plain estimate gains
     // c·cosθ/π (texels) or c·p_s (probes); the encoders gain p_s·c at ω_l.
     var e_lights = vec3<f32>(0.0);
@@ -789,12 +870,12 @@ fn bake_item(i: u32, pass_index: u32) {
     // One emitter point by power and one environment direction, MIS against the point
     // sample.
     for (var a_k = 0u; a_k < 2u; a_k++) {
-        let a = area_sample(a_k, pos, smp);
+        let a = area_sample(a_k, pos, fv.smp);
         if (a.pdf > 0.0 && (!texel || (dot(a.wi, nrm) > 0.0 && dot(a.wi, ng) > 0.0))) {
             if (visible_area(select(pos, offset_towards(pos, ng, a.wi), texel), a)) {
                 let ld = select(a.wi, to_local(a.wi, fr, nrm), texel);
                 // MIS against the point-sample strategy's pdf at ω_l.
-                let p_point = select(p_s, guide_pdf(it.w, ld), guided);
+                let p_point = select(p_s, guide_pdf(it.w, ld), fv.guided);
                 let c = a.radiance * (power2(a.pdf, p_point) / a.pdf);
                 if (texel) {
                     // Learning: this sample's estimate of the bin's (1/2π)·∫L cosθ.
@@ -806,16 +887,12 @@ fn bake_item(i: u32, pass_index: u32) {
             }
         }
     }
-    var pr = PathResult(vec3<f32>(0.0), false);
-    if (!texel || dot(dir, ng) > 0.0) {
-        pr = path(select(pos, offset_towards(pos, ng, dir), texel), dir, p_s, true, smp);
-    }
     if (pr.back) {
         moments[3u * out + 1u].w += 1.0;
         guide_clear(i);
         return;
     }
-    let e = pr.radiance * weight + e_lights;
+    let e = pr.radiance * fv.weight + e_lights;
     if (!(finite && finite3(pr.radiance) && finite3(e) && finite3(e * e))) {
         moments[3u * out + 2u].x += 1.0;
         guide_clear(i);
@@ -823,8 +900,8 @@ fn bake_item(i: u32, pass_index: u32) {
     }
     moments[3u * out] += vec4<f32>(e, 1.0);
     moments[3u * out + 1u] += vec4<f32>(e * e, 0.0);
-    encode(out, local, pr.radiance, w_enc);
+    encode(out, fv.local, pr.radiance, fv.w_enc);
     if (texel) {
-        guide_record(i, 0u, local, luminance(pr.radiance) * w_enc);
+        guide_record(i, 0u, fv.local, luminance(pr.radiance) * fv.w_enc);
     }
 }
