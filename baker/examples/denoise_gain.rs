@@ -26,6 +26,7 @@ fn config(seed: u64) -> BakeConfig {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     }
 }
 

@@ -31,6 +31,7 @@ fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfi
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     }
 }
 

@@ -86,6 +86,7 @@ fn run() -> Result<(), String> {
         sampler,
         adaptive,
         camera: None,
+        pipeline: Default::default(),
     };
     let tracer = || Tracer::new(&scene, &bvh, bounces);
     // The reference: uniform, Sobol', another seed.

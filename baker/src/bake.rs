@@ -128,6 +128,38 @@ pub struct BakeConfig {
     /// Camera-based sampling of lightmap texels ([`crate::camera`]); not with
     /// `adaptive`, guiding, probes or several GPUs.
     pub camera: Option<crate::camera::CameraSampling>,
+    /// How a GPU bake runs its passes ([`Pipeline`]); the CPU bake ignores it.
+    pub pipeline: Pipeline,
+}
+
+/// How the GPU runs a pass: one thread per texel through whole paths, or breadth first
+/// (seed 004 §3.1, §5.1; [`crate::wavefront`]). Both run the same estimator on the same
+/// sample numbers, so the choice changes the time, not the bake.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pipeline {
+    /// One kernel, one thread per job through whole paths (`trace.wgsl`'s `bake_pass`).
+    #[default]
+    Megakernel,
+    /// Generate, then per bounce intersect, shade and compact the active paths, then
+    /// accumulate ([`crate::wavefront`]).
+    Wavefront,
+}
+
+impl Pipeline {
+    pub fn parse(s: &str) -> Option<Pipeline> {
+        match s {
+            "megakernel" => Some(Pipeline::Megakernel),
+            "wavefront" => Some(Pipeline::Wavefront),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Pipeline::Megakernel => "megakernel",
+            Pipeline::Wavefront => "wavefront",
+        }
+    }
 }
 
 impl BakeConfig {

@@ -251,8 +251,15 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         ADAPT_NONE_WGSL
     };
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
+    let wavefront = match config.pipeline {
+        crate::bake::Pipeline::Wavefront => crate::wavefront::WGSL,
+        crate::bake::Pipeline::Megakernel => {
+            left_out.push("the wavefront passes (the megakernel pipeline)".to_string());
+            ""
+        }
+    };
     let source = format!(
-        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}",
+        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{wavefront}",
         lib.source,
         if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL }
     );
@@ -436,8 +443,10 @@ impl GuideGpu {
 #[derive(Debug)]
 pub struct GpuBake<'g> {
     gpu: &'g Gpu,
-    pipeline: wgpu::ComputePipeline,
-    bind_group: wgpu::BindGroup,
+    /// The megakernel and its bind group (None: the wavefront pipeline runs the passes).
+    mega: Option<(wgpu::ComputePipeline, wgpu::BindGroup)>,
+    /// The wavefront passes ([`crate::wavefront`]; None: the megakernel runs them).
+    wavefront: Option<crate::wavefront::Wavefront>,
     params_buf: wgpu::Buffer,
     moments_buf: wgpu::Buffer,
     states_buf: wgpu::Buffer,
@@ -477,6 +486,9 @@ struct Batching {
     passes: u64,
     /// Dispatches so far (the measurement schedule).
     dispatches: u64,
+    /// The most jobs × passes of one dispatch (the wavefront's path pool; unbounded for
+    /// the megakernel).
+    max_slots: usize,
 }
 
 /// The most adaptive batches recorded into one submission.
@@ -490,6 +502,20 @@ pub const MAX_PASSES_PER_DISPATCH: u64 = 8;
 const INITIAL_CHUNK: usize = 1 << 18;
 /// The default target time per dispatch (a 60 Hz frame).
 pub const BATCH_TARGET_SECONDS: f64 = 0.016;
+
+/// Slots of the wavefront's path pool for a bake of `items` items: a uniform wave of up to
+/// [`crate::wavefront::MAX_UNIFORM_SLOTS`] jobs × passes, or the most samples one batch can
+/// take — adaptive: λ_k ≤ L per texel and Σλ_k ≤ f·N, rounded up per texel, so at most
+/// N·min(⌈L⌉, ⌈f⌉ + 1); camera: at most L per texel and one per pixel.
+pub fn wave_capacity(config: &BakeConfig, items: usize) -> usize {
+    let uniform = items.min(crate::wavefront::MAX_UNIFORM_SLOTS);
+    let batch = match (&config.adaptive, &config.camera) {
+        (Some(a), _) => items * (a.max_per_batch as usize).min(a.batch_fraction.ceil() as usize + 1),
+        (None, Some(c)) => (items * c.max_per_batch as usize).min((c.camera.width as usize * c.camera.height as usize).max(items)),
+        (None, None) => 0,
+    };
+    uniform.max(batch).max(64)
+}
 
 /// Checks every storage buffer of a bake against the adapter's binding limit before
 /// anything is uploaded; the error names the buffer and both sizes.
@@ -584,18 +610,22 @@ impl<'g> GpuBake<'g> {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
         });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("bake"),
-            layout: None,
-            module: &module,
-            entry_point: Some("bake_pass"),
-            compilation_options: Default::default(),
-            cache: None,
+        let wavefront = config.pipeline == crate::bake::Pipeline::Wavefront;
+        let pipeline = (!wavefront).then(|| {
+            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("bake"),
+                layout: None,
+                module: &module,
+                entry_point: Some("bake_pass"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
         });
         let (aux, at) = aux_data(tracer);
         let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
         let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
         let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
+        let pool = if wavefront { wave_capacity(config, targets.items.len()) } else { 0 };
         check_bindings(
             &[
                 ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
@@ -606,6 +636,7 @@ impl<'g> GpuBake<'g> {
                 ("moments", (targets.items.len() * 48) as u64),
                 ("ray-guiding distributions", (clusters * crate::guiding::CDF_LEN * 4) as u64),
                 ("ray-guiding records", (if clusters > 0 { targets.items.len() * 24 } else { 0 }) as u64),
+                ("wavefront path pool", (pool * 64) as u64),
             ],
             d.limits().max_storage_buffer_binding_size,
         )?;
@@ -727,15 +758,35 @@ impl<'g> GpuBake<'g> {
             entries.push(wgpu::BindGroupEntry { binding: 12, resource: a.count.as_entire_binding() });
             entries.push(wgpu::BindGroupEntry { binding: 13, resource: a.samples.as_entire_binding() });
         }
-        let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("bake"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        let mega = match pipeline {
+            Some(p) => {
+                let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("bake"),
+                    layout: &p.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                Some((p, bind_group))
+            }
+            None => None,
+        };
+        let wavefront = if wavefront {
+            let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
+            let buffers: Vec<(u32, &wgpu::Buffer)> = entries
+                .iter()
+                .map(|e| match &e.resource {
+                    wgpu::BindingResource::Buffer(b) => (e.binding, b.buffer),
+                    _ => unreachable!("the bake binds whole buffers"),
+                })
+                .collect();
+            Some(crate::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items)?)
+        } else {
+            None
+        };
+        let max_slots = wavefront.as_ref().map_or(usize::MAX, |w| w.capacity);
         Ok(GpuBake {
             gpu,
-            pipeline,
-            bind_group,
+            mega,
+            wavefront,
             params_buf,
             moments_buf,
             states_buf,
@@ -747,7 +798,13 @@ impl<'g> GpuBake<'g> {
             passes: 0,
             kernel,
             guide,
-            batching: Batching { target: Some(BATCH_TARGET_SECONDS), chunk: items.min(INITIAL_CHUNK), passes: 1, dispatches: 0 },
+            batching: Batching {
+                target: Some(BATCH_TARGET_SECONDS),
+                chunk: items.min(INITIAL_CHUNK).min(max_slots),
+                passes: 1,
+                dispatches: 0,
+                max_slots,
+            },
             share: items,
             adapt,
         })
@@ -760,7 +817,9 @@ impl<'g> GpuBake<'g> {
 
     /// Fixes the items per dispatch (at least 1; adaptation off).
     pub fn set_chunk(&mut self, items: usize) {
-        self.batching = Batching { target: None, chunk: items.clamp(1, self.range_len()), passes: 1, dispatches: self.batching.dispatches };
+        let b = self.batching;
+        self.batching =
+            Batching { target: None, chunk: items.clamp(1, self.range_len()).min(b.max_slots), passes: 1, dispatches: b.dispatches, ..b };
     }
 
     /// Makes this bake device `index` of `count`: it dispatches only the items of blocks
@@ -834,13 +893,8 @@ impl<'g> GpuBake<'g> {
             (self.params.item_offset, self.params.item_end) = (start as u32, end as u32);
             self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
             let mut enc = d.create_command_encoder(&Default::default());
-            {
-                let groups = grid((end - start) as u32, WG);
-                let mut pass = enc.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups(groups.0, groups.1, 1);
-            }
+            let groups = grid((end - start) as u32, WG);
+            self.record_jobs(&mut enc, crate::wavefront::JobGrid::Direct(groups));
             if end == last {
                 break enc;
             }
@@ -860,6 +914,21 @@ impl<'g> GpuBake<'g> {
         self.gpu.queue().submit([enc.finish()]);
     }
 
+    /// Records the bake's passes over `jobs`: the megakernel, or a wavefront wave.
+    fn record_jobs(&self, enc: &mut wgpu::CommandEncoder, jobs: crate::wavefront::JobGrid) {
+        if let Some(w) = &self.wavefront {
+            w.record(enc, jobs, self.params.max_bounces, self.params.primary_only == 1);
+        } else if let Some((pipeline, group)) = &self.mega {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            match jobs {
+                crate::wavefront::JobGrid::Direct((x, y)) => pass.dispatch_workgroups(x, y, 1),
+                crate::wavefront::JobGrid::Indirect(args) => pass.dispatch_workgroups_indirect(args, 0),
+            }
+        }
+    }
+
     /// `k` adaptive batches in one submission: each the selection, then the bake kernel
     /// over the listed items by an indirect dispatch.
     fn batches(&mut self, k: u64) {
@@ -876,10 +945,7 @@ impl<'g> GpuBake<'g> {
             let mut enc = d.create_command_encoder(&Default::default());
             for j in b..(b + per).min(k) {
                 a.record_select(q, &mut enc, self.passes + j);
-                let mut pass = enc.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups_indirect(&a.args, 0);
+                self.record_jobs(&mut enc, crate::wavefront::JobGrid::Indirect(&a.args));
             }
             q.submit([enc.finish()]);
             b += per;
@@ -908,6 +974,8 @@ impl<'g> GpuBake<'g> {
                 // Uniform passes stop at the end of the pilot.
                 k = k.min(a.pilot_passes - self.passes);
             }
+            // The wavefront's pool holds chunk × passes paths.
+            k = k.min((self.batching.max_slots / self.batching.chunk.max(1)).max(1) as u64);
             self.params.pass_index = self.passes as u32;
             self.params.pass_count = k as u32;
             let d = self.batching.dispatches;
@@ -935,11 +1003,21 @@ impl<'g> GpuBake<'g> {
                 } else {
                     let scale = (target / per.max(1e-9)).clamp(0.5, 2.0);
                     let next = ((self.batching.chunk as f64 * scale) as usize).div_ceil(WG as usize) * WG as usize;
-                    self.batching.chunk = next.max(WG as usize).min(self.range_len()).max(1);
+                    self.batching.chunk = next.max(WG as usize).min(self.range_len()).min(self.batching.max_slots).max(1);
                 }
             }
         }
-        self.gpu.wait()
+        self.gpu.wait()?;
+        if let Some(w) = &self.wavefront {
+            let c: [u32; 4] = bytemuck::pod_read_unaligned(&self.gpu.read_back(w.overflow_counter())?);
+            if c[2] > 0 {
+                return Err(format!(
+                    "wavefront: {} samples found the path pool of {} slots full (a bug: the pool is sized for every batch)",
+                    c[2], w.capacity
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// How this bake builds ray guiding's distributions (None: no guiding).

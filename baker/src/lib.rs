@@ -71,3 +71,4 @@ pub mod slc;
 pub mod slc_gpu;
 pub mod slc_media;
 pub mod trace;
+pub mod wavefront;

@@ -113,6 +113,11 @@ struct Cli {
     /// seed 004 §6.2) or independent (white noise, for comparison).
     #[arg(long, default_value = "sobol")]
     sampler: String,
+    /// How the GPU runs a pass: megakernel (one thread per texel through whole paths) or
+    /// wavefront (generate, then per bounce intersect, shade and compact the active paths,
+    /// then accumulate; seed 004 §3.1, §5.1). The same bake either way.
+    #[arg(long, default_value = "megakernel")]
+    pipeline: String,
     /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
     /// rasterisers such as lavapipe included), or cpu.
     #[arg(long, default_value = "auto")]
@@ -308,6 +313,8 @@ fn options(c: Cli) -> Result<Options, String> {
                 }
                 None => None,
             },
+            pipeline: baker::bake::Pipeline::parse(&c.pipeline)
+                .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
         },
         device,
         out: c.out,

@@ -87,6 +87,7 @@ impl Default for Options {
                 sampler: Default::default(),
                 adaptive: None,
                 camera: None,
+                pipeline: Default::default(),
             },
             device: Device::Auto,
             out: PathBuf::from("bake-out"),

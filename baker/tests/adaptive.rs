@@ -16,7 +16,7 @@
 
 mod common;
 use baker::adapt::AdaptiveOptions;
-use baker::bake::{Bake, BakeConfig, BakeState, Solver, Targets};
+use baker::bake::{Bake, BakeConfig, BakeState, Pipeline, Solver, Targets};
 use baker::bvh::Bvh;
 use baker::lightmap::Lightmap;
 use baker::trace::Tracer;
@@ -31,6 +31,7 @@ fn config(seed: u64, adaptive: Option<AdaptiveOptions>) -> BakeConfig {
         sampler: Default::default(),
         adaptive,
         camera: None,
+        pipeline: Default::default(),
     }
 }
 
@@ -51,13 +52,18 @@ fn adaptive_sampling_lowers_the_error_at_equal_paths_without_bias() {
     };
     let a = AdaptiveOptions::default();
     let passes = 64;
-    let mut engines: Vec<(&str, Option<shaders::gpu::Lease>)> = vec![("CPU", None)];
-    if let Some(g) = common::gpu() {
-        engines.push(("GPU", Some(g)));
+    // The GPU through both pipelines: the wavefront expands a batch's samples into paths
+    // of their own (slots per job), the megakernel takes them in one thread.
+    let lease = common::gpu();
+    let mut engines: Vec<(&str, Option<&shaders::gpu::Gpu>, Pipeline)> = vec![("CPU", None, Pipeline::Megakernel)];
+    if let Some(g) = &lease {
+        engines.push(("GPU", Some(g), Pipeline::Megakernel));
+        engines.push(("GPU wavefront", Some(g), Pipeline::Wavefront));
     }
-    for (name, g) in &engines {
-        let uniform = common::bake_on(g.as_deref(), &scene, &targets, &config(1, None), passes);
-        let adaptive = common::bake_on(g.as_deref(), &scene, &targets, &config(1, Some(a)), a.batches_for(passes));
+    for &(name, g, pipeline) in &engines {
+        let config = |seed, adaptive| BakeConfig { pipeline, ..config(seed, adaptive) };
+        let uniform = common::bake_on(g, &scene, &targets, &config(1, None), passes);
+        let adaptive = common::bake_on(g, &scene, &targets, &config(1, Some(a)), a.batches_for(passes));
         let (pu, pa) = (paths(&uniform), paths(&adaptive));
         let (eu, ea) = (errors(&uniform), errors(&adaptive));
         let n = eu.len() as f64;
@@ -80,7 +86,7 @@ fn adaptive_sampling_lowers_the_error_at_equal_paths_without_bias() {
         assert!(gain > 1.2, "{name}: adaptive sampling gained only {gain:.2}× (± {:.2})", gain * rel);
         // Bias (Kirk–Arvo): per chart and for the scene, the adaptive mean against the
         // reference within 3σ (σ from both bakes' per-texel standard errors).
-        let long = common::bake_on(g.as_deref(), &scene, &targets, &config(2, Some(a)), a.batches_for(512));
+        let long = common::bake_on(g, &scene, &targets, &config(2, Some(a)), a.batches_for(512));
         let (lm_, lse) = (long.mean(), long.standard_error());
         // (beyond 3σ, worst |d|/σ) of the mean difference over texels `ks`, per channel.
         let check = |label: &str, ks: &[usize]| -> (usize, f64) {

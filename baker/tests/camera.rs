@@ -30,6 +30,7 @@ fn config(seed: u64, camera: Option<CameraSampling>) -> BakeConfig {
         sampler: Default::default(),
         adaptive: None,
         camera,
+        pipeline: Default::default(),
     }
 }
 

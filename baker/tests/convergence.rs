@@ -34,6 +34,7 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     // Reference: 16 384 passes, another seed.
     let t = Instant::now();

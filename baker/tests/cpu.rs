@@ -28,6 +28,7 @@ fn furnace_cpu() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, tracer);
@@ -169,6 +170,7 @@ fn deterministic_across_thread_counts() {
                 sampler: Default::default(),
                 adaptive: None,
                 camera: None,
+                pipeline: Default::default(),
             };
             let targets = Targets::lightmap(&lm);
             let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 4));
@@ -289,6 +291,7 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 3));
     for _ in 0..32 {

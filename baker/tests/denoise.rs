@@ -252,6 +252,7 @@ fn furnace_bake_stays_within_noise() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, baker::trace::Tracer::new(&s, &bvh, 64));

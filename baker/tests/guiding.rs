@@ -33,6 +33,7 @@ fn config(seed: u64, guiding: Option<GuidingOptions>) -> BakeConfig {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     }
 }
 

@@ -69,6 +69,7 @@ fn merged_bakes_equal_the_single_device_bake() {
             sampler: Default::default(),
             adaptive: None,
             camera: None,
+            pipeline: Default::default(),
         };
         let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
         one.set_chunk(usize::MAX);
@@ -100,6 +101,7 @@ fn merged_bakes_equal_the_single_device_bake() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let err = MultiGpuBake::new(&gpus[..2], &tracer_of, &lightmap, &guided).unwrap_err();
     assert!(err.contains("guiding"), "{err}");
@@ -126,6 +128,7 @@ fn several_passes_per_dispatch_give_the_identical_bake() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let run = |target: Option<f64>| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();

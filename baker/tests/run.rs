@@ -494,6 +494,7 @@ fn scenes_without_gloss_leave_specular_out() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let k = baker::gpu::kernel(&cfg, false, false).unwrap();
     assert!(!k.source.contains("fn ggx_d(") && k.left_out[0].starts_with("GGX layer"));

@@ -76,6 +76,7 @@ fn bake_guided(
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let state = common::bake_on(gpu, scene, &targets, &cfg, passes);
     (targets, lm, state)
@@ -287,6 +288,7 @@ fn sobol_sequences_lower_the_error_at_equal_passes() {
                 sampler,
                 adaptive: None,
                 camera: None,
+                pipeline: Default::default(),
             };
             let st = common::bake_on(g.as_deref(), &s, &t, &cfg, passes);
             let (m, se) = (st.mean(), st.standard_error());
@@ -531,6 +533,7 @@ fn probes_over_a_lit_disk() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let passes = 8192;
     let l_floor = rho * e * el.sin() / PI;
@@ -695,6 +698,7 @@ fn disk_light_probe_encodings_match_their_projections() {
         sampler: Default::default(),
         adaptive: None,
         camera: None,
+        pipeline: Default::default(),
     };
     let cos0 = ((hd - y0) as f64) / (((hd - y0) as f64).powi(2) + rad * rad).sqrt();
     // Cap (μ from cos0 to 1 about +Y) and upper-hemisphere (μ from 0) quadratures, world frame.

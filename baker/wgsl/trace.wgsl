@@ -714,22 +714,26 @@ fn finite3(v: vec3<f32>) -> bool {
     return all(abs(v) <= vec3<f32>(3.4028235e38));
 }
 
+// Thread position v of a dispatch → its job: (item, first sample index, samples) — a
+// pass range, or an adaptive batch's entry; item NO_HIT past the end.
+fn job_at(v: u32) -> vec3<u32> {
+    if (P.batch_mode == 1u) {
+        return batch_item(v);
+    }
+    let w = P.item_offset + v;
+    // Position w of this device's share → the item (the identity on one device).
+    let i = (w / P.part_block) * P.part_block * P.part_count + P.part_index * P.part_block + w % P.part_block;
+    return vec3<u32>(select(i, NO_HIT, w >= P.item_end), P.pass_index, P.pass_count);
+}
+
 // One pass: one point sample per item (texel or probe) plus its light samples, added to
 // the moments and to every configured basis's progressive encoder (`encode` and
 // `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
+// The megakernel: each thread takes its job through whole paths.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    // (item, first sample index, samples): a pass range, or an adaptive batch's entry.
     // One call site of bake_item keeps the kernel's code (and registers) single.
-    var job: vec3<u32>;
-    if (P.batch_mode == 1u) {
-        job = batch_item(gid.x + gid.y * nwg.x * 64u);
-    } else {
-        let v = P.item_offset + gid.x + gid.y * nwg.x * 64u;
-        // Position v of this device's share → the item (the identity on one device).
-        let i = (v / P.part_block) * P.part_block * P.part_count + P.part_index * P.part_block + v % P.part_block;
-        job = vec3<u32>(select(i, NO_HIT, v >= P.item_end), P.pass_index, P.pass_count);
-    }
+    let job = job_at(gid.x + gid.y * nwg.x * 64u);
     if (job.x == NO_HIT) {
         return;
     }

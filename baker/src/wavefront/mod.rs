@@ -1,0 +1,235 @@
+//! # The wavefront pipeline (seed 004 §3.1, §5.1)
+//!
+//! A pass split breadth first: instead of one thread taking its texel through a whole
+//! path (the megakernel, `trace.wgsl`'s `bake_pass`), every stage of every path of a
+//! **wave** — the jobs of one dispatch range, each job an item and its samples — runs as
+//! its own kernel over the paths still alive, so that short and long paths no longer share
+//! a thread's lifetime. The pass graph of one wave, recorded by [`Wavefront::record`]:
+//!
+//! ```text
+//!  generate ─► wave_start ─► ┌ intersect ─► shade ─► compact ─► wave_args ┐ ─► accumulate
+//!                            └──────────── per bounce, 0 ..= max_bounces ──┘
+//! ```
+//!
+//! | pass | WGSL | what it does | CPU twin |
+//! |---|---|---|---|
+//! | generate | `generate.wgsl` | per job: its samples take consecutive slots of the path pool (workgroup scan, one atomic per workgroup), each slot the first segment of its point sample's path | `Tracer::sample_point` |
+//! | wave_start, wave_args | `wave.wgsl` | the queue's length and the indirect dispatch arguments (2D) | — |
+//! | intersect | `intersect.wgsl` | per active path: closest hit of its segment (the BVH traversal of `trace.wgsl`) | `Bvh::intersect` |
+//! | shade | `shade.wgsl` | per active path: `path_step` — environment or emission (MIS), next-event estimation with its shadow rays, the BSDF sample, Russian roulette; a flag per queue position says whether the path goes on | `Tracer::path` |
+//! | compact | [`crate::gpu_prims`] | the queue's surviving paths, order kept: flags → exclusive prefix sum (multi-level, subgroup or workgroup block scan) → scatter into the other queue of the ping-pong pair | [`crate::gpu_prims::compact_cpu`] |
+//! | accumulate | `accumulate.wgsl` | per job, its samples in order (the progressive encoder's ordering, §7.3.1): `finish_item` — the light samples at the baked point, moments, encoders, guiding records | `Targets::item_sample` |
+//!
+//! Generate, shade and accumulate call the very functions the megakernel calls
+//! (`first_vertex`, `path_step`, `finish_item`), and every random number comes from
+//! (seed, item, sample, vertex, use) ([`crate::sampler`]), so both pipelines run the same
+//! estimator on the same numbers; only the arithmetic's schedule differs. The passes after
+//! generate are dispatched indirectly from the queue's length, so the host never waits
+//! inside a wave; a wave's jobs are those the megakernel would have dispatched (a pass
+//! range of [`crate::gpu::GpuBake`]'s frame-time batching, or an adaptive or camera batch).
+//!
+//! Bindings: group 0 is the megakernel's; group 1 holds the path pool (`wave.wgsl`). Each
+//! pass's pipeline has the layout naga finds for its entry point ([`bindings_used`]).
+
+use crate::gpu_prims::{CompactPlan, Prims};
+use wgpu::util::DeviceExt;
+
+/// The passes' WGSL, composed after the megakernel's module (it calls its functions).
+pub const WGSL: &str = concat!(
+    include_str!("wave.wgsl"),
+    include_str!("generate.wgsl"),
+    include_str!("intersect.wgsl"),
+    include_str!("shade.wgsl"),
+    include_str!("accumulate.wgsl"),
+);
+
+/// Bytes per slot of the path pool: the path state (64), its hit (8), its sampler key (8),
+/// two queue entries, a flag and a scan offset (16).
+pub const BYTES_PER_SLOT: usize = 96;
+
+/// The most slots of a uniform wave (2²⁰: 96 MiB of pool); a wave of more jobs × samples
+/// is split by the frame-time batching.
+pub const MAX_UNIFORM_SLOTS: usize = 1 << 20;
+
+/// The (group, binding) pairs entry point `entry` of a validated module uses.
+pub fn bindings_used(module: &naga::Module, info: &naga::valid::ModuleInfo, entry: &str) -> Result<Vec<(u32, u32)>, String> {
+    let index = module.entry_points.iter().position(|e| e.name == entry).ok_or_else(|| format!("no entry point {entry}"))?;
+    let fi = info.get_entry_point(index);
+    let mut used: Vec<(u32, u32)> = module
+        .global_variables
+        .iter()
+        .filter(|(h, _)| !fi[*h].is_empty())
+        .filter_map(|(_, v)| v.binding.as_ref().map(|b| (b.group, b.binding)))
+        .collect();
+    used.sort_unstable();
+    Ok(used)
+}
+
+/// A pass's pipeline and its bind groups: per group, one per queue of the ping-pong pair.
+#[derive(Debug)]
+struct Pass {
+    pipeline: wgpu::ComputePipeline,
+    groups: Vec<[wgpu::BindGroup; 2]>,
+}
+
+/// How a wave's jobs are dispatched: a 2D grid of 64-thread workgroups, or the indirect
+/// arguments of an adaptive or camera batch.
+#[derive(Debug, Clone, Copy)]
+pub enum JobGrid<'a> {
+    Direct((u32, u32)),
+    Indirect(&'a wgpu::Buffer),
+}
+
+/// The wavefront passes of one bake, their path pool and compaction plans.
+#[derive(Debug)]
+pub struct Wavefront {
+    generate: Pass,
+    start: Pass,
+    intersect: Pass,
+    shade: Pass,
+    args: Pass,
+    accumulate: Pass,
+    prims: Prims,
+    /// Queue 0 → 1 and 1 → 0.
+    compact: [CompactPlan; 2],
+    wave: wgpu::Buffer,
+    wave_args: wgpu::Buffer,
+    flags: wgpu::Buffer,
+    /// Slots in the path pool.
+    pub capacity: usize,
+}
+
+impl Wavefront {
+    /// The passes of `module` (the bake's kernel with [`WGSL`], validated as `naga`),
+    /// `group0` the megakernel's bindings, a pool of `capacity` slots and `jobs` job
+    /// positions (the most jobs a wave has).
+    pub fn new(
+        d: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        naga: (&naga::Module, &naga::valid::ModuleInfo),
+        group0: &[(u32, &wgpu::Buffer)],
+        capacity: usize,
+        jobs: usize,
+    ) -> Result<Wavefront, String> {
+        let capacity = capacity.max(64);
+        let storage = |label: &str, bytes: usize, extra: wgpu::BufferUsages| {
+            d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(16) as u64,
+                usage: wgpu::BufferUsages::STORAGE | extra,
+                mapped_at_creation: false,
+            })
+        };
+        let copy = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let paths = storage("wavefront paths", 64 * capacity, wgpu::BufferUsages::empty());
+        let hits = storage("wavefront hits", 8 * capacity, wgpu::BufferUsages::empty());
+        let keys = storage("wavefront sampler keys", 8 * capacity, wgpu::BufferUsages::empty());
+        let queues = [storage("wavefront queue 0", 4 * capacity, copy), storage("wavefront queue 1", 4 * capacity, copy)];
+        let flags = storage("wavefront flags", 4 * capacity, copy);
+        let offsets = storage("wavefront offsets", 4 * capacity, copy);
+        let wave = storage("wavefront counters", 16, copy);
+        let job_buf = storage("wavefront jobs", 16 * jobs.max(1), wgpu::BufferUsages::empty());
+        let wave_args = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("wavefront args"),
+            contents: bytemuck::cast_slice(&[0u32, 1, 1]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+        });
+        let group1 = |q: usize| -> Vec<(u32, &wgpu::Buffer)> {
+            vec![(0, &paths), (1, &hits), (2, &keys), (3, &queues[q]), (4, &flags), (5, &wave), (6, &job_buf), (7, &wave_args)]
+        };
+        let groups = [group0.to_vec(), group1(0)];
+        let alt = [group0.to_vec(), group1(1)];
+        let pass = |entry: &str| -> Result<Pass, String> {
+            let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let used = bindings_used(naga.0, naga.1, entry)?;
+            let top = used.iter().map(|u| u.0).max().unwrap_or(0);
+            let mut out = Vec::new();
+            for g in 0..=top {
+                let layout = pipeline.get_bind_group_layout(g);
+                let make = |list: &[(u32, &wgpu::Buffer)]| {
+                    let entries: Vec<wgpu::BindGroupEntry> = list
+                        .iter()
+                        .filter(|(b, _)| used.contains(&(g, *b)))
+                        .map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() })
+                        .collect();
+                    d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(entry), layout: &layout, entries: &entries })
+                };
+                out.push([make(&groups[g as usize]), make(&alt[g as usize])]);
+            }
+            Ok(Pass { pipeline, groups: out })
+        };
+        let prims = Prims::new(d);
+        let compact = [
+            prims.compact_plan(d, &queues[0], &flags, &offsets, &queues[1], capacity),
+            prims.compact_plan(d, &queues[1], &flags, &offsets, &queues[0], capacity),
+        ];
+        Ok(Wavefront {
+            generate: pass("wf_generate")?,
+            start: pass("wave_start")?,
+            intersect: pass("wf_intersect")?,
+            shade: pass("wf_shade")?,
+            args: pass("wave_args_from_length")?,
+            accumulate: pass("wf_accumulate")?,
+            prims,
+            compact,
+            wave,
+            wave_args,
+            flags,
+            capacity,
+        })
+    }
+
+    fn run_pass(enc: &mut wgpu::CommandEncoder, p: &Pass, queue: usize, grid: JobGrid) {
+        let mut cp = enc.begin_compute_pass(&Default::default());
+        cp.set_pipeline(&p.pipeline);
+        for (g, pair) in p.groups.iter().enumerate() {
+            cp.set_bind_group(g as u32, &pair[queue], &[]);
+        }
+        match grid {
+            JobGrid::Direct((x, y)) => cp.dispatch_workgroups(x, y, 1),
+            JobGrid::Indirect(args) => cp.dispatch_workgroups_indirect(args, 0),
+        }
+    }
+
+    /// Records one wave over `jobs`: generate, then per bounce intersect, shade and
+    /// compaction of the queue, then accumulate (`primary_only`: generate and the first
+    /// intersect only — the primary-ray timing of [`crate::gpu::GpuBake::time_rays`]).
+    pub fn record(&self, enc: &mut wgpu::CommandEncoder, jobs: JobGrid, max_bounces: u32, primary_only: bool) {
+        // Queue length and slots taken back to 0 (the overflow count stays).
+        enc.clear_buffer(&self.wave, 0, Some(8));
+        Self::run_pass(enc, &self.generate, 0, jobs);
+        Self::run_pass(enc, &self.start, 0, JobGrid::Direct((1, 1)));
+        let indirect = JobGrid::Indirect(&self.wave_args);
+        let bounces = if primary_only { 0 } else { max_bounces };
+        for b in 0..=bounces {
+            let q = (b % 2) as usize;
+            Self::run_pass(enc, &self.intersect, q, indirect);
+            if primary_only {
+                return;
+            }
+            enc.clear_buffer(&self.flags, 0, None);
+            Self::run_pass(enc, &self.shade, q, indirect);
+            if b == bounces {
+                // Every path ends at its hit of index max_bounces.
+                break;
+            }
+            let plan = &self.compact[q];
+            self.prims.record_compact(enc, plan);
+            enc.copy_buffer_to_buffer(plan.total(), 0, &self.wave, 0, 4);
+            Self::run_pass(enc, &self.args, q, JobGrid::Direct((1, 1)));
+        }
+        Self::run_pass(enc, &self.accumulate, 0, jobs);
+    }
+
+    /// The counter of samples that found the pool full (must stay 0; see `generate.wgsl`).
+    pub fn overflow_counter(&self) -> &wgpu::Buffer {
+        &self.wave
+    }
+}
