@@ -8,9 +8,10 @@
 //!         [--scene sunbeam] [--texels-per-unit 16] [--reference-passes 8192] \
 //!         [--target-passes 256] [--bounces 4] [--adaptive 1:8,2:4] [--camera 0,1,3:0,1,0:60]
 //!
-//! Configurations: megakernel uniform with white noise (the baseline), megakernel uniform
-//! with the Sobol' sequences, megakernel adaptive with the Sobol' sequences (one per
-//! `--adaptive f:L`: batch fraction f, at most L samples per texel and batch). The target
+//! Configurations: megakernel uniform with white noise (the baseline), then per pipeline
+//! (`--pipelines megakernel,wavefront`) uniform with the Sobol' sequences, adaptive with
+//! the Sobol' sequences (one per `--adaptive f:L`: batch fraction f, at most L samples per
+//! texel and batch) and camera-based (`--camera`). The target
 //! RMSE is what the baseline reaches at `--target-passes`; each configuration then runs in
 //! doubling steps of passes (batches count as 1/f of a pass) and the time to the target is
 //! interpolated log-linearly between the two steps around it (RMSE falls like a power of
@@ -19,7 +20,7 @@
 //! and batches first, then its state is reset).
 
 use baker::adapt::AdaptiveOptions;
-use baker::bake::{BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::bake::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
 use baker::bvh::Bvh;
 use baker::gpu::GpuBake;
 use baker::lightmap::Lightmap;
@@ -69,6 +70,11 @@ fn run() -> Result<(), String> {
             Ok((f.parse().map_err(|_| format!("--adaptive: {f}"))?, l.parse().map_err(|_| format!("--adaptive: {l}"))?))
         })
         .collect::<Result<_, String>>()?;
+    // Pipelines to compare: "megakernel,wavefront".
+    let pipelines: Vec<Pipeline> = arg(&args, "--pipelines", "megakernel,wavefront".to_string())?
+        .split(',')
+        .map(|p| Pipeline::parse(p).ok_or_else(|| format!("--pipelines: unknown '{p}'")))
+        .collect::<Result<_, String>>()?;
     // Camera-based sampling: "eye:target[:fov]" (its error is over every texel, seen or not).
     let camera: Option<String> = args.iter().position(|a| a == "--camera").and_then(|i| args.get(i + 1).cloned());
     let scene = load_scene(&scene_name, None, &mut |l| println!("{l}"))?;
@@ -103,20 +109,22 @@ fn run() -> Result<(), String> {
     println!("{kept} of {} texels measured by the reference (the rest met back faces)", rse.len());
     println!("reference: {ref_passes} passes in {:.1} s, its RMS standard error {:.3e}", t.elapsed().as_secs_f64(), ref_var.sqrt());
     let a = AdaptiveOptions::default();
-    let mut configs: Vec<(String, BakeConfig)> = vec![
-        ("megakernel uniform, white noise".into(), cfg(1, Sequence::Independent, None)),
-        ("megakernel uniform, Sobol'".into(), cfg(1, Sequence::Sobol, None)),
-    ];
-    for (f, l) in adaptive {
-        let o = AdaptiveOptions { batch_fraction: f, max_per_batch: l, ..a };
-        configs.push((format!("megakernel adaptive (f {f}, L {l}), Sobol'"), cfg(1, Sequence::Sobol, Some(o))));
-    }
-    if let Some(spec) = &camera {
-        let c = baker::camera::CameraSampling { camera: baker::camera::ViewCamera::parse(spec, 0, 0)?, pilot_passes: 1, max_per_batch: 8 };
-        configs.push((
-            "megakernel camera-based, Sobol'".into(),
-            BakeConfig { camera: Some(c.sized_for(targets.items.len())), ..cfg(1, Sequence::Sobol, None) },
-        ));
+    let base = |pipeline| BakeConfig { pipeline, ..cfg(1, Sequence::Sobol, None) };
+    let mut configs: Vec<(String, BakeConfig)> =
+        vec![("megakernel uniform, white noise".into(), BakeConfig { sampler: Sequence::Independent, ..base(Pipeline::Megakernel) })];
+    for p in &pipelines {
+        let name = p.name();
+        configs.push((format!("{name} uniform, Sobol'"), base(*p)));
+        for &(f, l) in &adaptive {
+            let o = AdaptiveOptions { batch_fraction: f, max_per_batch: l, ..a };
+            configs.push((format!("{name} adaptive (f {f}, L {l}), Sobol'"), BakeConfig { adaptive: Some(o), ..base(*p) }));
+        }
+        if let Some(spec) = &camera {
+            let c =
+                baker::camera::CameraSampling { camera: baker::camera::ViewCamera::parse(spec, 0, 0)?, pilot_passes: 1, max_per_batch: 8 };
+            configs
+                .push((format!("{name} camera-based, Sobol'"), BakeConfig { camera: Some(c.sized_for(targets.items.len())), ..base(*p) }));
+        }
     }
     let mut target = None;
     println!("| configuration | first full preview (ms) | passes to target | paths to target | GPU s to target | × vs baseline |");

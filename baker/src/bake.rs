@@ -141,15 +141,17 @@ pub enum Pipeline {
     #[default]
     Megakernel,
     /// Generate, then per bounce intersect, shade and compact the active paths, then
-    /// accumulate ([`crate::wavefront`]).
-    Wavefront,
+    /// accumulate ([`crate::wavefront`]); `sort_rays`: the extension rays sorted by their
+    /// direction's octant before each intersect (seed 004 §5.4).
+    Wavefront { sort_rays: bool },
 }
 
 impl Pipeline {
     pub fn parse(s: &str) -> Option<Pipeline> {
         match s {
             "megakernel" => Some(Pipeline::Megakernel),
-            "wavefront" => Some(Pipeline::Wavefront),
+            "wavefront" => Some(Pipeline::Wavefront { sort_rays: false }),
+            "wavefront-sorted" => Some(Pipeline::Wavefront { sort_rays: true }),
             _ => None,
         }
     }
@@ -157,7 +159,8 @@ impl Pipeline {
     pub fn name(self) -> &'static str {
         match self {
             Pipeline::Megakernel => "megakernel",
-            Pipeline::Wavefront => "wavefront",
+            Pipeline::Wavefront { sort_rays: false } => "wavefront",
+            Pipeline::Wavefront { sort_rays: true } => "wavefront-sorted",
         }
     }
 }

@@ -252,7 +252,7 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     };
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
     let wavefront = match config.pipeline {
-        crate::bake::Pipeline::Wavefront => crate::wavefront::WGSL,
+        crate::bake::Pipeline::Wavefront { .. } => crate::wavefront::WGSL,
         crate::bake::Pipeline::Megakernel => {
             left_out.push("the wavefront passes (the megakernel pipeline)".to_string());
             ""
@@ -504,11 +504,15 @@ const INITIAL_CHUNK: usize = 1 << 18;
 pub const BATCH_TARGET_SECONDS: f64 = 0.016;
 
 /// Slots of the wavefront's path pool for a bake of `items` items: a uniform wave of up to
-/// [`crate::wavefront::MAX_UNIFORM_SLOTS`] jobs × passes, or the most samples one batch can
+/// [`crate::wavefront::MAX_UNIFORM_SLOTS`] jobs × passes (up to [`MAX_PASSES_PER_DISPATCH`] passes of every item), or the most samples one batch can
 /// take — adaptive: λ_k ≤ L per texel and Σλ_k ≤ f·N, rounded up per texel, so at most
 /// N·min(⌈L⌉, ⌈f⌉ + 1); camera: at most L per texel and one per pixel.
 pub fn wave_capacity(config: &BakeConfig, items: usize) -> usize {
-    let uniform = items.min(crate::wavefront::MAX_UNIFORM_SLOTS);
+    // Small atlases: room for several passes per wave (the per-bounce passes cost the same
+    // for few paths as for many).
+    let uniform = (items * MAX_PASSES_PER_DISPATCH as usize)
+        .min(crate::wavefront::MAX_UNIFORM_SLOTS)
+        .max(items.min(crate::wavefront::MAX_UNIFORM_SLOTS));
     let batch = match (&config.adaptive, &config.camera) {
         (Some(a), _) => items * (a.max_per_batch as usize).min(a.batch_fraction.ceil() as usize + 1),
         (None, Some(c)) => (items * c.max_per_batch as usize).min((c.camera.width as usize * c.camera.height as usize).max(items)),
@@ -610,7 +614,7 @@ impl<'g> GpuBake<'g> {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
         });
-        let wavefront = config.pipeline == crate::bake::Pipeline::Wavefront;
+        let wavefront = matches!(config.pipeline, crate::bake::Pipeline::Wavefront { .. });
         let pipeline = (!wavefront).then(|| {
             d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("bake"),
@@ -778,7 +782,8 @@ impl<'g> GpuBake<'g> {
                     _ => unreachable!("the bake binds whole buffers"),
                 })
                 .collect();
-            Some(crate::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items)?)
+            let sort_rays = matches!(config.pipeline, crate::bake::Pipeline::Wavefront { sort_rays: true });
+            Some(crate::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items, sort_rays)?)
         } else {
             None
         };
@@ -894,7 +899,7 @@ impl<'g> GpuBake<'g> {
             self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
             let mut enc = d.create_command_encoder(&Default::default());
             let groups = grid((end - start) as u32, WG);
-            self.record_jobs(&mut enc, crate::wavefront::JobGrid::Direct(groups));
+            self.record_jobs(&mut enc, crate::wavefront::JobGrid::Direct(groups), (end - start) * self.params.pass_count as usize);
             if end == last {
                 break enc;
             }
@@ -915,9 +920,10 @@ impl<'g> GpuBake<'g> {
     }
 
     /// Records the bake's passes over `jobs`: the megakernel, or a wavefront wave.
-    fn record_jobs(&self, enc: &mut wgpu::CommandEncoder, jobs: crate::wavefront::JobGrid) {
+    /// `slots`: the most samples the jobs take (the wavefront's wave size).
+    fn record_jobs(&self, enc: &mut wgpu::CommandEncoder, jobs: crate::wavefront::JobGrid, slots: usize) {
         if let Some(w) = &self.wavefront {
-            w.record(enc, jobs, self.params.max_bounces, self.params.primary_only == 1);
+            w.record(enc, jobs, slots, self.params.max_bounces, self.params.primary_only == 1);
         } else if let Some((pipeline, group)) = &self.mega {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
@@ -945,7 +951,7 @@ impl<'g> GpuBake<'g> {
             let mut enc = d.create_command_encoder(&Default::default());
             for j in b..(b + per).min(k) {
                 a.record_select(q, &mut enc, self.passes + j);
-                self.record_jobs(&mut enc, crate::wavefront::JobGrid::Indirect(&a.args));
+                self.record_jobs(&mut enc, crate::wavefront::JobGrid::Indirect(&a.args), usize::MAX);
             }
             q.submit([enc.finish()]);
             b += per;

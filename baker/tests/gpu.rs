@@ -219,7 +219,12 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
 
 #[test]
 fn wavefront_matches_cpu_on_the_builtin_scene() {
-    matches_cpu(Pipeline::Wavefront);
+    matches_cpu(Pipeline::Wavefront { sort_rays: false });
+}
+
+#[test]
+fn wavefront_with_sorted_rays_matches_cpu_on_the_builtin_scene() {
+    matches_cpu(Pipeline::Wavefront { sort_rays: true });
 }
 
 fn matches_cpu(pipeline: Pipeline) {

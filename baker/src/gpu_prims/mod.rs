@@ -608,20 +608,29 @@ impl CompactPlan {
     }
 }
 
+/// A radix sort's scratch buffers, scans and bind groups ([`Prims::sort_plan`]), for
+/// recording it repeatedly ([`Prims::record_sort`]).
+#[derive(Debug)]
+pub struct SortPlan {
+    passes: Vec<(wgpu::BindGroup, ScanPlan)>,
+    grid: (u32, u32),
+    /// The sorted keys and values once the sort ran.
+    sorted: (wgpu::Buffer, wgpu::Buffer),
+}
+
+impl SortPlan {
+    /// The buffers holding the sorted (keys, values) after the sort ran: the inputs
+    /// themselves after an even number of 4-bit passes, the scratch ones otherwise.
+    pub fn sorted(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.sorted.0, &self.sorted.1)
+    }
+}
+
 impl Prims {
-    /// Records a stable radix sort of the first `n` (key, value) pairs by the low `bits` key
-    /// bits (⌈bits/4⌉ passes, ping-ponging with two scratch buffers); returns the buffers
-    /// holding the sorted keys and values (the inputs themselves after an even number of
-    /// passes, the scratch ones otherwise).
-    pub fn encode_sort(
-        &self,
-        d: &wgpu::Device,
-        enc: &mut wgpu::CommandEncoder,
-        keys: wgpu::Buffer,
-        vals: wgpu::Buffer,
-        n: usize,
-        bits: u32,
-    ) -> (wgpu::Buffer, wgpu::Buffer) {
+    /// Plans a stable LSD radix sort of the first `n` (key, value) pairs of `keys`, `vals`
+    /// by the low `bits` key bits (⌈bits/4⌉ passes, ping-ponging with two scratch buffers
+    /// allocated here).
+    pub fn sort_plan(&self, d: &wgpu::Device, keys: &wgpu::Buffer, vals: &wgpu::Buffer, n: usize, bits: u32) -> SortPlan {
         let passes = bits.min(32).div_ceil(4);
         let blocks = n.div_ceil(BLOCK).max(1);
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
@@ -634,17 +643,43 @@ impl Prims {
             usage,
             mapped_at_creation: false,
         });
-        let (mut src, mut dst) = ((keys, vals), (scratch("sort keys"), scratch("sort values")));
+        let (mut src, mut dst) = ((keys.clone(), vals.clone()), (scratch("sort keys"), scratch("sort values")));
         let (x, y) = grid(blocks);
+        let mut list = Vec::new();
         for p in 0..passes {
             let params = SortParams { n: n as u32, row: x, shift: 4 * p, blocks: blocks as u32 };
             let g = bind(d, &self.sort_layout, "sort pass", &[&src.0, &src.1, &dst.0, &dst.1, &counts], bytemuck::bytes_of(&params));
-            dispatch(enc, "sort histogram", &self.sort_histogram, &g, (x, y));
-            self.encode_scan(d, enc, &counts, 16 * blocks);
-            dispatch(enc, "sort scatter", &self.sort_scatter, &g, (x, y));
+            list.push((g, self.scan_plan(d, &counts, 16 * blocks)));
             std::mem::swap(&mut src, &mut dst);
         }
-        src
+        SortPlan { passes: list, grid: (x, y), sorted: src }
+    }
+
+    /// Records a planned sort; [`SortPlan::sorted`] then holds the result.
+    pub fn record_sort(&self, enc: &mut wgpu::CommandEncoder, plan: &SortPlan) {
+        for (g, scan) in &plan.passes {
+            dispatch(enc, "sort histogram", &self.sort_histogram, g, plan.grid);
+            self.record_scan(enc, scan);
+            dispatch(enc, "sort scatter", &self.sort_scatter, g, plan.grid);
+        }
+    }
+
+    /// Records a stable radix sort of the first `n` (key, value) pairs by the low `bits` key
+    /// bits (see [`Prims::sort_plan`]); returns the buffers holding the sorted keys and
+    /// values (the inputs themselves after an even number of passes, the scratch ones
+    /// otherwise).
+    pub fn encode_sort(
+        &self,
+        d: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        keys: wgpu::Buffer,
+        vals: wgpu::Buffer,
+        n: usize,
+        bits: u32,
+    ) -> (wgpu::Buffer, wgpu::Buffer) {
+        let plan = self.sort_plan(d, &keys, &vals, n, bits);
+        self.record_sort(enc, &plan);
+        plan.sorted
     }
 }
 
