@@ -141,17 +141,15 @@ pub enum Pipeline {
     #[default]
     Megakernel,
     /// Generate, then per bounce intersect, shade and compact the active paths, then
-    /// accumulate ([`crate::wavefront`]); `sort_rays`: the extension rays sorted by their
-    /// direction's octant before each intersect (seed 004 §5.4).
-    Wavefront { sort_rays: bool },
+    /// accumulate ([`crate::wavefront`]).
+    Wavefront,
 }
 
 impl Pipeline {
     pub fn parse(s: &str) -> Option<Pipeline> {
         match s {
             "megakernel" => Some(Pipeline::Megakernel),
-            "wavefront" => Some(Pipeline::Wavefront { sort_rays: false }),
-            "wavefront-sorted" => Some(Pipeline::Wavefront { sort_rays: true }),
+            "wavefront" => Some(Pipeline::Wavefront),
             _ => None,
         }
     }
@@ -159,8 +157,7 @@ impl Pipeline {
     pub fn name(self) -> &'static str {
         match self {
             Pipeline::Megakernel => "megakernel",
-            Pipeline::Wavefront { sort_rays: false } => "wavefront",
-            Pipeline::Wavefront { sort_rays: true } => "wavefront-sorted",
+            Pipeline::Wavefront => "wavefront",
         }
     }
 }

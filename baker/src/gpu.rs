@@ -252,7 +252,7 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     };
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
     let wavefront = match config.pipeline {
-        crate::bake::Pipeline::Wavefront { .. } => crate::wavefront::WGSL,
+        crate::bake::Pipeline::Wavefront => crate::wavefront::WGSL,
         crate::bake::Pipeline::Megakernel => {
             left_out.push("the wavefront passes (the megakernel pipeline)".to_string());
             ""
@@ -614,7 +614,7 @@ impl<'g> GpuBake<'g> {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
         });
-        let wavefront = matches!(config.pipeline, crate::bake::Pipeline::Wavefront { .. });
+        let wavefront = config.pipeline == crate::bake::Pipeline::Wavefront;
         let pipeline = (!wavefront).then(|| {
             d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("bake"),
@@ -782,8 +782,7 @@ impl<'g> GpuBake<'g> {
                     _ => unreachable!("the bake binds whole buffers"),
                 })
                 .collect();
-            let sort_rays = matches!(config.pipeline, crate::bake::Pipeline::Wavefront { sort_rays: true });
-            Some(crate::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items, sort_rays)?)
+            Some(crate::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items)?)
         } else {
             None
         };

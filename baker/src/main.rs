@@ -115,8 +115,7 @@ struct Cli {
     sampler: String,
     /// How the GPU runs a pass: megakernel (one thread per texel through whole paths) or
     /// wavefront (generate, then per bounce intersect, shade and compact the active paths,
-    /// then accumulate; seed 004 §3.1, §5.1) or wavefront-sorted (the extension rays
-    /// sorted by direction octant before each intersect, §5.4). The same bake either way.
+    /// then accumulate; seed 004 §3.1, §5.1). The same bake either way.
     #[arg(long, default_value = "megakernel")]
     pipeline: String,
     /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
@@ -315,7 +314,7 @@ fn options(c: Cli) -> Result<Options, String> {
                 None => None,
             },
             pipeline: baker::bake::Pipeline::parse(&c.pipeline)
-                .ok_or_else(|| format!("unknown --pipeline '{}': megakernel, wavefront or wavefront-sorted", c.pipeline))?,
+                .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
         },
         device,
         out: c.out,

@@ -58,7 +58,7 @@ fn adaptive_sampling_lowers_the_error_at_equal_paths_without_bias() {
     let mut engines: Vec<(&str, Option<&shaders::gpu::Gpu>, Pipeline)> = vec![("CPU", None, Pipeline::Megakernel)];
     if let Some(g) = &lease {
         engines.push(("GPU", Some(g), Pipeline::Megakernel));
-        engines.push(("GPU wavefront", Some(g), Pipeline::Wavefront { sort_rays: false }));
+        engines.push(("GPU wavefront", Some(g), Pipeline::Wavefront));
     }
     for &(name, g, pipeline) in &engines {
         let config = |seed, adaptive| BakeConfig { pipeline, ..config(seed, adaptive) };

@@ -219,12 +219,7 @@ fn gpu_matches_cpu_on_the_builtin_scene() {
 
 #[test]
 fn wavefront_matches_cpu_on_the_builtin_scene() {
-    matches_cpu(Pipeline::Wavefront { sort_rays: false });
-}
-
-#[test]
-fn wavefront_with_sorted_rays_matches_cpu_on_the_builtin_scene() {
-    matches_cpu(Pipeline::Wavefront { sort_rays: true });
+    matches_cpu(Pipeline::Wavefront);
 }
 
 fn matches_cpu(pipeline: Pipeline) {

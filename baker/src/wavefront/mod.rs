@@ -7,8 +7,8 @@
 //! a thread's lifetime. The pass graph of one wave, recorded by [`Wavefront::record`]:
 //!
 //! ```text
-//!  generate ─► wave_start ─► ┌ [sort] ─► intersect ─► shade ─► compact ─► wave_args ┐ ─► accumulate
-//!                            └──────────────── per bounce, 0 ..= max_bounces ──────┘
+//!  generate ─► wave_start ─► ┌ intersect ─► shade ─► compact ─► wave_args ┐ ─► accumulate
+//!                            └──────────── per bounce, 0 ..= max_bounces ──┘
 //! ```
 //!
 //! | pass | WGSL | what it does | CPU twin |
@@ -17,7 +17,6 @@
 //! | wave_start, wave_args | `wave.wgsl` | the queue's length and the indirect dispatch arguments (2D) | — |
 //! | intersect | `intersect.wgsl` | per active path: closest hit of its segment (the BVH traversal of `trace.wgsl`) | `Bvh::intersect` |
 //! | shade | `shade.wgsl` | per active path: `path_step` — environment or emission (MIS), next-event estimation with its shadow rays, the BSDF sample, Russian roulette; a flag per queue position says whether the path goes on | `Tracer::path` |
-//! | sort (optional) | `sort_rays.wgsl` + [`crate::gpu_prims`] | before each extension intersect: the queue stably sorted by the octant of each path's direction (one 4-bit radix pass; seed 004 §5.4) | [`crate::gpu_prims::sort_pairs_cpu`] |
 //! | compact | [`crate::gpu_prims`] | the queue's surviving paths, order kept: flags → exclusive prefix sum (multi-level, subgroup or workgroup block scan) → scatter into the other queue of the ping-pong pair | [`crate::gpu_prims::compact_cpu`] |
 //! | accumulate | `accumulate.wgsl` | per job, its samples in order (the progressive encoder's ordering, §7.3.1): `finish_item` — the light samples at the baked point, moments, encoders, guiding records | `Targets::item_sample` |
 //!
@@ -32,7 +31,7 @@
 //! Bindings: group 0 is the megakernel's; group 1 holds the path pool (`wave.wgsl`). Each
 //! pass's pipeline has the layout naga finds for its entry point ([`bindings_used`]).
 
-use crate::gpu_prims::{CompactPlan, Prims, SortPlan};
+use crate::gpu_prims::{CompactPlan, Prims};
 use wgpu::util::DeviceExt;
 
 /// The passes' WGSL, composed after the megakernel's module (it calls its functions).
@@ -42,12 +41,10 @@ pub const WGSL: &str = concat!(
     include_str!("intersect.wgsl"),
     include_str!("shade.wgsl"),
     include_str!("accumulate.wgsl"),
-    include_str!("sort_rays.wgsl"),
 );
 
 /// Bytes per slot of the path pool: the path state (64), its hit (8), its sampler key (8),
-/// two queue entries, a flag and a scan offset (16); with ray sorting 12 more (a key and
-/// the sort's two scratch entries).
+/// two queue entries, a flag and a scan offset (16).
 pub const BYTES_PER_SLOT: usize = 96;
 
 /// The most slots of a uniform wave (2²⁰: 96 MiB of pool); a wave of more jobs × samples
@@ -71,13 +68,11 @@ pub fn bindings_used(module: &naga::Module, info: &naga::valid::ModuleInfo, entr
 /// The smallest wave size with plans of its own.
 const MIN_PLAN: usize = 1024;
 
-/// The compaction (queue 0 → 1 and 1 → 0) and, with ray sorting, the sort of each queue,
-/// over the first `n` queue positions.
+/// The compaction (queue 0 → 1 and 1 → 0) over the first `n` queue positions.
 #[derive(Debug)]
 struct SizePlans {
     n: usize,
     compact: [CompactPlan; 2],
-    sort: Option<[SortPlan; 2]>,
 }
 
 /// A pass's pipeline and its bind groups: per group, one per queue of the ping-pong pair.
@@ -106,14 +101,12 @@ pub struct Wavefront {
     accumulate: Pass,
     prims: Prims,
     /// Per wave size (powers of two from [`MIN_PLAN`] up to the pool), the compaction
-    /// and sort plans over that many queue positions: their scans and sorts cost in
-    /// proportion to the wave, not to the pool.
+    /// plans over that many queue positions: their scans cost in proportion to the wave,
+    /// not to the pool.
     plans: Vec<SizePlans>,
     wave: wgpu::Buffer,
     wave_args: wgpu::Buffer,
     flags: wgpu::Buffer,
-    /// Ray direction sorting: the key pass and the queues.
-    sort: Option<(Pass, [wgpu::Buffer; 2])>,
     /// Slots in the path pool.
     pub capacity: usize,
 }
@@ -121,8 +114,7 @@ pub struct Wavefront {
 impl Wavefront {
     /// The passes of `module` (the bake's kernel with [`WGSL`], validated as `naga`),
     /// `group0` the megakernel's bindings, a pool of `capacity` slots and `jobs` job
-    /// positions (the most jobs a wave has); `sort_rays`: see [`crate::bake::Pipeline`].
-    #[allow(clippy::too_many_arguments)]
+    /// positions (the most jobs a wave has).
     pub fn new(
         d: &wgpu::Device,
         module: &wgpu::ShaderModule,
@@ -130,7 +122,6 @@ impl Wavefront {
         group0: &[(u32, &wgpu::Buffer)],
         capacity: usize,
         jobs: usize,
-        sort_rays: bool,
     ) -> Result<Wavefront, String> {
         let capacity = capacity.max(64);
         let storage = |label: &str, bytes: usize, extra: wgpu::BufferUsages| {
@@ -155,19 +146,8 @@ impl Wavefront {
             contents: bytemuck::cast_slice(&[0u32, 1, 1]),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
         });
-        let ray_keys = storage("wavefront ray keys", if sort_rays { 4 * capacity } else { 4 }, copy);
         let group1 = |q: usize| -> Vec<(u32, &wgpu::Buffer)> {
-            vec![
-                (0, &paths),
-                (1, &hits),
-                (2, &keys),
-                (3, &queues[q]),
-                (4, &flags),
-                (5, &wave),
-                (6, &job_buf),
-                (7, &wave_args),
-                (8, &ray_keys),
-            ]
+            vec![(0, &paths), (1, &hits), (2, &keys), (3, &queues[q]), (4, &flags), (5, &wave), (6, &job_buf), (7, &wave_args)]
         };
         let groups = [group0.to_vec(), group1(0)];
         let alt = [group0.to_vec(), group1(1)];
@@ -213,12 +193,9 @@ impl Wavefront {
                     prims.compact_plan(d, &queues[0], &flags, &offsets, &queues[1], n),
                     prims.compact_plan(d, &queues[1], &flags, &offsets, &queues[0], n),
                 ],
-                sort: sort_rays.then(|| [0, 1].map(|q| prims.sort_plan(d, &ray_keys, &queues[q], n, 4))),
             })
             .collect();
-        let sort = if sort_rays { Some((pass("wf_sort_keys")?, queues.clone())) } else { None };
         Ok(Wavefront {
-            sort,
             generate: pass("wf_generate")?,
             start: pass("wave_start")?,
             intersect: pass("wf_intersect")?,
@@ -260,12 +237,6 @@ impl Wavefront {
         let bounces = if primary_only { 0 } else { max_bounces };
         for b in 0..=bounces {
             let q = (b % 2) as usize;
-            if let (Some((keys, queues)), Some(plans), true) = (&self.sort, &size.sort, b > 0) {
-                // The wave's positions (its inactive ones sort last).
-                Self::run_pass(enc, keys, q, JobGrid::Direct(grid(size.n)));
-                self.prims.record_sort(enc, &plans[q]);
-                enc.copy_buffer_to_buffer(plans[q].sorted().1, 0, &queues[q], 0, 4 * size.n as u64);
-            }
             Self::run_pass(enc, &self.intersect, q, indirect);
             if primary_only {
                 return;
@@ -288,11 +259,4 @@ impl Wavefront {
     pub fn overflow_counter(&self) -> &wgpu::Buffer {
         &self.wave
     }
-}
-
-/// A 2D grid of 64-thread workgroups covering `n` threads (≤ 65 535 per row).
-fn grid(n: usize) -> (u32, u32) {
-    let groups = n.div_ceil(64).max(1);
-    let x = groups.min(65_535);
-    (x as u32, groups.div_ceil(x) as u32)
 }

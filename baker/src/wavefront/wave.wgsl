@@ -20,8 +20,6 @@
 @group(1) @binding(6) var<storage, read_write> jobs: array<vec4<u32>>;
 // The indirect arguments of the queue's passes (written by wave_args only).
 @group(1) @binding(7) var<storage, read_write> wave_args: array<u32, 3>;
-// Ray sorting (seed 004 §5.4): per queue position, the sort key of its path.
-@group(1) @binding(8) var<storage, read_write> ray_keys: array<u32>;
 
 const WAVE_LENGTH: u32 = 0u;
 const WAVE_SLOTS: u32 = 1u;
