@@ -11,16 +11,18 @@
 //! additions on the GPU, ~32 f32 operations per sample). Sampled lights (disk,
 //! environment) are checked against the bake's own per-texel standard error σ: scene
 //! mean within 3σ_mean, every texel within 5σ (plus the same rounding bound).
+//!
+//! The GPU runs every case twice: through the megakernel and through the wavefront
+//! pipeline (`baker::wavefront`).
 
 mod common;
-use baker::bake::{BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::bake::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
 use baker::guiding::GuidingOptions;
 use baker::lightmap::Lightmap;
 use baker::scene::{disk_light, Environment, Light, Material, Mesh, Scene};
 use common::gpu;
 use sbf::glam::{DVec3, Vec3};
 use sbf::quadrature::{Domain, SphereQuadrature};
-use shaders::gpu::Gpu;
 use std::f64::consts::PI;
 
 /// A 2 × 2 single-sided plane at y = 0 facing +Y (albedo 0.5: the incident E/π the
@@ -78,7 +80,7 @@ fn bake_guided(
         camera: None,
         pipeline: Default::default(),
     };
-    let state = common::bake_on(gpu, scene, &targets, &cfg, passes);
+    let state = bake_on(gpu, scene, &targets, &cfg, passes);
     (targets, lm, state)
 }
 
@@ -134,12 +136,26 @@ fn check(what: &str, st: &BakeState, want: &[[f64; 3]], passes: u64, select: &dy
     worst_rel
 }
 
-fn engines() -> Vec<(&'static str, Option<shaders::gpu::Lease>)> {
-    let mut v = vec![("CPU", None)];
-    if let Some(g) = gpu() {
-        v.push(("GPU", Some(g)));
-    }
-    v
+/// A GPU and the pipeline its bakes run.
+struct Gpu {
+    lease: shaders::gpu::Lease,
+    pipeline: Pipeline,
+}
+
+/// [`common::bake_on`] on the engine's device and pipeline.
+fn bake_on(g: Option<&Gpu>, scene: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {
+    let cfg = BakeConfig { pipeline: g.map_or(cfg.pipeline, |g| g.pipeline), ..cfg.clone() };
+    common::bake_on(g.map(|g| &*g.lease), scene, targets, &cfg, passes)
+}
+
+/// The CPU, then the GPU through each pipeline (each lease taken when its turn comes).
+fn engines() -> impl Iterator<Item = (&'static str, Option<Box<Gpu>>)> {
+    [("CPU", None), ("GPU", Some(Pipeline::Megakernel)), ("GPU wavefront", Some(Pipeline::Wavefront))].into_iter().filter_map(
+        |(name, pipeline)| match pipeline {
+            None => Some((name, None)),
+            Some(pipeline) => gpu().map(|lease| (name, Some(Box::new(Gpu { lease, pipeline })))),
+        },
+    )
 }
 
 /// (a) Directional light at 30° and 75° elevation, black environment: E/π = sinθ_el·E/π
@@ -290,7 +306,7 @@ fn sobol_sequences_lower_the_error_at_equal_passes() {
                 camera: None,
                 pipeline: Default::default(),
             };
-            let st = common::bake_on(g.as_deref(), &s, &t, &cfg, passes);
+            let st = bake_on(g.as_deref(), &s, &t, &cfg, passes);
             let (m, se) = (st.mean(), st.standard_error());
             let (mut sq, mut var) = (0.0, 0.0);
             for &k in &near {
@@ -539,7 +555,7 @@ fn probes_over_a_lit_disk() {
     let l_floor = rho * e * el.sin() / PI;
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
     for (name, g) in engines() {
-        let st = common::bake_on(g.as_deref(), &s, &targets, &cfg, passes);
+        let st = bake_on(g.as_deref(), &s, &targets, &cfg, passes);
         let (m, se) = (st.mean(), st.standard_error());
         for (hi, h) in heights.iter().enumerate() {
             let omega = 2.0 * PI * (1.0 - h / (h * h + rad * rad).sqrt());
@@ -716,7 +732,7 @@ fn disk_light_probe_encodings_match_their_projections() {
     let truth = PI * l * (1.0 - cos0 * cos0);
     for (name, g) in engines() {
         let passes = 8192;
-        let st = common::bake_on(g.as_deref(), &s, &targets, &cfg, passes);
+        let st = bake_on(g.as_deref(), &s, &targets, &cfg, passes);
         for (bi, kind) in cfg.bases.iter().enumerate() {
             let basis = kind.basis();
             let nb = basis.len();
