@@ -503,16 +503,18 @@ const INITIAL_CHUNK: usize = 1 << 18;
 /// The default target time per dispatch (a 60 Hz frame).
 pub const BATCH_TARGET_SECONDS: f64 = 0.016;
 
-/// Slots of the wavefront's path pool for a bake of `items` items: a uniform wave of up to
-/// [`crate::wavefront::MAX_UNIFORM_SLOTS`] jobs × passes (up to [`MAX_PASSES_PER_DISPATCH`] passes of every item), or the most samples one batch can
-/// take — adaptive: λ_k ≤ L per texel and Σλ_k ≤ f·N, rounded up per texel, so at most
-/// N·min(⌈L⌉, ⌈f⌉ + 1); camera: at most L per texel and one per pixel.
-pub fn wave_capacity(config: &BakeConfig, items: usize) -> usize {
-    // Small atlases: room for several passes per wave (the per-bounce passes cost the same
-    // for few paths as for many).
-    let uniform = (items * MAX_PASSES_PER_DISPATCH as usize)
-        .min(crate::wavefront::MAX_UNIFORM_SLOTS)
-        .max(items.min(crate::wavefront::MAX_UNIFORM_SLOTS));
+/// Slots of the wavefront's path pool for a bake of `items` items on a device whose
+/// storage bindings hold `max_binding` bytes: a uniform wave of up to
+/// [`MAX_PASSES_PER_DISPATCH`] passes of every item (at most
+/// [`crate::wavefront::MAX_UNIFORM_SLOTS`] slots, and what one binding of 64-byte path
+/// states holds), or the most samples one batch can take — adaptive: λ_k ≤ L per texel and
+/// Σλ_k ≤ f·N, rounded up per texel, so at most N·min(⌈L⌉, ⌈f⌉ + 1); camera: at most L per
+/// texel and one per pixel.
+pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usize {
+    // Several passes per wave: the per-bounce passes (compaction, indirect arguments,
+    // barriers) cost about the same for few paths as for many.
+    let most = crate::wavefront::MAX_UNIFORM_SLOTS.min((max_binding / 64) as usize);
+    let uniform = (items * MAX_PASSES_PER_DISPATCH as usize).min(most).max(items.min(most));
     let batch = match (&config.adaptive, &config.camera) {
         (Some(a), _) => items * (a.max_per_batch as usize).min(a.batch_fraction.ceil() as usize + 1),
         (None, Some(c)) => (items * c.max_per_batch as usize).min((c.camera.width as usize * c.camera.height as usize).max(items)),
@@ -629,7 +631,8 @@ impl<'g> GpuBake<'g> {
         let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
         let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
         let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
-        let pool = if wavefront { wave_capacity(config, targets.items.len()) } else { 0 };
+        let pool =
+            if wavefront { wave_capacity(config, targets.items.len(), d.limits().max_storage_buffer_binding_size as u64) } else { 0 };
         check_bindings(
             &[
                 ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),

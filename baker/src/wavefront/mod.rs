@@ -47,9 +47,9 @@ pub const WGSL: &str = concat!(
 /// two queue entries, a flag and a scan offset (16).
 pub const BYTES_PER_SLOT: usize = 96;
 
-/// The most slots of a uniform wave (2²⁰: 96 MiB of pool); a wave of more jobs × samples
+/// The most slots of a uniform wave (2²²: 384 MiB of pool); a wave of more jobs × samples
 /// is split by the frame-time batching.
-pub const MAX_UNIFORM_SLOTS: usize = 1 << 20;
+pub const MAX_UNIFORM_SLOTS: usize = 1 << 22;
 
 /// The (group, binding) pairs entry point `entry` of a validated module uses.
 pub fn bindings_used(module: &naga::Module, info: &naga::valid::ModuleInfo, entry: &str) -> Result<Vec<(u32, u32)>, String> {
