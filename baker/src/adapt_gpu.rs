@@ -466,7 +466,7 @@ impl CameraGpu {
 }
 
 /// A compute pipeline of `module`'s `entry` with the layout its bindings imply.
-fn compute_pipeline(d: &wgpu::Device, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+pub(crate) fn compute_pipeline(d: &wgpu::Device, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
     d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry),
         layout: None,

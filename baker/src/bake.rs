@@ -224,17 +224,34 @@ pub struct Targets {
     pub triangle_uv: Vec<Vec<[sbf::glam::Vec2; 3]>>,
 }
 
+/// The side of the texel tiles whose order lightmap items follow ([`Targets::lightmap`]).
+pub const TILE: u32 = 8;
+
 impl Targets {
     /// Every valid texel of a lightmap.
     pub fn lightmap(lm: &Lightmap) -> Targets {
-        let (mut points, mut items) = (Vec::new(), Vec::new());
-        for (k, t) in lm.texels.iter().enumerate() {
-            if t.is_valid() {
-                items.push([points.len() as u32, t.points.len() as u32, k as u32]);
-                points.extend_from_slice(&t.points);
-            }
+        // Items in tile order (seed 004 §5.2, eq. 5.2): 8 × 8 texel tiles, row by row
+        // within a tile, so that consecutive GPU threads bake a compact block of texels
+        // (nearby origins, similar normals) rather than a strip of one row.
+        let tiles_per_row = lm.width.div_ceil(TILE as usize) as u32;
+        let mut order: Vec<usize> = (0..lm.texels.len()).filter(|k| lm.texels[*k].is_valid()).collect();
+        order.sort_by_key(|k| {
+            crate::gpu_prims::tile_index((k % lm.width) as u32, (k / lm.width) as u32, TILE.trailing_zeros(), tiles_per_row)
+        });
+        // Guiding's clusters come per valid texel in row-major order.
+        let (row_major, cluster_count) = crate::guiding::clusters(lm);
+        let mut cluster_of = vec![u32::MAX; lm.texels.len()];
+        let valid = (0..lm.texels.len()).filter(|k| lm.texels[*k].is_valid());
+        for (k, c) in valid.zip(row_major) {
+            cluster_of[k] = c;
         }
-        let (clusters, cluster_count) = crate::guiding::clusters(lm);
+        let (mut points, mut items, mut clusters) = (Vec::new(), Vec::new(), Vec::new());
+        for k in order {
+            let t = &lm.texels[k];
+            items.push([points.len() as u32, t.points.len() as u32, k as u32]);
+            points.extend_from_slice(&t.points);
+            clusters.push(cluster_of[k]);
+        }
         Targets {
             points,
             items,

@@ -631,8 +631,7 @@ impl<'g> GpuBake<'g> {
         let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
         let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
         let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
-        let pool =
-            if wavefront { wave_capacity(config, targets.items.len(), d.limits().max_storage_buffer_binding_size as u64) } else { 0 };
+        let pool = if wavefront { wave_capacity(config, targets.items.len(), d.limits().max_storage_buffer_binding_size) } else { 0 };
         check_bindings(
             &[
                 ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),

@@ -124,7 +124,8 @@ impl GuidingOptions {
     }
 }
 
-/// The cluster of every valid texel (in [`crate::bake::Targets::lightmap`]'s item order)
+/// The cluster of every valid texel in row-major texel order (which
+/// [`crate::bake::Targets::lightmap`] maps to its tile-ordered items)
 /// and the number of clusters.
 pub fn clusters(lm: &Lightmap) -> (Vec<u32>, usize) {
     let tiles_x = lm.width.div_ceil(TILE);

@@ -23,7 +23,11 @@
 //! - [`bake`]: targets (texels or probes), progressive passes feeding plain irradiance
 //!   and the per-sample encoders on the CPU (the reference path), the shared state.
 //! - [`gpu`]: the same estimator in WGSL (`wgsl/trace.wgsl`) with the `shaders`
-//!   progressive update, composed per bake; ray-throughput measurement.
+//!   progressive update, composed per bake; ray-throughput measurement; the passes run
+//!   by the megakernel (`bake_pass`) or by the [`wavefront`] pipeline.
+//! - [`wavefront`]: breadth-first passes (seed 004 §3.1, §5.1) — generate, then per bounce
+//!   intersect, shade and compact the active paths (indirect dispatch), then accumulate;
+//!   the pass graph in its root, one WGSL file per pass.
 //! - [`multi_gpu`]: one bake split across several GPUs (contiguous item ranges, a thread
 //!   per device, the merged state equal to the single-device one).
 //! - [`guiding`]: first-bounce ray guiding (seed 003): texel clusters, learned directional

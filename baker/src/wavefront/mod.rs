@@ -152,14 +152,7 @@ impl Wavefront {
         let groups = [group0.to_vec(), group1(0)];
         let alt = [group0.to_vec(), group1(1)];
         let pass = |entry: &str| -> Result<Pass, String> {
-            let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let pipeline = crate::adapt_gpu::compute_pipeline(d, module, entry);
             let used = bindings_used(naga.0, naga.1, entry)?;
             let top = used.iter().map(|u| u.0).max().unwrap_or(0);
             let mut out = Vec::new();
