@@ -464,6 +464,8 @@ pub struct GpuBake<'g> {
     share: usize,
     /// Adaptive sampling's selection (None: uniform passes).
     adapt: Option<crate::adapt_gpu::AdaptGpu>,
+    /// GPU seconds and count per wavefront pass while a profile is taken.
+    profile: Option<Vec<(&'static str, f64, u64)>>,
 }
 
 /// The partition block of a single-device bake (any positive value is the identity).
@@ -502,6 +504,27 @@ pub const MAX_PASSES_PER_DISPATCH: u64 = 8;
 const INITIAL_CHUNK: usize = 1 << 18;
 /// The default target time per dispatch (a 60 Hz frame).
 pub const BATCH_TARGET_SECONDS: f64 = 0.016;
+
+/// Adds the wavefront passes timed in the last submission to `totals` (when a profile is
+/// being taken).
+fn collect_profile(
+    gpu: &Gpu,
+    wavefront: &Option<crate::wavefront::Wavefront>,
+    totals: &mut Option<Vec<(&'static str, f64, u64)>>,
+) -> Result<(), String> {
+    if let (Some(w), Some(totals)) = (wavefront, totals) {
+        for t in w.take_profile(gpu)? {
+            match totals.iter_mut().find(|(p, _, _)| *p == t.pass) {
+                Some(e) => {
+                    e.1 += t.seconds;
+                    e.2 += 1;
+                }
+                None => totals.push((t.pass, t.seconds, 1)),
+            }
+        }
+    }
+    Ok(())
+}
 
 /// Slots of the wavefront's path pool for a bake of `items` items on a device whose
 /// storage bindings hold `max_binding` bytes: a uniform wave of up to
@@ -813,6 +836,7 @@ impl<'g> GpuBake<'g> {
             },
             share: items,
             adapt,
+            profile: None,
         })
     }
 
@@ -881,7 +905,7 @@ impl<'g> GpuBake<'g> {
     /// One pass, as dispatches of at most `chunk` items (one submission each); with ray
     /// guiding, the gather of its learning records and, once learning ends, the build of
     /// the distributions follow the last one. Per-item results do not depend on the split.
-    fn dispatch(&mut self) {
+    fn dispatch(&mut self) -> Result<(), String> {
         let d = self.gpu.device();
         self.params.guide_phase = match &self.guide {
             Some(g) if self.passes < g.learn_passes => 1,
@@ -905,6 +929,7 @@ impl<'g> GpuBake<'g> {
                 break enc;
             }
             self.gpu.queue().submit([enc.finish()]);
+            self.collect_profile()?;
             start = end;
         };
         if let Some(g) = &mut self.guide {
@@ -918,6 +943,13 @@ impl<'g> GpuBake<'g> {
             }
         }
         self.gpu.queue().submit([enc.finish()]);
+        self.collect_profile()
+    }
+
+    /// Adds the wavefront passes timed in the last submission to the profile (when one is
+    /// being taken: [`GpuBake::profile_passes`]).
+    fn collect_profile(&mut self) -> Result<(), String> {
+        collect_profile(self.gpu, &self.wavefront, &mut self.profile)
     }
 
     /// Records the bake's passes over `jobs`: the megakernel, or a wavefront wave.
@@ -938,8 +970,8 @@ impl<'g> GpuBake<'g> {
 
     /// `k` adaptive batches in one submission: each the selection, then the bake kernel
     /// over the listed items by an indirect dispatch.
-    fn batches(&mut self, k: u64) {
-        let Some(a) = self.adapt.as_ref() else { return };
+    fn batches(&mut self, k: u64) -> Result<(), String> {
+        let Some(a) = self.adapt.as_ref() else { return Ok(()) };
         let (d, q) = (self.gpu.device(), self.gpu.queue());
         self.params.batch_mode = 1;
         self.params.pass_count = 1;
@@ -956,8 +988,10 @@ impl<'g> GpuBake<'g> {
             }
             q.submit([enc.finish()]);
             b += per;
+            collect_profile(self.gpu, &self.wavefront, &mut self.profile)?;
         }
         self.params.batch_mode = 0;
+        Ok(())
     }
 
     /// Runs `n` passes — in an adaptive bake after its pilot, batches — (waits for them).
@@ -971,7 +1005,7 @@ impl<'g> GpuBake<'g> {
         while done < n {
             if self.adapt.as_ref().is_some_and(|a| self.passes >= a.pilot_passes) {
                 let k = (n - done).min(MAX_BATCHES_PER_SUBMISSION);
-                self.batches(k);
+                self.batches(k)?;
                 self.passes += k;
                 done += k;
                 continue;
@@ -992,7 +1026,7 @@ impl<'g> GpuBake<'g> {
                 self.gpu.wait()?;
             }
             let t = std::time::Instant::now();
-            self.dispatch();
+            self.dispatch()?;
             self.passes += k;
             done += k;
             self.batching.dispatches += 1;
@@ -1137,6 +1171,24 @@ impl<'g> GpuBake<'g> {
             q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_sums));
         }
         self.gpu.wait()
+    }
+
+    /// GPU time per wavefront pass over `passes` passes, from timestamps at every pass's
+    /// start and end: (pass, seconds in all, times run), in the order first run. Needs the
+    /// wavefront pipeline and `Features::TIMESTAMP_QUERY`; the bake's state is modified
+    /// (use a throw-away bake).
+    pub fn profile_passes(&mut self, passes: u64) -> Result<Vec<(&'static str, f64, u64)>, String> {
+        let Some(w) = self.wavefront.as_mut() else {
+            return Err("per-pass GPU times are measured for the wavefront pipeline (--pipeline wavefront)".into());
+        };
+        w.enable_profiling(self.gpu.device())?;
+        self.profile = Some(Vec::new());
+        let r = self.run(passes);
+        let totals = self.profile.take().unwrap_or_default();
+        if let Some(w) = self.wavefront.as_mut() {
+            w.disable_profiling();
+        }
+        r.map(|_| totals)
     }
 
     /// Measures rays per second over `passes` passes: primary-only dispatches (closest

@@ -357,6 +357,21 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
             r.secondary_rate() * 1e-9,
             (r.primary + r.extension + r.shadow) as f64 / r.full_seconds * 1e-9
         ));
+        if config.pipeline == crate::bake::Pipeline::Wavefront {
+            if g.timestamps {
+                // Per-pass GPU times of a fresh bake over the same passes.
+                let mut p = GpuBake::new(g, &tracer_of(), &targets, &config)?;
+                let times = p.profile_passes(passes)?;
+                let total: f64 = times.iter().map(|t| t.1).sum();
+                let parts: Vec<String> = times
+                    .iter()
+                    .map(|(pass, s, n)| format!("{pass} {:.2} ms ({:.1}%, {n}×)", 1e3 * s, 100.0 * s / total.max(1e-30)))
+                    .collect();
+                log(format!("wavefront GPU time over {passes} passes: {:.2} ms — {}", 1e3 * total, parts.join(", ")));
+            } else {
+                log("wavefront per-pass GPU times: the adapter has no timestamp queries".into());
+            }
+        }
         return Ok(Summary { device, lightmap: b.state()?, probes: None, passes_run: passes, seconds: t0.elapsed().as_secs_f64() });
     }
     if let Some(g) = o.config.guiding {

@@ -377,3 +377,59 @@ fn chunked_dispatches_give_the_identical_bake() {
         }
     }
 }
+
+/// Per-pass GPU times of the wavefront (timestamps at every pass's start and end): with one
+/// pass per wave, every pass must be timed exactly as often as the pass graph runs it —
+/// generate, the primary intersect and accumulate once per wave, shade max_bounces + 1
+/// times, the extension intersects and the compactions max_bounces times — and the
+/// times must be finite, non-negative and within the wall-clock time of the call (GPU
+/// work cannot take longer than the host waited for it). Mutation tried: the shade pass
+/// recorded without timestamps — its count (0) fails.
+#[test]
+fn wavefront_pass_times_cover_the_pass_graph() {
+    let Some(gpu) = gpu() else { return };
+    if !gpu.timestamps {
+        panic!("the test adapter ({}) has no timestamp queries", gpu.adapter);
+    }
+    let s = scene::cornell();
+    let bvh = Bvh::build(&s);
+    let lm = Lightmap::build(&s, 4.0, 1).unwrap();
+    let targets = Targets::lightmap(&lm);
+    let cfg = BakeConfig {
+        seed: 3,
+        max_bounces: 3,
+        bases: vec![BasisKind::ShL1],
+        solver: Solver::Ls,
+        guiding: None,
+        sampler: Default::default(),
+        adaptive: None,
+        camera: None,
+        pipeline: Pipeline::Wavefront,
+    };
+    let mut b = GpuBake::new(&gpu, &Tracer::new(&s, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
+    b.set_chunk(targets.items.len());
+    let waves = 5u64;
+    let t = std::time::Instant::now();
+    let times = b.profile_passes(waves).unwrap();
+    let wall = t.elapsed().as_secs_f64();
+    println!("{times:?}");
+    let count = |p: &str| times.iter().find(|t| t.0 == p).map_or(0, |t| t.2);
+    let bounces = cfg.max_bounces as u64;
+    for (pass, want) in [
+        ("generate", waves),
+        ("wave_start", waves),
+        ("intersect (primary)", waves),
+        ("shade", waves * (bounces + 1)),
+        ("intersect (extension)", waves * bounces),
+        ("compact", waves * bounces),
+        ("wave_args", waves * bounces),
+        ("accumulate", waves),
+    ] {
+        assert_eq!(count(pass), want, "{pass}: timed {} times, the pass graph runs it {want} times", count(pass));
+    }
+    let total: f64 = times.iter().map(|t| t.1).sum();
+    assert!(times.iter().all(|t| t.1.is_finite() && t.1 >= 0.0), "{times:?}");
+    assert!(total > 0.0 && total <= wall, "GPU time {total} s against {wall} s of wall clock");
+    // Profiling does not change the bake: the next passes are plain ones.
+    b.run(1).unwrap();
+}

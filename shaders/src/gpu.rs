@@ -23,6 +23,8 @@ pub struct Gpu {
     /// (smallest, largest) subgroup size where the adapter has subgroup operations (the
     /// device is created with `Features::SUBGROUP` then); None without them.
     pub subgroup_sizes: Option<(u32, u32)>,
+    /// The device has `Features::TIMESTAMP_QUERY` (GPU times of compute passes).
+    pub timestamps: bool,
 }
 
 const WG: u32 = 64;
@@ -169,9 +171,17 @@ impl Gpu {
     fn on(adapter: &wgpu::Adapter) -> Result<Gpu, String> {
         let info = adapter.get_info();
         let subgroups = adapter.features().contains(wgpu::Features::SUBGROUP);
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut features = wgpu::Features::empty();
+        if subgroups {
+            features |= wgpu::Features::SUBGROUP;
+        }
+        if timestamps {
+            features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sbf shaders harness"),
-            required_features: if subgroups { wgpu::Features::SUBGROUP } else { wgpu::Features::empty() },
+            required_features: features,
             required_limits: adapter.limits(),
             ..Default::default()
         }))
@@ -184,6 +194,7 @@ impl Gpu {
             adapter: format!("{} ({:?}, {} {})", info.name, info.backend, info.driver, info.driver_info),
             software,
             subgroup_sizes,
+            timestamps,
         })
     }
 
@@ -234,6 +245,11 @@ impl Gpu {
         }))
         .map_err(|e| format!("no GPU adapter (Vulkan or GL): {e}"))?;
         (0..n).map(|_| Self::on(&adapter)).collect()
+    }
+
+    /// Nanoseconds per timestamp tick of this device's queue.
+    pub fn timestamp_period(&self) -> f32 {
+        self.queue.get_timestamp_period()
     }
 
     /// The wgpu device (for callers that build their own pipelines, e.g. the baker).

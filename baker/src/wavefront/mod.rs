@@ -32,6 +32,7 @@
 //! pass's pipeline has the layout naga finds for its entry point ([`bindings_used`]).
 
 use crate::gpu_prims::{CompactPlan, Prims};
+use std::cell::RefCell;
 use wgpu::util::DeviceExt;
 
 /// The passes' WGSL, composed after the megakernel's module (it calls its functions).
@@ -107,8 +108,31 @@ pub struct Wavefront {
     wave: wgpu::Buffer,
     wave_args: wgpu::Buffer,
     flags: wgpu::Buffer,
+    /// Per-pass GPU times ([`Wavefront::enable_profiling`]).
+    profiler: Option<Profiler>,
     /// Slots in the path pool.
     pub capacity: usize,
+}
+
+/// Timestamps at the start and end of every pass of a wave (`Features::TIMESTAMP_QUERY`).
+#[derive(Debug)]
+struct Profiler {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    /// The label of each recorded pass, in order (pass k wrote timestamps 2k and 2k + 1).
+    labels: RefCell<Vec<&'static str>>,
+}
+
+/// Passes one submission may time (a wave has 2 + 3·(bounces + 1) + 1 passes).
+const PROFILED_PASSES: usize = 128;
+
+/// The GPU time of one recorded pass ([`Wavefront::take_profile`]); "compact" is the time
+/// between a shade pass's end and the next wave_args pass's start (the compaction's copy,
+/// scan and scatter, recorded by `gpu_prims`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PassTime {
+    pub pass: &'static str,
+    pub seconds: f64,
 }
 
 impl Wavefront {
@@ -197,6 +221,7 @@ impl Wavefront {
             accumulate: pass("wf_accumulate")?,
             prims,
             plans,
+            profiler: None,
             wave,
             wave_args,
             flags,
@@ -204,8 +229,70 @@ impl Wavefront {
         })
     }
 
-    fn run_pass(enc: &mut wgpu::CommandEncoder, p: &Pass, queue: usize, grid: JobGrid) {
-        let mut cp = enc.begin_compute_pass(&Default::default());
+    /// Times every pass of the following waves on the GPU (the device must have
+    /// `Features::TIMESTAMP_QUERY`); read with [`Wavefront::take_profile`] after each
+    /// submission.
+    pub fn enable_profiling(&mut self, d: &wgpu::Device) -> Result<(), String> {
+        if !d.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return Err("per-pass GPU times need timestamp queries, which this adapter does not offer".into());
+        }
+        self.profiler = Some(Profiler {
+            set: d.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("wavefront passes"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * PROFILED_PASSES as u32,
+            }),
+            resolve: d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("wavefront timestamps"),
+                size: (16 * PROFILED_PASSES) as u64,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            labels: RefCell::new(Vec::new()),
+        });
+        Ok(())
+    }
+
+    /// Stops timing the passes.
+    pub fn disable_profiling(&mut self) {
+        self.profiler = None;
+    }
+
+    /// The passes timed since the last call (their submission must have been made), in
+    /// order; empty without profiling.
+    pub fn take_profile(&self, gpu: &shaders::gpu::Gpu) -> Result<Vec<PassTime>, String> {
+        let Some(p) = &self.profiler else { return Ok(Vec::new()) };
+        let labels = std::mem::take(&mut *p.labels.borrow_mut());
+        if labels.is_empty() {
+            return Ok(Vec::new());
+        }
+        let raw: Vec<u64> = bytemuck::pod_collect_to_vec(&gpu.read_back(&p.resolve)?);
+        let tick = gpu.timestamp_period() as f64 * 1e-9;
+        let mut out = Vec::new();
+        for (k, label) in labels.iter().enumerate() {
+            if k > 0 && *label == "wave_args" && labels[k - 1] == "shade" {
+                out.push(PassTime { pass: "compact", seconds: raw[2 * k].saturating_sub(raw[2 * k - 1]) as f64 * tick });
+            }
+            out.push(PassTime { pass: label, seconds: raw[2 * k + 1].saturating_sub(raw[2 * k]) as f64 * tick });
+        }
+        Ok(out)
+    }
+
+    fn run_pass(&self, enc: &mut wgpu::CommandEncoder, p: &Pass, label: &'static str, queue: usize, grid: JobGrid) {
+        let mut desc = wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None };
+        if let Some(prof) = &self.profiler {
+            let mut labels = prof.labels.borrow_mut();
+            if labels.len() < PROFILED_PASSES {
+                let k = labels.len() as u32;
+                labels.push(label);
+                desc.timestamp_writes = Some(wgpu::ComputePassTimestampWrites {
+                    query_set: &prof.set,
+                    beginning_of_pass_write_index: Some(2 * k),
+                    end_of_pass_write_index: Some(2 * k + 1),
+                });
+            }
+        }
+        let mut cp = enc.begin_compute_pass(&desc);
         cp.set_pipeline(&p.pipeline);
         for (g, pair) in p.groups.iter().enumerate() {
             cp.set_bind_group(g as u32, &pair[queue], &[]);
@@ -224,18 +311,19 @@ impl Wavefront {
         let size = self.plans.iter().find(|p| p.n >= slots).unwrap_or_else(|| self.plans.last().expect("a plan"));
         // Queue length and slots taken back to 0 (the overflow count stays).
         enc.clear_buffer(&self.wave, 0, Some(8));
-        Self::run_pass(enc, &self.generate, 0, jobs);
-        Self::run_pass(enc, &self.start, 0, JobGrid::Direct((1, 1)));
+        self.run_pass(enc, &self.generate, "generate", 0, jobs);
+        self.run_pass(enc, &self.start, "wave_start", 0, JobGrid::Direct((1, 1)));
         let indirect = JobGrid::Indirect(&self.wave_args);
         let bounces = if primary_only { 0 } else { max_bounces };
         for b in 0..=bounces {
             let q = (b % 2) as usize;
-            Self::run_pass(enc, &self.intersect, q, indirect);
+            self.run_pass(enc, &self.intersect, if b == 0 { "intersect (primary)" } else { "intersect (extension)" }, q, indirect);
             if primary_only {
+                self.resolve_profile(enc);
                 return;
             }
             enc.clear_buffer(&self.flags, 0, Some(4 * size.n as u64));
-            Self::run_pass(enc, &self.shade, q, indirect);
+            self.run_pass(enc, &self.shade, "shade", q, indirect);
             if b == bounces {
                 // Every path ends at its hit of index max_bounces.
                 break;
@@ -243,9 +331,20 @@ impl Wavefront {
             let plan = &size.compact[q];
             self.prims.record_compact(enc, plan);
             enc.copy_buffer_to_buffer(plan.total(), 0, &self.wave, 0, 4);
-            Self::run_pass(enc, &self.args, q, JobGrid::Direct((1, 1)));
+            self.run_pass(enc, &self.args, "wave_args", q, JobGrid::Direct((1, 1)));
         }
-        Self::run_pass(enc, &self.accumulate, 0, jobs);
+        self.run_pass(enc, &self.accumulate, "accumulate", 0, jobs);
+        self.resolve_profile(enc);
+    }
+
+    /// Resolves the timestamps recorded so far into the read-back buffer.
+    fn resolve_profile(&self, enc: &mut wgpu::CommandEncoder) {
+        if let Some(p) = &self.profiler {
+            let n = p.labels.borrow().len() as u32;
+            if n > 0 {
+                enc.resolve_query_set(&p.set, 0..2 * n, &p.resolve, 0);
+            }
+        }
     }
 
     /// The counter of samples that found the pool full (must stay 0; see `generate.wgsl`).
