@@ -380,7 +380,7 @@ fn chunked_dispatches_give_the_identical_bake() {
 
 /// Per-pass GPU times of the wavefront (timestamps at every pass's start and end): with one
 /// pass per wave, every pass must be timed exactly as often as the pass graph runs it —
-/// generate, baked_lights, the primary intersect and accumulate once per wave, shade max_bounces + 1
+/// generate, the primary intersect and accumulate once per wave, shade max_bounces + 1
 /// times, the extension intersects and the compactions max_bounces times — and the
 /// times must be finite, non-negative and within the wall-clock time of the call (GPU
 /// work cannot take longer than the host waited for it). Mutation tried: the shade pass
@@ -418,7 +418,6 @@ fn wavefront_pass_times_cover_the_pass_graph() {
     for (pass, want) in [
         ("generate", waves),
         ("wave_start", waves),
-        ("baked_lights", waves),
         ("intersect (primary)", waves),
         ("shade", waves * (bounces + 1)),
         ("intersect (extension)", waves * bounces),

@@ -841,74 +841,6 @@ fn bake_item(i: u32, pass_index: u32) {
     finish_item(i, fv, pr);
 }
 
-// ---- the light samples at the baked point ----
-// Their visibility is traced where they are used (the megakernel), or read from the mask
-// the wavefront's baked_lights pass traced for the sample, in parallel over all samples of
-// a wave (bit 0: the emitter sample, bit 1: the environment's, bit 2 + k: delta light
-// k < BAKED_MASK_LIGHTS; further delta lights are traced where used).
-var<private> BAKED_FROM_MASK: bool;
-var<private> BAKED_MASK: u32;
-const BAKED_MASK_LIGHTS: u32 = 30u;
-
-// Delta light k as the baked point sees it; dist = −1 marks one that does not reach its
-// hemisphere (for texels: above both the shading and the geometric normal) or has no
-// power — a NaN power is kept, so that the moments count it as non-finite.
-fn baked_delta(k: u32, fv: FirstVertex) -> DeltaLight {
-    let dl = delta_at(k, fv.pos);
-    if (max3(dl.e) <= 0.0 || (fv.texel && (dot(dl.wi, fv.nrm) <= 0.0 || dot(dl.wi, fv.ng) <= 0.0))) {
-        return DeltaLight(dl.wi, vec3<f32>(0.0), -1.0);
-    }
-    return dl;
-}
-
-// Area sample a_k (0 emitter, 1 environment) of the baked point; pdf 0 where it has none
-// or it does not reach the hemisphere.
-fn baked_area(a_k: u32, fv: FirstVertex) -> AreaSample {
-    let a = area_sample(a_k, fv.pos, fv.smp);
-    if (a.pdf > 0.0 && (!fv.texel || (dot(a.wi, fv.nrm) > 0.0 && dot(a.wi, fv.ng) > 0.0))) {
-        return a;
-    }
-    return AreaSample(a.wi, a.radiance, 0.0, a.goal, a.bounded);
-}
-
-// The shadow ray's origin towards wi (texels: offset off the surface).
-fn baked_origin(fv: FirstVertex, wi: vec3<f32>) -> vec3<f32> {
-    return select(fv.pos, offset_towards(fv.pos, fv.ng, wi), fv.texel);
-}
-
-fn baked_delta_visible(k: u32, fv: FirstVertex, dl: DeltaLight) -> bool {
-    if (BAKED_FROM_MASK && k < BAKED_MASK_LIGHTS) {
-        return ((BAKED_MASK >> (2u + k)) & 1u) != 0u;
-    }
-    return visible_delta(k, baked_origin(fv, dl.wi));
-}
-
-fn baked_area_visible(a_k: u32, fv: FirstVertex, a: AreaSample) -> bool {
-    if (BAKED_FROM_MASK) {
-        return ((BAKED_MASK >> a_k) & 1u) != 0u;
-    }
-    return visible_area(baked_origin(fv, a.wi), a);
-}
-
-// The visibility mask of a sample's light samples (the wavefront's baked_lights pass):
-// the shadow rays finish_item would trace, traced here.
-fn baked_visibility(fv: FirstVertex) -> u32 {
-    var m = 0u;
-    for (var a_k = 0u; a_k < 2u; a_k++) {
-        let a = baked_area(a_k, fv);
-        if (a.pdf > 0.0 && visible_area(baked_origin(fv, a.wi), a)) {
-            m |= 1u << a_k;
-        }
-    }
-    for (var k = 0u; k < min(P.light_count, BAKED_MASK_LIGHTS); k++) {
-        let dl = baked_delta(k, fv);
-        if (dl.dist >= 0.0 && visible_delta(k, baked_origin(fv, dl.wi))) {
-            m |= 1u << (2u + k);
-        }
-    }
-    return m;
-}
-
 // The rest of a pass of item i once its point sample's path radiance is known (the
 // megakernel's tail and the wavefront's accumulate pass): the light samples at the baked
 // point, then the moments, the encoders and ray guiding's records.
@@ -917,7 +849,9 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     guide_clear(i);
     let it = items[i];
     let texel = fv.texel;
+    let pos = fv.pos;
     let nrm = fv.nrm;
+    let ng = fv.ng;
     let p_s = fv.p_s;
     let fr = tangent_frame(nrm);
     let out = i;
@@ -926,11 +860,11 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     var e_lights = vec3<f32>(0.0);
     var finite = true;
     for (var k = 0u; k < P.light_count; k++) {
-        let dl = baked_delta(k, fv);
-        if (dl.dist < 0.0) {
+        let dl = delta_at(k, pos);
+        if (max3(dl.e) <= 0.0 || (texel && (dot(dl.wi, nrm) <= 0.0 || dot(dl.wi, ng) <= 0.0))) {
             continue;
         }
-        if (baked_delta_visible(k, fv, dl)) {
+        if (visible_delta(k, select(pos, offset_towards(pos, ng, dl.wi), texel))) {
             let ld = select(dl.wi, to_local(dl.wi, fr, nrm), texel);
             e_lights += dl.e * select(p_s, max(ld.z, 0.0) * INV_PI, texel);
             finite = finite && finite3(dl.e);
@@ -940,9 +874,9 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     // One emitter point by power and one environment direction, MIS against the point
     // sample.
     for (var a_k = 0u; a_k < 2u; a_k++) {
-        let a = baked_area(a_k, fv);
-        if (a.pdf > 0.0) {
-            if (baked_area_visible(a_k, fv, a)) {
+        let a = area_sample(a_k, pos, fv.smp);
+        if (a.pdf > 0.0 && (!texel || (dot(a.wi, nrm) > 0.0 && dot(a.wi, ng) > 0.0))) {
+            if (visible_area(select(pos, offset_towards(pos, ng, a.wi), texel), a)) {
                 let ld = select(a.wi, to_local(a.wi, fr, nrm), texel);
                 // MIS against the point-sample strategy's pdf at ω_l.
                 let p_point = select(p_s, guide_pdf(it.w, ld), fv.guided);

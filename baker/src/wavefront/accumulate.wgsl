@@ -1,8 +1,7 @@
 // ---- wavefront pass: accumulate (seed 004 §5.1) ----
 // One thread per job of the dispatch: its samples in order (the progressive encoder's
 // ordering, §7.3.1), each the megakernel's finish_item with the path radiance its slot
-// gathered — the light samples at the baked point (their visibility from baked_lights),
-// the moments, the encoders, guiding.
+// gathered — the light samples at the baked point, the moments, the encoders, guiding.
 
 @compute @workgroup_size(64)
 fn wf_accumulate(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
@@ -14,10 +13,8 @@ fn wf_accumulate(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
     if (job.x == NO_HIT) {
         return;
     }
-    BAKED_FROM_MASK = true;
     for (var j = 0u; j < job.z; j++) {
         let st = paths[job.w + j];
-        BAKED_MASK = baked_vis[job.w + j];
         let fv = first_vertex(job.x, job.y + j);
         finish_item(job.x, fv, PathResult(st.radiance, (st.flags & PATH_BACK) != 0u));
     }

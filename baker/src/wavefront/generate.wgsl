@@ -61,7 +61,6 @@ fn wf_generate(
         }
         paths[slot] = st;
         path_keys[slot] = vec2<u32>(fv.smp.key, fv.smp.index);
-        slot_jobs[slot] = vec2<u32>(job.x, job.y + j);
         queue[slot] = slot;
     }
 }

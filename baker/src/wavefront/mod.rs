@@ -7,19 +7,18 @@
 //! a thread's lifetime. The pass graph of one wave, recorded by [`Wavefront::record`]:
 //!
 //! ```text
-//!  generate ─► wave_start ─► baked_lights ─► ┌ intersect ─► shade ─► compact ─► wave_args ┐ ─► accumulate
-//!                                            └──────────── per bounce, 0 ..= max_bounces ──┘
+//!  generate ─► wave_start ─► ┌ intersect ─► shade ─► compact ─► wave_args ┐ ─► accumulate
+//!                            └──────────── per bounce, 0 ..= max_bounces ──┘
 //! ```
 //!
 //! | pass | WGSL | what it does | CPU twin |
 //! |---|---|---|---|
 //! | generate | `generate.wgsl` | per job: its samples take consecutive slots of the path pool (workgroup scan, one atomic per workgroup), each slot the first segment of its point sample's path | `Tracer::sample_point` |
 //! | wave_start, wave_args | `wave.wgsl` | the queue's length and the indirect dispatch arguments (2D) | — |
-//! | baked_lights | `baked_lights.wgsl` | per sample of the wave: the shadow rays of its light samples at the baked point → a visibility mask (in parallel, not one sample after another in accumulate) | `Tracer::sample_point` |
 //! | intersect | `intersect.wgsl` | per active path: closest hit of its segment (the BVH traversal of `trace.wgsl`) | `Bvh::intersect` |
 //! | shade | `shade.wgsl` | per active path: `path_step` — environment or emission (MIS), next-event estimation with its shadow rays, the BSDF sample, Russian roulette; a flag per queue position says whether the path goes on | `Tracer::path` |
 //! | compact | [`crate::gpu_prims`] | the queue's surviving paths, order kept: flags → exclusive prefix sum (multi-level, subgroup or workgroup block scan) → scatter into the other queue of the ping-pong pair | [`crate::gpu_prims::compact_cpu`] |
-//! | accumulate | `accumulate.wgsl` | per job, its samples in order (the progressive encoder's ordering, §7.3.1): `finish_item` — the light samples at the baked point (visibility from baked_lights), moments, encoders, guiding records | `Targets::item_sample` |
+//! | accumulate | `accumulate.wgsl` | per job, its samples in order (the progressive encoder's ordering, §7.3.1): `finish_item` — the light samples at the baked point, moments, encoders, guiding records | `Targets::item_sample` |
 //!
 //! Generate, shade and accumulate call the very functions the megakernel calls
 //! (`first_vertex`, `path_step`, `finish_item`), and every random number comes from
@@ -42,14 +41,12 @@ pub const WGSL: &str = concat!(
     include_str!("generate.wgsl"),
     include_str!("intersect.wgsl"),
     include_str!("shade.wgsl"),
-    include_str!("baked_lights.wgsl"),
     include_str!("accumulate.wgsl"),
 );
 
 /// Bytes per slot of the path pool: the path state (64), its hit (8), its sampler key (8),
-/// its item and sample (8), its baked-point visibility mask (4), two queue entries, a flag
-/// and a scan offset (16).
-pub const BYTES_PER_SLOT: usize = 108;
+/// two queue entries, a flag and a scan offset (16).
+pub const BYTES_PER_SLOT: usize = 96;
 
 /// The most slots of a uniform wave (2²²: 384 MiB of pool); a wave of more jobs × samples
 /// is split by the frame-time batching.
@@ -99,7 +96,6 @@ pub enum JobGrid<'a> {
 pub struct Wavefront {
     generate: Pass,
     start: Pass,
-    baked_lights: Pass,
     intersect: Pass,
     shade: Pass,
     args: Pass,
@@ -169,26 +165,13 @@ impl Wavefront {
         let offsets = storage("wavefront offsets", 4 * capacity, copy);
         let wave = storage("wavefront counters", 16, copy);
         let job_buf = storage("wavefront jobs", 16 * jobs.max(1), wgpu::BufferUsages::empty());
-        let slot_jobs = storage("wavefront slot jobs", 8 * capacity, wgpu::BufferUsages::empty());
-        let baked_vis = storage("wavefront baked-point visibility", 4 * capacity, wgpu::BufferUsages::empty());
         let wave_args = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("wavefront args"),
             contents: bytemuck::cast_slice(&[0u32, 1, 1]),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
         });
         let group1 = |q: usize| -> Vec<(u32, &wgpu::Buffer)> {
-            vec![
-                (0, &paths),
-                (1, &hits),
-                (2, &keys),
-                (3, &queues[q]),
-                (4, &flags),
-                (5, &wave),
-                (6, &job_buf),
-                (7, &wave_args),
-                (8, &slot_jobs),
-                (9, &baked_vis),
-            ]
+            vec![(0, &paths), (1, &hits), (2, &keys), (3, &queues[q]), (4, &flags), (5, &wave), (6, &job_buf), (7, &wave_args)]
         };
         let groups = [group0.to_vec(), group1(0)];
         let alt = [group0.to_vec(), group1(1)];
@@ -232,7 +215,6 @@ impl Wavefront {
         Ok(Wavefront {
             generate: pass("wf_generate")?,
             start: pass("wave_start")?,
-            baked_lights: pass("wf_baked_lights")?,
             intersect: pass("wf_intersect")?,
             shade: pass("wf_shade")?,
             args: pass("wave_args_from_length")?,
@@ -332,10 +314,6 @@ impl Wavefront {
         self.run_pass(enc, &self.generate, "generate", 0, jobs);
         self.run_pass(enc, &self.start, "wave_start", 0, JobGrid::Direct((1, 1)));
         let indirect = JobGrid::Indirect(&self.wave_args);
-        if !primary_only {
-            // Every sample of the wave (the first queue is every slot).
-            self.run_pass(enc, &self.baked_lights, "baked_lights", 0, indirect);
-        }
         let bounces = if primary_only { 0 } else { max_bounces };
         for b in 0..=bounces {
             let q = (b % 2) as usize;

@@ -20,10 +20,6 @@
 @group(1) @binding(6) var<storage, read_write> jobs: array<vec4<u32>>;
 // The indirect arguments of the queue's passes (written by wave_args only).
 @group(1) @binding(7) var<storage, read_write> wave_args: array<u32, 3>;
-// Per slot: its item and sample index, and the visibility mask of its light samples at the
-// baked point (baked_lights.wgsl).
-@group(1) @binding(8) var<storage, read_write> slot_jobs: array<vec2<u32>>;
-@group(1) @binding(9) var<storage, read_write> baked_vis: array<u32>;
 
 const WAVE_LENGTH: u32 = 0u;
 const WAVE_SLOTS: u32 = 1u;
