@@ -27,6 +27,7 @@ fn config(seed: u64) -> BakeConfig {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     }
 }
 

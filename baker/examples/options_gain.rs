@@ -32,6 +32,7 @@ fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfi
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     }
 }
 

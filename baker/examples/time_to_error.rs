@@ -99,6 +99,7 @@ fn run() -> Result<(), String> {
         adaptive,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let tracer = || Tracer::new(&scene, &bvh, bounces);
     // The reference: uniform, Sobol', another seed.

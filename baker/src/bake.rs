@@ -130,6 +130,9 @@ pub struct BakeConfig {
     pub camera: Option<crate::camera::CameraSampling>,
     /// How a GPU bake runs its passes ([`Pipeline`]); the CPU bake ignores it.
     pub pipeline: Pipeline,
+    /// Filtered gather-based accumulation ([`crate::filter`]); None: each sample feeds
+    /// its own texel only (a one-texel box). Lightmaps only.
+    pub filter: Option<crate::filter::Filter>,
 }
 
 /// How the GPU runs a pass: one thread per texel through whole paths, or breadth first
@@ -165,6 +168,12 @@ impl Pipeline {
 impl BakeConfig {
     /// Refuses combinations the bake cannot run, with the reason.
     pub fn check(&self, targets: &Targets) -> Result<(), String> {
+        if let Some(f) = &self.filter {
+            f.validate()?;
+            if targets.sphere {
+                return Err("filtered accumulation applies to lightmap texels, not probes".into());
+            }
+        }
         if let Some(c) = &self.camera {
             c.validate()?;
             if targets.sphere {
@@ -222,6 +231,12 @@ pub struct Targets {
     /// Atlas UV (in texels) of every vertex of every triangle, `[mesh][triangle]` (see
     /// [`Lightmap::triangle_uv`]; empty for probes): camera-based sampling finds texels by it.
     pub triangle_uv: Vec<Vec<[sbf::glam::Vec2; 3]>>,
+    /// Per point, its continuous atlas position in texels (the sub-texel position it was
+    /// rasterised at; [`crate::filter`]); empty for probes.
+    pub point_uv: Vec<[f32; 2]>,
+    /// Per atlas texel, the chart a filtered gather treats it as part of
+    /// ([`Lightmap::texel_charts`]); empty for probes.
+    pub texel_charts: Vec<u32>,
 }
 
 /// The side of the texel tiles whose order lightmap items follow ([`Targets::lightmap`]).
@@ -245,12 +260,16 @@ impl Targets {
         for (k, c) in valid.zip(row_major) {
             cluster_of[k] = c;
         }
-        let (mut points, mut items, mut clusters) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut points, mut items, mut clusters, mut point_uv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for k in order {
             let t = &lm.texels[k];
             items.push([points.len() as u32, t.points.len() as u32, k as u32]);
             points.extend_from_slice(&t.points);
             clusters.push(cluster_of[k]);
+            // The points are in coverage-bit order; bit s is sub-position (s % 4, s / 4).
+            let (x, y) = ((k % lm.width) as f32, (k / lm.width) as f32);
+            let sub = |s: usize| [x + ((s % 4) as f32 + 0.5) / 4.0, y + ((s / 4) as f32 + 0.5) / 4.0];
+            point_uv.extend((0..crate::lightmap::SUBSAMPLES).filter(|s| t.coverage & (1 << s) != 0).map(sub));
         }
         Targets {
             points,
@@ -262,6 +281,8 @@ impl Targets {
             width: lm.width,
             height: lm.height,
             triangle_uv: lm.triangle_uv.clone(),
+            point_uv,
+            texel_charts: lm.texel_charts.clone(),
         }
     }
 
@@ -280,6 +301,8 @@ impl Targets {
             width: 0,
             height: 0,
             triangle_uv: Vec::new(),
+            point_uv: Vec::new(),
+            texel_charts: Vec::new(),
         }
     }
 
@@ -422,26 +445,35 @@ pub struct BakeState {
     /// Ray guiding: the sums the current stage's distributions were built from
     /// ([`crate::guiding::stage`]; empty without guiding).
     pub guide_basis: Vec<f32>,
+    /// Filtered accumulation ([`crate::filter`]; None without a filter).
+    pub filtered: Option<crate::filter::FilteredState>,
 }
 
 impl BakeState {
     /// An empty state for `targets` under `config`.
     pub fn new(config: &BakeConfig, targets: &Targets) -> BakeState {
-        let encoders = config
-            .bases
-            .iter()
-            .map(|b| {
-                let o = config.encoder_options(*b, targets.sphere);
-                let lobes = b.basis().len();
-                vec![ProgressiveEncoder::new(lobes, o); targets.items.len()]
-            })
-            .collect();
+        let encoders_for = |n: usize| -> Vec<Vec<ProgressiveEncoder<f32>>> {
+            config
+                .bases
+                .iter()
+                .map(|b| {
+                    let o = config.encoder_options(*b, targets.sphere);
+                    let lobes = b.basis().len();
+                    vec![ProgressiveEncoder::new(lobes, o); n]
+                })
+                .collect()
+        };
+        let encoders = encoders_for(targets.items.len());
         let guide_sums = match config.guiding {
             Some(_) if !targets.sphere => vec![0.0; targets.cluster_count * crate::guiding::BIN_COUNT],
             _ => Vec::new(),
         };
         let guide_basis = guide_sums.clone();
-        BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders, guide_sums, guide_basis }
+        let filtered = config.filter.map(|f| {
+            let n = crate::filter::GatherLayout::new(targets, &f).map(|l| l.targets.len()).unwrap_or(0);
+            crate::filter::FilteredState { encoders: encoders_for(n), moments: vec![Default::default(); n], negative_weights: 0 }
+        });
+        BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders, guide_sums, guide_basis, filtered }
     }
 
     /// Mean estimate per item over its accepted samples (E/π for texels, mean L for
@@ -505,6 +537,8 @@ pub struct Bake<'a> {
     guide: Option<Vec<f32>>,
     /// Adaptive sampling's tiles (None: uniform passes).
     tiles: Option<crate::adapt::Tiles>,
+    /// Filtered accumulation's layout (None without a filter).
+    gather: Option<crate::filter::GatherLayout>,
 }
 
 impl std::fmt::Debug for Bake<'_> {
@@ -523,7 +557,8 @@ impl<'a> Bake<'a> {
         let bases: Vec<_> = config.bases.iter().map(|k| k.basis()).collect();
         let state = BakeState::new(&config, targets);
         let tiles = config.adaptive.map(|_| crate::adapt::Tiles::new(targets, targets.width).expect("checked"));
-        Bake { config, targets, tracer, bases, state, guide: None, tiles }
+        let gather = config.filter.map(|f| crate::filter::GatherLayout::new(targets, &f).expect("checked"));
+        Bake { config, targets, tracer, bases, state, guide: None, tiles, gather }
     }
 
     /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
@@ -726,6 +761,15 @@ impl<'a> Bake<'a> {
                     }
                 }
             });
+        }
+        if let (Some(layout), Some(f), Some(fs)) = (&self.gather, &self.config.filter, &mut self.state.filtered) {
+            // Each sample's point (its continuous position), per item in order.
+            let mut per_item: crate::filter::ItemSamples = vec![Vec::new(); tg.items.len()];
+            for (&(k, pk), s) in list.iter().zip(samples) {
+                let [first, count, _] = tg.items[k as usize];
+                per_item[k as usize].push(((first as u64 + pk % count as u64) as u32, s));
+            }
+            crate::filter::gather_batch(layout, f, tg, &self.bases, &per_item, fs);
         }
         self.state.passes += 1;
         self.build_guide();

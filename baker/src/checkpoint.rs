@@ -8,7 +8,10 @@
 //! and the u64 counts of accepted, back-face and non-finite samples;
 //! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
 //! weight) and the u64 update count; u32 count n and the f32 ray-guiding sums, then the n
-//! sums of the current stage's basis (n = 0 without guiding). f32 state round-trips exactly, so a resumed bake continues bit for bit.
+//! sums of the current stage's basis (n = 0 without guiding); u32 count m of filtered
+//! gather targets (0 without a filter), per target the eight f64 weighted moments (Σw, Σw²,
+//! mean, M2) and the u64 sample count, the u64 count of negative-weight samples, and per
+//! basis and target the encoder state as above. f32 state round-trips exactly, so a resumed bake continues bit for bit.
 
 use crate::bake::{BakeConfig, BakeState, Moments, Targets};
 use crate::scene::{Environment, Light, Scene};
@@ -16,7 +19,7 @@ use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"SBFBAKE3";
+const MAGIC: &[u8; 8] = b"SBFBAKE4";
 
 /// FNV-1a 64 (Fowler–Noll–Vo), fed with the bytes that determine a bake.
 #[derive(Debug, Clone, Copy)]
@@ -143,6 +146,11 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
         h.u64(g.learn_passes);
         h.u64(g.guided_fraction.to_bits());
     }
+    if let Some(f) = config.filter {
+        h.bytes(b"filter");
+        h.bytes(f.name().as_bytes());
+        h.u64(f.radius.to_bits() as u64);
+    }
     h.finish()
 }
 
@@ -166,7 +174,30 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
             v.extend_from_slice(&n.to_le_bytes());
         }
     }
-    for encs in &state.encoders {
+    write_encoders(&mut v, &state.encoders);
+    v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
+    for x in state.guide_sums.iter().chain(&state.guide_basis) {
+        v.extend_from_slice(&x.to_le_bytes());
+    }
+    match &state.filtered {
+        None => v.extend_from_slice(&0u32.to_le_bytes()),
+        Some(f) => {
+            v.extend_from_slice(&(f.moments.len() as u32).to_le_bytes());
+            for m in &f.moments {
+                for x in [m.weight, m.weight_sq].iter().chain(&m.mean).chain(&m.m2) {
+                    v.extend_from_slice(&x.to_le_bytes());
+                }
+                v.extend_from_slice(&m.samples.to_le_bytes());
+            }
+            v.extend_from_slice(&f.negative_weights.to_le_bytes());
+            write_encoders(&mut v, &f.encoders);
+        }
+    }
+    v
+}
+
+fn write_encoders(v: &mut Vec<u8>, encoders: &[Vec<ProgressiveEncoder<f32>>]) {
+    for encs in encoders {
         for e in encs {
             let c = e.coefficients();
             for (i, g) in e.integrals().iter().enumerate() {
@@ -178,11 +209,30 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
             v.extend_from_slice(&e.sample_count().to_le_bytes());
         }
     }
-    v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
-    for x in state.guide_sums.iter().chain(&state.guide_basis) {
-        v.extend_from_slice(&x.to_le_bytes());
+}
+
+fn read_encoders(
+    r: &mut Reader,
+    config: &BakeConfig,
+    targets: &Targets,
+    lobes: &[usize],
+    encoders: &mut [Vec<ProgressiveEncoder<f32>>],
+) -> Result<(), String> {
+    for (b, encs) in encoders.iter_mut().enumerate() {
+        let opts = config.encoder_options(config.bases[b], targets.sphere);
+        for e in encs.iter_mut() {
+            let mut amp = vec![[0.0; 3]; lobes[b]];
+            let mut integ = vec![0.0; lobes[b]];
+            for i in 0..lobes[b] {
+                amp[i] = [r.f32()? as f64, r.f32()? as f64, r.f32()? as f64];
+                integ[i] = r.f32()? as f64;
+            }
+            let w = r.f32()? as f64;
+            let n = r.u64()?;
+            *e = ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))?;
+        }
     }
-    v
+    Ok(())
 }
 
 struct Reader<'a> {
@@ -218,7 +268,7 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
     }
     let fp = r.u64()?;
     if fp != fingerprint {
-        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver, sample sequence, adaptive sampling or ray guiding changed"));
+        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver, sample sequence, adaptive sampling, ray guiding or the filter changed"));
     }
     let passes = r.u64()?;
     let (items, nb) = (r.u32()? as usize, r.u32()? as usize);
@@ -243,26 +293,31 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
         let (accepted, back_faces, non_finite) = (r.u64()?, r.u64()?, r.u64()?);
         *m = Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]], accepted, back_faces, non_finite };
     }
-    for (b, encs) in state.encoders.iter_mut().enumerate() {
-        let opts = config.encoder_options(config.bases[b], targets.sphere);
-        for e in encs.iter_mut() {
-            let mut amp = vec![[0.0; 3]; lobes[b]];
-            let mut integ = vec![0.0; lobes[b]];
-            for i in 0..lobes[b] {
-                amp[i] = [r.f32()? as f64, r.f32()? as f64, r.f32()? as f64];
-                integ[i] = r.f32()? as f64;
-            }
-            let w = r.f32()? as f64;
-            let n = r.u64()?;
-            *e = ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))?;
-        }
-    }
+    read_encoders(&mut r, config, targets, &lobes, &mut state.encoders)?;
     let sums = r.u32()? as usize;
     if sums != state.guide_sums.len() {
         return Err(format!("checkpoint has {sums} ray-guiding sums, this bake {}", state.guide_sums.len()));
     }
     for x in state.guide_sums.iter_mut().chain(state.guide_basis.iter_mut()) {
         *x = r.f32()?;
+    }
+    let gathered = r.u32()? as usize;
+    let want = state.filtered.as_ref().map_or(0, |f| f.moments.len());
+    if gathered != want {
+        return Err(format!("checkpoint has {gathered} filtered gather targets, this bake {want}"));
+    }
+    if let Some(f) = &mut state.filtered {
+        for m in f.moments.iter_mut() {
+            let mut x = [0.0; 8];
+            for v in x.iter_mut() {
+                *v = r.f64()?;
+            }
+            let samples = r.u64()?;
+            *m =
+                crate::filter::WeightedMoments { weight: x[0], weight_sq: x[1], mean: [x[2], x[3], x[4]], m2: [x[5], x[6], x[7]], samples };
+        }
+        f.negative_weights = r.u64()?;
+        read_encoders(&mut r, config, targets, &lobes, &mut f.encoders)?;
     }
     if r.at != bytes.len() {
         return Err(format!("checkpoint has {} trailing bytes", bytes.len() - r.at));

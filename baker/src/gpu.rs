@@ -632,6 +632,9 @@ impl<'g> GpuBake<'g> {
             return Err("probes need sphere bases (sh1, sh2, ad12)".into());
         }
         config.check(targets)?;
+        if config.filter.is_some() {
+            return Err("filtered accumulation (--filter) runs on the CPU bake only so far (--device cpu)".into());
+        }
         let glossy = tracer.scene.has_glossy();
         let kernel = kernel(config, targets.sphere, glossy)?;
         let d = gpu.device();
@@ -1110,7 +1113,7 @@ impl<'g> GpuBake<'g> {
             ),
             None => (Vec::new(), Vec::new()),
         };
-        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis })
+        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis, filtered: None })
     }
 
     /// Replaces the GPU state with `state` (resuming a checkpoint).

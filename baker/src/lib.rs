@@ -35,6 +35,9 @@
 //! - [`gpu_prims`]: reusable GPU primitives with CPU twins — exclusive prefix sum (any
 //!   length, multi-level), stream compaction, radix sort, the offset buffer, tile indices,
 //!   the filtered gather (box, Gaussian, Mitchell, within a chart) — for the wavefront pipeline.
+//! - [`filter`]: filtered gather-based accumulation (seed 004 §3.2): every texel a chart
+//!   overlaps gathers the samples within a box, Gaussian or Mitchell radius into its own
+//!   encoders and weighted Welford moments, so uncovered edge texels get values.
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
 //! - [`denoise`]: joint non-local means over valid texels within a chart (position, normal
 //!   guides, variance-normalised patches), the same weights for every coefficient.
@@ -58,6 +61,7 @@ pub mod bvh;
 pub mod camera;
 pub mod checkpoint;
 pub mod denoise;
+pub mod filter;
 pub mod gpu;
 pub mod gpu_prims;
 pub mod guiding;

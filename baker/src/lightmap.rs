@@ -27,6 +27,13 @@ pub const MAX_CHART_ANGLE: f32 = 60.0;
 /// surface area (either way) before a generated chart is split.
 pub const MAX_AREA_DISTORTION: f32 = 2.0;
 
+/// [`Lightmap::texel_charts`] of a texel no triangle overlaps.
+pub const NO_CHART: u32 = u32::MAX;
+
+/// How far (texels) a triangle must reach into a texel's square along every separating
+/// axis to touch it: edges that merely graze a texel's border do not claim it.
+pub const TOUCH_EPSILON: f32 = 1e-3;
+
 /// A surface point a texel samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfacePoint {
@@ -96,6 +103,11 @@ pub struct Lightmap {
     /// The mesh of every chart (TEXCOORD_1 squares and generated charts), by the id
     /// stored in [`Texel::chart`].
     pub chart_meshes: Vec<usize>,
+    /// Per texel (row-major), the chart its filtered gather belongs to (seed 004 §3.2:
+    /// texels a chart's triangles overlap but whose 16 sub-positions all miss): a valid
+    /// texel's [`Texel::chart`]; an uncovered texel that some triangle overlaps by more
+    /// than [`TOUCH_EPSILON`], the first such triangle's chart; [`NO_CHART`] otherwise.
+    pub texel_charts: Vec<u32>,
     /// Generated charts: how many, and the generated block's own utilisation.
     pub generated_charts: usize,
     pub generated_utilisation: f64,
@@ -248,6 +260,7 @@ impl Lightmap {
             return Err(LayoutError::TooLarge { width, height, fits: too_large_fit(texels_per_unit, width.max(height) as f64) });
         }
         let mut texels = vec![Texel::default(); width * height];
+        let mut texel_charts = vec![NO_CHART; width * height];
         let mut triangle_uv: Vec<Vec<[Vec2; 3]>> = scene.meshes.iter().map(|m| vec![[Vec2::ZERO; 3]; m.indices.len()]).collect();
         // Chart ids: TEXCOORD_1 squares first (in block order), then the generated charts.
         let mut chart_meshes: Vec<usize> = charts.iter().filter_map(|c| c.mesh).collect();
@@ -263,7 +276,7 @@ impl Lightmap {
                     for (ti, t) in m.indices.iter().enumerate() {
                         let uv = t.map(|i| corner + (uvs[i as usize] - c.uv_min) * c.uv_scale);
                         triangle_uv[mi][ti] = uv;
-                        rasterise_triangle(&mut texels, width, scene, mi, ti, uv, own);
+                        rasterise_triangle(&mut texels, &mut texel_charts, width, scene, mi, ti, uv, own);
                     }
                     own += 1;
                 }
@@ -278,10 +291,16 @@ impl Lightmap {
                                 continue; // degenerate: no chart, no texels
                             }
                             chart_meshes[(first_generated + id) as usize] = *mi;
-                            rasterise_triangle(&mut texels, width, scene, *mi, ti, uv, first_generated + id);
+                            rasterise_triangle(&mut texels, &mut texel_charts, width, scene, *mi, ti, uv, first_generated + id);
                         }
                     }
                 }
+            }
+        }
+        // A covered texel gathers within the chart of its first covering triangle.
+        for (c, t) in texel_charts.iter_mut().zip(&texels) {
+            if t.is_valid() {
+                *c = t.chart;
             }
         }
         Ok(Lightmap {
@@ -294,6 +313,7 @@ impl Lightmap {
             triangle_uv,
             generated_for,
             chart_meshes,
+            texel_charts,
             generated_charts,
             generated_utilisation,
         })
@@ -302,13 +322,24 @@ impl Lightmap {
 
 /// Rasterises triangle `ti` of mesh `mi` at atlas texel coordinates `uv` (skipping a
 /// degenerate one), tagging its texels with `chart`.
-fn rasterise_triangle(texels: &mut [Texel], width: usize, scene: &Scene, mi: usize, ti: usize, uv: [Vec2; 3], chart: u32) {
+#[allow(clippy::too_many_arguments)]
+fn rasterise_triangle(
+    texels: &mut [Texel],
+    texel_charts: &mut [u32],
+    width: usize,
+    scene: &Scene,
+    mi: usize,
+    ti: usize,
+    uv: [Vec2; 3],
+    chart: u32,
+) {
     let m = &scene.meshes[mi];
     let p = m.indices[ti].map(|i| m.positions[i as usize]);
     let n = (p[1] - p[0]).cross(p[2] - p[0]);
-    if n.length() <= 0.0 {
+    if n.length() <= 0.0 || cross2(uv[1] - uv[0], uv[2] - uv[0]) == 0.0 {
         return;
     }
+    touch(texel_charts, width, uv, chart);
     let vn = m.indices[ti].map(|i| m.normals[i as usize]);
     rasterise(texels, width, uv, p, n.normalize(), vn, chart);
 }
@@ -395,6 +426,43 @@ fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], no
                 let before = (texel.coverage & ((1u16 << s) - 1)).count_ones() as usize;
                 let shading = shading_normal(vn, [w0, w1, w2], normal);
                 texel.points.insert(before, SurfacePoint { position, normal: shading, geometric: normal });
+            }
+        }
+    }
+}
+
+/// Claims for `chart` every still unclaimed texel whose square the triangle `uv` overlaps
+/// (separating-axis test on the square's two axes and the triangle's three edge normals,
+/// each overlap deeper than [`TOUCH_EPSILON`]).
+fn touch(texel_charts: &mut [u32], width: usize, uv: [Vec2; 3], chart: u32) {
+    let lo = uv[0].min(uv[1]).min(uv[2]).floor().max(Vec2::ZERO);
+    let hi = uv[0].max(uv[1]).max(uv[2]).ceil();
+    let height = texel_charts.len() / width;
+    let axes = [0, 1, 2].map(|k| {
+        let e = uv[(k + 1) % 3] - uv[k];
+        Vec2::new(-e.y, e.x)
+    });
+    for ty in lo.y as usize..(hi.y as usize).min(height) {
+        for tx in lo.x as usize..(hi.x as usize).min(width) {
+            let c = &mut texel_charts[ty * width + tx];
+            if *c != NO_CHART {
+                continue;
+            }
+            let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)].map(|(a, b)| Vec2::new(tx as f32 + a, ty as f32 + b));
+            let separated = |axis: Vec2| {
+                let len = axis.length();
+                if len == 0.0 {
+                    return false;
+                }
+                let range = |pts: &mut dyn Iterator<Item = Vec2>| {
+                    pts.map(|q| q.dot(axis) / len).fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)))
+                };
+                let (t0, t1) = range(&mut uv.iter().copied());
+                let (s0, s1) = range(&mut corners.iter().copied());
+                t1.min(s1) - t0.max(s0) <= TOUCH_EPSILON
+            };
+            if !separated(Vec2::X) && !separated(Vec2::Y) && !axes.iter().any(|a| separated(*a)) {
+                *c = chart;
             }
         }
     }

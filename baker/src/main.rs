@@ -118,6 +118,13 @@ struct Cli {
     /// then accumulate; seed 004 §3.1, §5.1). The same bake either way.
     #[arg(long, default_value = "megakernel")]
     pipeline: String,
+    /// Filtered gather-based accumulation (seed 004 §3.2): box, gaussian or mitchell,
+    /// optionally :radius in texels (default 1.5). Every texel a chart's triangles
+    /// overlap gathers the samples within the radius, so edge texels whose sub-positions
+    /// all miss get values rather than dilation. Default: none (each sample feeds its own
+    /// texel).
+    #[arg(long)]
+    filter: Option<String>,
     /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
     /// rasterisers such as lavapipe included), or cpu.
     #[arg(long, default_value = "auto")]
@@ -315,6 +322,7 @@ fn options(c: Cli) -> Result<Options, String> {
             },
             pipeline: baker::bake::Pipeline::parse(&c.pipeline)
                 .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
+            filter: c.filter.as_deref().map(baker::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
         },
         device,
         out: c.out,

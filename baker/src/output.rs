@@ -47,6 +47,10 @@ impl LightmapImages {
             normals: vec![[0.0; 3]; n],
         };
         let (mean, se, valid) = (state.mean(), state.standard_error(), state.valid());
+        if let Some(f) = &state.filtered {
+            img.fill_filtered(lm, targets, f, &valid);
+            return img;
+        }
         for (k, it) in targets.items.iter().enumerate() {
             // Inside geometry (back-face samples): left empty, dilated over.
             if !valid[k] {
@@ -66,6 +70,53 @@ impl LightmapImages {
             }
         }
         img
+    }
+
+    /// The filtered accumulation's results ([`crate::filter`]): every gather target with
+    /// weight (an item texel only if the item itself is valid). A target covered by no
+    /// sub-position takes the mean normal of the item texels of its chart around it.
+    fn fill_filtered(&mut self, lm: &Lightmap, targets: &Targets, f: &crate::filter::FilteredState, item_valid: &[bool]) {
+        let list = crate::filter::gather_targets(targets);
+        let w = lm.width;
+        let mut item_normals = vec![None; lm.texels.len()];
+        for (k, it) in targets.items.iter().enumerate() {
+            let t = it[2] as usize;
+            let sum: Vec3 = lm.texels[t].points.iter().map(|p| p.normal).sum();
+            if item_valid[k] {
+                item_normals[t] = Some(sum.normalize_or_zero());
+            }
+        }
+        for (j, &t) in list.iter().enumerate() {
+            let t = t as usize;
+            let m = &f.moments[j];
+            if m.weight <= 0.0 || (j < targets.items.len() && !item_valid[j]) {
+                continue;
+            }
+            let normal = item_normals[t].unwrap_or_else(|| {
+                let (x, y) = ((t % w) as i64, (t / w) as i64);
+                let mut sum = Vec3::ZERO;
+                for (dx, dy) in (-1i64..=1).flat_map(|dy| (-1i64..=1).map(move |dx| (dx, dy))) {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx >= 0 && ny >= 0 && (nx as usize) < w && (ny as usize) < lm.height {
+                        let n = ny as usize * w + nx as usize;
+                        if lm.texel_charts[n] == lm.texel_charts[t] {
+                            sum += item_normals[n].unwrap_or(Vec3::ZERO);
+                        }
+                    }
+                }
+                sum.normalize_or_zero()
+            });
+            self.validity[t] = 1.0;
+            self.normals[t] = normal.to_array();
+            self.irradiance[t] = m.mean.map(|x| x as f32);
+            self.standard_error[t] = m.standard_error().map(|x| if x.is_finite() { x as f32 } else { 0.0 });
+            for (b, encs) in f.encoders.iter().enumerate() {
+                let c = encs[j].coefficients();
+                for (l, lobe) in self.coefficients[b].iter_mut().enumerate() {
+                    lobe[t] = [c[(l, 0)] as f32, c[(l, 1)] as f32, c[(l, 2)] as f32];
+                }
+            }
+        }
     }
 
     /// Fills empty texels from the mean of their filled 8-neighbours, ring by ring, for

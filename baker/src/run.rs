@@ -88,6 +88,7 @@ impl Default for Options {
                 adaptive: None,
                 camera: None,
                 pipeline: Default::default(),
+                filter: None,
             },
             device: Device::Auto,
             out: PathBuf::from("bake-out"),

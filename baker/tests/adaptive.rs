@@ -32,6 +32,7 @@ fn config(seed: u64, adaptive: Option<AdaptiveOptions>) -> BakeConfig {
         adaptive,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     }
 }
 

@@ -31,6 +31,7 @@ fn config(seed: u64, camera: Option<CameraSampling>) -> BakeConfig {
         adaptive: None,
         camera,
         pipeline: Default::default(),
+        filter: None,
     }
 }
 

@@ -35,6 +35,7 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     // Reference: 16 384 passes, another seed.
     let t = Instant::now();

@@ -29,6 +29,7 @@ fn furnace_cpu() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, tracer);
@@ -171,6 +172,7 @@ fn deterministic_across_thread_counts() {
                 adaptive: None,
                 camera: None,
                 pipeline: Default::default(),
+                filter: None,
             };
             let targets = Targets::lightmap(&lm);
             let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 4));
@@ -292,6 +294,7 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 3));
     for _ in 0..32 {

@@ -253,6 +253,7 @@ fn furnace_bake_stays_within_noise() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, baker::trace::Tracer::new(&s, &bvh, 64));

@@ -28,6 +28,7 @@ fn kernels_validate_and_structs_match() {
                 adaptive: None,
                 camera: None,
                 pipeline: Default::default(),
+                filter: None,
             };
             kernel(&cfg, false, glossy).unwrap_or_else(|e| panic!("{b:?} glossy={glossy}: {e}"));
         }
@@ -41,6 +42,7 @@ fn kernels_validate_and_structs_match() {
             adaptive: None,
             camera: None,
             pipeline: Default::default(),
+            filter: None,
         };
         let k = kernel(&cfg, false, glossy).unwrap();
         // Left out: the GGX functions exactly when no material is glossy.
@@ -61,6 +63,7 @@ fn kernels_validate_and_structs_match() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     kernel(&probes, true, true).unwrap();
 }
@@ -104,6 +107,7 @@ fn furnace_gpu() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(128).unwrap();
@@ -239,6 +243,7 @@ fn matches_cpu(pipeline: Pipeline) {
         adaptive: None,
         camera: None,
         pipeline,
+        filter: None,
     };
     let passes = 96;
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
@@ -354,6 +359,7 @@ fn chunked_dispatches_give_the_identical_bake() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let run = |setup: &dyn Fn(&mut GpuBake)| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
@@ -405,6 +411,7 @@ fn wavefront_pass_times_cover_the_pass_graph() {
         adaptive: None,
         camera: None,
         pipeline: Pipeline::Wavefront,
+        filter: None,
     };
     let mut b = GpuBake::new(&gpu, &Tracer::new(&s, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
     b.set_chunk(targets.items.len());

@@ -34,6 +34,7 @@ fn config(seed: u64, guiding: Option<GuidingOptions>) -> BakeConfig {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     }
 }
 

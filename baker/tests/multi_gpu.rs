@@ -70,6 +70,7 @@ fn merged_bakes_equal_the_single_device_bake() {
             adaptive: None,
             camera: None,
             pipeline: Default::default(),
+            filter: None,
         };
         let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
         one.set_chunk(usize::MAX);
@@ -102,6 +103,7 @@ fn merged_bakes_equal_the_single_device_bake() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let err = MultiGpuBake::new(&gpus[..2], &tracer_of, &lightmap, &guided).unwrap_err();
     assert!(err.contains("guiding"), "{err}");
@@ -129,6 +131,7 @@ fn several_passes_per_dispatch_give_the_identical_bake() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let run = |target: Option<f64>| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();

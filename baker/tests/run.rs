@@ -495,6 +495,7 @@ fn scenes_without_gloss_leave_specular_out() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let k = baker::gpu::kernel(&cfg, false, false).unwrap();
     assert!(!k.source.contains("fn ggx_d(") && k.left_out[0].starts_with("GGX layer"));

@@ -79,6 +79,7 @@ fn bake_guided(
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let state = bake_on(gpu, scene, &targets, &cfg, passes);
     (targets, lm, state)
@@ -305,6 +306,7 @@ fn sobol_sequences_lower_the_error_at_equal_passes() {
                 adaptive: None,
                 camera: None,
                 pipeline: Default::default(),
+                filter: None,
             };
             let st = bake_on(g.as_deref(), &s, &t, &cfg, passes);
             let (m, se) = (st.mean(), st.standard_error());
@@ -550,6 +552,7 @@ fn probes_over_a_lit_disk() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let passes = 8192;
     let l_floor = rho * e * el.sin() / PI;
@@ -715,6 +718,7 @@ fn disk_light_probe_encodings_match_their_projections() {
         adaptive: None,
         camera: None,
         pipeline: Default::default(),
+        filter: None,
     };
     let cos0 = ((hd - y0) as f64) / (((hd - y0) as f64).powi(2) + rad * rad).sqrt();
     // Cap (μ from cos0 to 1 about +Y) and upper-hemisphere (μ from 0) quadratures, world frame.

@@ -5,6 +5,7 @@
 /// `SBF_REQUIRE_GPU=1` (CI), where a missing adapter fails the test. A watchdog fails the
 /// binary loudly (status 124) if one test holds the device longer than 900 s
 /// (`SBF_GPU_TEST_TIMEOUT_S`).
+#[allow(dead_code)]
 pub fn gpu() -> Option<shaders::gpu::Lease> {
     let name = std::thread::current().name().unwrap_or("baker GPU test").to_string();
     match shaders::gpu::lease(&name, 900) {
