@@ -123,6 +123,8 @@ const GUIDE_WGSL: &str = include_str!("../wgsl/guide.wgsl");
 const ADAPT_BATCH_WGSL: &str = include_str!("../wgsl/adapt_batch.wgsl");
 const ADAPT_NONE_WGSL: &str = include_str!("../wgsl/adapt_none.wgsl");
 const GUIDE_NONE_WGSL: &str = include_str!("../wgsl/guide_none.wgsl");
+const FILTER_WGSL: &str = include_str!("../wgsl/filter.wgsl");
+const FILTER_NONE_WGSL: &str = include_str!("../wgsl/filter_none.wgsl");
 const GUIDE_COMMON_WGSL: &str = include_str!("../wgsl/guide_common.wgsl");
 const GUIDE_BUILD_WGSL: &str = include_str!("../wgsl/guide_build.wgsl");
 const GUIDE_BUILD_SUBGROUP_WGSL: &str = include_str!("../wgsl/guide_build_subgroup.wgsl");
@@ -165,6 +167,7 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
     }
     let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
+    let mut left_out = Vec::new();
     let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
     // Known projections of the baked point's light samples, per basis (sbf
     // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
@@ -229,11 +232,28 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     encode += "}\n";
     project += "}\n";
     project_reset += "}\n";
+    let filtered = config.filter.is_some() && !sphere_targets;
+    if filtered {
+        // The same encoders into the filtered targets' states (wgsl/filter.wgsl), and the
+        // known projections Q_k to and from a record: 3 vec4 of header, then per basis
+        // its lobes.
+        let into_targets = encode.replace("fn encode(out", "fn encode_filtered(out").replace("states[s]", "fstates[s]").replace("P.item_count", "FP.target_count");
+        let (mut store, mut load, mut at) =
+            (String::from("fn filter_store_q(base: u32) {\n"), String::from("fn filter_load_q(base: u32) {\n"), 3usize);
+        for (k, b) in config.bases.iter().enumerate() {
+            let lobes = b.basis().len();
+            store += &format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[base + {at}u + i] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n");
+            load += &format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[base + {at}u + i].xyz;\n    }}\n");
+            at += lobes;
+        }
+        encode += &format!("{into_targets}{store}}}\n{load}}}\nconst FILTER_STRIDE: u32 = {at}u;\n");
+    } else {
+        left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
+    }
     encode += &project;
     encode += &project_reset;
     let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
     let lib = shaders::compose::compose_roots(config_name, &roots)?;
-    let mut left_out = Vec::new();
     if !glossy {
         left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
     }
@@ -258,8 +278,9 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             ""
         }
     };
+    let filter = if config.filter.is_some() && !sphere_targets { FILTER_WGSL } else { FILTER_NONE_WGSL };
     let source = format!(
-        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{wavefront}",
+        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{filter}\n{wavefront}",
         lib.source,
         if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL }
     );
@@ -308,6 +329,49 @@ struct GuideGpu {
     /// The distributions were built from the sums.
     built: bool,
     path: GuideBuild,
+}
+
+/// Encoder states as the GPU holds them (`n` per basis, basis-major) → sbf encoders.
+pub(crate) fn encoders_from_raw(
+    raw: &[EncoderState],
+    n: usize,
+    config: &BakeConfig,
+    sphere: bool,
+) -> Result<Vec<Vec<sbf::solve::ProgressiveEncoder<f32>>>, String> {
+    let mut encoders = Vec::new();
+    for (b, kind) in config.bases.iter().enumerate() {
+        let lobes = kind.basis().len();
+        let opts = config.encoder_options(*kind, sphere);
+        let mut encs = Vec::with_capacity(n);
+        for st in &raw[b * n..(b + 1) * n] {
+            let amp: Vec<[f64; 3]> = st.coefficients(lobes).iter().map(|c| c.map(|x| x as f64)).collect();
+            let integ: Vec<f64> = st.integrals(lobes).iter().map(|x| *x as f64).collect();
+            encs.push(
+                sbf::solve::ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, st.total_weight as f64, st.samples as u64)
+                    .map_err(|e| format!("GPU encoder state {}: {e}", encs.len()))?,
+            );
+        }
+        encoders.push(encs);
+    }
+    Ok(encoders)
+}
+
+/// sbf encoders → the GPU's encoder states (basis-major).
+pub(crate) fn raw_from_encoders(encoders: &[Vec<sbf::solve::ProgressiveEncoder<f32>>]) -> Vec<EncoderState> {
+    let mut raw = Vec::new();
+    for encs in encoders {
+        for e in encs {
+            let mut st: EncoderState = bytemuck::Zeroable::zeroed();
+            let c = e.coefficients();
+            for (i, g) in e.integrals().iter().enumerate() {
+                st.lobes[i] = [c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32, *g as f32];
+            }
+            st.total_weight = e.total_weight() as f32;
+            st.samples = e.sample_count() as u32;
+            raw.push(st);
+        }
+    }
+    raw
 }
 
 /// Workgroups for `n` threads of `wg` each, as a 2D grid within the 65 535 limit.
@@ -466,6 +530,8 @@ pub struct GpuBake<'g> {
     adapt: Option<crate::adapt_gpu::AdaptGpu>,
     /// GPU seconds and count per wavefront pass while a profile is taken.
     profile: Option<Vec<(&'static str, f64, u64)>>,
+    /// Filtered accumulation's records, targets and gather ([`crate::filter_gpu`]).
+    filter: Option<crate::filter_gpu::FilterGpu>,
 }
 
 /// The partition block of a single-device bake (any positive value is the identity).
@@ -632,9 +698,6 @@ impl<'g> GpuBake<'g> {
             return Err("probes need sphere bases (sh1, sh2, ad12)".into());
         }
         config.check(targets)?;
-        if config.filter.is_some() {
-            return Err("filtered accumulation (--filter) runs on the CPU bake only so far (--device cpu)".into());
-        }
         let glossy = tracer.scene.has_glossy();
         let kernel = kernel(config, targets.sphere, glossy)?;
         let d = gpu.device();
@@ -740,10 +803,15 @@ impl<'g> GpuBake<'g> {
         let auxb = storage("aux", bytemuck::cast_slice(&aux), wgpu::BufferUsages::empty());
         let item_data: Vec<[u32; 4]> = targets.items.iter().zip(&targets.clusters).map(|(&[a, b, c], k)| [a, b, c, *k]).collect();
         let itemb = storage("items", bytemuck::cast_slice(&item_data), wgpu::BufferUsages::empty());
+        // The w components of the normals: the point's atlas position (filtered gather).
         let pts: Vec<[f32; 4]> = targets
             .points
             .iter()
-            .flat_map(|p| [p.position.extend(1.0).to_array(), p.normal.extend(0.0).to_array(), p.geometric.extend(0.0).to_array()])
+            .enumerate()
+            .flat_map(|(k, p)| {
+                let uv = targets.point_uv.get(k).copied().unwrap_or([0.0; 2]);
+                [p.position.extend(1.0).to_array(), p.normal.extend(uv[0]).to_array(), p.geometric.extend(uv[1]).to_array()]
+            })
             .collect();
         let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
         let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
@@ -785,6 +853,17 @@ impl<'g> GpuBake<'g> {
                 None => None,
             },
         };
+        let filter = match config.filter.filter(|_| !targets.sphere) {
+            Some(_) => {
+                let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
+                let limit = d.limits().max_storage_buffer_binding_size;
+                Some(crate::filter_gpu::FilterGpu::new(d, &module, (&naga.0, &naga.1), targets, config, MAX_PASSES_PER_DISPATCH, limit)?)
+            }
+            None => None,
+        };
+        if let Some(f) = &filter {
+            entries.push(wgpu::BindGroupEntry { binding: 14, resource: f.records.as_entire_binding() });
+        }
         if let Some(a) = &adapt {
             entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
             entries.push(wgpu::BindGroupEntry { binding: 12, resource: a.count.as_entire_binding() });
@@ -840,6 +919,7 @@ impl<'g> GpuBake<'g> {
             share: items,
             adapt,
             profile: None,
+            filter,
         })
     }
 
@@ -865,6 +945,9 @@ impl<'g> GpuBake<'g> {
         }
         if self.guide.is_some() && count > 1 {
             return Err("a guided bake cannot be split across devices (guiding learns from whole clusters every pass)".into());
+        }
+        if self.filter.is_some() && count > 1 {
+            return Err("a filtered bake cannot be split across devices (each texel gathers its neighbours' samples every pass)".into());
         }
         if self.adapt.is_some() && count > 1 {
             return Err("an adaptive or camera-based bake cannot be split across devices (each batch draws from the whole atlas)".into());
@@ -935,6 +1018,9 @@ impl<'g> GpuBake<'g> {
             self.collect_profile()?;
             start = end;
         };
+        if let Some(f) = &mut self.filter {
+            f.record(self.gpu.queue(), &mut enc, self.params.pass_count);
+        }
         if let Some(g) = &mut self.guide {
             // Every pass learns; at the start of each stage the distributions are rebuilt
             // from all sums (baker::guiding::stage).
@@ -1020,6 +1106,10 @@ impl<'g> GpuBake<'g> {
             }
             // The wavefront's pool holds chunk × passes paths.
             k = k.min((self.batching.max_slots / self.batching.chunk.max(1)).max(1) as u64);
+            if let Some(f) = &self.filter {
+                // The records hold that many passes of every item.
+                k = k.min(f.max_passes);
+            }
             self.params.pass_index = self.passes as u32;
             self.params.pass_count = k as u32;
             let d = self.batching.dispatches;
@@ -1091,21 +1181,7 @@ impl<'g> GpuBake<'g> {
             })
             .collect();
         let raw: Vec<EncoderState> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.states_buf)?);
-        let mut encoders = Vec::new();
-        for (b, kind) in self.config.bases.iter().enumerate() {
-            let lobes = kind.basis().len();
-            let opts = self.config.encoder_options(*kind, self.sphere);
-            let mut encs = Vec::with_capacity(self.items);
-            for st in &raw[b * self.items..(b + 1) * self.items] {
-                let amp: Vec<[f64; 3]> = st.coefficients(lobes).iter().map(|c| c.map(|x| x as f64)).collect();
-                let integ: Vec<f64> = st.integrals(lobes).iter().map(|x| *x as f64).collect();
-                encs.push(
-                    sbf::solve::ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, st.total_weight as f64, st.samples as u64)
-                        .map_err(|e| format!("GPU encoder state of item {}: {e}", encs.len()))?,
-                );
-            }
-            encoders.push(encs);
-        }
+        let encoders = encoders_from_raw(&raw, self.items, &self.config, self.sphere)?;
         let (guide_sums, guide_basis) = match &self.guide {
             Some(g) => (
                 bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.sums_buf)?),
@@ -1113,7 +1189,11 @@ impl<'g> GpuBake<'g> {
             ),
             None => (Vec::new(), Vec::new()),
         };
-        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis, filtered: None })
+        let filtered = match &self.filter {
+            Some(f) => Some(f.state(self.gpu, &self.config)?),
+            None => None,
+        };
+        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis, filtered })
     }
 
     /// Replaces the GPU state with `state` (resuming a checkpoint).
@@ -1134,21 +1214,14 @@ impl<'g> GpuBake<'g> {
             .collect();
         let q = self.gpu.queue();
         q.write_buffer(&self.moments_buf, 0, bytemuck::cast_slice(&m));
-        let mut raw = Vec::with_capacity(self.items * state.encoders.len());
-        for encs in &state.encoders {
-            for e in encs {
-                let mut st: EncoderState = bytemuck::Zeroable::zeroed();
-                let c = e.coefficients();
-                for (i, g) in e.integrals().iter().enumerate() {
-                    st.lobes[i] = [c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32, *g as f32];
-                }
-                st.total_weight = e.total_weight() as f32;
-                st.samples = e.sample_count() as u32;
-                raw.push(st);
-            }
-        }
+        let raw = raw_from_encoders(&state.encoders);
         if !raw.is_empty() {
             q.write_buffer(&self.states_buf, 0, bytemuck::cast_slice(&raw));
+        }
+        match (&self.filter, &state.filtered) {
+            (Some(f), Some(fs)) => f.upload(q, fs)?,
+            (None, None) => {}
+            _ => return Err("the saved state and this bake differ in filtered accumulation".into()),
         }
         self.passes = state.passes;
         if let Some(g) = &mut self.guide {

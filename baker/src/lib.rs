@@ -37,7 +37,8 @@
 //!   the filtered gather (box, Gaussian, Mitchell, within a chart) — for the wavefront pipeline.
 //! - [`filter`]: filtered gather-based accumulation (seed 004 §3.2): every texel a chart
 //!   overlaps gathers the samples within a box, Gaussian or Mitchell radius into its own
-//!   encoders and weighted Welford moments, so uncovered edge texels get values.
+//!   encoders and weighted Welford moments, so uncovered edge texels get values;
+//!   [`filter_gpu`]: the same on the GPU (records per item and pass, a gather pass).
 //! - [`checkpoint`]: atomic checkpoints of the progressive state, resume.
 //! - [`denoise`]: joint non-local means over valid texels within a chart (position, normal
 //!   guides, variance-normalised patches), the same weights for every coefficient.
@@ -62,6 +63,7 @@ pub mod camera;
 pub mod checkpoint;
 pub mod denoise;
 pub mod filter;
+pub mod filter_gpu;
 pub mod gpu;
 pub mod gpu_prims;
 pub mod guiding;

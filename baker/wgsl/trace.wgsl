@@ -764,6 +764,9 @@ struct FirstVertex {
     // The path's origin, and whether it is traced at all (texels: dir above the surface).
     origin: vec3<f32>,
     traced: bool,
+    // The pass, and the point's continuous atlas position (filtered accumulation).
+    pass_index: u32,
+    uv: vec2<f32>,
 }
 
 fn first_vertex(i: u32, pass_index: u32) -> FirstVertex {
@@ -780,6 +783,7 @@ fn first_vertex(i: u32, pass_index: u32) -> FirstVertex {
     let pos = points[3u * k].xyz;
     let nrm = points[3u * k + 1u].xyz;
     let ng = points[3u * k + 2u].xyz;
+    let uv = vec2<f32>(points[3u * k + 1u].w, points[3u * k + 2u].w);
     let texel = P.mode == 0u;
     var local: vec3<f32>;
     var dir: vec3<f32>;
@@ -822,7 +826,7 @@ fn first_vertex(i: u32, pass_index: u32) -> FirstVertex {
     }
     let origin = select(pos, offset_towards(pos, ng, dir), texel);
     let traced = !texel || dot(dir, ng) > 0.0;
-    return FirstVertex(smp, pos, nrm, ng, texel, guided, local, dir, weight, p_s, w_enc, origin, traced);
+    return FirstVertex(smp, pos, nrm, ng, texel, guided, local, dir, weight, p_s, w_enc, origin, traced, pass_index, uv);
 }
 
 // Pass `pass_index` of item i: the point sample's path, then the rest (megakernel).
@@ -894,17 +898,20 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     if (pr.back) {
         moments[3u * out + 1u].w += 1.0;
         guide_clear(i);
+        filter_record(i, fv, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
         return;
     }
     let e = pr.radiance * fv.weight + e_lights;
     if (!(finite && finite3(pr.radiance) && finite3(e) && finite3(e * e))) {
         moments[3u * out + 2u].x += 1.0;
         guide_clear(i);
+        filter_record(i, fv, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
         return;
     }
     moments[3u * out] += vec4<f32>(e, 1.0);
     moments[3u * out + 1u] += vec4<f32>(e * e, 0.0);
     encode(out, fv.local, pr.radiance, fv.w_enc);
+    filter_record(i, fv, pr.radiance, e, fv.w_enc);
     if (texel) {
         guide_record(i, 0u, fv.local, luminance(pr.radiance) * fv.w_enc);
     }

@@ -1,0 +1,136 @@
+// ---- filtered gather-based accumulation (seed 004 §3.2, Listing 3.2; CPU twin
+// baker::filter::gather_batch) ----
+// The bake kernel writes one record per (item, pass of the dispatch) — the point sample's
+// direction and encoder weight, its radiance, its plain estimate, its continuous atlas
+// position and the light samples' known projections Q_k — at record i·passes + pass
+// offset: items are the records' keys and each has `passes` of them, so the offset of
+// item i's first record is i·passes (the offset buffer of Listing 3.1 for this layout).
+// filter_gather then runs one thread per gather target (every texel a chart overlaps):
+// per pass, the texels of its chart within the filter's reach in row-major order, each
+// record weighted by the separable filter of its position's offset from the target's
+// centre into the target's own encoders (weight × filter weight) and weighted Welford
+// moments. Generated per bake: FILTER_STRIDE, filter_store_q/filter_load_q (Q_k ↔
+// record), encode_filtered (the encoders into fstates).
+
+struct FilterParams {
+    width: u32,
+    height: u32,
+    target_count: u32,
+    kernel: u32,
+    radius: f32,
+    reach: u32,
+    passes: u32,
+    charts_offset: u32,
+    items_offset: u32,
+    row: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(0) @binding(14) var<storage, read_write> fsamples: array<vec4<f32>>;
+@group(0) @binding(15) var<storage, read_write> fstates: array<EncoderState>;
+// Per target: (mean.xyz, Σw), (M2.xyz, Σw²), (samples, negative-weight samples, 0, 0).
+@group(0) @binding(16) var<storage, read_write> fmoments: array<vec4<f32>>;
+// The gather targets' atlas ids, then per atlas texel its chart, then its item.
+@group(0) @binding(17) var<storage, read> ftables: array<u32>;
+@group(0) @binding(18) var<uniform> FP: FilterParams;
+
+const FILTER_NONE: u32 = 0xffffffffu;
+
+// The record of pass fv.pass_index of item i; w = 0 marks a sample that is not gathered
+// (back face, not finite).
+fn filter_record(i: u32, fv: FirstVertex, l: vec3<f32>, e: vec3<f32>, w: f32) {
+    let base = (i * P.pass_count + (fv.pass_index - P.pass_index)) * FILTER_STRIDE;
+    fsamples[base] = vec4<f32>(fv.local, w);
+    fsamples[base + 1u] = vec4<f32>(l, fv.uv.x);
+    fsamples[base + 2u] = vec4<f32>(e, fv.uv.y);
+    if (w > 0.0) {
+        filter_store_q(base);
+    }
+}
+
+// The 1D filter weight (gpu_prims' filter_1d, same f32 steps).
+fn filter_weight_1d(d: f32) -> f32 {
+    let r = FP.radius;
+    let a = abs(d);
+    switch FP.kernel {
+        case 0u: {
+            return select(0.0, 1.0, a < r);
+        }
+        case 1u: {
+            let s2 = 2.0 * (0.5 * r) * (0.5 * r);
+            return max(exp(-d * d / s2) - exp(-r * r / s2), 0.0);
+        }
+        default: {
+            let x = 2.0 * a / r;
+            let b = 1.0 / 3.0;
+            let c = 1.0 / 3.0;
+            if (x < 1.0) {
+                return ((12.0 - 9.0 * b - 6.0 * c) * x * x * x + (-18.0 + 12.0 * b + 6.0 * c) * x * x + (6.0 - 2.0 * b)) / 6.0;
+            }
+            if (x < 2.0) {
+                return ((-b - 6.0 * c) * x * x * x + (6.0 * b + 30.0 * c) * x * x + (-12.0 * b - 48.0 * c) * x + (8.0 * b + 24.0 * c)) / 6.0;
+            }
+            return 0.0;
+        }
+    }
+}
+
+@compute @workgroup_size(64)
+fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
+    let j = (wid.x + wid.y * FP.row) * 64u + lid.x;
+    if (j >= FP.target_count) {
+        return;
+    }
+    let t = ftables[j];
+    let chart = ftables[FP.charts_offset + t];
+    let x = i32(t % FP.width);
+    let y = i32(t / FP.width);
+    let centre = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
+    let reach = i32(FP.reach);
+    var m0 = fmoments[3u * j];
+    var m1 = fmoments[3u * j + 1u];
+    var m2 = fmoments[3u * j + 2u];
+    for (var q = 0u; q < FP.passes; q++) {
+        for (var ny = max(y - reach, 0); ny <= min(y + reach, i32(FP.height) - 1); ny++) {
+            for (var nx = max(x - reach, 0); nx <= min(x + reach, i32(FP.width) - 1); nx++) {
+                let n = u32(ny) * FP.width + u32(nx);
+                let item = ftables[FP.items_offset + n];
+                if (ftables[FP.charts_offset + n] != chart || item == FILTER_NONE) {
+                    continue;
+                }
+                let base = (item * FP.passes + q) * FILTER_STRIDE;
+                let r0 = fsamples[base];
+                if (!(r0.w > 0.0)) {
+                    continue;
+                }
+                let r1 = fsamples[base + 1u];
+                let r2 = fsamples[base + 2u];
+                let d = vec2<f32>(r1.w, r2.w) - centre;
+                let wf = filter_weight_1d(d.x) * filter_weight_1d(d.y);
+                if (wf == 0.0) {
+                    continue;
+                }
+                if (wf < 0.0) {
+                    // Mitchell's negative lobes: not gathered (baker::filter says why).
+                    m2.y += 1.0;
+                    continue;
+                }
+                // Weighted Welford (West 1979): W += w; δ = x − mean; mean += (w/W)·δ;
+                // M2 += w·δ·(x − mean').
+                m2.x += 1.0;
+                m0.w += wf;
+                m1.w += wf * wf;
+                let delta = r2.xyz - m0.xyz;
+                let mean = m0.xyz + (wf / m0.w) * delta;
+                m1 = vec4<f32>(m1.xyz + wf * delta * (r2.xyz - mean), m1.w);
+                m0 = vec4<f32>(mean, m0.w);
+                filter_load_q(base);
+                encode_filtered(j, r0.xyz, r1.xyz, r0.w * wf);
+            }
+        }
+    }
+    fmoments[3u * j] = m0;
+    fmoments[3u * j + 1u] = m1;
+    fmoments[3u * j + 2u] = m2;
+}
