@@ -90,8 +90,9 @@ impl FilterGpu {
         let items_offset = tables.len() as u32;
         tables.extend_from_slice(&layout.item_of);
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let zeroed =
-            |label, bytes: u64| d.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes.max(16), usage, mapped_at_creation: false });
+        let zeroed = |label, bytes: u64| {
+            d.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes.max(16), usage, mapped_at_creation: false })
+        };
         let records = zeroed("filtered records", per_pass * max_passes);
         let states = zeroed("filtered states", states_len as u64);
         let moments = zeroed("filtered moments", (n * 48) as u64);
@@ -147,7 +148,11 @@ impl FilterGpu {
             .iter()
             .map(|&(_, b)| Ok(wgpu::BindGroupEntry { binding: b, resource: buffer_of(b)?.as_entire_binding() }))
             .collect::<Result<Vec<_>, String>>()?;
-        let group = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("filter gather"), layout: &gather.get_bind_group_layout(0), entries: &entries });
+        let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("filter gather"),
+            layout: &gather.get_bind_group_layout(0),
+            entries: &entries,
+        });
         Ok(FilterGpu { records, states, moments, params_buf, params, gather, group, max_passes })
     }
 

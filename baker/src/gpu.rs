@@ -237,12 +237,17 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         // The same encoders into the filtered targets' states (wgsl/filter.wgsl), and the
         // known projections Q_k to and from a record: 3 vec4 of header, then per basis
         // its lobes.
-        let into_targets = encode.replace("fn encode(out", "fn encode_filtered(out").replace("states[s]", "fstates[s]").replace("P.item_count", "FP.target_count");
+        let into_targets = encode
+            .replace("fn encode(out", "fn encode_filtered(out")
+            .replace("states[s]", "fstates[s]")
+            .replace("P.item_count", "FP.target_count");
         let (mut store, mut load, mut at) =
             (String::from("fn filter_store_q(base: u32) {\n"), String::from("fn filter_load_q(base: u32) {\n"), 3usize);
         for (k, b) in config.bases.iter().enumerate() {
             let lobes = b.basis().len();
-            store += &format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[base + {at}u + i] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n");
+            store += &format!(
+                "    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[base + {at}u + i] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n"
+            );
             load += &format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[base + {at}u + i].xyz;\n    }}\n");
             at += lobes;
         }

@@ -417,7 +417,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
             }
         }
         let pt = Targets::probes(&probe_positions);
-        let pcfg = BakeConfig { bases: o.probe_bases.clone(), adaptive: None, camera: None, ..o.config.clone() };
+        let pcfg = BakeConfig { bases: o.probe_bases.clone(), adaptive: None, camera: None, filter: None, ..o.config.clone() };
         let t = Instant::now();
         let (ps, prun) = run_targets(o, &pcfg, &gpus, &tracer_of, &scene, &pt, "probes", log)?;
         times.probe_passes = Some(t.elapsed().as_secs_f64());
@@ -486,6 +486,26 @@ fn write_outputs(
                "accepted_samples": sum(&|m| m.accepted)})
     };
     let lm_validity = validity(state);
+    // Texels a chart overlaps that hold no value before dilation (with a filter, fewer:
+    // uncovered edge texels gather their neighbours' samples).
+    let overlapped = lm.texel_charts.iter().filter(|c| **c != crate::lightmap::NO_CHART).count();
+    let empty = (0..lm.texels.len()).filter(|t| lm.texel_charts[*t] != crate::lightmap::NO_CHART && img.validity[*t] == 0.0).count();
+    let filter_json = match (&o.config.filter, &state.filtered) {
+        (Some(f), Some(fs)) => {
+            let uncovered = overlapped - lm.valid_count();
+            log(format!(
+                "filter: {} radius {} texels over {} gather targets ({uncovered} overlapped but uncovered); {empty} of {overlapped} overlapped texels empty before dilation; {} negative-weight samples not gathered",
+                f.name(),
+                f.radius,
+                fs.moments.len(),
+                fs.negative_weights
+            ));
+            json!({"kernel": f.name(), "radius_texels": f.radius, "gather_targets": fs.moments.len(), "uncovered_targets": uncovered,
+                   "negative_weight_samples_skipped": fs.negative_weights,
+                   "method": "gather-based filtered accumulation (seed 004 §3.2): every texel a chart overlaps gathers the samples of its chart within the radius, weight x filter weight into its own encoders and weighted Welford moments; negative filter weights (Mitchell's lobes) are not gathered (the encoders need positive weights)"})
+        }
+        _ => json!(null),
+    };
     log(format!(
         "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
         lm_validity["invalid"], targets.items.len(), crate::bake::MAX_BACK_FACE_FRACTION, lm_validity["back_face_samples"], lm_validity["non_finite_samples"]
@@ -632,7 +652,8 @@ fn write_outputs(
         "layout": {"width": lm.width, "height": lm.height, "texels_per_unit": lm.texels_per_unit, "padding": lm.padding,
                    "valid_texels": lm.valid_count(), "utilisation": lm.utilisation(), "dilated_texels": dilated,
                    "validity": "alpha channel of every EXR: 1 = baked, 0 = empty, inside geometry or dilated",
-                   "texel_validity": lm_validity},
+                   "texel_validity": lm_validity, "overlapped_texels": overlapped, "empty_before_dilation": empty},
+        "filter": filter_json,
         "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
         "normals": {"file": "normals.exr", "quantity": "world-space unit shading normal per texel (the basis frame's +Z)"},
         "bases": bases,
