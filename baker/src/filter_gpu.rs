@@ -23,13 +23,13 @@ pub struct FilterParams {
     pub charts_offset: u32,
     pub items_offset: u32,
     pub row: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub slots: u32,
+    pub batch: u32,
 }
 shaders::gpu_struct!(
     FilterParams,
     "FilterParams",
-    [width, height, target_count, kernel, radius, reach, passes, charts_offset, items_offset, row, pad0, pad1]
+    [width, height, target_count, kernel, radius, reach, passes, charts_offset, items_offset, row, slots, batch]
 );
 
 /// The GPU side of a filtered bake.
@@ -39,7 +39,8 @@ pub struct FilterGpu {
     pub records: wgpu::Buffer,
     states: wgpu::Buffer,
     moments: wgpu::Buffer,
-    params_buf: wgpu::Buffer,
+    /// Binding 18 of the bake kernel too (the record slots).
+    pub params_buf: wgpu::Buffer,
     params: FilterParams,
     gather: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
@@ -55,7 +56,10 @@ pub fn record_bytes(config: &BakeConfig) -> u64 {
 impl FilterGpu {
     /// The buffers and the gather pass for `targets` under `config` (whose filter is
     /// set) from the bake's `module` (validated as `naga`), at most `max_passes` passes
-    /// per dispatch within the storage-binding limit `limit`.
+    /// per dispatch within the storage-binding limit `limit`; `bake` lists the bake's
+    /// buffers by binding (the gather reads the items' moments and, in adaptive or
+    /// camera-based bakes, the batch's per-item sample counts).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         d: &wgpu::Device,
         module: &wgpu::ShaderModule,
@@ -64,21 +68,20 @@ impl FilterGpu {
         config: &BakeConfig,
         max_passes: u64,
         limit: u64,
+        bake: &[(u32, &wgpu::Buffer)],
     ) -> Result<FilterGpu, String> {
         let f = config.filter.ok_or("no filter configured")?;
-        if config.adaptive.is_some() || config.camera.is_some() {
-            return Err(
-                "filtered accumulation on the GPU runs with uniform passes; with adaptive or camera-based sampling bake on the CPU (--device cpu)"
-                    .into(),
-            );
-        }
         let layout = GatherLayout::new(targets, &f)?;
         let items = targets.items.len() as u64;
         let per_pass = items * record_bytes(config);
+        // A batch's samples of one item are consecutive and at most max_per_batch.
+        let per_batch = config.adaptive.map(|a| a.max_per_batch).or(config.camera.map(|c| c.max_per_batch)).unwrap_or(1) as u64;
         let max_passes = max_passes.min(limit / per_pass.max(1));
-        if max_passes == 0 {
+        let slots = max_passes.max(per_batch);
+        if max_passes == 0 || slots * per_pass > limit {
             return Err(format!(
-                "filtered records: {per_pass} bytes per pass exceed the adapter's storage-buffer binding limit of {limit} bytes (fewer bases or texels, or --device cpu)"
+                "filtered records: {} bytes ({slots} per item) exceed the adapter's storage-buffer binding limit of {limit} bytes (fewer bases, texels or samples per batch, or --device cpu)",
+                slots.max(1) * per_pass
             ));
         }
         let n = layout.targets.len();
@@ -93,7 +96,7 @@ impl FilterGpu {
         let zeroed = |label, bytes: u64| {
             d.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes.max(16), usage, mapped_at_creation: false })
         };
-        let records = zeroed("filtered records", per_pass * max_passes);
+        let records = zeroed("filtered records", per_pass * slots);
         let states = zeroed("filtered states", states_len as u64);
         let moments = zeroed("filtered moments", (n * 48) as u64);
         let tables = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -117,8 +120,8 @@ impl FilterGpu {
             charts_offset,
             items_offset,
             row: groups.min(65535),
-            pad0: 0,
-            pad1: 0,
+            slots: slots as u32,
+            batch: 0,
         };
         let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("filter params"),
@@ -140,7 +143,10 @@ impl FilterGpu {
                 16 => &moments,
                 17 => &tables,
                 18 => &params_buf,
-                _ => return Err(format!("filter_gather uses binding {b}, which the filter does not provide")),
+                _ => match bake.iter().find(|(k, _)| *k == b) {
+                    Some((_, buf)) => buf,
+                    None => return Err(format!("filter_gather uses binding {b}, which neither the filter nor the bake provides")),
+                },
             })
         };
         let used = crate::wavefront::bindings_used(naga.0, naga.1, "filter_gather")?;
@@ -156,9 +162,11 @@ impl FilterGpu {
         Ok(FilterGpu { records, states, moments, params_buf, params, gather, group, max_passes })
     }
 
-    /// Records the gather of a dispatch's `passes` passes (after its last range).
-    pub fn record(&mut self, q: &wgpu::Queue, enc: &mut wgpu::CommandEncoder, passes: u32) {
+    /// Records the gather of a dispatch's `passes` passes (after its last range), or of
+    /// a `batch` of adaptive or camera-based sampling (after its bake pass).
+    pub fn record(&mut self, q: &wgpu::Queue, enc: &mut wgpu::CommandEncoder, passes: u32, batch: bool) {
         self.params.passes = passes;
+        self.params.batch = batch as u32;
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         let groups = self.params.target_count.div_ceil(64).max(1);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("filter gather"), timestamp_writes: None });

@@ -862,12 +862,26 @@ impl<'g> GpuBake<'g> {
             Some(_) => {
                 let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
                 let limit = d.limits().max_storage_buffer_binding_size;
-                Some(crate::filter_gpu::FilterGpu::new(d, &module, (&naga.0, &naga.1), targets, config, MAX_PASSES_PER_DISPATCH, limit)?)
+                let mut bake: Vec<(u32, &wgpu::Buffer)> = vec![(6, &moments_buf)];
+                if let Some(a) = &adapt {
+                    bake.push((13, &a.samples));
+                }
+                Some(crate::filter_gpu::FilterGpu::new(
+                    d,
+                    &module,
+                    (&naga.0, &naga.1),
+                    targets,
+                    config,
+                    MAX_PASSES_PER_DISPATCH,
+                    limit,
+                    &bake,
+                )?)
             }
             None => None,
         };
         if let Some(f) = &filter {
             entries.push(wgpu::BindGroupEntry { binding: 14, resource: f.records.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 18, resource: f.params_buf.as_entire_binding() });
         }
         if let Some(a) = &adapt {
             entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
@@ -1024,7 +1038,7 @@ impl<'g> GpuBake<'g> {
             start = end;
         };
         if let Some(f) = &mut self.filter {
-            f.record(self.gpu.queue(), &mut enc, self.params.pass_count);
+            f.record(self.gpu.queue(), &mut enc, self.params.pass_count, false);
         }
         if let Some(g) = &mut self.guide {
             // Every pass learns; at the start of each stage the distributions are rebuilt
@@ -1079,6 +1093,9 @@ impl<'g> GpuBake<'g> {
             for j in b..(b + per).min(k) {
                 a.record_select(q, &mut enc, self.passes + j);
                 self.record_jobs(&mut enc, crate::wavefront::JobGrid::Indirect(&a.args), usize::MAX);
+                if let Some(f) = &mut self.filter {
+                    f.record(q, &mut enc, 1, true);
+                }
             }
             q.submit([enc.finish()]);
             b += per;

@@ -348,3 +348,49 @@ fn gpu_filtered_bake_matches_its_cpu_twin() {
         assert!(gf.negative_weights.abs_diff(cf.negative_weights) <= cf.negative_weights / 100, "negative weights differ");
     }
 }
+
+/// Batches of adaptive sampling on the GPU (variable samples per texel, each item's
+/// samples in slots by sample index): with a ½-texel box every covered texel gathers
+/// exactly its own samples, in order, with weight 1 — so the filtered encoders must equal
+/// the texel's own (the same update on the same f32 inputs: bit for bit) and the weighted
+/// Welford mean its plain mean (f32 running mean against the f32 sum/count: within
+/// 1e-5 relative) — on both pipelines. A slot or order mix-up changes the progressive
+/// encoders (their result depends on the order).
+#[test]
+fn gpu_batches_gather_each_texels_own_samples_with_a_one_texel_box() {
+    let Some(gpu) = common::gpu() else { return };
+    let s = scene::cornell();
+    let bvh = Bvh::build(&s);
+    let lm = Lightmap::build(&s, 4.0, 1).unwrap();
+    let targets = Targets::lightmap(&lm);
+    for pipeline in [baker::bake::Pipeline::Megakernel, baker::bake::Pipeline::Wavefront] {
+        let cfg = BakeConfig {
+            adaptive: Some(baker::adapt::AdaptiveOptions { pilot_passes: 2, batch_fraction: 2.0, floor: 0.2, max_per_batch: 5 }),
+            pipeline,
+            ..config(Some(Filter { kernel: GatherFilter::Box, radius: 0.5 }), 23)
+        };
+        let mut g = baker::gpu::GpuBake::new(&gpu, &Tracer::new(&s, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
+        g.run(8).unwrap();
+        let st = g.state().unwrap();
+        let fs = st.filtered.as_ref().unwrap();
+        let mean = st.mean();
+        let counts: Vec<u64> = st.moments.iter().map(|m| m.accepted).collect();
+        let varied = counts.iter().min() != counts.iter().max();
+        for k in 0..targets.items.len() {
+            let m = &fs.moments[k];
+            assert_eq!(m.samples, st.moments[k].accepted, "item {k}");
+            for c in 0..3 {
+                assert!((m.mean[c] - mean[k][c]).abs() <= 1e-5 * mean[k][c].abs().max(1e-2), "item {k}: {} vs {}", m.mean[c], mean[k][c]);
+            }
+            assert_eq!(st.encoders[0][k].coefficients(), fs.encoders[0][k].coefficients(), "item {k}: {}", pipeline.name());
+        }
+        println!(
+            "{}: {} texels, samples per texel {}..{}",
+            pipeline.name(),
+            counts.len(),
+            counts.iter().min().unwrap(),
+            counts.iter().max().unwrap()
+        );
+        assert!(varied, "the batches gave every texel the same count");
+    }
+}

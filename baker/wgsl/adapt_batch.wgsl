@@ -15,3 +15,8 @@ fn batch_item(v: u32) -> vec3<u32> {
     let n = moments[3u * i].w + moments[3u * i + 1u].w + moments[3u * i + 2u].x;
     return vec3<u32>(i, u32(n), batch_samples[i]);
 }
+
+// Item i's samples in the current batch (0: not in it).
+fn batch_samples_of(i: u32) -> u32 {
+    return batch_samples[i];
+}

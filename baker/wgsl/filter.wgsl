@@ -1,15 +1,18 @@
 // ---- filtered gather-based accumulation (seed 004 §3.2, Listing 3.2; CPU twin
 // baker::filter::gather_batch) ----
-// The bake kernel writes one record per (item, pass of the dispatch) — the point sample's
-// direction and encoder weight, its radiance, its plain estimate, its continuous atlas
-// position and the light samples' known projections Q_k — at record i·passes + pass
-// offset: items are the records' keys and each has `passes` of them, so the offset of
-// item i's first record is i·passes (the offset buffer of Listing 3.1 for this layout).
+// The bake kernel writes one record per sample — the point sample's direction and
+// encoder weight, its radiance, its plain estimate, its continuous atlas position and the
+// light samples' known projections Q_k — into the item's own `slots` records: slot
+// pass − first pass of the dispatch (uniform passes), or sample index mod slots (a batch
+// of adaptive or camera-based sampling, whose samples of an item are consecutive and at
+// most `slots`). The records are thus grouped by item (the paths sorted by texel) and
+// item i's start at i·slots with its sample count known (the dispatch's passes, or the
+// batch's per-item count): the offset buffer of Listing 3.1 for this layout.
 // filter_gather then runs one thread per gather target (every texel a chart overlaps):
-// per pass, the texels of its chart within the filter's reach in row-major order, each
-// record weighted by the separable filter of its position's offset from the target's
-// centre into the target's own encoders (weight × filter weight) and weighted Welford
-// moments. Generated per bake: FILTER_STRIDE, filter_store_q/filter_load_q (Q_k ↔
+// the texels of its chart within the filter's reach in row-major order — per pass for
+// uniform passes; once, each neighbour's samples in order, for a batch — each record
+// weighted by the separable filter of its position's offset from the target's centre
+// into the target's own encoders (weight × filter weight) and weighted Welford moments. Generated per bake: FILTER_STRIDE, filter_store_q/filter_load_q (Q_k ↔
 // record), encode_filtered (the encoders into fstates).
 
 struct FilterParams {
@@ -23,8 +26,9 @@ struct FilterParams {
     charts_offset: u32,
     items_offset: u32,
     row: u32,
-    pad0: u32,
-    pad1: u32,
+    // Records per item, and 1 while gathering a batch (0: uniform passes).
+    slots: u32,
+    batch: u32,
 }
 
 @group(0) @binding(14) var<storage, read_write> fsamples: array<vec4<f32>>;
@@ -40,7 +44,11 @@ const FILTER_NONE: u32 = 0xffffffffu;
 // The record of pass fv.pass_index of item i; w = 0 marks a sample that is not gathered
 // (back face, not finite).
 fn filter_record(i: u32, fv: FirstVertex, l: vec3<f32>, e: vec3<f32>, w: f32) {
-    let base = (i * P.pass_count + (fv.pass_index - P.pass_index)) * FILTER_STRIDE;
+    var slot = fv.pass_index - P.pass_index;
+    if (P.batch_mode == 1u) {
+        slot = fv.pass_index % FP.slots;
+    }
+    let base = (i * FP.slots + slot) * FILTER_STRIDE;
     fsamples[base] = vec4<f32>(fv.local, w);
     fsamples[base + 1u] = vec4<f32>(l, fv.uv.x);
     fsamples[base + 2u] = vec4<f32>(e, fv.uv.y);
@@ -91,7 +99,8 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
     var m0 = fmoments[3u * j];
     var m1 = fmoments[3u * j + 1u];
     var m2 = fmoments[3u * j + 2u];
-    for (var q = 0u; q < FP.passes; q++) {
+    let rounds = select(FP.passes, 1u, FP.batch == 1u);
+    for (var q = 0u; q < rounds; q++) {
         for (var ny = max(y - reach, 0); ny <= min(y + reach, i32(FP.height) - 1); ny++) {
             for (var nx = max(x - reach, 0); nx <= min(x + reach, i32(FP.width) - 1); nx++) {
                 let n = u32(ny) * FP.width + u32(nx);
@@ -99,34 +108,45 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
                 if (ftables[FP.charts_offset + n] != chart || item == FILTER_NONE) {
                     continue;
                 }
-                let base = (item * FP.passes + q) * FILTER_STRIDE;
-                let r0 = fsamples[base];
-                if (!(r0.w > 0.0)) {
-                    continue;
+                // Uniform passes: the record of pass q. A batch: the item's samples in it,
+                // in order — its first is its sample count before the batch.
+                var first = q;
+                var count = 1u;
+                if (FP.batch == 1u) {
+                    count = batch_samples_of(item);
+                    let had = moments[3u * item].w + moments[3u * item + 1u].w + moments[3u * item + 2u].x;
+                    first = u32(had) - count;
                 }
-                let r1 = fsamples[base + 1u];
-                let r2 = fsamples[base + 2u];
-                let d = vec2<f32>(r1.w, r2.w) - centre;
-                let wf = filter_weight_1d(d.x) * filter_weight_1d(d.y);
-                if (wf == 0.0) {
-                    continue;
+                for (var s = 0u; s < count; s++) {
+                    let base = (item * FP.slots + (first + s) % FP.slots) * FILTER_STRIDE;
+                    let r0 = fsamples[base];
+                    if (!(r0.w > 0.0)) {
+                        continue;
+                    }
+                    let r1 = fsamples[base + 1u];
+                    let r2 = fsamples[base + 2u];
+                    let d = vec2<f32>(r1.w, r2.w) - centre;
+                    let wf = filter_weight_1d(d.x) * filter_weight_1d(d.y);
+                    if (wf == 0.0) {
+                        continue;
+                    }
+                    if (wf < 0.0) {
+                        // Mitchell's negative lobes: not gathered (baker::filter says why).
+                        m2.y += 1.0;
+                        continue;
+                    }
+                    // Weighted Welford (West 1979): W += w; δ = x − mean; mean += (w/W)·δ;
+                    // M2 += w·δ·(x − mean').
+                    m2.x += 1.0;
+                    m0.w += wf;
+                    m1.w += wf * wf;
+                    let delta = r2.xyz - m0.xyz;
+                    let mean = m0.xyz + (wf / m0.w) * delta;
+                    m1 = vec4<f32>(m1.xyz + wf * delta * (r2.xyz - mean), m1.w);
+                    m0 = vec4<f32>(mean, m0.w);
+                    filter_load_q(base);
+                    encode_filtered(j, r0.xyz, r1.xyz, r0.w * wf);
                 }
-                if (wf < 0.0) {
-                    // Mitchell's negative lobes: not gathered (baker::filter says why).
-                    m2.y += 1.0;
-                    continue;
-                }
-                // Weighted Welford (West 1979): W += w; δ = x − mean; mean += (w/W)·δ;
-                // M2 += w·δ·(x − mean').
-                m2.x += 1.0;
-                m0.w += wf;
-                m1.w += wf * wf;
-                let delta = r2.xyz - m0.xyz;
-                let mean = m0.xyz + (wf / m0.w) * delta;
-                m1 = vec4<f32>(m1.xyz + wf * delta * (r2.xyz - mean), m1.w);
-                m0 = vec4<f32>(mean, m0.w);
-                filter_load_q(base);
-                encode_filtered(j, r0.xyz, r1.xyz, r0.w * wf);
             }
         }
     }
