@@ -25,11 +25,15 @@ pub struct FilterParams {
     pub row: u32,
     pub slots: u32,
     pub batch: u32,
+    pub items: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 shaders::gpu_struct!(
     FilterParams,
     "FilterParams",
-    [width, height, target_count, kernel, radius, reach, passes, charts_offset, items_offset, row, slots, batch]
+    [width, height, target_count, kernel, radius, reach, passes, charts_offset, items_offset, row, slots, batch, items, pad0, pad1, pad2]
 );
 
 /// The GPU side of a filtered bake.
@@ -48,7 +52,8 @@ pub struct FilterGpu {
     pub max_passes: u64,
 }
 
-/// Bytes of one record: 3 vec4 of header, then a vec4 per lobe of every basis.
+/// Bytes of one record: 3 vec4 of header, then a vec4 per lobe of every basis (stored
+/// component-major: `wgsl/filter.wgsl`).
 pub fn record_bytes(config: &BakeConfig) -> u64 {
     16 * (3 + config.bases.iter().map(|b| b.basis().len()).sum::<usize>()) as u64
 }
@@ -122,6 +127,10 @@ impl FilterGpu {
             row: groups.min(65535),
             slots: slots as u32,
             batch: 0,
+            items: items as u32,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         };
         let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("filter params"),

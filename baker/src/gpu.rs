@@ -236,22 +236,24 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     if filtered {
         // The same encoders into the filtered targets' states (wgsl/filter.wgsl), and the
         // known projections Q_k to and from a record: 3 vec4 of header, then per basis
-        // its lobes.
+        // its lobes, each a plane of the component-major record buffer.
         let into_targets = encode
             .replace("fn encode(out", "fn encode_filtered(out")
             .replace("states[s]", "fstates[s]")
             .replace("P.item_count", "FP.target_count");
         let (mut store, mut load, mut at) =
-            (String::from("fn filter_store_q(base: u32) {\n"), String::from("fn filter_load_q(base: u32) {\n"), 3usize);
+            (String::from("fn filter_store_q(at: u32, plane: u32) {\n"), String::from("fn filter_load_q(at: u32, plane: u32) {\n"), 3usize);
         for (k, b) in config.bases.iter().enumerate() {
             let lobes = b.basis().len();
             store += &format!(
-                "    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[base + {at}u + i] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n"
+                "    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[at + ({at}u + i) * plane] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n"
             );
-            load += &format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[base + {at}u + i].xyz;\n    }}\n");
+            load += &format!(
+                "    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[at + ({at}u + i) * plane].xyz;\n    }}\n"
+            );
             at += lobes;
         }
-        encode += &format!("{into_targets}{store}}}\n{load}}}\nconst FILTER_STRIDE: u32 = {at}u;\n");
+        encode += &format!("{into_targets}{store}}}\n{load}}}\n");
     } else {
         left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
     }

@@ -52,6 +52,13 @@ fn kernels_validate_and_structs_match() {
         shaders::layout::check::<baker::bvh::Node>(&k.source).unwrap();
         shaders::layout::check::<baker::bvh::Tri>(&k.source).unwrap();
         shaders::layout::check::<shaders::progressive::EncoderState>(&k.source).unwrap();
+        // With a filter (every basis: the records' Q planes): its params match their twin.
+        let f = kernel(&BakeConfig { filter: Some(baker::filter::Filter::parse("mitchell").unwrap()), ..cfg }, false, glossy).unwrap();
+        shaders::layout::check::<baker::filter_gpu::FilterParams>(&f.source).unwrap();
+        assert!(
+            !f.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
+                && k.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
+        );
     }
     let probes = BakeConfig {
         seed: 1,

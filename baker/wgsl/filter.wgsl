@@ -12,7 +12,7 @@
 // the texels of its chart within the filter's reach in row-major order — per pass for
 // uniform passes; once, each neighbour's samples in order, for a batch — each record
 // weighted by the separable filter of its position's offset from the target's centre
-// into the target's own encoders (weight × filter weight) and weighted Welford moments. Generated per bake: FILTER_STRIDE, filter_store_q/filter_load_q (Q_k ↔
+// into the target's own encoders (weight × filter weight) and weighted Welford moments. Generated per bake: filter_store_q/filter_load_q (Q_k ↔
 // record), encode_filtered (the encoders into fstates).
 
 struct FilterParams {
@@ -29,6 +29,12 @@ struct FilterParams {
     // Records per item, and 1 while gathering a batch (0: uniform passes).
     slots: u32,
     batch: u32,
+    // Items in the bake (records are stored component-major: component c of slot s of
+    // item i at (c·slots + s)·items + i, so a warp's stores and loads are contiguous).
+    items: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(14) var<storage, read_write> fsamples: array<vec4<f32>>;
@@ -48,12 +54,13 @@ fn filter_record(i: u32, fv: FirstVertex, l: vec3<f32>, e: vec3<f32>, w: f32) {
     if (P.batch_mode == 1u) {
         slot = fv.pass_index % FP.slots;
     }
-    let base = (i * FP.slots + slot) * FILTER_STRIDE;
-    fsamples[base] = vec4<f32>(fv.local, w);
-    fsamples[base + 1u] = vec4<f32>(l, fv.uv.x);
-    fsamples[base + 2u] = vec4<f32>(e, fv.uv.y);
+    let at = slot * FP.items + i;
+    let plane = FP.slots * FP.items;
+    fsamples[at] = vec4<f32>(fv.local, w);
+    fsamples[at + plane] = vec4<f32>(l, fv.uv.x);
+    fsamples[at + 2u * plane] = vec4<f32>(e, fv.uv.y);
     if (w > 0.0) {
-        filter_store_q(base);
+        filter_store_q(at, plane);
     }
 }
 
@@ -96,6 +103,7 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
     let y = i32(t / FP.width);
     let centre = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
     let reach = i32(FP.reach);
+    let plane = FP.slots * FP.items;
     var m0 = fmoments[3u * j];
     var m1 = fmoments[3u * j + 1u];
     var m2 = fmoments[3u * j + 2u];
@@ -118,13 +126,13 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
                     first = u32(had) - count;
                 }
                 for (var s = 0u; s < count; s++) {
-                    let base = (item * FP.slots + (first + s) % FP.slots) * FILTER_STRIDE;
-                    let r0 = fsamples[base];
+                    let at = ((first + s) % FP.slots) * FP.items + item;
+                    let r0 = fsamples[at];
                     if (!(r0.w > 0.0)) {
                         continue;
                     }
-                    let r1 = fsamples[base + 1u];
-                    let r2 = fsamples[base + 2u];
+                    let r1 = fsamples[at + plane];
+                    let r2 = fsamples[at + 2u * plane];
                     let d = vec2<f32>(r1.w, r2.w) - centre;
                     let wf = filter_weight_1d(d.x) * filter_weight_1d(d.y);
                     if (wf == 0.0) {
@@ -144,7 +152,7 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
                     let mean = m0.xyz + (wf / m0.w) * delta;
                     m1 = vec4<f32>(m1.xyz + wf * delta * (r2.xyz - mean), m1.w);
                     m0 = vec4<f32>(mean, m0.w);
-                    filter_load_q(base);
+                    filter_load_q(at, plane);
                     encode_filtered(j, r0.xyz, r1.xyz, r0.w * wf);
                 }
             }
