@@ -254,8 +254,6 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             at += lobes;
         }
         encode += &format!("{into_targets}{store}}}\n{load}}}\n");
-    } else {
-        left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
     }
     encode += &project;
     encode += &project_reset;
@@ -285,7 +283,12 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             ""
         }
     };
-    let filter = if config.filter.is_some() && !sphere_targets { FILTER_WGSL } else { FILTER_NONE_WGSL };
+    let filter = if filtered {
+        FILTER_WGSL
+    } else {
+        left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
+        FILTER_NONE_WGSL
+    };
     let source = format!(
         "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{filter}\n{wavefront}",
         lib.source,
