@@ -41,15 +41,11 @@ fn main() -> Result<(), String> {
     println!("device: {}", gpu.as_ref().map_or("CPU (no hardware GPU)".to_string(), |g| g.adapter.clone()));
     let config = |filter: Option<Filter>, seed: u64| BakeConfig {
         seed,
-        max_bounces: 4,
         bases: vec![BasisKind::ShL1],
         solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
         pipeline,
         filter,
+        ..Default::default()
     };
     // (state, steady-state seconds per pass)
     let bake = |cfg: &BakeConfig, n: u64| -> Result<(BakeState, f64), String> {

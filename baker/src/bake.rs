@@ -165,6 +165,26 @@ impl Pipeline {
     }
 }
 
+impl Default for BakeConfig {
+    /// The `baker` command's defaults: seed 1, 4 bounces, SH L2 and Ambient Dice 9 with
+    /// NNLS (where it applies), Sobol' sequences, uniform passes on the megakernel, no
+    /// guiding and no filter.
+    fn default() -> Self {
+        BakeConfig {
+            seed: 1,
+            max_bounces: 4,
+            bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+            solver: Solver::Nnls,
+            guiding: None,
+            sampler: Default::default(),
+            adaptive: None,
+            camera: None,
+            pipeline: Default::default(),
+            filter: None,
+        }
+    }
+}
+
 impl BakeConfig {
     /// Refuses combinations the bake cannot run, with the reason.
     pub fn check(&self, targets: &Targets) -> Result<(), String> {

@@ -5,7 +5,6 @@
 
 use crate::bake::{BakeConfig, Targets};
 use crate::filter::{FilteredState, GatherLayout, WeightedMoments};
-use crate::gpu_prims::GatherFilter;
 use shaders::progressive::EncoderState;
 use wgpu::util::DeviceExt;
 
@@ -114,11 +113,7 @@ impl FilterGpu {
             width: layout.width as u32,
             height: layout.height as u32,
             target_count: n as u32,
-            kernel: match f.kernel {
-                GatherFilter::Box => 0,
-                GatherFilter::Gaussian => 1,
-                GatherFilter::Mitchell => 2,
-            },
+            kernel: f.kernel.code(),
             radius: f.radius,
             reach: layout.reach as u32,
             passes: 1,

@@ -284,10 +284,10 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         }
     };
     let filter = if filtered {
-        FILTER_WGSL
+        format!("{}\n{FILTER_WGSL}", crate::gpu_prims::FILTER_KERNEL_WGSL)
     } else {
         left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
-        FILTER_NONE_WGSL
+        FILTER_NONE_WGSL.to_string()
     };
     let source = format!(
         "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{filter}\n{wavefront}",

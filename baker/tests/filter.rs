@@ -15,18 +15,7 @@ use baker::scene::{self, Scene};
 use baker::trace::Tracer;
 
 fn config(filter: Option<Filter>, seed: u64) -> BakeConfig {
-    BakeConfig {
-        seed,
-        max_bounces: 3,
-        bases: vec![BasisKind::ShL1],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter,
-    }
+    BakeConfig { seed, max_bounces: 3, bases: vec![BasisKind::ShL1], solver: Solver::Ls, filter, ..Default::default() }
 }
 
 fn cpu_bake(s: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {

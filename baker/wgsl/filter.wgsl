@@ -64,33 +64,6 @@ fn filter_record(i: u32, fv: FirstVertex, l: vec3<f32>, e: vec3<f32>, w: f32) {
     }
 }
 
-// The 1D filter weight (gpu_prims' filter_1d, same f32 steps).
-fn filter_weight_1d(d: f32) -> f32 {
-    let r = FP.radius;
-    let a = abs(d);
-    switch FP.kernel {
-        case 0u: {
-            return select(0.0, 1.0, a < r);
-        }
-        case 1u: {
-            let s2 = 2.0 * (0.5 * r) * (0.5 * r);
-            return max(exp(-d * d / s2) - exp(-r * r / s2), 0.0);
-        }
-        default: {
-            let x = 2.0 * a / r;
-            let b = 1.0 / 3.0;
-            let c = 1.0 / 3.0;
-            if (x < 1.0) {
-                return ((12.0 - 9.0 * b - 6.0 * c) * x * x * x + (-18.0 + 12.0 * b + 6.0 * c) * x * x + (6.0 - 2.0 * b)) / 6.0;
-            }
-            if (x < 2.0) {
-                return ((-b - 6.0 * c) * x * x * x + (6.0 * b + 30.0 * c) * x * x + (-12.0 * b - 48.0 * c) * x + (8.0 * b + 24.0 * c)) / 6.0;
-            }
-            return 0.0;
-        }
-    }
-}
-
 @compute @workgroup_size(64)
 fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
     let j = (wid.x + wid.y * FP.row) * 64u + lid.x;
@@ -134,7 +107,7 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
                     let r1 = fsamples[at + plane];
                     let r2 = fsamples[at + 2u * plane];
                     let d = vec2<f32>(r1.w, r2.w) - centre;
-                    let wf = filter_weight_1d(d.x) * filter_weight_1d(d.y);
+                    let wf = filter_kernel_1d(FP.kernel, FP.radius, d.x) * filter_kernel_1d(FP.kernel, FP.radius, d.y);
                     if (wf == 0.0) {
                         continue;
                     }

@@ -9,8 +9,7 @@ struct GatherParams {
     width: u32,
     height: u32,
     row: u32,
-    // 0 box, 1 Gaussian (σ = radius/2, shifted to 0 at the radius), 2 Mitchell–Netravali
-    // (B = C = 1/3) over [−radius, radius].
+    // filter_kernel.wgsl's kernel code.
     kernel: u32,
     radius: f32,
     reach: u32,
@@ -27,32 +26,6 @@ struct GatherParams {
 
 const INVALID_CHART: u32 = 0xffffffffu;
 const NO_PATH: u32 = 0xffffffffu;
-
-fn filter_1d(d: f32) -> f32 {
-    let r = params.radius;
-    let a = abs(d);
-    switch params.kernel {
-        case 0u: {
-            return select(0.0, 1.0, a < r);
-        }
-        case 1u: {
-            let s2 = 2.0 * (0.5 * r) * (0.5 * r);
-            return max(exp(-d * d / s2) - exp(-r * r / s2), 0.0);
-        }
-        default: {
-            let x = 2.0 * a / r;
-            let b = 1.0 / 3.0;
-            let c = 1.0 / 3.0;
-            if (x < 1.0) {
-                return ((12.0 - 9.0 * b - 6.0 * c) * x * x * x + (-18.0 + 12.0 * b + 6.0 * c) * x * x + (6.0 - 2.0 * b)) / 6.0;
-            }
-            if (x < 2.0) {
-                return ((-b - 6.0 * c) * x * x * x + (6.0 * b + 30.0 * c) * x * x + (-12.0 * b - 48.0 * c) * x + (8.0 * b + 24.0 * c)) / 6.0;
-            }
-            return 0.0;
-        }
-    }
-}
 
 @compute @workgroup_size(256)
 fn gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
@@ -85,7 +58,7 @@ fn gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) w
             }
             for (var p = first; p < next; p++) {
                 let d = positions[p] - centre;
-                let w = filter_1d(d.x) * filter_1d(d.y);
+                let w = filter_kernel_1d(params.kernel, params.radius, d.x) * filter_kernel_1d(params.kernel, params.radius, d.y);
                 if (w != 0.0) {
                     sum += w * values[p].xyz;
                     weight += w;

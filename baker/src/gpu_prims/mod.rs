@@ -132,7 +132,8 @@ pub enum GatherFilter {
 }
 
 impl GatherFilter {
-    fn code(self) -> u32 {
+    /// The kernel code of `filter_kernel.wgsl`.
+    pub fn code(self) -> u32 {
         match self {
             GatherFilter::Box => 0,
             GatherFilter::Gaussian => 1,
@@ -162,6 +163,10 @@ impl GatherFilter {
         }
     }
 }
+
+/// The filters' 1D weight in WGSL (`filter_kernel_1d(kernel, radius, d)`, kernel codes as
+/// [`GatherFilter`]'s), shared by the gather and the bake's filtered accumulation.
+pub const FILTER_KERNEL_WGSL: &str = include_str!("filter_kernel.wgsl");
 
 /// The chart id of a texel that neither gathers nor is gathered from.
 pub const INVALID_CHART: u32 = u32::MAX;
@@ -436,7 +441,7 @@ impl Prims {
         });
         let gather = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("gather.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("gather.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(format!("{FILTER_KERNEL_WGSL}\n{}", include_str!("gather.wgsl")).into()),
         });
         let gather_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("gather"),
