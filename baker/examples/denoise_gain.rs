@@ -7,7 +7,7 @@
 //! `cargo run --release -p baker --example denoise_gain -- [--gpu] [reference passes] [passes…]`
 //! (defaults: CPU path, 16384, 128; the CPU reference takes ~6 minutes on 2 cores).
 
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Targets};
 use baker::bvh::Bvh;
 use baker::denoise::{denoise, DenoiseOptions};
 use baker::gpu::GpuBake;
@@ -17,18 +17,7 @@ use baker::trace::Tracer;
 use std::time::Instant;
 
 fn config(seed: u64) -> BakeConfig {
-    BakeConfig {
-        seed,
-        max_bounces: 4,
-        bases: vec![BasisKind::ShL2, BasisKind::Ad9],
-        solver: Solver::Nnls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    }
+    BakeConfig { seed, bases: vec![BasisKind::ShL2, BasisKind::Ad9], ..Default::default() }
 }
 
 /// A bake's state and its wall time (GPU: including the read-back).

@@ -11,7 +11,7 @@
 //! 16 texels per unit, 4 bounces, 16384, 128). `--images` writes a preview PNG per option at
 //! the first pass count.
 
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Targets};
 use baker::bvh::Bvh;
 use baker::denoise::{denoise, DenoiseOptions};
 use baker::gpu::GpuBake;
@@ -22,18 +22,7 @@ use baker::trace::Tracer;
 use std::time::Instant;
 
 fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfig {
-    BakeConfig {
-        seed,
-        max_bounces: bounces,
-        bases: vec![BasisKind::ShL2, BasisKind::Ad9],
-        solver: Solver::Nnls,
-        guiding,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    }
+    BakeConfig { seed, max_bounces: bounces, bases: vec![BasisKind::ShL2, BasisKind::Ad9], guiding, ..Default::default() }
 }
 
 /// A bake's state and the wall time of its passes (GPU: the passes and the read-back;

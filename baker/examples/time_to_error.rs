@@ -94,12 +94,9 @@ fn run() -> Result<(), String> {
         max_bounces: bounces,
         bases: vec![BasisKind::ShL2],
         solver: Solver::Ls,
-        guiding: None,
         sampler,
         adaptive,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
+        ..Default::default()
     };
     let tracer = || Tracer::new(&scene, &bvh, bounces);
     // The reference: uniform, Sobol', another seed.

@@ -22,18 +22,7 @@ use baker::lightmap::Lightmap;
 use baker::trace::Tracer;
 
 fn config(seed: u64, adaptive: Option<AdaptiveOptions>) -> BakeConfig {
-    BakeConfig {
-        seed,
-        max_bounces: 3,
-        bases: vec![],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    }
+    BakeConfig { seed, max_bounces: 3, bases: vec![], solver: Solver::Ls, adaptive, ..Default::default() }
 }
 
 fn paths(st: &BakeState) -> u64 {

@@ -21,18 +21,7 @@ use baker::lightmap::Lightmap;
 use sbf::glam::Vec3;
 
 fn config(seed: u64, camera: Option<CameraSampling>) -> BakeConfig {
-    BakeConfig {
-        seed,
-        max_bounces: 3,
-        bases: vec![],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera,
-        pipeline: Default::default(),
-        filter: None,
-    }
+    BakeConfig { seed, max_bounces: 3, bases: vec![], solver: Solver::Ls, camera, ..Default::default() }
 }
 
 fn view(width: u32, height: u32) -> ViewCamera {

@@ -2,7 +2,7 @@
 //! against a long reference bake at several pass counts (should fall like 1/√N), and
 //! the progressive-NNLS AD9 lightmap against a batch NNLS fit of the same samples.
 
-use baker::bake::{Bake, BakeConfig, BasisKind, Solver, Targets};
+use baker::bake::{Bake, BakeConfig, BasisKind, Targets};
 use baker::bvh::Bvh;
 use baker::lightmap::Lightmap;
 use baker::scene;
@@ -25,18 +25,7 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
     let bvh = Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = |seed| BakeConfig {
-        seed,
-        max_bounces: 4,
-        bases: vec![BasisKind::Ad9],
-        solver: Solver::Nnls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = |seed| BakeConfig { seed, bases: vec![BasisKind::Ad9], ..Default::default() };
     // Reference: 16 384 passes, another seed.
     let t = Instant::now();
     let mut r = Bake::new(cfg(1000), &targets, Tracer::new(&s, &bvh, 4));

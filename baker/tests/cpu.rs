@@ -19,18 +19,7 @@ fn furnace_cpu() {
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error; Russian
     // roulette keeps the estimator unbiased anyway.
     let tracer = Tracer::new(&s, &bvh, 64);
-    let cfg = BakeConfig {
-        seed: 1,
-        max_bounces: 64,
-        bases: vec![BasisKind::Ad9],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { max_bounces: 64, bases: vec![BasisKind::Ad9], solver: Solver::Ls, ..Default::default() };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, tracer);
     for _ in 0..64 {
@@ -162,18 +151,7 @@ fn deterministic_across_thread_counts() {
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
-            let cfg = BakeConfig {
-                seed: 7,
-                max_bounces: 4,
-                bases: vec![BasisKind::ShL2, BasisKind::Sg9],
-                solver: Solver::Nnls,
-                guiding: None,
-                sampler: Default::default(),
-                adaptive: None,
-                camera: None,
-                pipeline: Default::default(),
-                filter: None,
-            };
+            let cfg = BakeConfig { seed: 7, bases: vec![BasisKind::ShL2, BasisKind::Sg9], ..Default::default() };
             let targets = Targets::lightmap(&lm);
             let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 4));
             for _ in 0..4 {
@@ -284,18 +262,7 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
     let bvh = Bvh::build(&s);
     let lm = Lightmap::build(&s, 8.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = BakeConfig {
-        seed: 2,
-        max_bounces: 3,
-        bases: vec![],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { seed: 2, max_bounces: 3, bases: vec![], solver: Solver::Ls, ..Default::default() };
     let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 3));
     for _ in 0..32 {
         b.pass();

@@ -243,18 +243,7 @@ fn furnace_bake_stays_within_noise() {
     let s = baker::scene::furnace(le, a);
     let bvh = baker::bvh::Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
-    let cfg = BakeConfig {
-        seed: 3,
-        max_bounces: 64,
-        bases: vec![BasisKind::ShL2],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: vec![BasisKind::ShL2], solver: Solver::Ls, ..Default::default() };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, baker::trace::Tracer::new(&s, &bvh, 64));
     for _ in 0..64 {

@@ -18,32 +18,10 @@ const ALL_BASES: [BasisKind; 6] = [BasisKind::ShL1, BasisKind::ShL2, BasisKind::
 fn kernels_validate_and_structs_match() {
     for glossy in [false, true] {
         for b in ALL_BASES {
-            let cfg = BakeConfig {
-                seed: 1,
-                max_bounces: 4,
-                bases: vec![b],
-                solver: Solver::Nnls,
-                guiding: None,
-                sampler: Default::default(),
-                adaptive: None,
-                camera: None,
-                pipeline: Default::default(),
-                filter: None,
-            };
+            let cfg = BakeConfig { bases: vec![b], ..Default::default() };
             kernel(&cfg, false, glossy).unwrap_or_else(|e| panic!("{b:?} glossy={glossy}: {e}"));
         }
-        let cfg = BakeConfig {
-            seed: 1,
-            max_bounces: 4,
-            bases: ALL_BASES.to_vec(),
-            solver: Solver::Ls,
-            guiding: None,
-            sampler: Default::default(),
-            adaptive: None,
-            camera: None,
-            pipeline: Default::default(),
-            filter: None,
-        };
+        let cfg = BakeConfig { bases: ALL_BASES.to_vec(), solver: Solver::Ls, ..Default::default() };
         let k = kernel(&cfg, false, glossy).unwrap();
         // Left out: the GGX functions exactly when no material is glossy.
         assert_eq!(k.source.contains("fn ggx_d("), glossy);
@@ -60,18 +38,7 @@ fn kernels_validate_and_structs_match() {
                 && k.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
         );
     }
-    let probes = BakeConfig {
-        seed: 1,
-        max_bounces: 4,
-        bases: vec![BasisKind::ShL2, BasisKind::Ad12],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let probes = BakeConfig { bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls, ..Default::default() };
     kernel(&probes, true, true).unwrap();
 }
 
@@ -104,18 +71,7 @@ fn furnace_gpu() {
     let targets = Targets::lightmap(&lm);
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error.
     let tracer = Tracer::new(&s, &bvh, 64);
-    let cfg = BakeConfig {
-        seed: 3,
-        max_bounces: 64,
-        bases: ALL_BASES.to_vec(),
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: ALL_BASES.to_vec(), solver: Solver::Ls, ..Default::default() };
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(128).unwrap();
     let st = g.state().unwrap();
@@ -240,18 +196,7 @@ fn matches_cpu(pipeline: Pipeline) {
     let lm = Lightmap::build(&s, 6.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
     let tracer = Tracer::new(&s, &bvh, 4);
-    let cfg = BakeConfig {
-        seed: 11,
-        max_bounces: 4,
-        bases: vec![BasisKind::Ad9, BasisKind::ShL2],
-        solver: Solver::Nnls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline,
-        filter: None,
-    };
+    let cfg = BakeConfig { seed: 11, bases: vec![BasisKind::Ad9, BasisKind::ShL2], pipeline, ..Default::default() };
     let passes = 96;
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(passes).unwrap();
@@ -360,13 +305,8 @@ fn chunked_dispatches_give_the_identical_bake() {
         seed: 4,
         max_bounces: 3,
         bases: vec![BasisKind::ShL2, BasisKind::Ad9],
-        solver: Solver::Nnls,
         guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
+        ..Default::default()
     };
     let run = |setup: &dyn Fn(&mut GpuBake)| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
@@ -413,12 +353,8 @@ fn wavefront_pass_times_cover_the_pass_graph() {
         max_bounces: 3,
         bases: vec![BasisKind::ShL1],
         solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
         pipeline: Pipeline::Wavefront,
-        filter: None,
+        ..Default::default()
     };
     let mut b = GpuBake::new(&gpu, &Tracer::new(&s, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
     b.set_chunk(targets.items.len());

@@ -24,18 +24,7 @@ use sbf::sampling::Pcg32;
 use std::f64::consts::PI;
 
 fn config(seed: u64, guiding: Option<GuidingOptions>) -> BakeConfig {
-    BakeConfig {
-        seed,
-        max_bounces: 4,
-        bases: vec![BasisKind::ShL2],
-        solver: Solver::Ls,
-        guiding,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    }
+    BakeConfig { seed, bases: vec![BasisKind::ShL2], solver: Solver::Ls, guiding, ..Default::default() }
 }
 
 fn cpu_bake(scene: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {

@@ -60,18 +60,7 @@ fn merged_bakes_equal_the_single_device_bake() {
     for (targets, bases, what) in
         [(&lightmap, vec![BasisKind::ShL2, BasisKind::Ad9], "lightmap"), (&probes, vec![BasisKind::ShL2], "probes")]
     {
-        let cfg = BakeConfig {
-            seed: 7,
-            max_bounces: 3,
-            bases,
-            solver: Solver::Nnls,
-            guiding: None,
-            sampler: Default::default(),
-            adaptive: None,
-            camera: None,
-            pipeline: Default::default(),
-            filter: None,
-        };
+        let cfg = BakeConfig { seed: 7, max_bounces: 3, bases, ..Default::default() };
         let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
         one.set_chunk(usize::MAX);
         one.run(6).unwrap();
@@ -94,16 +83,11 @@ fn merged_bakes_equal_the_single_device_bake() {
         }
     }
     let guided = BakeConfig {
-        seed: 1,
         max_bounces: 2,
         bases: vec![BasisKind::ShL2],
         solver: Solver::Ls,
         guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
+        ..Default::default()
     };
     let err = MultiGpuBake::new(&gpus[..2], &tracer_of, &lightmap, &guided).unwrap_err();
     assert!(err.contains("guiding"), "{err}");
@@ -121,18 +105,8 @@ fn several_passes_per_dispatch_give_the_identical_bake() {
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = BakeConfig {
-        seed: 3,
-        max_bounces: 2,
-        bases: vec![BasisKind::ShL2, BasisKind::Sg9],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg =
+        BakeConfig { seed: 3, max_bounces: 2, bases: vec![BasisKind::ShL2, BasisKind::Sg9], solver: Solver::Ls, ..Default::default() };
     let run = |target: Option<f64>| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
         match target {

@@ -485,18 +485,7 @@ fn scenes_without_gloss_leave_specular_out() {
     assert!(f.iter().all(|x| x.ends_with("irradiance")) && l.is_empty(), "{f:?} {l:?}");
     let (f, l) = runtime_features(&bases, true);
     assert!(f.contains(&"ad9-specular") && f.contains(&"sg-specular") && l == ["ad_specular_2d.sbflut"]);
-    let cfg = BakeConfig {
-        seed: 1,
-        max_bounces: 2,
-        bases: bases.to_vec(),
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { max_bounces: 2, bases: bases.to_vec(), solver: Solver::Ls, ..Default::default() };
     let k = baker::gpu::kernel(&cfg, false, false).unwrap();
     assert!(!k.source.contains("fn ggx_d(") && k.left_out[0].starts_with("GGX layer"));
     let d = tmp("furnace");

@@ -69,18 +69,7 @@ fn bake_guided(
 ) -> (Targets, Lightmap, BakeState) {
     let lm = Lightmap::build(scene, tpu, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = BakeConfig {
-        seed: 7,
-        max_bounces: 2,
-        bases,
-        solver: Solver::Ls,
-        guiding,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { seed: 7, max_bounces: 2, bases, solver: Solver::Ls, guiding, ..Default::default() };
     let state = bake_on(gpu, scene, &targets, &cfg, passes);
     (targets, lm, state)
 }
@@ -296,18 +285,7 @@ fn sobol_sequences_lower_the_error_at_equal_passes() {
         let mut rmse = Vec::new();
         let mut predicted = 0.0;
         for sampler in [Sequence::Sobol, Sequence::Independent] {
-            let cfg = BakeConfig {
-                seed: 7,
-                max_bounces: 2,
-                bases: vec![],
-                solver: Solver::Ls,
-                guiding: None,
-                sampler,
-                adaptive: None,
-                camera: None,
-                pipeline: Default::default(),
-                filter: None,
-            };
+            let cfg = BakeConfig { seed: 7, max_bounces: 2, bases: vec![], solver: Solver::Ls, sampler, ..Default::default() };
             let st = bake_on(g.as_deref(), &s, &t, &cfg, passes);
             let (m, se) = (st.mean(), st.standard_error());
             let (mut sq, mut var) = (0.0, 0.0);
@@ -542,18 +520,7 @@ fn probes_over_a_lit_disk() {
     const PER: usize = 16;
     let positions: Vec<Vec3> = heights.iter().flat_map(|h| std::iter::repeat_n(Vec3::new(0.0, *h as f32, 0.0), PER)).collect();
     let targets = Targets::probes(&positions);
-    let cfg = BakeConfig {
-        seed: 5,
-        max_bounces: 3,
-        bases: vec![BasisKind::ShL2],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg = BakeConfig { seed: 5, max_bounces: 3, bases: vec![BasisKind::ShL2], solver: Solver::Ls, ..Default::default() };
     let passes = 8192;
     let l_floor = rho * e * el.sin() / PI;
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
@@ -708,18 +675,8 @@ fn disk_light_probe_encodings_match_their_projections() {
     s.meshes.push(disk_light("disk", Vec3::new(0.0, hd, 0.0), -Vec3::Y, rad as f32, 1, 256));
     let positions = vec![Vec3::new(0.0, y0, 0.0); 16];
     let targets = Targets::probes(&positions);
-    let cfg = BakeConfig {
-        seed: 9,
-        max_bounces: 1,
-        bases: vec![BasisKind::ShL2, BasisKind::Ad12],
-        solver: Solver::Ls,
-        guiding: None,
-        sampler: Default::default(),
-        adaptive: None,
-        camera: None,
-        pipeline: Default::default(),
-        filter: None,
-    };
+    let cfg =
+        BakeConfig { seed: 9, max_bounces: 1, bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls, ..Default::default() };
     let cos0 = ((hd - y0) as f64) / (((hd - y0) as f64).powi(2) + rad * rad).sqrt();
     // Cap (μ from cos0 to 1 about +Y) and upper-hemisphere (μ from 0) quadratures, world frame.
     let cap = |mu0: f64, f: &mut dyn FnMut(DVec3, f64)| {
