@@ -489,8 +489,8 @@ impl BakeState {
             _ => Vec::new(),
         };
         let guide_basis = guide_sums.clone();
-        let filtered = config.filter.map(|f| {
-            let n = crate::filter::GatherLayout::new(targets, &f).map(|l| l.targets.len()).unwrap_or(0);
+        let filtered = config.filter.filter(|_| !targets.sphere).map(|_| {
+            let n = crate::filter::gather_targets(targets).len();
             crate::filter::FilteredState { encoders: encoders_for(n), moments: vec![Default::default(); n], negative_weights: 0 }
         });
         BakeState { passes: 0, moments: vec![Moments::default(); targets.items.len()], encoders, guide_sums, guide_basis, filtered }

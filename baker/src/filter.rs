@@ -222,27 +222,19 @@ pub fn gather_batch(
         }
         out
     };
+    // Each target's gathered samples, once (negative weights counted, not gathered).
+    let lists: Vec<Vec<(&ItemSample, f64)>> = layout.targets.par_iter().map(|&t| gathered(t as usize)).collect();
     let FilteredState { encoders, moments, negative_weights } = state;
-    let negatives: u64 = moments
-        .par_iter_mut()
-        .zip(layout.targets.par_iter())
-        .map(|(m, &t)| {
-            let mut neg = 0;
-            for (s, wf) in gathered(t as usize) {
-                if wf < 0.0 {
-                    neg += 1;
-                    continue;
-                }
-                m.add(s.estimate.to_array().map(|v| v as f64), wf);
-            }
-            neg
-        })
-        .sum();
-    *negative_weights += negatives;
+    *negative_weights += lists.iter().map(|l| l.iter().filter(|(_, wf)| *wf < 0.0).count() as u64).sum::<u64>();
+    moments.par_iter_mut().zip(lists.par_iter()).for_each(|(m, list)| {
+        for (s, wf) in list.iter().filter(|(_, wf)| *wf > 0.0) {
+            m.add(s.estimate.to_array().map(|v| v as f64), *wf);
+        }
+    });
     for (b, encs) in encoders.iter_mut().enumerate() {
         let basis = bases[b].as_ref();
-        encs.par_iter_mut().zip(layout.targets.par_iter()).for_each(|(enc, &t)| {
-            for (s, wf) in gathered(t as usize).into_iter().filter(|(_, wf)| *wf > 0.0) {
+        encs.par_iter_mut().zip(lists.par_iter()).for_each(|(enc, list)| {
+            for (s, wf) in list.iter().filter(|(_, wf)| *wf > 0.0) {
                 let l = s.radiance.to_array().map(|v| v as f64);
                 // Finite (checked above) and of the encoder's size: cannot fail.
                 if let Err(e) = enc.add_sample_projected(basis, s.local, l, s.weight * wf, &s.lights) {

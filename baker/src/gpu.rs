@@ -174,6 +174,12 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
     let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
     // The projections start at zero for every pass of an item (a dispatch may run several).
     let mut project_reset = String::from("fn project_reset() {\n");
+    let (mut filtered_vars, mut filtered_load, mut filtered_store, mut filtered_update) = (
+        String::new(),
+        String::from("fn filtered_load(out: u32) {\n"),
+        String::from("fn filtered_store(out: u32) {\n"),
+        String::from("fn encode_filtered(d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n"),
+    );
     for (k, b) in config.bases.iter().enumerate() {
         let lobes = b.basis().len();
         let body = match b {
@@ -222,25 +228,29 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
         gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
         project_reset += &format!("    Q_{k} = array<vec3<f32>, 12>();\n");
         project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
-        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
-        if mirror {
-            // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
-            encode += &format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), w);\n");
-        }
-        encode += "        states[s] = st;\n    }\n";
+        let update = format!("        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
+        // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
+        let twin = if mirror {
+            format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), w);\n")
+        } else {
+            String::new()
+        };
+        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n{update}{twin}        states[s] = st;\n    }}\n");
+        // Filtered accumulation: a gather target's states stay in private variables while
+        // it gathers (wgsl/filter.wgsl loads and stores them once per dispatch).
+        filtered_vars += &format!("var<private> FST_{k}: EncoderState;\n");
+        filtered_load += &format!("    FST_{k} = fstates[{k}u * FP.target_count + out];\n");
+        filtered_store += &format!("    fstates[{k}u * FP.target_count + out] = FST_{k};\n");
+        filtered_update += &format!("    {{\n        var st = FST_{k};\n{update}{twin}        FST_{k} = st;\n    }}\n");
     }
     encode += "}\n";
     project += "}\n";
     project_reset += "}\n";
     let filtered = config.filter.is_some() && !sphere_targets;
     if filtered {
-        // The same encoders into the filtered targets' states (wgsl/filter.wgsl), and the
+        // The same encoders on the filtered targets' states (wgsl/filter.wgsl), and the
         // known projections Q_k to and from a record: 3 vec4 of header, then per basis
         // its lobes, each a plane of the component-major record buffer.
-        let into_targets = encode
-            .replace("fn encode(out", "fn encode_filtered(out")
-            .replace("states[s]", "fstates[s]")
-            .replace("P.item_count", "FP.target_count");
         let (mut store, mut load, mut at) =
             (String::from("fn filter_store_q(at: u32, plane: u32) {\n"), String::from("fn filter_load_q(at: u32, plane: u32) {\n"), 3usize);
         for (k, b) in config.bases.iter().enumerate() {
@@ -253,7 +263,7 @@ pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result
             );
             at += lobes;
         }
-        encode += &format!("{into_targets}{store}}}\n{load}}}\n");
+        encode += &format!("{filtered_vars}{filtered_load}}}\n{filtered_store}}}\n{filtered_update}}}\n{store}}}\n{load}}}\n");
     }
     encode += &project;
     encode += &project_reset;
@@ -1042,7 +1052,8 @@ impl<'g> GpuBake<'g> {
             self.collect_profile()?;
             start = end;
         };
-        if let Some(f) = &mut self.filter {
+        if let Some(f) = self.filter.as_mut().filter(|_| self.params.primary_only == 0) {
+            // (Primary-only timing passes write no records.)
             f.record(self.gpu.queue(), &mut enc, self.params.pass_count, false);
         }
         if let Some(g) = &mut self.guide {
@@ -1098,7 +1109,7 @@ impl<'g> GpuBake<'g> {
             for j in b..(b + per).min(k) {
                 a.record_select(q, &mut enc, self.passes + j);
                 self.record_jobs(&mut enc, crate::wavefront::JobGrid::Indirect(&a.args), usize::MAX);
-                if let Some(f) = &mut self.filter {
+                if let Some(f) = self.filter.as_mut().filter(|_| self.params.primary_only == 0) {
                     f.record(q, &mut enc, 1, true);
                 }
             }

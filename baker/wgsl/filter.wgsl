@@ -12,8 +12,10 @@
 // the texels of its chart within the filter's reach in row-major order — per pass for
 // uniform passes; once, each neighbour's samples in order, for a batch — each record
 // weighted by the separable filter of its position's offset from the target's centre
-// into the target's own encoders (weight × filter weight) and weighted Welford moments. Generated per bake: filter_store_q/filter_load_q (Q_k ↔
-// record), encode_filtered (the encoders into fstates).
+// into the target's own encoders (weight × filter weight) and weighted Welford moments.
+// Generated per bake: filter_store_q/filter_load_q (Q_k ↔ record), filtered_load and
+// filtered_store (a target's encoder states ↔ private variables, once per dispatch) and
+// encode_filtered (the bake's encoder update on them).
 
 struct FilterParams {
     width: u32,
@@ -77,6 +79,7 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
     let centre = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
     let reach = i32(FP.reach);
     let plane = FP.slots * FP.items;
+    filtered_load(j);
     var m0 = fmoments[3u * j];
     var m1 = fmoments[3u * j + 1u];
     var m2 = fmoments[3u * j + 2u];
@@ -126,11 +129,12 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
                     m1 = vec4<f32>(m1.xyz + wf * delta * (r2.xyz - mean), m1.w);
                     m0 = vec4<f32>(mean, m0.w);
                     filter_load_q(at, plane);
-                    encode_filtered(j, r0.xyz, r1.xyz, r0.w * wf);
+                    encode_filtered(r0.xyz, r1.xyz, r0.w * wf);
                 }
             }
         }
     }
+    filtered_store(j);
     fmoments[3u * j] = m0;
     fmoments[3u * j + 1u] = m1;
     fmoments[3u * j + 2u] = m2;
