@@ -2,7 +2,8 @@
 //! Gaussian and Mitchell (radius 1.5), the texels a chart overlaps that are still empty
 //! before dilation, the E/π RMSE at equal paths against a long unfiltered reference bake
 //! (over texels valid in both), and the seconds per pass (GPU: one dispatch per pass
-//! over every texel; the median of three timed runs after an untimed warm-up).
+//! over every texel; after a warm-up, five rounds timing each configuration in turn, the
+//! median per configuration).
 //!
 //!     cargo run --release -p baker --example filter_gain -- [scene] [texels/unit] [passes] [reference passes] [pipeline]
 //!
@@ -47,53 +48,76 @@ fn main() -> Result<(), String> {
         filter,
         ..Default::default()
     };
-    // (state, steady-state seconds per pass)
-    let bake = |cfg: &BakeConfig, n: u64| -> Result<(BakeState, f64), String> {
-        let tracer = Tracer::new(&scene, &bvh, cfg.max_bounces);
+    let names = ["none", "box", "gaussian", "mitchell"];
+    let filters: Vec<Option<Filter>> =
+        names.iter().map(|n| if *n == "none" { Ok(None) } else { Filter::parse(n).map(Some) }).collect::<Result<_, _>>()?;
+    let tracer = Tracer::new(&scene, &bvh, config(None, 0).max_bounces);
+    // A bake of n passes (the GPU: one dispatch per pass over every texel, so every
+    // configuration runs the same dispatches).
+    let fixed = |b: &mut baker::gpu::GpuBake| {
+        b.set_batch_target(None);
+        b.set_chunk(targets.items.len());
+    };
+    let state = |cfg: &BakeConfig, n: u64| -> Result<BakeState, String> {
         match &gpu {
             Some(g) => {
-                // Fixed batching (one dispatch per pass over every texel), so both sides
-                // run the same dispatches. The state: a fresh bake of n passes. The time:
-                // the median of three timed runs of n passes on another bake after an
-                // untimed warm-up of 16 (clocks ramp up).
-                let fixed = |b: &mut baker::gpu::GpuBake| {
-                    b.set_batch_target(None);
-                    b.set_chunk(targets.items.len());
-                };
                 let mut b = baker::gpu::GpuBake::new(g, &tracer, &targets, cfg)?;
                 fixed(&mut b);
                 b.run(n)?;
-                let state = b.state()?;
-                let mut t = baker::gpu::GpuBake::new(g, &tracer, &targets, cfg)?;
-                fixed(&mut t);
-                t.run(16)?;
-                let mut times = Vec::new();
-                for _ in 0..3 {
-                    let t0 = Instant::now();
-                    t.run(n)?;
-                    times.push(t0.elapsed().as_secs_f64() / n as f64);
-                }
-                times.sort_by(f64::total_cmp);
-                Ok((state, times[1]))
+                b.state()
             }
             None => {
-                let mut b = Bake::new(cfg.clone(), &targets, tracer);
-                let t = Instant::now();
+                let mut b = Bake::new(cfg.clone(), &targets, Tracer::new(&scene, &bvh, cfg.max_bounces));
                 for _ in 0..n {
                     b.pass();
                 }
-                let secs = t.elapsed().as_secs_f64();
-                Ok((b.state, secs / n as f64))
+                Ok(b.state)
             }
         }
     };
-    let (reference, _) = bake(&config(None, 1_000_003), ref_passes)?;
-    let reference = LightmapImages::new(&lm, &targets, &reference);
+    // Seconds per pass: one bake per configuration, warmed up, then five rounds that time
+    // n passes of each in turn (so clock changes hit all alike); the median per configuration.
+    let per_pass: Vec<f64> = match &gpu {
+        Some(g) => {
+            let mut bakes = filters
+                .iter()
+                .map(|f| {
+                    let mut b = baker::gpu::GpuBake::new(g, &tracer, &targets, &config(*f, 7))?;
+                    fixed(&mut b);
+                    b.run(16)?;
+                    Ok(b)
+                })
+                .collect::<Result<Vec<_>, String>>()?;
+            let mut times = vec![Vec::new(); bakes.len()];
+            for _ in 0..5 {
+                for (b, t) in bakes.iter_mut().zip(times.iter_mut()) {
+                    let t0 = Instant::now();
+                    b.run(passes)?;
+                    t.push(t0.elapsed().as_secs_f64() / passes as f64);
+                }
+            }
+            times
+                .into_iter()
+                .map(|mut t| {
+                    t.sort_by(f64::total_cmp);
+                    t[t.len() / 2]
+                })
+                .collect()
+        }
+        None => filters
+            .iter()
+            .map(|f| {
+                let t0 = Instant::now();
+                state(&config(*f, 7), passes)?;
+                Ok(t0.elapsed().as_secs_f64() / passes as f64)
+            })
+            .collect::<Result<_, String>>()?,
+    };
+    let reference = LightmapImages::new(&lm, &targets, &state(&config(None, 1_000_003), ref_passes)?);
     println!("{:<12} {:>8} {:>12} {:>10} {:>12}", "filter", "empty", "RMSE E/π", "vs none", "ms/pass");
     let mut base = None;
-    for name in ["none", "box", "gaussian", "mitchell"] {
-        let filter = if name == "none" { None } else { Some(Filter::parse(name)?) };
-        let (st, per) = bake(&config(filter, 7), passes)?;
+    for ((name, filter), per) in names.iter().zip(&filters).zip(&per_pass) {
+        let st = state(&config(*filter, 7), passes)?;
         let img = LightmapImages::new(&lm, &targets, &st);
         let empty = (0..lm.texels.len()).filter(|t| lm.texel_charts[*t] != NO_CHART && img.validity[*t] == 0.0).count();
         let (mut sum, mut n) = (0.0f64, 0usize);
