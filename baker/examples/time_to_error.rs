@@ -133,7 +133,8 @@ fn run() -> Result<(), String> {
         let name = p.name();
         configs.push((format!("{name} uniform, Sobol'"), base(*p)));
         if let Some(f) = filter {
-            configs.push((format!("{name} uniform, Sobol', {} filter r {}", f.name(), f.radius), BakeConfig { filter: Some(f), ..base(*p) }));
+            configs
+                .push((format!("{name} uniform, Sobol', {} filter r {}", f.name(), f.radius), BakeConfig { filter: Some(f), ..base(*p) }));
         }
         for &(f, l) in &adaptive {
             let o = AdaptiveOptions { batch_fraction: f, max_per_batch: l, ..a };
@@ -248,7 +249,9 @@ fn run() -> Result<(), String> {
                 println!("| {name}{scope} | {preview_ms:.1} | {p:.0} | {q:.3e} | {s:.3} | {:.2} |", base / s);
             }
             // Not reached: the error it got to instead (a filtered bake's blur is a floor).
-            None => println!("| {name}{scope} | — | not reached in {} passes (RMSE {last_rmse:.4e} there) | | | |", ref_passes.min(1 << 14)),
+            None => {
+                println!("| {name}{scope} | — | not reached in {} passes (RMSE {last_rmse:.4e} there) | | | |", ref_passes.min(1 << 14))
+            }
         }
     }
     if let Some((all, on_seen)) = target {
