@@ -2,7 +2,7 @@
 //! the chart id), empty texels black. `cargo run --release -p baker --example
 //! chart_layout -- OUT.png [cornell|sphere6200] [texels-per-unit]`.
 
-use baker::lightmap::Lightmap;
+use baker::layout::lightmap::Lightmap;
 use baker::scene::{self, Environment, Material, Scene};
 use sbf::glam::Vec3;
 

@@ -7,13 +7,13 @@
 //! `cargo run --release -p baker --example denoise_gain -- [--gpu] [reference passes] [passes…]`
 //! (defaults: CPU path, 16384, 128; the CPU reference takes ~6 minutes on 2 cores).
 
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Targets};
-use baker::bvh::Bvh;
-use baker::denoise::{denoise, DenoiseOptions};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Targets};
+use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
-use baker::lightmap::Lightmap;
-use baker::output::LightmapImages;
-use baker::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
+use baker::post::denoise::{denoise, DenoiseOptions};
+use baker::post::images::LightmapImages;
+use baker::scene::bvh::Bvh;
 use std::time::Instant;
 
 fn config(seed: u64) -> BakeConfig {

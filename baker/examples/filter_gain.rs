@@ -10,12 +10,12 @@
 //! Defaults: the built-in Cornell box, 4 texels/unit, 16 passes, 1024 reference passes,
 //! megakernel. On a machine without a hardware GPU the CPU bake runs (slowly).
 
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
-use baker::bvh::Bvh;
-use baker::filter::Filter;
-use baker::lightmap::{Lightmap, NO_CHART};
-use baker::output::LightmapImages;
-use baker::trace::Tracer;
+use baker::accumulate::filter::Filter;
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::estimator::trace::Tracer;
+use baker::layout::lightmap::{Lightmap, NO_CHART};
+use baker::post::images::LightmapImages;
+use baker::scene::bvh::Bvh;
 use std::time::Instant;
 
 fn main() -> Result<(), String> {
@@ -25,7 +25,7 @@ fn main() -> Result<(), String> {
     let passes: u64 = args.get(2).map_or(Ok(16), |s| s.parse()).map_err(|e| format!("passes: {e}"))?;
     let ref_passes: u64 = args.get(3).map_or(Ok(1024), |s| s.parse()).map_err(|e| format!("reference passes: {e}"))?;
     let pipeline = args.get(4).map_or(Some(Pipeline::Megakernel), |s| Pipeline::parse(s)).ok_or("pipeline: megakernel or wavefront")?;
-    let scene = baker::run::load_scene(scene_name, None, &mut |_| {})?;
+    let scene = baker::scene::load::load(scene_name, None, &mut |_| {})?;
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, tpu, 2).map_err(|e| e.to_string())?;
     let targets = Targets::lightmap(&lm);

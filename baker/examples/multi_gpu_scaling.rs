@@ -21,17 +21,18 @@
 //! `--min-seconds S` raises a scene's passes so that its 1-GPU bake takes about S seconds
 //! (from the time per pass of that counting run's uncounted half).
 
-use baker::bake::Targets;
-use baker::bvh::Bvh;
+use baker::accumulate::Targets;
+use baker::estimator::trace::Tracer;
+use baker::gpu::multi::MultiGpuBake;
 use baker::gpu::GpuBake;
-use baker::lightmap::Lightmap;
-use baker::multi_gpu::MultiGpuBake;
-use baker::run::{load_scene, Options};
-use baker::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
+use baker::run::Options;
+use baker::scene::bvh::Bvh;
+use baker::scene::load::load as load_scene;
 use std::time::Instant;
 
 /// The 1-GPU bake of a scene: chart means with variances, its state, wall seconds.
-type Reference = (Vec<(f64, f64)>, baker::bake::BakeState, f64);
+type Reference = (Vec<(f64, f64)>, baker::accumulate::BakeState, f64);
 
 fn arg(args: &[String], name: &str) -> Option<String> {
     args.iter().position(|a| a == name).and_then(|i| args.get(i + 1).cloned())

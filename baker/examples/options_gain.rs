@@ -11,14 +11,14 @@
 //! 16 texels per unit, 4 bounces, 16384, 128). `--images` writes a preview PNG per option at
 //! the first pass count.
 
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Targets};
-use baker::bvh::Bvh;
-use baker::denoise::{denoise, DenoiseOptions};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Targets};
+use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
-use baker::guiding::GuidingOptions;
-use baker::lightmap::Lightmap;
-use baker::output::LightmapImages;
-use baker::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
+use baker::post::denoise::{denoise, DenoiseOptions};
+use baker::post::images::LightmapImages;
+use baker::sampling::guiding::GuidingOptions;
+use baker::scene::bvh::Bvh;
 use std::time::Instant;
 
 fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfig {
@@ -113,10 +113,10 @@ fn main() {
                 denoise(&mut img, &lm, DenoiseOptions::default()).expect("sizes agree");
             }
             if post >= 2 {
-                let samples = baker::seams::samples(&baker::seams::find_seams(&scene, &lm), lm.width, lm.height);
+                let samples = baker::post::seams::samples(&baker::post::seams::find_seams(&scene, &lm), lm.width, lm.height);
                 let mut dilated = img.clone();
                 dilated.dilate(3);
-                baker::seams::stitch(&mut img, &dilated, &samples);
+                baker::post::seams::stitch(&mut img, &dilated, &samples);
             }
             let pt = t.elapsed().as_secs_f64();
             let e = rms(&img.irradiance, &reference.irradiance, ref_se2);

@@ -23,14 +23,14 @@
 //! the median reported (steady-state timing; pipeline compilation and upload precede it). Camera-based sampling is judged on the
 //! texels its camera sees (its error and its target, the baseline's error there).
 
-use baker::adapt::AdaptiveOptions;
-use baker::bake::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
-use baker::bvh::Bvh;
+use baker::accumulate::adaptive::AdaptiveOptions;
+use baker::accumulate::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
-use baker::lightmap::Lightmap;
-use baker::run::load_scene;
-use baker::sampler::Sequence;
-use baker::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
+use baker::sampling::sequence::Sequence;
+use baker::scene::bvh::Bvh;
+use baker::scene::load::load as load_scene;
 use std::time::Instant;
 
 /// Timed runs per configuration (the median is reported: sub-second runs vary with the
@@ -90,8 +90,8 @@ fn run() -> Result<(), String> {
     // Filtered accumulation (`--filter box|gaussian|mitchell[:r]`): each pipeline's uniform
     // Sobol' bake once more with it (judged against the unfiltered reference, so its blur
     // counts as error).
-    let filter: Option<baker::filter::Filter> = match args.iter().position(|a| a == "--filter") {
-        Some(i) => Some(baker::filter::Filter::parse(args.get(i + 1).ok_or("--filter needs a value")?)?),
+    let filter: Option<baker::accumulate::filter::Filter> = match args.iter().position(|a| a == "--filter") {
+        Some(i) => Some(baker::accumulate::filter::Filter::parse(args.get(i + 1).ok_or("--filter needs a value")?)?),
         None => None,
     };
     // Camera-based sampling: "eye:target[:fov]" (its error is over every texel, seen or not).
@@ -141,8 +141,11 @@ fn run() -> Result<(), String> {
             configs.push((format!("{name} adaptive (f {f}, L {l}), Sobol'"), BakeConfig { adaptive: Some(o), ..base(*p) }));
         }
         if let Some(spec) = &camera {
-            let c =
-                baker::camera::CameraSampling { camera: baker::camera::ViewCamera::parse(spec, 0, 0)?, pilot_passes: 1, max_per_batch: 8 };
+            let c = baker::accumulate::camera::CameraSampling {
+                camera: baker::scene::camera::ViewCamera::parse(spec, 0, 0)?,
+                pilot_passes: 1,
+                max_per_batch: 8,
+            };
             configs
                 .push((format!("{name} camera-based, Sobol'"), BakeConfig { camera: Some(c.sized_for(targets.items.len())), ..base(*p) }));
         }
@@ -155,7 +158,10 @@ fn run() -> Result<(), String> {
         Some(c) => {
             let mut every = vec![true; targets.items.len()];
             for b in 0..16 {
-                for (k, n) in baker::camera::pixel_counts(&c.camera, baker::camera::jitter(b), &bvh, &targets).iter().enumerate() {
+                for (k, n) in baker::accumulate::camera::pixel_counts(&c.camera, baker::accumulate::camera::jitter(b), &bvh, &targets)
+                    .iter()
+                    .enumerate()
+                {
                     every[k] &= *n > 0;
                 }
             }

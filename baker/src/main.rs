@@ -1,6 +1,6 @@
 //! baker: bake lightmaps and light probes into sbf bases, on the GPU or the CPU.
 
-use baker::bake::{BasisKind, Solver};
+use baker::accumulate::{BasisKind, Solver};
 use baker::run::{self, Device, Options};
 use clap::Parser;
 use std::path::PathBuf;
@@ -151,42 +151,6 @@ struct Cli {
     /// Preview image width in pixels.
     #[arg(long, default_value_t = 480)]
     preview_width: usize,
-    /// Instead of baking: render single-bounce indirect light from this many VPL light
-    /// paths with stochastic light culling (seeds 000–002) from the preview camera.
-    #[arg(long)]
-    slc: Option<usize>,
-    /// Image size for --slc, WIDTHxHEIGHT.
-    #[arg(long, default_value = "960x540")]
-    slc_size: String,
-    /// Variance control δ of the random light ranges (the paper uses 1e-3).
-    #[arg(long, default_value_t = 1e-3)]
-    slc_delta: f32,
-    /// Also render the brute-force reference (every VPL at every pixel) with --slc.
-    #[arg(long)]
-    slc_brute: bool,
-    /// With --slc: also cull with each glossy bound (tight, sphere, th16) and report their
-    /// false discovery rates and frame times side by side.
-    #[arg(long)]
-    slc_compare_bounds: bool,
-    /// With --slc: also render single scattering in a homogeneous medium filling the view
-    /// depths NEAR..FAR, lit by the scene's point lights and the diffuse VPLs (seed 001),
-    /// culled and brute force: SIGMA_S,SIGMA_T,NEAR,FAR (e.g. 0.2,0.3,0.5,4).
-    #[arg(long)]
-    slc_medium: Option<String>,
-    /// Interleaved sampling for --slc: I × I subregions each shading 1/I² of the VPLs
-    /// (002 §6 uses 8; 1 turns it off). Unbiased only in expectation over the VPL set.
-    #[arg(long, default_value_t = 8)]
-    slc_interleave: usize,
-    /// Bound of glossy VPLs for --slc: tight (the GGX spheroid), sphere (its enclosing
-    /// sphere) or th16 (the sphere at the VPL of radius r/α), the last two for comparison.
-    #[arg(long, default_value = "tight")]
-    slc_bound: String,
-    /// VPLs for --slc: both, diffuse (glossy dropped) or glossy (every VPL made GGX with
-    /// --slc-glossy-alpha and F0 0.9).
-    #[arg(long, default_value = "both")]
-    slc_kind: String,
-    #[arg(long, default_value_t = 0.2)]
-    slc_glossy_alpha: f32,
     /// Measure GPU rays/s (primary and secondary) over this many passes instead of
     /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
     #[arg(long)]
@@ -239,7 +203,7 @@ fn options(c: Cli) -> Result<Options, String> {
     let probes = if profile.as_ref().is_some_and(|p| p.probe_bases.is_empty()) { None } else { probes };
     if let Some(p) = &profile {
         let d = Options::default();
-        let names = |v: &[baker::bake::BasisKind]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
+        let names = |v: &[baker::accumulate::BasisKind]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
         eprintln!(
             "profile '{}': lightmap bases {} (default {}), probe bases {} (default {}){}",
             p.name,
@@ -270,7 +234,7 @@ fn options(c: Cli) -> Result<Options, String> {
         if c.guiding {
             return Err("--adaptive and --guiding cannot be combined (guiding learns from whole passes)".into());
         }
-        let a = baker::adapt::AdaptiveOptions {
+        let a = baker::accumulate::adaptive::AdaptiveOptions {
             pilot_passes: c.adaptive_pilot,
             batch_fraction: c.adaptive_fraction,
             max_per_batch: c.adaptive_max,
@@ -282,7 +246,7 @@ fn options(c: Cli) -> Result<Options, String> {
         None
     };
     let guiding = if c.guiding {
-        let mut g = baker::guiding::GuidingOptions::for_passes(c.passes);
+        let mut g = baker::sampling::guiding::GuidingOptions::for_passes(c.passes);
         if let Some(n) = c.guiding_learn {
             g.learn_passes = n;
         }
@@ -297,13 +261,13 @@ fn options(c: Cli) -> Result<Options, String> {
         texels_per_unit: c.texels_per_unit,
         padding: c.padding,
         passes: c.passes,
-        config: baker::bake::BakeConfig {
+        config: baker::accumulate::BakeConfig {
             seed: c.seed,
             max_bounces: c.bounces,
             bases: parse_bases(&bases)?,
             solver,
             guiding,
-            sampler: baker::sampler::Sequence::parse(&c.sampler)
+            sampler: baker::sampling::sequence::Sequence::parse(&c.sampler)
                 .ok_or_else(|| format!("unknown --sampler '{}': sobol or independent", c.sampler))?,
             adaptive,
             camera: match &c.camera {
@@ -312,17 +276,17 @@ fn options(c: Cli) -> Result<Options, String> {
                         return Err("--camera cannot be combined with --adaptive or --guiding".into());
                     }
                     // Image size 0 × 0: sized from the atlas once it is laid out.
-                    Some(baker::camera::CameraSampling {
-                        camera: baker::camera::ViewCamera::parse(spec, 0, 0)?,
+                    Some(baker::accumulate::camera::CameraSampling {
+                        camera: baker::scene::camera::ViewCamera::parse(spec, 0, 0)?,
                         pilot_passes: 1,
                         max_per_batch: 8,
                     })
                 }
                 None => None,
             },
-            pipeline: baker::bake::Pipeline::parse(&c.pipeline)
+            pipeline: baker::accumulate::Pipeline::parse(&c.pipeline)
                 .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
-            filter: c.filter.as_deref().map(baker::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
+            filter: c.filter.as_deref().map(baker::accumulate::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
         },
         device,
         out: c.out,
@@ -342,82 +306,19 @@ fn options(c: Cli) -> Result<Options, String> {
             Toggle::Off => false,
             Toggle::Auto => c.passes <= DENOISE_AUTO_MAX_PASSES,
         }
-        .then_some(baker::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
+        .then_some(baker::post::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
         stitch_seams: c.stitch_seams != Toggle::Off,
     })
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let slc = match cli.slc.map(|n| -> Result<run::SlcOptions, String> {
-        let (w, h) = cli.slc_size.split_once('x').ok_or_else(|| format!("--slc-size takes WIDTHxHEIGHT, not {}", cli.slc_size))?;
-        let (width, height) =
-            (w.parse::<usize>().map_err(|e| format!("--slc-size: {e}"))?, h.parse::<usize>().map_err(|e| format!("--slc-size: {e}"))?);
-        if width == 0
-            || height == 0
-            || n == 0
-            || !(cli.slc_delta > 0.0 && cli.slc_delta.is_finite())
-            || !(1..=16).contains(&cli.slc_interleave)
-        {
-            return Err("--slc needs VPLs > 0, a non-empty --slc-size, --slc-delta > 0 and --slc-interleave 1..=16".into());
-        }
-        let bound = baker::slc::Bound::parse(&cli.slc_bound).map_err(|e| format!("--slc-bound: {e}"))?;
-        if !(cli.slc_glossy_alpha > 0.0 && cli.slc_glossy_alpha <= 1.0) {
-            return Err("--slc-glossy-alpha must be in (0, 1]".into());
-        }
-        Ok(run::SlcOptions {
-            vpls: n,
-            width,
-            height,
-            delta: cli.slc_delta,
-            brute: cli.slc_brute,
-            frames: 10,
-            interleave: cli.slc_interleave,
-            bound,
-            kind: cli.slc_kind.clone(),
-            glossy_alpha: cli.slc_glossy_alpha,
-            compare_bounds: cli.slc_compare_bounds,
-            medium: cli
-                .slc_medium
-                .as_deref()
-                .map(|m| -> Result<baker::slc_media::Medium, String> {
-                    let v: Vec<f32> = m
-                        .split(',')
-                        .map(|x| x.trim().parse::<f32>().map_err(|e| format!("--slc-medium {m}: {e}")))
-                        .collect::<Result<_, _>>()?;
-                    let [sigma_s, sigma_t, near, far] = v[..] else {
-                        return Err(format!("--slc-medium takes SIGMA_S,SIGMA_T,NEAR,FAR, not {m}"));
-                    };
-                    let medium = baker::slc_media::Medium { sigma_s, sigma_t, near, far };
-                    medium.validate().map_err(|e| format!("--slc-medium: {e}"))?;
-                    Ok(medium)
-                })
-                .transpose()?,
-        })
-    }) {
-        None => None,
-        Some(Ok(s)) => Some(s),
-        Some(Err(e)) => {
-            eprintln!("baker: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let o = match options(cli) {
+    let o = match options(Cli::parse()) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("baker: {e}");
             return ExitCode::from(2);
         }
     };
-    if let Some(s) = slc {
-        return match run::slc_harness(&o, &s, &mut |m| eprintln!("{m}")) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("baker: {e}");
-                ExitCode::FAILURE
-            }
-        };
-    }
     match run::bake(&o, &mut |s| eprintln!("{s}")) {
         Ok(s) => {
             eprintln!("done: {} passes in {:.1} s on {}", s.lightmap.passes, s.seconds, s.device);

@@ -1,4 +1,4 @@
-//! Adaptive sampling (`baker::adapt`, seed 004 §3.3; issue 15 item 4) on the `sunbeam`
+//! Adaptive sampling (`baker::accumulate::adaptive`, seed 004 §3.3; issue 15 item 4) on the `sunbeam`
 //! scene — a hut on open ground lit by a sun through a slit: inside, a small bright
 //! stripe lights the hut indirectly, so its texels are far noisier than the ground's.
 //!
@@ -15,11 +15,11 @@
 //! pilot past its end (its first "batch" was a whole pass).
 
 mod common;
-use baker::adapt::AdaptiveOptions;
-use baker::bake::{Bake, BakeConfig, BakeState, Pipeline, Solver, Targets};
-use baker::bvh::Bvh;
-use baker::lightmap::Lightmap;
-use baker::trace::Tracer;
+use baker::accumulate::adaptive::AdaptiveOptions;
+use baker::accumulate::{Bake, BakeConfig, BakeState, Pipeline, Solver, Targets};
+use baker::estimator::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
+use baker::scene::bvh::Bvh;
 
 fn config(seed: u64, adaptive: Option<AdaptiveOptions>) -> BakeConfig {
     BakeConfig { seed, max_bounces: 3, bases: vec![], solver: Solver::Ls, adaptive, ..Default::default() }
@@ -160,7 +160,8 @@ fn adaptive_bakes_resume_exactly_and_refuse_what_they_cannot_do() {
     }
     let probes = Targets::probes(&[sbf::glam::Vec3::ZERO]);
     assert!(cfg.check(&probes).unwrap_err().contains("probes"));
-    let guided = BakeConfig { guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }), ..cfg.clone() };
+    let guided =
+        BakeConfig { guiding: Some(baker::sampling::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }), ..cfg.clone() };
     assert!(guided.check(&targets).unwrap_err().contains("guiding"));
     let Some(g) = common::gpu() else { return };
     let (x, y) = (common::bake_on(Some(&g), &scene, &targets, &cfg, 40), common::bake_on(Some(&g), &scene, &targets, &cfg, 40));

@@ -1,4 +1,4 @@
-//! Camera-based lightmap sampling (`baker::camera`, seed 004 §3.4.2; issue 15 item 5).
+//! Camera-based lightmap sampling (`baker::accumulate::camera`, seed 004 §3.4.2; issue 15 item 5).
 //!
 //! (1) The GPU's texel raster against the CPU twin (a ray through every jittered pixel
 //! centre, the hit's texel by its barycentric lightmap UV): per texel, the samples a batch
@@ -14,10 +14,11 @@
 //! every pixel for item 0 — both fail.
 
 mod common;
-use baker::bake::{BakeConfig, Solver, Targets};
-use baker::bvh::Bvh;
-use baker::camera::{jitter, pixel_counts, CameraSampling, ViewCamera};
-use baker::lightmap::Lightmap;
+use baker::accumulate::camera::{jitter, pixel_counts, CameraSampling};
+use baker::accumulate::{BakeConfig, Solver, Targets};
+use baker::layout::lightmap::Lightmap;
+use baker::scene::bvh::Bvh;
+use baker::scene::camera::ViewCamera;
 use sbf::glam::Vec3;
 
 fn config(seed: u64, camera: Option<CameraSampling>) -> BakeConfig {

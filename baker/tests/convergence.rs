@@ -2,11 +2,11 @@
 //! against a long reference bake at several pass counts (should fall like 1/√N), and
 //! the progressive-NNLS AD9 lightmap against a batch NNLS fit of the same samples.
 
-use baker::bake::{Bake, BakeConfig, BasisKind, Targets};
-use baker::bvh::Bvh;
-use baker::lightmap::Lightmap;
+use baker::accumulate::{Bake, BakeConfig, BasisKind, Targets};
+use baker::estimator::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
 use baker::scene;
-use baker::trace::Tracer;
+use baker::scene::bvh::Bvh;
 use sbf::glam::DVec3;
 use sbf::solve::{nnls_gram, NnlsOptions};
 use std::time::Instant;

@@ -1,10 +1,10 @@
 //! CPU reference path: furnace, BVH against brute force, layout invariants, bad scenes.
 
-use baker::bake::{Bake, BakeConfig, BasisKind, Solver, Targets};
-use baker::bvh::{intersect_tri, Bvh};
-use baker::lightmap::Lightmap;
+use baker::accumulate::{Bake, BakeConfig, BasisKind, Solver, Targets};
+use baker::estimator::trace::Tracer;
+use baker::layout::lightmap::Lightmap;
+use baker::scene::bvh::{intersect_tri, Bvh};
 use baker::scene::{self, Scene, SceneError};
-use baker::trace::Tracer;
 use sbf::glam::{Vec2, Vec3};
 use sbf::sampling::Pcg32;
 
@@ -172,7 +172,7 @@ fn deterministic_across_thread_counts() {
 /// test-sized scene.
 #[test]
 fn bvh_depth_is_bounded() {
-    use baker::bvh::{Tri, MAX_DEPTH};
+    use baker::scene::bvh::{Tri, MAX_DEPTH};
     let mut r = Pcg32::new(9, 9);
     let mut rnd = || r.next_f64() as f32;
     let tris: Vec<Tri> = (0..2000)
@@ -275,12 +275,12 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
     assert!(invalid > 0, "the texels under the blocks must be found");
     // The default 3×3×3 grid puts probe 4 (centre column, lowest layer … ) inside the
     // matte block; whichever it is, the inside test finds it and relocation frees it.
-    let grid = baker::placement::probe_grid(&bvh, [3, 3, 3]);
-    let inside: Vec<usize> = (0..grid.len()).filter(|k| baker::placement::back_face_hits(&bvh, &s, grid[*k]).0 > 0.5).collect();
+    let grid = baker::layout::probes::probe_grid(&bvh, [3, 3, 3]);
+    let inside: Vec<usize> = (0..grid.len()).filter(|k| baker::layout::probes::back_face_hits(&bvh, &s, grid[*k]).0 > 0.5).collect();
     assert!(!inside.is_empty(), "a default probe sits inside the matte block");
     for k in inside {
-        let q = baker::placement::relocate(&bvh, &s, grid[k], 0.5, 1e-3).expect("relocated");
-        let (f, _) = baker::placement::back_face_hits(&bvh, &s, q);
+        let q = baker::layout::probes::relocate(&bvh, &s, grid[k], 0.5, 1e-3).expect("relocated");
+        let (f, _) = baker::layout::probes::back_face_hits(&bvh, &s, q);
         println!("probe {k}: {} → {q} (back-face fraction {f:.3})", grid[k]);
         assert!(f <= 0.5 && (q - grid[k]).length() < 1.0);
     }
@@ -300,7 +300,7 @@ fn room_1m_is_a_fair_benchmark_scene() {
     assert!(scene.meshes.iter().filter(|m| m.lightmapped).all(|m| m.lightmap_uv.is_some()));
     let bvh = Bvh::build(&scene);
     for p in [Vec3::new(0.0, 1.5, 0.0), Vec3::new(2.5, 0.5, -2.5), Vec3::new(-0.7, 2.5, 1.9)] {
-        let (fraction, _) = baker::placement::back_face_hits(&bvh, &scene, p);
+        let (fraction, _) = baker::layout::probes::back_face_hits(&bvh, &scene, p);
         assert_eq!(fraction, 0.0, "back faces seen from {p}");
     }
     let lm = Lightmap::build(&scene, 8.0, 1).unwrap();

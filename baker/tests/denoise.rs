@@ -1,12 +1,12 @@
-//! The lightmap denoiser (`baker::denoise`) on the built-in scene's real atlas (charts,
+//! The lightmap denoiser (`baker::post::denoise`) on the built-in scene's real atlas (charts,
 //! padding, empty texels) with synthetic signals whose truth is known: it never reads
 //! invalid texels, keeps flat and per-chart-constant signals exactly (a convex combination
 //! of equal values), lowers noise on a smooth signal, and is independent of the thread
 //! count.
 
-use baker::denoise::{denoise, DenoiseOptions};
-use baker::lightmap::Lightmap;
-use baker::output::LightmapImages;
+use baker::layout::lightmap::Lightmap;
+use baker::post::denoise::{denoise, DenoiseOptions};
+use baker::post::images::LightmapImages;
 use sbf::sampling::Pcg32;
 
 fn atlas() -> Lightmap {
@@ -205,7 +205,7 @@ fn denoise_is_independent_of_the_thread_count() {
 /// removed — texels near the seam move by ~0.01, fails.
 #[test]
 fn coplanar_neighbouring_charts_do_not_mix() {
-    use baker::lightmap::{SurfacePoint, Texel};
+    use baker::layout::lightmap::{SurfacePoint, Texel};
     use sbf::glam::Vec3;
     let (w, h) = (24usize, 8usize);
     let texels: Vec<Texel> = (0..w * h)
@@ -238,14 +238,14 @@ fn coplanar_neighbouring_charts_do_not_mix() {
 /// 1.02 — fails.
 #[test]
 fn furnace_bake_stays_within_noise() {
-    use baker::bake::{Bake, BakeConfig, BasisKind, Solver, Targets};
+    use baker::accumulate::{Bake, BakeConfig, BasisKind, Solver, Targets};
     let (le, a) = (1.0f32, 0.5f32);
     let s = baker::scene::furnace(le, a);
-    let bvh = baker::bvh::Bvh::build(&s);
+    let bvh = baker::scene::bvh::Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
     let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: vec![BasisKind::ShL2], solver: Solver::Ls, ..Default::default() };
     let targets = Targets::lightmap(&lm);
-    let mut bake = Bake::new(cfg, &targets, baker::trace::Tracer::new(&s, &bvh, 64));
+    let mut bake = Bake::new(cfg, &targets, baker::estimator::trace::Tracer::new(&s, &bvh, 64));
     for _ in 0..64 {
         bake.pass();
     }

@@ -5,14 +5,14 @@
 
 mod common;
 
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
-use baker::bvh::Bvh;
-use baker::filter::{Filter, GatherLayout};
-use baker::gpu_prims::GatherFilter;
-use baker::lightmap::{Lightmap, NO_CHART};
-use baker::output::LightmapImages;
+use baker::accumulate::filter::GatherFilter;
+use baker::accumulate::filter::{Filter, GatherLayout};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::estimator::trace::Tracer;
+use baker::layout::lightmap::{Lightmap, NO_CHART};
+use baker::post::images::LightmapImages;
+use baker::scene::bvh::Bvh;
 use baker::scene::{self, Scene};
-use baker::trace::Tracer;
 
 fn config(filter: Option<Filter>, seed: u64) -> BakeConfig {
     BakeConfig { seed, max_bounces: 3, bases: vec![BasisKind::ShL1], solver: Solver::Ls, filter, ..Default::default() }
@@ -110,7 +110,7 @@ fn filtered_means_equal_a_direct_weighted_sum() {
     let bvh = Bvh::build(&s);
     let cfg = config(None, 5);
     let mut plain = Bake::new(cfg.clone(), &targets, Tracer::new(&s, &bvh, cfg.max_bounces));
-    let per_pass: Vec<Vec<baker::bake::ItemSample>> = (0..passes).map(|_| plain.pass_samples()).collect();
+    let per_pass: Vec<Vec<baker::accumulate::ItemSample>> = (0..passes).map(|_| plain.pass_samples()).collect();
     let w = lm.width;
     let mut item_of = vec![usize::MAX; lm.texels.len()];
     for (k, it) in targets.items.iter().enumerate() {
@@ -124,7 +124,7 @@ fn filtered_means_equal_a_direct_weighted_sum() {
             ((-d * d / (2.0 * sigma * sigma)).exp() - (-r * r / (2.0 * sigma * sigma)).exp()).max(0.0)
         }
     };
-    let list = baker::filter::gather_targets(&targets);
+    let list = baker::accumulate::filter::gather_targets(&targets);
     let fs = filtered.filtered.as_ref().unwrap();
     let mut checked = 0;
     let basis = BasisKind::ShL1.basis();
@@ -193,7 +193,7 @@ fn gltf_cornell() -> Option<Scene> {
         println!("skipped: {} is absent", path.display());
         return None;
     }
-    Some(baker::run::load_scene(path.to_str().unwrap(), None, &mut |_| {}).unwrap())
+    Some(baker::scene::load::load(path.to_str().unwrap(), None, &mut |_| {}).unwrap())
 }
 
 /// Empty texels before dilation and the error at equal paths: Bevy's Cornell box at
@@ -296,7 +296,9 @@ fn gpu_filtered_bake_matches_its_cpu_twin() {
     let lm = Lightmap::build(&s, 4.0, 0).unwrap();
     let targets = Targets::lightmap(&lm);
     let passes = 12;
-    for (pipeline, filter) in [(baker::bake::Pipeline::Megakernel, "gaussian"), (baker::bake::Pipeline::Wavefront, "mitchell:2")] {
+    for (pipeline, filter) in
+        [(baker::accumulate::Pipeline::Megakernel, "gaussian"), (baker::accumulate::Pipeline::Wavefront, "mitchell:2")]
+    {
         let cfg = BakeConfig {
             bases: vec![BasisKind::Ad9, BasisKind::ShL2],
             solver: Solver::Nnls,
@@ -355,9 +357,14 @@ fn gpu_batches_gather_each_texels_own_samples_with_a_one_texel_box() {
     let bvh = Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    for pipeline in [baker::bake::Pipeline::Megakernel, baker::bake::Pipeline::Wavefront] {
+    for pipeline in [baker::accumulate::Pipeline::Megakernel, baker::accumulate::Pipeline::Wavefront] {
         let cfg = BakeConfig {
-            adaptive: Some(baker::adapt::AdaptiveOptions { pilot_passes: 2, batch_fraction: 2.0, floor: 0.2, max_per_batch: 5 }),
+            adaptive: Some(baker::accumulate::adaptive::AdaptiveOptions {
+                pilot_passes: 2,
+                batch_fraction: 2.0,
+                floor: 0.2,
+                max_per_batch: 5,
+            }),
             pipeline,
             ..config(Some(Filter { kernel: GatherFilter::Box, radius: 0.5 }), 23)
         };

@@ -2,12 +2,12 @@
 //! Vulkan/GL adapter (lavapipe in CI); with `SBF_REQUIRE_GPU=1` a missing adapter fails.
 
 mod common;
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
-use baker::bvh::Bvh;
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::estimator::trace::Tracer;
 use baker::gpu::{kernel, GpuBake, TraceParams};
-use baker::lightmap::Lightmap;
+use baker::layout::lightmap::Lightmap;
 use baker::scene;
-use baker::trace::Tracer;
+use baker::scene::bvh::Bvh;
 use common::gpu;
 
 const ALL_BASES: [BasisKind; 6] = [BasisKind::ShL1, BasisKind::ShL2, BasisKind::Sg9, BasisKind::Sg12, BasisKind::Ad9, BasisKind::Ad12];
@@ -27,12 +27,13 @@ fn kernels_validate_and_structs_match() {
         assert_eq!(k.source.contains("fn ggx_d("), glossy);
         assert_eq!(k.left_out.iter().any(|l| l.starts_with("GGX layer")), !glossy);
         shaders::layout::check::<TraceParams>(&k.source).unwrap();
-        shaders::layout::check::<baker::bvh::Node>(&k.source).unwrap();
-        shaders::layout::check::<baker::bvh::Tri>(&k.source).unwrap();
+        shaders::layout::check::<baker::scene::bvh::Node>(&k.source).unwrap();
+        shaders::layout::check::<baker::scene::bvh::Tri>(&k.source).unwrap();
         shaders::layout::check::<shaders::progressive::EncoderState>(&k.source).unwrap();
         // With a filter (every basis: the records' Q planes): its params match their twin.
-        let f = kernel(&BakeConfig { filter: Some(baker::filter::Filter::parse("mitchell").unwrap()), ..cfg }, false, glossy).unwrap();
-        shaders::layout::check::<baker::filter_gpu::FilterParams>(&f.source).unwrap();
+        let f = kernel(&BakeConfig { filter: Some(baker::accumulate::filter::Filter::parse("mitchell").unwrap()), ..cfg }, false, glossy)
+            .unwrap();
+        shaders::layout::check::<baker::gpu::filter::FilterParams>(&f.source).unwrap();
         assert!(
             !f.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
                 && k.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
@@ -201,7 +202,7 @@ fn matches_cpu(pipeline: Pipeline) {
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(passes).unwrap();
     let gs = g.state().unwrap();
-    // Same seed: the same sample sequences (baker::sampler, bit-identical twins), so the
+    // Same seed: the same sample sequences (baker::sampling::sequence, bit-identical twins), so the
     // bakes agree texel by texel up to f32 rounding, except where a path diverges (a
     // comparison decided differently in f32 and f64 sends it elsewhere).
     let cpu_bake = |seed: u64| {
@@ -305,7 +306,7 @@ fn chunked_dispatches_give_the_identical_bake() {
         seed: 4,
         max_bounces: 3,
         bases: vec![BasisKind::ShL2, BasisKind::Ad9],
-        guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
+        guiding: Some(baker::sampling::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
         ..Default::default()
     };
     let run = |setup: &dyn Fn(&mut GpuBake)| {

@@ -1,4 +1,4 @@
-//! First-bounce ray guiding (`baker::guiding`, seed 003): the learned distribution and its
+//! First-bounce ray guiding (`baker::sampling::guiding`, seed 003): the learned distribution and its
 //! sampler against their definitions, the GPU build against its CPU twin, unbiasedness
 //! against the unguided bake (furnace and the built-in scene, per chart), the gain on a
 //! room lit through a slit, determinism and resume. (The closed-form scenes are in
@@ -12,13 +12,13 @@
 //! the encoders' weight left at 1 (the transport tests).
 
 mod common;
-use baker::bake::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
-use baker::bvh::Bvh;
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
-use baker::guiding::{self, GuidingOptions, BINS, BIN_COUNT};
-use baker::lightmap::Lightmap;
+use baker::layout::lightmap::Lightmap;
+use baker::sampling::guiding::{self, GuidingOptions, BINS, BIN_COUNT};
+use baker::scene::bvh::Bvh;
 use baker::scene::Scene;
-use baker::trace::Tracer;
 use common::gpu;
 use sbf::sampling::Pcg32;
 use std::f64::consts::PI;

@@ -7,9 +7,9 @@
 //! `SBF_FUZZ_CASES=10000 cargo test --release -p baker --test import_fuzz -- --nocapture`).
 //! Seeds are fixed, so a failing case is reproducible from its number.
 
-use baker::bvh::Bvh;
-use baker::import;
-use baker::lightmap::Lightmap;
+use baker::layout::lightmap::Lightmap;
+use baker::scene::bvh::Bvh;
+use baker::scene::import;
 use sbf::sampling::Pcg32;
 use serde_json::{json, Value};
 use std::path::Path;
@@ -222,7 +222,7 @@ fn mutate_bytes(b: &[u8], r: &mut Pcg32) -> Vec<u8> {
 fn exercise(path: &Path) -> Result<(), String> {
     let (scene, _) = import::load(path).map_err(|e| e.to_string())?;
     let bvh = Bvh::build(&scene);
-    assert!(bvh.depth() <= baker::bvh::MAX_DEPTH + 1);
+    assert!(bvh.depth() <= baker::scene::bvh::MAX_DEPTH + 1);
     Lightmap::build(&scene, 4.0, 1).map_err(|e| e.to_string())?;
     Ok(())
 }

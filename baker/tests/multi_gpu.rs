@@ -1,4 +1,4 @@
-//! One bake on several GPUs (`baker::multi_gpu`): the item split, and the merged state
+//! One bake on several GPUs (`baker::gpu::multi`): the item split, and the merged state
 //! against the single-device bake — bit for bit, since every item's samples depend on
 //! (item, pass) only — here with two and three logical devices on one adapter (lavapipe in
 //! CI; the measurement on real GPUs is `baker/examples/multi_gpu_scaling.rs`).
@@ -8,13 +8,13 @@
 //! every item, and a share one item short (the last item of a device keeps its zero state).
 
 mod common;
-use baker::bake::{BakeConfig, BakeState, BasisKind, Solver, Targets};
-use baker::bvh::Bvh;
+use baker::accumulate::{BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::estimator::trace::Tracer;
+use baker::gpu::multi::{owner, partition_block, MultiGpuBake};
 use baker::gpu::GpuBake;
-use baker::lightmap::Lightmap;
-use baker::multi_gpu::{owner, partition_block, MultiGpuBake};
+use baker::layout::lightmap::Lightmap;
 use baker::scene;
-use baker::trace::Tracer;
+use baker::scene::bvh::Bvh;
 use common::gpu;
 
 #[test]
@@ -55,7 +55,7 @@ fn merged_bakes_equal_the_single_device_bake() {
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, 6.0, 2).unwrap();
     let lightmap = Targets::lightmap(&lm);
-    let probes = Targets::probes(&baker::run::probe_grid(&bvh, [6, 6, 6]));
+    let probes = Targets::probes(&baker::layout::probes::probe_grid(&bvh, [6, 6, 6]));
     let tracer_of = || Tracer::new(&scene, &bvh, 3);
     for (targets, bases, what) in
         [(&lightmap, vec![BasisKind::ShL2, BasisKind::Ad9], "lightmap"), (&probes, vec![BasisKind::ShL2], "probes")]
@@ -86,7 +86,7 @@ fn merged_bakes_equal_the_single_device_bake() {
         max_bounces: 2,
         bases: vec![BasisKind::ShL2],
         solver: Solver::Ls,
-        guiding: Some(baker::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
+        guiding: Some(baker::sampling::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
         ..Default::default()
     };
     let err = MultiGpuBake::new(&gpus[..2], &tracer_of, &lightmap, &guided).unwrap_err();

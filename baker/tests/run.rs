@@ -1,8 +1,8 @@
 //! The `baker` command end to end: kill and resume, glTF import, bad scenes, leave-out.
 
-use baker::bake::{BakeConfig, BasisKind, Solver};
-use baker::import;
+use baker::accumulate::{BakeConfig, BasisKind, Solver};
 use baker::output::runtime_features;
+use baker::scene::import;
 use baker::scene::SceneError;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -556,15 +556,15 @@ fn shared_gltf_scenes_import_and_bake() {
     }
 }
 
-/// The stochastic-light-culling harness end to end on the built-in scene (CPU): it writes
+/// The `slc` command end to end on the built-in scene (CPU): it writes
 /// the image, the VPLs-per-pixel image and slc.json, and the culled image's mean is
 /// close to the brute-force one (one ξ draw: within 5% — the unbiasedness itself is
 /// tested over many draws in tests/slc.rs).
 #[test]
-fn slc_harness_writes_its_outputs() {
+fn slc_command_writes_its_outputs() {
     let d = tmp("slc");
-    let o =
-        baker(&["--slc", "512", "--slc-size", "64x36", "--slc-brute", "--device", "cpu", "--out", d.to_str().unwrap()]).output().unwrap();
+    let slc = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_slc")).args(args).output().unwrap();
+    let o = slc(&["--vpls", "512", "--size", "64x36", "--brute", "--device", "cpu", "--out", d.to_str().unwrap()]);
     let log = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{log}");
     for f in ["slc.exr", "slc_vpls_per_pixel.exr", "slc_brute.exr", "slc.json"] {
@@ -574,8 +574,8 @@ fn slc_harness_writes_its_outputs() {
     let (c, b) = (meta["brute_force"]["culled_mean"].as_f64().unwrap(), meta["brute_force"]["mean"].as_f64().unwrap());
     println!("{meta}");
     assert!(meta["vpls"].as_u64().unwrap() > 100 && (c - b).abs() <= 0.05 * b, "culled {c} vs brute {b}");
-    let bad = baker(&["--slc", "0", "--out", d.to_str().unwrap()]).output().unwrap();
-    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("--slc needs"));
+    let bad = slc(&["--vpls", "0", "--out", d.to_str().unwrap()]);
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("--vpls must be at least 1"));
 }
 
 /// `--profile`: a Lambert-only profile on the glossy built-in scene bakes only its bases,

@@ -1,4 +1,4 @@
-//! The sample sequences (`baker::sampler`, seed 004 §6.2): the WGSL twin
+//! The sample sequences (`baker::sampling::sequence`, seed 004 §6.2): the WGSL twin
 //! (`wgsl/sampler.wgsl`) against the CPU one, bit for bit, on indices and seeds at the
 //! edges of u32 and random ones; the CPU layout's properties. The sequences' own
 //! properties (nets, uniformity over seeds) are tested in `sbf::sampling::sobol`; the
@@ -10,7 +10,7 @@
 //! each fails the bit comparison.
 
 mod common;
-use baker::sampler::{group_point, item_key, PathSampler, Sequence, DIRECTION, EMITTER, ENVIRONMENT};
+use baker::sampling::sequence::{group_point, item_key, PathSampler, Sequence, DIRECTION, EMITTER, ENVIRONMENT};
 use sbf::sampling::Pcg32;
 
 /// WGSL `struct SamplerParams` (the fields of `TraceParams` the sampler reads).
@@ -73,7 +73,7 @@ fn gpu_sequences_equal_the_cpu_ones_bit_for_bit() {
     // The item keys, and the points a path draws (vertex, use), from a 64-bit bake seed.
     for seed in [1u64, 0xdead_beef_0000_0001, u64::MAX] {
         let ids = edge_and_random(&mut r, 200);
-        let params = SamplerParams { seed: baker::sampler::gpu_seed(seed), sampler: 0, pad0: 0, pad1: 0 };
+        let params = SamplerParams { seed: baker::sampling::sequence::gpu_seed(seed), sampler: 0, pad0: 0, pad1: 0 };
         let io: Vec<[u32; 4]> = ids.iter().map(|&id| [id, 0, 0, 0]).collect();
         let got = run(&g, "    io[i] = vec4<u32>(sampler_new(io[i].x, 0u).key, 0u, 0u, 0u);", params, &io);
         for (id, k) in ids.iter().zip(&got) {

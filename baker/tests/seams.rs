@@ -1,12 +1,12 @@
-//! Seam stitching (`baker::seams`): seams found from the geometry (a plane cut into two UV
+//! Seam stitching (`baker::post::seams`): seams found from the geometry (a plane cut into two UV
 //! islands has exactly one, a fold has none), and a known seam closed by the least-squares
 //! stitch while texels away from it keep their values and every coefficient set moves by
 //! the same linear map.
 
-use baker::lightmap::Lightmap;
-use baker::output::LightmapImages;
+use baker::layout::lightmap::Lightmap;
+use baker::post::images::LightmapImages;
+use baker::post::seams::{find_seams, samples, seam_metric, stitch};
 use baker::scene::{Mesh, Scene};
-use baker::seams::{find_seams, samples, seam_metric, stitch};
 use sbf::glam::{Vec2, Vec3};
 
 /// A unit square (z = 0, or folded 90° along its diagonal) as two triangles whose lightmap

@@ -48,7 +48,7 @@ fn vpls(draw: u64) -> Vec<Vpl> {
                 (Vec3::new(8.0 * r.next_f64() as f32 - 4.0, -1.0 + 3.4 * r.next_f64() as f32, -6.0), Vec3::Z)
             };
             let l = uniform_hemisphere(r.next_2d()).as_vec3();
-            let (t, b) = baker::lightmap::frame(normal);
+            let (t, b) = baker::scene::geometry::frame(normal);
             let incoming = (t * l.x + b * l.y + normal * l.z.max(0.2)).normalize();
             let glossy = k % 4 >= 2;
             Vpl {
@@ -70,7 +70,7 @@ type Renderer<'a> = Box<dyn Fn(&GBuffer, &[Vpl], Mode) -> Render + 'a>;
 fn engines(g: Option<&Gpu>) -> Vec<(&'static str, Renderer<'_>)> {
     let mut v: Vec<(&'static str, Renderer)> = vec![("CPU", Box::new(|gb: &GBuffer, l: &[Vpl], m: Mode| render(gb, l, DELTA, m, 1)))];
     if let Some(gpu) = g {
-        v.push(("GPU", Box::new(move |gb: &GBuffer, l: &[Vpl], m: Mode| baker::slc_gpu::render(gpu, gb, l, DELTA, m, 1).unwrap())));
+        v.push(("GPU", Box::new(move |gb: &GBuffer, l: &[Vpl], m: Mode| baker::slc::gpu::render(gpu, gb, l, DELTA, m, 1).unwrap())));
     }
     v
 }
@@ -158,7 +158,7 @@ fn gpu_matches_cpu() {
     ] {
         let l = vpls(7);
         let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
-        let mut run = baker::slc_gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
+        let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
         run.set_bound(bound);
         let gg = run.run(mode).unwrap();
         if mode == Mode::Culled && il == 1 {
@@ -208,7 +208,7 @@ fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
     let g = GBuffer { width: w, height: h, tan_xy: (t, t), texels };
     let mut r = Pcg32::new(77, 3);
     let normal = -Vec3::Z;
-    let (ta, tb) = baker::lightmap::frame(normal);
+    let (ta, tb) = baker::scene::geometry::frame(normal);
     let vpls: Vec<Vpl> = (0..100)
         .map(|_| {
             let [a, b] = r.next_2d();
@@ -238,7 +238,7 @@ fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
 /// 0.2 and 0.3. The thresholds are the and the seed's claims, not measured values
 /// (measured: FDR −86…−89%, counts −93…−98%). At 1920 × 1080 with the cornell box's
 /// random incidences the per-pixel drop is smaller (tile granularity, oblique lobes): see
-/// `baker --slc … --slc-compare-bounds`.
+/// `slc … --compare-bounds`.
 #[test]
 fn spheroids_cut_false_discoveries() {
     use baker::slc::Bound;

@@ -4,8 +4,8 @@
 //! oracle, written here: Simpson's rule in the equiangular angle, where the 1/l² peak is
 //! flat).
 
+use baker::slc::media::{ray_segment, render, MediaLight, MediaMode, Medium};
 use baker::slc::GBuffer;
-use baker::slc_media::{ray_segment, render, MediaLight, MediaMode, Medium};
 use sbf::glam::{DVec3, Vec3};
 use sbf::sampling::Pcg32;
 use std::f64::consts::PI;

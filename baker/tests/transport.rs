@@ -13,12 +13,12 @@
 //! mean within 3σ_mean, every texel within 5σ (plus the same rounding bound).
 //!
 //! The GPU runs every case twice: through the megakernel and through the wavefront
-//! pipeline (`baker::wavefront`).
+//! pipeline (`baker::gpu::wavefront`).
 
 mod common;
-use baker::bake::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
-use baker::guiding::GuidingOptions;
-use baker::lightmap::Lightmap;
+use baker::accumulate::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::layout::lightmap::Lightmap;
+use baker::sampling::guiding::GuidingOptions;
 use baker::scene::{disk_light, Environment, Light, Material, Mesh, Scene};
 use common::gpu;
 use sbf::glam::{DVec3, Vec3};
@@ -259,7 +259,7 @@ fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<Guiding
 /// runs independent) — the ratio falls to ≈ 1 and the test fails.
 #[test]
 fn sobol_sequences_lower_the_error_at_equal_passes() {
-    use baker::sampler::Sequence;
+    use baker::sampling::sequence::Sequence;
     for (name, g) in engines() {
         let (rad, l) = (0.5f64, Vec3::new(4.0, 3.0, 2.0));
         let h = rad;
@@ -403,7 +403,7 @@ fn basis_encodings_match_their_projections() {
             let (_, _, st) = bake(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
             // The delta's direction in the texels' tangent frame (all texels share it).
             let ld = delta.map(|_| {
-                let (t, b) = baker::lightmap::frame(Vec3::Y);
+                let (t, b) = baker::scene::geometry::frame(Vec3::Y);
                 let d = DVec3::new(el.cos(), el.sin(), 0.0);
                 DVec3::new(d.dot(t.as_dvec3()), d.dot(b.as_dvec3()), d.dot(DVec3::Y))
             });
@@ -633,7 +633,7 @@ fn point_light_encodings_match_their_projections() {
     let (h, i) = (0.7f32, 3.0f32);
     let pos = Vec3::new(0.1, h, -0.2);
     let s = plane_scene(vec![Light::Point { position: pos, intensity: Vec3::splat(i), range: f32::INFINITY }], Environment::Black);
-    let (t, b) = baker::lightmap::frame(Vec3::Y);
+    let (t, b) = baker::scene::geometry::frame(Vec3::Y);
     let local = |w: Vec3| DVec3::new(w.dot(t) as f64, w.dot(b) as f64, w.dot(Vec3::Y) as f64);
     for (name, g) in engines() {
         let passes = 8192;
@@ -738,7 +738,7 @@ fn disk_light_texel_encodings_match_their_projections() {
 }
 
 /// The same with ray guiding (16 learning passes): the encoders' weighted samples and
-/// scaled known projections (`baker::bake::ItemSample::weight`) fit the same projection.
+/// scaled known projections (`baker::accumulate::ItemSample::weight`) fit the same projection.
 #[test]
 fn guided_disk_light_texel_encodings_match_their_projections() {
     disk_light_texel_encodings(Some(GuidingOptions { learn_passes: 16, guided_fraction: 0.5 }), &[0.1, 1.0]);
@@ -746,7 +746,7 @@ fn guided_disk_light_texel_encodings_match_their_projections() {
 
 fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) {
     let (rad, l) = (0.5f64, 3.0f64);
-    let (t, b) = baker::lightmap::frame(Vec3::Y);
+    let (t, b) = baker::scene::geometry::frame(Vec3::Y);
     let local = |w: DVec3| DVec3::new(w.dot(t.as_dvec3()), w.dot(b.as_dvec3()), w.y);
     let (gx, gw) = sbf::quadrature::gauss_legendre(64);
     for &hr in heights {
@@ -804,7 +804,7 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
     }
 }
 
-/// Ray guiding is unbiased (seed 003's first-bounce guiding, `baker::guiding`): guided
+/// Ray guiding is unbiased (seed 003's first-bounce guiding, `baker::sampling::guiding`): guided
 /// bakes of (c) the disk light at h = 0.1 R and R and (e) the constant environment meet
 /// the same closed forms and the same error model as the unguided ones, on the CPU and
 /// the GPU. 16 learning passes of 256 (128 for the environment): the disk's direction is

@@ -27,12 +27,12 @@ pub fn gpu() -> Option<shaders::gpu::Lease> {
 pub fn bake_on(
     gpu: Option<&shaders::gpu::Gpu>,
     scene: &baker::scene::Scene,
-    targets: &baker::bake::Targets,
-    cfg: &baker::bake::BakeConfig,
+    targets: &baker::accumulate::Targets,
+    cfg: &baker::accumulate::BakeConfig,
     passes: u64,
-) -> baker::bake::BakeState {
-    use baker::trace::Tracer;
-    let bvh = baker::bvh::Bvh::build(scene);
+) -> baker::accumulate::BakeState {
+    use baker::estimator::trace::Tracer;
+    let bvh = baker::scene::bvh::Bvh::build(scene);
     match gpu {
         Some(g) => {
             let mut b = baker::gpu::GpuBake::new(g, &Tracer::new(scene, &bvh, cfg.max_bounces), targets, cfg).unwrap();
@@ -40,7 +40,7 @@ pub fn bake_on(
             b.state().unwrap()
         }
         None => {
-            let mut b = baker::bake::Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
+            let mut b = baker::accumulate::Bake::new(cfg.clone(), targets, Tracer::new(scene, &bvh, cfg.max_bounces));
             for _ in 0..passes {
                 b.pass();
             }

@@ -1,0 +1,207 @@
+//! What a bake is asked to do: the bases it encodes into, the solver, the sample
+//! sequences and the optional accumulation strategies (guiding, adaptive, camera-based,
+//! filtered), with the checks that refuse combinations a bake cannot run.
+
+use super::Targets;
+use crate::sampling::sequence::Sequence;
+use sbf::glam::DVec3;
+use sbf::solve::ProgressiveOptions;
+use sbf::Basis;
+
+/// Sharpness of the hemisphere SG sets (9 and 12 lobes), "experimentally selected" as
+/// in seed 004 §7.2 after Pettineo and Neubelt; the same λ = 6 as the `probes` tool's
+/// `sg9h`/`sg12h` and the Appendix C tests. (Probulator's spacing heuristic,
+/// `sbf::layout::sharpness_from_spacing`, is meant for sphere sets: on the 9-lobe
+/// hemisphere spiral it gives λ ≈ 56, lobes too narrow to represent a constant.)
+pub const SG_HEMISPHERE_SHARPNESS: f64 = 6.0;
+
+/// Acceleration α of the progressive update for path-traced samples. The seed's α = 3
+/// (sbf's default, tuned on noise-free map samples) amplifies Monte Carlo noise: on the
+/// built-in scene at 256 samples per texel, AD9 progressive NNLS with α = 3 has 1.69×
+/// the irradiance RMSE of a batch NNLS fit of the same samples, α = 2 1.35×, α = 1
+/// 0.96× (tests/convergence.rs prints the comparison).
+pub const BAKE_ACCELERATION: f64 = 1.0;
+
+/// A basis the baker encodes into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum BasisKind {
+    ShL1,
+    ShL2,
+    Sg9,
+    Sg12,
+    Ad9,
+    Ad12,
+}
+
+impl BasisKind {
+    pub const ALL: [(BasisKind, &'static str); 6] = [
+        (BasisKind::ShL1, "sh1"),
+        (BasisKind::ShL2, "sh2"),
+        (BasisKind::Sg9, "sg9"),
+        (BasisKind::Sg12, "sg12"),
+        (BasisKind::Ad9, "ad9"),
+        (BasisKind::Ad12, "ad12"),
+    ];
+    pub fn parse(s: &str) -> Option<BasisKind> {
+        Self::ALL.iter().find(|(_, n)| *n == s).map(|(k, _)| *k)
+    }
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).unwrap_or("?")
+    }
+    /// The sbf basis in tangent space (hemisphere lobes for SG; the seed's 9-lobe set for AD9).
+    pub fn basis(self) -> Box<dyn Basis + Send + Sync> {
+        match self {
+            BasisKind::ShL1 => Box::new(sbf::ShBasis::new(1).expect("order 1")),
+            BasisKind::ShL2 => Box::new(sbf::ShBasis::new(2).expect("order 2")),
+            BasisKind::Sg9 | BasisKind::Sg12 => {
+                let (axes, lambda) = self.sg_lobes();
+                Box::new(sbf::SgBasis::new(&axes, lambda, false).expect("SG basis"))
+            }
+            BasisKind::Ad9 => Box::new(sbf::AmbientDiceSrbf::nine_hemisphere()),
+            BasisKind::Ad12 => Box::new(sbf::AmbientDiceSrbf::twelve()),
+        }
+    }
+    /// SG lobe axes (Vogel hemisphere about +Z) and their shared sharpness
+    /// [`SG_HEMISPHERE_SHARPNESS`].
+    pub fn sg_lobes(self) -> (Vec<DVec3>, f64) {
+        let n = if self == BasisKind::Sg9 { 9 } else { 12 };
+        (sbf::layout::vogel_hemisphere(n).expect("vogel layout"), SG_HEMISPHERE_SHARPNESS)
+    }
+    /// Whether every basis function is ≥ 0 (so a non-negativity constraint on the
+    /// coefficients means something): SG and Ambient Dice SRBF lobes, not SH.
+    pub fn non_negative(self) -> bool {
+        !matches!(self, BasisKind::ShL1 | BasisKind::ShL2)
+    }
+    /// Whether the basis covers the whole sphere (else the upper hemisphere).
+    pub fn is_sphere(self) -> bool {
+        matches!(self, BasisKind::ShL1 | BasisKind::ShL2 | BasisKind::Ad12)
+    }
+}
+
+/// Least squares or non-negative least squares (progressive, seed §7.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver {
+    Ls,
+    Nnls,
+}
+
+/// Bake settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BakeConfig {
+    pub seed: u64,
+    pub max_bounces: u32,
+    pub bases: Vec<BasisKind>,
+    pub solver: Solver,
+    /// First-bounce ray guiding of lightmap texels ([`crate::sampling::guiding`]); probes are never
+    /// guided.
+    pub guiding: Option<crate::sampling::guiding::GuidingOptions>,
+    /// The sample sequences ([`crate::sampling::sequence`]).
+    pub sampler: Sequence,
+    /// Adaptive sampling of lightmap texels ([`crate::accumulate::adaptive`]); None: every texel every
+    /// pass. Not with ray guiding, probes or several GPUs.
+    pub adaptive: Option<crate::accumulate::adaptive::AdaptiveOptions>,
+    /// Camera-based sampling of lightmap texels ([`crate::accumulate::camera`]); not with
+    /// `adaptive`, guiding, probes or several GPUs.
+    pub camera: Option<crate::accumulate::camera::CameraSampling>,
+    /// How a GPU bake runs its passes ([`Pipeline`]); the CPU bake ignores it.
+    pub pipeline: Pipeline,
+    /// Filtered gather-based accumulation ([`crate::accumulate::filter`]); None: each sample feeds
+    /// its own texel only (a one-texel box). Lightmaps only.
+    pub filter: Option<crate::accumulate::filter::Filter>,
+}
+
+/// How the GPU runs a pass: one thread per texel through whole paths, or breadth first
+/// (seed 004 §3.1, §5.1; [`crate::gpu::wavefront`]). Both run the same estimator on the same
+/// sample numbers, so the choice changes the time, not the bake.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pipeline {
+    /// One kernel, one thread per job through whole paths (`trace.wgsl`'s `bake_pass`).
+    #[default]
+    Megakernel,
+    /// Generate, then per bounce intersect, shade and compact the active paths, then
+    /// accumulate ([`crate::gpu::wavefront`]).
+    Wavefront,
+}
+
+impl Pipeline {
+    pub fn parse(s: &str) -> Option<Pipeline> {
+        match s {
+            "megakernel" => Some(Pipeline::Megakernel),
+            "wavefront" => Some(Pipeline::Wavefront),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Pipeline::Megakernel => "megakernel",
+            Pipeline::Wavefront => "wavefront",
+        }
+    }
+}
+
+impl Default for BakeConfig {
+    /// The `baker` command's defaults: seed 1, 4 bounces, SH L2 and Ambient Dice 9 with
+    /// NNLS (where it applies), Sobol' sequences, uniform passes on the megakernel, no
+    /// guiding and no filter.
+    fn default() -> Self {
+        BakeConfig {
+            seed: 1,
+            max_bounces: 4,
+            bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+            solver: Solver::Nnls,
+            guiding: None,
+            sampler: Default::default(),
+            adaptive: None,
+            camera: None,
+            pipeline: Default::default(),
+            filter: None,
+        }
+    }
+}
+
+impl BakeConfig {
+    /// Refuses combinations the bake cannot run, with the reason.
+    pub fn check(&self, targets: &Targets) -> Result<(), String> {
+        if let Some(f) = &self.filter {
+            f.validate()?;
+            if targets.sphere {
+                return Err("filtered accumulation applies to lightmap texels, not probes".into());
+            }
+        }
+        if let Some(c) = &self.camera {
+            c.validate()?;
+            if targets.sphere {
+                return Err("camera-based sampling applies to lightmap texels, not probes".into());
+            }
+            if self.guiding.is_some() || self.adaptive.is_some() {
+                return Err("camera-based sampling cannot be combined with ray guiding or adaptive sampling".into());
+            }
+        }
+        if let Some(a) = &self.adaptive {
+            a.validate()?;
+            if targets.sphere {
+                return Err("adaptive sampling applies to lightmap texels, not probes".into());
+            }
+            if self.guiding.is_some() {
+                return Err("adaptive sampling and ray guiding cannot be combined (guiding learns from whole passes)".into());
+            }
+        }
+        Ok(())
+    }
+
+    /// The progressive options for `basis` on these targets: Gauss–Seidel with the
+    /// eq. 7.15 denominator at acceleration [`BAKE_ACCELERATION`]; sphere bases on
+    /// texels see only the upper hemisphere, so mirrored zero samples pin the lower half
+    /// (seed §7.3's hemisphere handling); probes sample the whole sphere.
+    /// NNLS applies only to bases whose functions are non-negative (SG, Ambient Dice):
+    /// SH coefficients of a non-negative signal are legitimately negative, so SH is
+    /// always least squares ([`BasisKind::non_negative`]).
+    pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
+        let opts = match self.solver {
+            Solver::Nnls if basis.non_negative() => ProgressiveOptions::non_negative(),
+            _ => ProgressiveOptions::default(),
+        };
+        ProgressiveOptions { acceleration: BAKE_ACCELERATION, mirror_hemisphere: basis.is_sphere() && !sphere_targets, ..opts }
+    }
+}

@@ -1,0 +1,349 @@
+//! Checkpoints of the progressive state, written atomically (a temporary file in the
+//! same directory, synced, then renamed over the old one), so a bake killed at any
+//! moment leaves either the previous or the new checkpoint, never a torn one.
+//!
+//! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
+//! (scene, layout, seed, bounces, bases, solver, sample sequence, adaptive sampling: a resumed bake must be the same bake);
+//! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
+//! and the u64 counts of accepted, back-face and non-finite samples;
+//! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
+//! weight) and the u64 update count; u32 count n and the f32 ray-guiding sums, then the n
+//! sums of the current stage's basis (n = 0 without guiding); u32 count m of filtered
+//! gather targets (0 without a filter), per target the eight f64 weighted moments (Σw, Σw²,
+//! mean, M2) and the u64 sample count, the u64 count of negative-weight samples, and per
+//! basis and target the encoder state as above. f32 state round-trips exactly, so a resumed bake continues bit for bit.
+
+use crate::accumulate::{BakeConfig, BakeState, Moments, Targets};
+use crate::scene::{Environment, Light, Scene};
+use sbf::solve::ProgressiveEncoder;
+use std::io::Write;
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"SBFBAKE4";
+
+/// FNV-1a 64 (Fowler–Noll–Vo), fed with the bytes that determine a bake.
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    pub fn bytes(&mut self, b: &[u8]) {
+        for x in b {
+            self.0 = (self.0 ^ *x as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    pub fn u64(&mut self, x: u64) {
+        self.bytes(&x.to_le_bytes());
+    }
+    pub fn f32s(&mut self, v: &[f32]) {
+        for x in v {
+            self.bytes(&x.to_bits().to_le_bytes());
+        }
+    }
+    pub fn vec3(&mut self, v: sbf::glam::Vec3) {
+        self.f32s(&v.to_array());
+    }
+    pub fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// The identity of a bake: a hash of the scene content (geometry, normals, lightmap UVs,
+/// materials, lights, environment texels), the targets (every sample point and item —
+/// so the layout and the probe positions), and the settings that change the result.
+pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig, what: &str) -> u64 {
+    let mut h = Fnv::default();
+    h.bytes(what.as_bytes());
+    for m in &scene.meshes {
+        h.u64(m.positions.len() as u64);
+        m.positions.iter().chain(&m.normals).for_each(|v| h.vec3(*v));
+        m.indices.iter().flatten().for_each(|i| h.u64(*i as u64));
+        if let Some(uv) = &m.lightmap_uv {
+            uv.iter().for_each(|v| h.f32s(&v.to_array()));
+        }
+        h.u64(m.material as u64);
+        h.u64(m.lightmapped as u64);
+    }
+    for m in &scene.materials {
+        h.vec3(m.base_color);
+        h.vec3(m.emissive);
+        h.f32s(&[m.metallic, m.roughness, m.specular]);
+        h.u64(m.double_sided as u64);
+    }
+    for l in &scene.lights {
+        match *l {
+            Light::Directional { direction, irradiance } => {
+                h.u64(0);
+                h.vec3(direction);
+                h.vec3(irradiance);
+            }
+            Light::Point { position, intensity, range } => {
+                h.u64(1);
+                h.vec3(position);
+                h.vec3(intensity);
+                h.f32s(&[range]);
+            }
+            Light::Spot { position, direction, intensity, cos_inner, cos_outer, range } => {
+                h.u64(2);
+                h.vec3(position);
+                h.vec3(direction);
+                h.vec3(intensity);
+                h.f32s(&[cos_inner, cos_outer, range]);
+            }
+        }
+    }
+    match &scene.environment {
+        Environment::Black => h.u64(10),
+        Environment::Constant(c) => {
+            h.u64(11);
+            h.vec3(*c);
+        }
+        Environment::Sky { zenith, horizon, ground } => {
+            h.u64(12);
+            [zenith, horizon, ground].iter().for_each(|c| h.vec3(**c));
+        }
+        Environment::Map(m) => {
+            h.u64(13);
+            h.u64(m.geometry.width as u64);
+            m.texels.iter().for_each(|t| h.f32s(t));
+        }
+    }
+    h.u64(targets.sphere as u64);
+    for p in &targets.points {
+        h.vec3(p.position);
+        h.vec3(p.normal);
+        h.vec3(p.geometric);
+    }
+    targets.items.iter().flatten().for_each(|x| h.u64(*x as u64));
+    h.u64(config.seed);
+    h.u64(config.max_bounces as u64);
+    config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
+    h.bytes(format!("{:?}", config.solver).as_bytes());
+    h.bytes(config.sampler.name().as_bytes());
+    if let Some(c) = config.camera {
+        h.bytes(b"camera");
+        h.vec3(c.camera.eye);
+        h.vec3(c.camera.target);
+        h.u64(c.camera.fov_y.to_bits() as u64);
+        h.u64(((c.camera.width as u64) << 32) | c.camera.height as u64);
+        h.u64(c.pilot_passes);
+        h.u64(c.max_per_batch as u64);
+    }
+    if let Some(a) = config.adaptive {
+        h.bytes(b"adaptive");
+        h.u64(a.pilot_passes);
+        h.u64(a.batch_fraction.to_bits());
+        h.u64(a.floor.to_bits());
+        h.u64(a.max_per_batch as u64);
+    }
+    if let Some(g) = config.guiding {
+        h.bytes(b"guiding");
+        h.u64(g.learn_passes);
+        h.u64(g.guided_fraction.to_bits());
+    }
+    if let Some(f) = config.filter {
+        h.bytes(b"filter");
+        h.bytes(f.name().as_bytes());
+        h.u64(f.radius.to_bits() as u64);
+    }
+    h.finish()
+}
+
+/// Serialises a state.
+pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
+    let mut v = Vec::new();
+    v.extend_from_slice(MAGIC);
+    v.extend_from_slice(&fingerprint.to_le_bytes());
+    v.extend_from_slice(&state.passes.to_le_bytes());
+    v.extend_from_slice(&(state.moments.len() as u32).to_le_bytes());
+    v.extend_from_slice(&(state.encoders.len() as u32).to_le_bytes());
+    for e in &state.encoders {
+        let lobes = e.first().map(|x| x.coefficients().nrows()).unwrap_or(0);
+        v.extend_from_slice(&(lobes as u32).to_le_bytes());
+    }
+    for m in &state.moments {
+        for x in m.sum.iter().chain(&m.sum_sq) {
+            v.extend_from_slice(&x.to_le_bytes());
+        }
+        for n in [m.accepted, m.back_faces, m.non_finite] {
+            v.extend_from_slice(&n.to_le_bytes());
+        }
+    }
+    write_encoders(&mut v, &state.encoders);
+    v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
+    for x in state.guide_sums.iter().chain(&state.guide_basis) {
+        v.extend_from_slice(&x.to_le_bytes());
+    }
+    match &state.filtered {
+        None => v.extend_from_slice(&0u32.to_le_bytes()),
+        Some(f) => {
+            v.extend_from_slice(&(f.moments.len() as u32).to_le_bytes());
+            for m in &f.moments {
+                for x in [m.weight, m.weight_sq].iter().chain(&m.mean).chain(&m.m2) {
+                    v.extend_from_slice(&x.to_le_bytes());
+                }
+                v.extend_from_slice(&m.samples.to_le_bytes());
+            }
+            v.extend_from_slice(&f.negative_weights.to_le_bytes());
+            write_encoders(&mut v, &f.encoders);
+        }
+    }
+    v
+}
+
+fn write_encoders(v: &mut Vec<u8>, encoders: &[Vec<ProgressiveEncoder<f32>>]) {
+    for encs in encoders {
+        for e in encs {
+            let c = e.coefficients();
+            for (i, g) in e.integrals().iter().enumerate() {
+                for x in [c[(i, 0)], c[(i, 1)], c[(i, 2)], *g] {
+                    v.extend_from_slice(&(x as f32).to_le_bytes());
+                }
+            }
+            v.extend_from_slice(&(e.total_weight() as f32).to_le_bytes());
+            v.extend_from_slice(&e.sample_count().to_le_bytes());
+        }
+    }
+}
+
+fn read_encoders(
+    r: &mut Reader,
+    config: &BakeConfig,
+    targets: &Targets,
+    lobes: &[usize],
+    encoders: &mut [Vec<ProgressiveEncoder<f32>>],
+) -> Result<(), String> {
+    for (b, encs) in encoders.iter_mut().enumerate() {
+        let opts = config.encoder_options(config.bases[b], targets.sphere);
+        for e in encs.iter_mut() {
+            let mut amp = vec![[0.0; 3]; lobes[b]];
+            let mut integ = vec![0.0; lobes[b]];
+            for i in 0..lobes[b] {
+                amp[i] = [r.f32()? as f64, r.f32()? as f64, r.f32()? as f64];
+                integ[i] = r.f32()? as f64;
+            }
+            let w = r.f32()? as f64;
+            let n = r.u64()?;
+            *e = ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))?;
+        }
+    }
+    Ok(())
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        let s = self.b.get(self.at..self.at + n).ok_or_else(|| format!("checkpoint truncated at byte {}", self.at))?;
+        self.at += n;
+        Ok(s)
+    }
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+    }
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+    }
+    fn f32(&mut self) -> Result<f32, String> {
+        Ok(f32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+    }
+}
+
+/// Reads a state saved for the bake with this fingerprint, config and targets.
+pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: &Targets) -> Result<BakeState, String> {
+    let mut r = Reader { b: bytes, at: 0 };
+    if r.take(8)? != MAGIC {
+        return Err("not a baker checkpoint (bad magic)".into());
+    }
+    let fp = r.u64()?;
+    if fp != fingerprint {
+        return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver, sample sequence, adaptive sampling, ray guiding or the filter changed"));
+    }
+    let passes = r.u64()?;
+    let (items, nb) = (r.u32()? as usize, r.u32()? as usize);
+    let mut state = BakeState::new(config, targets);
+    if items != state.moments.len() || nb != state.encoders.len() {
+        return Err(format!("checkpoint has {items} items × {nb} bases, this bake {} × {}", state.moments.len(), state.encoders.len()));
+    }
+    let mut lobes = Vec::with_capacity(nb);
+    for b in 0..nb {
+        let l = r.u32()? as usize;
+        let want = config.bases[b].basis().len();
+        if l != want {
+            return Err(format!("checkpoint basis {b} has {l} lobes, {} has {want}", config.bases[b].name()));
+        }
+        lobes.push(l);
+    }
+    for m in state.moments.iter_mut() {
+        let mut x = [0.0; 6];
+        for v in x.iter_mut() {
+            *v = r.f64()?;
+        }
+        let (accepted, back_faces, non_finite) = (r.u64()?, r.u64()?, r.u64()?);
+        *m = Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]], accepted, back_faces, non_finite };
+    }
+    read_encoders(&mut r, config, targets, &lobes, &mut state.encoders)?;
+    let sums = r.u32()? as usize;
+    if sums != state.guide_sums.len() {
+        return Err(format!("checkpoint has {sums} ray-guiding sums, this bake {}", state.guide_sums.len()));
+    }
+    for x in state.guide_sums.iter_mut().chain(state.guide_basis.iter_mut()) {
+        *x = r.f32()?;
+    }
+    let gathered = r.u32()? as usize;
+    let want = state.filtered.as_ref().map_or(0, |f| f.moments.len());
+    if gathered != want {
+        return Err(format!("checkpoint has {gathered} filtered gather targets, this bake {want}"));
+    }
+    if let Some(f) = &mut state.filtered {
+        for m in f.moments.iter_mut() {
+            let mut x = [0.0; 8];
+            for v in x.iter_mut() {
+                *v = r.f64()?;
+            }
+            let samples = r.u64()?;
+            *m = crate::accumulate::filter::WeightedMoments {
+                weight: x[0],
+                weight_sq: x[1],
+                mean: [x[2], x[3], x[4]],
+                m2: [x[5], x[6], x[7]],
+                samples,
+            };
+        }
+        f.negative_weights = r.u64()?;
+        read_encoders(&mut r, config, targets, &lobes, &mut f.encoders)?;
+    }
+    if r.at != bytes.len() {
+        return Err(format!("checkpoint has {} trailing bytes", bytes.len() - r.at));
+    }
+    state.passes = passes;
+    Ok(state)
+}
+
+/// Writes `bytes` to `path` atomically (temporary file + fsync + rename).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let tmp = path.with_extension("tmp");
+    let mut f = std::fs::File::create(&tmp).map_err(|e| format!("creating {}: {e}", tmp.display()))?;
+    f.write_all(bytes).map_err(|e| format!("writing {}: {e}", tmp.display()))?;
+    f.sync_all().map_err(|e| format!("syncing {}: {e}", tmp.display()))?;
+    drop(f);
+    std::fs::rename(&tmp, path).map_err(|e| format!("renaming {} to {}: {e}", tmp.display(), path.display()))?;
+    // The rename is durable only once the directory entry is (POSIX): sync the folder.
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    #[cfg(unix)]
+    std::fs::File::open(dir).and_then(|d| d.sync_all()).map_err(|e| format!("syncing {}: {e}", dir.display()))?;
+    #[cfg(not(unix))]
+    let _ = dir;
+    Ok(())
+}

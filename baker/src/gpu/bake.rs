@@ -1,0 +1,1348 @@
+//! The wgpu path: the same estimator as [`crate::estimator::trace`] in WGSL (`wgsl/trace.wgsl`),
+//! traversing the CPU-built BVH nodes, one path per item and pass, each sample fed to
+//! the `shaders` crate's `progressive_update` for every configured basis.
+//!
+//! The kernel is composed per bake: the `shaders` items it calls (the encoder, the
+//! configured bases' evaluators, the GGX terms only when a material is glossy) plus a
+//! generated part (SG lobe tables, per-basis `basis_k` and the `encode` function with
+//! each basis's encoder options as constants). What was left out is reported.
+//!
+//! Random numbers: the same sequences as the CPU's ([`crate::sampling::sequence`], `wgsl/sampler.wgsl`,
+//! bit for bit); the estimator runs in f32 (the CPU's partly in f64), so CPU and GPU bakes
+//! agree statistically, not bit for bit (the CPU↔GPU test checks means within 4σ).
+
+use crate::accumulate::{BakeConfig, BakeState, BasisKind, Moments, Targets};
+use crate::estimator::trace::{specular_probability, Tracer};
+use crate::scene::{Environment, Light};
+use sbf::glam::Vec3;
+use shaders::gpu::Gpu;
+use shaders::progressive::{EncoderParams, EncoderState};
+use wgpu::util::DeviceExt;
+
+/// Uniform parameters of a pass (WGSL `TraceParams`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TraceParams {
+    pub pass_index: u32,
+    pub seed: u32,
+    pub item_count: u32,
+    pub max_bounces: u32,
+    pub emitter_count: u32,
+    pub light_count: u32,
+    pub env_kind: u32,
+    pub mode: u32,
+    pub env_cells_offset: u32,
+    pub inv_total_power: f32,
+    pub count_rays: u32,
+    pub primary_only: u32,
+    pub light_offset: u32,
+    pub emitter_offset: u32,
+    pub env_offset: u32,
+    pub env_width: u32,
+    pub env_rows_offset: u32,
+    pub env_cdf_width: u32,
+    pub env_cdf_height: u32,
+    pub guide_phase: u32,
+    /// Ray guiding: the pass's stage and the stage's first pass (`guiding::stage`).
+    pub guide_stage: u32,
+    pub guide_start: u32,
+    /// The items of this dispatch, [item_offset, item_end) (a pass may take several), as
+    /// positions in this device's share of the items.
+    pub item_offset: u32,
+    pub item_end: u32,
+    /// Multi-GPU partition ([`crate::gpu::multi`]): the items are dealt out in blocks of
+    /// `part_block`, block b to device b mod `part_count`; this device is `part_index`.
+    /// Position v of its share is item (v / B)·B·count + index·B + v mod B (one device: v).
+    pub part_block: u32,
+    pub part_count: u32,
+    pub part_index: u32,
+    /// Passes this dispatch runs, from `pass_index` (each thread takes its item through
+    /// them in order, so an item's state sees exactly the one-pass-per-dispatch updates).
+    pub pass_count: u32,
+    /// [`crate::sampling::sequence::Sequence::code`].
+    pub sampler: u32,
+    /// 1: the dispatch runs an adaptive batch (indirect, its items listed).
+    pub batch_mode: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+    pub env0: [f32; 4],
+    pub env1: [f32; 4],
+    pub env2: [f32; 4],
+}
+shaders::gpu_struct!(
+    TraceParams,
+    "TraceParams",
+    [
+        pass_index,
+        seed,
+        item_count,
+        max_bounces,
+        emitter_count,
+        light_count,
+        env_kind,
+        mode,
+        env_cells_offset,
+        inv_total_power,
+        count_rays,
+        primary_only,
+        light_offset,
+        emitter_offset,
+        env_offset,
+        env_width,
+        env_rows_offset,
+        env_cdf_width,
+        env_cdf_height,
+        guide_phase,
+        guide_stage,
+        guide_start,
+        item_offset,
+        item_end,
+        part_block,
+        part_count,
+        part_index,
+        pass_count,
+        sampler,
+        batch_mode,
+        pad1,
+        pad2,
+        env0,
+        env1,
+        env2
+    ]
+);
+shaders::gpu_struct!(crate::scene::bvh::Node, "Node", [min, left_first, max, count]);
+shaders::gpu_struct!(crate::scene::bvh::Tri, "Tri", [v0, material, e1, mesh, e2, prim]);
+
+const WG: u32 = 64;
+const TRACE_WGSL: &str = include_str!("wgsl/trace.wgsl");
+/// The sample sequences in WGSL (`wgsl/sampler.wgsl`; reads `P.seed`, `P.sampler`).
+pub const SAMPLER_WGSL: &str = include_str!("wgsl/sampler.wgsl");
+const GLOSSY_WGSL: &str = include_str!("wgsl/glossy.wgsl");
+const GLOSSY_NONE_WGSL: &str = include_str!("wgsl/glossy_none.wgsl");
+const GUIDE_WGSL: &str = include_str!("wgsl/guide.wgsl");
+const ADAPT_BATCH_WGSL: &str = include_str!("wgsl/adapt_batch.wgsl");
+const ADAPT_NONE_WGSL: &str = include_str!("wgsl/adapt_none.wgsl");
+const GUIDE_NONE_WGSL: &str = include_str!("wgsl/guide_none.wgsl");
+const FILTER_WGSL: &str = include_str!("wgsl/filter.wgsl");
+const FILTER_NONE_WGSL: &str = include_str!("wgsl/filter_none.wgsl");
+const GUIDE_COMMON_WGSL: &str = include_str!("wgsl/guide_common.wgsl");
+const GUIDE_BUILD_WGSL: &str = include_str!("wgsl/guide_build.wgsl");
+const GUIDE_BUILD_SUBGROUP_WGSL: &str = include_str!("wgsl/guide_build_subgroup.wgsl");
+
+/// The WGSL of ray guiding's kernels: (gather + workgroup build, subgroup build).
+pub fn guide_build_sources() -> (String, String) {
+    (format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_WGSL}"), format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_SUBGROUP_WGSL}"))
+}
+
+/// How ray guiding's distributions are built on this device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GuideBuild {
+    /// Row and marginal prefix sums by subgroup scans (seed 003's wave prefix sums).
+    Subgroup,
+    /// Serial sums in workgroup memory (no subgroups, or subgroups narrower than a row).
+    Workgroup,
+}
+
+/// The kernel source for a bake and what its composition left out.
+#[derive(Debug, Clone)]
+pub struct Kernel {
+    pub source: String,
+    /// One line per left-out part ("GGX layer: no glossy material", shaders items).
+    pub left_out: Vec<String>,
+}
+
+fn f(x: f64) -> String {
+    format!("{:?}", x as f32)
+}
+
+fn v3(a: sbf::glam::DVec3) -> String {
+    format!("vec3<f32>({}, {}, {})", f(a.x), f(a.y), f(a.z))
+}
+
+/// Composes the bake kernel for `config` (`glossy`: whether any material has a GGX layer).
+pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
+    let mut roots =
+        vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
+    if glossy {
+        roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
+    }
+    let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
+    let mut left_out = Vec::new();
+    let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
+    // Known projections of the baked point's light samples, per basis (sbf
+    // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
+    let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
+    // The projections start at zero for every pass of an item (a dispatch may run several).
+    let mut project_reset = String::from("fn project_reset() {\n");
+    let (mut filtered_vars, mut filtered_load, mut filtered_store, mut filtered_update) = (
+        String::new(),
+        String::from("fn filtered_load(out: u32) {\n"),
+        String::from("fn filtered_store(out: u32) {\n"),
+        String::from("fn encode_filtered(d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n"),
+    );
+    for (k, b) in config.bases.iter().enumerate() {
+        let lobes = b.basis().len();
+        let body = match b {
+            BasisKind::ShL1 | BasisKind::ShL2 => {
+                let (name, n) = if *b == BasisKind::ShL1 { ("sh_eval_l1", 4) } else { ("sh_eval_l2", 9) };
+                roots.push(name);
+                format!("    let v = {name}(d);\n    for (var i = 0u; i < {n}u; i++) {{\n        b[i] = v[i];\n    }}\n")
+            }
+            BasisKind::Sg9 | BasisKind::Sg12 => {
+                roots.push("sg_eval");
+                let (axes, lambda) = b.sg_lobes();
+                let items: Vec<String> = axes.iter().map(|a| format!("    {},", v3(*a))).collect();
+                gen += &format!(
+                    "const BASIS_{k}_AXES: array<vec3<f32>, {lobes}> = array<vec3<f32>, {lobes}>(\n{}\n);\nconst BASIS_{k}_SHARPNESS: f32 = {};\n",
+                    items.join("\n"),
+                    f(lambda)
+                );
+                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = sg_eval(BASIS_{k}_AXES[i], BASIS_{k}_SHARPNESS, d);\n    }}\n")
+            }
+            BasisKind::Ad9 | BasisKind::Ad12 => {
+                let axes = if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" };
+                roots.extend(["ad_srbf_eval", axes]);
+                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = ad_srbf_eval({axes}[i], d);\n    }}\n")
+            }
+        };
+        gen += &format!(
+            "// {} ({lobes} lobes)\nfn basis_{k}(d: vec3<f32>) -> array<f32, 12> {{\n    var b: array<f32, 12>;\n{body}    return b;\n}}\n",
+            b.name()
+        );
+        let opts = config.encoder_options(*b, sphere_targets);
+        let mirror = opts.mirror_hemisphere;
+        let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts }, lobes)?;
+        let tm: Vec<String> = p
+            .true_mean
+            .iter()
+            .map(|r| format!("vec4<f32>({}, {}, {}, {})", f(r[0] as f64), f(r[1] as f64), f(r[2] as f64), f(r[3] as f64)))
+            .collect();
+        gen += &format!(
+            "const ENCODER_{k}: EncoderParams = EncoderParams({}, {}u, {}u, {}u, array<vec4<f32>, 3>({}));\n\n",
+            f(p.acceleration as f64),
+            p.lobes,
+            p.flags,
+            p.denominator,
+            tm.join(", ")
+        );
+        gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
+        project_reset += &format!("    Q_{k} = array<vec3<f32>, 12>();\n");
+        project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
+        let update = format!("        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
+        // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
+        let twin = if mirror {
+            format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), w);\n")
+        } else {
+            String::new()
+        };
+        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n{update}{twin}        states[s] = st;\n    }}\n");
+        // Filtered accumulation: a gather target's states stay in private variables while
+        // it gathers (wgsl/filter.wgsl loads and stores them once per dispatch).
+        filtered_vars += &format!("var<private> FST_{k}: EncoderState;\n");
+        filtered_load += &format!("    FST_{k} = fstates[{k}u * FP.target_count + out];\n");
+        filtered_store += &format!("    fstates[{k}u * FP.target_count + out] = FST_{k};\n");
+        filtered_update += &format!("    {{\n        var st = FST_{k};\n{update}{twin}        FST_{k} = st;\n    }}\n");
+    }
+    encode += "}\n";
+    project += "}\n";
+    project_reset += "}\n";
+    let filtered = config.filter.is_some() && !sphere_targets;
+    if filtered {
+        // The same encoders on the filtered targets' states (wgsl/filter.wgsl), and the
+        // known projections Q_k to and from a record: 3 vec4 of header, then per basis
+        // its lobes, each a plane of the component-major record buffer.
+        let (mut store, mut load, mut at) =
+            (String::from("fn filter_store_q(at: u32, plane: u32) {\n"), String::from("fn filter_load_q(at: u32, plane: u32) {\n"), 3usize);
+        for (k, b) in config.bases.iter().enumerate() {
+            let lobes = b.basis().len();
+            store += &format!(
+                "    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[at + ({at}u + i) * plane] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n"
+            );
+            load += &format!(
+                "    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[at + ({at}u + i) * plane].xyz;\n    }}\n"
+            );
+            at += lobes;
+        }
+        encode += &format!("{filtered_vars}{filtered_load}}}\n{filtered_store}}}\n{filtered_update}}}\n{store}}}\n{load}}}\n");
+    }
+    encode += &project;
+    encode += &project_reset;
+    let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
+    let lib = shaders::compose::compose_roots(config_name, &roots)?;
+    if !glossy {
+        left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
+    }
+    let guiding = match config.guiding {
+        Some(g) if !sphere_targets => format!("const GUIDED_FRACTION: f32 = {};\n{GUIDE_WGSL}", f(g.guided_fraction)),
+        _ => {
+            left_out.push("ray guiding (not enabled, or probes): the guide bindings, sampler and pdf".to_string());
+            GUIDE_NONE_WGSL.to_string()
+        }
+    };
+    let adapt = if (config.adaptive.is_some() || config.camera.is_some()) && !sphere_targets {
+        ADAPT_BATCH_WGSL
+    } else {
+        left_out.push("adaptive and camera-based sampling (not enabled, or probes): the batch bindings".to_string());
+        ADAPT_NONE_WGSL
+    };
+    left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
+    let wavefront = match config.pipeline {
+        crate::accumulate::Pipeline::Wavefront => crate::gpu::wavefront::WGSL,
+        crate::accumulate::Pipeline::Megakernel => {
+            left_out.push("the wavefront passes (the megakernel pipeline)".to_string());
+            ""
+        }
+    };
+    let filter = if filtered {
+        format!("{}\n{FILTER_WGSL}", crate::gpu::filter::FILTER_KERNEL_WGSL)
+    } else {
+        left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
+        FILTER_NONE_WGSL.to_string()
+    };
+    let source = format!(
+        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{filter}\n{wavefront}",
+        lib.source,
+        if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL }
+    );
+    shaders::export::validate(&source).map_err(|e| format!("bake kernel: {e}"))?;
+    Ok(Kernel { source, left_out })
+}
+
+/// Rays traced and the time they took.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RayStats {
+    pub primary: u64,
+    pub extension: u64,
+    pub shadow: u64,
+    /// Seconds of the primary-only dispatches and of the full ones.
+    pub primary_seconds: f64,
+    pub full_seconds: f64,
+}
+
+impl RayStats {
+    /// Primary rays per second (first segments only, closest hit).
+    pub fn primary_rate(&self) -> f64 {
+        self.primary as f64 / self.primary_seconds
+    }
+    /// Secondary (extension + shadow) rays per second: their count over the full
+    /// passes' time minus the primary-only time.
+    pub fn secondary_rate(&self) -> f64 {
+        (self.extension + self.shadow) as f64 / (self.full_seconds - self.primary_seconds).max(1e-9)
+    }
+}
+
+/// Ray guiding on the GPU: the per-pass learning records, the learned sums, the
+/// distributions, and the gather and build kernels (`wgsl/guide_build.wgsl`).
+#[derive(Debug)]
+struct GuideGpu {
+    gather: wgpu::ComputePipeline,
+    gather_bind: wgpu::BindGroup,
+    build: wgpu::ComputePipeline,
+    build_bind: wgpu::BindGroup,
+    sums_buf: wgpu::Buffer,
+    /// The sums the current stage's distributions were built from.
+    basis_buf: wgpu::Buffer,
+    rec_buf: wgpu::Buffer,
+    dist_buf: wgpu::Buffer,
+    clusters: u32,
+    learn_passes: u64,
+    /// The distributions were built from the sums.
+    built: bool,
+    path: GuideBuild,
+}
+
+/// Encoder states as the GPU holds them (`n` per basis, basis-major) → sbf encoders.
+pub(crate) fn encoders_from_raw(
+    raw: &[EncoderState],
+    n: usize,
+    config: &BakeConfig,
+    sphere: bool,
+) -> Result<Vec<Vec<sbf::solve::ProgressiveEncoder<f32>>>, String> {
+    let mut encoders = Vec::new();
+    for (b, kind) in config.bases.iter().enumerate() {
+        let lobes = kind.basis().len();
+        let opts = config.encoder_options(*kind, sphere);
+        let mut encs = Vec::with_capacity(n);
+        for st in &raw[b * n..(b + 1) * n] {
+            let amp: Vec<[f64; 3]> = st.coefficients(lobes).iter().map(|c| c.map(|x| x as f64)).collect();
+            let integ: Vec<f64> = st.integrals(lobes).iter().map(|x| *x as f64).collect();
+            encs.push(
+                sbf::solve::ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, st.total_weight as f64, st.samples as u64)
+                    .map_err(|e| format!("GPU encoder state {}: {e}", encs.len()))?,
+            );
+        }
+        encoders.push(encs);
+    }
+    Ok(encoders)
+}
+
+/// sbf encoders → the GPU's encoder states (basis-major).
+pub(crate) fn raw_from_encoders(encoders: &[Vec<sbf::solve::ProgressiveEncoder<f32>>]) -> Vec<EncoderState> {
+    let mut raw = Vec::new();
+    for encs in encoders {
+        for e in encs {
+            let mut st: EncoderState = bytemuck::Zeroable::zeroed();
+            let c = e.coefficients();
+            for (i, g) in e.integrals().iter().enumerate() {
+                st.lobes[i] = [c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32, *g as f32];
+            }
+            st.total_weight = e.total_weight() as f32;
+            st.samples = e.sample_count() as u32;
+            raw.push(st);
+        }
+    }
+    raw
+}
+
+/// Workgroups for `n` threads of `wg` each, as a 2D grid within the 65 535 limit.
+fn grid(n: u32, wg: u32) -> (u32, u32) {
+    let g = n.div_ceil(wg);
+    if g <= 65535 {
+        (g, 1)
+    } else {
+        (65535, g.div_ceil(65535))
+    }
+}
+
+impl GuideGpu {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        d: &wgpu::Device,
+        targets: &Targets,
+        opts: crate::sampling::guiding::GuidingOptions,
+        rec_buf: wgpu::Buffer,
+        dist_buf: wgpu::Buffer,
+        sums_buf: wgpu::Buffer,
+        subgroup_sizes: Option<(u32, u32)>,
+    ) -> GuideGpu {
+        use crate::sampling::guiding::BIN_COUNT;
+        let clusters = targets.cluster_count as u32;
+        // CSR of the clusters' items in ascending item order.
+        let mut offsets = vec![0u32; clusters as usize + 1];
+        for c in &targets.clusters {
+            offsets[*c as usize + 1] += 1;
+        }
+        for k in 0..clusters as usize {
+            offsets[k + 1] += offsets[k];
+        }
+        let mut fill = offsets.clone();
+        let mut members = vec![0u32; targets.clusters.len()];
+        for (i, c) in targets.clusters.iter().enumerate() {
+            members[fill[*c as usize] as usize] = i as u32;
+            fill[*c as usize] += 1;
+        }
+        offsets.extend(members);
+        let csr = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("guide clusters"),
+            contents: bytemuck::cast_slice(&offsets),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let params = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("guide params"),
+            contents: bytemuck::cast_slice(&[clusters, 0, 0, 0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        // Subgroup scans need every row of 16 bins inside one subgroup.
+        let path = match subgroup_sizes {
+            Some((min, _)) if min >= crate::sampling::guiding::BINS as u32 => GuideBuild::Subgroup,
+            _ => GuideBuild::Workgroup,
+        };
+        let module = |label: &str, src: String| {
+            d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(src.into()) })
+        };
+        let (fallback_src, subgroup_src) = guide_build_sources();
+        let fallback = module("guide_build", fallback_src);
+        let pipe = |m: &wgpu::ShaderModule, entry: &str| {
+            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: m,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let gather = pipe(&fallback, "guide_gather");
+        let build = match path {
+            GuideBuild::Subgroup => {
+                let m = module("guide_build_subgroup", subgroup_src);
+                pipe(&m, "guide_build")
+            }
+            GuideBuild::Workgroup => pipe(&fallback, "guide_build"),
+        };
+        let bind = |p: &wgpu::ComputePipeline, e: &[(u32, &wgpu::Buffer)]| {
+            let entries: Vec<wgpu::BindGroupEntry> =
+                e.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
+            d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &p.get_bind_group_layout(0), entries: &entries })
+        };
+        let gather_bind = bind(&gather, &[(0, &params), (1, &csr), (2, &rec_buf), (3, &sums_buf)]);
+        let build_bind = bind(&build, &[(0, &params), (3, &sums_buf), (4, &dist_buf)]);
+        debug_assert_eq!(sums_buf.size(), (clusters as usize * BIN_COUNT * 4).max(4) as u64);
+        let basis_buf = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("guide basis"),
+            size: sums_buf.size(),
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        GuideGpu {
+            basis_buf,
+            gather,
+            gather_bind,
+            build,
+            build_bind,
+            sums_buf,
+            rec_buf,
+            dist_buf,
+            clusters,
+            learn_passes: opts.learn_passes,
+            built: false,
+            path,
+        }
+    }
+
+    /// Records the build and the copy of the sums it used into the stage's basis.
+    fn record_build(&self, enc: &mut wgpu::CommandEncoder) {
+        self.record(enc, true);
+        enc.copy_buffer_to_buffer(&self.sums_buf, 0, &self.basis_buf, 0, self.sums_buf.size());
+    }
+
+    /// Records the gather (after a learning pass) or the build into `enc`.
+    fn record(&self, enc: &mut wgpu::CommandEncoder, build: bool) {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        if build {
+            let g = grid(self.clusters, 1);
+            pass.set_pipeline(&self.build);
+            pass.set_bind_group(0, &self.build_bind, &[]);
+            pass.dispatch_workgroups(g.0, g.1, 1);
+        } else {
+            let g = grid(self.clusters, 64);
+            pass.set_pipeline(&self.gather);
+            pass.set_bind_group(0, &self.gather_bind, &[]);
+            pass.dispatch_workgroups(g.0, g.1, 1);
+        }
+    }
+}
+
+/// A bake on the GPU.
+#[derive(Debug)]
+pub struct GpuBake<'g> {
+    gpu: &'g Gpu,
+    /// The megakernel and its bind group (None: the wavefront pipeline runs the passes).
+    mega: Option<(wgpu::ComputePipeline, wgpu::BindGroup)>,
+    /// The wavefront passes ([`crate::gpu::wavefront`]; None: the megakernel runs them).
+    wavefront: Option<crate::gpu::wavefront::Wavefront>,
+    params_buf: wgpu::Buffer,
+    moments_buf: wgpu::Buffer,
+    states_buf: wgpu::Buffer,
+    counters_buf: wgpu::Buffer,
+    pub params: TraceParams,
+    config: BakeConfig,
+    sphere: bool,
+    items: usize,
+    pub passes: u64,
+    pub kernel: Kernel,
+    guide: Option<GuideGpu>,
+    batching: Batching,
+    /// Items this device dispatches (all by default; its blocks when the bake is one
+    /// device of a [`crate::gpu::multi::MultiGpuBake`]: see [`TraceParams::part_block`]).
+    share: usize,
+    /// Adaptive sampling's selection (None: uniform passes).
+    adapt: Option<crate::gpu::adaptive::AdaptGpu>,
+    /// GPU seconds and count per wavefront pass while a profile is taken.
+    profile: Option<Vec<(&'static str, f64, u64)>>,
+    /// Filtered accumulation's records, targets and gather ([`crate::gpu::filter`]).
+    filter: Option<crate::gpu::filter::FilterGpu>,
+}
+
+/// The partition block of a single-device bake (any positive value is the identity).
+const PART_BLOCK_DEFAULT: u32 = 64;
+
+/// Items per dispatch (seed 004 §3.4.1, frame-time load balancing): a pass is split into
+/// dispatches of `chunk` items, and `chunk` follows N ← N·T_target/T (eq. 3.1–3.2) from
+/// the measured time per dispatch, so every dispatch stays near the target whatever the
+/// atlas size — far below driver watchdogs. Measured (one wait) at passes 0, 1, 2, 4, …,
+/// then every 64 passes; between them the passes are queued back to back.
+#[derive(Debug, Clone, Copy)]
+struct Batching {
+    /// Target seconds per dispatch; None: `chunk` fixed.
+    target: Option<f64>,
+    chunk: usize,
+    /// Passes per dispatch once a whole pass is one dispatch and takes less than the
+    /// target (1 with ray guiding, whose learning runs between passes): every dispatch
+    /// ends in a tail where the last, longest paths leave the GPU idle — ~0.5 ms per
+    /// dispatch on an H200 — which several passes per dispatch share.
+    passes: u64,
+    /// Dispatches so far (the measurement schedule).
+    dispatches: u64,
+    /// The most jobs × passes of one dispatch (the wavefront's path pool; unbounded for
+    /// the megakernel).
+    max_slots: usize,
+}
+
+/// The most adaptive batches recorded into one submission.
+const MAX_BATCHES_PER_SUBMISSION: u64 = 16;
+
+/// The most passes one dispatch runs (also the progress granularity of `baker::run`).
+pub const MAX_PASSES_PER_DISPATCH: u64 = 8;
+
+/// Items of the first dispatches, before any measurement (2¹⁸: a few ms on a large GPU,
+/// well under a second on a software rasteriser's worst scenes).
+const INITIAL_CHUNK: usize = 1 << 18;
+/// The default target time per dispatch (a 60 Hz frame).
+pub const BATCH_TARGET_SECONDS: f64 = 0.016;
+
+/// Adds the wavefront passes timed in the last submission to `totals` (when a profile is
+/// being taken).
+fn collect_profile(
+    gpu: &Gpu,
+    wavefront: &Option<crate::gpu::wavefront::Wavefront>,
+    totals: &mut Option<Vec<(&'static str, f64, u64)>>,
+) -> Result<(), String> {
+    if let (Some(w), Some(totals)) = (wavefront, totals) {
+        for t in w.take_profile(gpu)? {
+            match totals.iter_mut().find(|(p, _, _)| *p == t.pass) {
+                Some(e) => {
+                    e.1 += t.seconds;
+                    e.2 += 1;
+                }
+                None => totals.push((t.pass, t.seconds, 1)),
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Slots of the wavefront's path pool for a bake of `items` items on a device whose
+/// storage bindings hold `max_binding` bytes: a uniform wave of up to
+/// [`MAX_PASSES_PER_DISPATCH`] passes of every item (at most
+/// [`crate::gpu::wavefront::MAX_UNIFORM_SLOTS`] slots, and what one binding of 64-byte path
+/// states holds), or the most samples one batch can take — adaptive: λ_k ≤ L per texel and
+/// Σλ_k ≤ f·N, rounded up per texel, so at most N·min(⌈L⌉, ⌈f⌉ + 1); camera: at most L per
+/// texel and one per pixel.
+pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usize {
+    // Several passes per wave: the per-bounce passes (compaction, indirect arguments,
+    // barriers) cost about the same for few paths as for many.
+    let most = crate::gpu::wavefront::MAX_UNIFORM_SLOTS.min((max_binding / 64) as usize);
+    let uniform = (items * MAX_PASSES_PER_DISPATCH as usize).min(most).max(items.min(most));
+    let batch = match (&config.adaptive, &config.camera) {
+        (Some(a), _) => items * (a.max_per_batch as usize).min(a.batch_fraction.ceil() as usize + 1),
+        (None, Some(c)) => (items * c.max_per_batch as usize).min((c.camera.width as usize * c.camera.height as usize).max(items)),
+        (None, None) => 0,
+    };
+    uniform.max(batch).max(64)
+}
+
+/// Checks every storage buffer of a bake against the adapter's binding limit before
+/// anything is uploaded; the error names the buffer and both sizes.
+pub fn check_bindings(buffers: &[(&str, u64)], max_binding: u64) -> Result<(), String> {
+    for (what, bytes) in buffers {
+        if *bytes > max_binding {
+            return Err(format!(
+                "{what}: {bytes} bytes exceed the adapter's storage-buffer binding limit of {max_binding} bytes (bake on the CPU with --device cpu, fewer bases or texels, or a simpler scene)"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Offsets (in vec4s) of the parts of `aux` (see trace.wgsl).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct AuxLayout {
+    lights: u32,
+    emitters: u32,
+    emitter_count: u32,
+    env_texels: u32,
+    env_rows: u32,
+    env_cells: u32,
+    env_cdf: (u32, u32),
+}
+
+/// Materials, lights, emitters, the environment map and its sampler packed as vec4s
+/// (see `aux` in trace.wgsl).
+fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, AuxLayout) {
+    let mut aux = Vec::new();
+    let mut at = AuxLayout::default();
+    for m in &tracer.scene.materials {
+        let (d, f0, e) = (m.diffuse_albedo(), m.specular_f0(), m.emissive);
+        let flags = m.is_glossy() as u32 | (m.double_sided as u32) << 1;
+        aux.push([d.x, d.y, d.z, specular_probability(m) as f32]);
+        aux.push([f0.x, f0.y, f0.z, m.alpha()]);
+        aux.push([e.x, e.y, e.z, flags as f32]);
+    }
+    at.lights = aux.len() as u32;
+    for l in &tracer.scene.lights {
+        // 4 vec4 per light: (position or direction, kind), (colour, range),
+        // (spot axis, cos inner), (cos outer, 0, 0, 0).
+        let (a, kind, c, range, axis, ci, co) = match *l {
+            Light::Directional { direction, irradiance } => (direction, 0.0, irradiance, f32::INFINITY, Vec3::Z, 1.0, -1.0),
+            Light::Point { position, intensity, range } => (position, 1.0, intensity, range, Vec3::Z, 1.0, -1.0),
+            Light::Spot { position, direction, intensity, cos_inner, cos_outer, range } => {
+                (position, 2.0, intensity, range, direction, cos_inner, cos_outer)
+            }
+        };
+        aux.push([a.x, a.y, a.z, kind]);
+        aux.push([c.x, c.y, c.z, if range.is_finite() { range } else { -1.0 }]);
+        aux.push([axis.x, axis.y, axis.z, ci]);
+        aux.push([co, 0.0, 0.0, 0.0]);
+    }
+    at.emitters = aux.len() as u32;
+    for (tri, cdf) in tracer.emitter_table() {
+        aux.push([f32::from_bits(tri), cdf as f32, 0.0, 0.0]);
+        at.emitter_count += 1;
+    }
+    // The last CDF entry is 1 up to rounding; the search clamps to the last emitter.
+    at.env_texels = aux.len() as u32;
+    if let Environment::Map(m) = &tracer.scene.environment {
+        aux.extend(m.texels.iter().map(|t| [t[0], t[1], t[2], 0.0]));
+    }
+    if let Some(env) = &tracer.env {
+        at.env_rows = aux.len() as u32;
+        aux.extend(env.row_cdf.iter().map(|c| [*c, 0.0, 0.0, 0.0]));
+        at.env_cells = aux.len() as u32;
+        aux.extend(env.col_cdf.iter().zip(&env.cell_p).map(|(c, p)| [*c, *p, 0.0, 0.0]));
+        at.env_cdf = (env.width as u32, env.height as u32);
+    }
+    if aux.is_empty() {
+        aux.push([0.0; 4]);
+    }
+    (aux, at)
+}
+
+impl<'g> GpuBake<'g> {
+    /// Uploads the scene, BVH and targets and compiles the kernel.
+    pub fn new(gpu: &'g Gpu, tracer: &Tracer, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
+        if targets.items.is_empty() {
+            return Err("nothing to bake: no valid texels or probes".into());
+        }
+        if targets.sphere && config.bases.iter().any(|b| !b.is_sphere()) {
+            return Err("probes need sphere bases (sh1, sh2, ad12)".into());
+        }
+        config.check(targets)?;
+        let glossy = tracer.scene.has_glossy();
+        let kernel = kernel(config, targets.sphere, glossy)?;
+        let d = gpu.device();
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bake"),
+            source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
+        });
+        let wavefront = config.pipeline == crate::accumulate::Pipeline::Wavefront;
+        let pipeline = (!wavefront).then(|| {
+            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("bake"),
+                layout: None,
+                module: &module,
+                entry_point: Some("bake_pass"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        });
+        let (aux, at) = aux_data(tracer);
+        let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
+        let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
+        let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
+        let pool = if wavefront { wave_capacity(config, targets.items.len(), d.limits().max_storage_buffer_binding_size) } else { 0 };
+        check_bindings(
+            &[
+                ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
+                ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
+                ("materials, lights and environment", (aux.len() * 16) as u64),
+                ("sample points", (targets.points.len() * 48) as u64),
+                ("encoder states", states_len as u64),
+                ("moments", (targets.items.len() * 48) as u64),
+                ("ray-guiding distributions", (clusters * crate::sampling::guiding::CDF_LEN * 4) as u64),
+                ("ray-guiding records", (if clusters > 0 { targets.items.len() * 24 } else { 0 }) as u64),
+                ("wavefront path pool", (pool * 64) as u64),
+            ],
+            d.limits().max_storage_buffer_binding_size,
+        )?;
+        let (env_kind, env) = match tracer.scene.environment {
+            Environment::Black => (0, [[0.0; 4]; 3]),
+            Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
+            Environment::Sky { zenith: z, horizon: h, ground: g } => {
+                (2, [[z.x, z.y, z.z, 0.0], [h.x, h.y, h.z, 0.0], [g.x, g.y, g.z, 0.0]])
+            }
+            Environment::Map(_) => (3, [[0.0; 4]; 3]),
+        };
+        let env_width = match &tracer.scene.environment {
+            Environment::Map(m) => m.geometry.width as u32,
+            _ => 0,
+        };
+        let items = targets.items.len();
+        let params = TraceParams {
+            pass_index: 0,
+            seed: crate::sampling::sequence::gpu_seed(config.seed),
+            item_count: items as u32,
+            max_bounces: config.max_bounces,
+            emitter_count: at.emitter_count,
+            light_count: tracer.scene.lights.len() as u32,
+            env_kind,
+            mode: targets.sphere as u32,
+            env_cells_offset: at.env_cells,
+            inv_total_power: if tracer.total_power > 0.0 { (1.0 / tracer.total_power) as f32 } else { 0.0 },
+            count_rays: 0,
+            primary_only: 0,
+            light_offset: at.lights,
+            emitter_offset: at.emitters,
+            env_offset: at.env_texels,
+            env_width,
+            env_rows_offset: at.env_rows,
+            env_cdf_width: at.env_cdf.0,
+            env_cdf_height: at.env_cdf.1,
+            guide_phase: 0,
+            guide_stage: 0,
+            guide_start: 0,
+            item_offset: 0,
+            item_end: items as u32,
+            part_block: PART_BLOCK_DEFAULT,
+            part_count: 1,
+            part_index: 0,
+            pass_count: 1,
+            sampler: config.sampler.code(),
+            batch_mode: 0,
+            pad1: 0,
+            pad2: 0,
+            env0: env[0],
+            env1: env[1],
+            env2: env[2],
+        };
+        let storage = |label: &str, bytes: &[u8], extra: wgpu::BufferUsages| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE | extra,
+            })
+        };
+        let rw = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let nodes = storage("nodes", bytemuck::cast_slice(&tracer.bvh.nodes), wgpu::BufferUsages::empty());
+        let tris = storage("tris", bytemuck::cast_slice(&tracer.bvh.tris), wgpu::BufferUsages::empty());
+        let auxb = storage("aux", bytemuck::cast_slice(&aux), wgpu::BufferUsages::empty());
+        let item_data: Vec<[u32; 4]> = targets.items.iter().zip(&targets.clusters).map(|(&[a, b, c], k)| [a, b, c, *k]).collect();
+        let itemb = storage("items", bytemuck::cast_slice(&item_data), wgpu::BufferUsages::empty());
+        // The w components of the normals: the point's atlas position (filtered gather).
+        let pts: Vec<[f32; 4]> = targets
+            .points
+            .iter()
+            .enumerate()
+            .flat_map(|(k, p)| {
+                let uv = targets.point_uv.get(k).copied().unwrap_or([0.0; 2]);
+                [p.position.extend(1.0).to_array(), p.normal.extend(uv[0]).to_array(), p.geometric.extend(uv[1]).to_array()]
+            })
+            .collect();
+        let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
+        let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
+        let states_buf = storage("states", &vec![0u8; states_len], rw);
+        let counters_buf = storage("counters", &[0u8; 16], rw);
+        let guide = guiding.map(|g| {
+            let rec = storage("guide records", &vec![0xffu8; items * 24], wgpu::BufferUsages::empty());
+            let dist =
+                storage("guide distributions", &vec![0u8; clusters * crate::sampling::guiding::CDF_LEN * 4], wgpu::BufferUsages::COPY_SRC);
+            let sums = storage("guide sums", &vec![0u8; clusters * crate::sampling::guiding::BIN_COUNT * 4], rw);
+            GuideGpu::new(d, targets, g, rec, dist, sums, gpu.subgroup_sizes)
+        });
+        let mut entries = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: params_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: tris.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 3, resource: auxb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 4, resource: itemb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: pointb.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 6, resource: moments_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 8, resource: counters_buf.as_entire_binding() },
+        ];
+        if !config.bases.is_empty() {
+            entries.push(wgpu::BindGroupEntry { binding: 7, resource: states_buf.as_entire_binding() });
+        }
+        if let Some(g) = &guide {
+            entries.push(wgpu::BindGroupEntry { binding: 9, resource: g.rec_buf.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 10, resource: g.dist_buf.as_entire_binding() });
+        }
+        let adapt = match config.adaptive {
+            Some(a) => {
+                Some(crate::gpu::adaptive::AdaptGpu::new(d, targets, crate::gpu::adaptive::BatchSource::Variance(a), config, &moments_buf)?)
+            }
+            None => match &config.camera {
+                Some(c) => Some(crate::gpu::adaptive::AdaptGpu::new(
+                    d,
+                    targets,
+                    crate::gpu::adaptive::BatchSource::Camera(c, tracer.bvh),
+                    config,
+                    &moments_buf,
+                )?),
+                None => None,
+            },
+        };
+        let filter = match config.filter.filter(|_| !targets.sphere) {
+            Some(_) => {
+                let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
+                let limit = d.limits().max_storage_buffer_binding_size;
+                let mut bake: Vec<(u32, &wgpu::Buffer)> = vec![(6, &moments_buf)];
+                if let Some(a) = &adapt {
+                    bake.push((13, &a.samples));
+                }
+                Some(crate::gpu::filter::FilterGpu::new(
+                    d,
+                    &module,
+                    (&naga.0, &naga.1),
+                    targets,
+                    config,
+                    MAX_PASSES_PER_DISPATCH,
+                    limit,
+                    &bake,
+                )?)
+            }
+            None => None,
+        };
+        if let Some(f) = &filter {
+            entries.push(wgpu::BindGroupEntry { binding: 14, resource: f.records.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 18, resource: f.params_buf.as_entire_binding() });
+        }
+        if let Some(a) = &adapt {
+            entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 12, resource: a.count.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 13, resource: a.samples.as_entire_binding() });
+        }
+        let mega = match pipeline {
+            Some(p) => {
+                let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("bake"),
+                    layout: &p.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                Some((p, bind_group))
+            }
+            None => None,
+        };
+        let wavefront = if wavefront {
+            let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
+            let buffers: Vec<(u32, &wgpu::Buffer)> = entries
+                .iter()
+                .map(|e| match &e.resource {
+                    wgpu::BindingResource::Buffer(b) => (e.binding, b.buffer),
+                    _ => unreachable!("the bake binds whole buffers"),
+                })
+                .collect();
+            Some(crate::gpu::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items)?)
+        } else {
+            None
+        };
+        let max_slots = wavefront.as_ref().map_or(usize::MAX, |w| w.capacity);
+        Ok(GpuBake {
+            gpu,
+            mega,
+            wavefront,
+            params_buf,
+            moments_buf,
+            states_buf,
+            counters_buf,
+            params,
+            config: config.clone(),
+            sphere: targets.sphere,
+            items,
+            passes: 0,
+            kernel,
+            guide,
+            batching: Batching {
+                target: Some(BATCH_TARGET_SECONDS),
+                chunk: items.min(INITIAL_CHUNK).min(max_slots),
+                passes: 1,
+                dispatches: 0,
+                max_slots,
+            },
+            share: items,
+            adapt,
+            profile: None,
+            filter,
+        })
+    }
+
+    /// Sets the target time per dispatch (None: keep the items per dispatch fixed).
+    pub fn set_batch_target(&mut self, seconds: Option<f64>) {
+        self.batching.target = seconds.filter(|s| s.is_finite() && *s > 0.0);
+    }
+
+    /// Fixes the items per dispatch (at least 1; adaptation off).
+    pub fn set_chunk(&mut self, items: usize) {
+        let b = self.batching;
+        self.batching =
+            Batching { target: None, chunk: items.clamp(1, self.range_len()).min(b.max_slots), passes: 1, dispatches: b.dispatches, ..b };
+    }
+
+    /// Makes this bake device `index` of `count`: it dispatches only the items of blocks
+    /// b ≡ index (mod count), blocks of `block` items (the others keep their state). Ray
+    /// guiding learns from every texel of a cluster in each pass, so a guided bake cannot
+    /// be partitioned.
+    pub fn set_partition(&mut self, index: usize, count: usize, block: usize) -> Result<(), String> {
+        if count == 0 || index >= count || block == 0 || block > u32::MAX as usize {
+            return Err(format!("partition {index} of {count} with blocks of {block} items is invalid"));
+        }
+        if self.guide.is_some() && count > 1 {
+            return Err("a guided bake cannot be split across devices (guiding learns from whole clusters every pass)".into());
+        }
+        if self.filter.is_some() && count > 1 {
+            return Err("a filtered bake cannot be split across devices (each texel gathers its neighbours' samples every pass)".into());
+        }
+        if self.adapt.is_some() && count > 1 {
+            return Err("an adaptive or camera-based bake cannot be split across devices (each batch draws from the whole atlas)".into());
+        }
+        (self.params.part_block, self.params.part_count, self.params.part_index) = (block as u32, count as u32, index as u32);
+        self.share = (0..self.items.div_ceil(block)).filter(|b| b % count == index).map(|b| block.min(self.items - b * block)).sum();
+        self.batching.chunk = self.batching.chunk.clamp(1, self.share.max(1));
+        Ok(())
+    }
+
+    /// Whether this bake dispatches `item` (see [`GpuBake::set_partition`]).
+    pub fn owns(&self, item: usize) -> bool {
+        let p = &self.params;
+        (item / p.part_block as usize) % p.part_count as usize == p.part_index as usize
+    }
+
+    /// Items this bake dispatches per pass.
+    pub fn share(&self) -> usize {
+        self.share
+    }
+
+    /// Items in the bake (all targets, whatever its partition).
+    pub fn item_count(&self) -> usize {
+        self.items
+    }
+
+    fn range_len(&self) -> usize {
+        self.share.max(1)
+    }
+
+    /// The current items per dispatch.
+    pub fn chunk(&self) -> usize {
+        self.batching.chunk
+    }
+
+    /// The current passes per dispatch.
+    pub fn passes_per_dispatch(&self) -> u64 {
+        self.batching.passes
+    }
+
+    /// One pass, as dispatches of at most `chunk` items (one submission each); with ray
+    /// guiding, the gather of its learning records and, once learning ends, the build of
+    /// the distributions follow the last one. Per-item results do not depend on the split.
+    fn dispatch(&mut self) -> Result<(), String> {
+        let d = self.gpu.device();
+        self.params.guide_phase = match &self.guide {
+            Some(g) if self.passes < g.learn_passes => 1,
+            Some(_) => 2,
+            None => 0,
+        };
+        if let Some(g) = &self.guide {
+            let (k, start) = crate::sampling::guiding::stage(self.passes, g.learn_passes);
+            (self.params.guide_stage, self.params.guide_start) = (k, start as u32);
+        }
+        let chunk = self.batching.chunk.max(1);
+        let (mut start, last) = (0, self.share);
+        let mut enc = loop {
+            let end = (start + chunk).min(last);
+            (self.params.item_offset, self.params.item_end) = (start as u32, end as u32);
+            self.gpu.queue().write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+            let mut enc = d.create_command_encoder(&Default::default());
+            let groups = grid((end - start) as u32, WG);
+            self.record_jobs(&mut enc, crate::gpu::wavefront::JobGrid::Direct(groups), (end - start) * self.params.pass_count as usize);
+            if end == last {
+                break enc;
+            }
+            self.gpu.queue().submit([enc.finish()]);
+            self.collect_profile()?;
+            start = end;
+        };
+        if let Some(f) = self.filter.as_mut().filter(|_| self.params.primary_only == 0) {
+            // (Primary-only timing passes write no records.)
+            f.record(self.gpu.queue(), &mut enc, self.params.pass_count, false);
+        }
+        if let Some(g) = &mut self.guide {
+            // Every pass learns; at the start of each stage the distributions are rebuilt
+            // from all sums (baker::guiding::stage).
+            g.record(&mut enc, false);
+            let next = self.passes + 1;
+            if next >= g.learn_passes && crate::sampling::guiding::stage(next, g.learn_passes).1 == next {
+                g.record_build(&mut enc);
+                g.built = true;
+            }
+        }
+        self.gpu.queue().submit([enc.finish()]);
+        self.collect_profile()
+    }
+
+    /// Adds the wavefront passes timed in the last submission to the profile (when one is
+    /// being taken: [`GpuBake::profile_passes`]).
+    fn collect_profile(&mut self) -> Result<(), String> {
+        collect_profile(self.gpu, &self.wavefront, &mut self.profile)
+    }
+
+    /// Records the bake's passes over `jobs`: the megakernel, or a wavefront wave.
+    /// `slots`: the most samples the jobs take (the wavefront's wave size).
+    fn record_jobs(&self, enc: &mut wgpu::CommandEncoder, jobs: crate::gpu::wavefront::JobGrid, slots: usize) {
+        if let Some(w) = &self.wavefront {
+            w.record(enc, jobs, slots, self.params.max_bounces, self.params.primary_only == 1);
+        } else if let Some((pipeline, group)) = &self.mega {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            match jobs {
+                crate::gpu::wavefront::JobGrid::Direct((x, y)) => pass.dispatch_workgroups(x, y, 1),
+                crate::gpu::wavefront::JobGrid::Indirect(args) => pass.dispatch_workgroups_indirect(args, 0),
+            }
+        }
+    }
+
+    /// `k` adaptive batches in one submission: each the selection, then the bake kernel
+    /// over the listed items by an indirect dispatch.
+    fn batches(&mut self, k: u64) -> Result<(), String> {
+        let Some(a) = self.adapt.as_ref() else { return Ok(()) };
+        let (d, q) = (self.gpu.device(), self.gpu.queue());
+        self.params.batch_mode = 1;
+        self.params.pass_count = 1;
+        q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+        a.set_batch(q, self.passes);
+        // Camera batches write their jitter from here: one batch per submission.
+        let per = a.per_submission();
+        let mut b = 0;
+        while b < k {
+            let mut enc = d.create_command_encoder(&Default::default());
+            for j in b..(b + per).min(k) {
+                a.record_select(q, &mut enc, self.passes + j);
+                self.record_jobs(&mut enc, crate::gpu::wavefront::JobGrid::Indirect(&a.args), usize::MAX);
+                if let Some(f) = self.filter.as_mut().filter(|_| self.params.primary_only == 0) {
+                    f.record(q, &mut enc, 1, true);
+                }
+            }
+            q.submit([enc.finish()]);
+            b += per;
+            collect_profile(self.gpu, &self.wavefront, &mut self.profile)?;
+        }
+        self.params.batch_mode = 0;
+        Ok(())
+    }
+
+    /// Runs `n` passes — in an adaptive bake after its pilot, batches — (waits for them).
+    pub fn run(&mut self, n: u64) -> Result<(), String> {
+        if self.share == 0 {
+            // A device of a partition that received no block.
+            self.passes += n;
+            return Ok(());
+        }
+        let mut done = 0;
+        while done < n {
+            if self.adapt.as_ref().is_some_and(|a| self.passes >= a.pilot_passes) {
+                let k = (n - done).min(MAX_BATCHES_PER_SUBMISSION);
+                self.batches(k)?;
+                self.passes += k;
+                done += k;
+                continue;
+            }
+            let mut k = self.batching.passes.clamp(1, n - done);
+            if let Some(a) = &self.adapt {
+                // Uniform passes stop at the end of the pilot.
+                k = k.min(a.pilot_passes - self.passes);
+            }
+            // The wavefront's pool holds chunk × passes paths.
+            k = k.min((self.batching.max_slots / self.batching.chunk.max(1)).max(1) as u64);
+            if let Some(f) = &self.filter {
+                // The records hold that many passes of every item.
+                k = k.min(f.max_passes);
+            }
+            self.params.pass_index = self.passes as u32;
+            self.params.pass_count = k as u32;
+            let d = self.batching.dispatches;
+            let measure = self.batching.target.is_some() && (d.is_power_of_two() || d == 0 || d % 64 == 0);
+            if measure {
+                // Time this dispatch alone: wait for the queue first.
+                self.gpu.wait()?;
+            }
+            let t = std::time::Instant::now();
+            self.dispatch()?;
+            self.passes += k;
+            done += k;
+            self.batching.dispatches += 1;
+            if let (true, Some(target)) = (measure, self.batching.target) {
+                self.gpu.wait()?;
+                let chunks = self.range_len().div_ceil(self.batching.chunk.max(1));
+                // Seconds per dispatch of one pass over `chunk` items.
+                let per = t.elapsed().as_secs_f64() / (chunks as u64 * k) as f64;
+                // Eq. 3.1–3.2: N ← N·T_target/T, at most doubling or halving per step: first
+                // the passes per dispatch (whole passes only, no guiding), then the items.
+                let scale = (target / (per * self.batching.passes as f64).max(1e-9)).clamp(0.5, 2.0);
+                let whole = self.batching.chunk >= self.range_len();
+                if whole && self.guide.is_none() && (scale > 1.0 || self.batching.passes > 1) {
+                    self.batching.passes = ((self.batching.passes as f64 * scale) as u64).clamp(1, MAX_PASSES_PER_DISPATCH);
+                } else {
+                    let scale = (target / per.max(1e-9)).clamp(0.5, 2.0);
+                    let next = ((self.batching.chunk as f64 * scale) as usize).div_ceil(WG as usize) * WG as usize;
+                    self.batching.chunk = next.max(WG as usize).min(self.range_len()).min(self.batching.max_slots).max(1);
+                }
+            }
+        }
+        self.gpu.wait()?;
+        if let Some(w) = &self.wavefront {
+            let c: [u32; 4] = bytemuck::pod_read_unaligned(&self.gpu.read_back(w.overflow_counter())?);
+            if c[2] > 0 {
+                return Err(format!(
+                    "wavefront: {} samples found the path pool of {} slots full (a bug: the pool is sized for every batch)",
+                    c[2], w.capacity
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// How this bake builds ray guiding's distributions (None: no guiding).
+    pub fn guide_build_path(&self) -> Option<GuideBuild> {
+        self.guide.as_ref().map(|g| g.path)
+    }
+
+    /// Ray guiding's distributions as the GPU built them (None: no guiding, or not built
+    /// yet) — for comparison with [`crate::sampling::guiding::build`].
+    pub fn guide_distributions(&self) -> Result<Option<Vec<f32>>, String> {
+        match &self.guide {
+            Some(g) if g.built => Ok(Some(bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.dist_buf)?))),
+            _ => Ok(None),
+        }
+    }
+
+    /// Reads the progressive state back (moments as f64, encoder states exactly).
+    pub fn state(&self) -> Result<BakeState, String> {
+        let m: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.moments_buf)?);
+        let moments = (0..self.items)
+            .map(|i| Moments {
+                sum: std::array::from_fn(|c| m[3 * i][c] as f64),
+                sum_sq: std::array::from_fn(|c| m[3 * i + 1][c] as f64),
+                accepted: m[3 * i][3] as u64,
+                back_faces: m[3 * i + 1][3] as u64,
+                non_finite: m[3 * i + 2][0] as u64,
+            })
+            .collect();
+        let raw: Vec<EncoderState> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.states_buf)?);
+        let encoders = encoders_from_raw(&raw, self.items, &self.config, self.sphere)?;
+        let (guide_sums, guide_basis) = match &self.guide {
+            Some(g) => (
+                bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.sums_buf)?),
+                bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.basis_buf)?),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let filtered = match &self.filter {
+            Some(f) => Some(f.state(self.gpu, &self.config)?),
+            None => None,
+        };
+        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis, filtered })
+    }
+
+    /// Replaces the GPU state with `state` (resuming a checkpoint).
+    pub fn upload(&mut self, state: &BakeState) -> Result<(), String> {
+        if state.moments.len() != self.items || state.encoders.len() != self.config.bases.len() {
+            return Err("the saved state does not match this bake's targets and bases".into());
+        }
+        let m: Vec<[f32; 4]> = state
+            .moments
+            .iter()
+            .flat_map(|m| {
+                [
+                    [m.sum[0] as f32, m.sum[1] as f32, m.sum[2] as f32, m.accepted as f32],
+                    [m.sum_sq[0] as f32, m.sum_sq[1] as f32, m.sum_sq[2] as f32, m.back_faces as f32],
+                    [m.non_finite as f32, 0.0, 0.0, 0.0],
+                ]
+            })
+            .collect();
+        let q = self.gpu.queue();
+        q.write_buffer(&self.moments_buf, 0, bytemuck::cast_slice(&m));
+        let raw = raw_from_encoders(&state.encoders);
+        if !raw.is_empty() {
+            q.write_buffer(&self.states_buf, 0, bytemuck::cast_slice(&raw));
+        }
+        match (&self.filter, &state.filtered) {
+            (Some(f), Some(fs)) => f.upload(q, fs)?,
+            (None, None) => {}
+            _ => return Err("the saved state and this bake differ in filtered accumulation".into()),
+        }
+        self.passes = state.passes;
+        if let Some(g) = &mut self.guide {
+            let n = g.clusters as usize * crate::sampling::guiding::BIN_COUNT;
+            if state.guide_sums.len() != n || state.guide_basis.len() != n {
+                return Err(format!(
+                    "the saved state has {} ray-guiding sums, this bake {} clusters × {}",
+                    state.guide_sums.len(),
+                    g.clusters,
+                    crate::sampling::guiding::BIN_COUNT
+                ));
+            }
+            // The stage's distributions from its basis, then the running sums.
+            q.write_buffer(&g.basis_buf, 0, bytemuck::cast_slice(&state.guide_basis));
+            g.built = false;
+            if self.passes >= g.learn_passes {
+                q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_basis));
+                let mut enc = self.gpu.device().create_command_encoder(&Default::default());
+                g.record(&mut enc, true);
+                g.built = true;
+                q.submit([enc.finish()]);
+            }
+            q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_sums));
+        }
+        self.gpu.wait()
+    }
+
+    /// GPU time per wavefront pass over `passes` passes, from timestamps at every pass's
+    /// start and end: (pass, seconds in all, times run), in the order first run. Needs the
+    /// wavefront pipeline and `Features::TIMESTAMP_QUERY`; the bake's state is modified
+    /// (use a throw-away bake).
+    pub fn profile_passes(&mut self, passes: u64) -> Result<Vec<(&'static str, f64, u64)>, String> {
+        let Some(w) = self.wavefront.as_mut() else {
+            return Err("per-pass GPU times are measured for the wavefront pipeline (--pipeline wavefront)".into());
+        };
+        w.enable_profiling(self.gpu.device())?;
+        self.profile = Some(Vec::new());
+        let r = self.run(passes);
+        let totals = self.profile.take().unwrap_or_default();
+        if let Some(w) = self.wavefront.as_mut() {
+            w.disable_profiling();
+        }
+        r.map(|_| totals)
+    }
+
+    /// Measures rays per second over `passes` passes: primary-only dispatches (closest
+    /// hit of each path's first segment, no shading, no encoding) and full ones (paths,
+    /// shadow rays, and the per-sample encoders), counted in a separate run with ray
+    /// counters on. Secondary rays/s = (extension + shadow) / (full − primary time), so
+    /// shading and encoding are charged to the secondary rays. The bake's state is
+    /// modified (use a throw-away bake).
+    pub fn time_rays(&mut self, passes: u64) -> Result<RayStats, String> {
+        let mut s = RayStats::default();
+        let q = self.gpu.queue();
+        let read_counters = |b: &wgpu::Buffer| -> Result<[u32; 4], String> { Ok(bytemuck::pod_read_unaligned(&self.gpu.read_back(b)?)) };
+        // Warm-up (pipeline compilation, caches).
+        self.run(1)?;
+        for primary in [true, false] {
+            q.write_buffer(&self.counters_buf, 0, &[0u8; 16]);
+            self.params.primary_only = primary as u32;
+            self.params.count_rays = 1;
+            self.run(passes)?;
+            let c = read_counters(&self.counters_buf)?;
+            if primary {
+                s.primary = c[0] as u64;
+            } else {
+                (s.extension, s.shadow) = (c[1] as u64, c[2] as u64);
+            }
+            // Timed without counters (atomics would perturb the timing).
+            self.params.count_rays = 0;
+            let t = std::time::Instant::now();
+            self.run(passes)?;
+            let secs = t.elapsed().as_secs_f64();
+            if primary {
+                s.primary_seconds = secs;
+            } else {
+                s.full_seconds = secs;
+            }
+        }
+        self.params.primary_only = 0;
+        Ok(s)
+    }
+}

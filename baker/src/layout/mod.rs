@@ -1,0 +1,12 @@
+//! # The layout layer: where a bake samples
+//!
+//! The lightmap atlas — charts (the mesh's own lightmap UVs, or charts generated for
+//! meshes without them), their packing, 16 sub-texel sample points per texel with a
+//! coverage mask and shading normals ([`lightmap`]) — the tile order of texel indices
+//! ([`tiles`]) and the probe grid with the inside-geometry test ([`probes`]).
+//!
+//! Uses: [`crate::scene`].
+
+pub mod lightmap;
+pub mod probes;
+pub mod tiles;

@@ -1,0 +1,20 @@
+//! The tile format of texel indices (seed 004 §5.2, eqs. 5.2–5.3): an atlas cut into
+//! square tiles of 2^log2_n texels a side, row by row within a tile, so consecutive items
+//! are a compact block of texels. The WGSL twin is `gpu/prims/tile.wgsl`.
+
+/// Tile-format index of texel (x, y) (seed 004 eq. 5.2): tiles of 2^log2_n texels a side,
+/// `tiles_per_row` = ⌈width / n⌉.
+pub fn tile_index(x: u32, y: u32, log2_n: u32, tiles_per_row: u32) -> u32 {
+    let n = 1u32 << log2_n;
+    let tile = (x >> log2_n) + tiles_per_row * (y >> log2_n);
+    (tile << (2 * log2_n)) | ((x & (n - 1)) + n * (y & (n - 1)))
+}
+
+/// The texel of a tile-format index (the inverse of [`tile_index`]; eq. 5.3 for the
+/// tile's origin).
+pub fn tile_coords(i: u32, log2_n: u32, tiles_per_row: u32) -> (u32, u32) {
+    let n = 1u32 << log2_n;
+    let tile = i >> (2 * log2_n);
+    let within = i & (n * n - 1);
+    (n * (tile % tiles_per_row) + (within & (n - 1)), n * (tile / tiles_per_row) + (within >> log2_n))
+}

@@ -1,0 +1,281 @@
+//! The wgpu path of [`crate::slc`]: `slc/cull.wgsl` composed with the `shaders` slc
+//! module (bounds per light on the GPU, one workgroup per 16 × 16 tile with shared-memory
+//! light lists), run on a G-buffer and a VPL set; results read back in the CPU twin's form.
+
+use crate::slc::{Bound, GBuffer, Mode, Render, Vpl, TILE};
+use shaders::gpu::Gpu;
+use wgpu::util::DeviceExt;
+
+/// Uniform parameters (WGSL `SlcParams`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SlcParams {
+    pub width: u32,
+    pub height: u32,
+    pub light_count: u32,
+    pub mode: u32,
+    pub tan_x: f32,
+    pub tan_y: f32,
+    pub delta: f32,
+    pub interleave: u32,
+}
+shaders::gpu_struct!(SlcParams, "SlcParams", [width, height, light_count, mode, tan_x, tan_y, delta, interleave]);
+
+const KERNEL: &str = include_str!("cull.wgsl");
+
+/// The composed kernel source (validated by naga).
+pub fn kernel() -> Result<String, String> {
+    let roots = [
+        "slc_diffuse_sphere",
+        "slc_spheroid_scale",
+        "slc_schlick_max",
+        "slc_g1_dist",
+        "slc_ggx_spheroid",
+        "slc_cull_transform",
+        "slc_tile_corners",
+        "slc_ellipsoid_hits_corners",
+        "slc_acceptance",
+        "slc_culled_estimate",
+        "slc_random_range",
+        "ggx_d",
+        "ggx_g2",
+        "schlick_weight",
+        "tangent_frame",
+        "PI",
+        "INV_PI",
+    ];
+    let cfg = shaders::compose::Config { name: "slc-cull".into(), features: Default::default() };
+    let lib = shaders::compose::compose_roots(cfg, &roots)?;
+    let source = format!("{}\n{KERNEL}", lib.source);
+    shaders::export::validate(&source).map_err(|e| format!("slc kernel: {e}"))?;
+    Ok(source)
+}
+
+/// A G-buffer and VPL set uploaded with the two pipelines built: run frames, time them.
+#[derive(Debug)]
+pub struct SlcGpu<'g> {
+    gpu: &'g Gpu,
+    prepare: wgpu::ComputePipeline,
+    shade: wgpu::ComputePipeline,
+    filter: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    params: SlcParams,
+    params_buf: wgpu::Buffer,
+    image_buf: wgpu::Buffer,
+    stats_buf: wgpu::Buffer,
+    filtered_buf: wgpu::Buffer,
+    pixels: (u32, u32),
+    lights: u32,
+    tiles: (u32, u32, u32),
+    bound: Bound,
+    filter_on: bool,
+}
+
+impl<'g> SlcGpu<'g> {
+    /// Uploads `g` and `vpls` and compiles the kernel; `interleave` I (1: off) splits the
+    /// screen into I × I subregions that each shade 1/I² of the VPLs (weighted by I²).
+    pub fn new(gpu: &'g Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, interleave: usize) -> Result<Self, String> {
+        if interleave == 0 || interleave > 16 {
+            return Err(format!("interleave must be 1..=16, not {interleave}"));
+        }
+        let d = gpu.device();
+        let source = kernel()?;
+        let module =
+            d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("slc"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let storage = |read_only| wgpu::BufferBindingType::Storage { read_only };
+        let layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("slc"),
+            entries: &[
+                entry(0, wgpu::BufferBindingType::Uniform),
+                entry(1, storage(true)),
+                entry(2, storage(true)),
+                entry(3, storage(false)),
+                entry(4, storage(false)),
+                entry(5, storage(false)),
+                entry(6, storage(false)),
+            ],
+        });
+        let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("slc"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |name: &str| {
+            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(name),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let params = SlcParams {
+            width: g.width as u32,
+            height: g.height as u32,
+            light_count: vpls.len() as u32,
+            mode: 0,
+            tan_x: g.tan_xy.0,
+            tan_y: g.tan_xy.1,
+            delta,
+            interleave: interleave as u32,
+        };
+        let gb: Vec<[f32; 4]> = g
+            .texels
+            .iter()
+            .flat_map(|t| match t {
+                Some((x, n, a)) => [[x.x, x.y, x.z, 1.0], [n.x, n.y, n.z, *a]],
+                None => [[0.0; 4], [0.0, 0.0, 1.0, 0.0]],
+            })
+            .collect();
+        let lv: Vec<[f32; 4]> = vpls
+            .iter()
+            .flat_map(|v| {
+                [
+                    v.position.extend(v.flux).to_array(),
+                    v.normal.extend(v.diffuse).to_array(),
+                    v.incoming.extend(v.alpha).to_array(),
+                    [v.f0, v.xi, 0.0, 0.0],
+                ]
+            })
+            .collect();
+        crate::gpu::check_bindings(
+            &[("G-buffer", (gb.len() * 16) as u64), ("VPLs", (lv.len() * 16) as u64), ("image", (g.width * g.height * 16) as u64)],
+            d.limits().max_storage_buffer_binding_size,
+        )?;
+        let rw = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let init = |label: &str, bytes: &[u8], usage| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage })
+        };
+        let params_buf = init("params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+        let gbb = init("gbuffer", bytemuck::cast_slice(&gb), wgpu::BufferUsages::STORAGE);
+        let lb = init("lights", bytemuck::cast_slice(if lv.is_empty() { &[[0.0f32; 4]][..] } else { &lv }), wgpu::BufferUsages::STORAGE);
+        let bb = init("bounds", &vec![0u8; vpls.len().max(1) * 64], rw);
+        let image_buf = init("image", &vec![0u8; g.width * g.height * 16], rw);
+        let stats_buf = init("stats", &[0u8; 8], rw);
+        let filtered_buf = init("filtered", &vec![0u8; g.width * g.height * 4], rw);
+        let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("slc"),
+            layout: &layout,
+            entries: &[
+                params_buf.as_entire_binding(),
+                gbb.as_entire_binding(),
+                lb.as_entire_binding(),
+                bb.as_entire_binding(),
+                image_buf.as_entire_binding(),
+                stats_buf.as_entire_binding(),
+                filtered_buf.as_entire_binding(),
+            ]
+            .into_iter()
+            .enumerate()
+            .map(|(k, resource)| wgpu::BindGroupEntry { binding: k as u32, resource })
+            .collect::<Vec<_>>(),
+        });
+        Ok(SlcGpu {
+            gpu,
+            prepare: pipeline("slc_prepare"),
+            shade: pipeline("slc_cull_shade"),
+            filter: pipeline("slc_filter"),
+            group,
+            params,
+            params_buf,
+            image_buf,
+            stats_buf,
+            filtered_buf,
+            pixels: (g.width as u32, g.height as u32),
+            lights: vpls.len() as u32,
+            tiles: (
+                g.width.div_ceil(interleave).div_ceil(TILE) as u32,
+                g.height.div_ceil(interleave).div_ceil(TILE) as u32,
+                (interleave * interleave) as u32,
+            ),
+            bound: Bound::Tight,
+            filter_on: true,
+        })
+    }
+
+    /// Whether frames run the cross-bilateral filter (default on; off to time without it).
+    pub fn set_filter(&mut self, on: bool) {
+        self.filter_on = on;
+    }
+
+    /// Which bound culls glossy VPLs in the following frames.
+    pub fn set_bound(&mut self, bound: Bound) {
+        self.bound = bound;
+    }
+
+    fn dispatch(&mut self, mode: Mode) {
+        self.params.mode = match mode {
+            Mode::Culled => 0,
+            Mode::BruteForce => 1,
+            Mode::RangeCut => 2,
+        } | match self.bound {
+            Bound::Tight => 0,
+            Bound::Sphere => 4,
+            Bound::Th16 => 8,
+        };
+        let q = self.gpu.queue();
+        q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+        q.write_buffer(&self.stats_buf, 0, &[0u8; 8]);
+        let mut enc = self.gpu.device().create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.group, &[]);
+            pass.set_pipeline(&self.prepare);
+            pass.dispatch_workgroups(self.lights.div_ceil(64).max(1), 1, 1);
+            pass.set_pipeline(&self.shade);
+            pass.dispatch_workgroups(self.tiles.0, self.tiles.1, self.tiles.2);
+            if self.filter_on {
+                pass.set_pipeline(&self.filter);
+                pass.dispatch_workgroups(self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8), 1);
+            }
+        }
+        q.submit([enc.finish()]);
+    }
+
+    /// One frame: bounds, culling, shading and the filter; the images and statistics read
+    /// back.
+    pub fn run(&mut self, mode: Mode) -> Result<Render, String> {
+        self.dispatch(mode);
+        let img: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.image_buf)?);
+        let st: Vec<u32> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.stats_buf)?);
+        let filtered: Vec<f32> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.filtered_buf)?);
+        Ok(Render {
+            image: img.iter().map(|p| p[0]).collect(),
+            filtered,
+            lights_per_pixel: img.iter().map(|p| p[1] as u32).collect(),
+            false_per_pixel: img.iter().map(|p| p[2] as u32).collect(),
+            kept: st[0] as u64,
+            false_positives: st[1] as u64,
+        })
+    }
+
+    /// Seconds per frame (bounds + culling + shading + filter), median of `frames` timed frames
+    /// after two warm-up frames, each waited for (wall time around submit + wait).
+    pub fn time(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
+        for _ in 0..2 {
+            self.dispatch(mode);
+            self.gpu.wait()?;
+        }
+        let mut t = Vec::with_capacity(frames);
+        for _ in 0..frames.max(1) {
+            let s = std::time::Instant::now();
+            self.dispatch(mode);
+            self.gpu.wait()?;
+            t.push(s.elapsed().as_secs_f64());
+        }
+        t.sort_by(f64::total_cmp);
+        Ok(t[t.len() / 2])
+    }
+}
+
+/// Renders one frame on the GPU (same result as [`crate::slc::render`] up to f32 rounding).
+pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Result<Render, String> {
+    SlcGpu::new(gpu, g, vpls, delta, interleave)?.run(mode)
+}

@@ -1,0 +1,262 @@
+//! The `slc` command's renderer run: a G-buffer and VPLs from a scene, culled and
+//! brute-force images on the CPU and the GPU, their agreement, false discovery rates and
+//! frame times.
+
+use crate::output;
+use crate::scene::bvh::Bvh;
+use sbf::glam::Vec3;
+use serde_json::json;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What the `slc` command renders.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlcOptions {
+    /// A built-in scene name or a glTF file ([`crate::scene::load::load`]).
+    pub scene: String,
+    /// A lat-long environment map replacing the scene's.
+    pub environment: Option<PathBuf>,
+    /// Seed of the VPL light paths.
+    pub seed: u64,
+    /// Output folder.
+    pub out: PathBuf,
+    /// Light paths traced from the scene's emitters (VPLs at their hits).
+    pub vpls: usize,
+    pub width: usize,
+    pub height: usize,
+    pub delta: f32,
+    /// Also render the brute-force reference (every VPL at every pixel).
+    pub brute: bool,
+    /// Timed GPU frames (median reported).
+    pub frames: usize,
+    /// Interleaved sampling: I × I subregions each shading 1/I² of the VPLs (1: off).
+    pub interleave: usize,
+    /// The bound of glossy VPLs (the spheroid, or its enclosing sphere for comparison).
+    pub bound: crate::slc::Bound,
+    /// Which VPLs: "both", "diffuse" (glossy ones dropped) or "glossy" (every VPL made a
+    /// GGX VPL of α `glossy_alpha` and F0 0.9 — the seed's glossy-only workload).
+    pub kind: String,
+    pub glossy_alpha: f32,
+    /// Also cull the same VPLs with each glossy bound (spheroid, enclosing sphere, TH16
+    /// sphere) and report their false discovery rates and times.
+    pub compare_bounds: bool,
+    /// Also render single scattering in this medium (CPU, culled and brute force).
+    pub medium: Option<crate::slc::media::Medium>,
+}
+
+/// The single-scattering part of [`render`] ([`crate::slc::media`], CPU on every core):
+/// the scene's point lights (spot lights too, as the point lights they are inside their
+/// cone — logged) and the diffuse VPLs in medium `m`, culled and brute force with the same
+/// ξ; writes slc_medium.exr/png and slc_medium_brute.exr; returns the numbers.
+#[allow(clippy::too_many_arguments)]
+fn slc_medium(
+    s: &SlcOptions,
+    m: &crate::slc::media::Medium,
+    scene: &crate::scene::Scene,
+    cam: crate::slc::Camera,
+    g: &crate::slc::GBuffer,
+    vpls: &[crate::slc::Vpl],
+    log: &mut dyn FnMut(String),
+) -> Result<serde_json::Value, String> {
+    use crate::scene::Light;
+    use crate::slc::media::{render, MediaLight, MediaMode};
+    let mut rng = sbf::sampling::Pcg32::new(s.seed, 0x3ed1);
+    let mut lights: Vec<MediaLight> = Vec::new();
+    let (mut spots, mut directional) = (0, 0);
+    for l in &scene.lights {
+        match *l {
+            Light::Point { position, intensity, .. } | Light::Spot { position, intensity, .. } => {
+                spots += matches!(l, Light::Spot { .. }) as usize;
+                let xi = 1.0 - rng.next_f64() as f32;
+                let power = (crate::scene::lights::luminance(intensity) * 4.0 * std::f64::consts::PI) as f32;
+                lights.push(MediaLight { position: position - cam.eye, normal: Vec3::ZERO, power, xi });
+            }
+            Light::Directional { .. } => directional += 1,
+        }
+    }
+    if spots + directional > 0 {
+        log(format!(
+            "slc medium: {spots} spot light(s) scatter as isotropic point lights (no cone), {directional} directional light(s) left out (single scattering from VPLs and point lights only)"
+        ));
+    }
+    lights.extend(vpls.iter().filter(|v| v.diffuse > 0.0).map(|v| MediaLight {
+        position: v.position,
+        normal: v.normal,
+        power: v.flux * v.diffuse,
+        xi: v.xi,
+    }));
+    let t = Instant::now();
+    let culled = render(g, m, &lights, s.delta, MediaMode::Culled, s.seed);
+    let ct = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let brute = render(g, m, &lights, s.delta, MediaMode::BruteForce, s.seed);
+    let bt = t.elapsed().as_secs_f64();
+    let n = (g.width * g.height) as f64;
+    let mean = |v: &[f32]| v.iter().map(|x| *x as f64).sum::<f64>() / n;
+    let shaded: u64 = culled.lights_per_pixel.iter().map(|x| *x as u64).sum();
+    let fd: u64 = culled.false_per_pixel.iter().map(|x| *x as u64).sum();
+    log(format!(
+        "slc medium ({} lights, CPU on {} threads): culled {:.1} ms ({:.1} lights per pixel, false discovery rate {:.3}), brute force {:.1} ms; image means {:.6e} / {:.6e}",
+        lights.len(),
+        rayon::current_num_threads(),
+        ct * 1e3,
+        shaded as f64 / n,
+        fd as f64 / shaded.max(1) as f64,
+        bt * 1e3,
+        mean(&culled.image),
+        mean(&brute.image)
+    ));
+    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    let ones = vec![1.0f32; g.width * g.height];
+    output::write_exr(&s.out.join("slc_medium.exr"), g.width, g.height, &gray(&culled.image), &ones)?;
+    output::write_exr(&s.out.join("slc_medium_brute.exr"), g.width, g.height, &gray(&brute.image), &ones)?;
+    let scale = output::exposure_scale(&brute.image);
+    output::save_png(&s.out.join("slc_medium.png"), &output::tonemap(g.width, g.height, &culled.image, scale))?;
+    Ok(json!({
+        "sigma_s": m.sigma_s, "sigma_t": m.sigma_t, "near": m.near, "far": m.far, "lights": lights.len(),
+        "spot_lights_as_points": spots, "directional_lights_left_out": directional,
+        "culled_seconds": ct, "brute_force_seconds": bt, "lights_per_pixel": shaded as f64 / n,
+        "false_discovery_rate": fd as f64 / shaded.max(1) as f64, "culled_mean": mean(&culled.image), "brute_force_mean": mean(&brute.image),
+        "image": "slc_medium.exr (slc_medium.png)", "brute_force_image": "slc_medium_brute.exr",
+    }))
+}
+
+/// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
+/// light culling (crate::slc) on the GPU or the CPU; writes slc.exr/png, the VPLs per
+/// pixel, and slc.json (counts, false discovery rate, frame time).
+pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnMut(String)) -> Result<(), String> {
+    let o = s;
+    use crate::slc::{self, Camera, Mode};
+    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
+    let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
+    let bvh = Bvh::build(&scene);
+    let cam = Camera::preview(&bvh);
+    let t = Instant::now();
+    let g = slc::gbuffer_from_scene(&scene, &bvh, cam, s.width, s.height);
+    let mut vpls = slc::vpls_from_scene(&scene, &bvh, cam, s.vpls, o.seed);
+    match s.kind.as_str() {
+        "both" => {}
+        "diffuse" => vpls.retain(|v| v.diffuse > 0.0),
+        "glossy" => {
+            vpls.retain(|v| v.diffuse > 0.0);
+            for v in vpls.iter_mut() {
+                *v = slc::Vpl { diffuse: 0.0, alpha: s.glossy_alpha, f0: 0.9, ..*v };
+            }
+        }
+        k => return Err(format!("--slc-kind takes both, diffuse or glossy, not {k}")),
+    }
+    let glossy = vpls.iter().filter(|v| v.diffuse == 0.0).count();
+    log(format!(
+        "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} light paths in {:.2} s",
+        s.width,
+        s.height,
+        vpls.len(),
+        vpls.len() - glossy,
+        s.vpls,
+        t.elapsed().as_secs_f64()
+    ));
+    let (culled, brute, seconds, device) = match gpu {
+        Some(gp) => {
+            let mut r = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
+            r.set_bound(s.bound);
+            let culled = r.run(Mode::Culled)?;
+            r.set_filter(false);
+            let unfiltered = r.time(Mode::Culled, s.frames)?;
+            r.set_filter(true);
+            let seconds = r.time(Mode::Culled, s.frames)?;
+            log(format!("slc GPU frame without the filter: {:.3} ms", unfiltered * 1e3));
+            let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
+            (culled, brute, seconds, format!("GPU: {}", gp.adapter))
+        }
+        None => {
+            let t = Instant::now();
+            let culled = slc::render_with(&g, &vpls, s.delta, Mode::Culled, s.interleave, s.bound);
+            let seconds = t.elapsed().as_secs_f64();
+            let brute = s.brute.then(|| {
+                let t = Instant::now();
+                (slc::render(&g, &vpls, s.delta, Mode::BruteForce, s.interleave), t.elapsed().as_secs_f64())
+            });
+            (culled, brute, seconds, "CPU (one thread)".to_string())
+        }
+    };
+    let n = (s.width * s.height) as f64;
+    let lpp = culled.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>() / n;
+    let fdr = culled.pixel_fdr();
+    log(format!(
+        "slc on {device}: {:.3} ms per frame (bounds + culling + shading + filter, {}×{} interleaving), {lpp:.1} VPLs per pixel, false discovery rate {fdr:.3} ({} false discoveries; {} kept (tile, VPL) pairs, {} accepted by no pixel)",
+        seconds * 1e3,
+        s.interleave,
+        s.interleave,
+        culled.false_discoveries(),
+        culled.kept,
+        culled.false_positives
+    ));
+    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    let valid: Vec<f32> = g.texels.iter().map(|t| t.is_some() as u8 as f32).collect();
+    let filtered = &culled.filtered;
+    output::write_exr(&o.out.join("slc.exr"), s.width, s.height, &gray(&culled.image), &valid)?;
+    output::write_exr(&o.out.join("slc_filtered.exr"), s.width, s.height, &gray(filtered), &valid)?;
+    let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32).collect();
+    output::write_exr(&o.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
+    let fdr_img: Vec<f32> =
+        culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
+    output::write_exr(&o.out.join("slc_fdr.exr"), s.width, s.height, &gray(&fdr_img), &valid)?;
+    let scale = output::exposure_scale(filtered);
+    output::save_png(&o.out.join("slc.png"), &output::tonemap(s.width, s.height, &culled.image, scale))?;
+    output::save_png(&o.out.join("slc_filtered.png"), &output::tonemap(s.width, s.height, filtered, scale))?;
+    output::save_png(&o.out.join("slc_fdr.png"), &output::heat(s.width, s.height, &fdr_img, &lp))?;
+    // The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
+    // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
+    let mut bounds = serde_json::Map::new();
+    if s.compare_bounds && glossy > 0 {
+        for b in [slc::Bound::Tight, slc::Bound::Sphere, slc::Bound::Th16] {
+            let (r, sec) = match &gpu {
+                Some(gp) => {
+                    let mut r = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
+                    r.set_bound(b);
+                    (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
+                }
+                None => {
+                    let t = Instant::now();
+                    (slc::render_with(&g, &vpls, s.delta, Mode::Culled, s.interleave, b), t.elapsed().as_secs_f64())
+                }
+            };
+            let shaded: u64 = r.lights_per_pixel.iter().map(|x| *x as u64).sum();
+            log(format!(
+                "slc bound {b:?}: {:.3} ms per frame, {:.1} VPLs per pixel, false discovery rate {:.3}, {} false discoveries",
+                sec * 1e3,
+                shaded as f64 / n,
+                r.pixel_fdr(),
+                r.false_discoveries()
+            ));
+            bounds.insert(
+                format!("{b:?}").to_lowercase(),
+                json!({"seconds_per_frame": sec, "vpls_per_pixel": shaded as f64 / n, "false_discovery_rate": r.pixel_fdr(),
+                       "false_discoveries": r.false_discoveries(), "shaded": shaded, "kept_pairs": r.kept, "pairs_accepted_by_no_pixel": r.false_positives}),
+            );
+        }
+    }
+    let mut meta = json!({
+        "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
+        "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
+        "glossy_bound": format!("{:?}", s.bound), "kind": s.kind, "glossy_alpha": s.glossy_alpha,
+        "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
+        "pairs_accepted_by_no_pixel": culled.false_positives, "false_discoveries": culled.false_discoveries(),
+        "false_discovery_rate": fdr,
+        "image": "slc.exr (slc.png)", "filtered_image": "slc_filtered.exr (slc_filtered.png): the cross-bilateral filter over the interleaving period",
+        "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (counts)",
+        "false_discovery_image": "slc_fdr.exr (per pixel; slc_fdr.png: hue blue→red 0→100%, brightness VPLs per pixel)",
+        "bounds": bounds,
+    });
+    if let Some((b, bs)) = brute {
+        output::write_exr(&o.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), &valid)?;
+        let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
+        log(format!("slc brute force: {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}", bs * 1e3));
+        meta["brute_force"] = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm});
+    }
+    if let Some(m) = &s.medium {
+        meta["medium"] = slc_medium(s, m, &scene, cam, &g, &vpls, log)?;
+    }
+    std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
+    Ok(())
+}
