@@ -1,4 +1,4 @@
-//! Measures the lightmap denoiser on the built-in scene (issue 16): bakes of several pass
+//! Measures the lightmap denoiser on the built-in scene: bakes of several pass
 //! counts with and without `--denoise` (window radius 3, 5, 7) against a long reference bake
 //! (another seed). Prints, per pass count, the bake time, the filter time and the RMS error
 //! of E/π and of the first SH coefficient over valid texels, the reference's own standard

@@ -1,4 +1,4 @@
-//! Multi-GPU scaling of a lightmap bake (issue 21): bakes each scene with identical
+//! Multi-GPU scaling of a lightmap bake: bakes each scene with identical
 //! settings on 1, 2, … GPUs of this host, checks that every merged result equals the
 //! single-GPU one within 3σ (scene mean and every chart's mean of E/π; on GPUs of one model
 //! it is equal bit for bit, also reported), and prints wall time, rays/s per GPU and the

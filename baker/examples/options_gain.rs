@@ -1,4 +1,4 @@
-//! Measures the bake options of issue 16 — ray guiding, the denoiser and seam stitching —
+//! Measures the bake options — ray guiding, the denoiser and seam stitching —
 //! as error against time: bakes of several pass counts with each combination against a
 //! long unguided reference bake (another seed). Prints per pass count and option the bake
 //! time, the post-process time, the RMS error of E/π and of the first SH coefficient over

@@ -1,4 +1,4 @@
-//! Time to a fixed error (issue 15's benchmark; not a test): bakes a scene on the GPU with
+//! Time to a fixed error (a benchmark, not a test): bakes a scene on the GPU with
 //! each sampling configuration and reports the GPU time each needs to bring the E/π RMSE
 //! over texels — against a long reference bake with another seed, its own variance
 //! subtracted — down to a target, plus the time to the first full-atlas preview (every

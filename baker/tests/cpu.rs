@@ -286,7 +286,7 @@ fn builtin_scene_has_no_black_valid_texels_and_frees_its_probe() {
     }
 }
 
-/// The fair benchmark scene (`room-1m`, issue 15): at least 1 M triangles, every one in a
+/// The fair benchmark scene (`room-1m`): at least 1 M triangles, every one in a
 /// lightmapped mesh with lightmap UVs; every surface gets texels; from points inside the
 /// room no ray meets a back face (every wall and pillar side faces the room; mutation: the
 /// floor's two edge vectors swapped → fails).

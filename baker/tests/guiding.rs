@@ -245,7 +245,7 @@ fn guided_bakes_agree_with_unguided_ones_per_chart() {
 /// valid texels against a 2 048-pass unguided reference (another seed; its variance is an
 /// eighth of a 256-pass bake's), the reference's own variance (its mean squared standard
 /// error) subtracted. Asserts the guided bake's
-/// error is below the unguided one's by more than 1.3× (issue 16) on the CPU and on the
+/// error is below the unguided one's by more than 1.3× on the CPU and on the
 /// GPU (whose learning records, gather and build are thereby checked to do their job);
 /// prints the ratio with its standard deviation (delta method over the per-texel squared
 /// errors).

@@ -246,7 +246,7 @@ fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<Guiding
     (s, st)
 }
 
-/// Seed 004 §6.2 (issue 15 item 7): the Owen-scrambled Sobol' sequences lower the error
+/// Seed 004 §6.2: the Owen-scrambled Sobol' sequences lower the error
 /// at equal passes. The disk light at h = R (emitter NEE and the point sample, MIS) baked
 /// for N = 64 passes with each sequence; RMSE against the closed form over the texels
 /// within R/2 of the axis. Error model: with independent numbers each texel's error is

@@ -142,7 +142,7 @@ fn lut_output(name: &'static str, f: impl Fn(&[f64]) -> Vec<f64> + Sync, pb: &in
     (file, LutFile { axes, channels, format, note: note(name), values }, params)
 }
 
-/// DFG table error against an independent method (issue 19 item 4): the stored f32
+/// DFG table error against an independent method: the stored f32
 /// values at texel centres against [`sbf::ggx::dfg_quadrature`] (deterministic
 /// Gauss–Legendre in the NDF's CDF, n = 128) on 34 × 34 texel centres — rows and columns
 /// 0, 1, every 4th and the last, so n·v and α near 0 are included. The quadrature's own

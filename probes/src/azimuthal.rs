@@ -1,6 +1,6 @@
 //! Deterministic quadrature of kernels that depend only on two polar angles and an
 //! azimuth difference, over a lat-long map, by FFT (the symmetry used for the specular
-//! reference; issue 19 item 1).
+//! reference).
 //!
 //! A lat-long map's pole is +Y. For an output direction d at polar angle θ_d and azimuth
 //! φ_d, ∫ L(ω) K(θ_d, θ_ω, φ_d − φ_ω) dω — the GGX lobe with the normal at the pole

@@ -1,4 +1,4 @@
-//! Cost axes, measured the same way for every mode (issue 18 item 2): CPU reconstruction
+//! Cost axes, measured the same way for every mode: CPU reconstruction
 //! cost as steady-state nanoseconds per direction over a large batch, and storage.
 //!
 //! Method: the mode's runtime evaluation (coefficients → value at a direction, exactly

@@ -1,4 +1,4 @@
-//! "Which basis, at what cost" (issue 18 item 3): per signal (irradiance; specular per α),
+//! "Which basis, at what cost": per signal (irradiance; specular per α),
 //! the Pareto front of error against each cost axis, and the best mode within a budget of
 //! storage and CPU reconstruction cost. Computed from [`MapResults`] alone, so anyone can
 //! recompute it from `results.json` (a test does).

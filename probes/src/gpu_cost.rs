@@ -1,4 +1,4 @@
-//! The GPU cost axis (`--gpu-cost`, issue 18 item 2): nanoseconds per evaluation of the
+//! The GPU cost axis: nanoseconds per evaluation of the
 //! `shaders` runtime function of each mode, measured by the same kernels `shaders bench`
 //! times (each invocation reads its normal, view, α and one of 1024 coefficient sets from
 //! a buffer and writes the RGB sum; mean of back-to-back dispatches after a warm-up).

@@ -114,7 +114,7 @@ fn coarsened(map: &LatLongImage, d: usize) -> LatLongImage {
 /// Output row stride of the deterministic reference's quadrature check.
 pub const FFT_CHECK_STRIDE: usize = 8;
 
-/// The deterministic specular reference (issue 19 item 1): the GGX integral of the map's
+/// The deterministic specular reference: the GGX integral of the map's
 /// bilinear radiance at every output texel by the azimuthal FFT quadrature
 /// ([`crate::azimuthal`]) with [`subdivision`] sub-cells per texel side — exact in φ up
 /// to that midpoint rule, since the BRDF is invariant under rotation about the pole
@@ -268,7 +268,7 @@ fn fft_image(
     image
 }
 
-/// The *basis-limited* specular images of several modes (issue 19 item 2): the exact GGX
+/// The *basis-limited* specular images of several modes: the exact GGX
 /// integral of each mode's reconstructed radiance — given at the output grid's texel
 /// centres, read bilinearly like the map — by the same azimuthal quadrature as the
 /// reference, with half the subdivision [`subdivision`] gives the grid, rounded up to even

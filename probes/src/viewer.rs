@@ -1,4 +1,4 @@
-//! The interactive view in report.html (issue 18 item 4): per map, a rotatable sphere of
+//! The interactive view in report.html: per map, a rotatable sphere of
 //! the reference and of a chosen mode side by side, for every signal (radiance,
 //! irradiance, GGX specular per α) and the error against the reference — offline, no
 //! network, no WebGL (a canvas 2D renderer, so it works in any browser and headless).

@@ -380,7 +380,7 @@ fn specular_white_furnace() {
     assert!(probes::specular::reconstruct(&ac, &ctx, 0.3).is_none(), "irradiance-only modes have no specular");
 }
 
-/// SH orders up to 16 (issue 18 item 5): on a smooth degree-4 map (128 × 64), every
+/// SH orders up to 16: on a smooth degree-4 map (128 × 64), every
 /// order ≥ 4 reconstructs the exact irradiance reference (an independent FFT quadrature)
 /// to the two quadratures' disagreement on a band-limited function: midpoint rules with
 /// h = π/64, O(h²) ≈ 2.4e-3 relative, asserted ≤ 3e-3 of the reference's RMS; L2 cannot
@@ -462,7 +462,7 @@ fn mcis_is_luminance_importance_sampling() {
 }
 
 /// The FFT irradiance reference against the direct texel sum on random maps with a 10⁶
-/// sun (issue 18 acceptance): 64 × 32 and 128 × 64 maps of uniform random radiance in
+/// sun: 64 × 32 and 128 × 64 maps of uniform random radiance in
 /// [0, 1) per channel plus one texel of 10⁶, output grids of the map's size and half of
 /// it. Error model: the FFT's rounding is ~ε·log₂W·(the row's largest product), i.e.
 /// ≲ 1e-16·7·10⁶·Ω_sun/π ≈ 1e-12 absolute here, against E/π ≥ 0.01 on every texel (the

@@ -1,4 +1,4 @@
-//! report.html's interactive view in a real headless browser (issue 18 acceptance): the
+//! report.html's interactive view in a real headless browser: the
 //! page loads from disk with no script errors, the canvases are not blank, and a self-test
 //! (`#selftest`) renders every signal × mode × (value, error) of the page.
 //!

@@ -1,4 +1,4 @@
-//! The CPU cost axis measures what it claims (issue 18 acceptance): a mode whose runtime
+//! The CPU cost axis measures what it claims: a mode whose runtime
 //! evaluation is made twice as expensive (the test-only `eval_work = 2`, which evaluates
 //! every direction twice inside the timed loop) shows ≥ 1.6× the cost, and two
 //! measurements of the same mode agree within 20%. One test function in its own binary,

@@ -1,4 +1,4 @@
-//! The deterministic GGX reference (azimuthal FFT quadrature, issue 19 item 1): its FFT and
+//! The deterministic GGX reference (azimuthal FFT quadrature): its FFT and
 //! folding machinery against a direct sum of the same quadrature rule, and the reference
 //! against a 2^20-sample MIS estimate (16 Cranley–Patterson replicates) on the five
 //! probes. The probe part needs `../shared/probes`; with SBF_REQUIRE_PROBES=1 (CI) a
@@ -109,7 +109,7 @@ fn probe(name: &str) -> Option<LatLongImage> {
     Some(probes::input::load_map(&p, true).expect("probe loads").0)
 }
 
-/// The reference against Monte Carlo (issue 19 acceptance): on each of the five probes,
+/// The reference against Monte Carlo: on each of the five probes,
 /// Appendix C geometry (normal +Y, view over the upper hemisphere), α 0.1, 0.2, 0.4, 0.6,
 /// 0.8, three output texels (θ_v ≈ 22°, 45°, 67°), the MIS estimator of the same
 /// bilinear radiance with 2^20 visible-normal and 2^20 map samples — 16 independent
@@ -170,7 +170,7 @@ fn fft_reference_matches_mis_within_3_sigma() {
     println!("largest |reference − MIS|/σ over 5 probes × 5 α × 3 texels × 3 channels: {worst:.2}");
 }
 
-/// The basis-limited image's plumbing (issue 19 item 2): when the "reconstruction" is the
+/// The basis-limited image's plumbing: when the "reconstruction" is the
 /// map itself (its radiance at the output texel centres, which are the map's texel
 /// centres here), the basis-limited image is the reference computed with (at most) half
 /// the subdivision, so they differ only by quadrature error. Error model: midpoint rule on

@@ -135,7 +135,7 @@ pub fn dfg_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
 }
 
 /// The DFG entry of [`dfg_entry`] by deterministic quadrature — an independent method for
-/// checking the tables (issue 19 item 4). In half-vector form
+/// checking the tables. In half-vector form
 /// ∫ f·cos dl = ∫ D(h)·G2(v, l)·F·(v·h)/(n·v) dω_h (dl = 4(v·h) dω_h), and the GGX NDF's
 /// own CDF ξ = tan²θ_h/(α² + tan²θ_h) turns D(h)(n·h) dω_h into dξ dφ/(2π), so the
 /// integrand G2·F·(v·h)/((n·v)(n·h)) is bounded on [0, 1] × [0, π] (v in the xz-plane:

@@ -1,4 +1,4 @@
-//! Behaviour that used to be silent, made explicit (issue 20 item 6): LUT lookups
+//! Behaviour that used to be silent, made explicit: LUT lookups
 //! propagate NaN coordinates instead of reading a corner, `MapSampler` counts texels with
 //! non-finite radiance, and the Ambient Dice bases refuse an output of the wrong length.
 

@@ -51,7 +51,7 @@ fn case(name: &str, basis: &dyn Basis, domain: Domain) -> (f64, f64) {
     (g.condition, cd)
 }
 
-/// Condition numbers quoted in the closing note of issue 2 come from this test
+/// Condition numbers quoted in the project notes come from this test
 /// (`cargo test --release --test gram -- --nocapture`). Each is checked against the
 /// dense quadrature: relative agreement 1e-3·cond-scaled, since a perturbation ΔG
 /// moves cond(G) by at most ~cond·‖ΔG‖/λ_min.

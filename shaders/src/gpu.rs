@@ -64,6 +64,18 @@ pub struct Output {
     pub seconds_per_dispatch: f64,
 }
 
+/// Checks storage buffers (name, bytes) against the adapter's binding limit before anything
+/// is uploaded: an over-limit binding otherwise panics inside wgpu. The error names the
+/// first buffer over the limit and both sizes.
+pub fn check_bindings(buffers: &[(&str, u64)], max_binding: u64) -> Result<(), String> {
+    match buffers.iter().find(|(_, bytes)| *bytes > max_binding) {
+        Some((what, bytes)) => {
+            Err(format!("{what}: {bytes} bytes exceed the adapter's storage-buffer binding limit of {max_binding} bytes"))
+        }
+        None => Ok(()),
+    }
+}
+
 /// One device per process, created on first use and shared by every caller (tests run
 /// on many threads: one device avoids N concurrent device creations and N first-time
 /// pipeline compilations competing on a freshly started driver). The error is kept too,

@@ -5,7 +5,7 @@
 //! Error measure: |gpu − cpu| / max(|cpu|, s), where s is the sum of the magnitudes of
 //! the terms the function adds (Σ|c_i·w_i|, computed on the CPU). For a sum of signed
 //! terms that cancels, |cpu| alone would measure cancellation, not the shader; s is the
-//! scale the f32 rounding of either side is proportional to. Bar: 1e-4 (issue 7), and no
+//! scale the f32 rounding of either side is proportional to. Bar: 1e-4, and no
 //! NaN/Inf. Skips with a message when no adapter exists, unless SBF_REQUIRE_GPU=1 (CI).
 
 use sbf::glam::Vec3;

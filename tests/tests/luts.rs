@@ -136,7 +136,7 @@ fn manifest_number(line: &str, key: &str) -> f64 {
     line[at..].split([',', '}']).next().unwrap().trim().parse().unwrap()
 }
 
-/// The DFG errors MANIFEST states agree with an independent quadrature (issue 19 item 4):
+/// The DFG errors MANIFEST states agree with an independent quadrature:
 /// the committed tables' values against `sbf::ggx::dfg_quadrature` at n = 256 (fitgen
 /// uses n = 128) on the same 34 × 34 texel centres (rows/columns 0, 1, every 4th, last):
 /// max and RMS equal MANIFEST's within the quadrature's own change between n = 128 and

@@ -1,5 +1,5 @@
 //! Progressive LS/NNLS against batch LS/NNLS on the five bundled probes
-//! (issue 3 acceptance; seed 004 Fig. 7.8 and 7.6).
+//! (seed 004 Fig. 7.8 and 7.6).
 //!
 //!     cargo test --release --test progressive_probes -- --nocapture
 //! prints the RMSE-vs-samples table quoted in the closing note.
@@ -34,7 +34,7 @@ fn batch_nnls(basis: &dyn Basis, s: &[RadianceSample]) -> DMatrix<f64> {
     out
 }
 
-/// Bars (issue 3): progressive LS within 3% of batch LS at 512 Halton samples and
+/// Bars: progressive LS within 3% of batch LS at 512 Halton samples and
 /// within 0.5% at 16384; progressive NNLS within 5% of batch NNLS at 4096.
 #[test]
 fn progressive_vs_batch_on_probes() {

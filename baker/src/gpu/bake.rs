@@ -11,547 +11,48 @@
 //! bit for bit); the estimator runs in f32 (the CPU's partly in f64), so CPU and GPU bakes
 //! agree statistically, not bit for bit (the CPU↔GPU test checks means within 4σ).
 
-use crate::accumulate::{BakeConfig, BakeState, BasisKind, Moments, Targets};
-use crate::estimator::trace::{specular_probability, Tracer};
-use crate::scene::{Environment, Light};
-use sbf::glam::Vec3;
+use super::encoders::{encoders_from_raw, raw_from_encoders};
+use super::guide::{grid, GuideGpu};
+use super::kernel::{kernel, GuideBuild, Kernel};
+use super::params::{aux_data, TraceParams};
+use crate::accumulate::{BakeConfig, BakeState, Moments, Targets};
+use crate::estimator::trace::Tracer;
+use crate::scene::Environment;
 use shaders::gpu::Gpu;
-use shaders::progressive::{EncoderParams, EncoderState};
+use shaders::progressive::EncoderState;
 use wgpu::util::DeviceExt;
 
-/// Uniform parameters of a pass (WGSL `TraceParams`).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct TraceParams {
-    pub pass_index: u32,
-    pub seed: u32,
-    pub item_count: u32,
-    pub max_bounces: u32,
-    pub emitter_count: u32,
-    pub light_count: u32,
-    pub env_kind: u32,
-    pub mode: u32,
-    pub env_cells_offset: u32,
-    pub inv_total_power: f32,
-    pub count_rays: u32,
-    pub primary_only: u32,
-    pub light_offset: u32,
-    pub emitter_offset: u32,
-    pub env_offset: u32,
-    pub env_width: u32,
-    pub env_rows_offset: u32,
-    pub env_cdf_width: u32,
-    pub env_cdf_height: u32,
-    pub guide_phase: u32,
-    /// Ray guiding: the pass's stage and the stage's first pass (`guiding::stage`).
-    pub guide_stage: u32,
-    pub guide_start: u32,
-    /// The items of this dispatch, [item_offset, item_end) (a pass may take several), as
-    /// positions in this device's share of the items.
-    pub item_offset: u32,
-    pub item_end: u32,
-    /// Multi-GPU partition ([`crate::gpu::multi`]): the items are dealt out in blocks of
-    /// `part_block`, block b to device b mod `part_count`; this device is `part_index`.
-    /// Position v of its share is item (v / B)·B·count + index·B + v mod B (one device: v).
-    pub part_block: u32,
-    pub part_count: u32,
-    pub part_index: u32,
-    /// Passes this dispatch runs, from `pass_index` (each thread takes its item through
-    /// them in order, so an item's state sees exactly the one-pass-per-dispatch updates).
-    pub pass_count: u32,
-    /// [`crate::sampling::sequence::Sequence::code`].
-    pub sampler: u32,
-    /// 1: the dispatch runs an adaptive batch (indirect, its items listed).
-    pub batch_mode: u32,
-    pub pad1: u32,
-    pub pad2: u32,
-    pub env0: [f32; 4],
-    pub env1: [f32; 4],
-    pub env2: [f32; 4],
-}
-shaders::gpu_struct!(
-    TraceParams,
-    "TraceParams",
-    [
-        pass_index,
-        seed,
-        item_count,
-        max_bounces,
-        emitter_count,
-        light_count,
-        env_kind,
-        mode,
-        env_cells_offset,
-        inv_total_power,
-        count_rays,
-        primary_only,
-        light_offset,
-        emitter_offset,
-        env_offset,
-        env_width,
-        env_rows_offset,
-        env_cdf_width,
-        env_cdf_height,
-        guide_phase,
-        guide_stage,
-        guide_start,
-        item_offset,
-        item_end,
-        part_block,
-        part_count,
-        part_index,
-        pass_count,
-        sampler,
-        batch_mode,
-        pad1,
-        pad2,
-        env0,
-        env1,
-        env2
-    ]
-);
-shaders::gpu_struct!(crate::scene::bvh::Node, "Node", [min, left_first, max, count]);
-shaders::gpu_struct!(crate::scene::bvh::Tri, "Tri", [v0, material, e1, mesh, e2, prim]);
-
 const WG: u32 = 64;
-const TRACE_WGSL: &str = include_str!("wgsl/trace.wgsl");
-/// The sample sequences in WGSL (`wgsl/sampler.wgsl`; reads `P.seed`, `P.sampler`).
-pub const SAMPLER_WGSL: &str = include_str!("wgsl/sampler.wgsl");
-const GLOSSY_WGSL: &str = include_str!("wgsl/glossy.wgsl");
-const GLOSSY_NONE_WGSL: &str = include_str!("wgsl/glossy_none.wgsl");
-const GUIDE_WGSL: &str = include_str!("wgsl/guide.wgsl");
-const ADAPT_BATCH_WGSL: &str = include_str!("wgsl/adapt_batch.wgsl");
-const ADAPT_NONE_WGSL: &str = include_str!("wgsl/adapt_none.wgsl");
-const GUIDE_NONE_WGSL: &str = include_str!("wgsl/guide_none.wgsl");
-const FILTER_WGSL: &str = include_str!("wgsl/filter.wgsl");
-const FILTER_NONE_WGSL: &str = include_str!("wgsl/filter_none.wgsl");
-const GUIDE_COMMON_WGSL: &str = include_str!("wgsl/guide_common.wgsl");
-const GUIDE_BUILD_WGSL: &str = include_str!("wgsl/guide_build.wgsl");
-const GUIDE_BUILD_SUBGROUP_WGSL: &str = include_str!("wgsl/guide_build_subgroup.wgsl");
-
-/// The WGSL of ray guiding's kernels: (gather + workgroup build, subgroup build).
-pub fn guide_build_sources() -> (String, String) {
-    (format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_WGSL}"), format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_SUBGROUP_WGSL}"))
-}
-
-/// How ray guiding's distributions are built on this device.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum GuideBuild {
-    /// Row and marginal prefix sums by subgroup scans (seed 003's wave prefix sums).
-    Subgroup,
-    /// Serial sums in workgroup memory (no subgroups, or subgroups narrower than a row).
-    Workgroup,
-}
-
-/// The kernel source for a bake and what its composition left out.
-#[derive(Debug, Clone)]
-pub struct Kernel {
-    pub source: String,
-    /// One line per left-out part ("GGX layer: no glossy material", shaders items).
-    pub left_out: Vec<String>,
-}
-
-fn f(x: f64) -> String {
-    format!("{:?}", x as f32)
-}
-
-fn v3(a: sbf::glam::DVec3) -> String {
-    format!("vec3<f32>({}, {}, {})", f(a.x), f(a.y), f(a.z))
-}
-
-/// Composes the bake kernel for `config` (`glossy`: whether any material has a GGX layer).
-pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
-    let mut roots =
-        vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
-    if glossy {
-        roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
-    }
-    let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
-    let mut left_out = Vec::new();
-    let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
-    // Known projections of the baked point's light samples, per basis (sbf
-    // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
-    let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
-    // The projections start at zero for every pass of an item (a dispatch may run several).
-    let mut project_reset = String::from("fn project_reset() {\n");
-    let (mut filtered_vars, mut filtered_load, mut filtered_store, mut filtered_update) = (
-        String::new(),
-        String::from("fn filtered_load(out: u32) {\n"),
-        String::from("fn filtered_store(out: u32) {\n"),
-        String::from("fn encode_filtered(d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n"),
-    );
-    for (k, b) in config.bases.iter().enumerate() {
-        let lobes = b.basis().len();
-        let body = match b {
-            BasisKind::ShL1 | BasisKind::ShL2 => {
-                let (name, n) = if *b == BasisKind::ShL1 { ("sh_eval_l1", 4) } else { ("sh_eval_l2", 9) };
-                roots.push(name);
-                format!("    let v = {name}(d);\n    for (var i = 0u; i < {n}u; i++) {{\n        b[i] = v[i];\n    }}\n")
-            }
-            BasisKind::Sg9 | BasisKind::Sg12 => {
-                roots.push("sg_eval");
-                let (axes, lambda) = b.sg_lobes();
-                let items: Vec<String> = axes.iter().map(|a| format!("    {},", v3(*a))).collect();
-                gen += &format!(
-                    "const BASIS_{k}_AXES: array<vec3<f32>, {lobes}> = array<vec3<f32>, {lobes}>(\n{}\n);\nconst BASIS_{k}_SHARPNESS: f32 = {};\n",
-                    items.join("\n"),
-                    f(lambda)
-                );
-                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = sg_eval(BASIS_{k}_AXES[i], BASIS_{k}_SHARPNESS, d);\n    }}\n")
-            }
-            BasisKind::Ad9 | BasisKind::Ad12 => {
-                let axes = if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" };
-                roots.extend(["ad_srbf_eval", axes]);
-                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = ad_srbf_eval({axes}[i], d);\n    }}\n")
-            }
-        };
-        gen += &format!(
-            "// {} ({lobes} lobes)\nfn basis_{k}(d: vec3<f32>) -> array<f32, 12> {{\n    var b: array<f32, 12>;\n{body}    return b;\n}}\n",
-            b.name()
-        );
-        let opts = config.encoder_options(*b, sphere_targets);
-        let mirror = opts.mirror_hemisphere;
-        let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts }, lobes)?;
-        let tm: Vec<String> = p
-            .true_mean
-            .iter()
-            .map(|r| format!("vec4<f32>({}, {}, {}, {})", f(r[0] as f64), f(r[1] as f64), f(r[2] as f64), f(r[3] as f64)))
-            .collect();
-        gen += &format!(
-            "const ENCODER_{k}: EncoderParams = EncoderParams({}, {}u, {}u, {}u, array<vec4<f32>, 3>({}));\n\n",
-            f(p.acceleration as f64),
-            p.lobes,
-            p.flags,
-            p.denominator,
-            tm.join(", ")
-        );
-        gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
-        project_reset += &format!("    Q_{k} = array<vec3<f32>, 12>();\n");
-        project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
-        let update = format!("        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
-        // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
-        let twin = if mirror {
-            format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), w);\n")
-        } else {
-            String::new()
-        };
-        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n{update}{twin}        states[s] = st;\n    }}\n");
-        // Filtered accumulation: a gather target's states stay in private variables while
-        // it gathers (wgsl/filter.wgsl loads and stores them once per dispatch).
-        filtered_vars += &format!("var<private> FST_{k}: EncoderState;\n");
-        filtered_load += &format!("    FST_{k} = fstates[{k}u * FP.target_count + out];\n");
-        filtered_store += &format!("    fstates[{k}u * FP.target_count + out] = FST_{k};\n");
-        filtered_update += &format!("    {{\n        var st = FST_{k};\n{update}{twin}        FST_{k} = st;\n    }}\n");
-    }
-    encode += "}\n";
-    project += "}\n";
-    project_reset += "}\n";
-    let filtered = config.filter.is_some() && !sphere_targets;
-    if filtered {
-        // The same encoders on the filtered targets' states (wgsl/filter.wgsl), and the
-        // known projections Q_k to and from a record: 3 vec4 of header, then per basis
-        // its lobes, each a plane of the component-major record buffer.
-        let (mut store, mut load, mut at) =
-            (String::from("fn filter_store_q(at: u32, plane: u32) {\n"), String::from("fn filter_load_q(at: u32, plane: u32) {\n"), 3usize);
-        for (k, b) in config.bases.iter().enumerate() {
-            let lobes = b.basis().len();
-            store += &format!(
-                "    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[at + ({at}u + i) * plane] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n"
-            );
-            load += &format!(
-                "    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[at + ({at}u + i) * plane].xyz;\n    }}\n"
-            );
-            at += lobes;
-        }
-        encode += &format!("{filtered_vars}{filtered_load}}}\n{filtered_store}}}\n{filtered_update}}}\n{store}}}\n{load}}}\n");
-    }
-    encode += &project;
-    encode += &project_reset;
-    let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
-    let lib = shaders::compose::compose_roots(config_name, &roots)?;
-    if !glossy {
-        left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
-    }
-    let guiding = match config.guiding {
-        Some(g) if !sphere_targets => format!("const GUIDED_FRACTION: f32 = {};\n{GUIDE_WGSL}", f(g.guided_fraction)),
-        _ => {
-            left_out.push("ray guiding (not enabled, or probes): the guide bindings, sampler and pdf".to_string());
-            GUIDE_NONE_WGSL.to_string()
-        }
-    };
-    let adapt = if (config.adaptive.is_some() || config.camera.is_some()) && !sphere_targets {
-        ADAPT_BATCH_WGSL
-    } else {
-        left_out.push("adaptive and camera-based sampling (not enabled, or probes): the batch bindings".to_string());
-        ADAPT_NONE_WGSL
-    };
-    left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
-    let wavefront = match config.pipeline {
-        crate::accumulate::Pipeline::Wavefront => crate::gpu::wavefront::WGSL,
-        crate::accumulate::Pipeline::Megakernel => {
-            left_out.push("the wavefront passes (the megakernel pipeline)".to_string());
-            ""
-        }
-    };
-    let filter = if filtered {
-        format!("{}\n{FILTER_WGSL}", crate::gpu::filter::FILTER_KERNEL_WGSL)
-    } else {
-        left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
-        FILTER_NONE_WGSL.to_string()
-    };
-    let source = format!(
-        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{filter}\n{wavefront}",
-        lib.source,
-        if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL }
-    );
-    shaders::export::validate(&source).map_err(|e| format!("bake kernel: {e}"))?;
-    Ok(Kernel { source, left_out })
-}
-
-/// Rays traced and the time they took.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct RayStats {
-    pub primary: u64,
-    pub extension: u64,
-    pub shadow: u64,
-    /// Seconds of the primary-only dispatches and of the full ones.
-    pub primary_seconds: f64,
-    pub full_seconds: f64,
-}
-
-impl RayStats {
-    /// Primary rays per second (first segments only, closest hit).
-    pub fn primary_rate(&self) -> f64 {
-        self.primary as f64 / self.primary_seconds
-    }
-    /// Secondary (extension + shadow) rays per second: their count over the full
-    /// passes' time minus the primary-only time.
-    pub fn secondary_rate(&self) -> f64 {
-        (self.extension + self.shadow) as f64 / (self.full_seconds - self.primary_seconds).max(1e-9)
-    }
-}
-
-/// Ray guiding on the GPU: the per-pass learning records, the learned sums, the
-/// distributions, and the gather and build kernels (`wgsl/guide_build.wgsl`).
-#[derive(Debug)]
-struct GuideGpu {
-    gather: wgpu::ComputePipeline,
-    gather_bind: wgpu::BindGroup,
-    build: wgpu::ComputePipeline,
-    build_bind: wgpu::BindGroup,
-    sums_buf: wgpu::Buffer,
-    /// The sums the current stage's distributions were built from.
-    basis_buf: wgpu::Buffer,
-    rec_buf: wgpu::Buffer,
-    dist_buf: wgpu::Buffer,
-    clusters: u32,
-    learn_passes: u64,
-    /// The distributions were built from the sums.
-    built: bool,
-    path: GuideBuild,
-}
-
-/// Encoder states as the GPU holds them (`n` per basis, basis-major) → sbf encoders.
-pub(crate) fn encoders_from_raw(
-    raw: &[EncoderState],
-    n: usize,
-    config: &BakeConfig,
-    sphere: bool,
-) -> Result<Vec<Vec<sbf::solve::ProgressiveEncoder<f32>>>, String> {
-    let mut encoders = Vec::new();
-    for (b, kind) in config.bases.iter().enumerate() {
-        let lobes = kind.basis().len();
-        let opts = config.encoder_options(*kind, sphere);
-        let mut encs = Vec::with_capacity(n);
-        for st in &raw[b * n..(b + 1) * n] {
-            let amp: Vec<[f64; 3]> = st.coefficients(lobes).iter().map(|c| c.map(|x| x as f64)).collect();
-            let integ: Vec<f64> = st.integrals(lobes).iter().map(|x| *x as f64).collect();
-            encs.push(
-                sbf::solve::ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, st.total_weight as f64, st.samples as u64)
-                    .map_err(|e| format!("GPU encoder state {}: {e}", encs.len()))?,
-            );
-        }
-        encoders.push(encs);
-    }
-    Ok(encoders)
-}
-
-/// sbf encoders → the GPU's encoder states (basis-major).
-pub(crate) fn raw_from_encoders(encoders: &[Vec<sbf::solve::ProgressiveEncoder<f32>>]) -> Vec<EncoderState> {
-    let mut raw = Vec::new();
-    for encs in encoders {
-        for e in encs {
-            let mut st: EncoderState = bytemuck::Zeroable::zeroed();
-            let c = e.coefficients();
-            for (i, g) in e.integrals().iter().enumerate() {
-                st.lobes[i] = [c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32, *g as f32];
-            }
-            st.total_weight = e.total_weight() as f32;
-            st.samples = e.sample_count() as u32;
-            raw.push(st);
-        }
-    }
-    raw
-}
-
-/// Workgroups for `n` threads of `wg` each, as a 2D grid within the 65 535 limit.
-fn grid(n: u32, wg: u32) -> (u32, u32) {
-    let g = n.div_ceil(wg);
-    if g <= 65535 {
-        (g, 1)
-    } else {
-        (65535, g.div_ceil(65535))
-    }
-}
-
-impl GuideGpu {
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        d: &wgpu::Device,
-        targets: &Targets,
-        opts: crate::sampling::guiding::GuidingOptions,
-        rec_buf: wgpu::Buffer,
-        dist_buf: wgpu::Buffer,
-        sums_buf: wgpu::Buffer,
-        subgroup_sizes: Option<(u32, u32)>,
-    ) -> GuideGpu {
-        use crate::sampling::guiding::BIN_COUNT;
-        let clusters = targets.cluster_count as u32;
-        // CSR of the clusters' items in ascending item order.
-        let mut offsets = vec![0u32; clusters as usize + 1];
-        for c in &targets.clusters {
-            offsets[*c as usize + 1] += 1;
-        }
-        for k in 0..clusters as usize {
-            offsets[k + 1] += offsets[k];
-        }
-        let mut fill = offsets.clone();
-        let mut members = vec![0u32; targets.clusters.len()];
-        for (i, c) in targets.clusters.iter().enumerate() {
-            members[fill[*c as usize] as usize] = i as u32;
-            fill[*c as usize] += 1;
-        }
-        offsets.extend(members);
-        let csr = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("guide clusters"),
-            contents: bytemuck::cast_slice(&offsets),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let params = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("guide params"),
-            contents: bytemuck::cast_slice(&[clusters, 0, 0, 0]),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        // Subgroup scans need every row of 16 bins inside one subgroup.
-        let path = match subgroup_sizes {
-            Some((min, _)) if min >= crate::sampling::guiding::BINS as u32 => GuideBuild::Subgroup,
-            _ => GuideBuild::Workgroup,
-        };
-        let module = |label: &str, src: String| {
-            d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(src.into()) })
-        };
-        let (fallback_src, subgroup_src) = guide_build_sources();
-        let fallback = module("guide_build", fallback_src);
-        let pipe = |m: &wgpu::ShaderModule, entry: &str| {
-            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: m,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let gather = pipe(&fallback, "guide_gather");
-        let build = match path {
-            GuideBuild::Subgroup => {
-                let m = module("guide_build_subgroup", subgroup_src);
-                pipe(&m, "guide_build")
-            }
-            GuideBuild::Workgroup => pipe(&fallback, "guide_build"),
-        };
-        let bind = |p: &wgpu::ComputePipeline, e: &[(u32, &wgpu::Buffer)]| {
-            let entries: Vec<wgpu::BindGroupEntry> =
-                e.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect();
-            d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &p.get_bind_group_layout(0), entries: &entries })
-        };
-        let gather_bind = bind(&gather, &[(0, &params), (1, &csr), (2, &rec_buf), (3, &sums_buf)]);
-        let build_bind = bind(&build, &[(0, &params), (3, &sums_buf), (4, &dist_buf)]);
-        debug_assert_eq!(sums_buf.size(), (clusters as usize * BIN_COUNT * 4).max(4) as u64);
-        let basis_buf = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("guide basis"),
-            size: sums_buf.size(),
-            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        GuideGpu {
-            basis_buf,
-            gather,
-            gather_bind,
-            build,
-            build_bind,
-            sums_buf,
-            rec_buf,
-            dist_buf,
-            clusters,
-            learn_passes: opts.learn_passes,
-            built: false,
-            path,
-        }
-    }
-
-    /// Records the build and the copy of the sums it used into the stage's basis.
-    fn record_build(&self, enc: &mut wgpu::CommandEncoder) {
-        self.record(enc, true);
-        enc.copy_buffer_to_buffer(&self.sums_buf, 0, &self.basis_buf, 0, self.sums_buf.size());
-    }
-
-    /// Records the gather (after a learning pass) or the build into `enc`.
-    fn record(&self, enc: &mut wgpu::CommandEncoder, build: bool) {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        if build {
-            let g = grid(self.clusters, 1);
-            pass.set_pipeline(&self.build);
-            pass.set_bind_group(0, &self.build_bind, &[]);
-            pass.dispatch_workgroups(g.0, g.1, 1);
-        } else {
-            let g = grid(self.clusters, 64);
-            pass.set_pipeline(&self.gather);
-            pass.set_bind_group(0, &self.gather_bind, &[]);
-            pass.dispatch_workgroups(g.0, g.1, 1);
-        }
-    }
-}
 
 /// A bake on the GPU.
 #[derive(Debug)]
 pub struct GpuBake<'g> {
-    gpu: &'g Gpu,
+    pub(crate) gpu: &'g Gpu,
     /// The megakernel and its bind group (None: the wavefront pipeline runs the passes).
-    mega: Option<(wgpu::ComputePipeline, wgpu::BindGroup)>,
+    pub(crate) mega: Option<(wgpu::ComputePipeline, wgpu::BindGroup)>,
     /// The wavefront passes ([`crate::gpu::wavefront`]; None: the megakernel runs them).
-    wavefront: Option<crate::gpu::wavefront::Wavefront>,
-    params_buf: wgpu::Buffer,
-    moments_buf: wgpu::Buffer,
-    states_buf: wgpu::Buffer,
-    counters_buf: wgpu::Buffer,
+    pub(crate) wavefront: Option<crate::gpu::wavefront::Wavefront>,
+    pub(crate) params_buf: wgpu::Buffer,
+    pub(crate) moments_buf: wgpu::Buffer,
+    pub(crate) states_buf: wgpu::Buffer,
+    pub(crate) counters_buf: wgpu::Buffer,
     pub params: TraceParams,
-    config: BakeConfig,
-    sphere: bool,
-    items: usize,
+    pub(crate) config: BakeConfig,
+    pub(crate) sphere: bool,
+    pub(crate) items: usize,
     pub passes: u64,
     pub kernel: Kernel,
-    guide: Option<GuideGpu>,
-    batching: Batching,
+    pub(crate) guide: Option<GuideGpu>,
+    pub(crate) batching: Batching,
     /// Items this device dispatches (all by default; its blocks when the bake is one
     /// device of a [`crate::gpu::multi::MultiGpuBake`]: see [`TraceParams::part_block`]).
-    share: usize,
+    pub(crate) share: usize,
     /// Adaptive sampling's selection (None: uniform passes).
-    adapt: Option<crate::gpu::adaptive::AdaptGpu>,
+    pub(crate) adapt: Option<crate::gpu::adaptive::AdaptGpu>,
     /// GPU seconds and count per wavefront pass while a profile is taken.
-    profile: Option<Vec<(&'static str, f64, u64)>>,
+    pub(crate) profile: Option<Vec<(&'static str, f64, u64)>>,
     /// Filtered accumulation's records, targets and gather ([`crate::gpu::filter`]).
-    filter: Option<crate::gpu::filter::FilterGpu>,
+    pub(crate) filter: Option<crate::gpu::filter::FilterGpu>,
 }
 
 /// The partition block of a single-device bake (any positive value is the identity).
@@ -563,7 +64,7 @@ const PART_BLOCK_DEFAULT: u32 = 64;
 /// atlas size — far below driver watchdogs. Measured (one wait) at passes 0, 1, 2, 4, …,
 /// then every 64 passes; between them the passes are queued back to back.
 #[derive(Debug, Clone, Copy)]
-struct Batching {
+pub(crate) struct Batching {
     /// Target seconds per dispatch; None: `chunk` fixed.
     target: Option<f64>,
     chunk: usize,
@@ -633,79 +134,11 @@ pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usi
 }
 
 /// Checks every storage buffer of a bake against the adapter's binding limit before
-/// anything is uploaded; the error names the buffer and both sizes.
+/// anything is uploaded ([`shaders::gpu::check_bindings`]); the error names the buffer,
+/// both sizes and what to do.
 pub fn check_bindings(buffers: &[(&str, u64)], max_binding: u64) -> Result<(), String> {
-    for (what, bytes) in buffers {
-        if *bytes > max_binding {
-            return Err(format!(
-                "{what}: {bytes} bytes exceed the adapter's storage-buffer binding limit of {max_binding} bytes (bake on the CPU with --device cpu, fewer bases or texels, or a simpler scene)"
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// Offsets (in vec4s) of the parts of `aux` (see trace.wgsl).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct AuxLayout {
-    lights: u32,
-    emitters: u32,
-    emitter_count: u32,
-    env_texels: u32,
-    env_rows: u32,
-    env_cells: u32,
-    env_cdf: (u32, u32),
-}
-
-/// Materials, lights, emitters, the environment map and its sampler packed as vec4s
-/// (see `aux` in trace.wgsl).
-fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, AuxLayout) {
-    let mut aux = Vec::new();
-    let mut at = AuxLayout::default();
-    for m in &tracer.scene.materials {
-        let (d, f0, e) = (m.diffuse_albedo(), m.specular_f0(), m.emissive);
-        let flags = m.is_glossy() as u32 | (m.double_sided as u32) << 1;
-        aux.push([d.x, d.y, d.z, specular_probability(m) as f32]);
-        aux.push([f0.x, f0.y, f0.z, m.alpha()]);
-        aux.push([e.x, e.y, e.z, flags as f32]);
-    }
-    at.lights = aux.len() as u32;
-    for l in &tracer.scene.lights {
-        // 4 vec4 per light: (position or direction, kind), (colour, range),
-        // (spot axis, cos inner), (cos outer, 0, 0, 0).
-        let (a, kind, c, range, axis, ci, co) = match *l {
-            Light::Directional { direction, irradiance } => (direction, 0.0, irradiance, f32::INFINITY, Vec3::Z, 1.0, -1.0),
-            Light::Point { position, intensity, range } => (position, 1.0, intensity, range, Vec3::Z, 1.0, -1.0),
-            Light::Spot { position, direction, intensity, cos_inner, cos_outer, range } => {
-                (position, 2.0, intensity, range, direction, cos_inner, cos_outer)
-            }
-        };
-        aux.push([a.x, a.y, a.z, kind]);
-        aux.push([c.x, c.y, c.z, if range.is_finite() { range } else { -1.0 }]);
-        aux.push([axis.x, axis.y, axis.z, ci]);
-        aux.push([co, 0.0, 0.0, 0.0]);
-    }
-    at.emitters = aux.len() as u32;
-    for (tri, cdf) in tracer.emitter_table() {
-        aux.push([f32::from_bits(tri), cdf as f32, 0.0, 0.0]);
-        at.emitter_count += 1;
-    }
-    // The last CDF entry is 1 up to rounding; the search clamps to the last emitter.
-    at.env_texels = aux.len() as u32;
-    if let Environment::Map(m) = &tracer.scene.environment {
-        aux.extend(m.texels.iter().map(|t| [t[0], t[1], t[2], 0.0]));
-    }
-    if let Some(env) = &tracer.env {
-        at.env_rows = aux.len() as u32;
-        aux.extend(env.row_cdf.iter().map(|c| [*c, 0.0, 0.0, 0.0]));
-        at.env_cells = aux.len() as u32;
-        aux.extend(env.col_cdf.iter().zip(&env.cell_p).map(|(c, p)| [*c, *p, 0.0, 0.0]));
-        at.env_cdf = (env.width as u32, env.height as u32);
-    }
-    if aux.is_empty() {
-        aux.push([0.0; 4]);
-    }
-    (aux, at)
+    shaders::gpu::check_bindings(buffers, max_binding)
+        .map_err(|e| format!("{e} (bake on the CPU with --device cpu, fewer bases or texels, or a simpler scene)"))
 }
 
 impl<'g> GpuBake<'g> {
@@ -1288,61 +721,5 @@ impl<'g> GpuBake<'g> {
             q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_sums));
         }
         self.gpu.wait()
-    }
-
-    /// GPU time per wavefront pass over `passes` passes, from timestamps at every pass's
-    /// start and end: (pass, seconds in all, times run), in the order first run. Needs the
-    /// wavefront pipeline and `Features::TIMESTAMP_QUERY`; the bake's state is modified
-    /// (use a throw-away bake).
-    pub fn profile_passes(&mut self, passes: u64) -> Result<Vec<(&'static str, f64, u64)>, String> {
-        let Some(w) = self.wavefront.as_mut() else {
-            return Err("per-pass GPU times are measured for the wavefront pipeline (--pipeline wavefront)".into());
-        };
-        w.enable_profiling(self.gpu.device())?;
-        self.profile = Some(Vec::new());
-        let r = self.run(passes);
-        let totals = self.profile.take().unwrap_or_default();
-        if let Some(w) = self.wavefront.as_mut() {
-            w.disable_profiling();
-        }
-        r.map(|_| totals)
-    }
-
-    /// Measures rays per second over `passes` passes: primary-only dispatches (closest
-    /// hit of each path's first segment, no shading, no encoding) and full ones (paths,
-    /// shadow rays, and the per-sample encoders), counted in a separate run with ray
-    /// counters on. Secondary rays/s = (extension + shadow) / (full − primary time), so
-    /// shading and encoding are charged to the secondary rays. The bake's state is
-    /// modified (use a throw-away bake).
-    pub fn time_rays(&mut self, passes: u64) -> Result<RayStats, String> {
-        let mut s = RayStats::default();
-        let q = self.gpu.queue();
-        let read_counters = |b: &wgpu::Buffer| -> Result<[u32; 4], String> { Ok(bytemuck::pod_read_unaligned(&self.gpu.read_back(b)?)) };
-        // Warm-up (pipeline compilation, caches).
-        self.run(1)?;
-        for primary in [true, false] {
-            q.write_buffer(&self.counters_buf, 0, &[0u8; 16]);
-            self.params.primary_only = primary as u32;
-            self.params.count_rays = 1;
-            self.run(passes)?;
-            let c = read_counters(&self.counters_buf)?;
-            if primary {
-                s.primary = c[0] as u64;
-            } else {
-                (s.extension, s.shadow) = (c[1] as u64, c[2] as u64);
-            }
-            // Timed without counters (atomics would perturb the timing).
-            self.params.count_rays = 0;
-            let t = std::time::Instant::now();
-            self.run(passes)?;
-            let secs = t.elapsed().as_secs_f64();
-            if primary {
-                s.primary_seconds = secs;
-            } else {
-                s.full_seconds = secs;
-            }
-        }
-        self.params.primary_only = 0;
-        Ok(s)
     }
 }

@@ -202,7 +202,7 @@ impl FilterGpu {
             })
             .collect();
         let raw: Vec<EncoderState> = bytemuck::pod_collect_to_vec(&gpu.read_back(&self.states)?);
-        let encoders = crate::gpu::encoders_from_raw(&raw, n, config, false)?;
+        let encoders = crate::gpu::encoders::encoders_from_raw(&raw, n, config, false)?;
         Ok(FilteredState { encoders, moments, negative_weights })
     }
 
@@ -228,7 +228,7 @@ impl FilterGpu {
             })
             .collect();
         q.write_buffer(&self.moments, 0, bytemuck::cast_slice(&m));
-        let raw = crate::gpu::raw_from_encoders(&state.encoders);
+        let raw = crate::gpu::encoders::raw_from_encoders(&state.encoders);
         if !raw.is_empty() {
             q.write_buffer(&self.states, 0, bytemuck::cast_slice(&raw));
         }

@@ -10,9 +10,17 @@
 
 pub mod adaptive;
 pub mod bake;
+pub mod encoders;
 pub mod filter;
+pub mod guide;
+pub mod kernel;
 pub mod multi;
+pub mod params;
 pub mod prims;
+pub mod timing;
 pub mod wavefront;
 
-pub use bake::*;
+pub use bake::{check_bindings, wave_capacity, GpuBake, BATCH_TARGET_SECONDS, MAX_PASSES_PER_DISPATCH};
+pub use kernel::{guide_build_sources, kernel, GuideBuild, Kernel, SAMPLER_WGSL};
+pub use params::TraceParams;
+pub use timing::RayStats;

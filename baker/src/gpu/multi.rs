@@ -1,4 +1,4 @@
-//! A bake split across several GPUs of one host (issue 15 item 8; the thesis' pipeline is
+//! A bake split across several GPUs of one host (the thesis' pipeline is
 //! designed per device, seed 004 §3.4).
 //!
 //! The targets (texels or probes) are dealt out in blocks of consecutive items, block b to

@@ -1,4 +1,4 @@
-//! Seam stitching (issue 16 item 3): where one surface is cut into two UV islands (two
+//! Seam stitching: where one surface is cut into two UV islands (two
 //! charts, or two meshes), the texels on either side of the cut are filtered bilinearly
 //! from different places of the atlas, so a lookup just left of the seam and one just right
 //! of it disagree by the two sides' noise and filtering. Here:

@@ -172,7 +172,7 @@ fn grid(name: &str, corner: Vec3, u: Vec3, v: Vec3, nu: usize, nv: usize, materi
 /// Quads per metre of [`room_1m`]'s surfaces (1.8 cm cells).
 const ROOM_1M_CELLS_PER_METRE: f32 = 55.5;
 
-/// The fair benchmark scene of the wavefront-pipeline issue: a 6 × 3 × 6 m room and four
+/// The fair benchmark scene of the wavefront pipeline: a 6 × 3 × 6 m room and four
 /// 0.4 m pillars, every surface tessellated into 1.8 cm quads — 1.05 M triangles, all
 /// lightmapped (planar lightmap UVs), so every ray meets triangles that carry texels and
 /// the pillars make paths incoherent. Lit by two ceiling panels (not lightmapped), a spot

@@ -145,7 +145,7 @@ impl<'g> SlcGpu<'g> {
                 ]
             })
             .collect();
-        crate::gpu::check_bindings(
+        shaders::gpu::check_bindings(
             &[("G-buffer", (gb.len() * 16) as u64), ("VPLs", (lv.len() * 16) as u64), ("image", (g.width * g.height * 16) as u64)],
             d.limits().max_storage_buffer_binding_size,
         )?;

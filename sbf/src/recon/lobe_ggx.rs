@@ -1,5 +1,5 @@
 //! GGX specular response of one radial lobe — exact by quadrature, and tabulated for the
-//! runtime (issue 19 item 3: a per-lobe path whose only approximation is interpolation).
+//! runtime (a per-lobe path whose only approximation is interpolation).
 //!
 //! For a radiance lobe K(p·l) with unit axis p (an SG e^{λ(p·l − 1)}, an Ambient Dice
 //! SRBF), the reflected radiance at normal n, view v and roughness α is

@@ -1,0 +1,125 @@
+//! The pass loop of one set of targets (texels or probes) on the CPU or the GPUs: progress
+//! with ETA, a checkpoint every N passes, resume from a checkpoint.
+
+use super::Options;
+use crate::accumulate::{Bake, BakeConfig, BakeState, Targets};
+use crate::checkpoint;
+use crate::estimator::trace::Tracer;
+use crate::gpu::multi::MultiGpuBake;
+use crate::scene::Scene;
+
+pub(crate) enum Engine<'a> {
+    Cpu(Box<Bake<'a>>),
+    Gpu(Box<MultiGpuBake<'a>>),
+}
+
+impl Engine<'_> {
+    fn run(&mut self, n: u64) -> Result<(), String> {
+        match self {
+            Engine::Cpu(b) => {
+                for _ in 0..n {
+                    b.pass();
+                }
+                Ok(())
+            }
+            Engine::Gpu(g) => g.run(n),
+        }
+    }
+    fn state(&self) -> Result<BakeState, String> {
+        match self {
+            Engine::Cpu(b) => Ok(b.state.clone()),
+            Engine::Gpu(g) => g.state(),
+        }
+    }
+    fn passes(&self) -> u64 {
+        match self {
+            Engine::Cpu(b) => b.state.passes,
+            Engine::Gpu(g) => g.passes(),
+        }
+    }
+}
+
+/// Runs passes on `targets` with progress, checkpoints and resume; returns the state.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_targets<'s>(
+    o: &Options,
+    config: &BakeConfig,
+    gpus: &'s [shaders::gpu::Gpu],
+    tracer_of: &dyn Fn() -> Tracer<'s>,
+    scene: &Scene,
+    targets: &Targets,
+    what: &str,
+    log: &mut dyn FnMut(String),
+) -> Result<(BakeState, u64), String> {
+    config.check(targets)?;
+    let ckpt = o.out.join(format!("{what}.checkpoint"));
+    let fp = checkpoint::content_fingerprint(scene, targets, config, what);
+    let saved = if o.resume && ckpt.exists() {
+        let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
+        let st = checkpoint::from_bytes(&bytes, fp, config, targets).map_err(|e| format!("{}: {e}", ckpt.display()))?;
+        log(format!("{what}: resuming from {} at pass {}", ckpt.display(), st.passes));
+        Some(st)
+    } else {
+        if o.resume {
+            log(format!("{what}: --resume given but no checkpoint at {}; starting from pass 0", ckpt.display()));
+        }
+        None
+    };
+    let mut engine = match gpus {
+        [] => match saved {
+            Some(st) => Engine::Cpu(Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?)),
+            None => Engine::Cpu(Box::new(Bake::new(config.clone(), targets, tracer_of()))),
+        },
+        gpus => {
+            let mut b = MultiGpuBake::new(gpus, tracer_of, targets, config)?;
+            match o.batch_seconds {
+                Some(s) => b.set_batch_target(Some(s)),
+                None => b.set_chunk(usize::MAX),
+            }
+            for l in &b.devices()[0].kernel.left_out {
+                log(format!("{what}: left out of the GPU kernel: {l}"));
+            }
+            if gpus.len() > 1 {
+                let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();
+                log(format!("{what}: items dealt to {} GPUs in blocks of {}: {} items each", gpus.len(), b.block(), shares.join(", ")));
+            }
+            if let Some(st) = &saved {
+                b.upload(st)?;
+            }
+            Engine::Gpu(Box::new(b))
+        }
+    };
+    // Adaptive bakes count pilot passes and batches (about the paths of o.passes passes).
+    let total = config.adaptive.map_or(o.passes, |a| a.batches_for(o.passes));
+    let unit = if config.adaptive.is_some() { "passes + batches" } else { "passes" };
+    let start = engine.passes();
+    let todo = total.saturating_sub(start);
+    let bar = if o.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(total) };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!("{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}, {{per_sec}}, ETA {{eta}}"))
+            .expect("template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar.set_position(start);
+    let chunk = if o.checkpoint_every > 0 { o.checkpoint_every } else { todo.max(1) };
+    let mut run = 0;
+    while engine.passes() < total {
+        let n = chunk.min(total - engine.passes());
+        // Progress granularity: at most 8 passes per call between bar updates.
+        let mut left = n;
+        while left > 0 {
+            let k = left.min(8);
+            engine.run(k)?;
+            bar.inc(k);
+            left -= k;
+        }
+        run += n;
+        if o.checkpoint_every > 0 {
+            let st = engine.state()?;
+            checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes(&st, fp))?;
+        }
+    }
+    bar.finish_and_clear();
+    Ok((engine.state()?, run))
+}

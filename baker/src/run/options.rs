@@ -1,0 +1,99 @@
+//! What a bake is given ([`Options`]: the scene, the layout, the passes, the device, the
+//! post-processing and where to write) and what it reports back ([`Summary`]).
+
+use crate::accumulate::{BakeConfig, BakeState, BasisKind};
+use std::path::PathBuf;
+
+/// Which engine traces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Device {
+    /// A hardware GPU adapter if one exists, else the CPU path (a software rasteriser
+    /// such as lavapipe/llvmpipe is slower than the CPU path: used only with `Gpu`).
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+/// Everything a bake needs.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// "cornell" (default), "furnace", or a .gltf/.glb path.
+    pub scene: String,
+    /// A lat-long .hdr/.exr environment replacing the scene's.
+    pub environment: Option<PathBuf>,
+    pub texels_per_unit: f32,
+    pub padding: usize,
+    pub passes: u64,
+    pub config: BakeConfig,
+    pub device: Device,
+    pub out: PathBuf,
+    /// Passes between checkpoints (0: none).
+    pub checkpoint_every: u64,
+    pub resume: bool,
+    /// Probe grid (nx, ny, nz) inside the scene bounds, baked into `probe_bases`.
+    pub probes: Option<[usize; 3]>,
+    /// Move probes found inside geometry out through the nearest back face before baking.
+    pub relocate_probes: bool,
+    pub probe_bases: Vec<BasisKind>,
+    pub preview_width: usize,
+    /// No progress bar.
+    pub quiet: bool,
+    /// Instead of baking: measure GPU rays/s over this many passes and print them.
+    pub measure_rays: Option<u64>,
+    /// GPU: target seconds per dispatch (frame-time load balancing, seed 004 §3.4.1); None:
+    /// one dispatch per pass.
+    pub batch_seconds: Option<f64>,
+    /// GPUs to bake on (hardware adapters, one thread and queue each; [`crate::gpu::multi`]).
+    /// 1: the best adapter.
+    pub gpus: usize,
+    /// The lighting profile the bases came from (`--profile`): its BRDF set decides whether
+    /// the specular runtime (features, LUTs) is written, its language the exported runtime;
+    /// it is recorded in bake.json.
+    pub profile: Option<sbf::profile::Profile>,
+    /// Joint NLM denoising of every written coefficient set before dilation
+    /// ([`crate::post::denoise`]); None: off.
+    pub denoise: Option<crate::post::denoise::DenoiseOptions>,
+    /// Least-squares seam stitching after the denoiser, before dilation ([`crate::post::seams`]).
+    /// The seam metric is reported either way.
+    pub stitch_seams: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            scene: "cornell".into(),
+            environment: None,
+            texels_per_unit: 16.0,
+            padding: 2,
+            passes: 128,
+            config: BakeConfig::default(),
+            device: Device::Auto,
+            out: PathBuf::from("bake-out"),
+            checkpoint_every: 32,
+            resume: false,
+            probes: Some([3, 3, 3]),
+            relocate_probes: false,
+            probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
+            preview_width: 480,
+            measure_rays: None,
+            batch_seconds: Some(crate::gpu::BATCH_TARGET_SECONDS),
+            gpus: 1,
+            profile: None,
+            quiet: false,
+            // The CLI's defaults for 128 passes (`--denoise auto`, `--stitch-seams auto`).
+            denoise: Some(crate::post::denoise::DenoiseOptions::default()),
+            stitch_seams: true,
+        }
+    }
+}
+
+/// What a bake produced.
+#[derive(Debug, Clone)]
+pub struct Summary {
+    pub device: String,
+    pub lightmap: BakeState,
+    pub probes: Option<BakeState>,
+    /// Passes run by this invocation (the rest came from a checkpoint).
+    pub passes_run: u64,
+    pub seconds: f64,
+}

@@ -1,0 +1,204 @@
+//! The crate's shape, checked on its source: every layer (a folder of `src/`) imports only
+//! the layers below it (the table in `src/lib.rs`), no two modules of a layer import each
+//! other in a cycle, and no source file grows past 600 lines.
+//!
+//! Imports are read from code, not comments: every `crate::a::b` path and every
+//! `super::` path, resolved to the deepest module file that exists. Mutations tried: a
+//! `use crate::gpu::GpuBake;` added to `scene/bvh.rs` (upward import) and a
+//! `use super::targets::Targets;` added to `accumulate/config.rs`'s twin `state.rs` →
+//! `config.rs` loop (a cycle inside a layer) — both fail.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Each layer and the layers it may import (the rest of the crate is off limits).
+const ALLOWED: &[(&str, &[&str])] = &[
+    ("scene", &[]),
+    ("layout", &["scene"]),
+    ("sampling", &["scene", "layout"]),
+    ("estimator", &["scene", "layout", "sampling"]),
+    ("accumulate", &["scene", "layout", "sampling", "estimator"]),
+    ("checkpoint", &["scene", "layout", "sampling", "estimator", "accumulate"]),
+    ("gpu", &["scene", "layout", "sampling", "estimator", "accumulate"]),
+    ("post", &["scene", "layout", "sampling", "estimator", "accumulate"]),
+    ("output", &["scene", "layout", "sampling", "estimator", "accumulate", "post"]),
+    ("run", &["scene", "layout", "sampling", "estimator", "accumulate", "checkpoint", "gpu", "post", "output"]),
+    ("slc", &["scene", "output"]),
+];
+
+/// The longest source file the crate accepts.
+const MAX_LINES: usize = 600;
+
+fn src() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+/// Every `.rs` file under `dir`, sorted.
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|e| e == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The module path of a file (`src/gpu/bake.rs` → ["gpu", "bake"], `src/gpu/mod.rs` → ["gpu"]).
+fn module_of(file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src()).unwrap();
+    let mut parts: Vec<String> = rel.iter().map(|c| c.to_string_lossy().trim_end_matches(".rs").to_string()).collect();
+    if parts.last().is_some_and(|p| p == "mod") {
+        parts.pop();
+    }
+    parts
+}
+
+/// Whether `path` (module components) names a module file of the crate.
+fn is_module(path: &[String]) -> bool {
+    let base = path.iter().fold(src(), |p, c| p.join(c));
+    base.with_extension("rs").is_file() || base.join("mod.rs").is_file()
+}
+
+/// The code of a file with comments removed (line comments and doc comments; the crate
+/// has no block comments in code).
+fn code_of(text: &str) -> String {
+    text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n")
+}
+
+/// Module paths of identifiers following `prefix` in `code` (`crate::` or `super::`),
+/// including braced lists one level deep (`crate::a::{b, c::D}`).
+fn paths_after(code: &str, prefix: &str) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    let mut rest = code;
+    while let Some(i) = rest.find(prefix) {
+        let before = rest[..i].chars().last();
+        rest = &rest[i + prefix.len()..];
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+            continue;
+        }
+        let path: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':').collect();
+        let mut base: Vec<String> = path.split("::").filter(|s| !s.is_empty()).map(String::from).collect();
+        if path.ends_with("::") && rest[path.len()..].starts_with('{') {
+            let list: String = rest[path.len() + 1..].chars().take_while(|c| *c != '}').collect();
+            for item in list.split(',') {
+                let mut p = base.clone();
+                p.extend(item.trim().split("::").filter(|s| !s.is_empty() && *s != "self").map(String::from));
+                out.push(p);
+            }
+            base.clear();
+        }
+        if !base.is_empty() {
+            out.push(base);
+        }
+    }
+    out
+}
+
+/// The module files a file imports (deepest existing module of each path), itself excluded.
+fn imports(file: &Path) -> BTreeSet<Vec<String>> {
+    let code = code_of(&std::fs::read_to_string(file).unwrap());
+    let me = module_of(file);
+    // `super` of a module file is its parent module; of a crate root, nothing.
+    let parent: Vec<String> = me[..me.len().saturating_sub(1)].to_vec();
+    let mut out = BTreeSet::new();
+    let absolute = paths_after(&code, "crate::").into_iter();
+    let relative = paths_after(&code, "super::").into_iter().map(|p| parent.iter().cloned().chain(p).collect::<Vec<_>>());
+    for p in absolute.chain(relative) {
+        let mut m = p;
+        while !m.is_empty() && !is_module(&m) {
+            m.pop();
+        }
+        if !m.is_empty() && m != me {
+            out.insert(m);
+        }
+    }
+    out
+}
+
+fn library_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    // The binaries are the crate's users, not part of the layer graph.
+    files.retain(|f| {
+        let m = module_of(f);
+        !(m == ["lib"] || m == ["main"] || m.first().is_some_and(|c| c == "bin"))
+    });
+    files
+}
+
+#[test]
+fn layers_import_only_downwards() {
+    let allowed: BTreeMap<&str, &[&str]> = ALLOWED.iter().copied().collect();
+    let mut bad = Vec::new();
+    for f in library_files() {
+        let me = module_of(&f);
+        let layer = me[0].as_str();
+        let Some(ok) = allowed.get(layer) else {
+            bad.push(format!("{}: top-level module '{layer}' is not a layer of the table", f.display()));
+            continue;
+        };
+        for m in imports(&f) {
+            let to = m[0].as_str();
+            if to != layer && !ok.contains(&to) {
+                bad.push(format!("{}: {layer} imports {} ({to} is not below {layer})", f.display(), m.join("::")));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{} upward or sideways imports:\n{}", bad.len(), bad.join("\n"));
+}
+
+#[test]
+fn no_import_cycle_between_modules() {
+    let graph: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = library_files().iter().map(|f| (module_of(f), imports(f))).collect();
+    // A module's parent (`mod.rs`) declares it, so parent → child arrows are the tree, not
+    // imports: only arrows to non-descendants count for cycles.
+    let edges = |m: &Vec<String>| -> Vec<Vec<String>> { graph[m].iter().filter(|t| !t.starts_with(m)).cloned().collect() };
+    // Depth-first search with colours; a grey node reached again closes a cycle.
+    let mut colour: BTreeMap<Vec<String>, u8> = BTreeMap::new();
+    let mut cycles = Vec::new();
+    fn visit(
+        m: &Vec<String>,
+        edges: &dyn Fn(&Vec<String>) -> Vec<Vec<String>>,
+        colour: &mut BTreeMap<Vec<String>, u8>,
+        stack: &mut Vec<Vec<String>>,
+        cycles: &mut Vec<String>,
+    ) {
+        colour.insert(m.clone(), 1);
+        stack.push(m.clone());
+        for t in edges(m) {
+            match colour.get(&t).copied().unwrap_or(0) {
+                0 => visit(&t, edges, colour, stack, cycles),
+                1 => {
+                    let from = stack.iter().position(|s| *s == t).unwrap();
+                    let names: Vec<String> = stack[from..].iter().chain([&t]).map(|s| s.join("::")).collect();
+                    cycles.push(names.join(" → "));
+                }
+                _ => {}
+            }
+        }
+        stack.pop();
+        colour.insert(m.clone(), 2);
+    }
+    for m in graph.keys() {
+        if colour.get(m).copied().unwrap_or(0) == 0 {
+            visit(m, &edges, &mut colour, &mut Vec::new(), &mut cycles);
+        }
+    }
+    assert!(cycles.is_empty(), "import cycles:\n{}", cycles.join("\n"));
+}
+
+#[test]
+fn no_source_file_is_too_long() {
+    let mut files = Vec::new();
+    rust_files(&src(), &mut files);
+    let long: Vec<String> = files
+        .iter()
+        .map(|f| (f, std::fs::read_to_string(f).unwrap().lines().count()))
+        .filter(|(_, n)| *n > MAX_LINES)
+        .map(|(f, n)| format!("{} ({n} lines)", f.display()))
+        .collect();
+    assert!(long.is_empty(), "files over {MAX_LINES} lines: {long:?}");
+}
