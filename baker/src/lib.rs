@@ -40,7 +40,7 @@
 //! assert_eq!(irradiance.len(), targets.items.len());
 //! ```
 
-// LINTS-PENDING: #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
 
 pub mod accumulate;
 pub mod checkpoint;

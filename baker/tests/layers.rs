@@ -4,9 +4,10 @@
 //!
 //! Imports are read from code, not comments: every `crate::a::b` path and every
 //! `super::` path, resolved to the deepest module file that exists. Mutations tried: a
-//! `use crate::gpu::GpuBake;` added to `scene/bvh.rs` (upward import) and a
-//! `use super::targets::Targets;` added to `accumulate/config.rs`'s twin `state.rs` →
-//! `config.rs` loop (a cycle inside a layer) — both fail.
+//! `use crate::gpu::GpuBake;` added to `scene/bvh.rs` (an upward import), and
+//! `use super::probes::probe_grid;` in `layout/lightmap.rs` with
+//! `use super::lightmap::Lightmap;` in `layout/probes.rs` (a cycle inside a layer) —
+//! both fail, naming the files.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

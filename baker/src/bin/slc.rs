@@ -1,7 +1,7 @@
 //! slc: render single-bounce indirect light from virtual point lights with stochastic
 //! light culling (seeds 000–002), on the GPU or the CPU, beside its brute-force reference.
 
-// LINTS-PENDING: #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
 
 use baker::slc::harness::{self, SlcOptions};
 use baker::slc::media::Medium;

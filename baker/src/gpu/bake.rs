@@ -11,16 +11,14 @@
 //! bit for bit); the estimator runs in f32 (the CPU's partly in f64), so CPU and GPU bakes
 //! agree statistically, not bit for bit (the CPU↔GPU test checks means within 4σ).
 
-use super::encoders::{encoders_from_raw, raw_from_encoders};
+use super::buffers::{check_sizes, upload, BakeBuffers};
 use super::guide::{grid, GuideGpu};
 use super::kernel::{kernel, GuideBuild, Kernel};
-use super::params::{aux_data, TraceParams};
-use crate::accumulate::{BakeConfig, BakeState, Moments, Targets};
+use super::params::{aux_data, trace_params, TraceParams};
+use crate::accumulate::{BakeConfig, Targets};
 use crate::estimator::trace::Tracer;
-use crate::scene::Environment;
 use shaders::gpu::Gpu;
 use shaders::progressive::EncoderState;
-use wgpu::util::DeviceExt;
 
 const WG: u32 = 64;
 
@@ -54,9 +52,6 @@ pub struct GpuBake<'g> {
     /// Filtered accumulation's records, targets and gather ([`crate::gpu::filter`]).
     pub(crate) filter: Option<crate::gpu::filter::FilterGpu>,
 }
-
-/// The partition block of a single-device bake (any positive value is the identity).
-const PART_BLOCK_DEFAULT: u32 = 64;
 
 /// Items per dispatch (seed 004 §3.4.1, frame-time load balancing): a pass is split into
 /// dispatches of `chunk` items, and `chunk` follows N ← N·T_target/T (eq. 3.1–3.2) from
@@ -133,16 +128,9 @@ pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usi
     uniform.max(batch).max(64)
 }
 
-/// Checks every storage buffer of a bake against the adapter's binding limit before
-/// anything is uploaded ([`shaders::gpu::check_bindings`]); the error names the buffer,
-/// both sizes and what to do.
-pub fn check_bindings(buffers: &[(&str, u64)], max_binding: u64) -> Result<(), String> {
-    shaders::gpu::check_bindings(buffers, max_binding)
-        .map_err(|e| format!("{e} (bake on the CPU with --device cpu, fewer bases or texels, or a simpler scene)"))
-}
-
 impl<'g> GpuBake<'g> {
     /// Uploads the scene, BVH and targets and compiles the kernel.
+    #[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
     pub fn new(gpu: &'g Gpu, tracer: &Tracer, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
         if targets.items.is_empty() {
             return Err("nothing to bake: no valid texels or probes".into());
@@ -174,102 +162,22 @@ impl<'g> GpuBake<'g> {
         let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
         let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
         let pool = if wavefront { wave_capacity(config, targets.items.len(), d.limits().max_storage_buffer_binding_size) } else { 0 };
-        check_bindings(
-            &[
-                ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
-                ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
-                ("materials, lights and environment", (aux.len() * 16) as u64),
-                ("sample points", (targets.points.len() * 48) as u64),
-                ("encoder states", states_len as u64),
-                ("moments", (targets.items.len() * 48) as u64),
-                ("ray-guiding distributions", (clusters * crate::sampling::guiding::CDF_LEN * 4) as u64),
-                ("ray-guiding records", (if clusters > 0 { targets.items.len() * 24 } else { 0 }) as u64),
-                ("wavefront path pool", (pool * 64) as u64),
-            ],
-            d.limits().max_storage_buffer_binding_size,
-        )?;
-        let (env_kind, env) = match tracer.scene.environment {
-            Environment::Black => (0, [[0.0; 4]; 3]),
-            Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
-            Environment::Sky { zenith: z, horizon: h, ground: g } => {
-                (2, [[z.x, z.y, z.z, 0.0], [h.x, h.y, h.z, 0.0], [g.x, g.y, g.z, 0.0]])
-            }
-            Environment::Map(_) => (3, [[0.0; 4]; 3]),
-        };
-        let env_width = match &tracer.scene.environment {
-            Environment::Map(m) => m.geometry.width as u32,
-            _ => 0,
-        };
+        check_sizes(tracer, targets, aux.len(), states_len, clusters, pool, d.limits().max_storage_buffer_binding_size)?;
         let items = targets.items.len();
-        let params = TraceParams {
-            pass_index: 0,
-            seed: crate::sampling::sequence::gpu_seed(config.seed),
-            item_count: items as u32,
-            max_bounces: config.max_bounces,
-            emitter_count: at.emitter_count,
-            light_count: tracer.scene.lights.len() as u32,
-            env_kind,
-            mode: targets.sphere as u32,
-            env_cells_offset: at.env_cells,
-            inv_total_power: if tracer.total_power > 0.0 { (1.0 / tracer.total_power) as f32 } else { 0.0 },
-            count_rays: 0,
-            primary_only: 0,
-            light_offset: at.lights,
-            emitter_offset: at.emitters,
-            env_offset: at.env_texels,
-            env_width,
-            env_rows_offset: at.env_rows,
-            env_cdf_width: at.env_cdf.0,
-            env_cdf_height: at.env_cdf.1,
-            guide_phase: 0,
-            guide_stage: 0,
-            guide_start: 0,
-            item_offset: 0,
-            item_end: items as u32,
-            part_block: PART_BLOCK_DEFAULT,
-            part_count: 1,
-            part_index: 0,
-            pass_count: 1,
-            sampler: config.sampler.code(),
-            batch_mode: 0,
-            pad1: 0,
-            pad2: 0,
-            env0: env[0],
-            env1: env[1],
-            env2: env[2],
-        };
-        let storage = |label: &str, bytes: &[u8], extra: wgpu::BufferUsages| {
-            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytes,
-                usage: wgpu::BufferUsages::STORAGE | extra,
-            })
-        };
+        let params = trace_params(tracer, targets, config, &at);
+        let BakeBuffers {
+            params: params_buf,
+            nodes,
+            tris,
+            aux: auxb,
+            items: itemb,
+            points: pointb,
+            moments: moments_buf,
+            states: states_buf,
+            counters: counters_buf,
+        } = upload(d, tracer, targets, &params, &aux, states_len);
+        let storage = |label: &str, bytes: &[u8], extra| super::buffers::storage(d, label, bytes, extra);
         let rw = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("params"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
-        let nodes = storage("nodes", bytemuck::cast_slice(&tracer.bvh.nodes), wgpu::BufferUsages::empty());
-        let tris = storage("tris", bytemuck::cast_slice(&tracer.bvh.tris), wgpu::BufferUsages::empty());
-        let auxb = storage("aux", bytemuck::cast_slice(&aux), wgpu::BufferUsages::empty());
-        let item_data: Vec<[u32; 4]> = targets.items.iter().zip(&targets.clusters).map(|(&[a, b, c], k)| [a, b, c, *k]).collect();
-        let itemb = storage("items", bytemuck::cast_slice(&item_data), wgpu::BufferUsages::empty());
-        // The w components of the normals: the point's atlas position (filtered gather).
-        let pts: Vec<[f32; 4]> = targets
-            .points
-            .iter()
-            .enumerate()
-            .flat_map(|(k, p)| {
-                let uv = targets.point_uv.get(k).copied().unwrap_or([0.0; 2]);
-                [p.position.extend(1.0).to_array(), p.normal.extend(uv[0]).to_array(), p.geometric.extend(uv[1]).to_array()]
-            })
-            .collect();
-        let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
-        let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
-        let states_buf = storage("states", &vec![0u8; states_len], rw);
-        let counters_buf = storage("counters", &[0u8; 16], rw);
         let guide = guiding.map(|g| {
             let rec = storage("guide records", &vec![0xffu8; items * 24], wgpu::BufferUsages::empty());
             let dist =
@@ -294,42 +202,8 @@ impl<'g> GpuBake<'g> {
             entries.push(wgpu::BindGroupEntry { binding: 9, resource: g.rec_buf.as_entire_binding() });
             entries.push(wgpu::BindGroupEntry { binding: 10, resource: g.dist_buf.as_entire_binding() });
         }
-        let adapt = match config.adaptive {
-            Some(a) => {
-                Some(crate::gpu::adaptive::AdaptGpu::new(d, targets, crate::gpu::adaptive::BatchSource::Variance(a), config, &moments_buf)?)
-            }
-            None => match &config.camera {
-                Some(c) => Some(crate::gpu::adaptive::AdaptGpu::new(
-                    d,
-                    targets,
-                    crate::gpu::adaptive::BatchSource::Camera(c, tracer.bvh),
-                    config,
-                    &moments_buf,
-                )?),
-                None => None,
-            },
-        };
-        let filter = match config.filter.filter(|_| !targets.sphere) {
-            Some(_) => {
-                let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
-                let limit = d.limits().max_storage_buffer_binding_size;
-                let mut bake: Vec<(u32, &wgpu::Buffer)> = vec![(6, &moments_buf)];
-                if let Some(a) = &adapt {
-                    bake.push((13, &a.samples));
-                }
-                Some(crate::gpu::filter::FilterGpu::new(
-                    d,
-                    &module,
-                    (&naga.0, &naga.1),
-                    targets,
-                    config,
-                    MAX_PASSES_PER_DISPATCH,
-                    limit,
-                    &bake,
-                )?)
-            }
-            None => None,
-        };
+        let adapt = batch_selector(d, tracer, targets, config, &moments_buf)?;
+        let filter = filtered_accumulation(d, &module, &kernel, targets, config, &moments_buf, adapt.as_ref())?;
         if let Some(f) = &filter {
             entries.push(wgpu::BindGroupEntry { binding: 14, resource: f.records.as_entire_binding() });
             entries.push(wgpu::BindGroupEntry { binding: 18, resource: f.params_buf.as_entire_binding() });
@@ -641,85 +515,51 @@ impl<'g> GpuBake<'g> {
             _ => Ok(None),
         }
     }
+}
 
-    /// Reads the progressive state back (moments as f64, encoder states exactly).
-    pub fn state(&self) -> Result<BakeState, String> {
-        let m: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.moments_buf)?);
-        let moments = (0..self.items)
-            .map(|i| Moments {
-                sum: std::array::from_fn(|c| m[3 * i][c] as f64),
-                sum_sq: std::array::from_fn(|c| m[3 * i + 1][c] as f64),
-                accepted: m[3 * i][3] as u64,
-                back_faces: m[3 * i + 1][3] as u64,
-                non_finite: m[3 * i + 2][0] as u64,
-            })
-            .collect();
-        let raw: Vec<EncoderState> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.states_buf)?);
-        let encoders = encoders_from_raw(&raw, self.items, &self.config, self.sphere)?;
-        let (guide_sums, guide_basis) = match &self.guide {
-            Some(g) => (
-                bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.sums_buf)?),
-                bytemuck::pod_collect_to_vec(&self.gpu.read_back(&g.basis_buf)?),
-            ),
-            None => (Vec::new(), Vec::new()),
-        };
-        let filtered = match &self.filter {
-            Some(f) => Some(f.state(self.gpu, &self.config)?),
+/// The GPU selector of adaptive or camera-based batches, if the bake has one.
+fn batch_selector(
+    d: &wgpu::Device,
+    tracer: &Tracer,
+    targets: &Targets,
+    config: &BakeConfig,
+    moments: &wgpu::Buffer,
+) -> Result<Option<crate::gpu::adaptive::AdaptGpu>, String> {
+    Ok(match config.adaptive {
+        Some(a) => Some(crate::gpu::adaptive::AdaptGpu::new(d, targets, crate::gpu::adaptive::BatchSource::Variance(a), config, moments)?),
+        None => match &config.camera {
+            Some(c) => Some(crate::gpu::adaptive::AdaptGpu::new(
+                d,
+                targets,
+                crate::gpu::adaptive::BatchSource::Camera(c, tracer.bvh),
+                config,
+                moments,
+            )?),
             None => None,
-        };
-        Ok(BakeState { passes: self.passes, moments, encoders, guide_sums, guide_basis, filtered })
-    }
+        },
+    })
+}
 
-    /// Replaces the GPU state with `state` (resuming a checkpoint).
-    pub fn upload(&mut self, state: &BakeState) -> Result<(), String> {
-        if state.moments.len() != self.items || state.encoders.len() != self.config.bases.len() {
-            return Err("the saved state does not match this bake's targets and bases".into());
-        }
-        let m: Vec<[f32; 4]> = state
-            .moments
-            .iter()
-            .flat_map(|m| {
-                [
-                    [m.sum[0] as f32, m.sum[1] as f32, m.sum[2] as f32, m.accepted as f32],
-                    [m.sum_sq[0] as f32, m.sum_sq[1] as f32, m.sum_sq[2] as f32, m.back_faces as f32],
-                    [m.non_finite as f32, 0.0, 0.0, 0.0],
-                ]
-            })
-            .collect();
-        let q = self.gpu.queue();
-        q.write_buffer(&self.moments_buf, 0, bytemuck::cast_slice(&m));
-        let raw = raw_from_encoders(&state.encoders);
-        if !raw.is_empty() {
-            q.write_buffer(&self.states_buf, 0, bytemuck::cast_slice(&raw));
-        }
-        match (&self.filter, &state.filtered) {
-            (Some(f), Some(fs)) => f.upload(q, fs)?,
-            (None, None) => {}
-            _ => return Err("the saved state and this bake differ in filtered accumulation".into()),
-        }
-        self.passes = state.passes;
-        if let Some(g) = &mut self.guide {
-            let n = g.clusters as usize * crate::sampling::guiding::BIN_COUNT;
-            if state.guide_sums.len() != n || state.guide_basis.len() != n {
-                return Err(format!(
-                    "the saved state has {} ray-guiding sums, this bake {} clusters × {}",
-                    state.guide_sums.len(),
-                    g.clusters,
-                    crate::sampling::guiding::BIN_COUNT
-                ));
+/// The filtered accumulation's gather on the GPU, if the bake filters (lightmaps only).
+fn filtered_accumulation(
+    d: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    kernel: &Kernel,
+    targets: &Targets,
+    config: &BakeConfig,
+    moments: &wgpu::Buffer,
+    adapt: Option<&crate::gpu::adaptive::AdaptGpu>,
+) -> Result<Option<crate::gpu::filter::FilterGpu>, String> {
+    Ok(match config.filter.filter(|_| !targets.sphere) {
+        Some(_) => {
+            let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
+            let limit = d.limits().max_storage_buffer_binding_size;
+            let mut bake: Vec<(u32, &wgpu::Buffer)> = vec![(6, moments)];
+            if let Some(a) = adapt {
+                bake.push((13, &a.samples));
             }
-            // The stage's distributions from its basis, then the running sums.
-            q.write_buffer(&g.basis_buf, 0, bytemuck::cast_slice(&state.guide_basis));
-            g.built = false;
-            if self.passes >= g.learn_passes {
-                q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_basis));
-                let mut enc = self.gpu.device().create_command_encoder(&Default::default());
-                g.record(&mut enc, true);
-                g.built = true;
-                q.submit([enc.finish()]);
-            }
-            q.write_buffer(&g.sums_buf, 0, bytemuck::cast_slice(&state.guide_sums));
+            Some(crate::gpu::filter::FilterGpu::new(d, module, (&naga.0, &naga.1), targets, config, MAX_PASSES_PER_DISPATCH, limit, &bake)?)
         }
-        self.gpu.wait()
-    }
+        None => None,
+    })
 }

@@ -10,6 +10,7 @@
 
 pub mod adaptive;
 pub mod bake;
+pub mod buffers;
 pub mod encoders;
 pub mod filter;
 pub mod guide;
@@ -20,7 +21,8 @@ pub mod prims;
 pub mod timing;
 pub mod wavefront;
 
-pub use bake::{check_bindings, wave_capacity, GpuBake, BATCH_TARGET_SECONDS, MAX_PASSES_PER_DISPATCH};
+pub use bake::{wave_capacity, GpuBake, BATCH_TARGET_SECONDS, MAX_PASSES_PER_DISPATCH};
+pub use buffers::check_bindings;
 pub use kernel::{guide_build_sources, kernel, GuideBuild, Kernel, SAMPLER_WGSL};
 pub use params::TraceParams;
 pub use timing::RayStats;

@@ -2,9 +2,13 @@
 //! (`TraceParams`, checked against its WGSL twin) and the scene's materials, lights,
 //! emitters and environment packed as vec4s (`aux`).
 
+use crate::accumulate::{BakeConfig, Targets};
 use crate::estimator::trace::{specular_probability, Tracer};
 use crate::scene::{Environment, Light};
 use sbf::glam::Vec3;
+
+/// The partition block of a single-device bake (any positive value is the identity).
+pub(crate) const PART_BLOCK_DEFAULT: u32 = 64;
 
 /// Uniform parameters of a pass (WGSL `TraceParams`).
 #[repr(C)]
@@ -161,4 +165,57 @@ pub(crate) fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, AuxLayout) {
         aux.push([0.0; 4]);
     }
     (aux, at)
+}
+
+/// The parameters of pass 0 of a bake of `targets` with `config` (the environment's kind
+/// and colours, the offsets of `aux`'s parts `at`, one partition, one pass per dispatch).
+pub(crate) fn trace_params(tracer: &Tracer, targets: &Targets, config: &BakeConfig, at: &AuxLayout) -> TraceParams {
+    let (env_kind, env) = match tracer.scene.environment {
+        Environment::Black => (0, [[0.0; 4]; 3]),
+        Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
+        Environment::Sky { zenith: z, horizon: h, ground: g } => (2, [[z.x, z.y, z.z, 0.0], [h.x, h.y, h.z, 0.0], [g.x, g.y, g.z, 0.0]]),
+        Environment::Map(_) => (3, [[0.0; 4]; 3]),
+    };
+    let env_width = match &tracer.scene.environment {
+        Environment::Map(m) => m.geometry.width as u32,
+        _ => 0,
+    };
+    let items = targets.items.len();
+    TraceParams {
+        pass_index: 0,
+        seed: crate::sampling::sequence::gpu_seed(config.seed),
+        item_count: items as u32,
+        max_bounces: config.max_bounces,
+        emitter_count: at.emitter_count,
+        light_count: tracer.scene.lights.len() as u32,
+        env_kind,
+        mode: targets.sphere as u32,
+        env_cells_offset: at.env_cells,
+        inv_total_power: if tracer.total_power > 0.0 { (1.0 / tracer.total_power) as f32 } else { 0.0 },
+        count_rays: 0,
+        primary_only: 0,
+        light_offset: at.lights,
+        emitter_offset: at.emitters,
+        env_offset: at.env_texels,
+        env_width,
+        env_rows_offset: at.env_rows,
+        env_cdf_width: at.env_cdf.0,
+        env_cdf_height: at.env_cdf.1,
+        guide_phase: 0,
+        guide_stage: 0,
+        guide_start: 0,
+        item_offset: 0,
+        item_end: items as u32,
+        part_block: PART_BLOCK_DEFAULT,
+        part_count: 1,
+        part_index: 0,
+        pass_count: 1,
+        sampler: config.sampler.code(),
+        batch_mode: 0,
+        pad1: 0,
+        pad2: 0,
+        env0: env[0],
+        env1: env[1],
+        env2: env[2],
+    }
 }

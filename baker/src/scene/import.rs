@@ -180,6 +180,7 @@ fn precheck_references(json: &[u8]) -> Result<(), String> {
 }
 
 /// Loads a .gltf or .glb file into a scene (validated) with a report.
+#[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
 pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
     let meta = std::fs::metadata(path).map_err(|e| SceneError::Io(format!("{}: {e}", path.display())))?;
     if !meta.is_file() {
