@@ -179,7 +179,6 @@ fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
         .collect()
 }
 
-#[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
 fn options(c: Cli) -> Result<Options, String> {
     let d = Options::default();
     let solver = match c.solver.as_str() {
@@ -227,6 +226,59 @@ fn options(c: Cli) -> Result<Options, String> {
     if !(c.batch_ms.is_finite() && c.batch_ms >= 0.0) {
         return Err(format!("--batch-ms must be ≥ 0 (0: one dispatch per pass), not {}", c.batch_ms));
     }
+    let (adaptive, guiding, camera) = strategies(&c)?;
+    Ok(Options {
+        scene: c.scene,
+        environment: c.env,
+        texels_per_unit: c.texels_per_unit,
+        padding: c.padding,
+        passes: c.passes,
+        config: baker::accumulate::BakeConfig {
+            seed: c.seed,
+            max_bounces: c.bounces,
+            bases: parse_bases(&bases)?,
+            solver,
+            guiding,
+            sampler: baker::sampling::sequence::Sequence::parse(&c.sampler)
+                .ok_or_else(|| format!("unknown --sampler '{}': sobol or independent", c.sampler))?,
+            adaptive,
+            camera,
+            pipeline: baker::accumulate::Pipeline::parse(&c.pipeline)
+                .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
+            filter: c.filter.as_deref().map(baker::accumulate::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
+        },
+        device,
+        out: c.out,
+        checkpoint_every: c.checkpoint_every,
+        resume: c.resume,
+        probes,
+        relocate_probes: c.relocate_probes,
+        probe_bases,
+        preview_width: c.preview_width.max(8),
+        quiet: d.quiet,
+        measure_rays: c.measure_rays,
+        batch_seconds: (c.batch_ms > 0.0).then_some(c.batch_ms * 1e-3),
+        gpus: c.gpus,
+        profile,
+        denoise: match c.denoise {
+            Toggle::On => true,
+            Toggle::Off => false,
+            Toggle::Auto => c.passes <= DENOISE_AUTO_MAX_PASSES,
+        }
+        .then_some(baker::post::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
+        stitch_seams: c.stitch_seams != Toggle::Off,
+    })
+}
+
+/// The accumulation strategies the arguments ask for — adaptive sampling, ray guiding,
+/// camera-based sampling — with the combinations a bake cannot run refused.
+type Strategies = (
+    Option<baker::accumulate::adaptive::AdaptiveOptions>,
+    Option<baker::sampling::guiding::GuidingOptions>,
+    Option<baker::accumulate::camera::CameraSampling>,
+);
+
+fn strategies(c: &Cli) -> Result<Strategies, String> {
     if c.guiding_learn.is_some() && !c.guiding {
         return Err("--guiding-learn needs --guiding".into());
     }
@@ -258,60 +310,21 @@ fn options(c: Cli) -> Result<Options, String> {
     } else {
         None
     };
-    Ok(Options {
-        scene: c.scene,
-        environment: c.env,
-        texels_per_unit: c.texels_per_unit,
-        padding: c.padding,
-        passes: c.passes,
-        config: baker::accumulate::BakeConfig {
-            seed: c.seed,
-            max_bounces: c.bounces,
-            bases: parse_bases(&bases)?,
-            solver,
-            guiding,
-            sampler: baker::sampling::sequence::Sequence::parse(&c.sampler)
-                .ok_or_else(|| format!("unknown --sampler '{}': sobol or independent", c.sampler))?,
-            adaptive,
-            camera: match &c.camera {
-                Some(spec) => {
-                    if c.adaptive || c.guiding {
-                        return Err("--camera cannot be combined with --adaptive or --guiding".into());
-                    }
-                    // Image size 0 × 0: sized from the atlas once it is laid out.
-                    Some(baker::accumulate::camera::CameraSampling {
-                        camera: baker::scene::camera::ViewCamera::parse(spec, 0, 0)?,
-                        pilot_passes: 1,
-                        max_per_batch: 8,
-                    })
-                }
-                None => None,
-            },
-            pipeline: baker::accumulate::Pipeline::parse(&c.pipeline)
-                .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
-            filter: c.filter.as_deref().map(baker::accumulate::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
-        },
-        device,
-        out: c.out,
-        checkpoint_every: c.checkpoint_every,
-        resume: c.resume,
-        probes,
-        relocate_probes: c.relocate_probes,
-        probe_bases,
-        preview_width: c.preview_width.max(8),
-        quiet: d.quiet,
-        measure_rays: c.measure_rays,
-        batch_seconds: (c.batch_ms > 0.0).then_some(c.batch_ms * 1e-3),
-        gpus: c.gpus,
-        profile,
-        denoise: match c.denoise {
-            Toggle::On => true,
-            Toggle::Off => false,
-            Toggle::Auto => c.passes <= DENOISE_AUTO_MAX_PASSES,
+    let camera = match &c.camera {
+        Some(spec) => {
+            if c.adaptive || c.guiding {
+                return Err("--camera cannot be combined with --adaptive or --guiding".into());
+            }
+            // Image size 0 × 0: sized from the atlas once it is laid out.
+            Some(baker::accumulate::camera::CameraSampling {
+                camera: baker::scene::camera::ViewCamera::parse(spec, 0, 0)?,
+                pilot_passes: 1,
+                max_per_batch: 8,
+            })
         }
-        .then_some(baker::post::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
-        stitch_seams: c.stitch_seams != Toggle::Off,
-    })
+        None => None,
+    };
+    Ok((adaptive, guiding, camera))
 }
 
 fn main() -> ExitCode {

@@ -130,7 +130,6 @@ pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usi
 
 impl<'g> GpuBake<'g> {
     /// Uploads the scene, BVH and targets and compiles the kernel.
-    #[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
     pub fn new(gpu: &'g Gpu, tracer: &Tracer, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
         if targets.items.is_empty() {
             return Err("nothing to bake: no valid texels or probes".into());
@@ -139,105 +138,42 @@ impl<'g> GpuBake<'g> {
             return Err("probes need sphere bases (sh1, sh2, ad12)".into());
         }
         config.check(targets)?;
-        let glossy = tracer.scene.has_glossy();
-        let kernel = kernel(config, targets.sphere, glossy)?;
+        let kernel = kernel(config, targets.sphere, tracer.scene.has_glossy())?;
         let d = gpu.device();
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bake"),
             source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
         });
         let wavefront = config.pipeline == crate::accumulate::Pipeline::Wavefront;
-        let pipeline = (!wavefront).then(|| {
-            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("bake"),
-                layout: None,
-                module: &module,
-                entry_point: Some("bake_pass"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        });
         let (aux, at) = aux_data(tracer);
-        let states_len = (config.bases.len() * targets.items.len()).max(1) * std::mem::size_of::<EncoderState>();
+        let items = targets.items.len();
+        let states_len = (config.bases.len() * items).max(1) * std::mem::size_of::<EncoderState>();
         let guiding = config.guiding.filter(|_| !targets.sphere && targets.cluster_count > 0);
         let clusters = if guiding.is_some() { targets.cluster_count } else { 0 };
-        let pool = if wavefront { wave_capacity(config, targets.items.len(), d.limits().max_storage_buffer_binding_size) } else { 0 };
-        check_sizes(tracer, targets, aux.len(), states_len, clusters, pool, d.limits().max_storage_buffer_binding_size)?;
-        let items = targets.items.len();
+        let limit = d.limits().max_storage_buffer_binding_size;
+        let pool = if wavefront { wave_capacity(config, items, limit) } else { 0 };
+        check_sizes(tracer, targets, aux.len(), states_len, clusters, pool, limit)?;
         let params = trace_params(tracer, targets, config, &at);
-        let BakeBuffers {
-            params: params_buf,
-            nodes,
-            tris,
-            aux: auxb,
-            items: itemb,
-            points: pointb,
-            moments: moments_buf,
-            states: states_buf,
-            counters: counters_buf,
-        } = upload(d, tracer, targets, &params, &aux, states_len);
-        let storage = |label: &str, bytes: &[u8], extra| super::buffers::storage(d, label, bytes, extra);
-        let rw = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let guide = guiding.map(|g| {
-            let rec = storage("guide records", &vec![0xffu8; items * 24], wgpu::BufferUsages::empty());
-            let dist =
-                storage("guide distributions", &vec![0u8; clusters * crate::sampling::guiding::CDF_LEN * 4], wgpu::BufferUsages::COPY_SRC);
-            let sums = storage("guide sums", &vec![0u8; clusters * crate::sampling::guiding::BIN_COUNT * 4], rw);
-            GuideGpu::new(d, targets, g, rec, dist, sums, gpu.subgroup_sizes)
-        });
-        let mut entries = vec![
-            wgpu::BindGroupEntry { binding: 0, resource: params_buf.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: tris.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: auxb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: itemb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: pointb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 6, resource: moments_buf.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 8, resource: counters_buf.as_entire_binding() },
-        ];
-        if !config.bases.is_empty() {
-            entries.push(wgpu::BindGroupEntry { binding: 7, resource: states_buf.as_entire_binding() });
-        }
-        if let Some(g) = &guide {
-            entries.push(wgpu::BindGroupEntry { binding: 9, resource: g.rec_buf.as_entire_binding() });
-            entries.push(wgpu::BindGroupEntry { binding: 10, resource: g.dist_buf.as_entire_binding() });
-        }
-        let adapt = batch_selector(d, tracer, targets, config, &moments_buf)?;
-        let filter = filtered_accumulation(d, &module, &kernel, targets, config, &moments_buf, adapt.as_ref())?;
-        if let Some(f) = &filter {
-            entries.push(wgpu::BindGroupEntry { binding: 14, resource: f.records.as_entire_binding() });
-            entries.push(wgpu::BindGroupEntry { binding: 18, resource: f.params_buf.as_entire_binding() });
-        }
-        if let Some(a) = &adapt {
-            entries.push(wgpu::BindGroupEntry { binding: 11, resource: a.selected.as_entire_binding() });
-            entries.push(wgpu::BindGroupEntry { binding: 12, resource: a.count.as_entire_binding() });
-            entries.push(wgpu::BindGroupEntry { binding: 13, resource: a.samples.as_entire_binding() });
-        }
-        let mega = match pipeline {
-            Some(p) => {
-                let bind_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("bake"),
-                    layout: &p.get_bind_group_layout(0),
-                    entries: &entries,
-                });
-                Some((p, bind_group))
-            }
-            None => None,
-        };
-        let wavefront = if wavefront {
+        let buffers = upload(d, tracer, targets, &params, &aux, states_len);
+        let guide = guiding.map(|g| GuideGpu::for_bake(d, targets, g, gpu.subgroup_sizes));
+        let adapt = batch_selector(d, tracer, targets, config, &buffers.moments)?;
+        let filter = filtered_accumulation(d, &module, &kernel, targets, config, &buffers.moments, adapt.as_ref())?;
+        let entries = bind_entries(&buffers, !config.bases.is_empty(), guide.as_ref(), adapt.as_ref(), filter.as_ref());
+        let (mega, wavefront) = if wavefront {
             let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
-            let buffers: Vec<(u32, &wgpu::Buffer)> = entries
+            let bound: Vec<(u32, &wgpu::Buffer)> = entries
                 .iter()
                 .map(|e| match &e.resource {
                     wgpu::BindingResource::Buffer(b) => (e.binding, b.buffer),
                     _ => unreachable!("the bake binds whole buffers"),
                 })
                 .collect();
-            Some(crate::gpu::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &buffers, pool, items)?)
+            (None, Some(crate::gpu::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &bound, pool, items)?))
         } else {
-            None
+            (Some(megakernel(d, &module, &entries)), None)
         };
         let max_slots = wavefront.as_ref().map_or(usize::MAX, |w| w.capacity);
+        let BakeBuffers { params: params_buf, moments: moments_buf, states: states_buf, counters: counters_buf, .. } = buffers;
         Ok(GpuBake {
             gpu,
             mega,
@@ -562,4 +498,47 @@ fn filtered_accumulation(
         }
         None => None,
     })
+}
+
+/// The bake kernel's bindings: the buffers every bake has (the encoder states where it
+/// encodes into any basis) and those of the strategies it runs.
+fn bind_entries<'a>(
+    b: &'a BakeBuffers,
+    states: bool,
+    guide: Option<&'a GuideGpu>,
+    adapt: Option<&'a crate::gpu::adaptive::AdaptGpu>,
+    filter: Option<&'a crate::gpu::filter::FilterGpu>,
+) -> Vec<wgpu::BindGroupEntry<'a>> {
+    let entry = |binding: u32, buffer: &'a wgpu::Buffer| wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() };
+    let mut entries = vec![
+        entry(0, &b.params),
+        entry(1, &b.nodes),
+        entry(2, &b.tris),
+        entry(3, &b.aux),
+        entry(4, &b.items),
+        entry(5, &b.points),
+        entry(6, &b.moments),
+        entry(8, &b.counters),
+    ];
+    if states {
+        entries.push(entry(7, &b.states));
+    }
+    if let Some(g) = guide {
+        entries.extend([entry(9, &g.rec_buf), entry(10, &g.dist_buf)]);
+    }
+    if let Some(f) = filter {
+        entries.extend([entry(14, &f.records), entry(18, &f.params_buf)]);
+    }
+    if let Some(a) = adapt {
+        entries.extend([entry(11, &a.selected), entry(12, &a.count), entry(13, &a.samples)]);
+    }
+    entries
+}
+
+/// The megakernel pipeline (`bake_pass`, a thread per job through whole paths) and its
+/// bind group.
+fn megakernel(d: &wgpu::Device, module: &wgpu::ShaderModule, entries: &[wgpu::BindGroupEntry]) -> (wgpu::ComputePipeline, wgpu::BindGroup) {
+    let p = super::compute_pipeline(d, module, "bake_pass");
+    let group = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("bake"), layout: &p.get_bind_group_layout(0), entries });
+    (p, group)
 }

@@ -36,6 +36,24 @@ pub(crate) fn grid(n: u32, wg: u32) -> (u32, u32) {
 }
 
 impl GuideGpu {
+    /// Ray guiding of a bake of `targets`: zeroed records, sums and distributions for its
+    /// clusters, and the kernels for this device's subgroup sizes.
+    pub(crate) fn for_bake(
+        d: &wgpu::Device,
+        targets: &Targets,
+        g: crate::sampling::guiding::GuidingOptions,
+        subgroup_sizes: Option<(u32, u32)>,
+    ) -> Self {
+        use crate::sampling::guiding::{BIN_COUNT, CDF_LEN};
+        let storage = |label: &str, bytes: &[u8], extra| super::buffers::storage(d, label, bytes, extra);
+        let rw = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let (items, clusters) = (targets.items.len(), targets.cluster_count);
+        let rec = storage("guide records", &vec![0xffu8; items * 24], wgpu::BufferUsages::empty());
+        let dist = storage("guide distributions", &vec![0u8; clusters * CDF_LEN * 4], wgpu::BufferUsages::COPY_SRC);
+        let sums = storage("guide sums", &vec![0u8; clusters * BIN_COUNT * 4], rw);
+        GuideGpu::new(d, targets, g, rec, dist, sums, subgroup_sizes)
+    }
+
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         d: &wgpu::Device,
@@ -83,16 +101,7 @@ impl GuideGpu {
         };
         let (fallback_src, subgroup_src) = guide_build_sources();
         let fallback = module("guide_build", fallback_src);
-        let pipe = |m: &wgpu::ShaderModule, entry: &str| {
-            d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: m,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipe = |m: &wgpu::ShaderModule, entry: &str| super::compute_pipeline(d, m, entry);
         let gather = pipe(&fallback, "guide_gather");
         let build = match path {
             GuideBuild::Subgroup => {

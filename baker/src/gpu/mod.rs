@@ -11,6 +11,7 @@
 pub mod adaptive;
 pub mod bake;
 pub mod buffers;
+pub mod camera;
 pub mod encoders;
 pub mod filter;
 pub mod guide;
@@ -26,3 +27,15 @@ pub use buffers::check_bindings;
 pub use kernel::{guide_build_sources, kernel, GuideBuild, Kernel, SAMPLER_WGSL};
 pub use params::TraceParams;
 pub use timing::RayStats;
+
+/// A compute pipeline of `module`'s `entry` with the layout its bindings imply.
+pub(crate) fn compute_pipeline(d: &wgpu::Device, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+    d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}

@@ -180,7 +180,6 @@ fn precheck_references(json: &[u8]) -> Result<(), String> {
 }
 
 /// Loads a .gltf or .glb file into a scene (validated) with a report.
-#[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
 pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
     let meta = std::fs::metadata(path).map_err(|e| SceneError::Io(format!("{}: {e}", path.display())))?;
     if !meta.is_file() {
@@ -205,18 +204,7 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         lights: Vec::new(),
         environment: Environment::Black,
     };
-    for m in g.document.materials() {
-        let pbr = m.pbr_metallic_roughness();
-        let c = pbr.base_color_factor();
-        let mut mat = Material::glossy(Vec3::new(c[0], c[1], c[2]), pbr.roughness_factor());
-        mat.metallic = pbr.metallic_factor();
-        mat.emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
-        mat.double_sided = m.double_sided();
-        if pbr.base_color_texture().is_some() || pbr.metallic_roughness_texture().is_some() || m.emissive_texture().is_some() {
-            report.notes.push(format!("material '{}': textures are not sampled (factors used)", m.name().unwrap_or("?")));
-        }
-        scene.materials.push(mat);
-    }
+    scene.materials = materials(&g.document, &mut report);
     // glTF's default material (white dielectric, roughness 1) for primitives without one.
     let default_material = scene.materials.len();
     scene.materials.push(Material::glossy(Vec3::ONE, 1.0));
@@ -237,100 +225,14 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         let children: Vec<gltf::Node> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
         if let Some(light) = node.light() {
-            let col = Vec3::from(light.color()) * light.intensity();
-            match light.kind() {
-                gltf::khr_lights_punctual::Kind::Directional => {
-                    // The light shines along the node's −Z; we store the direction towards it.
-                    let towards = world.transform_vector3(Vec3::Z).normalize();
-                    scene.lights.push(Light::Directional { direction: towards, irradiance: col });
-                }
-                gltf::khr_lights_punctual::Kind::Point => {
-                    let range = light.range().unwrap_or(f32::INFINITY);
-                    scene.lights.push(Light::Point { position: world.transform_point3(Vec3::ZERO), intensity: col, range });
-                }
-                gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
-                    // The spot shines along the node's −Z.
-                    let direction = world.transform_vector3(-Vec3::Z).normalize();
-                    scene.lights.push(Light::Spot {
-                        position: world.transform_point3(Vec3::ZERO),
-                        direction,
-                        intensity: col,
-                        cos_inner: inner_cone_angle.cos(),
-                        cos_outer: outer_cone_angle.cos(),
-                        range: light.range().unwrap_or(f32::INFINITY),
-                    });
-                }
-            }
+            scene.lights.push(punctual_light(&light, world));
         }
         let Some(mesh) = node.mesh() else { continue };
-        let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
         for (pi, prim) in mesh.primitives().enumerate() {
             let name = format!("{}#{pi}", mesh.name().unwrap_or("mesh"));
-            if prim.mode() != gltf::mesh::Mode::Triangles {
-                report.notes.push(format!("{name}: {:?} primitive skipped (triangles only)", prim.mode()));
-                continue;
+            if let Some(m) = primitive(&prim, name, world, &data, &scene.materials, default_material, &mut report)? {
+                scene.meshes.push(m);
             }
-            let Some(pa) = prim.get(&gltf::Semantic::Positions) else {
-                report.notes.push(format!("{name}: no POSITION, skipped"));
-                continue;
-            };
-            check_accessor(&pa, Use::Position, &name, &data)?;
-            let vertices = pa.count();
-            for (sem, usage) in [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(1), Use::LightmapUv)] {
-                if let Some(a) = prim.get(&sem) {
-                    check_accessor(&a, usage, &name, &data)?;
-                    if a.count() != vertices {
-                        return Err(SceneError::Io(format!(
-                            "mesh '{name}': accessor {} ({usage:?}) has {} elements, POSITION has {vertices}",
-                            a.index(),
-                            a.count()
-                        )));
-                    }
-                }
-            }
-            if let Some(a) = prim.indices() {
-                check_accessor(&a, Use::Indices, &name, &data)?;
-            }
-            let reader = prim.reader(|b| data.get(b.index()).map(|v| &v[..]));
-            let Some(pos) = reader.read_positions() else {
-                return Err(SceneError::Io(format!("mesh '{name}': POSITION accessor {} could not be read", pa.index())));
-            };
-            let positions: Vec<Vec3> = pos.map(|p| world.transform_point3(Vec3::from(p))).collect();
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..positions.len() as u32).collect(),
-            };
-            if indices.len() % 3 != 0 {
-                return Err(SceneError::LengthMismatch { mesh: name, what: "index (not a multiple of 3)" });
-            }
-            let indices: Vec<[u32; 3]> = indices.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-            let normals: Vec<Vec3> = match reader.read_normals() {
-                Some(n) => n.map(|v| (normal_matrix * Vec3::from(v)).normalize_or_zero()).collect(),
-                None => {
-                    report.notes.push(format!("{name}: no NORMAL, face normals used"));
-                    let mut n = vec![Vec3::ZERO; positions.len()];
-                    for t in &indices {
-                        if let (Some(a), Some(b), Some(c)) =
-                            (positions.get(t[0] as usize), positions.get(t[1] as usize), positions.get(t[2] as usize))
-                        {
-                            let f = (*b - *a).cross(*c - *a);
-                            for &i in t {
-                                n[i as usize] += f;
-                            }
-                        }
-                    }
-                    n.into_iter().map(|v| v.normalize_or_zero()).collect()
-                }
-            };
-            let lightmap_uv: Option<Vec<Vec2>> = reader.read_tex_coords(1).map(|t| t.into_f32().map(Vec2::from).collect());
-            if lightmap_uv.is_none() {
-                report
-                    .notes
-                    .push(format!("{name}: no TEXCOORD_1, lightmap charts generated (uvunwrap: normal-cone charts, planar or LSCM)"));
-            }
-            let material = prim.material().index().unwrap_or(default_material);
-            let emissive = scene.materials.get(material).is_some_and(|m| m.emissive.max_element() > 0.0);
-            scene.meshes.push(Mesh { name, positions, normals, indices, material, lightmap_uv, lightmapped: !emissive });
         }
     }
     let degenerate = scene.validate()?;
@@ -338,4 +240,127 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         report.notes.push(format!("{degenerate} degenerate (zero-area) triangles skipped"));
     }
     Ok((scene, report))
+}
+
+/// The materials of a glTF document (factors; a note where textures are left unsampled).
+fn materials(doc: &gltf::Document, report: &mut ImportReport) -> Vec<Material> {
+    let mut out = Vec::new();
+    for m in doc.materials() {
+        let pbr = m.pbr_metallic_roughness();
+        let c = pbr.base_color_factor();
+        let mut mat = Material::glossy(Vec3::new(c[0], c[1], c[2]), pbr.roughness_factor());
+        mat.metallic = pbr.metallic_factor();
+        mat.emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
+        mat.double_sided = m.double_sided();
+        if pbr.base_color_texture().is_some() || pbr.metallic_roughness_texture().is_some() || m.emissive_texture().is_some() {
+            report.notes.push(format!("material '{}': textures are not sampled (factors used)", m.name().unwrap_or("?")));
+        }
+        out.push(mat);
+    }
+    out
+}
+
+/// A KHR_lights_punctual light at the node transform `world`.
+fn punctual_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
+    let col = Vec3::from(light.color()) * light.intensity();
+    match light.kind() {
+        gltf::khr_lights_punctual::Kind::Directional => {
+            // The light shines along the node's −Z; we store the direction towards it.
+            let towards = world.transform_vector3(Vec3::Z).normalize();
+            Light::Directional { direction: towards, irradiance: col }
+        }
+        gltf::khr_lights_punctual::Kind::Point => {
+            let range = light.range().unwrap_or(f32::INFINITY);
+            Light::Point { position: world.transform_point3(Vec3::ZERO), intensity: col, range }
+        }
+        gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            // The spot shines along the node's −Z.
+            let direction = world.transform_vector3(-Vec3::Z).normalize();
+            Light::Spot {
+                position: world.transform_point3(Vec3::ZERO),
+                direction,
+                intensity: col,
+                cos_inner: inner_cone_angle.cos(),
+                cos_outer: outer_cone_angle.cos(),
+                range: light.range().unwrap_or(f32::INFINITY),
+            }
+        }
+    }
+}
+
+/// One triangle primitive of a mesh node as a scene mesh in world space (None: skipped,
+/// with a note), every accessor bounds-checked first.
+fn primitive(
+    prim: &gltf::Primitive,
+    name: String,
+    world: Mat4,
+    data: &[Vec<u8>],
+    materials: &[Material],
+    default_material: usize,
+    report: &mut ImportReport,
+) -> Result<Option<Mesh>, SceneError> {
+    let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
+    if prim.mode() != gltf::mesh::Mode::Triangles {
+        report.notes.push(format!("{name}: {:?} primitive skipped (triangles only)", prim.mode()));
+        return Ok(None);
+    }
+    let Some(pa) = prim.get(&gltf::Semantic::Positions) else {
+        report.notes.push(format!("{name}: no POSITION, skipped"));
+        return Ok(None);
+    };
+    check_accessor(&pa, Use::Position, &name, data)?;
+    let vertices = pa.count();
+    for (sem, usage) in [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(1), Use::LightmapUv)] {
+        if let Some(a) = prim.get(&sem) {
+            check_accessor(&a, usage, &name, data)?;
+            if a.count() != vertices {
+                return Err(SceneError::Io(format!(
+                    "mesh '{name}': accessor {} ({usage:?}) has {} elements, POSITION has {vertices}",
+                    a.index(),
+                    a.count()
+                )));
+            }
+        }
+    }
+    if let Some(a) = prim.indices() {
+        check_accessor(&a, Use::Indices, &name, data)?;
+    }
+    let reader = prim.reader(|b| data.get(b.index()).map(|v| &v[..]));
+    let Some(pos) = reader.read_positions() else {
+        return Err(SceneError::Io(format!("mesh '{name}': POSITION accessor {} could not be read", pa.index())));
+    };
+    let positions: Vec<Vec3> = pos.map(|p| world.transform_point3(Vec3::from(p))).collect();
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    if indices.len() % 3 != 0 {
+        return Err(SceneError::LengthMismatch { mesh: name, what: "index (not a multiple of 3)" });
+    }
+    let indices: Vec<[u32; 3]> = indices.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let normals: Vec<Vec3> = match reader.read_normals() {
+        Some(n) => n.map(|v| (normal_matrix * Vec3::from(v)).normalize_or_zero()).collect(),
+        None => {
+            report.notes.push(format!("{name}: no NORMAL, face normals used"));
+            let mut n = vec![Vec3::ZERO; positions.len()];
+            for t in &indices {
+                if let (Some(a), Some(b), Some(c)) =
+                    (positions.get(t[0] as usize), positions.get(t[1] as usize), positions.get(t[2] as usize))
+                {
+                    let f = (*b - *a).cross(*c - *a);
+                    for &i in t {
+                        n[i as usize] += f;
+                    }
+                }
+            }
+            n.into_iter().map(|v| v.normalize_or_zero()).collect()
+        }
+    };
+    let lightmap_uv: Option<Vec<Vec2>> = reader.read_tex_coords(1).map(|t| t.into_f32().map(Vec2::from).collect());
+    if lightmap_uv.is_none() {
+        report.notes.push(format!("{name}: no TEXCOORD_1, lightmap charts generated (uvunwrap: normal-cone charts, planar or LSCM)"));
+    }
+    let material = prim.material().index().unwrap_or(default_material);
+    let emissive = materials.get(material).is_some_and(|m| m.emissive.max_element() > 0.0);
+    Ok(Some(Mesh { name, positions, normals, indices, material, lightmap_uv, lightmapped: !emissive }))
 }

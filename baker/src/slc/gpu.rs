@@ -74,7 +74,6 @@ pub struct SlcGpu<'g> {
 impl<'g> SlcGpu<'g> {
     /// Uploads `g` and `vpls` and compiles the kernel; `interleave` I (1: off) splits the
     /// screen into I × I subregions that each shade 1/I² of the VPLs (weighted by I²).
-    #[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
     pub fn new(gpu: &'g Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, interleave: usize) -> Result<Self, String> {
         if interleave == 0 || interleave > 16 {
             return Err(format!("interleave must be 1..=16, not {interleave}"));
@@ -127,25 +126,7 @@ impl<'g> SlcGpu<'g> {
             delta,
             interleave: interleave as u32,
         };
-        let gb: Vec<[f32; 4]> = g
-            .texels
-            .iter()
-            .flat_map(|t| match t {
-                Some((x, n, a)) => [[x.x, x.y, x.z, 1.0], [n.x, n.y, n.z, *a]],
-                None => [[0.0; 4], [0.0, 0.0, 1.0, 0.0]],
-            })
-            .collect();
-        let lv: Vec<[f32; 4]> = vpls
-            .iter()
-            .flat_map(|v| {
-                [
-                    v.position.extend(v.flux).to_array(),
-                    v.normal.extend(v.diffuse).to_array(),
-                    v.incoming.extend(v.alpha).to_array(),
-                    [v.f0, v.xi, 0.0, 0.0],
-                ]
-            })
-            .collect();
+        let (gb, lv) = (pack_gbuffer(g), pack_vpls(vpls));
         shaders::gpu::check_bindings(
             &[("G-buffer", (gb.len() * 16) as u64), ("VPLs", (lv.len() * 16) as u64), ("image", (g.width * g.height * 16) as u64)],
             d.limits().max_storage_buffer_binding_size,
@@ -279,4 +260,29 @@ impl<'g> SlcGpu<'g> {
 /// Renders one frame on the GPU (same result as [`crate::slc::render`] up to f32 rounding).
 pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Result<Render, String> {
     SlcGpu::new(gpu, g, vpls, delta, interleave)?.run(mode)
+}
+
+/// The G-buffer as the kernel reads it: per pixel (position, 1), (normal, albedo).
+fn pack_gbuffer(g: &GBuffer) -> Vec<[f32; 4]> {
+    g.texels
+        .iter()
+        .flat_map(|t| match t {
+            Some((x, n, a)) => [[x.x, x.y, x.z, 1.0], [n.x, n.y, n.z, *a]],
+            None => [[0.0; 4], [0.0, 0.0, 1.0, 0.0]],
+        })
+        .collect()
+}
+
+/// The VPLs as the kernel reads them: (position, flux), (normal, diffuse), (incoming, α), (F0, ξ).
+fn pack_vpls(vpls: &[Vpl]) -> Vec<[f32; 4]> {
+    vpls.iter()
+        .flat_map(|v| {
+            [
+                v.position.extend(v.flux).to_array(),
+                v.normal.extend(v.diffuse).to_array(),
+                v.incoming.extend(v.alpha).to_array(),
+                [v.f0, v.xi, 0.0, 0.0],
+            ]
+        })
+        .collect()
 }

@@ -124,10 +124,9 @@ fn slc_medium(
 /// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
 /// light culling (crate::slc) on the GPU or the CPU; writes slc.exr/png, the VPLs per
 /// pixel, and slc.json (counts, false discovery rate, frame time).
-#[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
 pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnMut(String)) -> Result<(), String> {
-    let o = s;
     use crate::slc::{self, Camera, Mode};
+    let o = s;
     std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
     let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
     let bvh = Bvh::build(&scene);
@@ -144,7 +143,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
                 *v = slc::Vpl { diffuse: 0.0, alpha: s.glossy_alpha, f0: 0.9, ..*v };
             }
         }
-        k => return Err(format!("--slc-kind takes both, diffuse or glossy, not {k}")),
+        k => return Err(format!("--kind takes both, diffuse or glossy, not {k}")),
     }
     let glossy = vpls.iter().filter(|v| v.diffuse == 0.0).count();
     log(format!(
@@ -192,51 +191,11 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         culled.kept,
         culled.false_positives
     ));
+    let valid = write_images(s, &g, &culled)?;
     let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
-    let valid: Vec<f32> = g.texels.iter().map(|t| t.is_some() as u8 as f32).collect();
-    let filtered = &culled.filtered;
-    output::write_exr(&o.out.join("slc.exr"), s.width, s.height, &gray(&culled.image), &valid)?;
-    output::write_exr(&o.out.join("slc_filtered.exr"), s.width, s.height, &gray(filtered), &valid)?;
-    let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32).collect();
-    output::write_exr(&o.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
-    let fdr_img: Vec<f32> =
-        culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
-    output::write_exr(&o.out.join("slc_fdr.exr"), s.width, s.height, &gray(&fdr_img), &valid)?;
-    let scale = output::exposure_scale(filtered);
-    output::save_png(&o.out.join("slc.png"), &output::tonemap(s.width, s.height, &culled.image, scale))?;
-    output::save_png(&o.out.join("slc_filtered.png"), &output::tonemap(s.width, s.height, filtered, scale))?;
-    output::save_png(&o.out.join("slc_fdr.png"), &output::heat(s.width, s.height, &fdr_img, &lp))?;
     // The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
     // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
-    let mut bounds = serde_json::Map::new();
-    if s.compare_bounds && glossy > 0 {
-        for b in [slc::Bound::Tight, slc::Bound::Sphere, slc::Bound::Th16] {
-            let (r, sec) = match &gpu {
-                Some(gp) => {
-                    let mut r = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
-                    r.set_bound(b);
-                    (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
-                }
-                None => {
-                    let t = Instant::now();
-                    (slc::render_with(&g, &vpls, s.delta, Mode::Culled, s.interleave, b), t.elapsed().as_secs_f64())
-                }
-            };
-            let shaded: u64 = r.lights_per_pixel.iter().map(|x| *x as u64).sum();
-            log(format!(
-                "slc bound {b:?}: {:.3} ms per frame, {:.1} VPLs per pixel, false discovery rate {:.3}, {} false discoveries",
-                sec * 1e3,
-                shaded as f64 / n,
-                r.pixel_fdr(),
-                r.false_discoveries()
-            ));
-            bounds.insert(
-                format!("{b:?}").to_lowercase(),
-                json!({"seconds_per_frame": sec, "vpls_per_pixel": shaded as f64 / n, "false_discovery_rate": r.pixel_fdr(),
-                       "false_discoveries": r.false_discoveries(), "shaded": shaded, "kept_pairs": r.kept, "pairs_accepted_by_no_pixel": r.false_positives}),
-            );
-        }
-    }
+    let bounds = if s.compare_bounds && glossy > 0 { compare_bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
     let mut meta = json!({
         "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
         "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
@@ -260,4 +219,66 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     }
     std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
     Ok(())
+}
+
+/// Writes the culled, filtered, VPLs-per-pixel and false-discovery images (EXR and PNG);
+/// returns the G-buffer's validity mask (the images' alpha).
+fn write_images(s: &SlcOptions, g: &crate::slc::GBuffer, culled: &crate::slc::Render) -> Result<Vec<f32>, String> {
+    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    let valid: Vec<f32> = g.texels.iter().map(|t| t.is_some() as u8 as f32).collect();
+    let filtered = &culled.filtered;
+    output::write_exr(&s.out.join("slc.exr"), s.width, s.height, &gray(&culled.image), &valid)?;
+    output::write_exr(&s.out.join("slc_filtered.exr"), s.width, s.height, &gray(filtered), &valid)?;
+    let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32).collect();
+    output::write_exr(&s.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
+    let fdr_img: Vec<f32> =
+        culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
+    output::write_exr(&s.out.join("slc_fdr.exr"), s.width, s.height, &gray(&fdr_img), &valid)?;
+    let scale = output::exposure_scale(filtered);
+    output::save_png(&s.out.join("slc.png"), &output::tonemap(s.width, s.height, &culled.image, scale))?;
+    output::save_png(&s.out.join("slc_filtered.png"), &output::tonemap(s.width, s.height, filtered, scale))?;
+    output::save_png(&s.out.join("slc_fdr.png"), &output::heat(s.width, s.height, &fdr_img, &lp))?;
+    Ok(valid)
+}
+
+/// The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
+/// spheroid, the sphere enclosing it and the TH16 sphere of radius r/α; their times, VPLs
+/// per pixel and false discoveries.
+fn compare_bounds(
+    s: &SlcOptions,
+    gpu: Option<&shaders::gpu::Gpu>,
+    g: &crate::slc::GBuffer,
+    vpls: &[crate::slc::Vpl],
+    log: &mut dyn FnMut(String),
+) -> Result<serde_json::Map<String, serde_json::Value>, String> {
+    use crate::slc::{self, Mode};
+    let n = (s.width * s.height) as f64;
+    let mut bounds = serde_json::Map::new();
+    for b in [slc::Bound::Tight, slc::Bound::Sphere, slc::Bound::Th16] {
+        let (r, sec) = match gpu {
+            Some(gp) => {
+                let mut r = crate::slc::gpu::SlcGpu::new(gp, g, vpls, s.delta, s.interleave)?;
+                r.set_bound(b);
+                (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
+            }
+            None => {
+                let t = Instant::now();
+                (slc::render_with(g, vpls, s.delta, Mode::Culled, s.interleave, b), t.elapsed().as_secs_f64())
+            }
+        };
+        let shaded: u64 = r.lights_per_pixel.iter().map(|x| *x as u64).sum();
+        log(format!(
+            "slc bound {b:?}: {:.3} ms per frame, {:.1} VPLs per pixel, false discovery rate {:.3}, {} false discoveries",
+            sec * 1e3,
+            shaded as f64 / n,
+            r.pixel_fdr(),
+            r.false_discoveries()
+        ));
+        bounds.insert(
+            format!("{b:?}").to_lowercase(),
+            json!({"seconds_per_frame": sec, "vpls_per_pixel": shaded as f64 / n, "false_discovery_rate": r.pixel_fdr(),
+                   "false_discoveries": r.false_discoveries(), "shaded": shaded, "kept_pairs": r.kept, "pairs_accepted_by_no_pixel": r.false_positives}),
+        );
+    }
+    Ok(bounds)
 }

@@ -176,7 +176,7 @@ impl Wavefront {
         let groups = [group0.to_vec(), group1(0)];
         let alt = [group0.to_vec(), group1(1)];
         let pass = |entry: &str| -> Result<Pass, String> {
-            let pipeline = crate::gpu::adaptive::compute_pipeline(d, module, entry);
+            let pipeline = super::compute_pipeline(d, module, entry);
             let used = bindings_used(naga.0, naga.1, entry)?;
             let top = used.iter().map(|u| u.0).max().unwrap_or(0);
             let mut out = Vec::new();
