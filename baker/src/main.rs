@@ -44,7 +44,7 @@ struct Cli {
     /// Passes (one path per texel and probe each).
     #[arg(long, default_value_t = 128)]
     passes: u64,
-    /// First-bounce ray guiding of lightmap texels (seed 003): learn a directional
+    /// First-bounce ray guiding of lightmap texels: learn a directional
     /// distribution per 8×8-texel cluster from the first passes, then draw half of the
     /// point samples from it (mixture pdf, unbiased).
     #[arg(long)]
@@ -53,7 +53,7 @@ struct Cli {
     /// distributions are rebuilt at this pass count, twice it, four times, …
     #[arg(long)]
     guiding_learn: Option<u64>,
-    /// Adaptive sampling of lightmap texels (seed 004 §3.3): after --adaptive-pilot
+    /// Adaptive sampling of lightmap texels: after --adaptive-pilot
     /// uniform passes, batches whose texels join with probability from their 8×8 tile's
     /// noise (σ); the batches spend about the paths of --passes uniform passes. Not with
     /// --guiding or several GPUs; probes stay uniform.
@@ -70,7 +70,7 @@ struct Cli {
     /// them in order, so this bounds a batch's longest thread), 1 to 64.
     #[arg(long, default_value_t = 8)]
     adaptive_max: u32,
-    /// Camera-based sampling (seed 004 §3.4.2): after one uniform pass, each batch traces
+    /// Camera-based sampling: after one uniform pass, each batch traces
     /// one path per pixel of this view (jittered), so the texels it sees converge first
     /// and the rest keep their first pass; the preview uses the same view.
     /// EYE:TARGET[:FOV] in scene units and degrees (vertical), e.g. 0,1,2.5:0,1,0:60.
@@ -109,18 +109,21 @@ struct Cli {
     /// Dice); SH is always least squares (its coefficients are legitimately negative).
     #[arg(long, default_value = "nnls")]
     solver: String,
+    /// Seed of every random number of the bake (the same seed gives the same bake, on
+    /// any thread count).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Sample sequences: sobol (shuffled, Owen-scrambled Sobol' points per path vertex,
-    /// seed 004 §6.2) or independent (white noise, for comparison).
+    /// Sample sequences: sobol (shuffled, Owen-scrambled Sobol' points per path vertex:
+    /// lower error at equal passes) or independent (white noise, for comparison).
     #[arg(long, default_value = "sobol")]
     sampler: String,
     /// How the GPU runs a pass: megakernel (one thread per texel through whole paths) or
     /// wavefront (generate, then per bounce intersect, shade and compact the active paths,
-    /// then accumulate; seed 004 §3.1, §5.1). The same bake either way.
+    /// then accumulate). The same bake either way; which is faster depends on the scene
+    /// (docs/baker.md).
     #[arg(long, default_value = "megakernel")]
     pipeline: String,
-    /// Filtered gather-based accumulation (seed 004 §3.2): box, gaussian or mitchell,
+    /// Filtered gather-based accumulation: box, gaussian or mitchell,
     /// optionally :radius in texels (default 1.5). Every texel a chart's triangles
     /// overlap gathers the samples within the radius, so edge texels whose sub-positions
     /// all miss get values rather than dilation. Default: none (each sample feeds its own
@@ -150,7 +153,7 @@ struct Cli {
     /// Probe bases (sphere bases: sh1, sh2, ad12).
     #[arg(long, value_delimiter = ',', default_value = "sh2,ad12")]
     probe_bases: Vec<String>,
-    /// Preview image width in pixels.
+    /// Preview image width in pixels (at least 8; 4:3).
     #[arg(long, default_value_t = 480)]
     preview_width: usize,
     /// Measure GPU rays/s (primary and secondary) over this many passes instead of
@@ -158,12 +161,13 @@ struct Cli {
     #[arg(long)]
     measure_rays: Option<u64>,
     /// GPU: target milliseconds per dispatch — a pass over a large atlas is split into
-    /// dispatches of about this length (frame-time load balancing, seed 004 §3.4.1), far
-    /// below driver watchdogs; 0: one dispatch per pass.
+    /// dispatches of about this length (the size follows the measured time), far below
+    /// driver watchdogs; 0: one dispatch per pass.
     #[arg(long, default_value_t = 16.0)]
     batch_ms: f64,
-    /// Bake on this many GPUs of this host (hardware adapters; the targets are split into
-    /// one contiguous range per GPU and the results merged exactly). Not with --guiding.
+    /// Bake on this many GPUs of this host (hardware adapters; the texels and probes are
+    /// dealt out in blocks, block b to GPU b mod N, and the results merged into exactly
+    /// the one-GPU bake). Not with --guiding.
     #[arg(long, default_value_t = 1)]
     gpus: usize,
 }

@@ -3,6 +3,8 @@
 //! composed for the scene (with only the LUTs it needs), and a preview PNG of the scene
 //! lit by the baked irradiance (CPU ray cast through the same BVH).
 
+pub mod bake_json;
+
 use crate::accumulate::{BakeConfig, BasisKind};
 use crate::layout::lightmap::Lightmap;
 use crate::post::images::LightmapImages;

@@ -6,11 +6,14 @@ use super::Options;
 use crate::accumulate::{BakeState, Solver, Targets};
 use crate::layout::lightmap::Lightmap;
 use crate::output;
+use crate::output::bake_json::{
+    AdaptiveJson, BakeJson, BasisJson, DenoiseJson, FileJson, FilterJson, GuidingJson, LayoutJson, ProbeJson, ProbesJson,
+    ProbesSummaryJson, ProfileJson, RuntimeJson, SeamsJson, StageSecondsJson, ValidityJson,
+};
 use crate::post::images::LightmapImages;
 use crate::scene::bvh::Bvh;
 use crate::scene::Scene;
 use sbf::glam::Vec3;
-use serde_json::json;
 use std::time::Instant;
 
 /// Wall time of the bake's stages, for bake.json.
@@ -31,8 +34,8 @@ pub(crate) struct OutputContext<'a> {
 }
 
 /// bake.json's account of ray guiding (null when off).
-fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> serde_json::Value {
-    let Some(g) = o.config.guiding else { return json!(null) };
+fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> Option<GuidingJson> {
+    let g = o.config.guiding?;
     let bins = crate::sampling::guiding::BIN_COUNT;
     let learned = state.guide_sums.chunks(bins).filter(|c| c.iter().any(|v| *v > 0.0)).count();
     let mut rebuilds = Vec::new();
@@ -41,10 +44,15 @@ fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> serde_json
         rebuilds.push(p);
         p *= 2;
     }
-    json!({"method": "first-bounce ray guiding (seed 003): 8x8-texel clusters split by chart and normal, 16x16 equal-area concentric bins, quadtree relaxation, mixture with the uniform hemisphere",
-           "clusters": targets.cluster_count, "clusters_with_light": learned, "learn_passes": g.learn_passes,
-           "guided_fraction": g.guided_fraction, "rebuilt_at_passes": rebuilds,
-           "learning_samples": "kept (uniform samples with their correct pdf)"})
+    Some(GuidingJson {
+        method: "first-bounce ray guiding (seed 003): 8x8-texel clusters split by chart and normal, 16x16 equal-area concentric bins, quadtree relaxation, mixture with the uniform hemisphere",
+        clusters: targets.cluster_count,
+        clusters_with_light: learned,
+        learn_passes: g.learn_passes,
+        guided_fraction: g.guided_fraction,
+        rebuilt_at_passes: rebuilds,
+        learning_samples: "kept (uniform samples with their correct pdf)",
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -65,7 +73,7 @@ pub(crate) fn write_outputs(
     let (filter_json, overlapped, empty) = filter_account(o, lm, state, &img, log);
     log(format!(
         "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
-        lm_validity["invalid"], targets.items.len(), crate::accumulate::MAX_BACK_FACE_FRACTION, lm_validity["back_face_samples"], lm_validity["non_finite_samples"]
+        lm_validity.invalid, targets.items.len(), crate::accumulate::MAX_BACK_FACE_FRACTION, lm_validity.back_face_samples, lm_validity.non_finite_samples
     ));
     // Denoise (optional) before dilation: the filter reads valid texels only.
     let denoised = denoise_step(o, &mut img, lm, log)?;
@@ -76,59 +84,94 @@ pub(crate) fn write_outputs(
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
     let runtime = write_runtime(o, glossy, log)?;
     log(format!("outputs: images, preview and runtime written in {:.2} s", t_out.elapsed().as_secs_f64()));
-    let mut meta = json!({
-        "scene": scene.name,
-        "device": device,
-        "passes": state.passes,
-        "seed": o.config.seed,
-        "sampler": o.config.sampler.name(),
-        "adaptive": o.config.adaptive.map(|a| json!({"pilot_passes": a.pilot_passes, "batch_fraction": a.batch_fraction, "floor": a.floor, "max_per_batch": a.max_per_batch})),
-        "paths": state.moments.iter().map(crate::accumulate::Moments::count).sum::<u64>(),
-        "max_bounces": o.config.max_bounces,
-        "solver": format!("{:?}", o.config.solver),
-        "layout": {"width": lm.width, "height": lm.height, "texels_per_unit": lm.texels_per_unit, "padding": lm.padding,
-                   "valid_texels": lm.valid_count(), "utilisation": lm.utilisation(), "dilated_texels": dilated,
-                   "validity": "alpha channel of every EXR: 1 = baked, 0 = empty, inside geometry or dilated",
-                   "texel_validity": lm_validity, "overlapped_texels": overlapped, "empty_before_dilation": empty},
-        "filter": filter_json,
-        "irradiance": {"file": "irradiance.exr", "quantity": "E/pi (linear RGB)", "standard_error": "irradiance_se.exr"},
-        "normals": {"file": "normals.exr", "quantity": "world-space unit shading normal per texel (the basis frame's +Z)"},
-        "bases": bases_json(o),
-        "guiding": guiding_json(o, targets, state),
-        "denoise": denoised,
-        "seams": seams,
-        "stage_seconds": {"lightmap_passes": times.lightmap_passes, "probe_passes": times.probe_passes,
-                          "denoise": denoised.get("seconds"), "seams": seam_seconds, "outputs": t_out.elapsed().as_secs_f64()},
-        "meshes": output::mesh_mapping(scene, lm),
-        "runtime": runtime,
-        "profile": o.profile.as_ref().map(|p| json!({"name": p.name, "summary": p.summary(), "lightmap_bases": p.lightmap_bases,
-                    "probe_bases": p.probe_bases, "specular": p.specular, "roughness": p.roughness.map(|(a, b)| [a, b]),
-                    "precision": p.precision, "language": p.language})),
-        "files": files,
-        "preview": "preview.png",
-        "seconds": t0.elapsed().as_secs_f64(),
-    });
-    if let Some(ps) = probes {
-        meta["probes"] = write_probes(o, ps, probe_positions, relocated, log)?;
-    }
+    let stage_seconds = StageSecondsJson {
+        lightmap_passes: times.lightmap_passes,
+        probe_passes: times.probe_passes,
+        denoise: denoised.as_ref().map(|d| d.seconds),
+        seams: seam_seconds,
+        outputs: t_out.elapsed().as_secs_f64(),
+    };
+    let probes = match probes {
+        Some(ps) => Some(write_probes(o, ps, probe_positions, relocated, log)?),
+        None => None,
+    };
+    let meta = BakeJson {
+        scene: scene.name.clone(),
+        device: device.to_string(),
+        passes: state.passes,
+        seed: o.config.seed,
+        sampler: o.config.sampler.name(),
+        adaptive: o.config.adaptive.map(|a| AdaptiveJson {
+            pilot_passes: a.pilot_passes,
+            batch_fraction: a.batch_fraction,
+            floor: a.floor,
+            max_per_batch: a.max_per_batch,
+        }),
+        paths: state.moments.iter().map(crate::accumulate::Moments::count).sum::<u64>(),
+        max_bounces: o.config.max_bounces,
+        solver: format!("{:?}", o.config.solver),
+        layout: LayoutJson {
+            width: lm.width,
+            height: lm.height,
+            texels_per_unit: f64::from(lm.texels_per_unit),
+            padding: lm.padding,
+            valid_texels: lm.valid_count(),
+            utilisation: lm.utilisation(),
+            dilated_texels: dilated,
+            validity: "alpha channel of every EXR: 1 = baked, 0 = empty, inside geometry or dilated",
+            texel_validity: lm_validity,
+            overlapped_texels: overlapped,
+            empty_before_dilation: empty,
+        },
+        filter: filter_json,
+        irradiance: FileJson { file: "irradiance.exr", quantity: "E/pi (linear RGB)", standard_error: Some("irradiance_se.exr") },
+        normals: FileJson {
+            file: "normals.exr",
+            quantity: "world-space unit shading normal per texel (the basis frame's +Z)",
+            standard_error: None,
+        },
+        bases: bases_json(o),
+        guiding: guiding_json(o, targets, state),
+        denoise: denoised,
+        seams,
+        stage_seconds,
+        meshes: output::mesh_mapping(scene, lm),
+        runtime,
+        profile: o.profile.as_ref().map(|p| ProfileJson {
+            name: p.name.clone(),
+            summary: p.summary(),
+            lightmap_bases: p.lightmap_bases.clone(),
+            probe_bases: p.probe_bases.clone(),
+            specular: p.specular,
+            roughness: p.roughness.map(|(a, b)| [a, b]),
+            precision: p.precision.clone(),
+            language: p.language.clone(),
+        }),
+        files,
+        preview: "preview.png",
+        seconds: t0.elapsed().as_secs_f64(),
+        probes,
+    };
     std::fs::write(o.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("bake.json: {e}"))?;
     log(format!(
         "wrote {} ({} EXR files, bake.json, preview.png, runtime.wgsl{})",
         o.out.display(),
-        files.len(),
-        if probes.is_some() { ", probes.json" } else { "" }
+        meta.files.len(),
+        if meta.probes.is_some() { ", probes.json" } else { "" }
     ));
     Ok(())
 }
 
 /// bake.json's account of the samples a state accepted and rejected.
-fn validity_json(st: &BakeState) -> serde_json::Value {
-    let valid = st.valid();
+fn validity_json(st: &BakeState) -> ValidityJson {
     let sum = |f: &dyn Fn(&crate::accumulate::Moments) -> u64| st.moments.iter().map(f).sum::<u64>();
-    json!({"invalid": valid.iter().filter(|v| !**v).count(),
-           "max_back_face_fraction": crate::accumulate::MAX_BACK_FACE_FRACTION,
-           "back_face_samples": sum(&|m| m.back_faces), "non_finite_samples": sum(&|m| m.non_finite),
-           "accepted_samples": sum(&|m| m.accepted)})
+    ValidityJson {
+        invalid: st.valid().iter().filter(|v| !**v).count(),
+        max_back_face_fraction: crate::accumulate::MAX_BACK_FACE_FRACTION,
+        back_face_samples: sum(&|m| m.back_faces),
+        non_finite_samples: sum(&|m| m.non_finite),
+        accepted_samples: sum(&|m| m.accepted),
+    }
 }
 
 /// The filtered accumulation's account (null without a filter), and the texels a chart
@@ -139,7 +182,7 @@ fn filter_account(
     state: &BakeState,
     img: &LightmapImages,
     log: &mut dyn FnMut(String),
-) -> (serde_json::Value, usize, usize) {
+) -> (Option<FilterJson>, usize, usize) {
     // Texels a chart overlaps that hold no value before dilation (with a filter, fewer:
     // uncovered edge texels gather their neighbours' samples).
     let overlapped = lm.texel_charts.iter().filter(|c| **c != crate::layout::lightmap::NO_CHART).count();
@@ -155,17 +198,22 @@ fn filter_account(
                 fs.moments.len(),
                 fs.negative_weights
             ));
-            json!({"kernel": f.name(), "radius_texels": f.radius, "gather_targets": fs.moments.len(), "uncovered_targets": uncovered,
-                   "negative_weight_samples_skipped": fs.negative_weights,
-                   "method": "gather-based filtered accumulation (seed 004 §3.2): every texel a chart overlaps gathers the samples of its chart within the radius, weight x filter weight into its own encoders and weighted Welford moments; negative filter weights (Mitchell's lobes) are not gathered (the encoders need positive weights)"})
+            Some(FilterJson {
+                kernel: f.name(),
+                radius_texels: f64::from(f.radius),
+                gather_targets: fs.moments.len(),
+                uncovered_targets: uncovered,
+                negative_weight_samples_skipped: fs.negative_weights,
+                method: "gather-based filtered accumulation (seed 004 §3.2): every texel a chart overlaps gathers the samples of its chart within the radius, weight x filter weight into its own encoders and weighted Welford moments; negative filter weights (Mitchell's lobes) are not gathered (the encoders need positive weights)",
+            })
         }
-        _ => json!(null),
+        _ => None,
     };
     (filter_json, overlapped, empty)
 }
 
 /// Joint NLM denoising of the images when asked for; its account for bake.json.
-fn denoise_step(o: &Options, img: &mut LightmapImages, lm: &Lightmap, log: &mut dyn FnMut(String)) -> Result<serde_json::Value, String> {
+fn denoise_step(o: &Options, img: &mut LightmapImages, lm: &Lightmap, log: &mut dyn FnMut(String)) -> Result<Option<DenoiseJson>, String> {
     Ok(match o.denoise {
         Some(opts) => {
             let t = Instant::now();
@@ -179,24 +227,24 @@ fn denoise_step(o: &Options, img: &mut LightmapImages, lm: &Lightmap, log: &mut 
                 opts.strength,
                 st.mean_effective_neighbours
             ));
-            json!({"method": "joint non-local means (Rousselle et al. 2012 patch distance; position, normal, chart guides)",
-                   "window": 2 * opts.radius + 1, "patch": 2 * opts.patch + 1, "strength": opts.strength,
-                   "texels": st.texels, "mean_effective_neighbours": st.mean_effective_neighbours, "seconds": secs})
+            Some(DenoiseJson {
+                method: "joint non-local means (Rousselle et al. 2012 patch distance; position, normal, chart guides)",
+                window: 2 * opts.radius + 1,
+                patch: 2 * opts.patch + 1,
+                strength: f64::from(opts.strength),
+                texels: st.texels,
+                mean_effective_neighbours: st.mean_effective_neighbours,
+                seconds: secs,
+            })
         }
-        None => json!(null),
+        None => None,
     })
 }
 
 /// Seams: the metric on the dilated images (what a runtime's bilinear lookups read),
 /// before and (when asked for) after stitching; dilates the images. Returns the dilated
 /// texels, bake.json's account and the seconds taken.
-fn seams_step(
-    o: &Options,
-    scene: &Scene,
-    lm: &Lightmap,
-    img: &mut LightmapImages,
-    log: &mut dyn FnMut(String),
-) -> (usize, serde_json::Value, f64) {
+fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImages, log: &mut dyn FnMut(String)) -> (usize, SeamsJson, f64) {
     let t = Instant::now();
     let seam_edges = crate::post::seams::find_seams(scene, lm);
     let seam_samples = crate::post::seams::samples(&seam_edges, lm.width, lm.height);
@@ -215,7 +263,21 @@ fn seams_step(
         }
         s / n.max(1) as f64
     };
-    let (dilated, seams) = if o.stitch_seams && !seam_samples.is_empty() {
+    let metric = "mean |E/pi lookup A - lookup B| over seam samples and channels, after dilation";
+    let mut seams = SeamsJson {
+        edges: seam_edges.len(),
+        samples: seam_samples.len(),
+        metric_before,
+        metric_after: None,
+        texel_noise: noise,
+        stitched: false,
+        texels: None,
+        cg_iterations: None,
+        cg_converged: None,
+        seconds: None,
+        metric,
+    };
+    let dilated = if o.stitch_seams && !seam_samples.is_empty() {
         let st = crate::post::seams::stitch(img, &plain, &seam_samples);
         let dilated = img.dilate_keeping(o.padding + 1, &st.written_empty);
         let after = crate::post::seams::seam_metric(img, &seam_samples);
@@ -228,31 +290,30 @@ fn seams_step(
             st.iterations,
             if st.converged { "" } else { " (NOT converged to 1e-7: the result is the last iterate)" }
         ));
-        (
-            dilated,
-            json!({"edges": seam_edges.len(), "samples": seam_samples.len(), "metric_before": metric_before, "metric_after": after,
-                         "texel_noise": noise, "stitched": true, "texels": st.texels, "cg_iterations": st.iterations, "cg_converged": st.converged, "seconds": secs,
-                         "metric": "mean |E/pi lookup A - lookup B| over seam samples and channels, after dilation"}),
-        )
+        seams = SeamsJson {
+            metric_after: Some(after),
+            stitched: true,
+            texels: Some(st.texels),
+            cg_iterations: Some(st.iterations),
+            cg_converged: Some(st.converged),
+            seconds: Some(secs),
+            ..seams
+        };
+        dilated
     } else {
         log(format!(
             "seams: {} edges, mean |ΔE/π| across them {metric_before:.3e} (texel noise {noise:.3e}); not stitched, {:.2} s",
             seam_edges.len(),
             t.elapsed().as_secs_f64()
         ));
-        let dilated = img.dilate(o.padding + 1);
-        (
-            dilated,
-            json!({"edges": seam_edges.len(), "samples": seam_samples.len(), "metric_before": metric_before, "texel_noise": noise, "stitched": false,
-                         "metric": "mean |E/pi lookup A - lookup B| over seam samples and channels, after dilation"}),
-        )
+        img.dilate(o.padding + 1)
     };
     (dilated, seams, t.elapsed().as_secs_f64())
 }
 
 /// Writes the runtime shader library the bake needs (and, with a profile, its export and
 /// what its Lambert-only BRDF set left out) and its LUTs; bake.json's account of them.
-fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Result<serde_json::Value, String> {
+fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Result<RuntimeJson, String> {
     // Specular runtime: only for a scene with a glossy material and a profile (if any) whose
     // BRDF set has GGX.
     let specular = glossy && o.profile.as_ref().is_none_or(|p| p.specular);
@@ -291,14 +352,24 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
         };
         std::fs::write(o.out.join(l), data).map_err(|e| format!("{l}: {e}"))?;
     }
-    Ok(
-        json!({"wgsl": "runtime.wgsl", "files": runtime_files, "features": features, "luts": luts, "left_out_bytes": runtime.left_out_bytes(),
-              "specular": if specular { "included" } else if glossy { "left out: the profile's BRDF set is Lambert only" } else { "left out: no glossy material" }}),
-    )
+    Ok(RuntimeJson {
+        wgsl: "runtime.wgsl",
+        files: runtime_files,
+        features,
+        luts,
+        left_out_bytes: runtime.left_out_bytes(),
+        specular: if specular {
+            "included"
+        } else if glossy {
+            "left out: the profile's BRDF set is Lambert only"
+        } else {
+            "left out: no glossy material"
+        },
+    })
 }
 
 /// bake.json's account of each lightmap basis: lobes, domain, solver, frame, files.
-fn bases_json(o: &Options) -> Vec<serde_json::Value> {
+fn bases_json(o: &Options) -> Vec<BasisJson> {
     o
         .config
         .bases
@@ -307,9 +378,15 @@ fn bases_json(o: &Options) -> Vec<serde_json::Value> {
             let lobes = b.basis().len();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
             let solver = if o.config.solver == Solver::Nnls && b.non_negative() { "progressive NNLS" } else { "progressive LS" };
-            json!({"name": b.name(), "lobes": lobes, "domain": if b.is_sphere() { "sphere" } else { "upper hemisphere" }, "solver": solver,
-                   "space": "tangent: normal +Z, tangent frame of Duff et al. 2017 (sbf::basis::ambient_dice_bezier::tangent_frame, WGSL tangent_frame) about the texel's shading normal in normals.exr (world space, the normalised mean of the interpolated vertex normals at its sub-texel points)",
-                   "files": files, "mirrored_lower_hemisphere": b.is_sphere()})
+            BasisJson {
+                name: b.name(),
+                lobes,
+                domain: if b.is_sphere() { "sphere" } else { "upper hemisphere" },
+                solver,
+                space: "tangent: normal +Z, tangent frame of Duff et al. 2017 (sbf::basis::ambient_dice_bezier::tangent_frame, WGSL tangent_frame) about the texel's shading normal in normals.exr (world space, the normalised mean of the interpolated vertex normals at its sub-texel points)",
+                files,
+                mirrored_lower_hemisphere: b.is_sphere(),
+            }
         })
         .collect()
 }
@@ -321,34 +398,34 @@ fn write_probes(
     probe_positions: &[Vec3],
     relocated: &[(usize, Vec3)],
     log: &mut dyn FnMut(String),
-) -> Result<serde_json::Value, String> {
-    let (mean, se) = (ps.mean(), ps.standard_error());
-    let list: Vec<serde_json::Value> = probe_positions
+) -> Result<ProbesSummaryJson, String> {
+    let (mean, se, valid) = (ps.mean(), ps.standard_error(), ps.valid());
+    let xyz = |p: Vec3| [f64::from(p.x), f64::from(p.y), f64::from(p.z)];
+    let probes = probe_positions
         .iter()
         .enumerate()
-        .map(|(k, p)| {
-            let coeffs: serde_json::Map<String, serde_json::Value> = o
+        .map(|(k, p)| ProbeJson {
+            position: xyz(*p),
+            mean_radiance: mean[k],
+            standard_error: se[k],
+            coefficients: o
                 .probe_bases
                 .iter()
                 .enumerate()
                 .map(|(b, kind)| {
                     let c = ps.encoders[b][k].coefficients();
-                    let rows: Vec<[f64; 3]> = (0..c.nrows()).map(|i| [c[(i, 0)], c[(i, 1)], c[(i, 2)]]).collect();
-                    (kind.name().to_string(), json!(rows))
+                    (kind.name(), (0..c.nrows()).map(|i| [c[(i, 0)], c[(i, 1)], c[(i, 2)]]).collect())
                 })
-                .collect();
-            let m = &ps.moments[k];
-            let mut j = json!({"position": [p.x, p.y, p.z], "mean_radiance": mean[k], "standard_error": se[k], "coefficients": coeffs,
-                   "valid": ps.valid()[k], "back_face_fraction": m.back_face_fraction()});
-            if let Some((_, from)) = relocated.iter().find(|r| r.0 == k) {
-                j["relocated_from"] = json!([from.x, from.y, from.z]);
-            }
-            j
+                .collect(),
+            valid: valid[k],
+            back_face_fraction: ps.moments[k].back_face_fraction(),
+            relocated_from: relocated.iter().find(|r| r.0 == k).map(|(_, from)| xyz(*from)),
         })
         .collect();
-    let pj = json!({"space": "world (+Y up)", "passes": ps.passes, "bases": o.probe_bases.iter().map(|b| b.name()).collect::<Vec<_>>(), "probes": list});
-    std::fs::write(o.out.join("probes.json"), serde_json::to_string_pretty(&pj).expect("json")).map_err(|e| format!("probes.json: {e}"))?;
-    let pv = validity_json(ps);
-    log(format!("probes: {} of {} inside geometry (flagged \"valid\": false in probes.json)", pv["invalid"], probe_positions.len()));
-    Ok(json!({"file": "probes.json", "count": probe_positions.len(), "validity": pv, "relocated": relocated.len()}))
+    let file = ProbesJson { space: "world (+Y up)", passes: ps.passes, bases: o.probe_bases.iter().map(|b| b.name()).collect(), probes };
+    std::fs::write(o.out.join("probes.json"), serde_json::to_string_pretty(&file).expect("json"))
+        .map_err(|e| format!("probes.json: {e}"))?;
+    let validity = validity_json(ps);
+    log(format!("probes: {} of {} inside geometry (flagged \"valid\": false in probes.json)", validity.invalid, probe_positions.len()));
+    Ok(ProbesSummaryJson { file: "probes.json", count: probe_positions.len(), validity, relocated: relocated.len() })
 }
