@@ -358,6 +358,7 @@ fn wavefront_pass_times_cover_the_pass_graph() {
         ..Default::default()
     };
     let mut b = GpuBake::new(&gpu, &Tracer::new(&s, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
+    check_pass_graph(b.pass_graph().expect("a wavefront bake has a pass graph"));
     b.set_chunk(targets.items.len());
     let waves = 5u64;
     let t = std::time::Instant::now();
@@ -383,4 +384,38 @@ fn wavefront_pass_times_cover_the_pass_graph() {
     assert!(total > 0.0 && total <= wall, "GPU time {total} s against {wall} s of wall clock");
     // Profiling does not change the bake: the next passes are plain ones.
     b.run(1).unwrap();
+}
+
+/// The pass graph names the passes in the order a wave runs them, and the buffers naga
+/// finds each entry point binding are those its stage needs: tracing binds the BVH and not
+/// the encoder states, only accumulate binds the encoder states, generate and shade bind
+/// the path pool, only shade writes the compaction's flags. Mutations tried: intersect's
+/// entry point swapped for shade's, and the names of bindings 0:1 and 0:3 swapped — both
+/// fail.
+fn check_pass_graph(g: &baker::gpu::wavefront::graph::PassGraph) {
+    let printed = g.to_string();
+    println!("{printed}");
+    let names: Vec<&str> = g.passes.iter().map(|p| p.name).collect();
+    assert_eq!(names, ["generate", "wave_start", "intersect", "shade", "compact", "wave_args", "accumulate"]);
+    let binds = |pass: &str, buffer: &str| g.passes.iter().find(|p| p.name == pass).unwrap().buffers.contains(&buffer);
+    for (pass, buffer, want) in [
+        ("intersect", "bvh nodes", true),
+        ("intersect", "triangles", true),
+        ("intersect", "encoder states", false),
+        ("intersect", "scene data", false),
+        ("intersect", "path flags", false),
+        ("shade", "paths", true),
+        ("shade", "path flags", true),
+        ("shade", "encoder states", false),
+        ("generate", "jobs", true),
+        ("generate", "paths", true),
+        ("generate", "bvh nodes", false),
+        ("accumulate", "encoder states", true),
+        ("accumulate", "moments", true),
+        ("wave_args", "encoder states", false),
+        ("wave_args", "wave args", true),
+    ] {
+        assert_eq!(binds(pass, buffer), want, "{pass} binding {buffer}: expected {want}\n{printed}");
+    }
+    assert!(names.iter().all(|n| printed.contains(n)), "{printed}");
 }

@@ -203,6 +203,11 @@ impl<'g> GpuBake<'g> {
         })
     }
 
+    /// The wave's pass graph (the wavefront pipeline; None on the megakernel).
+    pub fn pass_graph(&self) -> Option<&crate::gpu::wavefront::graph::PassGraph> {
+        self.wavefront.as_ref().map(|w| &w.graph)
+    }
+
     /// Sets the target time per dispatch (None: keep the items per dispatch fixed).
     pub fn set_batch_target(&mut self, seconds: Option<f64>) {
         self.batching.target = seconds.filter(|s| s.is_finite() && *s > 0.0);

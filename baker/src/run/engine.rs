@@ -79,6 +79,9 @@ pub(crate) fn run_targets<'s>(
             for l in &b.devices()[0].kernel.left_out {
                 log(format!("{what}: left out of the GPU kernel: {l}"));
             }
+            if let Some(g) = b.devices()[0].pass_graph() {
+                log(format!("{what}: wavefront pass graph of a wave:\n{g}"));
+            }
             if gpus.len() > 1 {
                 let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();
                 log(format!("{what}: items dealt to {} GPUs in blocks of {}: {} items each", gpus.len(), b.block(), shares.join(", ")));

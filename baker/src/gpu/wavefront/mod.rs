@@ -31,7 +31,10 @@
 //! Bindings: group 0 is the megakernel's; group 1 holds the path pool (`wave.wgsl`). Each
 //! pass's pipeline has the layout naga finds for its entry point ([`bindings_used`]).
 
+pub mod graph;
+
 use crate::gpu::prims::{CompactPlan, Prims};
+use graph::{buffer_name, GraphPass, PassGraph};
 use std::cell::RefCell;
 use wgpu::util::DeviceExt;
 
@@ -110,6 +113,8 @@ pub struct Wavefront {
     flags: wgpu::Buffer,
     /// Per-pass GPU times ([`Wavefront::enable_profiling`]).
     profiler: Option<Profiler>,
+    /// The passes of a wave with the buffers each binds.
+    pub graph: PassGraph,
     /// Slots in the path pool.
     pub capacity: usize,
 }
@@ -175,9 +180,10 @@ impl Wavefront {
         };
         let groups = [group0.to_vec(), group1(0)];
         let alt = [group0.to_vec(), group1(1)];
+        let used_by = |entry: &str| bindings_used(naga.0, naga.1, entry);
         let pass = |entry: &str| -> Result<Pass, String> {
             let pipeline = super::compute_pipeline(d, module, entry);
-            let used = bindings_used(naga.0, naga.1, entry)?;
+            let used = used_by(entry)?;
             let top = used.iter().map(|u| u.0).max().unwrap_or(0);
             let mut out = Vec::new();
             for g in 0..=top {
@@ -212,7 +218,31 @@ impl Wavefront {
                 ],
             })
             .collect();
+        let node = |name, wgsl, entry: &'static str, dispatch, repeat| -> Result<GraphPass, String> {
+            let buffers = used_by(entry)?.into_iter().map(|(g, b)| buffer_name(g, b)).collect();
+            Ok(GraphPass { name, wgsl, entry: Some(entry), buffers, dispatch, repeat })
+        };
+        let compact = GraphPass {
+            name: "compact",
+            wgsl: "gpu/prims",
+            entry: None,
+            buffers: vec!["queue", "path flags", "scan offsets", "other queue"],
+            dispatch: "host",
+            repeat: "per bounce",
+        };
+        let graph = PassGraph {
+            passes: vec![
+                node("generate", "generate.wgsl", "wf_generate", "jobs", "once")?,
+                node("wave_start", "wave.wgsl", "wave_start", "one", "once")?,
+                node("intersect", "intersect.wgsl", "wf_intersect", "queue", "per bounce")?,
+                node("shade", "shade.wgsl", "wf_shade", "queue", "per bounce")?,
+                compact,
+                node("wave_args", "wave.wgsl", "wave_args_from_length", "one", "per bounce")?,
+                node("accumulate", "accumulate.wgsl", "wf_accumulate", "jobs", "once")?,
+            ],
+        };
         Ok(Wavefront {
+            graph,
             generate: pass("wf_generate")?,
             start: pass("wave_start")?,
             intersect: pass("wf_intersect")?,
