@@ -178,7 +178,14 @@ fn bvh_depth_is_bounded() {
     let tris: Vec<Tri> = (0..2000)
         .map(|k| {
             let v0 = [rnd() * 4.0 - 2.0, rnd() * 4.0 - 2.0, rnd() * 4.0 - 2.0];
-            Tri { v0, material: 0, e1: [rnd() * 0.05, rnd() * 0.05, 0.0], mesh: 0, e2: [0.0, rnd() * 0.05, rnd() * 0.05], prim: k }
+            Tri {
+                corner: v0,
+                material: 0,
+                edge_u: [rnd() * 0.05, rnd() * 0.05, 0.0],
+                mesh: 0,
+                edge_v: [0.0, rnd() * 0.05, rnd() * 0.05],
+                prim: k,
+            }
         })
         .collect();
     let free = Bvh::from_tris_bounded(tris.clone(), usize::MAX / 2);

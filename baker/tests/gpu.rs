@@ -23,17 +23,38 @@ fn kernels_validate_and_structs_match() {
         }
         let cfg = BakeConfig { bases: ALL_BASES.to_vec(), solver: Solver::Ls, ..Default::default() };
         let k = kernel(&cfg, false, glossy).unwrap();
+        let mk = k.shader("megakernel.wgsl").unwrap();
         // Left out: the GGX functions exactly when no material is glossy.
-        assert_eq!(k.source.contains("fn ggx_d("), glossy);
+        assert_eq!(mk.contains("fn ggx_d("), glossy);
         assert_eq!(k.left_out.iter().any(|l| l.starts_with("GGX layer")), !glossy);
-        shaders::layout::check::<TraceParams>(&k.source).unwrap();
-        shaders::layout::check::<baker::scene::bvh::Node>(&k.source).unwrap();
-        shaders::layout::check::<baker::scene::bvh::Tri>(&k.source).unwrap();
-        shaders::layout::check::<shaders::progressive::EncoderState>(&k.source).unwrap();
+        shaders::layout::check::<TraceParams>(mk).unwrap();
+        shaders::layout::check::<baker::scene::bvh::Node>(mk).unwrap();
+        shaders::layout::check::<baker::scene::bvh::Tri>(mk).unwrap();
+        shaders::layout::check::<shaders::progressive::EncoderState>(mk).unwrap();
+        // The SG lobe tables bases.wgsl holds are the CPU's axes, as f32.
+        for (kind, name) in [(BasisKind::Sg9, "SG9_AXES"), (BasisKind::Sg12, "SG12_AXES")] {
+            let (axes, lambda) = kind.sg_lobes();
+            assert_eq!(lambda, 6.0, "bases.wgsl's SG_SHARPNESS");
+            let decl = mk.split(&format!("const {name}:")).nth(1).unwrap_or_else(|| panic!("{name} in the kernel"));
+            let decl = &decl[..decl.find(';').unwrap()];
+            // The components inside each `vec3<f32>(…)` of the initialiser.
+            let numbers: Vec<f32> = decl
+                .split("vec3<f32>(")
+                .skip(1)
+                .filter(|v| v.contains(')'))
+                .flat_map(|v| v[..v.find(')').unwrap()].split(',').map(|x| x.trim().trim_end_matches('f').parse::<f32>().unwrap()))
+                .collect();
+            let want: Vec<f32> = axes.iter().flat_map(|a| [a.x as f32, a.y as f32, a.z as f32]).collect();
+            assert_eq!(numbers, want, "{name}");
+        }
+        // The wavefront composes its five passes' shaders and no megakernel.
+        let w = kernel(&BakeConfig { pipeline: baker::accumulate::Pipeline::Wavefront, ..cfg.clone() }, false, glossy).unwrap();
+        let files: Vec<&str> = w.shaders.iter().map(|s| s.0).collect();
+        assert_eq!(files, ["generate.wgsl", "queue.wgsl", "intersect.wgsl", "shade.wgsl", "accumulate.wgsl"]);
         // With a filter (every basis: the records' Q planes): its params match their twin.
         let f = kernel(&BakeConfig { filter: Some(baker::accumulate::filter::Filter::parse("mitchell").unwrap()), ..cfg }, false, glossy)
             .unwrap();
-        shaders::layout::check::<baker::gpu::filter::FilterParams>(&f.source).unwrap();
+        shaders::layout::check::<baker::gpu::filter::FilterParams>(f.shader("filter_gather.wgsl").unwrap()).unwrap();
         assert!(
             !f.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
                 && k.left_out.iter().any(|l| l.starts_with("filtered accumulation"))

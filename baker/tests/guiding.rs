@@ -189,7 +189,7 @@ fn gpu_build_matches_the_cpu_twin() {
 /// lavapipe has subgroups of 8 and runs the workgroup build only.
 #[test]
 fn guide_kernels_validate() {
-    let (fallback, subgroup) = baker::gpu::guide_build_sources();
+    let (fallback, subgroup) = baker::gpu::guide_build_sources().unwrap();
     shaders::export::validate(&fallback).unwrap();
     shaders::export::validate_subgroups(&subgroup).unwrap();
     assert!(shaders::export::validate(&subgroup).is_err(), "the subgroup kernel must need the subgroup capability");

@@ -1,5 +1,5 @@
 //! The sample sequences (`baker::sampling::sequence`, seed 004 §6.2): the WGSL twin
-//! (`wgsl/sampler.wgsl`) against the CPU one, bit for bit, on indices and seeds at the
+//! (`gpu/wgsl/sequence.wgsl`, composed per sequence) against the CPU one, bit for bit, on indices and seeds at the
 //! edges of u32 and random ones; the CPU layout's properties. The sequences' own
 //! properties (nets, uniformity over seeds) are tested in `sbf::sampling::sobol`; the
 //! error they save in a bake in `transport.rs`
@@ -13,26 +13,27 @@ mod common;
 use baker::sampling::sequence::{group_point, item_key, PathSampler, Sequence, DIRECTION, EMITTER, ENVIRONMENT};
 use sbf::sampling::Pcg32;
 
-/// WGSL `struct SamplerParams` (the fields of `TraceParams` the sampler reads).
+/// The harness's uniform: the bake seed the body passes to `sampler_new`, and the
+/// sequence the library was composed for (`baker::gpu::kernel::sequence_library`).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SamplerParams {
     seed: u32,
     sampler: u32,
-    pad0: u32,
-    pad1: u32,
+    pad_a: u32,
+    pad_b: u32,
 }
 
-fn library() -> String {
-    format!(
-        "struct SamplerParams {{ seed: u32, sampler: u32, pad0: u32, pad1: u32 }}\nvar<private> P: SamplerParams;\n{}",
-        baker::gpu::SAMPLER_WGSL
-    )
+/// The composed sequence functions and the harness's parameters `P`.
+fn library(params: SamplerParams) -> String {
+    let sequence = if params.sampler == 1 { Sequence::Independent } else { Sequence::Sobol };
+    let composed = baker::gpu::kernel::sequence_library(sequence).unwrap_or_else(|e| panic!("{e}"));
+    "struct SamplerParams { seed: u32, sampler: u32, pad_a: u32, pad_b: u32 }\nvar<private> P: SamplerParams;\n".to_string() + &composed
 }
 
 /// Runs `body` (reads and writes `io[i]`, a vec4<u32>) with the given parameters.
 fn run(g: &shaders::gpu::Gpu, body: &str, params: SamplerParams, io: &[[u32; 4]]) -> Vec<[u32; 4]> {
-    let lib = library();
+    let lib = library(params);
     let launch = shaders::gpu::Launch {
         library: &lib,
         body: &format!("    P = uni;\n    outp[i] = inp[0];\n{body}"),
@@ -62,7 +63,7 @@ fn gpu_sequences_equal_the_cpu_ones_bit_for_bit() {
     let seeds = edge_and_random(&mut r, 1000);
     let cases: Vec<[u32; 4]> = idx.iter().flat_map(|&i| seeds.iter().step_by(7).map(move |&s| [s, i, 0, 0])).collect();
     for sequence in [Sequence::Sobol, Sequence::Independent] {
-        let params = SamplerParams { seed: 0, sampler: sequence.code(), pad0: 0, pad1: 0 };
+        let params = SamplerParams { seed: 0, sampler: sequence.code(), pad_a: 0, pad_b: 0 };
         let got = run(&g, "    let q = io[i];\n    io[i] = group_point(q.x, q.y);", params, &cases);
         for (c, gpu) in cases.iter().zip(&got) {
             let cpu = group_point(sequence, c[0], c[1]);
@@ -73,14 +74,14 @@ fn gpu_sequences_equal_the_cpu_ones_bit_for_bit() {
     // The item keys, and the points a path draws (vertex, use), from a 64-bit bake seed.
     for seed in [1u64, 0xdead_beef_0000_0001, u64::MAX] {
         let ids = edge_and_random(&mut r, 200);
-        let params = SamplerParams { seed: baker::sampling::sequence::gpu_seed(seed), sampler: 0, pad0: 0, pad1: 0 };
+        let params = SamplerParams { seed: baker::sampling::sequence::gpu_seed(seed), sampler: 0, pad_a: 0, pad_b: 0 };
         let io: Vec<[u32; 4]> = ids.iter().map(|&id| [id, 0, 0, 0]).collect();
-        let got = run(&g, "    io[i] = vec4<u32>(sampler_new(io[i].x, 0u).key, 0u, 0u, 0u);", params, &io);
+        let got = run(&g, "    io[i] = vec4<u32>(sampler_new(P.seed, io[i].x, 0u).key, 0u, 0u, 0u);", params, &io);
         for (id, k) in ids.iter().zip(&got) {
             assert_eq!(k[0], item_key(seed, *id), "seed {seed:#x} id {id}");
         }
         let body =
-            "    let q = io[i];\n    var s = sampler_new(q.x, q.y);\n    s.vertex = q.z;\n    io[i] = bitcast<vec4<u32>>(sample4(s, q.w));";
+            "    let q = io[i];\n    var s = sampler_new(P.seed, q.x, q.y);\n    s.vertex = q.z;\n    io[i] = bitcast<vec4<u32>>(sample4(s, q.w));";
         let io: Vec<[u32; 4]> = ids.iter().map(|&id| [id, r.next_u32() % 4096, r.next_u32() % 8, r.next_u32() % 3]).collect();
         let got = run(&g, body, params, &io);
         for (q, gpu) in io.iter().zip(&got) {

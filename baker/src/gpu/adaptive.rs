@@ -20,8 +20,6 @@ use crate::gpu::prims::Prims;
 use crate::scene::bvh::Bvh;
 use wgpu::util::DeviceExt;
 
-const ADAPT_WGSL: &str = include_str!("wgsl/adapt.wgsl");
-
 /// WGSL `AdaptParams`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -30,7 +28,7 @@ struct AdaptParams {
     sampler: u32,
     items: u32,
     tiles: u32,
-    pad0: u32,
+    pad_a: u32,
     fraction: f32,
     floor: f32,
     max_per_batch: f32,
@@ -100,13 +98,12 @@ impl AdaptGpu {
             sampler: config.sampler.code(),
             items: items as u32,
             tiles: tiles.count() as u32,
-            pad0: 0,
+            pad_a: 0,
             fraction: options.batch_fraction as f32,
             floor: options.floor as f32,
             max_per_batch: options.max_per_batch as f32,
         };
-        let wgsl = format!("{ADAPT_WGSL}\n{}", crate::gpu::SAMPLER_WGSL);
-        shaders::export::validate(&wgsl).map_err(|e| format!("adaptive sampling kernel: {e}"))?;
+        let wgsl = super::kernel::adapt_kernel(config.sampler).map_err(|e| format!("adaptive sampling kernel: {e}"))?;
         let module =
             d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("adapt"), source: wgpu::ShaderSource::Wgsl(wgsl.into()) });
         let pipelines = ["tile_sigma", "sum_tiles", "select_items", "batch_args"].map(|e| super::compute_pipeline(d, &module, e));

@@ -140,10 +140,6 @@ impl<'g> GpuBake<'g> {
         config.check(targets)?;
         let kernel = kernel(config, targets.sphere, tracer.scene.has_glossy())?;
         let d = gpu.device();
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("bake"),
-            source: wgpu::ShaderSource::Wgsl(kernel.source.as_str().into()),
-        });
         let wavefront = config.pipeline == crate::accumulate::Pipeline::Wavefront;
         let (aux, at) = aux_data(tracer);
         let items = targets.items.len();
@@ -155,12 +151,11 @@ impl<'g> GpuBake<'g> {
         check_sizes(tracer, targets, aux.len(), states_len, clusters, pool, limit)?;
         let params = trace_params(tracer, targets, config, &at);
         let buffers = upload(d, tracer, targets, &params, &aux, states_len);
-        let guide = guiding.map(|g| GuideGpu::for_bake(d, targets, g, gpu.subgroup_sizes));
+        let guide = guiding.map(|g| GuideGpu::for_bake(d, targets, g, gpu.subgroup_sizes)).transpose()?;
         let adapt = batch_selector(d, tracer, targets, config, &buffers.moments)?;
-        let filter = filtered_accumulation(d, &module, &kernel, targets, config, &buffers.moments, adapt.as_ref())?;
+        let filter = filtered_accumulation(d, &kernel, targets, config, &buffers.moments, adapt.as_ref())?;
         let entries = bind_entries(&buffers, !config.bases.is_empty(), guide.as_ref(), adapt.as_ref(), filter.as_ref());
         let (mega, wavefront) = if wavefront {
-            let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
             let bound: Vec<(u32, &wgpu::Buffer)> = entries
                 .iter()
                 .map(|e| match &e.resource {
@@ -168,8 +163,12 @@ impl<'g> GpuBake<'g> {
                     _ => unreachable!("the bake binds whole buffers"),
                 })
                 .collect();
-            (None, Some(crate::gpu::wavefront::Wavefront::new(d, &module, (&naga.0, &naga.1), &bound, pool, items)?))
+            (None, Some(crate::gpu::wavefront::Wavefront::new(d, &kernel, &bound, pool, items)?))
         } else {
+            let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("megakernel.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(kernel.shader("megakernel.wgsl")?.into()),
+            });
             (Some(megakernel(d, &module, &entries)), None)
         };
         let max_slots = wavefront.as_ref().map_or(usize::MAX, |w| w.capacity);
@@ -484,7 +483,6 @@ fn batch_selector(
 /// The filtered accumulation's gather on the GPU, if the bake filters (lightmaps only).
 fn filtered_accumulation(
     d: &wgpu::Device,
-    module: &wgpu::ShaderModule,
     kernel: &Kernel,
     targets: &Targets,
     config: &BakeConfig,
@@ -493,13 +491,13 @@ fn filtered_accumulation(
 ) -> Result<Option<crate::gpu::filter::FilterGpu>, String> {
     Ok(match config.filter.filter(|_| !targets.sphere) {
         Some(_) => {
-            let naga = shaders::export::validate(&kernel.source).map_err(|e| format!("bake kernel: {e}"))?;
             let limit = d.limits().max_storage_buffer_binding_size;
             let mut bake: Vec<(u32, &wgpu::Buffer)> = vec![(6, moments)];
             if let Some(a) = adapt {
                 bake.push((13, &a.samples));
             }
-            Some(crate::gpu::filter::FilterGpu::new(d, module, (&naga.0, &naga.1), targets, config, MAX_PASSES_PER_DISPATCH, limit, &bake)?)
+            let source = kernel.shader("filter_gather.wgsl")?;
+            Some(crate::gpu::filter::FilterGpu::new(d, source, targets, config, MAX_PASSES_PER_DISPATCH, limit, &bake)?)
         }
         None => None,
     })

@@ -24,8 +24,8 @@ struct CameraParams {
     image_height: u32,
     items: u32,
     max_per_batch: u32,
-    pad0: u32,
-    pad1: u32,
+    pad_a: u32,
+    pad_b: u32,
 }
 
 /// The raster of texel indices and the kernels that turn it into a batch.
@@ -78,8 +78,8 @@ impl CameraGpu {
             image_height: cam.height,
             items: targets.items.len() as u32,
             max_per_batch: c.max_per_batch,
-            pad0: 0,
-            pad1: 0,
+            pad_a: 0,
+            pad_b: 0,
         };
         let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("camera params"),

@@ -29,14 +29,31 @@ pub struct FilterParams {
     pub slots: u32,
     pub batch: u32,
     pub items: u32,
-    pub pad0: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    pub pad_a: u32,
+    pub pad_b: u32,
+    pub pad_c: u32,
 }
 shaders::gpu_struct!(
     FilterParams,
     "FilterParams",
-    [width, height, target_count, kernel, radius, reach, passes, charts_offset, items_offset, row, slots, batch, items, pad0, pad1, pad2]
+    [
+        width,
+        height,
+        target_count,
+        kernel,
+        radius,
+        reach,
+        passes,
+        charts_offset,
+        items_offset,
+        row,
+        slots,
+        batch,
+        items,
+        pad_a,
+        pad_b,
+        pad_c
+    ]
 );
 
 /// The GPU side of a filtered bake.
@@ -63,15 +80,14 @@ pub fn record_bytes(config: &BakeConfig) -> u64 {
 
 impl FilterGpu {
     /// The buffers and the gather pass for `targets` under `config` (whose filter is
-    /// set) from the bake's `module` (validated as `naga`), at most `max_passes` passes
+    /// set) from the composed `filter_gather.wgsl` (`source`), at most `max_passes` passes
     /// per dispatch within the storage-binding limit `limit`; `bake` lists the bake's
     /// buffers by binding (the gather reads the items' moments and, in adaptive or
     /// camera-based bakes, the batch's per-item sample counts).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         d: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        naga: (&naga::Module, &naga::valid::ModuleInfo),
+        source: &str,
         targets: &Targets,
         config: &BakeConfig,
         max_passes: u64,
@@ -127,23 +143,21 @@ impl FilterGpu {
             slots: slots as u32,
             batch: 0,
             items: items as u32,
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
+            pad_a: 0,
+            pad_b: 0,
+            pad_c: 0,
         };
         let params_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("filter params"),
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let gather = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("filter gather"),
-            layout: None,
-            module,
-            entry_point: Some("filter_gather"),
-            compilation_options: Default::default(),
-            cache: None,
+        let naga = shaders::export::validate(source).map_err(|e| format!("filter_gather.wgsl: {e}"))?;
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("filter_gather.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
+        let gather = super::compute_pipeline(d, &module, "filter_gather");
         let buffer_of = |b: u32| -> Result<&wgpu::Buffer, String> {
             Ok(match b {
                 14 => &records,
@@ -157,7 +171,7 @@ impl FilterGpu {
                 },
             })
         };
-        let used = crate::gpu::wavefront::bindings_used(naga.0, naga.1, "filter_gather")?;
+        let used = crate::gpu::wavefront::bindings_used(&naga.0, &naga.1, "filter_gather")?;
         let entries = used
             .iter()
             .map(|&(_, b)| Ok(wgpu::BindGroupEntry { binding: b, resource: buffer_of(b)?.as_entire_binding() }))

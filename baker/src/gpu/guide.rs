@@ -43,7 +43,7 @@ impl GuideGpu {
         targets: &Targets,
         g: crate::sampling::guiding::GuidingOptions,
         subgroup_sizes: Option<(u32, u32)>,
-    ) -> Self {
+    ) -> Result<Self, String> {
         use crate::sampling::guiding::{BIN_COUNT, CDF_LEN};
         let storage = |label: &str, bytes: &[u8], extra| super::buffers::storage(d, label, bytes, extra);
         let rw = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
@@ -63,7 +63,7 @@ impl GuideGpu {
         dist_buf: wgpu::Buffer,
         sums_buf: wgpu::Buffer,
         subgroup_sizes: Option<(u32, u32)>,
-    ) -> GuideGpu {
+    ) -> Result<GuideGpu, String> {
         use crate::sampling::guiding::BIN_COUNT;
         let clusters = targets.cluster_count as u32;
         // CSR of the clusters' items in ascending item order.
@@ -99,7 +99,7 @@ impl GuideGpu {
         let module = |label: &str, src: String| {
             d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(src.into()) })
         };
-        let (fallback_src, subgroup_src) = guide_build_sources();
+        let (fallback_src, subgroup_src) = guide_build_sources()?;
         let fallback = module("guide_build", fallback_src);
         let pipe = |m: &wgpu::ShaderModule, entry: &str| super::compute_pipeline(d, m, entry);
         let gather = pipe(&fallback, "guide_gather");
@@ -124,7 +124,7 @@ impl GuideGpu {
             usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        GuideGpu {
+        Ok(GuideGpu {
             basis_buf,
             gather,
             gather_bind,
@@ -137,7 +137,7 @@ impl GuideGpu {
             learn_passes: opts.learn_passes,
             built: false,
             path,
-        }
+        })
     }
 
     /// Records the build and the copy of the sums it used into the stage's basis.

@@ -1,30 +1,65 @@
-//! The bake kernel's WGSL, composed per bake: the `shaders` items it calls (the encoder,
-//! the configured bases' evaluators, the GGX terms only when a material is glossy) plus a
-//! generated part (SG lobe tables, per-basis `basis_k` and the `encode` function with each
-//! basis's encoder options as constants). What was left out is reported.
+//! The bake's WGSL, composed per bake from modules by `naga_oil` (Bevy's composer).
+//!
+//! Every file of `wgsl/` and `wavefront/` that starts with `#define_import_path` is a
+//! module (`baker::bindings`, `baker::sequence`, `baker::traverse`, `baker::lights`,
+//! `baker::bsdf`, `baker::guide`, `baker::path`, `baker::jobs`, `baker::vertex`,
+//! `baker::bases`, `baker::item`, `baker::filter_bindings`, `baker::filter_kernel`,
+//! `baker::wave`); the `shaders` crate's runtime items the bake calls are one more,
+//! `sbf::runtime`, pruned by that crate's composer to what the configured bases need. Each
+//! pipeline's entry shader imports what it uses: `megakernel.wgsl` (the megakernel), the
+//! wavefront's `generate`, `queue`, `intersect`, `shade` and `accumulate`, and
+//! `filter_gather.wgsl` with a filter — a bake composes only the entry shaders it runs.
+//!
+//! What a bake needs is said by shader defs, not by generating source: `SEQUENCE`, and
+//! `GLOSSY`, `GUIDING` (with `GUIDED_FRACTION_BITS`), `BATCH` (adaptive or camera-based
+//! batches), `FILTERED` where the bake has them; `KIND_n` and per encoder slot k `SLOT_k`
+//! (its basis kind), `SLOT_k_LOBES`, `SLOT_k_FLAGS`, `SLOT_k_DENOMINATOR`, `SLOT_k_MIRROR`,
+//! `SLOT_k_AT` (`bases.wgsl` says what each means). The composed WGSL is written back by
+//! naga with the composer's module suffixes removed from names wherever that is unique, so
+//! a kernel reads like its sources.
 
-use crate::accumulate::{BakeConfig, BasisKind};
+use crate::accumulate::{BakeConfig, BasisKind, Pipeline, BAKE_ACCELERATION};
+use crate::sampling::sequence::Sequence;
+use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage, ShaderType};
 use shaders::progressive::EncoderParams;
+use std::collections::HashMap;
 
-const TRACE_WGSL: &str = include_str!("wgsl/trace.wgsl");
-/// The sample sequences in WGSL (`wgsl/sampler.wgsl`; reads `P.seed`, `P.sampler`).
-pub const SAMPLER_WGSL: &str = include_str!("wgsl/sampler.wgsl");
-const GLOSSY_WGSL: &str = include_str!("wgsl/glossy.wgsl");
-const GLOSSY_NONE_WGSL: &str = include_str!("wgsl/glossy_none.wgsl");
-const GUIDE_WGSL: &str = include_str!("wgsl/guide.wgsl");
-const ADAPT_BATCH_WGSL: &str = include_str!("wgsl/adapt_batch.wgsl");
-const ADAPT_NONE_WGSL: &str = include_str!("wgsl/adapt_none.wgsl");
-const GUIDE_NONE_WGSL: &str = include_str!("wgsl/guide_none.wgsl");
-const FILTER_WGSL: &str = include_str!("wgsl/filter.wgsl");
-const FILTER_NONE_WGSL: &str = include_str!("wgsl/filter_none.wgsl");
-const GUIDE_COMMON_WGSL: &str = include_str!("wgsl/guide_common.wgsl");
-const GUIDE_BUILD_WGSL: &str = include_str!("wgsl/guide_build.wgsl");
-const GUIDE_BUILD_SUBGROUP_WGSL: &str = include_str!("wgsl/guide_build_subgroup.wgsl");
+/// The composable modules (file, source).
+const MODULES: [(&str, &str); 14] = [
+    ("bindings.wgsl", include_str!("wgsl/bindings.wgsl")),
+    ("sequence.wgsl", include_str!("wgsl/sequence.wgsl")),
+    ("traverse.wgsl", include_str!("wgsl/traverse.wgsl")),
+    ("lights.wgsl", include_str!("wgsl/lights.wgsl")),
+    ("bsdf.wgsl", include_str!("wgsl/bsdf.wgsl")),
+    ("guide.wgsl", include_str!("wgsl/guide.wgsl")),
+    ("path.wgsl", include_str!("wgsl/path.wgsl")),
+    ("jobs.wgsl", include_str!("wgsl/jobs.wgsl")),
+    ("vertex.wgsl", include_str!("wgsl/vertex.wgsl")),
+    ("filter_bindings.wgsl", include_str!("wgsl/filter_bindings.wgsl")),
+    ("bases.wgsl", include_str!("wgsl/bases.wgsl")),
+    ("item.wgsl", include_str!("wgsl/item.wgsl")),
+    ("filter_kernel.wgsl", include_str!("wgsl/filter_kernel.wgsl")),
+    ("wave.wgsl", include_str!("wavefront/wave.wgsl")),
+];
 
-/// The WGSL of ray guiding's kernels: (gather + workgroup build, subgroup build).
-pub fn guide_build_sources() -> (String, String) {
-    (format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_WGSL}"), format!("{GUIDE_COMMON_WGSL}\n{GUIDE_BUILD_SUBGROUP_WGSL}"))
-}
+/// The entry shaders (name, file, source).
+const MEGAKERNEL: (&str, &str) = ("megakernel.wgsl", include_str!("wgsl/megakernel.wgsl"));
+/// The wavefront passes' entry shaders, in pass-graph order.
+pub const WAVEFRONT: [(&str, &str); 5] = [
+    ("generate.wgsl", include_str!("wavefront/generate.wgsl")),
+    ("queue.wgsl", include_str!("wavefront/queue.wgsl")),
+    ("intersect.wgsl", include_str!("wavefront/intersect.wgsl")),
+    ("shade.wgsl", include_str!("wavefront/shade.wgsl")),
+    ("accumulate.wgsl", include_str!("wavefront/accumulate.wgsl")),
+];
+const FILTER_GATHER: (&str, &str) = ("filter_gather.wgsl", include_str!("wgsl/filter_gather.wgsl"));
+const ADAPT: (&str, &str) = ("adapt.wgsl", include_str!("wgsl/adapt.wgsl"));
+const GUIDE_COMMON: (&str, &str) = ("guide_common.wgsl", include_str!("wgsl/guide_common.wgsl"));
+const GUIDE_BUILD: (&str, &str) = ("guide_build.wgsl", include_str!("wgsl/guide_build.wgsl"));
+const GUIDE_BUILD_SUBGROUP: (&str, &str) = ("guide_build_subgroup.wgsl", include_str!("wgsl/guide_build_subgroup.wgsl"));
+
+/// The most encoder slots (bases) of one bake: one per basis kind.
+pub const MAX_SLOTS: usize = 6;
 
 /// How ray guiding's distributions are built on this device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,168 +70,238 @@ pub enum GuideBuild {
     Workgroup,
 }
 
-/// The kernel source for a bake and what its composition left out.
+/// The composed shaders of a bake and what its composition left out.
 #[derive(Debug, Clone)]
 pub struct Kernel {
-    pub source: String,
+    /// (entry shader file, composed WGSL) of every pipeline the bake runs.
+    pub shaders: Vec<(&'static str, String)>,
     /// One line per left-out part ("GGX layer: no glossy material", shaders items).
     pub left_out: Vec<String>,
 }
 
-fn f(x: f64) -> String {
-    format!("{:?}", x as f32)
+impl Kernel {
+    /// The composed WGSL of entry shader `file` (e.g. "megakernel.wgsl").
+    pub fn shader(&self, file: &str) -> Result<&str, String> {
+        self.shaders.iter().find(|s| s.0 == file).map(|s| s.1.as_str()).ok_or_else(|| format!("the bake composed no {file}"))
+    }
 }
 
-fn v3(a: sbf::glam::DVec3) -> String {
-    format!("vec3<f32>({}, {}, {})", f(a.x), f(a.y), f(a.z))
+/// A composer holding every module, `sbf::runtime` being `runtime` (the `shaders` items).
+fn composer(runtime: &str) -> Result<Composer, String> {
+    let mut c = Composer::default().with_capabilities(naga::valid::Capabilities::all());
+    let modules = std::iter::once(("sbf_runtime.wgsl", runtime)).chain(MODULES.iter().copied());
+    for (file, source) in modules {
+        add_module(&mut c, file, source, (file == "sbf_runtime.wgsl").then(|| "sbf::runtime".to_string()))?;
+    }
+    Ok(c)
 }
 
-/// Composes the bake kernel for `config` (`glossy`: whether any material has a GGX layer).
-#[allow(clippy::too_many_lines)] // To split: over the 120-line limit the crate holds (lib.rs).
-pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
+/// Adds module `file` (`as_name`: its import path where the source names none).
+fn add_module(c: &mut Composer, file: &str, source: &str, as_name: Option<String>) -> Result<(), String> {
+    let added = c
+        .add_composable_module(ComposableModuleDescriptor {
+            source,
+            file_path: file,
+            language: ShaderLanguage::Wgsl,
+            as_name,
+            additional_imports: &[],
+            shader_defs: HashMap::new(),
+        })
+        .map(|_| ());
+    added.map_err(|e| format!("{file}: {}", e.emit_to_string(c)))
+}
+
+/// Composes entry shader `source` with `defs` and writes it back as WGSL (validated).
+fn compose(c: &mut Composer, (file, source): (&str, &str), defs: &HashMap<String, ShaderDefValue>) -> Result<String, String> {
+    let module = c
+        .make_naga_module(NagaModuleDescriptor {
+            source,
+            file_path: file,
+            shader_type: ShaderType::Wgsl,
+            shader_defs: defs.clone(),
+            additional_imports: &[],
+        })
+        .map_err(|e| format!("{file}: {}", e.emit_to_string(c)))?;
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+        .validate(&module)
+        .map_err(|e| format!("{file}: {e:?}"))?;
+    let wgsl =
+        naga::back::wgsl::write_string(&module, &info, naga::back::wgsl::WriterFlags::empty()).map_err(|e| format!("{file}: {e}"))?;
+    Ok(undecorate(&wgsl))
+}
+
+/// The composer's module suffix (`X_naga_oil_mod_X` + the module path in base32 + `X`)
+/// removed from every name whose plain form is unique in `wgsl`.
+fn undecorate(wgsl: &str) -> String {
+    const PRE: &str = "X_naga_oil_mod_X";
+    let is_ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    // Every identifier token, and the decorated ones' plain forms.
+    let tokens: Vec<&str> = wgsl.split(|c: char| !is_ident(c)).filter(|t| !t.is_empty()).collect();
+    let mut plain_of: HashMap<&str, String> = HashMap::new();
+    let mut owners: HashMap<String, std::collections::BTreeSet<&str>> = HashMap::new();
+    for t in &tokens {
+        let plain = match t.find(PRE) {
+            Some(i)
+                if t.ends_with('X')
+                    && t[i + PRE.len()..t.len() - 1].bytes().all(|b| b.is_ascii_uppercase() || (b'2'..=b'7').contains(&b)) =>
+            {
+                let p = t[..i].to_string();
+                plain_of.insert(t, p.clone());
+                p
+            }
+            _ => t.to_string(),
+        };
+        owners.entry(plain).or_default().insert(t);
+    }
+    let mut out = String::with_capacity(wgsl.len());
+    let mut token = String::new();
+    let flush = |token: &mut String, out: &mut String| {
+        match plain_of.get(token.as_str()) {
+            Some(p) if owners[p].len() == 1 => out.push_str(p),
+            _ => out.push_str(token),
+        }
+        token.clear();
+    };
+    for ch in wgsl.chars() {
+        if is_ident(ch) {
+            token.push(ch);
+        } else {
+            flush(&mut token, &mut out);
+            out.push(ch);
+        }
+    }
+    flush(&mut token, &mut out);
+    out
+}
+
+/// The shader defs of a bake of `config` on texels or probes (`sphere_targets`), and the
+/// `shaders` items it calls.
+fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(HashMap<String, ShaderDefValue>, Vec<&'static str>), String> {
+    if config.bases.len() > MAX_SLOTS {
+        return Err(format!("a GPU bake encodes into at most {MAX_SLOTS} bases, not {}", config.bases.len()));
+    }
+    if BAKE_ACCELERATION != 1.0 {
+        return Err(format!("bases.wgsl's ACCELERATION is 1.0, the bake's {BAKE_ACCELERATION}"));
+    }
+    let mut d: HashMap<String, ShaderDefValue> = HashMap::new();
+    let on = |d: &mut HashMap<String, ShaderDefValue>, name: &str| {
+        d.insert(name.to_string(), ShaderDefValue::Bool(true));
+    };
     let mut roots =
         vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
     if glossy {
+        on(&mut d, "GLOSSY");
         roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
     }
-    let mut gen = String::from("// ---- generated for this bake by baker::gpu::kernel ----\n");
-    let mut left_out = Vec::new();
-    let mut encode = String::from("fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n");
-    // Known projections of the baked point's light samples, per basis (sbf
-    // update_projected): Q_k[i] += B_i(ω_l)·c for each light sample (ω_l, c).
-    let mut project = String::from("fn project(d: vec3<f32>, c: vec3<f32>) {\n");
-    // The projections start at zero for every pass of an item (a dispatch may run several).
-    let mut project_reset = String::from("fn project_reset() {\n");
-    let (mut filtered_vars, mut filtered_load, mut filtered_store, mut filtered_update) = (
-        String::new(),
-        String::from("fn filtered_load(out: u32) {\n"),
-        String::from("fn filtered_store(out: u32) {\n"),
-        String::from("fn encode_filtered(d: vec3<f32>, l: vec3<f32>, w: f32) {\n    let md = vec3<f32>(d.x, d.y, -d.z);\n"),
-    );
+    if config.guiding.is_some() && !sphere_targets {
+        on(&mut d, "GUIDING");
+    }
+    if (config.adaptive.is_some() || config.camera.is_some()) && !sphere_targets {
+        on(&mut d, "BATCH");
+    }
+    if config.filter.is_some() && !sphere_targets {
+        on(&mut d, "FILTERED");
+    }
+    let mut at = 3u32;
     for (k, b) in config.bases.iter().enumerate() {
-        let lobes = b.basis().len();
-        let body = match b {
-            BasisKind::ShL1 | BasisKind::ShL2 => {
-                let (name, n) = if *b == BasisKind::ShL1 { ("sh_eval_l1", 4) } else { ("sh_eval_l2", 9) };
-                roots.push(name);
-                format!("    let v = {name}(d);\n    for (var i = 0u; i < {n}u; i++) {{\n        b[i] = v[i];\n    }}\n")
-            }
+        let kind = BasisKind::ALL.iter().position(|(x, _)| x == b).expect("a basis kind") as u32;
+        on(&mut d, &format!("KIND_{kind}"));
+        match b {
+            BasisKind::ShL1 => roots.push("sh_eval_l1"),
+            BasisKind::ShL2 => roots.push("sh_eval_l2"),
             BasisKind::Sg9 | BasisKind::Sg12 => {
+                on(&mut d, "KIND_SG");
                 roots.push("sg_eval");
-                let (axes, lambda) = b.sg_lobes();
-                let items: Vec<String> = axes.iter().map(|a| format!("    {},", v3(*a))).collect();
-                gen += &format!(
-                    "const BASIS_{k}_AXES: array<vec3<f32>, {lobes}> = array<vec3<f32>, {lobes}>(\n{}\n);\nconst BASIS_{k}_SHARPNESS: f32 = {};\n",
-                    items.join("\n"),
-                    f(lambda)
-                );
-                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = sg_eval(BASIS_{k}_AXES[i], BASIS_{k}_SHARPNESS, d);\n    }}\n")
             }
             BasisKind::Ad9 | BasisKind::Ad12 => {
-                let axes = if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" };
-                roots.extend(["ad_srbf_eval", axes]);
-                format!("    for (var i = 0u; i < {lobes}u; i++) {{\n        b[i] = ad_srbf_eval({axes}[i], d);\n    }}\n")
+                on(&mut d, "KIND_AD");
+                roots.extend(["ad_srbf_eval", if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" }]);
             }
-        };
-        gen += &format!(
-            "// {} ({lobes} lobes)\nfn basis_{k}(d: vec3<f32>) -> array<f32, 12> {{\n    var b: array<f32, 12>;\n{body}    return b;\n}}\n",
-            b.name()
-        );
-        let opts = config.encoder_options(*b, sphere_targets);
-        let mirror = opts.mirror_hemisphere;
-        let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts }, lobes)?;
-        let tm: Vec<String> = p
-            .true_mean
-            .iter()
-            .map(|r| format!("vec4<f32>({}, {}, {}, {})", f(r[0] as f64), f(r[1] as f64), f(r[2] as f64), f(r[3] as f64)))
-            .collect();
-        gen += &format!(
-            "const ENCODER_{k}: EncoderParams = EncoderParams({}, {}u, {}u, {}u, array<vec4<f32>, 3>({}));\n\n",
-            f(p.acceleration as f64),
-            p.lobes,
-            p.flags,
-            p.denominator,
-            tm.join(", ")
-        );
-        gen += &format!("var<private> Q_{k}: array<vec3<f32>, 12>;\n");
-        project_reset += &format!("    Q_{k} = array<vec3<f32>, 12>();\n");
-        project += &format!("    {{\n        let b = basis_{k}(d);\n        for (var i = 0u; i < {lobes}u; i++) {{\n            Q_{k}[i] += b[i] * c;\n        }}\n    }}\n");
-        let update = format!("        progressive_update_projected(&st, ENCODER_{k}, basis_{k}(d), l, w, Q_{k});\n");
-        // The mirrored zero-radiance twin (sbf's mirror_hemisphere, same order).
-        let twin = if mirror {
-            format!("        progressive_update(&st, ENCODER_{k}, basis_{k}(md), vec3<f32>(0.0), w);\n")
-        } else {
-            String::new()
-        };
-        encode += &format!("    {{\n        let s = {k}u * P.item_count + out;\n        var st = states[s];\n{update}{twin}        states[s] = st;\n    }}\n");
-        // Filtered accumulation: a gather target's states stay in private variables while
-        // it gathers (wgsl/filter.wgsl loads and stores them once per dispatch).
-        filtered_vars += &format!("var<private> FST_{k}: EncoderState;\n");
-        filtered_load += &format!("    FST_{k} = fstates[{k}u * FP.target_count + out];\n");
-        filtered_store += &format!("    fstates[{k}u * FP.target_count + out] = FST_{k};\n");
-        filtered_update += &format!("    {{\n        var st = FST_{k};\n{update}{twin}        FST_{k} = st;\n    }}\n");
-    }
-    encode += "}\n";
-    project += "}\n";
-    project_reset += "}\n";
-    let filtered = config.filter.is_some() && !sphere_targets;
-    if filtered {
-        // The same encoders on the filtered targets' states (wgsl/filter.wgsl), and the
-        // known projections Q_k to and from a record: 3 vec4 of header, then per basis
-        // its lobes, each a plane of the component-major record buffer.
-        let (mut store, mut load, mut at) =
-            (String::from("fn filter_store_q(at: u32, plane: u32) {\n"), String::from("fn filter_load_q(at: u32, plane: u32) {\n"), 3usize);
-        for (k, b) in config.bases.iter().enumerate() {
-            let lobes = b.basis().len();
-            store += &format!(
-                "    for (var i = 0u; i < {lobes}u; i++) {{\n        fsamples[at + ({at}u + i) * plane] = vec4<f32>(Q_{k}[i], 0.0);\n    }}\n"
-            );
-            load += &format!(
-                "    for (var i = 0u; i < {lobes}u; i++) {{\n        Q_{k}[i] = fsamples[at + ({at}u + i) * plane].xyz;\n    }}\n"
-            );
-            at += lobes;
         }
-        encode += &format!("{filtered_vars}{filtered_load}}}\n{filtered_store}}}\n{filtered_update}}}\n{store}}}\n{load}}}\n");
+        let lobes = b.basis().len();
+        let opts = config.encoder_options(*b, sphere_targets);
+        let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts.clone() }, lobes)?;
+        if p.true_mean != [[0.0; 4]; 3] || p.acceleration != 1.0 {
+            return Err(format!("{}: bases.wgsl's encoders take acceleration 1 and no clamp-to-true denominator", b.name()));
+        }
+        let slot = |what: &str| if what.is_empty() { format!("SLOT_{k}") } else { format!("SLOT_{k}_{what}") };
+        d.insert(slot(""), ShaderDefValue::UInt(kind));
+        d.insert(slot("LOBES"), ShaderDefValue::UInt(p.lobes));
+        d.insert(slot("FLAGS"), ShaderDefValue::UInt(p.flags));
+        d.insert(slot("DENOMINATOR"), ShaderDefValue::UInt(p.denominator));
+        d.insert(slot("AT"), ShaderDefValue::UInt(at));
+        if opts.mirror_hemisphere {
+            d.insert(slot("MIRROR"), ShaderDefValue::Bool(true));
+        }
+        at += lobes as u32;
     }
-    encode += &project;
-    encode += &project_reset;
-    let config_name = shaders::compose::Config { name: "baker".into(), features: Default::default() };
-    let lib = shaders::compose::compose_roots(config_name, &roots)?;
+    d.insert("SEQUENCE".into(), ShaderDefValue::UInt(config.sampler.code()));
+    let fraction = config.guiding.map_or(0.0, |g| g.guided_fraction as f32);
+    d.insert("GUIDED_FRACTION_BITS".into(), ShaderDefValue::UInt(fraction.to_bits()));
+    Ok((d, roots))
+}
+
+/// Composes the shaders of a bake of `config` (`glossy`: whether any material has a GGX
+/// layer): the megakernel or the wavefront's passes, and the filter's gather.
+pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
+    let (defs, roots) = defs(config, sphere_targets, glossy)?;
+    let lib = shaders::compose::compose_roots(shaders::compose::Config { name: "baker".into(), features: Default::default() }, &roots)?;
+    let mut c = composer(&lib.source)?;
+    let mut entries = Vec::new();
+    let mut left_out = Vec::new();
     if !glossy {
         left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
     }
-    let guiding = match config.guiding {
-        Some(g) if !sphere_targets => format!("const GUIDED_FRACTION: f32 = {};\n{GUIDE_WGSL}", f(g.guided_fraction)),
-        _ => {
-            left_out.push("ray guiding (not enabled, or probes): the guide bindings, sampler and pdf".to_string());
-            GUIDE_NONE_WGSL.to_string()
-        }
-    };
-    let adapt = if (config.adaptive.is_some() || config.camera.is_some()) && !sphere_targets {
-        ADAPT_BATCH_WGSL
-    } else {
+    if !defs.contains_key("GUIDING") {
+        left_out.push("ray guiding (not enabled, or probes): the guide bindings, sampler and pdf".to_string());
+    }
+    if !defs.contains_key("BATCH") {
         left_out.push("adaptive and camera-based sampling (not enabled, or probes): the batch bindings".to_string());
-        ADAPT_NONE_WGSL
-    };
+    }
     left_out.push(format!("{} shaders items ({} bytes) the bake does not call", lib.left_out.len(), lib.left_out_bytes()));
-    let wavefront = match config.pipeline {
-        crate::accumulate::Pipeline::Wavefront => crate::gpu::wavefront::WGSL,
-        crate::accumulate::Pipeline::Megakernel => {
+    match config.pipeline {
+        Pipeline::Wavefront => entries.extend(WAVEFRONT),
+        Pipeline::Megakernel => {
             left_out.push("the wavefront passes (the megakernel pipeline)".to_string());
-            ""
+            entries.push(MEGAKERNEL);
         }
-    };
-    let filter = if filtered {
-        format!("{}\n{FILTER_WGSL}", crate::gpu::filter::FILTER_KERNEL_WGSL)
+    }
+    if defs.contains_key("FILTERED") {
+        entries.push(FILTER_GATHER);
     } else {
         left_out.push("filtered accumulation (no --filter, or probes): the records and the gather".to_string());
-        FILTER_NONE_WGSL.to_string()
-    };
-    let source = format!(
-        "{}\n{gen}{encode}\n{TRACE_WGSL}\n{SAMPLER_WGSL}\n{}\n{guiding}\n{adapt}\n{filter}\n{wavefront}",
-        lib.source,
-        if glossy { GLOSSY_WGSL } else { GLOSSY_NONE_WGSL }
-    );
-    shaders::export::validate(&source).map_err(|e| format!("bake kernel: {e}"))?;
-    Ok(Kernel { source, left_out })
+    }
+    let shaders = entries.into_iter().map(|e| Ok((e.0, compose(&mut c, e, &defs)?))).collect::<Result<Vec<_>, String>>()?;
+    Ok(Kernel { shaders, left_out })
+}
+
+/// The composer with the bake's modules and the runtime items no bake leaves out, for the
+/// kernels beside the bake's own.
+fn plain_composer() -> Result<Composer, String> {
+    let roots = ["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
+    let lib = shaders::compose::compose_roots(shaders::compose::Config { name: "baker".into(), features: Default::default() }, &roots)?;
+    composer(&lib.source)
+}
+
+/// The adaptive batch selection's kernel (`adapt.wgsl`) for `sequence`.
+pub fn adapt_kernel(sequence: Sequence) -> Result<String, String> {
+    let defs = HashMap::from([("SEQUENCE".to_string(), ShaderDefValue::UInt(sequence.code()))]);
+    compose(&mut plain_composer()?, ADAPT, &defs)
+}
+
+/// The WGSL of ray guiding's kernels: (gather + workgroup build, subgroup build).
+pub fn guide_build_sources() -> Result<(String, String), String> {
+    let mut c = plain_composer()?;
+    add_module(&mut c, GUIDE_COMMON.0, GUIDE_COMMON.1, None)?;
+    Ok((compose(&mut c, GUIDE_BUILD, &HashMap::new())?, compose(&mut c, GUIDE_BUILD_SUBGROUP, &HashMap::new())?))
+}
+
+/// The sample sequences of `sequence` as plain WGSL (`Sampler`, `group_point`,
+/// `sampler_new`, `sample4`, `sampler_staged` and what they use), for a test harness.
+pub fn sequence_library(sequence: Sequence) -> Result<String, String> {
+    let defs = HashMap::from([("SEQUENCE".to_string(), ShaderDefValue::UInt(sequence.code()))]);
+    let source = "#import baker::sequence::{Sampler, group_point, sample4, sampler_new, sampler_staged}\n\
+                  fn library_uses(s: Sampler) -> vec4<f32> {\n    \
+                  return sample4(sampler_staged(sampler_new(0u, 0u, 0u), 0u, 0u), 0u) + vec4<f32>(group_point(0u, 0u)) + sample4(s, 0u);\n}\n";
+    compose(&mut plain_composer()?, ("sequence_library.wgsl", source), &defs)
 }

@@ -24,7 +24,7 @@ pub mod wavefront;
 
 pub use bake::{wave_capacity, GpuBake, BATCH_TARGET_SECONDS, MAX_PASSES_PER_DISPATCH};
 pub use buffers::check_bindings;
-pub use kernel::{guide_build_sources, kernel, GuideBuild, Kernel, SAMPLER_WGSL};
+pub use kernel::{guide_build_sources, kernel, GuideBuild, Kernel};
 pub use params::TraceParams;
 pub use timing::RayStats;
 

@@ -54,11 +54,11 @@ pub struct TraceParams {
     pub sampler: u32,
     /// 1: the dispatch runs an adaptive batch (indirect, its items listed).
     pub batch_mode: u32,
-    pub pad1: u32,
-    pub pad2: u32,
-    pub env0: [f32; 4],
-    pub env1: [f32; 4],
-    pub env2: [f32; 4],
+    pub pad_b: u32,
+    pub pad_c: u32,
+    pub env_zenith: [f32; 4],
+    pub env_horizon: [f32; 4],
+    pub env_ground: [f32; 4],
 }
 shaders::gpu_struct!(
     TraceParams,
@@ -94,15 +94,15 @@ shaders::gpu_struct!(
         pass_count,
         sampler,
         batch_mode,
-        pad1,
-        pad2,
-        env0,
-        env1,
-        env2
+        pad_b,
+        pad_c,
+        env_zenith,
+        env_horizon,
+        env_ground
     ]
 );
 shaders::gpu_struct!(crate::scene::bvh::Node, "Node", [min, left_first, max, count]);
-shaders::gpu_struct!(crate::scene::bvh::Tri, "Tri", [v0, material, e1, mesh, e2, prim]);
+shaders::gpu_struct!(crate::scene::bvh::Tri, "Tri", [corner, material, edge_u, mesh, edge_v, prim]);
 
 /// Offsets (in vec4s) of the parts of `aux` (see trace.wgsl).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -212,10 +212,10 @@ pub(crate) fn trace_params(tracer: &Tracer, targets: &Targets, config: &BakeConf
         pass_count: 1,
         sampler: config.sampler.code(),
         batch_mode: 0,
-        pad1: 0,
-        pad2: 0,
-        env0: env[0],
-        env1: env[1],
-        env2: env[2],
+        pad_b: 0,
+        pad_c: 0,
+        env_zenith: env[0],
+        env_horizon: env[1],
+        env_ground: env[2],
     }
 }

@@ -21,24 +21,24 @@ pub struct Node {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Tri {
-    pub v0: [f32; 3],
+    pub corner: [f32; 3],
     pub material: u32,
-    pub e1: [f32; 3],
+    pub edge_u: [f32; 3],
     pub mesh: u32,
-    pub e2: [f32; 3],
+    pub edge_v: [f32; 3],
     /// Index of the triangle within its mesh.
     pub prim: u32,
 }
 
 impl Tri {
     pub fn v0(&self) -> Vec3 {
-        Vec3::from(self.v0)
+        Vec3::from(self.corner)
     }
     pub fn e1(&self) -> Vec3 {
-        Vec3::from(self.e1)
+        Vec3::from(self.edge_u)
     }
     pub fn e2(&self) -> Vec3 {
-        Vec3::from(self.e2)
+        Vec3::from(self.edge_v)
     }
     /// Unit geometric normal (winding e1 × e2).
     pub fn normal(&self) -> Vec3 {
@@ -104,11 +104,11 @@ impl Bvh {
                 let [a, b, c] = t.map(|i| m.positions[i as usize]);
                 if (b - a).cross(c - a).length() > 0.0 {
                     tris.push(Tri {
-                        v0: a.into(),
+                        corner: a.into(),
                         material: m.material as u32,
-                        e1: (b - a).into(),
+                        edge_u: (b - a).into(),
                         mesh: mi as u32,
-                        e2: (c - a).into(),
+                        edge_v: (c - a).into(),
                         prim: pi as u32,
                     });
                 }

@@ -3,6 +3,12 @@
 // ordering, §7.3.1), each the megakernel's finish_item with the path radiance its slot
 // gathered — the light samples at the baked point, the moments, the encoders, guiding.
 
+#import baker::bindings::NO_HIT
+#import baker::item::finish_item
+#import baker::path::{PATH_BACK, PathResult}
+#import baker::vertex::first_vertex
+#import baker::wave::{flat_id, jobs, paths}
+
 @compute @workgroup_size(64)
 fn wf_accumulate(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let v = flat_id(gid, nwg);

@@ -4,6 +4,12 @@
 // workgroup); each slot gets the first segment of its point sample's path, and enters
 // the first queue at its own position.
 
+#import baker::bindings::{NO_HIT, P}
+#import baker::jobs::job_at
+#import baker::path::{PathState, path_start}
+#import baker::vertex::first_vertex
+#import baker::wave::{PATH_DONE, WAVE_OVERFLOW, WAVE_SLOTS, flat_id, jobs, path_keys, paths, queue, wave}
+
 var<workgroup> wg_counts: array<u32, 64>;
 var<workgroup> wg_base: u32;
 

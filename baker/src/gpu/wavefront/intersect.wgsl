@@ -1,6 +1,10 @@
 // ---- wavefront pass: intersect (seed 004 §5.1) ----
 // One thread per active path of the queue: the closest hit of its next segment.
 
+#import baker::bindings::T_FAR
+#import baker::traverse::{count_ray, traverse}
+#import baker::wave::{PATH_DONE, WAVE_LENGTH, flat_id, hits, paths, queue, wave}
+
 @compute @workgroup_size(64)
 fn wf_intersect(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let q = flat_id(gid, nwg);

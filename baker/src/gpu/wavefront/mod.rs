@@ -38,15 +38,6 @@ use graph::{buffer_name, GraphPass, PassGraph};
 use std::cell::RefCell;
 use wgpu::util::DeviceExt;
 
-/// The passes' WGSL, composed after the megakernel's module (it calls its functions).
-pub const WGSL: &str = concat!(
-    include_str!("wave.wgsl"),
-    include_str!("generate.wgsl"),
-    include_str!("intersect.wgsl"),
-    include_str!("shade.wgsl"),
-    include_str!("accumulate.wgsl"),
-);
-
 /// Bytes per slot of the path pool: the path state (64), its hit (8), its sampler key (8),
 /// two queue entries, a flag and a scan offset (16).
 pub const BYTES_PER_SLOT: usize = 96;
@@ -146,8 +137,7 @@ impl Wavefront {
     /// positions (the most jobs a wave has).
     pub fn new(
         d: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        naga: (&naga::Module, &naga::valid::ModuleInfo),
+        kernel: &crate::gpu::kernel::Kernel,
         group0: &[(u32, &wgpu::Buffer)],
         capacity: usize,
         jobs: usize,
@@ -180,9 +170,29 @@ impl Wavefront {
         };
         let groups = [group0.to_vec(), group1(0)];
         let alt = [group0.to_vec(), group1(1)];
-        let used_by = |entry: &str| bindings_used(naga.0, naga.1, entry);
+        // Each pass's entry shader, composed on its own (the modules it imports).
+        let mut shaders = Vec::new();
+        for (file, _) in crate::gpu::kernel::WAVEFRONT {
+            let source = kernel.shader(file)?;
+            let naga = shaders::export::validate(source).map_err(|e| format!("{file}: {e}"))?;
+            let module =
+                d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(file), source: wgpu::ShaderSource::Wgsl(source.into()) });
+            shaders.push((file, module, naga));
+        }
+        let file_of = |entry: &str| match entry {
+            "wf_generate" => "generate.wgsl",
+            "wave_start" | "wave_args_from_length" => "queue.wgsl",
+            "wf_intersect" => "intersect.wgsl",
+            "wf_shade" => "shade.wgsl",
+            _ => "accumulate.wgsl",
+        };
+        let shader = |entry: &str| shaders.iter().find(|s| s.0 == file_of(entry)).expect("every pass's shader");
+        let used_by = |entry: &str| {
+            let s = shader(entry);
+            bindings_used(&s.2 .0, &s.2 .1, entry)
+        };
         let pass = |entry: &str| -> Result<Pass, String> {
-            let pipeline = super::compute_pipeline(d, module, entry);
+            let pipeline = super::compute_pipeline(d, &shader(entry).1, entry);
             let used = used_by(entry)?;
             let top = used.iter().map(|u| u.0).max().unwrap_or(0);
             let mut out = Vec::new();
@@ -218,29 +228,7 @@ impl Wavefront {
                 ],
             })
             .collect();
-        let node = |name, wgsl, entry: &'static str, dispatch, repeat| -> Result<GraphPass, String> {
-            let buffers = used_by(entry)?.into_iter().map(|(g, b)| buffer_name(g, b)).collect();
-            Ok(GraphPass { name, wgsl, entry: Some(entry), buffers, dispatch, repeat })
-        };
-        let compact = GraphPass {
-            name: "compact",
-            wgsl: "gpu/prims",
-            entry: None,
-            buffers: vec!["queue", "path flags", "scan offsets", "other queue"],
-            dispatch: "host",
-            repeat: "per bounce",
-        };
-        let graph = PassGraph {
-            passes: vec![
-                node("generate", "generate.wgsl", "wf_generate", "jobs", "once")?,
-                node("wave_start", "wave.wgsl", "wave_start", "one", "once")?,
-                node("intersect", "intersect.wgsl", "wf_intersect", "queue", "per bounce")?,
-                node("shade", "shade.wgsl", "wf_shade", "queue", "per bounce")?,
-                compact,
-                node("wave_args", "wave.wgsl", "wave_args_from_length", "one", "per bounce")?,
-                node("accumulate", "accumulate.wgsl", "wf_accumulate", "jobs", "once")?,
-            ],
-        };
+        let graph = pass_graph(&used_by)?;
         Ok(Wavefront {
             graph,
             generate: pass("wf_generate")?,
@@ -381,4 +369,35 @@ impl Wavefront {
     pub fn overflow_counter(&self) -> &wgpu::Buffer {
         &self.wave
     }
+}
+
+/// The (group, binding) pairs an entry point uses.
+type BindingsOf<'a> = dyn Fn(&str) -> Result<Vec<(u32, u32)>, String> + 'a;
+
+/// The wave's pass graph, each pass's buffers from `used_by` (naga's bindings of an entry point).
+fn pass_graph(used_by: &BindingsOf) -> Result<PassGraph, String> {
+    let node = |name, wgsl: &'static str, entry: &'static str, dispatch, repeat| -> Result<GraphPass, String> {
+        let buffers = used_by(entry)?.into_iter().map(|(g, b)| buffer_name(g, b)).collect();
+        Ok(GraphPass { name, wgsl, entry: Some(entry), buffers, dispatch, repeat })
+    };
+    let compact = GraphPass {
+        name: "compact",
+        wgsl: "gpu/prims",
+        entry: None,
+        buffers: vec!["queue", "path flags", "scan offsets", "other queue"],
+        dispatch: "host",
+        repeat: "per bounce",
+    };
+    let graph = PassGraph {
+        passes: vec![
+            node("generate", "generate.wgsl", "wf_generate", "jobs", "once")?,
+            node("wave_start", "wave.wgsl", "wave_start", "one", "once")?,
+            node("intersect", "intersect.wgsl", "wf_intersect", "queue", "per bounce")?,
+            node("shade", "shade.wgsl", "wf_shade", "queue", "per bounce")?,
+            compact,
+            node("wave_args", "wave.wgsl", "wave_args_from_length", "one", "per bounce")?,
+            node("accumulate", "accumulate.wgsl", "wf_accumulate", "jobs", "once")?,
+        ],
+    };
+    Ok(graph)
 }

@@ -3,6 +3,11 @@
 // path_step (environment or emission, next-event estimation with its shadow rays, the
 // BSDF sample, Russian roulette); the flag says whether the path stays in the queue.
 
+#import baker::bindings::Hit
+#import baker::path::path_step
+#import baker::sequence::Sampler
+#import baker::wave::{PATH_DONE, WAVE_LENGTH, flat_id, hits, path_flags, path_keys, paths, queue, wave}
+
 @compute @workgroup_size(64)
 fn wf_shade(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let q = flat_id(gid, nwg);

@@ -1,6 +1,10 @@
-// ---- the wavefront's buffers (baker::wavefront; group 1) ----
+// wave.wgsl — the wavefront's buffers (group 1) and what every pass shares.
 // A wave: the jobs of one dispatch range, each job's samples one path in a slot of the
-// path pool. Composed after trace.wgsl (PathState, Hit, count_ray, …).
+// path pool.
+
+#define_import_path baker::wave
+
+#import baker::path::PathState
 
 // Per slot: the path's state between its segments, its last segment's hit (t as bits,
 // triangle), and its sampler (key, sample index).
@@ -39,16 +43,4 @@ fn write_wave_args() {
     wave_args[0] = max(x, 1u);
     wave_args[1] = select((groups + x - 1u) / max(x, 1u), 0u, groups == 0u);
     wave_args[2] = 1u;
-}
-
-// The first queue: the slots generate took (all of them; a full pool took none more).
-@compute @workgroup_size(1)
-fn wave_start() {
-    atomicStore(&wave[WAVE_LENGTH], min(atomicLoad(&wave[WAVE_SLOTS]), arrayLength(&paths)));
-    write_wave_args();
-}
-
-@compute @workgroup_size(1)
-fn wave_args_from_length() {
-    write_wave_args();
 }

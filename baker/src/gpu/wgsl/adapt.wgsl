@@ -5,12 +5,14 @@
 // one with probability λ − ⌊λ⌋ by its own Sobol' stream), then the texels with samples
 // are compacted (gpu_prims) and batch_args writes the indirect dispatch.
 
+#import baker::sequence::group_point
+
 struct AdaptParams {
     seed: u32,
     sampler: u32,
     items: u32,
     tiles: u32,
-    pad0: u32,
+    pad_a: u32,
     fraction: f32,
     floor: f32,
     max_per_batch: f32,

@@ -12,8 +12,8 @@ struct CameraParams {
     image_height: u32,
     items: u32,
     max_per_batch: u32,
-    pad0: u32,
-    pad1: u32,
+    pad_a: u32,
+    pad_b: u32,
 }
 
 const NO_TEXEL: u32 = 0xffffffffu;

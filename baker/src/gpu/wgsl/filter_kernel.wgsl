@@ -1,3 +1,5 @@
+#define_import_path baker::filter_kernel
+
 // The gather's separable reconstruction filters (baker::gpu_prims::GatherFilter::weight_1d,
 // the same f32 steps): the 1D weight at offset d for radius r; kernel 0 box (1 inside r),
 // 1 Gaussian (σ = r/2, shifted to 0 at r), 2 Mitchell–Netravali (B = C = 1/3) over

@@ -1,3 +1,8 @@
+#define_import_path baker::guide
+
+#import baker::bindings::P
+#import sbf::runtime::{INV_PI, PI}
+
 // ---- first-bounce ray guiding (baker::guiding; seed 003) ----
 // Bindings of the guided bake: per item three learning records of this pass (point
 // sample, emitter sample, environment sample: bin and bits of the value; bin 0xffffffff:
@@ -5,6 +10,13 @@
 // guide_build.wgsl).
 @group(0) @binding(9) var<storage, read_write> guide_rec: array<vec2<u32>>;
 @group(0) @binding(10) var<storage, read> guide_dist: array<f32>;
+
+// The share of point samples drawn from the learned distributions
+// (baker::sampling::guiding::GuidingOptions::guided_fraction), the shader def
+// GUIDED_FRACTION_BITS as f32 bits (a constant the driver folds).
+fn guided_fraction() -> f32 {
+    return bitcast<f32>(#{GUIDED_FRACTION_BITS}u);
+}
 
 const GUIDE_BINS: u32 = 16u;
 const GUIDE_CDF_LEN: u32 = 272u;
@@ -110,7 +122,7 @@ fn guide_pdf(c: u32, local: vec3<f32>) -> f32 {
     let row = at + y * GUIDE_BINS;
     let pb = (guide_dist[marg + y] - guide_below(marg, y)) * (guide_dist[row + x] - guide_below(row, x));
     let guided = pb * f32(GUIDE_BINS * GUIDE_BINS) * 0.5 * INV_PI;
-    return (1.0 - GUIDED_FRACTION) * 0.5 * INV_PI + GUIDED_FRACTION * guided;
+    return (1.0 - guided_fraction()) * 0.5 * INV_PI + guided_fraction() * guided;
 }
 
 // Clears item i's learning records of this pass (a rejected sample records nothing).

@@ -1,5 +1,7 @@
 // One thread per cluster adds this pass's records of its items, in item order (three per
 // item): the same sums on every run (no atomics).
+#import baker::guide_common::{BINS, BIN_COUNT, CDF_LEN, G, cluster_items, guide_dist, guide_rec, guide_sums, relax, rows, value}
+
 @compute @workgroup_size(64)
 fn guide_gather(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     let c = gid.x + gid.y * nwg.x * 64u;

@@ -3,6 +3,8 @@
 // without `enable subgroups;`; the device needs `Features::SUBGROUP`). Used where
 // every subgroup holds whole rows: sizes ≥ 16 (the host checks the adapter's minimum), a
 // row being 16 consecutive invocations of the 1D workgroup.
+#import baker::guide_common::{BINS, BIN_COUNT, CDF_LEN, G, guide_dist, relax, rows}
+
 
 @compute @workgroup_size(256)
 fn guide_build(

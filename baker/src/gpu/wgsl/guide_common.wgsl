@@ -2,11 +2,13 @@
 // the gather, the workgroup build (guide_build.wgsl) and the subgroup build
 // (guide_build_subgroup.wgsl).
 
+#define_import_path baker::guide_common
+
 struct GuideParams {
     cluster_count: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    pad_a: u32,
+    pad_b: u32,
+    pad_c: u32,
 }
 
 @group(0) @binding(0) var<uniform> G: GuideParams;

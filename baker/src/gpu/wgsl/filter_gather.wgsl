@@ -13,58 +13,17 @@
 // uniform passes; once, each neighbour's samples in order, for a batch — each record
 // weighted by the separable filter of its position's offset from the target's centre
 // into the target's own encoders (weight × filter weight) and weighted Welford moments.
-// Generated per bake: filter_store_q/filter_load_q (Q_k ↔ record), filtered_load and
-// filtered_store (a target's encoder states ↔ private variables, once per dispatch) and
-// encode_filtered (the bake's encoder update on them).
+// The encoders' side (Q_k ↔ record, a target's states ↔ private variables, the update on
+// them) is in bases.wgsl.
 
-struct FilterParams {
-    width: u32,
-    height: u32,
-    target_count: u32,
-    kernel: u32,
-    radius: f32,
-    reach: u32,
-    passes: u32,
-    charts_offset: u32,
-    items_offset: u32,
-    row: u32,
-    // Records per item, and 1 while gathering a batch (0: uniform passes).
-    slots: u32,
-    batch: u32,
-    // Items in the bake (records are stored component-major: component c of slot s of
-    // item i at (c·slots + s)·items + i, so a warp's stores and loads are contiguous).
-    items: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
-}
 
-@group(0) @binding(14) var<storage, read_write> fsamples: array<vec4<f32>>;
-@group(0) @binding(15) var<storage, read_write> fstates: array<EncoderState>;
-// Per target: (mean.xyz, Σw), (M2.xyz, Σw²), (samples, negative-weight samples, 0, 0).
-@group(0) @binding(16) var<storage, read_write> fmoments: array<vec4<f32>>;
-// The gather targets' atlas ids, then per atlas texel its chart, then its item.
-@group(0) @binding(17) var<storage, read> ftables: array<u32>;
-@group(0) @binding(18) var<uniform> FP: FilterParams;
-
-const FILTER_NONE: u32 = 0xffffffffu;
-
-// The record of pass fv.pass_index of item i; w = 0 marks a sample that is not gathered
-// (back face, not finite).
-fn filter_record(i: u32, fv: FirstVertex, l: vec3<f32>, e: vec3<f32>, w: f32) {
-    var slot = fv.pass_index - P.pass_index;
-    if (P.batch_mode == 1u) {
-        slot = fv.pass_index % FP.slots;
-    }
-    let at = slot * FP.items + i;
-    let plane = FP.slots * FP.items;
-    fsamples[at] = vec4<f32>(fv.local, w);
-    fsamples[at + plane] = vec4<f32>(l, fv.uv.x);
-    fsamples[at + 2u * plane] = vec4<f32>(e, fv.uv.y);
-    if (w > 0.0) {
-        filter_store_q(at, plane);
-    }
-}
+#import baker::bases::{encode_filtered, filter_load_q, filtered_load, filtered_store}
+#import baker::bindings::moments
+#import baker::filter_bindings::{FILTER_NONE, FP, fmoments, fsamples, ftables}
+#import baker::filter_kernel::filter_kernel_1d
+#ifdef BATCH
+#import baker::jobs::batch_samples_of
+#endif
 
 @compute @workgroup_size(64)
 fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
@@ -96,11 +55,13 @@ fn filter_gather(@builtin(local_invocation_id) lid: vec3<u32>, @builtin(workgrou
                 // in order — its first is its sample count before the batch.
                 var first = q;
                 var count = 1u;
+#ifdef BATCH
                 if (FP.batch == 1u) {
                     count = batch_samples_of(item);
                     let had = moments[3u * item].w + moments[3u * item + 1u].w + moments[3u * item + 2u].x;
                     first = u32(had) - count;
                 }
+#endif
                 for (var s = 0u; s < count; s++) {
                     let at = ((first + s) % FP.slots) * FP.items + item;
                     let r0 = fsamples[at];
