@@ -115,7 +115,7 @@ pub struct BakeConfig {
 /// sample numbers, so the choice changes the time, not the bake.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Pipeline {
-    /// One kernel, one thread per job through whole paths (`trace.wgsl`'s `bake_pass`).
+    /// One kernel, one thread per job through whole paths (`megakernel.wgsl`'s `bake_pass`).
     #[default]
     Megakernel,
     /// Generate, then per bounce intersect, shade and compact the active paths, then

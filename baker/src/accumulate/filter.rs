@@ -19,7 +19,7 @@
 //! divides by it), so samples whose weight is ≤ 0 are not gathered; bake.json says so and
 //! counts them. Box and Gaussian weights are never negative.
 //!
-//! CPU here ([`gather_batch`]); the GPU twin is `wgsl/filter.wgsl`.
+//! CPU here ([`gather_batch`]); the GPU twin is `gpu/wgsl/filter_gather.wgsl`.
 
 use crate::accumulate::{ItemSample, Targets};
 use crate::layout::lightmap::NO_CHART;

@@ -5,7 +5,7 @@
 //! samples into the batch's item list (prefix sum + scatter, [`crate::gpu::prims`]) and the indirect dispatch
 //! arguments from its length. The bake kernel then runs the batch by
 //! `dispatch_workgroups_indirect`, each thread taking one listed texel through its samples
-//! from its own sample index (`wgsl/adapt_batch.wgsl`). Nothing is read back between batches, and nothing is
+//! from its own sample index (`wgsl/jobs.wgsl` with the shader def BATCH). Nothing is read back between batches, and nothing is
 //! allocated per batch: the batch index lives on the GPU (advanced by each batch), so a
 //! run of batches is recorded into one submission.
 //!

@@ -1,13 +1,14 @@
-//! The wgpu path: the same estimator as [`crate::estimator::trace`] in WGSL (`wgsl/trace.wgsl`),
-//! traversing the CPU-built BVH nodes, one path per item and pass, each sample fed to
-//! the `shaders` crate's `progressive_update` for every configured basis.
+//! The wgpu path: the same estimator as [`crate::estimator::trace`] in WGSL (`wgsl/path.wgsl`
+//! and the modules it imports), traversing the CPU-built BVH nodes, one path per item and
+//! pass, each sample fed to the `shaders` crate's `progressive_update` for every
+//! configured basis.
 //!
-//! The kernel is composed per bake: the `shaders` items it calls (the encoder, the
-//! configured bases' evaluators, the GGX terms only when a material is glossy) plus a
-//! generated part (SG lobe tables, per-basis `basis_k` and the `encode` function with
-//! each basis's encoder options as constants). What was left out is reported.
+//! The shaders are composed per bake from modules ([`super::kernel`]): only the entry
+//! shaders the bake runs, with only what its configuration needs (the configured bases,
+//! the GGX layer when a material is glossy, guiding, batches, filtering). What was left
+//! out is reported.
 //!
-//! Random numbers: the same sequences as the CPU's ([`crate::sampling::sequence`], `wgsl/sampler.wgsl`,
+//! Random numbers: the same sequences as the CPU's ([`crate::sampling::sequence`], `wgsl/sequence.wgsl`,
 //! bit for bit); the estimator runs in f32 (the CPU's partly in f64), so CPU and GPU bakes
 //! agree statistically, not bit for bit (the CPU↔GPU test checks means within 4σ).
 

@@ -1,4 +1,4 @@
-//! Filtered gather-based accumulation on the GPU (seed 004 §3.2; `wgsl/filter.wgsl`): the
+//! Filtered gather-based accumulation on the GPU (seed 004 §3.2; `wgsl/filter_gather.wgsl`, `wgsl/filter_bindings.wgsl`): the
 //! record buffer the bake kernel writes (one record per item and pass of a dispatch), the
 //! gather targets' encoder states and weighted moments, and the gather pass recorded after
 //! each dispatch's last range. The CPU twin is [`crate::accumulate::filter::gather_batch`].
@@ -12,7 +12,7 @@ use wgpu::util::DeviceExt;
 /// [`crate::accumulate::filter::GatherFilter`]'s; its CPU twin is `GatherFilter::weight_1d`).
 pub const FILTER_KERNEL_WGSL: &str = include_str!("wgsl/filter_kernel.wgsl");
 
-/// `FilterParams` of `wgsl/filter.wgsl`.
+/// `FilterParams` of `wgsl/filter_bindings.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct FilterParams {
@@ -73,7 +73,7 @@ pub struct FilterGpu {
 }
 
 /// Bytes of one record: 3 vec4 of header, then a vec4 per lobe of every basis (stored
-/// component-major: `wgsl/filter.wgsl`).
+/// component-major: `wgsl/item.wgsl`'s `filter_record`).
 pub fn record_bytes(config: &BakeConfig) -> u64 {
     16 * (3 + config.bases.iter().map(|b| b.basis().len()).sum::<usize>()) as u64
 }

@@ -104,7 +104,7 @@ shaders::gpu_struct!(
 shaders::gpu_struct!(crate::scene::bvh::Node, "Node", [min, left_first, max, count]);
 shaders::gpu_struct!(crate::scene::bvh::Tri, "Tri", [corner, material, edge_u, mesh, edge_v, prim]);
 
-/// Offsets (in vec4s) of the parts of `aux` (see trace.wgsl).
+/// Offsets (in vec4s) of the parts of `aux` (see bindings.wgsl).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct AuxLayout {
     pub(crate) lights: u32,
@@ -117,7 +117,7 @@ pub(crate) struct AuxLayout {
 }
 
 /// Materials, lights, emitters, the environment map and its sampler packed as vec4s
-/// (see `aux` in trace.wgsl).
+/// (see `aux` in bindings.wgsl).
 pub(crate) fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, AuxLayout) {
     let mut aux = Vec::new();
     let mut at = AuxLayout::default();

@@ -22,7 +22,7 @@
 //! index mod 2^k would fix the first k digits of dimension 0).
 //! [`Sequence::Independent`]: hashed white noise in the same layout, for comparisons.
 //!
-//! The WGSL twin (`wgsl/sampler.wgsl`) computes the same 32-bit values.
+//! The WGSL twin (`gpu/wgsl/sequence.wgsl`) computes the same 32-bit values.
 
 use sbf::sampling::sobol::{hash_combine, owen_sobol4_u32, pcg_hash};
 

@@ -110,7 +110,7 @@ pub fn shadow_ray(l: &Light, o: Vec3) -> (Vec3, f32) {
 /// "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6):
 /// 256 ulps of each coordinate along n, so the offset scales with the position's
 /// magnitude (≈ 3e-5 at 1 unit, 3e-3 at 100), and 1/65536 of n near the origin. The
-/// WGSL twin is `offset_ray` in trace.wgsl.
+/// WGSL twin is `offset_ray` in gpu/wgsl/lights.wgsl.
 pub fn offset_ray(p: Vec3, n: Vec3) -> Vec3 {
     const ORIGIN: f32 = 1.0 / 32.0;
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;

@@ -1,7 +1,7 @@
 //! # The wavefront pipeline (seed 004 §3.1, §5.1)
 //!
 //! A pass split breadth first: instead of one thread taking its texel through a whole
-//! path (the megakernel, `trace.wgsl`'s `bake_pass`), every stage of every path of a
+//! path (the megakernel, `megakernel.wgsl`'s `bake_pass`), every stage of every path of a
 //! **wave** — the jobs of one dispatch range, each job an item and its samples — runs as
 //! its own kernel over the paths still alive, so that short and long paths no longer share
 //! a thread's lifetime. The pass graph of one wave, recorded by [`Wavefront::record`]:
@@ -15,7 +15,7 @@
 //! |---|---|---|---|
 //! | generate | `generate.wgsl` | per job: its samples take consecutive slots of the path pool (workgroup scan, one atomic per workgroup), each slot the first segment of its point sample's path | `Tracer::sample_point` |
 //! | wave_start, wave_args | `wave.wgsl` | the queue's length and the indirect dispatch arguments (2D) | — |
-//! | intersect | `intersect.wgsl` | per active path: closest hit of its segment (the BVH traversal of `trace.wgsl`) | `Bvh::intersect` |
+//! | intersect | `intersect.wgsl` | per active path: closest hit of its segment (the BVH traversal of `traverse.wgsl`) | `Bvh::intersect` |
 //! | shade | `shade.wgsl` | per active path: `path_step` — environment or emission (MIS), next-event estimation with its shadow rays, the BSDF sample, Russian roulette; a flag per queue position says whether the path goes on | `Tracer::path` |
 //! | compact | [`crate::gpu::prims`] | the queue's surviving paths, order kept: flags → exclusive prefix sum (multi-level, subgroup or workgroup block scan) → scatter into the other queue of the ping-pong pair | [`crate::gpu::prims::compact_cpu`] |
 //! | accumulate | `accumulate.wgsl` | per job, its samples in order (the progressive encoder's ordering, §7.3.1): `finish_item` — the light samples at the baked point, moments, encoders, guiding records | `Targets::item_sample` |

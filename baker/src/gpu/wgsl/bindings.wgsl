@@ -69,7 +69,7 @@ struct TraceParams {
     pass_count: u32,
     // Sample sequences (baker::sampler::Sequence::code): 0 Sobol', 1 independent.
     sampler: u32,
-    // 1: this dispatch runs an adaptive batch (its items listed by adapt_batch.wgsl).
+    // 1: this dispatch runs an adaptive batch (its items listed by jobs.wgsl, BATCH).
     batch_mode: u32,
     pad_b: u32,
     pad_c: u32,

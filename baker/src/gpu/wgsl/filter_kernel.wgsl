@@ -3,7 +3,7 @@
 // The gather's separable reconstruction filters (baker::gpu_prims::GatherFilter::weight_1d,
 // the same f32 steps): the 1D weight at offset d for radius r; kernel 0 box (1 inside r),
 // 1 Gaussian (σ = r/2, shifted to 0 at r), 2 Mitchell–Netravali (B = C = 1/3) over
-// [−r, r], negative lobes included. Shared by gather.wgsl and the bake's filter.wgsl.
+// [−r, r], negative lobes included. Used by the filter's gather (filter_gather.wgsl).
 fn filter_kernel_1d(kernel: u32, r: f32, d: f32) -> f32 {
     let a = abs(d);
     switch kernel {

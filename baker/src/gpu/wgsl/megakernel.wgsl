@@ -10,7 +10,7 @@
 
 // One pass: one point sample per item (texel or probe) plus its light samples, added to
 // the moments and to every configured basis's progressive encoder (`encode` and
-// `project`, generated per bake). CPU twin: Tracer::sample_point + Targets::item_sample.
+// `project`, bases.wgsl). CPU twin: Tracer::sample_point + Targets::item_sample.
 // The megakernel: each thread takes its job through whole paths.
 @compute @workgroup_size(64)
 fn bake_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
