@@ -8,6 +8,8 @@
 // SLOT_k_DENOMINATOR, SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds
 // in baker::accumulate::BasisKind order: 0 sh1, 1 sh2, 2 sg9, 3 sg12, 4 ad9, 5 ad12.
 // FILTERED adds the same updates on a gather target's states (filter_gather.wgsl).
+// The six slots are spelled out (WGSL has no macros, and a loop over a runtime slot list
+// would make each encoder's parameters run-time values instead of constants).
 
 #define_import_path baker::bases
 
