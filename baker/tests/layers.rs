@@ -1,6 +1,6 @@
 //! The crate's shape, checked on its source: every layer (a folder of `src/`) imports only
 //! the layers below it (the table in `src/lib.rs`), no two modules of a layer import each
-//! other in a cycle, and no source file grows past 600 lines.
+//! other in a cycle, and no source file (Rust or WGSL) grows past 600 lines.
 //!
 //! Imports are read from code, not comments: every `crate::a::b` path and every
 //! `super::` path, resolved to the deepest module file that exists. Mutations tried: a
@@ -191,10 +191,23 @@ fn no_import_cycle_between_modules() {
     assert!(cycles.is_empty(), "import cycles:\n{}", cycles.join("\n"));
 }
 
+/// Every `.wgsl` file under `dir`, sorted.
+fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            wgsl_files(&p, out);
+        } else if p.extension().is_some_and(|e| e == "wgsl") {
+            out.push(p);
+        }
+    }
+}
+
 #[test]
 fn no_source_file_is_too_long() {
     let mut files = Vec::new();
     rust_files(&src(), &mut files);
+    wgsl_files(&src(), &mut files);
     let long: Vec<String> = files
         .iter()
         .map(|f| (f, std::fs::read_to_string(f).unwrap().lines().count()))
