@@ -3,7 +3,7 @@
 //! What a bake is asked to do ([`config`]), what it samples ([`targets`]: texels or
 //! probes), the state both paths fill ([`state`]: moments, progressive encoders, guiding
 //! sums, the filtered state), and the CPU bake that fills it ([`bake`]: progressive passes
-//! of the reference estimator). The strategies that decide which items take samples and
+//! of the reference estimator) behind the interface every engine offers ([`progressive`]). The strategies that decide which items take samples and
 //! where the samples go: adaptive sampling ([`adaptive`]), camera-based sampling
 //! ([`camera`]) and filtered gather-based accumulation ([`filter`]). The GPU layer keeps
 //! the same state with the same updates, so a GPU bake is tested against this one.
@@ -15,10 +15,12 @@ pub mod bake;
 pub mod camera;
 pub mod config;
 pub mod filter;
+pub mod progressive;
 pub mod state;
 pub mod targets;
 
 pub use bake::Bake;
 pub use config::{BakeConfig, BasisKind, Pipeline, Solver, BAKE_ACCELERATION, SG_HEMISPHERE_SHARPNESS};
+pub use progressive::Progressive;
 pub use state::{BakeState, ItemSample, Moments, MAX_BACK_FACE_FRACTION};
 pub use targets::{Targets, TILE};

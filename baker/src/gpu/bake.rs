@@ -546,3 +546,15 @@ fn megakernel(d: &wgpu::Device, module: &wgpu::ShaderModule, entries: &[wgpu::Bi
     let group = d.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("bake"), layout: &p.get_bind_group_layout(0), entries });
     (p, group)
 }
+
+impl crate::accumulate::Progressive for GpuBake<'_> {
+    fn run(&mut self, n: u64) -> Result<(), String> {
+        GpuBake::run(self, n)
+    }
+    fn state(&self) -> Result<crate::accumulate::BakeState, String> {
+        GpuBake::state(self)
+    }
+    fn passes(&self) -> u64 {
+        self.passes
+    }
+}

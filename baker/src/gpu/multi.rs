@@ -151,3 +151,15 @@ impl<'g> MultiGpuBake<'g> {
         self.bakes.iter_mut().try_for_each(|b| b.upload(state))
     }
 }
+
+impl crate::accumulate::Progressive for MultiGpuBake<'_> {
+    fn run(&mut self, n: u64) -> Result<(), String> {
+        MultiGpuBake::run(self, n)
+    }
+    fn state(&self) -> Result<BakeState, String> {
+        MultiGpuBake::state(self)
+    }
+    fn passes(&self) -> u64 {
+        MultiGpuBake::passes(self)
+    }
+}

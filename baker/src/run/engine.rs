@@ -2,42 +2,11 @@
 //! with ETA, a checkpoint every N passes, resume from a checkpoint.
 
 use super::Options;
-use crate::accumulate::{Bake, BakeConfig, BakeState, Targets};
+use crate::accumulate::{Bake, BakeConfig, BakeState, Progressive, Targets};
 use crate::checkpoint;
 use crate::estimator::trace::Tracer;
 use crate::gpu::multi::MultiGpuBake;
 use crate::scene::Scene;
-
-pub(crate) enum Engine<'a> {
-    Cpu(Box<Bake<'a>>),
-    Gpu(Box<MultiGpuBake<'a>>),
-}
-
-impl Engine<'_> {
-    fn run(&mut self, n: u64) -> Result<(), String> {
-        match self {
-            Engine::Cpu(b) => {
-                for _ in 0..n {
-                    b.pass();
-                }
-                Ok(())
-            }
-            Engine::Gpu(g) => g.run(n),
-        }
-    }
-    fn state(&self) -> Result<BakeState, String> {
-        match self {
-            Engine::Cpu(b) => Ok(b.state.clone()),
-            Engine::Gpu(g) => g.state(),
-        }
-    }
-    fn passes(&self) -> u64 {
-        match self {
-            Engine::Cpu(b) => b.state.passes,
-            Engine::Gpu(g) => g.passes(),
-        }
-    }
-}
 
 /// Runs passes on `targets` with progress, checkpoints and resume; returns the state.
 #[allow(clippy::too_many_arguments)]
@@ -67,8 +36,8 @@ pub(crate) fn run_targets<'s>(
     };
     let mut engine = match gpus {
         [] => match saved {
-            Some(st) => Engine::Cpu(Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?)),
-            None => Engine::Cpu(Box::new(Bake::new(config.clone(), targets, tracer_of()))),
+            Some(st) => Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?) as Box<dyn Progressive>,
+            None => Box::new(Bake::new(config.clone(), targets, tracer_of())),
         },
         gpus => {
             let mut b = MultiGpuBake::new(gpus, tracer_of, targets, config)?;
@@ -89,7 +58,7 @@ pub(crate) fn run_targets<'s>(
             if let Some(st) = &saved {
                 b.upload(st)?;
             }
-            Engine::Gpu(Box::new(b))
+            Box::new(b)
         }
     };
     // Adaptive bakes count pilot passes and batches (about the paths of o.passes passes).
