@@ -410,14 +410,63 @@ fn wavefront_pass_times_cover_the_pass_graph() {
 /// The pass graph names the passes in the order a wave runs them, and the buffers naga
 /// finds each entry point binding are those its stage needs: tracing binds the BVH and not
 /// the encoder states, only accumulate binds the encoder states, generate and shade bind
-/// the path pool, only shade writes the compaction's flags. Mutations tried: intersect's
-/// entry point swapped for shade's, and the names of bindings 0:1 and 0:3 swapped — both
-/// fail.
+/// the path pool, only shade writes the compaction's flags; the entry points are the
+/// graph's, and each binding's name is the variable the kernel declares there. Mutations
+/// tried: intersect's entry point swapped for shade's, wave_start's for
+/// wave_args_from_length, the names of bindings 0:1 and 0:3 swapped, and of "moments" and
+/// "encoder states" — each fails.
 fn check_pass_graph(g: &baker::gpu::wavefront::graph::PassGraph) {
     let printed = g.to_string();
     println!("{printed}");
     let names: Vec<&str> = g.passes.iter().map(|p| p.name).collect();
     assert_eq!(names, ["generate", "wave_start", "intersect", "shade", "compact", "wave_args", "accumulate"]);
+    let entries: Vec<Option<&str>> = g.passes.iter().map(|p| p.entry).collect();
+    assert_eq!(
+        entries,
+        [
+            Some("wf_generate"),
+            Some("wave_start"),
+            Some("wf_intersect"),
+            Some("wf_shade"),
+            None,
+            Some("wave_args_from_length"),
+            Some("wf_accumulate")
+        ]
+    );
+    // Every name the graph gives a binding is the variable the kernel declares there.
+    let k = kernel(&BakeConfig { pipeline: Pipeline::Wavefront, ..Default::default() }, false, true).unwrap();
+    let declared = |wanted: &str| -> Vec<(u32, u32)> {
+        let mut at = Vec::new();
+        for (_, src) in &k.shaders {
+            let lines: Vec<&str> = src.lines().collect();
+            for (i, line) in lines.iter().enumerate().filter(|(_, l)| l.starts_with("@group(")) {
+                let num = |key: &str| line.split(key).nth(1).and_then(|r| r.split(')').next()).and_then(|n| n.parse::<u32>().ok());
+                // naga writes the attributes and the declaration on one line or two.
+                let decl = if line.contains("var") { *line } else { lines.get(i + 1).copied().unwrap_or("") };
+                let var = decl.split_once('>').map_or("", |x| x.1).split(':').next().unwrap_or("").trim().to_string();
+                if var == wanted {
+                    at.push((num("@group(").unwrap(), num("@binding(").unwrap()));
+                }
+            }
+        }
+        at.sort_unstable();
+        at.dedup();
+        at
+    };
+    for (var, name) in [
+        ("moments", "moments"),
+        ("states", "encoder states"),
+        ("nodes", "bvh nodes"),
+        ("tris", "triangles"),
+        ("aux", "scene data"),
+        ("paths", "paths"),
+        ("jobs", "jobs"),
+        ("queue", "queue"),
+    ] {
+        let at = declared(var);
+        assert_eq!(at.len(), 1, "{var} declared at {at:?}");
+        assert_eq!(baker::gpu::wavefront::graph::buffer_name(at[0].0, at[0].1), name, "binding of {var}");
+    }
     let binds = |pass: &str, buffer: &str| g.passes.iter().find(|p| p.name == pass).unwrap().buffers.contains(&buffer);
     for (pass, buffer, want) in [
         ("intersect", "bvh nodes", true),
@@ -435,6 +484,8 @@ fn check_pass_graph(g: &baker::gpu::wavefront::graph::PassGraph) {
         ("accumulate", "moments", true),
         ("wave_args", "encoder states", false),
         ("wave_args", "wave args", true),
+        ("wave_args", "paths", false),
+        ("wave_start", "paths", true),
     ] {
         assert_eq!(binds(pass, buffer), want, "{pass} binding {buffer}: expected {want}\n{printed}");
     }

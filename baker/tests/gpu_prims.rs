@@ -172,3 +172,18 @@ fn tile_index_equals_its_twin_and_inverts() {
         }
     }
 }
+
+/// The primitives' entry shaders compose with both block-scan variants and validate (the
+/// subgroup variant with naga's subgroup capability) — on any machine, no device needed.
+#[test]
+fn primitive_shaders_compose_in_both_variants() {
+    let [(scan_wg, scan_sg), (sort_wg, sort_sg)] = baker::gpu::prims::block_scan_sources().unwrap();
+    for (what, src) in [("scan", &scan_wg), ("sort", &sort_wg)] {
+        shaders::export::validate(src).unwrap_or_else(|e| panic!("{what} (workgroup): {e}"));
+        assert!(!src.contains("subgroupInclusiveAdd"), "{what}: the workgroup variant uses subgroups");
+    }
+    for (what, src) in [("scan", &scan_sg), ("sort", &sort_sg)] {
+        shaders::export::validate_subgroups(src).unwrap_or_else(|e| panic!("{what} (subgroups): {e}"));
+        assert!(src.contains("subgroupInclusiveAdd"), "{what}: the subgroup variant has no subgroup scan");
+    }
+}

@@ -2,8 +2,9 @@
 //! the layers below it (the table in `src/lib.rs`), no two modules of a layer import each
 //! other in a cycle, and no source file (Rust or WGSL) grows past 600 lines.
 //!
-//! Imports are read from code, not comments: every `crate::a::b` path and every
-//! `super::` path, resolved to the deepest module file that exists. Mutations tried: a
+//! Imports are read from code, not comments: every `crate::…` and `super::…` path, braced
+//! use groups included (`the_import_parser_reads_every_form`), resolved to the deepest
+//! module file that exists. Mutations tried: a
 //! `use crate::gpu::GpuBake;` added to `scene/bvh.rs` (an upward import), and
 //! `use super::probes::probe_grid;` in `layout/lightmap.rs` with
 //! `use super::lightmap::Lightmap;` in `layout/probes.rs` (a cycle inside a layer) —
@@ -69,33 +70,86 @@ fn code_of(text: &str) -> String {
     text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n")
 }
 
-/// Module paths of identifiers following `prefix` in `code` (`crate::` or `super::`),
-/// including braced lists one level deep (`crate::a::{b, c::D}`).
+/// Module paths named right after each `prefix` (`crate::` or `super::`) in `code`: a
+/// plain path (`a::b::C`) or a use tree with braces at any depth and whitespace or
+/// newlines anywhere (`{a::B, c::{d, e}}`); `self` in a group names the group's path.
 fn paths_after(code: &str, prefix: &str) -> Vec<Vec<String>> {
     let mut out = Vec::new();
-    let mut rest = code;
-    while let Some(i) = rest.find(prefix) {
-        let before = rest[..i].chars().last();
-        rest = &rest[i + prefix.len()..];
-        if before.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+    let mut at = 0;
+    while let Some(i) = code[at..].find(prefix) {
+        let start = at + i;
+        at = start + prefix.len();
+        // Not the tail of a longer path or identifier (`super::super::` is read from its
+        // first `super::`).
+        if code[..start].chars().next_back().is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
             continue;
         }
-        let path: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':').collect();
-        let mut base: Vec<String> = path.split("::").filter(|s| !s.is_empty()).map(String::from).collect();
-        if path.ends_with("::") && rest[path.len()..].starts_with('{') {
-            let list: String = rest[path.len() + 1..].chars().take_while(|c| *c != '}').collect();
-            for item in list.split(',') {
-                let mut p = base.clone();
-                p.extend(item.trim().split("::").filter(|s| !s.is_empty() && *s != "self").map(String::from));
-                out.push(p);
-            }
-            base.clear();
-        }
-        if !base.is_empty() {
-            out.push(base);
-        }
+        let mut rest = code[at..].chars().peekable();
+        out.extend(use_tree(&mut rest));
     }
     out
+}
+
+/// Parses one use tree (see [`paths_after`]) from `it`.
+fn use_tree(it: &mut std::iter::Peekable<std::str::Chars>) -> Vec<Vec<String>> {
+    let skip_ws = |it: &mut std::iter::Peekable<std::str::Chars>| {
+        while it.peek().is_some_and(|c| c.is_whitespace()) {
+            it.next();
+        }
+    };
+    let mut segs: Vec<String> = Vec::new();
+    loop {
+        skip_ws(it);
+        if it.peek() == Some(&'{') {
+            it.next();
+            let mut out = Vec::new();
+            loop {
+                skip_ws(it);
+                match it.peek() {
+                    Some('}') => {
+                        it.next();
+                        break;
+                    }
+                    Some(',') => {
+                        it.next();
+                    }
+                    None => break,
+                    _ => {
+                        let before = it.clone().count();
+                        for p in use_tree(it) {
+                            out.push(segs.iter().cloned().chain(p).collect());
+                        }
+                        if it.clone().count() == before {
+                            it.next(); // not a path: step over it
+                        }
+                    }
+                }
+            }
+            return out;
+        }
+        let ident: String = std::iter::from_fn(|| it.next_if(|c| c.is_alphanumeric() || *c == '_')).collect();
+        if ident.is_empty() {
+            break;
+        }
+        if ident == "self" {
+            // The group's own path (`a::{self, b}` names `a`).
+            return vec![segs];
+        }
+        segs.push(ident);
+        skip_ws(it);
+        let mut ahead = it.clone();
+        if ahead.next() == Some(':') && ahead.next() == Some(':') {
+            it.next();
+            it.next();
+        } else {
+            break;
+        }
+    }
+    if segs.is_empty() {
+        Vec::new()
+    } else {
+        vec![segs]
+    }
 }
 
 /// The module files a file imports (deepest existing module of each path), itself excluded.
@@ -106,7 +160,12 @@ fn imports(file: &Path) -> BTreeSet<Vec<String>> {
     let parent: Vec<String> = me[..me.len().saturating_sub(1)].to_vec();
     let mut out = BTreeSet::new();
     let absolute = paths_after(&code, "crate::").into_iter();
-    let relative = paths_after(&code, "super::").into_iter().map(|p| parent.iter().cloned().chain(p).collect::<Vec<_>>());
+    // `super::super::x` climbs once per `super`.
+    let relative = paths_after(&code, "super::").into_iter().map(|p| {
+        let ups = p.iter().take_while(|s| *s == "super").count();
+        let base = &parent[..parent.len().saturating_sub(ups)];
+        base.iter().cloned().chain(p.into_iter().skip(ups)).collect::<Vec<_>>()
+    });
     for p in absolute.chain(relative) {
         let mut m = p;
         while !m.is_empty() && !is_module(&m) {
@@ -215,4 +274,22 @@ fn no_source_file_is_too_long() {
         .map(|(f, n)| format!("{} ({n} lines)", f.display()))
         .collect();
     assert!(long.is_empty(), "files over {MAX_LINES} lines: {long:?}");
+}
+
+/// The import parser on the forms rustfmt and people write: plain paths, braced groups
+/// (nested, over several lines), `self`, `super::super::` chains, paths in expressions.
+#[test]
+fn the_import_parser_reads_every_form() {
+    let p = |code: &str, prefix: &str| paths_after(code, prefix);
+    let v = |s: &[&str]| s.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    assert_eq!(p("use crate::gpu::GpuBake;", "crate::"), [v(&["gpu", "GpuBake"])]);
+    assert_eq!(p("use crate::{gpu::GpuBake};", "crate::"), [v(&["gpu", "GpuBake"])]);
+    assert_eq!(
+        p("use crate::{\n    scene::Scene,\n    gpu::{GpuBake, self},\n};", "crate::"),
+        [v(&["scene", "Scene"]), v(&["gpu", "GpuBake"]), v(&["gpu"])]
+    );
+    assert_eq!(p("let b = crate::gpu::GpuBake::new(x);", "crate::"), [v(&["gpu", "GpuBake", "new"])]);
+    assert_eq!(p("use super::{probes::probe_grid};", "super::"), [v(&["probes", "probe_grid"])]);
+    assert_eq!(p("use super::super::gpu::GpuBake;", "super::"), [v(&["super", "gpu", "GpuBake"])]);
+    assert_eq!(p("x.super_thing(); my_crate::a", "crate::"), Vec::<Vec<String>>::new());
 }

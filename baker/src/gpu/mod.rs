@@ -12,6 +12,7 @@ pub mod adaptive;
 pub mod bake;
 pub mod buffers;
 pub mod camera;
+pub mod compose;
 pub mod encoders;
 pub mod filter;
 pub mod guide;

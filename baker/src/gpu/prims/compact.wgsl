@@ -1,6 +1,8 @@
 // Stream compaction: items whose flag is non-zero, in order, to the front of `outp`;
 // `offsets` is the exclusive prefix sum of the flags (scan.wgsl).
 
+#import prims::grid::GridParams
+
 @group(0) @binding(0) var<storage, read> items: array<u32>;
 @group(0) @binding(1) var<storage, read> flags: array<u32>;
 @group(0) @binding(2) var<storage, read> offsets: array<u32>;

@@ -11,11 +11,13 @@
 //! The scan is the classic multi-level one: each 256-element block is scanned in
 //! workgroup memory and writes its total; the totals are scanned the same way (recursively,
 //! one level per factor of 256), then added back level by level. The block scan (shared by
-//! the prefix sum and the radix sort's stable ranks) has two variants: subgroup
-//! (`subgroupInclusiveAdd` per subgroup plus the earlier subgroups' totals,
-//! `block_scan_subgroup.wgsl`) where the device has `Features::SUBGROUP`, and
-//! workgroup memory (Hillis–Steele, `block_scan.wgsl`) elsewhere; [`Prims::with_subgroups`]
-//! picks one explicitly so tests run both.
+//! the prefix sum and the radix sort's stable ranks) has two variants in one module,
+//! `block_scan.wgsl`, chosen by the shader def SUBGROUPS: subgroup (`subgroupInclusiveAdd`
+//! per subgroup plus the earlier subgroups' totals) where the device has
+//! `Features::SUBGROUP`, and workgroup memory (Hillis–Steele) elsewhere;
+//! [`Prims::with_subgroups`] picks one explicitly so tests run both. The entry shaders
+//! (`scan`, `compact`, `offsets`, `sort`) import it and `grid_params.wgsl` through the
+//! composer ([`crate::gpu::compose`]).
 //! Dispatches are 2D (≤ 65 535 workgroups per row).
 //!
 //! [`Prims`] compiles the scan and the compaction (the wavefront pipeline and adaptive
@@ -168,22 +170,32 @@ pub struct Prims {
     scatter: wgpu::ComputePipeline,
 }
 
-/// The workgroup block scan of the prefix sum and the radix sort: subgroup or
-/// workgroup-memory variant.
-fn block_scan_source(subgroups: bool) -> &'static str {
+/// Composes a primitive's entry shader (`file`, `source`) with the block scan's variant:
+/// subgroup operations or workgroup memory.
+fn shader(file: &str, source: &str, subgroups: bool) -> Result<String, String> {
+    use crate::gpu::compose::{add_module, compose, composer, Defs};
+    let mut c = composer();
+    add_module(&mut c, "grid_params.wgsl", include_str!("grid_params.wgsl"), None)?;
+    add_module(&mut c, "block_scan.wgsl", include_str!("block_scan.wgsl"), None)?;
+    let mut defs = Defs::new();
     if subgroups {
-        include_str!("block_scan_subgroup.wgsl")
-    } else {
-        include_str!("block_scan.wgsl")
+        defs.insert("SUBGROUPS".into(), naga_oil::compose::ShaderDefValue::Bool(true));
     }
+    compose(&mut c, (file, source), &defs)
 }
 
 /// The WGSL of the prefix sum and the radix sort, for validation: (workgroup variant,
 /// subgroup variant) of each.
-pub fn block_scan_sources() -> [(String, String); 2] {
-    let scan = |sg| format!("{}{}{}", include_str!("grid_params.wgsl"), block_scan_source(sg), include_str!("scan.wgsl"));
-    let sort = |sg| format!("{}{}", block_scan_source(sg), include_str!("sort.wgsl"));
-    [(scan(false), scan(true)), (sort(false), sort(true))]
+pub fn block_scan_sources() -> Result<[(String, String); 2], String> {
+    let both =
+        |file: &str, source: &str| -> Result<(String, String), String> { Ok((shader(file, source, false)?, shader(file, source, true)?)) };
+    Ok([both("scan.wgsl", include_str!("scan.wgsl"))?, both("sort.wgsl", include_str!("sort.wgsl"))?])
+}
+
+/// A primitive's composed WGSL: the sources are this crate's and their composition is
+/// tested (`primitive_shaders_compose_in_both_variants` in `tests/gpu_prims.rs`), so a failure is a build defect.
+pub(crate) fn composed(file: &str, source: &str, subgroups: bool) -> String {
+    shader(file, source, subgroups).unwrap_or_else(|e| panic!("the GPU primitives' WGSL does not compose: {e}"))
 }
 
 impl Prims {
@@ -195,14 +207,13 @@ impl Prims {
     /// The kernels with the subgroup (`true`, the device must have `Features::SUBGROUP`) or
     /// the workgroup-memory block scan — tests run both where they can.
     pub fn with_subgroups(d: &wgpu::Device, subgroups: bool) -> Prims {
-        let [(scan_wg, scan_sg), _] = block_scan_sources();
         let scan = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scan.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(if subgroups { scan_sg } else { scan_wg }.into()),
+            source: wgpu::ShaderSource::Wgsl(composed("scan.wgsl", include_str!("scan.wgsl"), subgroups).into()),
         });
         let compact = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("compact.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("grid_params.wgsl"), include_str!("compact.wgsl")).into()),
+            source: wgpu::ShaderSource::Wgsl(composed("compact.wgsl", include_str!("compact.wgsl"), subgroups).into()),
         });
         let scan_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scan"),

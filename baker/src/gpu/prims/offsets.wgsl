@@ -7,6 +7,8 @@
 // offsets[t] or offsets[t + 1] is the sentinel or they are equal; else its paths are
 // [offsets[t], offsets[t + 1]).
 
+#import prims::grid::GridParams
+
 @group(0) @binding(0) var<storage, read> path_texels: array<u32>;
 @group(0) @binding(1) var<storage, read_write> offsets: array<u32>;
 @group(0) @binding(2) var<uniform> params: GridParams;

@@ -1,7 +1,10 @@
 // Exclusive prefix sum of u32 (wrapping), one 256-element block per workgroup
-// (block_scan.wgsl, prepended), block totals written out for the next level;
+// (block_scan.wgsl), block totals written out for the next level;
 // then the scanned totals added back. Every invocation reaches every barrier (no early
 // return): the control flow around barriers is uniform.
+
+#import prims::block_scan::{block_inclusive_scan, block_tmp}
+#import prims::grid::GridParams
 
 @group(0) @binding(0) var<storage, read_write> data: array<u32>;
 @group(0) @binding(1) var<storage, read_write> sums: array<u32>;

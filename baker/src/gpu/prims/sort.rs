@@ -72,10 +72,10 @@ impl SortPrims {
     /// The kernels for `d`, with the block scan variant of `prims`.
     pub fn new(d: &wgpu::Device, prims: &Prims) -> SortPrims {
         let subgroups = prims.subgroups;
-        let [_, (sort_wg, sort_sg)] = super::block_scan_sources();
+        let sort_source = super::composed("sort.wgsl", include_str!("sort.wgsl"), subgroups);
         let sort = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("sort.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(if subgroups { sort_sg } else { sort_wg }.into()),
+            source: wgpu::ShaderSource::Wgsl(sort_source.into()),
         });
         let sort_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sort"),
@@ -90,7 +90,7 @@ impl SortPrims {
         });
         let offsets = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("offsets.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(concat!(include_str!("grid_params.wgsl"), include_str!("offsets.wgsl")).into()),
+            source: wgpu::ShaderSource::Wgsl(super::composed("offsets.wgsl", include_str!("offsets.wgsl"), subgroups).into()),
         });
         let offsets_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("offsets"),

@@ -2,8 +2,10 @@
 // `shift`: `histogram` counts each 256-element block's digits into counts[digit · blocks +
 // block]; those counts are scanned (scan.wgsl) into global offsets; `scatter` writes each
 // pair to offset[digit, block] + its rank among the block's pairs with that digit (a
-// workgroup scan per digit, block_scan.wgsl prepended: stable). Workgroup memory only (no
+// workgroup scan per digit, block_scan.wgsl: stable). Workgroup memory only (no
 // subgroup operations).
+
+#import prims::block_scan::{block_inclusive_scan, block_tmp}
 
 struct SortParams {
     n: u32,
