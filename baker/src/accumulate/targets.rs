@@ -115,7 +115,7 @@ impl Targets {
     }
 
     /// The sample direction of a texel in a guided bake from its stage's direction point
-    /// ([`PathSampler::staged`]: stratified over the stage's passes): the
+    /// ([`crate::sampling::sequence::PathSampler::staged`]: stratified over the stage's passes): the
     /// direction (u₀, u₁) and the mixture choice u₃. With the cluster's distribution
     /// `dist` (after learning) and u₃ < m the point is warped through it, else it is the
     /// uniform direction. Returns (tangent-space direction, world direction, its pdf:

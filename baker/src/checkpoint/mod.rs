@@ -2,6 +2,8 @@
 //! same directory, synced, then renamed over the old one), so a bake killed at any
 //! moment leaves either the previous or the new checkpoint, never a torn one.
 //!
+//! Uses: [`crate::scene`], [`crate::accumulate`].
+//!
 //! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
 //! (scene, layout, seed, bounces, bases, solver, sample sequence, adaptive sampling: a resumed bake must be the same bake);
 //! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments

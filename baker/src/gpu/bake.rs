@@ -3,7 +3,7 @@
 //! pass, each sample fed to the `shaders` crate's `progressive_update` for every
 //! configured basis.
 //!
-//! The shaders are composed per bake from modules ([`super::kernel`]): only the entry
+//! The shaders are composed per bake from modules ([`mod@super::kernel`]): only the entry
 //! shaders the bake runs, with only what its configuration needs (the configured bases,
 //! the GGX layer when a material is glossy, guiding, batches, filtering). What was left
 //! out is reported.

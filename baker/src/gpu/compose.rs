@@ -1,5 +1,5 @@
 //! Composition of WGSL modules with `naga_oil` (Bevy's composer), shared by the bake's
-//! kernels ([`super::kernel`]) and the GPU primitives ([`super::prims`]): a module is added
+//! kernels ([`mod@super::kernel`]) and the GPU primitives ([`super::prims`]): a module is added
 //! once, an entry shader is composed with its shader defs, validated by naga and written
 //! back as WGSL with the composer's module suffixes removed from names where unique.
 

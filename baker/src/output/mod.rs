@@ -1,7 +1,10 @@
 //! What a bake writes: EXR images (plain E/π and one per basis lobe, RGB + a validity
 //! alpha), JSON metadata, probe coefficients, the runtime WGSL
 //! composed for the scene (with only the LUTs it needs), and a preview PNG of the scene
-//! lit by the baked irradiance (CPU ray cast through the same BVH).
+//! lit by the baked irradiance (CPU ray cast through the same BVH); [`bake_json`] holds
+//! bake.json's and probes.json's records.
+//!
+//! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::post`].
 
 pub mod bake_json;
 

@@ -11,6 +11,12 @@
 //! View space: the camera at the origin looking down −z; the G-buffer holds view-space
 //! positions and normals, so lights are given in view space too.
 
+//!
+//! The module tree: this file (VPLs, G-buffer, bounds, tiled culling and shading on the
+//! CPU), [`gpu`] (the wgpu twin), [`media`] (single scattering, seed 001), [`harness`]
+//! (what the `slc` command renders and writes).
+//!
+//! Uses: [`crate::scene`] and the image writers of [`crate::output`].
 pub mod gpu;
 pub mod harness;
 pub mod media;

@@ -34,7 +34,7 @@ pub const BLOCK: usize = 256;
 /// Workgroups per dispatch row.
 const ROW: usize = 65_535;
 
-/// The CPU twin of the scan: out[i] = Σ_{k<i} v[k] (wrapping), and the total.
+/// The CPU twin of the scan: `out[i] = Σ_{k<i} v[k]` (wrapping), and the total.
 pub fn exclusive_scan_cpu(v: &[u32]) -> (Vec<u32>, u32) {
     let mut acc = 0u32;
     let out = v

@@ -18,7 +18,7 @@ pub fn sort_pairs_cpu(keys: &[u32], vals: &[u32], bits: u32) -> (Vec<u32>, Vec<u
 pub const SENTINEL: u32 = u32::MAX;
 
 /// The paths of texel `t` from an offset buffer (`texel count + 1` entries): the range
-/// [offsets[t], offsets[t + 1]), empty where either is the sentinel or they are equal
+/// `[offsets[t], offsets[t + 1])`, empty where either is the sentinel or they are equal
 /// (seed 004 §3.2).
 pub fn texel_range(offsets: &[u32], t: usize) -> std::ops::Range<usize> {
     let (a, b) = (offsets[t], offsets[t + 1]);

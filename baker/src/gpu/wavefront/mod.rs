@@ -132,7 +132,7 @@ pub struct PassTime {
 }
 
 impl Wavefront {
-    /// The passes of `module` (the bake's kernel with [`WGSL`], validated as `naga`),
+    /// The passes of the bake's composed `kernel` (one entry shader per pass),
     /// `group0` the megakernel's bindings, a pool of `capacity` slots and `jobs` job
     /// positions (the most jobs a wave has).
     pub fn new(
