@@ -43,6 +43,17 @@ fn filter_record(i: u32, fv: FirstVertex, l: vec3<f32>, e: vec3<f32>, w: f32) {
 }
 #endif
 
+// A rejected sample (back face, not finite) leaves no guiding record and a filter record
+// of weight 0 (not gathered); the caller counts it in the item's moments.
+fn reject_sample(i: u32, fv: FirstVertex) {
+#ifdef GUIDING
+    guide_clear(i);
+#endif
+#ifdef FILTERED
+    filter_record(i, fv, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+#endif
+}
+
 // The rest of a pass of item i once its point sample's path radiance is known (the
 // megakernel's tail and the wavefront's accumulate pass): the light samples at the baked
 // point, then the moments, the encoders and ray guiding's records.
@@ -103,23 +114,13 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     }
     if (pr.back) {
         moments[3u * out + 1u].w += 1.0;
-#ifdef GUIDING
-        guide_clear(i);
-#endif
-#ifdef FILTERED
-        filter_record(i, fv, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
-#endif
+        reject_sample(i, fv);
         return;
     }
     let e = pr.radiance * fv.weight + e_lights;
     if (!(finite && finite3(pr.radiance) && finite3(e) && finite3(e * e))) {
         moments[3u * out + 2u].x += 1.0;
-#ifdef GUIDING
-        guide_clear(i);
-#endif
-#ifdef FILTERED
-        filter_record(i, fv, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
-#endif
+        reject_sample(i, fv);
         return;
     }
     moments[3u * out] += vec4<f32>(e, 1.0);
