@@ -1,21 +1,30 @@
 //! Cost axes, measured the same way for every mode: CPU reconstruction
-//! cost as steady-state nanoseconds per direction over a large batch, and storage.
+//! cost as steady-state nanoseconds per evaluation over a batch, and storage.
 //!
-//! Method: the mode's runtime evaluation (coefficients → value at a direction, exactly
-//! what the report's images come from) runs over the output directions, cycled to at
-//! least [`MIN_BATCH`] evaluations and at least [`MIN_PASS_S`] per pass; one untimed pass
-//! over the batch's directions warms caches and branch predictors and sizes the batch, a
-//! full-size untimed pass settles the clock, then [`REPEATS`] timed passes; each result goes through `std::hint::black_box` and
-//! nothing is allocated inside the loop (the evaluators hoist their scratch). Reported:
-//! the median pass and the spread (min, max).
+//! Method: a mode's runtime evaluation (coefficients → value at a direction or output
+//! texel, exactly what the report's images come from) is a [`CostJob`]. The jobs of a
+//! run are measured together, **side by side**, by [`measure_side_by_side`], after all
+//! other work of the run is done (nothing else competes for a core):
+//! 1. per job, one untimed pass over its inputs (an evenly strided subset of at most
+//!    [`MIN_BATCH`]) warms caches and branch predictors and sizes its pass — at least
+//!    [`MIN_BATCH`] evaluations and at least [`MIN_PASS_S`] — then one untimed pass of
+//!    that size settles the clock;
+//! 2. [`REPEATS`] rounds; each round times one pass of every job, in alternating order.
 //!
-//! Timed sections (these passes and the modes' encode timings) run one at a time, each
-//! on one thread, under [`exclusive`]: no other timed work competes for a core, while
-//! other modes' untimed work (images, metrics) may run on the remaining cores. A timed
-//! section never calls into rayon, so a thread holding the lock never picks up another
-//! mode's work.
+//! A shared machine's speed drifts by more than the differences between modes — on this
+//! project's 2-core CI VM the same SH L2 evaluation measured 17 ns and 29 ns a few
+//! milliseconds apart, for seconds at a time, and the slowdown is not uniform across
+//! workloads (SMT neighbours contend for particular execution units) — so measuring modes
+//! one after the other orders them by when they ran. Side by side, the k-th passes of all
+//! jobs run within a few milliseconds of each other and see the same machine: their ratios,
+//! and so the decisions made from them, hold from run to run. Reported per job: the median
+//! pass and the spread (fastest, slowest, and the 2nd fastest and 2nd slowest, which the
+//! decisions use: one pass interrupted by the OS does not widen it). Each result goes
+//! through `std::hint::black_box`, and the evaluators allocate nothing in the loop.
+//!
+//! Encode timings ([`exclusive`]) are single runs of a mode's fit inside the parallel
+//! mode stage, one at a time under a process-wide lock.
 
-use sbf::glam::DVec3;
 use std::hint::black_box;
 use std::sync::Mutex;
 use std::time::Instant;
@@ -30,24 +39,27 @@ pub fn exclusive<T>(f: impl FnOnce() -> T) -> T {
     f()
 }
 
-/// Timed passes per measurement (5 medians once disagreed by 1.20× on a shared 2-core CI
-/// machine, the first run the slow one; 7 after a full-size warm-up pass stayed within
-/// 1.13× in 90 pairs (30 runs) here with a busy loop on the other core, for +0.05 s on `probes
-/// compare pisa.hdr --no-specular`; 9 passes of 2 ms cost +0.35 s).
-pub const REPEATS: usize = 7;
-/// Smallest batch, in evaluations.
-pub const MIN_BATCH: usize = 1 << 13;
+/// Timed passes (rounds) per measurement.
+pub const REPEATS: usize = 15;
+/// Smallest pass, in evaluations, and the most inputs a job keeps (larger input sets are
+/// strided down to about this many).
+pub const MIN_BATCH: usize = 1 << 9;
 /// Shortest pass: cheap evaluators get larger batches, so that every timed pass lasts
 /// at least this long (timer resolution and per-pass overhead stay below 0.1%).
-pub const MIN_PASS_S: f64 = 5e-4;
+pub const MIN_PASS_S: f64 = 2.5e-4;
 
 /// A steady-state cost: ns per evaluation, median of `repeats` passes of `batch`
-/// evaluations, with the fastest and slowest pass.
+/// evaluations, with the fastest and slowest pass and the 2nd fastest and 2nd slowest
+/// (`low_ns`, `high_ns`: the spread decisions use).
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct CostStat {
     pub median_ns: f64,
     pub min_ns: f64,
     pub max_ns: f64,
+    #[serde(default)]
+    pub low_ns: f64,
+    #[serde(default)]
+    pub high_ns: f64,
     pub repeats: usize,
     pub batch: usize,
 }
@@ -55,70 +67,108 @@ pub struct CostStat {
 impl CostStat {
     /// A cost measured once (no spread), e.g. a Monte Carlo estimate's per-texel cost.
     pub fn single(ns: f64, batch: usize) -> CostStat {
-        CostStat { median_ns: ns, min_ns: ns, max_ns: ns, repeats: 1, batch }
+        CostStat { median_ns: ns, min_ns: ns, max_ns: ns, low_ns: ns, high_ns: ns, repeats: 1, batch }
     }
-}
 
-/// Steady-state ns per direction of `f` (see the module docs). `work` ≥ 1 evaluates each
-/// direction that many times and still divides by the batch: the cost-axis test uses
-/// `work = 2` as its "twice as expensive" mutation.
-pub fn ns_per_direction(dirs: &[DVec3], work: usize, f: impl FnMut(DVec3) -> [f64; 3]) -> CostStat {
-    ns_per_item(dirs, work, f)
-}
-
-/// [`ns_per_direction`] over any inputs (e.g. output texel indices).
-pub fn ns_per_item<T: Copy>(dirs: &[T], work: usize, f: impl FnMut(T) -> [f64; 3]) -> CostStat {
-    exclusive(|| measure(dirs, work, f))
-}
-
-fn measure<T: Copy>(dirs: &[T], work: usize, mut f: impl FnMut(T) -> [f64; 3]) -> CostStat {
-    if dirs.is_empty() {
-        return CostStat::default();
-    }
-    // Large inputs: an evenly strided subset of about MIN_BATCH items.
-    let stride = (dirs.len() / MIN_BATCH).max(1);
-    let subset: Vec<T> = dirs.iter().step_by(stride).copied().collect();
-    let dirs = &subset[..];
-    let work = work.max(1);
-    // One untimed pass over the subset — the warm-up (caches, branch predictors) —
-    // estimates the cost per evaluation; the batch is MIN_BATCH evaluations or MIN_PASS_S
-    // worth, whichever is larger.
-    let t = Instant::now();
-    let mut acc = 0.0;
-    for d in dirs {
-        for _ in 0..work {
-            acc += black_box(f(black_box(*d)))[0];
+    /// From the per-evaluation times of the timed passes (any order).
+    fn from_passes(mut times: Vec<f64>, batch: usize) -> CostStat {
+        times.sort_by(f64::total_cmp);
+        let n = times.len();
+        let inner = usize::from(n >= 5);
+        CostStat {
+            median_ns: times[n / 2],
+            min_ns: times[0],
+            max_ns: times[n - 1],
+            low_ns: times[inner],
+            high_ns: times[n - 1 - inner],
+            repeats: n,
+            batch,
         }
     }
-    black_box(acc);
-    let per_eval = t.elapsed().as_secs_f64() / dirs.len() as f64;
-    let want = (MIN_PASS_S / per_eval.max(1e-12)).min(64.0 * MIN_BATCH as f64) as usize;
-    let passes = MIN_BATCH.max(want).div_ceil(dirs.len());
-    let batch = passes * dirs.len();
-    let mut pass = || {
+}
+
+/// One runtime evaluation to measure: `f` over input indices (`items`), each evaluated
+/// `work` times per pass (≥ 1; the cost-axis test's "twice as expensive" mutation is
+/// `work = 2`, still divided by the batch).
+pub struct CostJob<'a> {
+    items: Vec<usize>,
+    work: usize,
+    f: Box<dyn FnMut(usize) -> [f64; 3] + Send + 'a>,
+}
+
+impl std::fmt::Debug for CostJob<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CostJob").field("items", &self.items.len()).field("work", &self.work).finish_non_exhaustive()
+    }
+}
+
+impl<'a> CostJob<'a> {
+    /// `f` over the inputs `0..count` (strided down to about [`MIN_BATCH`]).
+    pub fn over(count: usize, work: usize, f: impl FnMut(usize) -> [f64; 3] + Send + 'a) -> CostJob<'a> {
+        CostJob::over_items((0..count).collect(), work, f)
+    }
+
+    /// `f` over the given input indices (strided down to about [`MIN_BATCH`]).
+    pub fn over_items(items: Vec<usize>, work: usize, f: impl FnMut(usize) -> [f64; 3] + Send + 'a) -> CostJob<'a> {
+        let stride = (items.len() / MIN_BATCH).max(1);
+        let items = items.into_iter().step_by(stride).collect();
+        CostJob { items, work: work.max(1), f: Box::new(f) }
+    }
+
+    /// One pass of `rounds` cycles over the inputs, returning its wall time in seconds.
+    fn pass(&mut self, rounds: usize) -> f64 {
+        let t = Instant::now();
         let mut acc = 0.0;
-        for _ in 0..passes {
-            for d in dirs {
-                for _ in 0..work {
-                    let v = black_box(f(black_box(*d)));
-                    acc += v[0];
+        for _ in 0..rounds {
+            for &k in &self.items {
+                for _ in 0..self.work {
+                    acc += black_box((self.f)(black_box(k)))[0];
                 }
             }
         }
         black_box(acc);
-    };
-    // A full-size untimed pass: the core reaches its steady clock before timing (the first
-    // of two measurements was the slow one when CI saw them disagree).
-    pass();
-    let mut times: Vec<f64> = (0..REPEATS)
-        .map(|_| {
-            let t = Instant::now();
-            pass();
-            t.elapsed().as_secs_f64() * 1e9 / batch as f64
+        t.elapsed().as_secs_f64()
+    }
+}
+
+/// Measures one job alone (for a single mode; a run measures all its jobs with
+/// [`measure_side_by_side`]).
+pub fn measure(job: CostJob<'_>) -> CostStat {
+    measure_side_by_side(vec![job]).pop().expect("one job")
+}
+
+/// Measures the jobs side by side (see the module docs); one result per job, in order.
+/// Runs on the calling thread; call it when no other work of the process is running.
+pub fn measure_side_by_side(mut jobs: Vec<CostJob<'_>>) -> Vec<CostStat> {
+    // Warm-up and sizing, job by job.
+    let cycles: Vec<usize> = jobs
+        .iter_mut()
+        .map(|job| {
+            if job.items.is_empty() {
+                return 0;
+            }
+            let per_eval = job.pass(1) / (job.items.len() * job.work) as f64;
+            let want = (MIN_PASS_S / per_eval.max(1e-12)).min(64.0 * MIN_BATCH as f64) as usize;
+            let cycles = MIN_BATCH.max(want).div_ceil(job.items.len() * job.work).max(1);
+            job.pass(cycles);
+            cycles
         })
         .collect();
-    times.sort_by(f64::total_cmp);
-    CostStat { median_ns: times[REPEATS / 2], min_ns: times[0], max_ns: times[REPEATS - 1], repeats: REPEATS, batch }
+    let mut times = vec![Vec::with_capacity(REPEATS); jobs.len()];
+    for round in 0..REPEATS {
+        let order: Vec<usize> = if round % 2 == 0 { (0..jobs.len()).collect() } else { (0..jobs.len()).rev().collect() };
+        for j in order {
+            if cycles[j] > 0 {
+                let batch = cycles[j] * jobs[j].items.len();
+                times[j].push(jobs[j].pass(cycles[j]) * 1e9 / batch as f64);
+            }
+        }
+    }
+    times
+        .into_iter()
+        .zip(jobs.iter().zip(&cycles))
+        .map(|(t, (job, c))| if t.is_empty() { CostStat::default() } else { CostStat::from_passes(t, c * job.items.len()) })
+        .collect()
 }
 
 /// Bytes per probe (or lightmap texel) at the runtime precision (f32): the scalars the

@@ -185,15 +185,16 @@ fn compare(
     };
     let spec_s = ts.elapsed().as_secs_f64();
     let tm = std::time::Instant::now();
-    // Modes run in parallel; their timed sections (encode, steady-state cost) one at a
-    // time on one thread each (`probes::cost::exclusive`), the rest on the other cores.
-    // Rows come back in the order of `ids`, and no value depends on the thread count.
+    // Modes run in parallel; their encode timings one at a time on one thread each
+    // (`probes::cost::exclusive`), the rest on the other cores; their steady-state costs
+    // are measured side by side at the end. Rows come back in the order of `ids`, and no
+    // value depends on the thread count.
     use rayon::prelude::*;
     pb.set_message("modes");
-    let rows: Vec<report::Row> = ids
+    let (rows, mut eval_jobs): (Vec<report::Row>, Vec<Option<probes::cost::CostJob>>) = ids
         .par_iter()
-        .map(|id| -> Result<report::Row, String> {
-            let r = modes::run(id, &ctx, repeats)?;
+        .map(|id| -> Result<(report::Row, Option<probes::cost::CostJob>), String> {
+            let modes::Prepared { result: r, eval } = modes::prepare(id, &ctx, repeats)?;
             let mut irradiance = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
             if let Some(neg) = r.clamped_negative_fraction {
                 irradiance.negative_fraction = neg;
@@ -206,11 +207,21 @@ fn compare(
                     specular_images.push(img);
                 }
             }
-            let specular_cost = alphas.first().and_then(|a| probes::specular::cost(&r, &ctx, *a));
             pb.inc(1);
-            Ok(report::Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts: Vec::new(), specular_cost })
+            let row = report::Row {
+                result: r,
+                radiance: rad,
+                irradiance,
+                specular,
+                specular_images,
+                specular_parts: Vec::new(),
+                specular_cost: None,
+            };
+            Ok((row, eval))
         })
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
     let mut rows = rows;
     let modes_s = tm.elapsed().as_secs_f64();
     let tb = std::time::Instant::now();
@@ -245,12 +256,45 @@ fn compare(
             row.specular_parts.push((sr.alpha, basis_rms, runtime_rms));
         }
     }
+    let decomposition_s = tb.elapsed().as_secs_f64();
+    // The steady-state costs, every mode's irradiance and specular (first α) runtime side by
+    // side on this thread, now that nothing else runs (`probes::cost`).
+    pb.set_message("costs");
+    let tc = std::time::Instant::now();
+    let (irradiance_costs, specular_costs) = {
+        let spec_jobs: Vec<Option<probes::cost::CostJob>> =
+            rows.iter().map(|r| alphas.first().and_then(|a| probes::specular::cost_job(&r.result, &ctx, *a))).collect();
+        let slots: Vec<(usize, bool)> = (0..rows.len())
+            .flat_map(|k| [(k, false), (k, true)])
+            .filter(|(k, spec)| if *spec { spec_jobs[*k].is_some() } else { eval_jobs[*k].is_some() })
+            .collect();
+        let jobs: Vec<probes::cost::CostJob> =
+            eval_jobs.iter_mut().map(Option::take).zip(spec_jobs).flat_map(|(a, b)| [a, b]).flatten().collect();
+        let stats = probes::cost::measure_side_by_side(jobs);
+        let mut irr = vec![None; rows.len()];
+        let mut spec = vec![None; rows.len()];
+        for ((k, is_spec), s) in slots.into_iter().zip(stats) {
+            if is_spec {
+                spec[k] = Some(s);
+            } else {
+                irr[k] = Some(s);
+            }
+        }
+        (irr, spec)
+    };
+    for ((row, irr), spec) in rows.iter_mut().zip(irradiance_costs).zip(specular_costs) {
+        if let Some(s) = irr {
+            row.result.eval = s;
+        }
+        row.specular_cost = spec;
+    }
     pb.finish_and_clear();
     let stage_s = report::StageTimes {
         reference_irradiance: ref_s,
         specular_reference: spec_s,
         modes: modes_s,
-        specular_decomposition: tb.elapsed().as_secs_f64(),
+        specular_decomposition: decomposition_s,
+        costs: tc.elapsed().as_secs_f64(),
     };
     let domain_name = if domain == sbf::Domain::Sphere { "sphere" } else { "upper hemisphere" };
     Ok(report::MapReport {

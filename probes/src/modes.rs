@@ -8,6 +8,7 @@
 //! RMS reported. SH modes clamp the reconstructed irradiance at 0, as the peer does;
 //! the fraction of texels that were negative is reported separately.
 
+use crate::cost::CostJob;
 use crate::reference;
 use sbf::envmap::{LatLong, LatLongImage};
 use sbf::glam::DVec3;
@@ -317,14 +318,12 @@ fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, Timing) {
     })
 }
 
-/// The image of `f` over the output directions and its steady-state cost
-/// ([`crate::cost::ns_per_direction`]).
-fn eval_cost(ctx: &Context, mut f: impl FnMut(DVec3) -> [f64; 3]) -> (Vec<[f64; 3]>, crate::cost::CostStat) {
-    // The image (untimed: other modes' timed sections may run meanwhile), then the cost
-    // measurement in a timed section of its own.
+/// The image of `f` over the output directions, and `f` as the job that measures its
+/// steady-state cost later ([`crate::cost`]: a run measures every mode's job side by side).
+fn eval_cost<'a>(ctx: &'a Context, mut f: impl FnMut(DVec3) -> [f64; 3] + Send + 'a) -> (Vec<[f64; 3]>, Option<CostJob<'a>>) {
     let out: Vec<[f64; 3]> = ctx.dirs.iter().map(|d| f(*d)).collect();
-    let cost = crate::cost::ns_per_direction(&ctx.dirs, ctx.eval_work, f);
-    (out, cost)
+    let dirs = &ctx.dirs;
+    (out, Some(CostJob::over(dirs.len(), ctx.eval_work, move |k| f(dirs[k]))))
 }
 
 /// Σ_i w_i·c_i over RGB coefficients: the runtime's form (each basis function's weight
@@ -405,11 +404,11 @@ fn sg_lobes(basis: &SgBasis, id: &str) -> SgLobes {
 
 /// A basis's reconstruction from RGB coefficients as the irradiance evaluation (fits to
 /// the irradiance image), with its cost.
-fn eval_basis(ctx: &Context, basis: &dyn Basis, c: &[[f64; 3]]) -> (Vec<[f64; 3]>, crate::cost::CostStat) {
+fn eval_basis<'a, B: Basis + Send + 'a>(ctx: &'a Context, basis: B, c: Vec<[f64; 3]>) -> (Vec<[f64; 3]>, Option<CostJob<'a>>) {
     let mut s = vec![0.0; basis.len()];
-    eval_cost(ctx, |d| {
+    eval_cost(ctx, move |d| {
         basis.eval_into(d, &mut s);
-        dot_rgb(c, s.iter().copied())
+        dot_rgb(&c, s.iter().copied())
     })
 }
 
@@ -457,9 +456,35 @@ fn clamp_negative(img: &mut [[f64; 3]]) -> f64 {
     neg as f64 / img.len().max(1) as f64
 }
 
-/// Runs one mode; `repeats` encode runs are timed and their median reported.
+/// A mode run except for its steady-state cost: the result (with `eval` not yet
+/// measured) and the job that measures it (none for the Monte Carlo mode, whose cost is
+/// its encode). A run measures every mode's job side by side
+/// ([`crate::cost::measure_side_by_side`]) and stores each cost in `result.eval`.
+#[derive(Debug)]
+pub struct Prepared<'a> {
+    pub result: ModeResult,
+    pub eval: Option<CostJob<'a>>,
+}
+
+/// Runs one mode alone, its cost measured on its own (a run of several modes uses
+/// [`prepare`] and measures them side by side); `repeats` encode runs are timed and
+/// their median reported.
 pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String> {
-    let name = MODES.iter().find(|(m, _)| *m == id).map(|(m, _)| *m).ok_or_else(|| format!("unknown mode '{id}' (see `probes list`)"))?;
+    let p = prepare(id, ctx, repeats)?;
+    let mut r = p.result;
+    if let Some(job) = p.eval {
+        r.eval = crate::cost::measure(job);
+    }
+    Ok(r)
+}
+
+/// Runs one mode up to its cost measurement (see [`Prepared`]); `repeats` encode runs are
+/// timed and their median reported.
+pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepared<'a>, String> {
+    let (name, description) =
+        MODES.iter().find(|(m, _)| *m == id).copied().ok_or_else(|| format!("unknown mode '{id}' (see `probes list`)"))?;
+    // From here on the mode's id is `name` (a 'static str the cost jobs may keep).
+    let id = name;
     let vogel = sbf::layout::vogel_sphere(12).map_err(|e| e.to_string())?;
     let dirs = &ctx.dirs;
     let err = |e: sbf::SbfError| e.to_string();
@@ -470,23 +495,26 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
               radiance: Option<Vec<[f64; 3]>>,
               irradiance: Vec<[f64; 3]>,
               encode: Timing,
-              eval: crate::cost::CostStat| ModeResult {
-        id: name,
-        name: MODES.iter().find(|(m, _)| *m == id).map(|(_, d)| *d).unwrap_or(""),
-        basis,
-        solver,
-        lobes,
-        radiance,
-        irradiance,
-        clamped_negative_fraction: None,
-        stored_scalars: 3 * coefficients.len(),
-        wgsl_irradiance: true,
-        encode_s: encode.median_s,
-        encode_runs: encode.runs,
-        needs_reference: false,
+              eval: Option<CostJob<'a>>| Prepared {
         eval,
-        coefficients,
-        convergence: Vec::new(),
+        result: ModeResult {
+            id: name,
+            name: description,
+            basis,
+            solver,
+            lobes,
+            radiance,
+            irradiance,
+            clamped_negative_fraction: None,
+            stored_scalars: 3 * coefficients.len(),
+            wgsl_irradiance: true,
+            encode_s: encode.median_s,
+            encode_runs: encode.runs,
+            needs_reference: false,
+            eval: Default::default(),
+            coefficients,
+            convergence: Vec::new(),
+        },
     };
     match id {
         "mcis" => {
@@ -552,16 +580,9 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     })
                     .collect::<Vec<_>>()
             });
-            Ok(mk(
-                "none".into(),
-                "Monte Carlo",
-                Vec::new(),
-                Vec::new(),
-                None,
-                irr,
-                t,
-                crate::cost::CostStat::single(t.median_s * 1e9 / dirs.len() as f64, dirs.len()),
-            ))
+            let mut r = mk("none".into(), "Monte Carlo", Vec::new(), Vec::new(), None, irr, t, None);
+            r.result.eval = crate::cost::CostStat::single(t.median_s * 1e9 / dirs.len() as f64, dirs.len());
+            Ok(r)
         }
         "ac" | "acproj" => {
             let ac = AmbientCube;
@@ -588,10 +609,11 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 })
             };
             let c = c?;
-            let (irr, ns) = eval_cost(ctx, |d| {
+            let cc = c.clone();
+            let (irr, ns) = eval_cost(ctx, move |d| {
                 let mut w = [0.0; 6];
                 ac.eval_into(d, &mut w);
-                [0, 1, 2].map(|k| (0..6).map(|i| w[i] * c[i][k]).sum())
+                [0, 1, 2].map(|k| (0..6).map(|i| w[i] * cc[i][k]).sum())
             });
             let mut r = mk(
                 ac.name(),
@@ -603,7 +625,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 t,
                 ns,
             );
-            r.needs_reference = id == "ac";
+            r.result.needs_reference = id == "ac";
             Ok(r)
         }
         _ if sh_order(id).is_some() => {
@@ -615,16 +637,17 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let (irr, ns) = match id {
                 "shl1g" => {
                     let rgb: [[f64; 4]; 3] = [0, 1, 2].map(|k| chans[k].clone().try_into().expect("4 coefficients"));
-                    eval_cost(ctx, |d| [0, 1, 2].map(|k| shr::irradiance_l1_geomerics(&rgb[k], d)))
+                    eval_cost(ctx, move |d| [0, 1, 2].map(|k| shr::irradiance_l1_geomerics(&rgb[k], d)))
                 }
                 "shl1zh3" => {
                     let rgb: [[f64; 4]; 3] = [0, 1, 2].map(|k| chans[k].clone().try_into().unwrap());
-                    eval_cost(ctx, |d| shr::irradiance_l1_zh3(&rgb, d).unwrap_or([f64::NAN; 3]))
+                    eval_cost(ctx, move |d| shr::irradiance_l1_zh3(&rgb, d).unwrap_or([f64::NAN; 3]))
                 }
                 _ => {
                     let e = [0, 1, 2].map(|k| shr::irradiance_coefficients(&chans[k]).expect("(L+1)² coefficients"));
                     let mut y = vec![0.0; sh.len()];
-                    eval_cost(ctx, |d| {
+                    let sh = sh.clone();
+                    eval_cost(ctx, move |d| {
                         sh.eval_into(d, &mut y);
                         [0, 1, 2].map(|k| e[k].iter().zip(&y).map(|(a, b)| a * b).sum())
                     })
@@ -633,7 +656,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let (mut irr, rad) = (irr, reconstruct(&sh, &c, dirs));
             let neg = clamp_negative(&mut irr);
             let mut r = mk(sh.name(), "projection (orthonormal LS); irradiance clamped at 0", c, Vec::new(), Some(rad), irr, t, ns);
-            r.clamped_negative_fraction = Some(neg);
+            r.result.clamped_negative_fraction = Some(neg);
             Ok(r)
         }
         "adrbf" | "adrbf-irr" => {
@@ -644,7 +667,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     solve_gram(&g.matrix, &moments(&ad, &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
                 let c = c.map_err(err)?;
-                let (irr, ns) = eval_cost(ctx, |d| dot_rgb(&c, ad.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d)))));
+                let (cc, adc) = (c.clone(), ad.clone());
+                let (irr, ns) = eval_cost(ctx, move |d| dot_rgb(&cc, adc.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d)))));
                 let rad = reconstruct(&ad, &c, dirs);
                 Ok(mk(ad.name(), "least squares (radiance)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), Some(rad), irr, t, ns))
             } else {
@@ -653,10 +677,10 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     solve_gram(&sbf::solve::sample_gram(&ad, &s), &moments(&ad, &s), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
                 let c = c.map_err(err)?;
-                let (irr, ns) = eval_basis(ctx, &ad, &c);
+                let (irr, ns) = eval_basis(ctx, ad.clone(), c.clone());
                 let mut r =
                     mk(ad.name(), "least squares (irradiance image)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), None, irr, t, ns);
-                r.needs_reference = true;
+                r.result.needs_reference = true;
                 Ok(r)
             }
         }
@@ -691,7 +715,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 }
             };
             let method = ctx.sg_irradiance.for_mode(id);
-            let mut prior = if method == SgIrradiance::Prior { Some(PriorRgb::new(&basis).map_err(err)?) } else { None };
+            let prior = if method == SgIrradiance::Prior { Some(PriorRgb::new(&basis).map_err(err)?) } else { None };
             // The encode: the fit, and for the prior estimate the per-probe transform c' = Σ⁻¹G·c.
             let (c, t) = timed(repeats, || -> Result<(Rgb, Rgb), String> {
                 let c = fit()?;
@@ -703,9 +727,12 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             });
             let (c, cp) = c?;
             let lobes = sg_lobes(&basis, id);
-            let (irr, ns) = match prior.as_mut() {
-                Some(p) => eval_cost(ctx, |d| p.eval(&cp, d)),
-                None => eval_cost(ctx, |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &basis, &lobes, &c, d)),
+            let (irr, ns) = match prior {
+                Some(mut p) => eval_cost(ctx, move |d| p.eval(&cp, d)),
+                None => {
+                    let (b, cc) = (basis.clone(), c.clone());
+                    eval_cost(ctx, move |d| sg_irradiance_rgb(ctx.sg_irradiance, id, &b, &lobes, &cc, d))
+                }
             };
             let rad = reconstruct(&basis, &c, dirs);
             let solver = match id {
@@ -720,7 +747,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 _ => "least squares",
             };
             let mut r = mk(basis.name(), solver, c, vogel.iter().map(|a| (*a, 6.0)).collect(), Some(rad), irr, t, ns);
-            r.wgsl_irradiance = method == SgIrradiance::Hill;
+            r.result.wgsl_irradiance = method == SgIrradiance::Hill;
             Ok(r)
         }
         "shl2w" => {
@@ -752,14 +779,16 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let e = [0, 1, 2].map(|k| shr::irradiance_coefficients(&chans[k]).expect("9 coefficients"));
             let mut y = vec![0.0; sh.len()];
-            let (mut irr, ns) = eval_cost(ctx, |d| {
+            let shc = sh.clone();
+            let (mut irr, ns) = eval_cost(ctx, move |d| {
+                let sh = &shc;
                 sh.eval_into(d, &mut y);
                 [0, 1, 2].map(|k| e[k].iter().zip(&y).map(|(a, b)| a * b).sum())
             });
             let neg = clamp_negative(&mut irr);
             let rad = reconstruct(&sh, &c, dirs);
             let mut r = mk(sh.name(), "projection + sinc⁴ deringing; irradiance clamped at 0", c, Vec::new(), Some(rad), irr, t, ns);
-            r.clamped_negative_fraction = Some(neg);
+            r.result.clamped_negative_fraction = Some(neg);
             Ok(r)
         }
         "ad" | "adycocg" => {
@@ -771,9 +800,9 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     solve_gram(&sbf::solve::sample_gram(&bz, &s), &moments(&bz, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
                 });
                 let c = c.map_err(err)?;
-                let (irr, ns) = eval_basis(ctx, &bz, &c);
+                let (irr, ns) = eval_basis(ctx, bz.clone(), c.clone());
                 let mut r = mk(bz.name(), "least squares (irradiance image)", c, Vec::new(), None, irr, t, ns);
-                r.needs_reference = true;
+                r.result.needs_reference = true;
                 Ok(r)
             } else {
                 let lin = sbf::AmbientDiceLinear::new();
@@ -793,7 +822,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 let yc = sbf::AmbientDiceYCoCg::new();
                 let (ya, coa, cga): ([f64; 36], [f64; 12], [f64; 12]) =
                     (y.clone().try_into().unwrap(), co.clone().try_into().unwrap(), cg.clone().try_into().unwrap());
-                let (irr, ns) = eval_cost(ctx, |d| yc.eval_rgb(&ya, &coa, &cga, d));
+                let (irr, ns) = eval_cost(ctx, move |d| yc.eval_rgb(&ya, &coa, &cga, d));
                 // Coefficients as written: Y (36) then Co (12) then Cg (12), one value each.
                 let coeffs: Vec<[f64; 3]> = y.iter().chain(&co).chain(&cg).map(|v| [*v, *v, *v]).collect();
                 let mut r = mk(
@@ -806,8 +835,8 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                     t,
                     ns,
                 );
-                r.needs_reference = true;
-                r.stored_scalars = 60;
+                r.result.needs_reference = true;
+                r.result.stored_scalars = 60;
                 Ok(r)
             }
         }
@@ -860,14 +889,13 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             // Irradiance of one direction from RGB coefficients. The peer's running
             // averages use Hill's fit too (their figures match it).
             let sgb_lobes = sg_lobes(&sgb, id);
-            let irradiance_at = |c: &[[f64; 3]], d: DVec3| -> [f64; 3] {
-                if id.starts_with("sg") {
-                    sg_irradiance_rgb(SgIrradiance::Hill, id, &sgb, &sgb_lobes, c, d)
-                } else {
-                    dot_rgb(c, ad.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d))))
-                }
+            let (irr, ns) = if id.starts_with("sg") {
+                let (b, l, cc) = (sgb.clone(), sg_lobes(&sgb, id), c.clone());
+                eval_cost(ctx, move |d| sg_irradiance_rgb(SgIrradiance::Hill, id, &b, &l, &cc, d))
+            } else {
+                let (a, cc) = (ad.clone(), c.clone());
+                eval_cost(ctx, move |d| dot_rgb(&cc, a.lobes().iter().map(|x| adr::lobe_irradiance_cos(x.dot(d)))))
             };
-            let (irr, ns) = eval_cost(ctx, |d| irradiance_at(&c, d));
             // Error against sample count: an untimed second pass with snapshots. The
             // irradiance is linear in the coefficients, so each snapshot is a product with
             // the per-lobe irradiance K[d][i] (same functions as above, one lobe at a time).
@@ -910,7 +938,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 _ => "progressive NNLS, f32 state, 4096 Halton samples (seed §7.3)",
             };
             let mut r = mk(basis.name(), solver, c, lobes, Some(rad), irr, t, ns);
-            r.convergence = convergence;
+            r.result.convergence = convergence;
             Ok(r)
         }
         "ad9" | "sg9h" | "sg12h" | "adrbf-tangent" => {
@@ -951,11 +979,12 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             };
             let sharpness = vec![6.0; axes.len()];
             let (irr, ns) = if is_ad {
-                eval_cost(ctx, |d| [0, 1, 2].map(|k| adr::irradiance_fit(&axes, &chans[k], d, &adr::DIFFUSE_FIT_EQ_8_14)))
+                eval_cost(ctx, move |d| [0, 1, 2].map(|k| adr::irradiance_fit(&axes, &chans[k], d, &adr::DIFFUSE_FIT_EQ_8_14)))
             } else {
-                eval_cost(ctx, |d| {
+                let cc = c.clone();
+                eval_cost(ctx, move |d| {
                     dot_rgb(
-                        &c,
+                        &cc,
                         axes.iter()
                             .zip(&sharpness)
                             .map(|(a, l)| sgr::irradiance_hill(&sbf::Sg { axis: *a, sharpness: *l, amplitude: 1.0 }, d)),
@@ -982,7 +1011,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
             let c = c.map_err(err)?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let mut sc = vec![0.0; h.len()];
-            let (irr, ns) = eval_cost(ctx, |d| {
+            let (irr, ns) = eval_cost(ctx, move |d| {
                 let tt = world_to_tangent(d);
                 if tt.z < 0.0 {
                     [0.0; 3]
@@ -991,7 +1020,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
                 }
             });
             let mut r = mk(h.name(), "least squares (irradiance image, upper hemisphere)", c, Vec::new(), None, irr, t, ns);
-            r.needs_reference = true;
+            r.result.needs_reference = true;
             Ok(r)
         }
         _ => Err(format!("mode '{id}' is listed but not implemented")),

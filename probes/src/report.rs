@@ -69,10 +69,13 @@ pub struct StageTimes {
     pub reference_irradiance: f64,
     /// Every α's specular reference with its error check.
     pub specular_reference: f64,
-    /// Every mode: encode (repeats), reconstruction images, cost measurement, specular images.
+    /// Every mode: encode (repeats), reconstruction images, specular images.
     pub modes: f64,
     /// Basis-limited specular images of every mode and α.
     pub specular_decomposition: f64,
+    /// Every mode's steady-state CPU costs, measured side by side ([`crate::cost`]).
+    #[serde(default)]
+    pub costs: f64,
 }
 
 /// File stem of a specular image for roughness α (`specular_a0.4`).

@@ -393,13 +393,13 @@ pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64
     Some((0..ctx.dirs.len()).into_par_iter().map(&texel).collect())
 }
 
-/// Steady-state CPU cost of a mode's specular runtime path at roughness `alpha`
-/// ([`crate::cost::ns_per_direction`] over the output texels where the signal is defined),
+/// The job that measures the steady-state CPU cost of a mode's specular runtime path at
+/// roughness `alpha` over the output texels where the signal is defined ([`crate::cost`]),
 /// or `None` for irradiance-only modes.
-pub fn cost(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<crate::cost::CostStat> {
+pub fn cost_job<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<crate::cost::CostJob<'a>> {
     let texel = texel_fn(r, ctx, alpha)?;
     let ks: Vec<usize> = (0..ctx.dirs.len()).filter(|k| geometry(ctx, *k).is_some()).collect();
-    Some(crate::cost::ns_per_item(&ks, ctx.eval_work, texel))
+    Some(crate::cost::CostJob::over_items(ks, ctx.eval_work, texel))
 }
 
 /// The specular runtime path of a mode as a function of the output texel index.
