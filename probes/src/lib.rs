@@ -16,6 +16,7 @@ pub mod images;
 pub use sbf::io as input;
 pub mod metrics;
 pub mod modes;
+pub mod outdir;
 pub mod profile;
 pub mod reference;
 pub mod report;

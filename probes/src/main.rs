@@ -1,6 +1,7 @@
 //! probes: compare spherical bases and solvers on HDR maps; error against run time.
 
 use clap::{Parser, Subcommand};
+use probes::outdir::OutDir;
 use probes::{input, metrics, modes, report};
 use sbf::envmap::{LatLongImage, ProceduralSky};
 use std::path::{Path, PathBuf};
@@ -10,11 +11,15 @@ use std::process::ExitCode;
 #[command(
     version,
     about = "Compare spherical bases and solvers on HDR environment maps: error against run time.",
-    after_help = "With no command, runs the default comparison on the built-in procedural sky and writes ./probes-report/.\n\nExamples:\n  probes\n  probes list\n  probes compare ../shared/probes/pisa.hdr\n  probes compare a.hdr b.exr --modes shl2,adrbf,sgls --out report --json\n  probes env --preset sky --out sky.hdr"
+    after_help = "With no command, runs the default comparison on the built-in procedural sky and writes ./probes-report/.\n\nExamples:\n  probes\n  probes list\n  probes compare ../shared/probes/pisa.hdr\n  probes compare a.hdr b.exr --modes shl2,adrbf,sgls --out report --json\n  probes env --preset sky --out sky.hdr\n\nExit status: 0 on success; 1 when an argument, a map or the output folder is unusable (checked before any work; the message names the file and the problem) or the run fails; 2 for a command line that does not parse."
 )]
 struct Cli {
     #[command(subcommand)]
     cmd: Option<Cmd>,
+    /// Write into an output folder that holds files no probes run wrote (they are kept;
+    /// without it such a folder is refused before any work).
+    #[arg(long, global = true)]
+    force: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -22,65 +27,7 @@ enum Cmd {
     /// Every mode with a one-line description.
     List,
     /// Compare modes on one or more lat-long maps (.hdr or .exr, 2:1).
-    Compare {
-        maps: Vec<PathBuf>,
-        /// Comma-separated mode ids (default: every mode with a peer figure).
-        #[arg(long, value_delimiter = ',')]
-        modes: Vec<String>,
-        /// A lighting profile (TOML, see profiles/): run only the modes of its bases, and
-        /// the specular signal only at roughness values inside its GGX range (none for a
-        /// Lambert-only profile). Replaces --modes, --alphas and --no-specular.
-        #[arg(long, conflicts_with_all = ["modes", "alphas", "no_specular"])]
-        profile: Option<PathBuf>,
-        /// Where errors are measured: `sphere`, or `hemisphere` (upper, +Y; seed
-        /// Appendix C; fits still use the whole sphere). Default modes follow the domain.
-        #[arg(long, default_value = "sphere")]
-        domain: String,
-        /// Output folder.
-        #[arg(long, default_value = "probes-report")]
-        out: PathBuf,
-        /// Also print results.json to stdout.
-        #[arg(long)]
-        json: bool,
-        /// Replace NaN/Inf/negative texels by 0 (and report how many) instead of failing.
-        #[arg(long)]
-        sanitize: bool,
-        /// Encode repeats for the median timing (fewer once they take 0.1 s together).
-        #[arg(long, default_value_t = 3)]
-        repeats: usize,
-        /// GGX roughness values of the specular signal (empty to skip it).
-        #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ALPHAS)]
-        alphas: Vec<f64>,
-        /// Visible-normal samples (and as many map samples, MIS) per texel of the specular reference.
-        #[arg(long, default_value_t = 256)]
-        specular_samples: u32,
-        /// Skip the specular signal (irradiance and radiance only).
-        #[arg(long)]
-        no_specular: bool,
-        /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the WGSL runtime path),
-        /// `peer` (Probulator's cosine-as-SG kernel, λ 8.5 after naive projection, 3.0
-        /// otherwise; reproduces its published figures), `prior` (the best linear estimate
-        /// under an isotropic radiance prior, C_l ∝ l⁻²), or `auto`: the peer's kernel for
-        /// `sg` and `sgnnls`, the prior estimate for `sgls` and `sglsa`.
-        #[arg(long, default_value = "auto")]
-        sg_irradiance: String,
-        /// Specular runtime of the SG and AD modes: `table` (per-lobe GGX response tables,
-        /// luts/lobe_ggx_*.sbflut; interpolation is the only approximation) or `fit` (the
-        /// ASG warp for SG, seed Listing 8.1 × its LUT for AD).
-        #[arg(long, default_value = "table")]
-        specular_runtime: String,
-        /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
-        /// or `none`.
-        #[arg(long, default_value = "png")]
-        images: String,
-        /// Also measure each mode's GPU cost: the `shaders` runtime kernels of `shaders bench`
-        /// on the best adapter (ns per evaluation; a fourth Pareto axis).
-        #[arg(long)]
-        gpu_cost: bool,
-        /// Evaluations per dispatch of the GPU cost measurement.
-        #[arg(long, default_value_t = 1 << 20)]
-        gpu_count: usize,
-    },
+    Compare(CompareArgs),
     /// Write a procedural environment map.
     Env {
         /// Preset: `sky` (sun, sky gradient, ground) or `sky-nosun`.
@@ -93,6 +40,67 @@ enum Cmd {
         #[arg(long, default_value_t = 256)]
         width: usize,
     },
+}
+
+#[derive(clap::Args, Debug)]
+struct CompareArgs {
+    maps: Vec<PathBuf>,
+    /// Comma-separated mode ids (default: every mode with a peer figure).
+    #[arg(long, value_delimiter = ',')]
+    modes: Vec<String>,
+    /// A lighting profile (TOML, see profiles/): run only the modes of its bases, and
+    /// the specular signal only at roughness values inside its GGX range (none for a
+    /// Lambert-only profile). Replaces --modes, --alphas and --no-specular.
+    #[arg(long, conflicts_with_all = ["modes", "alphas", "no_specular"])]
+    profile: Option<PathBuf>,
+    /// Where errors are measured: `sphere`, or `hemisphere` (upper, +Y; seed
+    /// Appendix C; fits still use the whole sphere). Default modes follow the domain.
+    #[arg(long, default_value = "sphere")]
+    domain: String,
+    /// Output folder.
+    #[arg(long, default_value = "probes-report")]
+    out: PathBuf,
+    /// Also print results.json to stdout.
+    #[arg(long)]
+    json: bool,
+    /// Replace NaN/Inf/negative texels by 0 (and report how many) instead of failing.
+    #[arg(long)]
+    sanitize: bool,
+    /// Encode repeats for the median timing (fewer once they take 0.1 s together).
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// GGX roughness values of the specular signal (empty to skip it).
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_ALPHAS)]
+    alphas: Vec<f64>,
+    /// Visible-normal samples (and as many map samples, MIS) per texel of the specular reference.
+    #[arg(long, default_value_t = 256)]
+    specular_samples: u32,
+    /// Skip the specular signal (irradiance and radiance only).
+    #[arg(long)]
+    no_specular: bool,
+    /// Irradiance of sg, sgls, sglsa, sgnnls: `hill` (Hill's fit, the WGSL runtime path),
+    /// `peer` (Probulator's cosine-as-SG kernel, λ 8.5 after naive projection, 3.0
+    /// otherwise; reproduces its published figures), `prior` (the best linear estimate
+    /// under an isotropic radiance prior, C_l ∝ l⁻²), or `auto`: the peer's kernel for
+    /// `sg` and `sgnnls`, the prior estimate for `sgls` and `sglsa`.
+    #[arg(long, default_value = "auto")]
+    sg_irradiance: String,
+    /// Specular runtime of the SG and AD modes: `table` (per-lobe GGX response tables,
+    /// luts/lobe_ggx_*.sbflut; interpolation is the only approximation) or `fit` (the
+    /// ASG warp for SG, seed Listing 8.1 × its LUT for AD).
+    #[arg(long, default_value = "table")]
+    specular_runtime: String,
+    /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
+    /// or `none`.
+    #[arg(long, default_value = "png")]
+    images: String,
+    /// Also measure each mode's GPU cost: the `shaders` runtime kernels of `shaders bench`
+    /// on the best adapter (ns per evaluation; a fourth Pareto axis).
+    #[arg(long)]
+    gpu_cost: bool,
+    /// Evaluations per dispatch of the GPU cost measurement.
+    #[arg(long, default_value_t = 1 << 20)]
+    gpu_count: usize,
 }
 
 fn preset(name: &str) -> Result<ProceduralSky, String> {
@@ -342,34 +350,42 @@ fn unique_slugs(maps: &mut [report::MapReport]) {
     }
 }
 
+/// `--images`: (PNG previews, float EXR too).
+fn images_flag(images: &str) -> Result<(bool, bool), String> {
+    match images {
+        "png" => Ok((true, false)),
+        "exr" => Ok((true, true)),
+        "none" => Ok((false, false)),
+        other => Err(format!("--images {other}: expected `png`, `exr` or `none`")),
+    }
+}
+
 fn write_reports(
-    out: &Path,
+    out: &OutDir,
     maps: &mut [report::MapReport],
     print_json: bool,
-    images: &str,
+    (png, exr): (bool, bool),
     gpu: Option<&probes::gpu_cost::GpuCosts>,
 ) -> Result<(), String> {
-    let (png, exr) = match images {
-        "png" => (true, false),
-        "exr" => (true, true),
-        "none" => (false, false),
-        other => return Err(format!("--images {other}: expected `png`, `exr` or `none`")),
-    };
     unique_slugs(maps);
-    std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+    // The previous run's files go first, so the folder holds this run's files only.
+    out.remove_previous()?;
     let results: Vec<probes::results::MapResults> = maps.iter().map(|m| probes::results::from_report(m, exr, gpu)).collect();
     let json = probes::results::to_json(&results);
     let md = report::markdown(maps, &results, png);
-    std::fs::write(out.join("results.json"), &json).map_err(|e| format!("writing results.json: {e}"))?;
-    std::fs::write(out.join("report.md"), &md).map_err(|e| format!("writing report.md: {e}"))?;
+    let write = |name: &str, text: &str| std::fs::write(out.file(out.path().join(name)), text).map_err(|e| format!("writing {name}: {e}"));
+    write("results.json", &json)?;
+    write("report.md", &md)?;
     // report.html (its interactive view's data) alongside the images.
     let maps: &[report::MapReport] = maps;
     let (html, images) = rayon::join(
-        || std::fs::write(out.join("report.html"), report::html(maps, &results)).map_err(|e| format!("writing report.html: {e}")),
+        || write("report.html", &report::html(maps, &results)),
         || if png { maps.iter().try_for_each(|m| report::write_images(out, m, exr)) } else { Ok(()) },
     );
     html?;
     images?;
+    out.finish()?;
+    let out = out.path();
     if print_json {
         print!("{json}");
     } else {
@@ -383,6 +399,107 @@ fn write_reports(
         );
     }
     Ok(())
+}
+
+/// `probes compare`: every argument, map and the output folder are checked before any
+/// work (a bad input fails in milliseconds, naming the file and the problem); then the GPU
+/// costs, each map through every mode, and the reports.
+fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
+    // 1. Every flag.
+    let sgi = match a.sg_irradiance.as_str() {
+        "auto" => modes::SgIrradiance::Auto,
+        "hill" => modes::SgIrradiance::Hill,
+        "peer" => modes::SgIrradiance::Peer,
+        "prior" => modes::SgIrradiance::Prior,
+        other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill`, `peer` or `prior`")),
+    };
+    let spec_rt = probes::specular::SpecularRuntime::parse(&a.specular_runtime)?;
+    let images = images_flag(&a.images)?;
+    let prof = a.profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
+    let (m, alphas) = match &prof {
+        Some(p) => (probes::profile::modes(p), probes::profile::alphas(p)),
+        None => (a.modes, if a.no_specular { Vec::new() } else { a.alphas }),
+    };
+    if let Some(x) = alphas.iter().find(|x| !(x.is_finite() && **x >= 1e-4 && **x <= 1.0)) {
+        return Err(format!("--alphas: {x} is outside [1e-4, 1]"));
+    }
+    if a.specular_samples == 0 {
+        return Err("--specular-samples must be > 0".into());
+    }
+    if a.repeats == 0 {
+        return Err("--repeats must be ≥ 1".into());
+    }
+    if a.gpu_cost && a.gpu_count == 0 {
+        return Err("--gpu-count must be > 0".into());
+    }
+    let dom = match a.domain.as_str() {
+        "sphere" => sbf::Domain::Sphere,
+        "hemisphere" => sbf::Domain::UpperHemisphere,
+        other => return Err(format!("--domain {other}: expected `sphere` or `hemisphere`")),
+    };
+    if a.maps.is_empty() {
+        return Err("give at least one map (see --help)".into());
+    }
+    let default: &[&str] = if dom == sbf::Domain::Sphere { modes::DEFAULT_MODES } else { modes::HEMISPHERE_MODES };
+    let ids: Vec<String> = if m.is_empty() { default.iter().map(|s| s.to_string()).collect() } else { m };
+    for id in &ids {
+        if !modes::MODES.iter().any(|(x, _)| x == id) {
+            return Err(format!("unknown mode '{id}' (see `probes list`)"));
+        }
+    }
+    // 2. Every map: the path (all of them first: cheap), then decoded and validated.
+    for path in &a.maps {
+        input::check_path(path).map_err(|e| e.to_string())?;
+    }
+    let maps = a
+        .maps
+        .iter()
+        .map(|path| {
+            let (map, rep) = input::load_map(path, a.sanitize).map_err(|e| e.to_string())?;
+            if rep.total() > 0 {
+                eprintln!(
+                    "{}: sanitised {} NaN, {} infinite, {} negative texel channels to 0",
+                    path.display(),
+                    rep.nan,
+                    rep.infinite,
+                    rep.negative
+                );
+            }
+            Ok((path.display().to_string(), map, rep.total()))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    // 3. The output folder.
+    let out = OutDir::claim(&a.out, force)?;
+    if let Some(p) = &prof {
+        let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
+        let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
+        println!(
+            "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes ({} image sets per map not computed or written){}",
+            p.name,
+            ids.len(),
+            ids.join(", "),
+            left.len(),
+            default.len(),
+            left.len() * per_mode,
+            if alphas.is_empty() {
+                "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()
+            } else {
+                format!("; specular at α {}", alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))
+            }
+        );
+    }
+    let gpu = if a.gpu_cost {
+        let g = probes::gpu_cost::measure(a.gpu_count, 10).map_err(|e| format!("--gpu-cost: {e}"))?;
+        eprintln!("GPU costs measured on {}{}", g.adapter, if g.software { " (a software adapter: not a GPU's figures)" } else { "" });
+        Some(g)
+    } else {
+        None
+    };
+    let mut reports = Vec::new();
+    for (label, map, sanitized) in maps {
+        reports.push(compare(&label, map, sanitized, &ids, a.repeats, dom, &alphas, a.specular_samples, sgi, spec_rt)?);
+    }
+    write_reports(&out, &mut reports, a.json, images, gpu.as_ref())
 }
 
 fn main() -> ExitCode {
@@ -406,118 +523,9 @@ fn main() -> ExitCode {
             println!("wrote {} ({}×{}, preset {p})", out.display(), width, width / 2);
             Ok(())
         })(),
-        Some(Cmd::Compare {
-            maps,
-            modes: m,
-            profile,
-            domain,
-            out,
-            json,
-            sanitize,
-            repeats,
-            alphas,
-            specular_samples,
-            no_specular,
-            sg_irradiance,
-            specular_runtime,
-            images,
-            gpu_cost,
-            gpu_count,
-        }) => (|| {
-            let sgi = match sg_irradiance.as_str() {
-                "auto" => modes::SgIrradiance::Auto,
-                "hill" => modes::SgIrradiance::Hill,
-                "peer" => modes::SgIrradiance::Peer,
-                "prior" => modes::SgIrradiance::Prior,
-                other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill`, `peer` or `prior`")),
-            };
-            let spec_rt = probes::specular::SpecularRuntime::parse(&specular_runtime)?;
-            let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
-            let (m, alphas) = match &prof {
-                Some(p) => (probes::profile::modes(p), probes::profile::alphas(p)),
-                None => (m, if no_specular { Vec::new() } else { alphas }),
-            };
-            if let Some(a) = alphas.iter().find(|a| !(a.is_finite() && **a >= 1e-4 && **a <= 1.0)) {
-                return Err(format!("--alphas: {a} is outside [1e-4, 1]"));
-            }
-            if specular_samples == 0 {
-                return Err("--specular-samples must be > 0".into());
-            }
-            let dom = match domain.as_str() {
-                "sphere" => sbf::Domain::Sphere,
-                "hemisphere" => sbf::Domain::UpperHemisphere,
-                other => return Err(format!("--domain {other}: expected `sphere` or `hemisphere`")),
-            };
-            if maps.is_empty() {
-                return Err("give at least one map (see --help)".into());
-            }
-            let default: &[&str] = if dom == sbf::Domain::Sphere { modes::DEFAULT_MODES } else { modes::HEMISPHERE_MODES };
-            let ids: Vec<String> = if m.is_empty() { default.iter().map(|s| s.to_string()).collect() } else { m };
-            for id in &ids {
-                if !modes::MODES.iter().any(|(x, _)| x == id) {
-                    return Err(format!("unknown mode '{id}' (see `probes list`)"));
-                }
-            }
-            if let Some(p) = &prof {
-                let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
-                let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
-                println!(
-                    "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes ({} image sets per map not computed or written){}",
-                    p.name,
-                    ids.len(),
-                    ids.join(", "),
-                    left.len(),
-                    default.len(),
-                    left.len() * per_mode,
-                    if alphas.is_empty() {
-                        "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()
-                    } else {
-                        format!("; specular at α {}", alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))
-                    }
-                );
-            }
-            let gpu = if gpu_cost {
-                if gpu_count == 0 {
-                    return Err("--gpu-count must be > 0".into());
-                }
-                let g = probes::gpu_cost::measure(gpu_count, 10).map_err(|e| format!("--gpu-cost: {e}"))?;
-                eprintln!(
-                    "GPU costs measured on {}{}",
-                    g.adapter,
-                    if g.software { " (a software adapter: not a GPU's figures)" } else { "" }
-                );
-                Some(g)
-            } else {
-                None
-            };
-            let mut reports = Vec::new();
-            for path in &maps {
-                let (map, rep) = input::load_map(path, sanitize).map_err(|e| e.to_string())?;
-                if rep.total() > 0 {
-                    eprintln!(
-                        "{}: sanitised {} NaN, {} infinite, {} negative texel channels to 0",
-                        path.display(),
-                        rep.nan,
-                        rep.infinite,
-                        rep.negative
-                    );
-                }
-                reports.push(compare(
-                    &path.display().to_string(),
-                    map,
-                    rep.total(),
-                    &ids,
-                    repeats,
-                    dom,
-                    &alphas,
-                    specular_samples,
-                    sgi,
-                    spec_rt,
-                )?);
-            }
-            write_reports(&out, &mut reports, json, &images, gpu.as_ref())
-        })(),
+        Some(Cmd::Compare(args)) => compare_command(args, cli.force),
         None => (|| {
+            let out = OutDir::claim(Path::new("probes-report"), cli.force)?;
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
@@ -533,7 +541,7 @@ fn main() -> ExitCode {
                 modes::SgIrradiance::Auto,
                 Default::default(),
             )?;
-            write_reports(Path::new("probes-report"), &mut [rep], false, "png", None)
+            write_reports(&out, &mut [rep], false, (true, false), None)
         })(),
     };
     match result {

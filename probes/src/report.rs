@@ -456,65 +456,65 @@ fn esc_html(s: &str) -> String {
 type Plot = (&'static str, String, &'static str, Vec<(String, f64, f64)>);
 
 /// PNG previews always; float EXRs when `exr`.
-pub fn write_images(dir: &std::path::Path, m: &MapReport, exr: bool) -> Result<(), String> {
+pub fn write_images(out: &crate::outdir::OutDir, m: &MapReport, exr: bool) -> Result<(), String> {
     use crate::images;
-    let d = dir.join(&m.slug);
+    let d = out.path().join(&m.slug);
     std::fs::create_dir_all(&d).map_err(|e| format!("creating {}: {e}", d.display()))?;
     let ev = images::auto_exposure(&m.reference);
     if exr {
-        images::write_exr(&d.join("reference_irradiance.exr"), m.grid, &m.reference)?;
+        images::write_exr(&out.file(d.join("reference_irradiance.exr")), m.grid, &m.reference)?;
     }
-    images::write_png(&d.join("reference_irradiance.png"), m.grid, &m.reference, ev)?;
+    images::write_png(&out.file(d.join("reference_irradiance.png")), m.grid, &m.reference, ev)?;
     // Each mode's images on its own task (encoding dominates; the files are distinct),
     // alongside the plots.
-    let (modes, plots) = rayon::join(|| write_mode_images(&d, m, exr, ev), || write_plots(&d, m));
+    let (modes, plots) = rayon::join(|| write_mode_images(out, &d, m, exr, ev), || write_plots(out, &d, m));
     modes?;
     plots
 }
 
 /// The images of every mode (and of the specular references) of one map.
-fn write_mode_images(d: &std::path::Path, m: &MapReport, exr: bool, ev: f64) -> Result<(), String> {
+fn write_mode_images(out: &crate::outdir::OutDir, d: &std::path::Path, m: &MapReport, exr: bool, ev: f64) -> Result<(), String> {
     use crate::images;
     use rayon::prelude::*;
     m.rows.par_iter().try_for_each(|r| -> Result<(), String> {
         let x = &r.result;
         if exr {
-            images::write_exr(&d.join(format!("{}_irradiance.exr", x.id)), m.grid, &x.irradiance)?;
+            images::write_exr(&out.file(d.join(format!("{}_irradiance.exr", x.id))), m.grid, &x.irradiance)?;
         }
-        images::write_png(&d.join(format!("{}_irradiance.png", x.id)), m.grid, &x.irradiance, ev)?;
+        images::write_png(&out.file(d.join(format!("{}_irradiance.png", x.id))), m.grid, &x.irradiance, ev)?;
         let err: Vec<[f64; 3]> = x.irradiance.iter().zip(&m.reference).map(|(a, b)| [0, 1, 2].map(|k| (a[k] - b[k]).abs())).collect();
-        images::write_png(&d.join(format!("{}_irradiance_error.png", x.id)), m.grid, &err, ev + 4.0)?;
+        images::write_png(&out.file(d.join(format!("{}_irradiance_error.png", x.id))), m.grid, &err, ev + 4.0)?;
         if let Some(rad) = &x.radiance {
             if exr {
-                images::write_exr(&d.join(format!("{}_radiance.exr", x.id)), m.grid, rad)?;
+                images::write_exr(&out.file(d.join(format!("{}_radiance.exr", x.id))), m.grid, rad)?;
             }
-            images::write_png(&d.join(format!("{}_radiance.png", x.id)), m.grid, rad, ev)?;
+            images::write_png(&out.file(d.join(format!("{}_radiance.png", x.id))), m.grid, rad, ev)?;
         }
         for ((a, _), img) in r.specular.iter().zip(&r.specular_images) {
             let Some(sr) = m.specular_reference.iter().find(|s| s.alpha == *a) else { continue };
             let sev = images::auto_exposure(&sr.image);
             let st = specular_stem(*a);
             if exr {
-                images::write_exr(&d.join(format!("{}_{st}.exr", x.id)), m.grid, img)?;
+                images::write_exr(&out.file(d.join(format!("{}_{st}.exr", x.id))), m.grid, img)?;
             }
-            images::write_png(&d.join(format!("{}_{st}.png", x.id)), m.grid, img, sev)?;
+            images::write_png(&out.file(d.join(format!("{}_{st}.png", x.id))), m.grid, img, sev)?;
             let err: Vec<[f64; 3]> = img.iter().zip(&sr.image).map(|(p, q)| [0, 1, 2].map(|k| (p[k] - q[k]).abs())).collect();
-            images::write_png(&d.join(format!("{}_{st}_error.png", x.id)), m.grid, &err, sev + 4.0)?;
+            images::write_png(&out.file(d.join(format!("{}_{st}_error.png", x.id))), m.grid, &err, sev + 4.0)?;
         }
         Ok(())
     })?;
     for sr in &m.specular_reference {
         let st = specular_stem(sr.alpha);
         if exr {
-            images::write_exr(&d.join(format!("reference_{st}.exr")), m.grid, &sr.image)?;
+            images::write_exr(&out.file(d.join(format!("reference_{st}.exr"))), m.grid, &sr.image)?;
         }
-        images::write_png(&d.join(format!("reference_{st}.png")), m.grid, &sr.image, images::auto_exposure(&sr.image))?;
+        images::write_png(&out.file(d.join(format!("reference_{st}.png"))), m.grid, &sr.image, images::auto_exposure(&sr.image))?;
     }
     Ok(())
 }
 
 /// The error-vs-samples plot and the three cost plots of one map, each on its own task.
-fn write_plots(d: &std::path::Path, m: &MapReport) -> Result<(), String> {
+fn write_plots(out: &crate::outdir::OutDir, d: &std::path::Path, m: &MapReport) -> Result<(), String> {
     use crate::images;
     use rayon::prelude::*;
     let series: Vec<(String, Vec<(f64, f64)>)> = m
@@ -528,7 +528,7 @@ fn write_plots(d: &std::path::Path, m: &MapReport) -> Result<(), String> {
             return Ok(());
         }
         images::lines(
-            &d.join("error_vs_samples.png"),
+            &out.file(d.join("error_vs_samples.png")),
             &format!("{}: per-sample encoders, irradiance error vs samples", m.path),
             "samples taken",
             "irradiance RMS (E/π)",
@@ -558,7 +558,9 @@ fn write_plots(d: &std::path::Path, m: &MapReport) -> Result<(), String> {
         ),
     ];
     let (a, b) = rayon::join(lines, || {
-        plots.par_iter().try_for_each(|(file, title, xlabel, p)| images::scatter(&d.join(file), title, xlabel, "irradiance RMS (E/π)", p))
+        plots
+            .par_iter()
+            .try_for_each(|(file, title, xlabel, p)| images::scatter(&out.file(d.join(file)), title, xlabel, "irradiance RMS (E/π)", p))
     });
     a.and(b)
 }

@@ -91,8 +91,17 @@ fn bad_inputs_are_clear_errors() {
     }
     let p = d.join("notes.txt");
     std::fs::write(&p, b"hello").unwrap();
-    cases.push((p, "unsupported format '.txt'"));
-    cases.push((d.join("missing.hdr"), "cannot decode"));
+    cases.push((p, "not a Radiance HDR or OpenEXR file (extension '.txt'"));
+    let p = d.join("png-in-disguise.hdr");
+    std::fs::write(&p, b"\x89PNG\r\n\x1a\n").unwrap();
+    cases.push((p, "not a Radiance HDR file"));
+    let p = d.join("png-in-disguise.exr");
+    std::fs::write(&p, b"\x89PNG\r\n\x1a\n").unwrap();
+    cases.push((p, "not an OpenEXR file"));
+    cases.push((d.join("missing.hdr"), "missing.hdr: not found"));
+    let p = d.join("a-folder.hdr");
+    std::fs::create_dir_all(&p).unwrap();
+    cases.push((p, "is a directory"));
     for (path, want) in &cases {
         let (ok, err) = run(path, &[]);
         assert!(!ok, "{} should fail", path.display());
@@ -102,5 +111,51 @@ fn bad_inputs_are_clear_errors() {
     // --sanitize turns the texel cases into successes and says how many were replaced.
     let (ok, err) = run(&d.join("nan.exr"), &["--sanitize"]);
     assert!(ok && err.contains("sanitised 1 NaN"), "{err}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// Bad input is found before any work: with a valid map of the tool's usual size first
+/// (whose default run takes seconds: the reference, 22 modes, specular at 5 α), a bad
+/// second map, a bad flag or an unusable output folder fails at once, and writes nothing.
+///
+/// Error model for the bound: the process start, argument parsing and decoding one 256×128
+/// map take ~10–30 ms here; the work that must not happen first takes > 1 s on this
+/// machine (the irradiance and specular references alone ≈ 0.4 s). 0.2 s (the issue's
+/// bound) lies between them with a margin of ≥ 5× on the fast side.
+#[test]
+fn bad_input_fails_before_any_work() {
+    let d = std::env::temp_dir().join(format!("probes-early-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let good = d.join("good.exr");
+    write_exr(&good, 256, 128, |x, y| [0.01 * x as f32, 0.02 * y as f32, 1.0]);
+    let bad = d.join("bad.hdr");
+    std::fs::write(&bad, b"not a map").unwrap();
+    let foreign = d.join("someone-elses");
+    std::fs::create_dir_all(&foreign).unwrap();
+    std::fs::write(foreign.join("notes.txt"), b"keep me").unwrap();
+    let file_out = d.join("a-file");
+    std::fs::write(&file_out, b"x").unwrap();
+    let out = d.join("never-written");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let cases: Vec<(Vec<String>, String)> = vec![
+        (vec![s(&good), s(&bad), "--out".into(), s(&out)], "bad.hdr: not a Radiance HDR file".into()),
+        (vec![s(&good), s(&d.join("gone.exr")), "--out".into(), s(&out)], "gone.exr: not found".into()),
+        (vec![s(&good), s(&d), "--out".into(), s(&out)], "is a directory".into()),
+        (vec![s(&good), "--images".into(), "jpg".into(), "--out".into(), s(&out)], "--images jpg".into()),
+        (vec![s(&good), "--alphas".into(), "2".into(), "--out".into(), s(&out)], "--alphas: 2 is outside".into()),
+        (vec![s(&good), "--out".into(), s(&foreign)], "no probes run wrote it".into()),
+        (vec![s(&good), "--out".into(), s(&file_out)], "exists and is not a folder".into()),
+    ];
+    for (args, want) in &cases {
+        let t = std::time::Instant::now();
+        let o = Command::new(env!("CARGO_BIN_EXE_probes")).arg("compare").args(args).output().unwrap();
+        let secs = t.elapsed().as_secs_f64();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: exit status {:?}, {err}", o.status.code());
+        assert!(err.contains(want.as_str()), "{args:?}: message '{err}' should say '{want}'");
+        assert!(secs < 0.2, "{args:?}: failed after {secs:.3} s, not before the work");
+        assert!(!out.exists(), "{args:?}: the output folder was created");
+    }
+    assert_eq!(std::fs::read_dir(&foreign).unwrap().count(), 1, "the foreign folder was written to");
     std::fs::remove_dir_all(&d).ok();
 }

@@ -228,3 +228,91 @@ fn decision_matches_brute_force_from_results_json() {
     }
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// Every file in the folder (relative, `/`-separated, sorted), the manifest excepted.
+fn files_in(dir: &std::path::Path) -> Vec<String> {
+    fn walk(root: &std::path::Path, d: &std::path::Path, out: &mut Vec<String>) {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                out.push(p.strip_prefix(root).unwrap().components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/"));
+            }
+        }
+    }
+    let mut v = Vec::new();
+    walk(dir, dir, &mut v);
+    v.retain(|f| f != probes::outdir::MANIFEST);
+    v.sort();
+    v
+}
+
+/// A run owns its folder: rerunning into it with fewer modes and another map leaves only
+/// the new run's files (exactly those its manifest lists), a foreign folder is written only
+/// with `--force`, and what was there before is kept.
+#[test]
+fn a_run_replaces_its_own_files_and_keeps_foreign_ones() {
+    let d = std::env::temp_dir().join(format!("probes-owns-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let (a, b) = (d.join("first.exr"), d.join("second.exr"));
+    for p in [&a, &b] {
+        run(&["env".as_ref(), "--width".as_ref(), "16".as_ref(), "--out".as_ref(), p.as_os_str()]);
+    }
+    let out = d.join("report");
+    let compare = |map: &std::path::Path, modes: &str, extra: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec!["compare".as_ref(), map.as_os_str(), "--modes".as_ref(), modes.as_ref()];
+        args.extend(["--alphas", "0.5", "--specular-samples", "8", "--repeats", "1", "--out"].map(std::ffi::OsStr::new));
+        args.push(out.as_os_str());
+        args.extend(extra.iter().map(std::ffi::OsStr::new));
+        run(&args);
+    };
+    let manifest = |dir: &std::path::Path| -> Vec<String> {
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(probes::outdir::MANIFEST)).unwrap()).unwrap();
+        v["files"].as_array().unwrap().iter().map(|f| f.as_str().unwrap().to_string()).collect()
+    };
+    compare(&a, "shl2,adrbf,sgls", &["--images", "exr"]);
+    let first = files_in(&out);
+    assert!(first.iter().any(|f| f == "first/sgls_irradiance.exr"), "{first:?}");
+    assert_eq!(manifest(&out), first, "the manifest lists every file written");
+    compare(&b, "shl2", &[]);
+    let second = files_in(&out);
+    assert_eq!(manifest(&out), second, "after the rerun the folder holds exactly the manifest's files");
+    assert!(second.iter().all(|f| !f.starts_with("first/")), "the first run's images are gone: {second:?}");
+    assert!(second.iter().any(|f| f == "second/shl2_irradiance.png"), "{second:?}");
+    assert!(!out.join("first").exists(), "the first run's emptied folder is removed");
+    // A folder someone else filled: refused, then written with --force, their file kept.
+    let foreign = d.join("foreign");
+    std::fs::create_dir_all(&foreign).unwrap();
+    std::fs::write(foreign.join("notes.txt"), b"keep").unwrap();
+    let refused = Command::new(env!("CARGO_BIN_EXE_probes"))
+        .args(["compare".as_ref(), a.as_os_str(), "--modes".as_ref(), "shl2".as_ref(), "--no-specular".as_ref(), "--out".as_ref()])
+        .arg(&foreign)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--force"));
+    run(&[
+        "compare".as_ref(),
+        a.as_os_str(),
+        "--modes".as_ref(),
+        "shl2".as_ref(),
+        "--no-specular".as_ref(),
+        "--force".as_ref(),
+        "--out".as_ref(),
+        foreign.as_os_str(),
+    ]);
+    run(&[
+        "compare".as_ref(),
+        b.as_os_str(),
+        "--modes".as_ref(),
+        "ac".as_ref(),
+        "--no-specular".as_ref(),
+        "--out".as_ref(),
+        foreign.as_os_str(),
+    ]);
+    assert_eq!(std::fs::read(foreign.join("notes.txt")).unwrap(), b"keep");
+    let left = files_in(&foreign);
+    assert_eq!(left.iter().filter(|f| f.as_str() != "notes.txt").cloned().collect::<Vec<_>>(), manifest(&foreign));
+    std::fs::remove_dir_all(&d).ok();
+}

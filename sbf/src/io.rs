@@ -14,8 +14,14 @@ use std::path::Path;
 /// Why a map could not be used.
 #[derive(Debug, Clone, PartialEq)]
 pub enum InputError {
+    /// Nothing at the path.
+    NotFound { path: String },
+    /// The path is a directory.
+    IsDirectory { path: String },
     /// Extension other than .hdr/.exr.
     UnsupportedFormat { path: String, extension: String },
+    /// The extension says one format, the first bytes say otherwise.
+    NotFormat { path: String, format: &'static str, expected: &'static str },
     /// The decoder rejected the file (truncated, corrupt, unreadable).
     Decode { path: String, message: String },
     /// Not a 2:1 lat-long map.
@@ -27,8 +33,16 @@ pub enum InputError {
 impl fmt::Display for InputError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            InputError::NotFound { path } => write!(f, "{path}: not found"),
+            InputError::IsDirectory { path } => write!(f, "{path}: is a directory (expected a lat-long .hdr or .exr file)"),
+            InputError::UnsupportedFormat { path, extension } if extension.is_empty() => {
+                write!(f, "{path}: not a Radiance HDR or OpenEXR file (no extension; expected a lat-long .hdr or .exr)")
+            }
             InputError::UnsupportedFormat { path, extension } => {
-                write!(f, "{path}: unsupported format '.{extension}' (expected a lat-long .hdr or .exr)")
+                write!(f, "{path}: not a Radiance HDR or OpenEXR file (extension '.{extension}'; expected a lat-long .hdr or .exr)")
+            }
+            InputError::NotFormat { path, format, expected } => {
+                write!(f, "{path}: not {format} file (it does not start with {expected})")
             }
             InputError::Decode { path, message } => write!(f, "{path}: cannot decode: {message}"),
             InputError::Aspect { path, width, height } => write!(f, "{path}: {width}×{height} is not a 2:1 lat-long map"),
@@ -60,13 +74,9 @@ impl SanitizeReport {
 /// Decodes, validates and (optionally) sanitises a lat-long map.
 pub fn load_map(path: &Path, sanitize: bool) -> Result<(LatLongImage, SanitizeReport), InputError> {
     let p = path.display().to_string();
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    let format = match ext.as_str() {
-        "hdr" => image::ImageFormat::Hdr,
-        "exr" => image::ImageFormat::OpenExr,
-        _ => return Err(InputError::UnsupportedFormat { path: p, extension: ext }),
-    };
+    let format = check_path(path)?;
     let bytes = std::fs::read(path).map_err(|e| InputError::Decode { path: p.clone(), message: e.to_string() })?;
+    check_magic(&p, format, &bytes)?;
     if format == image::ImageFormat::Hdr {
         check_hdr(&bytes).map_err(|message| InputError::Decode { path: p.clone(), message })?;
     }
@@ -81,6 +91,39 @@ pub fn load_map(path: &Path, sanitize: bool) -> Result<(LatLongImage, SanitizeRe
     let report = validate(&p, w, &mut texels, sanitize)?;
     let map = LatLongImage::new(w as usize, h as usize, texels).map_err(|e| InputError::Decode { path: p, message: e.to_string() })?;
     Ok((map, report))
+}
+
+/// What can be known of a map without decoding it: that the path exists, is a file, and
+/// has a map's extension (its format). Tools call it for every input before any work.
+pub fn check_path(path: &Path) -> Result<image::ImageFormat, InputError> {
+    let p = path.display().to_string();
+    match std::fs::metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(InputError::NotFound { path: p }),
+        Err(e) => return Err(InputError::Decode { path: p, message: e.to_string() }),
+        Ok(m) if m.is_dir() => return Err(InputError::IsDirectory { path: p }),
+        Ok(_) => {}
+    }
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    match ext.as_str() {
+        "hdr" => Ok(image::ImageFormat::Hdr),
+        "exr" => Ok(image::ImageFormat::OpenExr),
+        _ => Err(InputError::UnsupportedFormat { path: p, extension: ext }),
+    }
+}
+
+/// The format's signature: Radiance files start with `#?` (Ward, "Real Pixels", Graphics
+/// Gems II; the `#?RADIANCE` line), OpenEXR files with the magic number 20000630
+/// (0x76 0x2f 0x31 0x01, OpenEXR file layout).
+fn check_magic(path: &str, format: image::ImageFormat, bytes: &[u8]) -> Result<(), InputError> {
+    let (name, magic, expected): (&str, &[u8], &str) = match format {
+        image::ImageFormat::Hdr => ("a Radiance HDR", b"#?", "'#?'"),
+        _ => ("an OpenEXR", &[0x76, 0x2f, 0x31, 0x01], "the OpenEXR magic number"),
+    };
+    if bytes.starts_with(magic) {
+        Ok(())
+    } else {
+        Err(InputError::NotFormat { path: path.to_string(), format: name, expected })
+    }
 }
 
 /// Scans for NaN, ±Inf and negative values; errors on the first kind found (NaN, then
