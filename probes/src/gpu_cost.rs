@@ -56,13 +56,13 @@ pub fn kernel_of(id: &str) -> Option<&'static str> {
 impl GpuCosts {
     /// The GPU cost of a mode with the specular runtime `runtime` (None without a WGSL
     /// runtime). SH has one specular path whatever `runtime` says.
-    pub fn for_mode(&self, id: &str, runtime: crate::specular::SpecularRuntime) -> Option<GpuCost> {
+    pub fn for_mode(&self, id: &str, runtime: crate::modes::SpecularRuntime) -> Option<GpuCost> {
         let k = kernel_of(id)?;
         let ns = |signal: &str| {
             self.rows.iter().find(|r| r.name == k && r.signal == signal).map(|r| r.seconds_per_dispatch * 1e9 / r.count as f64)
         };
         let specular = match runtime {
-            crate::specular::SpecularRuntime::Table if !k.starts_with("SH") => shaders::bench::TABLE_SPECULAR,
+            crate::modes::SpecularRuntime::Table if !k.starts_with("SH") => shaders::bench::TABLE_SPECULAR,
             _ => "diffuse + specular",
         };
         Some(GpuCost { kernel: k.to_string(), ns: ns("diffuse")?, specular_ns: ns(specular), adapter: self.adapter.clone() })

@@ -10,12 +10,14 @@
 pub mod azimuthal;
 pub mod cost;
 pub mod decide;
+pub mod decision_text;
 pub mod gpu_cost;
 pub mod images;
 /// Map loading lives in `sbf::io` (shared with the baker); re-exported under its old name.
 pub use sbf::io as input;
 pub mod metrics;
 pub mod modes;
+pub mod outcome;
 pub mod outdir;
 pub mod profile;
 pub mod reference;

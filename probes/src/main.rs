@@ -370,7 +370,14 @@ fn write_reports(
     unique_slugs(maps);
     // The previous run's files go first, so the folder holds this run's files only.
     out.remove_previous()?;
-    let results: Vec<probes::results::MapResults> = maps.iter().map(|m| probes::results::from_report(m, exr, gpu)).collect();
+    let results: Vec<probes::results::MapResults> = maps
+        .iter()
+        .map(|m| {
+            let mut r = probes::results::from_report(m, exr, gpu);
+            r.decision = probes::decide::decide(&r);
+            r
+        })
+        .collect();
     let json = probes::results::to_json(&results);
     let md = report::markdown(maps, &results, png);
     let write = |name: &str, text: &str| std::fs::write(out.file(out.path().join(name)), text).map_err(|e| format!("writing {name}: {e}"));
@@ -390,7 +397,9 @@ fn write_reports(
         print!("{json}");
     } else {
         for r in &results {
-            println!("{}", report::summary_line(r));
+            for line in report::summary_lines(r) {
+                println!("{line}");
+            }
         }
         println!(
             "wrote {0}/report.md (decision tables first), {0}/report.html, {0}/results.json{1}",

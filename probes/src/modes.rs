@@ -36,7 +36,7 @@ pub struct Context {
     /// How the 12-lobe SG modes turn lobes into irradiance.
     pub sg_irradiance: SgIrradiance,
     /// The specular runtime path of the SG and AD modes.
-    pub specular_runtime: crate::specular::SpecularRuntime,
+    pub specular_runtime: SpecularRuntime,
     /// Seconds it took to make `irradiance` (charged to the modes that fit it).
     pub reference_s: f64,
     /// Evaluations per direction in the cost measurement (1; the cost-axis test sets 2 as
@@ -87,6 +87,38 @@ impl SgIrradiance {
             8.5
         } else {
             3.0
+        }
+    }
+}
+
+/// The runtime path of the lobe modes (SG and Ambient Dice); SH always uses its zonal
+/// convolution with the DFG.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SpecularRuntime {
+    /// Per-lobe GGX response tables (`sbf::recon::lobe_ggx`, 4D over (n·v, √α, γ, ψ)):
+    /// interpolation is the only approximation.
+    #[default]
+    Table,
+    /// The closed-form fits: SG through the ASG warp (Xu et al. 2013, Pettineo), AD through
+    /// seed Listing 8.1 × the 2D LUT of Listing 8.2.
+    Fit,
+}
+
+impl SpecularRuntime {
+    /// Parses `table` or `fit`.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "table" => Ok(SpecularRuntime::Table),
+            "fit" => Ok(SpecularRuntime::Fit),
+            other => Err(format!("--specular-runtime {other}: expected `table` or `fit`")),
+        }
+    }
+
+    /// One line for the report.
+    pub fn describe(&self) -> &'static str {
+        match self {
+            SpecularRuntime::Table => "SG and AD lobes through per-lobe GGX response tables (luts/lobe_ggx_*.sbflut: 4D over n·v, √α and the lobe axis about the mirror direction, multilinear; table error in luts/MANIFEST); SH by its zonal GGX convolution × DFG",
+            SpecularRuntime::Fit => "SG lobes through the ASG warp (Xu et al. 2013, as Pettineo), AD lobes through seed Listing 8.1 × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
         }
     }
 }
@@ -160,6 +192,8 @@ pub struct ModeResult {
     pub encode_s: f64,
     /// Encode runs timed: `--repeats`, or fewer once they took [`ENCODE_BUDGET_S`].
     pub encode_runs: usize,
+    /// The fastest and slowest of those runs, seconds.
+    pub encode_range_s: [f64; 2],
     /// The mode fits the exact irradiance image, not the radiance map: its encode is
     /// charged [`Context::reference_s`] on top (see [`ModeResult::encode_total_s`]).
     pub needs_reference: bool,
@@ -294,10 +328,12 @@ impl ModeResult {
 /// length), and repeating it only lengthens the run on large maps.
 pub const ENCODE_BUDGET_S: f64 = 0.1;
 
-/// An encode's timing: the median of `runs` runs.
+/// An encode's timing: the median of `runs` runs, and the fastest and slowest.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Timing {
     pub median_s: f64,
+    pub min_s: f64,
+    pub max_s: f64,
     pub runs: usize,
 }
 
@@ -314,7 +350,10 @@ fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, Timing) {
             times.push(t.elapsed().as_secs_f64());
         }
         times.sort_by(f64::total_cmp);
-        (out.expect("ran at least once"), Timing { median_s: times[times.len() / 2], runs: times.len() })
+        (
+            out.expect("ran at least once"),
+            Timing { median_s: times[times.len() / 2], min_s: times[0], max_s: times[times.len() - 1], runs: times.len() },
+        )
     })
 }
 
@@ -510,6 +549,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             wgsl_irradiance: true,
             encode_s: encode.median_s,
             encode_runs: encode.runs,
+            encode_range_s: [encode.min_s, encode.max_s],
             needs_reference: false,
             eval: Default::default(),
             coefficients,

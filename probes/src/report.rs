@@ -1,170 +1,49 @@
-//! Reports: `results.json` (machine-readable) and `report.md` (a table per signal).
+//! Reports: `report.md` (the decision section first, then a table per signal),
+//! `report.html` (the same with the interactive view, [`crate::viewer`]) and each map's
+//! images and plots. Renders what [`crate::outcome`] and [`crate::results`] hold; decides
+//! nothing.
 
-use crate::metrics::Metrics;
-use crate::modes::ModeResult;
+pub use crate::outcome::{specular_stem, MapReport, Row, SpecularReference, StageTimes};
 use std::fmt::Write;
 
-/// One mode's result with its metrics.
-#[derive(Debug, Clone)]
-pub struct Row {
-    pub result: ModeResult,
-    pub radiance: Option<Metrics>,
-    pub irradiance: Metrics,
-    /// (α, metrics) of the GGX specular signal, for modes that reconstruct it.
-    pub specular: Vec<(f64, Metrics)>,
-    /// The specular images, parallel to `specular`.
-    pub specular_images: Vec<Vec<[f64; 3]>>,
-    /// (α, basis-limited RMS, runtime RMS): the exact GGX integral of the mode's
-    /// reconstructed radiance against the reference, and the runtime path against that.
-    pub specular_parts: Vec<(f64, f64, f64)>,
-    /// Steady-state CPU cost of the specular runtime path (modes that have one).
-    pub specular_cost: Option<crate::cost::CostStat>,
-}
-
-/// The specular reference for one roughness.
-#[derive(Debug, Clone)]
-pub struct SpecularReference {
-    pub alpha: f64,
-    pub image: Vec<[f64; 3]>,
-    /// Estimated RMS error (vs 16× the samples on a texel subset) and the signal's RMS there.
-    pub error_rms: f64,
-    pub signal_rms: f64,
-    pub texels_checked: usize,
-}
-
-/// Everything about one map.
-#[derive(Debug, Clone)]
-pub struct MapReport {
-    pub path: String,
-    pub width: usize,
-    pub height: usize,
-    pub domain: &'static str,
-    pub reference_method: String,
-    pub sanitized: usize,
-    pub rows: Vec<Row>,
-    /// How the specular references were computed ("" when no α was requested).
-    pub specular_method: String,
-    /// The lobe modes' specular runtime path ("" when no α was requested).
-    pub specular_runtime: String,
-    /// That runtime (it also picks the GPU kernel of `--gpu-cost`).
-    pub runtime: crate::specular::SpecularRuntime,
-    /// Visible-normal samples per texel of the specular references.
-    pub specular_samples: u32,
-    pub specular_reference: Vec<SpecularReference>,
-    /// Output grid and the reference irradiance on it (for the images).
-    pub grid: sbf::envmap::LatLong,
-    pub reference: Vec<[f64; 3]>,
-    /// The map's radiance at the output texel centres (bilinear; for the interactive view).
-    pub radiance: Vec<[f64; 3]>,
-    /// Folder name of this map's images inside the report folder.
-    pub slug: String,
-    /// Wall time of each stage.
-    pub stages: StageTimes,
-}
-
-/// Wall time of each stage of one map's comparison, seconds.
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct StageTimes {
-    /// The exact irradiance reference (and the map's samples).
-    pub reference_irradiance: f64,
-    /// Every α's specular reference with its error check.
-    pub specular_reference: f64,
-    /// Every mode: encode (repeats), reconstruction images, specular images.
-    pub modes: f64,
-    /// Basis-limited specular images of every mode and α.
-    pub specular_decomposition: f64,
-    /// Every mode's steady-state CPU costs, measured side by side ([`crate::cost`]).
-    #[serde(default)]
-    pub costs: f64,
-}
-
-/// File stem of a specular image for roughness α (`specular_a0.4`).
-pub fn specular_stem(alpha: f64) -> String {
-    format!("specular_a{alpha}")
-}
-
-/// The decision section of one map: per signal, the best mode within each budget of
-/// storage (rows) and CPU cost (columns), and the Pareto fronts.
+/// The decision section of one map: per signal, the recommendation, the best mode within
+/// each budget of storage (rows) and CPU cost tier (columns), the tiers and the fronts.
 pub fn decision_markdown(r: &crate::results::MapResults) -> String {
+    use crate::decision_text as dt;
     let mut s = String::new();
     for sd in &r.decision.signals {
         let _ = write!(
             s,
-            "\n**{}** — best mode (lowest RMS) within a budget of storage per probe (f32) and CPU reconstruction cost:\n\n| ≤ bytes |",
-            sd.signal
+            "\n**{}**\n\nBest mode (lowest error, as % of the reference's RMS) within a budget of storage per probe (f32) and CPU cost tier:\n\n",
+            dt::recommendation(r, sd, dt::md_code)
         );
-        for t in &sd.budget.ns {
-            match t {
-                Some(t) => {
-                    let _ = write!(s, " ≤ {t} ns |");
-                }
-                None => s.push_str(" any cost |"),
-            }
+        let (head, rows) = dt::budget_cells(sd, dt::md_code);
+        let _ = writeln!(s, "| {} |\n|{}", head.join(" | "), "---|".repeat(head.len()));
+        for (label, cells) in rows {
+            let _ = writeln!(s, "| {label} | {} |", cells.join(" | "));
         }
-        s.push_str("\n|---|");
-        s.push_str(&"---|".repeat(sd.budget.ns.len()));
-        s.push('\n');
-        for (b, row) in sd.budget.bytes.iter().zip(&sd.budget.best) {
-            let _ = write!(s, "| {b} |");
-            for cell in row {
-                match cell {
-                    Some(p) => {
-                        let _ = write!(s, " `{}` {:.3e} |", p.id, p.error);
-                    }
-                    None => s.push_str(" — |"),
-                }
-            }
-            s.push('\n');
-        }
-        for f in &sd.fronts {
-            let unit = match f.axis.as_str() {
-                "storage_bytes" => "bytes",
-                "eval_ns" => "ns",
-                "gpu_ns" => "GPU ns",
-                _ => "s encode",
-            };
-            let pts: Vec<String> = f.points.iter().map(|p| format!("`{}` ({} {unit}, {:.3e})", p.id, fmt_cost(p.cost), p.error)).collect();
-            let _ = writeln!(s, "\nPareto front, error vs {}: {}", f.axis, pts.join(" → "));
+        let _ = writeln!(s, "\n{}", dt::tier_legend(r, sd, dt::md_code));
+        for line in dt::front_lines(sd, dt::md_code) {
+            let _ = writeln!(s, "\n{line}");
         }
     }
     s
 }
 
-fn fmt_cost(x: f64) -> String {
-    if x >= 100.0 || x == x.round() {
-        format!("{x:.0}")
-    } else if x >= 1.0 {
-        format!("{x:.1}")
-    } else {
-        format!("{x:.2e}")
-    }
-}
-
-/// One line per map for the terminal: the best irradiance mode overall and the best within
-/// the smallest storage budget, with the fronts' sizes.
-pub fn summary_line(r: &crate::results::MapResults) -> String {
-    let Some(irr) = r.decision.signals.first() else { return format!("{}: no candidates", r.map.path) };
-    let overall = irr.budget.best.last().and_then(|row| row.last().cloned().flatten());
-    let small = irr.budget.best.first().and_then(|row| row.last().cloned().flatten());
-    let f = |p: Option<crate::decide::Point>| p.map_or("—".to_string(), |p| format!("{} (RMS {:.3e})", p.id, p.error));
-    let spec = r.decision.signals.iter().skip(1).map(|sd| {
-        let best = sd.budget.best.last().and_then(|row| row.last().cloned().flatten());
-        format!("{}: {}", sd.signal, best.map_or("—".into(), |p| p.id))
-    });
-    let spec: Vec<String> = spec.collect();
-    format!(
-        "{}: irradiance best {}, best in {} bytes {}{}",
-        r.map.path,
-        f(overall),
-        irr.budget.bytes.first().copied().unwrap_or(0),
-        f(small),
-        if spec.is_empty() { String::new() } else { format!("; {}", spec.join(", ")) }
-    )
+/// The terminal's lines for one map: a recommendation per signal.
+pub fn summary_lines(r: &crate::results::MapResults) -> Vec<String> {
+    use crate::decision_text as dt;
+    r.decision.signals.iter().map(|sd| format!("{} {}", r.map.path, dt::recommendation(r, sd, dt::plain))).collect()
 }
 
 /// `report.md`: per map, the decision section, then the tables of errors and costs.
 pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], images: bool) -> String {
-    let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (median of 5 passes over ≥ 16 384 directions, spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it).\n");
+    let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (every mode's evaluation measured side by side: the median of 15 rounds of one pass per mode; spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it). Decisions compare cost tiers — modes whose costs overlap within their spread are one tier — so they hold from run to run. A recommendation is the cheapest mode on the CPU front whose error is within 25 % of the best.\n\n## Recommendations\n\n");
+    for res in results {
+        for sd in &res.decision.signals {
+            let _ = writeln!(s, "- {}: {}", res.map.path, crate::decision_text::recommendation(res, sd, crate::decision_text::md_code));
+        }
+    }
     for (m, res) in maps.iter().zip(results) {
         let _ = write!(s, "\n## {} — which basis\n", m.path);
         if let Some(g) = res.modes.iter().find_map(|m| m.cost.gpu.as_ref()) {
@@ -329,33 +208,44 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
 
 /// `report.html`: the markdown table's content with the irradiance and error images.
 pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
-    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}img.s{width:128px}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p>");
+    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}img.s{width:128px}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
+    for res in results {
+        for sd in &res.decision.signals {
+            let _ = write!(
+                s,
+                "<li>{}: {}</li>",
+                esc_html(&res.map.path),
+                crate::decision_text::recommendation(res, sd, |id| format!("<code>{id}</code>"))
+            );
+        }
+    }
+    s.push_str("</ul>");
     for (i, (m, res)) in maps.iter().zip(results).enumerate() {
         let _ = write!(s, "<h2>{} — which basis</h2>", esc_html(&m.path));
         s.push_str(&crate::viewer::section(i));
         for sd in &res.decision.signals {
-            let _ = write!(s, "<h3>{}</h3><p>Best mode (lowest RMS) within a budget of storage per probe (f32, rows) and CPU reconstruction cost (columns):</p><table><tr><th>≤ bytes</th>", esc_html(&sd.signal));
-            for t in &sd.budget.ns {
-                let _ = write!(s, "<th>{}</th>", t.map_or("any cost".to_string(), |t| format!("≤ {t} ns")));
+            use crate::decision_text as dt;
+            let code: fn(&str) -> String = |id| format!("<code>{id}</code>");
+            let _ = write!(
+                s,
+                "<h3>{}</h3><p>Best mode (lowest error, as % of the reference's RMS) within a budget of storage per probe (f32, rows) and CPU cost tier (columns):</p><table><tr>",
+                dt::recommendation(res, sd, code)
+            );
+            let (head, rows) = dt::budget_cells(sd, code);
+            for h in head {
+                let _ = write!(s, "<th>{}</th>", esc_html(&h));
             }
             s.push_str("</tr>");
-            for (b, row) in sd.budget.bytes.iter().zip(&sd.budget.best) {
-                let _ = write!(s, "<tr><td>{b}</td>");
-                for cell in row {
-                    match cell {
-                        Some(p) => {
-                            let _ = write!(s, "<td><code>{}</code> {:.3e}</td>", p.id, p.error);
-                        }
-                        None => s.push_str("<td>—</td>"),
-                    }
+            for (label, cells) in rows {
+                let _ = write!(s, "<tr><td>{label}</td>");
+                for c in cells {
+                    let _ = write!(s, "<td>{c}</td>");
                 }
                 s.push_str("</tr>");
             }
-            s.push_str("</table><ul>");
-            for f in &sd.fronts {
-                let pts: Vec<String> =
-                    f.points.iter().map(|p| format!("<code>{}</code> ({}, {:.3e})", p.id, fmt_cost(p.cost), p.error)).collect();
-                let _ = write!(s, "<li>Pareto front, error vs {}: {}</li>", f.axis, pts.join(" → "));
+            let _ = write!(s, "</table><p>{}</p><ul>", dt::tier_legend(res, sd, code));
+            for line in dt::front_lines(sd, code) {
+                let _ = write!(s, "<li>{line}</li>");
             }
             s.push_str("</ul>");
         }

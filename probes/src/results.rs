@@ -6,7 +6,7 @@
 
 use crate::cost::CostStat;
 use crate::metrics::Metrics;
-use crate::report::{specular_stem, MapReport, StageTimes};
+use crate::outcome::{specular_stem, MapReport, StageTimes};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -41,7 +41,7 @@ pub struct MapResults {
     pub stage_seconds: StageTimes,
     pub modes: Vec<ModeRecord>,
     /// Pareto fronts and budget tables ([`crate::decide`]).
-    pub decision: crate::decide::Decision,
+    pub decision: Decision,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -174,6 +174,9 @@ pub struct Cost {
     /// Runs timed for that median (`--repeats`, fewer once the runs took 0.1 s).
     #[serde(default)]
     pub encode_runs: usize,
+    /// `encode_total_s` of the fastest and the slowest run.
+    #[serde(default)]
+    pub encode_total_range_s: [f64; 2],
     /// Encode time from the radiance map: `encode_s` plus, for modes that fit the
     /// irradiance reference, the time it took to make it.
     pub encode_total_s: f64,
@@ -218,7 +221,7 @@ fn pair(folder: &str, stem: &str, exr: bool) -> ImagePair {
     ImagePair { png: format!("{folder}/{stem}.png"), exr: exr.then(|| format!("{folder}/{stem}.exr")) }
 }
 
-/// The results of one map (the decision section computed from them).
+/// The results of one map, its decision section empty ([`crate::decide::decide`] fills it).
 pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCosts>) -> MapResults {
     let f = &m.slug;
     let modes = m
@@ -250,6 +253,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                     encode_input: if x.needs_reference { "irradiance reference" } else { "radiance map" }.into(),
                     encode_s: x.encode_s,
                     encode_runs: x.encode_runs,
+                    encode_total_range_s: x.encode_range_s.map(|e| e + (x.encode_total_s(m.stages.reference_irradiance) - x.encode_s)),
                     encode_total_s: x.encode_total_s(m.stages.reference_irradiance),
                     eval: x.eval,
                     specular_eval: r.specular_cost,
@@ -274,7 +278,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
             }
         })
         .collect::<Vec<_>>();
-    let mut out = MapResults {
+    MapResults {
         map: MapInfo { path: m.path.clone(), width: m.width, height: m.height, sanitized_texels: m.sanitized, folder: f.clone() },
         domain: m.domain.to_string(),
         reference: ReferenceInfo {
@@ -301,9 +305,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
         stage_seconds: m.stages,
         modes,
         decision: Default::default(),
-    };
-    out.decision = crate::decide::decide(&out);
-    out
+    }
 }
 
 /// `results.json` text for several maps.
@@ -314,4 +316,81 @@ pub fn to_json(maps: &[MapResults]) -> String {
 /// Reads `results.json` text.
 pub fn from_json(text: &str) -> Result<Vec<MapResults>, String> {
     serde_json::from_str(text).map_err(|e| format!("results.json: {e}"))
+}
+
+// The decision section's records ([`crate::decide`] computes them from the rest; they hold
+// no measured time, only mode ids, errors, storage and cost tiers, so repeated runs write
+// them byte for byte the same).
+
+/// Every signal's decision for one map.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Decision {
+    pub signals: Vec<SignalDecision>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SignalDecision {
+    /// `irradiance`, or `specular α=<α>`.
+    pub signal: String,
+    /// The mode to use when nothing else is known ([`crate::decide`]); `None` without
+    /// candidates.
+    pub recommended: Option<Recommendation>,
+    /// Per timed axis, the candidates grouped into cost tiers (cheapest first): modes in one
+    /// tier cost the same within the measurement's spread.
+    pub tiers: Vec<Tiers>,
+    /// One front per cost axis.
+    pub fronts: Vec<Front>,
+    pub budget: Budget,
+}
+
+/// The cost axes; `gpu_ns` only where the run measured GPU costs (`--gpu-cost`), over
+/// the modes that have a WGSL runtime.
+pub const AXES: [&str; 4] = ["storage_bytes", "eval_ns", "encode_total_s", "gpu_ns"];
+
+/// The recommendation of one signal and the front point just cheaper than it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Recommendation {
+    #[serde(flatten)]
+    pub mode: Point,
+    pub next_cheaper: Option<Point>,
+}
+
+/// The cost tiers of one timed axis: `tiers[k]` are the ids of tier k + 1, by id.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Tiers {
+    /// One of [`AXES`] (not `storage_bytes`, which is exact).
+    pub axis: String,
+    pub tiers: Vec<Vec<String>>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Front {
+    /// One of [`AXES`].
+    pub axis: String,
+    /// The front, by increasing cost (and so decreasing error): at most one mode per tier.
+    pub points: Vec<Point>,
+}
+
+/// A mode in a decision: its error (RMS, and as % of the reference signal's RMS), its
+/// storage and its CPU cost tier.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Point {
+    pub id: String,
+    pub error: f64,
+    pub error_percent: f64,
+    pub bytes: usize,
+    /// CPU cost tier (1 = cheapest), see [`Tiers`].
+    pub cpu_tier: usize,
+}
+
+/// Best mode (lowest RMS) within each budget of storage and CPU cost tier.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Budget {
+    /// Storage budgets (rows): the distinct storage sizes of the candidates, bytes.
+    pub bytes: Vec<usize>,
+    /// CPU budgets (columns): "costs no more than tier k" (1 = cheapest); a tier that
+    /// changes no cell of the table is left out; the last column is every tier.
+    pub cpu_tiers: Vec<usize>,
+    /// `best[row][column]`: the winning mode, if any mode fits.
+    pub best: Vec<Vec<Option<Point>>>,
 }

@@ -13,6 +13,7 @@
 //! Dice SRBF lobes by the seed's fit (Listing 8.1) times the committed 2D LUT
 //! (Listing 8.2). Other modes store irradiance, not radiance, and have no specular.
 
+pub use crate::modes::SpecularRuntime;
 use crate::modes::{Context, ModeResult};
 use rayon::prelude::*;
 use sbf::envmap::{LatLong, LatLongImage};
@@ -348,38 +349,6 @@ fn is_sg(id: &str) -> bool {
 }
 fn is_ad(id: &str) -> bool {
     matches!(id, "adrbf" | "adrbf-tangent" | "ad9" | "adpls" | "adpnnls")
-}
-
-/// The runtime path of the lobe modes (SG and Ambient Dice); SH always uses its zonal
-/// convolution with the DFG.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum SpecularRuntime {
-    /// Per-lobe GGX response tables (`sbf::recon::lobe_ggx`, 4D over (n·v, √α, γ, ψ)):
-    /// interpolation is the only approximation.
-    #[default]
-    Table,
-    /// The closed-form fits: SG through the ASG warp (Xu et al. 2013, Pettineo), AD through
-    /// seed Listing 8.1 × the 2D LUT of Listing 8.2.
-    Fit,
-}
-
-impl SpecularRuntime {
-    /// Parses `table` or `fit`.
-    pub fn parse(s: &str) -> Result<Self, String> {
-        match s {
-            "table" => Ok(SpecularRuntime::Table),
-            "fit" => Ok(SpecularRuntime::Fit),
-            other => Err(format!("--specular-runtime {other}: expected `table` or `fit`")),
-        }
-    }
-
-    /// One line for the report.
-    pub fn describe(&self) -> &'static str {
-        match self {
-            SpecularRuntime::Table => "SG and AD lobes through per-lobe GGX response tables (luts/lobe_ggx_*.sbflut: 4D over n·v, √α and the lobe axis about the mirror direction, multilinear; table error in luts/MANIFEST); SH by its zonal GGX convolution × DFG",
-            SpecularRuntime::Fit => "SG lobes through the ASG warp (Xu et al. 2013, as Pettineo), AD lobes through seed Listing 8.1 × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
-        }
-    }
 }
 
 /// Whether a mode reconstructs specular.

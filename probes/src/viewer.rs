@@ -9,7 +9,7 @@
 //! visible normal n, rotated by the drag; lat-long lookup and tone mapping (Reinhard,
 //! gamma 2.2, exposure from the reference per signal) as in the PNG previews.
 
-use crate::report::MapReport;
+use crate::outcome::MapReport;
 use sbf::envmap::LatLong;
 use std::fmt::Write;
 

@@ -147,11 +147,14 @@ fn equal_names_get_their_own_folders_and_exr_on_request() {
     std::fs::remove_dir_all(&d).ok();
 }
 
-/// The decision section against brute force, on a real run's results.json: every front
-/// point is dominated by no candidate, every other candidate is dominated by (or equal to)
-/// a front point, and every budget cell holds the lowest error among the candidates that
-/// fit. Mutations tried: a front that keeps points up to 1.5× the last error, a budget using
-/// `<` for the byte limit — both fail here.
+/// The decision section against brute force, on a real run's results.json: the CPU tiers
+/// partition the candidates, cheapest first, and no tier's cost interval starts beyond its
+/// anchor's; every front point is dominated by no candidate in (tier or bytes, error), every
+/// other candidate is dominated by or equal to a front point; every budget cell holds the
+/// lowest error among the candidates that fit; the recommendation is the cheapest front
+/// point within 25 % of the best error. Mutations tried: a front that keeps points up to 1.5×
+/// the last error, a budget using `<` for the byte limit, tiers merged by chained overlap,
+/// a recommendation within 2× — each fails here.
 #[test]
 fn decision_matches_brute_force_from_results_json() {
     let d = std::env::temp_dir().join(format!("probes-decide-{}", std::process::id()));
@@ -179,33 +182,65 @@ fn decision_matches_brute_force_from_results_json() {
     assert_eq!(probes::decide::decide(r), r.decision);
     assert_eq!(r.decision.signals.len(), 2, "irradiance and specular α=0.3");
     for sd in &r.decision.signals {
-        // Candidates by brute force: (id, error, [bytes, ns, encode s]).
-        let cands: Vec<(String, f64, [f64; 3])> = r
+        // Candidates: (id, error, bytes, CPU interval [lo, hi] widened as documented).
+        let floor = probes::decide::NOISE_FLOOR;
+        let cands: Vec<(String, f64, usize, (f64, f64))> = r
             .modes
             .iter()
             .filter_map(|m| {
-                let (err, ns) = if sd.signal == "irradiance" {
-                    (m.metrics.irradiance.rms, m.cost.eval.median_ns)
+                let (err, c) = if sd.signal == "irradiance" {
+                    (m.metrics.irradiance.rms, m.cost.eval)
                 } else {
-                    (m.metrics.specular.get("0.3")?.metrics.rms, m.cost.specular_eval?.median_ns)
+                    (m.metrics.specular.get("0.3")?.metrics.rms, m.cost.specular_eval?)
                 };
-                Some((m.id.clone(), err, [m.cost.storage_bytes as f64, ns, m.cost.encode_total_s]))
+                let mid = (c.low_ns * c.high_ns).sqrt();
+                Some((m.id.clone(), err, m.cost.storage_bytes, (c.low_ns.min(mid / (1.0 + floor)), c.high_ns.max(mid * (1.0 + floor)))))
             })
             .collect();
         // 9 modes with irradiance; 6 of them store radiance and have specular.
         assert_eq!(cands.len(), if sd.signal == "irradiance" { 9 } else { 6 }, "{}", sd.signal);
-        let dominates = |a: &(String, f64, [f64; 3]), b: &(String, f64, [f64; 3]), k: usize| {
-            a.2[k] <= b.2[k] && a.1 <= b.1 && (a.2[k] < b.2[k] || a.1 < b.1)
-        };
-        for (k, f) in sd.fronts.iter().enumerate() {
+        let tiers = &sd.tiers.iter().find(|t| t.axis == "eval_ns").expect("CPU tiers").tiers;
+        let tier_of = |id: &str| tiers.iter().position(|g| g.iter().any(|x| x == id)).expect("every candidate has a tier") + 1;
+        let mut seen: Vec<&String> = tiers.iter().flatten().collect();
+        seen.sort();
+        seen.dedup();
+        assert_eq!(seen.len(), cands.len(), "{}: the tiers partition the candidates", sd.signal);
+        let iv = |id: &str| cands.iter().find(|c| c.0 == id).unwrap().3;
+        for (k, g) in tiers.iter().enumerate() {
+            let anchor = g.iter().map(|id| iv(id)).min_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
+            for id in g {
+                assert!(iv(id).0 <= anchor.1, "{}: {id} starts beyond its tier's anchor", sd.signal);
+            }
+            if let Some(next) = tiers.get(k + 1) {
+                for id in next {
+                    assert!(iv(id).0 > anchor.1, "{}: {id} of tier {} starts inside tier {}'s anchor", sd.signal, k + 2, k + 1);
+                }
+            }
+        }
+        // Fronts: dominance in (cost rank, error), rank = bytes or CPU tier.
+        for f in &sd.fronts {
+            let rank = |c: &(String, f64, usize, (f64, f64))| -> Option<f64> {
+                match f.axis.as_str() {
+                    "storage_bytes" => Some(c.2 as f64),
+                    "eval_ns" => Some(tier_of(&c.0) as f64),
+                    _ => None,
+                }
+            };
+            if rank(&cands[0]).is_none() {
+                continue;
+            }
             let on: Vec<&str> = f.points.iter().map(|p| p.id.as_str()).collect();
+            let dominates = |a: &(String, f64, usize, (f64, f64)), b: &(String, f64, usize, (f64, f64))| {
+                let (ra, rb) = (rank(a).unwrap(), rank(b).unwrap());
+                ra <= rb && a.1 <= b.1 && (ra < rb || a.1 < b.1)
+            };
             for c in &cands {
-                let dominated = cands.iter().any(|o| dominates(o, c, k));
+                let dominated = cands.iter().any(|o| dominates(o, c));
                 if on.contains(&c.0.as_str()) {
                     assert!(!dominated, "{} {}: {} is on the front but dominated", sd.signal, f.axis, c.0);
                 } else {
                     assert!(
-                        dominated || cands.iter().any(|o| on.contains(&o.0.as_str()) && o.1 == c.1 && o.2[k] == c.2[k]),
+                        dominated || cands.iter().any(|o| on.contains(&o.0.as_str()) && o.1 == c.1 && rank(o) == rank(c)),
                         "{} {}: {} is missing from the front",
                         sd.signal,
                         f.axis,
@@ -214,17 +249,24 @@ fn decision_matches_brute_force_from_results_json() {
                 }
             }
         }
+        // Budget cells.
         for (bi, b) in sd.budget.bytes.iter().enumerate() {
-            for (ti, t) in sd.budget.ns.iter().enumerate() {
-                let fit: Vec<&(String, f64, [f64; 3])> =
-                    cands.iter().filter(|c| c.2[0] <= *b as f64 && t.is_none_or(|t| c.2[1] <= t)).collect();
+            for (ti, t) in sd.budget.cpu_tiers.iter().enumerate() {
+                let fit: Vec<_> = cands.iter().filter(|c| c.2 <= *b && tier_of(&c.0) <= *t).collect();
                 let want = fit.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
                 match &sd.budget.best[bi][ti] {
-                    Some(p) => assert_eq!(p.error, want, "{} ≤ {b} B, {t:?} ns", sd.signal),
-                    None => assert!(fit.is_empty(), "{} ≤ {b} B, {t:?} ns: {} fit but none chosen", sd.signal, fit.len()),
+                    Some(p) => assert_eq!(p.error, want, "{} ≤ {b} B, ≤ tier {t}", sd.signal),
+                    None => assert!(fit.is_empty(), "{} ≤ {b} B, ≤ tier {t}: {} fit but none chosen", sd.signal, fit.len()),
                 }
             }
         }
+        // The recommendation: the cheapest tier holding a candidate within 25 % of the best
+        // error, its best such candidate.
+        let best = cands.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+        let ok: Vec<_> = cands.iter().filter(|c| c.1 <= 1.25 * best).collect();
+        let t = ok.iter().map(|c| tier_of(&c.0)).min().unwrap();
+        let want = ok.iter().filter(|c| tier_of(&c.0) == t).map(|c| c.1).fold(f64::INFINITY, f64::min);
+        assert_eq!(sd.recommended.as_ref().expect("a recommendation").mode.error, want, "{}", sd.signal);
     }
     std::fs::remove_dir_all(&d).ok();
 }
@@ -314,5 +356,48 @@ fn a_run_replaces_its_own_files_and_keeps_foreign_ones() {
     assert_eq!(std::fs::read(foreign.join("notes.txt")).unwrap(), b"keep");
     let left = files_in(&foreign);
     assert_eq!(left.iter().filter(|f| f.as_str() != "notes.txt").cloned().collect::<Vec<_>>(), manifest(&foreign));
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// Decisions hold under cost noise: every measured cost of a real run's results.json moved
+/// to a random point of its own spread (CPU and specular medians within [low, high], encode
+/// within [fastest, slowest], 50 draws, fixed seed) gives byte-identical decision records.
+/// Mutation tried: tiers built from the medians (± the floor) instead of the spread — fails.
+#[test]
+fn decisions_hold_when_costs_move_within_their_spread() {
+    let d = std::env::temp_dir().join(format!("probes-jitter-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let map = d.join("sky.hdr");
+    run(&["env".as_ref(), "--preset".as_ref(), "sky".as_ref(), "--width".as_ref(), "32".as_ref(), "--out".as_ref(), map.as_os_str()]);
+    let out = d.join("report");
+    run(&[
+        "compare".as_ref(),
+        map.as_os_str(),
+        "--alphas".as_ref(),
+        "0.3,0.7".as_ref(),
+        "--specular-samples".as_ref(),
+        "16".as_ref(),
+        "--images".as_ref(),
+        "none".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    let text = std::fs::read_to_string(out.join("results.json")).unwrap();
+    let r = probes::results::from_json(&text).unwrap().remove(0);
+    let want = serde_json::to_string(&r.decision).unwrap();
+    let mut rng = sbf::sampling::Pcg32::new(7, 1);
+    let mut within = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
+    for _ in 0..50 {
+        let mut j = r.clone();
+        for m in &mut j.modes {
+            m.cost.eval.median_ns = within(m.cost.eval.low_ns, m.cost.eval.high_ns);
+            if let Some(s) = &mut m.cost.specular_eval {
+                s.median_ns = within(s.low_ns, s.high_ns);
+            }
+            let [lo, hi] = m.cost.encode_total_range_s;
+            m.cost.encode_total_s = within(lo, hi);
+        }
+        assert_eq!(serde_json::to_string(&probes::decide::decide(&j)).unwrap(), want);
+    }
     std::fs::remove_dir_all(&d).ok();
 }

@@ -1,0 +1,120 @@
+//! The decision section as text: the recommendation lines, the budget table's cells
+//! (markdown and HTML render the same cells), the cost-tier legend and the fronts.
+//! Renders [`crate::results`] records; decides nothing.
+
+use crate::results::{MapResults, ModeRecord, Point, SignalDecision};
+
+/// Measured CPU ns of a mode for a signal (the median; for display only — decisions use
+/// tiers).
+fn cpu_ns(r: &MapResults, sd: &SignalDecision, id: &str) -> Option<f64> {
+    let m: &ModeRecord = r.modes.iter().find(|m| m.id == id)?;
+    if sd.signal == "irradiance" {
+        Some(m.cost.eval.median_ns)
+    } else {
+        m.cost.specular_eval.map(|s| s.median_ns)
+    }
+}
+
+fn percent(x: f64) -> String {
+    if x >= 10.0 {
+        format!("{x:.1} %")
+    } else {
+        format!("{x:.2} %")
+    }
+}
+
+fn ns(x: Option<f64>) -> String {
+    x.map_or("—".into(), |x| if x >= 100.0 { format!("{x:.0} ns") } else { format!("{x:.1} ns") })
+}
+
+/// "`id` — 2.10 % error, 36 B, 20.1 ns" (`code` wraps the id).
+fn describe(r: &MapResults, sd: &SignalDecision, p: &Point, code: fn(&str) -> String) -> String {
+    format!("{} — {} error, {} B, {}", code(&p.id), percent(p.error_percent), p.bytes, ns(cpu_ns(r, sd, &p.id)))
+}
+
+/// One line: the signal's recommended mode and the next cheaper one on the CPU front.
+pub fn recommendation(r: &MapResults, sd: &SignalDecision, code: fn(&str) -> String) -> String {
+    match &sd.recommended {
+        None => format!("{}: no candidate", sd.signal),
+        Some(rec) => format!(
+            "{}: {}{}",
+            sd.signal,
+            describe(r, sd, &rec.mode, code),
+            rec.next_cheaper
+                .as_ref()
+                .map_or("; nothing cheaper on the front".into(), |n| format!("; next cheaper: {}", describe(r, sd, n, code)))
+        ),
+    }
+}
+
+/// Plain ids (terminal).
+pub fn plain(id: &str) -> String {
+    id.to_string()
+}
+
+/// Markdown code spans.
+pub fn md_code(id: &str) -> String {
+    format!("`{id}`")
+}
+
+/// The budget table: header cells, then per storage row its label and cells
+/// (`code`-wrapped id and error %).
+pub fn budget_cells(sd: &SignalDecision, code: fn(&str) -> String) -> (Vec<String>, Vec<(String, Vec<String>)>) {
+    let last = sd.budget.cpu_tiers.last().copied();
+    let mut head = vec!["≤ bytes".to_string()];
+    head.extend(sd.budget.cpu_tiers.iter().map(|t| if Some(*t) == last { "any CPU cost".to_string() } else { format!("≤ tier {t}") }));
+    let rows = sd
+        .budget
+        .bytes
+        .iter()
+        .zip(&sd.budget.best)
+        .map(|(b, row)| {
+            let cells = row
+                .iter()
+                .map(|c| c.as_ref().map_or("—".to_string(), |p| format!("{} {}", code(&p.id), percent(p.error_percent))))
+                .collect();
+            (b.to_string(), cells)
+        })
+        .collect();
+    (head, rows)
+}
+
+/// "CPU cost tiers …: 1 = `ac` 7.1 ns, `acproj` 7.2 ns; 2 = …" (measured medians shown for
+/// reference; the tiers are what the table uses).
+pub fn tier_legend(r: &MapResults, sd: &SignalDecision, code: fn(&str) -> String) -> String {
+    let Some(t) = sd.tiers.iter().find(|t| t.axis == "eval_ns") else { return String::new() };
+    let groups: Vec<String> = t
+        .tiers
+        .iter()
+        .enumerate()
+        .map(|(k, g)| {
+            format!("{} = {}", k + 1, g.iter().map(|id| format!("{} {}", code(id), ns(cpu_ns(r, sd, id)))).collect::<Vec<_>>().join(", "))
+        })
+        .collect();
+    format!("CPU cost tiers (modes whose costs overlap within their measured spread, at least ±10 %, are one tier): {}", groups.join("; "))
+}
+
+/// The fronts, one line each: "error vs storage: `ac` (24 B, 9.1 %) → …".
+pub fn front_lines(sd: &SignalDecision, code: fn(&str) -> String) -> Vec<String> {
+    sd.fronts
+        .iter()
+        .map(|f| {
+            let tier_axis = f.axis != "storage_bytes";
+            let tiers = sd.tiers.iter().find(|t| t.axis == f.axis);
+            let pts: Vec<String> = f
+                .points
+                .iter()
+                .map(|p| {
+                    let cost = if tier_axis {
+                        let t = tiers.and_then(|t| t.tiers.iter().position(|g| g.contains(&p.id))).map_or(0, |k| k + 1);
+                        format!("tier {t}")
+                    } else {
+                        format!("{} B", p.bytes)
+                    };
+                    format!("{} ({cost}, {})", code(&p.id), percent(p.error_percent))
+                })
+                .collect();
+            format!("Pareto front, error vs {}: {}", f.axis, pts.join(" → "))
+        })
+        .collect()
+}
