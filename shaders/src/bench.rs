@@ -114,8 +114,23 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
     ]
 }
 
+/// Bytes of one encoder state (`EncoderState`).
+const STATE_BYTES: usize = std::mem::size_of::<EncoderState>();
+
 /// Runs every kernel over `count` invocations, `repeats` dispatches each (after a warm-up).
+/// Where a buffer of `count` items would exceed the device's storage-binding limit, that
+/// kernel runs fewer invocations per dispatch (its row says how many): the time per
+/// evaluation does not depend on the count once the device is full.
 pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Vec<Row>, String> {
+    let limit = gpu.device().limits().max_storage_buffer_binding_size as usize;
+    // The input buffer: 36 lobe floats + SETS coefficient sets of 36, then 7 per item.
+    let fixed = 36 + SETS * 36;
+    let count = if inputs == Inputs::Buffer { count.min((limit / 4).saturating_sub(fixed) / 7) } else { count };
+    // One f32 out per item.
+    let count = count.min(limit / 4);
+    if count == 0 {
+        return Err(format!("the device's storage-binding limit ({limit} bytes) holds no evaluation"));
+    }
     let mut rng = sbf::sampling::Pcg32::new(99, 7);
     let mut inp: Vec<f32> = Vec::with_capacity(36 + SETS * 36 + count * 7);
     for a in sbf::layout::vogel_hemisphere(12).map_err(|e| e.to_string())? {
@@ -138,7 +153,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let lib = compose::compose(&Config::parse(cfg)?)?.source;
         let uses_lut = body.contains("lut");
         let encodes = signal == "encode";
-        let count = if encodes { count.min(MAX_ENCODE_COUNT) } else { count };
+        let count = if encodes { count.min(MAX_ENCODE_COUNT).min(limit / STATE_BYTES) } else { count };
         let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
         let lobe = body.contains("lobe_tab").then(|| {
             if name.starts_with("SG") {

@@ -158,6 +158,15 @@ impl Drop for Watchdog {
     }
 }
 
+/// `SBF_GPU_MAX_STORAGE_BINDING` (bytes): a lower storage-binding limit than the adapter's,
+/// to run as a smaller adapter would (many report 128 MiB; lavapipe reports more).
+fn storage_binding_cap() -> Result<Option<u64>, String> {
+    match std::env::var("SBF_GPU_MAX_STORAGE_BINDING") {
+        Err(_) => Ok(None),
+        Ok(v) => v.trim().parse::<u64>().map(Some).map_err(|_| format!("SBF_GPU_MAX_STORAGE_BINDING={v}: expected a byte count")),
+    }
+}
+
 impl Gpu {
     /// The best Vulkan or GL adapter (NVIDIA, or lavapipe / llvmpipe without a GPU).
     pub fn new() -> Result<Gpu, String> {
@@ -191,10 +200,14 @@ impl Gpu {
         if timestamps {
             features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        let mut limits = adapter.limits();
+        if let Some(cap) = storage_binding_cap()? {
+            limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(cap);
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sbf shaders harness"),
             required_features: features,
-            required_limits: adapter.limits(),
+            required_limits: limits,
             ..Default::default()
         }))
         .map_err(|e| format!("requesting a device from {}: {e}", info.name))?;
@@ -315,6 +328,15 @@ impl Gpu {
     /// Runs a launch (see [`Launch`]).
     pub fn launch(&self, l: &Launch) -> Result<Output, String> {
         let (input, out_per_item, count, lut, repeats) = (l.input, l.out_per_item, l.count, l.lut, l.repeats);
+        // Storage buffers beyond the device's binding limit: an error here, not a wgpu
+        // validation panic at bind-group creation.
+        let limit = self.device.limits().max_storage_buffer_binding_size as usize;
+        for (what, bytes) in [("input", input.len() * 4), ("output", count * out_per_item * 4), ("state", l.io.map_or(0, |(_, b)| b.len()))]
+        {
+            if bytes > limit {
+                return Err(format!("the {what} buffer ({bytes} bytes) exceeds the device's storage-binding limit ({limit} bytes)"));
+            }
+        }
         let src = Self::kernel_source(l);
         crate::export::validate(&src).map_err(|e| format!("harness kernel: {e}"))?;
         let d = &self.device;
