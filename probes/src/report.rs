@@ -208,7 +208,7 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
 
 /// `report.html`: the markdown table's content with the irradiance and error images.
 pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
-    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left}img{width:256px;image-rendering:pixelated}img.s{width:128px}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
+    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left;max-width:260px}img{width:160px;image-rendering:pixelated}img.s{width:128px}p img{max-width:100%}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
     for res in results {
         for sd in &res.decision.signals {
             let _ = write!(
@@ -333,7 +333,25 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
             s.push_str("</table>");
         }
     }
-    s.push_str(&crate::viewer::script(maps));
+    // The viewer opens each signal on its recommended mode.
+    let recommended: Vec<crate::viewer::Recommended> = results
+        .iter()
+        .map(|r| {
+            let rec = |signal: &str| {
+                r.decision.signals.iter().find(|sd| sd.signal == signal).and_then(|sd| sd.recommended.as_ref()).map(|x| x.mode.id.clone())
+            };
+            crate::viewer::Recommended {
+                irradiance: rec("irradiance"),
+                specular: r
+                    .reference
+                    .specular_error
+                    .keys()
+                    .filter_map(|a| Some((a.parse::<f64>().ok()?, rec(&format!("specular α={a}"))?)))
+                    .collect(),
+            }
+        })
+        .collect();
+    s.push_str(&crate::viewer::script(maps, &recommended));
     s.push_str("</body></html>\n");
     s
 }

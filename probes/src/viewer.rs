@@ -60,20 +60,40 @@ fn js_str(s: &str) -> String {
     serde_json::to_string(s).expect("a string serialises")
 }
 
-/// The data of one map: signals, each with its exposure, the reference and every mode.
-fn map_js(m: &MapReport, index: usize) -> String {
+/// The mode each signal of one map opens on (the decision's recommendation): irradiance
+/// (also used for radiance) and per specular α.
+#[derive(Debug, Clone, Default)]
+pub struct Recommended {
+    pub irradiance: Option<String>,
+    pub specular: Vec<(f64, String)>,
+}
+
+/// The data of one map: signals, each with its exposure, the reference, every mode and the
+/// mode it opens on.
+fn map_js(m: &MapReport, index: usize, rec: &Recommended) -> String {
     let mut signals: Vec<String> = Vec::new();
-    let mut push = |name: String, reference: &[[f64; 3]], modes: Vec<(&str, &[[f64; 3]])>| {
+    let mut push = |name: String, rec: Option<&String>, reference: &[[f64; 3]], modes: Vec<(&str, &[[f64; 3]])>| {
         let ev = crate::images::auto_exposure(reference);
-        let mut s = format!("{{\"name\":{},\"ev\":{ev},\"ref\":{},\"modes\":{{", js_str(&name), image_js(m.grid, reference));
+        let rec = rec.map_or("null".to_string(), |id| js_str(id));
+        let mut s = format!("{{\"name\":{},\"rec\":{rec},\"ev\":{ev},\"ref\":{},\"modes\":{{", js_str(&name), image_js(m.grid, reference));
         for (k, (id, img)) in modes.iter().enumerate() {
             let _ = write!(s, "{}{}:{}", if k > 0 { "," } else { "" }, js_str(id), image_js(m.grid, img));
         }
         s.push_str("}}");
         signals.push(s);
     };
-    push("radiance".into(), &m.radiance, m.rows.iter().filter_map(|r| Some((r.result.id, r.result.radiance.as_deref()?))).collect());
-    push("irradiance (E/π)".into(), &m.reference, m.rows.iter().map(|r| (r.result.id, r.result.irradiance.as_slice())).collect());
+    push(
+        "radiance".into(),
+        rec.irradiance.as_ref(),
+        &m.radiance,
+        m.rows.iter().filter_map(|r| Some((r.result.id, r.result.radiance.as_deref()?))).collect(),
+    );
+    push(
+        "irradiance (E/π)".into(),
+        rec.irradiance.as_ref(),
+        &m.reference,
+        m.rows.iter().map(|r| (r.result.id, r.result.irradiance.as_slice())).collect(),
+    );
     for sr in &m.specular_reference {
         let modes = m
             .rows
@@ -83,7 +103,8 @@ fn map_js(m: &MapReport, index: usize) -> String {
                 Some((r.result.id, r.specular_images[i].as_slice()))
             })
             .collect();
-        push(format!("GGX specular α = {}", sr.alpha), &sr.image, modes);
+        let r = rec.specular.iter().find(|(a, _)| *a == sr.alpha).map(|(_, id)| id);
+        push(format!("GGX specular α = {}", sr.alpha), r, &sr.image, modes);
     }
     format!("{{\"index\":{index},\"name\":{},\"signals\":[{}]}}", js_str(&m.path), signals.join(","))
 }
@@ -97,9 +118,11 @@ pub fn section(index: usize) -> String {
     )
 }
 
-/// The script with every map's data and the renderer.
-pub fn script(maps: &[MapReport]) -> String {
-    let data: Vec<String> = maps.iter().enumerate().map(|(i, m)| map_js(m, i)).collect();
+/// The script with every map's data and the renderer; `recommended[i]` is map i's (missing:
+/// the first mode).
+pub fn script(maps: &[MapReport], recommended: &[Recommended]) -> String {
+    let none = Recommended::default();
+    let data: Vec<String> = maps.iter().enumerate().map(|(i, m)| map_js(m, i, recommended.get(i).unwrap_or(&none))).collect();
     format!("<script>\nconst PROBES_DATA = [{}];\n{}</script>", data.join(",\n"), RENDERER)
 }
 
@@ -179,7 +202,9 @@ const RENDERER: &str = r#"
       const keep = mode.value;
       mode.innerHTML = '';
       for (const id of Object.keys(m.signals[sig.value].modes)) mode.add(new Option(id, id));
+      const rec = m.signals[sig.value].rec;
       if ([...mode.options].some(o => o.value === keep)) mode.value = keep;
+      else if (rec !== null && [...mode.options].some(o => o.value === rec)) mode.value = rec;
     }
     function render() {
       const s = m.signals[sig.value], img = s.modes[mode.value];
@@ -207,6 +232,10 @@ const RENDERER: &str = r#"
     total += render();
   }
   document.body.dataset.nonblank = String(total);
+  // What the browser test checks: the page's width and the mode the first view opened on.
+  document.body.dataset.scrollWidth = String(document.documentElement.scrollWidth);
+  const first = document.querySelector('section.viewer select.mode');
+  if (first) document.body.dataset.openMode = first.value;
   // #selftest: render every signal × mode × (value, error) once and count the renders
   // that drew nothing although the image holds light (the browser test reads this).
   if (location.hash === '#selftest') {

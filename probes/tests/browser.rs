@@ -24,7 +24,7 @@ fn chromium() -> Option<PathBuf> {
 /// `data-*` attributes of `<body>` after the page's scripts ran.
 fn body_attrs(browser: &PathBuf, url: &str) -> (String, String) {
     let out = Command::new(browser)
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=20000", "--dump-dom", url])
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--window-size=1400,1000", "--virtual-time-budget=20000", "--dump-dom", url])
         .output()
         .expect("the browser runs");
     let dom = String::from_utf8_lossy(&out.stdout).to_string();
@@ -32,9 +32,13 @@ fn body_attrs(browser: &PathBuf, url: &str) -> (String, String) {
     (body, String::from_utf8_lossy(&out.stderr).to_string())
 }
 
-fn attr(body: &str, name: &str) -> Option<i64> {
+fn attr_str<'a>(body: &'a str, name: &str) -> Option<&'a str> {
     let k = body.find(&format!("{name}=\""))? + name.len() + 2;
-    body[k..].split('"').next()?.parse().ok()
+    body[k..].split('"').next()
+}
+
+fn attr(body: &str, name: &str) -> Option<i64> {
+    attr_str(body, name)?.parse().ok()
 }
 
 #[test]
@@ -69,10 +73,43 @@ fn report_html_renders_in_a_headless_browser() {
     // Two 240-px discs (≈ 45 000 pixels each, 3 channels): most channels of the sky are lit.
     let lit = attr(&body, "data-nonblank").expect("the renderer ran");
     assert!(lit > 100_000, "only {lit} lit channels: the canvases are (nearly) blank");
+    // The view opens on the irradiance recommendation of results.json.
+    let all = probes::results::from_json(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let rec = all[0].decision.signals[0].recommended.as_ref().expect("a recommendation").mode.id.clone();
+    assert_eq!(attr_str(&body, "data-open-mode"), Some(rec.as_str()), "{body}");
     // Every signal × mode × (value, error): radiance 3 modes, irradiance 4, specular 3 → 10 × 2.
     let (body, _) = body_attrs(&browser, &format!("{url}#selftest"));
     assert_eq!(attr(&body, "data-selftest-renders"), Some(20), "{body}");
     assert_eq!(attr(&body, "data-selftest-blank"), Some(0), "{body}");
     assert_eq!(attr(&body, "data-errors"), Some(0), "{body}");
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// The full default report (22 modes, specular at 5 α, PNG images) fits a 1 400 px window:
+/// the page's scroll width in a 1 400 × 1 000 headless window is at most 1 400 px.
+#[test]
+fn report_html_fits_1400_px() {
+    let Some(browser) = chromium() else {
+        assert!(std::env::var("SBF_REQUIRE_BROWSER").map_or(true, |v| v != "1"), "SBF_REQUIRE_BROWSER=1 but no chromium found");
+        eprintln!("skipping: no chromium");
+        return;
+    };
+    let d = std::env::temp_dir().join(format!("probes-width-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let map = d.join("sky.hdr");
+    let o = Command::new(env!("CARGO_BIN_EXE_probes")).args(["env", "--width", "64", "--out"]).arg(&map).output().unwrap();
+    assert!(o.status.success());
+    let out = d.join("report");
+    let o = Command::new(env!("CARGO_BIN_EXE_probes"))
+        .arg("compare")
+        .arg(&map)
+        .args(["--specular-samples", "16", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (body, _) = body_attrs(&browser, &format!("file://{}", out.join("report.html").display()));
+    let w = attr(&body, "data-scroll-width").expect("the page reports its width");
+    assert!(w <= 1400, "report.html is {w} px wide in a 1 400 px window");
     std::fs::remove_dir_all(&d).ok();
 }
