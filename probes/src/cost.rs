@@ -133,13 +133,13 @@ impl<'a> CostJob<'a> {
 
 /// Measures one job alone (for a single mode; a run measures all its jobs with
 /// [`measure_side_by_side`]).
-pub fn measure(job: CostJob<'_>) -> CostStat {
-    measure_side_by_side(vec![job]).pop().expect("one job")
+pub fn measure(mut job: CostJob<'_>) -> CostStat {
+    measure_side_by_side(std::slice::from_mut(&mut job)).pop().expect("one job")
 }
 
 /// Measures the jobs side by side (see the module docs); one result per job, in order.
 /// Runs on the calling thread; call it when no other work of the process is running.
-pub fn measure_side_by_side(mut jobs: Vec<CostJob<'_>>) -> Vec<CostStat> {
+pub fn measure_side_by_side(jobs: &mut [CostJob<'_>]) -> Vec<CostStat> {
     // Warm-up and sizing, job by job.
     let cycles: Vec<usize> = jobs
         .iter_mut()

@@ -1,101 +1,117 @@
-//! "Which basis, at what cost": per signal (irradiance; specular per α), the cost tiers,
-//! the Pareto front of error against each cost axis, the best mode within each budget of
-//! storage and CPU cost, and one recommendation. Computed from [`MapResults`] alone, so
-//! anyone can recompute it from `results.json` (a test does).
+//! "Which basis, at what cost": per signal (irradiance; specular per α), the CPU cost tiers,
+//! the Pareto front of error against storage, CPU cost and (with `--gpu-cost`) GPU cost, the
+//! best mode within each budget of storage and CPU cost, and one recommendation. Computed
+//! from [`MapResults`] alone, so anyone can recompute it from `results.json` (a test does).
 //!
 //! Candidates are the modes with a runtime (coefficients stored; the Monte Carlo mode is a
 //! reference, not a candidate) and a finite error.
 //!
-//! **Ties.** A measured cost is an interval, not a number: the spread of its timed passes
-//! (CPU: the 2nd fastest to the 2nd slowest of the side-by-side rounds, [`crate::cost`];
-//! encode: the fastest to the slowest run), widened to at least ±[`NOISE_FLOOR`] (encode:
-//! ±[`ENCODE_NOISE_FLOOR`]) about its geometric middle. Sorted by lower end, the first
+//! **CPU costs** come from the committed calibration ([`crate::calibration`]) by each mode's
+//! evaluator key, so the same inputs give the same decision on every run and machine; where
+//! the calibration lacks one of a signal's candidates, that signal falls back to this run's
+//! measurement (and says so in `cpu_costs`). Storage is exact; GPU costs are this run's.
+//!
+//! **Ties.** A cost is an interval: the calibration's range of batch medians (a run's own
+//! measurement: the 2nd fastest to the 2nd slowest pass; GPU: the one figure), widened to at
+//! least ±[`NOISE_FLOOR`] about its geometric middle. Sorted by lower end, the first
 //! candidate and every candidate whose interval starts inside the first's form one
-//! **tier**, and so on (the order of medians plays no part).
-//! Every decision compares tiers, never medians — within a tier the lower error wins, then
-//! the smaller storage, then the id — so a cost that moves within its spread changes no
-//! decision, and the decision records hold no measured time.
+//! **tier**, and so on (anchored: a chain of overlaps cannot stretch a tier). Decisions
+//! compare tiers, never medians — within a tier the lower error wins, then the smaller
+//! storage, then the id — and the decision records hold no measured time.
 //!
 //! **Recommendation** ([`RECOMMEND_WITHIN`]): the cheapest point of the CPU front (lowest
 //! tier) whose error is within 25 % of the best error any candidate reaches; with it, the
-//! front point just cheaper (what one more step down in cost gives up).
+//! front point just cheaper (what one step down in cost gives up).
 
-use crate::results::{Budget, Decision, Front, MapResults, Point, Recommendation, SignalDecision, Tiers, AXES};
+use crate::results::{Budget, Decision, Front, MapResults, ModeRecord, Point, Recommendation, SignalDecision, Tiers, AXES};
 
-/// Smallest relative half-width of a CPU or GPU cost interval. The side-by-side medians of
-/// two copies of one evaluator agreed within 1.10× in 99 % of 540 pairs on a 2-core VM with
-/// a busy neighbour (worst 1.29×, `probes/tests/cost.rs`); ±10 % about each makes such a
-/// pair one tier.
+/// Smallest relative half-width of a cost interval. The side-by-side medians of two copies
+/// of one evaluator agreed within 1.10× in 99 % of 540 pairs on a 2-core VM with a busy
+/// neighbour (worst 1.29×, `probes/tests/cost.rs`); ±10 % about each makes such a pair one
+/// tier.
 pub const NOISE_FLOOR: f64 = 0.10;
-/// The same for encode times: single runs inside the parallel mode stage, not side by
-/// side, so a machine's drift between modes is not cancelled.
-pub const ENCODE_NOISE_FLOOR: f64 = 0.25;
 /// A recommendation's error may exceed the best candidate's by this factor.
 pub const RECOMMEND_WITHIN: f64 = 1.25;
 
-/// A candidate: its decision point, and per timed axis (eval, encode, GPU) its cost
-/// interval (None: not measured on that axis).
+/// A candidate: its decision point, and per timed axis (CPU, GPU) its cost interval (None:
+/// not measured on that axis).
 struct Candidate {
     point: Point,
-    intervals: [Option<(f64, f64)>; 3],
+    intervals: [Option<(f64, f64)>; 2],
 }
 
 /// `[lo, hi]` widened to at least ±`floor` about its geometric middle.
 fn widen(lo: f64, hi: f64, floor: f64) -> Option<(f64, f64)> {
-    if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi >= lo) {
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo) {
         return None;
     }
     let mid = (lo * hi).sqrt();
     Some((lo.min(mid / (1.0 + floor)), hi.max(mid * (1.0 + floor))))
 }
 
+/// One signal's candidates: (mode, error RMS, error relative to the reference RMS, this
+/// run's CPU cost, calibration key, GPU ns).
+type Raw<'a> = (&'a ModeRecord, f64, f64, crate::cost::CostStat, Option<String>, Option<f64>);
+
 /// The decision for one map's results.
 pub fn decide(r: &MapResults) -> Decision {
-    let runtime: Vec<_> = r.modes.iter().filter(|m| m.coefficient_count > 0).collect();
-    let encode = |m: &crate::results::ModeRecord| {
-        let [lo, hi] = m.cost.encode_total_range_s;
-        widen(lo, hi, ENCODE_NOISE_FLOOR)
-    };
-    let gpu = |ns: Option<f64>| ns.and_then(|x| widen(x, x, NOISE_FLOOR));
-    let point = |m: &crate::results::ModeRecord, error: f64, rel: f64| Point {
-        id: m.id.clone(),
-        error,
-        error_percent: 100.0 * rel,
-        bytes: m.cost.storage_bytes,
-        cpu_tier: 0,
-    };
+    let runtime: Vec<&ModeRecord> = r.modes.iter().filter(|m| m.coefficient_count > 0).collect();
     let mut signals = Vec::new();
-    let irr: Vec<Candidate> = runtime
+    let irr: Vec<Raw> = runtime
         .iter()
-        .map(|m| Candidate {
-            point: point(m, m.metrics.irradiance.rms, m.metrics.irradiance.rel_rms),
-            intervals: [widen(m.cost.eval.low_ns, m.cost.eval.high_ns, NOISE_FLOOR), encode(m), gpu(m.cost.gpu.as_ref().map(|g| g.ns))],
+        .map(|m| {
+            let e = &m.metrics.irradiance;
+            (*m, e.rms, e.rel_rms, m.cost.eval, Some(m.cost_keys.irradiance.clone()), m.cost.gpu.as_ref().map(|g| g.ns))
         })
         .collect();
-    signals.push(signal("irradiance".into(), irr));
+    signals.push(signal("irradiance".into(), &irr));
     for a in r.reference.specular_error.keys() {
-        let c: Vec<Candidate> = runtime
+        let c: Vec<Raw> = runtime
             .iter()
             .filter_map(|m| {
-                let e = m.metrics.specular.get(a)?;
-                let s = m.cost.specular_eval?;
-                Some(Candidate {
-                    point: point(m, e.metrics.rms, e.metrics.rel_rms),
-                    intervals: [widen(s.low_ns, s.high_ns, NOISE_FLOOR), encode(m), gpu(m.cost.gpu.as_ref().and_then(|g| g.specular_ns))],
-                })
+                let e = &m.metrics.specular.get(a)?.metrics;
+                let gpu = m.cost.gpu.as_ref().and_then(|g| g.specular_ns);
+                Some((*m, e.rms, e.rel_rms, m.cost.specular_eval?, m.cost_keys.specular.clone(), gpu))
             })
             .collect();
         if !c.is_empty() {
-            signals.push(signal(format!("specular α={a}"), c));
+            signals.push(signal(format!("specular α={a}"), &c));
         }
     }
     Decision { signals }
 }
 
+/// The candidates of one signal with their CPU intervals from the calibration (or, where it
+/// lacks any of them, from this run), and where those came from.
+fn candidates(raw: &[Raw]) -> (Vec<Candidate>, String) {
+    let cal = crate::calibration::committed();
+    let calibrated: Option<Vec<(f64, f64)>> =
+        raw.iter().map(|x| x.4.as_ref().and_then(|k| cal.costs.get(k)).map(|s| (s.low_ns, s.high_ns))).collect();
+    let missing: Vec<&str> =
+        raw.iter().filter(|x| x.4.as_ref().and_then(|k| cal.costs.get(k)).is_none()).map(|x| x.0.id.as_str()).collect();
+    let source = match &calibrated {
+        Some(_) => format!("calibrated ({}, {}; probes/data/cpu_costs.json)", cal.machine, cal.date),
+        None => format!("measured in this run (the calibration lacks {})", missing.join(", ")),
+    };
+    let c = raw
+        .iter()
+        .enumerate()
+        .map(|(i, (m, error, rel, run, _, gpu))| Candidate {
+            point: Point { id: m.id.clone(), error: *error, error_percent: 100.0 * rel, bytes: m.cost.storage_bytes, cpu_tier: 0 },
+            intervals: [
+                match &calibrated {
+                    Some(v) => widen(v[i].0, v[i].1, NOISE_FLOOR),
+                    None => widen(run.low_ns, run.high_ns, NOISE_FLOOR),
+                },
+                gpu.and_then(|x| widen(x, x, NOISE_FLOOR)),
+            ],
+        })
+        .collect();
+    (c, source)
+}
+
 /// Tier (1-based) of every candidate on timed axis `k` (0 where not measured), cheapest
-/// first: by lower end, each tier is the first remaining candidate and every candidate whose
-/// interval starts inside the first's (anchored, so a chain of overlaps cannot stretch a
-/// tier across a factor of two).
+/// first (see the module docs).
 fn tiers(c: &[Candidate], k: usize) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..c.len()).filter(|i| c[*i].intervals[k].is_some()).collect();
     let iv = |i: usize| c[i].intervals[k].expect("filtered");
@@ -113,13 +129,14 @@ fn tiers(c: &[Candidate], k: usize) -> Vec<usize> {
     tier
 }
 
-fn signal(name: String, mut c: Vec<Candidate>) -> SignalDecision {
-    c.retain(|x| x.point.error.is_finite() && x.intervals[0].is_some() && x.intervals[1].is_some());
-    let tier_of: Vec<Vec<usize>> = (0..3).map(|k| tiers(&c, k)).collect();
+fn signal(name: String, raw: &[Raw]) -> SignalDecision {
+    let (mut c, cpu_costs) = candidates(raw);
+    c.retain(|x| x.point.error.is_finite() && x.intervals[0].is_some());
+    let tier_of: [Vec<usize>; 2] = [tiers(&c, 0), tiers(&c, 1)];
     for (x, t) in c.iter_mut().zip(&tier_of[0]) {
         x.point.cpu_tier = *t;
     }
-    let tiers = (0..3)
+    let tiers = (0..2)
         .filter(|k| c.iter().any(|x| x.intervals[*k].is_some()))
         .map(|k| {
             let n = tier_of[k].iter().copied().max().unwrap_or(0);
@@ -143,7 +160,7 @@ fn signal(name: String, mut c: Vec<Candidate>) -> SignalDecision {
         })
         .collect();
     let recommended = fronts.iter().find(|f| f.axis == "eval_ns").and_then(|f| recommend(&f.points));
-    SignalDecision { signal: name, recommended, tiers, fronts, budget: budget(&c) }
+    SignalDecision { signal: name, recommended, cpu_costs, tiers, fronts, budget: budget(&c) }
 }
 
 /// The Pareto front of error against a cost rank: by increasing rank, each point strictly

@@ -79,19 +79,41 @@ pub fn budget_cells(sd: &SignalDecision, code: fn(&str) -> String) -> (Vec<Strin
     (head, rows)
 }
 
-/// "CPU cost tiers …: 1 = `ac` 7.1 ns, `acproj` 7.2 ns; 2 = …" (measured medians shown for
-/// reference; the tiers are what the table uses).
+/// The calibrated CPU ns of a mode for a signal (the calibration's median), if any.
+fn calibrated_ns(r: &MapResults, sd: &SignalDecision, id: &str) -> Option<f64> {
+    let m = r.modes.iter().find(|m| m.id == id)?;
+    let key = if sd.signal == "irradiance" { Some(&m.cost_keys.irradiance) } else { m.cost_keys.specular.as_ref() }?;
+    crate::calibration::committed().costs.get(key).map(|s| s.median_ns)
+}
+
+/// "CPU cost tiers — costs calibrated (…): 1 = `ac` 7.1 ns (here 9.0 ns), …; 2 = …": the
+/// costs the tiers come from and, for reference, this run's measurement.
 pub fn tier_legend(r: &MapResults, sd: &SignalDecision, code: fn(&str) -> String) -> String {
     let Some(t) = sd.tiers.iter().find(|t| t.axis == "eval_ns") else { return String::new() };
+    let calibrated = sd.cpu_costs.starts_with("calibrated");
     let groups: Vec<String> = t
         .tiers
         .iter()
         .enumerate()
         .map(|(k, g)| {
-            format!("{} = {}", k + 1, g.iter().map(|id| format!("{} {}", code(id), ns(cpu_ns(r, sd, id)))).collect::<Vec<_>>().join(", "))
+            let members: Vec<String> = g
+                .iter()
+                .map(|id| {
+                    if calibrated {
+                        format!("{} {} (here {})", code(id), ns(calibrated_ns(r, sd, id)), ns(cpu_ns(r, sd, id)))
+                    } else {
+                        format!("{} {}", code(id), ns(cpu_ns(r, sd, id)))
+                    }
+                })
+                .collect();
+            format!("{} = {}", k + 1, members.join(", "))
         })
         .collect();
-    format!("CPU cost tiers (modes whose costs overlap within their measured spread, at least ±10 %, are one tier): {}", groups.join("; "))
+    format!(
+        "CPU cost tiers — costs {}; modes whose costs overlap within their spread (at least ±10 %) are one tier: {}",
+        sd.cpu_costs,
+        groups.join("; ")
+    )
 }
 
 /// The fronts, one line each: "error vs storage: `ac` (24 B, 9.1 %) → …".

@@ -8,6 +8,7 @@
 //! peer tool (Probulator) does, so numbers are comparable.
 
 pub mod azimuthal;
+pub mod calibration;
 pub mod cost;
 pub mod decide;
 pub mod decision_text;

@@ -28,6 +28,20 @@ enum Cmd {
     List,
     /// Compare modes on one or more lat-long maps (.hdr or .exr, 2:1).
     Compare(CompareArgs),
+    /// Measure every mode's CPU evaluation costs (irradiance, specular per runtime) on the
+    /// built-in sky, side by side in several batches, and write the calibration the
+    /// decisions use (commit it as probes/data/cpu_costs.json).
+    Calibrate {
+        /// Side-by-side measurements of all evaluators (15 rounds each), combined per key.
+        #[arg(long, default_value_t = 5)]
+        batches: usize,
+        /// Output file.
+        #[arg(long, default_value = "probes/data/cpu_costs.json")]
+        out: PathBuf,
+        /// What the machine is (CPU model, cores), recorded in the file.
+        #[arg(long)]
+        machine: String,
+    },
     /// Write a procedural environment map.
     Env {
         /// Preset: `sky` (sun, sky gradient, ground) or `sky-nosun`.
@@ -276,9 +290,9 @@ fn compare(
             .flat_map(|k| [(k, false), (k, true)])
             .filter(|(k, spec)| if *spec { spec_jobs[*k].is_some() } else { eval_jobs[*k].is_some() })
             .collect();
-        let jobs: Vec<probes::cost::CostJob> =
+        let mut jobs: Vec<probes::cost::CostJob> =
             eval_jobs.iter_mut().map(Option::take).zip(spec_jobs).flat_map(|(a, b)| [a, b]).flatten().collect();
-        let stats = probes::cost::measure_side_by_side(jobs);
+        let stats = probes::cost::measure_side_by_side(&mut jobs);
         let mut irr = vec![None; rows.len()];
         let mut spec = vec![None; rows.len()];
         for ((k, is_spec), s) in slots.into_iter().zip(stats) {
@@ -533,6 +547,18 @@ fn main() -> ExitCode {
             Ok(())
         })(),
         Some(Cmd::Compare(args)) => compare_command(args, cli.force),
+        Some(Cmd::Calibrate { batches, out, machine }) => (|| {
+            if batches == 0 {
+                return Err("--batches must be ≥ 1".to_string());
+            }
+            let mut c = probes::calibration::calibrate(batches, &|m| eprintln!("calibrate: {m}"))?;
+            c.machine = machine;
+            c.date = probes::calibration::today();
+            let text = serde_json::to_string_pretty(&c).map_err(|e| e.to_string())? + "\n";
+            std::fs::write(&out, text).map_err(|e| format!("writing {}: {e}", out.display()))?;
+            println!("wrote {} ({} evaluators)", out.display(), c.costs.len());
+            Ok(())
+        })(),
         None => (|| {
             let out = OutDir::claim(Path::new("probes-report"), cli.force)?;
             let sky = ProceduralSky::default();

@@ -81,6 +81,16 @@ impl SgIrradiance {
         }
     }
 
+    /// The reconstruction's name (`hill`, `peer`, `prior`; `auto` unresolved).
+    pub fn name(self) -> &'static str {
+        match self {
+            SgIrradiance::Hill => "hill",
+            SgIrradiance::Peer => "peer",
+            SgIrradiance::Prior => "prior",
+            SgIrradiance::Auto => "auto",
+        }
+    }
+
     /// Kernel sharpness the peer used for a mode.
     pub fn peer_kernel_sharpness(id: &str) -> f64 {
         if id == "sg" {
@@ -111,6 +121,14 @@ impl SpecularRuntime {
             "table" => Ok(SpecularRuntime::Table),
             "fit" => Ok(SpecularRuntime::Fit),
             other => Err(format!("--specular-runtime {other}: expected `table` or `fit`")),
+        }
+    }
+
+    /// `table` or `fit`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecularRuntime::Table => "table",
+            SpecularRuntime::Fit => "fit",
         }
     }
 
@@ -205,6 +223,9 @@ pub struct ModeResult {
     /// modes reconstructed with the peer's kernel or the prior estimate, which have none —
     /// their GPU cost is then not reported.
     pub wgsl_irradiance: bool,
+    /// The irradiance reconstruction where a mode has several (`hill`, `peer`, `prior` for
+    /// the SG batch modes); empty otherwise. Part of the key of its calibrated CPU cost.
+    pub irradiance_variant: &'static str,
     /// Per-sample encoders: (samples taken, irradiance RMS over the metric rows) at
     /// 16, 32, 64, … samples and at the end (an untimed second pass); empty otherwise.
     pub convergence: Vec<(u64, f64)>,
@@ -547,6 +568,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             clamped_negative_fraction: None,
             stored_scalars: 3 * coefficients.len(),
             wgsl_irradiance: true,
+            irradiance_variant: "",
             encode_s: encode.median_s,
             encode_runs: encode.runs,
             encode_range_s: [encode.min_s, encode.max_s],
@@ -788,6 +810,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             };
             let mut r = mk(basis.name(), solver, c, vogel.iter().map(|a| (*a, 6.0)).collect(), Some(rad), irr, t, ns);
             r.result.wgsl_irradiance = method == SgIrradiance::Hill;
+            r.result.irradiance_variant = method.name();
             Ok(r)
         }
         "shl2w" => {

@@ -104,6 +104,8 @@ pub struct ModeRecord {
     pub lobes: Vec<Lobe>,
     pub metrics: ModeMetrics,
     pub cost: Cost,
+    /// Keys of the mode's evaluators in the CPU cost calibration ([`crate::calibration`]).
+    pub cost_keys: CostKeys,
     /// Per-sample encoders: (samples taken, irradiance RMS).
     pub convergence: Vec<(u64, f64)>,
     pub images: ModeImages,
@@ -162,6 +164,13 @@ pub struct SpecularMetrics {
     pub basis_limited_rms: Option<f64>,
     /// The runtime path against that integral.
     pub runtime_rms: Option<f64>,
+}
+
+/// Calibration keys of a mode's irradiance and specular evaluators.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CostKeys {
+    pub irradiance: String,
+    pub specular: Option<String>,
 }
 
 /// The cost axes of one mode, each measured the same way for every mode.
@@ -261,6 +270,10 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                     storage_precision: "f32".into(),
                     gpu: gpu.filter(|_| x.wgsl_irradiance).and_then(|g| g.for_mode(x.id, m.runtime)),
                 },
+                cost_keys: CostKeys {
+                    irradiance: crate::calibration::irradiance_key(x.id, x.irradiance_variant),
+                    specular: crate::calibration::specular_key(x.id, m.runtime),
+                },
                 convergence: x.convergence.clone(),
                 images: ModeImages {
                     irradiance: pair(f, &format!("{}_irradiance", x.id), exr),
@@ -335,6 +348,9 @@ pub struct SignalDecision {
     /// The mode to use when nothing else is known ([`crate::decide`]); `None` without
     /// candidates.
     pub recommended: Option<Recommendation>,
+    /// Where the CPU costs the decision compares come from: the committed calibration
+    /// (reproducible), or this run's measurement where the calibration lacks a mode.
+    pub cpu_costs: String,
     /// Per timed axis, the candidates grouped into cost tiers (cheapest first): modes in one
     /// tier cost the same within the measurement's spread.
     pub tiers: Vec<Tiers>,
@@ -343,9 +359,10 @@ pub struct SignalDecision {
     pub budget: Budget,
 }
 
-/// The cost axes; `gpu_ns` only where the run measured GPU costs (`--gpu-cost`), over
-/// the modes that have a WGSL runtime.
-pub const AXES: [&str; 4] = ["storage_bytes", "eval_ns", "encode_total_s", "gpu_ns"];
+/// The cost axes decisions use; `gpu_ns` only where the run measured GPU costs
+/// (`--gpu-cost`), over the modes that have a WGSL runtime. (Encode times, which depend on
+/// the map, are reported as measured and decide nothing.)
+pub const AXES: [&str; 3] = ["storage_bytes", "eval_ns", "gpu_ns"];
 
 /// The recommendation of one signal and the front point just cheaper than it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -341,7 +341,7 @@ pub fn reference_error(ctx: &Context, alpha: f64, samples: u32, reference: &[[f6
     ((e2 / m).sqrt(), (s2 / m).sqrt(), ks.len())
 }
 
-fn is_sh(id: &str) -> bool {
+pub fn is_sh(id: &str) -> bool {
     id.starts_with("shl")
 }
 fn is_sg(id: &str) -> bool {

@@ -40,7 +40,7 @@ fn doubling_the_work_shows_in_the_cost_and_repeats_agree() {
                 jobs.push(prepare(id, ctx, 1).unwrap().eval.expect("a runtime mode has a cost job"));
             }
         }
-        let costs = measure_side_by_side(jobs);
+        let costs = measure_side_by_side(&mut jobs);
         let mut failed = Vec::new();
         for (id, c) in ids.iter().zip(costs.chunks(3)) {
             let (a, b, double) = (c[0].median_ns, c[1].median_ns, c[2].median_ns);

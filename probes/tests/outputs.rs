@@ -147,7 +147,8 @@ fn equal_names_get_their_own_folders_and_exr_on_request() {
     std::fs::remove_dir_all(&d).ok();
 }
 
-/// The decision section against brute force, on a real run's results.json: the CPU tiers
+/// The decision section against brute force, on a real run's results.json: the CPU costs
+/// come from the committed calibration; the CPU tiers
 /// partition the candidates, cheapest first, and no tier's cost interval starts beyond its
 /// anchor's; every front point is dominated by no candidate in (tier or bytes, error), every
 /// other candidate is dominated by or equal to a front point; every budget cell holds the
@@ -182,17 +183,21 @@ fn decision_matches_brute_force_from_results_json() {
     assert_eq!(probes::decide::decide(r), r.decision);
     assert_eq!(r.decision.signals.len(), 2, "irradiance and specular α=0.3");
     for sd in &r.decision.signals {
-        // Candidates: (id, error, bytes, CPU interval [lo, hi] widened as documented).
+        // Candidates: (id, error, bytes, CPU interval [lo, hi] of the committed calibration,
+        // widened as documented).
+        assert!(sd.cpu_costs.starts_with("calibrated"), "{}", sd.cpu_costs);
         let floor = probes::decide::NOISE_FLOOR;
+        let cal = probes::calibration::committed();
         let cands: Vec<(String, f64, usize, (f64, f64))> = r
             .modes
             .iter()
             .filter_map(|m| {
-                let (err, c) = if sd.signal == "irradiance" {
-                    (m.metrics.irradiance.rms, m.cost.eval)
+                let (err, key) = if sd.signal == "irradiance" {
+                    (m.metrics.irradiance.rms, m.cost_keys.irradiance.clone())
                 } else {
-                    (m.metrics.specular.get("0.3")?.metrics.rms, m.cost.specular_eval?)
+                    (m.metrics.specular.get("0.3")?.metrics.rms, m.cost_keys.specular.clone()?)
                 };
+                let c = cal.costs[&key];
                 let mid = (c.low_ns * c.high_ns).sqrt();
                 Some((m.id.clone(), err, m.cost.storage_bytes, (c.low_ns.min(mid / (1.0 + floor)), c.high_ns.max(mid * (1.0 + floor)))))
             })
@@ -361,8 +366,11 @@ fn a_run_replaces_its_own_files_and_keeps_foreign_ones() {
 
 /// Decisions hold under cost noise: every measured cost of a real run's results.json moved
 /// to a random point of its own spread (CPU and specular medians within [low, high], encode
-/// within [fastest, slowest], 50 draws, fixed seed) gives byte-identical decision records.
-/// Mutation tried: tiers built from the medians (± the floor) instead of the spread — fails.
+/// within [fastest, slowest], 50 draws, fixed seed) gives byte-identical decision records —
+/// they compare the calibration's tiers, not this run's timings. Where the calibration lacks
+/// a candidate, the signal falls back to this run's costs and says so. Mutations tried: tiers
+/// from this run's medians (± the floor) — fails here; from this run's spread — the
+/// brute-force test fails (it checks the calibrated intervals).
 #[test]
 fn decisions_hold_when_costs_move_within_their_spread() {
     let d = std::env::temp_dir().join(format!("probes-jitter-{}", std::process::id()));
@@ -399,5 +407,11 @@ fn decisions_hold_when_costs_move_within_their_spread() {
         }
         assert_eq!(serde_json::to_string(&probes::decide::decide(&j)).unwrap(), want);
     }
+    let mut j = r.clone();
+    j.modes.iter_mut().find(|m| m.id == "shl2").unwrap().cost_keys.irradiance = "irradiance/not-calibrated".into();
+    let fallback = probes::decide::decide(&j);
+    let s = &fallback.signals;
+    assert!(s[0].cpu_costs.starts_with("measured in this run (the calibration lacks shl2)"), "{}", s[0].cpu_costs);
+    assert!(s[1].cpu_costs.starts_with("calibrated"), "{}", s[1].cpu_costs);
     std::fs::remove_dir_all(&d).ok();
 }
