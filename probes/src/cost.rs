@@ -22,22 +22,13 @@
 //! decisions use: one pass interrupted by the OS does not widen it). Each result goes
 //! through `std::hint::black_box`, and the evaluators allocate nothing in the loop.
 //!
-//! Encode timings ([`exclusive`]) are single runs of a mode's fit inside the parallel
-//! mode stage, one at a time under a process-wide lock.
+//! Encodes (a mode's fit from the map, an [`EncodeJob`]) are timed the same way by
+//! [`time_encodes_side_by_side`], just before: the mode stage runs every fit once, untimed,
+//! in parallel on every core, and keeps the fit as a job; the timed runs come at the end on
+//! one thread, so no core waits for a timing lock and nothing else runs while they time.
 
 use std::hint::black_box;
-use std::sync::Mutex;
 use std::time::Instant;
-
-static TIMING: Mutex<()> = Mutex::new(());
-
-/// Runs `f` while no other timed section of this process runs (see the module docs).
-/// `f` must not use rayon (a thread waiting in rayon may pick up a job that also wants
-/// the lock).
-pub fn exclusive<T>(f: impl FnOnce() -> T) -> T {
-    let _guard = TIMING.lock().unwrap_or_else(|e| e.into_inner());
-    f()
-}
 
 /// Timed passes (rounds) per measurement.
 pub const REPEATS: usize = 15;
@@ -168,6 +159,65 @@ pub fn measure_side_by_side(jobs: &mut [CostJob<'_>]) -> Vec<CostStat> {
         .into_iter()
         .zip(jobs.iter().zip(&cycles))
         .map(|(t, (job, c))| if t.is_empty() { CostStat::default() } else { CostStat::from_passes(t, c * job.items.len()) })
+        .collect()
+}
+
+/// Encode runs stop repeating once they have taken this long together: a run of a
+/// tenth of a second is its own steady state (timer and scheduling noise are far below its
+/// length), and repeating it only lengthens the run on large maps.
+pub const ENCODE_BUDGET_S: f64 = 0.1;
+
+/// An encode's timing: the median of `runs` runs, and the fastest and slowest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Timing {
+    pub median_s: f64,
+    pub min_s: f64,
+    pub max_s: f64,
+    pub runs: usize,
+}
+
+/// A mode's encode (its fit from the map) to time: `f` re-runs it, `repeats` times at most.
+pub struct EncodeJob<'a> {
+    repeats: usize,
+    f: Box<dyn FnMut() + Send + 'a>,
+}
+
+impl std::fmt::Debug for EncodeJob<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EncodeJob").field("repeats", &self.repeats).finish_non_exhaustive()
+    }
+}
+
+impl<'a> EncodeJob<'a> {
+    pub fn new(repeats: usize, f: impl FnMut() + Send + 'a) -> EncodeJob<'a> {
+        EncodeJob { repeats: repeats.max(1), f: Box::new(f) }
+    }
+}
+
+/// Times the encodes side by side, as [`measure_side_by_side`] does the evaluations: in
+/// rounds, each job runs once per round until it has run `repeats` times or taken
+/// [`ENCODE_BUDGET_S`] together (at least once). Runs on the calling thread; call it when
+/// no other work of the process is running.
+pub fn time_encodes_side_by_side(jobs: &mut [EncodeJob<'_>]) -> Vec<Timing> {
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); jobs.len()];
+    let rounds = jobs.iter().map(|j| j.repeats).max().unwrap_or(0);
+    for round in 0..rounds {
+        let order: Vec<usize> = if round % 2 == 0 { (0..jobs.len()).collect() } else { (0..jobs.len()).rev().collect() };
+        for j in order {
+            let t = &times[j];
+            if t.len() < jobs[j].repeats && (t.is_empty() || t.iter().sum::<f64>() < ENCODE_BUDGET_S) {
+                let start = Instant::now();
+                (jobs[j].f)();
+                times[j].push(start.elapsed().as_secs_f64());
+            }
+        }
+    }
+    times
+        .into_iter()
+        .map(|mut t| {
+            t.sort_by(f64::total_cmp);
+            Timing { median_s: t[t.len() / 2], min_s: t[0], max_s: t[t.len() - 1], runs: t.len() }
+        })
         .collect()
 }
 

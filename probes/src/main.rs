@@ -207,16 +207,16 @@ fn compare(
     };
     let spec_s = ts.elapsed().as_secs_f64();
     let tm = std::time::Instant::now();
-    // Modes run in parallel; their encode timings one at a time on one thread each
-    // (`probes::cost::exclusive`), the rest on the other cores; their steady-state costs
-    // are measured side by side at the end. Rows come back in the order of `ids`, and no
-    // value depends on the thread count.
+    // Modes run in parallel on every core, untimed; their encodes and steady-state costs
+    // are timed at the end, side by side on one thread (`probes::cost`). Rows come back in
+    // the order of `ids`, and no value depends on the thread count.
     use rayon::prelude::*;
     pb.set_message("modes");
-    let (rows, mut eval_jobs): (Vec<report::Row>, Vec<Option<probes::cost::CostJob>>) = ids
+    type Jobs<'a> = (Option<probes::cost::CostJob<'a>>, Option<probes::cost::EncodeJob<'a>>, bool);
+    let (rows, jobs): (Vec<report::Row>, Vec<Jobs>) = ids
         .par_iter()
-        .map(|id| -> Result<(report::Row, Option<probes::cost::CostJob>), String> {
-            let modes::Prepared { result: r, eval } = modes::prepare(id, &ctx, repeats)?;
+        .map(|id| -> Result<(report::Row, Jobs), String> {
+            let modes::Prepared { result: r, eval, encode, eval_from_encode } = modes::prepare(id, &ctx, repeats)?;
             let mut irradiance = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
             if let Some(neg) = r.clamped_negative_fraction {
                 irradiance.negative_fraction = neg;
@@ -239,7 +239,7 @@ fn compare(
                 specular_parts: Vec::new(),
                 specular_cost: None,
             };
-            Ok((row, eval))
+            Ok((row, (eval, encode, eval_from_encode)))
         })
         .collect::<Result<Vec<_>, _>>()?
         .into_iter()
@@ -279,10 +279,17 @@ fn compare(
         }
     }
     let decomposition_s = tb.elapsed().as_secs_f64();
-    // The steady-state costs, every mode's irradiance and specular (first α) runtime side by
-    // side on this thread, now that nothing else runs (`probes::cost`).
+    // The encodes, then the steady-state costs (every mode's irradiance and specular runtime
+    // at the first α), each side by side on this thread now that nothing else runs.
     pb.set_message("costs");
     let tc = std::time::Instant::now();
+    let (mut eval_jobs, mut encode_jobs): (Vec<_>, Vec<_>) = jobs.into_iter().map(|(e, c, f)| (e, (c, f))).unzip();
+    let with_encode: Vec<usize> = (0..rows.len()).filter(|k| encode_jobs[*k].0.is_some()).collect();
+    let mut timed: Vec<probes::cost::EncodeJob> = encode_jobs.iter_mut().filter_map(|(j, _)| j.take()).collect();
+    for (k, t) in with_encode.into_iter().zip(probes::cost::time_encodes_side_by_side(&mut timed)) {
+        modes::Prepared::set_encode(&mut rows[k].result, t, encode_jobs[k].1, ctx.dirs.len());
+    }
+    drop(timed);
     let (irradiance_costs, specular_costs) = {
         let spec_jobs: Vec<Option<probes::cost::CostJob>> =
             rows.iter().map(|r| alphas.first().and_then(|a| probes::specular::cost_job(&r.result, &ctx, *a))).collect();

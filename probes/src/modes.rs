@@ -344,38 +344,14 @@ impl ModeResult {
     }
 }
 
-/// Encode runs stop repeating once they have taken this long together: a run of a
-/// tenth of a second is its own steady state (timer and scheduling noise are far below its
-/// length), and repeating it only lengthens the run on large maps.
-pub const ENCODE_BUDGET_S: f64 = 0.1;
+pub use crate::cost::{EncodeJob, Timing, ENCODE_BUDGET_S};
 
-/// An encode's timing: the median of `runs` runs, and the fastest and slowest.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Timing {
-    pub median_s: f64,
-    pub min_s: f64,
-    pub max_s: f64,
-    pub runs: usize,
-}
-
-/// `f` run `repeats` times — fewer once the runs have taken [`ENCODE_BUDGET_S`], at least
-/// once — with its last result and the median wall time (one timed section: `f` must not
-/// use rayon, see [`crate::cost::exclusive`]).
-fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (T, Timing) {
-    crate::cost::exclusive(|| {
-        let mut times = Vec::with_capacity(repeats);
-        let mut out = None;
-        while times.len() < repeats.max(1) && (times.is_empty() || times.iter().sum::<f64>() < ENCODE_BUDGET_S) {
-            let t = Instant::now();
-            out = Some(f());
-            times.push(t.elapsed().as_secs_f64());
-        }
-        times.sort_by(f64::total_cmp);
-        (
-            out.expect("ran at least once"),
-            Timing { median_s: times[times.len() / 2], min_s: times[0], max_s: times[times.len() - 1], runs: times.len() },
-        )
-    })
+/// `f` run once (untimed) for its result, and `f` as the job that times it later
+/// (`repeats` runs, [`crate::cost::time_encodes_side_by_side`]). `f` owns what it reads, so
+/// the job outlives this mode's other work.
+fn timed<'a, T: 'a>(repeats: usize, mut f: impl FnMut() -> T + Send + 'a) -> (T, EncodeJob<'a>) {
+    let out = f();
+    (out, EncodeJob::new(repeats, move || drop(std::hint::black_box(f()))))
 }
 
 /// The image of `f` over the output directions, and `f` as the job that measures its
@@ -419,6 +395,7 @@ fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, lobes: &Sg
 
 /// The isotropic-prior irradiance estimate of an SG basis from RGB coefficients c' =
 /// Σ⁻¹G·c ([`sbf::recon::prior`]): each function's kernel once per direction.
+#[derive(Clone)]
 struct PriorRgb {
     est: sbf::recon::prior::PriorIrradiance,
     weights: Vec<f64>,
@@ -524,6 +501,22 @@ fn clamp_negative(img: &mut [[f64; 3]]) -> f64 {
 pub struct Prepared<'a> {
     pub result: ModeResult,
     pub eval: Option<CostJob<'a>>,
+    /// The encode's timing job ([`Prepared::set_encode`] stores its result).
+    pub encode: Option<EncodeJob<'a>>,
+    /// The Monte Carlo mode: its per-texel cost is its encode time per output texel.
+    pub eval_from_encode: bool,
+}
+
+impl Prepared<'_> {
+    /// Stores the encode's timing (and, for the Monte Carlo mode, the cost it implies).
+    pub fn set_encode(result: &mut ModeResult, t: Timing, eval_from_encode: bool, texels: usize) {
+        result.encode_s = t.median_s;
+        result.encode_runs = t.runs;
+        result.encode_range_s = [t.min_s, t.max_s];
+        if eval_from_encode {
+            result.eval = crate::cost::CostStat::single(t.median_s * 1e9 / texels.max(1) as f64, texels);
+        }
+    }
 }
 
 /// Runs one mode alone, its cost measured on its own (a run of several modes uses
@@ -532,6 +525,10 @@ pub struct Prepared<'a> {
 pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String> {
     let p = prepare(id, ctx, repeats)?;
     let mut r = p.result;
+    if let Some(mut job) = p.encode {
+        let t = crate::cost::time_encodes_side_by_side(std::slice::from_mut(&mut job)).remove(0);
+        Prepared::set_encode(&mut r, t, p.eval_from_encode, ctx.dirs.len());
+    }
     if let Some(job) = p.eval {
         r.eval = crate::cost::measure(job);
     }
@@ -554,9 +551,11 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
               lobes: Vec<(DVec3, f64)>,
               radiance: Option<Vec<[f64; 3]>>,
               irradiance: Vec<[f64; 3]>,
-              encode: Timing,
+              encode: EncodeJob<'a>,
               eval: Option<CostJob<'a>>| Prepared {
         eval,
+        encode: Some(encode),
+        eval_from_encode: false,
         result: ModeResult {
             id: name,
             name: description,
@@ -569,9 +568,9 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             stored_scalars: 3 * coefficients.len(),
             wgsl_irradiance: true,
             irradiance_variant: "",
-            encode_s: encode.median_s,
-            encode_runs: encode.runs,
-            encode_range_s: [encode.min_s, encode.max_s],
+            encode_s: 0.0,
+            encode_runs: 0,
+            encode_range_s: [0.0; 2],
             needs_reference: false,
             eval: Default::default(),
             coefficients,
@@ -585,7 +584,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             // shared by every output texel (the peer's non-jittered default), each draw
             // contributing L·Ω·max(0, n·ω)/p at the texel centre; E/π = mean/π.
             // One timed run on one thread, like every other mode's encode.
-            let (irr, t) = timed(1, || {
+            let (irr, t) = timed(1, move || {
                 let g = ctx.map.geometry;
                 let weights: Vec<f64> = (0..g.texel_count())
                     .map(|k| {
@@ -643,14 +642,14 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                     .collect::<Vec<_>>()
             });
             let mut r = mk("none".into(), "Monte Carlo", Vec::new(), Vec::new(), None, irr, t, None);
-            r.result.eval = crate::cost::CostStat::single(t.median_s * 1e9 / dirs.len() as f64, dirs.len());
+            r.eval_from_encode = true;
             Ok(r)
         }
         "ac" | "acproj" => {
             let ac = AmbientCube;
             let (c, t) = if id == "ac" {
                 let s = irradiance_samples(ctx);
-                timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
+                timed(repeats, move || -> Result<Vec<[f64; 3]>, String> {
                     let g = sbf::solve::sample_gram(&ac, &s);
                     let m = moments(&ac, &s);
                     let mut out = vec![[0.0; 3]; 6];
@@ -664,7 +663,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                     Ok(out)
                 })
             } else {
-                timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
+                timed(repeats, move || -> Result<Vec<[f64; 3]>, String> {
                     // The exact quadrature over every texel at each axis (serial: a timed section).
                     let axes = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
                     Ok(axes.iter().map(|a| reference::irradiance_at(&ctx.map, *a)).collect())
@@ -693,7 +692,8 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
         _ if sh_order(id).is_some() => {
             let order = sh_order(id).expect("guarded");
             let sh = ShBasis::new(order).map_err(err)?;
-            let (m, t) = timed(repeats, || moments(&sh, &ctx.samples));
+            let sh_t = sh.clone();
+            let (m, t) = timed(repeats, move || moments(&sh_t, &ctx.samples));
             let c = channels(&m);
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let (irr, ns) = match id {
@@ -725,8 +725,9 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             let ad = AmbientDiceSrbf::twelve();
             let g = gram_matrix(&ad, Domain::Sphere, GramOptions::default()).map_err(err)?;
             if id == "adrbf" {
-                let (c, t) = timed(repeats, || {
-                    solve_gram(&g.matrix, &moments(&ad, &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
+                let ad_t = ad.clone();
+                let (c, t) = timed(repeats, move || {
+                    solve_gram(&g.matrix, &moments(&ad_t, &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
                 let c = c.map_err(err)?;
                 let (cc, adc) = (c.clone(), ad.clone());
@@ -735,8 +736,9 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 Ok(mk(ad.name(), "least squares (radiance)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), Some(rad), irr, t, ns))
             } else {
                 let s = irradiance_samples(ctx);
-                let (c, t) = timed(repeats, || {
-                    solve_gram(&sbf::solve::sample_gram(&ad, &s), &moments(&ad, &s), LsOptions::default()).map(|s| channels(&s.coeffs))
+                let ad_t = ad.clone();
+                let (c, t) = timed(repeats, move || {
+                    solve_gram(&sbf::solve::sample_gram(&ad_t, &s), &moments(&ad_t, &s), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
                 let c = c.map_err(err)?;
                 let (irr, ns) = eval_basis(ctx, ad.clone(), c.clone());
@@ -749,8 +751,10 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
         "sg" | "sgls" | "sglsa" | "sgnnls" => {
             let basis = SgBasis::new(&vogel, 6.0, id == "sglsa").map_err(err)?;
             let g = gram_matrix(&basis, Domain::Sphere, GramOptions::default()).map_err(err)?;
-            let fit = || -> Result<Vec<[f64; 3]>, String> {
-                let m = moments(&basis, &ctx.samples);
+            let basis_t = basis.clone();
+            let fit = move || -> Result<Vec<[f64; 3]>, String> {
+                let basis = &basis_t;
+                let m = moments(basis, &ctx.samples);
                 match id {
                     // The peer's naive projection: moments scaled by 4λ²/((1 − e^(−2λ))·N)/(4π)
                     // (Probulator's sgBasisNormalizationFactor), which maps a constant to
@@ -779,9 +783,10 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             let method = ctx.sg_irradiance.for_mode(id);
             let prior = if method == SgIrradiance::Prior { Some(PriorRgb::new(&basis).map_err(err)?) } else { None };
             // The encode: the fit, and for the prior estimate the per-probe transform c' = Σ⁻¹G·c.
-            let (c, t) = timed(repeats, || -> Result<(Rgb, Rgb), String> {
+            let prior_t = prior.clone();
+            let (c, t) = timed(repeats, move || -> Result<(Rgb, Rgb), String> {
                 let c = fit()?;
-                let cp = match &prior {
+                let cp = match &prior_t {
                     Some(p) => p.coefficients(&c).map_err(err)?,
                     None => Vec::new(),
                 };
@@ -821,8 +826,9 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             // (The peer's Laplacian window sums each band from m = −1, a bug.)
             let sh = ShBasis::new(2).map_err(err)?;
             let fib: Vec<DVec3> = (0..4096).map(|i| sbf::sampling::spherical_fibonacci(i, 4096)).collect();
-            let (c, t) = timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
-                let c = channels(&moments(&sh, &ctx.samples));
+            let sh_t = sh.clone();
+            let (c, t) = timed(repeats, move || -> Result<Vec<[f64; 3]>, String> {
+                let c = channels(&moments(&sh_t, &ctx.samples));
                 let mut out = c.clone();
                 for k in 0..3 {
                     let irr = shr::irradiance_coefficients(&channel(&c, k)).map_err(err)?;
@@ -859,8 +865,9 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             let s = irradiance_samples(ctx);
             let bz = sbf::AmbientDiceBezier::new();
             if id == "ad" {
-                let (c, t) = timed(repeats, || {
-                    solve_gram(&sbf::solve::sample_gram(&bz, &s), &moments(&bz, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
+                let bz_t = bz.clone();
+                let (c, t) = timed(repeats, move || {
+                    solve_gram(&sbf::solve::sample_gram(&bz_t, &s), &moments(&bz_t, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
                 });
                 let c = c.map_err(err)?;
                 let (irr, ns) = eval_basis(ctx, bz.clone(), c.clone());
@@ -871,7 +878,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 let lin = sbf::AmbientDiceLinear::new();
                 let ys: Vec<RadianceSample> =
                     s.iter().map(|x| RadianceSample { value: sbf::basis::ambient_dice_bezier::rgb_to_ycocg(x.value), ..*x }).collect();
-                let (c, t) = timed(repeats, || -> Result<YCoCgCoeffs, String> {
+                let (c, t) = timed(repeats, move || -> Result<YCoCgCoeffs, String> {
                     let y = solve_gram(&sbf::solve::sample_gram(&bz, &ys), &moments(&bz, &ys), LsOptions::default()).map_err(err)?.coeffs;
                     let cc =
                         solve_gram(&sbf::solve::sample_gram(&lin, &ys), &moments(&lin, &ys), LsOptions::default()).map_err(err)?.coeffs;
@@ -905,12 +912,12 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
         }
         "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "adpls" | "adpnnls" => {
             let vogel12 = vogel.clone();
-            let (basis, lobes): (Box<dyn Basis + Sync>, Vec<(DVec3, f64)>) = if id.starts_with("sg") {
-                (Box::new(SgBasis::new(&vogel12, 6.0, false).map_err(err)?), vogel12.iter().map(|a| (*a, 6.0)).collect())
+            let (basis, lobes): (std::sync::Arc<dyn Basis + Send + Sync>, Vec<(DVec3, f64)>) = if id.starts_with("sg") {
+                (std::sync::Arc::new(SgBasis::new(&vogel12, 6.0, false).map_err(err)?), vogel12.iter().map(|a| (*a, 6.0)).collect())
             } else {
                 let ad = AmbientDiceSrbf::twelve();
                 let l = ad.lobes().iter().map(|a| (*a, 0.0)).collect();
-                (Box::new(ad), l)
+                (std::sync::Arc::new(ad), l)
             };
             let opts = match id {
                 "sgra" | "sgnnra" => {
@@ -924,7 +931,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             // Samples: the running averages take every texel once in a fixed shuffled
             // order (as the peer); the progressive modes take PROGRESSIVE_SAMPLES Halton
             // directions with bilinear radiance. Equal weights: only ratios matter.
-            let samples: Vec<RadianceSample> = if id.ends_with("ra") {
+            let samples: std::sync::Arc<Vec<RadianceSample>> = std::sync::Arc::new(if id.ends_with("ra") {
                 let mut order: Vec<usize> = (0..ctx.samples.len()).collect();
                 let mut rng = sbf::sampling::Pcg32::new(17, 3);
                 for i in (1..order.len()).rev() {
@@ -938,11 +945,12 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                         RadianceSample { direction: d, value: ctx.map.bilinear(d), weight: 1.0 }
                     })
                     .collect()
-            };
-            let (c, t) = timed(repeats, || -> Result<Vec<[f64; 3]>, String> {
-                let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(basis.len(), opts.clone());
-                for s in &samples {
-                    enc.add(basis.as_ref(), s).map_err(err)?;
+            });
+            let (b, smp, o) = (basis.clone(), samples.clone(), opts.clone());
+            let (c, t) = timed(repeats, move || -> Result<Vec<[f64; 3]>, String> {
+                let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(b.len(), o.clone());
+                for s in smp.iter() {
+                    enc.add(b.as_ref(), s).map_err(err)?;
                 }
                 Ok(channels(&enc.coefficients()))
             });
@@ -1008,20 +1016,30 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             // Appendix C: lobes laid out in tangent space (normal +Z), rotated to world
             // (+Y up); least squares over the whole sphere.
             let world = |v: Vec<DVec3>| v.into_iter().map(tangent_to_world).collect::<Vec<_>>();
-            let (basis, is_ad): (Box<dyn Basis + Sync>, bool) = match id {
+            let (basis, is_ad): (std::sync::Arc<dyn Basis + Send + Sync>, bool) = match id {
                 "ad9" => (
-                    Box::new(AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron_hemisphere()), Domain::Sphere).map_err(err)?),
+                    std::sync::Arc::new(
+                        AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron_hemisphere()), Domain::Sphere).map_err(err)?,
+                    ),
                     true,
                 ),
-                "adrbf-tangent" => {
-                    (Box::new(AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron()), Domain::Sphere).map_err(err)?), true)
-                }
-                "sg9h" => (Box::new(SgBasis::new(&world(sbf::layout::vogel_hemisphere(9).map_err(err)?), 6.0, false).map_err(err)?), false),
-                _ => (Box::new(SgBasis::new(&world(sbf::layout::vogel_hemisphere(12).map_err(err)?), 6.0, false).map_err(err)?), false),
+                "adrbf-tangent" => (
+                    std::sync::Arc::new(AmbientDiceSrbf::from_axes(&world(sbf::layout::icosahedron()), Domain::Sphere).map_err(err)?),
+                    true,
+                ),
+                "sg9h" => (
+                    std::sync::Arc::new(SgBasis::new(&world(sbf::layout::vogel_hemisphere(9).map_err(err)?), 6.0, false).map_err(err)?),
+                    false,
+                ),
+                _ => (
+                    std::sync::Arc::new(SgBasis::new(&world(sbf::layout::vogel_hemisphere(12).map_err(err)?), 6.0, false).map_err(err)?),
+                    false,
+                ),
             };
             let g = gram_matrix(basis.as_ref(), Domain::Sphere, GramOptions::default()).map_err(err)?;
-            let (c, t) = timed(repeats, || {
-                solve_gram(&g.matrix, &moments(basis.as_ref(), &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
+            let b = basis.clone();
+            let (c, t) = timed(repeats, move || {
+                solve_gram(&g.matrix, &moments(b.as_ref(), &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
             });
             let c = c.map_err(err)?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
@@ -1068,7 +1086,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 .zip(&ctx.irradiance[..upper])
                 .map(|(d, e)| RadianceSample { direction: world_to_tangent(*d), value: *e, weight: 1.0 })
                 .collect();
-            let (c, t) = timed(repeats, || {
+            let (c, t) = timed(repeats, move || {
                 solve_gram(&sbf::solve::sample_gram(&h, &s), &moments(&h, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
             });
             let c = c.map_err(err)?;

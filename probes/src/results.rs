@@ -170,6 +170,8 @@ pub struct SpecularMetrics {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CostKeys {
     pub irradiance: String,
+    /// Absent without a specular path or without the specular signal in the run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub specular: Option<String>,
 }
 
@@ -272,7 +274,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                 },
                 cost_keys: CostKeys {
                     irradiance: crate::calibration::irradiance_key(x.id, x.irradiance_variant),
-                    specular: crate::calibration::specular_key(x.id, m.runtime),
+                    specular: crate::calibration::specular_key(x.id, m.runtime).filter(|_| !m.specular_reference.is_empty()),
                 },
                 convergence: x.convergence.clone(),
                 images: ModeImages {
