@@ -155,32 +155,33 @@ fn compare(
     let ts = std::time::Instant::now();
     // The deterministic azimuthal-FFT quadrature where the grids allow it (always for
     // maps up to 512 wide), the Monte Carlo MIS estimate otherwise.
-    let mut subdivisions = Vec::new();
-    let mut fallback = None;
-    let spec_refs: Vec<report::SpecularReference> = alphas
-        .iter()
-        .map(|&alpha| {
-            pb.set_message(format!("specular reference α = {alpha}"));
-            match probes::specular::reference_fft(&ctx, alpha) {
-                Ok(r) => {
-                    subdivisions.push(if r.coarsening > 1 { format!("1/{}", r.coarsening) } else { r.subdivision.to_string() });
-                    report::SpecularReference {
-                        alpha,
-                        image: r.image,
-                        error_rms: r.error_rms,
-                        signal_rms: r.signal_rms,
-                        texels_checked: r.texels_checked,
-                    }
-                }
-                Err(why) => {
-                    fallback = Some(why);
-                    let image = probes::specular::reference(&ctx, alpha, spec_samples);
-                    let (error_rms, signal_rms, texels_checked) = probes::specular::reference_error(&ctx, alpha, spec_samples, &image);
-                    report::SpecularReference { alpha, image, error_rms, signal_rms, texels_checked }
-                }
+    // Every α at once (each reference is itself parallel over output rows).
+    use rayon::prelude::*;
+    pb.set_message("specular references");
+    let refs: Vec<(report::SpecularReference, Result<String, String>)> = alphas
+        .par_iter()
+        .map(|&alpha| match probes::specular::reference_fft(&ctx, alpha) {
+            Ok(r) => {
+                let sub = if r.coarsening > 1 { format!("1/{}", r.coarsening) } else { r.subdivision.to_string() };
+                let sr = report::SpecularReference {
+                    alpha,
+                    image: r.image,
+                    error_rms: r.error_rms,
+                    signal_rms: r.signal_rms,
+                    texels_checked: r.texels_checked,
+                };
+                (sr, Ok(sub))
+            }
+            Err(why) => {
+                let image = probes::specular::reference(&ctx, alpha, spec_samples);
+                let (error_rms, signal_rms, texels_checked) = probes::specular::reference_error(&ctx, alpha, spec_samples, &image);
+                (report::SpecularReference { alpha, image, error_rms, signal_rms, texels_checked }, Err(why))
             }
         })
         .collect();
+    let subdivisions: Vec<String> = refs.iter().filter_map(|(_, s)| s.as_ref().ok().cloned()).collect();
+    let fallback: Option<String> = refs.iter().find_map(|(_, s)| s.as_ref().err().cloned());
+    let spec_refs: Vec<report::SpecularReference> = refs.into_iter().map(|(r, _)| r).collect();
     let specular_method = if alphas.is_empty() {
         String::new()
     } else {
@@ -210,7 +211,6 @@ fn compare(
     // Modes run in parallel on every core, untimed; their encodes and steady-state costs
     // are timed at the end, side by side on one thread (`probes::cost`). Rows come back in
     // the order of `ids`, and no value depends on the thread count.
-    use rayon::prelude::*;
     pb.set_message("modes");
     type Jobs<'a> = (Option<probes::cost::CostJob<'a>>, Option<probes::cost::EncodeJob<'a>>, bool);
     let (rows, jobs): (Vec<report::Row>, Vec<Jobs>) = ids
@@ -250,32 +250,45 @@ fn compare(
     // Basis-limited error (the exact GGX integral of each reconstructed radiance against the
     // reference) and what each runtime path adds (runtime against basis-limited), all modes
     // of one α in one quadrature pass.
-    for sr in &spec_refs {
-        pb.set_message(format!("specular decomposition α = {}", sr.alpha));
-        let idx: Vec<usize> = (0..rows.len())
-            .filter(|k| rows[*k].result.radiance.is_some() && rows[*k].specular.iter().any(|(a, _)| *a == sr.alpha))
-            .collect();
-        // Modes that store the same radiance (the SH L1 variants share their coefficients)
-        // share one basis-limited image: the quadrature runs once per distinct image.
-        let mut unique: Vec<&[[f64; 3]]> = Vec::new();
-        let which: Vec<usize> = idx
-            .iter()
-            .map(|k| {
-                let r = rows[*k].result.radiance.as_deref().expect("filtered");
-                unique.iter().position(|u| *u == r).unwrap_or_else(|| {
-                    unique.push(r);
-                    unique.len() - 1
+    pb.set_message("specular decomposition");
+    // Per α (all α at once): the modes with a radiance and this α, and the basis-limited
+    // image of each distinct radiance. Modes that store the same radiance (the SH L1
+    // variants share their coefficients) share one image: the quadrature runs once per
+    // distinct image.
+    let parts: Vec<Vec<(usize, f64, f64)>> = spec_refs
+        .par_iter()
+        .map(|sr| {
+            let idx: Vec<usize> = (0..rows.len())
+                .filter(|k| rows[*k].result.radiance.is_some() && rows[*k].specular.iter().any(|(a, _)| *a == sr.alpha))
+                .collect();
+            let mut unique: Vec<&[[f64; 3]]> = Vec::new();
+            let which: Vec<usize> = idx
+                .iter()
+                .map(|k| {
+                    let r = rows[*k].result.radiance.as_deref().expect("filtered");
+                    unique.iter().position(|u| *u == r).unwrap_or_else(|| {
+                        unique.push(r);
+                        unique.len() - 1
+                    })
                 })
-            })
-            .collect();
-        let Some(basis) = probes::specular::basis_limited(&ctx, &unique, sr.alpha) else { continue };
-        for (k, u) in idx.into_iter().zip(which) {
-            let b = &basis[u];
-            let row = &mut rows[k];
-            let i = row.specular.iter().position(|(a, _)| *a == sr.alpha).expect("filtered");
-            let basis_rms = metrics::compute_rows(ctx.grid, b, &sr.image, ctx.metric_rows()).rms;
-            let runtime_rms = metrics::compute_rows(ctx.grid, &row.specular_images[i], b, ctx.metric_rows()).rms;
-            row.specular_parts.push((sr.alpha, basis_rms, runtime_rms));
+                .collect();
+            let Some(basis) = probes::specular::basis_limited(&ctx, &unique, sr.alpha) else { return Vec::new() };
+            idx.into_iter()
+                .zip(which)
+                .map(|(k, u)| {
+                    let b = &basis[u];
+                    let row = &rows[k];
+                    let i = row.specular.iter().position(|(a, _)| *a == sr.alpha).expect("filtered");
+                    let basis_rms = metrics::compute_rows(ctx.grid, b, &sr.image, ctx.metric_rows()).rms;
+                    let runtime_rms = metrics::compute_rows(ctx.grid, &row.specular_images[i], b, ctx.metric_rows()).rms;
+                    (k, basis_rms, runtime_rms)
+                })
+                .collect()
+        })
+        .collect();
+    for (sr, p) in spec_refs.iter().zip(parts) {
+        for (k, basis_rms, runtime_rms) in p {
+            rows[k].specular_parts.push((sr.alpha, basis_rms, runtime_rms));
         }
     }
     let decomposition_s = tb.elapsed().as_secs_f64();
