@@ -140,8 +140,10 @@ impl Quadrature {
         Ok(self.spectra_of(|i, j, c| texels[j * self.map.width + i][c]))
     }
 
-    fn spectra_of(&self, texel: impl Fn(usize, usize, usize) -> f64) -> Spectra {
+    fn spectra_of(&self, texel: impl Fn(usize, usize, usize) -> f64 + Sync) -> Spectra {
+        // Rows in parallel (each row's FFTs are independent; collected in row order).
         let rows: Vec<[SplitComplex; 3]> = (0..self.map.height)
+            .into_par_iter()
             .map(|j| {
                 [0, 1, 2].map(|c| {
                     let mut row: Vec<Complex64> = (0..self.map.width).map(|i| Complex64::new(texel(i, j, c), 0.0)).collect();

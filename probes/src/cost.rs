@@ -22,10 +22,10 @@
 //! decisions use: one pass interrupted by the OS does not widen it). Each result goes
 //! through `std::hint::black_box`, and the evaluators allocate nothing in the loop.
 //!
-//! Encodes (a mode's fit from the map, an [`EncodeJob`]) are timed the same way by
-//! [`time_encodes_side_by_side`], just before: the mode stage runs every fit once, untimed,
-//! in parallel on every core, and keeps the fit as a job; the timed runs come at the end on
-//! one thread, so no core waits for a timing lock and nothing else runs while they time.
+//! Encodes (a mode's fit from the map, an [`EncodeJob`]) are timed by [`time_encodes`], just
+//! before: the mode stage runs every fit once, untimed, in parallel on every core, and keeps
+//! the fit as a job; the timed runs come at the end, one job per core, with nothing else
+//! running — so no core waits on a timing lock during the run's other work.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -194,27 +194,22 @@ impl<'a> EncodeJob<'a> {
     }
 }
 
-/// Times the encodes side by side, as [`measure_side_by_side`] does the evaluations: in
-/// rounds, each job runs once per round until it has run `repeats` times or taken
-/// [`ENCODE_BUDGET_S`] together (at least once). Runs on the calling thread; call it when
-/// no other work of the process is running.
-pub fn time_encodes_side_by_side(jobs: &mut [EncodeJob<'_>]) -> Vec<Timing> {
-    let mut times: Vec<Vec<f64>> = vec![Vec::new(); jobs.len()];
-    let rounds = jobs.iter().map(|j| j.repeats).max().unwrap_or(0);
-    for round in 0..rounds {
-        let order: Vec<usize> = if round % 2 == 0 { (0..jobs.len()).collect() } else { (0..jobs.len()).rev().collect() };
-        for j in order {
-            let t = &times[j];
-            if t.len() < jobs[j].repeats && (t.is_empty() || t.iter().sum::<f64>() < ENCODE_BUDGET_S) {
+/// Times the encodes, one job per core at a time (rayon's pool), each job's runs in a row on
+/// its thread until it has run `repeats` times or taken [`ENCODE_BUDGET_S`] together (at
+/// least once). An encode is single-threaded, as a probe's encode in an engine is, and runs
+/// beside others as a bake encodes many probes at once; timing them one at a time would
+/// make a large map's run wait seconds on one core. Call it when no other work runs.
+pub fn time_encodes(jobs: &mut [EncodeJob<'_>]) -> Vec<Timing> {
+    use rayon::prelude::*;
+    jobs.par_iter_mut()
+        .with_max_len(1)
+        .map(|job| {
+            let mut t: Vec<f64> = Vec::with_capacity(job.repeats);
+            while t.len() < job.repeats && (t.is_empty() || t.iter().sum::<f64>() < ENCODE_BUDGET_S) {
                 let start = Instant::now();
-                (jobs[j].f)();
-                times[j].push(start.elapsed().as_secs_f64());
+                (job.f)();
+                t.push(start.elapsed().as_secs_f64());
             }
-        }
-    }
-    times
-        .into_iter()
-        .map(|mut t| {
             t.sort_by(f64::total_cmp);
             Timing { median_s: t[t.len() / 2], min_s: t[0], max_s: t[t.len() - 1], runs: t.len() }
         })

@@ -209,8 +209,8 @@ fn compare(
     let spec_s = ts.elapsed().as_secs_f64();
     let tm = std::time::Instant::now();
     // Modes run in parallel on every core, untimed; their encodes and steady-state costs
-    // are timed at the end, side by side on one thread (`probes::cost`). Rows come back in
-    // the order of `ids`, and no value depends on the thread count.
+    // are timed at the end (`probes::cost`). Rows come back in the order of `ids`, and no
+    // value depends on the thread count.
     pb.set_message("modes");
     type Jobs<'a> = (Option<probes::cost::CostJob<'a>>, Option<probes::cost::EncodeJob<'a>>, bool);
     let (rows, jobs): (Vec<report::Row>, Vec<Jobs>) = ids
@@ -292,14 +292,15 @@ fn compare(
         }
     }
     let decomposition_s = tb.elapsed().as_secs_f64();
-    // The encodes, then the steady-state costs (every mode's irradiance and specular runtime
-    // at the first α), each side by side on this thread now that nothing else runs.
+    // The encodes (one per core), then the steady-state costs (every mode's irradiance and
+    // specular runtime at the first α, side by side on this thread), now that nothing else
+    // runs.
     pb.set_message("costs");
     let tc = std::time::Instant::now();
     let (mut eval_jobs, mut encode_jobs): (Vec<_>, Vec<_>) = jobs.into_iter().map(|(e, c, f)| (e, (c, f))).unzip();
     let with_encode: Vec<usize> = (0..rows.len()).filter(|k| encode_jobs[*k].0.is_some()).collect();
     let mut timed: Vec<probes::cost::EncodeJob> = encode_jobs.iter_mut().filter_map(|(j, _)| j.take()).collect();
-    for (k, t) in with_encode.into_iter().zip(probes::cost::time_encodes_side_by_side(&mut timed)) {
+    for (k, t) in with_encode.into_iter().zip(probes::cost::time_encodes(&mut timed)) {
         modes::Prepared::set_encode(&mut rows[k].result, t, encode_jobs[k].1, ctx.dirs.len());
     }
     drop(timed);

@@ -347,7 +347,7 @@ impl ModeResult {
 pub use crate::cost::{EncodeJob, Timing, ENCODE_BUDGET_S};
 
 /// `f` run once (untimed) for its result, and `f` as the job that times it later
-/// (`repeats` runs, [`crate::cost::time_encodes_side_by_side`]). `f` owns what it reads, so
+/// (`repeats` runs, [`crate::cost::time_encodes`]). `f` owns what it reads, so
 /// the job outlives this mode's other work.
 fn timed<'a, T: 'a>(repeats: usize, mut f: impl FnMut() -> T + Send + 'a) -> (T, EncodeJob<'a>) {
     let out = f();
@@ -526,7 +526,7 @@ pub fn run(id: &str, ctx: &Context, repeats: usize) -> Result<ModeResult, String
     let p = prepare(id, ctx, repeats)?;
     let mut r = p.result;
     if let Some(mut job) = p.encode {
-        let t = crate::cost::time_encodes_side_by_side(std::slice::from_mut(&mut job)).remove(0);
+        let t = crate::cost::time_encodes(std::slice::from_mut(&mut job)).remove(0);
         Prepared::set_encode(&mut r, t, p.eval_from_encode, ctx.dirs.len());
     }
     if let Some(job) = p.eval {
