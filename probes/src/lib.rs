@@ -16,6 +16,7 @@ pub mod gpu_cost;
 pub mod images;
 /// Map loading lives in `sbf::io` (shared with the baker); re-exported under its old name.
 pub use sbf::io as input;
+pub mod memo;
 pub mod metrics;
 pub mod modes;
 pub mod outcome;

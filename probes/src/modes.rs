@@ -42,6 +42,8 @@ pub struct Context {
     /// Evaluations per direction in the cost measurement (1; the cost-axis test sets 2 as
     /// its "twice as expensive" mutation, see [`crate::cost::ns_per_direction`]).
     pub eval_work: usize,
+    /// Work several modes share (per-lobe specular responses of one lobe layout and α).
+    pub shared: crate::memo::Memo<Vec<f32>>,
 }
 
 /// Irradiance reconstruction of the SG 12 batch modes (`sg`, `sgls`, `sglsa`, `sgnnls`).
@@ -181,6 +183,7 @@ impl Context {
             specular_runtime: Default::default(),
             reference_s,
             eval_work: 1,
+            shared: crate::memo::Memo::new(),
         }
     }
 

@@ -357,9 +357,85 @@ pub fn supported(id: &str) -> bool {
 }
 
 /// Specular image of a mode for roughness `alpha`, or `None` for irradiance-only modes.
+/// Lobe modes on the table runtime share each lobe's response per texel with every mode of
+/// the same lobe layout ([`lobe_responses`]); the image is the runtime's own sum over them,
+/// bit for bit (a test compares it with the runtime texel by texel).
 pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64; 3]>> {
     let texel = texel_fn(r, ctx, alpha)?;
-    Some((0..ctx.dirs.len()).into_par_iter().map(&texel).collect())
+    let Some(table) = lobe_table(r, ctx) else { return Some((0..ctx.dirs.len()).into_par_iter().map(&texel).collect()) };
+    let axes32: Vec<sbf::glam::Vec3> = r.lobes.iter().map(|(a, _)| a.as_vec3()).collect();
+    let resp = lobe_responses(ctx, table, &axes32, alpha);
+    let resp = resp.get().expect("computed");
+    let c = &r.coefficients;
+    let c32: Vec<sbf::glam::Vec3> = c.iter().map(|x| sbf::glam::Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32)).collect();
+    let nl = axes32.len();
+    let dfg = sbf::luts::committed::dfg();
+    Some(
+        (0..ctx.dirs.len())
+            .into_par_iter()
+            .map(|k| {
+                let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
+                let mut s = sbf::glam::Vec3::ZERO;
+                for (i, ci) in c32[..nl].iter().enumerate() {
+                    s += *ci * resp[k * nl + i];
+                }
+                let mut e = [s.x as f64, s.y as f64, s.z as f64];
+                add_ambient(&mut e, c, nl, dfg, n, v, alpha);
+                e
+            })
+            .collect(),
+    )
+}
+
+/// The runtime's specular at every output texel, evaluated texel by texel without shared
+/// work (the oracle of [`reconstruct`]'s shared responses; slow).
+pub fn runtime_image(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64; 3]>> {
+    let texel = texel_fn(r, ctx, alpha)?;
+    Some((0..ctx.dirs.len()).map(texel).collect())
+}
+
+/// The response table of a lobe mode on the table runtime (None otherwise). Every SG mode
+/// here uses λ = 6, the one sharpness with a table; another would take the fit path.
+fn lobe_table(r: &ModeResult, ctx: &Context) -> Option<&'static sbf::recon::lobe_ggx::Table> {
+    let table = match ctx.specular_runtime {
+        SpecularRuntime::Table if is_sg(r.id) => Some(sbf::luts::committed::lobe_ggx_sg6()),
+        SpecularRuntime::Table if is_ad(r.id) => Some(sbf::luts::committed::lobe_ggx_ad()),
+        _ => None,
+    };
+    table.filter(|_| !(is_sg(r.id) && r.lobes.iter().any(|(_, l)| *l != 6.0)))
+}
+
+/// Every output texel's per-lobe responses (`texels × lobes`, f32, as the runtime computes
+/// them; 0 outside the signal's domain) for one lobe layout, table and α — computed once per
+/// run and shared by the modes with that layout.
+fn lobe_responses(
+    ctx: &Context,
+    table: &'static sbf::recon::lobe_ggx::Table,
+    axes: &[sbf::glam::Vec3],
+    alpha: f64,
+) -> std::sync::Arc<std::sync::OnceLock<Vec<f32>>> {
+    let key = format!("lobe responses {:p} α {alpha} axes {:?}", table as *const _, axes);
+    ctx.shared.get(&key, || {
+        let nl = axes.len();
+        let mut out = vec![0.0f32; ctx.dirs.len() * nl];
+        out.par_chunks_mut(nl).enumerate().for_each(|(k, row)| {
+            if let Some((n, v)) = geometry(ctx, k) {
+                sbf::recon::runtime::lobe_ggx_responses(table, axes, n.as_vec3(), v.as_vec3(), alpha as f32, 1.0, 1.0, |i, x| row[i] = x);
+            }
+        });
+        out
+    })
+}
+
+/// An ambient (constant) function, stored after the `lobes` lobe coefficients, reflects its
+/// value times the albedo (the DFG terms at n·v, α).
+fn add_ambient(e: &mut [f64; 3], c: &[[f64; 3]], lobes: usize, dfg: &sbf::recon::lut::Lut2, n: DVec3, v: DVec3, alpha: f64) {
+    if c.len() > lobes {
+        let d = dfg.sample2(n.dot(v).clamp(0.0, 1.0) as f32, alpha as f32);
+        for ch in 0..3 {
+            e[ch] += c[lobes][ch] * (d[0] + d[1]) as f64;
+        }
+    }
 }
 
 /// The job that measures the steady-state CPU cost of a mode's specular runtime path at
@@ -392,14 +468,7 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
         Vec::new()
     };
     let axes: Vec<DVec3> = r.lobes.iter().map(|(a, _)| *a).collect();
-    let table = match ctx.specular_runtime {
-        SpecularRuntime::Table if is_sg(r.id) => Some(sbf::luts::committed::lobe_ggx_sg6()),
-        SpecularRuntime::Table if is_ad(r.id) => Some(sbf::luts::committed::lobe_ggx_ad()),
-        _ => None,
-    };
-    // Every SG mode here uses λ = 6, the one sharpness with a table; another would take
-    // the fit path.
-    let table = table.filter(|_| !(is_sg(r.id) && r.lobes.iter().any(|(_, l)| *l != 6.0)));
+    let table = lobe_table(r, ctx);
     // The table path runs the f32 runtime (the WGSL's CPU twin), as the fit paths of the
     // runtime module do in an engine.
     let axes32: Vec<sbf::glam::Vec3> = axes.iter().map(|a| a.as_vec3()).collect();
@@ -409,13 +478,7 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
             let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
             let e32 = sbf::recon::runtime::lobe_ggx_specular(t, &axes32, &c32, n.as_vec3(), v.as_vec3(), alpha as f32, 1.0, 1.0);
             let mut e = [e32.x as f64, e32.y as f64, e32.z as f64];
-            // An ambient (constant) function reflects its value times the albedo.
-            if c.len() > r.lobes.len() {
-                let d = dfg.sample2(n.dot(v).clamp(0.0, 1.0) as f32, alpha as f32);
-                for ch in 0..3 {
-                    e[ch] += c[r.lobes.len()][ch] * (d[0] + d[1]) as f64;
-                }
-            }
+            add_ambient(&mut e, c, r.lobes.len(), dfg, n, v, alpha);
             return e;
         }
         let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };

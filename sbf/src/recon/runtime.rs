@@ -256,6 +256,26 @@ pub fn lobe_ggx_specular(
     f90: f32,
 ) -> Vec3 {
     debug_assert_eq!(axes.len(), coeffs.len());
+    let mut s = Vec3::ZERO;
+    lobe_ggx_responses(table, axes, n, v, alpha, f0, f90, |i, r| s += coeffs[i] * r);
+    s
+}
+
+/// Each lobe's response (f0·R₀ + f90·R₁)(p_i) of [`lobe_ggx_specular`], in lobe order, to
+/// `each(i, response)`: the specular of any coefficients c is Σ_i c_i·response_i, summed
+/// in this order (what [`lobe_ggx_specular`] does, so a sum of stored responses equals it
+/// bit for bit).
+#[allow(clippy::too_many_arguments)]
+pub fn lobe_ggx_responses(
+    table: &super::lobe_ggx::Table,
+    axes: &[Vec3],
+    n: Vec3,
+    v: Vec3,
+    alpha: f32,
+    f0: f32,
+    f90: f32,
+    mut each: impl FnMut(usize, f32),
+) {
     let g = table.grid;
     let locate = |x: f32, size: usize| {
         let t = x.clamp(0.0, 1.0) * (size - 1) as f32;
@@ -272,8 +292,7 @@ pub fn lobe_ggx_specular(
     let t0 = n - n.dot(r) * r;
     let t = if t0.length_squared() > 1e-12 { t0.normalize() } else { Vec3::ZERO };
     let pi = std::f32::consts::PI;
-    let mut s = Vec3::ZERO;
-    for (p, c) in axes.iter().zip(coeffs) {
+    for (idx, p) in axes.iter().enumerate() {
         let rp = r.dot(*p).clamp(-1.0, 1.0);
         let st2 = (1.0 - rp * rp).max(0.0);
         let psi = if st2 > 1e-12 && t != Vec3::ZERO { acos_f32((t.dot(*p) / st2.sqrt()).clamp(-1.0, 1.0)) } else { 0.0 };
@@ -287,9 +306,8 @@ pub fn lobe_ggx_specular(
                 e[1] += w * tw * table.values[o + 1];
             }
         }
-        s += *c * (f0 * e[0] + f90 * e[1]);
+        each(idx, f0 * e[0] + f90 * e[1]);
     }
-    s
 }
 
 /// acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad), as the WGSL `lobe_ggx_acos`
