@@ -15,7 +15,10 @@ impl<V> Memo<V> {
         Memo { slots: Mutex::new(Vec::new()) }
     }
 
-    /// The value of `key`, computed by `f` if no thread has yet.
+    /// The value of `key`, computed by `f` if no thread has yet. `f` must not use rayon or
+    /// ask this memo for the same key: other threads asking for the key block until it
+    /// returns, and a thread waiting inside rayon may pick up a task that asks for the key
+    /// it is computing (a deadlock).
     pub fn get(&self, key: &str, f: impl FnOnce() -> V) -> Arc<OnceLock<V>> {
         let slot = {
             let mut slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());

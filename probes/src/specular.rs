@@ -415,14 +415,17 @@ fn lobe_responses(
     alpha: f64,
 ) -> std::sync::Arc<std::sync::OnceLock<Vec<f32>>> {
     let key = format!("lobe responses {:p} α {alpha} axes {:?}", table as *const _, axes);
+    // Serial on purpose: a thread computing a memo value must not enter rayon — waiting for
+    // its own tasks, it could steal another mode's task that asks for this same value and
+    // wait on itself. (Other keys are computed on other threads meanwhile.)
     ctx.shared.get(&key, || {
         let nl = axes.len();
         let mut out = vec![0.0f32; ctx.dirs.len() * nl];
-        out.par_chunks_mut(nl).enumerate().for_each(|(k, row)| {
+        for (k, row) in out.chunks_mut(nl).enumerate() {
             if let Some((n, v)) = geometry(ctx, k) {
                 sbf::recon::runtime::lobe_ggx_responses(table, axes, n.as_vec3(), v.as_vec3(), alpha as f32, 1.0, 1.0, |i, x| row[i] = x);
             }
-        });
+        }
         out
     })
 }
