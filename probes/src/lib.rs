@@ -9,6 +9,7 @@
 
 pub mod azimuthal;
 pub mod calibration;
+pub mod compare;
 pub mod cost;
 pub mod decide;
 pub mod decision_text;

@@ -1,8 +1,9 @@
 //! probes: compare spherical bases and solvers on HDR maps; error against run time.
 
 use clap::{Parser, Subcommand};
+use probes::compare::{compare, Settings};
 use probes::outdir::OutDir;
-use probes::{input, metrics, modes, report};
+use probes::{input, modes, report};
 use sbf::envmap::{LatLongImage, ProceduralSky};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -128,263 +129,6 @@ fn preset(name: &str) -> Result<ProceduralSky, String> {
 /// Default roughness values of the specular signal (seed Appendix C).
 use probes::profile::DEFAULT_ALPHAS;
 
-/// One map through every mode: reference, fits, metrics (irradiance, radiance, specular).
-fn compare(
-    label: &str,
-    map: LatLongImage,
-    sanitized: usize,
-    ids: &[String],
-    repeats: usize,
-    domain: sbf::Domain,
-    alphas: &[f64],
-    spec_samples: u32,
-    sg_irradiance: modes::SgIrradiance,
-    specular_runtime: probes::specular::SpecularRuntime,
-) -> Result<report::MapReport, String> {
-    let (w, h) = (map.geometry.width, map.geometry.height);
-    let t = std::time::Instant::now();
-    let mut ctx = modes::Context::with_domain(map, domain);
-    ctx.sg_irradiance = sg_irradiance;
-    ctx.specular_runtime = specular_runtime;
-    let ref_s = t.elapsed().as_secs_f64();
-    let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
-    let pb = indicatif::ProgressBar::new(ids.len() as u64);
-    pb.set_style(indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {msg}").unwrap().progress_chars("=> "));
-    pb.set_prefix(label.to_string());
-    let radiance = ctx.radiance();
-    let ts = std::time::Instant::now();
-    // The deterministic azimuthal-FFT quadrature where the grids allow it (always for
-    // maps up to 512 wide), the Monte Carlo MIS estimate otherwise.
-    // Every α at once (each reference is itself parallel over output rows).
-    use rayon::prelude::*;
-    pb.set_message("specular references");
-    let refs: Vec<(report::SpecularReference, Result<String, String>)> = alphas
-        .par_iter()
-        .map(|&alpha| match probes::specular::reference_fft(&ctx, alpha) {
-            Ok(r) => {
-                let sub = if r.coarsening > 1 { format!("1/{}", r.coarsening) } else { r.subdivision.to_string() };
-                let sr = report::SpecularReference {
-                    alpha,
-                    image: r.image,
-                    error_rms: r.error_rms,
-                    signal_rms: r.signal_rms,
-                    texels_checked: r.texels_checked,
-                };
-                (sr, Ok(sub))
-            }
-            Err(why) => {
-                let image = probes::specular::reference(&ctx, alpha, spec_samples);
-                let (error_rms, signal_rms, texels_checked) = probes::specular::reference_error(&ctx, alpha, spec_samples, &image);
-                (report::SpecularReference { alpha, image, error_rms, signal_rms, texels_checked }, Err(why))
-            }
-        })
-        .collect();
-    let subdivisions: Vec<String> = refs.iter().filter_map(|(_, s)| s.as_ref().ok().cloned()).collect();
-    let fallback: Option<String> = refs.iter().find_map(|(_, s)| s.as_ref().err().cloned());
-    let spec_refs: Vec<report::SpecularReference> = refs.into_iter().map(|(r, _)| r).collect();
-    let specular_method = if alphas.is_empty() {
-        String::new()
-    } else {
-        let worst = spec_refs.iter().map(|r| r.error_rms / r.signal_rms.max(f64::MIN_POSITIVE)).fold(0.0, f64::max);
-        match &fallback {
-            None => format!(
-                "azimuthal FFT quadrature of the bilinear radiance (the BRDF is invariant about the pole), cells per texel side {} for α {:?} (1/D: D×D texels box-filtered into one cell, where they are below α/16) ({:.2} s for {} α, including the check); estimated error (4/3 × the difference to cells of half the size on 1 in {} output rows) ≤ {:.3}% of the signal's RMS, per α in results.json",
-                subdivisions.join(", "),
-                alphas,
-                ts.elapsed().as_secs_f64(),
-                alphas.len(),
-                probes::specular::FFT_CHECK_STRIDE,
-                100.0 * worst
-            ),
-            Some(why) => format!(
-                "{spec_samples} visible-normal (Halton) + {spec_samples} map-importance (R2) samples per texel, balance-heuristic MIS, bilinear radiance ({:.2} s for {} α, including the check; no FFT quadrature: {why}); estimated error (vs {}× the samples on 1 in {} texels) ≤ {:.2}% of the signal's RMS, per α in results.json",
-                ts.elapsed().as_secs_f64(),
-                alphas.len(),
-                probes::specular::CHECK_FACTOR,
-                probes::specular::CHECK_STRIDE,
-                100.0 * worst
-            ),
-        }
-    };
-    let spec_s = ts.elapsed().as_secs_f64();
-    let tm = std::time::Instant::now();
-    // Modes run in parallel on every core, untimed; their encodes and steady-state costs
-    // are timed at the end (`probes::cost`). Rows come back in the order of `ids`, and no
-    // value depends on the thread count.
-    pb.set_message("modes");
-    type Jobs<'a> = (Option<probes::cost::CostJob<'a>>, Option<probes::cost::EncodeJob<'a>>, bool);
-    let (rows, jobs): (Vec<report::Row>, Vec<Jobs>) = ids
-        .par_iter()
-        .map(|id| -> Result<(report::Row, Jobs), String> {
-            let modes::Prepared { result: r, eval, encode, eval_from_encode } = modes::prepare(id, &ctx, repeats)?;
-            let mut irradiance = metrics::compute_rows(ctx.grid, &r.irradiance, &ctx.irradiance, ctx.metric_rows());
-            if let Some(neg) = r.clamped_negative_fraction {
-                irradiance.negative_fraction = neg;
-            }
-            let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, &radiance, ctx.metric_rows()));
-            let (mut specular, mut specular_images) = (Vec::new(), Vec::new());
-            for sr in &spec_refs {
-                if let Some(img) = probes::specular::reconstruct(&r, &ctx, sr.alpha) {
-                    specular.push((sr.alpha, metrics::compute_rows(ctx.grid, &img, &sr.image, ctx.metric_rows())));
-                    specular_images.push(img);
-                }
-            }
-            pb.inc(1);
-            let row = report::Row {
-                result: r,
-                radiance: rad,
-                irradiance,
-                specular,
-                specular_images,
-                specular_parts: Vec::new(),
-                specular_cost: None,
-            };
-            Ok((row, (eval, encode, eval_from_encode)))
-        })
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .unzip();
-    let mut rows = rows;
-    let modes_s = tm.elapsed().as_secs_f64();
-    let tb = std::time::Instant::now();
-    // Basis-limited error (the exact GGX integral of each reconstructed radiance against the
-    // reference) and what each runtime path adds (runtime against basis-limited), all modes
-    // of one α in one quadrature pass.
-    pb.set_message("specular decomposition");
-    // Per α (all α at once): the modes with a radiance and this α, and the basis-limited
-    // image of each distinct radiance. Modes that store the same radiance (the SH L1
-    // variants share their coefficients) share one image: the quadrature runs once per
-    // distinct image.
-    let parts: Vec<Vec<(usize, f64, f64)>> = spec_refs
-        .par_iter()
-        .map(|sr| {
-            let idx: Vec<usize> = (0..rows.len())
-                .filter(|k| rows[*k].result.radiance.is_some() && rows[*k].specular.iter().any(|(a, _)| *a == sr.alpha))
-                .collect();
-            let mut unique: Vec<&[[f64; 3]]> = Vec::new();
-            let which: Vec<usize> = idx
-                .iter()
-                .map(|k| {
-                    let r = rows[*k].result.radiance.as_deref().expect("filtered");
-                    unique.iter().position(|u| *u == r).unwrap_or_else(|| {
-                        unique.push(r);
-                        unique.len() - 1
-                    })
-                })
-                .collect();
-            let Some(basis) = probes::specular::basis_limited(&ctx, &unique, sr.alpha) else { return Vec::new() };
-            idx.into_iter()
-                .zip(which)
-                .map(|(k, u)| {
-                    let b = &basis[u];
-                    let row = &rows[k];
-                    let i = row.specular.iter().position(|(a, _)| *a == sr.alpha).expect("filtered");
-                    let basis_rms = metrics::compute_rows(ctx.grid, b, &sr.image, ctx.metric_rows()).rms;
-                    let runtime_rms = metrics::compute_rows(ctx.grid, &row.specular_images[i], b, ctx.metric_rows()).rms;
-                    (k, basis_rms, runtime_rms)
-                })
-                .collect()
-        })
-        .collect();
-    for (sr, p) in spec_refs.iter().zip(parts) {
-        for (k, basis_rms, runtime_rms) in p {
-            rows[k].specular_parts.push((sr.alpha, basis_rms, runtime_rms));
-        }
-    }
-    let decomposition_s = tb.elapsed().as_secs_f64();
-    // The encodes (one per core), then the steady-state costs (every mode's irradiance and
-    // specular runtime at the first α, side by side on this thread), now that nothing else
-    // runs.
-    pb.set_message("costs");
-    let tc = std::time::Instant::now();
-    let (mut eval_jobs, mut encode_jobs): (Vec<_>, Vec<_>) = jobs.into_iter().map(|(e, c, f)| (e, (c, f))).unzip();
-    let with_encode: Vec<usize> = (0..rows.len()).filter(|k| encode_jobs[*k].0.is_some()).collect();
-    let mut timed: Vec<probes::cost::EncodeJob> = encode_jobs.iter_mut().filter_map(|(j, _)| j.take()).collect();
-    for (k, t) in with_encode.into_iter().zip(probes::cost::time_encodes(&mut timed)) {
-        modes::Prepared::set_encode(&mut rows[k].result, t, encode_jobs[k].1, ctx.dirs.len());
-    }
-    drop(timed);
-    let (irradiance_costs, specular_costs) = {
-        let spec_jobs: Vec<Option<probes::cost::CostJob>> =
-            rows.iter().map(|r| alphas.first().and_then(|a| probes::specular::cost_job(&r.result, &ctx, *a))).collect();
-        let slots: Vec<(usize, bool)> = (0..rows.len())
-            .flat_map(|k| [(k, false), (k, true)])
-            .filter(|(k, spec)| if *spec { spec_jobs[*k].is_some() } else { eval_jobs[*k].is_some() })
-            .collect();
-        let mut jobs: Vec<probes::cost::CostJob> =
-            eval_jobs.iter_mut().map(Option::take).zip(spec_jobs).flat_map(|(a, b)| [a, b]).flatten().collect();
-        let stats = probes::cost::measure_side_by_side(&mut jobs);
-        let mut irr = vec![None; rows.len()];
-        let mut spec = vec![None; rows.len()];
-        for ((k, is_spec), s) in slots.into_iter().zip(stats) {
-            if is_spec {
-                spec[k] = Some(s);
-            } else {
-                irr[k] = Some(s);
-            }
-        }
-        (irr, spec)
-    };
-    for ((row, irr), spec) in rows.iter_mut().zip(irradiance_costs).zip(specular_costs) {
-        if let Some(s) = irr {
-            row.result.eval = s;
-        }
-        row.specular_cost = spec;
-    }
-    pb.finish_and_clear();
-    let stage_s = report::StageTimes {
-        reference_irradiance: ref_s,
-        specular_reference: spec_s,
-        modes: modes_s,
-        specular_decomposition: decomposition_s,
-        costs: tc.elapsed().as_secs_f64(),
-    };
-    let domain_name = if domain == sbf::Domain::Sphere { "sphere" } else { "upper hemisphere" };
-    Ok(report::MapReport {
-        path: label.to_string(),
-        width: w,
-        height: h,
-        domain: domain_name,
-        reference_method: method,
-        sanitized,
-        rows,
-        specular_method,
-        specular_runtime: if alphas.is_empty() { String::new() } else { specular_runtime.describe().to_string() },
-        runtime: specular_runtime,
-        specular_samples: spec_samples,
-        specular_reference: spec_refs,
-        grid: ctx.grid,
-        reference: ctx.irradiance.clone(),
-        radiance,
-        slug: slug(label),
-        stages: stage_s,
-    })
-}
-
-/// A file-name-safe folder name from a map's path (its file stem).
-fn slug(label: &str) -> String {
-    Path::new(label)
-        .file_stem()
-        .map(|s| s.to_string_lossy().to_string())
-        .unwrap_or_else(|| "map".into())
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
-        .collect()
-}
-
-/// Makes the maps' image folders unique: the second `pisa` becomes `pisa-2`, and so on.
-fn unique_slugs(maps: &mut [report::MapReport]) {
-    let mut seen = std::collections::BTreeSet::new();
-    for m in maps.iter_mut() {
-        let base = m.slug.clone();
-        let mut k = 1;
-        while !seen.insert(m.slug.clone()) {
-            k += 1;
-            m.slug = format!("{base}-{k}");
-        }
-    }
-}
-
 /// `--images`: (PNG previews, float EXR too).
 fn images_flag(images: &str) -> Result<(bool, bool), String> {
     match images {
@@ -402,7 +146,7 @@ fn write_reports(
     (png, exr): (bool, bool),
     gpu: Option<&probes::gpu_cost::GpuCosts>,
 ) -> Result<(), String> {
-    unique_slugs(maps);
+    probes::compare::unique_slugs(maps);
     // The previous run's files go first, so the folder holds this run's files only.
     out.remove_previous()?;
     let results: Vec<probes::results::MapResults> = maps
@@ -539,9 +283,18 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     } else {
         None
     };
+    let settings = Settings {
+        ids,
+        repeats: a.repeats,
+        domain: dom,
+        alphas,
+        specular_samples: a.specular_samples,
+        sg_irradiance: sgi,
+        specular_runtime: spec_rt,
+    };
     let mut reports = Vec::new();
     for (label, map, sanitized) in maps {
-        reports.push(compare(&label, map, sanitized, &ids, a.repeats, dom, &alphas, a.specular_samples, sgi, spec_rt)?);
+        reports.push(compare(&label, map, sanitized, &settings)?);
     }
     write_reports(&out, &mut reports, a.json, images, gpu.as_ref())
 }
@@ -585,18 +338,16 @@ fn main() -> ExitCode {
             let sky = ProceduralSky::default();
             let map = LatLongImage::from_fn(256, 128, |d| sky.radiance(d)).map_err(|e| e.to_string())?;
             let ids: Vec<String> = modes::DEFAULT_MODES.iter().map(|s| s.to_string()).collect();
-            let rep = compare(
-                "procedural-sky",
-                map,
-                0,
-                &ids,
-                3,
-                sbf::Domain::Sphere,
-                &DEFAULT_ALPHAS,
-                256,
-                modes::SgIrradiance::Auto,
-                Default::default(),
-            )?;
+            let settings = Settings {
+                ids,
+                repeats: 3,
+                domain: sbf::Domain::Sphere,
+                alphas: DEFAULT_ALPHAS.to_vec(),
+                specular_samples: 256,
+                sg_irradiance: modes::SgIrradiance::Auto,
+                specular_runtime: Default::default(),
+            };
+            let rep = compare("procedural-sky", map, 0, &settings)?;
             write_reports(&out, &mut [rep], false, (true, false), None)
         })(),
     };
