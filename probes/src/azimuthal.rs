@@ -168,6 +168,12 @@ impl Quadrature {
 
     /// [`Quadrature::integrate`] with a kernel evaluated a fine azimuth row at a time.
     pub fn integrate_rows(&self, rows: std::ops::Range<usize>, sub: usize, kernel: &dyn RowKernel) -> Vec<[f64; 3]> {
+        self.integrate_rows_at(&rows.collect::<Vec<_>>(), sub, kernel)
+    }
+
+    /// [`Quadrature::integrate_rows`] on any set of output rows (distinct, in any order;
+    /// the result follows their order), all in parallel.
+    pub fn integrate_rows_at(&self, rows: &[usize], sub: usize, kernel: &dyn RowKernel) -> Vec<[f64; 3]> {
         self.integrate_many(&[&self.spectra], rows, sub, kernel).pop().expect("one map")
     }
 
@@ -178,7 +184,7 @@ impl Quadrature {
     pub fn integrate_many(
         &self,
         maps: &[&Spectra],
-        rows: std::ops::Range<usize>,
+        rows: &[usize],
         sub: usize,
         kernel: &dyn RowKernel,
     ) -> Vec<Vec<[f64; 3]>> {
@@ -200,13 +206,13 @@ impl Quadrature {
             .collect();
         // Output rows in blocks, so that each pass over the maps' spectra (3·H·(W/2 + 1)
         // complex values per map) serves several rows.
-        let rows_v: Vec<usize> = rows.collect();
+        let rows_v = rows;
         // Mirror pairs: for a kernel symmetric about the equator, output row j' = H_out − 1 − j
         // sees source row r as row j sees H − 1 − r (θ ↦ π − θ on both sides; the sub-rows,
         // solid angles and bilinear rows mirror with them), so one fold serves both rows.
         let h_out = self.out.height;
         let mut wanted = vec![false; h_out];
-        for &j in &rows_v {
+        for &j in rows_v {
             wanted[j] = true;
         }
         let primaries: Vec<(usize, Option<usize>)> = rows_v
@@ -221,8 +227,11 @@ impl Quadrature {
             })
             .collect();
         let nb = w / 2 + 1;
+        // Blocks small enough that every thread gets at least two (a few rows — a check's —
+        // then still spread over the machine), at most ROW_BLOCK.
+        let block_rows = (primaries.len() / (2 * rayon::current_num_threads())).clamp(1, ROW_BLOCK);
         let per_block: Vec<Vec<(usize, PerMap)>> = primaries
-            .par_chunks(ROW_BLOCK)
+            .par_chunks(block_rows)
             .map(|block| {
                 // The kernel folded per source row: g[row of block][r][Δ], Δ = k·i_out − m (mod W).
                 let g: Vec<Vec<Vec<f64>>> = block.iter().map(|&(jv, _)| self.fold(jv, s, kernel, &az, &hats)).collect();

@@ -47,13 +47,21 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
     pb.set_style(indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {msg}").unwrap().progress_chars("=> "));
     pb.set_prefix(label.to_string());
     let radiance = ctx.radiance();
-    let ts = Instant::now();
-    pb.set_message("specular references");
-    let (spec_refs, specular_method) = specular_references(&ctx, &s.alphas, s.specular_samples);
-    let spec_s = ts.elapsed().as_secs_f64();
+    // The specular references and the modes are independent until the metrics: both run at
+    // once, so that neither's last stragglers leave cores idle.
+    pb.set_message("modes and specular references");
     let tm = Instant::now();
-    pb.set_message("modes");
-    let (mut rows, jobs) = run_modes(&ctx, s, &spec_refs, &radiance, &pb)?;
+    let ((spec, spec_s), modes) = rayon::join(
+        || {
+            let ts = Instant::now();
+            let r = specular_references(&ctx, &s.alphas, s.specular_samples);
+            (r, ts.elapsed().as_secs_f64())
+        },
+        || run_modes(&ctx, s, &radiance, &pb),
+    );
+    let (spec_refs, specular_method) = spec;
+    let (mut rows, jobs) = modes?;
+    specular_metrics(&ctx, &mut rows, &spec_refs);
     let modes_s = tm.elapsed().as_secs_f64();
     let tb = Instant::now();
     pb.set_message("specular decomposition");
@@ -148,12 +156,12 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> (Vec
     (spec_refs, method)
 }
 
-/// Every mode in parallel on every core, untimed: its fit, images and metrics, and its
-/// timing jobs for the end of the run.
+/// Every mode in parallel on every core, untimed: its fit, images, irradiance metrics and
+/// specular images (their metrics follow once the references exist), and its timing jobs
+/// for the end of the run.
 fn run_modes<'a>(
     ctx: &'a Context,
     s: &Settings,
-    spec_refs: &[SpecularReference],
     radiance: &[[f64; 3]],
     pb: &indicatif::ProgressBar,
 ) -> Result<(Vec<Row>, Vec<Jobs<'a>>), String> {
@@ -167,20 +175,34 @@ fn run_modes<'a>(
                 irradiance.negative_fraction = neg;
             }
             let rad = r.radiance.as_ref().map(|x| metrics::compute_rows(ctx.grid, x, radiance, ctx.metric_rows()));
-            let (mut specular, mut specular_images) = (Vec::new(), Vec::new());
-            for sr in spec_refs {
-                if let Some(img) = crate::specular::reconstruct(&r, ctx, sr.alpha) {
-                    specular.push((sr.alpha, metrics::compute_rows(ctx.grid, &img, &sr.image, ctx.metric_rows())));
-                    specular_images.push(img);
-                }
-            }
+            let specular_images: Vec<(f64, Vec<[f64; 3]>)> =
+                s.alphas.iter().filter_map(|&a| crate::specular::reconstruct(&r, ctx, a).map(|img| (a, img))).collect();
             pb.inc(1);
-            let row =
-                Row { result: r, radiance: rad, irradiance, specular, specular_images, specular_parts: Vec::new(), specular_cost: None };
+            let row = Row {
+                result: r,
+                radiance: rad,
+                irradiance,
+                specular: Vec::new(),
+                specular_images: specular_images.into_iter().map(|(_, img)| img).collect(),
+                specular_parts: Vec::new(),
+                specular_cost: None,
+            };
             Ok((row, (eval, encode, eval_from_encode)))
         })
         .collect::<Result<_, _>>()?;
     Ok(out.into_iter().unzip())
+}
+
+/// Each mode's specular error against the reference, per α (its images are in the order of
+/// the references' α, one per α the mode reconstructs — every α or none).
+fn specular_metrics(ctx: &Context, rows: &mut [Row], spec_refs: &[SpecularReference]) {
+    rows.par_iter_mut().for_each(|row| {
+        row.specular = spec_refs
+            .iter()
+            .zip(&row.specular_images)
+            .map(|(sr, img)| (sr.alpha, metrics::compute_rows(ctx.grid, img, &sr.image, ctx.metric_rows())))
+            .collect();
+    });
 }
 
 /// The specular error split, per α (all α at once): the basis-limited error (the exact GGX

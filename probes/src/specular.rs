@@ -141,8 +141,8 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
     let w_out = ctx.grid.width;
     let check: Vec<usize> = rows.clone().step_by(FFT_CHECK_STRIDE).collect();
     let (mut e2, mut s2, mut n) = (0.0, 0.0, 0usize);
-    for &j in &check {
-        let fine = check_q.integrate_rows(j..j + 1, check_sub, &kernel);
+    let fine = check_q.integrate_rows_at(&check, check_sub, &kernel);
+    for (&j, fine) in check.iter().zip(fine.chunks(w_out)) {
         for (i, f) in fine.iter().enumerate() {
             for c in 0..3 {
                 e2 += (image[j * w_out + i][c] - f[c]).powi(2);
@@ -287,7 +287,7 @@ pub fn basis_limited(ctx: &Context, radiances: &[&[[f64; 3]]], alpha: f64) -> Op
     let sub = if full == 1 { 1 } else { (half + half % 2).max(2) };
     let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
     let refs: Vec<&crate::azimuthal::Spectra> = spectra.iter().collect();
-    let parts = q.integrate_many(&refs, rows.clone(), sub, &kernel);
+    let parts = q.integrate_many(&refs, &rows.clone().collect::<Vec<_>>(), sub, &kernel);
     Some(
         parts
             .into_iter()
