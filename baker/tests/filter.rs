@@ -393,3 +393,58 @@ fn gpu_batches_gather_each_texels_own_samples_with_a_one_texel_box() {
         assert!(varied, "the batches gave every texel the same count");
     }
 }
+
+/// `WeightedMoments::standard_error` is the standard error of the *weighted* mean, with the
+/// effective sample count n_e = (Σw)²/Σw² (the filter's weights differ per sample). Samples
+/// iid uniform on [0, 1) (σ² = 1/12) with weights 1 and 10 alternating (n_e/n = 30.25/50.5
+/// ≈ 0.599), so Var(weighted mean) = σ²·Σw²/(Σw)² = σ²/n_e in closed form. Two oracles:
+/// (a) one large set, n = 200 000: SE² against σ²/n_e — the weighted variance estimate's
+///     relative spread is √((μ₄/σ⁴ − 1)/n_e) = √(0.8/n_e) ≈ 0.26 %, tolerance 5× that;
+/// (b) 4 000 independent sets of n = 64: the empirical variance of their weighted means
+///     against the mean SE² (relative spread of an empirical variance √(2/4000) ≈ 2.2 %,
+///     plus the SE² average's own ≈ 0.6 %; tolerance 5 × 2.3 %).
+/// Mutation tried: the raw count n in place of n_e (SE² × 0.599) → (a) fails at −40.3 %.
+#[test]
+fn weighted_standard_error_uses_the_effective_count() {
+    use baker::accumulate::filter::WeightedMoments;
+    use sbf::sampling::Pcg32;
+    let weight = |i: usize| if i % 2 == 0 { 1.0 } else { 10.0 };
+    let (sigma2, ratio) = (1.0 / 12.0, 5.5f64 * 5.5 / 50.5);
+    // (a)
+    let mut rng = Pcg32::new(11, 3);
+    let mut m = WeightedMoments::default();
+    let n = 200_000;
+    for i in 0..n {
+        let x = rng.next_f64();
+        m.add([x, 2.0 * x, x + 1.0], weight(i));
+    }
+    let want = sigma2 / (ratio * n as f64);
+    let se = m.standard_error();
+    for (c, scale) in [(0, 1.0), (1, 4.0), (2, 1.0)] {
+        let rel = se[c] * se[c] / (scale * want) - 1.0;
+        println!("(a) channel {c}: SE² {:.4e} vs σ²/n_e {:.4e} ({:+.2} %)", se[c] * se[c], scale * want, 100.0 * rel);
+        assert!(rel.abs() <= 5.0 * (0.8 / (ratio * n as f64)).sqrt(), "(a) channel {c}: SE² off by {:.2} %", 100.0 * rel);
+    }
+    // (b)
+    let (sets, k) = (4000, 64);
+    let (mut means, mut se2) = (Vec::with_capacity(sets), 0.0);
+    for set in 0..sets {
+        let mut rng = Pcg32::new(17, set as u64);
+        let mut m = WeightedMoments::default();
+        for i in 0..k {
+            let x = rng.next_f64();
+            m.add([x; 3], weight(i));
+        }
+        means.push(m.mean[0]);
+        se2 += m.standard_error()[0].powi(2) / sets as f64;
+    }
+    let mu = means.iter().sum::<f64>() / sets as f64;
+    let var = means.iter().map(|x| (x - mu).powi(2)).sum::<f64>() / (sets - 1) as f64;
+    let rel = se2 / var - 1.0;
+    println!(
+        "(b) mean SE² {se2:.4e} vs empirical variance of the weighted means {var:.4e} ({:+.1} %); closed form {:.4e}",
+        100.0 * rel,
+        sigma2 / (ratio * k as f64)
+    );
+    assert!(rel.abs() <= 5.0 * 0.023, "(b) SE² off the empirical variance by {:.1} %", 100.0 * rel);
+}

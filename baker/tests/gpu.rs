@@ -64,25 +64,20 @@ fn kernels_validate_and_structs_match() {
     kernel(&probes, true, true).unwrap();
 }
 
-/// Per-channel summary of |mean − expected| / σ over items.
-fn within_4_sigma(state: &BakeState, expect: impl Fn(usize, usize) -> (f64, f64)) -> (usize, usize) {
-    let (m, se) = (state.mean(), state.standard_error());
-    let mut n = 0;
-    let mut ok = 0;
-    for k in 0..m.len() {
-        for c in 0..3 {
-            let (want, var) = expect(k, c);
-            n += 1;
-            if (m[k][c] - want).abs() <= 4.0 * (se[k][c] * se[k][c] + var).sqrt() {
-                ok += 1;
-            }
-        }
-    }
-    (ok, n)
-}
-
-/// Furnace on the GPU: L_e/(1 − a) in every texel within MC error, and every basis's
-/// progressive fit reconstructs the constant radiance.
+/// Furnace on the GPU: L_e/(1 − a) in every texel, and every basis's progressive fit
+/// against the batch LS fit of the exact radiance and against an independent CPU bake.
+///
+/// Error model: in a furnace every texel has the same expected E/π and fit, and texels are
+/// independent (their scrambles are hashed per item), so the texel-to-texel spread s is
+/// each texel's own error (whatever the sequence's convergence; the iid standard error of
+/// one texel's samples overstates Owen-scrambled Sobol' points' error several times) and
+/// the mean over n texels has standard error s/√n. The CPU bake uses another seed (3 vs 4),
+/// so GPU − CPU is a difference of independent estimates. The batch LS fit of the exact
+/// radiance is the progressive encoder's limit: the texel-mean fit's RMS residual over the
+/// LS's points is never below LS's and falls towards it between 256 and 1 024 passes.
+/// Mutations tried (WGSL `finish_item`): the plain estimate × 1.01 → the mean check fails
+/// (2.0192 vs 2 ± 6.3e-4); the encoders' radiance × 1.05 → GPU vs CPU fails (sh1: 2.586 vs
+/// 2.484).
 #[test]
 fn furnace_gpu() {
     let Some(gpu) = gpu() else { return };
@@ -93,28 +88,31 @@ fn furnace_gpu() {
     let targets = Targets::lightmap(&lm);
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error.
     let tracer = Tracer::new(&s, &bvh, 64);
+    let passes = 1024;
     let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: ALL_BASES.to_vec(), solver: Solver::Ls, ..Default::default() };
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
-    g.run(128).unwrap();
+    g.run(passes / 4).unwrap();
+    let early = g.state().unwrap();
+    g.run(passes - passes / 4).unwrap();
     let st = g.state().unwrap();
     let expect = (le / (1.0 - a)) as f64;
-    let (ok, n) = within_4_sigma(&st, |_, _| (expect, 0.0));
-    let mean: f64 = st.mean().iter().map(|m| m[0] + m[1] + m[2]).sum::<f64>() / n as f64;
-    let se_mean = st.standard_error().iter().flatten().map(|s| s * s).sum::<f64>().sqrt() / n as f64;
-    println!("GPU furnace: {n} texel-channels, mean {mean:.5} (expected {expect}, ± {se_mean:.2e}), {ok} within 4σ");
-    // The mean over all texels: within 4 standard errors of the mean (independent texels).
+    // Mean and standard error of the mean over texels, from their spread.
+    let over_texels = |r: &[f64]| -> (f64, f64, f64) {
+        let n = r.len() as f64;
+        let mean = r.iter().sum::<f64>() / n;
+        let sd = (r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+        (mean, sd / n.sqrt(), sd)
+    };
+    let e: Vec<f64> = st.mean().iter().flatten().copied().collect();
+    let (mean, se_mean, sd) = over_texels(&e);
+    let worst = e.iter().map(|x| (x - expect).abs()).fold(0.0, f64::max);
+    println!("GPU furnace: {} texel-channels, mean {mean:.5} (expected {expect}, ± {se_mean:.2e}), spread {sd:.2e}, worst texel {:.1} spreads off", e.len(), worst / sd);
     assert!((mean - expect).abs() <= 4.0 * se_mean, "mean {mean} vs {expect} ± {se_mean}");
-    // 4σ holds for 99.99% of normal errors; 99% leaves room for the heavier tail.
-    assert!(ok as f64 >= 0.99 * n as f64, "{ok}/{n} within 4σ");
-    // Each basis's progressive fit on the GPU against the CPU reference encoder (sbf's
-    // ProgressiveEncoder) fed by a CPU bake of the same scene and pass count: the mean
-    // over texels of the fit reconstructed at the normal must agree within 4 standard
-    // errors of the difference (from the texel-to-texel spread of both). The batch LS
-    // fit of the exact radiance seen by the encoder is printed for reference (sphere
-    // bases see the mirrored zero half: 2·[z > 0], e.g. 2.5 at the normal for SH L1);
-    // the progressive fit approaches it as the samples grow.
-    let mut cpu = Bake::new(cfg.clone(), &targets, Tracer::new(&s, &bvh, 64));
-    for _ in 0..128 {
+    // Every texel within 6 spreads (P ≈ 2e-9 per texel-channel for a normal error).
+    assert!(worst <= 6.0 * sd, "a texel is {:.1} spreads off {expect}", worst / sd);
+    let cpu_cfg = BakeConfig { seed: 4, ..cfg.clone() };
+    let mut cpu = Bake::new(cpu_cfg, &targets, Tracer::new(&s, &bvh, 64));
+    for _ in 0..passes {
         cpu.pass();
     }
     for (b, kind) in cfg.bases.iter().enumerate() {
@@ -123,12 +121,12 @@ fn furnace_gpu() {
         basis.eval_into(sbf::glam::DVec3::Z, &mut v);
         let recon = |st: &BakeState| -> (f64, f64) {
             let r: Vec<f64> = st.encoders[b].iter().map(|e| (0..v.len()).map(|i| v[i] * e.coefficients()[(i, 1)]).sum::<f64>()).collect();
-            let n = r.len() as f64;
-            let mean = r.iter().sum::<f64>() / n;
-            let var = r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-            (mean, var / n)
+            let (m, se, _) = over_texels(&r);
+            (m, se)
         };
-        let ((g, gv), (c, cv)) = (recon(&st), recon(&cpu.state));
+        let ((g, gs), (c, cs)) = (recon(&st), recon(&cpu.state));
+        // The batch LS fit of the exact radiance the encoder sees (sphere bases: the mirrored
+        // zero half, 2·[z > 0] here) on 20 000 spherical Fibonacci points.
         let samples: Vec<sbf::solve::RadianceSample> = (0..20_000)
             .map(|i| sbf::sampling::spherical_fibonacci(i, 20_000))
             .filter(|d| kind.is_sphere() || d.z > 0.0)
@@ -138,13 +136,44 @@ fn furnace_gpu() {
         let m = sbf::solve::moments(basis.as_ref(), &samples);
         let oracle = sbf::solve::solve_gram(&gram, &m, Default::default()).unwrap().coeffs;
         let ls: f64 = (0..v.len()).map(|i| v[i] * oracle[(i, 1)]).sum();
+        // RMS residual over the LS's own points of a coefficient vector (green channel).
+        let nb = v.len();
+        let mut w = vec![0.0; nb];
+        let mut rms = |c: &dyn Fn(usize) -> f64| -> f64 {
+            let mut sq = 0.0;
+            for smp in &samples {
+                basis.eval_into(smp.direction, &mut w);
+                let f: f64 = (0..nb).map(|i| w[i] * c(i)).sum();
+                sq += (f - smp.value[1]).powi(2);
+            }
+            (sq / samples.len() as f64).sqrt()
+        };
+        let avg = |st: &BakeState| -> Vec<f64> {
+            (0..nb).map(|i| st.encoders[b].iter().map(|e| e.coefficients()[(i, 1)]).sum::<f64>() / st.encoders[b].len() as f64).collect()
+        };
+        let (a1, a0) = (avg(&st), avg(&early));
+        let (r_ls, r_avg, r_early) = (rms(&|i| oracle[(i, 1)]), rms(&|i| a1[i]), rms(&|i| a0[i]));
         println!(
-            "  {:>4}: fit at the normal, mean over texels: GPU {g:.4} ± {:.4}, CPU {c:.4} ± {:.4} (batch LS of the exact radiance {ls:.4})",
-            kind.name(),
-            gv.sqrt(),
-            cv.sqrt()
+            "  RMS residual: LS {r_ls:.5}, GPU mean fit {r_avg:.5} ({:+.2} %), at 1/4 the passes {r_early:.5} ({:+.2} %)",
+            100.0 * (r_avg / r_ls - 1.0),
+            100.0 * (r_early / r_ls - 1.0)
         );
-        assert!((g - c).abs() <= 4.0 * (gv + cv).sqrt(), "{}: GPU {g} vs CPU {c}", kind.name());
+        println!(
+            "  {:>4}: fit at the normal, mean over texels: GPU {g:.4} ± {gs:.4}, CPU {c:.4} ± {cs:.4}, batch LS of the exact radiance {ls:.4} (GPU {:+.2} %)",
+            kind.name(),
+            100.0 * (g / ls - 1.0)
+        );
+        assert!((g - c).abs() <= 4.0 * (gs * gs + cs * cs).sqrt(), "{}: GPU {g} vs CPU {c}", kind.name());
+        // LS minimises this residual over these points: no fit beats it (an identity, up to
+        // rounding); the progressive fit approaches it — closer after 4× the passes. (Not
+        // within a fixed percentage: the ill-conditioned lobe bases are still 8–14 % above
+        // it after 1 024 samples, where the SH bases are within 0.02 %.)
+        assert!(
+            r_avg >= r_ls * (1.0 - 1e-9) && r_early >= r_ls * (1.0 - 1e-9),
+            "{}: a fit beats LS ({r_avg}, {r_early} < {r_ls})",
+            kind.name()
+        );
+        assert!(r_avg < r_early, "{}: the fit moves away from LS ({r_early} → {r_avg})", kind.name());
     }
 }
 

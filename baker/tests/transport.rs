@@ -8,9 +8,25 @@
 //! Error model. Delta lights over a black environment give every pass the exact value at
 //! its sub-texel point (no Monte Carlo noise): a texel's mean over 16·k passes is the
 //! mean over its 16 points, up to f32 rounding — bound (N + 32)·2⁻²⁴ relative (N f32
-//! additions on the GPU, ~32 f32 operations per sample). Sampled lights (disk,
-//! environment) are checked against the bake's own per-texel standard error σ: scene
-//! mean within 3σ_mean, every texel within 5σ (plus the same rounding bound).
+//! additions on the GPU, ~32 f32 operations per sample; every term is positive, so the
+//! bound holds for the mean), and nothing else: [`check_exact`] allows no noise term.
+//! Sampled lights (disk, environment) are baked as R = 16 independent replicas (seeds
+//! 1…16: every Owen scramble and hash differs; the sub-texel points do not): their mean
+//! is compared with σ̂ from the spread of the replica means ([`check_replicas`]), not
+//! from the iid formula, which overstates the error of the Owen-scrambled Sobol' points
+//! 4–30× here. Per texel-channel the error is within 8σ̂ (σ̂ has 15 degrees of freedom:
+//! P(|t₁₅| > 8) ≈ 1e-6, so < 0.1 % of a ~1000-channel case fails by chance) and the
+//! case's mean error within 4σ̂_mean (pooled over texels, ~15n degrees of freedom:
+//! normal, P ≈ 6e-5).
+//!
+//! Mutations tried, with the failure observed (CPU leg first):
+//! - point light's irradiance halved within 2 mm of the light (`scene::lights::delta_at`):
+//!   `point_light_over_a_plane` fails at h = 1e-3, "texel 24: 19894.86 vs analytic
+//!   39789.22 (error 5.00e-1 of the value, bound 3.81e-6)" (the old 5σ check passed it);
+//! - every delta light × 1.01: the directional, point-light and smooth-sphere tests fail,
+//!   "error 1.00e-2 of the value, bound 3.81e-6" (1.72e-5 on the sphere);
+//! - `geometry::frame` returning (t, −b) or (b, t): `coefficients_live_in_the_documented_tangent_frame`
+//!   fails, the L1 band 30.1° / 37.7° from the documented frame's (every irradiance test passes).
 //!
 //! The GPU runs every case twice: through the megakernel and through the wavefront
 //! pipeline (`baker::gpu::wavefront`).
@@ -93,37 +109,106 @@ fn analytic(targets: &Targets, passes: u64, f: &dyn Fn(Vec3) -> [f64; 3]) -> Vec
         .collect()
 }
 
-/// Compares a bake's E/π with `want` per texel (`select`: which texels to check):
-/// scene mean within 3σ_mean + rounding, every texel within 5σ + rounding. Returns the
-/// worst |error|/value.
-fn check(what: &str, st: &BakeState, want: &[[f64; 3]], passes: u64, select: &dyn Fn(usize) -> bool) -> f64 {
-    let (m, se) = (st.mean(), st.standard_error());
+/// Compares a delta-light bake's E/π with `want` per texel: every texel within the f32
+/// rounding bound (N + 32)·2⁻²⁴·|want| plus `floor` (an absolute term for cases whose
+/// analytic value is ill-conditioned, stated where used; 0 otherwise) — no noise term.
+/// Returns the worst |error|/value.
+fn check_exact(what: &str, st: &BakeState, want: &[[f64; 3]], passes: u64, floor: f64) -> f64 {
+    let m = st.mean();
     let round = (passes as f64 + 32.0) * 2f64.powi(-24);
-    let (mut n, mut sum_err, mut var, mut worst_sigma, mut worst_rel, mut scale) = (0usize, 0.0, 0.0, 0.0f64, 0.0f64, 0.0f64);
-    for k in (0..m.len()).filter(|k| select(*k)) {
+    let (mut n, mut worst_rel, mut worst_tol) = (0usize, 0.0f64, 0.0f64);
+    for k in 0..m.len() {
         assert_eq!(st.moments[k].back_faces, 0, "{what}: texel {k} met a back face");
         for c in 0..3 {
-            let (got, w, s) = (m[k][c], want[k][c], se[k][c]);
+            let (got, w) = (m[k][c], want[k][c]);
+            let err = (got - w).abs();
+            let tol = round * w.abs() + floor;
+            assert!(
+                err <= tol,
+                "{what}: texel {k} channel {c}: {got} vs analytic {w} (error {:.2e} of the value, bound {:.2e})",
+                err / w.abs(),
+                tol / w.abs()
+            );
+            worst_rel = worst_rel.max(err / w.abs().max(1e-30));
+            worst_tol = worst_tol.max(err / tol.max(1e-300));
+            n += 1;
+        }
+    }
+    assert!(n > 0, "{what}: no texel checked");
+    println!("{what}: {n} texel-channels, worst relative error {worst_rel:.2e}, worst error / bound {worst_tol:.2}");
+    worst_rel
+}
+
+/// Compares the mean of R independent replica bakes with `want` per texel (`select`: which
+/// texels), σ̂ from the replicas' spread (module docs): every texel-channel within
+/// 8σ̂ + `bias` (an absolute bound of a deterministic bias, stated where used) + rounding,
+/// the mean error within 4σ̂_mean + `bias`. Returns the replicas' mean.
+fn check_replicas(
+    what: &str,
+    reps: &[BakeState],
+    want: &[[f64; 3]],
+    passes: u64,
+    bias: f64,
+    select: &dyn Fn(usize) -> bool,
+) -> Vec<[f64; 3]> {
+    let (mean, se) = replica_mean(reps);
+    let round = (passes as f64 + 32.0) * 2f64.powi(-24);
+    let (mut n, mut sum_err, mut var, mut worst_sigma) = (0usize, 0.0, 0.0, 0.0f64);
+    for k in (0..mean.len()).filter(|k| select(*k)) {
+        for st in reps {
+            assert_eq!(st.moments[k].back_faces, 0, "{what}: texel {k} met a back face");
+        }
+        for c in 0..3 {
+            let (got, w, s) = (mean[k][c], want[k][c], se[k][c]);
             let err = got - w;
-            let tol = 5.0 * s + round * w.abs() + 1e-30;
-            assert!(err.abs() <= tol, "{what}: texel {k} channel {c}: {got} vs analytic {w} (σ {s:.3e}, {:.1}σ)", err.abs() / s);
+            let tol = 8.0 * s + bias + round * w.abs() + 1e-30;
+            assert!(err.abs() <= tol, "{what}: texel {k} channel {c}: {got} vs analytic {w} (σ̂ {s:.3e}, {:.1}σ̂)", err.abs() / s);
             if s > 0.0 {
                 worst_sigma = worst_sigma.max(err.abs() / s);
             }
-            worst_rel = worst_rel.max(err.abs() / w.abs().max(1e-30));
             sum_err += err;
             var += s * s;
-            scale += w.abs();
             n += 1;
         }
     }
     assert!(n > 0, "{what}: no texel checked");
     let (mean_err, sigma_mean) = (sum_err / n as f64, var.sqrt() / n as f64);
     println!(
-        "{what}: {n} texel-channels, mean error {mean_err:+.3e} (σ_mean {sigma_mean:.2e}), worst texel {worst_sigma:.2}σ, worst relative {worst_rel:.2e}"
+        "{what}: {} replicas, {n} texel-channels, mean error {mean_err:+.3e} (σ̂_mean {sigma_mean:.2e}), worst texel {worst_sigma:.2}σ̂",
+        reps.len()
     );
-    assert!(mean_err.abs() <= 3.0 * sigma_mean + round * scale / n as f64, "{what}: mean error {mean_err} > 3σ_mean {sigma_mean}");
-    worst_rel
+    assert!(mean_err.abs() <= 4.0 * sigma_mean + bias, "{what}: mean error {mean_err} > 4σ̂_mean {sigma_mean} + bias {bias}");
+    mean
+}
+
+/// Per texel and channel: the mean of the replicas' means and its standard error from
+/// their spread, s/√R.
+fn replica_mean(reps: &[BakeState]) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let r = reps.len() as f64;
+    assert!(reps.len() >= 2, "replicas");
+    let means: Vec<Vec<[f64; 3]>> = reps.iter().map(|st| st.mean()).collect();
+    let items = means[0].len();
+    let mean: Vec<[f64; 3]> = (0..items).map(|k| std::array::from_fn(|c| means.iter().map(|m| m[k][c]).sum::<f64>() / r)).collect();
+    let se = (0..items)
+        .map(|k| std::array::from_fn(|c| (means.iter().map(|m| (m[k][c] - mean[k][c]).powi(2)).sum::<f64>() / (r - 1.0) / r).sqrt()))
+        .collect();
+    (mean, se)
+}
+
+/// Replicas of a sampled-light bake (module docs).
+const REPLICAS: u64 = 16;
+
+/// [`bake_guided`] `REPLICAS` times with seeds 1…R, `passes` each.
+fn bake_replicas(scene: &Scene, gpu: Option<&Gpu>, passes: u64, tpu: f32, guiding: Option<GuidingOptions>) -> (Targets, Vec<BakeState>) {
+    let lm = Lightmap::build(scene, tpu, 1).unwrap();
+    let targets = Targets::lightmap(&lm);
+    let reps = (1..=REPLICAS)
+        .map(|seed| {
+            let cfg = BakeConfig { seed, max_bounces: 2, bases: vec![], solver: Solver::Ls, guiding, ..Default::default() };
+            bake_on(gpu, scene, &targets, &cfg, passes)
+        })
+        .collect();
+    (targets, reps)
 }
 
 /// A GPU and the pipeline its bakes run.
@@ -160,7 +245,7 @@ fn directional_light_over_a_plane() {
             let passes = 32;
             let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 4.0);
             let want = analytic(&t, passes, &|_| std::array::from_fn(|c| el.to_radians().sin() * e[c] as f64 / PI));
-            check(&format!("{name} directional {el}°"), &st, &want, passes, &|_| true);
+            check_exact(&format!("{name} directional {el}°"), &st, &want, passes, 0.0);
         }
     }
 }
@@ -186,7 +271,7 @@ fn point_light_over_a_plane() {
                 let r = (pos - x).as_dvec3().length();
                 std::array::from_fn(|c| i[c] as f64 * h as f64 / r.powi(3) / PI)
             });
-            check(&format!("{name} point light at h = {h}"), &st, &want, passes, &|_| true);
+            check_exact(&format!("{name} point light at h = {h}"), &st, &want, passes, 0.0);
         }
     }
 }
@@ -207,16 +292,17 @@ fn disk_light_over_a_plane() {
     }
 }
 
-/// One height of [`disk_light_over_a_plane`] (optionally guided): bakes 256 passes and
-/// checks them against the closed form; returns the scene and the state.
-fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<GuidingOptions>) -> (Scene, BakeState) {
+/// One height of [`disk_light_over_a_plane`] (optionally guided): bakes R replicas of 16
+/// passes (32 guided: 16 learning, 16 guided) and checks their mean against the closed
+/// form; returns the scene and the replicas.
+fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<GuidingOptions>) -> (Scene, Vec<BakeState>) {
     let (rad, l) = (0.5f64, Vec3::new(4.0, 3.0, 2.0));
     let h = hr * rad;
     let mut s = plane_scene(vec![], Environment::Black);
     s.materials.push(Material::emitter(l));
     s.meshes.push(disk_light("disk", Vec3::new(0.0, h as f32, 0.0), -Vec3::Y, rad as f32, 1, 256));
-    let passes = 256;
-    let (t, _, st) = bake_guided(&s, g, passes, vec![], 16.0, guiding);
+    let passes = if guiding.is_some() { 32 } else { 16 };
+    let (t, reps) = bake_replicas(&s, g, passes, 16.0, guiding);
     let f = |x: Vec3| {
         let r = (x.x as f64).hypot(x.z as f64);
         let (h2, r2, a2) = (h * h, r * r, rad * rad);
@@ -228,22 +314,14 @@ fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<Guiding
         let [first, count, _] = t.items[k];
         t.points[first as usize..(first + count) as usize].iter().all(|p| p.position.x.hypot(p.position.z) < (rad / 2.0) as f32)
     };
-    // Polygon-vs-disk bias bound at the worst checked point (r = R/2).
+    // Polygon-vs-disk bias bound at the worst checked point (r = R/2), for the brightest
+    // channel.
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
     let d2 = h * h + (rad / 2.0).powi(2);
-    let bias = a_sym * h * h / (d2 * d2) / PI;
-    let mut st = st;
-    // Fold the bias bound into σ (a conservative, documented widening).
-    for (k, m) in st.moments.iter_mut().enumerate() {
-        if near(k) {
-            for c in 0..3 {
-                m.sum_sq[c] += (bias * l[c] as f64 / 5.0).powi(2) * (m.accepted as f64 - 1.0) * m.accepted as f64;
-            }
-        }
-    }
+    let bias = a_sym * h * h / (d2 * d2) / PI * l.max_element() as f64;
     let label = if guiding.is_some() { "guided disk light" } else { "disk light" };
-    check(&format!("{name} {label} at h = {hr} R"), &st, &want, passes, &near);
-    (s, st)
+    check_replicas(&format!("{name} {label} at h = {hr} R"), &reps, &want, passes, bias, &near);
+    (s, reps)
 }
 
 /// Seed 004 §6.2: the Owen-scrambled Sobol' sequences lower the error
@@ -320,10 +398,10 @@ fn constant_environment_over_a_plane() {
     for (name, g) in engines() {
         let l = Vec3::new(0.8, 1.0, 1.3);
         let s = plane_scene(vec![], Environment::Constant(l));
-        let passes = 128;
-        let (t, _, st) = bake(&s, g.as_deref(), passes, vec![], 4.0);
+        let passes = 16;
+        let (t, reps) = bake_replicas(&s, g.as_deref(), passes, 4.0, None);
         let want = analytic(&t, passes, &|_| std::array::from_fn(|c| l[c] as f64));
-        check(&format!("{name} constant environment"), &st, &want, passes, &|_| true);
+        check_replicas(&format!("{name} constant environment"), &reps, &want, passes, 0.0, &|_| true);
     }
 }
 
@@ -430,11 +508,9 @@ fn basis_encodings_match_their_projections() {
                     mean - proj
                 );
                 let conv = 0.01 * proj.abs();
+                // (|rec − analytic| ≤ |proj − analytic| + allowance + 3σ follows by the triangle
+                // inequality: not asserted separately.)
                 assert!((mean - proj).abs() <= conv + 3.0 * sigma, "{name} {case} {bname}: {mean} vs projection {proj} (σ {sigma})");
-                assert!(
-                    (mean - e_true).abs() <= (proj - e_true).abs() + conv + 3.0 * sigma,
-                    "{name} {case} {bname}: {mean} vs analytic {e_true} (projection {proj}, σ {sigma})"
-                );
             }
         }
     }
@@ -491,8 +567,11 @@ fn shading_normals_are_interpolated() {
             let k = if ng.dot(l) > 0.0 { ns.dot(l).max(0.0) as f64 / PI } else { 0.0 };
             std::array::from_fn(|c| e[c] as f64 * k)
         });
-        let rel = check(&format!("{name} smooth sphere"), &st, &want, passes, &|_| true);
-        assert!(rel < 1e-3, "{name}: worst relative error {rel}");
+        // The analytic shading normal comes from barycentrics recomputed here in f32 (error
+        // ~ε·|x|/|edge| ≲ 1e-6 per component): near the terminator n_s·l → 0 and only an
+        // absolute bound holds, 1e-5·E/π (10× that normal error).
+        let floor = 1e-5 * e.max_element() as f64 / PI;
+        check_exact(&format!("{name} smooth sphere"), &st, &want, passes, floor);
         let _ = lm;
     }
 }
@@ -587,8 +666,7 @@ fn projected_irradiance(kind: BasisKind, deltas: &[(DVec3, f64)], constant: f64)
 /// projections for the texels `items`, each given by its fit target as deltas (local
 /// direction, irradiance): per texel the reconstructed irradiance at the normal, the
 /// projection's and the analytic one; asserts the mean (rec − proj) within the encoder's 1%
-/// convergence allowance plus 3σ (σ: the spread of the per-texel differences) and the
-/// acceptance form |rec − analytic| ≤ |proj − analytic| + allowance + 3σ.
+/// convergence allowance plus 3σ (σ: the spread of the per-texel differences).
 fn compare_encodings(label: &str, kind: BasisKind, st: &BakeState, bi: usize, items: &[(usize, Vec<(DVec3, f64)>)]) {
     let basis = kind.basis();
     let (w, _) = lambert_weights(basis.as_ref());
@@ -612,8 +690,9 @@ fn compare_encodings(label: &str, kind: BasisKind, st: &BakeState, bi: usize, it
         kind.name()
     );
     let conv = 0.01 * proj.abs();
+    // The acceptance form |rec − analytic| ≤ |proj − analytic| + allowance + 3σ follows from
+    // this by the triangle inequality.
     assert!(mean.abs() <= conv + 3.0 * sigma, "{label} {}: rec − proj {mean}", kind.name());
-    assert!((rec - truth).abs() <= (proj - truth).abs() + conv + 3.0 * sigma, "{label} {}: {rec} vs {truth}", kind.name());
 }
 
 /// (b) in SH L2 and AD9: a point light 0.7 above the plane. Each texel's fit target is
@@ -719,8 +798,8 @@ fn disk_light_probe_encodings_match_their_projections() {
                 kind.name()
             );
             let conv = 0.01 * proj.abs();
+            // (The acceptance form against the analytic value follows by the triangle inequality.)
             assert!((rec - proj).abs() <= conv + 3.0 * sigma, "{name} {}: {rec} vs projection {proj}", kind.name());
-            assert!((rec - truth).abs() <= (proj - truth).abs() + conv + 3.0 * sigma, "{name} {}: {rec} vs {truth}", kind.name());
         }
     }
 }
@@ -807,8 +886,8 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
 /// Ray guiding is unbiased (seed 003's first-bounce guiding, `baker::sampling::guiding`): guided
 /// bakes of (c) the disk light at h = 0.1 R and R and (e) the constant environment meet
 /// the same closed forms and the same error model as the unguided ones, on the CPU and
-/// the GPU. 16 learning passes of 256 (128 for the environment): the disk's direction is
-/// learned (its luminance reaches the point sample through MIS-weighted emitter hits),
+/// the GPU. Each replica learns for 16 passes and then guides for 16: the disk's direction
+/// is learned (its luminance reaches the point sample through MIS-weighted emitter hits),
 /// so the guided pdf is far from uniform there and every MIS weight, the estimate's
 /// 1/p and the encoders' weights are exercised. Mutations tried (each fails here): the
 /// light samples' MIS weight against the uniform pdf instead of the mixture's, the
@@ -818,32 +897,108 @@ fn guided_bakes_match_the_closed_forms() {
     let guiding = Some(GuidingOptions { learn_passes: 16, guided_fraction: 0.5 });
     for (name, g) in engines() {
         for hr in [0.1f64, 1.0] {
-            let (s, st) = disk_light_case(name, g.as_deref(), hr, guiding);
-            assert!(st.guide_sums.iter().any(|v| *v > 0.0), "{name}: guiding learned nothing");
-            let (_, _, plain) = bake(&s, g.as_deref(), 256, vec![], 16.0);
-            agree(&format!("{name} disk light at h = {hr} R"), &plain, &st);
+            let (s, reps) = disk_light_case(name, g.as_deref(), hr, guiding);
+            assert!(reps.iter().all(|st| st.guide_sums.iter().any(|v| *v > 0.0)), "{name}: guiding learned nothing");
+            let (_, plain) = bake_replicas(&s, g.as_deref(), 32, 16.0, None);
+            agree(&format!("{name} disk light at h = {hr} R"), &plain, &reps);
         }
         let le = Vec3::new(0.8, 1.0, 1.3);
         let s = plane_scene(vec![], Environment::Constant(le));
-        let passes = 128;
-        let (t, _, st) = bake_guided(&s, g.as_deref(), passes, vec![], 4.0, guiding);
+        let passes = 32;
+        let (t, reps) = bake_replicas(&s, g.as_deref(), passes, 4.0, guiding);
         let want = analytic(&t, passes, &|_| std::array::from_fn(|c| le[c] as f64));
-        check(&format!("{name} guided constant environment"), &st, &want, passes, &|_| true);
-        let (_, _, plain) = bake(&s, g.as_deref(), passes, vec![], 4.0);
-        agree(&format!("{name} constant environment"), &plain, &st);
+        check_replicas(&format!("{name} guided constant environment"), &reps, &want, passes, 0.0, &|_| true);
+        let (_, plain) = bake_replicas(&s, g.as_deref(), passes, 4.0, None);
+        agree(&format!("{name} constant environment"), &plain, &reps);
     }
 }
 
 /// The guided bake's scene mean of E/π (the plane is one chart) agrees with the unguided
-/// bake's within 3σ, σ² the sum of both means' variances from their texel standard errors.
-fn agree(what: &str, plain: &BakeState, guided: &BakeState) {
-    let mean_var = |st: &BakeState| {
-        let (m, se) = (st.mean(), st.standard_error());
-        let n = (3 * m.len()) as f64;
-        (m.iter().flatten().sum::<f64>() / n, se.iter().flatten().map(|s| s * s).sum::<f64>() / (n * n))
+/// bake's within 4σ̂, σ̂² the sum of both means' variances from the spread of their
+/// replicas' scene means (15 degrees of freedom each; P(|z| > 4) ≈ 1e-3).
+fn agree(what: &str, plain: &[BakeState], guided: &[BakeState]) {
+    let mean_var = |reps: &[BakeState]| {
+        let scene: Vec<f64> = reps
+            .iter()
+            .map(|st| {
+                let m = st.mean();
+                m.iter().flatten().sum::<f64>() / (3 * m.len()) as f64
+            })
+            .collect();
+        let r = scene.len() as f64;
+        let mean = scene.iter().sum::<f64>() / r;
+        (mean, scene.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (r - 1.0) / r)
     };
     let ((a, va), (b, vb)) = (mean_var(plain), mean_var(guided));
     let z = (a - b).abs() / (va + vb).sqrt();
-    println!("{what}: guided {b:.5} vs unguided {a:.5} ({z:.2}σ)");
-    assert!(z <= 3.0, "{what}: guided {b} vs unguided {a} ({z:.2}σ)");
+    println!("{what}: guided {b:.5} vs unguided {a:.5} ({z:.2}σ̂)");
+    assert!(z <= 4.0, "{what}: guided {b} vs unguided {a} ({z:.2}σ̂)");
+}
+
+/// The tangent frame the lightmap's coefficients live in is the documented one (bake.json:
+/// "tangent frame of Duff et al. 2017 about the texel's shading normal"): Duff et al. 2017,
+/// "Building an Orthonormal Basis, Revisited", Listing 3, written out here in f64 — not the
+/// baker's or sbf's function. A Lambert plane tilted to n = (0.3, 0.8, −0.5)/|·| under one
+/// directional light of irradiance E at a direction with no symmetry in that frame; SH L2
+/// (LS over the sphere, the lower half mirrored as zeros: the projection is E·Y(ω_local),
+/// Y orthonormal) on every texel. The L1 band of each texel's coefficients must point along
+/// E·(Y₁₋₁, Y₁₀, Y₁₁)(ω_local) within 5°: the progressive encoder's distance to the batch
+/// fit is ≤ 5 % at 512 samples (sbf `progressive_converges_to_batch_ls`), which turns the
+/// band by at most asin(0.05) ≈ 2.9°. A frame rotated, mirrored or built about another
+/// axis turns it by tens of degrees. (Irradiance at the normal cannot see the frame:
+/// the other encoding tests are blind to it.) Mutations tried: `geometry::frame` returning
+/// (t, −b), and (b, t) — both fail on the CPU leg.
+#[test]
+fn coefficients_live_in_the_documented_tangent_frame() {
+    let n = DVec3::new(0.3, 0.8, -0.5).normalize();
+    // Duff et al. 2017, Listing 3.
+    let duff = |n: DVec3| {
+        let sign = 1f64.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        (DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), DVec3::new(b, sign + n.y * n.y * a, -n.y))
+    };
+    let (t, b) = duff(n);
+    // A square in the plane (any in-plane axes u, v with u × n = v keep the winding facing n).
+    let u = n.cross(DVec3::Z).normalize();
+    let v = u.cross(n);
+    let corner = |x: f64, z: f64| (u * x + v * z).as_vec3();
+    let nf = n.as_vec3();
+    // 50° from the normal, 20° from T towards B: far from every symmetry of the frame
+    // (swapping T and B turns the L1 band by ~37°).
+    let (theta, phi) = (50f64.to_radians(), 20f64.to_radians());
+    let local = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+    let d = t * local.x + b * local.y + n * local.z;
+    let e = 2.0f64;
+    let s = Scene {
+        name: "tilted plane".into(),
+        meshes: vec![Mesh {
+            name: "plane".into(),
+            positions: vec![corner(-1.0, -1.0), corner(-1.0, 1.0), corner(1.0, 1.0), corner(1.0, -1.0)],
+            normals: vec![nf; 4],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+            material: 0,
+            lightmap_uv: None,
+            lightmapped: true,
+        }],
+        materials: vec![Material::lambert(Vec3::splat(0.5))],
+        lights: vec![Light::Directional { direction: d.as_vec3(), irradiance: Vec3::splat(e as f32) }],
+        environment: Environment::Black,
+    };
+    let sh = BasisKind::ShL2.basis();
+    let mut y = vec![0.0; sh.len()];
+    sh.eval_into(local, &mut y);
+    let want = DVec3::new(y[1], y[2], y[3]) * e;
+    for (name, g) in engines() {
+        let (_, _, st) = bake(&s, g.as_deref(), 512, vec![BasisKind::ShL2], 2.0);
+        let mut worst = 0.0f64;
+        for (k, enc) in st.encoders[0].iter().enumerate() {
+            let c = enc.coefficients();
+            let got = DVec3::new(c[(1, 1)], c[(2, 1)], c[(3, 1)]);
+            let angle = got.angle_between(want).to_degrees();
+            assert!(angle <= 5.0, "{name}: texel {k}: L1 band {got:?} vs {want:?} in the documented frame: {angle:.1}° apart");
+            worst = worst.max(angle);
+        }
+        println!("{name}: {} texels, L1 band within {worst:.2}° of the documented frame's", st.encoders[0].len());
+    }
 }

@@ -181,13 +181,7 @@ impl Quadrature {
     /// is evaluated, folded and transformed once per (output row, source row) and applied
     /// to every map's spectra (the cost of one more map is 3·H·W products and 3 inverse
     /// FFTs per output row).
-    pub fn integrate_many(
-        &self,
-        maps: &[&Spectra],
-        rows: &[usize],
-        sub: usize,
-        kernel: &dyn RowKernel,
-    ) -> Vec<Vec<[f64; 3]>> {
+    pub fn integrate_many(&self, maps: &[&Spectra], rows: &[usize], sub: usize, kernel: &dyn RowKernel) -> Vec<Vec<[f64; 3]>> {
         let (w, h, s) = (self.map.width, self.map.height, sub.max(1));
         let k = w / self.out.width;
         // Azimuth of fine index x: Δφ = 2π(x/S + c0)/W with c0 = k/2 − 1/(2S) (the offset
