@@ -166,10 +166,15 @@ struct Cli {
     #[arg(long, default_value_t = 16.0)]
     batch_ms: f64,
     /// Bake on this many GPUs of this host (hardware adapters; the texels and probes are
-    /// dealt out in blocks, block b to GPU b mod N, and the results merged into exactly
-    /// the one-GPU bake). Not with --guiding.
+    /// dealt out in blocks of consecutive items, block b to GPU b mod N, and the results
+    /// merged into exactly the one-GPU bake). Not with --guiding, --filter, --adaptive or
+    /// --camera (each needs the whole atlas every pass).
     #[arg(long, default_value_t = 1)]
     gpus: usize,
+    /// Also log what each stage left out (e.g. the GPU kernel's unused features) and the
+    /// wavefront pass graph.
+    #[arg(short, long)]
+    verbose: bool,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
@@ -258,8 +263,9 @@ fn options(c: Cli) -> Result<Options, String> {
         probes,
         relocate_probes: c.relocate_probes,
         probe_bases,
-        preview_width: c.preview_width.max(8),
+        preview_width: c.preview_width,
         quiet: d.quiet,
+        verbose: c.verbose,
         measure_rays: c.measure_rays,
         batch_seconds: (c.batch_ms > 0.0).then_some(c.batch_ms * 1e-3),
         gpus: c.gpus,
@@ -332,7 +338,9 @@ fn strategies(c: &Cli) -> Result<Strategies, String> {
 }
 
 fn main() -> ExitCode {
-    let o = match options(Cli::parse()) {
+    // Every bound is checked here too (run::bake checks again for library callers), so a
+    // bad argument exits with 2 before anything is loaded.
+    let o = match options(Cli::parse()).and_then(|o| o.validate().map(|_| o)) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("baker: {e}");

@@ -7,8 +7,9 @@
 //! seam stitcher, dilation, EXR encoding or bake.json's numbers changes a hash.
 //!
 //! bake.json is compared without the fields that measure this run (wall times, the device
-//! and its thread count): they are removed and the rest is hashed in canonical form (keys
-//! sorted, numbers written round-trip exact).
+//! and its thread count) or name the engine (the GPU pipeline: both give the same bake):
+//! they are removed and the rest is hashed in canonical form (keys sorted, numbers written
+//! round-trip exact).
 //!
 //! When a change is *meant* to alter the outputs, run this test, check the printed table
 //! against the reason for the change, and paste it in place of the pinned one.
@@ -40,7 +41,7 @@ fn scenes_dir() -> Option<PathBuf> {
 fn strip_run_fields(v: &mut serde_json::Value) {
     match v {
         serde_json::Value::Object(m) => {
-            for k in ["seconds", "stage_seconds", "device"] {
+            for k in ["seconds", "stage_seconds", "device", "pipeline"] {
                 m.remove(k);
             }
             m.values_mut().for_each(strip_run_fields);

@@ -5,10 +5,13 @@
 //!
 //! Mutations tried, each caught: the WGSL mapping without the device's block offset (every
 //! device bakes the first device's blocks), the merge taking the first device's state for
-//! every item, and a share one item short (the last item of a device keeps its zero state).
+//! every item, and a share one item short (the last item of a device keeps its zero state);
+//! the dispatch's item offset ignored in `jobs.wgsl` (every chunk of a pass bakes the first
+//! chunk's items) — caught by the chunked case ("lightmap, Megakernel, 2 devices, chunk 32:
+//! moments differ").
 
 mod common;
-use baker::accumulate::{BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::accumulate::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::multi::{owner, partition_block, MultiGpuBake};
 use baker::gpu::GpuBake;
@@ -45,8 +48,11 @@ fn same(a: &BakeState, b: &BakeState, what: &str) {
     }
 }
 
-/// Lightmap texels (SH L2 + AD 9, NNLS) and sphere probes (SH L2): 2 and 3 logical devices
-/// give the single-device state bit for bit; a guided bake is refused across devices.
+/// Lightmap texels (SH L2 + AD 9, NNLS) and sphere probes (SH L2), on the megakernel and
+/// the wavefront pipeline: 2 and 3 logical devices give the single-device state bit for
+/// bit, with one dispatch per pass and with each pass split into several dispatches (a
+/// chunk of 32 items: 2–18 per device and pass here); a guided bake is refused across
+/// devices. The single-device reference runs one dispatch per pass on the same pipeline.
 #[test]
 fn merged_bakes_equal_the_single_device_bake() {
     let Some(_lease) = gpu() else { return };
@@ -57,27 +63,43 @@ fn merged_bakes_equal_the_single_device_bake() {
     let lightmap = Targets::lightmap(&lm);
     let probes = Targets::probes(&baker::layout::probes::probe_grid(&bvh, [6, 6, 6]));
     let tracer_of = || Tracer::new(&scene, &bvh, 3);
-    for (targets, bases, what) in
-        [(&lightmap, vec![BasisKind::ShL2, BasisKind::Ad9], "lightmap"), (&probes, vec![BasisKind::ShL2], "probes")]
-    {
-        let cfg = BakeConfig { seed: 7, max_bounces: 3, bases, ..Default::default() };
-        let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
-        one.set_chunk(usize::MAX);
-        one.run(6).unwrap();
-        let reference = one.state().unwrap();
-        for n in [2, 3] {
-            let mut multi = MultiGpuBake::new(&gpus[..n], &tracer_of, targets, &cfg).unwrap();
-            multi.run(4).unwrap();
-            multi.run(2).unwrap();
-            println!("{what}: {} items on {n} devices: {multi:?}", targets.items.len());
-            same(&multi.state().unwrap(), &reference, &format!("{what} on {n} devices"));
-            // Each device baked its blocks and nothing else (the work is divided, not repeated).
-            for (di, d) in multi.devices().iter().enumerate() {
-                let st = d.state().unwrap();
-                for (k, m) in st.moments.iter().enumerate() {
-                    let mine = owner(k, multi.block(), n) == di;
-                    assert_eq!(d.owns(k), mine);
-                    assert_eq!(m.accepted > 0, mine && reference.moments[k].accepted > 0, "{what}: item {k}, device {di}");
+    for pipeline in [Pipeline::Megakernel, Pipeline::Wavefront] {
+        for (targets, bases, what) in
+            [(&lightmap, vec![BasisKind::ShL2, BasisKind::Ad9], "lightmap"), (&probes, vec![BasisKind::ShL2], "probes")]
+        {
+            let cfg = BakeConfig { seed: 7, max_bounces: 3, bases, pipeline, ..Default::default() };
+            let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
+            one.set_chunk(usize::MAX);
+            one.run(6).unwrap();
+            let reference = one.state().unwrap();
+            for n in [2, 3] {
+                for chunk in [usize::MAX, 32] {
+                    let label = format!(
+                        "{what}, {pipeline:?}, {n} devices, chunk {}",
+                        if chunk == usize::MAX { "whole".to_string() } else { chunk.to_string() }
+                    );
+                    let mut multi = MultiGpuBake::new(&gpus[..n], &tracer_of, targets, &cfg).unwrap();
+                    multi.set_chunk(chunk);
+                    multi.run(4).unwrap();
+                    multi.run(2).unwrap();
+                    let dispatches: Vec<u64> = multi.devices().iter().map(|d| d.submissions()).collect();
+                    println!("{label}: {} items: {multi:?}, dispatches per device {dispatches:?}", targets.items.len());
+                    if chunk != usize::MAX {
+                        assert!(
+                            dispatches.iter().all(|d| *d > 6),
+                            "{label}: a pass was not split ({dispatches:?} dispatches for 6 passes)"
+                        );
+                    }
+                    same(&multi.state().unwrap(), &reference, &label);
+                    // Each device baked its blocks and nothing else (the work is divided, not repeated).
+                    for (di, d) in multi.devices().iter().enumerate() {
+                        let st = d.state().unwrap();
+                        for (k, m) in st.moments.iter().enumerate() {
+                            let mine = owner(k, multi.block(), n) == di;
+                            assert_eq!(d.owns(k), mine);
+                            assert_eq!(m.accepted > 0, mine && reference.moments[k].accepted > 0, "{label}: item {k}, device {di}");
+                        }
+                    }
                 }
             }
         }

@@ -71,6 +71,8 @@ pub(crate) struct Batching {
     passes: u64,
     /// Dispatches so far (the measurement schedule).
     dispatches: u64,
+    /// Submissions of bake work so far (one per chunk of items and dispatch).
+    submissions: u64,
     /// The most jobs × passes of one dispatch (the wavefront's path pool; unbounded for
     /// the megakernel).
     max_slots: usize,
@@ -194,6 +196,7 @@ impl<'g> GpuBake<'g> {
                 chunk: items.min(INITIAL_CHUNK).min(max_slots),
                 passes: 1,
                 dispatches: 0,
+                submissions: 0,
                 max_slots,
             },
             share: items,
@@ -273,6 +276,12 @@ impl<'g> GpuBake<'g> {
         self.batching.passes
     }
 
+    /// Submissions of bake work so far: one per chunk of items and dispatch, so more than
+    /// the dispatches when a pass is split ([`GpuBake::set_chunk`]).
+    pub fn submissions(&self) -> u64 {
+        self.batching.submissions
+    }
+
     /// One pass, as dispatches of at most `chunk` items (one submission each); with ray
     /// guiding, the gather of its learning records and, once learning ends, the build of
     /// the distributions follow the last one. Per-item results do not depend on the split.
@@ -300,6 +309,7 @@ impl<'g> GpuBake<'g> {
                 break enc;
             }
             self.gpu.queue().submit([enc.finish()]);
+            self.batching.submissions += 1;
             self.collect_profile()?;
             start = end;
         };
@@ -318,6 +328,7 @@ impl<'g> GpuBake<'g> {
             }
         }
         self.gpu.queue().submit([enc.finish()]);
+        self.batching.submissions += 1;
         self.collect_profile()
     }
 

@@ -13,6 +13,8 @@ pub struct BakeJson {
     pub scene: String,
     /// The engine that traced: "CPU: N threads (rayon)", "GPU: adapter" or the GPUs.
     pub device: String,
+    /// The GPU pipeline ("megakernel", "wavefront") or "none (CPU path)".
+    pub pipeline: &'static str,
     pub passes: u64,
     pub seed: u64,
     pub sampler: &'static str,

@@ -45,11 +45,16 @@ pub(crate) fn run_targets<'s>(
                 Some(s) => b.set_batch_target(Some(s)),
                 None => b.set_chunk(usize::MAX),
             }
-            for l in &b.devices()[0].kernel.left_out {
-                log(format!("{what}: left out of the GPU kernel: {l}"));
-            }
-            if let Some(g) = b.devices()[0].pass_graph() {
-                log(format!("{what}: wavefront pass graph of a wave:\n{g}"));
+            let left_out = &b.devices()[0].kernel.left_out;
+            if o.verbose {
+                for l in left_out {
+                    log(format!("{what}: left out of the GPU kernel: {l}"));
+                }
+                if let Some(g) = b.devices()[0].pass_graph() {
+                    log(format!("{what}: wavefront pass graph of a wave:\n{g}"));
+                }
+            } else if !left_out.is_empty() {
+                log(format!("{what}: {} features left out of the GPU kernel (this bake does not use them; -v lists them)", left_out.len()));
             }
             if gpus.len() > 1 {
                 let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();

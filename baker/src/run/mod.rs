@@ -6,6 +6,7 @@
 
 mod devices;
 mod engine;
+pub mod limits;
 mod options;
 mod outputs;
 
@@ -25,13 +26,23 @@ use std::time::Instant;
 /// Runs a whole bake and writes its outputs (unless stopped early).
 pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String> {
     let t0 = Instant::now();
-    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
+    // Every bound first, then the output folder: nothing is traced for a bake that
+    // cannot finish or cannot write.
+    o.validate()?;
+    limits::check_writable(&o.out)?;
     let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, o.texels_per_unit, o.padding).map_err(|e| e.to_string())?;
     log_scene_and_layout(o, &scene, &bvh, &lm, log);
+    limits::check_memory("lightmap", lm.valid_count(), &o.config.bases, log)?;
+    if let Some([x, y, z]) = o.probes {
+        limits::check_memory("probes", x * y * z, &o.probe_bases, log)?;
+    }
     let glossy = scene.has_glossy();
     let (gpus, device) = devices::select(o, log)?;
+    if gpus.is_empty() && o.config.pipeline != crate::accumulate::Pipeline::default() {
+        log(format!("notice: --pipeline {} applies to GPU bakes; this bake runs on the CPU path", o.config.pipeline.name()));
+    }
     let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
     let targets = Targets::lightmap(&lm);
     // The camera's image (camera-based sampling) sized from the atlas where not given.
@@ -57,7 +68,8 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         log(format!("probes: {prun} passes in {:.2} s", t.elapsed().as_secs_f64()));
         probe_state = Some(ps);
     }
-    let ctx = OutputContext { probe_positions: &probe_positions, relocated: &relocated, device: &device, glossy, t0, times };
+    let pipeline = if gpus.is_empty() { "none (CPU path)" } else { o.config.pipeline.name() };
+    let ctx = OutputContext { probe_positions: &probe_positions, relocated: &relocated, device: &device, pipeline, glossy, t0, times };
     write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &ctx, log)?;
     Ok(Summary { device, lightmap: state, probes: probe_state, passes_run: run, seconds: t0.elapsed().as_secs_f64() })
 }

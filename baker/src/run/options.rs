@@ -38,6 +38,8 @@ pub struct Options {
     pub preview_width: usize,
     /// No progress bar.
     pub quiet: bool,
+    /// Log what each stage left out, one line each (otherwise a count per stage).
+    pub verbose: bool,
     /// Instead of baking: measure GPU rays/s over this many passes and print them.
     pub measure_rays: Option<u64>,
     /// GPU: target seconds per dispatch (frame-time load balancing, seed 004 §3.4.1); None:
@@ -80,6 +82,7 @@ impl Default for Options {
             gpus: 1,
             profile: None,
             quiet: false,
+            verbose: false,
             // The CLI's defaults for 128 passes (`--denoise auto`, `--stitch-seams auto`).
             denoise: Some(crate::post::denoise::DenoiseOptions::default()),
             stitch_seams: true,

@@ -28,6 +28,8 @@ pub(crate) struct OutputContext<'a> {
     pub(crate) probe_positions: &'a [Vec3],
     pub(crate) relocated: &'a [(usize, Vec3)],
     pub(crate) device: &'a str,
+    /// The GPU pipeline that ran the passes, or that the CPU path ran them.
+    pub(crate) pipeline: &'static str,
     pub(crate) glossy: bool,
     pub(crate) t0: Instant,
     pub(crate) times: StageTimes,
@@ -67,7 +69,7 @@ pub(crate) fn write_outputs(
     ctx: &OutputContext,
     log: &mut dyn FnMut(String),
 ) -> Result<(), String> {
-    let OutputContext { probe_positions, relocated, device, glossy, t0, times } = *ctx;
+    let OutputContext { probe_positions, relocated, device, pipeline, glossy, t0, times } = *ctx;
     let mut img = LightmapImages::new(lm, targets, state);
     let lm_validity = validity_json(state);
     let (filter_json, overlapped, empty) = filter_account(o, lm, state, &img, log);
@@ -98,6 +100,7 @@ pub(crate) fn write_outputs(
     let meta = BakeJson {
         scene: scene.name.clone(),
         device: device.to_string(),
+        pipeline,
         passes: state.passes,
         seed: o.config.seed,
         sampler: o.config.sampler.name(),
