@@ -16,10 +16,12 @@ enum Toggle {
     Off,
 }
 
-/// `--denoise auto` denoises bakes of at most this many passes (measured on the H200:
-/// E/π error against a 262 144-pass reference 2.02× lower at 128 passes, 1.62× at 512,
-/// 1.28× at 2048, 1.08× at 8192 where the SH coefficients got worse — the filter's bias floor).
-const DENOISE_AUTO_MAX_PASSES: u64 = 2048;
+/// `--denoise auto` denoises bakes of at most this many passes: the largest pass count at
+/// which the denoiser lowered the error of E/π *and* of the SH coefficients on both measured
+/// scenes (docs/baker.md, "Denoiser": H200, one 65 536-pass reference per scene; built-in
+/// scene E/π 2.0× lower at 128 passes, the glTF room 1.3×). At 512 passes the room's SH
+/// coefficients came out 3 % worse while its E/π still improved 1.2×.
+const DENOISE_AUTO_MAX_PASSES: u64 = 128;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -80,9 +82,10 @@ struct Cli {
     camera: Option<String>,
     /// Denoise the lightmap (joint non-local means within charts, guided by position and
     /// normal; the same weights for irradiance and every coefficient) before dilation.
-    /// `auto`: on up to 2048 passes, where it was measured to lower the error (2.0× at 128
-    /// passes on the built-in scene, 1.3× at 2048), off above (at 8192 it blurred more
-    /// real detail than it removed noise). `--denoise` alone means `on`.
+    /// `auto`: on up to 128 passes, where it was measured to lower the error of E/π and of
+    /// the coefficients on the built-in scene and a glTF room (E/π 2.0× and 1.3× lower),
+    /// off above (from 512 passes the room's coefficients got worse; docs/baker.md).
+    /// `--denoise` alone means `on`.
     #[arg(long, value_enum, num_args = 0..=1, default_value = "auto", default_missing_value = "on")]
     denoise: Toggle,
     /// Denoiser window radius in texels (with --denoise).

@@ -50,6 +50,8 @@ fn unbounded_inputs_are_refused_before_any_work() {
         (vec!["--bounces", "100000"], vec!["--bounces 100000", &b]),
         (vec!["--padding", "1000"], vec!["--padding 1000", &pad]),
         (vec!["--texels-per-unit", "inf"], vec!["--texels-per-unit inf"]),
+        (vec!["--gpus", "2", "--device", "gpu", "--guiding"], vec!["--gpus 2", "--guiding"]),
+        (vec!["--gpus", "2", "--device", "gpu", "--filter", "box"], vec!["--gpus 2", "--filter"]),
     ];
     for (args, want) in &cases {
         let out = tmp("refused");

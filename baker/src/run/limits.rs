@@ -71,6 +71,18 @@ impl Options {
         if !(self.texels_per_unit.is_finite() && self.texels_per_unit > 0.0) {
             return Err(format!("--texels-per-unit {}: must be a finite number > 0", self.texels_per_unit));
         }
+        if self.gpus > 1 {
+            let c = &self.config;
+            let needs_all = [
+                (c.guiding.is_some(), "--guiding (its clusters learn from all their texels every pass)"),
+                (c.filter.is_some(), "--filter (a texel gathers its neighbours' samples every pass)"),
+                (c.adaptive.is_some(), "--adaptive (each batch draws from the whole atlas)"),
+                (c.camera.is_some(), "--camera (each batch draws from the whole atlas)"),
+            ];
+            if let Some((_, why)) = needs_all.iter().find(|(on, _)| *on) {
+                return Err(format!("--gpus {}: cannot split a bake with {why}; use one GPU", self.gpus));
+            }
+        }
         if let Some(a) = &self.config.adaptive {
             if a.pilot_passes >= self.passes {
                 return Err(format!(
