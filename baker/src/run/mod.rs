@@ -43,6 +43,10 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     if gpus.is_empty() && o.config.pipeline != crate::accumulate::Pipeline::default() {
         log(format!("notice: --pipeline {} applies to GPU bakes; this bake runs on the CPU path", o.config.pipeline.name()));
     }
+    let default_batch = o.batch_seconds.is_some_and(|s| (s - crate::gpu::BATCH_TARGET_SECONDS).abs() < 1e-12);
+    if gpus.is_empty() && !default_batch {
+        log("notice: --batch-ms applies to GPU bakes; this bake runs on the CPU path".into());
+    }
     let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
     let targets = Targets::lightmap(&lm);
     // The camera's image (camera-based sampling) sized from the atlas where not given.

@@ -20,10 +20,9 @@
 //! Isotropic phase function 1/(4π); transmittance exp(−σ_t·length inside the slab) on the
 //! camera ray and on the light's segment; no visibility (as the surface harness).
 
-use crate::slc::{GBuffer, TILE};
+use crate::slc::{pixel_light_uniforms as slc_uniforms, GBuffer, TILE};
 use rayon::prelude::*;
 use sbf::glam::{Mat3, Vec3};
-use sbf::sampling::Pcg32;
 use sbf::slc::runtime as slc;
 use std::f32::consts::PI;
 
@@ -264,13 +263,9 @@ pub fn render(g: &GBuffer, m: &Medium, lights: &[MediaLight], delta: f32, mode: 
                 .map(|&k| {
                     let (d, seg) = ray_segment(g, m, k);
                     let Some(seg) = seg else { return (k, 0.0, kept.len() as u32, kept.len() as u32) };
-                    let mut rng_seed = seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-                    rng_seed = rng_seed.rotate_left(17);
                     let (mut sum, mut misses) = (0.0f32, 0u32);
                     for &j in &kept {
-                        let mut r = Pcg32::new(rng_seed, j as u64);
-                        // 24-bit uniforms in [0, 1) (an f64 rounded to f32 may reach 1).
-                        let u = [(r.next_u32() >> 8) as f32 / 16_777_216.0, (r.next_u32() >> 8) as f32 / 16_777_216.0];
+                        let u = slc_uniforms(seed, k as u64, j as u64);
                         match estimate(m, &lights[j], delta, mode, d, seg, u) {
                             Some(v) => sum += v,
                             None => misses += 1,

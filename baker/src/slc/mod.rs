@@ -370,6 +370,35 @@ pub fn gbuffer_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::
     GBuffer { width, height, tan_xy: (cam.tan_x, tan_y), texels }
 }
 
+/// SplitMix64's output function (Steele, Lea and Flood 2014, "Fast splittable
+/// pseudorandom number generators"): a bijective 64-bit mix whose outputs for consecutive
+/// or related inputs are statistically independent.
+fn splitmix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The ξ ∈ (0, 1] of light path `path` of the bake seeded `seed` (seed 002 eq. 3: one
+/// uniform number per light): a hash of (seed, path, this use) — the seed mixed first, so
+/// that no two (seed, path) pairs share a value by any linear relation (a PCG stream per
+/// path seeded by `seed` made ξ depend on about seed + 2·path) — its top 24 bits as the
+/// f32 1 − k/2²⁴.
+pub fn vpl_xi(seed: u64, path: u64) -> f32 {
+    const USE_XI: u64 = 0x5c1_0001;
+    let h = splitmix64(splitmix64(splitmix64(seed) ^ path) ^ USE_XI);
+    1.0 - (h >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// Two uniforms in [0, 1) (24 bits each) for (seed, pixel, light): the same hash chain as
+/// [`vpl_xi`] with another use — independent across seeds, pixels and lights.
+pub fn pixel_light_uniforms(seed: u64, pixel: u64, light: u64) -> [f32; 2] {
+    const USE_PIXEL_LIGHT: u64 = 0x5c1_0002;
+    let h = splitmix64(splitmix64(splitmix64(splitmix64(seed) ^ pixel) ^ light) ^ USE_PIXEL_LIGHT);
+    [(h >> 40) as f32 / (1u64 << 24) as f32, ((h >> 16) & 0xff_ffff) as f32 / (1u64 << 24) as f32]
+}
+
 /// `count` VPLs of `scene` (view space for `cam`) — the reflective-shadow-map equivalent:
 /// light paths start at a light chosen by luminance power (directional lights over a disk
 /// covering the scene bounds, point and spot lights over the sphere weighted by their cone,
@@ -454,7 +483,7 @@ pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh
         let ng = tri.normal();
         let n = if ng.dot(dir) > 0.0 { -ng } else { ng };
         let x = o + dir * h.t - cam.eye;
-        let xi = 1.0 - sbf::sampling::Pcg32::new(seed ^ 0x9e37_79b9, path as u64).next_f64() as f32;
+        let xi = vpl_xi(seed, path as u64);
         let flux = per_path * w * crate::scene::lights::range_window(h.t, range);
         if flux <= 0.0 {
             continue;
