@@ -36,6 +36,9 @@ enum Cmd {
         /// Output file (default: stdout).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// List every WGSL item left out (by default one summary line counts them).
+        #[arg(short, long)]
+        verbose: bool,
     },
     /// GPU reconstruction throughput (evaluations per second) per basis, diffuse and
     /// diffuse + specular.
@@ -85,7 +88,7 @@ fn main() -> ExitCode {
             println!("{}", shaders::bench::table(&gpu, count, repeats, inputs, &rows));
             Ok(())
         })(),
-        Cmd::Export { config, profile, lang, out } => (|| {
+        Cmd::Export { config, profile, lang, out, verbose } => (|| {
             let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
             let cfg = match (&config, &prof) {
                 (Some(c), _) => Config::parse(c)?,
@@ -115,8 +118,8 @@ fn main() -> ExitCode {
                     if notes.is_empty() { String::new() } else { format!("; not in WGSL: {}", notes.join("; ")) }
                 );
             }
-            eprintln!("{}", c.summary());
-            if !c.left_out.is_empty() {
+            eprintln!("{}{}", c.summary(), if c.left_out.is_empty() || verbose { "" } else { " (-v lists them)" });
+            if verbose && !c.left_out.is_empty() {
                 let names: Vec<String> = c.left_out.iter().map(|(m, n, _)| format!("{m}::{n}")).collect();
                 eprintln!("left out: {}", names.join(", "));
             }

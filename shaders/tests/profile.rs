@@ -26,3 +26,24 @@ fn profile_export_leaves_out_specular() {
     let (code, _) = export("ad9-diffuse-specular");
     assert!(code.contains("ad9_specular") && code.contains("ad9_irradiance") && code.contains("sh_l2_irradiance"));
 }
+
+/// An export says what it left out in one line; `-v` lists the items. Mutation tried: the
+/// list printed without `-v` — the first assertion fails (the list is ~4 KB).
+#[test]
+fn exports_are_quiet_unless_verbose() {
+    let run = |extra: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_shaders"))
+            .args(["export", "--config", "sh-l2-irradiance", "--lang", "wgsl"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let quiet = run(&[]);
+    assert_eq!(quiet.lines().count(), 1, "one summary line expected: {quiet}");
+    assert!(quiet.contains("left out") && quiet.contains("-v lists them"), "{quiet}");
+    let verbose = run(&["-v"]);
+    let list = verbose.lines().find(|l| l.starts_with("left out: ")).expect("-v lists the items");
+    assert!(list.contains("::"), "{list}");
+}
