@@ -576,6 +576,11 @@ fn slc_command_writes_its_outputs() {
     assert!(meta["vpls"].as_u64().unwrap() > 100 && (c - b).abs() <= 0.05 * b, "culled {c} vs brute {b}");
     let bad = slc(&["--vpls", "0", "--out", d.to_str().unwrap()]);
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("--vpls must be at least 1"));
+    // The slit room is lit by its sky only: no VPL, an error that says why (it used to
+    // write an empty image and exit 0).
+    let none = slc(&["--scene", "slit", "--vpls", "64", "--size", "32x18", "--device", "cpu", "--out", d.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&none.stderr);
+    assert!(!none.status.success() && err.contains("yields no VPLs") && err.contains("environment"), "{err}");
 }
 
 /// `--profile`: a Lambert-only profile on the glossy built-in scene bakes only its bases,

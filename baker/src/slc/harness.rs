@@ -145,6 +145,14 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         }
         k => return Err(format!("--kind takes both, diffuse or glossy, not {k}")),
     }
+    if vpls.is_empty() {
+        return Err(format!(
+            "scene '{}' yields no VPLs from {} light paths: VPLs start only at its lights and emissive triangles (not at the environment or sky), and none of their paths met a surface{}",
+            scene.name,
+            s.vpls,
+            if s.kind == "both" { "" } else { " of the kept kind" }
+        ));
+    }
     let glossy = vpls.iter().filter(|v| v.diffuse == 0.0).count();
     log(format!(
         "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} light paths in {:.2} s",
