@@ -419,6 +419,7 @@ fn filter_error_is_within_the_lipschitz_bound() {
 ///   with D = α²/(π((n·h)²(α² − 1) + 1)²) (Walter et al. 2007), height-correlated Smith
 ///   G2 = 1/(1 + Λ(ω_i) + Λ(ω_o)), Λ = (√(1 + α² tan² θ) − 1)/2 (Heitz 2014), Schlick F
 ///   with F0 at ω_i·h.
+///
 /// Tolerance: f32 rounding of ~60 operations (diffuse) or ~150 with D's conditioning
 /// (d ln D/d cos θ_h ≤ 4/α² ≈ 44 at α 0.3) — 2e-5 and 2e-4 of the value — plus 1e-6 of the
 /// image's largest value for pixels whose cosines nearly cancel. Mutations tried: the

@@ -1,7 +1,7 @@
 //! # probes — compare spherical bases and solvers on HDR environment maps
 //!
 //! Error against run time for every mode: the tool loads lat-long maps
-//! ([`input`]), computes exact references ([`reference`]), runs each mode
+//! ([`input`]), computes exact references ([`reference`](mod@reference)), runs each mode
 //! ([`modes`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
 //! images and plots ([`images`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the

@@ -40,7 +40,7 @@ pub struct Context {
     /// Seconds it took to make `irradiance` (charged to the modes that fit it).
     pub reference_s: f64,
     /// Evaluations per direction in the cost measurement (1; the cost-axis test sets 2 as
-    /// its "twice as expensive" mutation, see [`crate::cost::ns_per_direction`]).
+    /// its "twice as expensive" mutation, see [`crate::cost::CostJob::over`]).
     pub eval_work: usize,
     /// Work several modes share (per-lobe specular responses of one lobe layout and α).
     pub shared: crate::memo::Memo<Vec<f32>>,

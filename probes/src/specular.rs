@@ -320,7 +320,7 @@ pub const CHECK_STRIDE: usize = 101;
 /// Sample-count multiplier of the convergence check.
 pub const CHECK_FACTOR: u32 = 16;
 
-/// Estimated error of a [`reference`] image: on every [`CHECK_STRIDE`]-th texel where
+/// Estimated error of a [`reference()`] image: on every [`CHECK_STRIDE`]-th texel where
 /// the signal is defined, the RMS difference (unweighted, over channels) between the
 /// estimate with `samples` and with [`CHECK_FACTOR`]× as many points of the same
 /// Halton sequence (whose own error is far smaller for a QMC rule), and the RMS of
@@ -358,7 +358,7 @@ pub fn supported(id: &str) -> bool {
 
 /// Specular image of a mode for roughness `alpha`, or `None` for irradiance-only modes.
 /// Lobe modes on the table runtime share each lobe's response per texel with every mode of
-/// the same lobe layout ([`lobe_responses`]); the image is the runtime's own sum over them,
+/// the same lobe layout (`lobe_responses`); the image is the runtime's own sum over them,
 /// bit for bit (a test compares it with the runtime texel by texel).
 pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64; 3]>> {
     let texel = texel_fn(r, ctx, alpha)?;

@@ -36,7 +36,7 @@ impl LatLong {
         Ok(LatLong { width, height })
     }
 
-    /// Unit direction at texture coordinates (u, v) ∈ [0,1]².
+    /// Unit direction at texture coordinates (u, v) ∈ \[0, 1\]².
     pub fn uv_to_direction(u: f64, v: f64) -> DVec3 {
         let theta = PI * v;
         let phi = PI * (2.0 * u - 1.0);

@@ -10,7 +10,7 @@
 //! normal; ξ ∈ (0, 1] is the light's one uniform number (ξ → 0 gives an unbounded range);
 //! δ > 0 is the user's variance control (the paper uses 1e-3).
 //!
-//! Every function exists twice with the same body: [`reference`] in f64 on `DVec3`/`DMat3`
+//! Every function exists twice with the same body: [`reference`](mod@reference) in f64 on `DVec3`/`DMat3`
 //! (tests, offline tools) and [`runtime`] in f32 on `Vec3`/`Mat3` (the twin of the WGSL).
 //! The f64 items are re-exported at this level.
 //!

@@ -3,7 +3,7 @@
 //!
 //! | what | where |
 //! |---|---|
-//! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`] |
+//! | references: exact map irradiance, QMC irradiance of a function, GGX specular by visible-normal sampling | [`reference`](mod@reference) |
 //! | the clamped-cosine band factors A_l shared by every family | [`zonal`] |
 //! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
 //! | SG: exact convolution, Hill's fit, cosine-SG inner product, punctual; ASG and plain-SG specular warps | [`sg`] |

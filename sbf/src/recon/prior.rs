@@ -125,7 +125,7 @@ const HORNER_MAX_DEGREE: usize = 40;
 
 /// A zonal kernel Σ_l a_l P_l(t), truncated where the rest of |a_l| sums to ≤ 1e-17 of
 /// the whole (|P_l| ≤ 1 on [−1, 1], so that bounds the dropped part), stored for fast
-/// evaluation: monomial coefficients (Horner) up to [`HORNER_MAX_DEGREE`], else the
+/// evaluation: monomial coefficients (Horner) up to `HORNER_MAX_DEGREE`, else the
 /// Legendre coefficients with the recurrence.
 #[derive(Debug, Clone)]
 pub enum Kernel {

@@ -113,7 +113,7 @@ pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) ->
 const ZONAL_BANDS: [(usize, f32); 6] = [(0, 1.0), (1, 2.0 / 3.0), (2, 0.25), (4, -1.0 / 24.0), (6, 1.0 / 64.0), (8, -1.0 / 128.0)];
 
 /// E/π of a unit-amplitude SG lobe of sharpness λ ≤ 2 at cos θ = `x` (axis·normal), in f32:
-/// Σ_l (2l+1)·e^(−λ)·i_l(λ)·(A_l/π)·P_l(x) over the bands of [`ZONAL_BANDS`], with the
+/// Σ_l (2l+1)·e^(−λ)·i_l(λ)·(A_l/π)·P_l(x) over the bands of `ZONAL_BANDS`, with the
 /// modified spherical Bessel functions by their power series
 /// i_l(λ) = λ^l/(2l+1)!!·Σ_k (λ²/2)^k/(k!·(2l+3)(2l+5)…(2l+2k+1)) (12 terms: below 1e-9
 /// relative for λ ≤ 2). Twin of [`super::sg::irradiance_zonal`] (f64).
