@@ -22,6 +22,25 @@ fn chromium() -> Option<PathBuf> {
 }
 
 /// `data-*` attributes of `<body>` after the page's scripts ran.
+/// Chromium (or None, which fails under SBF_REQUIRE_BROWSER=1), a fresh temporary folder
+/// for `tag` and a 64-wide sky map in it.
+fn setup(tag: &str) -> Option<(PathBuf, PathBuf, PathBuf)> {
+    let Some(browser) = chromium() else {
+        assert!(
+            std::env::var("SBF_REQUIRE_BROWSER").map_or(true, |v| v != "1"),
+            "SBF_REQUIRE_BROWSER=1 but no chromium found (apt-get install chromium, or set SBF_CHROMIUM)"
+        );
+        eprintln!("skipping: no chromium");
+        return None;
+    };
+    let d = std::env::temp_dir().join(format!("probes-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let map = d.join("sky.hdr");
+    let o = Command::new(env!("CARGO_BIN_EXE_probes")).args(["env", "--width", "64", "--out"]).arg(&map).output().unwrap();
+    assert!(o.status.success());
+    Some((browser, d, map))
+}
+
 fn body_attrs(browser: &PathBuf, url: &str) -> (String, String) {
     let out = Command::new(browser)
         .args(["--headless", "--no-sandbox", "--disable-gpu", "--window-size=1400,1000", "--virtual-time-budget=20000", "--dump-dom", url])
@@ -43,19 +62,7 @@ fn attr(body: &str, name: &str) -> Option<i64> {
 
 #[test]
 fn report_html_renders_in_a_headless_browser() {
-    let Some(browser) = chromium() else {
-        assert!(
-            std::env::var("SBF_REQUIRE_BROWSER").map_or(true, |v| v != "1"),
-            "SBF_REQUIRE_BROWSER=1 but no chromium found (apt-get install chromium, or set SBF_CHROMIUM)"
-        );
-        eprintln!("skipping: no chromium");
-        return;
-    };
-    let d = std::env::temp_dir().join(format!("probes-browser-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let map = d.join("sky.hdr");
-    let o = Command::new(env!("CARGO_BIN_EXE_probes")).args(["env", "--width", "64", "--out"]).arg(&map).output().unwrap();
-    assert!(o.status.success());
+    let Some((browser, d, map)) = setup("browser") else { return };
     let out = d.join("report");
     let o = Command::new(env!("CARGO_BIN_EXE_probes"))
         .arg("compare")
@@ -89,16 +96,7 @@ fn report_html_renders_in_a_headless_browser() {
 /// the page's scroll width in a 1 400 × 1 000 headless window is at most 1 400 px.
 #[test]
 fn report_html_fits_1400_px() {
-    let Some(browser) = chromium() else {
-        assert!(std::env::var("SBF_REQUIRE_BROWSER").map_or(true, |v| v != "1"), "SBF_REQUIRE_BROWSER=1 but no chromium found");
-        eprintln!("skipping: no chromium");
-        return;
-    };
-    let d = std::env::temp_dir().join(format!("probes-width-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let map = d.join("sky.hdr");
-    let o = Command::new(env!("CARGO_BIN_EXE_probes")).args(["env", "--width", "64", "--out"]).arg(&map).output().unwrap();
-    assert!(o.status.success());
+    let Some((browser, d, map)) = setup("width") else { return };
     let out = d.join("report");
     let o = Command::new(env!("CARGO_BIN_EXE_probes"))
         .arg("compare")

@@ -101,6 +101,15 @@ fn results_json_names_existing_images() {
     std::fs::remove_dir_all(&d).ok();
 }
 
+/// A fresh temporary folder for `tag` and a 32-wide procedural sky map in it.
+fn sky_map(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let d = std::env::temp_dir().join(format!("probes-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let map = d.join("sky.hdr");
+    run(&["env".as_ref(), "--preset".as_ref(), "sky".as_ref(), "--width".as_ref(), "32".as_ref(), "--out".as_ref(), map.as_os_str()]);
+    (d, map)
+}
+
 fn run(args: &[&std::ffi::OsStr]) {
     let o = Command::new(env!("CARGO_BIN_EXE_probes")).args(args).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -158,10 +167,7 @@ fn equal_names_get_their_own_folders_and_exr_on_request() {
 /// a recommendation within 2× — each fails here.
 #[test]
 fn decision_matches_brute_force_from_results_json() {
-    let d = std::env::temp_dir().join(format!("probes-decide-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let map = d.join("sky.hdr");
-    run(&["env".as_ref(), "--preset".as_ref(), "sky".as_ref(), "--width".as_ref(), "32".as_ref(), "--out".as_ref(), map.as_os_str()]);
+    let (d, map) = sky_map("decide");
     let out = d.join("report");
     run(&[
         "compare".as_ref(),
@@ -373,10 +379,7 @@ fn a_run_replaces_its_own_files_and_keeps_foreign_ones() {
 /// brute-force test fails (it checks the calibrated intervals).
 #[test]
 fn decisions_hold_when_costs_move_within_their_spread() {
-    let d = std::env::temp_dir().join(format!("probes-jitter-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let map = d.join("sky.hdr");
-    run(&["env".as_ref(), "--preset".as_ref(), "sky".as_ref(), "--width".as_ref(), "32".as_ref(), "--out".as_ref(), map.as_os_str()]);
+    let (d, map) = sky_map("jitter");
     let out = d.join("report");
     run(&[
         "compare".as_ref(),
