@@ -19,7 +19,9 @@ use std::f64::consts::PI;
 /// Lat-long (equirectangular) map geometry.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LatLong {
+    /// Texels per row (2π of azimuth).
     pub width: usize,
+    /// Rows (π of polar angle, row 0 at the zenith).
     pub height: usize,
 }
 
@@ -87,7 +89,9 @@ impl LatLong {
 /// An RGB lat-long image (f32 texels, row-major, row 0 at the zenith).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LatLongImage {
+    /// Its size.
     pub geometry: LatLong,
+    /// RGB radiance, `width × height`, row-major.
     pub texels: Vec<[f32; 3]>,
 }
 
@@ -171,10 +175,12 @@ pub const CUBE_FACES: [&str; 6] = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"];
 /// Cube-map geometry with square faces of `size` texels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CubeMap {
+    /// Texels per face side.
     pub size: usize,
 }
 
 impl CubeMap {
+    /// A cube map of `size` × `size` faces (size > 0).
     pub fn new(size: usize) -> Result<Self, SbfError> {
         if size == 0 {
             return Err(SbfError::InvalidParameter { name: "cube-map size", value: 0.0, reason: "must be > 0" });
@@ -264,6 +270,7 @@ pub struct ProceduralSky {
     pub sun_radiance: [f64; 3],
     /// Sky radiance at the zenith and at the horizon.
     pub zenith: [f64; 3],
+    /// Sky radiance at the horizon (interpolated towards the zenith).
     pub horizon: [f64; 3],
     /// Ground radiance (below the horizon).
     pub ground: [f64; 3],

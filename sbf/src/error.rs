@@ -6,15 +6,46 @@ use std::fmt;
 #[derive(Debug, Clone, PartialEq)]
 pub enum SbfError {
     /// A direction was zero-length, not finite, or otherwise unusable.
-    InvalidDirection { x: f64, y: f64, z: f64 },
+    InvalidDirection {
+        /// Its components, as given.
+        x: f64,
+        /// See `x`.
+        y: f64,
+        /// See `x`.
+        z: f64,
+    },
     /// A requested SH order (or other degree) exceeds what the chosen storage supports.
-    OrderTooHigh { order: usize, max: usize, storage: &'static str },
+    OrderTooHigh {
+        /// The order asked for.
+        order: usize,
+        /// The largest the storage supports.
+        max: usize,
+        /// The storage (e.g. a fixed-size array or table).
+        storage: &'static str,
+    },
     /// An output or input slice has the wrong length.
-    LengthMismatch { what: &'static str, expected: usize, got: usize },
+    LengthMismatch {
+        /// What the slice holds.
+        what: &'static str,
+        /// The length needed.
+        expected: usize,
+        /// The length given.
+        got: usize,
+    },
     /// A scalar parameter is outside its valid range.
-    InvalidParameter { name: &'static str, value: f64, reason: &'static str },
+    InvalidParameter {
+        /// The parameter's name.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// The range or condition it violates.
+        reason: &'static str,
+    },
     /// A matrix that must be symmetric positive definite is not (numerically).
-    NotPositiveDefinite { what: &'static str },
+    NotPositiveDefinite {
+        /// Which matrix.
+        what: &'static str,
+    },
 }
 
 impl fmt::Display for SbfError {

@@ -18,7 +18,12 @@ pub enum GramMethod {
     /// Exact closed form.
     ClosedForm,
     /// Product quadrature with `n_z` Gauss–Legendre nodes and `n_phi` φ nodes.
-    Quadrature { n_z: usize, n_phi: usize },
+    Quadrature {
+        /// Gauss–Legendre nodes in z.
+        n_z: usize,
+        /// Equally spaced nodes in φ.
+        n_phi: usize,
+    },
 }
 
 /// Options for [`gram_matrix`].
@@ -42,8 +47,11 @@ impl Default for GramOptions {
 /// A Gram matrix with how it was computed and how well conditioned it is.
 #[derive(Debug, Clone)]
 pub struct Gram {
+    /// G_ij = ∫ B_i B_j dω over `domain`.
     pub matrix: DMatrix<f64>,
+    /// The domain integrated over.
     pub domain: Domain,
+    /// How the entries were computed.
     pub method: GramMethod,
     /// Estimated max entrywise quadrature error (0 for closed forms).
     pub quadrature_error: f64,

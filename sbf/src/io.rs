@@ -15,19 +15,60 @@ use std::path::Path;
 #[derive(Debug, Clone, PartialEq)]
 pub enum InputError {
     /// Nothing at the path.
-    NotFound { path: String },
+    NotFound {
+        /// The path as given.
+        path: String,
+    },
     /// The path is a directory.
-    IsDirectory { path: String },
+    IsDirectory {
+        /// The path as given.
+        path: String,
+    },
     /// Extension other than .hdr/.exr.
-    UnsupportedFormat { path: String, extension: String },
+    UnsupportedFormat {
+        /// The path as given.
+        path: String,
+        /// Its extension (empty: none).
+        extension: String,
+    },
     /// The extension says one format, the first bytes say otherwise.
-    NotFormat { path: String, format: &'static str, expected: &'static str },
+    NotFormat {
+        /// The path as given.
+        path: String,
+        /// The format the extension names ("a Radiance HDR", "an OpenEXR").
+        format: &'static str,
+        /// The signature that format starts with.
+        expected: &'static str,
+    },
     /// The decoder rejected the file (truncated, corrupt, unreadable).
-    Decode { path: String, message: String },
+    Decode {
+        /// The path as given.
+        path: String,
+        /// The decoder's message.
+        message: String,
+    },
     /// Not a 2:1 lat-long map.
-    Aspect { path: String, width: u32, height: u32 },
+    Aspect {
+        /// The path as given.
+        path: String,
+        /// Its width in texels.
+        width: u32,
+        /// Its height in texels.
+        height: u32,
+    },
     /// Non-finite or negative texels (without --sanitize).
-    BadTexels { path: String, kind: &'static str, count: usize, first: (u32, u32), value: f32 },
+    BadTexels {
+        /// The path as given.
+        path: String,
+        /// "NaN", "infinite" or "negative".
+        kind: &'static str,
+        /// Texel channels of that kind.
+        count: usize,
+        /// The first such texel (column, row).
+        first: (u32, u32),
+        /// Its value.
+        value: f32,
+    },
 }
 
 impl fmt::Display for InputError {
@@ -60,12 +101,16 @@ impl std::error::Error for InputError {}
 /// What `sanitize` replaced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SanitizeReport {
+    /// NaN texel channels replaced by 0.
     pub nan: usize,
+    /// Infinite texel channels replaced by 0.
     pub infinite: usize,
+    /// Negative texel channels replaced by 0.
     pub negative: usize,
 }
 
 impl SanitizeReport {
+    /// Texel channels replaced in all.
     pub fn total(&self) -> usize {
         self.nan + self.infinite + self.negative
     }

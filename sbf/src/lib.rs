@@ -48,6 +48,8 @@
 //!   [`SbfError`]; hot-path evaluators document their preconditions (unit
 //!   direction, slice length) and check them with debug assertions.
 
+#![warn(missing_docs)]
+
 pub mod basis;
 pub mod envmap;
 pub mod error;

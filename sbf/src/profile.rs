@@ -39,6 +39,7 @@ pub const LANGUAGES: [&str; 4] = ["wgsl", "hlsl", "glsl", "msl"];
 /// A validated lighting profile.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Profile {
+    /// Its `name` key.
     pub name: String,
     /// Lightmap bases, in the order given.
     pub lightmap_bases: Vec<String>,
@@ -50,6 +51,7 @@ pub struct Profile {
     pub roughness: Option<(f64, f64)>,
     /// Always "f32" today (the only runtime precision the library has).
     pub precision: String,
+    /// The shading language its runtime is exported in: "wgsl", "hlsl", "glsl" or "msl".
     pub language: String,
 }
 
@@ -58,6 +60,7 @@ pub struct Profile {
 pub struct ProfileError {
     /// Dotted key ("brdf.roughness"), or "" for a syntax error.
     pub key: String,
+    /// What is wrong with it.
     pub message: String,
 }
 

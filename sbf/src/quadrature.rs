@@ -89,8 +89,11 @@ impl Domain {
 /// A list of (direction, weight) pairs whose weights sum to the domain's solid angle.
 #[derive(Debug, Clone)]
 pub struct SphereQuadrature {
+    /// Unit nodes.
     pub directions: Vec<DVec3>,
+    /// Their weights (solid angle each node stands for).
     pub weights: Vec<f64>,
+    /// The domain the rule covers.
     pub domain: Domain,
 }
 
@@ -156,6 +159,7 @@ pub struct KahanSum {
 }
 
 impl KahanSum {
+    /// Adds `x`, carrying the rounding error (Neumaier's variant of Kahan summation).
     pub fn add(&mut self, x: f64) {
         let t = self.sum + x;
         if self.sum.abs() >= x.abs() {
@@ -165,6 +169,7 @@ impl KahanSum {
         }
         self.sum = t;
     }
+    /// The compensated sum so far.
     pub fn value(&self) -> f64 {
         self.sum + self.c
     }

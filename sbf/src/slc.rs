@@ -135,9 +135,11 @@ macro_rules! slc_impl {
         /// An ellipsoid: centre, unit axes (the columns of R) and semi-axes.
         #[derive(Debug, Clone, Copy, PartialEq)]
         pub struct Ellipsoid {
+            /// Its centre.
             pub center: $v,
             /// R = [ω_u, ω_w × ω_u, ω_w] for the GGX spheroid (002 eq. 14).
             pub axes: $m,
+            /// Semi-axes along the columns of `axes`.
             pub radii: $v,
         }
 
@@ -182,7 +184,9 @@ macro_rules! slc_impl {
         /// A sphere.
         #[derive(Debug, Clone, Copy, PartialEq)]
         pub struct Sphere {
+            /// Its centre.
             pub center: $v,
+            /// Its radius.
             pub radius: $f,
         }
 

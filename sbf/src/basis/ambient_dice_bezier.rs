@@ -25,9 +25,12 @@ use super::Basis;
 use crate::quadrature::Domain;
 use glam::DVec3;
 
-/// Redistribution weights of the interior control point (math.md, Ambient Dice).
+/// Redistribution weights of the interior control point (math.md, Ambient Dice): the
+/// weight of the triangle's own vertex, (√5 − 5)/40.
 pub const BEZIER_A0: f64 = -0.069_098_300_562_505_26; // (√5 − 5)/40
+/// The weight of each of the two other vertices of the triangle, (11√5 − 15)/40.
 pub const BEZIER_A1: f64 = 0.239_918_693_812_442_1; // (11√5 − 15)/40
+/// The weight of the neighbouring vertices, √5/10.
 pub const BEZIER_A2: f64 = 0.223_606_797_749_979; // √5/10
 
 pub use crate::frame::tangent_frame;
@@ -188,11 +191,14 @@ pub fn ycocg_to_rgb(ycocg: [f64; 3]) -> [f64; 3] {
 /// two channel bases are.
 #[derive(Debug, Clone, Default)]
 pub struct AmbientDiceYCoCg {
+    /// The basis of Y (hybrid Bézier, 36 coefficients).
     pub luma: AmbientDiceBezier,
+    /// The basis of Co and Cg (piecewise linear, 12 each).
     pub chroma: AmbientDiceLinear,
 }
 
 impl AmbientDiceYCoCg {
+    /// The seed's pairing: Bézier luma, linear chroma.
     pub fn new() -> Self {
         Self::default()
     }

@@ -17,8 +17,11 @@ pub struct Asg {
     pub y: DVec3,
     /// Lobe axis z.
     pub z: DVec3,
+    /// Bandwidth along the tangent axis x.
     pub lambda_x: f64,
+    /// Bandwidth along the tangent axis y.
     pub lambda_y: f64,
+    /// Value at the lobe axis.
     pub amplitude: f64,
 }
 

@@ -25,16 +25,22 @@ pub const MAGIC: &[u8; 8] = b"SBFLUT01";
 /// Storage format of the values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ValueFormat {
+    /// IEEE single precision.
     F32,
+    /// IEEE half precision (widened to f32 on reading).
     F16,
 }
 
 /// One axis of a table.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
+    /// What the axis measures (e.g. "n_dot_v", "alpha").
     pub name: String,
+    /// Texels along it.
     pub size: usize,
+    /// The coordinate at the first texel's lower edge.
     pub lo: f32,
+    /// The coordinate at the last texel's upper edge.
     pub hi: f32,
 }
 
@@ -48,9 +54,13 @@ impl Axis {
 /// A parsed (or to-be-written) table: axes, channels and values as f32.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LutFile {
+    /// Its axes, 1 to 3.
     pub axes: Vec<Axis>,
+    /// Values per texel.
     pub channels: usize,
+    /// How the values are stored in the file.
     pub format: ValueFormat,
+    /// Free text: how the table was made and its error.
     pub note: String,
     /// Values, channel fastest then axis 0, 1, 2 (already widened from f16).
     pub values: Vec<f32>,

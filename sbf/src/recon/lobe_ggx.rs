@@ -27,7 +27,10 @@ use std::f64::consts::PI;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RadialLobe {
     /// Spherical Gaussian e^{λ(c − 1)} (unit peak).
-    Sg { sharpness: f64 },
+    Sg {
+        /// λ.
+        sharpness: f64,
+    },
     /// The Ambient Dice cosine-lobe SRBF, 0.35c² + 0.25c⁴ for c > 0 (seed §8.3.1).
     #[cfg(feature = "ambient-dice")]
     AdSrbf,
@@ -108,9 +111,13 @@ pub fn response(lobe: RadialLobe, n_dot_v: f64, alpha: f64, gamma: f64, psi: f64
 /// Node counts of a table: θ_v, √α, θ_p, φ (each ≥ 2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Grid {
+    /// Nodes in θ_v (as n·v from 0 to 1).
     pub theta_v: usize,
+    /// Nodes in √α.
     pub alpha: usize,
+    /// Nodes in γ, the lobe axis's angle to the mirror direction.
     pub gamma: usize,
+    /// Nodes in ψ, the lobe axis's azimuth about the mirror direction.
     pub psi: usize,
 }
 
@@ -118,6 +125,7 @@ impl Grid {
     /// Ranges of the four coordinates (node 0 at the low end, the last at the high end).
     pub const RANGES: [(f64, f64); 4] = [(0.0, 1.0), (0.0, 1.0), (0.0, PI), (0.0, PI)];
 
+    /// The node counts in axis order (θ_v, √α, γ, ψ).
     pub fn sizes(&self) -> [usize; 4] {
         [self.theta_v, self.alpha, self.gamma, self.psi]
     }
@@ -133,6 +141,7 @@ impl Grid {
         self.sizes().iter().product()
     }
 
+    /// Whether some axis has no node.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -158,6 +167,7 @@ pub fn slab(lobe: RadialLobe, grid: Grid, i_theta_v: usize, i_alpha: usize, n: u
 /// (ψ, γ, √α, n·v) fastest first with texel centres on the nodes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
+    /// Its nodes.
     pub grid: Grid,
     /// Two values per node.
     pub values: Vec<f32>,
@@ -271,6 +281,7 @@ pub struct MirrorFrame {
 }
 
 impl MirrorFrame {
+    /// The frame of unit normal `n` and unit view `v`.
     pub fn new(n: DVec3, v: DVec3) -> Self {
         let r = 2.0 * n.dot(v) * n - v;
         let t = n - n.dot(r) * r;

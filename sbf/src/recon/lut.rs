@@ -12,9 +12,13 @@ use crate::error::{check_len, SbfError};
 /// A 2D table over [0, 1]² (see module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lut2 {
+    /// Texels along the first axis.
     pub width: usize,
+    /// Texels along the second axis.
     pub height: usize,
+    /// Values per texel.
     pub channels: usize,
+    /// `width × height × channels` values, row-major, channel fastest.
     pub data: Vec<f32>,
 }
 
@@ -91,9 +95,13 @@ impl Lut2 {
 /// trilinear, clamped (see [`Lut2`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lut3 {
+    /// Texels along each axis.
     pub dims: [usize; 3],
+    /// Values per texel.
     pub channels: usize,
+    /// (lo, hi) of axis 2.
     pub range2: (f32, f32),
+    /// The values, channel fastest, then axis 0, 1, 2.
     pub data: Vec<f32>,
 }
 

@@ -63,7 +63,12 @@ impl RadiancePrior {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Zonal {
     /// exp(λ(a·ω − 1)).
-    Lobe { axis: DVec3, sharpness: f64 },
+    Lobe {
+        /// Unit axis a.
+        axis: DVec3,
+        /// λ.
+        sharpness: f64,
+    },
     /// 1 everywhere.
     Constant,
 }
@@ -129,7 +134,9 @@ const HORNER_MAX_DEGREE: usize = 40;
 /// Legendre coefficients with the recurrence.
 #[derive(Debug, Clone)]
 pub enum Kernel {
+    /// Monomial coefficients c_k of Σ c_k t^k, lowest first (Horner).
     Monomial(Vec<f64>),
+    /// Legendre coefficients a_l, lowest first (the three-term recurrence).
     Legendre(Vec<f64>),
 }
 

@@ -164,6 +164,7 @@ pub struct HillLobe {
 }
 
 impl HillLobe {
+    /// What Hill's fit (or, below [`HILL_MIN_SHARPNESS`], the zonal expansion) keeps of `sg`.
     pub fn new(sg: &Sg) -> HillLobe {
         if sg.sharpness < HILL_MIN_SHARPNESS {
             return HillLobe { sg: *sg, hill: None };

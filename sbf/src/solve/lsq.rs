@@ -31,9 +31,11 @@ impl Default for LsOptions {
 /// Which factorisation produced a solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LsMethod {
+    /// Cholesky factorisation of the Gram matrix (well conditioned, Gram form).
     Cholesky,
     /// Eigen-decomposition pseudo-inverse (Gram form).
     EigenPseudoInverse,
+    /// QR factorisation of the design matrix (design form).
     Qr,
     /// SVD pseudo-inverse (design form).
     Svd,
@@ -44,6 +46,7 @@ pub enum LsMethod {
 pub struct LsSolution {
     /// Coefficients, n × channels.
     pub coeffs: DMatrix<f64>,
+    /// The factorisation used.
     pub method: LsMethod,
     /// Numerical rank (n when full rank).
     pub rank: usize,

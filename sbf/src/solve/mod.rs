@@ -31,8 +31,11 @@ use nalgebra::DMatrix;
 /// One radiance sample: unit direction, RGB radiance, and quadrature weight (sr).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RadianceSample {
+    /// Unit direction.
     pub direction: DVec3,
+    /// RGB radiance.
     pub value: [f64; 3],
+    /// Quadrature weight (sr).
     pub weight: f64,
 }
 

@@ -64,7 +64,9 @@ fn termination_status(barred: &[bool], w: &[f64], tol: f64, kkt: f64) -> NnlsSta
 /// An NNLS solution (one channel).
 #[derive(Debug, Clone)]
 pub struct NnlsSolution {
+    /// Coefficients, all ≥ 0.
     pub coeffs: Vec<f64>,
+    /// How the iteration ended.
     pub status: NnlsStatus,
     /// Passive-set solves performed.
     pub iterations: usize,

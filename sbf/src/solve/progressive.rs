@@ -51,10 +51,15 @@ pub trait Real:
     + std::ops::Mul<Output = Self>
     + std::ops::Div<Output = Self>
 {
+    /// 0.
     const ZERO: Self;
+    /// 1.
     const ONE: Self;
+    /// `x` rounded to this type.
     fn from_f64(x: f64) -> Self;
+    /// The value as f64 (exact).
     fn to_f64(self) -> f64;
+    /// The larger of the two.
     fn max(self, o: Self) -> Self;
 }
 
@@ -89,7 +94,9 @@ impl Real for f64 {
 /// Order of lobe updates within a sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Iteration {
+    /// Every lobe updated from the residual before the sample's updates.
     Jacobi,
+    /// Each lobe updated from the residual after the lobes before it (the seed's choice).
     GaussSeidel,
 }
 
@@ -111,6 +118,7 @@ pub enum Denominator {
 pub struct ProgressiveOptions {
     /// Acceleration α (seed: 1–5, 3 converges fastest).
     pub acceleration: f64,
+    /// Jacobi or Gauss–Seidel updates within a sample.
     pub iteration: Iteration,
     /// Clamp amplitudes to ≥ 0 after every update (progressive NNLS).
     pub non_negative: bool,
@@ -118,6 +126,7 @@ pub struct ProgressiveOptions {
     /// zero-radiance sample of the same weight at ω mirrored below the tangent plane
     /// (z → −z).
     pub mirror_hemisphere: bool,
+    /// The per-lobe step's denominator.
     pub denominator: Denominator,
 }
 

@@ -30,9 +30,15 @@ use std::f64::consts::PI;
 /// The convolution kernel C(ω, s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kernel {
+    /// K_j = A_j: plain basis conversion.
     Delta,
+    /// E/π: the clamped cosine about s, over π.
     Lambert,
-    Ggx { alpha: f64 },
+    /// GGX reflection at roughness α, normal +Z, Fresnel 1 (view-parameterised).
+    Ggx {
+        /// GGX α.
+        alpha: f64,
+    },
 }
 
 /// Quadrature resolution of [`projection_matrix`].
@@ -178,7 +184,9 @@ pub struct Conversion {
     pub matrix: DMatrix<f64>,
     /// G_B⁻¹ P G_A⁻¹: source moments → target coefficients (eq. 7.22).
     pub folded: DMatrix<f64>,
+    /// G_B, the target basis's Gram matrix.
     pub target_gram: Gram,
+    /// G_A, the source basis's Gram matrix.
     pub source_gram: Gram,
 }
 
