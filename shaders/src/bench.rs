@@ -173,6 +173,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
             uniform: encodes.then_some(("EncoderParams", bytemuck::bytes_of(&params))),
             io: encodes.then_some(("EncoderState", bytemuck::cast_slice(&states))),
             repeats,
+            lang: crate::export::Lang::Wgsl,
         })?;
         if let Some(x) = o.out.iter().find(|x| !x.is_finite()) {
             return Err(format!("{name}: non-finite output {x}"));

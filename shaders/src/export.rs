@@ -1,12 +1,12 @@
-//! naga validation of composed WGSL and export to HLSL, GLSL and MSL through naga's
-//! back ends. GLSL output is per entry point, so exports append a trivial compute
-//! entry point (`sbf_export_main`); the back ends write every library function.
+//! naga validation of composed WGSL and its export: WGSL as composed, HLSL, GLSL and MSL
+//! as include files written by [`crate::emit`].
 
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
 /// Target languages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Lang {
+    #[default]
     Wgsl,
     Hlsl,
     Glsl,
@@ -30,7 +30,7 @@ impl Lang {
         match self {
             Lang::Wgsl => "wgsl",
             Lang::Hlsl => "hlsl",
-            Lang::Glsl => "comp.glsl",
+            Lang::Glsl => "glsl",
             Lang::Msl => "metal",
         }
     }
@@ -58,46 +58,17 @@ pub fn validate_subgroups(source: &str) -> Result<(naga::Module, ModuleInfo), St
     Ok((module, info))
 }
 
-/// The trivial entry point appended for export.
-pub const EXPORT_ENTRY: &str = "\n@compute @workgroup_size(1)\nfn sbf_export_main() {}\n";
-
-/// Translates composed WGSL to `lang`.
-pub fn export(source: &str, lang: Lang) -> Result<String, String> {
+/// Translates composed WGSL to `lang`: WGSL as composed (validated), the other
+/// languages through [`crate::emit`] as an include file headed by `opts`.
+pub fn export_with(source: &str, lang: Lang, opts: &crate::emit::Options) -> Result<String, String> {
+    let (module, info) = validate(source)?;
     if lang == Lang::Wgsl {
-        validate(source)?;
         return Ok(source.to_string());
     }
-    let full = format!("{source}{EXPORT_ENTRY}");
-    let (module, info) = validate(&full)?;
-    match lang {
-        Lang::Hlsl => {
-            let mut out = String::new();
-            let options = naga::back::hlsl::Options::default();
-            let pipeline = naga::back::hlsl::PipelineOptions::default();
-            let mut w = naga::back::hlsl::Writer::new(&mut out, &options, &pipeline);
-            w.write(&module, &info, None).map_err(|e| format!("HLSL: {e}"))?;
-            Ok(out)
-        }
-        Lang::Glsl => {
-            let mut out = String::new();
-            let options = naga::back::glsl::Options { version: naga::back::glsl::Version::Desktop(450), ..Default::default() };
-            let pipeline = naga::back::glsl::PipelineOptions {
-                shader_stage: naga::ShaderStage::Compute,
-                entry_point: "sbf_export_main".into(),
-                multiview: None,
-            };
-            let mut w =
-                naga::back::glsl::Writer::new(&mut out, &module, &info, &options, &pipeline, naga::proc::BoundsCheckPolicies::default())
-                    .map_err(|e| format!("GLSL: {e}"))?;
-            w.write().map_err(|e| format!("GLSL: {e}"))?;
-            Ok(out)
-        }
-        Lang::Msl => {
-            let options = naga::back::msl::Options::default();
-            let pipeline = naga::back::msl::PipelineOptions::default();
-            let (out, _) = naga::back::msl::write_string(&module, &info, &options, &pipeline).map_err(|e| format!("MSL: {e}"))?;
-            Ok(out)
-        }
-        Lang::Wgsl => unreachable!("handled above"),
-    }
+    crate::emit::library(source, &module, &info, lang, opts)
+}
+
+/// [`export_with`] with a header that names no configuration.
+pub fn export(source: &str, lang: Lang) -> Result<String, String> {
+    export_with(source, lang, &crate::emit::Options { title: "library".into(), ..Default::default() })
 }

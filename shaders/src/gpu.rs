@@ -52,6 +52,10 @@ pub struct Launch<'a> {
     pub lobe: Option<&'a sbf::recon::lobe_ggx::Table>,
     /// Timed dispatches after the checked one.
     pub repeats: usize,
+    /// The language the kernel runs in: WGSL (wgpu's own front end), or HLSL/GLSL (the
+    /// exported library included into a kernel in that language, compiled by glslang and
+    /// run as SPIR-V; see [`crate::spirv`]).
+    pub lang: crate::export::Lang,
 }
 
 /// What a launch returns.
@@ -200,6 +204,10 @@ impl Gpu {
         if timestamps {
             features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // glslang's SPIR-V as is, for the HLSL/GLSL parity runs.
+        if adapter.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) {
+            features |= wgpu::Features::PASSTHROUGH_SHADERS;
+        }
         let mut limits = adapter.limits();
         if let Some(cap) = storage_binding_cap()? {
             limits.max_storage_buffer_binding_size = limits.max_storage_buffer_binding_size.min(cap);
@@ -287,9 +295,21 @@ impl Gpu {
         &self.queue
     }
 
-    /// The full kernel source for a launch (library, harness bindings, kernel body).
+    /// Workgroups along x and y for `count` invocations (2D past 65535 groups).
+    fn groups(count: usize) -> (u32, u32) {
+        let groups = (count as u32).div_ceil(WG).max(1);
+        if groups <= 65535 {
+            (groups, 1)
+        } else {
+            (65535, groups.div_ceil(65535))
+        }
+    }
+
+    /// The full kernel source for a launch (library, harness bindings, the body as
+    /// `fn sbf_body(i: u32)`, and the entry point that calls it).
     pub fn kernel_source(l: &Launch) -> String {
         let (library, body, count) = (l.library, l.body, l.count);
+        let row = Self::groups(count).0 * WG;
         let mut bindings = String::new();
         if l.lut.is_some() {
             bindings += "@group(0) @binding(2) var lut: texture_2d<f32>;\n";
@@ -304,8 +324,98 @@ impl Gpu {
             bindings += "@group(0) @binding(5) var lobe_tab: texture_2d_array<f32>;\n";
         }
         format!(
-            "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{bindings}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {{\n    let i = gid.x + gid.y * nwg.x * {WG}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n{body}\n}}\n"
+            "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{bindings}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\nfn sbf_body(i: u32) {{\n{body}\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>) {{\n    let i = gid.x + gid.y * {row}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n    sbf_body(i);\n}}\n"
         )
+    }
+
+    /// The launch's pipeline: WGSL, or HLSL/GLSL compiled by glslang and given to wgpu as
+    /// SPIR-V (passthrough, with the harness's bind group layout spelled out).
+    fn pipeline(&self, l: &Launch, src: &str) -> Result<wgpu::ComputePipeline, String> {
+        let d = &self.device;
+        if l.lang == crate::export::Lang::Wgsl {
+            let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: None, source: wgpu::ShaderSource::Wgsl(src.into()) });
+            return Ok(d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: None,
+                layout: None,
+                module: &module,
+                entry_point: Some("sbf_kernel"),
+                compilation_options: Default::default(),
+                cache: None,
+            }));
+        }
+        if !d.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) {
+            return Err("the adapter cannot take SPIR-V as is (no PASSTHROUGH_SHADERS)".into());
+        }
+        let words = crate::spirv::build(l, src, Self::groups(l.count).0 * WG, WG)?;
+        let module = Self::passthrough(d, words);
+        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let texture = |binding, view_dimension| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let mut entries = vec![storage(0, true), storage(1, false)];
+        if l.lut.is_some() {
+            entries.push(texture(2, wgpu::TextureViewDimension::D2));
+        }
+        if l.uniform.is_some() {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 3,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                count: None,
+            });
+        }
+        if l.io.is_some() {
+            entries.push(storage(4, false));
+        }
+        if l.lobe.is_some() {
+            entries.push(texture(5, wgpu::TextureViewDimension::D2Array));
+        }
+        let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &entries });
+        let layout =
+            d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: None, bind_group_layouts: &[Some(&bgl)], immediate_size: 0 });
+        Ok(d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        }))
+    }
+
+    /// glslang's SPIR-V given to the driver as is (as an engine's would be): naga's SPIR-V
+    /// front end is not in the way (it cannot take an arrayed image's size query as
+    /// OpImageQuerySizeLod returns it, 3 components).
+    #[allow(unsafe_code)]
+    fn passthrough(d: &wgpu::Device, words: Vec<u32>) -> wgpu::ShaderModule {
+        let entry = [wgpu::PassthroughShaderEntryPoint { name: "main".into(), workgroup_size: (WG, 1, 1) }];
+        // SAFETY: glslang compiled and validated the module for Vulkan 1.1 (it refuses
+        // invalid input); its bindings are exactly the layout the caller spells out (set 0,
+        // the WGSL kernel's binding numbers and kinds), and its one entry point is `main`.
+        unsafe {
+            d.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                label: Some("sbf parity (SPIR-V from glslang)"),
+                entry_points: entry[..].into(),
+                spirv: Some(words.into()),
+                ..Default::default()
+            })
+        }
     }
 
     /// Runs `body` for `count` invocations; returns `outp` (`count × out_per_item` floats)
@@ -340,15 +450,7 @@ impl Gpu {
         let src = Self::kernel_source(l);
         crate::export::validate(&src).map_err(|e| format!("harness kernel: {e}"))?;
         let d = &self.device;
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor { label: None, source: wgpu::ShaderSource::Wgsl(src.into()) });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: None,
-            layout: None,
-            module: &module,
-            entry_point: Some("sbf_kernel"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = self.pipeline(l, &src)?;
         let input = if input.is_empty() { &[0.0f32][..] } else { input };
         let inb = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: None,
@@ -426,8 +528,7 @@ impl Gpu {
         }
         let bg =
             d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipeline.get_bind_group_layout(0), entries: &entries });
-        let groups = (count as u32).div_ceil(WG).max(1);
-        let (gx, gy) = if groups <= 65535 { (groups, 1) } else { (65535, groups.div_ceil(65535)) };
+        let (gx, gy) = Self::groups(count);
         let dispatch = |n: usize| {
             let mut enc = d.create_command_encoder(&Default::default());
             {

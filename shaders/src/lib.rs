@@ -8,12 +8,17 @@
 //! - [`modules`]: the sources in composition order.
 //! - [`compose`]: configurations ([`compose::Config`]: presets or feature lists) and
 //!   composition pruned to what a configuration reaches, with what was left out.
-//! - [`export`]: naga validation and HLSL/GLSL/MSL export.
+//! - [`export`]: naga validation and export in WGSL, HLSL, GLSL and MSL.
+//! - [`emit`]: the structured emitter that writes the library in HLSL, GLSL and MSL
+//!   (readable include files: WGSL names, loops, comments, no entry point).
+//! - [`library`]: the exported include files (every preset and profile, four languages)
+//!   with an example shader each; `shaders library` writes or checks them.
 //! - [`layout`]: structs shared with Rust, checked against naga's reflection.
 //! - [`profile`]: the features a lighting profile (`sbf::profile`) needs.
 //! - [`progressive`]: the Rust twins of the progressive encoder's GPU structs.
 //! - `gpu` (feature `gpu`, default): a wgpu compute harness for the parity tests and
-//!   the throughput benchmark.
+//!   the throughput benchmark; `spirv`: the same harness in HLSL and GLSL (glslang →
+//!   SPIR-V), around the exported library.
 //!
 //! The `shaders` binary exposes composition and export:
 //! `shaders export --config ad9-irradiance --lang hlsl --out ad9.hlsl`.
@@ -21,10 +26,14 @@
 #[cfg(feature = "gpu")]
 pub mod bench;
 pub mod compose;
+pub mod emit;
 pub mod export;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod layout;
+pub mod library;
 pub mod modules;
 pub mod profile;
 pub mod progressive;
+#[cfg(feature = "gpu")]
+pub mod spirv;

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 #[command(
     version,
     about = "Compose the WGSL runtime library for a configuration (only what it needs), validate it with naga, export it.",
-    after_help = "Examples:\n  shaders list\n  shaders export --config ad9-irradiance --lang wgsl\n  shaders export --config sh-l2-irradiance,sg-specular --lang hlsl --out lighting.hlsl\n  shaders export --config all --lang msl --out all.metal"
+    after_help = "Examples:\n  shaders list\n  shaders export --config ad9-irradiance --lang wgsl\n  shaders export --config sh-l2-irradiance,sg-specular --lang hlsl --out lighting.hlsl\n  shaders export --config all --lang msl --out all.metal\n  shaders library --check"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -21,7 +21,8 @@ struct Cli {
 enum Cmd {
     /// Presets and features, with the composed size of each preset.
     List,
-    /// Compose, validate and write one configuration in one language.
+    /// Compose, validate and write one configuration in one language: WGSL as composed,
+    /// HLSL/GLSL/MSL as a readable include file (same names, loops, comments; no entry point).
     Export {
         /// A preset (see `list`) or a comma-separated feature list.
         #[arg(long, required_unless_present = "profile", conflicts_with = "profile")]
@@ -39,6 +40,19 @@ enum Cmd {
         /// List every WGSL item left out (by default one summary line counts them).
         #[arg(short, long)]
         verbose: bool,
+    },
+    /// Write (or check) the include files of every preset and profile in every language,
+    /// each with an example shader (the committed copy: shaders/library/).
+    Library {
+        /// Folder to write into (one subfolder per preset or profile).
+        #[arg(long, default_value = "shaders/library")]
+        out: PathBuf,
+        /// Compare with the folder instead of writing; exit 1 listing what differs.
+        #[arg(long)]
+        check: bool,
+        /// Folder of lighting profiles (TOML).
+        #[arg(long, default_value = "profiles")]
+        profiles: PathBuf,
     },
     /// GPU reconstruction throughput (evaluations per second) per basis, diffuse and
     /// diffuse + specular.
@@ -72,6 +86,25 @@ fn main() -> ExitCode {
             }
             Ok(())
         })(),
+        Cmd::Library { out, check, profiles } => (|| {
+            let targets = shaders::library::targets(&profiles)?;
+            if check {
+                let problems = shaders::library::check(&out, &targets)?;
+                if !problems.is_empty() {
+                    return Err(format!(
+                        "{} is not what the sources export ({} problems; `shaders library` rewrites it):\n  {}",
+                        out.display(),
+                        problems.len(),
+                        problems.join("\n  ")
+                    ));
+                }
+                println!("{}: {} presets and profiles × 4 languages match the sources", out.display(), targets.len());
+            } else {
+                let n = shaders::library::write(&out, &targets)?;
+                println!("wrote {n} files for {} presets and profiles under {}", targets.len(), out.display());
+            }
+            Ok(())
+        })(),
         #[cfg(feature = "gpu")]
         Cmd::Bench { count, repeats, inputs } => (|| {
             let inputs = match inputs.as_str() {
@@ -97,7 +130,12 @@ fn main() -> ExitCode {
             };
             let lang = Lang::parse(lang.as_deref().or(prof.as_ref().map(|p| p.language.as_str())).unwrap_or("wgsl"))?;
             let c = compose::compose(&cfg)?;
-            let text = export::export(&c.source, lang)?;
+            let roots = shaders::library::roots(&cfg);
+            let title = match &prof {
+                Some(p) => format!("profile '{}'", p.name),
+                None => format!("configuration '{}'", cfg.name),
+            };
+            let text = export::export_with(&c.source, lang, &shaders::emit::Options { title, roots, ..Default::default() })?;
             if let Some(p) = &prof {
                 let all = compose::compose(&Config::parse("all")?)?;
                 let (_, notes) = shaders::profile::features(p);

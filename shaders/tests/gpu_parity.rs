@@ -11,20 +11,23 @@
 use sbf::glam::Vec3;
 use sbf::sampling::Pcg32;
 use shaders::compose::{self, Config};
-use shaders::gpu::{Gpu, Lease};
+use shaders::export::Lang;
+use shaders::gpu::{Launch, Lease, Output};
 
 const N: usize = 100_000;
 const BAR: f64 = 1e-4;
 
 /// The process-wide device, leased for this test alone (GPU tests run one at a time), with
 /// a watchdog that fails the run loudly if the test exceeds 300 s (warm, the whole binary
-/// takes seconds; lavapipe < 60 s).
-fn gpu() -> Option<Lease> {
+/// takes seconds; lavapipe < 60 s), and the language its kernels are written in: WGSL, or
+/// the exported HLSL/GLSL library included into a kernel in that language, compiled by
+/// glslang to SPIR-V (`shaders::spirv`). The same bodies, inputs and bars in every language.
+fn gpu(lang: Lang) -> Option<G> {
     let name = std::thread::current().name().unwrap_or("gpu parity test").to_string();
     match shaders::gpu::lease(&name, 300) {
         Ok(g) => {
-            eprintln!("GPU parity on {}", g.adapter);
-            Some(g)
+            eprintln!("GPU parity ({lang:?}) on {}", g.adapter);
+            Some(G { lease: g, lang })
         }
         Err(e) => {
             assert!(std::env::var("SBF_REQUIRE_GPU").is_err(), "SBF_REQUIRE_GPU is set but {e}");
@@ -33,6 +36,64 @@ fn gpu() -> Option<Lease> {
         }
     }
 }
+
+/// A leased device and the language of its kernels.
+struct G {
+    lease: Lease,
+    lang: Lang,
+}
+
+impl G {
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        library: &str,
+        body: &str,
+        input: &[f32],
+        out_per_item: usize,
+        count: usize,
+        lut: Option<&sbf::recon::lut::Lut2>,
+        repeats: usize,
+    ) -> Result<(Vec<f32>, f64), String> {
+        let o = self.launch(&Launch { library, body, input, out_per_item, count, lut, repeats, ..Default::default() })?;
+        Ok((o.out, o.seconds_per_dispatch))
+    }
+
+    fn launch(&self, l: &Launch) -> Result<Output, String> {
+        self.lease.launch(&Launch { lang: self.lang, ..*l })
+    }
+}
+
+/// `#[test]`s running a parity check in WGSL, GLSL and HLSL.
+macro_rules! in_every_language {
+    ($($check:ident),* $(,)?) => {
+        mod wgsl {
+            $(#[test] fn $check() { super::$check(super::Lang::Wgsl) })*
+        }
+        mod glsl {
+            $(#[test] fn $check() { super::$check(super::Lang::Glsl) })*
+        }
+        mod hlsl {
+            $(#[test] fn $check() { super::$check(super::Lang::Hlsl) })*
+        }
+    };
+}
+
+in_every_language!(
+    sh_parity,
+    sh_rotation_parity,
+    ggx_parity,
+    sg_parity,
+    ambient_dice_parity,
+    lobe_ggx_parity,
+    lut_parity,
+    progressive_parity,
+    ambient_dice_bezier_parity,
+    helper_parity,
+    slc_parity,
+    slc_media_parity,
+    slc_tile_parity,
+);
 
 fn library(cfg: &str) -> String {
     compose::compose(&Config::parse(cfg).unwrap()).unwrap().source
@@ -71,8 +132,9 @@ fn check(name: &str, gpu: &[f32], cpu: &[f64], scale: &[f64]) -> f64 {
             worst = (e, k);
         }
     }
-    println!("{name:<28} worst relative error {:.3e} (output {}: gpu {} cpu {})", worst.0, worst.1, gpu[worst.1], cpu[worst.1]);
-    assert!(worst.0 <= BAR, "{name}: {:.3e} > {BAR:e}", worst.0);
+    let lang = std::thread::current().name().and_then(|t| t.split("::").next()).unwrap_or("").to_string();
+    println!("{lang:<5} {name:<28} worst relative error {:.3e} (output {}: gpu {} cpu {})", worst.0, worst.1, gpu[worst.1], cpu[worst.1]);
+    assert!(worst.0 <= BAR, "{lang} {name}: {:.3e} > {BAR:e}", worst.0);
     worst.0
 }
 
@@ -80,9 +142,8 @@ fn push3(v: &mut Vec<f32>, x: Vec3) {
     v.extend_from_slice(&[x.x, x.y, x.z]);
 }
 
-#[test]
-fn sh_parity() {
-    let Some(g) = gpu() else { return };
+fn sh_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("sh-eval,sh-l1-irradiance,sh-l2-irradiance,sh-l4-irradiance,sh-l1-geomerics,sh-l1-zh3");
     let mut r = Pcg32::new(7, 1);
     let (mut inp, mut dirs, mut coeffs) = (Vec::new(), Vec::new(), Vec::new());
@@ -145,9 +206,8 @@ fn sh_parity() {
 /// random RGB coefficients, for the L1, L2 and L4 entry points. Scale: Σ_n |M_mn·c_n| per
 /// output, the size the f32 rounding of the products and the matrix entries is relative
 /// to (band 4's entries carry ~4 recurrence steps of a few ulp each: ≪ BAR).
-#[test]
-fn sh_rotation_parity() {
-    let Some(g) = gpu() else { return };
+fn sh_rotation_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("sh-rotate");
     const M: usize = 8192;
     let mut r = Pcg32::new(31, 4);
@@ -216,9 +276,8 @@ fn geomerics_pow_scale(c: &[Vec3], n: Vec3, ch: usize) -> f64 {
     2.0 * term * eps / BAR
 }
 
-#[test]
-fn ggx_parity() {
-    let Some(g) = gpu() else { return };
+fn ggx_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("ggx");
     let mut r = Pcg32::new(11, 2);
     let mut inp = Vec::new();
@@ -262,9 +321,8 @@ fn ggx_parity() {
     }
 }
 
-#[test]
-fn sg_parity() {
-    let Some(g) = gpu() else { return };
+fn sg_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("sg-eval,sg-irradiance,sg-specular");
     let mut r = Pcg32::new(13, 3);
     let mut inp = Vec::new();
@@ -329,9 +387,8 @@ fn sg_parity() {
     check("sg_asg_warp+lobe", &col(2), &cs, &ss);
 }
 
-#[test]
-fn ambient_dice_parity() {
-    let Some(g) = gpu() else { return };
+fn ambient_dice_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("ad-eval,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular");
     let lut = sbf::luts::committed::ad_specular_2d();
     let ad12: Vec<Vec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3()).collect();
@@ -396,9 +453,8 @@ fn ambient_dice_parity() {
 /// ~3.5e-4 rad in any f32 implementation; as in the SG test, the change of the f64 value
 /// when n, v and the axis move by 1.2e-7 (four random directions) ×1e4 (= 1/BAR) is an
 /// allowed error, and values are measured against a floor of 1e-3 of the table's peak.
-#[test]
-fn lobe_ggx_parity() {
-    let Some(g) = gpu() else { return };
+fn lobe_ggx_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("lobe-ggx-specular");
     for (table, seed) in [(sbf::luts::committed::lobe_ggx_sg6(), 31), (sbf::luts::committed::lobe_ggx_ad(), 32)] {
         let peak = table.values.iter().fold(0.0f32, |a, b| a.max(b.abs())) as f64;
@@ -419,15 +475,7 @@ fn lobe_ggx_parity() {
         }
         let body = "    let b = i * 10u;\n    let px = lobe_ggx_pixel(lobe_tab, ld3(b), ld3(b + 3u), inp[b + 9u]);\n    let e = lobe_ggx_lobe(lobe_tab, px, ld3(b + 6u));\n    outp[i * 2u] = e.x;\n    outp[i * 2u + 1u] = e.y;";
         let o = g
-            .launch(&shaders::gpu::Launch {
-                library: &lib,
-                body,
-                input: &inp,
-                out_per_item: 2,
-                count,
-                lobe: Some(table),
-                ..Default::default()
-            })
+            .launch(&Launch { library: &lib, body, input: &inp, out_per_item: 2, count, lobe: Some(table), ..Default::default() })
             .unwrap();
         let mut r2 = Pcg32::new(seed, 10);
         let f64_at = |n: sbf::glam::DVec3, v: sbf::glam::DVec3, p: sbf::glam::DVec3, a: f64| {
@@ -456,9 +504,8 @@ fn lobe_ggx_parity() {
     }
 }
 
-#[test]
-fn lut_parity() {
-    let Some(g) = gpu() else { return };
+fn lut_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     // lut2_sample is reached through ad specular; compose a config holding it.
     let lib = library("ad12-specular");
     let lut = sbf::luts::committed::ad_specular_2d();
@@ -483,7 +530,7 @@ fn lut_parity() {
 /// `progressive_update_projected` / `update_projected`.
 #[allow(clippy::too_many_arguments)]
 fn progressive_case(
-    g: &Gpu,
+    g: &G,
     name: &str,
     basis: &dyn sbf::Basis,
     opts: sbf::solve::ProgressiveOptions,
@@ -530,7 +577,7 @@ fn progressive_case(
     );
     let init = vec![<EncoderState as bytemuck::Zeroable>::zeroed(); texels];
     let o = g
-        .launch(&shaders::gpu::Launch {
+        .launch(&Launch {
             library: &lib,
             body: &body,
             input: &inp,
@@ -578,10 +625,9 @@ fn progressive_case(
     check(&format!("progressive {name} ∫B², W"), &gi, &ci, &vec![0.0; ci.len()]);
 }
 
-#[test]
-fn progressive_parity() {
+fn progressive_parity(lang: Lang) {
     use sbf::solve::{Denominator, Iteration, ProgressiveOptions};
-    let Some(g) = gpu() else { return };
+    let Some(g) = gpu(lang) else { return };
     let ad12 = sbf::AmbientDiceSrbf::twelve();
     let ad9 = sbf::AmbientDiceSrbf::nine_hemisphere();
     let sh2 = sbf::ShBasis::new(2).unwrap();
@@ -607,9 +653,8 @@ fn progressive_parity() {
     progressive_case(&g, "projected NNLS/AD9 long", &ad9, ProgressiveOptions { non_negative: true, ..bake }, 2000, 256, 38, true);
 }
 
-#[test]
-fn ambient_dice_bezier_parity() {
-    let Some(g) = gpu() else { return };
+fn ambient_dice_bezier_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
     let lib = library("ad-bezier");
     let bez = sbf::AmbientDiceBezier::new();
     let ycocg = sbf::AmbientDiceYCoCg::new();
@@ -692,12 +737,11 @@ fn ambient_dice_bezier_parity() {
 
 /// The helpers the functions above are built from, each against its own twin (so a
 /// helper's error cannot hide inside a larger sum).
-#[test]
-fn helper_parity() {
+fn helper_parity(lang: Lang) {
     use sbf::recon::ambient_dice::{
         lobe_irradiance_fit, SpecularFit, DIFFUSE_FIT_LISTING_8_1, DIFFUSE_FIT_MINIMAX, SPECULAR_FIT_LISTING_8_1,
     };
-    let Some(g) = gpu() else { return };
+    let Some(g) = gpu(lang) else { return };
     let lib = library("all");
     let lut = sbf::luts::committed::ad_specular_2d();
     let ad12: Vec<sbf::glam::DVec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3().as_dvec3()).collect();
@@ -933,10 +977,9 @@ fn string_literals(src: &str) -> String {
 /// relative to it). Items where a branch is decided by a near tie — p ≈ ξ in the culled
 /// estimate, |b_x| ≈ |b_y| in eq. 17 — are excluded (both branches are valid; rounding
 /// picks one) and counted.
-#[test]
-fn slc_parity() {
+fn slc_parity(lang: Lang) {
     use sbf::slc::runtime as rt;
-    let Some(g) = gpu() else { return };
+    let Some(g) = gpu(lang) else { return };
     let lib = library("slc");
     let mut r = Pcg32::new(77, 3);
     const PER: usize = 30;
@@ -1114,10 +1157,9 @@ fn slc_parity() {
 /// and θ = atan2 carries ~1e-7 rad of rounding, so t's scale is that factor plus |t|, and
 /// the pdf's relative scale 1 + 2|t − t_c|/h; near-tangent rays (disc < 1e-4·(b² + |c|))
 /// whose hit/miss may flip are excluded and counted.
-#[test]
-fn slc_media_parity() {
+fn slc_media_parity(lang: Lang) {
     use sbf::slc::runtime as rt;
-    let Some(g) = gpu() else { return };
+    let Some(g) = gpu(lang) else { return };
     let lib = library("slc");
     let mut r = Pcg32::new(79, 5);
     const PER: usize = 12;
@@ -1185,10 +1227,9 @@ fn slc_media_parity() {
 /// against sbf::slc::runtime on 10⁵ random (spheroid, tile) pairs: the corners to f32
 /// rounding, and the same keep/cull decision wherever the CPU's squared distance from the
 /// transformed centre to the AABB is not within 1e-4 of 1 (a tie rounding may flip).
-#[test]
-fn slc_tile_parity() {
+fn slc_tile_parity(lang: Lang) {
     use sbf::slc::runtime as rt;
-    let Some(g) = gpu() else { return };
+    let Some(g) = gpu(lang) else { return };
     let lib = library("slc");
     let mut r = Pcg32::new(78, 3);
     let (w, h, tx, ty) = (1920.0f32, 1080.0f32, 0.8f32, 0.45f32);

@@ -329,7 +329,12 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
         let lang = shaders::export::Lang::parse(&p.language)?;
         if p.language != "wgsl" {
             let name = format!("runtime.{}", lang.extension());
-            std::fs::write(o.out.join(&name), shaders::export::export(&runtime.source, lang)?).map_err(|e| format!("{name}: {e}"))?;
+            let opts = shaders::emit::Options {
+                title: format!("bake runtime for profile '{}' ({})", p.name, features.join(", ")),
+                roots: shaders::library::roots(&cfg),
+                ..Default::default()
+            };
+            std::fs::write(o.out.join(&name), shaders::export::export_with(&runtime.source, lang, &opts)?).map_err(|e| format!("{name}: {e}"))?;
             runtime_files.push(name);
         }
         if glossy && !p.specular {

@@ -1,0 +1,39 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_ad9.metal"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut) {
+    float3 result = float3(0.0f);
+    {
+        array<float3, 9> ad9_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 9> ad9_specular_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
+    }
+    return result;
+}
+
+struct Inputs {
+    array<float4, 36> coefficients;
+    float4 view_alpha;
+};
+
+struct FragmentIn {
+    float3 normal [[user(locn0)]];
+};
+
+fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]], texture2d<float> lut [[texture(0)]]) {
+    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut), 1.0f);
+}

@@ -1,0 +1,287 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_all.metal"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut, texture2d_array<float> lobe_table) {
+    float3 result = float3(0.0f);
+    {
+        array<float, 4> r = sh_eval_l1(n);
+        result += float3(r[0]);
+    }
+    {
+        array<float, 9> r = sh_eval_l2(n);
+        result += float3(r[0]);
+    }
+    {
+        array<float, 25> r = sh_eval_l4(n);
+        result += float3(r[0]);
+    }
+    {
+        array<float3, 4> sh_l1_irradiance_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 9> sh_l2_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 25> sh_l4_irradiance_c = array<float3, 25>{};
+        for (uint k = 0u; k < 25u; k++) {
+            sh_l4_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l4_irradiance(sh_l4_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 4> sh_l1_geomerics_irradiance_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 4> sh_l1_zh3_irradiance_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 4> sh_rotate_l1_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_rotate_l1_c[k] = coefficients[k % 36u].xyz;
+        }
+        array<float3, 4> r = sh_rotate_l1(sh_rotate_l1_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
+        result += r[0];
+    }
+    {
+        array<float3, 9> sh_rotate_l2_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sh_rotate_l2_c[k] = coefficients[k % 36u].xyz;
+        }
+        array<float3, 9> r = sh_rotate_l2(sh_rotate_l2_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
+        result += r[0];
+    }
+    {
+        array<float3, 25> sh_rotate_l4_c = array<float3, 25>{};
+        for (uint k = 0u; k < 25u; k++) {
+            sh_rotate_l4_c[k] = coefficients[k % 36u].xyz;
+        }
+        array<float3, 25> r = sh_rotate_l4(sh_rotate_l4_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
+        result += r[0];
+    }
+    {
+        float r = sg_eval(n, 0.5f, v);
+        result += float3(r);
+    }
+    {
+        float r = sg_integral(0.5f);
+        result += float3(r);
+    }
+    {
+        float r = sg_hill_irradiance(n, 0.5f, n);
+        result += float3(r);
+    }
+    {
+        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
+    }
+    {
+        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
+        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = ad_srbf_eval(n, v);
+        result += float3(r);
+    }
+    {
+        array<float3, 9> ad9_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 12> ad12_irradiance_c = array<float3, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 9> ad9_specular_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
+    }
+    {
+        array<float3, 12> ad12_specular_c = array<float3, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
+    }
+    {
+        LobeGgxPixel r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+    }
+    {
+        LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += float3(r, 0.0f);
+    }
+    {
+        float r = ggx_d(n, alpha);
+        result += float3(r);
+    }
+    {
+        float r = ggx_g1(n, alpha);
+        result += float3(r);
+    }
+    {
+        float r = ggx_g2(v, v, alpha);
+        result += float3(r);
+    }
+    {
+        float r = ggx_lambda(n, alpha);
+        result += float3(r);
+    }
+    {
+        float r = schlick_weight(0.5f);
+        result += float3(r);
+    }
+    {
+        AdBezierWeights r = ad_bezier_weights(n);
+    }
+    {
+        array<float3, 36> ad_bezier_eval_c = array<float3, 36>{};
+        for (uint k = 0u; k < 36u; k++) {
+            ad_bezier_eval_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad_bezier_eval(ad_bezier_eval_c, n);
+        result += r;
+    }
+    {
+        array<float, 36> ad_ycocg_eval_y = array<float, 36>{};
+        for (uint k = 0u; k < 36u; k++) {
+            ad_ycocg_eval_y[k] = coefficients[k % 36u].x;
+        }
+        array<float, 12> ad_ycocg_eval_co = array<float, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            ad_ycocg_eval_co[k] = coefficients[k % 36u].x;
+        }
+        array<float, 12> ad_ycocg_eval_cg = array<float, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            ad_ycocg_eval_cg[k] = coefficients[k % 36u].x;
+        }
+        float3 r = ad_ycocg_eval(ad_ycocg_eval_y, ad_ycocg_eval_co, ad_ycocg_eval_cg, n);
+        result += r;
+    }
+    {
+        float r = slc_acceptance(0.5f, 0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = slc_random_range(0.5f, 0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = slc_culled_estimate(0.5f, 0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = slc_schlick_max(0.04f, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = slc_dielectric_max(0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = slc_g1_dist(0.5f, alpha);
+        result += float3(r);
+    }
+    {
+        float r = slc_spheroid_scale(0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        float r = slc_bound_surface(0.5f, 0.5f, alpha);
+        result += float3(r);
+    }
+    {
+        SlcEllipsoid r = slc_ggx_spheroid(n, v, n, alpha, 0.5f);
+    }
+    {
+        SlcSphere r = slc_diffuse_sphere(n, n, 0.5f, 0.5f, 0.5f);
+    }
+    {
+        float r = slc_diffuse_intensity_bound(0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        SlcSphere r = slc_point_sphere(n, 0.5f, 0.5f, 0.5f);
+    }
+    {
+        SlcSphere slc_ray_sphere_s = slc_diffuse_sphere(n, n, 0.5f, 0.5f, 0.5f);
+        float3 r = slc_ray_sphere(n, n, slc_ray_sphere_s);
+        result += r;
+    }
+    {
+        float2 r = slc_equiangular_sample(0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
+        result += float3(r, 0.0f);
+    }
+    {
+        float r = slc_equiangular_pdf(0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
+        result += float3(r);
+    }
+    {
+        SlcEllipsoid slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5f);
+        SlcCullEllipsoid r = slc_cull_transform(slc_cull_transform_e, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)), n);
+    }
+    {
+        array<float3, 8> r = slc_tile_corners(0.5f, 0.5f, 0.5f, 0.5f, float2(0.5f), float2(0.5f), 0.5f, 0.5f);
+        result += r[0];
+    }
+    {
+        SlcEllipsoid slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5f);
+        SlcCullEllipsoid slc_ellipsoid_hits_corners_e = slc_cull_transform(slc_cull_transform_e, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)), n);
+        array<float3, 8> slc_ellipsoid_hits_corners_corners = array<float3, 8>{};
+        for (uint k = 0u; k < 8u; k++) {
+            slc_ellipsoid_hits_corners_corners[k] = coefficients[k % 36u].xyz;
+        }
+        bool r = slc_ellipsoid_hits_corners(slc_ellipsoid_hits_corners_e, slc_ellipsoid_hits_corners_corners);
+        result += r ? float3(1.0f) : float3(0.0f);
+    }
+    return result;
+}
+
+struct Inputs {
+    array<float4, 36> coefficients;
+    float4 view_alpha;
+};
+
+struct FragmentIn {
+    float3 normal [[user(locn0)]];
+};
+
+fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]], texture2d<float> lut [[texture(0)]], texture2d_array<float> lobe_table [[texture(1)]]) {
+    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table), 1.0f);
+}

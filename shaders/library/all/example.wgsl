@@ -1,0 +1,337 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+// WGSL has no #include: this file follows sbf_all.wgsl (naga validates the two together).
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>, lobe_table: texture_2d_array<f32>) -> vec3<f32> {
+    var result = vec3<f32>(0.0);
+    {
+        // sh_eval_l1
+        let r = sh_eval_l1(n);
+        result += vec3<f32>(r[0]);
+    }
+    {
+        // sh_eval_l2
+        let r = sh_eval_l2(n);
+        result += vec3<f32>(r[0]);
+    }
+    {
+        // sh_eval_l4
+        let r = sh_eval_l4(n);
+        result += vec3<f32>(r[0]);
+    }
+    {
+        // sh_l1_irradiance
+        var sh_l1_irradiance_c: array<vec3<f32>, 4>;
+        for (var k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        // sh_l2_irradiance
+        var sh_l2_irradiance_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        result += r;
+    }
+    {
+        // sh_l4_irradiance
+        var sh_l4_irradiance_c: array<vec3<f32>, 25>;
+        for (var k = 0u; k < 25u; k++) {
+            sh_l4_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l4_irradiance(sh_l4_irradiance_c, n);
+        result += r;
+    }
+    {
+        // sh_l1_geomerics_irradiance
+        var sh_l1_geomerics_irradiance_c: array<vec3<f32>, 4>;
+        for (var k = 0u; k < 4u; k++) {
+            sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        result += r;
+    }
+    {
+        // sh_l1_zh3_irradiance
+        var sh_l1_zh3_irradiance_c: array<vec3<f32>, 4>;
+        for (var k = 0u; k < 4u; k++) {
+            sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        result += r;
+    }
+    {
+        // sh_rotate_l1
+        var sh_rotate_l1_c: array<vec3<f32>, 4>;
+        for (var k = 0u; k < 4u; k++) {
+            sh_rotate_l1_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_rotate_l1(sh_rotate_l1_c, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)));
+        result += r[0];
+    }
+    {
+        // sh_rotate_l2
+        var sh_rotate_l2_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            sh_rotate_l2_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_rotate_l2(sh_rotate_l2_c, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)));
+        result += r[0];
+    }
+    {
+        // sh_rotate_l4
+        var sh_rotate_l4_c: array<vec3<f32>, 25>;
+        for (var k = 0u; k < 25u; k++) {
+            sh_rotate_l4_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_rotate_l4(sh_rotate_l4_c, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)));
+        result += r[0];
+    }
+    {
+        // sg_eval
+        let r = sg_eval(n, 0.5, v);
+        result += vec3<f32>(r);
+    }
+    {
+        // sg_integral
+        let r = sg_integral(0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // sg_hill_irradiance
+        let r = sg_hill_irradiance(n, 0.5, n);
+        result += vec3<f32>(r);
+    }
+    {
+        // sg_asg_warp
+        let r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+    }
+    {
+        // sg_asg_lobe
+        let sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        let r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // ad_srbf_eval
+        let r = ad_srbf_eval(n, v);
+        result += vec3<f32>(r);
+    }
+    {
+        // ad9_irradiance
+        var ad9_irradiance_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        // ad12_irradiance
+        var ad12_irradiance_c: array<vec3<f32>, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = ad12_irradiance(ad12_irradiance_c, n);
+        result += r;
+    }
+    {
+        // ad9_specular
+        var ad9_specular_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            ad9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        // ad12_specular
+        var ad12_specular_c: array<vec3<f32>, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            ad12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        // lobe_ggx_pixel
+        let r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+    }
+    {
+        // lobe_ggx_lobe
+        let lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        let r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += vec3<f32>(r, 0.0);
+    }
+    {
+        // ggx_d
+        let r = ggx_d(n, alpha);
+        result += vec3<f32>(r);
+    }
+    {
+        // ggx_g1
+        let r = ggx_g1(n, alpha);
+        result += vec3<f32>(r);
+    }
+    {
+        // ggx_g2
+        let r = ggx_g2(v, v, alpha);
+        result += vec3<f32>(r);
+    }
+    {
+        // ggx_lambda
+        let r = ggx_lambda(n, alpha);
+        result += vec3<f32>(r);
+    }
+    {
+        // schlick_weight
+        let r = schlick_weight(0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // ad_bezier_weights
+        let r = ad_bezier_weights(n);
+    }
+    {
+        // ad_bezier_eval
+        var ad_bezier_eval_c: array<vec3<f32>, 36>;
+        for (var k = 0u; k < 36u; k++) {
+            ad_bezier_eval_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = ad_bezier_eval(ad_bezier_eval_c, n);
+        result += r;
+    }
+    {
+        // ad_ycocg_eval
+        var ad_ycocg_eval_y: array<f32, 36>;
+        for (var k = 0u; k < 36u; k++) {
+            ad_ycocg_eval_y[k] = coefficients[k % 36u].x;
+        }
+        var ad_ycocg_eval_co: array<f32, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            ad_ycocg_eval_co[k] = coefficients[k % 36u].x;
+        }
+        var ad_ycocg_eval_cg: array<f32, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            ad_ycocg_eval_cg[k] = coefficients[k % 36u].x;
+        }
+        let r = ad_ycocg_eval(ad_ycocg_eval_y, ad_ycocg_eval_co, ad_ycocg_eval_cg, n);
+        result += r;
+    }
+    {
+        // slc_acceptance
+        let r = slc_acceptance(0.5, 0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_random_range
+        let r = slc_random_range(0.5, 0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_culled_estimate
+        let r = slc_culled_estimate(0.5, 0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_schlick_max
+        let r = slc_schlick_max(0.04, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_dielectric_max
+        let r = slc_dielectric_max(0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_g1_dist
+        let r = slc_g1_dist(0.5, alpha);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_spheroid_scale
+        let r = slc_spheroid_scale(0.5, 0.5, 0.5, 0.5, 0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_bound_surface
+        let r = slc_bound_surface(0.5, 0.5, alpha);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_ggx_spheroid
+        let r = slc_ggx_spheroid(n, v, n, alpha, 0.5);
+    }
+    {
+        // slc_diffuse_sphere
+        let r = slc_diffuse_sphere(n, n, 0.5, 0.5, 0.5);
+    }
+    {
+        // slc_diffuse_intensity_bound
+        let r = slc_diffuse_intensity_bound(0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_point_sphere
+        let r = slc_point_sphere(n, 0.5, 0.5, 0.5);
+    }
+    {
+        // slc_ray_sphere
+        let slc_ray_sphere_s = slc_diffuse_sphere(n, n, 0.5, 0.5, 0.5);
+        let r = slc_ray_sphere(n, n, slc_ray_sphere_s);
+        result += r;
+    }
+    {
+        // slc_equiangular_sample
+        let r = slc_equiangular_sample(0.5, 0.5, 0.5, 0.5, 0.5);
+        result += vec3<f32>(r, 0.0);
+    }
+    {
+        // slc_equiangular_pdf
+        let r = slc_equiangular_pdf(0.5, 0.5, 0.5, 0.5, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
+        // slc_cull_transform
+        let slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5);
+        let r = slc_cull_transform(slc_cull_transform_e, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), n);
+    }
+    {
+        // slc_tile_corners
+        let r = slc_tile_corners(0.5, 0.5, 0.5, 0.5, vec2<f32>(0.5), vec2<f32>(0.5), 0.5, 0.5);
+        result += r[0];
+    }
+    {
+        // slc_ellipsoid_hits_corners
+        let slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5);
+        let slc_ellipsoid_hits_corners_e = slc_cull_transform(slc_cull_transform_e, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), n);
+        var slc_ellipsoid_hits_corners_corners: array<vec3<f32>, 8>;
+        for (var k = 0u; k < 8u; k++) {
+            slc_ellipsoid_hits_corners_corners[k] = coefficients[k % 36u].xyz;
+        }
+        let r = slc_ellipsoid_hits_corners(slc_ellipsoid_hits_corners_e, slc_ellipsoid_hits_corners_corners);
+        result += select(vec3<f32>(0.0), vec3<f32>(1.0), r);
+    }
+    return result;
+}
+
+struct Inputs {
+    coefficients: array<vec4<f32>, 36>,
+    view_alpha: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> inputs: Inputs;
+@group(0) @binding(1) var lut: texture_2d<f32>;
+@group(0) @binding(2) var lobe_table: texture_2d_array<f32>;
+
+@fragment
+fn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table), 1.0);
+}

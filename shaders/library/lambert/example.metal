@@ -1,0 +1,51 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_lambert.metal"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients) {
+    float3 result = float3(0.0f);
+    {
+        array<float3, 9> sh_l2_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        result += r;
+    }
+    {
+        float r = sg_hill_irradiance(n, 0.5f, n);
+        result += float3(r);
+    }
+    {
+        array<float3, 9> ad9_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 12> ad12_irradiance_c = array<float3, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        result += r;
+    }
+    return result;
+}
+
+struct Inputs {
+    array<float4, 36> coefficients;
+    float4 view_alpha;
+};
+
+struct FragmentIn {
+    float3 normal [[user(locn0)]];
+};
+
+fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]]) {
+    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients), 1.0f);
+}

@@ -1,0 +1,80 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_profile_everything.hlsl"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut) {
+    float3 result = ((float3)0.0);
+    {
+        float3 sh_l1_irradiance_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        float3 sh_l2_irradiance_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        result += r;
+    }
+    {
+        float r = sg_hill_irradiance(n, 0.5, n);
+        result += ((float3)r);
+    }
+    {
+        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+    }
+    {
+        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        result += ((float3)r);
+    }
+    {
+        float3 ad9_irradiance_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        float3 ad12_irradiance_c[12] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        result += r;
+    }
+    {
+        float3 ad9_specular_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        float3 ad12_specular_c[12] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    return result;
+}
+
+cbuffer Inputs : register(b0) {
+    float4 coefficients[36];
+    float4 view_alpha;
+};
+Texture2D<float4> lut : register(t0);
+
+float4 main(float3 normal : NORMAL) : SV_Target {
+    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut), 1.0);
+}

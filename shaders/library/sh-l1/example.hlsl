@@ -1,0 +1,43 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_sh_l1.hlsl"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
+    float3 result = ((float3)0.0);
+    {
+        float3 sh_l1_irradiance_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        float3 sh_l1_geomerics_irradiance_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        result += r;
+    }
+    {
+        float3 sh_l1_zh3_irradiance_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        result += r;
+    }
+    return result;
+}
+
+cbuffer Inputs : register(b0) {
+    float4 coefficients[36];
+    float4 view_alpha;
+};
+
+float4 main(float3 normal : NORMAL) : SV_Target {
+    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients), 1.0);
+}

@@ -1,0 +1,47 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_sh_l1.metal"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients) {
+    float3 result = float3(0.0f);
+    {
+        array<float3, 4> sh_l1_irradiance_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 4> sh_l1_geomerics_irradiance_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        result += r;
+    }
+    {
+        array<float3, 4> sh_l1_zh3_irradiance_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        result += r;
+    }
+    return result;
+}
+
+struct Inputs {
+    array<float4, 36> coefficients;
+    float4 view_alpha;
+};
+
+struct FragmentIn {
+    float3 normal [[user(locn0)]];
+};
+
+fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]]) {
+    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients), 1.0f);
+}

@@ -1,0 +1,147 @@
+//! The exported include files (`shaders/library/`): the committed copy is what the sources
+//! export, every WGSL function keeps its name in every language, the GLSL and HLSL
+//! examples compile as fragment shaders with glslang (the functions' values on a GPU are
+//! gpu_parity.rs's job: the same files, in compute kernels), WGSL examples validate with
+//! naga, and MSL — which no compiler here reads — is checked for structure only.
+
+use shaders::export::Lang;
+use shaders::library::{self, Target};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("the workspace root").to_path_buf()
+}
+
+fn targets() -> Vec<Target> {
+    library::targets(&root().join("profiles")).expect("presets and profiles")
+}
+
+#[test]
+fn committed_library_is_what_the_sources_export() {
+    let problems = library::check(&root().join("shaders/library"), &targets()).unwrap();
+    assert!(
+        problems.is_empty(),
+        "shaders/library is stale ({} problems; run `cargo run --release --bin shaders -- library`):\n  {}",
+        problems.len(),
+        problems.join("\n  ")
+    );
+}
+
+/// Text outside `//` comments.
+fn code(text: &str) -> String {
+    text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n")
+}
+
+#[test]
+fn every_wgsl_function_struct_and_constant_keeps_its_name_in_every_language() {
+    let mut checked = 0;
+    for t in targets() {
+        let comp = shaders::compose::compose(&t.config).unwrap();
+        let (m, _) = shaders::export::validate(&comp.source).unwrap();
+        let files = library::files(&t).unwrap();
+        for lang in [Lang::Hlsl, Lang::Glsl, Lang::Msl] {
+            let name = library::file_name(&t.slug, lang);
+            let text = code(&files.iter().find(|(n, _)| *n == name).unwrap().1);
+            for (_, f) in m.functions.iter() {
+                let f = f.name.as_deref().unwrap();
+                assert!(text.contains(&format!(" {f}(")), "{name}: function {f} is not defined by its WGSL name");
+                checked += 1;
+            }
+            for (_, ty) in m.types.iter() {
+                if let (Some(s), naga::TypeInner::Struct { .. }) = (ty.name.as_deref(), &ty.inner) {
+                    assert!(text.contains(&format!("struct {s} {{")), "{name}: struct {s} is not declared by its WGSL name");
+                }
+            }
+            for (_, c) in m.constants.iter() {
+                let c = c.name.as_deref().unwrap();
+                assert!(text.contains(&format!(" {c} =")) || text.contains(&format!(" {c}[")), "{name}: constant {c} lost its name");
+            }
+            // No entry point and no binding in a library.
+            for bad in ["void main(", "layout(set", "register(", "[[buffer", "@compute", "@fragment"] {
+                assert!(!text.contains(bad), "{name}: a library file contains `{bad}`");
+            }
+        }
+    }
+    assert!(checked > 300, "only {checked} function names checked");
+}
+
+/// glslangValidator, or None when it is missing and nothing requires it.
+fn glslang() -> Option<&'static str> {
+    let ok = std::process::Command::new(shaders::spirv::GLSLANG).arg("--version").output().is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            std::env::var("SBF_REQUIRE_GPU").is_err(),
+            "SBF_REQUIRE_GPU is set but {} is not installed (apt-get install glslang-tools)",
+            shaders::spirv::GLSLANG
+        );
+        eprintln!("skipping: {} is not installed", shaders::spirv::GLSLANG);
+        return None;
+    }
+    Some(shaders::spirv::GLSLANG)
+}
+
+#[test]
+fn glsl_and_hlsl_examples_compile_as_fragment_shaders() {
+    let Some(glslang) = glslang() else { return };
+    let dir = std::env::temp_dir().join(format!("sbf-library-{}", std::process::id()));
+    let targets = targets();
+    library::write(&dir, &targets).unwrap();
+    for t in &targets {
+        let d = dir.join(&t.slug);
+        for (file, args) in [("example.frag", vec!["-V", "-S", "frag"]), ("example.hlsl", vec!["-D", "-V", "-S", "frag", "-e", "main"])] {
+            let o = std::process::Command::new(glslang)
+                .args(&args)
+                .arg("-o")
+                .arg(d.join(format!("{file}.spv")))
+                .arg(d.join(file))
+                .output()
+                .unwrap();
+            assert!(
+                o.status.success(),
+                "{}/{file} does not compile:\n{}{}",
+                t.slug,
+                String::from_utf8_lossy(&o.stdout),
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn wgsl_examples_validate_after_their_library() {
+    for t in targets() {
+        let files = library::files(&t).unwrap();
+        let get = |n: &str| files.iter().find(|(f, _)| f == n).unwrap().1.clone();
+        let src = format!("{}\n{}", get(&library::file_name(&t.slug, Lang::Wgsl)), get("example.wgsl"));
+        shaders::export::validate(&src).unwrap_or_else(|e| panic!("{}: {e}", t.slug));
+    }
+}
+
+#[test]
+fn msl_files_are_balanced_and_free_of_wgsl() {
+    for t in targets() {
+        for (name, text) in library::files(&t).unwrap() {
+            if !name.ends_with(".metal") {
+                continue;
+            }
+            let c = code(&text);
+            for (open, close) in [('(', ')'), ('{', '}'), ('[', ']')] {
+                let depth = c.chars().fold(0i64, |d, ch| {
+                    let d = d + (ch == open) as i64 - (ch == close) as i64;
+                    assert!(d >= 0, "{}/{name}: `{close}` before its `{open}`", t.slug);
+                    d
+                });
+                assert_eq!(depth, 0, "{}/{name}: unbalanced `{open}{close}`", t.slug);
+            }
+            for wgsl in ["vec3<f32>", "fn ", "let ", "var ", "@group", "textureLoad", "select(0.0"] {
+                assert!(!c.contains(wgsl), "{}/{name}: WGSL left in the MSL: `{wgsl}`", t.slug);
+            }
+            // Float literals carry MSL's f suffix (an unsuffixed one is a double).
+            let bare = c
+                .split(|ch: char| !(ch.is_ascii_alphanumeric() || ch == '.' || ch == '_'))
+                .find(|w| w.chars().next().is_some_and(|ch| ch.is_ascii_digit()) && w.contains('.') && !w.ends_with('f'));
+            assert!(bare.is_none(), "{}/{name}: float literal without f: {bare:?}", t.slug);
+        }
+    }
+}
