@@ -334,7 +334,8 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
                 roots: shaders::library::roots(&cfg),
                 ..Default::default()
             };
-            std::fs::write(o.out.join(&name), shaders::export::export_with(&runtime.source, lang, &opts)?).map_err(|e| format!("{name}: {e}"))?;
+            std::fs::write(o.out.join(&name), shaders::export::export_with(&runtime.source, lang, &opts)?)
+                .map_err(|e| format!("{name}: {e}"))?;
             runtime_files.push(name);
         }
         if glossy && !p.specular {

@@ -10,7 +10,7 @@
 //! reasons for this choice over Slang and over naga's back ends are in ARCHITECTURE.md.
 //!
 //! - [`syntax`]: per-language tokens (types, literals, built-ins, reserved words).
-//! - [`function`]: function bodies (statements, expressions, where locals are declared).
+//! - `function`: function bodies (statements, expressions, where locals are declared).
 //! - this file: the item order, comments, declarations, constants and the file header.
 
 mod function;
