@@ -1,0 +1,242 @@
+//! The three jobs an engine developer comes for, in a few lines each: project an HDR
+//! environment onto a basis, evaluate irradiance and GGX specular from the coefficients
+//! (a probe's, or a baked lightmap texel's), with the f32 runtime the shaders mirror.
+//!
+//! The bases are the lightmap bases of the profiles and the baker (`sh1`, `sh2`, `sg9`,
+//! `sg12`, `ad9`, `ad12`; [`crate::profile`]), laid out as the baker lays them out in a
+//! texel's tangent frame (normal +Z): SH in the frame's own axes, SG lobes on a Vogel
+//! spiral over the upper hemisphere with λ 6, AD 9 the seed's upper-hemisphere set, AD 12
+//! the icosahedron. A probe uses the same layouts in its own frame (the map's axes).
+//!
+//! ```
+//! use sbf::envmap::{LatLongImage, ProceduralSky};
+//! use sbf::glam::Vec3;
+//! use sbf::probe::{Probe, ProbeBasis};
+//!
+//! // Project a map (here the built-in sky, 64×32) onto SH L2 …
+//! let sky = ProceduralSky::default();
+//! let map = LatLongImage::from_fn(64, 32, |d| sky.radiance(d))?;
+//! let probe = Probe::project(&map, ProbeBasis::Sh2)?;
+//! // … and shade: irradiance E/π at a normal, GGX specular for a view, α and f0.
+//! let e = probe.irradiance(Vec3::Y);
+//! let s = probe.specular(Vec3::Y, Vec3::new(0.0, 0.6, 0.8), 0.3, 0.04);
+//! assert!(e.min_element() > 0.0 && s.is_finite());
+//! # Ok::<(), sbf::SbfError>(())
+//! ```
+//!
+//! A baked lightmap texel is a probe in the texel's tangent frame: the baker writes one EXR
+//! per coefficient (`ad9_00.exr` … `ad9_08.exr`, RGB); read texel (x, y) of each into a list
+//! and evaluate with a tangent-space normal (a normal map's value) and view:
+//!
+//! ```
+//! use sbf::glam::Vec3;
+//! use sbf::probe::{Probe, ProbeBasis};
+//!
+//! // Nine RGB coefficients as read from ad9_00.exr … ad9_08.exr at one texel.
+//! let texel = [[0.2, 0.2, 0.25]; 9].map(Vec3::from);
+//! let probe = Probe::from_coefficients(ProbeBasis::Ad9, &texel)?;
+//! let n = Vec3::Z; // the texel's normal, unperturbed
+//! let diffuse = probe.irradiance(n) * Vec3::new(0.8, 0.7, 0.6); // × albedo: E/π·ρ
+//! let v = Vec3::new(0.0, 0.6, 0.8);
+//! let specular = probe.specular(n, v, 0.2, 0.04);
+//! assert!(diffuse.min_element() > 0.0 && specular.min_element() > 0.0);
+//! # Ok::<(), sbf::SbfError>(())
+//! ```
+//!
+//! Irradiance: SH by the exact band factors, SG by Hill's fit, AD by the minimax quadratic
+//! ([`crate::recon::runtime`], the twins of the WGSL functions). Specular: SH by zonal
+//! convolution about the dominant direction with the DFG split sum
+//! ([`crate::recon::sh::specular_zonal_rgb`], f64), SG by the ASG warp, AD by the seed's
+//! Listing 8.1 fit and Listing 8.2 table. Fresnel is Schlick with f0 given and f90 = 1.
+
+use crate::basis::Basis;
+use crate::envmap::LatLongImage;
+use crate::gram::{gram_matrix, GramOptions};
+use crate::recon::runtime;
+use crate::solve::{map_samples, moments, solve_gram, LsOptions};
+use crate::{AmbientDiceSrbf, Domain, SbfError, SgBasis, ShBasis};
+use glam::{DVec3, Vec3};
+
+/// SG lobes' sharpness in the hemisphere layouts (the baker's and the seed's Appendix C).
+pub const SG_SHARPNESS: f64 = 6.0;
+
+/// A basis a probe or a lightmap texel is encoded in (the profiles' lightmap bases).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ProbeBasis {
+    /// SH L1: 4 coefficients.
+    Sh1,
+    /// SH L2: 9 coefficients.
+    Sh2,
+    /// 9 SG lobes, Vogel spiral over the upper hemisphere, λ 6.
+    Sg9,
+    /// 12 SG lobes, Vogel spiral over the upper hemisphere, λ 6.
+    Sg12,
+    /// Ambient Dice SRBF, the seed's 9 upper-hemisphere lobes.
+    Ad9,
+    /// Ambient Dice SRBF, 12 icosahedron lobes.
+    Ad12,
+}
+
+impl ProbeBasis {
+    /// Every basis, in the profiles' order.
+    pub const ALL: [ProbeBasis; 6] =
+        [ProbeBasis::Sh1, ProbeBasis::Sh2, ProbeBasis::Sg9, ProbeBasis::Sg12, ProbeBasis::Ad9, ProbeBasis::Ad12];
+
+    /// The name profiles, the baker and its outputs use (`sh1` … `ad12`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ProbeBasis::Sh1 => "sh1",
+            ProbeBasis::Sh2 => "sh2",
+            ProbeBasis::Sg9 => "sg9",
+            ProbeBasis::Sg12 => "sg12",
+            ProbeBasis::Ad9 => "ad9",
+            ProbeBasis::Ad12 => "ad12",
+        }
+    }
+
+    /// The basis of a name (`sh1` … `ad12`), if it is one.
+    pub fn from_name(name: &str) -> Option<ProbeBasis> {
+        ProbeBasis::ALL.into_iter().find(|b| b.name() == name)
+    }
+
+    /// Number of coefficients.
+    pub fn coefficient_count(self) -> usize {
+        match self {
+            ProbeBasis::Sh1 => 4,
+            ProbeBasis::Sh2 | ProbeBasis::Sg9 | ProbeBasis::Ad9 => 9,
+            ProbeBasis::Sg12 | ProbeBasis::Ad12 => 12,
+        }
+    }
+
+    /// The f64 basis the coefficients are in (for fitting and exact evaluation).
+    pub fn basis(self) -> Result<Box<dyn Basis + Send + Sync>, SbfError> {
+        Ok(match self {
+            ProbeBasis::Sh1 => Box::new(ShBasis::new(1)?),
+            ProbeBasis::Sh2 => Box::new(ShBasis::new(2)?),
+            ProbeBasis::Sg9 | ProbeBasis::Sg12 => Box::new(SgBasis::new(&self.axes()?, SG_SHARPNESS, false)?),
+            ProbeBasis::Ad9 => Box::new(AmbientDiceSrbf::nine_hemisphere()),
+            ProbeBasis::Ad12 => Box::new(AmbientDiceSrbf::twelve()),
+        })
+    }
+
+    /// Lobe axes of the SG and AD layouts (empty for SH).
+    pub fn axes(self) -> Result<Vec<DVec3>, SbfError> {
+        Ok(match self {
+            ProbeBasis::Sh1 | ProbeBasis::Sh2 => Vec::new(),
+            ProbeBasis::Sg9 => crate::layout::vogel_hemisphere(9)?,
+            ProbeBasis::Sg12 => crate::layout::vogel_hemisphere(12)?,
+            ProbeBasis::Ad9 => AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
+            ProbeBasis::Ad12 => AmbientDiceSrbf::twelve().lobes().to_vec(),
+        })
+    }
+}
+
+/// RGB coefficients in one basis, ready to shade with.
+#[derive(Debug, Clone)]
+pub struct Probe {
+    basis: ProbeBasis,
+    coefficients: Vec<Vec3>,
+    axes: Vec<Vec3>,
+}
+
+impl Probe {
+    /// Least-squares projection of a lat-long map onto `basis` over the basis's domain (the
+    /// whole sphere, or the upper hemisphere z > 0 for the hemisphere layouts), in f64 with
+    /// exact texel solid angles; for SH this is the orthonormal projection.
+    pub fn project(map: &LatLongImage, basis: ProbeBasis) -> Result<Probe, SbfError> {
+        let b = basis.basis()?;
+        let domain = b.domain();
+        let mut samples = map_samples(map);
+        if domain == Domain::UpperHemisphere {
+            samples.retain(|s| s.direction.z > 0.0);
+        }
+        let m = moments(b.as_ref(), &samples);
+        let c = match basis {
+            ProbeBasis::Sh1 | ProbeBasis::Sh2 => m,
+            _ => solve_gram(&gram_matrix(b.as_ref(), domain, GramOptions::default())?.matrix, &m, LsOptions::default())?.coeffs,
+        };
+        let rgb: Vec<Vec3> = (0..c.nrows()).map(|i| Vec3::new(c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32)).collect();
+        Probe::from_coefficients(basis, &rgb)
+    }
+
+    /// A probe from coefficients already encoded (a baked lightmap texel, a probe read from
+    /// disk): `basis.coefficient_count()` RGB values in the basis's order.
+    pub fn from_coefficients(basis: ProbeBasis, coefficients: &[Vec3]) -> Result<Probe, SbfError> {
+        if coefficients.len() != basis.coefficient_count() {
+            return Err(SbfError::LengthMismatch {
+                what: "probe coefficients",
+                expected: basis.coefficient_count(),
+                got: coefficients.len(),
+            });
+        }
+        if let Some(x) = coefficients.iter().find(|c| !c.is_finite()) {
+            return Err(SbfError::InvalidParameter { name: "probe coefficient", value: x.max_element() as f64, reason: "must be finite" });
+        }
+        let axes = basis.axes()?.iter().map(|a| a.as_vec3()).collect();
+        Ok(Probe { basis, coefficients: coefficients.to_vec(), axes })
+    }
+
+    /// The basis.
+    pub fn basis(&self) -> ProbeBasis {
+        self.basis
+    }
+
+    /// The RGB coefficients.
+    pub fn coefficients(&self) -> &[Vec3] {
+        &self.coefficients
+    }
+
+    /// Radiance the coefficients encode in direction `d` (unit; f64 basis evaluation).
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        let b = self.basis.basis().expect("a valid layout");
+        let mut y = vec![0.0; b.len()];
+        b.eval_into(d.as_dvec3(), &mut y);
+        self.coefficients.iter().zip(&y).fold(Vec3::ZERO, |acc, (c, w)| acc + *c * *w as f32)
+    }
+
+    /// Irradiance E/π at unit normal `n` (multiply by the albedo for Lambert).
+    pub fn irradiance(&self, n: Vec3) -> Vec3 {
+        let c = &self.coefficients;
+        match self.basis {
+            ProbeBasis::Sh1 => runtime::sh_l1_irradiance(&[c[0], c[1], c[2], c[3]], n),
+            ProbeBasis::Sh2 => runtime::sh_l2_irradiance(&std::array::from_fn(|i| c[i]), n),
+            ProbeBasis::Sg9 | ProbeBasis::Sg12 => runtime::sg_irradiance(&self.axes, SG_SHARPNESS as f32, c, n),
+            ProbeBasis::Ad9 | ProbeBasis::Ad12 => runtime::ad_irradiance(&self.axes, c, n),
+        }
+    }
+
+    /// GGX specular radiance towards unit view `v` (pointing away from the surface) at unit
+    /// normal `n`, GGX α (`alpha`, clamped to [1e-4, 1]) and Schlick Fresnel with `f0`
+    /// (f90 = 1). Single scattering, no multiple-scattering compensation.
+    pub fn specular(&self, n: Vec3, v: Vec3, alpha: f32, f0: f32) -> Vec3 {
+        let c = &self.coefficients;
+        let alpha = alpha.clamp(1e-4, 1.0);
+        match self.basis {
+            ProbeBasis::Sh1 | ProbeBasis::Sh2 => {
+                let order = if self.basis == ProbeBasis::Sh1 { 1 } else { 2 };
+                let sh = ShBasis::new(order).expect("order 1 or 2");
+                let nv = n.dot(v) as f64;
+                let g = crate::recon::sh::specular_zonal_filter(order, nv, alpha as f64);
+                let dfg = crate::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha);
+                let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.as_dvec3().to_array()).collect();
+                let s = crate::recon::sh::specular_zonal_rgb(
+                    &sh,
+                    &rgb,
+                    &g,
+                    n.as_dvec3(),
+                    v.as_dvec3(),
+                    alpha as f64,
+                    f0 as f64,
+                    1.0,
+                    [dfg[0] as f64, dfg[1] as f64],
+                )
+                .expect("coefficients of the basis's order");
+                Vec3::new(s[0] as f32, s[1] as f32, s[2] as f32)
+            }
+            ProbeBasis::Sg9 | ProbeBasis::Sg12 => runtime::sg_specular_asg(&self.axes, SG_SHARPNESS as f32, c, n, v, alpha, f0, 1.0),
+            ProbeBasis::Ad9 | ProbeBasis::Ad12 => {
+                runtime::ad_specular(&self.axes, c, n, v, alpha, f0, 1.0, crate::luts::committed::ad_specular_2d())
+            }
+        }
+    }
+}
