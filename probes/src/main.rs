@@ -12,7 +12,7 @@ use std::process::ExitCode;
 #[command(
     version,
     about = "Compare spherical bases and solvers on HDR environment maps: error against run time.",
-    after_help = "With no command, runs the default comparison on the built-in procedural sky and writes ./probes-report/.\n\nExamples:\n  probes\n  probes list\n  probes compare ../shared/probes/pisa.hdr\n  probes compare a.hdr b.exr --modes shl2,adrbf,sgls --out report --json\n  probes env --preset sky --out sky.hdr\n\nExit status: 0 on success; 1 when an argument, a map or the output folder is unusable (checked before any work; the message names the file and the problem) or the run fails; 2 for a command line that does not parse."
+    after_help = "With no command, runs the default comparison on the built-in procedural sky and writes ./probes-report/.\n\nExamples:\n  probes\n  probes list\n  probes compare ../shared/probes/pisa.hdr\n  probes compare a.hdr b.exr --modes shl2,adrbf,sgls --out report --json\n  probes env --preset sky --out sky.hdr\n\nExit status: 0 on success; 1 when an argument, a map or the output folder is unusable (checked before any work; the message names the file and the problem) or the run fails; 2 for a command line that does not parse or a lighting profile it cannot use (as in every tool of the workspace)."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -301,6 +301,15 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A profile it cannot use exits with 2, as in every tool.
+    if let Some(Cmd::Compare(a)) = &cli.cmd {
+        if let Some(p) = &a.profile {
+            if let Err(e) = sbf::profile::Profile::load(p) {
+                eprintln!("probes: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
     let result = match cli.cmd {
         Some(Cmd::List) => {
             for (id, d) in modes::MODES {

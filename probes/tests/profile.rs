@@ -44,3 +44,16 @@ fn profile_runs_only_its_modes_and_signals() {
     assert!(results.to_string().contains("specular") && md.to_lowercase().contains("specular"));
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// A profile with an unknown basis: the tool exits with 2 (as every tool does for a profile
+/// it cannot use) and names the key with its line and column.
+#[test]
+fn bad_profile_exits_2_naming_key_line_and_column() {
+    let p = std::env::temp_dir().join(format!("{}-bad-profile-{}.toml", env!("CARGO_PKG_NAME"), std::process::id()));
+    std::fs::write(&p, "name = \"bad\"\n[lightmap]\nbases = [\"sh3\"]\n[brdf]\nmodels = [\"lambert\"]\n[runtime]\nprecision = \"f32\"\nlanguage = \"wgsl\"\n").unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_probes")).args(["compare", "--profile"]).arg(&p).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("line 3, column 9") && err.contains("lightmap.bases"), "{err}");
+    std::fs::remove_file(&p).unwrap();
+}

@@ -22,10 +22,12 @@
 //! ```
 //!
 //! Every table is required except `[probes]` (no probes) — an omitted key is an error
-//! naming it, as is an unknown key or value.
+//! naming it, as is an unknown key or value; errors give the line and column of the value
+//! at fault (every tool exits with status 2 for a profile it cannot use).
 
 use serde::Deserialize;
 use std::fmt;
+use toml::Spanned;
 
 /// Lightmap bases a profile may name (the baker's `--bases`).
 pub const LIGHTMAP_BASES: [&str; 6] = ["sh1", "sh2", "sg9", "sg12", "ad9", "ad12"];
@@ -62,24 +64,40 @@ pub struct ProfileError {
     pub key: String,
     /// What is wrong with it.
     pub message: String,
+    /// 1-based (line, column) of the value at fault (or of the syntax error); None when
+    /// the text has no place for it (a missing key).
+    pub at: Option<(usize, usize)>,
 }
 
 impl fmt::Display for ProfileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "lighting profile")?;
+        if let Some((l, c)) = self.at {
+            write!(f, " (line {l}, column {c})")?;
+        }
         if self.key.is_empty() {
-            write!(f, "lighting profile: {}", self.message)
+            write!(f, ": {}", self.message)
         } else {
-            write!(f, "lighting profile: `{}`: {}", self.key, self.message)
+            write!(f, ": `{}`: {}", self.key, self.message)
         }
     }
 }
 
+/// 1-based (line, column) of byte `offset` in `text` (columns count characters).
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
 impl std::error::Error for ProfileError {}
 
+// Every value keeps its place in the text (toml's Spanned) so an error can say where.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Raw {
-    name: String,
+    name: Spanned<String>,
     lightmap: RawBases,
     probes: Option<RawBases>,
     brdf: RawBrdf,
@@ -89,42 +107,47 @@ struct Raw {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawBases {
-    bases: Vec<String>,
+    bases: Spanned<Vec<String>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawBrdf {
-    models: Vec<String>,
-    roughness: Option<Vec<f64>>,
+    models: Spanned<Vec<String>>,
+    roughness: Option<Spanned<Vec<f64>>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawRuntime {
-    precision: String,
-    language: String,
+    precision: Spanned<String>,
+    language: Spanned<String>,
 }
 
-fn err(key: &str, message: impl Into<String>) -> ProfileError {
-    ProfileError { key: key.into(), message: message.into() }
-}
+/// Builds errors that point into one profile's text.
+struct At<'t>(&'t str);
 
-fn names(key: &str, given: &[String], allowed: &[&str], allow_empty: bool) -> Result<Vec<String>, ProfileError> {
-    if given.is_empty() && !allow_empty {
-        return Err(err(key, format!("must name at least one of {}", allowed.join(", "))));
+impl At<'_> {
+    fn err<T>(&self, key: &str, value: &Spanned<T>, message: impl Into<String>) -> ProfileError {
+        ProfileError { key: key.into(), message: message.into(), at: Some(line_column(self.0, value.span().start)) }
     }
-    let mut out: Vec<String> = Vec::new();
-    for g in given {
-        if !allowed.contains(&g.as_str()) {
-            return Err(err(key, format!("unknown '{g}' (expected one of {})", allowed.join(", "))));
+
+    fn names(&self, key: &str, given: &Spanned<Vec<String>>, allowed: &[&str], allow_empty: bool) -> Result<Vec<String>, ProfileError> {
+        if given.get_ref().is_empty() && !allow_empty {
+            return Err(self.err(key, given, format!("must name at least one of {}", allowed.join(", "))));
         }
-        if out.contains(g) {
-            return Err(err(key, format!("'{g}' is named twice")));
+        let mut out: Vec<String> = Vec::new();
+        for g in given.get_ref() {
+            if !allowed.contains(&g.as_str()) {
+                return Err(self.err(key, given, format!("unknown '{g}' (expected one of {})", allowed.join(", "))));
+            }
+            if out.contains(g) {
+                return Err(self.err(key, given, format!("'{g}' is named twice")));
+            }
+            out.push(g.clone());
         }
-        out.push(g.clone());
+        Ok(out)
     }
-    Ok(out)
 }
 
 impl Profile {
@@ -132,50 +155,61 @@ impl Profile {
     pub fn parse(text: &str) -> Result<Profile, ProfileError> {
         let raw: Raw = toml::from_str(text).map_err(|e| {
             // toml names the missing or unknown key in its message; keep it whole.
-            err("", e.message().to_string() + &e.span().map(|s| format!(" (at bytes {}..{})", s.start, s.end)).unwrap_or_default())
+            ProfileError { key: String::new(), message: e.message().to_string(), at: e.span().map(|s| line_column(text, s.start)) }
         })?;
-        if raw.name.trim().is_empty() {
-            return Err(err("name", "must not be empty"));
+        let at = At(text);
+        if raw.name.get_ref().trim().is_empty() {
+            return Err(at.err("name", &raw.name, "must not be empty"));
         }
-        let lightmap_bases = names("lightmap.bases", &raw.lightmap.bases, &LIGHTMAP_BASES, false)?;
+        let lightmap_bases = at.names("lightmap.bases", &raw.lightmap.bases, &LIGHTMAP_BASES, false)?;
         let probe_bases = match &raw.probes {
-            Some(p) => names("probes.bases", &p.bases, &PROBE_BASES, true)?,
+            Some(p) => at.names("probes.bases", &p.bases, &PROBE_BASES, true)?,
             None => Vec::new(),
         };
-        let models = names("brdf.models", &raw.brdf.models, &BRDF_MODELS, false)?;
+        let models = at.names("brdf.models", &raw.brdf.models, &BRDF_MODELS, false)?;
         if !models.iter().any(|m| m == "lambert") {
-            return Err(err("brdf.models", "must include \"lambert\" (every basis reconstructs diffuse irradiance)"));
+            return Err(at.err("brdf.models", &raw.brdf.models, "must include \"lambert\" (every basis reconstructs diffuse irradiance)"));
         }
         let specular = models.iter().any(|m| m == "ggx");
         let roughness = match (&raw.brdf.roughness, specular) {
-            (None, true) => return Err(err("brdf.roughness", "is required with \"ggx\": [lo, hi], 0 < lo <= hi <= 1")),
-            (Some(_), false) => return Err(err("brdf.roughness", "is only meaningful with \"ggx\" in brdf.models")),
+            (None, true) => {
+                return Err(at.err("brdf.roughness", &raw.brdf.models, "is required with \"ggx\": [lo, hi], 0 < lo <= hi <= 1"))
+            }
+            (Some(r), false) => return Err(at.err("brdf.roughness", r, "is only meaningful with \"ggx\" in brdf.models")),
             (None, false) => None,
-            (Some(r), true) => {
+            (Some(rs), true) => {
+                let r = rs.get_ref();
                 let ok = r.len() == 2 && r.iter().all(|x| x.is_finite()) && r[0] > 0.0 && r[0] <= r[1] && r[1] <= 1.0;
                 if !ok {
-                    return Err(err("brdf.roughness", format!("{r:?} is not [lo, hi] with 0 < lo <= hi <= 1")));
+                    return Err(at.err("brdf.roughness", rs, format!("{r:?} is not [lo, hi] with 0 < lo <= hi <= 1")));
                 }
                 Some((r[0], r[1]))
             }
         };
-        if raw.runtime.precision != "f32" {
-            return Err(err(
+        let precision = raw.runtime.precision.get_ref();
+        if precision != "f32" {
+            return Err(at.err(
                 "runtime.precision",
-                format!("'{}' is not available: the runtime library (sbf f32 API and WGSL) computes in f32", raw.runtime.precision),
+                &raw.runtime.precision,
+                format!("'{precision}' is not available: the runtime library (sbf f32 API and WGSL) computes in f32"),
             ));
         }
-        if !LANGUAGES.contains(&raw.runtime.language.as_str()) {
-            return Err(err("runtime.language", format!("unknown '{}' (expected one of {})", raw.runtime.language, LANGUAGES.join(", "))));
+        let language = raw.runtime.language.get_ref();
+        if !LANGUAGES.contains(&language.as_str()) {
+            return Err(at.err(
+                "runtime.language",
+                &raw.runtime.language,
+                format!("unknown '{language}' (expected one of {})", LANGUAGES.join(", ")),
+            ));
         }
         Ok(Profile {
-            name: raw.name,
+            name: raw.name.into_inner(),
             lightmap_bases,
             probe_bases,
             specular,
             roughness,
-            precision: raw.runtime.precision,
-            language: raw.runtime.language,
+            precision: raw.runtime.precision.into_inner(),
+            language: raw.runtime.language.into_inner(),
         })
     }
 

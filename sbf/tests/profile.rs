@@ -51,6 +51,14 @@ fn bad_profiles_name_the_key() {
         assert_eq!(e.key, key, "{to}: {e}");
         assert!(e.to_string().contains(key), "{e}");
     }
+    // Where: the value's line and column (1-based, characters).
+    let e = Profile::parse(&GOOD.replacen("bases = [\"sh2\"]", "bases = [\"sh3\"]", 1)).unwrap_err();
+    assert_eq!(e.at, Some((3, 9)), "{e}");
+    assert!(e.to_string().contains("line 3, column 9"), "{e}");
+    let e = Profile::parse(&GOOD.replacen("language = \"wgsl\"", "language = \"spirv\"", 1)).unwrap_err();
+    assert_eq!(e.at, Some((9, 12)), "{e}");
+    let e = Profile::parse("name = \"x\"\n[lightmap\n").unwrap_err();
+    assert_eq!(e.at.map(|(l, _)| l), Some(2), "a syntax error on line 2: {e}");
     // Unknown and missing keys: toml names them.
     let e = Profile::parse(&GOOD.replacen("[runtime]", "[runtime]\nspeed = 3", 1)).unwrap_err();
     assert!(e.to_string().contains("speed"), "{e}");

@@ -73,6 +73,13 @@ enum Cmd {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A profile it cannot use exits with 2, as in every tool.
+    if let Cmd::Export { profile: Some(p), .. } = &cli.cmd {
+        if let Err(e) = sbf::profile::Profile::load(p) {
+            eprintln!("shaders: {e}");
+            return ExitCode::from(2);
+        }
+    }
     let r = match cli.cmd {
         Cmd::List => (|| {
             println!("presets:");

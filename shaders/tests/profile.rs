@@ -19,7 +19,7 @@ fn profile_export_leaves_out_specular() {
     };
     let (code, log) = export("mobile-sh-l1");
     assert!(log.contains("profile 'mobile diffuse SH L1': left out") && log.contains("bytes"), "{log}");
-    assert!(code.contains("sh_l1_irradiance") && code.contains("#version"), "GLSL with the SH L1 function expected");
+    assert!(code.contains("sh_l1_irradiance") && code.contains("Language: GLSL"), "a GLSL include file with the SH L1 function expected");
     for never in ["specular", "sg_", "ad9_", "ad12_", "ggx"] {
         assert!(!code.contains(never), "{never} in a Lambert-only SH L1 export");
     }
@@ -46,4 +46,17 @@ fn exports_are_quiet_unless_verbose() {
     let verbose = run(&["-v"]);
     let list = verbose.lines().find(|l| l.starts_with("left out: ")).expect("-v lists the items");
     assert!(list.contains("::"), "{list}");
+}
+
+/// A profile with an unknown basis: the tool exits with 2 (as every tool does for a profile
+/// it cannot use) and names the key with its line and column.
+#[test]
+fn bad_profile_exits_2_naming_key_line_and_column() {
+    let p = std::env::temp_dir().join(format!("{}-bad-profile-{}.toml", env!("CARGO_PKG_NAME"), std::process::id()));
+    std::fs::write(&p, "name = \"bad\"\n[lightmap]\nbases = [\"sh3\"]\n[brdf]\nmodels = [\"lambert\"]\n[runtime]\nprecision = \"f32\"\nlanguage = \"wgsl\"\n").unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_shaders")).args(["export", "--profile"]).arg(&p).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("line 3, column 9") && err.contains("lightmap.bases"), "{err}");
+    std::fs::remove_file(&p).unwrap();
 }
