@@ -485,10 +485,15 @@ fn bad_gltf_scenes_give_clear_errors() {
 #[test]
 fn scenes_without_gloss_leave_specular_out() {
     let bases = [BasisKind::Ad9, BasisKind::Sg12, BasisKind::ShL2];
-    let (f, l) = runtime_features(&bases, false);
+    let (f, l) = runtime_features(&bases, &[]);
     assert!(f.iter().all(|x| x.ends_with("irradiance")) && l.is_empty(), "{f:?} {l:?}");
-    let (f, l) = runtime_features(&bases, true);
+    let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Fit]);
     assert!(f.contains(&"ad9-specular") && f.contains(&"sg-specular") && l == ["ad_specular_2d.sbflut"]);
+    let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Tables]);
+    assert!(
+        f.contains(&"lobe-ggx-specular") && !f.contains(&"ad9-specular") && l == ["lobe_ggx_ad.sbflut", "lobe_ggx_sg6.sbflut"],
+        "{f:?} {l:?}"
+    );
     let cfg = BakeConfig { max_bounces: 2, bases: bases.to_vec(), solver: Solver::Ls, ..Default::default() };
     let k = baker::gpu::kernel(&cfg, false, false).unwrap();
     assert!(!k.shader("megakernel.wgsl").unwrap().contains("fn ggx_d(") && k.left_out[0].starts_with("GGX layer"));

@@ -11,7 +11,8 @@ use std::process::ExitCode;
     after_help = "Examples:\n  fitgen list\n  fitgen all\n  fitgen all --only dfg,ad-specular-2d\n  fitgen --check --profile profiles/mobile-sh-l1.toml\n  fitgen dfg --out /tmp/luts\n  fitgen --check\n  fitgen --plots target/plots"
 )]
 struct Cli {
-    /// `list`, `all`, or one output name (see `fitgen list`). Default with --check: all.
+    /// `list` (with --profile: what the profile reads), `all`, or one output name (see
+    /// `fitgen list`). Default with --check: all.
     what: Option<String>,
     /// Regenerate in memory and compare with the committed files; non-zero exit and
     /// a summary naming each differing file.
@@ -48,12 +49,6 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
     }
-    if what == "list" {
-        for (name, desc) in fitgen::OUTPUT_NAMES {
-            println!("{name:<18} {desc}");
-        }
-        return ExitCode::SUCCESS;
-    }
     let profile = match cli.profile.as_deref().map(sbf::profile::Profile::load).transpose() {
         Ok(p) => p,
         Err(e) => {
@@ -61,6 +56,16 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if what == "list" {
+        // With a profile: only the tables and fits its runtime paths read.
+        let needed = profile.as_ref().map(|p| p.tables());
+        for (name, desc) in fitgen::OUTPUT_NAMES {
+            if needed.as_ref().is_none_or(|n| n.contains(&name)) {
+                println!("{name:<18} {desc}");
+            }
+        }
+        return ExitCode::SUCCESS;
+    }
     let only = match what.as_str() {
         "all" if profile.is_some() => {
             let p = profile.as_ref().expect("checked");

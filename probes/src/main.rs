@@ -65,7 +65,9 @@ struct CompareArgs {
     modes: Vec<String>,
     /// A lighting profile (TOML, see profiles/): run only the modes of its bases, and
     /// the specular signal only at roughness values inside its GGX range (none for a
-    /// Lambert-only profile). Replaces --modes, --alphas and --no-specular.
+    /// Lambert-only profile), and its specular runtime path (`runtime.specular`; a profile
+    /// naming both gets one report folder per path, OUT/fit and OUT/tables). Replaces
+    /// --modes, --alphas, --no-specular and --specular-runtime.
     #[arg(long, conflicts_with_all = ["modes", "alphas", "no_specular"])]
     profile: Option<PathBuf>,
     /// Where errors are measured: `sphere`, or `hemisphere` (upper, +Y; seed
@@ -145,6 +147,7 @@ fn write_reports(
     print_json: bool,
     (png, exr): (bool, bool),
     gpu: Option<&probes::gpu_cost::GpuCosts>,
+    profile: Option<&sbf::profile::Profile>,
 ) -> Result<(), String> {
     probes::compare::unique_slugs(maps);
     // The previous run's files go first, so the folder holds this run's files only.
@@ -153,6 +156,7 @@ fn write_reports(
         .iter()
         .map(|m| {
             let mut r = probes::results::from_report(m, exr, gpu);
+            r.profile = profile.map(|p| p.summary()).unwrap_or_default();
             r.decision = probes::decide::decide(&r);
             r
         })
@@ -208,6 +212,12 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         Some(p) => (probes::profile::modes(p), probes::profile::alphas(p)),
         None => (a.modes, if a.no_specular { Vec::new() } else { a.alphas }),
     };
+    // The specular runtime path(s): the profile's (each measured in its own report folder
+    // when it names both), else --specular-runtime.
+    let runtimes = match &prof {
+        Some(p) if p.specular => probes::profile::specular_runtimes(p),
+        _ => vec![spec_rt],
+    };
     if let Some(x) = alphas.iter().find(|x| !(x.is_finite() && **x >= 1e-4 && **x <= 1.0)) {
         return Err(format!("--alphas: {x} is outside [1e-4, 1]"));
     }
@@ -256,8 +266,14 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
             Ok((path.display().to_string(), map, rep.total()))
         })
         .collect::<Result<Vec<_>, String>>()?;
-    // 3. The output folder.
-    let out = OutDir::claim(&a.out, force)?;
+    // 3. The output folder(s): one per specular runtime path.
+    let outs: Vec<(probes::specular::SpecularRuntime, OutDir)> = if runtimes.len() == 1 {
+        vec![(runtimes[0], OutDir::claim(&a.out, force)?)]
+    } else {
+        // Folders named as the profile names the paths (`fit`, `tables`).
+        let folder = |rt: &probes::specular::SpecularRuntime| if rt.name() == "fit" { "fit" } else { "tables" };
+        runtimes.iter().map(|rt| Ok((*rt, OutDir::claim(&a.out.join(folder(rt)), force)?))).collect::<Result<_, String>>()?
+    };
     if let Some(p) = &prof {
         let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
         let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
@@ -272,7 +288,12 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
             if alphas.is_empty() {
                 "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()
             } else {
-                format!("; specular at α {}", alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))
+                format!(
+                    "; specular at α {} through the {} path{}",
+                    alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "),
+                    runtimes.iter().map(|r| r.name()).collect::<Vec<_>>().join(" and "),
+                    if runtimes.len() > 1 { "s (one report folder each)" } else { "" }
+                )
             }
         );
     }
@@ -283,20 +304,23 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     } else {
         None
     };
-    let settings = Settings {
-        ids,
-        repeats: a.repeats,
-        domain: dom,
-        alphas,
-        specular_samples: a.specular_samples,
-        sg_irradiance: sgi,
-        specular_runtime: spec_rt,
-    };
-    let mut reports = Vec::new();
-    for (label, map, sanitized) in maps {
-        reports.push(compare(&label, map, sanitized, &settings)?);
+    for (rt, out) in &outs {
+        let settings = Settings {
+            ids: ids.clone(),
+            repeats: a.repeats,
+            domain: dom,
+            alphas: alphas.clone(),
+            specular_samples: a.specular_samples,
+            sg_irradiance: sgi,
+            specular_runtime: *rt,
+        };
+        let mut reports = Vec::new();
+        for (label, map, sanitized) in &maps {
+            reports.push(compare(label, map.clone(), *sanitized, &settings)?);
+        }
+        write_reports(out, &mut reports, a.json, images, gpu.as_ref(), prof.as_ref())?;
     }
-    write_reports(&out, &mut reports, a.json, images, gpu.as_ref())
+    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -357,7 +381,7 @@ fn main() -> ExitCode {
                 specular_runtime: Default::default(),
             };
             let rep = compare("procedural-sky", map, 0, &settings)?;
-            write_reports(&out, &mut [rep], false, (true, false), None)
+            write_reports(&out, &mut [rep], false, (true, false), None, None)
         })(),
     };
     match result {

@@ -50,3 +50,15 @@ pub fn alphas(p: &Profile) -> Vec<f64> {
     }
     v
 }
+
+/// The specular runtime paths the profile names, as probes' [`crate::specular::SpecularRuntime`]
+/// (the profile's `runtime.specular`: `fit` → the fits, `tables` → the per-lobe tables).
+pub fn specular_runtimes(p: &Profile) -> Vec<crate::specular::SpecularRuntime> {
+    p.specular_paths
+        .iter()
+        .map(|x| match x {
+            sbf::profile::SpecularPath::Fit => crate::specular::SpecularRuntime::Fit,
+            sbf::profile::SpecularPath::Tables => crate::specular::SpecularRuntime::Table,
+        })
+        .collect()
+}

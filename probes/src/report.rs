@@ -38,7 +38,11 @@ pub fn summary_lines(r: &crate::results::MapResults) -> Vec<String> {
 
 /// `report.md`: per map, the decision section, then the tables of errors and costs.
 pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], images: bool) -> String {
-    let mut s = String::from("# probes report\n\nIrradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (every mode's evaluation measured side by side: the median of 15 rounds of one pass per mode; spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it). Decisions compare cost tiers — modes whose costs overlap within their spread are one tier — so they hold from run to run. A recommendation is the cheapest mode on the CPU front whose error is within 25 % of the best.\n\n## Recommendations\n\n");
+    let mut s = String::from("# probes report\n\n");
+    if let Some(p) = results.first().map(|r| r.profile.as_str()).filter(|p| !p.is_empty()) {
+        let _ = write!(s, "Lighting profile: {p} (the run follows it: its modes, roughness values and runtime path).\n\n");
+    }
+    s.push_str("Irradiance images store **E/π** (the radiance a white Lambertian surface reflects), as Probulator does. RMS is over texels, unweighted unless marked Ω (solid-angle weighted). Costs: storage per probe at f32; CPU ns per evaluation, steady state (every mode's evaluation measured side by side: the median of 15 rounds of one pass per mode; spread in results.json); encode time from the radiance map (modes that fit the irradiance reference are charged for making it). Decisions compare cost tiers — modes whose costs overlap within their spread are one tier — so they hold from run to run. A recommendation is the cheapest mode on the CPU front whose error is within 25 % of the best.\n\n## Recommendations\n\n");
     for res in results {
         for sd in &res.decision.signals {
             let _ = writeln!(s, "- {}: {}", res.map.path, crate::decision_text::recommendation(res, sd, crate::decision_text::md_code));
@@ -208,7 +212,11 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
 
 /// `report.html`: the markdown table's content with the irradiance and error images.
 pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
-    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left;max-width:260px}img{width:160px;image-rendering:pixelated}img.s{width:128px}p img{max-width:100%}</style></head><body><h1>probes report</h1><p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
+    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left;max-width:260px}img{width:160px;image-rendering:pixelated}img.s{width:128px}p img{max-width:100%}</style></head><body><h1>probes report</h1>");
+    if let Some(p) = results.first().map(|r| r.profile.as_str()).filter(|p| !p.is_empty()) {
+        let _ = write!(s, "<p>Lighting profile: {} (the run follows it: its modes, roughness values and runtime path).</p>", esc_html(p));
+    }
+    s.push_str("<p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
     for res in results {
         for sd in &res.decision.signals {
             let _ = write!(

@@ -37,6 +37,9 @@ pub struct MapResults {
     /// The lobe modes' specular runtime path (absent without specular).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub specular_runtime: String,
+    /// The lighting profile the run followed (its one-line summary; absent without one).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub profile: String,
     /// Wall time of each stage, seconds.
     pub stage_seconds: StageTimes,
     pub modes: Vec<ModeRecord>,
@@ -317,6 +320,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
             },
         },
         specular_runtime: m.specular_runtime.clone(),
+        profile: String::new(),
         stage_seconds: m.stages,
         modes,
         decision: Default::default(),

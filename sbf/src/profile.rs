@@ -19,6 +19,7 @@
 //! [runtime]
 //! precision = "f32"           # the runtime library is f32
 //! language = "wgsl"           # wgsl, hlsl, glsl, msl
+//! specular = ["fit"]          # with "ggx": "fit" and/or "tables" (see SpecularPath)
 //! ```
 //!
 //! Every table is required except `[probes]` (no probes) — an omitted key is an error
@@ -37,6 +38,51 @@ pub const PROBE_BASES: [&str; 3] = ["sh1", "sh2", "ad12"];
 pub const BRDF_MODELS: [&str; 2] = ["lambert", "ggx"];
 /// Target shading languages (`shaders export --lang`).
 pub const LANGUAGES: [&str; 4] = ["wgsl", "hlsl", "glsl", "msl"];
+/// Specular runtime paths (`runtime.specular`).
+pub const SPECULAR_PATHS: [&str; 2] = ["fit", "tables"];
+
+/// How SG and Ambient Dice lobes reflect GGX at runtime — the one choice every tool reads
+/// from the profile: fitgen generates the tables it reads, shaders exports its functions,
+/// the baker writes both, probes measures it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SpecularPath {
+    /// Closed-form fits: SG through the ASG warp, AD through seed Listing 8.1 × the
+    /// Listing 8.2 table (`ad-specular-2d`).
+    Fit,
+    /// Per-lobe GGX response tables (`lobe-ggx-sg6`, `lobe-ggx-ad`): interpolation is the
+    /// only approximation.
+    Tables,
+}
+
+impl SpecularPath {
+    /// `fit` or `tables`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecularPath::Fit => "fit",
+            SpecularPath::Tables => "tables",
+        }
+    }
+}
+
+/// What a basis's GGX specular needs at runtime on a path: the `shaders` composition
+/// feature (None: no shader path — SH's zonal specular runs on the CPU) and the fitgen
+/// table it reads (None: none). SH reads the split-sum DFG on both paths.
+pub fn specular_runtime(basis: &str, path: SpecularPath) -> (Option<&'static str>, Option<&'static str>) {
+    match (basis, path) {
+        ("sh1" | "sh2", _) => (None, Some("dfg")),
+        ("sg9" | "sg12", SpecularPath::Fit) => (Some("sg-specular"), None),
+        ("sg9" | "sg12", SpecularPath::Tables) => (Some("lobe-ggx-specular"), Some("lobe-ggx-sg6")),
+        ("ad9", SpecularPath::Fit) => (Some("ad9-specular"), Some("ad-specular-2d")),
+        ("ad12", SpecularPath::Fit) => (Some("ad12-specular"), Some("ad-specular-2d")),
+        ("ad9" | "ad12", SpecularPath::Tables) => (Some("lobe-ggx-specular"), Some("lobe-ggx-ad")),
+        _ => (None, None),
+    }
+}
+
+/// The file a fitgen table is committed as (`ad-specular-2d` → `ad_specular_2d.sbflut`).
+pub fn table_file(table: &str) -> String {
+    format!("{}.sbflut", table.replace('-', "_"))
+}
 
 /// A validated lighting profile.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +101,8 @@ pub struct Profile {
     pub precision: String,
     /// The shading language its runtime is exported in: "wgsl", "hlsl", "glsl" or "msl".
     pub language: String,
+    /// The specular runtime paths (one or both; empty without GGX).
+    pub specular_paths: Vec<SpecularPath>,
 }
 
 /// A profile that cannot be used, with the key at fault.
@@ -122,6 +170,7 @@ struct RawBrdf {
 struct RawRuntime {
     precision: Spanned<String>,
     language: Spanned<String>,
+    specular: Option<Spanned<Vec<String>>>,
 }
 
 /// Builds errors that point into one profile's text.
@@ -202,7 +251,20 @@ impl Profile {
                 format!("unknown '{language}' (expected one of {})", LANGUAGES.join(", ")),
             ));
         }
+        let specular_paths = match (&raw.runtime.specular, specular) {
+            (None, true) => {
+                return Err(at.err("runtime.specular", &raw.brdf.models, "is required with \"ggx\": [\"fit\"], [\"tables\"] or both"))
+            }
+            (Some(p), false) => return Err(at.err("runtime.specular", p, "is only meaningful with \"ggx\" in brdf.models")),
+            (None, false) => Vec::new(),
+            (Some(p), true) => at
+                .names("runtime.specular", p, &SPECULAR_PATHS, false)?
+                .iter()
+                .map(|n| if n == "fit" { SpecularPath::Fit } else { SpecularPath::Tables })
+                .collect(),
+        };
         Ok(Profile {
+            specular_paths,
             name: raw.name.into_inner(),
             lightmap_bases,
             probe_bases,
@@ -230,19 +292,30 @@ impl Profile {
         v
     }
 
-    /// The embedded tables (fitgen output names) the profile's runtime paths read: the AD
-    /// specular LUT for GGX on Ambient Dice bases, the split-sum DFG for GGX on SH bases
-    /// (the zonal SH specular path); the fit constants always.
+    /// The embedded tables (fitgen output names) the profile's runtime paths read
+    /// ([`specular_runtime`] of every basis on every path it names); the fit constants always.
     pub fn tables(&self) -> Vec<&'static str> {
-        let has = |prefix: &str| self.all_bases().iter().any(|b| b.starts_with(prefix));
         let mut t = vec!["fits", "fits-wgsl"];
-        if self.specular && has("sh") {
-            t.push("dfg");
-        }
-        if self.specular && has("ad") {
-            t.push("ad-specular-2d");
+        for b in self.all_bases() {
+            for p in &self.specular_paths {
+                if let (_, Some(table)) = specular_runtime(b, *p) {
+                    if !t.contains(&table) {
+                        t.push(table);
+                    }
+                }
+            }
         }
         t
+    }
+
+    /// The `shaders` composition features of the profile's specular runtime (every basis
+    /// on every path), sorted and unique.
+    pub fn specular_features(&self) -> Vec<&'static str> {
+        let mut f: Vec<&'static str> =
+            self.all_bases().iter().flat_map(|b| self.specular_paths.iter().filter_map(|p| specular_runtime(b, *p).0)).collect();
+        f.sort_unstable();
+        f.dedup();
+        f
     }
 
     /// The `sbf` cargo features an engine needs for this profile: the basis families it
@@ -265,6 +338,8 @@ impl Profile {
             match t {
                 "dfg" => f.push("lut-dfg"),
                 "ad-specular-2d" => f.push("lut-ad-specular-2d"),
+                "lobe-ggx-sg6" => f.push("lut-lobe-ggx-sg6"),
+                "lobe-ggx-ad" => f.push("lut-lobe-ggx-ad"),
                 _ => {}
             }
         }
@@ -279,7 +354,8 @@ impl Profile {
             self.lightmap_bases.join("+"),
             if self.probe_bases.is_empty() { "none".to_string() } else { self.probe_bases.join("+") },
             match self.roughness {
-                Some((lo, hi)) => format!(" + ggx α {lo}–{hi}"),
+                Some((lo, hi)) =>
+                    format!(" + ggx α {lo}–{hi} ({})", self.specular_paths.iter().map(|p| p.name()).collect::<Vec<_>>().join(" + ")),
                 None => String::new(),
             },
             self.precision,

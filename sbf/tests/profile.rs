@@ -28,7 +28,7 @@ fn example_profiles_parse() {
     assert_eq!(all.lightmap_bases.len(), 6);
 }
 
-const GOOD: &str = "name = \"t\"\n[lightmap]\nbases = [\"sh2\"]\n[brdf]\nmodels = [\"lambert\", \"ggx\"]\nroughness = [0.1, 0.5]\n[runtime]\nprecision = \"f32\"\nlanguage = \"wgsl\"\n";
+const GOOD: &str = "name = \"t\"\n[lightmap]\nbases = [\"sh2\"]\n[brdf]\nmodels = [\"lambert\", \"ggx\"]\nroughness = [0.1, 0.5]\n[runtime]\nprecision = \"f32\"\nlanguage = \"wgsl\"\nspecular = [\"fit\"]\n";
 
 #[test]
 fn bad_profiles_name_the_key() {
@@ -51,6 +51,26 @@ fn bad_profiles_name_the_key() {
         assert_eq!(e.key, key, "{to}: {e}");
         assert!(e.to_string().contains(key), "{e}");
     }
+    // The specular runtime path: required with GGX, refused without, named values only.
+    let e = Profile::parse(&GOOD.replacen("specular = [\"fit\"]\n", "", 1)).unwrap_err();
+    assert_eq!(e.key, "runtime.specular", "{e}");
+    let e = Profile::parse(&GOOD.replacen("[\"fit\"]", "[\"lut\"]", 1)).unwrap_err();
+    assert_eq!(e.key, "runtime.specular", "{e}");
+    let lambert = GOOD.replacen("models = [\"lambert\", \"ggx\"]", "models = [\"lambert\"]", 1).replacen("roughness = [0.1, 0.5]\n", "", 1);
+    assert_eq!(Profile::parse(&lambert).unwrap_err().key, "runtime.specular");
+    let p = Profile::parse(&lambert.replacen("specular = [\"fit\"]\n", "", 1)).unwrap();
+    assert!(p.specular_paths.is_empty() && p.specular_features().is_empty());
+    // Each path names its own features and tables (sbf::profile::specular_runtime).
+    let tables = |paths: &str, bases: &str| {
+        let p = Profile::parse(&GOOD.replacen("[\"fit\"]", paths, 1).replacen("bases = [\"sh2\"]", bases, 1)).unwrap();
+        (p.specular_features(), p.tables())
+    };
+    assert_eq!(tables("[\"fit\"]", "bases = [\"ad9\"]"), (vec!["ad9-specular"], vec!["fits", "fits-wgsl", "ad-specular-2d"]));
+    assert_eq!(tables("[\"tables\"]", "bases = [\"ad9\"]"), (vec!["lobe-ggx-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-ad"]));
+    assert_eq!(
+        tables("[\"fit\", \"tables\"]", "bases = [\"sg9\", \"sh1\"]"),
+        (vec!["lobe-ggx-specular", "sg-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
+    );
     // Where: the value's line and column (1-based, characters).
     let e = Profile::parse(&GOOD.replacen("bases = [\"sh2\"]", "bases = [\"sh3\"]", 1)).unwrap_err();
     assert_eq!(e.at, Some((3, 9)), "{e}");

@@ -1,36 +1,34 @@
 //! What a lighting profile ([`sbf::profile::Profile`]) asks of the runtime library: the
-//! composition features for its bases (Lambert irradiance always, GGX specular when the
-//! profile's BRDF set has it) and what is not available in WGSL.
+//! composition features for its bases (Lambert irradiance always, GGX specular on the
+//! profile's runtime paths when its BRDF set has it) and what is not available in shaders.
 
 use sbf::profile::Profile;
 
-/// (irradiance feature, specular feature) of a profile basis name; SH has no WGSL
-/// specular path (its zonal specular lives in `sbf::recon::sh` on the CPU).
-pub fn basis_features(basis: &str) -> Option<(&'static str, Option<&'static str>)> {
+/// The irradiance feature of a profile basis name.
+pub fn irradiance_feature(basis: &str) -> Option<&'static str> {
     Some(match basis {
-        "sh1" => ("sh-l1-irradiance", None),
-        "sh2" => ("sh-l2-irradiance", None),
-        "sg9" | "sg12" => ("sg-irradiance", Some("sg-specular")),
-        "ad9" => ("ad9-irradiance", Some("ad9-specular")),
-        "ad12" => ("ad12-irradiance", Some("ad12-specular")),
+        "sh1" => "sh-l1-irradiance",
+        "sh2" => "sh-l2-irradiance",
+        "sg9" | "sg12" => "sg-irradiance",
+        "ad9" => "ad9-irradiance",
+        "ad12" => "ad12-irradiance",
         _ => return None,
     })
 }
 
-/// The composition features the profile needs (sorted, unique) and notes on what it asks
-/// for that the WGSL library does not have.
+/// The composition features the profile needs (sorted, unique): every basis's irradiance
+/// and, with GGX, the specular runtime of every basis on every path the profile names
+/// ([`sbf::profile::specular_runtime`], the table fitgen and the baker read too); and
+/// notes on what it asks for that the shader library does not have.
 pub fn features(p: &Profile) -> (Vec<&'static str>, Vec<String>) {
-    let (mut f, mut notes) = (Vec::new(), Vec::new());
-    for b in p.all_bases() {
-        let (irr, spec) = basis_features(b).expect("profile bases are validated");
-        f.push(irr);
-        if p.specular {
-            match spec {
-                Some(s) => f.push(s),
-                None => notes.push(format!("{b}: no WGSL specular path (CPU: sbf::recon::sh::specular_zonal)")),
-            }
-        }
-    }
+    let mut f: Vec<&'static str> = p.all_bases().iter().map(|b| irradiance_feature(b).expect("profile bases are validated")).collect();
+    f.extend(p.specular_features());
+    let notes = p
+        .all_bases()
+        .iter()
+        .filter(|b| p.specular && b.starts_with("sh"))
+        .map(|b| format!("{b}: no shader specular path (CPU: sbf::recon::sh::specular_zonal with the DFG table)"))
+        .collect();
     f.sort_unstable();
     f.dedup();
     (f, notes)

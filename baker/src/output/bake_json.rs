@@ -174,7 +174,9 @@ pub struct RuntimeJson {
     pub wgsl: &'static str,
     pub files: Vec<String>,
     pub features: Vec<&'static str>,
-    pub luts: Vec<&'static str>,
+    pub luts: Vec<String>,
+    /// The specular runtime paths written (`fit`, `tables`; empty without specular).
+    pub specular_paths: Vec<&'static str>,
     pub left_out_bytes: usize,
     pub specular: &'static str,
 }

@@ -41,23 +41,27 @@ pub fn write_lightmap(dir: &Path, img: &LightmapImages, config: &BakeConfig) -> 
     Ok(names)
 }
 
-/// The runtime features for the baked bases: Lambert irradiance always, specular only
-/// when the scene has a glossy material. Returns (features, LUT files needed).
-pub fn runtime_features(bases: &[BasisKind], glossy: bool) -> (Vec<&'static str>, Vec<&'static str>) {
+/// The runtime features for the baked bases: Lambert irradiance always, and specular on
+/// each of `paths` (empty: none — no glossy material, or a Lambert-only profile) as
+/// [`sbf::profile::specular_runtime`] says (the profile's one truth, read by fitgen,
+/// shaders and probes too). Returns (features, table files the shader functions read).
+pub fn runtime_features(bases: &[BasisKind], paths: &[sbf::profile::SpecularPath]) -> (Vec<&'static str>, Vec<String>) {
     let mut f = Vec::new();
     let mut luts = Vec::new();
     for b in bases {
-        let (irr, spec, lut): (&str, Option<&str>, Option<&str>) = match b {
-            BasisKind::ShL1 => ("sh-l1-irradiance", None, None),
-            BasisKind::ShL2 => ("sh-l2-irradiance", None, None),
-            BasisKind::Sg9 | BasisKind::Sg12 => ("sg-irradiance", Some("sg-specular"), None),
-            BasisKind::Ad9 => ("ad9-irradiance", Some("ad9-specular"), Some("ad_specular_2d.sbflut")),
-            BasisKind::Ad12 => ("ad12-irradiance", Some("ad12-specular"), Some("ad_specular_2d.sbflut")),
-        };
-        f.push(irr);
-        if glossy {
-            f.extend(spec);
-            luts.extend(lut);
+        f.push(match b {
+            BasisKind::ShL1 => "sh-l1-irradiance",
+            BasisKind::ShL2 => "sh-l2-irradiance",
+            BasisKind::Sg9 | BasisKind::Sg12 => "sg-irradiance",
+            BasisKind::Ad9 => "ad9-irradiance",
+            BasisKind::Ad12 => "ad12-irradiance",
+        });
+        for p in paths {
+            // SH's specular is the CPU's zonal path: nothing for the shader library.
+            if let (Some(feature), table) = sbf::profile::specular_runtime(b.name(), *p) {
+                f.push(feature);
+                luts.extend(table.map(sbf::profile::table_file));
+            }
         }
     }
     f.sort_unstable();

@@ -320,7 +320,13 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
     // Specular runtime: only for a scene with a glossy material and a profile (if any) whose
     // BRDF set has GGX.
     let specular = glossy && o.profile.as_ref().is_none_or(|p| p.specular);
-    let (features, luts) = output::runtime_features(&o.config.bases, specular);
+    // The profile's specular paths (without a profile: the fits, the library's default).
+    let paths: Vec<sbf::profile::SpecularPath> = match (&o.profile, specular) {
+        (_, false) => Vec::new(),
+        (Some(p), true) => p.specular_paths.clone(),
+        (None, true) => vec![sbf::profile::SpecularPath::Fit],
+    };
+    let (features, luts) = output::runtime_features(&o.config.bases, &paths);
     let cfg = shaders::compose::Config::parse(&features.join(","))?;
     let runtime = shaders::compose::compose(&cfg)?;
     std::fs::write(o.out.join("runtime.wgsl"), &runtime.source).map_err(|e| format!("runtime.wgsl: {e}"))?;
@@ -339,10 +345,9 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
             runtime_files.push(name);
         }
         if glossy && !p.specular {
-            let (spec_features, spec_luts) = output::runtime_features(&o.config.bases, true);
+            let (spec_features, spec_luts) = output::runtime_features(&o.config.bases, &[sbf::profile::SpecularPath::Fit]);
             let with = shaders::compose::compose(&shaders::compose::Config::parse(&spec_features.join(","))?)?;
-            let lut_bytes: usize =
-                spec_luts.iter().filter(|l| *l == &"ad_specular_2d.sbflut").map(|_| sbf::luts::committed::AD_SPECULAR_2D_DATA.len()).sum();
+            let lut_bytes: usize = spec_luts.iter().map(|l| embedded_lut(l).map_or(0, |d| d.len())).sum();
             let saved = with.source.len() - runtime.source.len();
             log(if saved + lut_bytes == 0 {
                 format!(
@@ -355,10 +360,7 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
         }
     }
     for l in &luts {
-        let data = match *l {
-            "ad_specular_2d.sbflut" => sbf::luts::committed::AD_SPECULAR_2D_DATA,
-            other => return Err(format!("no embedded LUT named {other}")),
-        };
+        let data = embedded_lut(l)?;
         std::fs::write(o.out.join(l), data).map_err(|e| format!("{l}: {e}"))?;
     }
     Ok(RuntimeJson {
@@ -366,6 +368,7 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
         files: runtime_files,
         features,
         luts,
+        specular_paths: paths.iter().map(|p| p.name()).collect(),
         left_out_bytes: runtime.left_out_bytes(),
         specular: if specular {
             "included"
@@ -437,4 +440,14 @@ fn write_probes(
     let validity = validity_json(ps);
     log(format!("probes: {} of {} inside geometry (flagged \"valid\": false in probes.json)", validity.invalid, probe_positions.len()));
     Ok(ProbesSummaryJson { file: "probes.json", count: probe_positions.len(), validity, relocated: relocated.len() })
+}
+
+/// The committed bytes of a table file the shader runtime reads.
+fn embedded_lut(file: &str) -> Result<&'static [u8], String> {
+    Ok(match file {
+        "ad_specular_2d.sbflut" => sbf::luts::committed::AD_SPECULAR_2D_DATA,
+        "lobe_ggx_sg6.sbflut" => sbf::luts::committed::LOBE_GGX_SG6_DATA,
+        "lobe_ggx_ad.sbflut" => sbf::luts::committed::LOBE_GGX_AD_DATA,
+        other => return Err(format!("no embedded LUT named {other}")),
+    })
 }

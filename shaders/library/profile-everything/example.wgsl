@@ -4,7 +4,7 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>) -> vec3<f32> {
+fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>, lobe_table: texture_2d_array<f32>) -> vec3<f32> {
     var result = vec3<f32>(0.0);
     {
         // sh_l1_irradiance
@@ -75,6 +75,16 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         let r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
+    {
+        // lobe_ggx_pixel
+        let r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+    }
+    {
+        // lobe_ggx_lobe
+        let lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        let r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += vec3<f32>(r, 0.0);
+    }
     return result;
 }
 
@@ -85,8 +95,9 @@ struct Inputs {
 
 @group(0) @binding(0) var<uniform> inputs: Inputs;
 @group(0) @binding(1) var lut: texture_2d<f32>;
+@group(0) @binding(2) var lobe_table: texture_2d_array<f32>;
 
 @fragment
 fn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut), 1.0);
+    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table), 1.0);
 }
