@@ -278,12 +278,13 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
         let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
         println!(
-            "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes ({} image sets per map not computed or written){}",
+            "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes{} ({} image sets per map not computed or written){}",
             p.name,
             ids.len(),
             ids.join(", "),
             left.len(),
             default.len(),
+            if left.is_empty() { String::new() } else { format!(" ({}: bases and variants the profile does not name)", left.join(", ")) },
             left.len() * per_mode,
             if alphas.is_empty() {
                 "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()

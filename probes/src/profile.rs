@@ -11,7 +11,9 @@ pub const DEFAULT_ALPHAS: [f64; 5] = [0.1, 0.2, 0.4, 0.6, 0.8];
 /// Appendix C modes), probe bases on the sphere.
 pub fn basis_modes(basis: &str, probe: bool) -> &'static [&'static str] {
     match (basis, probe) {
-        ("sh1", _) => &["shl1", "shl1g", "shl1zh3"],
+        // The runtime path the profile ships (shaders' sh_l1_irradiance), not the
+        // Geomerics or ZH3 reconstructions (other runtimes: run them with --modes).
+        ("sh1", _) => &["shl1"],
         ("sh2", _) => &["shl2"],
         ("sg9", _) => &["sg9h"],
         ("sg12", _) => &["sg12h"],

@@ -155,10 +155,16 @@ fn main() -> ExitCode {
                     all.included.len(),
                     c.left_out_bytes(),
                     all.source.len(),
-                    if families.is_empty() {
-                        String::new()
-                    } else {
-                        format!("; whole modules: {}", families.into_iter().collect::<Vec<_>>().join(", "))
+                    {
+                        // The features outside the profile: what the left-out items serve.
+                        let outside: Vec<&str> =
+                            compose::Feature::ALL.iter().filter(|(f, _)| !cfg.features.contains(f)).map(|(_, n)| *n).collect();
+                        let modules = if families.is_empty() {
+                            String::new()
+                        } else {
+                            format!("; whole modules: {}", families.into_iter().collect::<Vec<_>>().join(", "))
+                        };
+                        if outside.is_empty() { modules } else { format!("{modules}; features it does not use: {}", outside.join(", ")) }
                     },
                     if notes.is_empty() { String::new() } else { format!("; not in WGSL: {}", notes.join("; ")) }
                 );

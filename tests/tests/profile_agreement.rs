@@ -110,9 +110,34 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
         let fitgen_tables: BTreeSet<String> = listed.lines().filter_map(|l| l.split_whitespace().next()).map(str::to_string).collect();
         assert_eq!(fitgen_tables, want_tables, "{stem}: fitgen's tables");
 
-        // shaders: the specular functions it exports.
+        // shaders: the specular functions it exports, and one irradiance function per basis.
         let wgsl = run(Command::new(bin("shaders")).args(["export", "--lang", "wgsl", "--profile"]).arg(&prof));
         assert_eq!(exported_specular(&wgsl), want_features, "{stem}: shaders' specular functions");
+        let irradiance = |b: &str| match b {
+            "sh1" => "sh_l1_irradiance",
+            "sh2" => "sh_l2_irradiance",
+            "sg9" | "sg12" => "sg_hill_irradiance",
+            "ad9" => "ad9_irradiance",
+            _ => "ad12_irradiance",
+        };
+        let want_irr: BTreeSet<&str> = p.all_bases().iter().map(|b| irradiance(b)).collect();
+        let all_irr = ["sh_l1_irradiance", "sh_l2_irradiance", "sh_l4_irradiance", "sh_l1_geomerics_irradiance", "sh_l1_zh3_irradiance", "sg_hill_irradiance", "ad9_irradiance", "ad12_irradiance"];
+        let got_irr: BTreeSet<&str> = all_irr.iter().copied().filter(|f| wgsl.contains(&format!("fn {f}("))).collect();
+        assert_eq!(got_irr, want_irr, "{stem}: shaders' irradiance functions");
+        // probes: one mode per basis, the one that evaluates that runtime function (a
+        // lightmap basis in tangent space, a probe basis on the sphere).
+        let mut want_modes: BTreeSet<&str> = BTreeSet::new();
+        for (b, probe) in p.lightmap_bases.iter().map(|b| (b.as_str(), false)).chain(p.probe_bases.iter().map(|b| (b.as_str(), true))) {
+            want_modes.insert(match (b, probe) {
+                ("sh1", _) => "shl1",
+                ("sh2", _) => "shl2",
+                ("sg9", _) => "sg9h",
+                ("sg12", _) => "sg12h",
+                ("ad9", _) => "ad9",
+                ("ad12", false) => "adrbf-tangent",
+                _ => "adrbf",
+            });
+        }
 
         // baker: a small CPU bake of the glossy built-in scene.
         let out = tmp(&format!("bake-{stem}"));
@@ -168,6 +193,8 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
                 panic!("{stem}: unknown runtime description {measured}")
             };
             assert_eq!(measured, path, "{stem}: the path probes measured");
+            let modes: BTreeSet<&str> = r["modes"].as_array().unwrap().iter().map(|m| m["id"].as_str().unwrap()).collect();
+            assert_eq!(modes, want_modes, "{stem}: the modes probes measured");
             let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
             assert!(md.contains(&format!("Lighting profile: {}", p.name)), "{stem}: report.md names the profile");
         }
