@@ -164,7 +164,11 @@ fn main() -> ExitCode {
                         } else {
                             format!("; whole modules: {}", families.into_iter().collect::<Vec<_>>().join(", "))
                         };
-                        if outside.is_empty() { modules } else { format!("{modules}; features it does not use: {}", outside.join(", ")) }
+                        if outside.is_empty() {
+                            modules
+                        } else {
+                            format!("{modules}; features it does not use: {}", outside.join(", "))
+                        }
                     },
                     if notes.is_empty() { String::new() } else { format!("; not in WGSL: {}", notes.join("; ")) }
                 );

@@ -121,7 +121,16 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
             _ => "ad12_irradiance",
         };
         let want_irr: BTreeSet<&str> = p.all_bases().iter().map(|b| irradiance(b)).collect();
-        let all_irr = ["sh_l1_irradiance", "sh_l2_irradiance", "sh_l4_irradiance", "sh_l1_geomerics_irradiance", "sh_l1_zh3_irradiance", "sg_hill_irradiance", "ad9_irradiance", "ad12_irradiance"];
+        let all_irr = [
+            "sh_l1_irradiance",
+            "sh_l2_irradiance",
+            "sh_l4_irradiance",
+            "sh_l1_geomerics_irradiance",
+            "sh_l1_zh3_irradiance",
+            "sg_hill_irradiance",
+            "ad9_irradiance",
+            "ad12_irradiance",
+        ];
         let got_irr: BTreeSet<&str> = all_irr.iter().copied().filter(|f| wgsl.contains(&format!("fn {f}("))).collect();
         assert_eq!(got_irr, want_irr, "{stem}: shaders' irradiance functions");
         // probes: one mode per basis, the one that evaluates that runtime function (a
