@@ -27,20 +27,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let t = std::time::Instant::now();
         let probe = Probe::project(&map, basis)?;
         let e = probe.irradiance(n);
-        let s = probe.specular(n, view, 0.3, 0.04);
+        // The ambient cube and the H-basis hold E/π only: no specular.
+        let s = match probe.specular(n, view, 0.3, 0.04) {
+            Ok(s) => format!("{:>10.4} {:>10.4} {:>10.4}", s.x, s.y, s.z),
+            Err(_) => format!("{:>32}", "(E/π only)"),
+        };
         println!(
-            "{:<6} {:>8.4} {:>8.4} {:>8.4}   {:>10.4} {:>10.4} {:>10.4}   ({:.1} ms to project)",
+            "{:<6} {:>8.4} {:>8.4} {:>8.4}   {s}   ({:.1} ms to project)",
             basis.name(),
             e.x,
             e.y,
             e.z,
-            s.x,
-            s.y,
-            s.z,
             t.elapsed().as_secs_f64() * 1e3
         );
     }
-    println!("(sg9, sg12 and ad9 are hemisphere bases: fitted over the map's z > 0, as a texel's tangent frame)");
+    println!("(sg9, sg12, ad9, h4 and h6 are hemisphere bases: fitted over the map's z > 0, as a texel's tangent frame)");
     Ok(())
 }
 

@@ -46,6 +46,14 @@ pub enum SbfError {
         /// Which matrix.
         what: &'static str,
     },
+    /// Coefficients that do not hold the quantity asked for (an irradiance basis asked for
+    /// radiance or specular).
+    NotEncoded {
+        /// The basis.
+        basis: &'static str,
+        /// What was asked for.
+        what: &'static str,
+    },
 }
 
 impl fmt::Display for SbfError {
@@ -63,6 +71,9 @@ impl fmt::Display for SbfError {
             }
             SbfError::NotPositiveDefinite { what } => {
                 write!(f, "{what} is not numerically positive definite")
+            }
+            SbfError::NotEncoded { basis, what } => {
+                write!(f, "{basis} coefficients hold irradiance (E/π) only: no {what}")
             }
         }
     }

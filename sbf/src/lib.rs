@@ -11,7 +11,7 @@
 //! normal — from a probe or a baked lightmap texel — in a few lines:
 //!
 //! ```
-//! # #[cfg(all(feature = "sh", feature = "sg", feature = "ambient-dice", feature = "lut-dfg", feature = "lut-ad-specular-2d"))] {
+//! # #[cfg(all(feature = "sh", feature = "sg", feature = "ambient-dice", feature = "h-basis", feature = "ambient-cube", feature = "lut-dfg", feature = "lut-ad-specular-2d"))] {
 //! use sbf::envmap::{LatLongImage, ProceduralSky};
 //! use sbf::probe::{Probe, ProbeBasis};
 //! let sky = ProceduralSky::default();
@@ -34,7 +34,7 @@
 //! | [`quadrature`] | Gauss–Legendre, product rules on sphere/hemisphere, compensated sums, [`Domain`] |
 //! | [`envmap`] | lat-long and cube-map geometry, exact texel solid angles, bilinear lookup, map quadrature, the built-in [`envmap::ProceduralSky`] |
 //! | [`gram`] | Gram matrices (closed form or quadrature with error estimate), condition numbers, Cholesky solve |
-//! | `probe` | (features sh, sg, ambient-dice, lut-dfg, lut-ad-specular-2d) `Probe`: project a map, irradiance and specular from a probe or a lightmap texel in the profiles' bases |
+//! | `probe` | (features sh, sg, ambient-dice, h-basis, ambient-cube, lut-dfg, lut-ad-specular-2d) `Probe`: project a map, irradiance and specular from a probe or a lightmap texel — the profiles' radiance bases, the ambient cube and the H-basis |
 //! | [`recon`] | Lambert irradiance and GGX specular from coefficients (SH, SG, Ambient Dice, projected), reference integrators |
 //! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
 //! | [`slc`] | stochastic light culling (seeds 000–002): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
@@ -78,7 +78,15 @@ pub mod gram;
 pub mod io;
 pub mod layout;
 pub mod luts;
-#[cfg(all(feature = "sh", feature = "sg", feature = "ambient-dice", feature = "lut-dfg", feature = "lut-ad-specular-2d"))]
+#[cfg(all(
+    feature = "sh",
+    feature = "sg",
+    feature = "ambient-dice",
+    feature = "h-basis",
+    feature = "ambient-cube",
+    feature = "lut-dfg",
+    feature = "lut-ad-specular-2d"
+))]
 pub mod probe;
 #[cfg(feature = "profile")]
 pub mod profile;

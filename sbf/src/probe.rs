@@ -2,11 +2,15 @@
 //! environment onto a basis, evaluate irradiance and GGX specular from the coefficients
 //! (a probe's, or a baked lightmap texel's), with the f32 runtime the shaders mirror.
 //!
-//! The bases are the lightmap bases of the profiles and the baker (`sh1`, `sh2`, `sg9`,
+//! Radiance bases: the lightmap bases of the profiles and the baker (`sh1`, `sh2`, `sg9`,
 //! `sg12`, `ad9`, `ad12`; [`crate::profile`]), laid out as the baker lays them out in a
 //! texel's tangent frame (normal +Z): SH in the frame's own axes, SG lobes on a Vogel
 //! spiral over the upper hemisphere with λ 6, AD 9 the seed's upper-hemisphere set, AD 12
 //! the icosahedron. A probe uses the same layouts in its own frame (the map's axes).
+//! Irradiance bases (`ac`, `h4`, `h6`): the ambient cube (Valve) and the H-basis (Habel &
+//! Wimmer 2010) hold E/π itself — the cube the exact E/π at the six axes, the H-basis a
+//! least-squares fit of E/π over the upper hemisphere — so they shade diffuse only:
+//! [`Probe::radiance`] and [`Probe::specular`] are errors for them.
 //!
 //! ```
 //! use sbf::envmap::{LatLongImage, ProceduralSky};
@@ -19,7 +23,7 @@
 //! let probe = Probe::project(&map, ProbeBasis::Sh2)?;
 //! // … and shade: irradiance E/π at a normal, GGX specular for a view, α and f0.
 //! let e = probe.irradiance(Vec3::Y);
-//! let s = probe.specular(Vec3::Y, Vec3::new(0.0, 0.6, 0.8), 0.3, 0.04);
+//! let s = probe.specular(Vec3::Y, Vec3::new(0.0, 0.6, 0.8), 0.3, 0.04)?;
 //! assert!(e.min_element() > 0.0 && s.is_finite());
 //! # Ok::<(), sbf::SbfError>(())
 //! ```
@@ -38,7 +42,7 @@
 //! let n = Vec3::Z; // the texel's normal, unperturbed
 //! let diffuse = probe.irradiance(n) * Vec3::new(0.8, 0.7, 0.6); // × albedo: E/π·ρ
 //! let v = Vec3::new(0.0, 0.6, 0.8);
-//! let specular = probe.specular(n, v, 0.2, 0.04);
+//! let specular = probe.specular(n, v, 0.2, 0.04)?;
 //! assert!(diffuse.min_element() > 0.0 && specular.min_element() > 0.0);
 //! # Ok::<(), sbf::SbfError>(())
 //! ```
@@ -54,7 +58,7 @@ use crate::envmap::LatLongImage;
 use crate::gram::{gram_matrix, GramOptions};
 use crate::recon::runtime;
 use crate::solve::{map_samples, moments, solve_gram, LsOptions};
-use crate::{AmbientDiceSrbf, Domain, SbfError, SgBasis, ShBasis};
+use crate::{AmbientCube, AmbientDiceSrbf, Domain, HBasis, SbfError, SgBasis, ShBasis};
 use glam::{DVec3, Vec3};
 
 /// SG lobes' sharpness in the hemisphere layouts (the baker's and the seed's Appendix C).
@@ -75,12 +79,27 @@ pub enum ProbeBasis {
     Ad9,
     /// Ambient Dice SRBF, 12 icosahedron lobes.
     Ad12,
+    /// Ambient cube: E/π at ±X, ±Y, ±Z (an irradiance basis).
+    AmbientCube,
+    /// H-basis 4: E/π over the upper hemisphere (an irradiance basis).
+    H4,
+    /// H-basis 6: E/π over the upper hemisphere (an irradiance basis).
+    H6,
 }
 
 impl ProbeBasis {
-    /// Every basis, in the profiles' order.
-    pub const ALL: [ProbeBasis; 6] =
-        [ProbeBasis::Sh1, ProbeBasis::Sh2, ProbeBasis::Sg9, ProbeBasis::Sg12, ProbeBasis::Ad9, ProbeBasis::Ad12];
+    /// Every basis: the profiles' radiance bases in their order, then the irradiance bases.
+    pub const ALL: [ProbeBasis; 9] = [
+        ProbeBasis::Sh1,
+        ProbeBasis::Sh2,
+        ProbeBasis::Sg9,
+        ProbeBasis::Sg12,
+        ProbeBasis::Ad9,
+        ProbeBasis::Ad12,
+        ProbeBasis::AmbientCube,
+        ProbeBasis::H4,
+        ProbeBasis::H6,
+    ];
 
     /// The name profiles, the baker and its outputs use (`sh1` … `ad12`).
     pub fn name(self) -> &'static str {
@@ -91,10 +110,18 @@ impl ProbeBasis {
             ProbeBasis::Sg12 => "sg12",
             ProbeBasis::Ad9 => "ad9",
             ProbeBasis::Ad12 => "ad12",
+            ProbeBasis::AmbientCube => "ac",
+            ProbeBasis::H4 => "h4",
+            ProbeBasis::H6 => "h6",
         }
     }
 
-    /// The basis of a name (`sh1` … `ad12`), if it is one.
+    /// Whether the coefficients hold E/π rather than radiance.
+    pub fn holds_irradiance(self) -> bool {
+        matches!(self, ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6)
+    }
+
+    /// The basis of a name (`sh1` … `ad12`, `ac`, `h4`, `h6`), if it is one.
     pub fn from_name(name: &str) -> Option<ProbeBasis> {
         ProbeBasis::ALL.into_iter().find(|b| b.name() == name)
     }
@@ -102,7 +129,8 @@ impl ProbeBasis {
     /// Number of coefficients.
     pub fn coefficient_count(self) -> usize {
         match self {
-            ProbeBasis::Sh1 => 4,
+            ProbeBasis::Sh1 | ProbeBasis::H4 => 4,
+            ProbeBasis::AmbientCube | ProbeBasis::H6 => 6,
             ProbeBasis::Sh2 | ProbeBasis::Sg9 | ProbeBasis::Ad9 => 9,
             ProbeBasis::Sg12 | ProbeBasis::Ad12 => 12,
         }
@@ -116,13 +144,16 @@ impl ProbeBasis {
             ProbeBasis::Sg9 | ProbeBasis::Sg12 => Box::new(SgBasis::new(&self.axes()?, SG_SHARPNESS, false)?),
             ProbeBasis::Ad9 => Box::new(AmbientDiceSrbf::nine_hemisphere()),
             ProbeBasis::Ad12 => Box::new(AmbientDiceSrbf::twelve()),
+            ProbeBasis::AmbientCube => Box::new(AmbientCube),
+            ProbeBasis::H4 => Box::new(HBasis::new(4)?),
+            ProbeBasis::H6 => Box::new(HBasis::new(6)?),
         })
     }
 
     /// Lobe axes of the SG and AD layouts (empty for SH).
     pub fn axes(self) -> Result<Vec<DVec3>, SbfError> {
         Ok(match self {
-            ProbeBasis::Sh1 | ProbeBasis::Sh2 => Vec::new(),
+            ProbeBasis::Sh1 | ProbeBasis::Sh2 | ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6 => Vec::new(),
             ProbeBasis::Sg9 => crate::layout::vogel_hemisphere(9)?,
             ProbeBasis::Sg12 => crate::layout::vogel_hemisphere(12)?,
             ProbeBasis::Ad9 => AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
@@ -140,22 +171,50 @@ pub struct Probe {
 }
 
 impl Probe {
-    /// Least-squares projection of a lat-long map onto `basis` over the basis's domain (the
-    /// whole sphere, or the upper hemisphere z > 0 for the hemisphere layouts), in f64 with
-    /// exact texel solid angles; for SH this is the orthonormal projection.
+    /// Encodes a lat-long map in `basis`, in f64 with exact texel solid angles. Radiance
+    /// bases: least-squares projection of the radiance over the basis's domain (the whole
+    /// sphere, or the upper hemisphere z > 0 for the hemisphere layouts); for SH the
+    /// orthonormal projection. Ambient cube: the exact E/π at the six axes (a direct sum over
+    /// the texels, [`crate::recon::reference::irradiance_map`]). H-basis: least squares on
+    /// the exact E/π at 256 normals spread over the upper hemisphere (spherical Fibonacci).
     pub fn project(map: &LatLongImage, basis: ProbeBasis) -> Result<Probe, SbfError> {
         let b = basis.basis()?;
         let domain = b.domain();
-        let mut samples = map_samples(map);
-        if domain == Domain::UpperHemisphere {
-            samples.retain(|s| s.direction.z > 0.0);
-        }
-        let m = moments(b.as_ref(), &samples);
-        let c = match basis {
-            ProbeBasis::Sh1 | ProbeBasis::Sh2 => m,
-            _ => solve_gram(&gram_matrix(b.as_ref(), domain, GramOptions::default())?.matrix, &m, LsOptions::default())?.coeffs,
+        let irradiance = |n: DVec3| crate::recon::reference::irradiance_map(map, n);
+        let rgb: Vec<[f64; 3]> = match basis {
+            ProbeBasis::AmbientCube => {
+                [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z].into_iter().map(irradiance).collect()
+            }
+            ProbeBasis::H4 | ProbeBasis::H6 => {
+                // Fibonacci points on z ∈ (0, 1], equal weights (the fit's samples).
+                let k = 256;
+                let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+                let samples: Vec<crate::solve::RadianceSample> = (0..k)
+                    .map(|i| {
+                        let z = 1.0 - (i as f64 + 0.5) / k as f64;
+                        let r = (1.0 - z * z).sqrt();
+                        let d = DVec3::new(r * (golden * i as f64).cos(), r * (golden * i as f64).sin(), z);
+                        crate::solve::RadianceSample { direction: d, value: irradiance(d), weight: 1.0 }
+                    })
+                    .collect();
+                let c = solve_gram(&crate::solve::sample_gram(b.as_ref(), &samples), &moments(b.as_ref(), &samples), LsOptions::default())?
+                    .coeffs;
+                (0..c.nrows()).map(|i| [c[(i, 0)], c[(i, 1)], c[(i, 2)]]).collect()
+            }
+            _ => {
+                let mut samples = map_samples(map);
+                if domain == Domain::UpperHemisphere {
+                    samples.retain(|s| s.direction.z > 0.0);
+                }
+                let m = moments(b.as_ref(), &samples);
+                let c = match basis {
+                    ProbeBasis::Sh1 | ProbeBasis::Sh2 => m,
+                    _ => solve_gram(&gram_matrix(b.as_ref(), domain, GramOptions::default())?.matrix, &m, LsOptions::default())?.coeffs,
+                };
+                (0..c.nrows()).map(|i| [c[(i, 0)], c[(i, 1)], c[(i, 2)]]).collect()
+            }
         };
-        let rgb: Vec<Vec3> = (0..c.nrows()).map(|i| Vec3::new(c[(i, 0)] as f32, c[(i, 1)] as f32, c[(i, 2)] as f32)).collect();
+        let rgb: Vec<Vec3> = rgb.iter().map(|c| DVec3::from_array(*c).as_vec3()).collect();
         Probe::from_coefficients(basis, &rgb)
     }
 
@@ -186,18 +245,29 @@ impl Probe {
         &self.coefficients
     }
 
-    /// Radiance the coefficients encode in direction `d` (unit; f64 basis evaluation).
-    pub fn radiance(&self, d: Vec3) -> Vec3 {
+    /// Radiance the coefficients encode in direction `d` (unit; f64 basis evaluation); an
+    /// error for the irradiance bases.
+    pub fn radiance(&self, d: Vec3) -> Result<Vec3, SbfError> {
+        if self.basis.holds_irradiance() {
+            return Err(SbfError::NotEncoded { basis: self.basis.name(), what: "radiance" });
+        }
+        Ok(self.combine(d))
+    }
+
+    /// Σ c_i·B_i(d).
+    fn combine(&self, d: Vec3) -> Vec3 {
         let b = self.basis.basis().expect("a valid layout");
         let mut y = vec![0.0; b.len()];
         b.eval_into(d.as_dvec3(), &mut y);
         self.coefficients.iter().zip(&y).fold(Vec3::ZERO, |acc, (c, w)| acc + *c * *w as f32)
     }
 
-    /// Irradiance E/π at unit normal `n` (multiply by the albedo for Lambert).
+    /// Irradiance E/π at unit normal `n` (multiply by the albedo for Lambert); for the
+    /// H-basis meaningful on the upper hemisphere (n_z ≥ 0) only.
     pub fn irradiance(&self, n: Vec3) -> Vec3 {
         let c = &self.coefficients;
         match self.basis {
+            ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6 => self.combine(n),
             ProbeBasis::Sh1 => runtime::sh_l1_irradiance(&[c[0], c[1], c[2], c[3]], n),
             ProbeBasis::Sh2 => runtime::sh_l2_irradiance(&std::array::from_fn(|i| c[i]), n),
             ProbeBasis::Sg9 | ProbeBasis::Sg12 => runtime::sg_irradiance(&self.axes, SG_SHARPNESS as f32, c, n),
@@ -207,11 +277,15 @@ impl Probe {
 
     /// GGX specular radiance towards unit view `v` (pointing away from the surface) at unit
     /// normal `n`, GGX α (`alpha`, clamped to [1e-4, 1]) and Schlick Fresnel with `f0`
-    /// (f90 = 1). Single scattering, no multiple-scattering compensation.
-    pub fn specular(&self, n: Vec3, v: Vec3, alpha: f32, f0: f32) -> Vec3 {
+    /// (f90 = 1). Single scattering, no multiple-scattering compensation. An error for the
+    /// irradiance bases.
+    pub fn specular(&self, n: Vec3, v: Vec3, alpha: f32, f0: f32) -> Result<Vec3, SbfError> {
         let c = &self.coefficients;
         let alpha = alpha.clamp(1e-4, 1.0);
-        match self.basis {
+        Ok(match self.basis {
+            ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6 => {
+                return Err(SbfError::NotEncoded { basis: self.basis.name(), what: "specular" })
+            }
             ProbeBasis::Sh1 | ProbeBasis::Sh2 => {
                 let order = if self.basis == ProbeBasis::Sh1 { 1 } else { 2 };
                 let sh = ShBasis::new(order).expect("order 1 or 2");
@@ -237,6 +311,6 @@ impl Probe {
             ProbeBasis::Ad9 | ProbeBasis::Ad12 => {
                 runtime::ad_specular(&self.axes, c, n, v, alpha, f0, 1.0, crate::luts::committed::ad_specular_2d())
             }
-        }
+        })
     }
 }

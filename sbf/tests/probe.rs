@@ -1,7 +1,15 @@
 //! `sbf::probe` against oracles it does not compute itself: closed forms for SH, the exact
 //! lobe irradiance (sbf's f64 series/quartic, not the runtime fits the probe calls) for SG
 //! and Ambient Dice, and the GGX reference integrator for specular.
-#![cfg(all(feature = "sh", feature = "sg", feature = "ambient-dice", feature = "lut-dfg", feature = "lut-ad-specular-2d"))]
+#![cfg(all(
+    feature = "sh",
+    feature = "sg",
+    feature = "ambient-dice",
+    feature = "h-basis",
+    feature = "ambient-cube",
+    feature = "lut-dfg",
+    feature = "lut-ad-specular-2d"
+))]
 
 use sbf::envmap::{LatLongImage, ProceduralSky};
 use sbf::glam::{DVec3, Vec3};
@@ -100,7 +108,7 @@ fn sh_specular_of_constant_radiance_is_the_split_sum() {
         let probe = Probe::from_coefficients(basis, &c).unwrap();
         for (nv, alpha, f0) in [(0.9f64, 0.2f64, 0.04f64), (0.5, 0.5, 0.04), (0.2, 0.8, 0.9), (0.7, 0.35, 0.5)] {
             let v = DVec3::new((1.0 - nv * nv).sqrt(), 0.0, nv);
-            let got = probe.specular(Vec3::Z, v.as_vec3(), alpha as f32, f0 as f32);
+            let got = probe.specular(Vec3::Z, v.as_vec3(), alpha as f32, f0 as f32).unwrap();
             let dfg = sbf::ggx::dfg_quadrature(nv, alpha, 128);
             let want = l * (f0 * dfg[0] + dfg[1]);
             let tol = l * (9.73e-4 + 1e-3) + 1e-6 * want;
@@ -129,7 +137,7 @@ fn sg_and_ad_specular_are_their_f64_references() {
         for (n, alpha, f0) in [(Vec3::Z, 0.2f32, 0.04f32), (Vec3::new(0.3, 0.2, 0.93).normalize(), 0.6, 0.9)] {
             for v in directions(40).into_iter().filter(|v| v.dot(n) > 0.05) {
                 let (nd, vd, a, f) = (n.as_dvec3(), v.as_dvec3(), alpha as f64, f0 as f64);
-                let got = probe.specular(n, v, alpha, f0);
+                let got = probe.specular(n, v, alpha, f0).unwrap();
                 let (want, scale): ([f64; 3], [f64; 3]) = if matches!(basis, ProbeBasis::Sg9 | ProbeBasis::Sg12) {
                     let s: Vec<f64> = axes
                         .iter()
@@ -172,4 +180,44 @@ fn bad_coefficients_are_errors() {
         assert_eq!(b.basis().unwrap().len(), b.coefficient_count(), "{b:?}");
         assert_eq!(ProbeBasis::from_name(b.name()), Some(b));
     }
+}
+
+/// The irradiance bases. Ambient cube: its coefficients are the exact E/π at the six axes,
+/// so at ±X, ±Y, ±Z it returns the closed form of the polynomial sky above (Funk–Hecke;
+/// same quadrature model, 1e-4·Σ|coefficients|). H-basis 4 and 6 span the linear functions
+/// on the upper hemisphere, and a linear sky's E/π = a + ⅔(b·n_y + e·n_x) is linear: the
+/// fit reproduces it at every upper-hemisphere normal within the same bound. Radiance and
+/// specular are errors for them. Mutations tried: the ambient cube's −X and +X swapped
+/// fails; the H-basis fitted to E/π at the mirrored normals −n fails.
+#[test]
+fn irradiance_bases_hold_the_closed_form_irradiance() {
+    let coef = [[1.0, 0.3, -0.2, 0.25], [0.5, -0.1, 0.15, -0.1], [2.0, 0.4, 0.3, 0.2]]; // a, b, e, c
+    let p2 = |z: f64| 0.5 * (3.0 * z * z - 1.0);
+    let tol = |k: usize| 1e-4 * coef[k].iter().map(|x: &f64| x.abs()).sum::<f64>();
+    // Ambient cube on the quadratic sky (E/π = a + ⅔(b n_y + e n_x) + ¼c P₂(n_z)).
+    let map = LatLongImage::from_fn(256, 128, |d| coef.map(|[a, b, e, c]| a + b * d.y + e * d.x + c * p2(d.z))).unwrap();
+    let cube = Probe::project(&map, ProbeBasis::AmbientCube).unwrap();
+    for n in [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z] {
+        let got = cube.irradiance(n.as_vec3());
+        for (k, [a, b, e, c]) in coef.iter().enumerate() {
+            let want = a + 2.0 / 3.0 * (b * n.y + e * n.x) + 0.25 * c * p2(n.z);
+            assert!((got[k] as f64 - want).abs() <= tol(k), "ambient cube at {n}: {} vs {want}", got[k]);
+        }
+    }
+    // H-basis on the linear sky.
+    let map = LatLongImage::from_fn(256, 128, |d| coef.map(|[a, b, e, _]| a + b * d.y + e * d.x)).unwrap();
+    for basis in [ProbeBasis::H4, ProbeBasis::H6] {
+        let h = Probe::project(&map, basis).unwrap();
+        for n in directions(200).into_iter().filter(|n| n.z >= 0.0) {
+            let nd = n.as_dvec3();
+            let got = h.irradiance(n);
+            for (k, [a, b, e, _]) in coef.iter().enumerate() {
+                let want = a + 2.0 / 3.0 * (b * nd.y + e * nd.x);
+                assert!((got[k] as f64 - want).abs() <= tol(k), "{basis:?} at {n}: {} vs {want}", got[k]);
+            }
+        }
+        assert!(matches!(h.radiance(Vec3::Z), Err(sbf::SbfError::NotEncoded { .. })));
+        assert!(matches!(h.specular(Vec3::Z, Vec3::Z, 0.5, 0.04), Err(sbf::SbfError::NotEncoded { .. })));
+    }
+    assert!(cube.specular(Vec3::Z, Vec3::Z, 0.5, 0.04).is_err() && cube.radiance(Vec3::Z).is_err());
 }
