@@ -21,6 +21,7 @@ pub enum Feature {
     ShL4Irradiance,
     ShL1Geomerics,
     ShL1Zh3,
+    ShSpecular,
     ShRotate,
     SgEval,
     SgIrradiance,
@@ -39,13 +40,14 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 20] = [
+    pub const ALL: [(Feature, &'static str); 21] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
         (Feature::ShL4Irradiance, "sh-l4-irradiance"),
         (Feature::ShL1Geomerics, "sh-l1-geomerics"),
         (Feature::ShL1Zh3, "sh-l1-zh3"),
+        (Feature::ShSpecular, "sh-specular"),
         (Feature::ShRotate, "sh-rotate"),
         (Feature::SgEval, "sg-eval"),
         (Feature::SgIrradiance, "sg-irradiance"),
@@ -71,6 +73,7 @@ impl Feature {
             Feature::ShL4Irradiance => &["sh_l4_irradiance"],
             Feature::ShL1Geomerics => &["sh_l1_geomerics_irradiance"],
             Feature::ShL1Zh3 => &["sh_l1_zh3_irradiance"],
+            Feature::ShSpecular => &["sh_l1_specular", "sh_l2_specular"],
             Feature::ShRotate => &["sh_rotate_l1", "sh_rotate_l2", "sh_rotate_l4"],
             Feature::SgEval => &["sg_eval", "sg_integral"],
             Feature::SgIrradiance => &["sg_hill_irradiance"],

@@ -72,6 +72,7 @@ pub fn all() -> Vec<Module> {
         Module { name: "lut", source: Cow::Borrowed(include_str!("../wgsl/lut.wgsl")) },
         Module { name: "lobe_ggx", source: Cow::Borrowed(include_str!("../wgsl/lobe_ggx.wgsl")) },
         Module { name: "sh", source: Cow::Borrowed(include_str!("../wgsl/sh.wgsl")) },
+        Module { name: "sh_specular", source: Cow::Borrowed(include_str!("../wgsl/sh_specular.wgsl")) },
         Module { name: "sh_rotation", source: Cow::Borrowed(include_str!("../wgsl/sh_rotation.wgsl")) },
         Module { name: "sg", source: Cow::Borrowed(include_str!("../wgsl/sg.wgsl")) },
         Module { name: "ambient_dice", source: Cow::Borrowed(include_str!("../wgsl/ambient_dice.wgsl")) },

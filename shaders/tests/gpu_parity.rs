@@ -94,6 +94,7 @@ macro_rules! in_every_language {
 
 in_every_language!(
     sh_parity,
+    sh_specular_parity,
     sh_rotation_parity,
     ggx_parity,
     sg_parity,
@@ -398,6 +399,85 @@ fn sg_parity(lang: Lang) {
     check("sg_eval", &col(0), &ce, &vec![1e-6; N]);
     check("sg_hill_irradiance", &col(1), &ch, &vec![1e-6; N]);
     check("sg_asg_warp+lobe", &col(2), &cs, &ss);
+}
+
+/// sh_l1_specular and sh_l2_specular against the f64 zonal path
+/// (`sbf::recon::sh::specular_zonal_rgb`, the dfg table sampled by the CPU's `Lut2`).
+/// Scale: Σ_lm |g_l·c_lm·Y_lm(R_d)| times the split-sum factor (the terms the sum adds).
+/// Input conditioning: R_d and the dfg lookup move with n·v, whose f32 evaluation from
+/// unit vectors carries ~1.2e-7 absolute error in any f32 implementation; the change of
+/// the f64 value when n and v move by 1.2e-7 (four random directions) ×1e4 (= 1/BAR) is
+/// an allowed error, as in the SG test. The band ratios lose ≤ 6 bits at λ = 0.5 (see the
+/// WGSL): ≤ 1e-5 relative, inside the bar.
+fn sh_specular_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
+    use sbf::Basis as _;
+    let lib = library("sh-specular");
+    let lut = sbf::luts::committed::dfg();
+    let mut r = Pcg32::new(29, 6);
+    let (mut inp, mut cases) = (Vec::new(), Vec::new());
+    for _ in 0..N {
+        let n = dir(&mut r);
+        let v = view(&mut r, n);
+        let a = alpha(&mut r);
+        let (f0, f90) = (r.next_2d()[0] as f32, 1.0f32);
+        let c: Vec<Vec3> = (0..9).map(|_| Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r))).collect();
+        push3(&mut inp, n);
+        push3(&mut inp, v);
+        inp.extend([a, f0, f90]);
+        for x in &c {
+            push3(&mut inp, *x);
+        }
+        cases.push((n, v, a, f0, f90, c));
+    }
+    let body = "    let b = i * 36u;\n    let n = ld3(b);\n    let v = ld3(b + 3u);\n    let a = inp[b + 6u];\n    var c9: array<vec3<f32>, 9>;\n    var c4: array<vec3<f32>, 4>;\n    for (var k = 0u; k < 9u; k++) {\n        c9[k] = ld3(b + 9u + 3u * k);\n        if (k < 4u) { c4[k] = c9[k]; }\n    }\n    let e = array<vec3<f32>, 2>(sh_l1_specular(c4, lut, n, v, a, inp[b + 7u], inp[b + 8u]), sh_l2_specular(c9, lut, n, v, a, inp[b + 7u], inp[b + 8u]));\n    for (var k = 0u; k < 2u; k++) {\n        outp[i * 6u + 3u * k] = e[k].x;\n        outp[i * 6u + 3u * k + 1u] = e[k].y;\n        outp[i * 6u + 3u * k + 2u] = e[k].z;\n    }";
+    let (out, _) = g.run(&lib, body, &inp, 6, N, Some(lut), 0).unwrap();
+    let mut r2 = Pcg32::new(31, 2);
+    for (f, name) in ["sh_l1_specular", "sh_l2_specular"].iter().enumerate() {
+        let order = f + 1;
+        let sh = sbf::ShBasis::new(order).unwrap();
+        let (mut cpu, mut scale, mut gk) = (Vec::new(), Vec::new(), Vec::new());
+        for (j, (n, v, a, f0, f90, c)) in cases.iter().enumerate() {
+            let eval = |n: sbf::glam::DVec3, v: sbf::glam::DVec3, rgb: &[[f64; 3]]| {
+                let nv = n.dot(v);
+                let gl = sbf::recon::sh::specular_zonal_filter(order, nv, *a as f64);
+                let d = lut.sample2(nv.clamp(0.0, 1.0) as f32, *a);
+                sbf::recon::sh::specular_zonal_rgb(&sh, rgb, &gl, n, v, *a as f64, *f0 as f64, *f90 as f64, [d[0] as f64, d[1] as f64])
+                    .unwrap()
+            };
+            let rgb: Vec<[f64; 3]> = c[..sh.len()].iter().map(|x| x.as_dvec3().to_array()).collect();
+            let abs: Vec<[f64; 3]> = rgb.iter().map(|x| x.map(f64::abs)).collect();
+            let (nd, vd) = (n.as_dvec3(), v.as_dvec3());
+            let e = eval(nd, vd, &rgb);
+            // Σ|g_l c_lm Y_lm|: |Y_lm| summed with |c| (g_l ≥ 0), via the same filter.
+            let y_abs = {
+                let rd = sbf::ggx::dominant_direction(nd, sbf::ggx::reflect(vd, nd), (*a as f64).clamp(1e-4, 1.0));
+                let mut y = vec![0.0; sh.len()];
+                sh.try_eval_into(rd, &mut y).unwrap();
+                let gl = sbf::recon::sh::specular_zonal_filter(order, nd.dot(vd), *a as f64);
+                let d = lut.sample2(nd.dot(vd).clamp(0.0, 1.0) as f32, *a);
+                let split = *f0 as f64 * d[0] as f64 + *f90 as f64 * d[1] as f64;
+                (0..3)
+                    .map(|ch| (0..sh.len()).map(|k| gl[(k as f64).sqrt() as usize] * (y[k] * abs[k][ch]).abs()).sum::<f64>() * split)
+                    .collect::<Vec<_>>()
+            };
+            let mut dmax = [0.0f64; 3];
+            for _ in 0..4 {
+                let mut jitter = |x: sbf::glam::DVec3| (x + dir(&mut r2).as_dvec3() * 1.2e-7).normalize();
+                let (np, vp) = (jitter(nd), jitter(vd));
+                let ep = eval(np, vp, &rgb);
+                for ch in 0..3 {
+                    dmax[ch] = dmax[ch].max((ep[ch] - e[ch]).abs());
+                }
+            }
+            for ch in 0..3 {
+                cpu.push(e[ch]);
+                scale.push(y_abs[ch].max(dmax[ch] * 1e4));
+                gk.push(out[j * 6 + 3 * f + ch]);
+            }
+        }
+        check(name, &gk, &cpu, &scale);
+    }
 }
 
 fn ambient_dice_parity(lang: Lang) {

@@ -60,6 +60,22 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += r;
     }
     {
+        float3 sh_l1_specular_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        float3 sh_l2_specular_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
         float3 sh_rotate_l1_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
         for (uint k = 0u; k < 4u; k++) {
             sh_rotate_l1_c[k] = coefficients[k % 36u].xyz;

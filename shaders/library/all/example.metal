@@ -60,6 +60,22 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += r;
     }
     {
+        array<float3, 4> sh_l1_specular_c = array<float3, 4>{};
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
+    }
+    {
+        array<float3, 9> sh_l2_specular_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
+    }
+    {
         array<float3, 4> sh_rotate_l1_c = array<float3, 4>{};
         for (uint k = 0u; k < 4u; k++) {
             sh_rotate_l1_c[k] = coefficients[k % 36u].xyz;

@@ -68,6 +68,24 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += r;
     }
     {
+        // sh_l1_specular
+        var sh_l1_specular_c: array<vec3<f32>, 4>;
+        for (var k = 0u; k < 4u; k++) {
+            sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        // sh_l2_specular
+        var sh_l2_specular_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
         // sh_rotate_l1
         var sh_rotate_l1_c: array<vec3<f32>, 4>;
         for (var k = 0u; k < 4u; k++) {

@@ -25,6 +25,22 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         result += r;
     }
     {
+        vec3 sh_l1_specular_c[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        vec3 sh_l2_specular_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
         float r = sg_hill_irradiance(n, 0.5, n);
         result += vec3(r);
     }
