@@ -15,6 +15,7 @@
 //! | [`gpu`] | the same bake on wgpu: megakernel, the wavefront pass graph, multi-GPU, GPU primitives |
 //! | [`post`] | the lightmap as images: dilation, denoising, seams |
 //! | [`output`] | EXR, bake.json, probes.json, previews, the runtime shader library a bake needs |
+//! | [`render`] | the baked scene rasterised in real time with the exported runtime (GPU) and its CPU twin, the path-traced reference of the same quantity, their errors |
 //! | [`run`] | a whole bake as the `baker` command runs it: `run::bake(&Options)` |
 //! | [`slc`] | stochastic light culling (seeds 000–002), its own renderer and `slc` command; uses the scene layer and the image writers |
 //!
@@ -49,6 +50,7 @@ pub mod gpu;
 pub mod layout;
 pub mod output;
 pub mod post;
+pub mod render;
 pub mod run;
 pub mod sampling;
 pub mod scene;

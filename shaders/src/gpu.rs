@@ -470,21 +470,9 @@ impl Gpu {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let tex_view = lut.map(|l| {
-            // rg32float: the table's two channels (a one-channel table repeats its value).
-            let data: Vec<f32> = (0..l.width * l.height)
-                .flat_map(|k| {
-                    let a = l.data[k * l.channels];
-                    let b = if l.channels > 1 { l.data[k * l.channels + 1] } else { a };
-                    [a, b]
-                })
-                .collect();
-            self.rg32_texture("lut", [l.width as u32, l.height as u32, 1], &data).create_view(&Default::default())
-        });
+        let tex_view = lut.map(|l| self.lut_texture(l).create_view(&Default::default()));
         let lobe_view = l.lobe.map(|t| {
-            let g = t.grid;
-            let size = [g.psi as u32, g.gamma as u32, (g.theta_v * g.alpha) as u32];
-            self.rg32_texture("lobe_tab", size, &t.values)
+            self.lobe_texture(t)
                 .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
         });
         let unib = l.uniform.map(|(_, bytes)| {
@@ -572,9 +560,29 @@ impl Gpu {
         Ok(Output { out: out[..count * out_per_item].to_vec(), io, seconds_per_dispatch: per_dispatch })
     }
 
+    /// A fitgen 2D table as the `lut: texture_2d<f32>` the library's `lut2_sample` reads:
+    /// rg32float, the table's two channels (a one-channel table repeats its value).
+    pub fn lut_texture(&self, l: &sbf::recon::lut::Lut2) -> wgpu::Texture {
+        let data: Vec<f32> = (0..l.width * l.height)
+            .flat_map(|k| {
+                let a = l.data[k * l.channels];
+                let b = if l.channels > 1 { l.data[k * l.channels + 1] } else { a };
+                [a, b]
+            })
+            .collect();
+        self.rg32_texture("lut", [l.width as u32, l.height as u32, 1], &data)
+    }
+
+    /// A per-lobe GGX table as the `texture_2d_array<f32>` the library's `lobe_ggx_*`
+    /// functions read (x = ψ, y = γ, layer = n·v node × N_√α + √α node; rg32float).
+    pub fn lobe_texture(&self, t: &sbf::recon::lobe_ggx::Table) -> wgpu::Texture {
+        let g = t.grid;
+        self.rg32_texture("lobe_tab", [g.psi as u32, g.gamma as u32, (g.theta_v * g.alpha) as u32], &t.values)
+    }
+
     /// An rg32float 2D texture (array: `size[2]` layers) holding `data` (two floats per
     /// texel, layer-major), for sampling by textureLoad.
-    fn rg32_texture(&self, label: &str, size: [u32; 3], data: &[f32]) -> wgpu::Texture {
+    pub fn rg32_texture(&self, label: &str, size: [u32; 3], data: &[f32]) -> wgpu::Texture {
         self.device.create_texture_with_data(
             &self.queue,
             &wgpu::TextureDescriptor {

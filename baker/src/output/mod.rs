@@ -57,7 +57,6 @@ pub fn runtime_features(bases: &[BasisKind], paths: &[sbf::profile::SpecularPath
             BasisKind::Ad12 => "ad12-irradiance",
         });
         for p in paths {
-            // SH's specular is the CPU's zonal path: nothing for the shader library.
             if let (Some(feature), table) = sbf::profile::specular_runtime(b.name(), *p) {
                 f.push(feature);
                 luts.extend(table.map(sbf::profile::table_file));

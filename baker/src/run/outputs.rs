@@ -445,6 +445,7 @@ fn write_probes(
 /// The committed bytes of a table file the shader runtime reads.
 fn embedded_lut(file: &str) -> Result<&'static [u8], String> {
     Ok(match file {
+        "dfg.sbflut" => sbf::luts::committed::DFG_DATA,
         "ad_specular_2d.sbflut" => sbf::luts::committed::AD_SPECULAR_2D_DATA,
         "lobe_ggx_sg6.sbflut" => sbf::luts::committed::LOBE_GGX_SG6_DATA,
         "lobe_ggx_ad.sbflut" => sbf::luts::committed::LOBE_GGX_AD_DATA,

@@ -1,0 +1,120 @@
+//! What one rendered configuration shades with: the plain E/π lightmap (diffuse only —
+//! Table 8.1's "none") or one baked basis with a specular runtime path, stored as f32 or
+//! f16 texels.
+
+use crate::accumulate::BasisKind;
+use sbf::glam::DVec3;
+use sbf::profile::SpecularPath;
+
+/// The lightmap a configuration reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Encoding {
+    /// `irradiance.exr`: E/π per texel; diffuse only.
+    Irradiance,
+    /// The basis's coefficients (`{basis}_{lobe}.exr`), in the texel's tangent frame.
+    Basis(BasisKind),
+}
+
+/// Texel storage on the GPU (and the CPU twin rounds the same way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Storage {
+    F32,
+    F16,
+}
+
+impl Storage {
+    pub fn name(self) -> &'static str {
+        match self {
+            Storage::F32 => "f32",
+            Storage::F16 => "f16",
+        }
+    }
+    /// Bytes per lobe and texel (RGBA texels: the fourth channel is padding a GPU format has).
+    pub fn bytes_per_lobe(self) -> usize {
+        match self {
+            Storage::F32 => 16,
+            Storage::F16 => 8,
+        }
+    }
+}
+
+/// One configuration of the comparison.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Lighting {
+    pub encoding: Encoding,
+    /// The specular runtime (ignored for [`Encoding::Irradiance`]).
+    pub specular: SpecularPath,
+    pub storage: Storage,
+}
+
+impl Lighting {
+    /// A name for files and reports: `none`, `sh2`, `ad9-tables`, `sg12-f16`, ….
+    pub fn name(&self) -> String {
+        let mut s = match self.encoding {
+            Encoding::Irradiance => "none".to_string(),
+            Encoding::Basis(b) => b.name().to_string(),
+        };
+        if matches!(self.encoding, Encoding::Basis(b) if !matches!(b, BasisKind::ShL1 | BasisKind::ShL2))
+            && self.specular == SpecularPath::Tables
+        {
+            s.push_str("-tables");
+        }
+        if self.storage == Storage::F16 {
+            s.push_str("-f16");
+        }
+        s
+    }
+
+    /// Lobes per texel (1 for the plain E/π).
+    pub fn lobes(&self) -> usize {
+        match self.encoding {
+            Encoding::Irradiance => 1,
+            Encoding::Basis(b) => lobe_count(b),
+        }
+    }
+
+    /// Bytes per texel at this storage (RGBA texels).
+    pub fn bytes_per_texel(&self) -> usize {
+        self.lobes() * self.storage.bytes_per_lobe()
+    }
+}
+
+/// Lobes of a basis.
+pub fn lobe_count(b: BasisKind) -> usize {
+    match b {
+        BasisKind::ShL1 => 4,
+        BasisKind::ShL2 | BasisKind::Sg9 | BasisKind::Ad9 => 9,
+        BasisKind::Sg12 | BasisKind::Ad12 => 12,
+    }
+}
+
+/// The lobe axes of the SG and AD layouts in the texel's tangent frame (empty for SH and
+/// the plain E/π), from the same `sbf` layouts the bake encoded with.
+pub fn lobe_axes(e: Encoding) -> Vec<DVec3> {
+    match e {
+        Encoding::Irradiance | Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => Vec::new(),
+        Encoding::Basis(b @ (BasisKind::Sg9 | BasisKind::Sg12)) => b.sg_lobes().0,
+        Encoding::Basis(BasisKind::Ad9) => sbf::AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
+        Encoding::Basis(BasisKind::Ad12) => sbf::AmbientDiceSrbf::twelve().lobes().to_vec(),
+    }
+}
+
+/// A surface's material as the shading reads it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceMaterial {
+    /// Lambert albedo.
+    pub albedo: DVec3,
+    /// GGX α.
+    pub alpha: f64,
+    /// Schlick F0 (f90 = 1); zero: no specular layer.
+    pub f0: DVec3,
+}
+
+impl SurfaceMaterial {
+    pub fn of(m: &crate::scene::Material) -> SurfaceMaterial {
+        SurfaceMaterial { albedo: m.diffuse_albedo().as_dvec3(), alpha: m.alpha() as f64, f0: m.specular_f0().as_dvec3() }
+    }
+    pub fn glossy(&self) -> bool {
+        self.f0.max_element() > 0.0
+    }
+}

@@ -1,0 +1,26 @@
+//! Real-time rendering of baked scenes (seed 004 §8.4.3, Figs. 8.6–8.8, Table 8.1): the
+//! scene rasterised from a camera and every visible lightmapped surface shaded from the
+//! bake — diffuse and GGX specular reflection of the incident light the lightmap encodes
+//! (direct light from the baked lights plus indirect) — with the runtime functions the
+//! `shaders` crate exports, next to a path-traced reference of the same quantity.
+//!
+//! | module | holds |
+//! |---|---|
+//! | [`lighting`] | what a configuration shades with: the plain E/π lightmap or one basis, its specular path, f32/f16 storage |
+//! | [`atlas`] | a bake's coefficient images (one per lobe) read back from its EXRs; the bilinear lookup both shaders use |
+//! | [`shade`] | the CPU twin of the fragment shading in f64 through `sbf` (the GPU image's oracle) |
+//! | [`visible`] | the visible surface per pixel by ray casting (the rasteriser's CPU twin) and the CPU image |
+//! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
+//! | [`reference`] | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
+//! | [`compare`] | errors against the reference (its noise subtracted), images and the +3 EV difference |
+//!
+//! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::estimator`],
+//! [`crate::sampling`], [`crate::output`].
+
+pub mod atlas;
+pub mod compare;
+pub mod lighting;
+pub mod raster;
+pub mod reference;
+pub mod shade;
+pub mod visible;

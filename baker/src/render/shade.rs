@@ -1,0 +1,126 @@
+//! The CPU twin of the fragment shading, in f64 through `sbf` (what the GPU image is
+//! tested against). Per pixel, with the lobes' values `c` from the lightmap, the surface
+//! material and unit world normal n and view v (towards the eye):
+//!
+//! - the tangent frame (t, b, n) of n (Duff et al. 2017: `tangent_frame`, the frame the
+//!   bake encoded every texel in), v in it: v_t = (v·t, v·b, v·n), n_t = +Z;
+//! - diffuse = albedo · E/π(c, n_t): the plain E/π itself, SH's band factors
+//!   (Ramamoorthi & Hanrahan 2001), SG by Hill's fit (the runtime's c₀), AD by the
+//!   minimax quadratic per lobe (seed 004 §8.3);
+//! - specular (when v_t·z > 0 and the material has F0): the basis's runtime — SH by the
+//!   zonal filter about the dominant direction with the split-sum DFG table, SG by the
+//!   ASG warp (Xu et al. 2013) or the per-lobe tables, AD by Listing 8.1's fit with the
+//!   Listing 8.2 table or the per-lobe tables. Schlick Fresnel with f90 = 1; a coloured
+//!   F0 (metals) by linearity, F0·S(1, 0) + S(0, 1), a grey one by one call S(F0, 1).
+//!
+//! Emission is not part of the image: it is the light reflected by the visible surface.
+
+use super::lighting::{lobe_axes, Encoding, Lighting, SurfaceMaterial};
+use crate::accumulate::{BasisKind, SG_HEMISPHERE_SHARPNESS};
+use sbf::glam::DVec3;
+use sbf::profile::SpecularPath;
+use sbf::recon::{ambient_dice, lobe_ggx, sg, sh};
+
+/// The diffuse and specular reflected radiance of a pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Terms {
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+}
+
+impl Terms {
+    pub fn total(&self) -> DVec3 {
+        self.diffuse + self.specular
+    }
+}
+
+/// Everything the shading of one configuration needs besides the pixel.
+#[derive(Debug)]
+pub struct Shader {
+    pub lighting: Lighting,
+    axes: Vec<DVec3>,
+    sh: Option<sbf::ShBasis>,
+}
+
+impl Shader {
+    pub fn new(lighting: Lighting) -> Shader {
+        let sh = match lighting.encoding {
+            Encoding::Basis(BasisKind::ShL1) => Some(sbf::ShBasis::new(1).expect("order 1")),
+            Encoding::Basis(BasisKind::ShL2) => Some(sbf::ShBasis::new(2).expect("order 2")),
+            _ => None,
+        };
+        Shader { lighting, axes: lobe_axes(lighting.encoding), sh }
+    }
+
+    /// Diffuse and specular at unit world normal `n`, unit view `v`, lobe values `c`.
+    pub fn terms(&self, c: &[DVec3], m: &SurfaceMaterial, n: DVec3, v: DVec3) -> Terms {
+        let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(n);
+        let vt = DVec3::new(v.dot(t), v.dot(b), v.dot(n));
+        let diffuse = m.albedo * self.irradiance(c);
+        let specular = if m.glossy() && vt.z > 0.0 && self.lighting.encoding != Encoding::Irradiance {
+            if m.f0.x == m.f0.y && m.f0.y == m.f0.z {
+                self.specular(c, vt, m.alpha, m.f0.x, 1.0)
+            } else {
+                m.f0 * self.specular(c, vt, m.alpha, 1.0, 0.0) + self.specular(c, vt, m.alpha, 0.0, 1.0)
+            }
+        } else {
+            DVec3::ZERO
+        };
+        Terms { diffuse, specular }
+    }
+
+    /// E/π at the tangent-frame normal +Z.
+    pub fn irradiance(&self, c: &[DVec3]) -> DVec3 {
+        let z = DVec3::Z;
+        match self.lighting.encoding {
+            Encoding::Irradiance => c[0],
+            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => {
+                let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), z).expect("SH coefficients");
+                DVec3::new(ch(0), ch(1), ch(2))
+            }
+            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: SG_HEMISPHERE_SHARPNESS, amplitude: 1.0 });
+                acc + *ci * lobe.eval(z)
+            }),
+            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
+                self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                    acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.z)
+                })
+            }
+        }
+    }
+
+    /// Specular radiance towards tangent-frame view `vt` (vt.z > 0) with Schlick (f0, f90).
+    pub fn specular(&self, c: &[DVec3], vt: DVec3, alpha: f64, f0: f64, f90: f64) -> DVec3 {
+        let z = DVec3::Z;
+        let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
+        let tables = self.lighting.specular == SpecularPath::Tables;
+        let s = match self.lighting.encoding {
+            Encoding::Irradiance => [0.0; 3],
+            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => {
+                let sh = self.sh.as_ref().expect("SH basis");
+                let g = sh::specular_zonal_filter(sh.order(), vt.z, alpha);
+                let dfg = sbf::luts::committed::dfg().sample2(vt.z.clamp(0.0, 1.0) as f32, alpha as f32);
+                sh::specular_zonal_rgb(sh, &rgb, &g, z, vt, alpha, f0, f90, [dfg[0] as f64, dfg[1] as f64]).expect("SH coefficients")
+            }
+            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if tables => {
+                lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_sg6(), &self.axes, &rgb, z, vt, alpha, f0, f90)
+            }
+            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => {
+                let w = sg::AsgWarp::new(z, vt, alpha, f0, f90);
+                let s = self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                    acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: SG_HEMISPHERE_SHARPNESS, amplitude: 1.0 })
+                });
+                s.to_array()
+            }
+            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if tables => {
+                lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_ad(), &self.axes, &rgb, z, vt, alpha, f0, f90)
+            }
+            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
+                let l = sbf::luts::committed::ad_specular_2d().sample2(vt.z.clamp(0.0, 1.0) as f32, alpha as f32);
+                ambient_dice::specular_rgb(&self.axes, &rgb, z, vt, alpha, f0, f90, [l[0] as f64, l[1] as f64])
+            }
+        };
+        DVec3::from(s)
+    }
+}

@@ -1,0 +1,165 @@
+//! The renderer (seed 004 §8.4.3): the GPU raster pass against its CPU twin, and the
+//! rendered images against closed forms and the path-traced reference.
+
+mod common;
+
+use baker::accumulate::BasisKind;
+use baker::layout::lightmap::Lightmap;
+use baker::render::atlas::Atlas;
+use baker::render::lighting::{Encoding, Lighting, Storage, SurfaceMaterial};
+use baker::render::raster::{Analysis, Renderer};
+use baker::render::shade::Shader;
+use baker::scene::camera::ViewCamera;
+use sbf::glam::{DVec3, Vec3Swizzles};
+use sbf::profile::SpecularPath;
+use sbf::sampling::Pcg32;
+
+/// Every configuration the renderer has: the plain E/π, and each basis on both specular
+/// paths (SH has one), f32 and f16.
+fn configurations() -> Vec<Lighting> {
+    let mut v = vec![Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32 }];
+    for (b, _) in BasisKind::ALL {
+        for path in [SpecularPath::Fit, SpecularPath::Tables] {
+            if matches!(b, BasisKind::ShL1 | BasisKind::ShL2) && path == SpecularPath::Tables {
+                continue;
+            }
+            for storage in [Storage::F32, Storage::F16] {
+                v.push(Lighting { encoding: Encoding::Basis(b), specular: path, storage });
+            }
+        }
+    }
+    v
+}
+
+/// A random atlas: per texel and lobe RGB in [0.2, 1.2] for the non-negative bases and
+/// the plain E/π; SH with c₀₀ ∈ [1, 2] and the other coefficients in ±0.3 (a radiance
+/// that stays positive, so no value is a cancellation of large terms).
+fn random_atlas(lm: &Lightmap, l: &Lighting, seed: u64) -> Atlas {
+    let mut r = Pcg32::new(seed, 3);
+    let n = lm.width * lm.height;
+    let sh = matches!(l.encoding, Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2));
+    let lobes = (0..l.lobes())
+        .map(|k| {
+            (0..n)
+                .map(|_| {
+                    [0; 3].map(|_| {
+                        let u = r.next_2d()[0] as f32;
+                        match (sh, k) {
+                            (true, 0) => 1.0 + u,
+                            (true, _) => 0.6 * u - 0.3,
+                            _ => 0.2 + u,
+                        }
+                    })
+                })
+                .collect()
+        })
+        .collect();
+    Atlas { width: lm.width, height: lm.height, lobes }
+}
+
+/// The CPU twin's terms at pixel k of the GPU's analysis (its interpolated inputs), or
+/// None where nothing lightmapped is visible.
+fn twin(
+    shader: &Shader,
+    atlas: &Atlas,
+    mats: &[SurfaceMaterial],
+    eye: DVec3,
+    a: &Analysis,
+    k: usize,
+    jitter: Option<DVec3>,
+) -> Option<baker::render::shade::Terms> {
+    if a.diffuse[k][3] < 0.0 {
+        return None;
+    }
+    let m = a.diffuse[k][3] as usize;
+    let nu = a.normal_u[k];
+    let pv = a.position_v[k];
+    let n = DVec3::new(nu[0] as f64, nu[1] as f64, nu[2] as f64).normalize();
+    let p = DVec3::new(pv[0] as f64, pv[1] as f64, pv[2] as f64);
+    let mut v = (eye - p).normalize();
+    let mut nn = n;
+    if let Some(j) = jitter {
+        v = (v + j).normalize();
+        nn = (n - j.zxy()).normalize();
+    }
+    let c = atlas.bilinear([nu[3] as f64, pv[3] as f64]);
+    Some(shader.terms(&c, &mats[m], nn, v))
+}
+
+/// GPU image = CPU twin (f64 through sbf) at ≥ 1 000 random pixels of the built-in scene
+/// (Lambert walls, a glossy block), for every configuration, shading the very inputs the
+/// rasteriser interpolated (read back from `fs_surface`).
+///
+/// Error model, per pixel and channel: the runtime functions agree with their f64 twins
+/// to 1e-4 of the magnitude of the terms they add (the GPU parity tests' bar; all terms
+/// here are positive or dominated by a positive c₀₀, so that magnitude is the value
+/// itself), plus input conditioning — the view and the tangent frame come from f32
+/// positions and normals (≈ 2e-7 relative after normalisation, several roundings), so the
+/// change of the f64 value when v and n move by 4e-7 in two random directions, ×4, is
+/// allowed — plus the bilinear weights' f32 rounding (u, v up to the atlas size: one ulp
+/// of the largest coordinate times the largest lobe value, 1.2, times 12 lobes).
+/// Mutation: specular ×1.02 in render.wgsl → fails (relative error 2e-2 ≫ 1e-4).
+#[test]
+fn gpu_image_equals_cpu_twin() {
+    let Some(gpu) = common::gpu() else { return };
+    // Every surface glossy (α from 0.01 to 0.8), one a metal (coloured F0: the RGB path).
+    let mut scene = baker::scene::cornell();
+    for (k, m) in scene.materials.iter_mut().enumerate().filter(|(_, m)| m.emissive.max_element() == 0.0) {
+        m.specular = 1.0;
+        m.roughness = [0.1, 0.35, 0.6, 0.9][k % 4];
+        m.metallic = if k == 1 { 1.0 } else { 0.0 };
+    }
+    let lm = Lightmap::build(&scene, 6.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,0,3.4:0,-0.2,0:55", 96, 72).unwrap();
+    let renderer = Renderer::new(&gpu, &scene, &lm).unwrap();
+    let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
+    let eye = cam.eye.as_dvec3();
+    let uv_ulp = (lm.width.max(lm.height) as f64) * f32::EPSILON as f64;
+    for (ci, l) in configurations().iter().enumerate() {
+        let atlas = random_atlas(&lm, l, 11 + ci as u64).stored(l.storage).unwrap();
+        let a = renderer.analysis(l, &atlas, &cam).unwrap();
+        let shader = Shader::new(*l);
+        let mut r = Pcg32::new(5, ci as u64);
+        let (mut checked, mut glossy, mut worst) = (0, 0, (0.0f64, 0usize));
+        let pixels = a.width * a.height;
+        let mut tried = 0;
+        while checked < 1000 && tried < 50 * pixels {
+            tried += 1;
+            let k = (r.next_u32() as usize) % pixels;
+            let Some(t) = twin(&shader, &atlas, &mats, eye, &a, k, None) else { continue };
+            let mut dmax = [DVec3::ZERO; 2];
+            for _ in 0..2 {
+                let j = sbf::sampling::uniform_sphere(r.next_2d()) * 4e-7;
+                let tj = twin(&shader, &atlas, &mats, eye, &a, k, Some(j)).unwrap();
+                dmax[0] = dmax[0].max((tj.diffuse - t.diffuse).abs());
+                dmax[1] = dmax[1].max((tj.specular - t.specular).abs());
+            }
+            let g = [a.diffuse[k], a.specular[k]];
+            for (q, (cpu, gq)) in [(t.diffuse, g[0]), (t.specular, g[1])].into_iter().enumerate() {
+                for ch in 0..3 {
+                    let gv = gq[ch] as f64;
+                    assert!(gv.is_finite(), "{}: pixel {k} is {gv}", l.name());
+                    let tol = 1e-4 * cpu[ch].abs() + 4.0 * dmax[q][ch] + uv_ulp * 1.2 * 12.0 + 1e-7;
+                    let e = (gv - cpu[ch]).abs() / tol;
+                    if e > worst.0 {
+                        if std::env::var("RENDER_DEBUG").is_ok() && e > 1.0 {
+                            println!(
+                                "pixel {k} q{q} ch{ch}: gpu {gv} cpu {} tol {tol} uv {} {} mat {}",
+                                cpu[ch], a.normal_u[k][3], a.position_v[k][3], a.diffuse[k][3]
+                            );
+                        }
+                        worst = (e, k);
+                    }
+                }
+            }
+            glossy += usize::from(t.specular.max_element() > 0.0);
+            checked += 1;
+        }
+        println!("{:<14} {checked} pixels ({glossy} with specular), worst error / tolerance {:.3} at pixel {}", l.name(), worst.0, worst.1);
+        assert!(checked >= 1000, "{}: only {checked} lightmapped pixels found", l.name());
+        if l.encoding != Encoding::Irradiance {
+            assert!(glossy >= 50, "{}: only {glossy} pixels with specular: the test would not see the specular term", l.name());
+        }
+        assert!(worst.0 <= 1.0, "{}: GPU differs from the CPU twin by {:.3}× the tolerance at pixel {}", l.name(), worst.0, worst.1);
+    }
+}
