@@ -163,3 +163,87 @@ fn gpu_image_equals_cpu_twin() {
         assert!(worst.0 <= 1.0, "{}: GPU differs from the CPU twin by {:.3}× the tolerance at pixel {}", l.name(), worst.0, worst.1);
     }
 }
+
+fn render_cmd(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_render")).args(args).output().unwrap()
+}
+
+/// The `render` command end to end on the CPU (bake, visible surfaces, reference, every
+/// configuration, files), and its refusals of bad input with exit code 2.
+#[test]
+fn render_command_writes_its_comparison() {
+    let out = std::env::temp_dir().join(format!("render-cli-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = render_cmd(&[
+        "--device",
+        "cpu",
+        "--passes",
+        "8",
+        "--texels-per-unit",
+        "4",
+        "--size",
+        "40x24",
+        "--reference-samples",
+        "8",
+        "--bases",
+        "sh2,ad9",
+        "--specular",
+        "both",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "render failed: {}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    let names: Vec<&str> = r["configurations"].as_array().unwrap().iter().map(|c| c["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["none", "sh2", "ad9", "ad9-tables"]);
+    for c in r["configurations"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        for f in [format!("{name}.exr"), format!("{name}.png"), format!("{name}_diff.png")] {
+            assert!(out.join(&f).is_file(), "{f} missing");
+        }
+        assert!(c["pixels"].as_u64().unwrap() > 100, "{name}: too few pixels compared");
+        let e = c["total"]["rmse"].as_f64().unwrap();
+        assert!(e.is_finite() && e >= 0.0, "{name}: RMSE {e}");
+        assert_eq!(c["shaded_on"], "CPU");
+    }
+    assert_eq!(r["configurations"][1]["bytes_per_texel"], 9 * 16);
+    assert!(out.join("reference.exr").is_file() && out.join("report.html").is_file() && out.join("bake/bake.json").is_file());
+    // Reusing the bake: the same numbers (the reference and the shading are deterministic).
+    let out2 = out.join("again");
+    let o = render_cmd(&[
+        "--device",
+        "cpu",
+        "--bake",
+        out.join("bake").to_str().unwrap(),
+        "--size",
+        "40x24",
+        "--reference-samples",
+        "8",
+        "--bases",
+        "sh2,ad9",
+        "--specular",
+        "both",
+        "--out",
+        out2.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "render --bake failed: {}", String::from_utf8_lossy(&o.stderr));
+    let r2: serde_json::Value = serde_json::from_slice(&std::fs::read(out2.join("results.json")).unwrap()).unwrap();
+    for (a, b) in r["configurations"].as_array().unwrap().iter().zip(r2["configurations"].as_array().unwrap()) {
+        assert_eq!(a["total"], b["total"], "{}: a rerun from the bake differs", a["name"]);
+    }
+    for (args, msg) in [
+        (vec!["--size", "0x5"], "--size"),
+        (vec!["--bases", "sh3"], "unknown basis 'sh3'"),
+        (vec!["--specular", "exact"], "--specular"),
+        (vec!["--bake", "/nonexistent-bake"], "bake.json"),
+        (vec!["--reference-samples", "0"], "--reference-samples"),
+    ] {
+        let mut a = vec!["--device", "cpu", "--out", out2.to_str().unwrap()];
+        a.extend(args.iter());
+        let o = render_cmd(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(msg), "{args:?}: the message '{err}' does not name {msg}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -11,8 +11,10 @@
 //! | [`shade`] | the CPU twin of the fragment shading in f64 through `sbf` (the GPU image's oracle) |
 //! | [`visible`] | the visible surface per pixel by ray casting (the rasteriser's CPU twin) and the CPU image |
 //! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
-//! | [`reference`] | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
-//! | [`compare`] | errors against the reference (its noise subtracted), images and the +3 EV difference |
+//! | [`reference`](mod@reference) | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
+//! | [`compare`] | errors against the reference (its noise subtracted) |
+//! | [`session`] | one comparison as the `render` command runs it: visible surfaces and reference once, then per configuration image, errors and frame time |
+//! | [`report`] | what a comparison writes: EXR and PNG images, the +3 EV differences, results.json, report.html |
 //!
 //! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::estimator`],
 //! [`crate::sampling`], [`crate::output`].
@@ -22,5 +24,7 @@ pub mod compare;
 pub mod lighting;
 pub mod raster;
 pub mod reference;
+pub mod report;
+pub mod session;
 pub mod shade;
 pub mod visible;

@@ -1,0 +1,214 @@
+//! render: shade a baked scene in real time with the exported runtime — every lightmap
+//! basis side by side — against a path-traced reference of the same quantity (seed 004
+//! §8.4.3, Figs. 8.6–8.8, Table 8.1).
+
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
+use baker::accumulate::{BakeConfig, BasisKind};
+use baker::layout::lightmap::Lightmap;
+use baker::render::lighting::{Encoding, Lighting, Storage};
+use baker::render::session::{self, Setup};
+use baker::run::{self, Device, Options};
+use baker::scene::bvh::Bvh;
+use baker::scene::camera::ViewCamera;
+use clap::Parser;
+use sbf::profile::SpecularPath;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    version,
+    about = "Shade a baked scene in real time from its lightmaps — in every basis, with the runtime functions the shaders crate exports — next to a path-traced reference of the same light, with the error and GPU frame time of each.",
+    after_help = "Bakes the scene into OUT/bake (or reads an existing bake with --bake), then writes reference.exr/png, one image and one +3 EV difference image per configuration, results.json and report.html into OUT.\n\nThe rendered quantity is the light the visible surface reflects (Lambert + single-scattering GGX) of the incident light the lightmap encodes (the baked lights' direct light and the indirect light); the reference estimates the same with the bake's own path tracer, so the difference is the lightmap's error: texel size, basis, runtime.\n\nExamples:\n  render\n  render --bases sh2,ad9,sg12 --specular both --storage both\n  render --scene room.glb --camera 0,1.5,3:0,1,0:60 --reference-samples 1024\n  render --bake bake-out --scene cornell"
+)]
+struct Cli {
+    /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a .gltf/.glb file.
+    #[arg(long, default_value = "cornell")]
+    scene: String,
+    /// Lat-long .hdr/.exr environment map replacing the scene's environment.
+    #[arg(long)]
+    env: Option<PathBuf>,
+    /// Use this bake folder (made by `baker` from the same --scene and --env) instead of baking.
+    #[arg(long)]
+    bake: Option<PathBuf>,
+    /// Bake passes (without --bake).
+    #[arg(long, default_value_t = 256)]
+    passes: u64,
+    /// Lightmap texels per scene unit (without --bake).
+    #[arg(long, default_value_t = 16.0)]
+    texels_per_unit: f32,
+    /// Lightmap bases to render (without --bake: also the bases baked). `none` (the plain
+    /// E/π lightmap, diffuse only) is always rendered.
+    #[arg(long, value_delimiter = ',', default_value = "sh1,sh2,sg9,sg12,ad9,ad12")]
+    bases: Vec<String>,
+    /// Specular runtime path of SG and AD: fit, tables or both.
+    #[arg(long, default_value = "fit")]
+    specular: String,
+    /// Lightmap texel storage on the GPU: f32, f16 or both.
+    #[arg(long, default_value = "f32")]
+    storage: String,
+    /// View: `EYE:TARGET[:FOV]` in scene units and degrees (vertical), e.g. 0,0,3.4:0,0,0:55.
+    /// Default: the preview's camera at the front of the scene's bounds.
+    #[arg(long)]
+    camera: Option<String>,
+    /// Image size of the comparison, WIDTHxHEIGHT.
+    #[arg(long, default_value = "480x270")]
+    size: String,
+    /// Reference samples per pixel.
+    #[arg(long, default_value_t = 256)]
+    reference_samples: u32,
+    /// GPU frames timed per configuration (timestamp queries; after 20 warm-up frames); 0: no timing.
+    #[arg(long, default_value_t = 100)]
+    frames: usize,
+    /// Frame size of the timing, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080")]
+    frame_size: String,
+    /// Where to shade (and bake): auto (a hardware GPU if there is one, else the CPU), gpu, cpu.
+    #[arg(long, default_value = "auto")]
+    device: String,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    #[arg(long, default_value = "render-out")]
+    out: PathBuf,
+}
+
+fn size(s: &str, what: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("{what} '{s}': expected WIDTHxHEIGHT, e.g. 640x360"))?;
+    let p = |v: &str| v.trim().parse::<u32>().ok().filter(|v| (1..=8192).contains(v));
+    match (p(w), p(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!("{what} '{s}': width and height must be 1 to 8192")),
+    }
+}
+
+fn configurations(bases: &[BasisKind], specular: &str, storage: &str) -> Result<Vec<Lighting>, String> {
+    let paths = match specular {
+        "fit" => vec![SpecularPath::Fit],
+        "tables" => vec![SpecularPath::Tables],
+        "both" => vec![SpecularPath::Fit, SpecularPath::Tables],
+        s => return Err(format!("--specular '{s}': expected fit, tables or both")),
+    };
+    let storages = match storage {
+        "f32" => vec![Storage::F32],
+        "f16" => vec![Storage::F16],
+        "both" => vec![Storage::F32, Storage::F16],
+        s => return Err(format!("--storage '{s}': expected f32, f16 or both")),
+    };
+    let mut v = Vec::new();
+    for st in &storages {
+        v.push(Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: *st });
+        for b in bases {
+            // SH has one specular runtime: rendered once.
+            let sh = matches!(b, BasisKind::ShL1 | BasisKind::ShL2);
+            for p in paths.iter().take(if sh { 1 } else { paths.len() }) {
+                v.push(Lighting { encoding: Encoding::Basis(*b), specular: *p, storage: *st });
+            }
+        }
+    }
+    Ok(v)
+}
+
+/// The bake folder, the layout settings and the bounce count: an existing bake's
+/// (bake.json), or a fresh bake into OUT/bake.
+fn bake(c: &Cli, bases: &[BasisKind], device: Device) -> Result<(PathBuf, f32, usize, u32), String> {
+    if let Some(dir) = &c.bake {
+        let path = dir.join("bake.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e} (is --bake a bake folder?)", path.display()))?;
+        let j: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let tpu = j["layout"]["texels_per_unit"].as_f64().ok_or("bake.json: no layout.texels_per_unit")? as f32;
+        let padding = j["layout"]["padding"].as_u64().ok_or("bake.json: no layout.padding")? as usize;
+        let bounces = j["max_bounces"].as_u64().ok_or("bake.json: no max_bounces")? as u32;
+        if j["scene"].as_str() != Some(scene_name(&c.scene).as_str()) {
+            eprintln!("notice: bake.json names scene '{}', --scene is '{}'", j["scene"].as_str().unwrap_or("?"), c.scene);
+        }
+        return Ok((dir.clone(), tpu, padding, bounces));
+    }
+    let o = Options {
+        scene: c.scene.clone(),
+        environment: c.env.clone(),
+        texels_per_unit: c.texels_per_unit,
+        passes: c.passes,
+        config: BakeConfig { bases: bases.to_vec(), ..BakeConfig::default() },
+        device,
+        out: c.out.join("bake"),
+        probes: None,
+        checkpoint_every: 0,
+        ..Options::default()
+    };
+    run::bake(&o, &mut |m| eprintln!("{m}"))?;
+    Ok((o.out.clone(), o.texels_per_unit, o.padding, o.config.max_bounces))
+}
+
+/// The scene's name as bake.json records it (a file's stem for glTF).
+fn scene_name(s: &str) -> String {
+    match Path::new(s).extension() {
+        Some(_) => Path::new(s).file_stem().map(|x| x.to_string_lossy().to_string()).unwrap_or_default(),
+        None => s.to_string(),
+    }
+}
+
+fn render(c: Cli) -> Result<(), String> {
+    let bases = c
+        .bases
+        .iter()
+        .map(|s| BasisKind::parse(s.trim()).ok_or_else(|| format!("unknown basis '{s}' (sh1, sh2, sg9, sg12, ad9, ad12)")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let configurations = configurations(&bases, &c.specular, &c.storage)?;
+    let (w, h) = size(&c.size, "--size")?;
+    let (fw, fh) = size(&c.frame_size, "--frame-size")?;
+    let device = match c.device.as_str() {
+        "auto" => Device::Auto,
+        "gpu" => Device::Gpu,
+        "cpu" => Device::Cpu,
+        s => return Err(format!("--device '{s}': expected auto, gpu or cpu")),
+    };
+    if c.reference_samples == 0 {
+        return Err("--reference-samples must be at least 1".into());
+    }
+    run::limits::check_writable(&c.out)?;
+    let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device)?;
+    let scene = baker::scene::load::load(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
+    let bvh = Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, tpu, padding).map_err(|e| e.to_string())?;
+    let camera = match &c.camera {
+        Some(s) => ViewCamera::parse(s, w, h)?,
+        None => ViewCamera::preview(&bvh, w, h),
+    };
+    let gpu = match device {
+        Device::Cpu => None,
+        _ => match shaders::gpu::Gpu::new() {
+            Ok(g) if device == Device::Gpu || !g.software => Some(g),
+            Ok(g) => {
+                eprintln!("notice: {} is a software rasteriser: shading on the CPU twin (--device gpu to use it)", g.adapter);
+                None
+            }
+            Err(e) if device == Device::Gpu => return Err(e),
+            Err(_) => None,
+        },
+    };
+    let device_name = gpu.as_ref().map_or("CPU (the shading's f64 twin)".to_string(), |g| format!("GPU: {}", g.adapter));
+    let setup = Setup {
+        camera,
+        configurations,
+        reference_samples: c.reference_samples,
+        seed: c.seed,
+        max_bounces: bounces,
+        timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),
+    };
+    let outcome = session::run(&scene, &bvh, &lm, &bake_dir, &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;
+    std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;
+    baker::render::report::write(&c.out, &scene.name, &bake_dir, &camera, &device_name, &outcome)?;
+    eprintln!("wrote {} (results.json, report.html, images)", c.out.display());
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match render(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("render: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! One comparison as the `render` command runs it: a baked scene, a camera, the
+//! configurations to shade; the visible surfaces and the path-traced reference once, then
+//! per configuration the image (GPU raster pass where an adapter is given, else the CPU
+//! twin), its errors against the reference, and its GPU frame time.
+
+use super::atlas::Atlas;
+use super::compare::{errors, Errors};
+use super::lighting::Lighting;
+use super::raster::Renderer;
+use super::reference::{self, Reference};
+use super::shade::{Shader, Terms};
+use super::visible::{self, Visible};
+use crate::estimator::trace::Tracer;
+use crate::layout::lightmap::Lightmap;
+use crate::scene::bvh::Bvh;
+use crate::scene::camera::ViewCamera;
+use crate::scene::Scene;
+use sbf::glam::DVec3;
+use std::path::Path;
+
+/// What a comparison is given.
+#[derive(Debug, Clone)]
+pub struct Setup {
+    pub camera: ViewCamera,
+    pub configurations: Vec<Lighting>,
+    /// Reference samples per pixel.
+    pub reference_samples: u32,
+    pub seed: u64,
+    pub max_bounces: u32,
+    /// Frame-time measurement: (width, height, warm-up frames, measured frames); None: off.
+    pub timing: Option<(u32, u32, usize, usize)>,
+}
+
+/// Frame times of one configuration (ms, GPU timestamps).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FrameTime {
+    pub width: u32,
+    pub height: u32,
+    pub frames: usize,
+    pub median_ms: f64,
+    pub p10_ms: f64,
+    pub p90_ms: f64,
+}
+
+/// One configuration's image and errors.
+#[derive(Debug, Clone)]
+pub struct Rendered {
+    pub lighting: Lighting,
+    /// "GPU" (raster pass) or "CPU" (the twin).
+    pub shaded_on: &'static str,
+    pub terms: Vec<Terms>,
+    /// Pixels compared (lightmapped and the same surface in the image and the reference).
+    pub pixels: usize,
+    pub diffuse: Errors,
+    pub specular: Errors,
+    pub total: Errors,
+    pub frame: Option<FrameTime>,
+}
+
+/// The whole comparison.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub visible: Vec<Option<Visible>>,
+    pub reference: Reference,
+    pub reference_seconds: f64,
+    pub rendered: Vec<Rendered>,
+}
+
+/// Runs the comparison of the bake in `bake_dir` (its layout `lm`, rebuilt from the same
+/// scene and settings); `gpu` None shades on the CPU.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    scene: &Scene,
+    bvh: &Bvh,
+    lm: &Lightmap,
+    bake_dir: &Path,
+    setup: &Setup,
+    gpu: Option<&shaders::gpu::Gpu>,
+    log: &mut dyn FnMut(String),
+) -> Result<Outcome, String> {
+    let cam = setup.camera;
+    let visible = visible::cast(scene, bvh, lm, &cam);
+    let lit = visible.iter().filter(|v| v.is_some_and(|v| v.lightmapped)).count();
+    if lit == 0 {
+        return Err("no lightmapped surface is visible from the camera (--camera)".into());
+    }
+    log(format!("render: {}×{} pixels, {lit} see a lightmapped surface", cam.width, cam.height));
+    let tracer = Tracer::new(scene, bvh, setup.max_bounces);
+    let t = std::time::Instant::now();
+    let total_px = visible.len();
+    let reference = reference::render(&tracer, scene, &visible, cam.eye, setup.reference_samples, setup.seed, &|n| {
+        eprint!("\rreference: {:.0}% of {total_px} pixels", 100.0 * n as f64 / total_px as f64)
+    });
+    eprintln!();
+    let reference_seconds = t.elapsed().as_secs_f64();
+    log(format!("reference: {} samples per pixel in {reference_seconds:.1} s", setup.reference_samples));
+    let renderer = gpu.map(|g| Renderer::new(g, scene, lm)).transpose()?;
+    let mut rendered = Vec::new();
+    for l in &setup.configurations {
+        let atlas = Atlas::read(bake_dir, l.encoding, lm.width, lm.height)?.stored(l.storage)?;
+        let r = render_one(scene, &visible, &reference, &atlas, l, renderer.as_ref(), setup)?;
+        log(format!(
+            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}){}",
+            l.name(),
+            r.shaded_on,
+            r.diffuse.rmse,
+            r.specular.rmse,
+            r.total.rmse,
+            r.total.relative_rmse,
+            r.frame.map(|f| format!(", frame {:.3} ms", f.median_ms)).unwrap_or_default()
+        ));
+        rendered.push(r);
+    }
+    Ok(Outcome { visible, reference, reference_seconds, rendered })
+}
+
+/// One configuration: image, errors, frame time.
+fn render_one(
+    scene: &Scene,
+    visible: &[Option<Visible>],
+    reference: &Reference,
+    atlas: &Atlas,
+    l: &Lighting,
+    renderer: Option<&Renderer>,
+    setup: &Setup,
+) -> Result<Rendered, String> {
+    let cam = setup.camera;
+    let lit = |v: &Option<Visible>| v.as_ref().filter(|v| v.lightmapped).map(|v| v.material);
+    let (terms, mask, shaded_on, frame): (Vec<Terms>, Vec<bool>, &'static str, Option<FrameTime>) = match renderer {
+        Some(r) => {
+            let a = r.analysis(l, atlas, &cam)?;
+            let terms: Vec<Terms> = (0..a.diffuse.len())
+                .map(|k| {
+                    let v = |x: [f32; 4]| DVec3::new(x[0] as f64, x[1] as f64, x[2] as f64);
+                    Terms { diffuse: v(a.diffuse[k]), specular: v(a.specular[k]) }
+                })
+                .collect();
+            // The raster and the ray cast may pick different surfaces at silhouettes:
+            // compare where both see the same lightmapped material.
+            let mask = (0..terms.len()).map(|k| a.diffuse[k][3] >= 0.0 && lit(&visible[k]) == Some(a.diffuse[k][3] as u32)).collect();
+            let frame = match setup.timing {
+                Some((w, h, warm, n)) if n > 0 => {
+                    let big = ViewCamera { width: w, height: h, ..cam };
+                    r.frame_times(l, atlas, &big, warm, n)?.map(|t| frame_stats(w, h, t))
+                }
+                _ => None,
+            };
+            (terms, mask, "GPU", frame)
+        }
+        None => {
+            let shader = Shader::new(*l);
+            let terms = visible::shade_pixels(&shader, atlas, scene, cam.eye, visible);
+            (terms, visible.iter().map(|v| lit(v).is_some()).collect(), "CPU", None)
+        }
+    };
+    let d: Vec<DVec3> = terms.iter().map(|t| t.diffuse).collect();
+    let s: Vec<DVec3> = terms.iter().map(|t| t.specular).collect();
+    let tot: Vec<DVec3> = terms.iter().map(|t| t.total()).collect();
+    let ref_tot: Vec<DVec3> = reference.diffuse.iter().zip(&reference.specular).map(|(a, b)| *a + *b).collect();
+    let mask: Vec<bool> = mask.iter().zip(&reference.accepted).map(|(m, n)| *m && *n > 0).collect();
+    Ok(Rendered {
+        lighting: *l,
+        shaded_on,
+        pixels: mask.iter().filter(|m| **m).count(),
+        diffuse: errors(&d, &reference.diffuse, &reference.var_diffuse, &mask),
+        specular: errors(&s, &reference.specular, &reference.var_specular, &mask),
+        total: errors(&tot, &ref_tot, &reference.var_total, &mask),
+        terms,
+        frame,
+    })
+}
+
+/// Median and 10th/90th percentiles of the measured frames.
+fn frame_stats(width: u32, height: u32, mut t: Vec<f64>) -> FrameTime {
+    t.sort_by(f64::total_cmp);
+    let q = |f: f64| t[((t.len() - 1) as f64 * f).round() as usize];
+    FrameTime { width, height, frames: t.len(), median_ms: q(0.5), p10_ms: q(0.1), p90_ms: q(0.9) }
+}
