@@ -53,7 +53,8 @@ struct MaterialGpu {
     f0: [f32; 4],
 }
 
-/// The vertex layout: position, normal, atlas UV, material (| 0x8000_0000 when lightmapped).
+/// The vertex layout: position, normal, atlas UV, material (| 0x8000_0000 when
+/// lightmapped), the triangle's face normal.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Vertex {
@@ -61,6 +62,7 @@ struct Vertex {
     normal: [f32; 3],
     uv: [f32; 2],
     material: u32,
+    face: [f32; 3],
 }
 
 const LIGHTMAPPED: u32 = 0x8000_0000;
@@ -106,6 +108,8 @@ impl<'g> Renderer<'g> {
         for (mi, m) in scene.meshes.iter().enumerate() {
             let flag = if m.lightmapped { LIGHTMAPPED } else { 0 };
             for (ti, idx) in m.indices.iter().enumerate() {
+                let c = idx.map(|i| m.positions[i as usize]);
+                let face = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero().to_array();
                 for (k, i) in idx.iter().enumerate() {
                     let p = m.positions[*i as usize];
                     lo = lo.min(p);
@@ -116,6 +120,7 @@ impl<'g> Renderer<'g> {
                         normal: m.normals[*i as usize].to_array(),
                         uv: uv.to_array(),
                         material: m.material as u32 | flag,
+                        face,
                     });
                 }
             }
@@ -321,7 +326,7 @@ impl<'g> Renderer<'g> {
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<Vertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Uint32],
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Uint32, 4 => Float32x3],
                 })],
             },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },

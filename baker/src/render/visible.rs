@@ -26,11 +26,13 @@ pub struct Visible {
     pub uv: [f32; 2],
     /// Index into the scene's materials.
     pub material: u32,
-    /// The surface has a lightmap (else the pixel is not shaded from the bake).
+    /// The pixel sees the lit side of a surface that has a lightmap (else it is not
+    /// shaded from the bake: no lightmap, or the back of a surface, which the lightmap —
+    /// the light arriving at the side the face normal points to — does not cover).
     pub lightmapped: bool,
 }
 
-/// The surface of triangle hit `h` (barycentrics u, v at corners 1 and 2).
+/// The surface of triangle hit `h` (barycentrics u, v at corners 1 and 2) seen along `d`.
 pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, o: Vec3, d: Vec3, h: &Hit) -> Visible {
     let tri = &bvh.tris[h.tri as usize];
     let mesh = &scene.meshes[tri.mesh as usize];
@@ -46,7 +48,7 @@ pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, o: Vec3, d: Vec3, h: 
         geometric: ng,
         uv: [uv.x, uv.y],
         material: tri.material,
-        lightmapped: mesh.lightmapped,
+        lightmapped: mesh.lightmapped && d.dot(ng) < 0.0,
     }
 }
 

@@ -45,6 +45,8 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) material: u32,
+    // The triangle's face normal (its winding), the same at its three vertices.
+    @location(4) face: vec3<f32>,
 }
 
 struct VertexOut {
@@ -53,11 +55,12 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) @interpolate(flat) material: u32,
+    @location(4) @interpolate(flat) face: vec3<f32>,
 }
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    return VertexOut(frame.view_proj * vec4<f32>(v.position, 1.0), v.position, v.normal, v.uv, v.material);
+    return VertexOut(frame.view_proj * vec4<f32>(v.position, 1.0), v.position, v.normal, v.uv, v.material, v.face);
 }
 
 // The lobes at atlas position uv (texels), bilinear (baker::render::atlas::footprint).
@@ -169,9 +172,15 @@ struct Terms {
     specular: vec3<f32>,
 }
 
+// Whether the pixel sees the lit side of a lightmapped surface (the lightmap holds the
+// light arriving at the side its face normal points to; the back of a surface is black).
+fn lit_side(vo: VertexOut) -> bool {
+    return (vo.material & LIGHTMAPPED) != 0u && dot(frame.eye.xyz - vo.position, vo.face) > 0.0;
+}
+
 fn shade(vo: VertexOut) -> Terms {
     var t = Terms(vec3<f32>(0.0), vec3<f32>(0.0));
-    if ((vo.material & LIGHTMAPPED) == 0u) {
+    if (!lit_side(vo)) {
         return t;
     }
     let m = materials[vo.material & ~LIGHTMAPPED];
@@ -212,8 +221,7 @@ struct TermsOut {
 @fragment
 fn fs_terms(vo: VertexOut) -> TermsOut {
     let t = shade(vo);
-    let lm = (vo.material & LIGHTMAPPED) != 0u;
-    let id = select(-1.0, f32(vo.material & ~LIGHTMAPPED) + 0.5, lm);
+    let id = select(-1.0, f32(vo.material & ~LIGHTMAPPED) + 0.5, lit_side(vo));
     return TermsOut(bitcast<vec4<u32>>(vec4<f32>(t.diffuse, id)), bitcast<vec4<u32>>(vec4<f32>(t.specular, 0.0)));
 }
 
