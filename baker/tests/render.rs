@@ -225,6 +225,7 @@ fn render_command_writes_its_comparison() {
     for (a, b) in r["configurations"].as_array().unwrap().iter().zip(r2["configurations"].as_array().unwrap()) {
         assert_eq!(a["total"], b["total"], "{}: a rerun from the bake differs", a["name"]);
     }
+    report_loads_in_a_headless_browser(&out, names.len());
     for (args, msg) in [
         (vec!["--size", "0x5"], "--size"),
         (vec!["--bases", "sh3"], "unknown basis 'sh3'"),
@@ -362,4 +363,52 @@ fn sh_l2_image_matches_the_path_traced_reference() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Chromium (`chromium`, or SBF_CHROMIUM=path); None skips, except under
+/// SBF_REQUIRE_BROWSER=1 (CI) where a missing browser fails.
+fn chromium() -> Option<std::path::PathBuf> {
+    if let Ok(p) = std::env::var("SBF_CHROMIUM") {
+        return Some(p.into());
+    }
+    let found = ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|n| {
+        let o = std::process::Command::new("which").arg(n).output().ok()?;
+        o.status.success().then(|| std::path::PathBuf::from(String::from_utf8_lossy(&o.stdout).trim().to_string()))
+    });
+    if found.is_none() {
+        assert!(std::env::var("SBF_REQUIRE_BROWSER").map_or(true, |v| v != "1"), "SBF_REQUIRE_BROWSER=1 but no chromium found");
+        println!("report.html not opened: no chromium");
+    }
+    found
+}
+
+/// (images, broken images, script and load errors) that report.html's self-check wrote on
+/// <body> in headless Chromium.
+fn report_check(browser: &std::path::Path, html: &std::path::Path) -> (Option<usize>, Option<usize>, Option<usize>) {
+    let o = std::process::Command::new(browser)
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=10000", "--dump-dom"])
+        .arg(format!("file://{}", html.display()))
+        .output()
+        .expect("the browser runs");
+    let dom = String::from_utf8_lossy(&o.stdout).to_string();
+    let body = dom.split("<body").nth(1).and_then(|b| b.split('>').next()).unwrap_or_default().to_string();
+    let attr = |name: &str| -> Option<usize> {
+        let k = body.find(&format!("{name}=\""))? + name.len() + 2;
+        body[k..].split('"').next()?.parse().ok()
+    };
+    (attr("data-images"), attr("data-broken"), attr("data-errors"))
+}
+
+/// report.html in headless Chromium: every image loads, no error; with one image removed
+/// the self-check reports it (the check can fail).
+fn report_loads_in_a_headless_browser(out: &std::path::Path, configurations: usize) {
+    let Some(browser) = chromium() else { return };
+    let html = out.join("report.html");
+    let (images, broken, errors) = report_check(&browser, &html);
+    assert_eq!(images, Some(1 + 2 * configurations), "report.html: the reference and two images per configuration");
+    assert_eq!((broken, errors), (Some(0), Some(0)), "report.html: broken images or errors");
+    std::fs::remove_file(out.join("sh2_diff.png")).unwrap();
+    let (_, broken, errors) = report_check(&browser, &html);
+    assert_eq!(broken, Some(1), "a missing image is not reported");
+    assert!(errors.is_some_and(|e| e >= 1), "a missing image raised no error event");
 }
