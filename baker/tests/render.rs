@@ -10,7 +10,7 @@ use baker::render::lighting::{Encoding, Lighting, Storage, SurfaceMaterial};
 use baker::render::raster::{Analysis, Renderer};
 use baker::render::shade::Shader;
 use baker::scene::camera::ViewCamera;
-use sbf::glam::{DVec3, Vec3Swizzles};
+use sbf::glam::{DVec3, Vec3, Vec3Swizzles};
 use sbf::profile::SpecularPath;
 use sbf::sampling::Pcg32;
 
@@ -411,4 +411,234 @@ fn report_loads_in_a_headless_browser(out: &std::path::Path, configurations: usi
     let (_, broken, errors) = report_check(&browser, &html);
     assert_eq!(broken, Some(1), "a missing image is not reported");
     assert!(errors.is_some_and(|e| e >= 1), "a missing image raised no error event");
+}
+
+/// GGX directional albedo split (A, B): ∫ f_s cos θ_l dω_l = f0·A + f90·B for Schlick
+/// Fresnel, by a product Gauss–Legendre rule over (cos θ_l, φ_l) on the upper hemisphere
+/// with D, height-correlated Smith G2 and Schlick written here from their closed forms
+/// (Walter et al. 2007; Heitz 2014) — independent of sbf's GGX and of the DFG table.
+fn ggx_albedo_split(nv: f64, alpha: f64) -> (f64, f64) {
+    let (nodes, weights) = gauss_legendre(96);
+    let a2 = alpha * alpha;
+    let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
+    let lambda = |w: DVec3| {
+        let t2 = (1.0 - w.z * w.z).max(0.0) / (w.z * w.z);
+        0.5 * ((1.0 + a2 * t2).sqrt() - 1.0)
+    };
+    let (mut sa, mut sb) = (0.0, 0.0);
+    for (x, wx) in nodes.iter().zip(&weights) {
+        // cos θ_l = (x + 1)/2 on (0, 1), φ = π(y + 1) on (0, 2π): 96 × 96 nodes (the test's
+        // α = 0.25 lobe is smooth on this grid).
+        let mu = 0.5 * (x + 1.0);
+        for (y, wy) in nodes.iter().zip(&weights) {
+            let phi = std::f64::consts::PI * (y + 1.0);
+            let s = (1.0 - mu * mu).max(0.0).sqrt();
+            let l = DVec3::new(s * phi.cos(), s * phi.sin(), mu);
+            let h = (v + l).normalize();
+            let d = a2 / (std::f64::consts::PI * (h.z * h.z * (a2 - 1.0) + 1.0).powi(2));
+            let g = 1.0 / (1.0 + lambda(v) + lambda(l));
+            let w = (1.0 - v.dot(h)).clamp(0.0, 1.0).powi(5);
+            let f = d * g / (4.0 * nv * mu) * mu; // f_s (without F) × cos θ_l
+            let jac = 0.5 * wx * std::f64::consts::PI * wy; // dμ dφ
+            sa += f * (1.0 - w) * jac;
+            sb += f * w * jac;
+        }
+    }
+    (sa, sb)
+}
+
+/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n, Golub–Welsch-free).
+fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let (mut x, mut w) = (vec![0.0; n], vec![0.0; n]);
+    for i in 0..n {
+        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, z);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
+            let dz = p1 / dp;
+            z -= dz;
+            if dz.abs() < 1e-15 {
+                let (mut q0, mut q1) = (1.0, z);
+                for k in 2..=n {
+                    let q2 = ((2 * k - 1) as f64 * z * q1 - (k - 1) as f64 * q0) / k as f64;
+                    q0 = q1;
+                    q1 = q2;
+                }
+                let d = n as f64 * (z * q1 - q0) / (z * z - 1.0);
+                x[i] = z;
+                w[i] = 2.0 / ((1.0 - z * z) * d * d);
+                break;
+            }
+        }
+    }
+    (x, w)
+}
+
+/// A plane under a uniform lightmap, seen from above: every basis renders its closed form
+/// (GPU and CPU twin).
+/// - Plain E/π = L and SH with c₀₀ = L/Y₀₀ (radiance L everywhere): diffuse ρL exactly
+///   (SH's band factors are exact for bands ≤ 2): f32 rounding, 1e-5 relative.
+/// - SH specular of constant L: L·(F0·A + B) with (A, B) the GGX directional albedo split
+///   (`ggx_albedo_split`, independent quadrature). Tolerance: the DFG table's stated max
+///   error at its nodes (9.73e-4, luts/MANIFEST) plus its bilinear interpolation error
+///   between nodes, bounded by the table's own second differences around the lookup
+///   (|Δ²ₓ| + |Δ²ᵧ|)/8, both × (F0 + 1)·L, plus 1e-5 relative for f32.
+/// - SG and AD with one unit lobe (every other coefficient 0), for each lobe in turn:
+///   diffuse ρ·E/π of that lobe in closed form (SG: `irradiance_exact`, Lambert's
+///   convolution of an SG; AD: the exact quartic, `lobe_irradiance_cos`). Tolerance: the
+///   runtime fits' stated max errors (Hill's c₀: 1.368e-2 of the lobe's peak E/π over
+///   λ ∈ [2, 64] and 91 angles, ×1.1 for angles between the fit's 2° grid; the AD
+///   quadratic: 6.51e-4 per unit coefficient), plus f32.
+///
+/// Interpolation: the lightmap is uniform, so bilinear lookups are exact.
+/// Mutations (in the WGSL; the GPU leg): the AD quadratic's constant term ×1.02, SH's
+/// Y₀₀ constant ×1.01 and the DFG lookup with its axes swapped each fail; Hill's c₀ ×1.05
+/// passes — it stays inside the fit's own stated error band, the most this closed form
+/// can resolve for SG.
+#[test]
+fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
+    use baker::scene::{Environment, Material, Mesh, Scene};
+    let gpu = common::gpu();
+    let (rho, l_sky) = (0.6f64, 1.7f64);
+    let quad = |x0: f32, material: usize| Mesh {
+        name: format!("plane{material}"),
+        positions: vec![Vec3::new(x0, 0.0, -1.0), Vec3::new(x0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, -1.0)],
+        normals: vec![Vec3::Y; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material,
+        lightmap_uv: None,
+        lightmapped: true,
+    };
+    let mut glossy = Material::glossy(Vec3::splat(rho as f32), 0.5);
+    glossy.specular = 5.0; // F0 = 0.2
+    let scene = Scene {
+        name: "planes".into(),
+        meshes: vec![quad(-2.0, 0), quad(0.0, 1)],
+        materials: vec![Material::lambert(Vec3::splat(rho as f32)), glossy],
+        lights: vec![],
+        environment: Environment::Constant(Vec3::splat(l_sky as f32)),
+    };
+    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 80, 60).unwrap();
+    let visible = baker::render::visible::cast(&scene, &baker::scene::bvh::Bvh::build(&scene), &lm, &cam);
+    let renderer = gpu.as_ref().map(|g| Renderer::new(g, &scene, &lm).unwrap());
+    let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
+    let f0 = mats[1].f0.x;
+    let alpha = mats[1].alpha;
+    let dfg = sbf::luts::committed::dfg();
+    let uniform = |c: Vec<f64>| Atlas {
+        width: lm.width,
+        height: lm.height,
+        lobes: c.iter().map(|x| vec![[*x as f32; 3]; lm.width * lm.height]).collect(),
+    };
+    let y00 = 0.5 / std::f64::consts::PI.sqrt();
+    // (configuration, lobe values, closed-form E/π, its tolerance, SH specular?)
+    let mut cases: Vec<(Lighting, Vec<f64>, f64, f64, bool)> = vec![(
+        Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32 },
+        vec![l_sky],
+        l_sky,
+        1e-5 * l_sky,
+        false,
+    )];
+    for b in [BasisKind::ShL1, BasisKind::ShL2] {
+        let mut c = vec![0.0; baker::render::lighting::lobe_count(b)];
+        c[0] = l_sky / y00;
+        cases.push((
+            Lighting { encoding: Encoding::Basis(b), specular: SpecularPath::Fit, storage: Storage::F32 },
+            c,
+            l_sky,
+            1e-5 * l_sky,
+            true,
+        ));
+    }
+    for b in [BasisKind::Sg9, BasisKind::Sg12, BasisKind::Ad9, BasisKind::Ad12] {
+        let axes = baker::render::lighting::lobe_axes(Encoding::Basis(b));
+        for (k, a) in axes.iter().enumerate() {
+            let mut c = vec![0.0; axes.len()];
+            c[k] = 1.0;
+            let (exact, tol) = if matches!(b, BasisKind::Sg9 | BasisKind::Sg12) {
+                let sg = |axis| sbf::Sg { axis, sharpness: baker::accumulate::SG_HEMISPHERE_SHARPNESS, amplitude: 1.0 };
+                let peak = sbf::recon::sg::irradiance_exact(&sg(DVec3::Z), DVec3::Z);
+                (sbf::recon::sg::irradiance_exact(&sg(*a), DVec3::Z), 1.1 * 1.368e-2 * peak)
+            } else {
+                (sbf::recon::ambient_dice::lobe_irradiance_cos(a.z), 6.51e-4)
+            };
+            cases.push((
+                Lighting { encoding: Encoding::Basis(b), specular: SpecularPath::Fit, storage: Storage::F32 },
+                c,
+                exact,
+                tol + 1e-5,
+                false,
+            ));
+        }
+    }
+    let mut split_cache: std::collections::HashMap<u64, (f64, f64)> = Default::default();
+    for (l, c, e_exact, e_tol, sh_spec) in &cases {
+        let atlas = uniform(c.clone());
+        let shader = Shader::new(*l);
+        let cpu = baker::render::visible::shade_pixels(&shader, &atlas, &scene, cam.eye, &visible);
+        let gpu_img = renderer.as_ref().map(|r| r.analysis(l, &atlas, &cam).unwrap());
+        let mut worst = 0.0f64;
+        let mut n = 0;
+        for (k, v) in visible.iter().enumerate() {
+            let Some(v) = v.as_ref().filter(|v| v.lightmapped) else { continue };
+            let m = &mats[v.material as usize];
+            let eye = cam.eye.as_dvec3();
+            let nv = (eye - v.position.as_dvec3()).normalize().y;
+            let diffuse = m.albedo.x * e_exact;
+            let (spec, spec_tol) = if *sh_spec && m.glossy() {
+                let key = (nv * 1e6).round() as u64;
+                let (a, b) = *split_cache.entry(key).or_insert_with(|| ggx_albedo_split(nv, alpha));
+                // Curvature of the table around the lookup (texel units): second differences.
+                let (w, h) = (dfg.width, dfg.height);
+                let (x, y) = (
+                    (nv * w as f64 - 0.5).clamp(1.0, w as f64 - 2.0) as usize,
+                    (alpha * h as f64 - 0.5).clamp(1.0, h as f64 - 2.0) as usize,
+                );
+                let t = |i: usize, j: usize, ch: usize| dfg.texel(i, j, ch) as f64;
+                let mut curv = 0.0f64;
+                for dx in 0..2 {
+                    for dy in 0..2 {
+                        let (i, j) = ((x + dx).min(w - 2).max(1), (y + dy).min(h - 2).max(1));
+                        for ch in 0..2 {
+                            let dxx = (t(i + 1, j, ch) - 2.0 * t(i, j, ch) + t(i - 1, j, ch)).abs();
+                            let dyy = (t(i, j + 1, ch) - 2.0 * t(i, j, ch) + t(i, j - 1, ch)).abs();
+                            curv = curv.max(dxx + dyy);
+                        }
+                    }
+                }
+                (l_sky * (f0 * a + b), (9.73e-4 + curv / 8.0) * (f0 + 1.0) * l_sky + 1e-5 * l_sky)
+            } else {
+                (0.0, 1e-6)
+            };
+            let check = |what: &str, got: DVec3, want: f64, tol: f64, worst: &mut f64| {
+                for ch in 0..3 {
+                    let e = (got[ch] - want).abs() / tol;
+                    *worst = worst.max(e);
+                    assert!(e <= 1.0, "{} {what} pixel {k}: {} vs closed form {want} (tolerance {tol:.3e})", l.name(), got[ch]);
+                }
+            };
+            check("CPU diffuse", cpu[k].diffuse, diffuse, m.albedo.x * e_tol, &mut worst);
+            if *sh_spec || l.encoding == Encoding::Irradiance {
+                check("CPU specular", cpu[k].specular, spec, spec_tol, &mut worst);
+            }
+            if let Some(a) = &gpu_img {
+                if a.diffuse[k][3] >= 0.0 {
+                    let g = |x: [f32; 4]| DVec3::new(x[0] as f64, x[1] as f64, x[2] as f64);
+                    check("GPU diffuse", g(a.diffuse[k]), diffuse, m.albedo.x * e_tol, &mut worst);
+                    if *sh_spec || l.encoding == Encoding::Irradiance {
+                        check("GPU specular", g(a.specular[k]), spec, spec_tol, &mut worst);
+                    }
+                }
+            }
+            n += 1;
+        }
+        assert!(n > 1000, "{}: {n} pixels", l.name());
+        println!("{:<6} {:?}: worst error / tolerance {worst:.3} over {n} pixels", l.name(), c.iter().position(|x| *x != 0.0));
+    }
 }
