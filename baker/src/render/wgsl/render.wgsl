@@ -3,8 +3,11 @@
 // to HLSL/GLSL/MSL). Per pixel: the lightmap's lobes, bilinear at the interpolated
 // lightmap UV (atlas texels; centres at i + ½, indices clamped), the tangent frame of the
 // interpolated normal (tangent_frame, the frame the bake encoded in), then diffuse =
-// albedo·E/π and GGX specular by the configured basis and path. CPU twin:
-// baker::render::shade (f64) with baker::render::atlas::footprint.
+// albedo·E/π and GGX specular by the configured basis and path — SH through the
+// runtime's array functions, SG and AD in one pass over the lobes through its per-lobe
+// functions (each lobe read once; no coefficient array, which GPUs keep in slow local
+// memory past ~9 vec3s). CPU twin: baker::render::shade (f64) with
+// baker::render::atlas::footprint.
 // Pipeline-overridable constants pick the configuration, so the driver folds the switch.
 
 // 0: plain E/π (diffuse only), 1: SH L1, 2: SH L2, 3: SG, 4: AD 9, 5: AD 12.
@@ -63,113 +66,127 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return VertexOut(frame.view_proj * vec4<f32>(v.position, 1.0), v.position, v.normal, v.uv, v.material, v.face);
 }
 
-// The lobes at atlas position uv (texels), bilinear (baker::render::atlas::footprint).
-fn lightmap_fetch(uv: vec2<f32>) -> array<vec3<f32>, 12> {
+// The bilinear footprint at atlas position uv (texels; baker::render::atlas::footprint):
+// the lower and upper texel (clamped to the atlas) and the fractional position.
+struct Footprint {
+    i0: vec2<i32>,
+    i1: vec2<i32>,
+    f: vec2<f32>,
+}
+
+fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
     let size = vec2<i32>(frame.atlas.xy);
     let x = uv - vec2<f32>(0.5);
-    let f0 = floor(x);
-    let f = x - f0;
-    let i0 = clamp(vec2<i32>(f0), vec2<i32>(0), size - 1);
-    let i1 = clamp(vec2<i32>(f0) + 1, vec2<i32>(0), size - 1);
-    var c: array<vec3<f32>, 12>;
-    for (var l = 0u; l < LOBES; l++) {
-        let a = textureLoad(lightmap, vec2<i32>(i0.x, i0.y), l, 0).xyz * (1.0 - f.x) + textureLoad(lightmap, vec2<i32>(i1.x, i0.y), l, 0).xyz * f.x;
-        let b = textureLoad(lightmap, vec2<i32>(i0.x, i1.y), l, 0).xyz * (1.0 - f.x) + textureLoad(lightmap, vec2<i32>(i1.x, i1.y), l, 0).xyz * f.x;
-        c[l] = a * (1.0 - f.y) + b * f.y;
-    }
-    return c;
+    let fl = floor(x);
+    let i = vec2<i32>(fl);
+    return Footprint(clamp(i, vec2<i32>(0), size - 1), clamp(i + 1, vec2<i32>(0), size - 1), x - fl);
 }
 
-fn first4(c: array<vec3<f32>, 12>) -> array<vec3<f32>, 4> {
-    return array<vec3<f32>, 4>(c[0], c[1], c[2], c[3]);
-}
-
-fn first9(c: array<vec3<f32>, 12>) -> array<vec3<f32>, 9> {
-    return array<vec3<f32>, 9>(c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]);
-}
-
-// E/π at the tangent-frame normal +Z.
-fn lightmap_irradiance(c: array<vec3<f32>, 12>) -> vec3<f32> {
-    let n = vec3<f32>(0.0, 0.0, 1.0);
-    switch ENCODING {
-        case 1u: {
-            return sh_l1_irradiance(first4(c), n);
-        }
-        case 2u: {
-            return sh_l2_irradiance(first9(c), n);
-        }
-        case 3u: {
-            var e = vec3<f32>(0.0);
-            for (var l = 0u; l < LOBES; l++) {
-                e += c[l] * sg_hill_irradiance(frame.axes[l].xyz, frame.eye.w, n);
-            }
-            return e;
-        }
-        case 4u: {
-            return ad9_irradiance(first9(c), n);
-        }
-        case 5u: {
-            return ad12_irradiance(c, n);
-        }
-        default: {
-            return c[0];
-        }
-    }
-}
-
-// Σ_l c_l·(f0·R₀ + f90·R₁)(axis_l) through the per-lobe tables.
-fn lightmap_tables(c: array<vec3<f32>, 12>, lobes: u32, vt: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
-    let px = lobe_ggx_pixel(lobe_tab, vec3<f32>(0.0, 0.0, 1.0), vt, alpha);
-    var s = vec3<f32>(0.0);
-    for (var l = 0u; l < lobes; l++) {
-        let r = lobe_ggx_lobe(lobe_tab, px, frame.axes[l].xyz);
-        s += c[l] * (f0 * r.x + f90 * r.y);
-    }
-    return s;
-}
-
-// Specular radiance towards the tangent-frame view vt (vt.z > 0), Schlick (f0, f90).
-fn lightmap_specular(c: array<vec3<f32>, 12>, vt: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
-    let n = vec3<f32>(0.0, 0.0, 1.0);
-    switch ENCODING {
-        case 1u: {
-            return sh_l1_specular(first4(c), lut, n, vt, alpha, f0, f90);
-        }
-        case 2u: {
-            return sh_l2_specular(first9(c), lut, n, vt, alpha, f0, f90);
-        }
-        case 3u: {
-            if (TABLES) {
-                return lightmap_tables(c, LOBES, vt, alpha, f0, f90);
-            }
-            let w = sg_asg_warp(n, vt, alpha, f0, f90);
-            var s = vec3<f32>(0.0);
-            for (var l = 0u; l < LOBES; l++) {
-                s += c[l] * sg_asg_lobe(w, frame.axes[l].xyz, frame.eye.w);
-            }
-            return s;
-        }
-        case 4u: {
-            if (TABLES) {
-                return lightmap_tables(c, 9u, vt, alpha, f0, f90);
-            }
-            return ad9_specular(first9(c), lut, n, vt, alpha, f0, f90);
-        }
-        case 5u: {
-            if (TABLES) {
-                return lightmap_tables(c, 12u, vt, alpha, f0, f90);
-            }
-            return ad12_specular(c, lut, n, vt, alpha, f0, f90);
-        }
-        default: {
-            return vec3<f32>(0.0);
-        }
-    }
+// Lobe l's RGB value at the footprint, bilinear.
+fn lightmap_lobe(fp: Footprint, l: u32) -> vec3<f32> {
+    let a = textureLoad(lightmap, fp.i0, l, 0).xyz * (1.0 - fp.f.x) + textureLoad(lightmap, vec2<i32>(fp.i1.x, fp.i0.y), l, 0).xyz * fp.f.x;
+    let b = textureLoad(lightmap, vec2<i32>(fp.i0.x, fp.i1.y), l, 0).xyz * (1.0 - fp.f.x) + textureLoad(lightmap, fp.i1, l, 0).xyz * fp.f.x;
+    return a * (1.0 - fp.f.y) + b * fp.f.y;
 }
 
 struct Terms {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
+}
+
+// What the specular of one surface needs: GGX α, Schlick F0 (f90 = 1), whether F0 is grey
+// (one evaluation with (F0, 1)) or coloured (F0·S(1, 0) + S(0, 1), by linearity).
+struct Gloss {
+    alpha: f32,
+    f0: vec3<f32>,
+    grey: bool,
+    on: bool,
+}
+
+// SH (bands ≤ 2): the runtime's array functions on the lobes read once.
+fn shade_sh(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
+    let n = vec3<f32>(0.0, 0.0, 1.0);
+    var t = Terms(vec3<f32>(0.0), vec3<f32>(0.0));
+    if (ENCODING == 1u) {
+        let c = array<vec3<f32>, 4>(lightmap_lobe(fp, 0u), lightmap_lobe(fp, 1u), lightmap_lobe(fp, 2u), lightmap_lobe(fp, 3u));
+        t.diffuse = sh_l1_irradiance(c, n);
+        if (g.on) {
+            if (g.grey) {
+                t.specular = sh_l1_specular(c, lut, n, vt, g.alpha, g.f0.x, 1.0);
+            } else {
+                t.specular = g.f0 * sh_l1_specular(c, lut, n, vt, g.alpha, 1.0, 0.0) + sh_l1_specular(c, lut, n, vt, g.alpha, 0.0, 1.0);
+            }
+        }
+        return t;
+    }
+    var c: array<vec3<f32>, 9>;
+    for (var l = 0u; l < 9u; l++) {
+        c[l] = lightmap_lobe(fp, l);
+    }
+    t.diffuse = sh_l2_irradiance(c, n);
+    if (g.on) {
+        if (g.grey) {
+            t.specular = sh_l2_specular(c, lut, n, vt, g.alpha, g.f0.x, 1.0);
+        } else {
+            t.specular = g.f0 * sh_l2_specular(c, lut, n, vt, g.alpha, 1.0, 0.0) + sh_l2_specular(c, lut, n, vt, g.alpha, 0.0, 1.0);
+        }
+    }
+    return t;
+}
+
+// SG and AD: one pass over the lobes, each read once and weighted by the runtime's per-lobe
+// functions (the per-pixel parts set up before the loop) — no coefficient array.
+fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
+    let n = vec3<f32>(0.0, 0.0, 1.0);
+    let lambda = frame.eye.w;
+    let sg = ENCODING == 3u;
+    // Per-pixel parts of each specular runtime ((1, 0) and (0, 1) Fresnel for a coloured F0).
+    let f0a = select(1.0, g.f0.x, g.grey);
+    let f90a = select(0.0, 1.0, g.grey);
+    var warp_a: SgAsgWarp;
+    var warp_b: SgAsgWarp;
+    var fit: AdSpecularFit;
+    var scale = vec3<f32>(0.0);
+    var px: LobeGgxPixel;
+    if (g.on) {
+        if (TABLES) {
+            px = lobe_ggx_pixel(lobe_tab, n, vt, g.alpha);
+        } else if (sg) {
+            warp_a = sg_asg_warp(n, vt, g.alpha, f0a, f90a);
+            warp_b = sg_asg_warp(n, vt, g.alpha, 0.0, 1.0);
+        } else {
+            fit = ad_specular_fit(n, vt, g.alpha);
+            if (g.grey) {
+                scale = vec3<f32>(ad_specular_scale(lut, vt.z, g.alpha, g.f0.x, 1.0));
+            } else {
+                scale = g.f0 * ad_specular_scale(lut, vt.z, g.alpha, 1.0, 0.0) + vec3<f32>(ad_specular_scale(lut, vt.z, g.alpha, 0.0, 1.0));
+            }
+        }
+    }
+    var t = Terms(vec3<f32>(0.0), vec3<f32>(0.0));
+    for (var l = 0u; l < LOBES; l++) {
+        let c = lightmap_lobe(fp, l);
+        let axis = frame.axes[l].xyz;
+        if (sg) {
+            t.diffuse += c * sg_hill_irradiance(axis, lambda, n);
+        } else {
+            t.diffuse += c * ad_lobe_irradiance(axis, n);
+        }
+        if (g.on) {
+            var w: vec3<f32>;
+            if (TABLES) {
+                let r = lobe_ggx_lobe(lobe_tab, px, axis);
+                w = select(g.f0 * r.x + vec3<f32>(r.y), vec3<f32>(g.f0.x * r.x + r.y), g.grey);
+            } else if (sg) {
+                let a = sg_asg_lobe(warp_a, axis, lambda);
+                w = select(g.f0 * a + vec3<f32>(sg_asg_lobe(warp_b, axis, lambda)), vec3<f32>(a), g.grey);
+            } else {
+                w = ad_specular_lobe(fit, axis) * scale;
+            }
+            t.specular += c * w;
+        }
+    }
+    return t;
 }
 
 // Whether the pixel sees the lit side of a lightmapped surface (the lightmap holds the
@@ -179,26 +196,30 @@ fn lit_side(vo: VertexOut) -> bool {
 }
 
 fn shade(vo: VertexOut) -> Terms {
-    var t = Terms(vec3<f32>(0.0), vec3<f32>(0.0));
     if (!lit_side(vo)) {
-        return t;
+        return Terms(vec3<f32>(0.0), vec3<f32>(0.0));
     }
     let m = materials[vo.material & ~LIGHTMAPPED];
     let n = normalize(vo.normal);
     let tb = tangent_frame(n);
     let v = normalize(frame.eye.xyz - vo.position);
     let vt = vec3<f32>(dot(v, tb[0]), dot(v, tb[1]), dot(v, n));
-    let c = lightmap_fetch(vo.uv);
-    t.diffuse = m.albedo_alpha.xyz * lightmap_irradiance(c);
+    let fp = lightmap_footprint(vo.uv);
     let f0 = m.f0.xyz;
-    if (ENCODING != 0u && max(f0.x, max(f0.y, f0.z)) > 0.0 && vt.z > 0.0) {
-        let alpha = m.albedo_alpha.w;
-        if (f0.x == f0.y && f0.y == f0.z) {
-            t.specular = lightmap_specular(c, vt, alpha, f0.x, 1.0);
-        } else {
-            t.specular = f0 * lightmap_specular(c, vt, alpha, 1.0, 0.0) + lightmap_specular(c, vt, alpha, 0.0, 1.0);
+    let g = Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, ENCODING != 0u && max(f0.x, max(f0.y, f0.z)) > 0.0 && vt.z > 0.0);
+    var t: Terms;
+    switch ENCODING {
+        case 1u, 2u: {
+            t = shade_sh(fp, vt, g);
+        }
+        case 3u, 4u, 5u: {
+            t = shade_lobes(fp, vt, g);
+        }
+        default: {
+            t = Terms(lightmap_lobe(fp, 0u), vec3<f32>(0.0));
         }
     }
+    t.diffuse *= m.albedo_alpha.xyz;
     return t;
 }
 
