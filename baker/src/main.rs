@@ -30,7 +30,7 @@ const DENOISE_AUTO_MAX_PASSES: u64 = 128;
     after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `sunbeam` (the slit room lit by a sun through the slit: a small bright indirect region), `room-1m` (1 M lightmapped triangles, the fair benchmark), `dense` (cornell + a 1 M-triangle
+    /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `sunbeam` (the slit room lit by a sun through the slit: a small bright indirect region), `room-1m` (1 M lightmapped triangles, the fair benchmark), `atrium` (a 0.29 M-triangle hall with columns, arches and banners, lit by a sun and the sky through a skylight: the renderer's Table 8.1 workload), `dense` (cornell + a 1 M-triangle
     /// sphere), or a .gltf/.glb file.
     #[arg(long, default_value = "cornell")]
     scene: String,

@@ -23,7 +23,7 @@ use std::process::ExitCode;
     after_help = "Bakes the scene into OUT/bake (or reads an existing bake with --bake), then writes reference.exr/png, one image and one +3 EV difference image per configuration, results.json and report.html into OUT.\n\nThe rendered quantity is the light the visible surface reflects (Lambert + single-scattering GGX) of the incident light the lightmap encodes (the baked lights' direct light and the indirect light); the reference estimates the same with the bake's own path tracer, so the difference is the lightmap's error: texel size, basis, runtime.\n\nExamples:\n  render\n  render --bases sh2,ad9,sg12 --specular both --storage both\n  render --scene room.glb --camera 0,1.5,3:0,1,0:60 --reference-samples 1024\n  render --bake bake-out --scene cornell"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a .gltf/.glb file.
+    /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `atrium`, `dense`, or a .gltf/.glb file.
     #[arg(long, default_value = "cornell")]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.

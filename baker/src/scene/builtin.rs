@@ -313,3 +313,157 @@ pub fn dense(min_triangles: usize) -> Scene {
     s.name = "dense".into();
     s
 }
+
+/// A surface of revolution or any bent grid: `nu` × `nv` quads at `p(a, b)` for a, b ∈ [0, 1],
+/// normals `n(a, b)`, lightmap UVs (a·len_u, b·len_v) over the longer side (its own chart).
+#[allow(clippy::too_many_arguments)]
+fn bent_grid(
+    name: &str,
+    nu: usize,
+    nv: usize,
+    len: (f32, f32),
+    material: usize,
+    p: impl Fn(f32, f32) -> Vec3,
+    n: impl Fn(f32, f32) -> Vec3,
+) -> Mesh {
+    let side = len.0.max(len.1);
+    let (mut positions, mut normals, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let (a, b) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            positions.push(p(a, b));
+            normals.push(n(a, b).normalize());
+            uv.push(sbf::glam::Vec2::new(a * len.0, b * len.1) / side);
+        }
+    }
+    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+    let mut indices = Vec::with_capacity(2 * nu * nv);
+    for j in 0..nv {
+        for i in 0..nu {
+            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: Some(uv), lightmapped: true }
+}
+
+/// An atrium at the scale of seed 004's Table 8.1 workload (a hall with columns, arches and
+/// banners): 24 × 12 × 10 m, two rows of eight marble columns (r 0.45 m, 6 m, 64 × 72
+/// quads), seven round arches between the columns of each row (intrados and both faces),
+/// a gallery slab over each row, fourteen hanging banners (16 × 48 quads), a polished
+/// glossy floor, and a 12 × 4 m skylight in the ceiling through which a sun and the sky
+/// light the hall — ≈ 0.29 M triangles, all lightmapped with their own UVs (one chart per
+/// mesh).
+pub fn atrium() -> Scene {
+    use std::f32::consts::PI;
+    let materials = vec![
+        Material::glossy(Vec3::new(0.55, 0.52, 0.48), 0.35), // 0 polished floor
+        Material::lambert(Vec3::new(0.75, 0.7, 0.62)),       // 1 walls, ceiling
+        Material::glossy(Vec3::new(0.85, 0.84, 0.8), 0.25),  // 2 marble columns
+        Material::lambert(Vec3::new(0.7, 0.66, 0.6)),        // 3 arches, gallery
+        Material::lambert(Vec3::new(0.6, 0.08, 0.06)),       // 4 red banners
+        Material::lambert(Vec3::new(0.08, 0.15, 0.55)),      // 5 blue banners
+    ];
+    let v = Vec3::new;
+    let (hx, hz, top) = (12.0f32, 6.0f32, 10.0f32);
+    let g = |name: &str, c: Vec3, u: Vec3, w: Vec3, m: usize| {
+        grid(name, c, u, w, (u.length() * 5.0).ceil() as usize, (w.length() * 5.0).ceil() as usize, m)
+    };
+    let mut meshes = vec![
+        grid("floor", v(-hx, 0.0, -hz), v(0.0, 0.0, 2.0 * hz), v(2.0 * hx, 0.0, 0.0), 120, 60, 0),
+        g("back", v(-hx, 0.0, -hz), v(2.0 * hx, 0.0, 0.0), v(0.0, top, 0.0), 1),
+        g("front", v(hx, 0.0, hz), v(-2.0 * hx, 0.0, 0.0), v(0.0, top, 0.0), 1),
+        g("left", v(-hx, 0.0, hz), v(0.0, 0.0, -2.0 * hz), v(0.0, top, 0.0), 1),
+        g("right", v(hx, 0.0, -hz), v(0.0, 0.0, 2.0 * hz), v(0.0, top, 0.0), 1),
+        // The ceiling around the skylight (x ∈ [−6, 6], z ∈ [−2, 2]), facing down.
+        g("ceiling-back", v(-hx, top, -hz), v(2.0 * hx, 0.0, 0.0), v(0.0, 0.0, hz - 2.0), 1),
+        g("ceiling-front", v(-hx, top, 2.0), v(2.0 * hx, 0.0, 0.0), v(0.0, 0.0, hz - 2.0), 1),
+        g("ceiling-left", v(-hx, top, -2.0), v(hx - 6.0, 0.0, 0.0), v(0.0, 0.0, 4.0), 1),
+        g("ceiling-right", v(6.0, top, -2.0), v(hx - 6.0, 0.0, 0.0), v(0.0, 0.0, 4.0), 1),
+    ];
+    let (r, h) = (0.45f32, 6.0f32);
+    for (row, z) in [-3.5f32, 3.5].into_iter().enumerate() {
+        let xs: Vec<f32> = (0..8).map(|i| -10.5 + 3.0 * i as f32).collect();
+        for (i, x) in xs.iter().enumerate() {
+            let c = v(*x, 0.0, z);
+            meshes.push(bent_grid(
+                &format!("column{row}.{i}"),
+                64,
+                72,
+                (2.0 * PI * r, h),
+                2,
+                |a, b| c + v(r * (2.0 * PI * a).cos(), h * b, -r * (2.0 * PI * a).sin()),
+                |a, _| v((2.0 * PI * a).cos(), 0.0, -(2.0 * PI * a).sin()),
+            ));
+        }
+        // Round arches from column to column: springing at 4.5 m, span 3 m − 2r, depth 0.6 m.
+        for i in 0..7 {
+            let (x0, x1) = (xs[i] + r, xs[i + 1] - r);
+            let (cx, rad, y0, d) = (0.5 * (x0 + x1), 0.5 * (x1 - x0), 4.5f32, 0.3f32);
+            let arc = |a: f32| PI * (1.0 - a);
+            meshes.push(bent_grid(
+                &format!("arch{row}.{i}.intrados"),
+                64,
+                8,
+                (PI * rad, 2.0 * d),
+                3,
+                |a, b| v(cx + rad * arc(a).cos(), y0 + rad * arc(a).sin(), z - d + 2.0 * d * b),
+                |a, _| -v(arc(a).cos(), arc(a).sin(), 0.0),
+            ));
+            for (side, s) in [(0usize, -1.0f32), (1, 1.0)] {
+                // The arch's face: between the intrados and the gallery's underside (6 m).
+                meshes.push(bent_grid(
+                    &format!("arch{row}.{i}.face{side}"),
+                    64,
+                    8,
+                    (PI * rad, h - y0),
+                    3,
+                    move |a, b| {
+                        let (ix, iy) = (cx + rad * arc(a).cos(), y0 + rad * arc(a).sin());
+                        let (ox, oy) = (cx + (a - 0.5) * 2.0 * rad, h);
+                        let p = v(ix + (ox - ix) * b, iy + (oy - iy) * b, z + s * d);
+                        // Mirrored on the −z face so that the winding's normal is −z.
+                        if s > 0.0 {
+                            p
+                        } else {
+                            v(2.0 * cx - p.x, p.y, p.z)
+                        }
+                    },
+                    move |_, _| v(0.0, 0.0, s),
+                ));
+            }
+        }
+        // The gallery slab over the row: its underside (facing down) and top (facing up).
+        let zz = if z < 0.0 { -hz } else { z - 0.3 };
+        let depth = hz - 3.2;
+        meshes.push(g(&format!("gallery{row}.under"), v(-hx, h, zz), v(2.0 * hx, 0.0, 0.0), v(0.0, 0.0, depth), 3));
+        meshes.push(g(&format!("gallery{row}.top"), v(-hx, h + 0.3, zz + depth), v(2.0 * hx, 0.0, 0.0), v(0.0, 0.0, -depth), 3));
+        // Banners hanging from the gallery's edge, between the columns, facing the hall.
+        for i in 0..7 {
+            let x = xs[i] + 1.5;
+            let facing = if z < 0.0 { 1.0 } else { -1.0 };
+            let bz = z + facing * 0.45;
+            let (w, len) = (1.0f32, 3.0f32);
+            meshes.push(bent_grid(
+                &format!("banner{row}.{i}"),
+                16,
+                48,
+                (w, len),
+                4 + (i + row) % 2,
+                move |a, b| v(x - facing * (a - 0.5) * w, h - 0.2 - len * b, bz + facing * 0.05 * (PI * b).sin()),
+                move |_, _| v(0.0, 0.0, facing),
+            ));
+        }
+    }
+    Scene {
+        name: "atrium".into(),
+        meshes,
+        materials,
+        lights: vec![Light::Directional { direction: v(0.35, 0.9, 0.25).normalize(), irradiance: Vec3::new(20.0, 19.0, 17.0) }],
+        environment: Environment::Sky {
+            zenith: Vec3::new(0.9, 1.2, 1.8),
+            horizon: Vec3::new(1.6, 1.7, 1.8),
+            ground: Vec3::new(0.3, 0.28, 0.25),
+        },
+    }
+}

@@ -12,6 +12,7 @@ pub fn load(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String))
         "slit" => builtin::slit(),
         "sunbeam" => builtin::sunbeam(),
         "room-1m" => builtin::room_1m(),
+        "atrium" => builtin::atrium(),
         "dense" => builtin::dense(1 << 20),
         path => {
             let (s, report) = super::import::load(Path::new(path)).map_err(|e| e.to_string())?;

@@ -16,7 +16,7 @@ pub mod import;
 pub mod lights;
 pub mod load;
 
-pub use builtin::{cornell, dense, disk_light, furnace, room_1m, slit, sphere_light, sunbeam, uv_sphere};
+pub use builtin::{atrium, cornell, dense, disk_light, furnace, room_1m, slit, sphere_light, sunbeam, uv_sphere};
 
 use sbf::glam::{Vec2, Vec3};
 
