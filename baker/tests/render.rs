@@ -642,3 +642,30 @@ fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
         println!("{:<6} {:?}: worst error / tolerance {worst:.3} over {n} pixels", l.name(), c.iter().position(|x| *x != 0.0));
     }
 }
+
+/// The progressive reference: batches give the image of one run with the same samples
+/// bit for bit (every number depends on seed, pixel and sample index only), and it stops
+/// at the first batch whose relative noise meets the target — which falls as 1/√N.
+#[test]
+fn progressive_reference_is_batch_independent_and_meets_its_noise() {
+    use baker::render::reference;
+    let scene = baker::scene::cornell();
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,0,0.9:0,-0.1,-1:70", 24, 16).unwrap();
+    let visible = baker::render::visible::cast(&scene, &bvh, &lm, &cam);
+    let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, 4);
+    let once = reference::render(&tracer, &scene, &visible, cam.eye, 48, 3, &|_| {});
+    let mut steps = Vec::new();
+    let batched = reference::render_to_noise(&tracer, &scene, &visible, cam.eye, 0.0, 16, 48, 3, &mut |n, e| steps.push((n, e)));
+    assert_eq!(steps.iter().map(|s| s.0).collect::<Vec<_>>(), [16, 32, 48]);
+    assert_eq!(once, batched, "batched and single-run references differ");
+    // Noise ∝ 1/√N: from 16 to 48 samples by √3 (±10 % for the variance estimates' own noise).
+    let ratio = steps[0].1 / steps[2].1;
+    assert!((ratio / 3f64.sqrt() - 1.0).abs() < 0.1, "noise 16 → 48 samples fell by {ratio:.3}, not √3");
+    let target = steps[1].1 * 1.0001;
+    let mut seen = Vec::new();
+    let r = reference::render_to_noise(&tracer, &scene, &visible, cam.eye, target, 16, 1024, 3, &mut |n, e| seen.push((n, e)));
+    assert_eq!(r.samples, 32, "stops at the first batch meeting the target: {seen:?}");
+    assert!(reference::relative_noise(&r) <= target);
+}

@@ -55,9 +55,14 @@ struct Cli {
     /// Image size of the comparison, WIDTHxHEIGHT.
     #[arg(long, default_value = "480x270")]
     size: String,
-    /// Reference samples per pixel.
-    #[arg(long, default_value_t = 256)]
+    /// The most reference samples per pixel.
+    #[arg(long, default_value_t = 1024)]
     reference_samples: u32,
+    /// Progressive reference: batches of samples (16, then doubling) until its relative
+    /// noise — √(mean variance of the pixel means) over the image's RMS — is at most this,
+    /// or --reference-samples are taken; 0 takes all --reference-samples.
+    #[arg(long, default_value_t = 0.01)]
+    reference_noise: f64,
     /// GPU frames timed per configuration (timestamp queries; after 20 warm-up frames); 0: no timing.
     #[arg(long, default_value_t = 100)]
     frames: usize,
@@ -166,6 +171,9 @@ fn render(c: Cli) -> Result<(), String> {
     if c.reference_samples == 0 {
         return Err("--reference-samples must be at least 1".into());
     }
+    if !(c.reference_noise.is_finite() && (0.0..1.0).contains(&c.reference_noise)) {
+        return Err(format!("--reference-noise must be in [0, 1), not {}", c.reference_noise));
+    }
     run::limits::check_writable(&c.out)?;
     let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device)?;
     let scene = baker::scene::load::load(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
@@ -192,6 +200,7 @@ fn render(c: Cli) -> Result<(), String> {
         camera,
         configurations,
         reference_samples: c.reference_samples,
+        reference_noise: c.reference_noise,
         seed: c.seed,
         max_bounces: bounces,
         timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),

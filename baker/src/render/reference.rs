@@ -82,7 +82,7 @@ pub fn sample(tracer: &Tracer, scene: &Scene, s: &Visible, eye: Vec3, smp: &mut 
 }
 
 /// The reference image of `visible` (only lightmapped surfaces; the rest stays zero) with
-/// `samples` samples per pixel; `progress` is called with the rows done so far.
+/// `samples` samples per pixel; `progress` is called with the pixels done so far.
 pub fn render(
     tracer: &Tracer,
     scene: &Scene,
@@ -92,69 +92,129 @@ pub fn render(
     seed: u64,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Reference {
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let per_pixel: Vec<_> = visible
-        .par_iter()
-        .enumerate()
-        .map(|(k, s)| {
-            let r = pixel(tracer, scene, s.as_ref().filter(|s| s.lightmapped), eye, samples, seed, k as u32);
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            if n % 4096 == 0 {
-                progress(n);
-            }
-            r
-        })
-        .collect();
-    let mut out = Reference {
-        samples,
-        diffuse: Vec::with_capacity(visible.len()),
-        specular: Vec::with_capacity(visible.len()),
-        var_diffuse: Vec::with_capacity(visible.len()),
-        var_specular: Vec::with_capacity(visible.len()),
-        var_total: Vec::with_capacity(visible.len()),
-        accepted: Vec::with_capacity(visible.len()),
-    };
-    for p in per_pixel {
-        out.diffuse.push(p.mean[0]);
-        out.specular.push(p.mean[1]);
-        out.var_diffuse.push(p.var[0]);
-        out.var_specular.push(p.var[1]);
-        out.var_total.push(p.var[2]);
-        out.accepted.push(p.n);
+    let mut acc = vec![PixelAcc::default(); visible.len()];
+    accumulate(tracer, scene, visible, eye, 0..samples, seed, &mut acc, progress);
+    finish(&acc, samples)
+}
+
+/// The reference rendered progressively to a stated noise level: batches of samples
+/// (`first`, then doubling the total) until the relative noise of the total —
+/// √mean(σ²) over the RMS of the image, lightmapped pixels — is at most `noise`, or
+/// `max_samples` are taken. `report` is called after each batch with (samples, noise).
+#[allow(clippy::too_many_arguments)]
+pub fn render_to_noise(
+    tracer: &Tracer,
+    scene: &Scene,
+    visible: &[Option<Visible>],
+    eye: Vec3,
+    noise: f64,
+    first: u32,
+    max_samples: u32,
+    seed: u64,
+    report: &mut dyn FnMut(u32, f64),
+) -> Reference {
+    let mut acc = vec![PixelAcc::default(); visible.len()];
+    let mut taken = 0u32;
+    let mut batch = first.clamp(1, max_samples.max(1));
+    loop {
+        accumulate(tracer, scene, visible, eye, taken..taken + batch, seed, &mut acc, &|_| {});
+        taken += batch;
+        let r = finish(&acc, taken);
+        let rel = relative_noise(&r);
+        report(taken, rel);
+        if rel <= noise || taken >= max_samples {
+            return r;
+        }
+        batch = taken.min(max_samples - taken);
     }
-    out
 }
 
-/// Means (diffuse, specular) and variances of the means (diffuse, specular, total).
-struct PixelStats {
-    mean: [DVec3; 2],
-    var: [DVec3; 3],
-    n: u32,
-}
-
-fn pixel(tracer: &Tracer, scene: &Scene, s: Option<&Visible>, eye: Vec3, samples: u32, seed: u64, id: u32) -> PixelStats {
-    let zero = PixelStats { mean: [DVec3::ZERO; 2], var: [DVec3::ZERO; 3], n: 0 };
-    let Some(s) = s else { return zero };
-    // Running sums of the three quantities and of their squares (values are O(1) and
-    // the counts small: plain sums in f64 keep ~1e-12 relative accuracy).
-    let (mut sum, mut sq) = ([DVec3::ZERO; 3], [DVec3::ZERO; 3]);
-    let mut n = 0u32;
-    for k in 0..samples {
-        let mut smp = PathSampler::new(Sequence::Independent, seed, id, k as u64);
-        if let Some((d, sp)) = sample(tracer, scene, s, eye, &mut smp) {
-            for (i, x) in [d, sp, d + sp].into_iter().enumerate() {
-                sum[i] += x;
-                sq[i] += x * x;
-            }
+/// √mean(σ²) of the total over its RMS, over the pixels with samples.
+pub fn relative_noise(r: &Reference) -> f64 {
+    let (mut var, mut sig, mut n) = (0.0, 0.0, 0usize);
+    for k in 0..r.accepted.len() {
+        if r.accepted[k] > 0 {
+            let t = r.diffuse[k] + r.specular[k];
+            var += r.var_total[k].element_sum() / 3.0;
+            sig += t.length_squared() / 3.0;
             n += 1;
         }
     }
-    if n == 0 {
-        return zero;
+    if n == 0 || sig <= 0.0 {
+        0.0
+    } else {
+        (var / sig).sqrt()
     }
-    let nf = n as f64;
-    let mean = sum.map(|x| x / nf);
-    // Variance of the mean: the unbiased sample variance over n.
-    let var = std::array::from_fn(|i| if n > 1 { ((sq[i] - sum[i] * mean[i]) / (nf - 1.0)).max(DVec3::ZERO) / nf } else { DVec3::ZERO });
-    PixelStats { mean: [mean[0], mean[1]], var, n }
+}
+
+/// Running sums of one pixel: (diffuse, specular, total) and their squares (values are
+/// O(1) and the counts ≤ 2³²: plain sums in f64 keep ~1e-12 relative accuracy).
+#[derive(Debug, Clone, Copy, Default)]
+struct PixelAcc {
+    sum: [DVec3; 3],
+    sq: [DVec3; 3],
+    n: u32,
+}
+
+/// Adds samples `range` of every lightmapped pixel (each pixel's numbers depend on the
+/// seed, the pixel and the sample index only: any batching gives the same image).
+#[allow(clippy::too_many_arguments)]
+fn accumulate(
+    tracer: &Tracer,
+    scene: &Scene,
+    visible: &[Option<Visible>],
+    eye: Vec3,
+    range: std::ops::Range<u32>,
+    seed: u64,
+    acc: &mut [PixelAcc],
+    progress: &(dyn Fn(usize) + Sync),
+) {
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    acc.par_iter_mut().zip(visible.par_iter()).enumerate().for_each(|(k, (a, s))| {
+        if let Some(s) = s.as_ref().filter(|s| s.lightmapped) {
+            for i in range.clone() {
+                let mut smp = PathSampler::new(Sequence::Independent, seed, k as u32, i as u64);
+                if let Some((d, sp)) = sample(tracer, scene, s, eye, &mut smp) {
+                    for (j, x) in [d, sp, d + sp].into_iter().enumerate() {
+                        a.sum[j] += x;
+                        a.sq[j] += x * x;
+                    }
+                    a.n += 1;
+                }
+            }
+        }
+        let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if n % 4096 == 0 {
+            progress(n);
+        }
+    });
+}
+
+/// Means and variances of the means from the running sums.
+fn finish(acc: &[PixelAcc], samples: u32) -> Reference {
+    let mut out = Reference {
+        samples,
+        diffuse: Vec::with_capacity(acc.len()),
+        specular: Vec::with_capacity(acc.len()),
+        var_diffuse: Vec::with_capacity(acc.len()),
+        var_specular: Vec::with_capacity(acc.len()),
+        var_total: Vec::with_capacity(acc.len()),
+        accepted: Vec::with_capacity(acc.len()),
+    };
+    for a in acc {
+        let nf = a.n.max(1) as f64;
+        let mean = a.sum.map(|x| x / nf);
+        // Variance of the mean: the unbiased sample variance over n.
+        let var: [DVec3; 3] =
+            std::array::from_fn(
+                |i| if a.n > 1 { ((a.sq[i] - a.sum[i] * mean[i]) / (nf - 1.0)).max(DVec3::ZERO) / nf } else { DVec3::ZERO },
+            );
+        out.diffuse.push(mean[0]);
+        out.specular.push(mean[1]);
+        out.var_diffuse.push(var[0]);
+        out.var_specular.push(var[1]);
+        out.var_total.push(var[2]);
+        out.accepted.push(a.n);
+    }
+    out
 }

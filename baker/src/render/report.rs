@@ -34,6 +34,8 @@ pub struct CameraJson {
 #[derive(Debug, Serialize)]
 pub struct ReferenceJson {
     pub samples_per_pixel: u32,
+    /// √mean σ² of the total over its RMS (what `--reference-noise` bounds).
+    pub relative_noise: f64,
     pub estimator: &'static str,
     pub seconds: f64,
     /// √mean σ² of the reference's total over the lightmapped pixels.
@@ -136,6 +138,7 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
         device: device.to_string(),
         reference: ReferenceJson {
             samples_per_pixel: o.reference.samples,
+            relative_noise: super::reference::relative_noise(&o.reference),
             estimator: "path tracing of the reflected radiance with the bake's incident-radiance estimator (BSDF-sampled point sample, NEE, power-heuristic MIS), independent random numbers",
             seconds: o.reference_seconds,
             noise_rms: noise,

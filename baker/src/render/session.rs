@@ -23,8 +23,11 @@ use std::path::Path;
 pub struct Setup {
     pub camera: ViewCamera,
     pub configurations: Vec<Lighting>,
-    /// Reference samples per pixel.
+    /// Reference samples per pixel: the most taken.
     pub reference_samples: u32,
+    /// Stop the reference once its relative noise (√mean σ² over the image's RMS) is at
+    /// most this (0: take all `reference_samples`).
+    pub reference_noise: f64,
     pub seed: u64,
     pub max_bounces: u32,
     /// Frame-time measurement: (width, height, warm-up frames, measured frames); None: off.
@@ -88,12 +91,31 @@ pub fn run(
     let tracer = Tracer::new(scene, bvh, setup.max_bounces);
     let t = std::time::Instant::now();
     let total_px = visible.len();
-    let reference = reference::render(&tracer, scene, &visible, cam.eye, setup.reference_samples, setup.seed, &|n| {
-        eprint!("\rreference: {:.0}% of {total_px} pixels", 100.0 * n as f64 / total_px as f64)
-    });
-    eprintln!();
+    let reference = if setup.reference_noise > 0.0 {
+        reference::render_to_noise(
+            &tracer,
+            scene,
+            &visible,
+            cam.eye,
+            setup.reference_noise,
+            16,
+            setup.reference_samples,
+            setup.seed,
+            &mut |n, e| log(format!("reference: {n} samples per pixel, relative noise {e:.4} (target {})", setup.reference_noise)),
+        )
+    } else {
+        let r = reference::render(&tracer, scene, &visible, cam.eye, setup.reference_samples, setup.seed, &|n| {
+            eprint!("\rreference: {:.0}% of {total_px} pixels", 100.0 * n as f64 / total_px as f64)
+        });
+        eprintln!();
+        r
+    };
     let reference_seconds = t.elapsed().as_secs_f64();
-    log(format!("reference: {} samples per pixel in {reference_seconds:.1} s", setup.reference_samples));
+    log(format!(
+        "reference: {} samples per pixel in {reference_seconds:.1} s, relative noise {:.4}",
+        reference.samples,
+        reference::relative_noise(&reference)
+    ));
     let renderer = gpu.map(|g| Renderer::new(g, scene, lm)).transpose()?;
     let mut rendered = Vec::new();
     for l in &setup.configurations {
