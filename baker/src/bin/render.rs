@@ -42,6 +42,11 @@ struct Cli {
     /// E/π lightmap, diffuse only) is always rendered.
     #[arg(long, value_delimiter = ',', default_value = "sh1,sh2,sg9,sg12,ad9,ad12")]
     bases: Vec<String>,
+    /// Probe grid NX,NY,NZ over the scene's bounds (without --bake), baked in SH L2 when
+    /// the scene has dynamic objects (meshes without a lightmap that do not emit): they
+    /// are shaded from the probes, trilinearly.
+    #[arg(long, value_delimiter = ',', default_value = "8,4,4")]
+    probes: Vec<usize>,
     /// Specular runtime path of SG and AD: fit, tables or both.
     #[arg(long, default_value = "fit")]
     specular: String,
@@ -116,7 +121,7 @@ fn configurations(bases: &[BasisKind], specular: &str, storage: &str) -> Result<
 
 /// The bake folder, the layout settings and the bounce count: an existing bake's
 /// (bake.json), or a fresh bake into OUT/bake.
-fn bake(c: &Cli, bases: &[BasisKind], device: Device) -> Result<(PathBuf, f32, usize, u32), String> {
+fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>) -> Result<(PathBuf, f32, usize, u32), String> {
     if let Some(dir) = &c.bake {
         let path = dir.join("bake.json");
         let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e} (is --bake a bake folder?)", path.display()))?;
@@ -137,7 +142,8 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device) -> Result<(PathBuf, f32, u
         config: BakeConfig { bases: bases.to_vec(), ..BakeConfig::default() },
         device,
         out: c.out.join("bake"),
-        probes: None,
+        probes,
+        probe_bases: vec![BasisKind::ShL2],
         checkpoint_every: 0,
         ..Options::default()
     };
@@ -175,8 +181,19 @@ fn render(c: Cli) -> Result<(), String> {
         return Err(format!("--reference-noise must be in [0, 1), not {}", c.reference_noise));
     }
     run::limits::check_writable(&c.out)?;
-    let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device)?;
     let scene = baker::scene::load::load(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
+    let dynamic = scene.meshes.iter().filter(|m| !m.lightmapped && scene.materials[m.material].emissive.max_element() <= 0.0).count();
+    let grid = match c.probes.as_slice() {
+        [x, y, z] if *x > 0 && *y > 0 && *z > 0 => [*x, *y, *z],
+        p => return Err(format!("--probes takes NX,NY,NZ (all > 0), not {p:?}")),
+    };
+    let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device, (dynamic > 0).then_some(grid))?;
+    let probe_field = if dynamic > 0 {
+        eprintln!("render: {dynamic} dynamic object(s) (no lightmap) shaded from the SH L2 probes");
+        Some(baker::render::probes::ProbeField::read(&bake_dir)?)
+    } else {
+        None
+    };
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, tpu, padding).map_err(|e| e.to_string())?;
     let camera = match &c.camera {
@@ -205,7 +222,7 @@ fn render(c: Cli) -> Result<(), String> {
         max_bounces: bounces,
         timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),
     };
-    let outcome = session::run(&scene, &bvh, &lm, &bake_dir, &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;
+    let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;
     std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;
     baker::render::report::write(&c.out, &scene.name, &bake_dir, &camera, &device_name, &outcome)?;
     eprintln!("wrote {} (results.json, report.html, images)", c.out.display());

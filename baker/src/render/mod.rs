@@ -7,9 +7,11 @@
 //! | module | holds |
 //! |---|---|
 //! | [`lighting`] | what a configuration shades with: the plain E/π lightmap or one basis, its specular path, f32/f16 storage |
+//! | [`probes`] | dynamic objects' lighting: the bake's SH L2 probe grid, trilinear |
 //! | [`atlas`] | a bake's coefficient images (one per lobe) read back from its EXRs; the bilinear lookup both shaders use |
 //! | [`shade`] | the CPU twin of the fragment shading in f64 through `sbf` (the GPU image's oracle) |
 //! | [`visible`] | the visible surface per pixel by ray casting (the rasteriser's CPU twin) and the CPU image |
+//! | `bindings` | what every render pipeline binds (the layout) and the probes as shader rows |
 //! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
 //! | [`reference`](mod@reference) | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
 //! | [`compare`] | errors against the reference (its noise subtracted) |
@@ -20,8 +22,10 @@
 //! [`crate::sampling`], [`crate::output`].
 
 pub mod atlas;
+mod bindings;
 pub mod compare;
 pub mod lighting;
+pub mod probes;
 pub mod raster;
 pub mod reference;
 pub mod report;

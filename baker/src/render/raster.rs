@@ -10,7 +10,9 @@
 //! that the CPU twin shades the very same inputs).
 
 use super::atlas::Atlas;
+use super::bindings::{layouts, probe_rows, Lattice};
 use super::lighting::{lobe_axes, Encoding, Lighting, Storage, SurfaceMaterial};
+use super::probes::ProbeField;
 use crate::accumulate::{BasisKind, SG_HEMISPHERE_SHARPNESS};
 use crate::layout::lightmap::Lightmap;
 use crate::scene::camera::ViewCamera;
@@ -43,6 +45,9 @@ struct FrameGpu {
     eye: [f32; 4],
     atlas: [u32; 4],
     axes: [[f32; 4]; 12],
+    grid_dims: [u32; 4],
+    grid_first: [f32; 4],
+    grid_last: [f32; 4],
 }
 
 /// WGSL `MaterialGpu`.
@@ -66,6 +71,8 @@ struct Vertex {
 }
 
 const LIGHTMAPPED: u32 = 0x8000_0000;
+/// The material bit of a dynamic object (no lightmap, not an emitter): shaded from the probes.
+const PROBED: u32 = 0x4000_0000;
 
 /// What `fs_terms` and `fs_surface` wrote, per pixel (row-major, y down).
 #[derive(Debug, Clone, PartialEq)]
@@ -74,7 +81,7 @@ pub struct Analysis {
     pub height: usize,
     /// xyz diffuse; w the material index + ½ (−1: nothing lightmapped or no surface).
     pub diffuse: Vec<[f32; 4]>,
-    /// xyz specular.
+    /// xyz specular; w 1 where shaded from the lightmap, 2 from the probes, 0 neither.
     pub specular: Vec<[f32; 4]>,
     /// xyz the interpolated normal (unnormalised); w lightmap u.
     pub normal_u: Vec<[f32; 4]>,
@@ -94,11 +101,16 @@ pub struct Renderer<'g> {
     bounds: (sbf::glam::Vec3, sbf::glam::Vec3),
     group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
+    /// SH L2 probes (9 rows of 4 floats per probe) and the lattice, or one zero row.
+    probes: wgpu::Buffer,
+    grid: Lattice,
+    dfg: wgpu::Texture,
 }
 
 impl<'g> Renderer<'g> {
-    /// Uploads the scene's triangles (with `lm`'s atlas UVs) and materials.
-    pub fn new(gpu: &'g Gpu, scene: &Scene, lm: &Lightmap) -> Result<Renderer<'g>, String> {
+    /// Uploads the scene's triangles (with `lm`'s atlas UVs), materials and the probes that
+    /// shade its dynamic objects (None: they stay black).
+    pub fn new(gpu: &'g Gpu, scene: &Scene, lm: &Lightmap, probes: Option<&ProbeField>) -> Result<Renderer<'g>, String> {
         let d = gpu.device();
         let src = module_source()?;
         let module =
@@ -106,7 +118,14 @@ impl<'g> Renderer<'g> {
         let mut verts = Vec::new();
         let (mut lo, mut hi) = (sbf::glam::Vec3::splat(f32::INFINITY), sbf::glam::Vec3::splat(f32::NEG_INFINITY));
         for (mi, m) in scene.meshes.iter().enumerate() {
-            let flag = if m.lightmapped { LIGHTMAPPED } else { 0 };
+            let emitter = scene.materials[m.material].emissive.max_element() > 0.0;
+            let flag = if m.lightmapped {
+                LIGHTMAPPED
+            } else if !emitter {
+                PROBED
+            } else {
+                0
+            };
             for (ti, idx) in m.indices.iter().enumerate() {
                 let c = idx.map(|i| m.positions[i as usize]);
                 let face = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero().to_array();
@@ -147,38 +166,27 @@ impl<'g> Renderer<'g> {
             contents: bytemuck::cast_slice(&mats),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let texture = |binding: u32, dim: wgpu::TextureViewDimension| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: dim,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-            count: None,
-        };
-        let group_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("render"),
-            entries: &[
-                buffer(0, wgpu::BufferBindingType::Uniform),
-                buffer(1, wgpu::BufferBindingType::Storage { read_only: true }),
-                texture(2, wgpu::TextureViewDimension::D2Array),
-                texture(3, wgpu::TextureViewDimension::D2),
-                texture(4, wgpu::TextureViewDimension::D2Array),
-            ],
+        let (group_layout, layout) = layouts(d);
+        let (rows, grid) = probe_rows(probes);
+        let probes = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("render probes"),
+            contents: bytemuck::cast_slice(&rows),
+            usage: wgpu::BufferUsages::STORAGE,
         });
-        let layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("render"),
-            bind_group_layouts: &[Some(&group_layout)],
-            immediate_size: 0,
-        });
-        Ok(Renderer { gpu, module, vertices, vertex_count: verts.len() as u32, materials, bounds: (lo, hi), group_layout, layout })
+        let dfg = gpu.lut_texture(sbf::luts::committed::dfg());
+        Ok(Renderer {
+            gpu,
+            module,
+            vertices,
+            vertex_count: verts.len() as u32,
+            materials,
+            bounds: (lo, hi),
+            group_layout,
+            layout,
+            probes,
+            grid,
+            dfg,
+        })
     }
 
     fn depth_range(&self, cam: &ViewCamera) -> (f32, f32) {
@@ -218,6 +226,9 @@ impl<'g> Renderer<'g> {
             eye: [cam.eye.x, cam.eye.y, cam.eye.z, SG_HEMISPHERE_SHARPNESS as f32],
             atlas: [atlas.width as u32, atlas.height as u32, 0, 0],
             axes,
+            grid_dims: self.grid.0,
+            grid_first: self.grid.1,
+            grid_last: self.grid.2,
         };
         let frame_buf = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("render frame"),
@@ -240,7 +251,12 @@ impl<'g> Renderer<'g> {
             _ => self.gpu.rg32_texture("no lobe table", [1, 1, 2], &[0.0; 4]),
         };
         let array = wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() };
-        let views = [lightmap.create_view(&array), lut.create_view(&Default::default()), lobe.create_view(&array)];
+        let views = [
+            lightmap.create_view(&array),
+            lut.create_view(&Default::default()),
+            lobe.create_view(&array),
+            self.dfg.create_view(&Default::default()),
+        ];
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("render"),
             layout: &self.group_layout,
@@ -250,6 +266,8 @@ impl<'g> Renderer<'g> {
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&views[0]) },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&views[1]) },
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&views[2]) },
+                wgpu::BindGroupEntry { binding: 5, resource: self.probes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&views[3]) },
             ],
         });
         Ok((group, frame_buf))

@@ -81,7 +81,8 @@ pub fn sample(tracer: &Tracer, scene: &Scene, s: &Visible, eye: Vec3, smp: &mut 
     Some((d, sp))
 }
 
-/// The reference image of `visible` (only lightmapped surfaces; the rest stays zero) with
+/// The reference image of `visible` (lightmapped surfaces and dynamic objects; the rest
+/// stays zero) with
 /// `samples` samples per pixel; `progress` is called with the pixels done so far.
 pub fn render(
     tracer: &Tracer,
@@ -171,7 +172,7 @@ fn accumulate(
 ) {
     let done = std::sync::atomic::AtomicUsize::new(0);
     acc.par_iter_mut().zip(visible.par_iter()).enumerate().for_each(|(k, (a, s))| {
-        if let Some(s) = s.as_ref().filter(|s| s.lightmapped) {
+        if let Some(s) = s.as_ref().filter(|s| s.lightmapped || s.probed) {
             for i in range.clone() {
                 let mut smp = PathSampler::new(Sequence::Independent, seed, k as u32, i as u64);
                 if let Some((d, sp)) = sample(tracer, scene, s, eye, &mut smp) {

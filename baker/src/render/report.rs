@@ -55,6 +55,8 @@ pub struct ConfigurationJson {
     pub diffuse: super::compare::Errors,
     pub specular: super::compare::Errors,
     pub total: super::compare::Errors,
+    /// The dynamic objects' pixels (shaded from the probes): errors of the total.
+    pub dynamic: Option<super::compare::Errors>,
     pub frame: Option<FrameTime>,
     /// Median frame time minus the plain E/π configuration's (same storage), ms.
     pub overhead_ms: Option<f64>,
@@ -80,6 +82,7 @@ fn write_images(dir: &Path, name: &str, cam: &ViewCamera, v: &[DVec3], mask: &[f
 /// Writes the images, results.json and report.html; returns results.json's record.
 pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &str, o: &Outcome) -> Result<ResultsJson, String> {
     let refs: Vec<DVec3> = o.reference.diffuse.iter().zip(&o.reference.specular).map(|(a, b)| *a + *b).collect();
+    // Alpha: 1 where the reference has samples (lightmapped surfaces and dynamic objects).
     let mask: Vec<f32> = o.reference.accepted.iter().map(|n| if *n > 0 { 1.0 } else { 0.0 }).collect();
     // One exposure for every image: the reference's mean luminance to 0.18.
     let lum: Vec<f32> = refs.iter().map(|c| (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f32).collect();
@@ -108,6 +111,7 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
             diffuse: r.diffuse,
             specular: r.specular,
             total: r.total,
+            dynamic: r.dynamic,
             frame: r.frame,
             overhead_ms: match (r.frame, none.and_then(|n| n.frame)) {
                 (Some(f), Some(n)) => Some(f.median_ms - n.median_ms),

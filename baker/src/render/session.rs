@@ -6,6 +6,7 @@
 use super::atlas::Atlas;
 use super::compare::{errors, Errors};
 use super::lighting::Lighting;
+use super::probes::ProbeField;
 use super::raster::Renderer;
 use super::reference::{self, Reference};
 use super::shade::{Shader, Terms};
@@ -57,6 +58,9 @@ pub struct Rendered {
     pub diffuse: Errors,
     pub specular: Errors,
     pub total: Errors,
+    /// Errors of the total over the dynamic objects' pixels (shaded from the probes, the
+    /// same in every configuration); None where none is visible.
+    pub dynamic: Option<Errors>,
     pub frame: Option<FrameTime>,
 }
 
@@ -77,6 +81,7 @@ pub fn run(
     bvh: &Bvh,
     lm: &Lightmap,
     bake_dir: &Path,
+    probes: Option<&ProbeField>,
     setup: &Setup,
     gpu: Option<&shaders::gpu::Gpu>,
     log: &mut dyn FnMut(String),
@@ -84,10 +89,14 @@ pub fn run(
     let cam = setup.camera;
     let visible = visible::cast(scene, bvh, lm, &cam);
     let lit = visible.iter().filter(|v| v.is_some_and(|v| v.lightmapped)).count();
+    let dynamic = visible.iter().filter(|v| v.is_some_and(|v| v.probed)).count();
     if lit == 0 {
         return Err("no lightmapped surface is visible from the camera (--camera)".into());
     }
-    log(format!("render: {}×{} pixels, {lit} see a lightmapped surface", cam.width, cam.height));
+    if dynamic > 0 && probes.is_none() {
+        return Err(format!("{dynamic} pixels see dynamic objects (meshes without a lightmap), but the bake has no SH L2 probes"));
+    }
+    log(format!("render: {}×{} pixels, {lit} see a lightmapped surface, {dynamic} a dynamic object (probes)", cam.width, cam.height));
     let tracer = Tracer::new(scene, bvh, setup.max_bounces);
     let t = std::time::Instant::now();
     let total_px = visible.len();
@@ -116,11 +125,11 @@ pub fn run(
         reference.samples,
         reference::relative_noise(&reference)
     ));
-    let renderer = gpu.map(|g| Renderer::new(g, scene, lm)).transpose()?;
+    let renderer = gpu.map(|g| Renderer::new(g, scene, lm, probes)).transpose()?;
     let mut rendered = Vec::new();
     for l in &setup.configurations {
         let atlas = Atlas::read(bake_dir, l.encoding, lm.width, lm.height)?.stored(l.storage)?;
-        let r = render_one(scene, &visible, &reference, &atlas, l, renderer.as_ref(), setup)?;
+        let r = render_one(scene, &visible, &reference, &atlas, probes, l, renderer.as_ref(), setup)?;
         log(format!(
             "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}){}",
             l.name(),
@@ -137,18 +146,25 @@ pub fn run(
 }
 
 /// One configuration: image, errors, frame time.
+#[allow(clippy::too_many_arguments)]
 fn render_one(
     scene: &Scene,
     visible: &[Option<Visible>],
     reference: &Reference,
     atlas: &Atlas,
+    probes: Option<&ProbeField>,
     l: &Lighting,
     renderer: Option<&Renderer>,
     setup: &Setup,
 ) -> Result<Rendered, String> {
     let cam = setup.camera;
-    let lit = |v: &Option<Visible>| v.as_ref().filter(|v| v.lightmapped).map(|v| v.material);
-    let (terms, mask, shaded_on, frame): (Vec<Terms>, Vec<bool>, &'static str, Option<FrameTime>) = match renderer {
+    // (kind, material) of the CPU's visible surface: 1 lightmapped, 2 dynamic.
+    let kind = |v: &Option<Visible>| match v {
+        Some(v) if v.lightmapped => Some((1, v.material)),
+        Some(v) if v.probed => Some((2, v.material)),
+        _ => None,
+    };
+    let (terms, kinds, shaded_on, frame): (Vec<Terms>, Vec<u8>, &'static str, Option<FrameTime>) = match renderer {
         Some(r) => {
             let a = r.analysis(l, atlas, &cam)?;
             let terms: Vec<Terms> = (0..a.diffuse.len())
@@ -158,8 +174,13 @@ fn render_one(
                 })
                 .collect();
             // The raster and the ray cast may pick different surfaces at silhouettes:
-            // compare where both see the same lightmapped material.
-            let mask = (0..terms.len()).map(|k| a.diffuse[k][3] >= 0.0 && lit(&visible[k]) == Some(a.diffuse[k][3] as u32)).collect();
+            // compare where both see the same material the same way.
+            let kinds = (0..terms.len())
+                .map(|k| match kind(&visible[k]) {
+                    Some((c, m)) if a.diffuse[k][3] >= 0.0 && a.diffuse[k][3] as u32 == m && a.specular[k][3] as u8 == c => c,
+                    _ => 0,
+                })
+                .collect();
             let frame = match setup.timing {
                 Some((w, h, warm, n)) if n > 0 => {
                     let big = ViewCamera { width: w, height: h, ..cam };
@@ -167,19 +188,20 @@ fn render_one(
                 }
                 _ => None,
             };
-            (terms, mask, "GPU", frame)
+            (terms, kinds, "GPU", frame)
         }
         None => {
             let shader = Shader::new(*l);
-            let terms = visible::shade_pixels(&shader, atlas, scene, cam.eye, visible);
-            (terms, visible.iter().map(|v| lit(v).is_some()).collect(), "CPU", None)
+            let terms = visible::shade_pixels(&shader, atlas, probes, scene, cam.eye, visible);
+            (terms, visible.iter().map(|v| kind(v).map_or(0, |k| k.0)).collect(), "CPU", None)
         }
     };
     let d: Vec<DVec3> = terms.iter().map(|t| t.diffuse).collect();
     let s: Vec<DVec3> = terms.iter().map(|t| t.specular).collect();
     let tot: Vec<DVec3> = terms.iter().map(|t| t.total()).collect();
     let ref_tot: Vec<DVec3> = reference.diffuse.iter().zip(&reference.specular).map(|(a, b)| *a + *b).collect();
-    let mask: Vec<bool> = mask.iter().zip(&reference.accepted).map(|(m, n)| *m && *n > 0).collect();
+    let mask: Vec<bool> = kinds.iter().zip(&reference.accepted).map(|(k, n)| *k == 1 && *n > 0).collect();
+    let dyn_mask: Vec<bool> = kinds.iter().zip(&reference.accepted).map(|(k, n)| *k == 2 && *n > 0).collect();
     Ok(Rendered {
         lighting: *l,
         shaded_on,
@@ -187,6 +209,7 @@ fn render_one(
         diffuse: errors(&d, &reference.diffuse, &reference.var_diffuse, &mask),
         specular: errors(&s, &reference.specular, &reference.var_specular, &mask),
         total: errors(&tot, &ref_tot, &reference.var_total, &mask),
+        dynamic: dyn_mask.iter().any(|m| *m).then(|| errors(&tot, &ref_tot, &reference.var_total, &dyn_mask)),
         terms,
         frame,
     })

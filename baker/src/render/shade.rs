@@ -124,3 +124,24 @@ impl Shader {
         DVec3::from(s)
     }
 }
+
+/// A dynamic object's terms from interpolated SH L2 probe coefficients (world frame) at
+/// unit world normal `n`, view `v`: E/π by SH's band factors, specular by the zonal filter
+/// with the split-sum DFG (the runtime's `sh_l2_irradiance`, `sh_l2_specular`).
+pub fn probe_terms(c: &[DVec3; 9], m: &SurfaceMaterial, n: DVec3, v: DVec3) -> Terms {
+    let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), n).expect("9 SH coefficients");
+    let diffuse = m.albedo * DVec3::new(ch(0), ch(1), ch(2));
+    let nv = n.dot(v);
+    if !m.glossy() || nv <= 0.0 {
+        return Terms { diffuse, specular: DVec3::ZERO };
+    }
+    let sh = sbf::ShBasis::new(2).expect("order 2");
+    let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
+    let g = sh::specular_zonal_filter(2, nv, m.alpha);
+    let d = sbf::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, m.alpha as f32);
+    let s = |f0: f64, f90: f64| {
+        DVec3::from(sh::specular_zonal_rgb(&sh, &rgb, &g, n, v, m.alpha, f0, f90, [d[0] as f64, d[1] as f64]).expect("SH L2"))
+    };
+    let specular = if m.f0.x == m.f0.y && m.f0.y == m.f0.z { s(m.f0.x, 1.0) } else { m.f0 * s(1.0, 0.0) + s(0.0, 1.0) };
+    Terms { diffuse, specular }
+}

@@ -5,6 +5,7 @@
 
 use super::atlas::Atlas;
 use super::lighting::SurfaceMaterial;
+use super::probes::ProbeField;
 use super::shade::{Shader, Terms};
 use crate::layout::lightmap::Lightmap;
 use crate::scene::bvh::{Bvh, Hit};
@@ -30,6 +31,9 @@ pub struct Visible {
     /// shaded from the bake: no lightmap, or the back of a surface, which the lightmap —
     /// the light arriving at the side the face normal points to — does not cover).
     pub lightmapped: bool,
+    /// The pixel sees the front of a dynamic object (no lightmap, not an emitter): shaded
+    /// from the probe grid ([`super::probes`]).
+    pub probed: bool,
 }
 
 /// The surface of triangle hit `h` (barycentrics u, v at corners 1 and 2) seen along `d`.
@@ -49,6 +53,7 @@ pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, o: Vec3, d: Vec3, h: 
         uv: [uv.x, uv.y],
         material: tri.material,
         lightmapped: mesh.lightmapped && d.dot(ng) < 0.0,
+        probed: !mesh.lightmapped && d.dot(ng) < 0.0 && scene.materials[tri.material as usize].emissive.max_element() <= 0.0,
     }
 }
 
@@ -65,8 +70,23 @@ pub fn cast(scene: &Scene, bvh: &Bvh, lm: &Lightmap, cam: &ViewCamera) -> Vec<Op
         .collect()
 }
 
-/// The shading of one visible surface seen from `eye` (zero where it has no lightmap).
-pub fn shade_one(shader: &Shader, atlas: &Atlas, materials: &[SurfaceMaterial], eye: DVec3, s: &Visible) -> Terms {
+/// The shading of one visible surface seen from `eye`: from the lightmap, or from the
+/// probes for a dynamic object (zero where neither applies).
+pub fn shade_one(
+    shader: &Shader,
+    atlas: &Atlas,
+    probes: Option<&ProbeField>,
+    materials: &[SurfaceMaterial],
+    eye: DVec3,
+    s: &Visible,
+) -> Terms {
+    if s.probed {
+        let v = (eye - s.position.as_dvec3()).normalize();
+        return match probes.and_then(|p| p.at(s.position)) {
+            Some(c) => super::shade::probe_terms(&c, &materials[s.material as usize], s.normal.as_dvec3().normalize(), v),
+            None => Terms::default(),
+        };
+    }
     if !s.lightmapped {
         return Terms::default();
     }
@@ -76,9 +96,16 @@ pub fn shade_one(shader: &Shader, atlas: &Atlas, materials: &[SurfaceMaterial], 
     shader.terms(&c, &materials[s.material as usize], s.normal.as_dvec3().normalize(), v)
 }
 
-/// The CPU image: every pixel's terms (zero where nothing lightmapped is visible).
-pub fn shade_pixels(shader: &Shader, atlas: &Atlas, scene: &Scene, eye: Vec3, visible: &[Option<Visible>]) -> Vec<Terms> {
+/// The CPU image: every pixel's terms (zero where neither a lightmap nor the probes apply).
+pub fn shade_pixels(
+    shader: &Shader,
+    atlas: &Atlas,
+    probes: Option<&ProbeField>,
+    scene: &Scene,
+    eye: Vec3,
+    visible: &[Option<Visible>],
+) -> Vec<Terms> {
     let materials: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
     let eye = eye.as_dvec3();
-    visible.par_iter().map(|s| s.as_ref().map(|s| shade_one(shader, atlas, &materials, eye, s)).unwrap_or_default()).collect()
+    visible.par_iter().map(|s| s.as_ref().map(|s| shade_one(shader, atlas, probes, &materials, eye, s)).unwrap_or_default()).collect()
 }

@@ -351,7 +351,8 @@ fn bent_grid(
 /// banners): 24 × 12 × 10 m, two rows of eight marble columns (r 0.45 m, 6 m, 64 × 72
 /// quads), seven round arches between the columns of each row (intrados and both faces),
 /// a gallery slab over each row, fourteen hanging banners (16 × 48 quads), a polished
-/// glossy floor, and a 12 × 4 m skylight in the ceiling through which a sun and the sky
+/// glossy floor, a gold sphere on a pedestal in the centre without a lightmap (a dynamic
+/// object: shaded from the probes), and a 12 × 4 m skylight in the ceiling through which a sun and the sky
 /// light the hall — ≈ 0.29 M triangles, all lightmapped with their own UVs (one chart per
 /// mesh).
 pub fn atrium() -> Scene {
@@ -363,6 +364,7 @@ pub fn atrium() -> Scene {
         Material::lambert(Vec3::new(0.7, 0.66, 0.6)),        // 3 arches, gallery
         Material::lambert(Vec3::new(0.6, 0.08, 0.06)),       // 4 red banners
         Material::lambert(Vec3::new(0.08, 0.15, 0.55)),      // 5 blue banners
+        Material { metallic: 1.0, ..Material::glossy(Vec3::new(1.0, 0.78, 0.34), 0.4) }, // 6 gold statue
     ];
     let v = Vec3::new;
     let (hx, hz, top) = (12.0f32, 6.0f32, 10.0f32);
@@ -381,6 +383,10 @@ pub fn atrium() -> Scene {
         g("ceiling-left", v(-hx, top, -2.0), v(hx - 6.0, 0.0, 0.0), v(0.0, 0.0, 4.0), 1),
         g("ceiling-right", v(6.0, top, -2.0), v(hx - 6.0, 0.0, 0.0), v(0.0, 0.0, 4.0), 1),
     ];
+    // A dynamic object on a pedestal in the hall's centre: a gold sphere without a lightmap,
+    // shaded from the probe grid.
+    meshes.extend(block("pedestal", v(-0.6, 0.0, -0.6), v(0.6, 0.4, 0.6), 3));
+    meshes.push(Mesh { lightmapped: false, ..uv_sphere("statue", v(0.0, 1.2, 0.0), 0.8, 32, 64, 6) });
     let (r, h) = (0.45f32, 6.0f32);
     for (row, z) in [-3.5f32, 3.5].into_iter().enumerate() {
         let xs: Vec<f32> = (0..8).map(|i| -10.5 + 3.0 * i as f32).collect();

@@ -25,6 +25,11 @@ struct Frame {
     atlas: vec4<u32>,
     // Lobe axes in the tangent frame (SG, AD).
     axes: array<vec4<f32>, 12>,
+    // The probe lattice: probes along x, y, z (w: probe count, 0 without probes) and the
+    // positions of its first and last probe.
+    grid_dims: vec4<u32>,
+    grid_first: vec4<f32>,
+    grid_last: vec4<f32>,
 }
 
 struct MaterialGpu {
@@ -39,9 +44,14 @@ struct MaterialGpu {
 @group(0) @binding(2) var lightmap: texture_2d_array<f32>;
 @group(0) @binding(3) var lut: texture_2d<f32>;
 @group(0) @binding(4) var lobe_tab: texture_2d_array<f32>;
+// SH L2 probes (world frame), 9 RGB rows per probe, x fastest; row 0's w: 1 valid, 0 inside geometry.
+@group(0) @binding(5) var<storage, read> probes: array<vec4<f32>>;
+@group(0) @binding(6) var dfg: texture_2d<f32>;
 
-// The material index's high bit: the surface has a lightmap.
+// The material index's high bits: the surface has a lightmap, or is a dynamic object
+// shaded from the probes.
 const LIGHTMAPPED: u32 = 0x80000000u;
+const PROBED: u32 = 0x40000000u;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -189,34 +199,104 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
     return t;
 }
 
-// Whether the pixel sees the lit side of a lightmapped surface (the lightmap holds the
-// light arriving at the side its face normal points to; the back of a surface is black).
-fn lit_side(vo: VertexOut) -> bool {
-    return (vo.material & LIGHTMAPPED) != 0u && dot(frame.eye.xyz - vo.position, vo.face) > 0.0;
+// 1: the pixel sees the lit side of a lightmapped surface (the lightmap holds the light
+// arriving at the side its face normal points to); 2: the front of a dynamic object; 0:
+// neither (the back of a surface, an emitter): black.
+fn surface_kind(vo: VertexOut) -> u32 {
+    if (dot(frame.eye.xyz - vo.position, vo.face) <= 0.0) {
+        return 0u;
+    }
+    if ((vo.material & LIGHTMAPPED) != 0u) {
+        return 1u;
+    }
+    return select(0u, 2u, (vo.material & PROBED) != 0u);
+}
+
+struct ProbeSample {
+    c: array<vec3<f32>, 9>,
+    // Σ of the valid probes' trilinear weights (0: none valid).
+    w: f32,
+}
+
+// SH L2 at p: trilinear over the lattice cell (clamped), invalid probes left out and the
+// rest renormalised (baker::render::probes::ProbeField::at).
+fn probe_sample(p: vec3<f32>) -> ProbeSample {
+    var out: ProbeSample;
+    let dims = vec3<i32>(frame.grid_dims.xyz);
+    let span = max(frame.grid_last.xyz - frame.grid_first.xyz, vec3<f32>(1e-30));
+    let t = clamp((p - frame.grid_first.xyz) / span * vec3<f32>(max(dims - 1, vec3<i32>(0))), vec3<f32>(0.0), vec3<f32>(max(dims - 1, vec3<i32>(0))));
+    let i = min(vec3<i32>(floor(t)), max(dims - 2, vec3<i32>(0)));
+    let f = select(vec3<f32>(0.0), t - vec3<f32>(i), dims >= vec3<i32>(2));
+    for (var corner = 0; corner < 8; corner++) {
+        let d = vec3<i32>(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+        let idx = min(i + d, dims - 1);
+        let wv = select(vec3<f32>(1.0) - f, f, d == vec3<i32>(1));
+        let w = wv.x * wv.y * wv.z;
+        let k = u32(idx.x + dims.x * (idx.y + dims.y * idx.z));
+        if (w > 0.0 && probes[k * 9u].w > 0.5) {
+            for (var l = 0u; l < 9u; l++) {
+                out.c[l] += w * probes[k * 9u + l].xyz;
+            }
+            out.w += w;
+        }
+    }
+    if (out.w > 0.0) {
+        for (var l = 0u; l < 9u; l++) {
+            out.c[l] /= out.w;
+        }
+    }
+    return out;
+}
+
+// A dynamic object: SH L2 probes in the world frame (baker::render::shade::probe_terms).
+fn shade_probed(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, g: Gloss) -> Terms {
+    var t = Terms(vec3<f32>(0.0), vec3<f32>(0.0));
+    if (frame.grid_dims.w == 0u) {
+        return t;
+    }
+    let s = probe_sample(p);
+    if (s.w <= 0.0) {
+        return t;
+    }
+    t.diffuse = sh_l2_irradiance(s.c, n);
+    if (g.on) {
+        if (g.grey) {
+            t.specular = sh_l2_specular(s.c, dfg, n, v, g.alpha, g.f0.x, 1.0);
+        } else {
+            t.specular = g.f0 * sh_l2_specular(s.c, dfg, n, v, g.alpha, 1.0, 0.0) + sh_l2_specular(s.c, dfg, n, v, g.alpha, 0.0, 1.0);
+        }
+    }
+    return t;
 }
 
 fn shade(vo: VertexOut) -> Terms {
-    if (!lit_side(vo)) {
+    let kind = surface_kind(vo);
+    if (kind == 0u) {
         return Terms(vec3<f32>(0.0), vec3<f32>(0.0));
     }
-    let m = materials[vo.material & ~LIGHTMAPPED];
+    let m = materials[vo.material & ~(LIGHTMAPPED | PROBED)];
     let n = normalize(vo.normal);
-    let tb = tangent_frame(n);
     let v = normalize(frame.eye.xyz - vo.position);
-    let vt = vec3<f32>(dot(v, tb[0]), dot(v, tb[1]), dot(v, n));
-    let fp = lightmap_footprint(vo.uv);
     let f0 = m.f0.xyz;
-    let g = Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, ENCODING != 0u && max(f0.x, max(f0.y, f0.z)) > 0.0 && vt.z > 0.0);
+    let glossy = max(f0.x, max(f0.y, f0.z)) > 0.0;
     var t: Terms;
-    switch ENCODING {
-        case 1u, 2u: {
-            t = shade_sh(fp, vt, g);
-        }
-        case 3u, 4u, 5u: {
-            t = shade_lobes(fp, vt, g);
-        }
-        default: {
-            t = Terms(lightmap_lobe(fp, 0u), vec3<f32>(0.0));
+    if (kind == 2u) {
+        t = shade_probed(vo.position, n, v, Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, glossy && dot(n, v) > 0.0));
+    } else {
+        let tb = tangent_frame(n);
+        let vt = vec3<f32>(dot(v, tb[0]), dot(v, tb[1]), dot(v, n));
+        let fp = lightmap_footprint(vo.uv);
+        let g = Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, ENCODING != 0u && glossy && vt.z > 0.0);
+        switch ENCODING {
+            case 1u, 2u: {
+                t = shade_sh(fp, vt, g);
+            }
+            case 3u, 4u, 5u: {
+                t = shade_lobes(fp, vt, g);
+            }
+            default: {
+                t = Terms(lightmap_lobe(fp, 0u), vec3<f32>(0.0));
+            }
         }
     }
     t.diffuse *= m.albedo_alpha.xyz;
@@ -233,8 +313,9 @@ fn fs_frame(vo: VertexOut) -> @location(0) vec4<f32> {
 // The analysis targets are rgba32uint holding f32 bits (rgba32float is not renderable
 // on every adapter).
 struct TermsOut {
-    // xyz: diffuse; w: material index (+ 0.5), −1 where nothing lightmapped.
+    // xyz: diffuse; w: material index (+ 0.5), −1 where not shaded (surface_kind 0).
     @location(0) diffuse: vec4<u32>,
+    // xyz: specular; w: surface_kind.
     @location(1) specular: vec4<u32>,
 }
 
@@ -242,8 +323,9 @@ struct TermsOut {
 @fragment
 fn fs_terms(vo: VertexOut) -> TermsOut {
     let t = shade(vo);
-    let id = select(-1.0, f32(vo.material & ~LIGHTMAPPED) + 0.5, lit_side(vo));
-    return TermsOut(bitcast<vec4<u32>>(vec4<f32>(t.diffuse, id)), bitcast<vec4<u32>>(vec4<f32>(t.specular, 0.0)));
+    let kind = surface_kind(vo);
+    let id = select(-1.0, f32(vo.material & ~(LIGHTMAPPED | PROBED)) + 0.5, kind != 0u);
+    return TermsOut(bitcast<vec4<u32>>(vec4<f32>(t.diffuse, id)), bitcast<vec4<u32>>(vec4<f32>(t.specular, f32(kind))));
 }
 
 struct SurfaceOut {

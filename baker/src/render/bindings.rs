@@ -1,0 +1,67 @@
+//! What the render pipelines bind, shared by all of them: the bind group layout (frame
+//! uniform, materials, lightmap array, 2D table, lobe table, probes, DFG table — the
+//! bindings of `wgsl/render.wgsl`) and the probe grid as the shader's rows.
+
+use super::probes::ProbeField;
+
+/// WGSL `Frame`'s probe lattice: (probes along x, y, z; count), first and last position.
+pub(super) type Lattice = ([u32; 4], [f32; 4], [f32; 4]);
+
+/// The bind group layout every render pipeline shares (frame, materials, lightmap, table,
+/// lobe table, probes, DFG) and the pipeline layout around it.
+pub(super) fn layouts(d: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+    let texture = |binding: u32, dim: wgpu::TextureViewDimension| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    };
+    let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    };
+    let group_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("render"),
+        entries: &[
+            buffer(0, wgpu::BufferBindingType::Uniform),
+            buffer(1, wgpu::BufferBindingType::Storage { read_only: true }),
+            texture(2, wgpu::TextureViewDimension::D2Array),
+            texture(3, wgpu::TextureViewDimension::D2),
+            texture(4, wgpu::TextureViewDimension::D2Array),
+            buffer(5, wgpu::BufferBindingType::Storage { read_only: true }),
+            texture(6, wgpu::TextureViewDimension::D2),
+        ],
+    });
+    let layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("render"),
+        bind_group_layouts: &[Some(&group_layout)],
+        immediate_size: 0,
+    });
+    (group_layout, layout)
+}
+
+/// The probes as WGSL rows (9 per probe, row 0's w the validity) and the lattice
+/// (dims + count, first, last); one zero row and a count of 0 without probes.
+pub(super) fn probe_rows(probes: Option<&ProbeField>) -> (Vec<[f32; 4]>, Lattice) {
+    match probes {
+        Some(p) => {
+            let rows: Vec<[f32; 4]> = p
+                .coefficients
+                .iter()
+                .zip(&p.valid)
+                .flat_map(|(c, v)| {
+                    c.iter().enumerate().map(move |(l, x)| [x.x as f32, x.y as f32, x.z as f32, if l == 0 && *v { 1.0 } else { 0.0 }])
+                })
+                .collect();
+            let dims = [p.dims[0] as u32, p.dims[1] as u32, p.dims[2] as u32, p.coefficients.len() as u32];
+            (rows, (dims, [p.first.x, p.first.y, p.first.z, 0.0], [p.last.x, p.last.y, p.last.z, 0.0]))
+        }
+        None => (vec![[0.0; 4]], ([0; 4], [0.0; 4], [0.0; 4])),
+    }
+}
