@@ -488,10 +488,18 @@ fn scenes_without_gloss_leave_specular_out() {
     let (f, l) = runtime_features(&bases, &[]);
     assert!(f.iter().all(|x| x.ends_with("irradiance")) && l.is_empty(), "{f:?} {l:?}");
     let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Fit]);
-    assert!(f.contains(&"ad9-specular") && f.contains(&"sg-specular") && l == ["ad_specular_2d.sbflut"]);
+    assert!(
+        f.contains(&"ad9-specular")
+            && f.contains(&"sg-specular")
+            && f.contains(&"sh-specular")
+            && l == ["ad_specular_2d.sbflut", "dfg.sbflut"],
+        "{f:?} {l:?}"
+    );
     let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Tables]);
     assert!(
-        f.contains(&"lobe-ggx-specular") && !f.contains(&"ad9-specular") && l == ["lobe_ggx_ad.sbflut", "lobe_ggx_sg6.sbflut"],
+        f.contains(&"lobe-ggx-specular")
+            && !f.contains(&"ad9-specular")
+            && l == ["dfg.sbflut", "lobe_ggx_ad.sbflut", "lobe_ggx_sg6.sbflut"],
         "{f:?} {l:?}"
     );
     let cfg = BakeConfig { max_bounces: 2, bases: bases.to_vec(), solver: Solver::Ls, ..Default::default() };

@@ -69,7 +69,7 @@ fn bad_profiles_name_the_key() {
     assert_eq!(tables("[\"tables\"]", "bases = [\"ad9\"]"), (vec!["lobe-ggx-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-ad"]));
     assert_eq!(
         tables("[\"fit\", \"tables\"]", "bases = [\"sg9\", \"sh1\"]"),
-        (vec!["lobe-ggx-specular", "sg-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
+        (vec!["lobe-ggx-specular", "sg-specular", "sh-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
     );
     // Where: the value's line and column (1-based, characters).
     let e = Profile::parse(&GOOD.replacen("bases = [\"sh2\"]", "bases = [\"sh3\"]", 1)).unwrap_err();

@@ -7,7 +7,7 @@
 //! from `sbf::profile`, which the tools share): the `fit` path reads the ASG warp (SG) and
 //! Listing 8.1 + the `ad-specular-2d` table (AD); the `tables` path the per-lobe tables
 //! `lobe-ggx-sg6` (SG) and `lobe-ggx-ad` (AD) through `lobe_ggx_*`; SH's specular is the
-//! CPU's zonal path with the `dfg` table on either (no shader function).
+//! zonal filter with the `dfg` table on either (`sh-specular`).
 //!
 //! Needs the workspace's binaries next to this test's (`cargo test --workspace` builds
 //! them); fails naming the missing one otherwise. Mutation tried: probes ignoring the
@@ -48,6 +48,7 @@ fn tmp(name: &str) -> PathBuf {
 fn exported_specular(wgsl: &str) -> BTreeSet<String> {
     [
         ("sg-specular", "sg_asg_lobe"),
+        ("sh-specular", "sh_l1_specular"),
         ("ad9-specular", "ad9_specular"),
         ("ad12-specular", "ad12_specular"),
         ("lobe-ggx-specular", "lobe_ggx_lobe"),
@@ -80,6 +81,7 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
         let mut want_features = BTreeSet::new();
         if p.specular && has("sh") {
             want_tables.insert("dfg".into());
+            want_features.insert("sh-specular".to_string());
         }
         if paths.contains("fit") {
             if has("sg") {
