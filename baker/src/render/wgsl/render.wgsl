@@ -129,10 +129,12 @@ fn shade_sh(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
         }
         return t;
     }
-    var c: array<vec3<f32>, 9>;
-    for (var l = 0u; l < 9u; l++) {
-        c[l] = lightmap_lobe(fp, l);
-    }
+    // Built from constant indices, as for L1: a loop filling the array leaves it in local
+    // memory on some GPUs.
+    let c = array<vec3<f32>, 9>(
+        lightmap_lobe(fp, 0u), lightmap_lobe(fp, 1u), lightmap_lobe(fp, 2u), lightmap_lobe(fp, 3u), lightmap_lobe(fp, 4u),
+        lightmap_lobe(fp, 5u), lightmap_lobe(fp, 6u), lightmap_lobe(fp, 7u), lightmap_lobe(fp, 8u),
+    );
     t.diffuse = sh_l2_irradiance(c, n);
     if (g.on) {
         if (g.grey) {
