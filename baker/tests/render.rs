@@ -421,7 +421,7 @@ fn report_loads_in_a_headless_browser(out: &std::path::Path, configurations: usi
 const GGX_NODES: usize = 384;
 
 fn ggx_albedo_split(nv: f64, alpha: f64) -> (f64, f64) {
-    let (nodes, weights) = gauss_legendre(GGX_NODES);
+    let (nodes, weights) = sbf::quadrature::gauss_legendre(GGX_NODES);
     let a2 = alpha * alpha;
     let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
     let lambda = |w: DVec3| {
@@ -451,36 +451,25 @@ fn ggx_albedo_split(nv: f64, alpha: f64) -> (f64, f64) {
     (sa, sb)
 }
 
-/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n, Golub–Welsch-free).
-fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let (mut x, mut w) = (vec![0.0; n], vec![0.0; n]);
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
-            let dz = p1 / dp;
-            z -= dz;
-            if dz.abs() < 1e-15 {
-                let (mut q0, mut q1) = (1.0, z);
-                for k in 2..=n {
-                    let q2 = ((2 * k - 1) as f64 * z * q1 - (k - 1) as f64 * q0) / k as f64;
-                    q0 = q1;
-                    q1 = q2;
-                }
-                let d = n as f64 * (z * q1 - q0) / (z * z - 1.0);
-                x[i] = z;
-                w[i] = 2.0 / ((1.0 - z * z) * d * d);
-                break;
-            }
+/// Tolerance of SH's split-sum specular L(F0·A + B) read through the DFG table at
+/// (n·v, α): the table's stated max error at its nodes (9.73e-4, luts/MANIFEST) plus its
+/// bilinear interpolation error between nodes, bounded by the table's own second
+/// differences around the lookup, (|Δ²ₓ| + |Δ²ᵧ|)/8, both × (F0 + 1)·L, plus 1e-5·L for f32.
+fn dfg_tolerance(nv: f64, alpha: f64, f0: f64, l: f64) -> f64 {
+    let dfg = sbf::luts::committed::dfg();
+    let (w, h) = (dfg.width, dfg.height);
+    let x = (nv * w as f64 - 0.5).clamp(1.0, w as f64 - 3.0) as usize;
+    let y = (alpha * h as f64 - 0.5).clamp(1.0, h as f64 - 3.0) as usize;
+    let t = |i: usize, j: usize, ch: usize| dfg.texel(i, j, ch) as f64;
+    let mut curv = 0.0f64;
+    for (i, j) in [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)] {
+        for ch in 0..2 {
+            let dxx = (t(i + 1, j, ch) - 2.0 * t(i, j, ch) + t(i - 1, j, ch)).abs();
+            let dyy = (t(i, j + 1, ch) - 2.0 * t(i, j, ch) + t(i, j - 1, ch)).abs();
+            curv = curv.max(dxx + dyy);
         }
     }
-    (x, w)
+    (9.73e-4 + curv / 8.0) * (f0 + 1.0) * l + 1e-5 * l
 }
 
 /// A plane under a uniform lightmap, seen from above: every basis renders its closed form
@@ -534,7 +523,6 @@ fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
     let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
     let f0 = mats[1].f0.x;
     let alpha = mats[1].alpha;
-    let dfg = sbf::luts::committed::dfg();
     let uniform = |c: Vec<f64>| Atlas {
         width: lm.width,
         height: lm.height,
@@ -598,25 +586,7 @@ fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
             let (spec, spec_tol) = if *sh_spec && m.glossy() {
                 let key = (nv * 1e6).round() as u64;
                 let (a, b) = *split_cache.entry(key).or_insert_with(|| ggx_albedo_split(nv, alpha));
-                // Curvature of the table around the lookup (texel units): second differences.
-                let (w, h) = (dfg.width, dfg.height);
-                let (x, y) = (
-                    (nv * w as f64 - 0.5).clamp(1.0, w as f64 - 2.0) as usize,
-                    (alpha * h as f64 - 0.5).clamp(1.0, h as f64 - 2.0) as usize,
-                );
-                let t = |i: usize, j: usize, ch: usize| dfg.texel(i, j, ch) as f64;
-                let mut curv = 0.0f64;
-                for dx in 0..2 {
-                    for dy in 0..2 {
-                        let (i, j) = ((x + dx).min(w - 2).max(1), (y + dy).min(h - 2).max(1));
-                        for ch in 0..2 {
-                            let dxx = (t(i + 1, j, ch) - 2.0 * t(i, j, ch) + t(i - 1, j, ch)).abs();
-                            let dyy = (t(i, j + 1, ch) - 2.0 * t(i, j, ch) + t(i, j - 1, ch)).abs();
-                            curv = curv.max(dxx + dyy);
-                        }
-                    }
-                }
-                (l_sky * (f0 * a + b), (9.73e-4 + curv / 8.0) * (f0 + 1.0) * l_sky + 1e-5 * l_sky)
+                (l_sky * (f0 * a + b), dfg_tolerance(nv, alpha, f0, l_sky))
             } else {
                 (0.0, 1e-6)
             };
@@ -725,7 +695,6 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
     let cpu = baker::render::visible::shade_pixels(&Shader::new(l), &atlas, Some(&probes), &scene, cam.eye, &visible);
     let gpu_img = gpu.as_ref().map(|g| Renderer::new(g, &scene, &lm, Some(&probes)).unwrap().analysis(&l, &atlas, &cam).unwrap());
     let m = SurfaceMaterial::of(&scene.materials[1]);
-    let dfg = sbf::luts::committed::dfg();
     let (mut n, mut worst) = (0, 0.0f64);
     for (k, v) in visible.iter().enumerate() {
         let Some(v) = v.as_ref().filter(|v| v.probed) else { continue };
@@ -736,21 +705,7 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
         }
         let (a, b) = ggx_albedo_split(nv, m.alpha);
         let spec = l_sky * (m.f0.x * a + b);
-        // The DFG table's stated node error and its interpolation (second differences).
-        let (w, h) = (dfg.width, dfg.height);
-        let (x, y) =
-            ((nv * w as f64 - 0.5).clamp(1.0, w as f64 - 3.0) as usize, (m.alpha * h as f64 - 0.5).clamp(1.0, h as f64 - 3.0) as usize);
-        let t = |i: usize, j: usize, ch: usize| dfg.texel(i, j, ch) as f64;
-        let mut curv = 0.0f64;
-        for (i, j) in [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)] {
-            for ch in 0..2 {
-                curv = curv.max(
-                    (t(i + 1, j, ch) - 2.0 * t(i, j, ch) + t(i - 1, j, ch)).abs()
-                        + (t(i, j + 1, ch) - 2.0 * t(i, j, ch) + t(i, j - 1, ch)).abs(),
-                );
-            }
-        }
-        let spec_tol = (9.73e-4 + curv / 8.0) * (m.f0.x + 1.0) * l_sky + 1e-5 * l_sky;
+        let spec_tol = dfg_tolerance(nv, m.alpha, m.f0.x, l_sky);
         let diff_tol = 1e-5 * l_sky;
         let mut check = |what: &str, d: f64, s: f64| {
             let e = ((d - rho * l_sky).abs() / diff_tol).max((s - spec).abs() / spec_tol);

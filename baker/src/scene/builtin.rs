@@ -148,25 +148,7 @@ pub fn cornell() -> Scene {
 /// texels.
 fn grid(name: &str, corner: Vec3, u: Vec3, v: Vec3, nu: usize, nv: usize, material: usize) -> Mesh {
     let n = u.cross(v).normalize();
-    let side = u.length().max(v.length());
-    let (mut positions, mut uv) = (Vec::with_capacity((nu + 1) * (nv + 1)), Vec::with_capacity((nu + 1) * (nv + 1)));
-    for j in 0..=nv {
-        for i in 0..=nu {
-            let (a, b) = (i as f32 / nu as f32, j as f32 / nv as f32);
-            positions.push(corner + u * a + v * b);
-            uv.push(sbf::glam::Vec2::new(a * u.length(), b * v.length()) / side);
-        }
-    }
-    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
-    let mut indices = Vec::with_capacity(2 * nu * nv);
-    for j in 0..nv {
-        for i in 0..nu {
-            indices.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    let normals = vec![n; positions.len()];
-    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: Some(uv), lightmapped: true }
+    bent_grid(name, nu, nv, (u.length(), v.length()), material, |a, b| corner + u * a + v * b, |_, _| n)
 }
 
 /// Quads per metre of [`room_1m`]'s surfaces (1.8 cm cells).
