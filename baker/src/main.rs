@@ -27,7 +27,7 @@ const DENOISE_AUTO_MAX_PASSES: u64 = 128;
 #[command(
     version,
     about = "Bake lightmaps and light probes into spherical bases (SH, SG, Ambient Dice), progressively, on the GPU (wgpu) or the CPU.",
-    after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)"
+    after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)\n  baker --shard 0/4 --out shards; … --shard 3/4 --out shards; baker merge bake-out shards/*.sbfshard"
 )]
 struct Cli {
     /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `sunbeam` (the slit room lit by a sun through the slit: a small bright indirect region), `room-1m` (1 M lightmapped triangles, the fair benchmark), `atrium` (a 0.29 M-triangle hall with columns, arches and banners, lit by a sun and the sky through a skylight: the renderer's Table 8.1 workload), `dense` (cornell + a 1 M-triangle
@@ -174,6 +174,14 @@ struct Cli {
     /// --camera (each needs the whole atlas every pass).
     #[arg(long, default_value_t = 1)]
     gpus: usize,
+    /// Bake only shard I of N (0 ≤ I < N) of this bake — the blocks of texels and probes
+    /// dealt to it, as --gpus deals them to GPUs — and write its partial state to
+    /// OUT/shard-I-of-N.sbfshard (plus a record of the run) instead of the outputs; `baker
+    /// merge OUT SHARD…` puts the N shards together into exactly the single bake's outputs.
+    /// Same bytes on a re-run; with --resume a retried shard continues from its checkpoint.
+    /// Not with --guiding, --filter, --adaptive or --camera.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<String>,
     /// Also log what each stage left out (e.g. the GPU kernel's unused features) and the
     /// wavefront pass graph.
     #[arg(short, long)]
@@ -280,7 +288,110 @@ fn options(c: Cli) -> Result<Options, String> {
         }
         .then_some(baker::post::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
         stitch_seams: c.stitch_seams != Toggle::Off,
+        shard: c.shard.as_deref().map(parse_shard).transpose()?,
     })
+}
+
+/// `--shard I/N`.
+fn parse_shard(s: &str) -> Result<run::ShardSpec, String> {
+    let bad = || format!("--shard takes I/N (shard I of N, 0 ≤ I < N), not '{s}'");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (index, count) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+    if count == 0 || index >= count {
+        return Err(bad());
+    }
+    // The recipe is filled in from the command line by `main`.
+    Ok(run::ShardSpec { index, count, recipe: Vec::new() })
+}
+
+/// Arguments that say where or how a bake runs, not what it bakes (and whether each takes
+/// a value): left out of a shard's recipe, so shards run on different machines and devices
+/// merge.
+const RUN_ONLY: [(&str, bool); 10] = [
+    ("--shard", true),
+    ("--out", true),
+    ("--resume", false),
+    ("--checkpoint-every", true),
+    ("--device", true),
+    ("--gpus", true),
+    ("--batch-ms", true),
+    ("--pipeline", true),
+    ("--verbose", false),
+    ("-v", false),
+];
+
+/// The arguments that define a bake (recorded in a shard file for `baker merge`): the
+/// command line without [`RUN_ONLY`], with the files it names (--scene, --env,
+/// --profile) made absolute, so the merge finds them from any folder.
+fn recipe(args: &[String]) -> Vec<String> {
+    let absolute = |v: &str| match std::fs::canonicalize(v) {
+        Ok(p) if std::path::Path::new(v).is_file() => p.to_string_lossy().into_owned(),
+        _ => v.to_string(),
+    };
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        let a = &args[i];
+        let (flag, inline) = match a.split_once('=') {
+            Some((f, v)) if a.starts_with("--") => (f, Some(v)),
+            _ => (a.as_str(), None),
+        };
+        if let Some((_, takes)) = RUN_ONLY.iter().find(|(f, _)| *f == flag) {
+            i += 1 + (*takes && inline.is_none()) as usize;
+            continue;
+        }
+        if ["--scene", "--env", "--profile"].contains(&flag) {
+            match inline {
+                Some(v) => out.push(format!("{flag}={}", absolute(v))),
+                None => {
+                    out.push(a.clone());
+                    if let Some(v) = args.get(i + 1) {
+                        out.push(absolute(v));
+                        i += 1;
+                    }
+                }
+            }
+        } else {
+            out.push(a.clone());
+        }
+        i += 1;
+    }
+    out
+}
+
+/// `baker merge OUT SHARD…`.
+#[derive(Parser, Debug)]
+#[command(
+    name = "baker merge",
+    about = "Merge the N shard files of a bake (baker --shard I/N) into the outputs of the single bake: the same files, bit for bit.",
+    after_help = "The scene, layout and settings come from the arguments recorded in the shards; the files they name must be readable here. Refused, with the reason: shards of different bakes or splits, a shard given twice, a missing shard, a scene that changed since."
+)]
+struct MergeCli {
+    /// Output folder.
+    out: PathBuf,
+    /// The shard files (shard-I-of-N.sbfshard), all N of them, in any order.
+    #[arg(required = true)]
+    shards: Vec<PathBuf>,
+}
+
+fn merge_main(args: &[String]) -> ExitCode {
+    let m = MergeCli::parse_from(std::iter::once("baker merge".to_string()).chain(args.iter().cloned()));
+    let parse = |recipe: &[String]| -> Result<Options, String> {
+        let cli = Cli::try_parse_from(std::iter::once("baker".to_string()).chain(recipe.iter().cloned())).map_err(|e| e.to_string())?;
+        let o = options(cli)?;
+        o.validate()?;
+        Ok(o)
+    };
+    match run::merge(&m.out, &m.shards, &parse, &mut |s| eprintln!("{s}")) {
+        Ok(s) => {
+            eprintln!("done: merged {} passes into {}", s.lightmap.passes, m.out.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("baker merge: {e}");
+            ExitCode::from(2)
+        }
+    }
 }
 
 /// The accumulation strategies the arguments ask for — adaptive sampling, ray guiding,
@@ -341,9 +452,19 @@ fn strategies(c: &Cli) -> Result<Strategies, String> {
 }
 
 fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().collect();
+    if args.get(1).map(String::as_str) == Some("merge") {
+        return merge_main(&args[2..]);
+    }
     // Every bound is checked here too (run::bake checks again for library callers), so a
     // bad argument exits with 2 before anything is loaded.
-    let o = match options(Cli::parse()).and_then(|o| o.validate().map(|_| o)) {
+    let parsed = options(Cli::parse()).map(|mut o| {
+        if let Some(s) = &mut o.shard {
+            s.recipe = recipe(&args[1..]);
+        }
+        o
+    });
+    let o = match parsed.and_then(|o| o.validate().map(|_| o)) {
         Ok(o) => o,
         Err(e) => {
             eprintln!("baker: {e}");
@@ -352,7 +473,8 @@ fn main() -> ExitCode {
     };
     match run::bake(&o, &mut |s| eprintln!("{s}")) {
         Ok(s) => {
-            eprintln!("done: {} passes in {:.1} s on {}", s.lightmap.passes, s.seconds, s.device);
+            let what = if o.shard.is_some() { "shard" } else { "bake" };
+            eprintln!("done: {what} of {} passes in {:.1} s on {}", s.lightmap.passes, s.seconds, s.device);
             ExitCode::SUCCESS
         }
         Err(e) => {

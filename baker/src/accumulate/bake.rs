@@ -46,6 +46,9 @@ pub struct Bake<'a> {
     tiles: Option<crate::accumulate::adaptive::Tiles>,
     /// Filtered accumulation's layout (None without a filter).
     gather: Option<crate::accumulate::filter::GatherLayout>,
+    /// The items this bake traces ([`crate::accumulate::partition`]; the others keep their
+    /// empty state).
+    partition: super::Partition,
 }
 
 impl std::fmt::Debug for Bake<'_> {
@@ -65,7 +68,7 @@ impl<'a> Bake<'a> {
         let state = BakeState::new(&config, targets);
         let tiles = config.adaptive.map(|_| crate::accumulate::adaptive::Tiles::new(targets, targets.width).expect("checked"));
         let gather = config.filter.map(|f| crate::accumulate::filter::GatherLayout::new(targets, &f).expect("checked"));
-        Bake { config, targets, tracer, bases, state, guide: None, tiles, gather }
+        Bake { config, targets, tracer, bases, state, guide: None, tiles, gather, partition: super::Partition::WHOLE }
     }
 
     /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
@@ -90,6 +93,16 @@ impl<'a> Bake<'a> {
             }
         }
         Ok(b)
+    }
+
+    /// Bakes only the items of `p` (a shard of a bake spread over machines); the others
+    /// keep their empty state. Refused for the strategies that read every item each pass.
+    pub fn set_partition(&mut self, p: super::Partition) -> Result<(), String> {
+        if p.count > 1 {
+            self.config.check_partitionable()?;
+        }
+        self.partition = p;
+        Ok(())
     }
 
     /// The configured bases' sbf objects.
@@ -162,7 +175,7 @@ impl<'a> Bake<'a> {
     /// batch.
     pub fn pass_samples(&mut self) -> Vec<ItemSample> {
         let p = self.state.passes;
-        let all: Vec<(u32, u64)> = (0..self.targets.items.len() as u32).map(|k| (k, p)).collect();
+        let all: Vec<(u32, u64)> = self.partition.ranges(self.targets.items.len()).flatten().map(|k| (k as u32, p)).collect();
         let samples = self.trace_items(&all);
         self.absorb(&all, &samples);
         samples

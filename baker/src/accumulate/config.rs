@@ -190,6 +190,24 @@ impl BakeConfig {
         Ok(())
     }
 
+    /// Whether the items can be baked in parts (devices, shards) that never see each
+    /// other's samples: not with the strategies that read every item each pass — ray
+    /// guiding (its clusters learn from all their texels), filtered accumulation (a texel
+    /// gathers its neighbours' samples), adaptive and camera-based sampling (each batch
+    /// draws from the whole atlas). The error names the option.
+    pub fn check_partitionable(&self) -> Result<(), String> {
+        let why = [
+            (self.guiding.is_some(), "--guiding", "ray guiding's clusters learn from all their texels every pass"),
+            (self.filter.is_some(), "--filter", "each texel gathers its neighbours' samples every pass"),
+            (self.adaptive.is_some(), "--adaptive", "each batch draws its texels from the whole atlas"),
+            (self.camera.is_some(), "--camera", "each batch draws its texels from the whole view"),
+        ];
+        match why.iter().find(|w| w.0) {
+            Some((_, option, reason)) => Err(format!("{option} cannot be split into parts baked apart ({reason}); bake it whole")),
+            None => Ok(()),
+        }
+    }
+
     /// The progressive options for `basis` on these targets: Gauss–Seidel with the
     /// eq. 7.15 denominator at acceleration [`BAKE_ACCELERATION`]; sphere bases on
     /// texels see only the upper hemisphere, so mirrored zero samples pin the lower half

@@ -15,6 +15,8 @@
 //! mean, M2) and the u64 sample count, the u64 count of negative-weight samples, and per
 //! basis and target the encoder state as above. f32 state round-trips exactly, so a resumed bake continues bit for bit.
 
+pub mod shard;
+
 use crate::accumulate::{BakeConfig, BakeState, Moments, Targets};
 use crate::scene::{Environment, Light, Scene};
 use sbf::solve::ProgressiveEncoder;
@@ -168,14 +170,7 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
         let lobes = e.first().map(|x| x.coefficients().nrows()).unwrap_or(0);
         v.extend_from_slice(&(lobes as u32).to_le_bytes());
     }
-    for m in &state.moments {
-        for x in m.sum.iter().chain(&m.sum_sq) {
-            v.extend_from_slice(&x.to_le_bytes());
-        }
-        for n in [m.accepted, m.back_faces, m.non_finite] {
-            v.extend_from_slice(&n.to_le_bytes());
-        }
-    }
+    state.moments.iter().for_each(|m| write_moments(&mut v, m));
     write_encoders(&mut v, &state.encoders);
     v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
     for x in state.guide_sums.iter().chain(&state.guide_basis) {
@@ -199,18 +194,51 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
 }
 
 fn write_encoders(v: &mut Vec<u8>, encoders: &[Vec<ProgressiveEncoder<f32>>]) {
-    for encs in encoders {
-        for e in encs {
-            let c = e.coefficients();
-            for (i, g) in e.integrals().iter().enumerate() {
-                for x in [c[(i, 0)], c[(i, 1)], c[(i, 2)], *g] {
-                    v.extend_from_slice(&(x as f32).to_le_bytes());
-                }
-            }
-            v.extend_from_slice(&(e.total_weight() as f32).to_le_bytes());
-            v.extend_from_slice(&e.sample_count().to_le_bytes());
+    encoders.iter().flatten().for_each(|e| write_encoder(v, e));
+}
+
+/// One encoder's state: per lobe the RGB amplitude and mean B² (f32), the total weight
+/// (f32) and the u64 update count.
+fn write_encoder(v: &mut Vec<u8>, e: &ProgressiveEncoder<f32>) {
+    let c = e.coefficients();
+    for (i, g) in e.integrals().iter().enumerate() {
+        for x in [c[(i, 0)], c[(i, 1)], c[(i, 2)], *g] {
+            v.extend_from_slice(&(x as f32).to_le_bytes());
         }
     }
+    v.extend_from_slice(&(e.total_weight() as f32).to_le_bytes());
+    v.extend_from_slice(&e.sample_count().to_le_bytes());
+}
+
+fn read_encoder(r: &mut Reader, opts: &sbf::solve::ProgressiveOptions, lobes: usize) -> Result<ProgressiveEncoder<f32>, String> {
+    let mut amp = vec![[0.0; 3]; lobes];
+    let mut integ = vec![0.0; lobes];
+    for i in 0..lobes {
+        amp[i] = [r.f32()? as f64, r.f32()? as f64, r.f32()? as f64];
+        integ[i] = r.f32()? as f64;
+    }
+    let w = r.f32()? as f64;
+    let n = r.u64()?;
+    ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))
+}
+
+/// One item's moments: the six f64 sums, then the accepted, back-face and non-finite counts.
+fn write_moments(v: &mut Vec<u8>, m: &Moments) {
+    for x in m.sum.iter().chain(&m.sum_sq) {
+        v.extend_from_slice(&x.to_le_bytes());
+    }
+    for n in [m.accepted, m.back_faces, m.non_finite] {
+        v.extend_from_slice(&n.to_le_bytes());
+    }
+}
+
+fn read_moments(r: &mut Reader) -> Result<Moments, String> {
+    let mut x = [0.0; 6];
+    for v in x.iter_mut() {
+        *v = r.f64()?;
+    }
+    let (accepted, back_faces, non_finite) = (r.u64()?, r.u64()?, r.u64()?);
+    Ok(Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]], accepted, back_faces, non_finite })
 }
 
 fn read_encoders(
@@ -223,15 +251,7 @@ fn read_encoders(
     for (b, encs) in encoders.iter_mut().enumerate() {
         let opts = config.encoder_options(config.bases[b], targets.sphere);
         for e in encs.iter_mut() {
-            let mut amp = vec![[0.0; 3]; lobes[b]];
-            let mut integ = vec![0.0; lobes[b]];
-            for i in 0..lobes[b] {
-                amp[i] = [r.f32()? as f64, r.f32()? as f64, r.f32()? as f64];
-                integ[i] = r.f32()? as f64;
-            }
-            let w = r.f32()? as f64;
-            let n = r.u64()?;
-            *e = ProgressiveEncoder::from_state(opts.clone(), &amp, &integ, w, n).map_err(|e| format!("checkpoint: {e}"))?;
+            *e = read_encoder(r, &opts, lobes[b])?;
         }
     }
     Ok(())
@@ -288,12 +308,7 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
         lobes.push(l);
     }
     for m in state.moments.iter_mut() {
-        let mut x = [0.0; 6];
-        for v in x.iter_mut() {
-            *v = r.f64()?;
-        }
-        let (accepted, back_faces, non_finite) = (r.u64()?, r.u64()?, r.u64()?);
-        *m = Moments { sum: [x[0], x[1], x[2]], sum_sq: [x[3], x[4], x[5]], accepted, back_faces, non_finite };
+        *m = read_moments(&mut r)?;
     }
     read_encoders(&mut r, config, targets, &lobes, &mut state.encoders)?;
     let sums = r.u32()? as usize;

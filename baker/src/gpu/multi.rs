@@ -16,27 +16,18 @@
 //! Left out: ray guiding (its clusters learn from all their texels every pass, which would
 //! need a cross-device reduction per pass) — refused with a clear error.
 
-use crate::accumulate::{BakeConfig, BakeState, Targets};
+use crate::accumulate::{BakeConfig, BakeState, Partition, Targets};
 use crate::estimator::trace::Tracer;
 use crate::gpu::GpuBake;
 use shaders::gpu::Gpu;
 
-/// The partition block for `items` on `devices`: about 32 blocks per device (a balanced
-/// share whatever the atlas's layout) of a multiple of 64 items (whole workgroups), 64 to
-/// 4096 (long runs of neighbouring texels keep the BVH traversal coherent).
-pub fn partition_block(items: usize, devices: usize) -> usize {
-    (items / (32 * devices.max(1)) / 64).clamp(1, 64) * 64
-}
-
-/// The device of `devices` that bakes `item` with blocks of `block` items.
-pub fn owner(item: usize, block: usize, devices: usize) -> usize {
-    (item / block) % devices
-}
+pub use crate::accumulate::partition::{owner, partition_block};
 
 /// One bake on several devices.
 pub struct MultiGpuBake<'g> {
     bakes: Vec<GpuBake<'g>>,
-    block: usize,
+    /// Each device's part of the items.
+    parts: Vec<Partition>,
     /// Wall seconds each device's thread took in the last [`MultiGpuBake::run`].
     seconds: Vec<f64>,
 }
@@ -44,7 +35,7 @@ pub struct MultiGpuBake<'g> {
 impl std::fmt::Debug for MultiGpuBake<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("MultiGpuBake")
-            .field("block", &self.block)
+            .field("parts", &self.parts)
             .field("shares", &self.bakes.iter().map(|b| b.share()).collect::<Vec<_>>())
             .field("passes", &self.passes())
             .finish()
@@ -54,6 +45,19 @@ impl std::fmt::Debug for MultiGpuBake<'_> {
 impl<'g> MultiGpuBake<'g> {
     /// One [`GpuBake`] per device, the targets dealt out in blocks ([`partition_block`]).
     pub fn new<'s>(gpus: &'g [Gpu], tracer_of: &dyn Fn() -> Tracer<'s>, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
+        let whole = Partition::with_block(0, 1, partition_block(targets.items.len(), gpus.len()))?;
+        MultiGpuBake::for_part(gpus, tracer_of, targets, config, whole)
+    }
+
+    /// One [`GpuBake`] per device baking `part` of the targets (a shard), its blocks dealt
+    /// out to the devices ([`Partition::split`]).
+    pub fn for_part<'s>(
+        gpus: &'g [Gpu],
+        tracer_of: &dyn Fn() -> Tracer<'s>,
+        targets: &Targets,
+        config: &BakeConfig,
+        part: Partition,
+    ) -> Result<Self, String> {
         if gpus.is_empty() {
             return Err("no device to bake on".into());
         }
@@ -63,20 +67,23 @@ impl<'g> MultiGpuBake<'g> {
                     .into(),
             );
         }
-        let block = partition_block(targets.items.len(), gpus.len());
+        if part.count > 1 {
+            config.check_partitionable()?;
+        }
+        let parts: Vec<Partition> = (0..gpus.len()).map(|g| part.split(g, gpus.len())).collect();
         let mut bakes = Vec::with_capacity(gpus.len());
-        for (k, g) in gpus.iter().enumerate() {
+        for (g, p) in gpus.iter().zip(&parts) {
             let mut bake = GpuBake::new(g, &tracer_of(), targets, config)?;
-            bake.set_partition(k, gpus.len(), block)?;
+            bake.set_partition(p.index, p.count, p.block)?;
             bakes.push(bake);
         }
         let seconds = vec![0.0; bakes.len()];
-        Ok(MultiGpuBake { bakes, block, seconds })
+        Ok(MultiGpuBake { bakes, parts, seconds })
     }
 
     /// Items per partition block.
     pub fn block(&self) -> usize {
-        self.block
+        self.parts[0].block
     }
 
     /// The per-device bakes (their item ranges, kernels, batching).
@@ -126,20 +133,18 @@ impl<'g> MultiGpuBake<'g> {
         &self.seconds
     }
 
-    /// The merged state: each item from the device that baked it ([`owner`]).
+    /// The merged state: each item from the device that baked it.
     pub fn state(&self) -> Result<BakeState, String> {
         let mut merged = self.bakes[0].state()?;
-        let n = self.bakes.len();
-        for (d, b) in self.bakes.iter().enumerate().skip(1) {
+        for (b, p) in self.bakes.iter().zip(&self.parts).skip(1) {
             let part = b.state()?;
             if part.passes != merged.passes {
                 return Err(format!("devices disagree on the passes run ({} vs {})", part.passes, merged.passes));
             }
-            for start in (d * self.block..merged.moments.len()).step_by(n * self.block) {
-                let end = (start + self.block).min(merged.moments.len());
-                merged.moments[start..end].clone_from_slice(&part.moments[start..end]);
-                for (m, p) in merged.encoders.iter_mut().zip(&part.encoders) {
-                    m[start..end].clone_from_slice(&p[start..end]);
+            for r in p.ranges(merged.moments.len()) {
+                merged.moments[r.clone()].clone_from_slice(&part.moments[r.clone()]);
+                for (m, q) in merged.encoders.iter_mut().zip(&part.encoders) {
+                    m[r.clone()].clone_from_slice(&q[r.clone()]);
                 }
             }
         }

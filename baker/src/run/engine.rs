@@ -2,7 +2,7 @@
 //! with ETA, a checkpoint every N passes, resume from a checkpoint.
 
 use super::Options;
-use crate::accumulate::{Bake, BakeConfig, BakeState, Progressive, Targets};
+use crate::accumulate::{Bake, BakeConfig, BakeState, Partition, Progressive, Targets};
 use crate::checkpoint;
 use crate::estimator::trace::Tracer;
 use crate::gpu::multi::MultiGpuBake;
@@ -21,8 +21,19 @@ pub(crate) fn run_targets<'s>(
     log: &mut dyn FnMut(String),
 ) -> Result<(BakeState, u64), String> {
     config.check(targets)?;
-    let ckpt = o.out.join(format!("{what}.checkpoint"));
-    let fp = checkpoint::content_fingerprint(scene, targets, config, what);
+    // A shard bakes its own part and checkpoints it under its own name and identity.
+    let (part, ckpt, fp) = match &o.shard {
+        Some(s) => {
+            let part = Partition::of(s.index, s.count, targets.items.len())?;
+            let name = format!("{what}.shard-{}-of-{}", s.index, s.count);
+            (part, o.out.join(format!("{name}.checkpoint")), checkpoint::content_fingerprint(scene, targets, config, &name))
+        }
+        None => (
+            Partition::with_block(0, 1, crate::accumulate::partition::partition_block(targets.items.len(), gpus.len()))?,
+            o.out.join(format!("{what}.checkpoint")),
+            checkpoint::content_fingerprint(scene, targets, config, what),
+        ),
+    };
     let saved = if o.resume && ckpt.exists() {
         let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
         let st = checkpoint::from_bytes(&bytes, fp, config, targets).map_err(|e| format!("{}: {e}", ckpt.display()))?;
@@ -35,12 +46,16 @@ pub(crate) fn run_targets<'s>(
         None
     };
     let mut engine = match gpus {
-        [] => match saved {
-            Some(st) => Box::new(Bake::resume(config.clone(), targets, tracer_of(), st)?) as Box<dyn Progressive>,
-            None => Box::new(Bake::new(config.clone(), targets, tracer_of())),
-        },
+        [] => {
+            let mut b = match saved {
+                Some(st) => Bake::resume(config.clone(), targets, tracer_of(), st)?,
+                None => Bake::new(config.clone(), targets, tracer_of()),
+            };
+            b.set_partition(part)?;
+            Box::new(b) as Box<dyn Progressive>
+        }
         gpus => {
-            let mut b = MultiGpuBake::new(gpus, tracer_of, targets, config)?;
+            let mut b = MultiGpuBake::for_part(gpus, tracer_of, targets, config, part)?;
             match o.batch_seconds {
                 Some(s) => b.set_batch_target(Some(s)),
                 None => b.set_chunk(usize::MAX),
@@ -56,7 +71,7 @@ pub(crate) fn run_targets<'s>(
             } else if !left_out.is_empty() {
                 log(format!("{what}: {} features left out of the GPU kernel (this bake does not use them; -v lists them)", left_out.len()));
             }
-            if gpus.len() > 1 {
+            if gpus.len() > 1 && o.shard.is_none() {
                 let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();
                 log(format!("{what}: items dealt to {} GPUs in blocks of {}: {} items each", gpus.len(), b.block(), shares.join(", ")));
             }
@@ -66,6 +81,10 @@ pub(crate) fn run_targets<'s>(
             Box::new(b)
         }
     };
+    if let Some(s) = &o.shard {
+        let n = targets.items.len();
+        log(format!("{what}: shard {} of {}: {} of {n} items, dealt in blocks of {}", s.index, s.count, part.share(n), part.block));
+    }
     // Adaptive bakes count pilot passes and batches (about the paths of o.passes passes).
     let total = config.adaptive.map_or(o.passes, |a| a.batches_for(o.passes));
     let unit = if config.adaptive.is_some() { "passes + batches" } else { "passes" };

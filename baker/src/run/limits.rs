@@ -83,6 +83,17 @@ impl Options {
                 return Err(format!("--gpus {}: cannot split a bake with {why}; use one GPU", self.gpus));
             }
         }
+        if let Some(sh) = &self.shard {
+            if sh.count == 0 || sh.index >= sh.count {
+                return Err(format!("--shard {}/{}: the index must be below the count (0/N to N-1/N)", sh.index, sh.count));
+            }
+            if sh.count > 1 {
+                self.config.check_partitionable().map_err(|e| format!("--shard {}/{}: {e}", sh.index, sh.count))?;
+            }
+            if self.measure_rays.is_some() {
+                return Err("--measure-rays measures a whole bake; drop --shard".into());
+            }
+        }
         if let Some(a) = &self.config.adaptive {
             if a.pilot_passes >= self.passes {
                 return Err(format!(

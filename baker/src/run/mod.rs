@@ -9,8 +9,10 @@ mod engine;
 pub mod limits;
 mod options;
 mod outputs;
+pub mod shard;
 
-pub use options::{Device, Options, Summary};
+pub use options::{Device, Options, ShardSpec, Summary};
+pub use shard::merge;
 
 use crate::accumulate::{BakeConfig, Solver, Targets};
 use crate::estimator::trace::Tracer;
@@ -23,13 +25,24 @@ use outputs::{write_outputs, OutputContext, StageTimes};
 use sbf::glam::Vec3;
 use std::time::Instant;
 
-/// Runs a whole bake and writes its outputs (unless stopped early).
-pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String> {
-    let t0 = Instant::now();
-    // Every bound first, then the output folder: nothing is traced for a bake that
-    // cannot finish or cannot write.
-    o.validate()?;
-    limits::check_writable(&o.out)?;
+/// What a bake traces, laid out: the scene, its BVH, the atlas, the lightmap targets and
+/// settings, the probes (positions and the relocated ones) — the same for a bake, each of
+/// its shards and their merge.
+pub(crate) struct Prepared {
+    pub(crate) scene: Scene,
+    pub(crate) bvh: Bvh,
+    pub(crate) lm: Lightmap,
+    pub(crate) targets: Targets,
+    pub(crate) config: BakeConfig,
+    pub(crate) probes: Option<ProbePlacement>,
+}
+
+/// The probes' positions and (index, original position) of every relocated probe.
+pub(crate) type ProbePlacement = (Vec<Vec3>, Vec<(usize, Vec3)>);
+
+/// Loads the scene, builds the BVH and the atlas, places the probes; logs each and checks
+/// the state fits in memory.
+pub(crate) fn prepare(o: &Options, log: &mut dyn FnMut(String)) -> Result<Prepared, String> {
     let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, o.texels_per_unit, o.padding).map_err(|e| e.to_string())?;
@@ -38,6 +51,27 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     if let Some([x, y, z]) = o.probes {
         limits::check_memory("probes", x * y * z, &o.probe_bases, log)?;
     }
+    let targets = Targets::lightmap(&lm);
+    // The camera's image (camera-based sampling) sized from the atlas where not given.
+    let config = BakeConfig { camera: o.config.camera.map(|c| c.sized_for(targets.items.len())), ..o.config.clone() };
+    let probes = o.probes.map(|n| place_probes(o, &bvh, &scene, n, log));
+    Ok(Prepared { scene, bvh, lm, targets, config, probes })
+}
+
+/// The probes' settings: the probe bases, uniform passes, no filter.
+pub(crate) fn probe_config(o: &Options) -> BakeConfig {
+    BakeConfig { bases: o.probe_bases.clone(), adaptive: None, camera: None, filter: None, ..o.config.clone() }
+}
+
+/// Runs a whole bake and writes its outputs (unless stopped early) — or, with
+/// [`Options::shard`], its shard's items and writes the shard file instead.
+pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String> {
+    let t0 = Instant::now();
+    // Every bound first, then the output folder: nothing is traced for a bake that
+    // cannot finish or cannot write.
+    o.validate()?;
+    limits::check_writable(&o.out)?;
+    let Prepared { scene, bvh, lm, targets, config, probes } = prepare(o, log)?;
     let glossy = scene.has_glossy();
     let (gpus, device) = devices::select(o, log)?;
     if gpus.is_empty() && o.config.pipeline != crate::accumulate::Pipeline::default() {
@@ -48,9 +82,6 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         log("notice: --batch-ms applies to GPU bakes; this bake runs on the CPU path".into());
     }
     let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
-    let targets = Targets::lightmap(&lm);
-    // The camera's image (camera-based sampling) sized from the atlas where not given.
-    let config = BakeConfig { camera: o.config.camera.map(|c| c.sized_for(targets.items.len())), ..o.config.clone() };
     log_strategies(o, &config, &targets, log);
     if let Some(passes) = o.measure_rays {
         let g = gpus.first().ok_or("--measure-rays needs a GPU adapter")?;
@@ -61,20 +92,37 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     let (state, run) = run_targets(o, &config, &gpus, &tracer_of, &scene, &targets, "lightmap", log)?;
     let mut times = StageTimes { lightmap_passes: t_passes.elapsed().as_secs_f64(), probe_passes: None };
     log(format!("lightmap: {run} passes in {:.2} s", times.lightmap_passes));
-    let (mut probe_state, mut probe_positions, mut relocated) = (None, Vec::new(), Vec::new());
-    if let Some(n) = o.probes {
-        (probe_positions, relocated) = place_probes(o, &bvh, &scene, n, log);
-        let pt = Targets::probes(&probe_positions);
-        let pcfg = BakeConfig { bases: o.probe_bases.clone(), adaptive: None, camera: None, filter: None, ..o.config.clone() };
+    let (mut probe_state, mut probe_targets) = (None, None);
+    let pcfg = probe_config(o);
+    if let Some((positions, _)) = &probes {
+        let pt = Targets::probes(positions);
         let t = Instant::now();
         let (ps, prun) = run_targets(o, &pcfg, &gpus, &tracer_of, &scene, &pt, "probes", log)?;
         times.probe_passes = Some(t.elapsed().as_secs_f64());
         log(format!("probes: {prun} passes in {:.2} s", t.elapsed().as_secs_f64()));
-        probe_state = Some(ps);
+        (probe_state, probe_targets) = (Some(ps), Some(pt));
     }
     let pipeline = if gpus.is_empty() { "none (CPU path)" } else { o.config.pipeline.name() };
-    let ctx = OutputContext { probe_positions: &probe_positions, relocated: &relocated, device: &device, pipeline, glossy, t0, times };
-    write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &ctx, log)?;
+    if let Some(spec) = &o.shard {
+        let mut sets = vec![shard::BakedSet { what: "lightmap", scene: &scene, targets: &targets, config: &config, state: &state }];
+        if let (Some(pt), Some(ps)) = (&probe_targets, &probe_state) {
+            sets.push(shard::BakedSet { what: "probes", scene: &scene, targets: pt, config: &pcfg, state: ps });
+        }
+        let record = shard::ShardRun {
+            index: spec.index,
+            count: spec.count,
+            device: device.clone(),
+            pipeline: pipeline.to_string(),
+            lightmap_passes_seconds: times.lightmap_passes,
+            probe_passes_seconds: times.probe_passes,
+            seconds: t0.elapsed().as_secs_f64(),
+        };
+        shard::write_shard(o, spec, &sets, &record, log)?;
+    } else {
+        let (positions, relocated) = probes.unwrap_or_default();
+        let ctx = OutputContext { probe_positions: &positions, relocated: &relocated, device: &device, pipeline, glossy, t0, times };
+        write_outputs(o, &scene, &bvh, &lm, &targets, &state, probe_state.as_ref(), &ctx, log)?;
+    }
     Ok(Summary { device, lightmap: state, probes: probe_state, passes_run: run, seconds: t0.elapsed().as_secs_f64() })
 }
 

@@ -58,6 +58,19 @@ pub struct Options {
     /// Least-squares seam stitching after the denoiser, before dilation ([`crate::post::seams`]).
     /// The seam metric is reported either way.
     pub stitch_seams: bool,
+    /// Bake only shard I of N (`--shard I/N`) and write its partial state for
+    /// `baker merge` instead of the outputs ([`crate::checkpoint::shard`]).
+    pub shard: Option<ShardSpec>,
+}
+
+/// One shard of a bake spread over machines.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ShardSpec {
+    pub index: usize,
+    pub count: usize,
+    /// The `baker` arguments that define the bake (recorded in the shard file, so `baker
+    /// merge` can rebuild the scene, layout and outputs from them).
+    pub recipe: Vec<String>,
 }
 
 impl Default for Options {
@@ -86,6 +99,7 @@ impl Default for Options {
             // The CLI's defaults for 128 passes (`--denoise auto`, `--stitch-seams auto`).
             denoise: Some(crate::post::denoise::DenoiseOptions::default()),
             stitch_seams: true,
+            shard: None,
         }
     }
 }
