@@ -16,7 +16,7 @@
 
 mod common;
 
-use sha2::{Digest, Sha256};
+use common::outputs::{hashes, scenes_dir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -25,54 +25,6 @@ fn tmp(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-fn scenes_dir() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
-    if p.is_dir() {
-        return Some(p);
-    }
-    assert!(std::env::var("SBF_REQUIRE_PROBES").map_or(true, |v| v != "1"), "SBF_REQUIRE_PROBES=1 but {} is missing", p.display());
-    println!("skipped: {} is missing", p.display());
-    None
-}
-
-/// Removes the fields of bake.json that measure this run rather than describe the bake.
-fn strip_run_fields(v: &mut serde_json::Value) {
-    match v {
-        serde_json::Value::Object(m) => {
-            for k in ["seconds", "stage_seconds", "device", "pipeline"] {
-                m.remove(k);
-            }
-            m.values_mut().for_each(strip_run_fields);
-        }
-        serde_json::Value::Array(a) => a.iter_mut().for_each(strip_run_fields),
-        _ => {}
-    }
-}
-
-fn sha(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
-
-/// (file, SHA-256) of every file a bake wrote, sorted by name; bake.json stripped first.
-fn hashes(dir: &Path) -> Vec<(String, String)> {
-    let mut out = Vec::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        let name = p.file_name().unwrap().to_string_lossy().to_string();
-        let bytes = std::fs::read(&p).unwrap();
-        let h = if name == "bake.json" {
-            let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
-            strip_run_fields(&mut v);
-            sha(serde_json::to_string(&v).unwrap().as_bytes())
-        } else {
-            sha(&bytes)
-        };
-        out.push((name, h));
-    }
-    out.sort();
-    out
 }
 
 fn bake(out: &Path, scene: &str, extra: &[&str]) {

@@ -46,9 +46,9 @@ pub struct Bake<'a> {
     tiles: Option<crate::accumulate::adaptive::Tiles>,
     /// Filtered accumulation's layout (None without a filter).
     gather: Option<crate::accumulate::filter::GatherLayout>,
-    /// The items this bake traces ([`crate::accumulate::partition`]; the others keep their
-    /// empty state).
-    partition: super::Partition,
+    /// The items this bake traces when it is a part of a bake
+    /// ([`crate::accumulate::partition`]; the others keep their empty state); None: all.
+    partition: Option<super::Partition>,
 }
 
 impl std::fmt::Debug for Bake<'_> {
@@ -68,7 +68,7 @@ impl<'a> Bake<'a> {
         let state = BakeState::new(&config, targets);
         let tiles = config.adaptive.map(|_| crate::accumulate::adaptive::Tiles::new(targets, targets.width).expect("checked"));
         let gather = config.filter.map(|f| crate::accumulate::filter::GatherLayout::new(targets, &f).expect("checked"));
-        Bake { config, targets, tracer, bases, state, guide: None, tiles, gather, partition: super::Partition::WHOLE }
+        Bake { config, targets, tracer, bases, state, guide: None, tiles, gather, partition: None }
     }
 
     /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
@@ -101,7 +101,7 @@ impl<'a> Bake<'a> {
         if p.count > 1 {
             self.config.check_partitionable()?;
         }
-        self.partition = p;
+        self.partition = (p.count > 1).then_some(p);
         Ok(())
     }
 
@@ -175,7 +175,11 @@ impl<'a> Bake<'a> {
     /// batch.
     pub fn pass_samples(&mut self) -> Vec<ItemSample> {
         let p = self.state.passes;
-        let all: Vec<(u32, u64)> = self.partition.ranges(self.targets.items.len()).flatten().map(|k| (k as u32, p)).collect();
+        let n = self.targets.items.len();
+        let all: Vec<(u32, u64)> = match &self.partition {
+            Some(part) => part.ranges(n).flatten().map(|k| (k as u32, p)).collect(),
+            None => (0..n as u32).map(|k| (k, p)).collect(),
+        };
         let samples = self.trace_items(&all);
         self.absorb(&all, &samples);
         samples

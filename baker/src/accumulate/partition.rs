@@ -35,9 +35,6 @@ pub struct Partition {
 }
 
 impl Partition {
-    /// The whole bake as one part.
-    pub const WHOLE: Partition = Partition { index: 0, count: 1, block: 64 };
-
     /// Part `index` of `count` of `items` items, blocks of [`partition_block`].
     pub fn of(index: usize, count: usize, items: usize) -> Result<Partition, String> {
         Partition::with_block(index, count, partition_block(items, count))

@@ -1,5 +1,8 @@
 //! Helpers shared by the baker's integration tests.
 
+#[allow(dead_code)]
+pub mod outputs;
+
 /// The process-wide device, leased for the calling test alone (GPU tests run one at a
 /// time: see `shaders::gpu::Lease`), or None (printed) when there is none — unless
 /// `SBF_REQUIRE_GPU=1` (CI), where a missing adapter fails the test. A watchdog fails the

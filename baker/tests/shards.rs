@@ -1,0 +1,177 @@
+//! A bake spread over machines (`baker --shard I/N`, `baker merge`): the built-in scene
+//! and the mixed-lighting glTF room (≈ 41 k triangles, authored lightmap UVs) baked whole
+//! and as 1, 2, 3 and 7 shards on the CPU path; every merged output must equal the single
+//! bake's file byte for byte (bake.json without the fields that measure the run: wall
+//! times, device, pipeline). The oracle is the single bake, which never partitions its
+//! items: a shard that bakes a wrong block, a merge that takes an item from the wrong
+//! shard, or a shard file that drops or reorders an encoder changes a texel and a hash.
+//! The CPU path is deterministic for any thread count, so the comparison is exact.
+//!
+//! Also: the merge's refusals (another seed, a missing shard, a duplicate, another
+//! split, a corrupt file), each named; options that need the whole atlas every pass
+//! refused with --shard; a re-run shard writing the same bytes.
+//!
+//! Mutations tried, each caught: `Partition::ranges` starting one block late (shards 1..N
+//! bake another shard's blocks: merged texels zero — every EXR differs); the merge
+//! filling every shard's items from the first shard's data (`fill` reading `sets[0]` for
+//! the probes: the probe hashes differ); the shard file writing encoders in item-major
+//! order while the reader reads basis-major (checksum holds, coefficients swap: EXRs
+//! differ); `check_complete` accepting a gap (the merge then wrote zero texels: EXRs differ
+//! and the refusal test fails).
+
+mod common;
+
+use common::outputs::{hashes, scenes_dir};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("baker-shards-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn baker(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_baker")).args(args).output().unwrap()
+}
+
+fn ok(args: &[&str]) {
+    let o = baker(args);
+    assert!(o.status.success(), "baker {args:?}: {}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// A small bake's arguments: SH L2 + AD 9 lightmaps, 4×4×4 probes in SH L2 + AD 12 (64
+/// probes: one block, so the probes go to shard 0; the texels spread over every shard),
+/// denoised and seam-stitched (the defaults for short bakes: they run at the merge).
+fn recipe<'a>(scene: &'a str, passes: &'a str, tpu: &'a str) -> Vec<&'a str> {
+    vec![
+        "--scene",
+        scene,
+        "--bases",
+        "sh2,ad9",
+        "--probe-bases",
+        "sh2,ad12",
+        "--probes",
+        "4,4,4",
+        "--preview-width",
+        "48",
+        "--passes",
+        passes,
+        "--texels-per-unit",
+        tpu,
+        "--device",
+        "cpu",
+    ]
+}
+
+/// Bakes `recipe` whole and as N shards for each N in `splits`; each merge's files must
+/// be the single bake's.
+fn shards_merge_to_the_single_bake(name: &str, recipe: &[&str], splits: &[usize]) {
+    let root = tmp(name);
+    let single = root.join("single");
+    let mut args = recipe.to_vec();
+    args.extend(["--out", single.to_str().unwrap()]);
+    ok(&args);
+    let want = hashes(&single);
+    assert!(want.iter().any(|(f, _)| f.ends_with(".exr")) && want.iter().any(|(f, _)| f == "probes.json"), "{name}: {want:?}");
+    for &n in splits {
+        let dir = root.join(format!("shards-{n}"));
+        let mut files = Vec::new();
+        for i in 0..n {
+            let spec = format!("{i}/{n}");
+            let mut args = recipe.to_vec();
+            args.extend(["--shard", &spec, "--out", dir.to_str().unwrap()]);
+            ok(&args);
+            files.push(dir.join(format!("shard-{i}-of-{n}.sbfshard")));
+        }
+        let merged = root.join(format!("merged-{n}"));
+        let mut args = vec!["merge", merged.to_str().unwrap()];
+        // In reverse order: the merge must not depend on the order it is given.
+        files.iter().rev().for_each(|f| args.push(f.to_str().unwrap()));
+        ok(&args);
+        let got = hashes(&merged);
+        assert_eq!(
+            got.iter().map(|x| &x.0).collect::<Vec<_>>(),
+            want.iter().map(|x| &x.0).collect::<Vec<_>>(),
+            "{name}, {n} shards: other files than the single bake"
+        );
+        let differ: Vec<&str> = got.iter().zip(&want).filter(|(a, b)| a.1 != b.1).map(|(a, _)| a.0.as_str()).collect();
+        assert!(differ.is_empty(), "{name}, {n} shards: {} of {} files differ from the single bake: {differ:?}", differ.len(), got.len());
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn builtin_scene_shards_merge_to_the_single_bake() {
+    shards_merge_to_the_single_bake("cornell", &recipe("cornell", "8", "6"), &[1, 2, 3, 7]);
+}
+
+#[test]
+fn gltf_room_shards_merge_to_the_single_bake() {
+    let Some(scenes) = scenes_dir() else { return };
+    let gltf = scenes.join("bevy_MixedLightingExample/MixedLightingExample.gltf");
+    shards_merge_to_the_single_bake("room", &recipe(gltf.to_str().unwrap(), "4", "8"), &[1, 2, 3, 7]);
+}
+
+fn refusal(args: &[&str], want: &[&str]) {
+    let o = baker(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "baker {args:?} should exit 2: {err}");
+    for w in want {
+        assert!(err.contains(w), "baker {args:?}: the message should name '{w}': {err}");
+    }
+}
+
+/// The merge refuses what would not give the single bake, naming the shard and the reason.
+#[test]
+fn merge_refuses_shards_of_another_bake_gaps_and_duplicates() {
+    let root = tmp("refusals");
+    let shard = |dir: &Path, i: usize, n: usize, extra: &[&str]| -> PathBuf {
+        let spec = format!("{i}/{n}");
+        let mut args = recipe("cornell", "2", "4");
+        args.extend(["--shard", &spec, "--out", dir.to_str().unwrap()]);
+        args.extend(extra);
+        ok(&args);
+        dir.join(format!("shard-{i}-of-{n}.sbfshard"))
+    };
+    let (a, b) = (root.join("a"), root.join("b"));
+    let s: Vec<PathBuf> = (0..3).map(|i| shard(&a, i, 3, &[])).collect();
+    let p = |x: &PathBuf| x.to_str().unwrap().to_string();
+    let out = root.join("out");
+    let out = out.to_str().unwrap();
+    // Another seed.
+    let other_seed = shard(&b, 1, 3, &["--seed", "2"]);
+    refusal(&["merge", out, &p(&s[0]), &p(&other_seed), &p(&s[2])], &["different bakes", "--seed", "shard 1 of 3"]);
+    // A missing shard.
+    refusal(&["merge", out, &p(&s[0]), &p(&s[2])], &["missing shard 1 of 3", "--shard 1/3"]);
+    // A duplicate (the same shard twice, under two names).
+    let copy = root.join("copy.sbfshard");
+    std::fs::copy(&s[1], &copy).unwrap();
+    refusal(&["merge", out, &p(&s[0]), &p(&s[1]), &p(&copy), &p(&s[2])], &["shard 1 of 3 is given twice", "copy.sbfshard"]);
+    // Another split.
+    let of_two = shard(&b, 1, 2, &[]);
+    refusal(&["merge", out, &p(&s[0]), &p(&of_two), &p(&s[2])], &["different splits"]);
+    // A corrupt file (one byte flipped in the items).
+    let mut bytes = std::fs::read(&s[2]).unwrap();
+    let at = bytes.len() - 100;
+    bytes[at] ^= 1;
+    let bad = root.join("bad.sbfshard");
+    std::fs::write(&bad, &bytes).unwrap();
+    refusal(&["merge", out, &p(&s[0]), &p(&s[1]), &p(&bad)], &["bad.sbfshard", "checksum"]);
+    // Nothing was written by a refused merge.
+    assert!(!Path::new(out).join("bake.json").exists(), "a refused merge wrote outputs");
+    // Options that need every texel each pass cannot be sharded.
+    for (extra, name) in [(&["--guiding"][..], "--guiding"), (&["--filter", "box"], "--filter"), (&["--adaptive"], "--adaptive")] {
+        let mut args = recipe("cornell", "16", "4");
+        args.extend(["--shard", "0/2", "--out", out]);
+        args.extend(extra);
+        refusal(&args, &[name, "--shard 0/2"]);
+    }
+    refusal(&["--shard", "3/3"], &["--shard"]);
+    // A re-run shard writes the same bytes (a retried task is harmless).
+    let before = std::fs::read(&s[0]).unwrap();
+    shard(&a, 0, 3, &[]);
+    assert!(std::fs::read(&s[0]).unwrap() == before, "a re-run shard wrote other bytes");
+    let _ = std::fs::remove_dir_all(&root);
+}
