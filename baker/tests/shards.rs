@@ -11,13 +11,11 @@
 //! split, a corrupt file), each named; options that need the whole atlas every pass
 //! refused with --shard; a re-run shard writing the same bytes.
 //!
-//! Mutations tried, each caught: `Partition::ranges` starting one block late (shards 1..N
-//! bake another shard's blocks: merged texels zero — every EXR differs); the merge
-//! filling every shard's items from the first shard's data (`fill` reading `sets[0]` for
-//! the probes: the probe hashes differ); the shard file writing encoders in item-major
-//! order while the reader reads basis-major (checksum holds, coefficients swap: EXRs
-//! differ); `check_complete` accepting a gap (the merge then wrote zero texels: EXRs differ
-//! and the refusal test fails).
+//! Mutations tried, each caught: `Partition::ranges` starting one block late (every shard
+//! bakes and stores its neighbour's blocks, block 0 none: merged EXRs differ); the merge
+//! filling every shard's items from the first shard's file (EXRs and probes differ); the
+//! shard file writing encoders item-major while the reader reads them basis-major (the
+//! merge fails); `check_complete` accepting a gap (the refusal test fails).
 
 mod common;
 

@@ -152,7 +152,8 @@ fn available_memory() -> Option<u64> {
 /// a scratch file in it.
 pub fn check_writable(dir: &std::path::Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: cannot create the output folder: {e}", dir.display()))?;
-    let probe = dir.join(".baker-write-check");
+    // Named per process: shards of one bake share their output folder.
+    let probe = dir.join(format!(".baker-write-check-{}", std::process::id()));
     std::fs::write(&probe, b"").map_err(|e| format!("--out {}: the output folder is not writable: {e}", dir.display()))?;
     std::fs::remove_file(&probe).map_err(|e| format!("--out {}: {e}", dir.display()))?;
     Ok(())

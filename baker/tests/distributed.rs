@@ -1,0 +1,113 @@
+//! The bake on an existing distributed engine: `baker/distributed/dask_bake.py` runs the
+//! shards as Dask tasks on a local cluster of 3 worker processes; one shard's `baker`
+//! process is killed (SIGKILL) mid-bake, after its first checkpoint; Dask retries the task,
+//! the retry resumes from the checkpoint, and the merged outputs must equal the
+//! single-process bake byte for byte (bake.json without the fields that measure the run).
+//!
+//! The oracle is the single bake (no partition, no checkpoint, no resume). Needs Python
+//! with `distributed` (baker/distributed/requirements.txt): the interpreter is
+//! `SBF_PYTHON` (default `python3`); without the package the test is skipped, unless
+//! `SBF_REQUIRE_DASK=1` (CI), where it fails.
+//!
+//! Mutations tried, each caught: the driver submitting with `retries=0` (the killed shard
+//! fails for good, nothing merged); the retry run without `--resume` *and* the shard's
+//! pass count read from the checkpoint instead of restarting (a resumed shard that skips
+//! the checkpointed passes' state: EXRs differ) — and the kill itself left out (the test
+//! then fails on the missing retry, so it cannot pass without exercising one).
+
+mod common;
+
+use common::outputs::hashes;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn python() -> Option<String> {
+    let py = std::env::var("SBF_PYTHON").unwrap_or_else(|_| "python3".into());
+    let ok = Command::new(&py).args(["-c", "import distributed"]).output().is_ok_and(|o| o.status.success());
+    if ok {
+        return Some(py);
+    }
+    assert!(
+        std::env::var("SBF_REQUIRE_DASK").map_or(true, |v| v != "1"),
+        "SBF_REQUIRE_DASK=1 but `{py} -c 'import distributed'` fails: pip install -r baker/distributed/requirements.txt"
+    );
+    println!("skipped: {py} has no dask distributed (pip install -r baker/distributed/requirements.txt; SBF_PYTHON names the interpreter)");
+    None
+}
+
+/// The pid of the running `baker` process whose arguments include `--shard SPEC` and
+/// `--out DIR` (Linux /proc).
+fn shard_pid(spec: &str, dir: &Path) -> Option<u32> {
+    for e in std::fs::read_dir("/proc").ok()?.flatten() {
+        let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
+        let Ok(cmd) = std::fs::read(e.path().join("cmdline")) else { continue };
+        let args: Vec<String> = cmd.split(|b| *b == 0).map(|a| String::from_utf8_lossy(a).into_owned()).collect();
+        let has = |k: &str, v: &str| args.windows(2).any(|w| w[0] == k && w[1] == v);
+        if args.first().is_some_and(|a| a.ends_with("baker")) && has("--shard", spec) && has("--out", dir.to_str().unwrap()) {
+            return Some(pid);
+        }
+    }
+    None
+}
+
+#[test]
+fn a_killed_shard_is_retried_and_the_merge_equals_the_single_bake() {
+    let Some(py) = python() else { return };
+    let root = std::env::temp_dir().join(format!("baker-dask-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let baker = env!("CARGO_BIN_EXE_baker");
+    // 256 passes of the built-in scene at 16 texels per unit (7 337 texels, 64 probes):
+    // long enough that a shard is still baking after its first checkpoint (16 passes).
+    let recipe = [
+        "--device", "cpu", "--passes", "256", "--texels-per-unit", "16", "--probes", "4,4,4", "--preview-width", "48",
+    ];
+    let single = root.join("single");
+    let t = Instant::now();
+    let o = Command::new(baker).args(recipe).args(["--out", single.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "single bake: {}", String::from_utf8_lossy(&o.stderr));
+    let single_seconds = t.elapsed().as_secs_f64();
+
+    let (shards, merged) = (root.join("shards"), root.join("merged"));
+    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("distributed/dask_bake.py");
+    let log = root.join("driver.log");
+    let t = Instant::now();
+    let mut child = Command::new(&py)
+        .arg(&driver)
+        .args(["--baker", baker, "--shards", "3", "--local-workers", "3", "--retries", "2"])
+        .args(["--shard-dir", shards.to_str().unwrap(), "--out", merged.to_str().unwrap(), "--"])
+        .args(recipe)
+        .stdout(std::fs::File::create(&log).unwrap())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    // Kill shard 1's process once its first checkpoint is on disk.
+    let ckpt: PathBuf = shards.join("lightmap.shard-1-of-3.checkpoint");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while !ckpt.exists() {
+        assert!(Instant::now() < deadline, "shard 1 wrote no checkpoint in 300 s");
+        assert!(child.try_wait().unwrap().is_none(), "the driver ended before shard 1's first checkpoint");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let pid = shard_pid("1/3", &shards).expect("shard 1's baker process finished before it could be killed: lengthen the bake");
+    let k = Command::new("kill").args(["-9", &pid.to_string()]).status().unwrap();
+    assert!(k.success(), "kill -9 {pid}");
+    let status = child.wait().unwrap();
+    let cluster_seconds = t.elapsed().as_secs_f64();
+    let text = std::fs::read_to_string(&log).unwrap();
+    println!("{text}");
+    assert!(status.success(), "the driver failed: {text}");
+    let attempts = std::fs::read_to_string(shards.join("shard-1-of-3.attempts")).unwrap();
+    assert_eq!(attempts.lines().count(), 2, "shard 1 should have run twice (killed, retried): {attempts}");
+    assert!(
+        text.contains("shard 1/3: done") && text.contains("after 1 retry, resumed at pass "),
+        "the driver's log should report the retry, resumed from the checkpoint: {text}"
+    );
+    let (want, got) = (hashes(&single), hashes(&merged));
+    let checkpointless: Vec<_> = want.iter().filter(|(f, _)| !f.ends_with(".checkpoint")).collect();
+    assert!(checkpointless.iter().any(|(f, _)| f.ends_with(".exr")), "{want:?}");
+    assert_eq!(got, want, "the merged outputs differ from the single bake");
+    println!("single process: {single_seconds:.1} s; local Dask cluster of 3 workers (3 shards, one killed and retried): {cluster_seconds:.1} s");
+    let _ = std::fs::remove_dir_all(&root);
+}
