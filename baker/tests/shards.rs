@@ -173,3 +173,37 @@ fn merge_refuses_shards_of_another_bake_gaps_and_duplicates() {
     assert!(std::fs::read(&s[0]).unwrap() == before, "a re-run shard wrote other bytes");
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// docs/distributed/slurm-array.sh run as Slurm would run its array tasks (index and count
+/// from SLURM_ARRAY_TASK_ID / SHARDS), then the merge: the single bake's files.
+#[test]
+fn the_slurm_array_script_bakes_shards_that_merge_to_the_single_bake() {
+    let root = tmp("slurm");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/distributed/slurm-array.sh");
+    let bake_args = "--scene cornell --passes 4 --texels-per-unit 5 --probes 2,2,2 --preview-width 48 --device cpu";
+    let single = root.join("single");
+    let mut args: Vec<&str> = bake_args.split(' ').collect();
+    args.extend(["--out", single.to_str().unwrap()]);
+    ok(&args);
+    let shards = root.join("shards");
+    for i in 0..3 {
+        let o = Command::new("bash")
+            .arg(&script)
+            .env("SLURM_ARRAY_TASK_ID", i.to_string())
+            .env("SHARDS", "3")
+            .env("SHARD_DIR", &shards)
+            .env("BAKER", env!("CARGO_BIN_EXE_baker"))
+            .env("BAKE_ARGS", bake_args)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "slurm-array.sh task {i}: {}", String::from_utf8_lossy(&o.stderr));
+    }
+    let merged = root.join("merged");
+    let files: Vec<String> = (0..3).map(|i| shards.join(format!("shard-{i}-of-3.sbfshard")).to_string_lossy().into_owned()).collect();
+    let mut args = vec!["merge", merged.to_str().unwrap()];
+    files.iter().for_each(|f| args.push(f));
+    ok(&args);
+    // The script checkpoints; the single bake above did too (every 32 passes, the default).
+    assert_eq!(hashes(&merged), hashes(&single), "the Slurm tasks' merge differs from the single bake");
+    let _ = std::fs::remove_dir_all(&root);
+}
