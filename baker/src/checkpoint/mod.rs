@@ -2,6 +2,8 @@
 //! same directory, synced, then renamed over the old one), so a bake killed at any
 //! moment leaves either the previous or the new checkpoint, never a torn one.
 //!
+//! The shards of a bake spread over machines and their merge: [`shard`].
+//!
 //! Uses: [`crate::scene`], [`crate::accumulate`].
 //!
 //! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
