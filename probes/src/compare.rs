@@ -28,6 +28,8 @@ pub struct Settings {
     pub specular_samples: u32,
     pub sg_irradiance: SgIrradiance,
     pub specular_runtime: SpecularRuntime,
+    /// Which GGX integral the specular reference computes (`--reference`).
+    pub convention: sbf::ggx::Convention,
 }
 
 /// A mode's timing jobs, kept until the end of the run: its evaluation, its encode, and
@@ -37,10 +39,20 @@ type Jobs<'a> = (Option<CostJob<'a>>, Option<EncodeJob<'a>>, bool);
 /// One map through every mode (see the module docs). `label` names the map (its path).
 pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -> Result<MapReport, String> {
     let (w, h) = (map.geometry.width, map.geometry.height);
+    if s.convention == sbf::ggx::Convention::AppendixC {
+        if s.domain != sbf::Domain::UpperHemisphere {
+            return Err("--reference appendix-c measures the upper hemisphere (seed Appendix C): use --domain hemisphere".into());
+        }
+        if s.specular_runtime != SpecularRuntime::Fit {
+            return Err("--reference appendix-c runs the seed's runtimes (the fits): use --specular-runtime fit".into());
+        }
+        crate::appendix_c::resized(&map)?;
+    }
     let t = Instant::now();
     let mut ctx = Context::with_domain(map, s.domain);
     ctx.sg_irradiance = s.sg_irradiance;
     ctx.specular_runtime = s.specular_runtime;
+    ctx.convention = s.convention;
     let ref_s = t.elapsed().as_secs_f64();
     let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(s.ids.len() as u64);
@@ -59,7 +71,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
         },
         || run_modes(&ctx, s, &radiance, &pb),
     );
-    let (spec_refs, specular_method) = spec;
+    let (spec_refs, specular_method) = spec?;
     let (mut rows, jobs) = modes?;
     specular_metrics(&ctx, &mut rows, &spec_refs);
     let modes_s = tm.elapsed().as_secs_f64();
@@ -88,6 +100,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
         rows,
         specular_method,
         specular_runtime: if s.alphas.is_empty() { String::new() } else { s.specular_runtime.describe().to_string() },
+        convention: s.convention,
         runtime: s.specular_runtime,
         specular_samples: s.specular_samples,
         specular_reference: spec_refs,
@@ -103,7 +116,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
 /// rows), and the sentence that says how they were made: the deterministic azimuthal-FFT
 /// quadrature where the grids allow it (always for maps up to 512 wide), the Monte Carlo
 /// MIS estimate otherwise.
-fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> (Vec<SpecularReference>, String) {
+fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> Result<(Vec<SpecularReference>, String), String> {
     use crate::specular;
     let ts = Instant::now();
     let refs: Vec<(SpecularReference, Result<String, String>)> = alphas
@@ -131,7 +144,11 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> (Vec
     let fallback: Option<String> = refs.iter().find_map(|(_, s)| s.as_ref().err().cloned());
     let spec_refs: Vec<SpecularReference> = refs.into_iter().map(|(r, _)| r).collect();
     if alphas.is_empty() {
-        return (spec_refs, String::new());
+        return Ok((spec_refs, String::new()));
+    }
+    if let (Some(why), sbf::ggx::Convention::AppendixC) = (&fallback, ctx.convention) {
+        // The Monte Carlo fallback integrates the physical BRDF only.
+        return Err(format!("--reference appendix-c needs the quadrature reference: {why}"));
     }
     let worst = spec_refs.iter().map(|r| r.error_rms / r.signal_rms.max(f64::MIN_POSITIVE)).fold(0.0, f64::max);
     let method = match &fallback {
@@ -153,7 +170,7 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> (Vec
             100.0 * worst
         ),
     };
-    (spec_refs, method)
+    Ok((spec_refs, method))
 }
 
 /// Every mode in parallel on every core, untimed: its fit, images, irradiance metrics and

@@ -4,9 +4,11 @@
 //! ([`input`]), computes exact references ([`reference`](mod@reference)), runs each mode
 //! ([`modes`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
 //! images and plots ([`images`]).
+//! `--reference appendix-c` reproduces seed 004 Appendix C's conventions ([`appendix_c`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
 //! peer tool (Probulator) does, so numbers are comparable.
 
+pub mod appendix_c;
 pub mod azimuthal;
 pub mod calibration;
 pub mod compare;

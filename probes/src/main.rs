@@ -28,7 +28,7 @@ enum Cmd {
     /// Every mode with a one-line description.
     List,
     /// Compare modes on one or more lat-long maps (.hdr or .exr, 2:1).
-    Compare(CompareArgs),
+    Compare(Box<CompareArgs>),
     /// Measure every mode's CPU evaluation costs (irradiance, specular per runtime) on the
     /// built-in sky, side by side in several batches, and write the calibration the
     /// decisions use (commit it as probes/data/cpu_costs.json).
@@ -72,8 +72,17 @@ struct CompareArgs {
     profile: Option<PathBuf>,
     /// Where errors are measured: `sphere`, or `hemisphere` (upper, +Y; seed
     /// Appendix C; fits still use the whole sphere). Default modes follow the domain.
-    #[arg(long, default_value = "sphere")]
-    domain: String,
+    /// [default: sphere; hemisphere with --reference appendix-c]
+    #[arg(long)]
+    domain: Option<String>,
+    /// The specular reference: `physical` (the single-scattering GGX integral, light from
+    /// above the surface) or `appendix-c` (seed 004 Appendix C's pipeline as its code reads:
+    /// G2·G1 visibility, no horizon cut, Schlick f0 0.9 / f90 1, the seed's runtimes with
+    /// its Listing 8.2 table, SG fits point-sampled; to compare with the seed's printed
+    /// figures — every report says which). appendix-c implies --domain hemisphere,
+    /// --specular-runtime fit and the modes ad9, adrbf-tangent, sg9h, sg12h.
+    #[arg(long, default_value = "physical", conflicts_with = "profile")]
+    reference: String,
     /// Output folder.
     #[arg(long, default_value = "probes-report")]
     out: PathBuf,
@@ -104,9 +113,10 @@ struct CompareArgs {
     sg_irradiance: String,
     /// Specular runtime of the SG and AD modes: `table` (per-lobe GGX response tables,
     /// luts/lobe_ggx_*.sbflut; interpolation is the only approximation) or `fit` (the
-    /// ASG warp for SG, seed Listing 8.1 × its LUT for AD).
-    #[arg(long, default_value = "table")]
-    specular_runtime: String,
+    /// ASG warp for SG, seed Listing 8.1 × its LUT for AD). [default: table; fit with
+    /// --reference appendix-c]
+    #[arg(long)]
+    specular_runtime: Option<String>,
     /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
     /// or `none`.
     #[arg(long, default_value = "png")]
@@ -205,7 +215,20 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         "prior" => modes::SgIrradiance::Prior,
         other => return Err(format!("--sg-irradiance {other}: expected `auto`, `hill`, `peer` or `prior`")),
     };
-    let spec_rt = probes::specular::SpecularRuntime::parse(&a.specular_runtime)?;
+    let convention = match a.reference.as_str() {
+        "physical" => sbf::ggx::Convention::Physical,
+        "appendix-c" => sbf::ggx::Convention::AppendixC,
+        other => return Err(format!("--reference {other}: expected `physical` or `appendix-c`")),
+    };
+    let seed = convention == sbf::ggx::Convention::AppendixC;
+    let spec_rt = match (a.specular_runtime.as_deref(), seed) {
+        (None, false) => probes::specular::SpecularRuntime::Table,
+        (None, true) => probes::specular::SpecularRuntime::Fit,
+        (Some(x), _) => probes::specular::SpecularRuntime::parse(x)?,
+    };
+    if seed && spec_rt != probes::specular::SpecularRuntime::Fit {
+        return Err("--reference appendix-c runs the seed's runtimes: --specular-runtime must be `fit`".into());
+    }
     let images = images_flag(&a.images)?;
     let prof = a.profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
     let (m, alphas) = match &prof {
@@ -230,7 +253,8 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     if a.gpu_cost && a.gpu_count == 0 {
         return Err("--gpu-count must be > 0".into());
     }
-    let dom = match a.domain.as_str() {
+    let dom = match a.domain.as_deref().unwrap_or(if seed { "hemisphere" } else { "sphere" }) {
+        "sphere" if seed => return Err("--reference appendix-c measures the upper hemisphere: --domain must be `hemisphere`".into()),
         "sphere" => sbf::Domain::Sphere,
         "hemisphere" => sbf::Domain::UpperHemisphere,
         other => return Err(format!("--domain {other}: expected `sphere` or `hemisphere`")),
@@ -238,7 +262,14 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     if a.maps.is_empty() {
         return Err("give at least one map (see --help)".into());
     }
-    let default: &[&str] = if dom == sbf::Domain::Sphere { modes::DEFAULT_MODES } else { modes::HEMISPHERE_MODES };
+    let seed_modes: Vec<&str> = probes::appendix_c::MODES.iter().map(|(_, id)| *id).collect();
+    let default: &[&str] = if seed {
+        &seed_modes
+    } else if dom == sbf::Domain::Sphere {
+        modes::DEFAULT_MODES
+    } else {
+        modes::HEMISPHERE_MODES
+    };
     let ids: Vec<String> = if m.is_empty() { default.iter().map(|s| s.to_string()).collect() } else { m };
     for id in &ids {
         if !modes::MODES.iter().any(|(x, _)| x == id) {
@@ -314,6 +345,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
             specular_samples: a.specular_samples,
             sg_irradiance: sgi,
             specular_runtime: *rt,
+            convention,
         };
         let mut reports = Vec::new();
         for (label, map, sanitized) in &maps {
@@ -354,7 +386,7 @@ fn main() -> ExitCode {
             println!("wrote {} ({}×{}, preset {p})", out.display(), width, width / 2);
             Ok(())
         })(),
-        Some(Cmd::Compare(args)) => compare_command(args, cli.force),
+        Some(Cmd::Compare(args)) => compare_command(*args, cli.force),
         Some(Cmd::Calibrate { batches, out, machine }) => (|| {
             if batches == 0 {
                 return Err("--batches must be ≥ 1".to_string());
@@ -380,6 +412,7 @@ fn main() -> ExitCode {
                 specular_samples: 256,
                 sg_irradiance: modes::SgIrradiance::Auto,
                 specular_runtime: Default::default(),
+                convention: Default::default(),
             };
             let rep = compare("procedural-sky", map, 0, &settings)?;
             write_reports(&out, &mut [rep], false, (true, false), None, None)

@@ -37,6 +37,9 @@ pub struct Context {
     pub sg_irradiance: SgIrradiance,
     /// The specular runtime path of the SG and AD modes.
     pub specular_runtime: SpecularRuntime,
+    /// Which GGX integral the specular reference computes, and with it the runtimes'
+    /// Fresnel and the SG fits' samples (`--reference`; see [`crate::appendix_c`]).
+    pub convention: sbf::ggx::Convention,
     /// Seconds it took to make `irradiance` (charged to the modes that fit it).
     pub reference_s: f64,
     /// Evaluations per direction in the cost measurement (1; the cost-axis test sets 2 as
@@ -143,9 +146,19 @@ impl SpecularRuntime {
     }
 }
 
-/// Tangent space (normal +Z) to world (+Y up): (x, y, z) ↦ (x, z, −y).
+/// Tangent space (normal +Z) to world (+Y up): (x, y, z) ↦ (x, z, y) — the frame in which
+/// the peer (Probulator, and the seed's fork of it) lays out its lobes, read in our world.
+///
+/// Both tools map a lat-long texel (u, v) to φ = π(2u − 1), θ = πv, but to different axes:
+/// the peer's `latLongTexcoordToCartesian` gives (sin θ sin φ, −sin θ cos φ, cos θ) with z up;
+/// ours ([`sbf::envmap::LatLong::uv_to_direction`]) gives (sin θ sin φ, cos θ, −sin θ cos φ)
+/// with y up. The same texel is the same direction once the peer's (x, y, z) is read as our
+/// (x, z, y): a swap of two axes, so the peer's z-up frame has the other handedness than our
+/// y-up world. A proper rotation such as (x, z, −y) would put every lobe of a layout
+/// without that mirror symmetry at the mirrored texel (AD 9 rotated 180° about the normal,
+/// the Vogel spirals winding the other way). The map is its own inverse.
 pub fn tangent_to_world(t: DVec3) -> DVec3 {
-    DVec3::new(t.x, t.z, -t.y)
+    DVec3::new(t.x, t.z, t.y)
 }
 
 impl Context {
@@ -181,6 +194,7 @@ impl Context {
             domain,
             sg_irradiance: SgIrradiance::Auto,
             specular_runtime: Default::default(),
+            convention: Default::default(),
             reference_s,
             eval_work: 1,
             shared: crate::memo::Memo::new(),
@@ -283,9 +297,10 @@ pub const MODES: &[(&str, &str)] = &[
 /// Default modes for `--domain hemisphere` (seed Appendix C).
 pub const HEMISPHERE_MODES: &[&str] = &["ad9", "adrbf-tangent", "sg9h", "sg12h", "h4", "h6"];
 
-/// World (+Y up) to tangent space (normal +Z): the inverse of [`tangent_to_world`].
+/// World (+Y up) to tangent space (normal +Z): the inverse of [`tangent_to_world`] (the
+/// same swap).
 pub fn world_to_tangent(w: DVec3) -> DVec3 {
-    DVec3::new(w.x, -w.z, w.y)
+    DVec3::new(w.x, w.z, w.y)
 }
 
 /// RGB coefficients, one per basis function.
@@ -1039,11 +1054,20 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                     false,
                 ),
             };
-            let g = gram_matrix(basis.as_ref(), Domain::Sphere, GramOptions::default()).map_err(err)?;
             let b = basis.clone();
-            let (c, t) = timed(repeats, move || {
-                solve_gram(&g.matrix, &moments(b.as_ref(), &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
-            });
+            let (c, t) = if !is_ad && ctx.convention == sbf::ggx::Convention::AppendixC {
+                // The seed's SG fits: its point samples, their own Gram (see appendix_c).
+                let samples = crate::appendix_c::sg_samples(&ctx.map)?;
+                timed(repeats, move || {
+                    solve_gram(&sbf::solve::sample_gram(b.as_ref(), &samples), &moments(b.as_ref(), &samples), LsOptions::default())
+                        .map(|s| channels(&s.coeffs))
+                })
+            } else {
+                let g = gram_matrix(basis.as_ref(), Domain::Sphere, GramOptions::default()).map_err(err)?;
+                timed(repeats, move || {
+                    solve_gram(&g.matrix, &moments(b.as_ref(), &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
+                })
+            };
             let c = c.map_err(err)?;
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let (axes, lobes): (Vec<DVec3>, Vec<(DVec3, f64)>) = if is_ad {

@@ -47,6 +47,8 @@ pub struct MapReport {
     pub specular_method: String,
     /// The lobe modes' specular runtime path ("" when no α was requested).
     pub specular_runtime: String,
+    /// Which GGX integral the specular reference is (`--reference`).
+    pub convention: sbf::ggx::Convention,
     /// That runtime (it also picks the GPU kernel of `--gpu-cost`).
     pub runtime: crate::modes::SpecularRuntime,
     /// Visible-normal samples per texel of the specular references.

@@ -113,8 +113,10 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
         if !alphas.is_empty() {
             let _ = write!(
                 s,
-                "\nGGX specular (f0 = f90 = 1), RMS per α. Reference: {}. Runtime: {}.\n\n| mode |",
-                m.specular_method, m.specular_runtime
+                "\nGGX specular ({}), RMS per α. Reference: {}. Runtime: {}.\n\n| mode |",
+                crate::appendix_c::label(m.convention),
+                m.specular_method,
+                m.specular_runtime
             );
             for a in &alphas {
                 let _ = write!(s, " α = {a} |");
@@ -303,7 +305,8 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
         if !m.specular_reference.is_empty() {
             let _ = write!(
                 s,
-                "<h3>GGX specular (f0 = f90 = 1)</h3><p>Reference: {}. Runtime: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
+                "<h3>GGX specular ({})</h3><p>Reference: {}. Runtime: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
+                esc_html(crate::appendix_c::label(m.convention)),
                 esc_html(&m.specular_method),
                 esc_html(&m.specular_runtime)
             );

@@ -27,6 +27,10 @@ pub mod nullable {
     }
 }
 
+fn physical() -> String {
+    "physical".into()
+}
+
 /// The results of one map.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MapResults {
@@ -59,6 +63,10 @@ pub struct MapInfo {
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceInfo {
+    /// `physical` (the GGX integral) or `appendix-c` (seed 004 Appendix C's conventions,
+    /// `--reference appendix-c`; see `probes::appendix_c`).
+    #[serde(default = "physical")]
+    pub convention: String,
     /// How the irradiance reference was computed.
     pub method: String,
     /// How the specular references were computed (absent without specular).
@@ -300,6 +308,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
         map: MapInfo { path: m.path.clone(), width: m.width, height: m.height, sanitized_texels: m.sanitized, folder: f.clone() },
         domain: m.domain.to_string(),
         reference: ReferenceInfo {
+            convention: m.convention.name().to_string(),
             method: m.reference_method.clone(),
             specular_method: m.specular_method.clone(),
             specular_error: m

@@ -17,6 +17,7 @@ pub use crate::modes::SpecularRuntime;
 use crate::modes::{Context, ModeResult};
 use rayon::prelude::*;
 use sbf::envmap::{LatLong, LatLongImage};
+use sbf::ggx::Convention;
 use sbf::glam::DVec3;
 use sbf::recon::reference::MapSampler;
 use sbf::recon::{ambient_dice as adr, sg as sgr, sh as shr};
@@ -133,7 +134,7 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
     let source = coarsened(&ctx.map, d);
     let q = crate::azimuthal::Quadrature::new(&source, ctx.grid)?;
     let sub = if d > 1 { 1 } else { subdivision(alpha, ctx.map.geometry.height) };
-    let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
+    let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha, ctx.convention);
     let image = fft_image(&q, ctx.grid, rows.clone(), sub, &kernel);
     // The check's quadrature: the map at D/2 (one sub-cell), or 2S sub-cells at D = 1.
     let (check_q, check_sub) =
@@ -163,14 +164,14 @@ pub fn reference_fft(ctx: &Context, alpha: f64) -> Result<FftReference, String> 
 }
 
 /// The output rows where the signal is defined and the GGX kernel for `domain`.
-fn fft_setup(grid: LatLong, domain: Domain, alpha: f64) -> (std::ops::Range<usize>, GgxRows) {
+fn fft_setup(grid: LatLong, domain: Domain, alpha: f64, convention: Convention) -> (std::ops::Range<usize>, GgxRows) {
     let h_out = grid.height;
     let rows = match domain {
         Domain::Sphere => 0..h_out,
         // Rows whose centre is above the horizon (d.y > 0).
         Domain::UpperHemisphere => 0..h_out / 2,
     };
-    (rows, GgxRows { domain, alpha: alpha.clamp(1e-4, 1.0), h_out })
+    (rows, GgxRows { domain, alpha: alpha.clamp(1e-4, 1.0), h_out, convention })
 }
 
 /// [`ggx_kernel`] along a fine azimuth row of the quadrature ([`crate::azimuthal`]): view
@@ -185,12 +186,19 @@ fn fft_setup(grid: LatLong, domain: Domain, alpha: f64) -> (std::ops::Range<usiz
 ///   1 − cos γ = |v − l|²/2; D = α²/(π(α²c² + s²)²), G2 = 1/(1 + Λ(l)) (Λ(v) = 0).
 ///
 /// Equals [`ggx_kernel`] to rounding (test `row_kernel_equals_the_pointwise_kernel`).
+///
+/// Under [`Convention::AppendixC`] (hemisphere only) the kernel is the seed reference's:
+/// f·cos = F·D·G2·G1(v)²/(4 n·v) — its per-sample weight G2·G1(v) times the visible-normal
+/// density G1(v)·D/(4 n·v) — wherever n·h > 0 (n·(v + l) > 0), light below the surface
+/// included with Λ(l) from |cos θ_l|; F = f0 + (1 − f0)(1 − v·h)⁵ with f0 0.9 and
+/// v·h = |v + l|/2 = √m/2.
 #[derive(Debug, Clone, Copy)]
 pub struct GgxRows {
     pub domain: Domain,
     pub alpha: f64,
     /// Output grid rows (θ_v of row j is π(j + ½)/h_out).
     pub h_out: usize,
+    pub convention: Convention,
 }
 
 impl crate::azimuthal::RowKernel for GgxRows {
@@ -207,12 +215,23 @@ impl crate::azimuthal::RowKernel for GgxRows {
         let mut any = false;
         match self.domain {
             Domain::UpperHemisphere => {
-                if cv <= 0.0 || cl <= 0.0 {
+                let seed = self.convention == Convention::AppendixC;
+                // Physical: light from above the surface only. Appendix C: any light with
+                // n·h > 0, i.e. c_v + c_l > 0 (Λ is even in cos θ_l).
+                if cv <= 0.0 || cl == 0.0 || (!seed && cl < 0.0) || cv + cl <= 0.0 {
                     out.fill(0.0);
                     return false;
                 }
                 let g2 = 1.0 / (1.0 + lambda(sv, cv) + lambda(sl, cl));
-                let scale = a2 * inv_pi * g2 / (4.0 * cv);
+                let mut scale = a2 * inv_pi * g2 / (4.0 * cv);
+                let f0 = match self.convention.fresnel() {
+                    Some((f0, _)) => {
+                        let g1 = 1.0 / (1.0 + lambda(sv, cv));
+                        scale *= g1 * g1;
+                        f0
+                    }
+                    None => 1.0,
+                };
                 let p = (cv + cl) * (cv + cl);
                 for (o, (c, s)) in out.iter_mut().zip(az.cos.iter().zip(az.sin)) {
                     // v + l = (s_v sin Δφ, c_v + c_l, −s_v cos Δφ − s_l).
@@ -220,7 +239,8 @@ impl crate::azimuthal::RowKernel for GgxRows {
                     let q = x * x + z * z;
                     let m = p + q;
                     let t = a2 * p + q;
-                    *o = scale * m * m / (t * t);
+                    let f = if f0 == 1.0 { 1.0 } else { f0 + (1.0 - f0) * sbf::ggx::schlick_weight(0.5 * m.sqrt()) };
+                    *o = f * scale * m * m / (t * t);
                     any = true;
                 }
             }
@@ -285,7 +305,7 @@ pub fn basis_limited(ctx: &Context, radiances: &[&[[f64; 3]]], alpha: f64) -> Op
     let full = subdivision(alpha, ctx.grid.height);
     let half = full / 2;
     let sub = if full == 1 { 1 } else { (half + half % 2).max(2) };
-    let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha);
+    let (rows, kernel) = fft_setup(ctx.grid, ctx.domain, alpha, ctx.convention);
     let refs: Vec<&crate::azimuthal::Spectra> = spectra.iter().collect();
     let parts = q.integrate_many(&refs, &rows.clone().collect::<Vec<_>>(), sub, &kernel);
     Some(
@@ -397,6 +417,10 @@ pub fn runtime_image(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f
 /// The response table of a lobe mode on the table runtime (None otherwise). Every SG mode
 /// here uses λ = 6, the one sharpness with a table; another would take the fit path.
 fn lobe_table(r: &ModeResult, ctx: &Context) -> Option<&'static sbf::recon::lobe_ggx::Table> {
+    // The tables integrate the physical BRDF: under Appendix C the seed's fits run instead.
+    if ctx.convention != Convention::Physical {
+        return None;
+    }
     let table = match ctx.specular_runtime {
         SpecularRuntime::Table if is_sg(r.id) => Some(sbf::luts::committed::lobe_ggx_sg6()),
         SpecularRuntime::Table if is_ad(r.id) => Some(sbf::luts::committed::lobe_ggx_ad()),
@@ -459,7 +483,11 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
     let chan = |k: usize| c.iter().map(|v| v[k]).collect::<Vec<f64>>();
     let chans = [chan(0), chan(1), chan(2)];
     let dfg = sbf::luts::committed::dfg();
-    let lut = sbf::luts::committed::ad_specular_2d();
+    let (f0, f90) = ctx.convention.fresnel().unwrap_or((1.0, 1.0));
+    let lut = match ctx.convention {
+        Convention::Physical => sbf::luts::committed::ad_specular_2d(),
+        Convention::AppendixC => crate::appendix_c::ad_lut(),
+    };
     let sh = sbf::ShBasis::new(if is_sh(r.id) { (c.len() as f64).sqrt().round() as usize - 1 } else { 0 }).ok()?;
     // SH: n·v is constant along an output row in both domains, so is the band filter.
     let sh_filters: Vec<Vec<f64>> = if is_sh(r.id) {
@@ -488,10 +516,13 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
         let nv = n.dot(v).clamp(0.0, 1.0);
         if is_sh(r.id) {
             let d = dfg.sample2(nv as f32, alpha as f32);
-            shr::specular_zonal_rgb(&sh, c, &sh_filters[k / ctx.grid.width], n, v, alpha, 1.0, 1.0, [d[0] as f64, d[1] as f64])
+            shr::specular_zonal_rgb(&sh, c, &sh_filters[k / ctx.grid.width], n, v, alpha, f0, f90, [d[0] as f64, d[1] as f64])
                 .unwrap_or([f64::NAN; 3])
         } else if is_sg(r.id) {
-            let warp = sgr::AsgWarp::new(n, v, alpha, 1.0, 1.0);
+            let warp = match ctx.convention {
+                Convention::Physical => sgr::AsgWarp::new(n, v, alpha, f0, f90),
+                Convention::AppendixC => crate::appendix_c::asg_warp(n, v, alpha, f0, f90),
+            };
             let d = dfg.sample2(nv as f32, alpha as f32);
             // Each lobe's warped integral once, then RGB (the runtime's form).
             let mut e = [0.0; 3];
@@ -504,13 +535,13 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
             // An ambient (constant) function reflects its value times the albedo.
             if c.len() > r.lobes.len() {
                 for ch in 0..3 {
-                    e[ch] += c[r.lobes.len()][ch] * (d[0] + d[1]) as f64;
+                    e[ch] += c[r.lobes.len()][ch] * (f0 * d[0] as f64 + f90 * d[1] as f64);
                 }
             }
             e
         } else {
             let l = lut.sample2(nv as f32, alpha as f32);
-            [0, 1, 2].map(|ch| adr::specular(&axes, &chans[ch], n, v, alpha, 1.0, 1.0, [l[0] as f64, l[1] as f64]))
+            [0, 1, 2].map(|ch| adr::specular(&axes, &chans[ch], n, v, alpha, f0, f90, [l[0] as f64, l[1] as f64]))
         }
     })
 }

@@ -174,6 +174,7 @@ fn results_json_coefficients_match_dense_ls() {
             specular_method: String::new(),
             specular_runtime: String::new(),
             runtime: Default::default(),
+            convention: Default::default(),
             specular_samples: 0,
             specular_reference: Vec::new(),
             grid: ctx.grid,

@@ -260,7 +260,7 @@ fn row_kernel_equals_the_pointwise_kernel() {
     let mut checked = 0usize;
     for domain in [Domain::UpperHemisphere, Domain::Sphere] {
         for alpha in [1e-4, 0.01, 0.1, 0.37, 1.0] {
-            let k = GgxRows { domain, alpha, h_out };
+            let k = GgxRows { domain, alpha, h_out, convention: Default::default() };
             for j in 0..h_out {
                 for tl in [1e-9, 0.05, 0.4, 1.0, PI / 2.0 - 1e-6, PI / 2.0, 2.0, PI - 1e-9] {
                     k.row(j, tl, &az, &mut out);
@@ -294,6 +294,59 @@ fn row_kernel_equals_the_pointwise_kernel() {
     assert!(checked > 100_000, "only {checked} non-zero values compared");
 }
 
+/// The Appendix C row kernel against the seed's estimator written pointwise: the density
+/// of the reflected direction under visible-normal sampling (`vndf_reflected_pdf`, Heitz
+/// 2018 eq. 17) times the seed's per-sample weight (`Convention::AppendixC.vndf_weight`:
+/// G2·G1(v), Λ(l) from |cos θ_l|) times Schlick's F with f0 0.9 at v·h — a different route
+/// from the row kernel's closed form F·D·G2·G1²/(4 n·v); zero where n·h ≤ 0 (no visible
+/// normal reflects there). Light below the surface is included (θ_l > π/2). Tolerance as
+/// in `row_kernel_equals_the_pointwise_kernel` (the same cancellations). Mutations tried:
+/// G1² dropped from the row kernel, f0 1 instead of 0.9, the horizon cut kept — each fails.
+#[test]
+fn appendix_c_row_kernel_is_the_seed_estimators_density() {
+    use probes::azimuthal::{Azimuths, RowKernel};
+    use probes::specular::GgxRows;
+    use sbf::ggx::{self, Convention};
+    let h_out = 64;
+    let dphi: Vec<f64> = (0..256).map(|x| 2.0 * PI * (x as f64 + 0.37) / 256.0 - 0.3).collect();
+    let (sin, cos): (Vec<f64>, Vec<f64>) = dphi.iter().map(|p| p.sin_cos()).unzip();
+    let az = Azimuths { dphi: &dphi, cos: &cos, sin: &sin };
+    let mut out = vec![0.0; dphi.len()];
+    let (mut checked, mut below) = (0usize, 0usize);
+    // World (+Y up) to a frame with the normal at +Z.
+    let t = |w: DVec3| DVec3::new(w.x, w.z, w.y);
+    for alpha in [0.01, 0.1, 0.4, 0.8, 1.0] {
+        let k = GgxRows { domain: Domain::UpperHemisphere, alpha, h_out, convention: Convention::AppendixC };
+        for j in 0..h_out / 2 {
+            for tl in [1e-9, 0.05, 0.4, 1.0, PI / 2.0 - 1e-6, 1.7, 2.0, 2.6, PI - 1e-9] {
+                k.row(j, tl, &az, &mut out);
+                let v_theta = PI * (j as f64 + 0.5) / h_out as f64;
+                for (x, p) in dphi.iter().enumerate() {
+                    let (l, v) = (t(probes::azimuthal::direction(tl, 0.0)), t(probes::azimuthal::direction(v_theta, *p)));
+                    let h = (v + l).normalize();
+                    let want = if h.z > 0.0 {
+                        let f = 0.9 + 0.1 * ggx::schlick_weight(v.dot(h));
+                        f * Convention::AppendixC.vndf_weight(v, l, alpha) * ggx::vndf_reflected_pdf(v, l, alpha)
+                    } else {
+                        0.0
+                    };
+                    let got = out[x];
+                    let (sv, c, sl) = (v_theta.sin(), p.cos(), tl.sin());
+                    let x2 = (sv * p.sin()).powi(2);
+                    let kappa = (x2 + ((sv * c).abs() + sl).powi(2)) / (x2 + (sv * c + sl).powi(2));
+                    assert!(
+                        (got - want).abs() <= 1e-13 * (1.0 + kappa) * got.abs().max(want.abs()) + 1e-300,
+                        "α {alpha} row {j} θ_l {tl} Δφ {p}: {got} vs {want} (κ {kappa:.1e})"
+                    );
+                    checked += usize::from(want > 0.0);
+                    below += usize::from(want > 0.0 && l.z < 0.0);
+                }
+            }
+        }
+    }
+    assert!(checked > 50_000 && below > 10_000, "only {checked} non-zero values compared ({below} below the surface)");
+}
+
 /// The row kernels through the full machinery — `GgxRows` (mirror pairs over the sphere,
 /// spectral truncation) — against the direct sum of the same rule: both domains, α 0.1
 /// and 0.6, subdivisions 1–2, on the random map (broad spectra: every bin kept) and on a
@@ -311,7 +364,7 @@ fn row_kernels_with_mirror_pairs_and_truncation_equal_the_direct_sum() {
             for (alpha, sub) in [(0.1, 2), (0.6, 1)] {
                 let out = LatLong { width: 16, height: 8 };
                 let q = probes::azimuthal::Quadrature::new(&map, out).unwrap();
-                let kernel = probes::specular::GgxRows { domain, alpha, h_out: out.height };
+                let kernel = probes::specular::GgxRows { domain, alpha, h_out: out.height, convention: Default::default() };
                 let got = q.integrate_rows(0..out.height, sub, &kernel);
                 let top = got.iter().flat_map(|x| x.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
                 for j in 0..out.height {
@@ -399,7 +452,7 @@ fn coarsened_reference_is_within_its_stated_error() {
         assert_eq!(r.coarsening, 2);
         let (w, h) = (ctx.grid.width, ctx.grid.height);
         let q = probes::azimuthal::Quadrature::new(&ctx.map, ctx.grid).unwrap();
-        let kernel = probes::specular::GgxRows { domain, alpha, h_out: h };
+        let kernel = probes::specular::GgxRows { domain, alpha, h_out: h, convention: Default::default() };
         let rows = if domain == Domain::Sphere { h } else { h / 2 };
         let (mut e2, mut n) = (0.0, 0usize);
         for j in (4..rows).step_by(8) {
@@ -441,7 +494,7 @@ fn rows_in_any_order_and_thread_count_equal_the_full_integration() {
     let out = LatLong { width: 16, height: 8 };
     let q = probes::azimuthal::Quadrature::new(&map, out).unwrap();
     for domain in [Domain::Sphere, Domain::UpperHemisphere] {
-        let kernel = probes::specular::GgxRows { domain, alpha: 0.3, h_out: out.height };
+        let kernel = probes::specular::GgxRows { domain, alpha: 0.3, h_out: out.height, convention: Default::default() };
         let pool = |n: usize| rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
         let full = pool(1).install(|| q.integrate_rows(0..out.height, 2, &kernel));
         let top = full.iter().flat_map(|x| x.iter()).fold(0.0f64, |a, x| a.max(x.abs()));

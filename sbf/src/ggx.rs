@@ -52,6 +52,63 @@ pub fn g2(v: DVec3, l: DVec3, alpha: f64) -> f64 {
     1.0 / (1.0 + lambda(v, alpha) + lambda(l, alpha))
 }
 
+/// Which GGX specular integral a reference or table computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Convention {
+    /// The single-scattering BRDF: per visible-normal sample the weight G2(v, l)/G1(v)
+    /// (Heitz 2018, eq. 19), light only from above the surface, Fresnel from the caller.
+    #[default]
+    Physical,
+    /// Seed 004 Appendix C's pipeline, as its code reads: Listing 8.2's
+    /// `SmithGGXMaskingShadowingG2OverG1Reflection` returns `numerator / (denominator *
+    /// G1Inverse)` = G2(v, l)·G1(v) — every sample scaled by G1(v)² relative to the physical
+    /// weight — with Λ of a light below the surface taken from its |cos| (the reference does
+    /// not cut at the horizon; the Listing 8.2 table does), and Schlick's Fresnel with
+    /// f0 = 0.9, f90 = 1 (the author's Probulator fork, `specularF0` in Common.h).
+    AppendixC,
+}
+
+impl Convention {
+    /// Schlick (f0, f90) the convention fixes (Appendix C), or None (the caller's).
+    pub fn fresnel(self) -> Option<(f64, f64)> {
+        match self {
+            Convention::Physical => None,
+            Convention::AppendixC => Some((0.9, 1.0)),
+        }
+    }
+
+    /// Weight of a visible-normal sample of view v (v_z > 0) that reflects to l, Fresnel
+    /// excluded: G2/G1(v), 0 below the surface (physical); G2·G1(v) with Λ(l) from |l_z|,
+    /// 0 only at l_z = 0 (Appendix C).
+    pub fn vndf_weight(self, v: DVec3, l: DVec3, alpha: f64) -> f64 {
+        match self {
+            Convention::Physical => {
+                let g1 = g1(v, alpha);
+                if g1 > 0.0 {
+                    g2(v, l, alpha) / g1
+                } else {
+                    0.0
+                }
+            }
+            Convention::AppendixC => {
+                if v.z <= 0.0 || l.z == 0.0 {
+                    return 0.0;
+                }
+                let mirrored = DVec3::new(l.x, l.y, l.z.abs());
+                g1(v, alpha) / (1.0 + lambda(v, alpha) + lambda(mirrored, alpha))
+            }
+        }
+    }
+
+    /// Short name for reports: `physical` or `appendix-c`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Convention::Physical => "physical",
+            Convention::AppendixC => "appendix-c",
+        }
+    }
+}
+
 /// Samples a visible normal for view v (v_z > 0) from u ∈ [0,1)² (Heitz 2018, Listing 1).
 pub fn sample_vndf(v: DVec3, alpha: f64, u: [f64; 2]) -> DVec3 {
     // Stretch the view vector to the hemisphere configuration.

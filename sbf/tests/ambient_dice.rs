@@ -213,3 +213,26 @@ fn ad_gram_quadrature_error_is_reported() {
     // math.md: diagonal ≈ 0.35465.
     assert!((g.matrix[(0, 0)] - 0.35465).abs() < 5e-5, "G00 = {}", g.matrix[(0, 0)]);
 }
+
+/// Appendix C's Listing 8.2 table weighs each sample by G2·G1(v) instead of G2/G1(v); v is
+/// fixed per entry, so each of its entries is the physical entry times G1(v)² (an identity:
+/// the same samples, the same horizon test). Tolerance 1e-12 relative: the per-sample
+/// weights are computed by different products (rounding ~1e-16 each) and summed over 512
+/// samples. Mutations tried: the seed weight's G1 dropped (G2 only) — fails at every n·v < 1.
+#[test]
+fn appendix_c_lut_entries_are_the_physical_ones_times_g1_squared() {
+    use sbf::ggx::{self, Convention};
+    use sbf::recon::ambient_dice::specular_lut_entry_with;
+    for alpha in [0.05, 0.2, 0.5, 0.8, 1.0] {
+        for nv in [0.02, 0.1, 0.3, 0.6, 0.9, 1.0] {
+            let v = DVec3::new(0.0, (1.0f64 - nv * nv).max(0.0).sqrt(), nv);
+            let g1 = ggx::g1(v, alpha);
+            let phys = specular_lut_entry_with(nv, alpha, 512, Convention::Physical);
+            let seed = specular_lut_entry_with(nv, alpha, 512, Convention::AppendixC);
+            for c in 0..2 {
+                let want = phys[c] * g1 * g1;
+                assert!((seed[c] - want).abs() <= 1e-12 * want.abs() + 1e-300, "α {alpha} n·v {nv} channel {c}: {} vs {want}", seed[c]);
+            }
+        }
+    }
+}

@@ -5,8 +5,12 @@
 //!
 //!     cargo test --release --test appendix_c -- --nocapture
 //!
-//! Conventions: tangent space has +Z = the probe's up (+Y), i.e. world
-//! d = (t.x, t.z, −t.y); the error images are the upper-hemisphere half of a 128×64
+//! This is the physical pipeline (the GGX integral, F ≡ 1) with sbf alone; the seed's own
+//! conventions, to compare with its printed figures cell by cell, are `probes compare
+//! --reference appendix-c` (test `probes/tests/appendix_c.rs`).
+//!
+//! Conventions: tangent space has +Z = the probe's up (+Y), the peer's frame: world
+//! d = (t.x, t.z, t.y); the error images are the upper-hemisphere half of a 128×64
 //! lat-long grid (2048 texels), RMSE unweighted over texels and averaged over RGB as
 //! in Probulator. References: exact quadrature over the map's texels for Lambert and
 //! for GGX, with f0 = f90 = 1 (the seed does not state its Fresnel;
@@ -81,11 +85,13 @@ const SEED: [[[f64; 4]; 7]; 5] = {
     ]
 };
 
+/// The peer's z-up frame read in our world: a swap of y and z (see
+/// `probes::modes::tangent_to_world`), its own inverse.
 fn to_world(t: DVec3) -> DVec3 {
-    DVec3::new(t.x, t.z, -t.y)
+    DVec3::new(t.x, t.z, t.y)
 }
 fn to_tangent(w: DVec3) -> DVec3 {
-    DVec3::new(w.x, -w.z, w.y)
+    DVec3::new(w.x, w.z, w.y)
 }
 
 enum Kind {

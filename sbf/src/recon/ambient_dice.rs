@@ -140,10 +140,15 @@ pub use crate::ggx::dominant_direction as ggx_dominant_direction;
 /// ∫B·F_c·f·cos) with the normal at +Z, view at cos θ_v = `n_dot_v` in the YZ plane,
 /// and the lobe axis `lobe`, by `samples` Hammersley visible-normal samples.
 pub fn lobe_specular_reference(lobe: DVec3, n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
+    lobe_specular_reference_with(lobe, n_dot_v, alpha, samples, ggx::Convention::Physical)
+}
+
+/// [`lobe_specular_reference`] with the sample weight of `convention`; light only from
+/// above the surface in both (Listing 8.2's `lightDirectionTangent.z > 0`).
+pub fn lobe_specular_reference_with(lobe: DVec3, n_dot_v: f64, alpha: f64, samples: u32, convention: ggx::Convention) -> [f64; 2] {
     let nv = n_dot_v.clamp(1e-6, 1.0);
     let alpha = alpha.clamp(1e-4, 1.0);
     let v = DVec3::new(0.0, (1.0 - nv * nv).max(0.0).sqrt(), nv);
-    let g1 = ggx::g1(v, alpha);
     let k = samples.max(1);
     let mut acc = [0.0; 2];
     for i in 0..k {
@@ -152,7 +157,7 @@ pub fn lobe_specular_reference(lobe: DVec3, n_dot_v: f64, alpha: f64, samples: u
         if l.z <= 0.0 {
             continue;
         }
-        let w = ggx::g2(v, l, alpha) / g1 * srbf_lobe(lobe.dot(l));
+        let w = convention.vndf_weight(v, l, alpha) * srbf_lobe(lobe.dot(l));
         let fc = ggx::schlick_weight(v.dot(h));
         acc[0] += (1.0 - fc) * w;
         acc[1] += fc * w;
@@ -172,6 +177,12 @@ pub fn lobe_specular_quadrature(lobe: DVec3, n_dot_v: f64, alpha: f64, n: usize)
 /// One entry of the Ambient Dice specular LUT (seed Listing 8.2): ground truth for a
 /// lobe along the GGX dominant direction, divided by the fit's value there.
 pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
+    specular_lut_entry_with(n_dot_v, alpha, samples, ggx::Convention::Physical)
+}
+
+/// [`specular_lut_entry`] with the ground truth's sample weight of `convention`
+/// (`AppendixC`: the table the seed printed its figures with).
+pub fn specular_lut_entry_with(n_dot_v: f64, alpha: f64, samples: u32, convention: ggx::Convention) -> [f64; 2] {
     let nv = n_dot_v.clamp(1e-6, 1.0);
     let alpha = alpha.clamp(1e-4, 1.0);
     let n = DVec3::Z;
@@ -179,7 +190,7 @@ pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     let r = ggx::reflect(v, n);
     let lobe = crate::ggx::dominant_direction(n, r, alpha);
     let fit = lobe_specular_fit(&SPECULAR_FIT_LISTING_8_1, &DIFFUSE_FIT_LISTING_8_1, lobe, n, v, alpha);
-    let gt = lobe_specular_reference(lobe, nv, alpha, samples);
+    let gt = lobe_specular_reference_with(lobe, nv, alpha, samples, convention);
     if fit > 0.0 {
         gt.map(|g| g / fit)
     } else {

@@ -159,5 +159,11 @@ impl Lut3 {
 /// two channels (f0, f90 scales), each entry from `samples` visible-normal samples.
 #[cfg(feature = "ambient-dice")]
 pub fn ad_specular_lut(n_nv: usize, n_alpha: usize, samples: u32) -> Result<Lut2, SbfError> {
-    Lut2::from_fn(n_nv, n_alpha, 2, |nv, alpha| super::ambient_dice::specular_lut_entry(nv, alpha, samples).to_vec())
+    ad_specular_lut_with(n_nv, n_alpha, samples, crate::ggx::Convention::Physical)
+}
+
+/// [`ad_specular_lut`] whose ground truth weighs samples by `convention`.
+#[cfg(feature = "ambient-dice")]
+pub fn ad_specular_lut_with(n_nv: usize, n_alpha: usize, samples: u32, convention: crate::ggx::Convention) -> Result<Lut2, SbfError> {
+    Lut2::from_fn(n_nv, n_alpha, 2, |nv, alpha| super::ambient_dice::specular_lut_entry_with(nv, alpha, samples, convention).to_vec())
 }

@@ -294,15 +294,26 @@ pub struct AsgWarp {
 impl AsgWarp {
     /// For unit normal n, unit view v, roughness α (clamped to [1e-4, 1]) and Fresnel (f0, f90).
     pub fn new(n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64) -> Self {
+        Self::with_frame(n, v, alpha, f0, f90, |z| {
+            // x in the plane of n and z (the stretched axis: Xu et al. 2013), y ⟂ both.
+            let y0 = n.cross(z);
+            let y = if y0.length_squared() > 1e-24 { y0.normalize() } else { crate::frame::tangent_frame(z).1 };
+            (y.cross(z), y)
+        })
+    }
+
+    /// [`AsgWarp::new`] with the warped lobe's (x, y) axes from `frame(z)` for the reflected
+    /// direction z; x takes the stretched bandwidth λ/(8(n·v)²). Pettineo's code, and the seed's
+    /// Probulator fork after it, take "any orthonormal basis" about z (Duff et al. 2017's,
+    /// in tangent space), which stretches the lobe along the wrong axis away from the
+    /// plane of n and z — reproduced by passing that basis.
+    pub fn with_frame(n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64, frame: impl FnOnce(DVec3) -> (DVec3, DVec3)) -> Self {
         let alpha = alpha.clamp(1e-4, 1.0);
         let a2 = alpha * alpha;
         let (lam, mu) = (2.0 / a2, 1.0 / (PI * a2));
         let nv = n.dot(v).max(NV_EPSILON);
         let z = ggx::reflect(v, n);
-        // Frame of the warped lobe: x in the plane of n and z (stretched), y ⟂ both.
-        let y0 = n.cross(z);
-        let y = if y0.length_squared() > 1e-24 { y0.normalize() } else { crate::frame::tangent_frame(z).1 };
-        let x = y.cross(z);
+        let (x, y) = frame(z);
         AsgWarp { x, y, z, lx: lam / (8.0 * nv * nv), ly: lam / 8.0, mu, tail: vis_fresnel_cos(n, v, z, alpha, f0, f90) }
     }
 

@@ -1,0 +1,271 @@
+//! Seed 004 Appendix C's pipeline where it differs from the physical one — what
+//! `--reference appendix-c` changes, read from the author's Probulator fork (github
+//! troughton/Probulator, branch `ambient-dice`, commit 2a6cfda4e011ecdecf286c1975679c716a97369f):
+//!
+//! - the GGX reference weighs each visible-normal sample by G2·G1(v) instead of G2/G1(v),
+//!   lets light from below the surface in, and uses Schlick's Fresnel with f0 0.9, f90 1
+//!   ([`sbf::ggx::Convention::AppendixC`]; the kernel is [`crate::specular::GgxRows`]);
+//! - the runtimes are the seed's: SG lobes through the ASG warp (with the physical
+//!   visibility, as the seed's SG code computes it, and its arbitrary frame about the
+//!   reflected direction, [`asg_warp`]) and AD lobes through Listing 8.1 × the
+//!   Listing 8.2 table built with the same G2·G1 weight ([`ad_lut`]); both with f0 0.9;
+//! - the SG fits point-sample the map: 20 000 Halton directions over the sphere, each the
+//!   nearest texel of the map resized to 512×256 ([`sg_samples`]), equal weights;
+//! - RMS over the upper half of the output rows, every texel equal (as `--domain
+//!   hemisphere` always does).
+//!
+//! The lobe layouts are the seed's in both modes ([`crate::modes::tangent_to_world`]).
+
+use sbf::envmap::{LatLong, LatLongImage};
+use sbf::glam::DVec3;
+use sbf::recon::lut::Lut2;
+use sbf::solve::RadianceSample;
+use std::sync::OnceLock;
+
+/// How reports name the specular signal under `convention`.
+pub fn label(convention: sbf::ggx::Convention) -> &'static str {
+    match convention {
+        sbf::ggx::Convention::Physical => "f0 = f90 = 1, physical reference",
+        sbf::ggx::Convention::AppendixC => {
+            "APPENDIX C COMPATIBLE reference, not the physical integral: the seed's G2·G1 visibility, no horizon cut, Schlick f0 0.9 / f90 1; the seed's runtimes; SG fits point-sampled"
+        }
+    }
+}
+
+/// The peer's output (and resize) size: `outputImageSize(512, 256)` in its CLI.
+pub const SIZE: LatLong = LatLong { width: 512, height: 256 };
+/// Halton samples of the point-sampled fits (`sampleCount = 20000`).
+pub const SAMPLES: u32 = 20_000;
+
+/// The Listing 8.2 table with the seed's G2·G1 ground truth, 64² over (n·v, α) like the
+/// committed physical one, 2048 Hammersley samples per entry (built once per process).
+pub fn ad_lut() -> &'static Lut2 {
+    static L: OnceLock<Lut2> = OnceLock::new();
+    L.get_or_init(|| sbf::recon::lut::ad_specular_lut_with(64, 64, 2048, sbf::ggx::Convention::AppendixC).expect("fixed valid dimensions"))
+}
+
+/// The seed's SG runtime for normal n, view v (world): the ASG warp with the orthonormal
+/// basis of Duff et al. 2017 ("Building an Orthonormal Basis, Revisited", Listing 3) about
+/// the reflected direction in the peer's z-up tangent frame, as its `sgWarpDistribution`
+/// builds it.
+pub fn asg_warp(n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64) -> sbf::recon::sg::AsgWarp {
+    use crate::modes::{tangent_to_world, world_to_tangent};
+    sbf::recon::sg::AsgWarp::with_frame(n, v, alpha, f0, f90, |z| {
+        let t = world_to_tangent(z);
+        let sign = 1.0f64.copysign(t.z);
+        let a = -1.0 / (sign + t.z);
+        let b = t.x * t.y * a;
+        let b1 = DVec3::new(1.0 + sign * t.x * t.x * a, sign * b, -sign * t.x);
+        let b2 = DVec3::new(b, sign + t.y * t.y * a, -t.y);
+        (tangent_to_world(b1), tangent_to_world(b2))
+    })
+}
+
+/// The radical inverse in f32 as the peer's `sampleHalton` computes it.
+fn halton(mut index: u32, base: u32) -> f32 {
+    let (mut f, mut r) = (1.0f32, 0.0f32);
+    while index > 0 {
+        f /= base as f32;
+        r += f * (index % base) as f32;
+        index /= base;
+    }
+    r
+}
+
+/// The Catmull–Rom kernel (B = 0, C = ½), stb_image_resize's default for upsampling.
+fn catmull_rom(x: f64) -> f64 {
+    let x = x.abs();
+    if x < 1.0 {
+        1.5 * x * x * x - 2.5 * x * x + 1.0
+    } else if x < 2.0 {
+        -0.5 * x * x * x + 2.5 * x * x - 4.0 * x + 2.0
+    } else {
+        0.0
+    }
+}
+
+/// Per output index: (first input index, weights), output centre (o + ½)/s in input texels,
+/// weights normalised to sum 1, indices clamped at the edges (stb's `STBIR_EDGE_CLAMP`).
+fn upsample_weights(n_in: usize, n_out: usize) -> Vec<Vec<(usize, f64)>> {
+    let s = n_out as f64 / n_in as f64;
+    (0..n_out)
+        .map(|o| {
+            let c = (o as f64 + 0.5) / s;
+            let lo = (c - 2.5).floor() as i64;
+            let mut w: Vec<(usize, f64)> = (lo..lo + 6)
+                .map(|i| ((i.clamp(0, n_in as i64 - 1)) as usize, catmull_rom(i as f64 + 0.5 - c)))
+                .filter(|(_, w)| *w != 0.0)
+                .collect();
+            let total: f64 = w.iter().map(|(_, x)| x).sum();
+            w.iter_mut().for_each(|(_, x)| *x /= total);
+            w
+        })
+        .collect()
+}
+
+/// The map at the peer's 512×256 (`imageResize`: stb_image_resize, Catmull–Rom, separable,
+/// edges clamped). Maps of that size are used as they are; larger maps would need the
+/// peer's downsampling filter (Mitchell) and are refused.
+pub fn resized(map: &LatLongImage) -> Result<LatLongImage, String> {
+    let g = map.geometry;
+    if g.width == SIZE.width && g.height == SIZE.height {
+        return Ok(map.clone());
+    }
+    if g.width > SIZE.width || g.height > SIZE.height {
+        return Err(format!(
+            "--reference appendix-c: the seed's point-sampled fits read the map resized to 512×256; a {}×{} map would be downsampled (stb's Mitchell filter), which is not reproduced — give a map of at most 512×256",
+            g.width, g.height
+        ));
+    }
+    let wx = upsample_weights(g.width, SIZE.width);
+    let wy = upsample_weights(g.height, SIZE.height);
+    // Horizontal pass, then vertical.
+    let mut rows = vec![[0.0f64; 3]; SIZE.width * g.height];
+    for j in 0..g.height {
+        for (o, w) in wx.iter().enumerate() {
+            let mut acc = [0.0; 3];
+            for &(i, k) in w {
+                let t = map.texel(i, j);
+                for c in 0..3 {
+                    acc[c] += k * t[c] as f64;
+                }
+            }
+            rows[j * SIZE.width + o] = acc;
+        }
+    }
+    let mut out = vec![[0.0f32; 3]; SIZE.width * SIZE.height];
+    for (o, w) in wy.iter().enumerate() {
+        for i in 0..SIZE.width {
+            let mut acc = [0.0; 3];
+            for &(j, k) in w {
+                for c in 0..3 {
+                    acc[c] += k * rows[j * SIZE.width + i][c];
+                }
+            }
+            out[o * SIZE.width + i] = acc.map(|x| x as f32);
+        }
+    }
+    LatLongImage::new(SIZE.width, SIZE.height, out).map_err(|e| e.to_string())
+}
+
+/// The seed's SG fitting samples, in our world frame: Halton (2, 3) points 1..=20 000 mapped
+/// uniformly onto the sphere (`sampleUniformSphere`), each valued by the nearest texel of the
+/// resized map at the peer's `cartesianToLatLongTexcoord`, weight 4π/N (its sample Gram and
+/// moments). Computed in f32 like the peer, so each sample reads the same texel.
+pub fn sg_samples(map: &LatLongImage) -> Result<Vec<RadianceSample>, String> {
+    let m = resized(map)?;
+    let weight = 4.0 * std::f64::consts::PI / SAMPLES as f64;
+    let pi = std::f32::consts::PI;
+    Ok((1..=SAMPLES)
+        .map(|i| {
+            let (u, v) = (halton(i, 2), halton(i, 3));
+            let z = 1.0 - 2.0 * u;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let (s, c) = (2.0 * pi * v).sin_cos();
+            let p = [r * c, r * s, z];
+            // The peer's lat-long lookup in its z-up frame, nearest texel, clamped.
+            let tu = 0.5 * (1.0 + p[0].atan2(-p[1]) / pi);
+            let tv = p[2].clamp(-1.0, 1.0).acos() / pi;
+            let x = ((tu * SIZE.width as f32).floor() as i64).clamp(0, SIZE.width as i64 - 1) as usize;
+            let y = ((tv * SIZE.height as f32).floor() as i64).clamp(0, SIZE.height as i64 - 1) as usize;
+            let t = m.texel(x, y);
+            RadianceSample {
+                direction: crate::modes::tangent_to_world(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
+                value: [t[0] as f64, t[1] as f64, t[2] as f64],
+                weight,
+            }
+        })
+        .collect())
+}
+
+/// The probes Appendix C prints figures for, in its order.
+pub const PROBES: [&str; 5] = ["ennis", "grace", "pisa", "uffizi", "wells"];
+/// Its bases, in column order, and our mode for each.
+pub const MODES: [(&str, &str); 4] = [("AD9", "ad9"), ("AD12", "adrbf-tangent"), ("SG9", "sg9h"), ("SG12", "sg12h")];
+/// Its GGX roughness rows.
+pub const ALPHAS: [f64; 5] = [0.1, 0.2, 0.4, 0.6, 0.8];
+
+/// The figures Appendix C prints (Figs. C.1–C.5): per probe of [`PROBES`], rows radiance,
+/// Lambert, GGX α of [`ALPHAS`]; columns as [`MODES`]; NaN where it has no row.
+pub const SEED: [[[f64; 4]; 7]; 5] = {
+    const N: f64 = f64::NAN;
+    [
+        // ennis
+        [
+            [5.25, 5.83, 6.45, 5.54],
+            [0.148, 0.105, 0.327, 0.225],
+            [2.17, 2.74, 2.97, 2.34],
+            [0.947, 1.37, 1.47, 1.12],
+            [0.276, 0.409, 0.566, 0.574],
+            [0.130, 0.137, 0.378, 0.466],
+            [0.119, 0.091, 0.299, 0.374],
+        ],
+        // grace
+        [
+            [27.6, 27.6, 27.7, 27.7],
+            [0.0118, 0.0130, 0.300, 0.303],
+            [0.956, 0.936, 1.22, 1.22],
+            [0.395, 0.377, 0.670, 0.671],
+            [0.0809, 0.0733, 0.316, 0.319],
+            [0.0178, 0.0170, 0.191, 0.192],
+            [0.0127, 0.0144, 0.121, 0.122],
+        ],
+        // pisa
+        [
+            [0.297, 0.285, 0.264, 0.235],
+            [0.00755, 0.00580, 0.0150, 0.0138],
+            [0.145, 0.133, 0.109, 0.076],
+            [0.0749, 0.0698, 0.0542, 0.0404],
+            [0.0158, 0.0202, 0.0353, 0.0378],
+            [0.00869, 0.0119, 0.0388, 0.0391],
+            [N, N, N, N],
+        ],
+        // uffizi
+        [
+            [3.96, 4.06, 3.67, 3.25],
+            [0.0367, 0.0397, 0.0662, 0.0573],
+            [2.01, 2.10, 1.77, 1.41],
+            [1.04, 1.10, 0.827, 0.680],
+            [0.270, 0.291, 0.411, 0.455],
+            [0.0691, 0.0735, 0.299, 0.323],
+            [0.0323, 0.0300, 0.198, 0.207],
+        ],
+        // wells
+        [
+            [0.5574, 0.5492, 0.5283, 0.5210],
+            [0.0110, 0.00729, 0.0217, 0.011408],
+            [0.227, 0.219, 0.195, 0.192],
+            [0.0955, 0.0894, 0.0848, 0.0948],
+            [0.0169, 0.0176, 0.0574, 0.0617],
+            [0.00964, 0.0118, 0.0537, 0.0526],
+            [N, N, N, N],
+        ],
+    ]
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halton_matches_the_radical_inverse() {
+        // 1/2, 1/4, 3/4, 1/8 in base 2; 1/3, 2/3, 1/9 in base 3.
+        assert_eq!([1, 2, 3, 4].map(|i| halton(i, 2)), [0.5, 0.25, 0.75, 0.125]);
+        assert_eq!([1, 2, 3].map(|i| halton(i, 3)), [1.0 / 3.0, 2.0 / 3.0, 1.0 / 9.0]);
+    }
+
+    #[test]
+    fn upsampling_keeps_constants_and_linear_ramps() {
+        // Catmull–Rom reproduces linear functions away from the clamped edges and any
+        // constant everywhere (normalised weights).
+        let w = upsample_weights(8, 16);
+        for (o, ws) in w.iter().enumerate() {
+            let total: f64 = ws.iter().map(|(_, x)| x).sum();
+            assert!((total - 1.0).abs() < 1e-12);
+            if (3..13).contains(&o) {
+                let v: f64 = ws.iter().map(|(i, x)| *i as f64 * x).sum();
+                assert!((v - ((o as f64 + 0.5) / 2.0 - 0.5)).abs() < 1e-12, "{o}: {v}");
+            }
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! `--reference appendix-c` against the figures seed 004 prints in Appendix C (Figs.
+//! C.1–C.5): radiance, Lambert and GGX RMSE of AD 9, AD 12, SG 9 and SG 12 on the five
+//! probes, through the same `compare` the command runs. Prints every cell (ours / the
+//! seed's = ratio) and both counts the docs quote.
+//!
+//!     cargo test --release -p probes --test appendix_c -- --nocapture
+//!
+//! Needs `../shared/probes`; with SBF_REQUIRE_PROBES=1 (CI) a missing folder fails.
+//!
+//! What is asserted, and why those tolerances (the issue's, not fitted to these numbers):
+//! - radiance, every cell within 1.10× either way: the fits are the seed's method (least
+//!   squares over the sphere); grace's sun, a few texels, is the largest difference;
+//! - GGX at α ≤ 0.4 on ennis, grace, pisa and uffizi (48 cells) within 1.10× either way —
+//!   the reproduction; wells and α ≥ 0.6 are reported, not asserted (docs/probes.md says
+//!   which cells are not reproduced and what was tried);
+//! - Lambert of AD 9 and AD 12 no more than 1.15× the seed's: its reference is a
+//!   5000-sample Monte Carlo estimate whose noise only adds to its errors, ours is exact.
+//!
+//! Mutations tried: the reference kernel made physical (G2/G1, horizon cut, F ≡ 1) under
+//! the compatible runtimes — every probe fails (ennis AD 9 α 0.4: 3.1×); the physical
+//! Listing 8.2 table in the compatible mode — AD fails (ennis AD 9 α 0.4: 3.2×); the ASG
+//! warp's frame in the plane of n and R instead of the seed's — SG fails (ennis SG 12 α 0.4:
+//! 1.20, uffizi SG 9: 1.16).
+
+use probes::appendix_c::{ALPHAS, MODES, PROBES, SEED};
+use probes::compare::{compare, Settings};
+use probes::modes::{SgIrradiance, SpecularRuntime};
+use sbf::ggx::Convention;
+use std::path::PathBuf;
+
+fn probe(name: &str) -> Option<sbf::envmap::LatLongImage> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../shared/probes/{name}.hdr"));
+    if !p.exists() {
+        assert!(std::env::var("SBF_REQUIRE_PROBES").map_or(true, |v| v != "1"), "SBF_REQUIRE_PROBES=1 but {} is missing", p.display());
+        eprintln!("skipping: {} not found", p.display());
+        return None;
+    }
+    Some(probes::input::load_map(&p, false).expect("probe loads").0)
+}
+
+#[test]
+fn compatible_mode_reproduces_the_seeds_figures() {
+    let settings = Settings {
+        ids: MODES.iter().map(|(_, id)| id.to_string()).collect(),
+        repeats: 1,
+        domain: sbf::Domain::UpperHemisphere,
+        alphas: ALPHAS.to_vec(),
+        specular_samples: 256,
+        sg_irradiance: SgIrradiance::Auto,
+        specular_runtime: SpecularRuntime::Fit,
+        convention: Convention::AppendixC,
+    };
+    let (mut ggx_two_sided, mut ggx_one_sided, mut ggx_cells) = (0, 0, 0);
+    let (mut lambert_two_sided, mut lambert_one_sided) = (0, 0);
+    let mut failures = Vec::new();
+    for (pi, name) in PROBES.iter().enumerate() {
+        let Some(map) = probe(name) else { return };
+        let report = compare(name, map, 0, &settings).expect("the compatible run");
+        assert!(report.specular_method.contains("azimuthal FFT"), "{name}: {}", report.specular_method);
+        println!("\n{name}: RMSE ours / the seed's = ratio");
+        let labels = ["radiance", "Lambert", "GGX 0.1", "GGX 0.2", "GGX 0.4", "GGX 0.6", "GGX 0.8"];
+        for (ri, label) in labels.iter().enumerate() {
+            let mut line = format!("{label:>9}");
+            for (bi, (basis, id)) in MODES.iter().enumerate() {
+                let seed = SEED[pi][ri][bi];
+                if seed.is_nan() {
+                    continue;
+                }
+                let row = report.rows.iter().find(|r| r.result.id == *id).expect("mode ran");
+                let ours = match ri {
+                    0 => row.radiance.as_ref().expect("radiance").rms,
+                    1 => row.irradiance.rms,
+                    _ => row.specular.iter().find(|(a, _)| *a == ALPHAS[ri - 2]).expect("α ran").1.rms,
+                };
+                let r = ours / seed;
+                line += &format!("  {basis:>4} {ours:9.4} / {seed:<8} = {r:.2}");
+                let within = |k: f64| r <= k && r >= 1.0 / k;
+                match ri {
+                    0 if !within(1.10) => failures.push(format!("{name} {basis} radiance: {r:.3}")),
+                    1 => {
+                        lambert_two_sided += usize::from(within(1.15));
+                        lambert_one_sided += usize::from(r <= 1.15);
+                        if bi < 2 && r > 1.15 {
+                            failures.push(format!("{name} {basis} Lambert: {r:.3}"));
+                        }
+                    }
+                    2.. => {
+                        ggx_cells += 1;
+                        ggx_two_sided += usize::from(within(1.10));
+                        ggx_one_sided += usize::from(r <= 1.10);
+                        if *name != "wells" && ALPHAS[ri - 2] <= 0.4 && !within(1.10) {
+                            failures.push(format!("{name} {basis} {label}: {r:.3}"));
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            println!("{line}");
+        }
+    }
+    println!(
+        "\nGGX cells within 1.10× either way: {ggx_two_sided} of {ggx_cells}; at most 1.10× the seed's: {ggx_one_sided}\n\
+         Lambert within 1.15× either way: {lambert_two_sided} of 20; at most 1.15× the seed's: {lambert_one_sided}"
+    );
+    assert_eq!(ggx_cells, 92, "Appendix C has 92 GGX cells");
+    assert!(failures.is_empty(), "cells outside the tolerance:\n{}", failures.join("\n"));
+}
