@@ -231,6 +231,11 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     }
     let images = images_flag(&a.images)?;
     let prof = a.profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
+    if prof.as_ref().is_some_and(|p| p.multiple_scattering) {
+        eprintln!(
+            "note: the profile compensates GGX multiple scattering (sbf::recon::multiscatter); the specular signal here is single scattering, references and runtimes alike, so its errors do not include the compensation"
+        );
+    }
     let (m, alphas) = match &prof {
         Some(p) => (probes::profile::modes(p), probes::profile::alphas(p)),
         None => (a.modes, if a.no_specular { Vec::new() } else { a.alphas }),

@@ -15,6 +15,8 @@
 //! [brdf]
 //! models = ["lambert", "ggx"] # lambert and optionally ggx (specular)
 //! roughness = [0.1, 0.8]      # GGX α range, required with "ggx"
+//! multiple_scattering = "compensated"  # optional with "ggx": "single" (default) or
+//!                             # "compensated" (energy compensation, recon::multiscatter)
 //!
 //! [runtime]
 //! precision = "f32"           # the runtime library is f32
@@ -97,6 +99,9 @@ pub struct Profile {
     pub specular: bool,
     /// GGX α range (lo, hi), 0 < lo ≤ hi ≤ 1, when `specular`.
     pub roughness: Option<(f64, f64)>,
+    /// GGX specular with multiple-scattering energy compensation (`brdf.multiple_scattering
+    /// = "compensated"`; [`crate::recon::multiscatter`]); false: single scattering.
+    pub multiple_scattering: bool,
     /// Always "f32" today (the only runtime precision the library has).
     pub precision: String,
     /// The shading language its runtime is exported in: "wgsl", "hlsl", "glsl" or "msl".
@@ -163,6 +168,7 @@ struct RawBases {
 struct RawBrdf {
     models: Spanned<Vec<String>>,
     roughness: Option<Spanned<Vec<f64>>>,
+    multiple_scattering: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -235,6 +241,21 @@ impl Profile {
                 Some((r[0], r[1]))
             }
         };
+        let multiple_scattering = match (&raw.brdf.multiple_scattering, specular) {
+            (None, _) => false,
+            (Some(m), false) => return Err(at.err("brdf.multiple_scattering", m, "is only meaningful with \"ggx\" in brdf.models")),
+            (Some(m), true) => match m.get_ref().as_str() {
+                "single" => false,
+                "compensated" => true,
+                other => {
+                    return Err(at.err(
+                        "brdf.multiple_scattering",
+                        m,
+                        format!("unknown '{other}' (expected \"single\" or \"compensated\")"),
+                    ))
+                }
+            },
+        };
         let precision = raw.runtime.precision.get_ref();
         if precision != "f32" {
             return Err(at.err(
@@ -270,6 +291,7 @@ impl Profile {
             probe_bases,
             specular,
             roughness,
+            multiple_scattering,
             precision: raw.runtime.precision.into_inner(),
             language: raw.runtime.language.into_inner(),
         })
@@ -305,6 +327,10 @@ impl Profile {
                 }
             }
         }
+        // The energy compensation reads the DFG table's single-scattering albedo.
+        if self.multiple_scattering && !t.contains(&"dfg") {
+            t.push("dfg");
+        }
         t
     }
 
@@ -313,6 +339,9 @@ impl Profile {
     pub fn specular_features(&self) -> Vec<&'static str> {
         let mut f: Vec<&'static str> =
             self.all_bases().iter().flat_map(|b| self.specular_paths.iter().filter_map(|p| specular_runtime(b, *p).0)).collect();
+        if self.multiple_scattering {
+            f.push("ggx-energy-compensation");
+        }
         f.sort_unstable();
         f.dedup();
         f
@@ -354,8 +383,11 @@ impl Profile {
             self.lightmap_bases.join("+"),
             if self.probe_bases.is_empty() { "none".to_string() } else { self.probe_bases.join("+") },
             match self.roughness {
-                Some((lo, hi)) =>
-                    format!(" + ggx α {lo}–{hi} ({})", self.specular_paths.iter().map(|p| p.name()).collect::<Vec<_>>().join(" + ")),
+                Some((lo, hi)) => format!(
+                    " + ggx α {lo}–{hi} ({}{})",
+                    self.specular_paths.iter().map(|p| p.name()).collect::<Vec<_>>().join(" + "),
+                    if self.multiple_scattering { ", multiple scattering compensated" } else { "" }
+                ),
                 None => String::new(),
             },
             self.precision,

@@ -71,6 +71,24 @@ fn bad_profiles_name_the_key() {
         tables("[\"fit\", \"tables\"]", "bases = [\"sg9\", \"sh1\"]"),
         (vec!["lobe-ggx-specular", "sg-specular", "sh-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
     );
+    // Multiple scattering: "compensated" adds the energy-compensation feature and the DFG
+    // table it reads; "single" is the default; an unknown value or one without GGX is refused.
+    let ms = |v: &str| GOOD.replacen("roughness = [0.1, 0.5]\n", &format!("roughness = [0.1, 0.5]\nmultiple_scattering = \"{v}\"\n"), 1);
+    let p = Profile::parse(&ms("compensated").replacen("bases = [\"sh2\"]", "bases = [\"ad9\"]", 1)).unwrap();
+    assert!(p.multiple_scattering);
+    assert_eq!(
+        (p.specular_features(), p.tables()),
+        (vec!["ad9-specular", "ggx-energy-compensation"], vec!["fits", "fits-wgsl", "ad-specular-2d", "dfg"])
+    );
+    assert!(p.summary().contains("multiple scattering compensated"), "{}", p.summary());
+    assert!(!Profile::parse(&ms("single")).unwrap().multiple_scattering && !Profile::parse(GOOD).unwrap().multiple_scattering);
+    assert_eq!(Profile::parse(&ms("kulla-conty")).unwrap_err().key, "brdf.multiple_scattering");
+    let no_ggx = ms("compensated").replacen("models = [\"lambert\", \"ggx\"]", "models = [\"lambert\"]", 1).replacen(
+        "roughness = [0.1, 0.5]\n",
+        "",
+        1,
+    );
+    assert_eq!(Profile::parse(&no_ggx.replacen("specular = [\"fit\"]\n", "", 1)).unwrap_err().key, "brdf.multiple_scattering");
     // Where: the value's line and column (1-based, characters).
     let e = Profile::parse(&GOOD.replacen("bases = [\"sh2\"]", "bases = [\"sh3\"]", 1)).unwrap_err();
     assert_eq!(e.at, Some((3, 9)), "{e}");

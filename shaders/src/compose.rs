@@ -33,6 +33,7 @@ pub enum Feature {
     Ad12Specular,
     LobeGgxSpecular,
     Ggx,
+    GgxEnergyCompensation,
     AdBezier,
     Progressive,
     Slc,
@@ -40,7 +41,7 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 21] = [
+    pub const ALL: [(Feature, &'static str); 22] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -59,6 +60,7 @@ impl Feature {
         (Feature::Ad12Specular, "ad12-specular"),
         (Feature::LobeGgxSpecular, "lobe-ggx-specular"),
         (Feature::Ggx, "ggx"),
+        (Feature::GgxEnergyCompensation, "ggx-energy-compensation"),
         (Feature::AdBezier, "ad-bezier"),
         (Feature::Progressive, "progressive"),
         (Feature::Slc, "slc"),
@@ -85,6 +87,7 @@ impl Feature {
             Feature::Ad12Specular => &["ad12_specular"],
             Feature::LobeGgxSpecular => &["lobe_ggx_pixel", "lobe_ggx_lobe"],
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
+            Feature::GgxEnergyCompensation => &["ggx_energy_compensation"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
             Feature::Progressive => &["progressive_update"],
             Feature::Slc => &[

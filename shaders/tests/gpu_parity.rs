@@ -292,7 +292,7 @@ fn geomerics_pow_scale(c: &[Vec3], n: Vec3, ch: usize) -> f64 {
 
 fn ggx_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
-    let lib = library("ggx");
+    let lib = library("ggx,ggx-energy-compensation");
     let mut r = Pcg32::new(11, 2);
     let mut inp = Vec::new();
     let mut cases = Vec::new();
@@ -316,19 +316,24 @@ fn ggx_parity(lang: Lang) {
         // input ((1 − x)^5 near x = 1 amplifies any difference in x itself).
         let x = v.dot((v + l).normalize());
         inp.push(x);
-        cases.push((h, v, l, a, x));
+        // A DFG value (E = dfg.0 + dfg.1 in [0.05, 1], as the table holds) and f0.
+        let dfg = [(0.05 + 0.9 * r.next_f64()) as f32, (0.05 * r.next_f64()) as f32];
+        let f0 = r.next_f64() as f32;
+        inp.extend([dfg[0], dfg[1], f0]);
+        cases.push((h, v, l, a, x, dfg, f0));
     }
-    let body = "    let h = ld3(i * 11u);\n    let v = ld3(i * 11u + 3u);\n    let l = ld3(i * 11u + 6u);\n    let a = inp[i * 11u + 9u];\n    outp[i * 4u] = ggx_d(h, a);\n    outp[i * 4u + 1u] = ggx_g1(v, a);\n    outp[i * 4u + 2u] = ggx_g2(v, l, a);\n    outp[i * 4u + 3u] = schlick_weight(inp[i * 11u + 10u]);";
-    let (out, _) = g.run(&lib, body, &inp, 4, N, None, 0).unwrap();
+    let body = "    let h = ld3(i * 14u);\n    let v = ld3(i * 14u + 3u);\n    let l = ld3(i * 14u + 6u);\n    let a = inp[i * 14u + 9u];\n    outp[i * 5u] = ggx_d(h, a);\n    outp[i * 5u + 1u] = ggx_g1(v, a);\n    outp[i * 5u + 2u] = ggx_g2(v, l, a);\n    outp[i * 5u + 3u] = schlick_weight(inp[i * 14u + 10u]);\n    outp[i * 5u + 4u] = ggx_energy_compensation(vec2<f32>(inp[i * 14u + 11u], inp[i * 14u + 12u]), inp[i * 14u + 13u]);";
+    let (out, _) = g.run(&lib, body, &inp, 5, N, None, 0).unwrap();
     let mut cpu = Vec::new();
-    for (h, v, l, a, x) in &cases {
+    for (h, v, l, a, x, dfg, f0) in &cases {
         // The twins in f64 at the same f32 inputs.
         let (h, v, l, a) = (h.as_dvec3(), v.as_dvec3(), l.as_dvec3(), *a as f64);
-        cpu.extend([sbf::ggx::d(h, a), sbf::ggx::g1(v, a), sbf::ggx::g2(v, l, a), sbf::ggx::schlick_weight(*x as f64)]);
+        let comp = sbf::recon::multiscatter::energy_compensation(dfg[0] as f64 + dfg[1] as f64, *f0 as f64);
+        cpu.extend([sbf::ggx::d(h, a), sbf::ggx::g1(v, a), sbf::ggx::g2(v, l, a), sbf::ggx::schlick_weight(*x as f64), comp]);
     }
-    for (k, name) in ["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"].iter().enumerate() {
-        let gk: Vec<f32> = out.iter().skip(k).step_by(4).copied().collect();
-        let ck: Vec<f64> = cpu.iter().skip(k).step_by(4).copied().collect();
+    for (k, name) in ["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight", "ggx_energy_compensation"].iter().enumerate() {
+        let gk: Vec<f32> = out.iter().skip(k).step_by(5).copied().collect();
+        let ck: Vec<f64> = cpu.iter().skip(k).step_by(5).copied().collect();
         // D's f32 evaluation of α² h_z² + sin²θ near its peak (α = 1e-3) has a relative
         // conditioning of ~1 (a sum of positives): the plain relative error applies.
         check(name, &gk, &ck, &vec![0.0; ck.len()]);

@@ -44,3 +44,15 @@ fn schlick_weight(v_dot_h: f32) -> f32 {
     let x2 = x * x;
     return x2 * x2 * x;
 }
+
+// Multiple-scattering energy compensation (Fdez-Agüera 2019, "A Multiple-Scattering
+// Microfacet Model for Real-Time Image-based Lighting", JCGT 8(1); as Filament): the factor
+// 1 + f0·(1/E − 1) that scales any single-scattering GGX specular response, E = dfg.x + dfg.y
+// the DFG table's single-scattering albedo at (n·v, α) for f0 = f90 = 1; 1 where E ≤ 0.
+fn ggx_energy_compensation(dfg: vec2<f32>, f0: f32) -> f32 {
+    let e = dfg.x + dfg.y;
+    if (e <= 0.0) {
+        return 1.0;
+    }
+    return 1.0 + f0 * (1.0 / e - 1.0);
+}

@@ -10,6 +10,7 @@
 //! | irradiance from zonal-lobe coefficients as the best linear estimate under an isotropic radiance prior | [`prior`] |
 //! | f32 runtime API on glam `Vec3` (SH L1/L2/L4, Geomerics, SG Hill/ASG, AD poly / fit + LUT), batch form | [`runtime`] |
 //! | GGX response of a radial lobe (SG, AD SRBF): exact quadrature and the 4D table the per-lobe runtime samples | [`lobe_ggx`] |
+//! | multiple scattering: the microsurface random walk (Heitz et al. 2016) and the runtime's energy compensation | [`multiscatter`] |
 //! | 2D LUTs with texel-centre bilinear sampling; the AD specular LUT (Listing 8.2) | [`lut`] |
 //! | Ambient Dice SRBF: analytic lobe irradiance (seed eq. 8.11/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
 //!
@@ -21,6 +22,7 @@
 pub mod ambient_dice;
 pub mod lobe_ggx;
 pub mod lut;
+pub mod multiscatter;
 pub mod prior;
 pub mod reference;
 pub mod runtime;

@@ -310,6 +310,20 @@ pub fn lobe_ggx_responses(
     }
 }
 
+/// Multiple-scattering energy compensation of a GGX specular response (Fdez-Agüera 2019;
+/// [`crate::recon::multiscatter`]): multiply the single-scattering response of any basis
+/// (SH, SG, AD, per-lobe tables) by 1 + f0·(1/E − 1), E = dfg.0 + dfg.1 the DFG table's
+/// value at (n·v, α) — the single-scattering albedo at f0 = f90 = 1. A table value E ≤ 0
+/// gives 1. The WGSL twin is `ggx_energy_compensation`.
+pub fn ggx_energy_compensation(dfg: [f32; 2], f0: f32) -> f32 {
+    let e = dfg[0] + dfg[1];
+    if e > 0.0 {
+        1.0 + f0 * (1.0 / e - 1.0)
+    } else {
+        1.0
+    }
+}
+
 /// acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad), as the WGSL `lobe_ggx_acos`
 /// (Vulkan bounds the built-in acos only loosely).
 // The first coefficient is A&S's fitted 1.5707963050, not π/2.
