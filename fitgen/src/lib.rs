@@ -4,12 +4,13 @@
 //! (`sbf::ggx::dfg_entry`, `sbf::recon::ambient_dice::specular_lut_entry`, …). This
 //! library holds the drivers: which tables exist ([`outputs`]), how each is
 //! generated deterministically (rayon over entries, results collected in index order:
-//! identical bytes for any thread count), the manifest ([`manifest`]) and the
+//! identical bytes for any thread count), the nonlinear fits through argmin ([`optimise`]), the manifest ([`manifest`]) and the
 //! byte-for-byte check ([`check`]), the EXR viewing twins of the tables ([`exr`]) and the `--plots` figures ([`plots`]).
 
 pub mod check;
 pub mod exr;
 pub mod manifest;
+pub mod optimise;
 pub mod outputs;
 pub mod plots;
 
