@@ -34,8 +34,14 @@ pub enum Inputs {
     /// Read from a buffer (28 bytes per evaluation: memory traffic included).
     Buffer,
     /// Generated in the shader from the invocation index (a spherical Fibonacci normal,
-    /// a perturbed view, a hashed α): arithmetic cost only.
+    /// a perturbed view, a hashed α): arithmetic cost only; neighbouring invocations get
+    /// unrelated inputs (the worst case for table lookups' caches).
     Generated,
+    /// Generated as a raster pass sees them: invocation i is pixel (i mod 2048, i / 2048)
+    /// of a screen looking down at a gently curved surface (normals and views vary slowly
+    /// across neighbouring pixels) with α constant over 64 × 64-pixel material patches —
+    /// the coherence a frame's shading has (the representative workload for tables).
+    Screen,
 }
 
 /// (name, configuration, lobes, signal, WGSL body).
@@ -48,6 +54,7 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
     // α (1) when read from the buffer.
     let geometry = match inputs {
         Inputs::Buffer => "    let pb = 37u + SETS_U * 36u + i * 7u;\n    let n = ld3(pb);\n    let v = ld3(pb + 3u);\n    let a = inp[pb + 6u];\n".replace("SETS_U", &format!("{SETS}u")),
+        Inputs::Screen => "    let sx = f32(i % 2048u) / 2048.0;\n    let sy = f32(i / 2048u) / 2048.0;\n    let n = normalize(vec3<f32>(0.35 * sin(9.42 * sx) * cos(3.1 * sy), 1.0, 0.35 * cos(7.3 * sy + 1.0)));\n    let v = normalize(vec3<f32>(0.0, 1.2, -0.4) - vec3<f32>(sx - 0.5, 0.0, sy - 0.5));\n    let a = 0.05 + 0.9 * fract(floor(sx * 32.0) * 0.618034 + floor(sy * 32.0) * 0.414214);\n".to_string(),
         Inputs::Generated => "    let fi = f32(i) + 0.5;\n    let z = 1.0 - 2.0 * fract(fi * 0.000123456);\n    let phi = 2.39996323 * fi;\n    let rr = sqrt(max(1.0 - z * z, 0.0));\n    let n = vec3<f32>(rr * cos(phi), rr * sin(phi), z);\n    let v = normalize(n + 0.6 * vec3<f32>(sin(1.7 * phi), cos(2.3 * phi), sin(0.7 * phi)));\n    let a = 0.05 + 0.9 * fract(fi * 0.618034);\n".to_string(),
     };
     let pre = move |k: usize| {

@@ -64,8 +64,10 @@ enum Cmd {
         /// Timed dispatches per kernel.
         #[arg(long, default_value_t = 20)]
         repeats: usize,
-        /// `buffer` (normal, view, α read per evaluation) or `generated` (made in the
-        /// shader: arithmetic only).
+        /// `buffer` (normal, view, α read per evaluation), `generated` (made in the
+        /// shader, unrelated between neighbouring invocations: arithmetic only, the worst
+        /// case for table caches) or `screen` (made in the shader as a raster pass sees
+        /// them: slowly varying normals and views, α per material patch).
         #[arg(long, default_value = "generated")]
         inputs: String,
     },
@@ -117,7 +119,8 @@ fn main() -> ExitCode {
             let inputs = match inputs.as_str() {
                 "buffer" => shaders::bench::Inputs::Buffer,
                 "generated" => shaders::bench::Inputs::Generated,
-                other => return Err(format!("--inputs {other}: expected `buffer` or `generated`")),
+                "screen" => shaders::bench::Inputs::Screen,
+                other => return Err(format!("--inputs {other}: expected `buffer`, `generated` or `screen`")),
             };
             if count == 0 || repeats == 0 {
                 return Err("--count and --repeats must be > 0".to_string());
