@@ -111,7 +111,8 @@ fn compatible_mode_reproduces_the_seeds_figures() {
 /// independent method) — is no larger through the per-lobe tables than through the fits
 /// (ASG warp, Listing 8.1 × its table) in every cell: 5 probes × AD 9, AD 12, SG 9, SG 12 ×
 /// α 0.1–0.8 (100 cells; docs/probes.md lists them). Strict comparison: the claim itself.
-/// Mutation tried: the table runtime's result × 1.05 (`sbf::recon::runtime::lobe_ggx_specular`)
+/// Mutation tried: each lobe response × 1.05 (`sbf::recon::runtime::lobe_ggx_responses`, which
+/// the tables path sums)
 /// — fails (grace AD 9 α 0.6: 1.72e-2 against the fits' 1.11e-2).
 #[test]
 fn tables_add_no_more_error_than_the_fits_in_any_cell() {
