@@ -254,6 +254,41 @@ mod tests {
         assert_eq!([1, 2, 3].map(|i| halton(i, 3)), [1.0 / 3.0, 2.0 / 3.0, 1.0 / 9.0]);
     }
 
+    /// Each point sample reads the texel the peer's lookup names: on a 512×256 map (used as
+    /// it is) whose texels hold their own index, sample k (Halton point k + 1) reads the
+    /// texel at floor(u·512), floor(v·256) of the peer's `cartesianToLatLongTexcoord` of
+    /// `sampleUniformSphere`, written here from its source in f64 — equal except where a
+    /// point lies within f32 rounding of a texel edge (at most a few of 2000). Mutations
+    /// tried: `round` for `floor`; the Halton index from 0 — both fail.
+    #[test]
+    fn point_samples_read_the_peers_texels() {
+        let (w, h) = (SIZE.width, SIZE.height);
+        let map = LatLongImage::new(w, h, (0..w * h).map(|k| [k as f32, 0.0, 0.0]).collect()).unwrap();
+        let s = sg_samples(&map).unwrap();
+        let radical = |mut i: u64, b: u64| {
+            let (mut f, mut r) = (1.0, 0.0);
+            while i > 0 {
+                f /= b as f64;
+                r += f * (i % b) as f64;
+                i /= b;
+            }
+            r
+        };
+        let mut differ = 0;
+        for k in 0..2000 {
+            let (u, v) = (radical(k as u64 + 1, 2), radical(k as u64 + 1, 3));
+            let z = 1.0 - 2.0 * u;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let p = 2.0 * std::f64::consts::PI * v;
+            let (x, y) = (r * p.cos(), r * p.sin());
+            let tu = 0.5 * (1.0 + x.atan2(-y) / std::f64::consts::PI);
+            let tv = z.acos() / std::f64::consts::PI;
+            let want = ((tv * h as f64).floor() as usize).min(h - 1) * w + ((tu * w as f64).floor() as usize).min(w - 1);
+            differ += usize::from(s[k].value[0] != want as f64);
+        }
+        assert!(differ <= 4, "{differ} of 2000 samples read another texel than the peer's");
+    }
+
     #[test]
     fn upsampling_keeps_constants_and_linear_ramps() {
         // Catmull–Rom reproduces linear functions away from the clamped edges and any

@@ -84,6 +84,14 @@ fn lobes_land_on_the_peers_texels() {
         ("sg9h", (0..9).map(|i| peer_vogel(i, 18)).collect()),
         ("sg12h", (0..12).map(|i| peer_vogel(i, 24)).collect()),
     ];
+    // The inverse map is the same swap, and SG hemisphere lobes keep the seed's λ 6.
+    for t in [DVec3::new(0.3, -0.5, 0.81), DVec3::new(-0.7, 0.1, -0.2)] {
+        assert_eq!(probes::modes::world_to_tangent(probes::modes::tangent_to_world(t)), t);
+        assert_eq!(probes::modes::world_to_tangent(t), DVec3::new(t.x, t.z, t.y));
+    }
+    for id in ["sg9h", "sg12h"] {
+        assert!(prepare(id, &ctx, 1).unwrap().result.lobes.iter().all(|(_, l)| *l == 6.0), "{id}: λ is not 6");
+    }
     for (id, theirs) in peer {
         let ours = lobes_of(id, &ctx);
         assert_eq!(ours.len(), theirs.len(), "{id}");

@@ -139,7 +139,12 @@ pub fn walk(v: DVec3, alpha: f64, f0: f64, rng: &mut Pcg32) -> (f64, u32, Option
 pub fn albedo(n_dot_v: f64, alpha: f64, f0: f64, walks: u64, seed: u64) -> WalkAlbedo {
     let nv = n_dot_v.clamp(1e-6, 1.0);
     let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
-    let mut rng = Pcg32::new(seed, 0x6d75_6c74_6973_6361);
+    // PCG32's seed is added to its state: nearby seeds give related streams. SplitMix64's
+    // finaliser (Steele, Lea and Flood 2014) first, so any two seeds are unrelated.
+    let mut z = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    let mut rng = Pcg32::new(z ^ (z >> 31), 0x6d75_6c74_6973_6361);
     let (mut s1, mut s2, mut t1, mut t2, mut orders, mut truncated) = (0.0, 0.0, 0.0, 0.0, 0u64, 0u64);
     for _ in 0..walks {
         let (e, order, out) = walk(v, alpha, f0, &mut rng);
