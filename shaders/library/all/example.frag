@@ -186,6 +186,10 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         result += vec3(r);
     }
     {
+        float r = ggx_energy_compensation(vec2(0.5), 0.04);
+        result += vec3(r);
+    }
+    {
         AdBezierWeights r = ad_bezier_weights(n);
     }
     {

@@ -184,6 +184,10 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += ((float3)r);
     }
     {
+        float r = ggx_energy_compensation(((float2)0.5), 0.04);
+        result += ((float3)r);
+    }
+    {
         AdBezierWeights r = ad_bezier_weights(n);
     }
     {

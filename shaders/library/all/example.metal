@@ -184,6 +184,10 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += float3(r);
     }
     {
+        float r = ggx_energy_compensation(float2(0.5f), 0.04f);
+        result += float3(r);
+    }
+    {
         AdBezierWeights r = ad_bezier_weights(n);
     }
     {

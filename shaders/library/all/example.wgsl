@@ -214,6 +214,11 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += vec3<f32>(r);
     }
     {
+        // ggx_energy_compensation
+        let r = ggx_energy_compensation(vec2<f32>(0.5), 0.04);
+        result += vec3<f32>(r);
+    }
+    {
         // ad_bezier_weights
         let r = ad_bezier_weights(n);
     }

@@ -92,6 +92,10 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         vec2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
         result += vec3(r, 0.0);
     }
+    {
+        float r = ggx_energy_compensation(vec2(0.5), 0.04);
+        result += vec3(r);
+    }
     return result;
 }
 

@@ -90,6 +90,10 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
         result += float3(r, 0.0);
     }
+    {
+        float r = ggx_energy_compensation(((float2)0.5), 0.04);
+        result += ((float3)r);
+    }
     return result;
 }
 

@@ -90,6 +90,10 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
         result += float3(r, 0.0f);
     }
+    {
+        float r = ggx_energy_compensation(float2(0.5f), 0.04f);
+        result += float3(r);
+    }
     return result;
 }
 

@@ -103,6 +103,11 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         let r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
         result += vec3<f32>(r, 0.0);
     }
+    {
+        // ggx_energy_compensation
+        let r = ggx_energy_compensation(vec2<f32>(0.5), 0.04);
+        result += vec3<f32>(r);
+    }
     return result;
 }
 
