@@ -24,7 +24,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("gpu", &["scene", "layout", "sampling", "estimator", "accumulate"]),
     ("post", &["scene", "layout", "sampling", "estimator", "accumulate"]),
     ("output", &["scene", "layout", "sampling", "estimator", "accumulate", "post"]),
-    ("render", &["scene", "layout", "sampling", "estimator", "accumulate", "output"]),
+    ("render", &["scene", "layout", "sampling", "estimator", "accumulate", "gpu", "output"]),
     ("run", &["scene", "layout", "sampling", "estimator", "accumulate", "checkpoint", "gpu", "post", "output"]),
     ("slc", &["scene", "output"]),
 ];

@@ -722,3 +722,131 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
     println!("{n} sphere pixels, worst error / tolerance {worst:.3}");
     assert!(n > 500, "only {n} sphere pixels");
 }
+
+/// Per-pixel and whole-image agreement of two independent reference images (different
+/// seeds) of the same quantity, or of one image with a known value (`b` None: `exact`).
+/// Error model: each pixel mean is Gaussian by the CLT with the variance the reference
+/// estimates; |a − b| ≤ 4σ then fails with probability 6e-5 per pixel and channel. The
+/// variance estimate of a heavy-tailed pixel (a glossy highlight with few lucky samples)
+/// can be low, so up to 1 % of the pixel channels may exceed it. The image sums (pixels
+/// independent) must agree within 4σ of their summed variances. Both estimators run in f32: 1e-5 of the pixel's
+/// total is allowed on top (a Lambert surface's GGX part is f − ρ/π, rounding).
+fn check_reference_agreement(
+    what: &str,
+    a: &baker::render::reference::Reference,
+    b: Option<&baker::render::reference::Reference>,
+    exact: &dyn Fn(usize) -> (DVec3, DVec3),
+) {
+    type Part = fn(&baker::render::reference::Reference, usize) -> (DVec3, DVec3);
+    let parts: [(&str, Part); 2] =
+        [("diffuse", |r, k| (r.diffuse[k], r.var_diffuse[k])), ("specular", |r, k| (r.specular[k], r.var_specular[k]))];
+    for (p, (name, get)) in parts.iter().enumerate() {
+        let (mut outside, mut channels) = (0usize, 0usize);
+        let (mut sum_a, mut sum_b, mut var) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for k in 0..a.accepted.len() {
+            if a.accepted[k] == 0 {
+                continue;
+            }
+            let (ma, va) = get(a, k);
+            let (mb, vb) = match b {
+                Some(b) => get(b, k),
+                None => (if p == 0 { exact(k).0 } else { exact(k).1 }, DVec3::ZERO),
+            };
+            let total = match b {
+                Some(b) => b.diffuse[k] + b.specular[k],
+                None => exact(k).0 + exact(k).1,
+            };
+            sum_a += ma;
+            sum_b += mb;
+            var += va + vb;
+            for c in 0..3 {
+                channels += 1;
+                let sigma = (va[c] + vb[c]).sqrt();
+                if (ma[c] - mb[c]).abs() > 4.0 * sigma + 1e-5 * total[c].abs() {
+                    outside += 1;
+                }
+            }
+        }
+        println!(
+            "{what} {name}: image sums {sum_a:.4} vs {sum_b:.4} (σ {:.4}), {outside} of {channels} pixel channels beyond 4σ",
+            var.map(f64::sqrt)
+        );
+        for c in 0..3 {
+            let z = (sum_a[c] - sum_b[c]) / var[c].sqrt().max(1e-12);
+            assert!(z.abs() <= 4.0, "{what}: {name} image sums differ by {z:.1}σ (channel {c}): {sum_a} vs {sum_b}");
+        }
+        assert!(outside * 100 <= channels, "{what}: {name}: {outside} of {channels} pixel channels beyond 4σ (≤ 1 % allowed)");
+        assert!(channels > 0);
+    }
+}
+
+/// The path-traced reference on the GPU (the bake's WGSL path tracer) against
+/// (a) the closed form of a glossy and a Lambert plane under a constant sky — every pixel
+///     reflects ρL + L(F0·A + B), (A, B) the GGX directional-albedo split at its n·v by
+///     the independent quadrature `ggx_albedo_split` — for both references, and
+/// (b) the CPU reference of the built-in scene (Lambert walls, a glossy block, an area
+///     light, several bounces), seeds independent,
+/// by `check_reference_agreement`'s error model.
+/// Mutations: the GPU's specular part ×1.02 (reference.wgsl `split_bsdf`), the light
+/// samples' MIS weight dropped (`power2(…)` → 1) — each fails.
+#[test]
+fn gpu_reference_matches_the_closed_form_and_the_cpu_reference() {
+    use baker::render::reference;
+    use baker::render::reference_gpu::GpuReference;
+    use baker::scene::{Environment, Material, Mesh, Scene};
+    let Some(gpu) = common::gpu() else { return };
+    // (a) The planes: radiance L from every direction of the upper hemisphere.
+    let (rho, l_sky) = (0.6f64, 1.7f64);
+    let quad = |x0: f32, material: usize| Mesh {
+        name: format!("plane{material}"),
+        positions: vec![Vec3::new(x0, 0.0, -1.0), Vec3::new(x0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, -1.0)],
+        normals: vec![Vec3::Y; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material,
+        lightmap_uv: None,
+        lightmapped: true,
+    };
+    let mut glossy = Material::glossy(Vec3::splat(rho as f32), 0.5);
+    glossy.specular = 5.0; // F0 = 0.2
+    let scene = Scene {
+        name: "planes".into(),
+        meshes: vec![quad(-2.0, 0), quad(0.0, 1)],
+        materials: vec![Material::lambert(Vec3::splat(rho as f32)), glossy],
+        lights: vec![],
+        environment: Environment::Constant(Vec3::splat(l_sky as f32)),
+    };
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 40, 30).unwrap();
+    let visible = baker::render::visible::cast(&scene, &bvh, &lm, &cam);
+    let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, 3);
+    let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
+    let exact = |k: usize| {
+        let v = visible[k].expect("a shaded pixel");
+        let m = &mats[v.material as usize];
+        let nv = ((cam.eye - v.position).normalize().dot(v.normal)) as f64;
+        let spec = if m.alpha > 0.0 && m.f0.max_element() > 0.0 {
+            let (a, b) = ggx_albedo_split(nv, m.alpha);
+            m.f0 * (l_sky * a) + DVec3::splat(l_sky * b)
+        } else {
+            DVec3::ZERO
+        };
+        (m.albedo * l_sky, spec)
+    };
+    // 1024 samples: the image sums' σ is 0.07 % (diffuse) and 0.17 % (specular) of their
+    // value, so a 2 % error in either is ≥ 10σ.
+    let on_gpu = GpuReference::new(&gpu, &tracer, &visible, cam.eye, 5).unwrap().render(1024).unwrap();
+    check_reference_agreement("planes, GPU reference vs closed form", &on_gpu, None, &exact);
+    let on_cpu = reference::render(&tracer, &scene, &visible, cam.eye, 1024, 6, &|_| {});
+    check_reference_agreement("planes, CPU reference vs closed form", &on_cpu, None, &exact);
+    // (b) The built-in scene, GPU against CPU.
+    let scene = baker::scene::cornell();
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,0,0.9:0,-0.1,-1:70", 32, 18).unwrap();
+    let visible = baker::render::visible::cast(&scene, &bvh, &lm, &cam);
+    let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, 4);
+    let on_gpu = GpuReference::new(&gpu, &tracer, &visible, cam.eye, 11).unwrap().render(256).unwrap();
+    let on_cpu = reference::render(&tracer, &scene, &visible, cam.eye, 256, 12, &|_| {});
+    check_reference_agreement("built-in scene, GPU vs CPU reference", &on_gpu, Some(&on_cpu), &|_| unreachable!());
+}

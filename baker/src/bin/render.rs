@@ -78,6 +78,10 @@ struct Cli {
     /// Where to shade (and bake): auto (a hardware GPU if there is one, else the CPU), gpu, cpu.
     #[arg(long, default_value = "auto")]
     device: String,
+    /// Where to path-trace the reference: auto (the GPU when the images are shaded on one),
+    /// gpu, cpu. Both run the bake's estimator on the same visible surfaces.
+    #[arg(long, default_value = "auto")]
+    reference_device: String,
     #[arg(long, default_value_t = 1)]
     seed: u64,
     #[arg(long, default_value = "render-out")]
@@ -213,6 +217,13 @@ fn render(c: Cli) -> Result<(), String> {
             Err(_) => None,
         },
     };
+    let reference_on_gpu = match c.reference_device.as_str() {
+        "auto" => gpu.is_some(),
+        "gpu" if gpu.is_some() => true,
+        "gpu" => return Err("--reference-device gpu needs the images shaded on a GPU (--device gpu)".into()),
+        "cpu" => false,
+        s => return Err(format!("--reference-device '{s}': expected auto, gpu or cpu")),
+    };
     let device_name = gpu.as_ref().map_or("CPU (the shading's f64 twin)".to_string(), |g| format!("GPU: {}", g.adapter));
     let setup = Setup {
         camera,
@@ -221,6 +232,7 @@ fn render(c: Cli) -> Result<(), String> {
         reference_noise: c.reference_noise,
         seed: c.seed,
         max_bounces: bounces,
+        reference_on_gpu,
         timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),
     };
     let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;

@@ -206,6 +206,22 @@ fn plain_composer() -> Result<Composer, String> {
     composer(&lib.source)
 }
 
+/// Entry shader `entry` (file, source) composed beside the bake's modules with the
+/// white-noise sequence (independent numbers per sample), and `GLOSSY` with the GGX
+/// runtime items where `glossy`: for kernels of other layers that run the bake's
+/// estimator (the renderer's path-traced reference).
+pub fn estimator_kernel(entry: (&str, &str), glossy: bool) -> Result<String, String> {
+    let mut roots =
+        vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
+    let mut defs = HashMap::from([("SEQUENCE".to_string(), ShaderDefValue::UInt(Sequence::Independent.code()))]);
+    if glossy {
+        roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
+        defs.insert("GLOSSY".into(), ShaderDefValue::Bool(true));
+    }
+    let lib = shaders::compose::compose_roots(shaders::compose::Config { name: "baker".into(), features: Default::default() }, &roots)?;
+    compose(&mut composer(&lib.source)?, entry, &defs)
+}
+
 /// The adaptive batch selection's kernel (`adapt.wgsl`) for `sequence`.
 pub fn adapt_kernel(sequence: Sequence) -> Result<String, String> {
     let defs = HashMap::from([("SEQUENCE".to_string(), ShaderDefValue::UInt(sequence.code()))]);

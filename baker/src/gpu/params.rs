@@ -170,6 +170,18 @@ pub(crate) fn aux_data(tracer: &Tracer) -> (Vec<[f32; 4]>, AuxLayout) {
 /// The parameters of pass 0 of a bake of `targets` with `config` (the environment's kind
 /// and colours, the offsets of `aux`'s parts `at`, one partition, one pass per dispatch).
 pub(crate) fn trace_params(tracer: &Tracer, targets: &Targets, config: &BakeConfig, at: &AuxLayout) -> TraceParams {
+    let items = targets.items.len() as u32;
+    TraceParams {
+        item_count: items,
+        mode: targets.sphere as u32,
+        item_end: items,
+        ..scene_params(tracer, at, config.max_bounces, crate::sampling::sequence::gpu_seed(config.seed), config.sampler.code())
+    }
+}
+
+/// The parameters of the scene, its lights and environment, the bounce count, the seed
+/// and the sequence (`Sequence::code`), for no items.
+pub(crate) fn scene_params(tracer: &Tracer, at: &AuxLayout, max_bounces: u32, seed: u32, sampler: u32) -> TraceParams {
     let (env_kind, env) = match tracer.scene.environment {
         Environment::Black => (0, [[0.0; 4]; 3]),
         Environment::Constant(c) => (1, [[c.x, c.y, c.z, 0.0], [0.0; 4], [0.0; 4]]),
@@ -180,16 +192,15 @@ pub(crate) fn trace_params(tracer: &Tracer, targets: &Targets, config: &BakeConf
         Environment::Map(m) => m.geometry.width as u32,
         _ => 0,
     };
-    let items = targets.items.len();
     TraceParams {
         pass_index: 0,
-        seed: crate::sampling::sequence::gpu_seed(config.seed),
-        item_count: items as u32,
-        max_bounces: config.max_bounces,
+        seed,
+        item_count: 0,
+        max_bounces,
         emitter_count: at.emitter_count,
         light_count: tracer.scene.lights.len() as u32,
         env_kind,
-        mode: targets.sphere as u32,
+        mode: 0,
         env_cells_offset: at.env_cells,
         inv_total_power: if tracer.total_power > 0.0 { (1.0 / tracer.total_power) as f32 } else { 0.0 },
         count_rays: 0,
@@ -205,12 +216,12 @@ pub(crate) fn trace_params(tracer: &Tracer, targets: &Targets, config: &BakeConf
         guide_stage: 0,
         guide_start: 0,
         item_offset: 0,
-        item_end: items as u32,
+        item_end: 0,
         part_block: PART_BLOCK_DEFAULT,
         part_count: 1,
         part_index: 0,
         pass_count: 1,
-        sampler: config.sampler.code(),
+        sampler,
         batch_mode: 0,
         pad_b: 0,
         pad_c: 0,

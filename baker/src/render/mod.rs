@@ -14,12 +14,14 @@
 //! | `bindings` | what every render pipeline binds (the layout) and the probes as shader rows |
 //! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
 //! | [`reference`](mod@reference) | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
+//! | [`reference_gpu`] | the same reference on the GPU: the bake's WGSL path tracer over the same visible surfaces (`wgsl/reference.wgsl`) |
 //! | [`compare`] | errors against the reference (its noise subtracted) |
 //! | [`session`] | one comparison as the `render` command runs it: visible surfaces and reference once, then per configuration image, errors and frame time |
 //! | [`report`] | what a comparison writes: EXR and PNG images, the +3 EV differences, results.json, report.html |
 //!
 //! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::estimator`],
-//! [`crate::sampling`], [`crate::output`].
+//! [`crate::sampling`], [`crate::gpu`] (the reference's kernel and buffers),
+//! [`crate::output`].
 
 pub mod atlas;
 mod bindings;
@@ -28,6 +30,7 @@ pub mod lighting;
 pub mod probes;
 pub mod raster;
 pub mod reference;
+pub mod reference_gpu;
 pub mod report;
 pub mod session;
 pub mod shade;

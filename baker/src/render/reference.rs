@@ -114,17 +114,36 @@ pub fn render_to_noise(
     seed: u64,
     report: &mut dyn FnMut(u32, f64),
 ) -> Reference {
-    let mut acc = vec![PixelAcc::default(); visible.len()];
+    let mut add = |range: std::ops::Range<u32>, acc: &mut [PixelAcc]| {
+        accumulate(tracer, scene, visible, eye, range, seed, acc, &|_| {});
+        Ok(())
+    };
+    progressive(visible.len(), noise, first, max_samples, report, &mut add).expect("the CPU reference does not fail")
+}
+
+/// Takes a range of samples of every pixel into the pixels' sums.
+pub(super) type AddSamples<'a> = dyn FnMut(std::ops::Range<u32>, &mut [PixelAcc]) -> Result<(), String> + 'a;
+
+/// [`render_to_noise`] with the samples taken by `add` (samples range, every pixel's sums).
+pub(super) fn progressive(
+    pixels: usize,
+    noise: f64,
+    first: u32,
+    max_samples: u32,
+    report: &mut dyn FnMut(u32, f64),
+    add: &mut AddSamples,
+) -> Result<Reference, String> {
+    let mut acc = vec![PixelAcc::default(); pixels];
     let mut taken = 0u32;
     let mut batch = first.clamp(1, max_samples.max(1));
     loop {
-        accumulate(tracer, scene, visible, eye, taken..taken + batch, seed, &mut acc, &|_| {});
+        add(taken..taken + batch, &mut acc)?;
         taken += batch;
         let r = finish(&acc, taken);
         let rel = relative_noise(&r);
         report(taken, rel);
         if rel <= noise || taken >= max_samples {
-            return r;
+            return Ok(r);
         }
         batch = taken.min(max_samples - taken);
     }
@@ -151,10 +170,10 @@ pub fn relative_noise(r: &Reference) -> f64 {
 /// Running sums of one pixel: (diffuse, specular, total) and their squares (values are
 /// O(1) and the counts ≤ 2³²: plain sums in f64 keep ~1e-12 relative accuracy).
 #[derive(Debug, Clone, Copy, Default)]
-struct PixelAcc {
-    sum: [DVec3; 3],
-    sq: [DVec3; 3],
-    n: u32,
+pub(super) struct PixelAcc {
+    pub(super) sum: [DVec3; 3],
+    pub(super) sq: [DVec3; 3],
+    pub(super) n: u32,
 }
 
 /// Adds samples `range` of every lightmapped pixel (each pixel's numbers depend on the
@@ -192,7 +211,7 @@ fn accumulate(
 }
 
 /// Means and variances of the means from the running sums.
-fn finish(acc: &[PixelAcc], samples: u32) -> Reference {
+pub(super) fn finish(acc: &[PixelAcc], samples: u32) -> Reference {
     let mut out = Reference {
         samples,
         diffuse: Vec::with_capacity(acc.len()),

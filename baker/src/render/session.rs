@@ -9,6 +9,7 @@ use super::lighting::Lighting;
 use super::probes::ProbeField;
 use super::raster::Renderer;
 use super::reference::{self, Reference};
+use super::reference_gpu::GpuReference;
 use super::shade::{Shader, Terms};
 use super::visible::{self, Visible};
 use crate::estimator::trace::Tracer;
@@ -31,6 +32,8 @@ pub struct Setup {
     pub reference_noise: f64,
     pub seed: u64,
     pub max_bounces: u32,
+    /// Path-trace the reference on the GPU (the adapter `run` is given) rather than the CPU.
+    pub reference_on_gpu: bool,
     /// Frame-time measurement: (width, height, warm-up frames, measured frames); None: off.
     pub timing: Option<(u32, u32, usize, usize)>,
 }
@@ -99,26 +102,7 @@ pub fn run(
     log(format!("render: {}×{} pixels, {lit} see a lightmapped surface, {dynamic} a dynamic object (probes)", cam.width, cam.height));
     let tracer = Tracer::new(scene, bvh, setup.max_bounces);
     let t = std::time::Instant::now();
-    let total_px = visible.len();
-    let reference = if setup.reference_noise > 0.0 {
-        reference::render_to_noise(
-            &tracer,
-            scene,
-            &visible,
-            cam.eye,
-            setup.reference_noise,
-            16,
-            setup.reference_samples,
-            setup.seed,
-            &mut |n, e| log(format!("reference: {n} samples per pixel, relative noise {e:.4} (target {})", setup.reference_noise)),
-        )
-    } else {
-        let r = reference::render(&tracer, scene, &visible, cam.eye, setup.reference_samples, setup.seed, &|n| {
-            eprint!("\rreference: {:.0}% of {total_px} pixels", 100.0 * n as f64 / total_px as f64)
-        });
-        eprintln!();
-        r
-    };
+    let reference = reference_image(&tracer, scene, &visible, setup, gpu, log)?;
     let reference_seconds = t.elapsed().as_secs_f64();
     log(format!(
         "reference: {} samples per pixel in {reference_seconds:.1} s, relative noise {:.4}",
@@ -143,6 +127,36 @@ pub fn run(
         rendered.push(r);
     }
     Ok(Outcome { visible, reference, reference_seconds, rendered })
+}
+
+/// The path-traced reference on the CPU or the GPU, progressive to the setup's noise or
+/// with all its samples.
+fn reference_image(
+    tracer: &Tracer,
+    scene: &Scene,
+    visible: &[Option<Visible>],
+    setup: &Setup,
+    gpu: Option<&shaders::gpu::Gpu>,
+    log: &mut dyn FnMut(String),
+) -> Result<Reference, String> {
+    let (eye, noise, samples) = (setup.camera.eye, setup.reference_noise, setup.reference_samples);
+    if setup.reference_on_gpu {
+        let g = gpu.ok_or("the reference on the GPU needs a GPU adapter")?;
+        let r = GpuReference::new(g, tracer, visible, eye, setup.seed)?;
+        log(format!("reference: path-traced on the GPU ({})", g.adapter));
+        let mut report = |n: u32, e: f64| log(format!("reference: {n} samples per pixel, relative noise {e:.4} (target {noise})"));
+        return if noise > 0.0 { r.render_to_noise(noise, 16, samples, &mut report) } else { r.render(samples) };
+    }
+    let mut report = |n: u32, e: f64| log(format!("reference: {n} samples per pixel, relative noise {e:.4} (target {noise})"));
+    if noise > 0.0 {
+        return Ok(reference::render_to_noise(tracer, scene, visible, eye, noise, 16, samples, setup.seed, &mut report));
+    }
+    let total_px = visible.len();
+    let r = reference::render(tracer, scene, visible, eye, samples, setup.seed, &|n| {
+        eprint!("\rreference: {:.0}% of {total_px} pixels", 100.0 * n as f64 / total_px as f64)
+    });
+    eprintln!();
+    Ok(r)
 }
 
 /// One configuration: image, errors, frame time.
