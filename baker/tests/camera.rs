@@ -27,7 +27,7 @@ fn config(seed: u64, camera: Option<CameraSampling>) -> BakeConfig {
 
 fn view(width: u32, height: u32) -> ViewCamera {
     // Inside the Cornell-style room, looking at its back corner.
-    ViewCamera { eye: Vec3::new(0.2, 0.5, 0.9), target: Vec3::new(-0.3, 0.35, 0.0), fov_y: 55f32.to_radians(), width, height }
+    ViewCamera { eye: Vec3::new(0.2, 0.5, 0.9), target: Vec3::new(-0.3, 0.35, 0.0), up: Vec3::Y, fov_y: 55f32.to_radians(), width, height }
 }
 
 #[test]

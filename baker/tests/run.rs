@@ -645,3 +645,62 @@ fn bad_profile_exits_2_naming_key_line_and_column() {
     assert!(err.contains("line 3, column 9") && err.contains("lightmap.bases"), "{err}");
     std::fs::remove_file(&p).unwrap();
 }
+
+/// glTF cameras (glTF 2.0 §5.12: a camera node looks down its local −Z, +Y up): a yawed
+/// camera and a rolled one under a translated parent import with the eye, view and up
+/// directions worked out here from the quaternions by hand; an orthographic camera is
+/// skipped with a note; the view's rays follow them (centre ray = forward, the image's top
+/// towards up, its right towards forward × up); `render --camera gltf:NAME` refuses an
+/// unknown name before any work, listing the cameras. Mutations: the node's −Z taken as
+/// +Z, the parent transform dropped — each fails.
+#[test]
+fn gltf_cameras_import_and_set_the_view() {
+    use baker::scene::camera::ViewCamera;
+    use sbf::glam::Vec3;
+    let d = tmp("gltf_cameras");
+    let path = d.join("room.gltf");
+    room(UNIT_UV, -1.0).write(&path);
+    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    v["cameras"] = serde_json::json!([
+        {"type": "perspective", "name": "yawed", "perspective": {"yfov": 0.8, "aspectRatio": 1.5, "znear": 0.01}},
+        {"type": "perspective", "name": "rolled", "perspective": {"yfov": 0.6, "znear": 0.01}},
+        {"type": "orthographic", "name": "flat", "orthographic": {"xmag": 1, "ymag": 1, "zfar": 10, "znear": 0.01}}
+    ]);
+    let nodes = v["nodes"].as_array_mut().unwrap();
+    let first = nodes.len();
+    // Yaw +90° about Y: −Z ↦ −X. Roll +90° about Z: −Z stays, +Y ↦ −X; under a parent at (0, 1, 0).
+    nodes.push(serde_json::json!({"camera": 0, "translation": [1, 2, 3], "rotation": [0, h, 0, h]}));
+    nodes.push(serde_json::json!({"translation": [0, 1, 0], "children": [first + 2]}));
+    nodes.push(serde_json::json!({"camera": 1, "translation": [0, 0, 5], "rotation": [0, 0, h, h]}));
+    nodes.push(serde_json::json!({"camera": 2}));
+    for k in [first, first + 1, first + 3] {
+        v["scenes"][0]["nodes"].as_array_mut().unwrap().push(k.into());
+    }
+    std::fs::write(&path, v.to_string()).unwrap();
+    let (_, report) = import::load(&path).unwrap();
+    assert_eq!(report.cameras.len(), 2, "{:?}", report.cameras);
+    assert!(report.notes.iter().any(|n| n.contains("'flat' is orthographic")), "{:?}", report.notes);
+    let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
+    let (yawed, rolled) = (&report.cameras[0], &report.cameras[1]);
+    assert_eq!((yawed.name.as_str(), rolled.name.as_str()), ("yawed", "rolled"));
+    assert!(close(yawed.eye, Vec3::new(1.0, 2.0, 3.0)) && close(yawed.forward, -Vec3::X) && close(yawed.up, Vec3::Y), "{yawed:?}");
+    assert!(close(rolled.eye, Vec3::new(0.0, 1.0, 5.0)) && close(rolled.forward, -Vec3::Z) && close(rolled.up, -Vec3::X), "{rolled:?}");
+    assert_eq!((yawed.fov_y, yawed.aspect, rolled.aspect), (0.8, Some(1.5), None));
+    for c in [yawed, rolled] {
+        let cam = ViewCamera::from_scene(c, 64, 48);
+        let dir = |x: f32, y: f32| cam.ray(x, y).1;
+        assert!(close(dir(32.0, 24.0), c.forward), "{}: centre ray {}", c.name, dir(32.0, 24.0));
+        assert!(dir(32.0, 0.0).dot(c.up) > 0.2 && dir(64.0, 24.0).dot(c.forward.cross(c.up)) > 0.2, "{}", c.name);
+        // The vertical field of view: the top edge's ray at fov/2 from the forward axis.
+        assert!((dir(32.0, 0.0).angle_between(c.forward) - 0.5 * c.fov_y).abs() < 1e-5, "{}", c.name);
+    }
+    let out = d.join("render-out");
+    let o = Command::new(env!("CARGO_BIN_EXE_render"))
+        .args(["--scene", path.to_str().unwrap(), "--camera", "gltf:nope", "--device", "cpu", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{log}");
+    assert!(log.contains("no such camera") && log.contains("0: 'yawed', 1: 'rolled'") && !out.join("bake").exists(), "{log}");
+}

@@ -10,7 +10,7 @@ use baker::render::lighting::{Encoding, Lighting, Storage};
 use baker::render::session::{self, Setup};
 use baker::run::{self, Device, Options};
 use baker::scene::bvh::Bvh;
-use baker::scene::camera::ViewCamera;
+use baker::scene::camera::{SceneCamera, ViewCamera};
 use clap::Parser;
 use sbf::profile::SpecularPath;
 use std::path::{Path, PathBuf};
@@ -53,8 +53,10 @@ struct Cli {
     /// Lightmap texel storage on the GPU: f32, f16 or both.
     #[arg(long, default_value = "f32")]
     storage: String,
-    /// View: `EYE:TARGET[:FOV]` in scene units and degrees (vertical), e.g. 0,0,3.4:0,0,0:55.
-    /// Default: the preview's camera at the front of the scene's bounds.
+    /// View: `EYE:TARGET[:FOV]` in scene units and degrees (vertical, +Y up), e.g.
+    /// 0,0,3.4:0,0,0:55; or `gltf` (the scene file's first perspective camera), `gltf:N`
+    /// (its N-th, from 0) or `gltf:NAME`. Default: the scene file's first camera if it has
+    /// one, else the preview's camera at the front of the scene's bounds.
     #[arg(long)]
     camera: Option<String>,
     /// Image size of the comparison, WIDTHxHEIGHT.
@@ -164,6 +166,34 @@ fn scene_name(s: &str) -> String {
     }
 }
 
+/// The view `--camera` names (see its help), at `w` × `h`.
+fn view(arg: Option<&str>, cameras: &[SceneCamera], bvh: &Bvh, w: u32, h: u32) -> Result<ViewCamera, String> {
+    let names = || cameras.iter().enumerate().map(|(k, c)| format!("{k}: '{}'", c.name)).collect::<Vec<_>>().join(", ");
+    let chosen = match arg {
+        None if cameras.is_empty() => return Ok(ViewCamera::preview(bvh, w, h)),
+        None | Some("gltf") => cameras.first().ok_or("--camera gltf: the scene defines no perspective camera")?,
+        Some(s) if s.starts_with("gltf:") => {
+            let key = &s[5..];
+            let found = match key.parse::<usize>() {
+                Ok(k) => cameras.get(k),
+                Err(_) => cameras.iter().find(|c| c.name == key),
+            };
+            found.ok_or_else(|| {
+                format!(
+                    "--camera {s}: no such camera in the scene (it has {})",
+                    if cameras.is_empty() { "none".to_string() } else { names() }
+                )
+            })?
+        }
+        Some(s) => return ViewCamera::parse(s, w, h),
+    };
+    if let Some(a) = chosen.aspect.filter(|a| (a / (w as f32 / h as f32) - 1.0).abs() > 1e-3) {
+        eprintln!("notice: camera '{}' states aspect ratio {a:.4}; the image is {w}×{h} (its vertical field of view is kept)", chosen.name);
+    }
+    eprintln!("render: camera '{}' of the scene file", chosen.name);
+    Ok(ViewCamera::from_scene(chosen, w, h))
+}
+
 fn render(c: Cli) -> Result<(), String> {
     let bases = c
         .bases
@@ -186,12 +216,15 @@ fn render(c: Cli) -> Result<(), String> {
         return Err(format!("--reference-noise must be in [0, 1), not {}", c.reference_noise));
     }
     run::limits::check_writable(&c.out)?;
-    let scene = baker::scene::load::load(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
+    let (scene, scene_cameras) = baker::scene::load::load_with_cameras(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
     let dynamic = scene.meshes.iter().filter(|m| !m.lightmapped && scene.materials[m.material].emissive.max_element() <= 0.0).count();
     let grid = match c.probes.as_slice() {
         [x, y, z] if *x > 0 && *y > 0 && *z > 0 => [*x, *y, *z],
         p => return Err(format!("--probes takes NX,NY,NZ (all > 0), not {p:?}")),
     };
+    // The view before any work: a bad --camera is refused at once.
+    let bvh = Bvh::build(&scene);
+    let camera = view(c.camera.as_deref(), &scene_cameras, &bvh, w, h)?;
     let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device, (dynamic > 0).then_some(grid))?;
     let probe_field = if dynamic > 0 {
         eprintln!("render: {dynamic} dynamic object(s) (no lightmap) shaded from the SH L2 probes");
@@ -199,12 +232,7 @@ fn render(c: Cli) -> Result<(), String> {
     } else {
         None
     };
-    let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, tpu, padding).map_err(|e| e.to_string())?;
-    let camera = match &c.camera {
-        Some(s) => ViewCamera::parse(s, w, h)?,
-        None => ViewCamera::preview(&bvh, w, h),
-    };
     let gpu = match device {
         Device::Cpu => None,
         _ => match shaders::gpu::Gpu::new() {

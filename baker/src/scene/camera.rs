@@ -4,12 +4,49 @@
 use super::bvh::Bvh;
 use sbf::glam::{Mat4, Vec3, Vec4};
 
-/// A pinhole camera looking from `eye` at `target` (+Y up), vertical field of view
-/// `fov_y` (radians), an image of `width` × `height` pixels.
+/// A perspective camera of a scene file (glTF 2.0 §5.12: the node looks down its local
+/// −Z with +Y up; its world transform places it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneCamera {
+    /// The camera's name, else its node's, else "camera N".
+    pub name: String,
+    pub eye: Vec3,
+    /// Unit view direction and the unit up direction perpendicular to it.
+    pub forward: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view (radians).
+    pub fov_y: f32,
+    /// The aspect ratio the file states (width / height), if any.
+    pub aspect: Option<f32>,
+}
+
+impl SceneCamera {
+    /// The camera of a node with world transform `world` (rotation and translation; a
+    /// scale only stretches the axes, which are normalised), or an error for a transform
+    /// that leaves no view direction.
+    pub fn from_node(name: String, world: Mat4, fov_y: f32, aspect: Option<f32>) -> Result<SceneCamera, String> {
+        let eye = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(-Vec3::Z).normalize_or_zero();
+        let up_raw = world.transform_vector3(Vec3::Y);
+        let up = (up_raw - forward * up_raw.dot(forward)).normalize_or_zero();
+        if !eye.is_finite() || forward == Vec3::ZERO || up == Vec3::ZERO {
+            return Err(format!("camera '{name}': its node's transform is singular"));
+        }
+        if !(fov_y > 0.0 && fov_y < std::f32::consts::PI) {
+            return Err(format!("camera '{name}': vertical field of view {fov_y} rad is not in (0, π)"));
+        }
+        Ok(SceneCamera { name, eye, forward, up, fov_y, aspect })
+    }
+}
+
+/// A pinhole camera looking from `eye` at `target`, `up` the image's up direction (the
+/// component perpendicular to the view direction counts), vertical field of view `fov_y`
+/// (radians), an image of `width` × `height` pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ViewCamera {
     pub eye: Vec3,
     pub target: Vec3,
+    pub up: Vec3,
     pub fov_y: f32,
     pub width: u32,
     pub height: u32,
@@ -34,7 +71,13 @@ impl ViewCamera {
             [e, t, f] => (v3(e)?, v3(t)?, f.trim().parse::<f32>().map_err(|_| format!("--camera: field of view '{f}' is not a number"))?),
             _ => return Err(format!("--camera '{s}': expected eye:target[:fov], e.g. 0,1,3:0,1,0:60")),
         };
-        Ok(ViewCamera { eye, target, fov_y: fov.to_radians(), width, height })
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(format!("--camera: field of view {fov}° must be in (0°, 180°)"));
+        }
+        if (target - eye).cross(Vec3::Y).length_squared() <= 1e-12 * (target - eye).length_squared() {
+            return Err(format!("--camera '{s}': the view direction is vertical (up is +Y); tilt it slightly"));
+        }
+        Ok(ViewCamera { eye, target, up: Vec3::Y, fov_y: fov.to_radians(), width, height })
     }
 
     /// The preview's default camera: at the front of the scene's bounds, centred,
@@ -45,13 +88,18 @@ impl ViewCamera {
         let eye = centre + Vec3::new(0.0, 0.0, 0.49 * (hi.z - lo.z));
         let tan_x = 40f32.to_radians().tan();
         let fov_y = 2.0 * (tan_x * height as f32 / width as f32).atan();
-        ViewCamera { eye, target: eye - Vec3::Z, fov_y, width, height }
+        ViewCamera { eye, target: eye - Vec3::Z, up: Vec3::Y, fov_y, width, height }
+    }
+
+    /// The view of a camera the scene defines (a glTF camera node), at `width` × `height`.
+    pub fn from_scene(c: &SceneCamera, width: u32, height: u32) -> ViewCamera {
+        ViewCamera { eye: c.eye, target: c.eye + c.forward, up: c.up, fov_y: c.fov_y, width, height }
     }
 
     /// (right, up, forward), orthonormal.
     fn basis(&self) -> (Vec3, Vec3, Vec3) {
         let f = (self.target - self.eye).normalize();
-        let r = f.cross(Vec3::Y).normalize();
+        let r = f.cross(self.up).normalize();
         (r, r.cross(f), f)
     }
 

@@ -2,7 +2,7 @@
 //! primitives of the default scene's node tree in world space, lightmap UVs from
 //! TEXCOORD_1, metallic/roughness materials with emission (× KHR_materials_emissive_strength)
 //! and `doubleSided`, and KHR_lights_punctual directional, point and spot lights (cones
-//! and ranges honoured).
+//! and ranges honoured), and perspective cameras.
 //! Buffers come from the GLB blob, external files next to the asset, or base64 data URIs.
 //! Everything skipped is listed in the [`ImportReport`]; bad data is a [`SceneError`].
 
@@ -15,6 +15,8 @@ use std::path::Path;
 pub struct ImportReport {
     /// Notes: skipped primitives, spot lights taken as points, missing normals.
     pub notes: Vec<String>,
+    /// The perspective cameras of the scene's node tree, in document order.
+    pub cameras: Vec<super::camera::SceneCamera>,
 }
 
 /// Decodes standard base64 (RFC 4648, padding optional).
@@ -227,6 +229,9 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         if let Some(light) = node.light() {
             scene.lights.push(punctual_light(&light, world));
         }
+        if let Some(cam) = node.camera() {
+            camera(&cam, &node, world, &mut report).map_err(SceneError::Io)?;
+        }
         let Some(mesh) = node.mesh() else { continue };
         for (pi, prim) in mesh.primitives().enumerate() {
             let name = format!("{}#{pi}", mesh.name().unwrap_or("mesh"));
@@ -240,6 +245,20 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         report.notes.push(format!("{degenerate} degenerate (zero-area) triangles skipped"));
     }
     Ok((scene, report))
+}
+
+/// A camera node: perspective cameras are kept, orthographic ones noted and skipped.
+fn camera(cam: &gltf::Camera, node: &gltf::Node, world: Mat4, report: &mut ImportReport) -> Result<(), String> {
+    let name = cam.name().or(node.name()).map_or_else(|| format!("camera {}", report.cameras.len()), str::to_string);
+    match cam.projection() {
+        gltf::camera::Projection::Perspective(p) => {
+            report.cameras.push(super::camera::SceneCamera::from_node(name, world, p.yfov(), p.aspect_ratio())?);
+        }
+        gltf::camera::Projection::Orthographic(_) => {
+            report.notes.push(format!("camera '{name}' is orthographic: skipped (views are pinhole cameras)"));
+        }
+    }
+    Ok(())
 }
 
 /// The materials of a glTF document (factors; a note where textures are left unsampled).

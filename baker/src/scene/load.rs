@@ -1,11 +1,19 @@
 //! A scene by name: a built-in scene or a glTF file, with an optional lat-long
 //! environment map replacing its environment, validated.
 
+use super::camera::SceneCamera;
 use super::{builtin, Environment, Scene};
 use std::path::Path;
 
 /// Loads the named scene (built-in or glTF) and the optional environment map.
 pub fn load(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String)) -> Result<Scene, String> {
+    load_with_cameras(name, environment, log).map(|l| l.0)
+}
+
+/// [`load`], with the cameras the scene file defines (glTF perspective cameras; none for
+/// the built-in scenes).
+pub fn load_with_cameras(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String)) -> Result<(Scene, Vec<SceneCamera>), String> {
+    let mut cameras = Vec::new();
     let mut s = match name {
         "cornell" => builtin::cornell(),
         "furnace" => builtin::furnace(1.0, 0.5),
@@ -19,6 +27,7 @@ pub fn load(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String))
             for n in report.notes {
                 log(format!("import: {n}"));
             }
+            cameras = report.cameras;
             s
         }
     };
@@ -30,5 +39,5 @@ pub fn load(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String))
     if degenerate > 0 {
         log(format!("scene: {degenerate} degenerate triangles skipped"));
     }
-    Ok(s)
+    Ok((s, cameras))
 }
