@@ -516,13 +516,38 @@ fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
         lights: vec![],
         environment: Environment::Constant(Vec3::splat(l_sky as f32)),
     };
-    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
     let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 80, 60).unwrap();
-    let visible = baker::render::visible::cast(&scene, &baker::scene::bvh::Bvh::build(&scene), &lm, &cam);
-    let renderer = gpu.as_ref().map(|g| Renderer::new(g, &scene, &lm, None).unwrap());
+    uniform_lightmap_renders_the_closed_form(&scene, &cam, gpu.as_deref(), l_sky);
+}
+
+/// The furnace box (the built-in `furnace`: a closed box, every wall emitting) with a
+/// glossy material (ρ 0.5, F0 0.08, α 0.4), seen from inside towards a corner — three
+/// walls, three tangent frames, views from normal to grazing — under the uniform lightmap
+/// of the radiance inside, L = L_e/(1 − ρ) (the emission of the visible surface is in
+/// neither image): every basis renders the closed forms of
+/// `plane_under_a_uniform_lightmap_renders_the_closed_form`, same error model.
+/// Mutation: the view's tangent-space z taken as world y (right on a floor, wrong on the
+/// walls; the plane test passes it) → fails.
+#[test]
+fn furnace_box_under_its_uniform_lightmap_renders_the_closed_form() {
+    let gpu = common::gpu();
+    let (le, rho) = (1.0f32, 0.5f32);
+    let mut scene = baker::scene::furnace(le, rho);
+    let mut m = baker::scene::Material::glossy(Vec3::splat(rho), 0.4);
+    m.specular = 2.0; // F0 = 0.08
+    m.emissive = Vec3::splat(le);
+    scene.materials[0] = m;
+    let cam = ViewCamera::parse("0.3,0.2,0.35:-1,-1,-1:90", 80, 60).unwrap();
+    uniform_lightmap_renders_the_closed_form(&scene, &cam, gpu.as_deref(), (le / (1.0 - rho)) as f64);
+}
+
+/// The closed forms of a uniform lightmap of radiance `l_sky` in every basis at every
+/// lightmapped pixel of `scene` from `cam`, on the CPU twin and (given) the GPU.
+fn uniform_lightmap_renders_the_closed_form(scene: &baker::scene::Scene, cam: &ViewCamera, gpu: Option<&shaders::gpu::Gpu>, l_sky: f64) {
+    let lm = Lightmap::build(scene, 4.0, 2).unwrap();
+    let visible = baker::render::visible::cast(scene, &baker::scene::bvh::Bvh::build(scene), &lm, cam);
+    let renderer = gpu.map(|g| Renderer::new(g, scene, &lm, None).unwrap());
     let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
-    let f0 = mats[1].f0.x;
-    let alpha = mats[1].alpha;
     let uniform = |c: Vec<f64>| Atlas {
         width: lm.width,
         height: lm.height,
@@ -569,22 +594,23 @@ fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
             ));
         }
     }
-    let mut split_cache: std::collections::HashMap<u64, (f64, f64)> = Default::default();
+    let mut split_cache: std::collections::HashMap<(u64, u64), (f64, f64)> = Default::default();
     for (l, c, e_exact, e_tol, sh_spec) in &cases {
         let atlas = uniform(c.clone());
         let shader = Shader::new(*l);
-        let cpu = baker::render::visible::shade_pixels(&shader, &atlas, None, &scene, cam.eye, &visible);
-        let gpu_img = renderer.as_ref().map(|r| r.analysis(l, &atlas, &cam).unwrap());
+        let cpu = baker::render::visible::shade_pixels(&shader, &atlas, None, scene, cam.eye, &visible);
+        let gpu_img = renderer.as_ref().map(|r| r.analysis(l, &atlas, cam).unwrap());
         let mut worst = 0.0f64;
         let mut n = 0;
         for (k, v) in visible.iter().enumerate() {
             let Some(v) = v.as_ref().filter(|v| v.lightmapped) else { continue };
             let m = &mats[v.material as usize];
             let eye = cam.eye.as_dvec3();
-            let nv = (eye - v.position.as_dvec3()).normalize().y;
+            let nv = (eye - v.position.as_dvec3()).normalize().dot(v.normal.as_dvec3());
             let diffuse = m.albedo.x * e_exact;
+            let (f0, alpha) = (m.f0.x, m.alpha);
             let (spec, spec_tol) = if *sh_spec && m.glossy() {
-                let key = (nv * 1e6).round() as u64;
+                let key = ((nv * 1e6).round() as u64, alpha.to_bits());
                 let (a, b) = *split_cache.entry(key).or_insert_with(|| ggx_albedo_split(nv, alpha));
                 (l_sky * (f0 * a + b), dfg_tolerance(nv, alpha, f0, l_sky))
             } else {
