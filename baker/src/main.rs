@@ -140,6 +140,10 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "bake-out")]
     out: PathBuf,
+    /// GPU: use at most this many bytes per storage binding (default: the adapter's limit);
+    /// bases whose encoder states exceed it are baked in groups over the same paths.
+    #[arg(long)]
+    max_storage_binding: Option<u64>,
     /// Passes between checkpoints (0: none).
     #[arg(long, default_value_t = 32)]
     checkpoint_every: u64,
@@ -270,6 +274,7 @@ fn options(c: Cli) -> Result<Options, String> {
         device,
         out: c.out,
         checkpoint_every: c.checkpoint_every,
+        max_binding: c.max_storage_binding,
         resume: c.resume,
         probes,
         relocate_probes: c.relocate_probes,

@@ -9,8 +9,100 @@ use crate::gpu::multi::MultiGpuBake;
 use crate::scene::Scene;
 
 /// Runs passes on `targets` with progress, checkpoints and resume; returns the state.
+///
+/// On GPUs, where the encoder states of all bases exceed one storage binding, the bases are
+/// baked in groups that fit, one after another over the same paths (every random number
+/// depends on seed, item and pass only, so each group traces the very paths of the others
+/// and their moments agree), each with its own checkpoint; the states are joined.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_targets<'s>(
+    o: &Options,
+    config: &BakeConfig,
+    gpus: &'s [shaders::gpu::Gpu],
+    tracer_of: &dyn Fn() -> Tracer<'s>,
+    scene: &Scene,
+    targets: &Targets,
+    what: &str,
+    log: &mut dyn FnMut(String),
+) -> Result<(BakeState, u64), String> {
+    let groups = match gpus.first() {
+        Some(g) => {
+            let adapter = g.device().limits().max_storage_buffer_binding_size;
+            basis_groups(&config.bases, targets.items.len(), o.max_binding.map_or(adapter, |m| m.min(adapter)))
+        }
+        None => vec![config.bases.clone()],
+    };
+    if groups.len() <= 1 {
+        return run_group(o, config, gpus, tracer_of, scene, targets, what, log);
+    }
+    let names = |g: &[crate::accumulate::BasisKind]| g.iter().map(|b| b.name()).collect::<Vec<_>>().join("+");
+    log(format!(
+        "{what}: the encoder states of {} bases × {} items exceed one storage binding: baked in {} groups over the same paths ({})",
+        config.bases.len(),
+        targets.items.len(),
+        groups.len(),
+        groups.iter().map(|g| names(g)).collect::<Vec<_>>().join(", ")
+    ));
+    let mut joined: Option<(BakeState, u64)> = None;
+    for g in &groups {
+        let c = BakeConfig { bases: g.clone(), ..config.clone() };
+        let (st, run) = run_group(o, &c, gpus, tracer_of, scene, targets, &format!("{what}.{}", names(g)), log)?;
+        joined = Some(match joined {
+            None => (st, run),
+            Some((mut all, r)) => {
+                let drift = moments_drift(&all.moments, &st.moments);
+                if all.passes != st.passes || drift.is_nan() || drift > MOMENTS_AGREE {
+                    let how =
+                        if drift.is_finite() { format!("sums differ by {drift:.2e} relative") } else { "sample counts differ".into() };
+                    return Err(format!("{what}: the group {} traced other paths than the first ({how})", names(g)));
+                }
+                all.encoders.extend(st.encoders);
+                if let (Some(a), Some(b)) = (all.filtered.as_mut(), st.filtered) {
+                    a.encoders.extend(b.encoders);
+                }
+                (all, r.max(run))
+            }
+        });
+    }
+    Ok(joined.expect("at least two groups"))
+}
+
+/// How far two groups' moments may differ (relative to the item's sum): the same paths
+/// through kernels compiled with different encoders (f32 rounding of the shared terms may
+/// differ with inlining; sample counts must be equal).
+const MOMENTS_AGREE: f64 = 1e-4;
+
+/// The largest relative difference of the sums of `a` and `b` over items and channels, or
+/// ∞ where the sample counts differ.
+fn moments_drift(a: &[crate::accumulate::state::Moments], b: &[crate::accumulate::state::Moments]) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    let mut worst = 0.0f64;
+    for (x, y) in a.iter().zip(b) {
+        if (x.accepted, x.back_faces, x.non_finite) != (y.accepted, y.back_faces, y.non_finite) {
+            return f64::INFINITY;
+        }
+        for c in 0..3 {
+            let scale = x.sum[c].abs().max(y.sum[c].abs()).max(1e-30);
+            worst = worst.max((x.sum[c] - y.sum[c]).abs() / scale);
+        }
+    }
+    worst
+}
+
+/// `bases` in order, split into groups whose encoder states (`items` per basis) fit one
+/// storage binding of `max_binding` bytes (a basis alone that does not fit is a group of
+/// its own: the bake's size check then names it).
+pub fn basis_groups(bases: &[crate::accumulate::BasisKind], items: usize, max_binding: u64) -> Vec<Vec<crate::accumulate::BasisKind>> {
+    let per_basis = (items.max(1) * std::mem::size_of::<shaders::progressive::EncoderState>()) as u64;
+    let fit = ((max_binding / per_basis) as usize).max(1);
+    bases.chunks(fit).map(<[_]>::to_vec).collect()
+}
+
+/// [`run_targets`] for one group of bases.
+#[allow(clippy::too_many_arguments)]
+fn run_group<'s>(
     o: &Options,
     config: &BakeConfig,
     gpus: &'s [shaders::gpu::Gpu],

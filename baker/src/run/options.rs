@@ -48,6 +48,9 @@ pub struct Options {
     /// GPUs to bake on (hardware adapters, one thread and queue each; [`crate::gpu::multi`]).
     /// 1: the best adapter.
     pub gpus: usize,
+    /// GPU: the most bytes one storage binding may take (None: the adapter's limit). Bases
+    /// whose encoder states exceed it are baked in groups ([`super::engine`]).
+    pub max_binding: Option<u64>,
     /// The lighting profile the bases came from (`--profile`): its BRDF set decides whether
     /// the specular runtime (features, LUTs) is written, its language the exported runtime;
     /// it is recorded in bake.json.
@@ -93,6 +96,7 @@ impl Default for Options {
             measure_rays: None,
             batch_seconds: Some(crate::gpu::BATCH_TARGET_SECONDS),
             gpus: 1,
+            max_binding: None,
             profile: None,
             quiet: false,
             verbose: false,
