@@ -876,3 +876,35 @@ fn gpu_reference_matches_the_closed_form_and_the_cpu_reference() {
     let on_cpu = reference::render(&tracer, &scene, &visible, cam.eye, 256, 12, &|_| {});
     check_reference_agreement("built-in scene, GPU vs CPU reference", &on_gpu, Some(&on_cpu), &|_| unreachable!());
 }
+
+/// Probe deringing: a probe holding a sun (an RGB delta's SH L2 projection, the blue
+/// channel half as bright) shades a Lambert object with negative E/π on its far side; after
+/// `ProbeField::deringed` its E/π (the render's own `probe_terms`) is ≥ 0 at every normal of
+/// a 4096-point set, both the red and the blue channel are windowed (the same width: a
+/// scaled channel rings alike), and a probe holding a constant is left bit for bit.
+/// Mutation: the window's result discarded (probes unchanged) → the sign check fails.
+#[test]
+fn deringed_probes_shade_without_negative_light() {
+    use baker::render::probes::ProbeField;
+    use baker::render::shade::probe_terms;
+    let s = DVec3::new(0.3, 0.8, 0.5).normalize();
+    let y = sbf::Basis::eval(&sbf::ShBasis::new(2).unwrap(), s);
+    let sun: [DVec3; 9] = std::array::from_fn(|i| DVec3::new(y[i], y[i], 0.5 * y[i]) * 10.0);
+    let mut constant = [DVec3::ZERO; 9];
+    constant[0] = DVec3::splat(2.0);
+    let field =
+        ProbeField { dims: [2, 1, 1], first: Vec3::ZERO, last: Vec3::X, coefficients: vec![sun, constant], valid: vec![true, true] };
+    let lambert = SurfaceMaterial { albedo: DVec3::ONE, alpha: 0.5, f0: DVec3::ZERO };
+    let min_e = |c: &[DVec3; 9]| {
+        (0..4096)
+            .map(|i| probe_terms(c, &lambert, sbf::sampling::spherical_fibonacci(i, 4096), DVec3::Z).diffuse.min_element())
+            .fold(f64::INFINITY, f64::min)
+    };
+    assert!(min_e(&sun) < -0.01, "the sun rings: {}", min_e(&sun));
+    let (d, n) = field.deringed().unwrap();
+    assert_eq!(n, 3, "the sun's three channels");
+    assert!(min_e(&d.coefficients[0]) >= -1e-9, "deringed: min E/π {}", min_e(&d.coefficients[0]));
+    assert_eq!(d.coefficients[1], constant);
+    let ratio = d.coefficients[0][4].z / d.coefficients[0][4].x;
+    assert!((ratio - 0.5).abs() < 1e-12, "a scaled channel takes the same window: {ratio}");
+}

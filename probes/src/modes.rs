@@ -849,12 +849,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 let c = channels(&moments(&sh_t, &ctx.samples));
                 let mut out = c.clone();
                 for k in 0..3 {
-                    let irr = shr::irradiance_coefficients(&channel(&c, k)).map_err(err)?;
-                    if shr::minimum_over(&irr, &fib).map_err(err)? >= 0.0 {
-                        continue;
-                    }
-                    if let Some((w, _)) = shr::sinc4_deringing(&irr, &fib).map_err(err)? {
-                        let windowed = shr::apply_window(&channel(&c, k), |l| shr::sinc4_window(l, w)).map_err(err)?;
+                    if let Some((_, windowed)) = shr::dering_irradiance(&channel(&c, k), &fib).map_err(err)? {
                         for i in 0..9 {
                             out[i][k] = windowed[i];
                         }

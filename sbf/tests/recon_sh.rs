@@ -138,6 +138,41 @@ fn windowing() {
     assert!(irradiance(&[1.0; 5], DVec3::Z).is_err(), "5 is not (L+1)²");
 }
 
+/// `dering_irradiance` on a sun (a delta at s: c_lm = Y_lm(s)) in SH L2: its E/π rings
+/// negative (by the zonal closed form E/π(μ) = Σ_l (A_l/π)(2l+1)/(4π)·σ_l·P_l(μ) with
+/// A = (π, 2π/3, π/4), μ = n·s — written here with Legendre polynomials, not SH
+/// evaluation); the windowed radiance's E/π is ≥ 0 for all μ (dense grid), the window is
+/// the widest on the 1/64 grid up to L + 1 that does it, and the DC is kept. A constant
+/// (no ringing) is left alone. Mutation: the window applied to the E/π instead of the
+/// radiance coefficients → the coefficient check fails.
+#[test]
+fn dering_irradiance_of_a_sun() {
+    let dirs: Vec<DVec3> = (0..4096).map(|i| sbf::sampling::spherical_fibonacci(i, 4096)).collect();
+    let s = DVec3::new(0.3, 0.8, 0.5).normalize();
+    let c = ShBasis::new(2).unwrap().eval(s);
+    let zonal = |w: f64, mu: f64| {
+        let p = [1.0, mu, 0.5 * (3.0 * mu * mu - 1.0)];
+        let a = [1.0, 2.0 / 3.0, 0.25];
+        (0..3).map(|l| a[l] * (2 * l + 1) as f64 / (4.0 * PI) * sinc4_window(l, w) * p[l]).sum::<f64>()
+    };
+    let min_over_mu = |w: f64| (0..=20_000).map(|k| zonal(w, -1.0 + k as f64 / 10_000.0)).fold(f64::INFINITY, f64::min);
+    assert!(min_over_mu(1e9) < -1e-3, "the sun's E/π rings: {}", min_over_mu(1e9));
+    let (w, windowed) = dering_irradiance(&c, &dirs).unwrap().expect("it rings");
+    // The spherical-Fibonacci set misses the exact minimum by at most its spacing: 1e-6.
+    assert!(min_over_mu(w) >= -1e-6, "w {w}: min E/π {}", min_over_mu(w));
+    // The scan starts at w = L + 1 = 3 (σ₃ = 0); below it, one step wider rings.
+    assert!(w <= 3.0 && (w == 3.0 || min_over_mu(w + 1.0 / 64.0) < 0.0), "w {w} is not the widest");
+    assert_eq!(windowed[0], c[0]);
+    for l in 1..3 {
+        for m in 0..2 * l + 1 {
+            assert!((windowed[l * l + m] - c[l * l + m] * sinc4_window(l, w)).abs() < 1e-15);
+        }
+    }
+    let mut constant = vec![0.0; 9];
+    constant[0] = 1.0;
+    assert!(dering_irradiance(&constant, &dirs).unwrap().is_none());
+}
+
 /// i_l(λ)/i_0(λ) from the all-positive power series i_l(λ) = λ^l Σ_k (λ²/2)^k/(k!(2l+2k+1)!!)
 /// in log space (log-sum-exp over the terms until they fall 60 e-folds below the largest,
 /// past the peak at k ≈ λ/2) — an independent oracle with no cancellation for any λ.

@@ -47,6 +47,11 @@ struct Cli {
     /// are shaded from the probes, trilinearly.
     #[arg(long, value_delimiter = ',', default_value = "8,4,4")]
     probes: Vec<usize>,
+    /// Probes' deringing: `sinc4` windows a probe's SH L2 radiance where its irradiance
+    /// rings negative (Sloan 2017; per probe and channel, only where needed), `none` keeps
+    /// the bake's coefficients.
+    #[arg(long, default_value = "sinc4")]
+    probe_window: String,
     /// Specular runtime path of SG and AD: fit, tables or both.
     #[arg(long, default_value = "fit")]
     specular: String,
@@ -209,6 +214,11 @@ fn render(c: Cli) -> Result<(), String> {
         "cpu" => Device::Cpu,
         s => return Err(format!("--device '{s}': expected auto, gpu or cpu")),
     };
+    let dering = match c.probe_window.as_str() {
+        "sinc4" => true,
+        "none" => false,
+        s => return Err(format!("--probe-window '{s}': expected sinc4 or none")),
+    };
     if c.reference_samples == 0 {
         return Err("--reference-samples must be at least 1".into());
     }
@@ -228,7 +238,17 @@ fn render(c: Cli) -> Result<(), String> {
     let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device, (dynamic > 0).then_some(grid))?;
     let probe_field = if dynamic > 0 {
         eprintln!("render: {dynamic} dynamic object(s) (no lightmap) shaded from the SH L2 probes");
-        Some(baker::render::probes::ProbeField::read(&bake_dir)?)
+        let field = baker::render::probes::ProbeField::read(&bake_dir)?;
+        if dering {
+            let (f, n) = field.deringed()?;
+            eprintln!(
+                "render: probes deringed (sinc⁴ window) in {n} of {} probe channels whose irradiance rings",
+                3 * f.coefficients.len()
+            );
+            Some(f)
+        } else {
+            Some(field)
+        }
     } else {
         None
     };

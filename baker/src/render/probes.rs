@@ -72,6 +72,29 @@ impl ProbeField {
         Ok(ProbeField { dims, first, last, coefficients, valid })
     }
 
+    /// The field with every probe deringed where its irradiance rings: per probe and
+    /// channel, if its E/π is negative on any of 4096 spherical-Fibonacci directions, the
+    /// radiance windowed by the widest sinc⁴ window that makes it non-negative
+    /// (`sbf::recon::sh::dering_irradiance`, Sloan 2017; the probes tool's `shl2w`).
+    /// Returns the field and the probe channels windowed.
+    pub fn deringed(&self) -> Result<(ProbeField, usize), String> {
+        let dirs: Vec<DVec3> = (0..4096).map(|i| sbf::sampling::spherical_fibonacci(i, 4096)).collect();
+        let mut out = self.clone();
+        let mut windowed = 0;
+        for c in &mut out.coefficients {
+            for k in 0..3 {
+                let channel: Vec<f64> = c.iter().map(|x| x[k]).collect();
+                if let Some((_, w)) = sbf::recon::sh::dering_irradiance(&channel, &dirs).map_err(|e| e.to_string())? {
+                    for (x, v) in c.iter_mut().zip(w) {
+                        x[k] = v;
+                    }
+                    windowed += 1;
+                }
+            }
+        }
+        Ok((out, windowed))
+    }
+
     /// The lattice cell of `p` and the fractional position in it, per axis (clamped).
     pub fn cell(&self, p: Vec3) -> ([usize; 3], [f64; 3]) {
         let mut i = [0; 3];

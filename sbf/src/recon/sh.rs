@@ -228,6 +228,22 @@ pub fn sinc4_deringing(coeffs: &[f64], dirs: &[DVec3]) -> Result<Option<(f64, Ve
     Ok(None)
 }
 
+/// Deringing where the irradiance rings (Sloan 2017, "Deringing Spherical Harmonics"):
+/// if the E/π of radiance coefficients `radiance` (one channel) is negative on any of
+/// `dirs`, the radiance windowed by the widest sinc⁴ window that makes that E/π
+/// non-negative there, with the window's width; None where nothing rings (or where even
+/// the DC term alone is negative, which no window mends).
+pub fn dering_irradiance(radiance: &[f64], dirs: &[DVec3]) -> Result<Option<(f64, Vec<f64>)>, SbfError> {
+    let irr = irradiance_coefficients(radiance)?;
+    if minimum_over(&irr, dirs)? >= 0.0 {
+        return Ok(None);
+    }
+    match sinc4_deringing(&irr, dirs)? {
+        Some((w, _)) => Ok(Some((w, apply_window(radiance, |l| sinc4_window(l, w))?))),
+        None => Ok(None),
+    }
+}
+
 /// Fraction of `dirs` where the reconstruction Σ c·Y is negative (a report metric).
 pub fn negative_fraction(coeffs: &[f64], dirs: &[DVec3]) -> Result<f64, SbfError> {
     let sh = ShBasis::new(order_of(coeffs.len())?)?;
