@@ -47,10 +47,10 @@ struct Cli {
     /// are shaded from the probes, trilinearly.
     #[arg(long, value_delimiter = ',', default_value = "8,4,4")]
     probes: Vec<usize>,
-    /// Probes' deringing: `sinc4` windows a probe's SH L2 radiance where its irradiance
-    /// rings negative (Sloan 2017; per probe and channel, only where needed), `none` keeps
-    /// the bake's coefficients.
-    #[arg(long, default_value = "sinc4")]
+    /// Probes' deringing: `none` keeps the bake's coefficients; `sinc4` windows a probe's
+    /// SH L2 radiance where its irradiance rings negative (Sloan 2017; per probe and
+    /// channel, only where needed).
+    #[arg(long, default_value = "none")]
     probe_window: String,
     /// Specular runtime path of SG and AD: fit, tables or both.
     #[arg(long, default_value = "fit")]
