@@ -195,8 +195,9 @@ impl<'g> Renderer<'g> {
         (far * 1e-5, far)
     }
 
-    /// The pipeline constants of `l`.
-    fn constants(l: &Lighting) -> [(&'static str, f64); 3] {
+    /// The pipeline constants of `l` (`fetch_only`: the timing variant that only fetches
+    /// the lobes).
+    fn constants(l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 4] {
         let (enc, lobes) = match l.encoding {
             Encoding::Irradiance => (0, 1),
             Encoding::Basis(BasisKind::ShL1) => (1, 4),
@@ -207,7 +208,12 @@ impl<'g> Renderer<'g> {
             Encoding::Basis(BasisKind::Ad12) => (5, 12),
         };
         let tables = l.specular == SpecularPath::Tables && !matches!(l.encoding, Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2));
-        [("ENCODING", enc as f64), ("TABLES", if tables { 1.0 } else { 0.0 }), ("LOBES", lobes as f64)]
+        [
+            ("ENCODING", enc as f64),
+            ("TABLES", if tables { 1.0 } else { 0.0 }),
+            ("LOBES", lobes as f64),
+            ("FETCH_ONLY", fetch_only as u8 as f64),
+        ]
     }
 
     /// The bind group of a configuration: frame uniform, materials, lightmap, table(s).
@@ -325,8 +331,8 @@ impl<'g> Renderer<'g> {
 
     /// A pipeline: the depth pre-pass (`fragment` None) or a shading entry point with its
     /// targets (depth test Equal, no depth write).
-    fn pipeline(&self, l: &Lighting, fragment: Option<(&str, &[wgpu::TextureFormat])>) -> wgpu::RenderPipeline {
-        let constants = Self::constants(l);
+    fn pipeline(&self, l: &Lighting, fragment: Option<(&str, &[wgpu::TextureFormat])>, fetch_only: bool) -> wgpu::RenderPipeline {
+        let constants = Self::constants(l, fetch_only);
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let targets: Vec<Option<wgpu::ColorTargetState>> = fragment
             .map(|(_, f)| {
@@ -488,9 +494,9 @@ impl<'g> Renderer<'g> {
     pub fn analysis(&self, l: &Lighting, atlas: &Atlas, cam: &ViewCamera) -> Result<Analysis, String> {
         let (group, _frame) = self.bind(l, atlas, cam)?;
         let f = wgpu::TextureFormat::Rgba32Uint;
-        let depth_pipeline = self.pipeline(l, None);
-        let terms = self.pipeline(l, Some(("fs_terms", &[f, f])));
-        let surface = self.pipeline(l, Some(("fs_surface", &[f, f])));
+        let depth_pipeline = self.pipeline(l, None, false);
+        let terms = self.pipeline(l, Some(("fs_terms", &[f, f])), false);
+        let surface = self.pipeline(l, Some(("fs_surface", &[f, f])), false);
         let depth = self.target(cam, wgpu::TextureFormat::Depth32Float, "render depth").create_view(&Default::default());
         let tex: Vec<wgpu::Texture> = (0..4).map(|k| self.target(cam, f, &format!("render analysis {k}"))).collect();
         let views: Vec<wgpu::TextureView> = tex.iter().map(|t| t.create_view(&Default::default())).collect();
@@ -512,21 +518,23 @@ impl<'g> Renderer<'g> {
     /// GPU time (ms) of the depth pre-pass and the forward pass of `l` into one rgba16float
     /// target, per frame, from timestamp queries: `warmup` frames dropped, then `frames`
     /// measured, one submission each. None when the adapter has no timestamp queries.
+    /// `fetch_only`: the pass fetches the lobes and sums them, no runtime (the
+    /// configuration's bandwidth floor).
     pub fn frame_times(
         &self,
         l: &Lighting,
         atlas: &Atlas,
         cam: &ViewCamera,
-        warmup: usize,
-        frames: usize,
+        (warmup, frames): (usize, usize),
+        fetch_only: bool,
     ) -> Result<Option<Vec<f64>>, String> {
         if !self.gpu.timestamps {
             return Ok(None);
         }
         let d = self.gpu.device();
         let (group, _frame) = self.bind(l, atlas, cam)?;
-        let depth_pipeline = self.pipeline(l, None);
-        let shade = self.pipeline(l, Some(("fs_frame", &[wgpu::TextureFormat::Rgba16Float])));
+        let depth_pipeline = self.pipeline(l, None, false);
+        let shade = self.pipeline(l, Some(("fs_frame", &[wgpu::TextureFormat::Rgba16Float])), fetch_only);
         let depth = self.target(cam, wgpu::TextureFormat::Depth32Float, "render depth").create_view(&Default::default());
         let colour = self.target(cam, wgpu::TextureFormat::Rgba16Float, "render frame").create_view(&Default::default());
         let total = (warmup + frames) as u32;

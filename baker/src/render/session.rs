@@ -47,6 +47,9 @@ pub struct FrameTime {
     pub median_ms: f64,
     pub p10_ms: f64,
     pub p90_ms: f64,
+    /// Median frame of the same pass fetching the lobes and summing them, no runtime: the
+    /// configuration's lightmap-bandwidth floor.
+    pub fetch_only_ms: Option<f64>,
 }
 
 /// One configuration's image and errors.
@@ -122,7 +125,9 @@ pub fn run(
             r.specular.rmse,
             r.total.rmse,
             r.total.relative_rmse,
-            r.frame.map(|f| format!(", frame {:.3} ms", f.median_ms)).unwrap_or_default()
+            r.frame
+                .map(|f| format!(", frame {:.3} ms (lobes fetched only: {:.3} ms)", f.median_ms, f.fetch_only_ms.unwrap_or(f64::NAN)))
+                .unwrap_or_default()
         ));
         rendered.push(r);
     }
@@ -198,7 +203,8 @@ fn render_one(
             let frame = match setup.timing {
                 Some((w, h, warm, n)) if n > 0 => {
                     let big = ViewCamera { width: w, height: h, ..cam };
-                    r.frame_times(l, atlas, &big, warm, n)?.map(|t| frame_stats(w, h, t))
+                    let floor = r.frame_times(l, atlas, &big, (warm, n), true)?.map(|t| frame_stats(w, h, t).median_ms);
+                    r.frame_times(l, atlas, &big, (warm, n), false)?.map(|t| FrameTime { fetch_only_ms: floor, ..frame_stats(w, h, t) })
                 }
                 _ => None,
             };
@@ -233,5 +239,5 @@ fn render_one(
 fn frame_stats(width: u32, height: u32, mut t: Vec<f64>) -> FrameTime {
     t.sort_by(f64::total_cmp);
     let q = |f: f64| t[((t.len() - 1) as f64 * f).round() as usize];
-    FrameTime { width, height, frames: t.len(), median_ms: q(0.5), p10_ms: q(0.1), p90_ms: q(0.9) }
+    FrameTime { width, height, frames: t.len(), median_ms: q(0.5), p10_ms: q(0.1), p90_ms: q(0.9), fetch_only_ms: None }
 }

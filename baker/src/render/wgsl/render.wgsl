@@ -16,6 +16,9 @@ override ENCODING: u32 = 0u;
 override TABLES: bool = false;
 // Lobes per texel (1 for the plain E/π; the lightmap texture may hold a padding layer).
 override LOBES: u32 = 1u;
+// Timing only: fetch every lobe (the same bilinear lookups) and sum them, no runtime — the
+// configuration's lightmap-bandwidth floor.
+override FETCH_ONLY: bool = false;
 
 struct Frame {
     view_proj: mat4x4<f32>,
@@ -289,6 +292,13 @@ fn shade(vo: VertexOut) -> Terms {
         let vt = vec3<f32>(dot(v, tb[0]), dot(v, tb[1]), dot(v, n));
         let fp = lightmap_footprint(vo.uv);
         let g = Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, ENCODING != 0u && glossy && vt.z > 0.0);
+        if (FETCH_ONLY) {
+            var c = vec3<f32>(0.0);
+            for (var l = 0u; l < LOBES; l++) {
+                c += lightmap_lobe(fp, l);
+            }
+            return Terms(c * m.albedo_alpha.xyz, vec3<f32>(0.0));
+        }
         switch ENCODING {
             case 1u, 2u: {
                 t = shade_sh(fp, vt, g);
