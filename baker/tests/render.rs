@@ -495,9 +495,17 @@ fn dfg_tolerance(nv: f64, alpha: f64, f0: f64, l: f64) -> f64 {
 /// can resolve for SG.
 #[test]
 fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
-    use baker::scene::{Environment, Material, Mesh, Scene};
     let gpu = common::gpu();
     let (rho, l_sky) = (0.6f64, 1.7f64);
+    let scene = planes(rho, l_sky);
+    let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 80, 60).unwrap();
+    uniform_lightmap_renders_the_closed_form(&scene, &cam, gpu.as_deref(), l_sky);
+}
+
+/// A Lambert plane (x ∈ [−2, 0]) and a glossy one (x ∈ [0, 2], F0 0.2, α 0.5), both of
+/// albedo ρ, facing +Y under a constant sky of radiance `l_sky`.
+fn planes(rho: f64, l_sky: f64) -> baker::scene::Scene {
+    use baker::scene::{Environment, Material, Mesh, Scene};
     let quad = |x0: f32, material: usize| Mesh {
         name: format!("plane{material}"),
         positions: vec![Vec3::new(x0, 0.0, -1.0), Vec3::new(x0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, -1.0)],
@@ -509,15 +517,13 @@ fn plane_under_a_uniform_lightmap_renders_the_closed_form() {
     };
     let mut glossy = Material::glossy(Vec3::splat(rho as f32), 0.5);
     glossy.specular = 5.0; // F0 = 0.2
-    let scene = Scene {
+    Scene {
         name: "planes".into(),
         meshes: vec![quad(-2.0, 0), quad(0.0, 1)],
         materials: vec![Material::lambert(Vec3::splat(rho as f32)), glossy],
         lights: vec![],
         environment: Environment::Constant(Vec3::splat(l_sky as f32)),
-    };
-    let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 80, 60).unwrap();
-    uniform_lightmap_renders_the_closed_form(&scene, &cam, gpu.as_deref(), l_sky);
+    }
 }
 
 /// The furnace box (the built-in `furnace`: a closed box, every wall emitting) with a
@@ -819,28 +825,10 @@ fn check_reference_agreement(
 fn gpu_reference_matches_the_closed_form_and_the_cpu_reference() {
     use baker::render::reference;
     use baker::render::reference_gpu::GpuReference;
-    use baker::scene::{Environment, Material, Mesh, Scene};
     let Some(gpu) = common::gpu() else { return };
     // (a) The planes: radiance L from every direction of the upper hemisphere.
     let (rho, l_sky) = (0.6f64, 1.7f64);
-    let quad = |x0: f32, material: usize| Mesh {
-        name: format!("plane{material}"),
-        positions: vec![Vec3::new(x0, 0.0, -1.0), Vec3::new(x0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, 1.0), Vec3::new(x0 + 2.0, 0.0, -1.0)],
-        normals: vec![Vec3::Y; 4],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-        material,
-        lightmap_uv: None,
-        lightmapped: true,
-    };
-    let mut glossy = Material::glossy(Vec3::splat(rho as f32), 0.5);
-    glossy.specular = 5.0; // F0 = 0.2
-    let scene = Scene {
-        name: "planes".into(),
-        meshes: vec![quad(-2.0, 0), quad(0.0, 1)],
-        materials: vec![Material::lambert(Vec3::splat(rho as f32)), glossy],
-        lights: vec![],
-        environment: Environment::Constant(Vec3::splat(l_sky as f32)),
-    };
+    let scene = planes(rho, l_sky);
     let bvh = baker::scene::bvh::Bvh::build(&scene);
     let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
     let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 40, 30).unwrap();

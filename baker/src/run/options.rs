@@ -49,7 +49,7 @@ pub struct Options {
     /// 1: the best adapter.
     pub gpus: usize,
     /// GPU: the most bytes one storage binding may take (None: the adapter's limit). Bases
-    /// whose encoder states exceed it are baked in groups ([`super::engine`]).
+    /// whose encoder states exceed it are baked in groups (`run/engine.rs`).
     pub max_binding: Option<u64>,
     /// The lighting profile the bases came from (`--profile`): its BRDF set decides whether
     /// the specular runtime (features, LUTs) is written, its language the exported runtime;
