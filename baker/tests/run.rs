@@ -649,12 +649,13 @@ fn bad_profile_exits_2_naming_key_line_and_column() {
 }
 
 /// glTF cameras (glTF 2.0 §5.12: a camera node looks down its local −Z, +Y up): a yawed
-/// camera and a rolled one under a translated parent import with the eye, view and up
+/// camera, a rolled one under a translated parent and a pitched one under a stretched
+/// parent (its up made perpendicular to the view) import with the eye, view and up
 /// directions worked out here from the quaternions by hand; an orthographic camera is
 /// skipped with a note; the view's rays follow them (centre ray = forward, the image's top
 /// towards up, its right towards forward × up); `render --camera gltf:NAME` refuses an
 /// unknown name before any work, listing the cameras. Mutations: the node's −Z taken as
-/// +Z, the parent transform dropped — each fails.
+/// +Z, the parent transform dropped, the up direction not made perpendicular — each fails.
 #[test]
 fn gltf_cameras_import_and_set_the_view() {
     use baker::scene::camera::ViewCamera;
@@ -667,7 +668,8 @@ fn gltf_cameras_import_and_set_the_view() {
     v["cameras"] = serde_json::json!([
         {"type": "perspective", "name": "yawed", "perspective": {"yfov": 0.8, "aspectRatio": 1.5, "znear": 0.01}},
         {"type": "perspective", "name": "rolled", "perspective": {"yfov": 0.6, "znear": 0.01}},
-        {"type": "orthographic", "name": "flat", "orthographic": {"xmag": 1, "ymag": 1, "zfar": 10, "znear": 0.01}}
+        {"type": "orthographic", "name": "flat", "orthographic": {"xmag": 1, "ymag": 1, "zfar": 10, "znear": 0.01}},
+        {"type": "perspective", "name": "stretched", "perspective": {"yfov": 0.7, "znear": 0.01}}
     ]);
     let nodes = v["nodes"].as_array_mut().unwrap();
     let first = nodes.len();
@@ -676,12 +678,18 @@ fn gltf_cameras_import_and_set_the_view() {
     nodes.push(serde_json::json!({"translation": [0, 1, 0], "children": [first + 2]}));
     nodes.push(serde_json::json!({"camera": 1, "translation": [0, 0, 5], "rotation": [0, 0, h, h]}));
     nodes.push(serde_json::json!({"camera": 2}));
-    for k in [first, first + 1, first + 3] {
+    // Pitched 45° down (about X) under a parent stretched ×2 along y: the node's −Z and +Y
+    // become (0, −2, −1)/√5·… and (0, 2, −1)/√5·…, no longer perpendicular.
+    let s = (std::f64::consts::PI / 8.0).sin();
+    let c = (std::f64::consts::PI / 8.0).cos();
+    nodes.push(serde_json::json!({"scale": [1, 2, 1], "children": [first + 5]}));
+    nodes.push(serde_json::json!({"camera": 3, "rotation": [-s, 0, 0, c]}));
+    for k in [first, first + 1, first + 3, first + 4] {
         v["scenes"][0]["nodes"].as_array_mut().unwrap().push(k.into());
     }
     std::fs::write(&path, v.to_string()).unwrap();
     let (_, report) = import::load(&path).unwrap();
-    assert_eq!(report.cameras.len(), 2, "{:?}", report.cameras);
+    assert_eq!(report.cameras.len(), 3, "{:?}", report.cameras);
     assert!(report.notes.iter().any(|n| n.contains("'flat' is orthographic")), "{:?}", report.notes);
     let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
     let (yawed, rolled) = (&report.cameras[0], &report.cameras[1]);
@@ -689,7 +697,15 @@ fn gltf_cameras_import_and_set_the_view() {
     assert!(close(yawed.eye, Vec3::new(1.0, 2.0, 3.0)) && close(yawed.forward, -Vec3::X) && close(yawed.up, Vec3::Y), "{yawed:?}");
     assert!(close(rolled.eye, Vec3::new(0.0, 1.0, 5.0)) && close(rolled.forward, -Vec3::Z) && close(rolled.up, -Vec3::X), "{rolled:?}");
     assert_eq!((yawed.fov_y, yawed.aspect, rolled.aspect), (0.8, Some(1.5), None));
-    for c in [yawed, rolled] {
+    // The stretched camera: forward (0, −2, −1)/√5; up = (0, 2, −1) less its part along
+    // forward, normalised: (0, 2, −1) + (3/5)(0, −2, −1) = (0, 4/5, −8/5) → (0, 1, −2)/√5.
+    let stretched = &report.cameras[2];
+    let r5 = 5f32.sqrt();
+    assert!(
+        close(stretched.forward, Vec3::new(0.0, -2.0, -1.0) / r5) && close(stretched.up, Vec3::new(0.0, 1.0, -2.0) / r5),
+        "{stretched:?}"
+    );
+    for c in [yawed, rolled, stretched] {
         let cam = ViewCamera::from_scene(c, 64, 48);
         let dir = |x: f32, y: f32| cam.ray(x, y).1;
         assert!(close(dir(32.0, 24.0), c.forward), "{}: centre ray {}", c.name, dir(32.0, 24.0));
