@@ -22,6 +22,29 @@ fn baker(args: &[&str]) -> Command {
     c
 }
 
+/// Whether a GPU is there: without one the test is skipped (printed), unless
+/// `SBF_REQUIRE_GPU=1`, where that fails it.
+fn have_gpu() -> bool {
+    match shaders::gpu::Gpu::new() {
+        Ok(_) => true,
+        Err(e) => {
+            assert!(std::env::var("SBF_REQUIRE_GPU").map_or(true, |v| v != "1"), "SBF_REQUIRE_GPU=1 but {e}");
+            println!("skipped: {e}");
+            false
+        }
+    }
+}
+
+/// A GPU bake of the built-in scene at 6 texels per unit into `dir`, with `extra`
+/// arguments and `env` variables; must succeed; returns its log.
+fn gpu_bake(dir: &Path, extra: &[&str], env: &[(&str, &str)]) -> String {
+    let mut args = vec!["--device", "gpu", "--texels-per-unit", "6", "--preview-width", "32", "--out", dir.to_str().unwrap()];
+    args.extend(extra);
+    let o = baker(&args).envs(env.iter().copied()).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
 /// Passes recorded in a checkpoint header (bytes 16..24, after magic and fingerprint).
 fn checkpoint_passes(p: &Path) -> Option<u64> {
     let b = std::fs::read(p).ok()?;
@@ -164,33 +187,12 @@ fn resume_refuses_edited_scenes_and_other_probe_grids() {
 /// uninterrupted passes (the state round-trips exactly through the checkpoint).
 #[test]
 fn gpu_bake_resumes_to_the_identical_result() {
-    if let Err(e) = shaders::gpu::Gpu::new() {
-        assert!(std::env::var("SBF_REQUIRE_GPU").map_or(true, |v| v != "1"), "SBF_REQUIRE_GPU=1 but {e}");
-        println!("skipped: {e}");
+    if !have_gpu() {
         return;
     }
     let (a, b) = (tmp("gpu-straight"), tmp("gpu-resumed"));
     let run = |dir: &Path, passes: &str, extra: &[&str]| {
-        let mut args = vec![
-            "--device",
-            "gpu",
-            "--texels-per-unit",
-            "6",
-            "--passes",
-            passes,
-            "--checkpoint-every",
-            "8",
-            "--probes",
-            "2,2,2",
-            "--preview-width",
-            "32",
-            "--out",
-            dir.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let o = baker(&args).output().unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stderr).to_string()
+        gpu_bake(dir, &[&["--passes", passes, "--checkpoint-every", "8", "--probes", "2,2,2"][..], extra].concat(), &[])
     };
     let mut files = vec!["irradiance.exr".to_string(), "irradiance_se.exr".into(), "probes.json".into()];
     files.extend((0..9).map(|l| format!("sh2_{l:02}.exr")));
@@ -731,35 +733,13 @@ fn gltf_cameras_import_and_set_the_view() {
 /// their moments differ and the bake stops with that error.
 #[test]
 fn gpu_bake_in_basis_groups_equals_the_single_bake() {
-    if let Err(e) = shaders::gpu::Gpu::new() {
-        assert!(std::env::var("SBF_REQUIRE_GPU").map_or(true, |v| v != "1"), "SBF_REQUIRE_GPU=1 but {e}");
-        println!("skipped: {e}");
+    if !have_gpu() {
         return;
     }
     let (a, b) = (tmp("groups-one"), tmp("groups-three"));
     let run = |dir: &Path, extra: &[&str]| {
-        let mut args = vec![
-            "--device",
-            "gpu",
-            "--texels-per-unit",
-            "6",
-            "--passes",
-            "16",
-            "--bases",
-            "sh1,sh2,sg9,sg12,ad9,ad12",
-            "--checkpoint-every",
-            "0",
-            "--probes",
-            "0,0,0",
-            "--preview-width",
-            "32",
-            "--out",
-            dir.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let o = baker(&args).output().unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stderr).to_string()
+        let base = ["--passes", "16", "--bases", "sh1,sh2,sg9,sg12,ad9,ad12", "--checkpoint-every", "0", "--probes", "0,0,0"];
+        gpu_bake(dir, &[&base[..], extra].concat(), &[])
     };
     run(&a, &[]);
     let targets =
@@ -772,5 +752,33 @@ fn gpu_bake_in_basis_groups_equals_the_single_bake() {
     assert_eq!(ha.len(), hb.len());
     for (x, y) in ha.iter().zip(&hb) {
         assert_eq!(x, y, "{} differs between the single and the grouped bake", x.0);
+    }
+}
+
+/// A GPU bake whose sample points exceed one storage binding splits them over two
+/// (the device's limit lowered by `SBF_GPU_MAX_STORAGE_BINDING` to two thirds of the
+/// points' bytes, while the encoder states and moments still fit one): every written file equals the
+/// one-binding bake's bit for bit — the kernel reads the same point for every sample.
+/// Mutations: the second binding read one point off, or the split index taken as 0 →
+/// the files differ.
+#[test]
+fn gpu_bake_with_points_in_two_bindings_equals_the_single_bake() {
+    if !have_gpu() {
+        return;
+    }
+    let targets =
+        baker::accumulate::Targets::lightmap(&baker::layout::lightmap::Lightmap::build(&baker::scene::cornell(), 6.0, 2).unwrap());
+    let point_bytes = targets.points.len() * 48;
+    let cap = point_bytes * 2 / 3;
+    let states = 2 * targets.items.len() * std::mem::size_of::<shaders::progressive::EncoderState>();
+    assert!(states < cap && targets.items.len() * 48 < cap, "the cap must split the points alone ({states} B of states, cap {cap} B)");
+    let (a, b) = (tmp("points-one"), tmp("points-two"));
+    let args = ["--passes", "24", "--bases", "sh2,ad9", "--checkpoint-every", "0", "--probes", "0,0,0"];
+    gpu_bake(&a, &args, &[]);
+    gpu_bake(&b, &args, &[("SBF_GPU_MAX_STORAGE_BINDING", &cap.to_string())]);
+    let (ha, hb) = (common::outputs::hashes(&a), common::outputs::hashes(&b));
+    assert_eq!(ha.len(), hb.len());
+    for (x, y) in ha.iter().zip(&hb) {
+        assert_eq!(x, y, "{} differs between the one- and the two-binding bake", x.0);
     }
 }

@@ -152,7 +152,8 @@ impl<'g> GpuBake<'g> {
         let limit = d.limits().max_storage_buffer_binding_size;
         let pool = if wavefront { wave_capacity(config, items, limit) } else { 0 };
         check_sizes(tracer, targets, aux.len(), states_len, clusters, pool, limit)?;
-        let params = trace_params(tracer, targets, config, &at);
+        let mut params = trace_params(tracer, targets, config, &at);
+        params.point_split = crate::gpu::buffers::point_split(targets.points.len(), limit);
         let buffers = upload(d, tracer, targets, &params, &aux, states_len);
         let guide = guiding.map(|g| GuideGpu::for_bake(d, targets, g, gpu.subgroup_sizes)).transpose()?;
         let adapt = batch_selector(d, tracer, targets, config, &buffers.moments)?;
@@ -532,6 +533,7 @@ fn bind_entries<'a>(
         entry(3, &b.aux),
         entry(4, &b.items),
         entry(5, &b.points),
+        entry(19, &b.points_hi),
         entry(6, &b.moments),
         entry(8, &b.counters),
     ];

@@ -15,12 +15,23 @@ pub(crate) struct BakeBuffers {
     pub(crate) aux: wgpu::Buffer,
     pub(crate) items: wgpu::Buffer,
     pub(crate) points: wgpu::Buffer,
+    pub(crate) points_hi: wgpu::Buffer,
     pub(crate) moments: wgpu::Buffer,
     pub(crate) states: wgpu::Buffer,
     pub(crate) counters: wgpu::Buffer,
 }
 
-/// Uploads the scene, BVH, targets and zeroed state (`states_len` bytes of encoder states).
+/// Bytes of one sample point on the GPU (position, shading normal + u, geometric normal + v).
+pub(crate) const POINT_BYTES: u64 = 48;
+
+/// How many of `points` sample points go to the first points binding: all when they fit
+/// in one binding of `limit` bytes, else as many as fit (the rest go to the second).
+pub(crate) fn point_split(points: usize, limit: u64) -> u32 {
+    (points as u64).min(limit / POINT_BYTES).min(u32::MAX as u64) as u32
+}
+
+/// Uploads the scene, BVH, targets and zeroed state (`states_len` bytes of encoder states);
+/// the sample points go to two bindings at `params.point_split`.
 pub(crate) fn upload(
     d: &wgpu::Device,
     tracer: &Tracer,
@@ -52,7 +63,11 @@ pub(crate) fn upload(
             [p.position.extend(1.0).to_array(), p.normal.extend(uv[0]).to_array(), p.geometric.extend(uv[1]).to_array()]
         })
         .collect();
-    let pointb = storage("points", bytemuck::cast_slice(&pts), wgpu::BufferUsages::empty());
+    let split = (params.point_split as usize).min(targets.points.len());
+    let pointb = storage("points", bytemuck::cast_slice(&pts[..3 * split]), wgpu::BufferUsages::empty());
+    // A binding may not be empty: one placeholder point when every point is in the first.
+    let hi: &[[f32; 4]] = if split < targets.points.len() { &pts[3 * split..] } else { &[[0.0; 4]; 3] };
+    let points_hi = storage("points (second binding)", bytemuck::cast_slice(hi), wgpu::BufferUsages::empty());
     let moments_buf = storage("moments", &vec![0u8; items * 48], rw);
     let states_buf = storage("states", &vec![0u8; states_len], rw);
     let counters_buf = storage("counters", &[0u8; 16], rw);
@@ -63,6 +78,7 @@ pub(crate) fn upload(
         aux: auxb,
         items: itemb,
         points: pointb,
+        points_hi,
         moments: moments_buf,
         states: states_buf,
         counters: counters_buf,
@@ -88,12 +104,14 @@ pub(crate) fn check_sizes(
     pool: usize,
     limit: u64,
 ) -> Result<(), String> {
+    let split = point_split(targets.points.len(), limit);
     check_bindings(
         &[
             ("BVH nodes", std::mem::size_of_val(&tracer.bvh.nodes[..]) as u64),
             ("triangles", std::mem::size_of_val(&tracer.bvh.tris[..]) as u64),
             ("materials, lights and environment", (aux * 16) as u64),
-            ("sample points", (targets.points.len() * 48) as u64),
+            ("sample points (first binding)", split as u64 * POINT_BYTES),
+            ("sample points (second binding)", (targets.points.len() as u64 - split as u64) * POINT_BYTES),
             ("encoder states", states_len as u64),
             ("moments", (targets.items.len() * 48) as u64),
             ("ray-guiding distributions", (clusters * crate::sampling::guiding::CDF_LEN * 4) as u64),

@@ -54,7 +54,9 @@ pub struct TraceParams {
     pub sampler: u32,
     /// 1: the dispatch runs an adaptive batch (indirect, its items listed).
     pub batch_mode: u32,
-    pub pad_b: u32,
+    /// Sample points in the first points binding; the rest are in the second
+    /// (`points_hi`), so the points may exceed one storage binding ([`crate::gpu::buffers`]).
+    pub point_split: u32,
     pub pad_c: u32,
     pub env_zenith: [f32; 4],
     pub env_horizon: [f32; 4],
@@ -94,7 +96,7 @@ shaders::gpu_struct!(
         pass_count,
         sampler,
         batch_mode,
-        pad_b,
+        point_split,
         pad_c,
         env_zenith,
         env_horizon,
@@ -223,7 +225,7 @@ pub(crate) fn scene_params(tracer: &Tracer, at: &AuxLayout, max_bounces: u32, se
         pass_count: 1,
         sampler,
         batch_mode: 0,
-        pad_b: 0,
+        point_split: u32::MAX,
         pad_c: 0,
         env_zenith: env[0],
         env_horizon: env[1],

@@ -71,7 +71,8 @@ struct TraceParams {
     sampler: u32,
     // 1: this dispatch runs an adaptive batch (its items listed by jobs.wgsl, BATCH).
     batch_mode: u32,
-    pad_b: u32,
+    // Sample points in `points`; the rest are in `points_hi`.
+    point_split: u32,
     pad_c: u32,
     env_zenith: vec4<f32>,
     env_horizon: vec4<f32>,
@@ -106,6 +107,9 @@ const LIGHT_SPOT: u32 = 2u;
 // normal, geometric normal) triples.
 @group(0) @binding(4) var<storage, read> items: array<vec4<u32>>;
 @group(0) @binding(5) var<storage, read> points: array<vec4<f32>>;
+// The sample points past P.point_split (one storage binding holds at most the adapter's
+// limit; a one-point placeholder when all fit in `points`).
+@group(0) @binding(19) var<storage, read> points_hi: array<vec4<f32>>;
 // Per item, 3 vec4: (Σ E/π (or Σ L for probes), accepted count), (Σ of squares,
 // back-face count), (non-finite count, 0, 0, 0). Counts are exact up to 2²⁴ passes.
 @group(0) @binding(6) var<storage, read_write> moments: array<vec4<f32>>;

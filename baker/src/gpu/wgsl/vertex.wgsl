@@ -4,7 +4,7 @@
 
 #define_import_path baker::vertex
 
-#import baker::bindings::{P, items, points}
+#import baker::bindings::{P, items, points, points_hi}
 #import baker::lights::offset_towards
 #import baker::sequence::{Sampler, USE_DIRECTION, sample4, sampler_new, sampler_staged}
 #import sbf::runtime::{INV_PI, PI, tangent_frame}
@@ -39,6 +39,15 @@ struct FirstVertex {
     uv: vec2<f32>,
 }
 
+// Part c (0 position, 1 shading normal + u, 2 geometric normal + v) of sample point k, from
+// whichever of the two bindings holds it.
+fn point_part(k: u32, c: u32) -> vec4<f32> {
+    if (k < P.point_split) {
+        return points[3u * k + c];
+    }
+    return points_hi[3u * (k - P.point_split) + c];
+}
+
 fn first_vertex(i: u32, pass_index: u32) -> FirstVertex {
     let it = items[i];
     var smp = sampler_new(P.seed, it.z, pass_index);
@@ -50,10 +59,13 @@ fn first_vertex(i: u32, pass_index: u32) -> FirstVertex {
     // sub-texel point from the sample index.
     let u4 = sample4(smp, USE_DIRECTION);
     let k = it.x + pass_index % it.y;
-    let pos = points[3u * k].xyz;
-    let nrm = points[3u * k + 1u].xyz;
-    let ng = points[3u * k + 2u].xyz;
-    let uv = vec2<f32>(points[3u * k + 1u].w, points[3u * k + 2u].w);
+    let p0 = point_part(k, 0u);
+    let p1 = point_part(k, 1u);
+    let p2 = point_part(k, 2u);
+    let pos = p0.xyz;
+    let nrm = p1.xyz;
+    let ng = p2.xyz;
+    let uv = vec2<f32>(p1.w, p2.w);
     let texel = P.mode == 0u;
     var local: vec3<f32>;
     var dir: vec3<f32>;
