@@ -6,7 +6,7 @@ mod common;
 use baker::accumulate::BasisKind;
 use baker::layout::lightmap::Lightmap;
 use baker::render::atlas::Atlas;
-use baker::render::lighting::{Encoding, Lighting, Storage, SurfaceMaterial};
+use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use baker::render::raster::{Analysis, Renderer};
 use baker::render::shade::Shader;
 use baker::scene::camera::ViewCamera;
@@ -59,6 +59,7 @@ fn random_atlas(lm: &Lightmap, l: &Lighting, seed: u64) -> Atlas {
 
 /// The CPU twin's terms at pixel k of the GPU's analysis (its interpolated inputs), or
 /// None where nothing lightmapped is visible.
+#[allow(clippy::too_many_arguments)]
 fn twin(
     shader: &Shader,
     atlas: &Atlas,
@@ -67,6 +68,7 @@ fn twin(
     a: &Analysis,
     k: usize,
     jitter: Option<DVec3>,
+    shift: [f64; 2],
 ) -> Option<baker::render::shade::Terms> {
     if a.diffuse[k][3] < 0.0 {
         return None;
@@ -82,8 +84,19 @@ fn twin(
         v = (v + j).normalize();
         nn = (n - j.zxy()).normalize();
     }
-    let c = atlas.bilinear([nu[3] as f64, pv[3] as f64]);
+    let c = atlas.bilinear(hw_shifted([nu[3] as f64, pv[3] as f64], shift));
     Some(shader.terms(&c, &mats[m], nn, v))
+}
+
+/// The lookup position `uv` (atlas texels) moved by `shift` texels but kept in its bilinear
+/// cell (between the centres of its four texels): where a sampler whose weights are off by
+/// up to |shift| may read. Within a cell the lookup is bilinear in the position, so with
+/// shading linear in the lobes the extremes over the box lie at its corners.
+fn hw_shifted(uv: [f64; 2], shift: [f64; 2]) -> [f64; 2] {
+    [0, 1].map(|i| {
+        let lo = (uv[i] - 0.5).floor() + 0.5;
+        (uv[i] + shift[i]).clamp(lo, lo + 1.0)
+    })
 }
 
 /// GPU image = CPU twin (f64 through sbf) at ≥ 1 000 random pixels of the built-in scene
@@ -98,7 +111,12 @@ fn twin(
 /// change of the f64 value when v and n move by 4e-7 in two random directions, ×4, is
 /// allowed — plus the bilinear weights' f32 rounding (u, v up to the atlas size: one ulp
 /// of the largest coordinate times the largest lobe value, 1.2, times 12 lobes).
-/// Mutation: specular ×1.02 in render.wgsl → fails (relative error 2e-2 ≫ 1e-4).
+/// With the sampler's bilinear filter (`LightmapFilter::Hardware`, fits only) the weights
+/// are those of a position within 2⁻⁴ texel of the exact one (Vulkan's least
+/// subTexelPrecisionBits, 4), in the same cell: the twin's largest change over the four
+/// corners of that box ([`hw_shifted`]) is allowed on top.
+/// Mutations: specular ×1.02 in render.wgsl → fails (relative error 2e-2 ≫ 1e-4); the
+/// sampler's position off by half a texel, or u and v swapped → the hardware leg fails.
 #[test]
 fn gpu_image_equals_cpu_twin() {
     let Some(gpu) = common::gpu() else { return };
@@ -111,11 +129,17 @@ fn gpu_image_equals_cpu_twin() {
     }
     let lm = Lightmap::build(&scene, 6.0, 2).unwrap();
     let cam = ViewCamera::parse("0,0.1,0.9:0,-0.3,-1:75", 96, 72).unwrap();
-    let renderer = Renderer::new(&gpu, &scene, &lm, None).unwrap();
     let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
     let eye = cam.eye.as_dvec3();
     let uv_ulp = (lm.width.max(lm.height) as f64) * f32::EPSILON as f64;
-    for (ci, l) in configurations().iter().enumerate() {
+    let runs = configurations()
+        .into_iter()
+        .map(|l| (l, LightmapFilter::Exact))
+        .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Hardware)));
+    for (ci, (l, filter)) in runs.enumerate() {
+        let l = &l;
+        let renderer = Renderer::new(&gpu, &scene, &lm, None).unwrap().with_filter(filter);
+        let hw = filter == LightmapFilter::Hardware;
         let atlas = random_atlas(&lm, l, 11 + ci as u64).stored(l.storage).unwrap();
         let a = renderer.analysis(l, &atlas, &cam).unwrap();
         let shader = Shader::new(*l);
@@ -126,20 +150,29 @@ fn gpu_image_equals_cpu_twin() {
         while checked < 1000 && tried < 50 * pixels {
             tried += 1;
             let k = (r.next_u32() as usize) % pixels;
-            let Some(t) = twin(&shader, &atlas, &mats, eye, &a, k, None) else { continue };
+            let Some(t) = twin(&shader, &atlas, &mats, eye, &a, k, None, [0.0; 2]) else { continue };
             let mut dmax = [DVec3::ZERO; 2];
             for _ in 0..2 {
                 let j = sbf::sampling::uniform_sphere(r.next_2d()) * 4e-7;
-                let tj = twin(&shader, &atlas, &mats, eye, &a, k, Some(j)).unwrap();
+                let tj = twin(&shader, &atlas, &mats, eye, &a, k, Some(j), [0.0; 2]).unwrap();
                 dmax[0] = dmax[0].max((tj.diffuse - t.diffuse).abs());
                 dmax[1] = dmax[1].max((tj.specular - t.specular).abs());
+            }
+            let mut dhw = [DVec3::ZERO; 2];
+            if hw {
+                const SUBTEXEL: f64 = 1.0 / 16.0;
+                for shift in [[-SUBTEXEL, -SUBTEXEL], [SUBTEXEL, -SUBTEXEL], [-SUBTEXEL, SUBTEXEL], [SUBTEXEL, SUBTEXEL]] {
+                    let ts = twin(&shader, &atlas, &mats, eye, &a, k, None, shift).unwrap();
+                    dhw[0] = dhw[0].max((ts.diffuse - t.diffuse).abs());
+                    dhw[1] = dhw[1].max((ts.specular - t.specular).abs());
+                }
             }
             let g = [a.diffuse[k], a.specular[k]];
             for (q, (cpu, gq)) in [(t.diffuse, g[0]), (t.specular, g[1])].into_iter().enumerate() {
                 for ch in 0..3 {
                     let gv = gq[ch] as f64;
                     assert!(gv.is_finite(), "{}: pixel {k} is {gv}", l.name());
-                    let tol = 1e-4 * cpu[ch].abs() + 4.0 * dmax[q][ch] + uv_ulp * 1.2 * 12.0 + 1e-7;
+                    let tol = 1e-4 * cpu[ch].abs() + 4.0 * dmax[q][ch] + dhw[q][ch] + uv_ulp * 1.2 * 12.0 + 1e-7;
                     let e = (gv - cpu[ch]).abs() / tol;
                     if e > worst.0 {
                         worst = (e, k);
@@ -149,7 +182,13 @@ fn gpu_image_equals_cpu_twin() {
             glossy += usize::from(t.specular.max_element() > 0.0);
             checked += 1;
         }
-        println!("{:<14} {checked} pixels ({glossy} with specular), worst error / tolerance {:.3} at pixel {}", l.name(), worst.0, worst.1);
+        println!(
+            "{:<14} {:<8} {checked} pixels ({glossy} with specular), worst error / tolerance {:.3} at pixel {}",
+            l.name(),
+            filter.name(),
+            worst.0,
+            worst.1
+        );
         assert!(checked >= 1000, "{}: only {checked} lightmapped pixels found", l.name());
         if l.encoding != Encoding::Irradiance {
             assert!(glossy >= 50, "{}: only {glossy} pixels with specular: the test would not see the specular term", l.name());

@@ -204,6 +204,11 @@ impl Gpu {
         if timestamps {
             features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // Hardware-filtered rgba32float textures (the baker's renderer, when asked to filter
+        // f32 lightmaps in the sampler).
+        if adapter.features().contains(wgpu::Features::FLOAT32_FILTERABLE) {
+            features |= wgpu::Features::FLOAT32_FILTERABLE;
+        }
         // glslang's SPIR-V as is, for the HLSL/GLSL parity runs.
         if adapter.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) {
             features |= wgpu::Features::PASSTHROUGH_SHADERS;

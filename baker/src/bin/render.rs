@@ -6,7 +6,7 @@
 
 use baker::accumulate::{BakeConfig, BasisKind};
 use baker::layout::lightmap::Lightmap;
-use baker::render::lighting::{Encoding, Lighting, Storage};
+use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage};
 use baker::render::session::{self, Setup};
 use baker::run::{self, Device, Options};
 use baker::scene::bvh::Bvh;
@@ -55,6 +55,11 @@ struct Cli {
     /// Specular runtime path of SG and AD: fit, tables or both.
     #[arg(long, default_value = "fit")]
     specular: String,
+    /// How the GPU interpolates the lightmap: `exact` (four loads weighted in f32, what
+    /// the CPU twin computes) or `hardware` (the sampler's bilinear filter, one fetch per
+    /// lobe, as engines sample lightmaps; its weights have the GPU's sub-texel precision).
+    #[arg(long, default_value = "exact")]
+    lightmap_filter: String,
     /// Lightmap texel storage on the GPU: f32, f16 or both.
     #[arg(long, default_value = "f32")]
     storage: String,
@@ -219,6 +224,11 @@ fn render(c: Cli) -> Result<(), String> {
         "none" => false,
         s => return Err(format!("--probe-window '{s}': expected sinc4 or none")),
     };
+    let lightmap_filter = LightmapFilter::parse(&c.lightmap_filter)
+        .ok_or_else(|| format!("--lightmap-filter '{}': expected exact or hardware", c.lightmap_filter))?;
+    if lightmap_filter == LightmapFilter::Hardware && device == Device::Cpu {
+        return Err("--lightmap-filter hardware is the GPU's sampler: it needs --device gpu or auto".into());
+    }
     if c.reference_samples == 0 {
         return Err("--reference-samples must be at least 1".into());
     }
@@ -265,6 +275,11 @@ fn render(c: Cli) -> Result<(), String> {
             Err(_) => None,
         },
     };
+    if lightmap_filter == LightmapFilter::Hardware && gpu.is_none() {
+        return Err(
+            "--lightmap-filter hardware needs the images shaded on a GPU (no hardware GPU here: --device gpu uses a software one)".into()
+        );
+    }
     let reference_on_gpu = match c.reference_device.as_str() {
         "auto" => gpu.is_some(),
         "gpu" if gpu.is_some() => true,
@@ -281,6 +296,7 @@ fn render(c: Cli) -> Result<(), String> {
         seed: c.seed,
         max_bounces: bounces,
         reference_on_gpu,
+        lightmap_filter,
         timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),
     };
     let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;

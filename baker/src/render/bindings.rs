@@ -1,6 +1,7 @@
 //! What the render pipelines bind, shared by all of them: the bind group layout (frame
-//! uniform, materials, lightmap array, 2D table, lobe table, probes, DFG table — the
-//! bindings of `wgsl/render.wgsl`) and the probe grid as the shader's rows.
+//! uniform, materials, lightmap array, 2D table, lobe table, probes, DFG table, the
+//! lightmap's sampler — the bindings of `wgsl/render.wgsl`) and the probe grid as the
+//! shader's rows.
 
 use super::probes::ProbeField;
 
@@ -8,13 +9,15 @@ use super::probes::ProbeField;
 pub(super) type Lattice = ([u32; 4], [f32; 4], [f32; 4]);
 
 /// The bind group layout every render pipeline shares (frame, materials, lightmap, table,
-/// lobe table, probes, DFG) and the pipeline layout around it.
-pub(super) fn layouts(d: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+/// lobe table, probes, DFG, lightmap sampler) and the pipeline layout around it;
+/// `filtering`: the lightmap is read through a filtering sampler (else a non-filtering
+/// one the shader never samples with).
+pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
     let texture = |binding: u32, dim: wgpu::TextureViewDimension| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
         ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            sample_type: wgpu::TextureSampleType::Float { filterable: filtering && binding == 2 },
             view_dimension: dim,
             multisampled: false,
         },
@@ -36,6 +39,16 @@ pub(super) fn layouts(d: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::Pipelin
             texture(4, wgpu::TextureViewDimension::D2Array),
             buffer(5, wgpu::BufferBindingType::Storage { read_only: true }),
             texture(6, wgpu::TextureViewDimension::D2),
+            wgpu::BindGroupLayoutEntry {
+                binding: 7,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Sampler(if filtering {
+                    wgpu::SamplerBindingType::Filtering
+                } else {
+                    wgpu::SamplerBindingType::NonFiltering
+                }),
+                count: None,
+            },
         ],
     });
     let layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -38,6 +38,34 @@ impl Storage {
     }
 }
 
+/// How the raster pass interpolates the lightmap between texel centres.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LightmapFilter {
+    /// Four `textureLoad`s weighted in f32 — what the CPU twin computes in f64.
+    #[default]
+    Exact,
+    /// The sampler's bilinear filter, one fetch per lobe, as engines sample lightmaps: the
+    /// weights carry the GPU's sub-texel precision (Vulkan guarantees ≥ 4 bits; 8 is usual).
+    /// f32 lightmaps need the adapter's `FLOAT32_FILTERABLE`.
+    Hardware,
+}
+
+impl LightmapFilter {
+    pub fn parse(s: &str) -> Option<LightmapFilter> {
+        match s {
+            "exact" => Some(LightmapFilter::Exact),
+            "hardware" => Some(LightmapFilter::Hardware),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            LightmapFilter::Exact => "exact",
+            LightmapFilter::Hardware => "hardware",
+        }
+    }
+}
+
 /// One configuration of the comparison.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lighting {

@@ -4,14 +4,15 @@
 //! the runtime library composed by the `shaders` crate. The configuration (basis, path)
 //! is chosen by pipeline-overridable constants; the lightmap is a texture array (a layer
 //! per lobe, rgba32float or rgba16float) read by `textureLoad` and interpolated by hand,
-//! as the CPU twin does. Three fragment entry points share the shading: `fs_frame` (the
+//! as the CPU twin does — or, with [`LightmapFilter::Hardware`], through the sampler's
+//! bilinear filter as engines read it. Three fragment entry points share the shading: `fs_frame` (the
 //! engine's frame, one rgba16float target; timed by timestamp queries), `fs_terms`
 //! (diffuse and specular apart) and `fs_surface` (what the rasteriser interpolated, so
 //! that the CPU twin shades the very same inputs).
 
 use super::atlas::Atlas;
 use super::bindings::{layouts, probe_rows, Lattice};
-use super::lighting::{lobe_axes, Encoding, Lighting, Storage, SurfaceMaterial};
+use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use super::probes::ProbeField;
 use crate::accumulate::{BasisKind, SG_HEMISPHERE_SHARPNESS};
 use crate::layout::lightmap::Lightmap;
@@ -105,6 +106,8 @@ pub struct Renderer<'g> {
     probes: wgpu::Buffer,
     grid: Lattice,
     dfg: wgpu::Texture,
+    filter: LightmapFilter,
+    sampler: wgpu::Sampler,
 }
 
 impl<'g> Renderer<'g> {
@@ -166,7 +169,7 @@ impl<'g> Renderer<'g> {
             contents: bytemuck::cast_slice(&mats),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let (group_layout, layout) = layouts(d);
+        let (group_layout, layout) = layouts(d, false);
         let (rows, grid) = probe_rows(probes);
         let probes = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("render probes"),
@@ -186,7 +189,23 @@ impl<'g> Renderer<'g> {
             probes,
             grid,
             dfg,
+            filter: LightmapFilter::Exact,
+            sampler: lightmap_sampler(d, LightmapFilter::Exact),
         })
+    }
+
+    /// The renderer reading its lightmaps with `filter`.
+    pub fn with_filter(mut self, filter: LightmapFilter) -> Renderer<'g> {
+        let d = self.gpu.device();
+        (self.group_layout, self.layout) = layouts(d, filter == LightmapFilter::Hardware);
+        self.sampler = lightmap_sampler(d, filter);
+        self.filter = filter;
+        self
+    }
+
+    /// How the lightmap is interpolated.
+    pub fn filter(&self) -> LightmapFilter {
+        self.filter
     }
 
     fn depth_range(&self, cam: &ViewCamera) -> (f32, f32) {
@@ -197,7 +216,7 @@ impl<'g> Renderer<'g> {
 
     /// The pipeline constants of `l` (`fetch_only`: the timing variant that only fetches
     /// the lobes).
-    fn constants(l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 4] {
+    fn constants(&self, l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 5] {
         let (enc, lobes) = match l.encoding {
             Encoding::Irradiance => (0, 1),
             Encoding::Basis(BasisKind::ShL1) => (1, 4),
@@ -213,6 +232,7 @@ impl<'g> Renderer<'g> {
             ("TABLES", if tables { 1.0 } else { 0.0 }),
             ("LOBES", lobes as f64),
             ("FETCH_ONLY", fetch_only as u8 as f64),
+            ("HW_FILTER", (self.filter == LightmapFilter::Hardware) as u8 as f64),
         ]
     }
 
@@ -241,6 +261,15 @@ impl<'g> Renderer<'g> {
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM,
         });
+        if self.filter == LightmapFilter::Hardware
+            && l.storage == Storage::F32
+            && !d.features().contains(wgpu::Features::FLOAT32_FILTERABLE)
+        {
+            return Err(format!(
+                "{}: this adapter cannot filter rgba32float textures (no FLOAT32_FILTERABLE): use f16 storage or --lightmap-filter exact",
+                l.name()
+            ));
+        }
         let lightmap = self.lightmap_texture(atlas, l.storage)?;
         let lut = match l.encoding {
             Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => self.gpu.lut_texture(sbf::luts::committed::dfg()),
@@ -274,6 +303,7 @@ impl<'g> Renderer<'g> {
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&views[2]) },
                 wgpu::BindGroupEntry { binding: 5, resource: self.probes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&views[3]) },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.sampler) },
             ],
         });
         Ok((group, frame_buf))
@@ -332,7 +362,7 @@ impl<'g> Renderer<'g> {
     /// A pipeline: the depth pre-pass (`fragment` None) or a shading entry point with its
     /// targets (depth test Equal, no depth write).
     fn pipeline(&self, l: &Lighting, fragment: Option<(&str, &[wgpu::TextureFormat])>, fetch_only: bool) -> wgpu::RenderPipeline {
-        let constants = Self::constants(l, fetch_only);
+        let constants = self.constants(l, fetch_only);
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let targets: Vec<Option<wgpu::ColorTargetState>> = fragment
             .map(|(_, f)| {
@@ -561,4 +591,19 @@ impl<'g> Renderer<'g> {
         let period = self.gpu.timestamp_period() as f64;
         Ok(Some((warmup..total as usize).map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period * 1e-6).collect()))
     }
+}
+
+/// The lightmap's sampler: bilinear and clamped to the edge for [`LightmapFilter::Hardware`]
+/// (texel centres at (i + ½)/size, as the exact footprint), nearest otherwise (bound, never
+/// sampled).
+fn lightmap_sampler(d: &wgpu::Device, filter: LightmapFilter) -> wgpu::Sampler {
+    let f = if filter == LightmapFilter::Hardware { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
+    d.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("lightmap"),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: f,
+        min_filter: f,
+        ..Default::default()
+    })
 }

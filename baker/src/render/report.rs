@@ -18,6 +18,9 @@ pub struct ResultsJson {
     pub camera: CameraJson,
     /// "GPU: adapter" or "CPU (the shading's twin)".
     pub device: String,
+    /// How the GPU interpolated the lightmap: `exact` (four loads weighted in f32) or
+    /// `hardware` (the sampler's bilinear filter).
+    pub lightmap_filter: &'static str,
     pub reference: ReferenceJson,
     pub configurations: Vec<ConfigurationJson>,
 }
@@ -140,6 +143,7 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
         bake: bake.display().to_string(),
         camera: CameraJson { eye: cam.eye.to_array(), target: cam.target.to_array(), fov_y_degrees: cam.fov_y.to_degrees(), width: cam.width, height: cam.height },
         device: device.to_string(),
+        lightmap_filter: o.lightmap_filter.name(),
         reference: ReferenceJson {
             samples_per_pixel: o.reference.samples,
             relative_noise: super::reference::relative_noise(&o.reference),
@@ -189,12 +193,13 @@ fn html(r: &ResultsJson) -> String {
         );
     }
     format!(
-        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>frame ms</th><th>overhead ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>frame ms</th><th>overhead ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
         scene = esc(&r.scene),
         w = r.camera.width,
         h = r.camera.height,
         spp = r.reference.samples_per_pixel,
         noise = r.reference.noise_rms,
-        device = esc(&r.device)
+        device = esc(&r.device),
+        filter = r.lightmap_filter
     )
 }

@@ -5,7 +5,7 @@
 
 use super::atlas::Atlas;
 use super::compare::{errors, Errors};
-use super::lighting::Lighting;
+use super::lighting::{Lighting, LightmapFilter};
 use super::probes::ProbeField;
 use super::raster::Renderer;
 use super::reference::{self, Reference};
@@ -34,6 +34,8 @@ pub struct Setup {
     pub max_bounces: u32,
     /// Path-trace the reference on the GPU (the adapter `run` is given) rather than the CPU.
     pub reference_on_gpu: bool,
+    /// How the GPU interpolates the lightmap (the CPU twin is always exact).
+    pub lightmap_filter: LightmapFilter,
     /// Frame-time measurement: (width, height, warm-up frames, measured frames); None: off.
     pub timing: Option<(u32, u32, usize, usize)>,
 }
@@ -77,6 +79,8 @@ pub struct Outcome {
     pub reference: Reference,
     pub reference_seconds: f64,
     pub rendered: Vec<Rendered>,
+    /// How the GPU interpolated the lightmap.
+    pub lightmap_filter: LightmapFilter,
 }
 
 /// Runs the comparison of the bake in `bake_dir` (its layout `lm`, rebuilt from the same
@@ -112,7 +116,7 @@ pub fn run(
         reference.samples,
         reference::relative_noise(&reference)
     ));
-    let renderer = gpu.map(|g| Renderer::new(g, scene, lm, probes)).transpose()?;
+    let renderer = gpu.map(|g| Renderer::new(g, scene, lm, probes).map(|r| r.with_filter(setup.lightmap_filter))).transpose()?;
     let mut rendered = Vec::new();
     for l in &setup.configurations {
         let atlas = Atlas::read(bake_dir, l.encoding, lm.width, lm.height)?.stored(l.storage)?;
@@ -131,7 +135,7 @@ pub fn run(
         ));
         rendered.push(r);
     }
-    Ok(Outcome { visible, reference, reference_seconds, rendered })
+    Ok(Outcome { visible, reference, reference_seconds, rendered, lightmap_filter: setup.lightmap_filter })
 }
 
 /// The path-traced reference on the CPU or the GPU, progressive to the setup's noise or

@@ -16,6 +16,9 @@ override ENCODING: u32 = 0u;
 override TABLES: bool = false;
 // Lobes per texel (1 for the plain E/π; the lightmap texture may hold a padding layer).
 override LOBES: u32 = 1u;
+// Read the lightmap through the sampler's bilinear filter (as engines do: one fetch per
+// lobe, the weights at the GPU's sub-texel precision) instead of four loads weighted in f32.
+override HW_FILTER: bool = false;
 // Timing only: fetch every lobe (the same bilinear lookups) and sum them, no runtime — the
 // configuration's lightmap-bandwidth floor.
 override FETCH_ONLY: bool = false;
@@ -50,6 +53,8 @@ struct MaterialGpu {
 // SH L2 probes (world frame), 9 RGB rows per probe, x fastest; row 0's w: 1 valid, 0 inside geometry.
 @group(0) @binding(5) var<storage, read> probes: array<vec4<f32>>;
 @group(0) @binding(6) var dfg: texture_2d<f32>;
+// Bilinear, clamped to the edge (HW_FILTER only).
+@group(0) @binding(7) var lightmap_sampler: sampler;
 
 // The material index's high bits: the surface has a lightmap, or is a dynamic object
 // shaded from the probes.
@@ -80,11 +85,13 @@ fn vs_main(v: VertexIn) -> VertexOut {
 }
 
 // The bilinear footprint at atlas position uv (texels; baker::render::atlas::footprint):
-// the lower and upper texel (clamped to the atlas) and the fractional position.
+// the lower and upper texel (clamped to the atlas) and the fractional position; and the
+// normalised position the sampler reads (the same texel centres and clamping).
 struct Footprint {
     i0: vec2<i32>,
     i1: vec2<i32>,
     f: vec2<f32>,
+    uv: vec2<f32>,
 }
 
 fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
@@ -92,11 +99,14 @@ fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
     let x = uv - vec2<f32>(0.5);
     let fl = floor(x);
     let i = vec2<i32>(fl);
-    return Footprint(clamp(i, vec2<i32>(0), size - 1), clamp(i + 1, vec2<i32>(0), size - 1), x - fl);
+    return Footprint(clamp(i, vec2<i32>(0), size - 1), clamp(i + 1, vec2<i32>(0), size - 1), x - fl, uv / vec2<f32>(frame.atlas.xy));
 }
 
 // Lobe l's RGB value at the footprint, bilinear.
 fn lightmap_lobe(fp: Footprint, l: u32) -> vec3<f32> {
+    if (HW_FILTER) {
+        return textureSampleLevel(lightmap, lightmap_sampler, fp.uv, l, 0.0).xyz;
+    }
     let a = textureLoad(lightmap, fp.i0, l, 0).xyz * (1.0 - fp.f.x) + textureLoad(lightmap, vec2<i32>(fp.i1.x, fp.i0.y), l, 0).xyz * fp.f.x;
     let b = textureLoad(lightmap, vec2<i32>(fp.i0.x, fp.i1.y), l, 0).xyz * (1.0 - fp.f.x) + textureLoad(lightmap, fp.i1, l, 0).xyz * fp.f.x;
     return a * (1.0 - fp.f.y) + b * fp.f.y;
