@@ -108,6 +108,10 @@ struct Cli {
     /// exported in its language too; recorded in bake.json. Replaces --bases/--probe-bases.
     #[arg(long, conflicts_with_all = ["bases", "probe_bases"])]
     profile: Option<PathBuf>,
+    /// Sharpness λ of the SG lobes (sg9, sg12), in [2, 64]; recorded in bake.json. The
+    /// seed's comparisons use 6 for the hemisphere sets and 8 for NNLS SG 12 (§8.4.3).
+    #[arg(long, default_value_t = baker::accumulate::SG_HEMISPHERE_SHARPNESS)]
+    sg_sharpness: f64,
     /// Progressive solver: ls or nnls. NNLS applies to the non-negative bases (SG, Ambient
     /// Dice); SH is always least squares (its coefficients are legitimately negative).
     #[arg(long, default_value = "nnls")]
@@ -270,6 +274,7 @@ fn options(c: Cli) -> Result<Options, String> {
             pipeline: baker::accumulate::Pipeline::parse(&c.pipeline)
                 .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
             filter: c.filter.as_deref().map(baker::accumulate::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
+            sg_sharpness: sg_sharpness(c.sg_sharpness)?,
         },
         device,
         out: c.out,
@@ -454,6 +459,16 @@ fn strategies(c: &Cli) -> Result<Strategies, String> {
         None => None,
     };
     Ok((adaptive, guiding, camera))
+}
+
+/// --sg-sharpness within the range the SG runtime's fits are stated over.
+fn sg_sharpness(l: f64) -> Result<f64, String> {
+    let (lo, hi) = baker::accumulate::SG_SHARPNESS_RANGE;
+    if (lo..=hi).contains(&l) {
+        Ok(l)
+    } else {
+        Err(format!("--sg-sharpness {l}: must be in [{lo}, {hi}] (the range the SG runtime's fits are stated over)"))
+    }
 }
 
 fn main() -> ExitCode {

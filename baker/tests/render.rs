@@ -14,17 +14,22 @@ use sbf::glam::{DVec3, Vec3, Vec3Swizzles};
 use sbf::profile::SpecularPath;
 use sbf::sampling::Pcg32;
 
+/// The default SG sharpness.
+const SG6: f64 = baker::accumulate::SG_HEMISPHERE_SHARPNESS;
+
 /// Every configuration the renderer has: the plain E/π, and each basis on both specular
 /// paths (SH has one), f32 and f16.
 fn configurations() -> Vec<Lighting> {
-    let mut v = vec![Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32 }];
+    let mut v = vec![Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 }];
     for (b, _) in BasisKind::ALL {
         for path in [SpecularPath::Fit, SpecularPath::Tables] {
             if matches!(b, BasisKind::ShL1 | BasisKind::ShL2) && path == SpecularPath::Tables {
                 continue;
             }
             for storage in [Storage::F32, Storage::F16] {
-                v.push(Lighting { encoding: Encoding::Basis(b), specular: path, storage });
+                // SG 12 with the fits at the thesis' λ 8 (the tables are λ 6's).
+                let sg_sharpness = if b == BasisKind::Sg12 && path == SpecularPath::Fit { 8.0 } else { SG6 };
+                v.push(Lighting { encoding: Encoding::Basis(b), specular: path, storage, sg_sharpness });
             }
         }
     }
@@ -331,7 +336,7 @@ fn sh_l2_image_matches_the_path_traced_reference() {
         let i = image::open(dir.join("irradiance_se.exr")).unwrap().to_rgba32f();
         i.pixels().map(|p| [p.0[0], p.0[1], p.0[2]]).collect::<Vec<[f32; 3]>>()
     };
-    let l = Lighting { encoding: Encoding::Basis(BasisKind::ShL2), specular: SpecularPath::Fit, storage: Storage::F32 };
+    let l = Lighting { encoding: Encoding::Basis(BasisKind::ShL2), specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 };
     let sh = Atlas::read(&dir, l.encoding, lm.width, lm.height).unwrap();
     let shader = Shader::new(l);
     let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
@@ -601,7 +606,7 @@ fn uniform_lightmap_renders_the_closed_form(scene: &baker::scene::Scene, cam: &V
     let y00 = 0.5 / std::f64::consts::PI.sqrt();
     // (configuration, lobe values, closed-form E/π, its tolerance, SH specular?)
     let mut cases: Vec<(Lighting, Vec<f64>, f64, f64, bool)> = vec![(
-        Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32 },
+        Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 },
         vec![l_sky],
         l_sky,
         1e-5 * l_sky,
@@ -611,27 +616,29 @@ fn uniform_lightmap_renders_the_closed_form(scene: &baker::scene::Scene, cam: &V
         let mut c = vec![0.0; baker::render::lighting::lobe_count(b)];
         c[0] = l_sky / y00;
         cases.push((
-            Lighting { encoding: Encoding::Basis(b), specular: SpecularPath::Fit, storage: Storage::F32 },
+            Lighting { encoding: Encoding::Basis(b), specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 },
             c,
             l_sky,
             1e-5 * l_sky,
             true,
         ));
     }
-    for b in [BasisKind::Sg9, BasisKind::Sg12, BasisKind::Ad9, BasisKind::Ad12] {
+    // SG at the default λ and at the thesis' λ 8.
+    let lobed = [(BasisKind::Sg9, SG6), (BasisKind::Sg12, SG6), (BasisKind::Sg12, 8.0), (BasisKind::Ad9, SG6), (BasisKind::Ad12, SG6)];
+    for (b, sg_sharpness) in lobed {
         let axes = baker::render::lighting::lobe_axes(Encoding::Basis(b));
         for (k, a) in axes.iter().enumerate() {
             let mut c = vec![0.0; axes.len()];
             c[k] = 1.0;
             let (exact, tol) = if matches!(b, BasisKind::Sg9 | BasisKind::Sg12) {
-                let sg = |axis| sbf::Sg { axis, sharpness: baker::accumulate::SG_HEMISPHERE_SHARPNESS, amplitude: 1.0 };
+                let sg = |axis| sbf::Sg { axis, sharpness: sg_sharpness, amplitude: 1.0 };
                 let peak = sbf::recon::sg::irradiance_exact(&sg(DVec3::Z), DVec3::Z);
                 (sbf::recon::sg::irradiance_exact(&sg(*a), DVec3::Z), 1.1 * 1.368e-2 * peak)
             } else {
                 (sbf::recon::ambient_dice::lobe_irradiance_cos(a.z), 6.51e-4)
             };
             cases.push((
-                Lighting { encoding: Encoding::Basis(b), specular: SpecularPath::Fit, storage: Storage::F32 },
+                Lighting { encoding: Encoding::Basis(b), specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness },
                 c,
                 exact,
                 tol + 1e-5,
@@ -761,7 +768,7 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
     };
     let cam = ViewCamera::parse("0,1.2,2.4:0,0.8,0:45", 80, 60).unwrap();
     let visible = baker::render::visible::cast(&scene, &baker::scene::bvh::Bvh::build(&scene), &lm, &cam);
-    let l = Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32 };
+    let l = Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 };
     let atlas = Atlas { width: lm.width, height: lm.height, lobes: vec![vec![[1.0; 3]; lm.width * lm.height]] };
     let cpu = baker::render::visible::shade_pixels(&Shader::new(l), &atlas, Some(&probes), &scene, cam.eye, &visible);
     let gpu_img = gpu.as_ref().map(|g| Renderer::new(g, &scene, &lm, Some(&probes)).unwrap().analysis(&l, &atlas, &cam).unwrap());

@@ -64,7 +64,7 @@ impl<'a> Bake<'a> {
         if let Err(e) = config.check(targets) {
             panic!("{e}");
         }
-        let bases: Vec<_> = config.bases.iter().map(|k| k.basis()).collect();
+        let bases: Vec<_> = config.bases.iter().map(|k| config.basis(*k)).collect();
         let state = BakeState::new(&config, targets);
         let tiles = config.adaptive.map(|_| crate::accumulate::adaptive::Tiles::new(targets, targets.width).expect("checked"));
         let gather = config.filter.map(|f| crate::accumulate::filter::GatherLayout::new(targets, &f).expect("checked"));

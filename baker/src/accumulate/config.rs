@@ -8,12 +8,17 @@ use sbf::glam::DVec3;
 use sbf::solve::ProgressiveOptions;
 use sbf::Basis;
 
-/// Sharpness of the hemisphere SG sets (9 and 12 lobes), "experimentally selected" as
-/// in seed 004 §7.2 after Pettineo and Neubelt; the same λ = 6 as the `probes` tool's
+/// Default sharpness of the hemisphere SG sets (9 and 12 lobes; a bake may choose
+/// another, [`BakeConfig::sg_sharpness`]), "experimentally selected" as in seed 004 §7.2
+/// after Pettineo and Neubelt; the same λ = 6 as the `probes` tool's
 /// `sg9h`/`sg12h` and the Appendix C tests. (Probulator's spacing heuristic,
 /// `sbf::layout::sharpness_from_spacing`, is meant for sphere sets: on the 9-lobe
 /// hemisphere spiral it gives λ ≈ 56, lobes too narrow to represent a constant.)
 pub const SG_HEMISPHERE_SHARPNESS: f64 = 6.0;
+
+/// The SG sharpness a bake accepts: the range the SG runtime's fits are stated over
+/// (Hill's irradiance fit, `sbf::recon::sg`: λ ∈ [2, 64]).
+pub const SG_SHARPNESS_RANGE: (f64, f64) = (2.0, 64.0);
 
 /// Acceleration α of the progressive update for path-traced samples. The seed's α = 3
 /// (sbf's default, tuned on noise-free map samples) amplifies Monte Carlo noise: on the
@@ -48,24 +53,47 @@ impl BasisKind {
     pub fn name(self) -> &'static str {
         Self::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).unwrap_or("?")
     }
-    /// The sbf basis in tangent space (hemisphere lobes for SG; the seed's 9-lobe set for AD9).
-    pub fn basis(self) -> Box<dyn Basis + Send + Sync> {
+    /// The sbf basis in tangent space (hemisphere lobes for SG, of sharpness
+    /// `sg_sharpness`; the seed's 9-lobe set for AD9). A bake's: [`BakeConfig::basis`].
+    pub fn basis_with(self, sg_sharpness: f64) -> Box<dyn Basis + Send + Sync> {
         match self {
             BasisKind::ShL1 => Box::new(sbf::ShBasis::new(1).expect("order 1")),
             BasisKind::ShL2 => Box::new(sbf::ShBasis::new(2).expect("order 2")),
-            BasisKind::Sg9 | BasisKind::Sg12 => {
-                let (axes, lambda) = self.sg_lobes();
-                Box::new(sbf::SgBasis::new(&axes, lambda, false).expect("SG basis"))
-            }
+            BasisKind::Sg9 | BasisKind::Sg12 => Box::new(sbf::SgBasis::new(&self.sg_axes(), sg_sharpness, false).expect("SG basis")),
             BasisKind::Ad9 => Box::new(sbf::AmbientDiceSrbf::nine_hemisphere()),
             BasisKind::Ad12 => Box::new(sbf::AmbientDiceSrbf::twelve()),
         }
     }
-    /// SG lobe axes (Vogel hemisphere about +Z) and their shared sharpness
-    /// [`SG_HEMISPHERE_SHARPNESS`].
-    pub fn sg_lobes(self) -> (Vec<DVec3>, f64) {
+    /// The basis with the default SG sharpness [`SG_HEMISPHERE_SHARPNESS`].
+    pub fn basis(self) -> Box<dyn Basis + Send + Sync> {
+        self.basis_with(SG_HEMISPHERE_SHARPNESS)
+    }
+    /// Lobes (coefficients) per texel.
+    pub fn lobes(self) -> usize {
+        match self {
+            BasisKind::ShL1 => 4,
+            BasisKind::ShL2 | BasisKind::Sg9 | BasisKind::Ad9 => 9,
+            BasisKind::Sg12 | BasisKind::Ad12 => 12,
+        }
+    }
+    /// SG lobe axes (Vogel hemisphere about +Z).
+    pub fn sg_axes(self) -> Vec<DVec3> {
         let n = if self == BasisKind::Sg9 { 9 } else { 12 };
-        (sbf::layout::vogel_hemisphere(n).expect("vogel layout"), SG_HEMISPHERE_SHARPNESS)
+        sbf::layout::vogel_hemisphere(n).expect("vogel layout")
+    }
+    /// The lobe axes of the SG and AD layouts in the tangent frame, in coefficient order
+    /// (empty for SH).
+    pub fn lobe_axes(self) -> Vec<DVec3> {
+        match self {
+            BasisKind::ShL1 | BasisKind::ShL2 => Vec::new(),
+            BasisKind::Sg9 | BasisKind::Sg12 => self.sg_axes(),
+            BasisKind::Ad9 => sbf::AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
+            BasisKind::Ad12 => sbf::AmbientDiceSrbf::twelve().lobes().to_vec(),
+        }
+    }
+    /// Whether the basis is a set of spherical Gaussians (its sharpness matters).
+    pub fn is_sg(self) -> bool {
+        matches!(self, BasisKind::Sg9 | BasisKind::Sg12)
     }
     /// Whether every basis function is ≥ 0 (so a non-negativity constraint on the
     /// coefficients means something): SG and Ambient Dice SRBF lobes, not SH.
@@ -108,6 +136,8 @@ pub struct BakeConfig {
     /// Filtered gather-based accumulation ([`crate::accumulate::filter`]); None: each sample feeds
     /// its own texel only (a one-texel box). Lightmaps only.
     pub filter: Option<crate::accumulate::filter::Filter>,
+    /// Sharpness λ of every SG lobe (SG 9 and SG 12), within [`SG_SHARPNESS_RANGE`].
+    pub sg_sharpness: f64,
 }
 
 /// How the GPU runs a pass: one thread per texel through whole paths, or breadth first
@@ -156,6 +186,7 @@ impl Default for BakeConfig {
             camera: None,
             pipeline: Default::default(),
             filter: None,
+            sg_sharpness: SG_HEMISPHERE_SHARPNESS,
         }
     }
 }
@@ -163,6 +194,13 @@ impl Default for BakeConfig {
 impl BakeConfig {
     /// Refuses combinations the bake cannot run, with the reason.
     pub fn check(&self, targets: &Targets) -> Result<(), String> {
+        let (lo, hi) = SG_SHARPNESS_RANGE;
+        if !(lo..=hi).contains(&self.sg_sharpness) {
+            return Err(format!(
+                "SG sharpness {} is outside [{lo}, {hi}] (the range the SG runtime's fits are stated over)",
+                self.sg_sharpness
+            ));
+        }
         if let Some(f) = &self.filter {
             f.validate()?;
             if targets.sphere {
@@ -206,6 +244,11 @@ impl BakeConfig {
             Some((_, option, reason)) => Err(format!("{option} cannot be split into parts baked apart ({reason}); bake it whole")),
             None => Ok(()),
         }
+    }
+
+    /// The sbf basis `kind` as this bake encodes it (its SG sharpness).
+    pub fn basis(&self, kind: BasisKind) -> Box<dyn Basis + Send + Sync> {
+        kind.basis_with(self.sg_sharpness)
     }
 
     /// The progressive options for `basis` on these targets: Gauss–Seidel with the

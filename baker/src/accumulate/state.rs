@@ -93,7 +93,7 @@ impl BakeState {
                 .iter()
                 .map(|b| {
                     let o = config.encoder_options(*b, targets.sphere);
-                    let lobes = b.basis().len();
+                    let lobes = b.lobes();
                     vec![ProgressiveEncoder::new(lobes, o); n]
                 })
                 .collect()

@@ -55,6 +55,10 @@ struct Cli {
     /// Specular runtime path of SG and AD: fit, tables or both.
     #[arg(long, default_value = "fit")]
     specular: String,
+    /// Sharpness λ of the SG lobes baked (without --bake; an existing bake's is read from
+    /// its bake.json), in [2, 64]. The thesis' Fig. 8.6 compares NNLS SG 12 at λ 8.
+    #[arg(long, default_value_t = baker::accumulate::SG_HEMISPHERE_SHARPNESS)]
+    sg_sharpness: f64,
     /// How the GPU interpolates the lightmap: `exact` (four loads weighted in f32, what
     /// the CPU twin computes) or `hardware` (the sampler's bilinear filter, one fetch per
     /// lobe, as engines sample lightmaps; its weights have the GPU's sub-texel precision).
@@ -109,7 +113,7 @@ fn size(s: &str, what: &str) -> Result<(u32, u32), String> {
     }
 }
 
-fn configurations(bases: &[BasisKind], specular: &str, storage: &str) -> Result<Vec<Lighting>, String> {
+fn configurations(bases: &[BasisKind], specular: &str, storage: &str, sg_sharpness: f64) -> Result<Vec<Lighting>, String> {
     let paths = match specular {
         "fit" => vec![SpecularPath::Fit],
         "tables" => vec![SpecularPath::Tables],
@@ -124,21 +128,31 @@ fn configurations(bases: &[BasisKind], specular: &str, storage: &str) -> Result<
     };
     let mut v = Vec::new();
     for st in &storages {
-        v.push(Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: *st });
+        v.push(Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: *st, sg_sharpness });
         for b in bases {
             // SH has one specular runtime: rendered once.
             let sh = matches!(b, BasisKind::ShL1 | BasisKind::ShL2);
             for p in paths.iter().take(if sh { 1 } else { paths.len() }) {
-                v.push(Lighting { encoding: Encoding::Basis(*b), specular: *p, storage: *st });
+                v.push(Lighting { encoding: Encoding::Basis(*b), specular: *p, storage: *st, sg_sharpness });
             }
         }
     }
+    v.iter().try_for_each(Lighting::check)?;
     Ok(v)
 }
 
-/// The bake folder, the layout settings and the bounce count: an existing bake's
-/// (bake.json), or a fresh bake into OUT/bake.
-fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>) -> Result<(PathBuf, f32, usize, u32), String> {
+/// What the renderer needs of a bake.
+struct Baked {
+    dir: PathBuf,
+    texels_per_unit: f32,
+    padding: usize,
+    bounces: u32,
+    sg_sharpness: f64,
+}
+
+/// The bake: an existing one's folder and settings (bake.json), or a fresh bake into
+/// OUT/bake.
+fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>) -> Result<Baked, String> {
     if let Some(dir) = &c.bake {
         let path = dir.join("bake.json");
         let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e} (is --bake a bake folder?)", path.display()))?;
@@ -149,14 +163,19 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
         if j["scene"].as_str() != Some(scene_name(&c.scene).as_str()) {
             eprintln!("notice: bake.json names scene '{}', --scene is '{}'", j["scene"].as_str().unwrap_or("?"), c.scene);
         }
-        return Ok((dir.clone(), tpu, padding, bounces));
+        // The SG bases' sharpness (bakes before bake.json recorded it used the default).
+        let sg_sharpness = j["bases"]
+            .as_array()
+            .and_then(|b| b.iter().find_map(|b| b["sg_sharpness"].as_f64()))
+            .unwrap_or(baker::accumulate::SG_HEMISPHERE_SHARPNESS);
+        return Ok(Baked { dir: dir.clone(), texels_per_unit: tpu, padding, bounces, sg_sharpness });
     }
     let o = Options {
         scene: c.scene.clone(),
         environment: c.env.clone(),
         texels_per_unit: c.texels_per_unit,
         passes: c.passes,
-        config: BakeConfig { bases: bases.to_vec(), ..BakeConfig::default() },
+        config: BakeConfig { bases: bases.to_vec(), sg_sharpness: c.sg_sharpness, ..BakeConfig::default() },
         device,
         out: c.out.join("bake"),
         probes,
@@ -165,7 +184,13 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
         ..Options::default()
     };
     run::bake(&o, &mut |m| eprintln!("{m}"))?;
-    Ok((o.out.clone(), o.texels_per_unit, o.padding, o.config.max_bounces))
+    Ok(Baked {
+        dir: o.out.clone(),
+        texels_per_unit: o.texels_per_unit,
+        padding: o.padding,
+        bounces: o.config.max_bounces,
+        sg_sharpness: o.config.sg_sharpness,
+    })
 }
 
 /// The scene's name as bake.json records it (a file's stem for glTF).
@@ -210,7 +235,18 @@ fn render(c: Cli) -> Result<(), String> {
         .iter()
         .map(|s| BasisKind::parse(s.trim()).ok_or_else(|| format!("unknown basis '{s}' (sh1, sh2, sg9, sg12, ad9, ad12)")))
         .collect::<Result<Vec<_>, _>>()?;
-    let configurations = configurations(&bases, &c.specular, &c.storage)?;
+    let (lo, hi) = baker::accumulate::SG_SHARPNESS_RANGE;
+    if !(lo..=hi).contains(&c.sg_sharpness) {
+        return Err(format!(
+            "--sg-sharpness {}: must be in [{lo}, {hi}] (the range the SG runtime's fits are stated over)",
+            c.sg_sharpness
+        ));
+    }
+    if c.bake.is_some() && c.sg_sharpness != baker::accumulate::SG_HEMISPHERE_SHARPNESS {
+        return Err("--sg-sharpness applies to a fresh bake; with --bake the bake's own (bake.json) is used".into());
+    }
+    // Checked here with the λ to be baked (an existing bake's is checked once read).
+    configurations(&bases, &c.specular, &c.storage, c.sg_sharpness)?;
     let (w, h) = size(&c.size, "--size")?;
     let (fw, fh) = size(&c.frame_size, "--frame-size")?;
     let device = match c.device.as_str() {
@@ -245,7 +281,12 @@ fn render(c: Cli) -> Result<(), String> {
     // The view before any work: a bad --camera is refused at once.
     let bvh = Bvh::build(&scene);
     let camera = view(c.camera.as_deref(), &scene_cameras, &bvh, w, h)?;
-    let (bake_dir, tpu, padding, bounces) = bake(&c, &bases, device, (dynamic > 0).then_some(grid))?;
+    let baked = bake(&c, &bases, device, (dynamic > 0).then_some(grid))?;
+    let configurations = configurations(&bases, &c.specular, &c.storage, baked.sg_sharpness)?;
+    let Baked { dir: bake_dir, texels_per_unit: tpu, padding, bounces, sg_sharpness } = baked;
+    if bases.iter().any(|b| b.is_sg()) {
+        eprintln!("render: SG lobes of sharpness λ {sg_sharpness}");
+    }
     let probe_field = if dynamic > 0 {
         eprintln!("render: {dynamic} dynamic object(s) (no lightmap) shaded from the SH L2 probes");
         let field = baker::render::probes::ProbeField::read(&bake_dir)?;

@@ -152,6 +152,11 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
         h.u64(g.learn_passes);
         h.u64(g.guided_fraction.to_bits());
     }
+    // A sharpness other than the default (the default keeps earlier bakes' fingerprints).
+    if config.bases.iter().any(|b| b.is_sg()) && config.sg_sharpness != crate::accumulate::SG_HEMISPHERE_SHARPNESS {
+        h.bytes(b"sg sharpness");
+        h.u64(config.sg_sharpness.to_bits());
+    }
     if let Some(f) = config.filter {
         h.bytes(b"filter");
         h.bytes(f.name().as_bytes());
@@ -303,7 +308,7 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
     let mut lobes = Vec::with_capacity(nb);
     for b in 0..nb {
         let l = r.u32()? as usize;
-        let want = config.bases[b].basis().len();
+        let want = config.bases[b].lobes();
         if l != want {
             return Err(format!("checkpoint basis {b} has {l} lobes, {} has {want}", config.bases[b].name()));
         }

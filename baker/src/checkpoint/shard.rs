@@ -175,7 +175,7 @@ impl Shard {
                 h.fingerprint
             ));
         }
-        let lobes: Vec<usize> = config.bases.iter().map(|b| b.basis().len()).collect();
+        let lobes: Vec<usize> = config.bases.iter().map(|b| b.lobes()).collect();
         if h.items != n || h.lobes != lobes {
             return Err(format!("{}: its {} has {} items × lobes {:?}, this bake {n} × {lobes:?}", self.name(), h.what, h.items, h.lobes));
         }

@@ -15,7 +15,7 @@ pub(crate) fn encoders_from_raw(
 ) -> Result<Vec<Vec<sbf::solve::ProgressiveEncoder<f32>>>, String> {
     let mut encoders = Vec::new();
     for (b, kind) in config.bases.iter().enumerate() {
-        let lobes = kind.basis().len();
+        let lobes = kind.lobes();
         let opts = config.encoder_options(*kind, sphere);
         let mut encs = Vec::with_capacity(n);
         for st in &raw[b * n..(b + 1) * n] {

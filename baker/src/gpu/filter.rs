@@ -75,7 +75,7 @@ pub struct FilterGpu {
 /// Bytes of one record: 3 vec4 of header, then a vec4 per lobe of every basis (stored
 /// component-major: `wgsl/item.wgsl`'s `filter_record`).
 pub fn record_bytes(config: &BakeConfig) -> u64 {
-    16 * (3 + config.bases.iter().map(|b| b.basis().len()).sum::<usize>()) as u64
+    16 * (3 + config.bases.iter().map(|b| b.lobes()).sum::<usize>()) as u64
 }
 
 impl FilterGpu {

@@ -141,7 +141,7 @@ fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(Hash
                 roots.extend(["ad_srbf_eval", if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" }]);
             }
         }
-        let lobes = b.basis().len();
+        let lobes = b.lobes();
         let opts = config.encoder_options(*b, sphere_targets);
         let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts.clone() }, lobes)?;
         if p.true_mean != [[0.0; 4]; 3] || p.acceleration != 1.0 {
@@ -159,6 +159,7 @@ fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(Hash
         at += lobes as u32;
     }
     d.insert("SEQUENCE".into(), ShaderDefValue::UInt(config.sampler.code()));
+    d.insert("SG_SHARPNESS_BITS".into(), ShaderDefValue::UInt((config.sg_sharpness as f32).to_bits()));
     let fraction = config.guiding.map_or(0.0, |g| g.guided_fraction as f32);
     d.insert("GUIDED_FRACTION_BITS".into(), ShaderDefValue::UInt(fraction.to_bits()));
     Ok((d, roots))
@@ -213,7 +214,10 @@ fn plain_composer() -> Result<Composer, String> {
 pub fn estimator_kernel(entry: (&str, &str), glossy: bool) -> Result<String, String> {
     let mut roots =
         vec!["progressive_update", "progressive_update_projected", "EncoderState", "EncoderParams", "tangent_frame", "PI", "INV_PI"];
-    let mut defs = HashMap::from([("SEQUENCE".to_string(), ShaderDefValue::UInt(Sequence::Independent.code()))]);
+    let mut defs = HashMap::from([
+        ("SEQUENCE".to_string(), ShaderDefValue::UInt(Sequence::Independent.code())),
+        ("SG_SHARPNESS_BITS".to_string(), ShaderDefValue::UInt((crate::accumulate::SG_HEMISPHERE_SHARPNESS as f32).to_bits())),
+    ]);
     if glossy {
         roots.extend(["ggx_d", "ggx_g1", "ggx_g2", "schlick_weight"]);
         defs.insert("GLOSSY".into(), ShaderDefValue::Bool(true));

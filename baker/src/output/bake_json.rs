@@ -111,6 +111,12 @@ pub struct BasisJson {
     pub space: &'static str,
     pub files: Vec<String>,
     pub mirrored_lower_hemisphere: bool,
+    /// SG: every lobe's sharpness λ (the lobes are exp(λ(μ·ω − 1)), amplitude 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sg_sharpness: Option<f64>,
+    /// SG and Ambient Dice: the lobe axes in the tangent frame, in coefficient order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lobe_axes: Option<Vec<[f64; 3]>>,
 }
 
 /// Ray guiding.

@@ -3,6 +3,7 @@
 //! lightmap's sampler — the bindings of `wgsl/render.wgsl`) and the probe grid as the
 //! shader's rows.
 
+use super::lighting::LightmapFilter;
 use super::probes::ProbeField;
 
 /// WGSL `Frame`'s probe lattice: (probes along x, y, z; count), first and last position.
@@ -77,4 +78,19 @@ pub(super) fn probe_rows(probes: Option<&ProbeField>) -> (Vec<[f32; 4]>, Lattice
         }
         None => (vec![[0.0; 4]], ([0; 4], [0.0; 4], [0.0; 4])),
     }
+}
+
+/// The lightmap's sampler: bilinear and clamped to the edge for [`LightmapFilter::Hardware`]
+/// (texel centres at (i + ½)/size, as the exact footprint), nearest otherwise (bound, never
+/// sampled).
+pub(super) fn lightmap_sampler(d: &wgpu::Device, filter: LightmapFilter) -> wgpu::Sampler {
+    let f = if filter == LightmapFilter::Hardware { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
+    d.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("lightmap"),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: f,
+        min_filter: f,
+        ..Default::default()
+    })
 }

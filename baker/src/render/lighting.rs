@@ -67,12 +67,15 @@ impl LightmapFilter {
 }
 
 /// One configuration of the comparison.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lighting {
     pub encoding: Encoding,
     /// The specular runtime (ignored for [`Encoding::Irradiance`]).
     pub specular: SpecularPath,
     pub storage: Storage,
+    /// The SG lobes' sharpness λ the bake encoded with (bake.json; ignored for other
+    /// encodings).
+    pub sg_sharpness: f64,
 }
 
 impl Lighting {
@@ -93,6 +96,21 @@ impl Lighting {
         s
     }
 
+    /// Refuses what the runtime cannot shade: the per-lobe tables of SG exist for the
+    /// default sharpness only (luts/lobe_ggx_sg6.sbflut).
+    pub fn check(&self) -> Result<(), String> {
+        let sg = matches!(self.encoding, Encoding::Basis(b) if b.is_sg());
+        if sg && self.specular == SpecularPath::Tables && self.sg_sharpness != crate::accumulate::SG_HEMISPHERE_SHARPNESS {
+            return Err(format!(
+                "{}: the SG per-lobe GGX table is for λ {} (luts/lobe_ggx_sg6.sbflut), the bake's λ is {}: use the fits (--specular fit)",
+                self.name(),
+                crate::accumulate::SG_HEMISPHERE_SHARPNESS,
+                self.sg_sharpness
+            ));
+        }
+        Ok(())
+    }
+
     /// Lobes per texel (1 for the plain E/π).
     pub fn lobes(&self) -> usize {
         match self.encoding {
@@ -109,21 +127,15 @@ impl Lighting {
 
 /// Lobes of a basis.
 pub fn lobe_count(b: BasisKind) -> usize {
-    match b {
-        BasisKind::ShL1 => 4,
-        BasisKind::ShL2 | BasisKind::Sg9 | BasisKind::Ad9 => 9,
-        BasisKind::Sg12 | BasisKind::Ad12 => 12,
-    }
+    b.lobes()
 }
 
 /// The lobe axes of the SG and AD layouts in the texel's tangent frame (empty for SH and
 /// the plain E/π), from the same `sbf` layouts the bake encoded with.
 pub fn lobe_axes(e: Encoding) -> Vec<DVec3> {
     match e {
-        Encoding::Irradiance | Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => Vec::new(),
-        Encoding::Basis(b @ (BasisKind::Sg9 | BasisKind::Sg12)) => b.sg_lobes().0,
-        Encoding::Basis(BasisKind::Ad9) => sbf::AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
-        Encoding::Basis(BasisKind::Ad12) => sbf::AmbientDiceSrbf::twelve().lobes().to_vec(),
+        Encoding::Irradiance => Vec::new(),
+        Encoding::Basis(b) => b.lobe_axes(),
     }
 }
 

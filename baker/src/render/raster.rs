@@ -11,10 +11,10 @@
 //! that the CPU twin shades the very same inputs).
 
 use super::atlas::Atlas;
-use super::bindings::{layouts, probe_rows, Lattice};
+use super::bindings::{layouts, lightmap_sampler, probe_rows, Lattice};
 use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use super::probes::ProbeField;
-use crate::accumulate::{BasisKind, SG_HEMISPHERE_SHARPNESS};
+use crate::accumulate::BasisKind;
 use crate::layout::lightmap::Lightmap;
 use crate::scene::camera::ViewCamera;
 use crate::scene::Scene;
@@ -239,6 +239,7 @@ impl<'g> Renderer<'g> {
     /// The bind group of a configuration: frame uniform, materials, lightmap, table(s).
     fn bind(&self, l: &Lighting, atlas: &Atlas, cam: &ViewCamera) -> Result<(wgpu::BindGroup, wgpu::Buffer), String> {
         let d = self.gpu.device();
+        l.check()?;
         if atlas.lobes.len() != l.lobes() {
             return Err(format!("{}: the atlas has {} lobes, the configuration {}", l.name(), atlas.lobes.len(), l.lobes()));
         }
@@ -249,7 +250,7 @@ impl<'g> Renderer<'g> {
         }
         let frame = FrameGpu {
             view_proj: cam.view_proj([0.0; 2], near, far).to_cols_array_2d(),
-            eye: [cam.eye.x, cam.eye.y, cam.eye.z, SG_HEMISPHERE_SHARPNESS as f32],
+            eye: [cam.eye.x, cam.eye.y, cam.eye.z, l.sg_sharpness as f32],
             atlas: [atlas.width as u32, atlas.height as u32, 0, 0],
             axes,
             grid_dims: self.grid.0,
@@ -591,19 +592,4 @@ impl<'g> Renderer<'g> {
         let period = self.gpu.timestamp_period() as f64;
         Ok(Some((warmup..total as usize).map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period * 1e-6).collect()))
     }
-}
-
-/// The lightmap's sampler: bilinear and clamped to the edge for [`LightmapFilter::Hardware`]
-/// (texel centres at (i + ½)/size, as the exact footprint), nearest otherwise (bound, never
-/// sampled).
-fn lightmap_sampler(d: &wgpu::Device, filter: LightmapFilter) -> wgpu::Sampler {
-    let f = if filter == LightmapFilter::Hardware { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
-    d.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("lightmap"),
-        address_mode_u: wgpu::AddressMode::ClampToEdge,
-        address_mode_v: wgpu::AddressMode::ClampToEdge,
-        mag_filter: f,
-        min_filter: f,
-        ..Default::default()
-    })
 }

@@ -52,6 +52,9 @@ pub struct ConfigurationJson {
     pub lobes: usize,
     pub storage: &'static str,
     pub specular_path: &'static str,
+    /// SG: the lobes' sharpness λ.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sg_sharpness: Option<f64>,
     pub bytes_per_texel: usize,
     pub shaded_on: &'static str,
     pub pixels: usize,
@@ -107,6 +110,8 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
             name: name.clone(),
             lobes: r.lighting.lobes(),
             storage: r.lighting.storage.name(),
+            sg_sharpness: matches!(r.lighting.encoding, super::lighting::Encoding::Basis(b) if b.is_sg())
+                .then_some(r.lighting.sg_sharpness),
             specular_path: r.lighting.specular.name(),
             bytes_per_texel: r.lighting.bytes_per_texel(),
             shaded_on: r.shaded_on,

@@ -16,7 +16,7 @@
 //! Emission is not part of the image: it is the light reflected by the visible surface.
 
 use super::lighting::{lobe_axes, Encoding, Lighting, SurfaceMaterial};
-use crate::accumulate::{BasisKind, SG_HEMISPHERE_SHARPNESS};
+use crate::accumulate::BasisKind;
 use sbf::glam::DVec3;
 use sbf::profile::SpecularPath;
 use sbf::recon::{ambient_dice, lobe_ggx, sg, sh};
@@ -79,7 +79,7 @@ impl Shader {
                 DVec3::new(ch(0), ch(1), ch(2))
             }
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
-                let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: SG_HEMISPHERE_SHARPNESS, amplitude: 1.0 });
+                let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: self.lighting.sg_sharpness, amplitude: 1.0 });
                 acc + *ci * lobe.eval(z)
             }),
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
@@ -109,7 +109,7 @@ impl Shader {
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => {
                 let w = sg::AsgWarp::new(z, vt, alpha, f0, f90);
                 let s = self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
-                    acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: SG_HEMISPHERE_SHARPNESS, amplitude: 1.0 })
+                    acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: self.lighting.sg_sharpness, amplitude: 1.0 })
                 });
                 s.to_array()
             }

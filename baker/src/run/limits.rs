@@ -113,7 +113,7 @@ impl Options {
 pub fn bytes_per_item(bases: &[BasisKind]) -> u64 {
     let points = crate::layout::lightmap::SUBSAMPLES * std::mem::size_of::<crate::layout::lightmap::SurfacePoint>();
     let moments = std::mem::size_of::<crate::accumulate::Moments>();
-    let lobes: usize = bases.iter().map(|b| b.basis().len()).sum();
+    let lobes: usize = bases.iter().map(|b| b.lobes()).sum();
     // Encoder: coefficients (lobes × 3) and the update's per-lobe state (lobes × 3), f64.
     let encoders = lobes * 6 * 8;
     // Images: irradiance, its standard error, normals, and every lobe's RGB, f32.

@@ -387,7 +387,7 @@ fn bases_json(o: &Options) -> Vec<BasisJson> {
         .bases
         .iter()
         .map(|b| {
-            let lobes = b.basis().len();
+            let lobes = b.lobes();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
             let solver = if o.config.solver == Solver::Nnls && b.non_negative() { "progressive NNLS" } else { "progressive LS" };
             BasisJson {
@@ -398,6 +398,11 @@ fn bases_json(o: &Options) -> Vec<BasisJson> {
                 space: "tangent: normal +Z, tangent frame of Duff et al. 2017 (sbf::basis::ambient_dice_bezier::tangent_frame, WGSL tangent_frame) about the texel's shading normal in normals.exr (world space, the normalised mean of the interpolated vertex normals at its sub-texel points)",
                 files,
                 mirrored_lower_hemisphere: b.is_sphere(),
+                sg_sharpness: b.is_sg().then_some(o.config.sg_sharpness),
+                lobe_axes: {
+                    let axes = b.lobe_axes();
+                    (!axes.is_empty()).then(|| axes.iter().map(|a| a.to_array()).collect())
+                },
             }
         })
         .collect()

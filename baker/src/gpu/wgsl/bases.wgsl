@@ -41,9 +41,12 @@
 // refuses another value).
 const ACCELERATION: f32 = 1.0;
 
-// The hemisphere SG lobes (sbf::layout::vogel_hemisphere, as f32) and their sharpness
-// (baker::accumulate::SG_HEMISPHERE_SHARPNESS); a test holds them to the CPU's.
-const SG_SHARPNESS: f32 = 6.0;
+// The hemisphere SG lobes (sbf::layout::vogel_hemisphere, as f32; a test holds them to
+// the CPU's) and their sharpness, the bake's (BakeConfig::sg_sharpness) as f32 bits (a
+// constant the driver folds).
+fn sg_sharpness() -> f32 {
+    return bitcast<f32>(#{SG_SHARPNESS_BITS}u);
+}
 #ifdef KIND_2
 const SG9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
     vec3<f32>(0.3286711, 0.0, 0.9444444),
@@ -100,7 +103,7 @@ fn basis_kind_1(d: vec3<f32>) -> array<f32, 12> {
 fn basis_kind_2(d: vec3<f32>) -> array<f32, 12> {
     var b: array<f32, 12>;
     for (var i = 0u; i < 9u; i++) {
-        b[i] = sg_eval(SG9_AXES[i], SG_SHARPNESS, d);
+        b[i] = sg_eval(SG9_AXES[i], sg_sharpness(), d);
     }
     return b;
 }
@@ -110,7 +113,7 @@ fn basis_kind_2(d: vec3<f32>) -> array<f32, 12> {
 fn basis_kind_3(d: vec3<f32>) -> array<f32, 12> {
     var b: array<f32, 12>;
     for (var i = 0u; i < 12u; i++) {
-        b[i] = sg_eval(SG12_AXES[i], SG_SHARPNESS, d);
+        b[i] = sg_eval(SG12_AXES[i], sg_sharpness(), d);
     }
     return b;
 }
