@@ -14,7 +14,9 @@
 //! When a change is *meant* to alter the outputs, run this test, check the printed table
 //! against the reason for the change, and paste it in place of the pinned one.
 //! (2026-12-03: bake.json re-pinned — its `runtime.left_out_bytes` grew with the library's
-//! new `ggx_energy_compensation`, which these bakes leave out; every other file unchanged.)
+//! new `ggx_energy_compensation`, which these bakes leave out; every other file unchanged.
+//! Re-pinned again the same day: bake.json states each SG/AD basis's lobe axes (and SG's
+//! sharpness); every other file unchanged.)
 
 mod common;
 
@@ -123,7 +125,7 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("ad9_07.exr", "fc357b32f8ca77c56443f151851441c849e0c5a248d4058923622d7e5036de35"),
     ("ad9_08.exr", "139f9b262c00799ead830e4d0f70e3658cc47210e5e0c93a4e8f6fb837483742"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "ab8af8eccae38289f7f7d44916e1aba7148fe76cfe314b1fe59eab029305b05d"),
+    ("bake.json", "c367c80f997d8c7b81acd7f7e8741df14ff25951e90977143befcf5aa8000ea7"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "b26fa86441984fe3b283f0c4665be88f381e42864feb4be1fa6f1be96969f8fb"),
     ("irradiance_se.exr", "fb592dec755370a546311ea7377a5e42c7048524d447e9454b9ac92e9bb4ff45"),
@@ -153,7 +155,7 @@ const CORNELL: &[(&str, &str)] = &[
     ("ad9_07.exr", "a5d157b56b73fd70be395916cce766f445cd352af46b0b71de988209c6ae58b7"),
     ("ad9_08.exr", "b7a2766b88e55e0026c370cc683d9eea572ff18caf9408ea7229e2d17022be33"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "48fca5c46efa7f57e9b3ebb3f29207ce3ccf0c296e86874cbca56736447765e7"),
+    ("bake.json", "d1a94996c246919f81ce454c611a7dd5b6e3493a2410461ad78c9fe83b921ce0"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "37a26e85c41950390002d8b45df4bf4bed891de03155be977680767957f36a7a"),
     ("irradiance_se.exr", "a65e775db56ce9fa43feb66b9ff192eb0d8613170847c5d581c277bd639f524e"),
@@ -182,7 +184,7 @@ const MIXED: &[(&str, &str)] = &[
     ("ad9_07.exr", "f3fef8e2bec53515e3e8cd21411a9828769fbc53ca359446e38ee6d24edc292d"),
     ("ad9_08.exr", "27fa4775bc00ace310d56005361348da6e6617a7a3d034a1f42b989342ae6f27"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "d326baf0d28605965f4bcadd4c223cb4c14c060c1bda3504ec4f623332d97de1"),
+    ("bake.json", "88ad5131f9baeeb9824db62ff0fb915d7e51920d53a92970b039dc2df0510d6c"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "a2decd80b622d47bc740d17f59879630e0563edb702ab18cab8687317a938670"),
     ("irradiance_se.exr", "91522e2a63b6c12c44af8b8469c911eb5985b35b455c69b0e9b1cab803757254"),
