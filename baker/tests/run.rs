@@ -741,17 +741,21 @@ fn gpu_bake_in_basis_groups_equals_the_single_bake() {
         let base = ["--passes", "16", "--bases", "sh1,sh2,sg9,sg12,ad9,ad12", "--checkpoint-every", "0", "--probes", "0,0,0"];
         gpu_bake(dir, &[&base[..], extra].concat(), &[])
     };
-    run(&a, &[]);
     let targets =
         baker::accumulate::Targets::lightmap(&baker::layout::lightmap::Lightmap::build(&baker::scene::cornell(), 6.0, 2).unwrap());
     // Room for two bases' states.
     let two = 2 * targets.items.len() * std::mem::size_of::<shaders::progressive::EncoderState>();
-    let log = run(&b, &["--max-storage-binding", &two.to_string()]);
-    assert!(log.contains("baked in 3 groups") && log.contains("sh1+sh2, sg9+sg12, ad9+ad12"), "{log}");
-    let (ha, hb) = (common::outputs::hashes(&a), common::outputs::hashes(&b));
-    assert_eq!(ha.len(), hb.len());
-    for (x, y) in ha.iter().zip(&hb) {
-        assert_eq!(x, y, "{} differs between the single and the grouped bake", x.0);
+    // Plain, and with filtered accumulation (each group gathers into its own filtered
+    // encoders, joined as the plain ones are).
+    for filter in [&[][..], &["--filter", "mitchell"][..]] {
+        run(&a, filter);
+        let log = run(&b, &[filter, &["--max-storage-binding", &two.to_string()]].concat());
+        assert!(log.contains("baked in 3 groups") && log.contains("sh1+sh2, sg9+sg12, ad9+ad12"), "{log}");
+        let (ha, hb) = (common::outputs::hashes(&a), common::outputs::hashes(&b));
+        assert_eq!(ha.len(), hb.len());
+        for (x, y) in ha.iter().zip(&hb) {
+            assert_eq!(x, y, "{} differs between the single and the grouped bake ({filter:?})", x.0);
+        }
     }
 }
 
@@ -759,8 +763,8 @@ fn gpu_bake_in_basis_groups_equals_the_single_bake() {
 /// (the device's limit lowered by `SBF_GPU_MAX_STORAGE_BINDING` to two thirds of the
 /// points' bytes, while the encoder states and moments still fit one): every written file equals the
 /// one-binding bake's bit for bit — the kernel reads the same point for every sample.
-/// Mutations: the second binding read one point off, or the split index taken as 0 →
-/// the files differ.
+/// Mutations: the second binding read one point off, or every point read from the second
+/// binding → the files differ.
 #[test]
 fn gpu_bake_with_points_in_two_bindings_equals_the_single_bake() {
     if !have_gpu() {
