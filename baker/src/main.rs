@@ -112,6 +112,11 @@ struct Cli {
     /// seed's comparisons use 6 for the hemisphere sets and 8 for NNLS SG 12 (§8.4.3).
     #[arg(long, default_value_t = baker::accumulate::SG_HEMISPHERE_SHARPNESS)]
     sg_sharpness: f64,
+    /// Bake indirect light only: the light reaching a texel straight from an emitter, a
+    /// delta light or the sky is left out (an engine adds it at run time); recorded in
+    /// bake.json. The thesis' Fig. 8.6 compares bases on indirect light.
+    #[arg(long)]
+    indirect_only: bool,
     /// Progressive solver: ls or nnls. NNLS applies to the non-negative bases (SG, Ambient
     /// Dice); SH is always least squares (its coefficients are legitimately negative).
     #[arg(long, default_value = "nnls")]
@@ -275,6 +280,7 @@ fn options(c: Cli) -> Result<Options, String> {
                 .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
             filter: c.filter.as_deref().map(baker::accumulate::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
             sg_sharpness: sg_sharpness(c.sg_sharpness)?,
+            indirect_only: c.indirect_only,
         },
         device,
         out: c.out,

@@ -527,3 +527,62 @@ fn check_pass_graph(g: &baker::gpu::wavefront::graph::PassGraph) {
     }
     assert!(names.iter().all(|n| printed.contains(n)), "{printed}");
 }
+
+/// Indirect light only (`BakeConfig::indirect_only`), CPU and GPU, against closed forms:
+/// - the furnace box (every wall emits L_e, albedo a): all light L_e/(1 − a), direct L_e
+///   (the first segment's emitter hits and the emitter samples), so indirect
+///   E/π = a·L_e/(1 − a) = L_e at a = ½; the texel-mean within 4 standard errors (the
+///   spread over texels / √n, as `furnace_gpu`);
+/// - a Lambert plane under a constant sky and a sun: nothing else for light to bounce off,
+///   so every texel's indirect light is exactly 0 (all light would be L_sky + E_sun cos θ/π).
+///
+/// Mutations: the GPU's light samples at the baked point kept (item.wgsl) → furnace mean
+/// 1.39 (fails); the CPU's first-segment emitter hit kept → 1.61 (fails).
+#[test]
+fn indirect_only_bakes_the_closed_forms() {
+    let gpu = gpu();
+    let (le, a) = (1.0f32, 0.5f32);
+    let furnace = scene::furnace(le, a);
+    let mut plane = scene::furnace(le, a);
+    plane.name = "plane".into();
+    plane.meshes.truncate(1);
+    plane.meshes[0].positions = vec![
+        sbf::glam::Vec3::new(-1.0, 0.0, -1.0),
+        sbf::glam::Vec3::new(-1.0, 0.0, 1.0),
+        sbf::glam::Vec3::new(1.0, 0.0, 1.0),
+        sbf::glam::Vec3::new(1.0, 0.0, -1.0),
+    ];
+    plane.meshes[0].normals = vec![sbf::glam::Vec3::Y; 4];
+    plane.meshes[0].indices = vec![[0, 1, 2], [0, 2, 3]];
+    plane.meshes[0].lightmap_uv = None;
+    plane.materials[0] = scene::Material::lambert(sbf::glam::Vec3::splat(0.8));
+    plane.lights = vec![scene::Light::Directional {
+        direction: sbf::glam::Vec3::new(0.3, 0.9, 0.2).normalize(),
+        irradiance: sbf::glam::Vec3::splat(5.0),
+    }];
+    plane.environment = scene::Environment::Constant(sbf::glam::Vec3::splat(2.0));
+    let cfg =
+        BakeConfig { seed: 5, max_bounces: 64, bases: vec![BasisKind::ShL2, BasisKind::Ad9], indirect_only: true, ..Default::default() };
+    for (s, expect) in [(&furnace, (a * le / (1.0 - a)) as f64), (&plane, 0.0)] {
+        let bvh = Bvh::build(s);
+        let lm = Lightmap::build(s, 4.0, 1).unwrap();
+        let targets = Targets::lightmap(&lm);
+        let passes = 256;
+        let mut states = vec![("CPU", common::bake_on(None, s, &targets, &cfg, passes))];
+        if let Some(g) = gpu.as_deref() {
+            states.push(("GPU", common::bake_on(Some(g), s, &targets, &cfg, passes)));
+        }
+        for (device, st) in states {
+            let e: Vec<f64> = st.mean().iter().flatten().copied().collect();
+            let n = e.len() as f64;
+            let mean = e.iter().sum::<f64>() / n;
+            let sd = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            println!("{} {device}: indirect E/π mean {mean:.5} (closed form {expect}), spread {sd:.2e}, {n} texel-channels", s.name);
+            if expect == 0.0 {
+                assert!(e.iter().all(|x| *x == 0.0), "{} {device}: a texel has indirect light {mean}", s.name);
+            } else {
+                assert!((mean - expect).abs() <= 4.0 * sd / n.sqrt(), "{} {device}: mean {mean} vs {expect} ± {}", s.name, sd / n.sqrt());
+            }
+        }
+    }
+}

@@ -949,3 +949,31 @@ fn deringed_probes_shade_without_negative_light() {
     let ratio = d.coefficients[0][4].z / d.coefficients[0][4].x;
     assert!((ratio - 0.5).abs() < 1e-12, "a scaled channel takes the same window: {ratio}");
 }
+
+/// The references with indirect light only (`Tracer::indirect_only`), GPU and CPU: on the
+/// open planes under a constant sky and a sun nothing reflects light onto a visible point,
+/// so every pixel is exactly 0 (with all light: the sky's ρL and the sun's direct light).
+/// Mutation: the GPU reference's light samples kept (reference.wgsl) → fails.
+#[test]
+fn indirect_only_references_see_no_light_on_open_planes() {
+    use baker::render::reference;
+    use baker::render::reference_gpu::GpuReference;
+    let mut scene = planes(0.6, 1.7);
+    scene.lights = vec![baker::scene::Light::Directional { direction: Vec3::new(0.3, 0.9, 0.2).normalize(), irradiance: Vec3::splat(5.0) }];
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,1.6,2.4:0,0,0:60", 40, 30).unwrap();
+    let visible = baker::render::visible::cast(&scene, &bvh, &lm, &cam);
+    let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, 3).with_indirect_only(true);
+    let mut refs = vec![("CPU", reference::render(&tracer, &scene, &visible, cam.eye, 64, 6, &|_| {}))];
+    if let Some(gpu) = common::gpu() {
+        refs.push(("GPU", GpuReference::new(&gpu, &tracer, &visible, cam.eye, 5).unwrap().render(64).unwrap()));
+    }
+    let shaded = visible.iter().filter(|v| v.is_some()).count();
+    assert!(shaded > 300, "only {shaded} pixels see the planes");
+    for (device, r) in refs {
+        let lit = (0..visible.len()).filter(|&k| r.diffuse[k] != DVec3::ZERO || r.specular[k] != DVec3::ZERO).count();
+        assert_eq!(lit, 0, "{device}: {lit} of {shaded} pixels have light with indirect light only");
+        assert!(r.accepted.iter().filter(|a| **a > 0).count() == shaded, "{device}: every shaded pixel took its samples");
+    }
+}

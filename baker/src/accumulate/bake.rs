@@ -61,6 +61,7 @@ impl<'a> Bake<'a> {
     /// Panics on a configuration [`BakeConfig::check`] refuses (the `baker` command
     /// checks first and reports).
     pub fn new(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>) -> Self {
+        let tracer = tracer.with_indirect_only(config.indirect_only);
         if let Err(e) = config.check(targets) {
             panic!("{e}");
         }
@@ -73,6 +74,7 @@ impl<'a> Bake<'a> {
 
     /// Continues from a saved state (see [`crate::checkpoint`]); its shape must match.
     pub fn resume(config: BakeConfig, targets: &'a Targets, tracer: Tracer<'a>, state: BakeState) -> Result<Self, String> {
+        let tracer = tracer.with_indirect_only(config.indirect_only);
         let fresh = BakeState::new(&config, targets);
         let shape = |s: &BakeState| {
             (

@@ -138,6 +138,9 @@ pub struct BakeConfig {
     pub filter: Option<crate::accumulate::filter::Filter>,
     /// Sharpness λ of every SG lobe (SG 9 and SG 12), within [`SG_SHARPNESS_RANGE`].
     pub sg_sharpness: f64,
+    /// Bake indirect light only (`Tracer::indirect_only`): the light arriving straight
+    /// from emitters, delta lights and the sky is left to the runtime.
+    pub indirect_only: bool,
 }
 
 /// How the GPU runs a pass: one thread per texel through whole paths, or breadth first
@@ -187,6 +190,7 @@ impl Default for BakeConfig {
             pipeline: Default::default(),
             filter: None,
             sg_sharpness: SG_HEMISPHERE_SHARPNESS,
+            indirect_only: false,
         }
     }
 }

@@ -59,6 +59,12 @@ struct Cli {
     /// its bake.json), in [2, 64]. The thesis' Fig. 8.6 compares NNLS SG 12 at λ 8.
     #[arg(long, default_value_t = baker::accumulate::SG_HEMISPHERE_SHARPNESS)]
     sg_sharpness: f64,
+    /// Bake (without --bake) and compare indirect light only: the light reaching a surface
+    /// straight from an emitter, a delta light or the sky is in neither the lightmap nor
+    /// the reference (seed 004's Fig. 8.6: indirect light from baked lightmaps). With
+    /// --bake, the bake's own setting (bake.json) is used.
+    #[arg(long)]
+    indirect_only: bool,
     /// How the GPU interpolates the lightmap: `exact` (four loads weighted in f32, what
     /// the CPU twin computes) or `hardware` (the sampler's bilinear filter, one fetch per
     /// lobe, as engines sample lightmaps; its weights have the GPU's sub-texel precision).
@@ -148,6 +154,7 @@ struct Baked {
     padding: usize,
     bounces: u32,
     sg_sharpness: f64,
+    indirect_only: bool,
 }
 
 /// The bake: an existing one's folder and settings (bake.json), or a fresh bake into
@@ -168,14 +175,15 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
             .as_array()
             .and_then(|b| b.iter().find_map(|b| b["sg_sharpness"].as_f64()))
             .unwrap_or(baker::accumulate::SG_HEMISPHERE_SHARPNESS);
-        return Ok(Baked { dir: dir.clone(), texels_per_unit: tpu, padding, bounces, sg_sharpness });
+        let indirect_only = j["indirect_only"].as_bool().unwrap_or(false);
+        return Ok(Baked { dir: dir.clone(), texels_per_unit: tpu, padding, bounces, sg_sharpness, indirect_only });
     }
     let o = Options {
         scene: c.scene.clone(),
         environment: c.env.clone(),
         texels_per_unit: c.texels_per_unit,
         passes: c.passes,
-        config: BakeConfig { bases: bases.to_vec(), sg_sharpness: c.sg_sharpness, ..BakeConfig::default() },
+        config: BakeConfig { bases: bases.to_vec(), sg_sharpness: c.sg_sharpness, indirect_only: c.indirect_only, ..BakeConfig::default() },
         device,
         out: c.out.join("bake"),
         probes,
@@ -190,6 +198,7 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
         padding: o.padding,
         bounces: o.config.max_bounces,
         sg_sharpness: o.config.sg_sharpness,
+        indirect_only: o.config.indirect_only,
     })
 }
 
@@ -245,6 +254,9 @@ fn render(c: Cli) -> Result<(), String> {
     if c.bake.is_some() && c.sg_sharpness != baker::accumulate::SG_HEMISPHERE_SHARPNESS {
         return Err("--sg-sharpness applies to a fresh bake; with --bake the bake's own (bake.json) is used".into());
     }
+    if c.bake.is_some() && c.indirect_only {
+        return Err("--indirect-only applies to a fresh bake; with --bake the bake's own setting (bake.json) is used".into());
+    }
     // Checked here with the λ to be baked (an existing bake's is checked once read).
     configurations(&bases, &c.specular, &c.storage, c.sg_sharpness)?;
     let (w, h) = size(&c.size, "--size")?;
@@ -283,7 +295,10 @@ fn render(c: Cli) -> Result<(), String> {
     let camera = view(c.camera.as_deref(), &scene_cameras, &bvh, w, h)?;
     let baked = bake(&c, &bases, device, (dynamic > 0).then_some(grid))?;
     let configurations = configurations(&bases, &c.specular, &c.storage, baked.sg_sharpness)?;
-    let Baked { dir: bake_dir, texels_per_unit: tpu, padding, bounces, sg_sharpness } = baked;
+    let Baked { dir: bake_dir, texels_per_unit: tpu, padding, bounces, sg_sharpness, indirect_only } = baked;
+    if indirect_only {
+        eprintln!("render: indirect light only (the bake's and the reference's)");
+    }
     if bases.iter().any(|b| b.is_sg()) {
         eprintln!("render: SG lobes of sharpness λ {sg_sharpness}");
     }
@@ -338,6 +353,7 @@ fn render(c: Cli) -> Result<(), String> {
         max_bounces: bounces,
         reference_on_gpu,
         lightmap_filter,
+        indirect_only,
         timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),
     };
     let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;

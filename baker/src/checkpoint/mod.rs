@@ -152,6 +152,9 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
         h.u64(g.learn_passes);
         h.u64(g.guided_fraction.to_bits());
     }
+    if config.indirect_only {
+        h.bytes(b"indirect only");
+    }
     // A sharpness other than the default (the default keeps earlier bakes' fingerprints).
     if config.bases.iter().any(|b| b.is_sg()) && config.sg_sharpness != crate::accumulate::SG_HEMISPHERE_SHARPNESS {
         h.bytes(b"sg sharpness");

@@ -44,6 +44,11 @@ pub struct Tracer<'a> {
     pub max_bounces: u32,
     /// The environment's importance sampler (None: black).
     pub env: Option<EnvSampler>,
+    /// Indirect light only: what reaches the baked point (or the reference's visible
+    /// point) straight from an emitter, a delta light or the sky is left out — its light
+    /// samples and the first segment's emitter and sky hits — as the thesis' Fig. 8.6 bakes
+    /// (seed 004 §8.4.3: "indirect light from baked lightmaps").
+    pub indirect_only: bool,
 }
 
 /// A light sample at the baked point: world direction towards the light and c = L·w/p·V
@@ -101,12 +106,17 @@ impl<'a> Tracer<'a> {
             select_pdf[*k as usize] = p / total;
         }
         let env = EnvSampler::new(&scene.environment);
-        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, env }
+        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, env, indirect_only: false }
     }
 
     /// Emissive triangles (indices into `bvh.tris`) with the CDF of their power.
     pub fn emitter_table(&self) -> impl Iterator<Item = (u32, f64)> + '_ {
         self.emitters.iter().copied().zip(self.cdf.iter().copied())
+    }
+
+    /// The tracer with indirect light only, or all light ([`Self::indirect_only`]).
+    pub fn with_indirect_only(self, indirect_only: bool) -> Self {
+        Tracer { indirect_only, ..self }
     }
 
     /// Solid-angle pdf of NEE choosing triangle `tri` and hitting it at distance t with
@@ -145,7 +155,8 @@ impl<'a> Tracer<'a> {
         let in_domain = |d: Vec3| normal.is_none_or(|(ns, ng)| d.dot(ns) > 0.0 && d.dot(ng) > 0.0);
         let mut lights = Vec::new();
         // Delta lights: every one, evaluated at x; the shadow ray from the offset origin.
-        for l in &self.scene.lights {
+        let direct = if self.indirect_only { &[][..] } else { &self.scene.lights[..] };
+        for l in direct {
             if let Some((wi, e, _)) = delta_at(l, x) {
                 if in_domain(wi) && e.max_element() > 0.0 && self.visible_delta(l, origin(wi)) {
                     lights.push((wi, e));
@@ -155,7 +166,7 @@ impl<'a> Tracer<'a> {
         let delta = lights.len();
         // One emitter point by power and one environment direction, MIS against the
         // point sample.
-        for a in self.area_samples(x, smp).into_iter().flatten() {
+        for a in self.area_samples(x, smp).into_iter().flatten().filter(|_| !self.indirect_only) {
             if in_domain(a.wi) && self.visible(origin(a.wi), &a) {
                 lights.push((a.wi, a.radiance * (power2(a.pdf, pdf_of(a.wi)) / a.pdf) as f32));
             }
@@ -259,7 +270,9 @@ impl<'a> Tracer<'a> {
                     (Some(pb), Some(env)) => power2(pb, env.pdf(d)),
                     _ => 1.0,
                 };
-                radiance += throughput * self.scene.environment.radiance(d) * w as f32;
+                if bounce > 0 || !self.indirect_only {
+                    radiance += throughput * self.scene.environment.radiance(d) * w as f32;
+                }
                 break;
             };
             let tri = &self.bvh.tris[hit.tri as usize];
@@ -269,7 +282,7 @@ impl<'a> Tracer<'a> {
             if bounce == 0 && reject_back && !front && !mat.double_sided {
                 return (Vec3::ZERO, true);
             }
-            if front && mat.emissive.max_element() > 0.0 {
+            if front && mat.emissive.max_element() > 0.0 && (bounce > 0 || !self.indirect_only) {
                 let w = match prev_pdf {
                     None => 1.0,
                     Some(pb) => power2(pb, self.emitter_pdf(hit.tri, hit.t, -d.dot(ng))),

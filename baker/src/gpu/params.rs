@@ -57,7 +57,8 @@ pub struct TraceParams {
     /// Sample points in the first points binding; the rest are in the second
     /// (`points_hi`), so the points may exceed one storage binding ([`crate::gpu::buffers`]).
     pub point_split: u32,
-    pub pad_c: u32,
+    /// 1: indirect light only (`Tracer::indirect_only`).
+    pub indirect_only: u32,
     pub env_zenith: [f32; 4],
     pub env_horizon: [f32; 4],
     pub env_ground: [f32; 4],
@@ -97,7 +98,7 @@ shaders::gpu_struct!(
         sampler,
         batch_mode,
         point_split,
-        pad_c,
+        indirect_only,
         env_zenith,
         env_horizon,
         env_ground
@@ -177,6 +178,7 @@ pub(crate) fn trace_params(tracer: &Tracer, targets: &Targets, config: &BakeConf
         item_count: items,
         mode: targets.sphere as u32,
         item_end: items,
+        indirect_only: config.indirect_only as u32,
         ..scene_params(tracer, at, config.max_bounces, crate::sampling::sequence::gpu_seed(config.seed), config.sampler.code())
     }
 }
@@ -226,7 +228,7 @@ pub(crate) fn scene_params(tracer: &Tracer, at: &AuxLayout, max_bounces: u32, se
         sampler,
         batch_mode: 0,
         point_split: u32::MAX,
-        pad_c: 0,
+        indirect_only: tracer.indirect_only as u32,
         env_zenith: env[0],
         env_horizon: env[1],
         env_ground: env[2],

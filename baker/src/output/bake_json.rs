@@ -22,6 +22,10 @@ pub struct BakeJson {
     /// Paths traced for the lightmap (accepted samples of every texel).
     pub paths: u64,
     pub max_bounces: u32,
+    /// Indirect light only (absent: all light): what reaches a texel straight from an
+    /// emitter, a delta light or the sky is not in the lightmap.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub indirect_only: bool,
     pub solver: String,
     pub layout: LayoutJson,
     pub filter: Option<FilterJson>,

@@ -36,6 +36,8 @@ pub struct Setup {
     pub reference_on_gpu: bool,
     /// How the GPU interpolates the lightmap (the CPU twin is always exact).
     pub lightmap_filter: LightmapFilter,
+    /// The bake holds indirect light only: the reference leaves out the same direct light.
+    pub indirect_only: bool,
     /// Frame-time measurement: (width, height, warm-up frames, measured frames); None: off.
     pub timing: Option<(u32, u32, usize, usize)>,
 }
@@ -107,7 +109,7 @@ pub fn run(
         return Err(format!("{dynamic} pixels see dynamic objects (meshes without a lightmap), but the bake has no SH L2 probes"));
     }
     log(format!("render: {}×{} pixels, {lit} see a lightmapped surface, {dynamic} a dynamic object (probes)", cam.width, cam.height));
-    let tracer = Tracer::new(scene, bvh, setup.max_bounces);
+    let tracer = Tracer::new(scene, bvh, setup.max_bounces).with_indirect_only(setup.indirect_only);
     let t = std::time::Instant::now();
     let reference = reference_image(&tracer, scene, &visible, setup, gpu, log)?;
     let reference_seconds = t.elapsed().as_secs_f64();

@@ -81,7 +81,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     if gpus.is_empty() && !default_batch {
         log("notice: --batch-ms applies to GPU bakes; this bake runs on the CPU path".into());
     }
-    let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
+    let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces).with_indirect_only(o.config.indirect_only);
     log_strategies(o, &config, &targets, log);
     if let Some(passes) = o.measure_rays {
         let g = gpus.first().ok_or("--measure-rays needs a GPU adapter")?;

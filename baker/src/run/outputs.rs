@@ -112,6 +112,7 @@ pub(crate) fn write_outputs(
         }),
         paths: state.moments.iter().map(crate::accumulate::Moments::count).sum::<u64>(),
         max_bounces: o.config.max_bounces,
+        indirect_only: o.config.indirect_only,
         solver: format!("{:?}", o.config.solver),
         layout: LayoutJson {
             width: lm.width,

@@ -73,7 +73,9 @@ struct TraceParams {
     batch_mode: u32,
     // Sample points in `points`; the rest are in `points_hi`.
     point_split: u32,
-    pad_c: u32,
+    // 1: indirect light only — no light samples at the baked (or visible) point, no
+    // emitter or sky hit on its first segment (baker::estimator::trace::Tracer::indirect_only).
+    indirect_only: u32,
     env_zenith: vec4<f32>,
     env_horizon: vec4<f32>,
     env_ground: vec4<f32>,

@@ -74,7 +74,8 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     // c·cosθ/π (texels) or c·p_s (probes); the encoders gain p_s·c at ω_l.
     var e_lights = vec3<f32>(0.0);
     var finite = true;
-    for (var k = 0u; k < P.light_count; k++) {
+    let lights = select(P.light_count, 0u, P.indirect_only != 0u);
+    for (var k = 0u; k < lights; k++) {
         let dl = delta_at(k, pos);
         if (max3(dl.e) <= 0.0 || (texel && (dot(dl.wi, nrm) <= 0.0 || dot(dl.wi, ng) <= 0.0))) {
             continue;
@@ -88,7 +89,8 @@ fn finish_item(i: u32, fv: FirstVertex, pr: PathResult) {
     }
     // One emitter point by power and one environment direction, MIS against the point
     // sample.
-    for (var a_k = 0u; a_k < 2u; a_k++) {
+    let areas = select(2u, 0u, P.indirect_only != 0u);
+    for (var a_k = 0u; a_k < areas; a_k++) {
         let a = area_sample(a_k, pos, fv.smp);
         if (a.pdf > 0.0 && (!texel || (dot(a.wi, nrm) > 0.0 && dot(a.wi, ng) > 0.0))) {
             if (visible_area(select(pos, offset_towards(pos, ng, a.wi), texel), a)) {

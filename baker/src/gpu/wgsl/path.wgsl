@@ -94,7 +94,9 @@ fn path_step(st: ptr<function, PathState>, hit: Hit, smp0: Sampler) -> bool {
         if ((*st).prev_pdf > 0.0 && P.env_cdf_width > 0u) {
             w = power2((*st).prev_pdf, env_pdf(d));
         }
-        (*st).radiance += (*st).throughput * environment(d) * w;
+        if (bounce > 0u || P.indirect_only == 0u) {
+            (*st).radiance += (*st).throughput * environment(d) * w;
+        }
         return false;
     }
     if (P.primary_only == 1u) {
@@ -111,7 +113,7 @@ fn path_step(st: ptr<function, PathState>, hit: Hit, smp0: Sampler) -> bool {
         (*st).flags |= PATH_BACK;
         return false;
     }
-    if (front && max3(m.emissive) > 0.0) {
+    if (front && max3(m.emissive) > 0.0 && (bounce > 0u || P.indirect_only == 0u)) {
         var w = 1.0;
         if ((*st).prev_pdf > 0.0) {
             w = power2((*st).prev_pdf, emitter_pdf(m.emissive, hit.t, -dot(d, ng)));

@@ -70,7 +70,8 @@ fn reference_sample(x: vec3<f32>, ns: vec3<f32>, ng: vec3<f32>, mi: u32, pixel: 
     let drawn = sample_bsdf(m, ns, wo, sample4(smp, USE_DIRECTION).xyz);
     // Light samples at x: inside the hemisphere of both normals, shadow rays from the
     // point offset to the side they leave.
-    for (var k = 0u; k < P.light_count; k++) {
+    let lights = select(P.light_count, 0u, P.indirect_only != 0u);
+    for (var k = 0u; k < lights; k++) {
         let dl = delta_at(k, x);
         if (dot(dl.wi, ns) > 0.0 && dot(dl.wi, ng) > 0.0 && max3(dl.e) > 0.0 && visible_delta(k, offset_towards(x, ng, dl.wi))) {
             let b = split_bsdf(mi, ns, wo, dl.wi);
@@ -79,7 +80,8 @@ fn reference_sample(x: vec3<f32>, ns: vec3<f32>, ng: vec3<f32>, mi: u32, pixel: 
             r.s += b.s * w;
         }
     }
-    for (var a_k = 0u; a_k < 2u; a_k++) {
+    let areas = select(2u, 0u, P.indirect_only != 0u);
+    for (var a_k = 0u; a_k < areas; a_k++) {
         let a = area_sample(a_k, x, smp);
         if (a.pdf > 0.0 && dot(a.wi, ns) > 0.0 && dot(a.wi, ng) > 0.0 && visible_area(offset_towards(x, ng, a.wi), a)) {
             let c = a.radiance * (power2(a.pdf, eval_bsdf(m, ns, wo, a.wi).pdf) / a.pdf);
