@@ -564,7 +564,6 @@ fn indirect_only_bakes_the_closed_forms() {
     let cfg =
         BakeConfig { seed: 5, max_bounces: 64, bases: vec![BasisKind::ShL2, BasisKind::Ad9], indirect_only: true, ..Default::default() };
     for (s, expect) in [(&furnace, (a * le / (1.0 - a)) as f64), (&plane, 0.0)] {
-        let bvh = Bvh::build(s);
         let lm = Lightmap::build(s, 4.0, 1).unwrap();
         let targets = Targets::lightmap(&lm);
         let passes = 256;
