@@ -276,6 +276,11 @@ fn render_command_writes_its_comparison() {
         (vec!["--specular", "exact"], "--specular"),
         (vec!["--bake", "/nonexistent-bake"], "bake.json"),
         (vec!["--reference-samples", "0"], "--reference-samples"),
+        (vec!["--lightmap-filter", "cubic"], "--lightmap-filter"),
+        (vec!["--lightmap-filter", "hardware"], "--lightmap-filter hardware"),
+        (vec!["--sg-sharpness", "100"], "--sg-sharpness"),
+        (vec!["--sg-sharpness", "8", "--specular", "tables", "--bases", "sg9"], "use the fits"),
+        (vec!["--bake", out.join("bake").to_str().unwrap(), "--indirect-only"], "--indirect-only"),
     ] {
         let mut a = vec!["--device", "cpu", "--out", out2.to_str().unwrap()];
         a.extend(args.iter());
