@@ -219,3 +219,34 @@ fn run_group<'s>(
     bar.finish_and_clear();
     Ok((engine.state()?, run))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{moments_drift, MOMENTS_AGREE};
+    use crate::accumulate::state::Moments;
+
+    fn moments(sums: &[[f64; 3]]) -> Vec<Moments> {
+        sums.iter().map(|s| Moments { sum: *s, sum_sq: [0.0; 3], accepted: 16, back_faces: 1, non_finite: 0 }).collect()
+    }
+
+    /// The groups' agreement: Σ|Δ|/Σ by hand on three items; different sample counts or
+    /// item counts are never "in agreement"; a drift of 1e-3 is refused, 1e-6 accepted.
+    #[test]
+    fn moments_drift_is_the_relative_sum_difference() {
+        let a = moments(&[[1.0, 2.0, 3.0], [0.5, 0.5, 0.5], [4.0, 0.0, 0.0]]);
+        assert_eq!(moments_drift(&a, &a), 0.0);
+        let mut b = moments(&[[1.0, 2.0, 3.0], [0.5, 0.5, 0.5], [4.0, 0.0, 0.0]]);
+        b[1].sum[2] += 0.0115; // Σ|sum| = 11.5 → 1e-3
+        assert!((moments_drift(&a, &b) - 1e-3).abs() < 1e-15);
+        assert!(moments_drift(&a, &b) > MOMENTS_AGREE);
+        b[1].sum[2] = 0.5 + 1.15e-5;
+        assert!(moments_drift(&a, &b) <= MOMENTS_AGREE);
+        let mut c = moments(&[[1.0, 2.0, 3.0], [0.5, 0.5, 0.5], [4.0, 0.0, 0.0]]);
+        c[2].accepted += 1;
+        assert_eq!(moments_drift(&a, &c), f64::INFINITY);
+        let mut d = moments(&[[1.0, 2.0, 3.0], [0.5, 0.5, 0.5], [4.0, 0.0, 0.0]]);
+        d[0].back_faces = 0;
+        assert_eq!(moments_drift(&a, &d), f64::INFINITY);
+        assert_eq!(moments_drift(&a, &a[..2]), f64::INFINITY);
+    }
+}
