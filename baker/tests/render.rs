@@ -62,18 +62,18 @@ fn random_atlas(lm: &Lightmap, l: &Lighting, seed: u64) -> Atlas {
     Atlas { width: lm.width, height: lm.height, lobes }
 }
 
-/// The CPU twin's terms at pixel k of the GPU's analysis (its interpolated inputs), or
-/// None where nothing lightmapped is visible.
+/// The CPU twin's terms at pixel k of the GPU's analysis (its interpolated inputs), the
+/// lobes taken by `lobes` at the pixel's lightmap position, or None where nothing
+/// lightmapped is visible.
 #[allow(clippy::too_many_arguments)]
 fn twin(
     shader: &Shader,
-    atlas: &Atlas,
+    lobes: &dyn Fn([f64; 2]) -> Vec<DVec3>,
     mats: &[SurfaceMaterial],
     eye: DVec3,
     a: &Analysis,
     k: usize,
     jitter: Option<DVec3>,
-    shift: [f64; 2],
 ) -> Option<baker::render::shade::Terms> {
     if a.diffuse[k][3] < 0.0 {
         return None;
@@ -89,7 +89,7 @@ fn twin(
         v = (v + j).normalize();
         nn = (n - j.zxy()).normalize();
     }
-    let c = atlas.bilinear(hw_shifted([nu[3] as f64, pv[3] as f64], shift));
+    let c = lobes([nu[3] as f64, pv[3] as f64]);
     Some(shader.terms(&c, &mats[m], nn, v))
 }
 
@@ -119,9 +119,12 @@ fn hw_shifted(uv: [f64; 2], shift: [f64; 2]) -> [f64; 2] {
 /// With the sampler's bilinear filter (`LightmapFilter::Hardware`, fits only) the weights
 /// are those of a position within 2⁻⁴ texel of the exact one (Vulkan's least
 /// subTexelPrecisionBits, 4), in the same cell: the twin's largest change over the four
-/// corners of that box ([`hw_shifted`]) is allowed on top.
+/// corners of that box ([`hw_shifted`]) is allowed on top. The cubic B-spline
+/// (`LightmapFilter::Bicubic`, fits only): the twin sums the 16 texels exactly; the GPU's
+/// four bilinear taps each carry that error, weighted by the tap's weight (summed).
 /// Mutations: specular ×1.02 in render.wgsl → fails (relative error 2e-2 ≫ 1e-4); the
-/// sampler's position off by half a texel, or u and v swapped → the hardware leg fails.
+/// sampler's position off by half a texel, or u and v swapped → the hardware leg fails;
+/// the B-spline's taps at the bilinear weights' positions → the bicubic leg fails.
 #[test]
 fn gpu_image_equals_cpu_twin() {
     let Some(gpu) = common::gpu() else { return };
@@ -140,11 +143,11 @@ fn gpu_image_equals_cpu_twin() {
     let runs = configurations()
         .into_iter()
         .map(|l| (l, LightmapFilter::Exact))
-        .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Hardware)));
+        .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Hardware)))
+        .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Bicubic)));
     for (ci, (l, filter)) in runs.enumerate() {
         let l = &l;
         let renderer = Renderer::new(&gpu, &scene, &lm, None).unwrap().with_filter(filter);
-        let hw = filter == LightmapFilter::Hardware;
         let atlas = random_atlas(&lm, l, 11 + ci as u64).stored(l.storage).unwrap();
         let a = renderer.analysis(l, &atlas, &cam).unwrap();
         let shader = Shader::new(*l);
@@ -155,21 +158,49 @@ fn gpu_image_equals_cpu_twin() {
         while checked < 1000 && tried < 50 * pixels {
             tried += 1;
             let k = (r.next_u32() as usize) % pixels;
-            let Some(t) = twin(&shader, &atlas, &mats, eye, &a, k, None, [0.0; 2]) else { continue };
+            let exact = |uv: [f64; 2]| atlas.sample(filter, uv);
+            let Some(t) = twin(&shader, &exact, &mats, eye, &a, k, None) else { continue };
             let mut dmax = [DVec3::ZERO; 2];
             for _ in 0..2 {
                 let j = sbf::sampling::uniform_sphere(r.next_2d()) * 4e-7;
-                let tj = twin(&shader, &atlas, &mats, eye, &a, k, Some(j), [0.0; 2]).unwrap();
+                let tj = twin(&shader, &exact, &mats, eye, &a, k, Some(j)).unwrap();
                 dmax[0] = dmax[0].max((tj.diffuse - t.diffuse).abs());
                 dmax[1] = dmax[1].max((tj.specular - t.specular).abs());
             }
+            // The sampler's sub-texel precision: each bilinear lookup it makes may sit up to
+            // 2⁻⁴ texel off in its cell (one lookup for `Hardware`, four B-spline taps for
+            // `Bicubic`, each tap's change weighted by its weight).
+            const SUBTEXEL: f64 = 1.0 / 16.0;
+            let shifts = [[-SUBTEXEL, -SUBTEXEL], [SUBTEXEL, -SUBTEXEL], [-SUBTEXEL, SUBTEXEL], [SUBTEXEL, SUBTEXEL]];
             let mut dhw = [DVec3::ZERO; 2];
-            if hw {
-                const SUBTEXEL: f64 = 1.0 / 16.0;
-                for shift in [[-SUBTEXEL, -SUBTEXEL], [SUBTEXEL, -SUBTEXEL], [-SUBTEXEL, SUBTEXEL], [SUBTEXEL, SUBTEXEL]] {
-                    let ts = twin(&shader, &atlas, &mats, eye, &a, k, None, shift).unwrap();
-                    dhw[0] = dhw[0].max((ts.diffuse - t.diffuse).abs());
-                    dhw[1] = dhw[1].max((ts.specular - t.specular).abs());
+            let widen = |lobes: &dyn Fn([f64; 2]) -> Vec<DVec3>, acc: &mut [DVec3; 2]| {
+                let ts = twin(&shader, lobes, &mats, eye, &a, k, None).unwrap();
+                acc[0] = acc[0].max((ts.diffuse - t.diffuse).abs());
+                acc[1] = acc[1].max((ts.specular - t.specular).abs());
+            };
+            match filter {
+                LightmapFilter::Exact => {}
+                LightmapFilter::Hardware => {
+                    for shift in shifts {
+                        widen(&|uv| atlas.bilinear(hw_shifted(uv, shift)), &mut dhw);
+                    }
+                }
+                LightmapFilter::Bicubic => {
+                    for tap in 0..4 {
+                        let mut d = [DVec3::ZERO; 2];
+                        for shift in shifts {
+                            let moved = |uv: [f64; 2]| {
+                                let [(px, gx), (py, gy)] = baker::render::atlas::bspline_taps(uv);
+                                let p = [px[tap % 2], py[tap / 2]];
+                                let w = gx[tap % 2] * gy[tap / 2];
+                                let (at, off) = (atlas.bilinear(p), atlas.bilinear(hw_shifted(p, shift)));
+                                atlas.bicubic(uv).iter().zip(at.iter().zip(&off)).map(|(c, (x, y))| *c + w * (*y - *x)).collect()
+                            };
+                            widen(&moved, &mut d);
+                        }
+                        dhw[0] += d[0];
+                        dhw[1] += d[1];
+                    }
                 }
             }
             let g = [a.diffuse[k], a.specular[k]];
@@ -177,7 +208,9 @@ fn gpu_image_equals_cpu_twin() {
                 for ch in 0..3 {
                     let gv = gq[ch] as f64;
                     assert!(gv.is_finite(), "{}: pixel {k} is {gv}", l.name());
-                    let tol = 1e-4 * cpu[ch].abs() + 4.0 * dmax[q][ch] + dhw[q][ch] + uv_ulp * 1.2 * 12.0 + 1e-7;
+                    // The B-spline's taps: positions from a longer f32 chain (8 ulps).
+                    let ulps = if filter == LightmapFilter::Bicubic { 8.0 } else { 1.0 };
+                    let tol = 1e-4 * cpu[ch].abs() + 4.0 * dmax[q][ch] + dhw[q][ch] + ulps * uv_ulp * 1.2 * 12.0 + 1e-7;
                     let e = (gv - cpu[ch]).abs() / tol;
                     if e > worst.0 {
                         worst = (e, k);
@@ -655,7 +688,7 @@ fn uniform_lightmap_renders_the_closed_form(scene: &baker::scene::Scene, cam: &V
     for (l, c, e_exact, e_tol, sh_spec) in &cases {
         let atlas = uniform(c.clone());
         let shader = Shader::new(*l);
-        let cpu = baker::render::visible::shade_pixels(&shader, &atlas, None, scene, cam.eye, &visible);
+        let cpu = baker::render::visible::shade_pixels(&shader, &atlas, LightmapFilter::Exact, None, scene, cam.eye, &visible);
         let gpu_img = renderer.as_ref().map(|r| r.analysis(l, &atlas, cam).unwrap());
         let mut worst = 0.0f64;
         let mut n = 0;
@@ -775,7 +808,8 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
     let visible = baker::render::visible::cast(&scene, &baker::scene::bvh::Bvh::build(&scene), &lm, &cam);
     let l = Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 };
     let atlas = Atlas { width: lm.width, height: lm.height, lobes: vec![vec![[1.0; 3]; lm.width * lm.height]] };
-    let cpu = baker::render::visible::shade_pixels(&Shader::new(l), &atlas, Some(&probes), &scene, cam.eye, &visible);
+    let cpu =
+        baker::render::visible::shade_pixels(&Shader::new(l), &atlas, LightmapFilter::Exact, Some(&probes), &scene, cam.eye, &visible);
     let gpu_img = gpu.as_ref().map(|g| Renderer::new(g, &scene, &lm, Some(&probes)).unwrap().analysis(&l, &atlas, &cam).unwrap());
     let m = SurfaceMaterial::of(&scene.materials[1]);
     let (mut n, mut worst) = (0, 0.0f64);

@@ -65,9 +65,11 @@ struct Cli {
     /// --bake, the bake's own setting (bake.json) is used.
     #[arg(long)]
     indirect_only: bool,
-    /// How the GPU interpolates the lightmap: `exact` (four loads weighted in f32, what
-    /// the CPU twin computes) or `hardware` (the sampler's bilinear filter, one fetch per
-    /// lobe, as engines sample lightmaps; its weights have the GPU's sub-texel precision).
+    /// How the lightmap is interpolated: `exact` (bilinear by four loads weighted in f32,
+    /// what the CPU twin computes), `hardware` (the sampler's bilinear filter, one fetch per
+    /// lobe, as engines sample lightmaps; its weights have the GPU's sub-texel precision;
+    /// GPU only) or `bicubic` (the cubic B-spline over 4×4 texels: four bilinear taps on the
+    /// GPU, the 16 texels exactly on the CPU).
     #[arg(long, default_value = "exact")]
     lightmap_filter: String,
     /// Lightmap texel storage on the GPU: f32, f16 or both.
@@ -273,7 +275,7 @@ fn render(c: Cli) -> Result<(), String> {
         s => return Err(format!("--probe-window '{s}': expected sinc4 or none")),
     };
     let lightmap_filter = LightmapFilter::parse(&c.lightmap_filter)
-        .ok_or_else(|| format!("--lightmap-filter '{}': expected exact or hardware", c.lightmap_filter))?;
+        .ok_or_else(|| format!("--lightmap-filter '{}': expected exact, hardware or bicubic", c.lightmap_filter))?;
     if lightmap_filter == LightmapFilter::Hardware && device == Device::Cpu {
         return Err("--lightmap-filter hardware is the GPU's sampler: it needs --device gpu or auto".into());
     }

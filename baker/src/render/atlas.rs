@@ -40,6 +40,27 @@ pub fn footprint(width: usize, height: usize, uv: [f64; 2]) -> Footprint {
     }
 }
 
+/// The cubic B-spline's weights of the four texels around a lookup, for the fractional
+/// position f ∈ [0, 1) past the second (de Boor; Sigg and Hadwiger 2005, eq. 1).
+pub fn bspline_weights(f: f64) -> [f64; 4] {
+    let (f2, f3) = (f * f, f * f * f);
+    [(1.0 - f).powi(3) / 6.0, (3.0 * f3 - 6.0 * f2 + 4.0) / 6.0, (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) / 6.0, f3 / 6.0]
+}
+
+/// The GPU's four bilinear taps of the B-spline at `uv` (texels): per axis two positions
+/// (texels, the sampler's coordinates × size) and weights — tap k at i − 1 + w₁/(w₀ + w₁)
+/// and i + 1 + w₃/(w₂ + w₃) (+ ½: centres), weighted w₀ + w₁ and w₂ + w₃ (Sigg and
+/// Hadwiger 2005): a bilinear lookup there weights its two texels w₀:w₁, w₂:w₃.
+pub fn bspline_taps(uv: [f64; 2]) -> [([f64; 2], [f64; 2]); 2] {
+    [0, 1].map(|a| {
+        let x = uv[a] - 0.5;
+        let i = x.floor();
+        let w = bspline_weights(x - i);
+        let (g0, g1) = (w[0] + w[1], w[2] + w[3]);
+        ([i - 1.0 + w[1] / g0 + 0.5, i + 1.0 + w[3] / g1 + 0.5], [g0, g1])
+    })
+}
+
 impl Atlas {
     /// The files of `encoding` in a bake folder, in lobe order.
     pub fn files(encoding: Encoding) -> Vec<String> {
@@ -100,11 +121,86 @@ impl Atlas {
     }
 
     /// The lobes' RGB values at atlas position `uv` (texels), bilinear.
+    /// Every lobe at `uv` (texels) with `filter`: bilinear (`Exact` and the sampler's
+    /// `Hardware`, which the twin computes exactly) or the cubic B-spline (16 texels,
+    /// indices clamped to the atlas).
+    pub fn sample(&self, filter: super::lighting::LightmapFilter, uv: [f64; 2]) -> Vec<DVec3> {
+        match filter {
+            super::lighting::LightmapFilter::Bicubic => self.bicubic(uv),
+            _ => self.bilinear(uv),
+        }
+    }
+
+    /// The cubic B-spline over the 4×4 texels around `uv` (texels), indices clamped.
+    pub fn bicubic(&self, uv: [f64; 2]) -> Vec<DVec3> {
+        let (x, y) = (uv[0] - 0.5, uv[1] - 0.5);
+        let (i, j) = (x.floor(), y.floor());
+        let (wx, wy) = (bspline_weights(x - i), bspline_weights(y - j));
+        let clamp = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1);
+        self.lobes
+            .iter()
+            .map(|lobe| {
+                let mut acc = DVec3::ZERO;
+                for (b, wyb) in wy.iter().enumerate() {
+                    let row = clamp(j - 1.0 + b as f64, self.height) * self.width;
+                    for (a, wxa) in wx.iter().enumerate() {
+                        acc += wxa * wyb * DVec3::from(lobe[row + clamp(i - 1.0 + a as f64, self.width)].map(f64::from));
+                    }
+                }
+                acc
+            })
+            .collect()
+    }
+
     pub fn bilinear(&self, uv: [f64; 2]) -> Vec<DVec3> {
         let f = footprint(self.width, self.height, uv);
         self.lobes
             .iter()
             .map(|lobe| f.texels.iter().zip(f.weights).fold(DVec3::ZERO, |acc, (t, w)| acc + w * DVec3::from(lobe[*t].map(f64::from))))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{bspline_taps, Atlas};
+    use sbf::glam::DVec3;
+
+    /// A one-lobe 12×10 atlas with texel (x, y) = f(x + ½, y + ½) (its centre).
+    fn atlas(f: impl Fn(f64, f64) -> f64) -> Atlas {
+        let (w, h) = (12, 10);
+        let texels = (0..w * h).map(|k| [f((k % w) as f64 + 0.5, (k / w) as f64 + 0.5) as f32; 3]).collect();
+        Atlas { width: w, height: h, lobes: vec![texels] }
+    }
+
+    /// The cubic B-spline against its closed forms (de Boor): a partition of unity, exact
+    /// on linear functions (away from the clamped border), an impulse's weights 2/3 at its
+    /// centre and 1/6 one texel off per axis, 23/48 half a texel off; and the GPU's four
+    /// bilinear taps ([`bspline_taps`]) give the 16-texel sum.
+    #[test]
+    fn bicubic_matches_the_b_spline() {
+        let at = |a: &Atlas, u: f64, v: f64| a.bicubic([u, v])[0].x;
+        let constant = atlas(|_, _| 0.75);
+        let ramp = atlas(|x, y| 0.25 * x - 0.5 * y + 3.0);
+        for (u, v) in [(3.2, 4.9), (5.5, 5.5), (7.99, 3.01), (4.5, 6.25)] {
+            assert!((at(&constant, u, v) - 0.75).abs() < 1e-6);
+            assert!((at(&ramp, u, v) - (0.25 * u - 0.5 * v + 3.0)).abs() < 1e-5, "ramp at ({u}, {v})");
+        }
+        let impulse = atlas(|x, y| if (x, y) == (5.5, 4.5) { 1.0 } else { 0.0 });
+        assert!((at(&impulse, 5.5, 4.5) - 4.0 / 9.0).abs() < 1e-12);
+        assert!((at(&impulse, 6.5, 4.5) - 2.0 / 3.0 / 6.0).abs() < 1e-12);
+        assert!((at(&impulse, 6.5, 5.5) - 1.0 / 36.0).abs() < 1e-12);
+        assert!((at(&impulse, 6.0, 4.5) - 23.0 / 48.0 * 2.0 / 3.0).abs() < 1e-12);
+        assert_eq!(at(&impulse, 7.5, 4.5), 0.0);
+        // The four taps, each a bilinear lookup, weighted.
+        let wavy = atlas(|x, y| (0.7 * x).sin() + (0.4 * y).cos() * x);
+        for (u, v) in [(3.2, 4.9), (5.5, 5.5), (7.99, 3.01), (4.5, 6.25), (6.03, 2.97)] {
+            let [(px, gx), (py, gy)] = bspline_taps([u, v]);
+            let mut sum = DVec3::ZERO;
+            for (a, b) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                sum += gx[a] * gy[b] * wavy.bilinear([px[a], py[b]])[0];
+            }
+            assert!((sum.x - at(&wavy, u, v)).abs() < 1e-5, "taps at ({u}, {v}): {} vs {}", sum.x, at(&wavy, u, v));
+        }
     }
 }

@@ -80,11 +80,11 @@ pub(super) fn probe_rows(probes: Option<&ProbeField>) -> (Vec<[f32; 4]>, Lattice
     }
 }
 
-/// The lightmap's sampler: bilinear and clamped to the edge for [`LightmapFilter::Hardware`]
-/// (texel centres at (i + ½)/size, as the exact footprint), nearest otherwise (bound, never
-/// sampled).
+/// The lightmap's sampler: bilinear and clamped to the edge for the filters that sample
+/// ([`LightmapFilter::samples`]; texel centres at (i + ½)/size, as the exact footprint),
+/// nearest otherwise (bound, never sampled).
 pub(super) fn lightmap_sampler(d: &wgpu::Device, filter: LightmapFilter) -> wgpu::Sampler {
-    let f = if filter == LightmapFilter::Hardware { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
+    let f = if filter.samples() { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
     d.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("lightmap"),
         address_mode_u: wgpu::AddressMode::ClampToEdge,

@@ -48,6 +48,12 @@ pub enum LightmapFilter {
     /// weights carry the GPU's sub-texel precision (Vulkan guarantees ≥ 4 bits; 8 is usual).
     /// f32 lightmaps need the adapter's `FLOAT32_FILTERABLE`.
     Hardware,
+    /// Cubic B-spline over the 4×4 nearest texels, smoother than bilinear (C² across texel
+    /// borders) at the price of blurring, reaching one texel further (closer to a chart's
+    /// border: the bake's padding must cover it). On the GPU by four bilinear taps of the
+    /// sampler placed so their weights make the B-spline's (Sigg and Hadwiger 2005, GPU Gems 2
+    /// ch. 20), as engines sample it; the CPU twin sums the 16 texels exactly.
+    Bicubic,
 }
 
 impl LightmapFilter {
@@ -55,6 +61,7 @@ impl LightmapFilter {
         match s {
             "exact" => Some(LightmapFilter::Exact),
             "hardware" => Some(LightmapFilter::Hardware),
+            "bicubic" => Some(LightmapFilter::Bicubic),
             _ => None,
         }
     }
@@ -62,7 +69,12 @@ impl LightmapFilter {
         match self {
             LightmapFilter::Exact => "exact",
             LightmapFilter::Hardware => "hardware",
+            LightmapFilter::Bicubic => "bicubic",
         }
+    }
+    /// Whether the GPU reads the lightmap through a filtering sampler.
+    pub fn samples(self) -> bool {
+        self != LightmapFilter::Exact
     }
 }
 

@@ -197,7 +197,7 @@ impl<'g> Renderer<'g> {
     /// The renderer reading its lightmaps with `filter`.
     pub fn with_filter(mut self, filter: LightmapFilter) -> Renderer<'g> {
         let d = self.gpu.device();
-        (self.group_layout, self.layout) = layouts(d, filter == LightmapFilter::Hardware);
+        (self.group_layout, self.layout) = layouts(d, filter.samples());
         self.sampler = lightmap_sampler(d, filter);
         self.filter = filter;
         self
@@ -216,7 +216,7 @@ impl<'g> Renderer<'g> {
 
     /// The pipeline constants of `l` (`fetch_only`: the timing variant that only fetches
     /// the lobes).
-    fn constants(&self, l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 5] {
+    fn constants(&self, l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 6] {
         let (enc, lobes) = match l.encoding {
             Encoding::Irradiance => (0, 1),
             Encoding::Basis(BasisKind::ShL1) => (1, 4),
@@ -233,6 +233,7 @@ impl<'g> Renderer<'g> {
             ("LOBES", lobes as f64),
             ("FETCH_ONLY", fetch_only as u8 as f64),
             ("HW_FILTER", (self.filter == LightmapFilter::Hardware) as u8 as f64),
+            ("BICUBIC", (self.filter == LightmapFilter::Bicubic) as u8 as f64),
         ]
     }
 
@@ -262,10 +263,7 @@ impl<'g> Renderer<'g> {
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        if self.filter == LightmapFilter::Hardware
-            && l.storage == Storage::F32
-            && !d.features().contains(wgpu::Features::FLOAT32_FILTERABLE)
-        {
+        if self.filter.samples() && l.storage == Storage::F32 && !d.features().contains(wgpu::Features::FLOAT32_FILTERABLE) {
             return Err(format!(
                 "{}: this adapter cannot filter rgba32float textures (no FLOAT32_FILTERABLE): use f16 storage or --lightmap-filter exact",
                 l.name()

@@ -218,7 +218,7 @@ fn render_one(
         }
         None => {
             let shader = Shader::new(*l);
-            let terms = visible::shade_pixels(&shader, atlas, probes, scene, cam.eye, visible);
+            let terms = visible::shade_pixels(&shader, atlas, setup.lightmap_filter, probes, scene, cam.eye, visible);
             (terms, visible.iter().map(|v| kind(v).map_or(0, |k| k.0)).collect(), "CPU", None)
         }
     };

@@ -4,7 +4,7 @@
 //! the CPU image it shades ([`shade_pixels`]).
 
 use super::atlas::Atlas;
-use super::lighting::SurfaceMaterial;
+use super::lighting::{LightmapFilter, SurfaceMaterial};
 use super::probes::ProbeField;
 use super::shade::{Shader, Terms};
 use crate::layout::lightmap::Lightmap;
@@ -75,6 +75,7 @@ pub fn cast(scene: &Scene, bvh: &Bvh, lm: &Lightmap, cam: &ViewCamera) -> Vec<Op
 pub fn shade_one(
     shader: &Shader,
     atlas: &Atlas,
+    filter: LightmapFilter,
     probes: Option<&ProbeField>,
     materials: &[SurfaceMaterial],
     eye: DVec3,
@@ -90,7 +91,7 @@ pub fn shade_one(
     if !s.lightmapped {
         return Terms::default();
     }
-    let c = atlas.bilinear([s.uv[0] as f64, s.uv[1] as f64]);
+    let c = atlas.sample(filter, [s.uv[0] as f64, s.uv[1] as f64]);
     let p = s.position.as_dvec3();
     let v = (eye - p).normalize();
     shader.terms(&c, &materials[s.material as usize], s.normal.as_dvec3().normalize(), v)
@@ -100,6 +101,7 @@ pub fn shade_one(
 pub fn shade_pixels(
     shader: &Shader,
     atlas: &Atlas,
+    filter: LightmapFilter,
     probes: Option<&ProbeField>,
     scene: &Scene,
     eye: Vec3,
@@ -107,5 +109,8 @@ pub fn shade_pixels(
 ) -> Vec<Terms> {
     let materials: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
     let eye = eye.as_dvec3();
-    visible.par_iter().map(|s| s.as_ref().map(|s| shade_one(shader, atlas, probes, &materials, eye, s)).unwrap_or_default()).collect()
+    visible
+        .par_iter()
+        .map(|s| s.as_ref().map(|s| shade_one(shader, atlas, filter, probes, &materials, eye, s)).unwrap_or_default())
+        .collect()
 }

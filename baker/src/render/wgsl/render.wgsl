@@ -19,6 +19,9 @@ override LOBES: u32 = 1u;
 // Read the lightmap through the sampler's bilinear filter (as engines do: one fetch per
 // lobe, the weights at the GPU's sub-texel precision) instead of four loads weighted in f32.
 override HW_FILTER: bool = false;
+// The cubic B-spline instead, by four bilinear taps of the sampler (Sigg and Hadwiger 2005;
+// baker::render::atlas::bspline_taps).
+override BICUBIC: bool = false;
 // Timing only: fetch every lobe (the same bilinear lookups) and sum them, no runtime — the
 // configuration's lightmap-bandwidth floor.
 override FETCH_ONLY: bool = false;
@@ -92,6 +95,26 @@ struct Footprint {
     i1: vec2<i32>,
     f: vec2<f32>,
     uv: vec2<f32>,
+    // BICUBIC: the taps' normalised positions (x₀, x₁, y₀, y₁) and weights (gx₀, gx₁, gy₀, gy₁).
+    tap: vec4<f32>,
+    g: vec4<f32>,
+}
+
+// The cubic B-spline's two taps along one axis at texel coordinate c (centres at i + ½):
+// positions in texels (xy) and weights (zw) (baker::render::atlas::bspline_taps).
+fn bspline_axis(c: f32) -> vec4<f32> {
+    let x = c - 0.5;
+    let i = floor(x);
+    let f = x - i;
+    let f2 = f * f;
+    let f3 = f2 * f;
+    let w0 = (1.0 - f) * (1.0 - f) * (1.0 - f) / 6.0;
+    let w1 = (3.0 * f3 - 6.0 * f2 + 4.0) / 6.0;
+    let w2 = (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) / 6.0;
+    let w3 = f3 / 6.0;
+    let g0 = w0 + w1;
+    let g1 = w2 + w3;
+    return vec4<f32>(i - 0.5 + w1 / g0, i + 1.5 + w3 / g1, g0, g1);
 }
 
 fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
@@ -99,13 +122,26 @@ fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
     let x = uv - vec2<f32>(0.5);
     let fl = floor(x);
     let i = vec2<i32>(fl);
-    return Footprint(clamp(i, vec2<i32>(0), size - 1), clamp(i + 1, vec2<i32>(0), size - 1), x - fl, uv / vec2<f32>(frame.atlas.xy));
+    var fp = Footprint(clamp(i, vec2<i32>(0), size - 1), clamp(i + 1, vec2<i32>(0), size - 1), x - fl, uv / vec2<f32>(frame.atlas.xy), vec4<f32>(0.0), vec4<f32>(0.0));
+    if (BICUBIC) {
+        let ax = bspline_axis(uv.x);
+        let ay = bspline_axis(uv.y);
+        let s = vec2<f32>(frame.atlas.xy);
+        fp.tap = vec4<f32>(ax.xy / s.x, ay.xy / s.y);
+        fp.g = vec4<f32>(ax.zw, ay.zw);
+    }
+    return fp;
 }
 
 // Lobe l's RGB value at the footprint, bilinear.
 fn lightmap_lobe(fp: Footprint, l: u32) -> vec3<f32> {
     if (HW_FILTER) {
         return textureSampleLevel(lightmap, lightmap_sampler, fp.uv, l, 0.0).xyz;
+    }
+    if (BICUBIC) {
+        let a = textureSampleLevel(lightmap, lightmap_sampler, fp.tap.xz, l, 0.0).xyz * fp.g.x + textureSampleLevel(lightmap, lightmap_sampler, fp.tap.yz, l, 0.0).xyz * fp.g.y;
+        let b = textureSampleLevel(lightmap, lightmap_sampler, fp.tap.xw, l, 0.0).xyz * fp.g.x + textureSampleLevel(lightmap, lightmap_sampler, fp.tap.yw, l, 0.0).xyz * fp.g.y;
+        return a * fp.g.z + b * fp.g.w;
     }
     let a = textureLoad(lightmap, fp.i0, l, 0).xyz * (1.0 - fp.f.x) + textureLoad(lightmap, vec2<i32>(fp.i1.x, fp.i0.y), l, 0).xyz * fp.f.x;
     let b = textureLoad(lightmap, vec2<i32>(fp.i0.x, fp.i1.y), l, 0).xyz * (1.0 - fp.f.x) + textureLoad(lightmap, fp.i1, l, 0).xyz * fp.f.x;
