@@ -902,11 +902,13 @@ fn check_reference_agreement(
 ///     reflects ρL + L(F0·A + B), (A, B) the GGX directional-albedo split at its n·v by
 ///     the independent quadrature `ggx_albedo_split` — for both references, and
 /// (b) the CPU reference of the built-in scene (Lambert walls, a glossy block, an area
-///     light, several bounces), seeds independent,
+///     light, several bounces), seeds independent, and (c) of a faceted glossy sphere in it
+///     (shading normals bent from the faces'),
 /// by `check_reference_agreement`'s error model.
 /// Mutations: the GPU's specular part ×1.02 (reference.wgsl `split_bsdf`), the light
 /// samples' MIS weight dropped (`power2(…)` → 1), the delta lights dropped, a sample lost
-/// per dispatch — each fails.
+/// per dispatch, the area samples' cosine about the geometric normal (only (c) sees it) —
+/// each fails.
 #[test]
 fn gpu_reference_matches_the_closed_form_and_the_cpu_reference() {
     use baker::render::reference;
@@ -955,6 +957,23 @@ fn gpu_reference_matches_the_closed_form_and_the_cpu_reference() {
     let on_gpu = GpuReference::new(&gpu, &tracer, &visible, cam.eye, 11).unwrap().render(256).unwrap();
     let on_cpu = reference::render(&tracer, &scene, &visible, cam.eye, 256, 12, &|_| {});
     check_reference_agreement("built-in scene, GPU vs CPU reference", &on_gpu, Some(&on_cpu), &|_| unreachable!());
+    // (c) A coarse glossy sphere in the built-in scene: its interpolated shading normals
+    // bend up to ~20° from its faces', so the two normals' roles (the cosine and the BSDF
+    // about the shading normal, the horizon and the offset about the geometric one) differ.
+    let mut scene = baker::scene::cornell();
+    scene.materials.push(baker::scene::Material::glossy(Vec3::new(0.7, 0.6, 0.5), 0.3));
+    let m = scene.materials.len() - 1;
+    scene.meshes.push(baker::scene::uv_sphere("sphere", Vec3::new(-0.2, -0.55, -0.3), 0.35, 5, 8, m));
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,-0.2,0.9:-0.2,-0.55,-0.3:24", 32, 24).unwrap();
+    let visible = baker::render::visible::cast(&scene, &bvh, &lm, &cam);
+    let on_sphere = visible.iter().filter(|v| v.is_some_and(|v| v.material as usize == m)).count();
+    assert!(on_sphere > 200, "only {on_sphere} pixels see the sphere");
+    let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, 4);
+    let on_gpu = GpuReference::new(&gpu, &tracer, &visible, cam.eye, 13).unwrap().render(256).unwrap();
+    let on_cpu = reference::render(&tracer, &scene, &visible, cam.eye, 256, 14, &|_| {});
+    check_reference_agreement("a faceted glossy sphere, GPU vs CPU reference", &on_gpu, Some(&on_cpu), &|_| unreachable!());
 }
 
 /// Probe deringing: a probe holding a sun (an RGB delta's SH L2 projection, the blue
