@@ -94,6 +94,25 @@ pub(crate) fn storage(d: &wgpu::Device, label: &str, bytes: &[u8], extra: wgpu::
     })
 }
 
+/// The ray counters' slot of traversals the driver cut short (bindings.wgsl
+/// `CUT_TRAVERSALS`).
+const CUT_TRAVERSALS: usize = 3;
+
+/// Refuses results whose kernels had a BVH traversal ended early by the driver: llvmpipe
+/// and lavapipe end every loop of an invocation after 65 535 iterations in all (gallivm's
+/// loop limiter), which returns a wrong hit, not an error. `counters` is the ray counters'
+/// buffer (readable).
+pub(crate) fn check_cut_traversals(gpu: &shaders::gpu::Gpu, counters: &wgpu::Buffer) -> Result<(), String> {
+    let c: [u32; 4] = bytemuck::pod_read_unaligned(&gpu.read_back(counters)?);
+    match c[CUT_TRAVERSALS] {
+        0 => Ok(()),
+        n => Err(format!(
+            "the GPU driver ended {n} BVH traversals early (a loop-iteration cap per invocation, as llvmpipe's 65 535): \
+             the results would hold wrong hits; on a software adapter use fewer samples per dispatch or --device cpu"
+        )),
+    }
+}
+
 /// Every storage buffer of a bake against the adapter's binding limit, before upload.
 pub(crate) fn check_sizes(
     tracer: &Tracer,

@@ -52,6 +52,7 @@ pub(crate) fn raw_from_encoders(encoders: &[Vec<sbf::solve::ProgressiveEncoder<f
 impl GpuBake<'_> {
     /// Reads the progressive state back (moments as f64, encoder states exactly).
     pub fn state(&self) -> Result<BakeState, String> {
+        crate::gpu::buffers::check_cut_traversals(self.gpu, &self.counters_buf)?;
         let m: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.moments_buf)?);
         let moments = (0..self.items)
             .map(|i| Moments {

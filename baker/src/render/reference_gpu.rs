@@ -3,9 +3,10 @@
 //! visible surface, weighted by its BSDF — run by the bake's WGSL path tracer over the
 //! bake's buffers (BVH, materials, lights, environment). The visible surfaces come from
 //! the CPU ray cast ([`super::visible`]), so both references shade the same points. Each
-//! dispatch sums a range of samples per pixel in f32 (at most [`SAMPLES_PER_DISPATCH`]
-//! samples: the sums keep ~1e-6 relative accuracy); the host adds the dispatches in f64,
-//! so the noise estimate and the progressive stop are the CPU reference's.
+//! dispatch takes a range of samples per pixel, one thread per sample, and sums them per
+//! pixel in f32 by a tree in workgroup memory (at most [`SAMPLES_PER_DISPATCH`] samples:
+//! the sums keep ~1e-6 relative accuracy); the host adds the dispatches in f64, so the
+//! noise estimate and the progressive stop are the CPU reference's.
 
 use super::reference::{finish, progressive, PixelAcc, Reference};
 use super::visible::Visible;
@@ -34,10 +35,10 @@ struct RefParams {
     count: u32,
     first: u32,
     samples: u32,
-    pad_a: u32,
+    slot: u32,
     pad_b: u32,
 }
-shaders::gpu_struct!(RefParams, "RefParams", [eye, count, first, samples, pad_a, pad_b]);
+shaders::gpu_struct!(RefParams, "RefParams", [eye, count, first, samples, slot, pad_b]);
 
 /// The reference kernel with the scene uploaded and the visible surfaces bound.
 #[derive(Debug)]
@@ -48,6 +49,7 @@ pub struct GpuReference<'g> {
     surface_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     sums: wgpu::Buffer,
+    counters: wgpu::Buffer,
     /// Pixel index of each surface.
     pixels: Vec<u32>,
     /// Pixels of the image.
@@ -108,7 +110,7 @@ impl<'g> GpuReference<'g> {
         let nodes = storage(d, "nodes", bytemuck::cast_slice(&tracer.bvh.nodes), none);
         let tris = storage(d, "tris", bytemuck::cast_slice(&tracer.bvh.tris), none);
         let auxb = storage(d, "aux", bytemuck::cast_slice(&aux), none);
-        let counters = storage(d, "counters", &[0u8; 16], none);
+        let counters = storage(d, "counters", &[0u8; 16], wgpu::BufferUsages::COPY_SRC);
         let ref_params = uniform("reference params", bytemuck::bytes_of(&<RefParams as bytemuck::Zeroable>::zeroed()));
         let surfaces = storage(d, "reference surfaces", bytemuck::cast_slice(&surf), none);
         let sums = d.create_buffer(&wgpu::BufferDescriptor {
@@ -131,7 +133,18 @@ impl<'g> GpuReference<'g> {
         );
         let surface_group =
             used(&pipeline.get_bind_group_layout(1), &[entry(0, &ref_params), entry(1, &surfaces), entry(2, &sums)], "reference surfaces");
-        Ok(GpuReference { gpu, pipeline, scene_group, surface_group, params: ref_params, sums, pixels, image: visible.len(), eye })
+        Ok(GpuReference {
+            gpu,
+            pipeline,
+            scene_group,
+            surface_group,
+            params: ref_params,
+            sums,
+            counters,
+            pixels,
+            image: visible.len(),
+            eye,
+        })
     }
 
     /// Adds samples `range` of every shaded pixel to `acc` (image-sized).
@@ -140,11 +153,13 @@ impl<'g> GpuReference<'g> {
         if n == 0 {
             return Ok(());
         }
-        let per = ((SAMPLE_BUDGET / n as u64) as u32).clamp(1, SAMPLES_PER_DISPATCH);
+        // A power of two, so that whole slots fill the 64-thread workgroups.
+        let per = prev_power_of_two(((SAMPLE_BUDGET / n as u64) as u32).clamp(1, SAMPLES_PER_DISPATCH));
         let mut first = range.start;
         while first < range.end {
             let samples = per.min(range.end - first);
-            let p = RefParams { eye: self.eye.to_array(), count: n as u32, first, samples, pad_a: 0, pad_b: 0 };
+            let slot = samples.next_power_of_two();
+            let p = RefParams { eye: self.eye.to_array(), count: n as u32, first, samples, slot, pad_b: 0 };
             self.gpu.queue().write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
             let mut enc = self.gpu.device().create_command_encoder(&Default::default());
             {
@@ -152,11 +167,12 @@ impl<'g> GpuReference<'g> {
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.scene_group, &[]);
                 pass.set_bind_group(1, &self.surface_group, &[]);
-                let groups = n.div_ceil(64) as u32;
+                let groups = (n * slot as usize).div_ceil(64) as u32;
                 let (x, y) = if groups <= 65_535 { (groups, 1) } else { (65_535, groups.div_ceil(65_535)) };
                 pass.dispatch_workgroups(x, y, 1);
             }
             self.gpu.queue().submit([enc.finish()]);
+            crate::gpu::buffers::check_cut_traversals(self.gpu, &self.counters)?;
             let bytes = self.gpu.read_back(&self.sums)?;
             let v: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
             for (j, &px) in self.pixels.iter().enumerate() {
@@ -186,4 +202,9 @@ impl<'g> GpuReference<'g> {
     pub fn render_to_noise(&self, noise: f64, first: u32, max_samples: u32, report: &mut dyn FnMut(u32, f64)) -> Result<Reference, String> {
         progressive(self.image, noise, first, max_samples, report, &mut |r, acc| self.add(r, acc))
     }
+}
+
+/// The largest power of two ≤ `x` (x ≥ 1).
+fn prev_power_of_two(x: u32) -> u32 {
+    1 << (31 - x.leading_zeros())
 }

@@ -116,8 +116,10 @@ const LIGHT_SPOT: u32 = 2u;
 // back-face count), (non-finite count, 0, 0, 0). Counts are exact up to 2²⁴ passes.
 @group(0) @binding(6) var<storage, read_write> moments: array<vec4<f32>>;
 @group(0) @binding(7) var<storage, read_write> states: array<EncoderState>;
-// Rays traced: primary, extension, shadow (only when P.count_rays = 1).
+// Rays traced: primary, extension, shadow (only when P.count_rays = 1); then the
+// traversals the driver cut short (CUT_TRAVERSALS; always counted, never expected).
 @group(0) @binding(8) var<storage, read_write> counters: array<atomic<u32>, 4>;
+const CUT_TRAVERSALS: u32 = 3u;
 
 struct Material {
     diffuse: vec3<f32>,

@@ -3,7 +3,7 @@
 
 #define_import_path baker::traverse
 
-#import baker::bindings::{Hit, NO_HIT, Node, P, T_FAR, Tri, counters, nodes, tris}
+#import baker::bindings::{CUT_TRAVERSALS, Hit, NO_HIT, Node, P, T_FAR, Tri, counters, nodes, tris}
 
 fn slab(n: Node, o: vec3<f32>, inv: vec3<f32>, tmax: f32) -> f32 {
     let t0 = (n.min - o) * inv;
@@ -79,6 +79,11 @@ fn traverse(o: vec3<f32>, d: vec3<f32>, tmax: f32, any: bool) -> Hit {
             stack[sp] = b;
             sp += 1u;
         }
+    }
+    if (sp > 0u) {
+        // Nodes left: the driver ended the loop early (llvmpipe/lavapipe end every loop of
+        // an invocation after 65 535 iterations in all); the host refuses the results.
+        atomicAdd(&counters[CUT_TRAVERSALS], 1u);
     }
     return best;
 }

@@ -8,6 +8,12 @@
 // independent random numbers (the bake's white-noise sequence: SEQUENCE = 1), so the
 // sample variance estimates the noise. A point sample whose first hit is the back of a
 // single-sided surface rejects the sample, as the bake rejects it.
+// One thread per (surface, sample): a dispatch lays each surface's samples in a slot of
+// SLOT consecutive threads (a power of two dividing the workgroup) and sums them in
+// workgroup memory, so no thread loops over samples. (llvmpipe/lavapipe give each
+// invocation 65 535 loop iterations in all — gallivm's loop limiter — and then end every
+// loop early: a thread that looped over 64 samples of a deep BVH lost its last samples,
+// eight lanes at a time, and cut the traversal of the sample it was in.)
 // Group 0: the bake's bindings (bindings.wgsl); group 1: the surfaces and the sums.
 
 #import baker::bindings::{P, load_material, max3, power2}
@@ -24,7 +30,8 @@ struct RefParams {
     // Samples [first, first + samples) of every surface.
     first: u32,
     samples: u32,
-    pad_a: u32,
+    // Threads per surface: a power of two ≥ samples, dividing 64.
+    slot: u32,
     pad_b: u32,
 }
 
@@ -107,43 +114,48 @@ fn reference_sample(x: vec3<f32>, ns: vec3<f32>, ng: vec3<f32>, mi: u32, pixel: 
     return r;
 }
 
+// The seven sums of each thread's sample, then of its slot (tree reduction).
+var<workgroup> partial: array<vec4<f32>, 448>;
+
 @compute @workgroup_size(64)
-fn reference_pass(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let j = gid.x + gid.y * nwg.x * 64u;
-    if (j >= R.count) {
-        return;
+fn reference_pass(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wg: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let t = lid + 64u * (wg.x + wg.y * nwg.x);
+    let j = t / R.slot;
+    let i = t % R.slot;
+    var v: array<vec4<f32>, 7>;
+    for (var c = 0u; c < 7u; c++) {
+        v[c] = vec4<f32>(0.0);
     }
-    let a = surfaces[3u * j];
-    let b = surfaces[3u * j + 1u];
-    let c = surfaces[3u * j + 2u];
-    let pixel = bitcast<u32>(a.w);
-    let mi = bitcast<u32>(b.w);
-    var sd = vec3<f32>(0.0);
-    var ss = vec3<f32>(0.0);
-    var st = vec3<f32>(0.0);
-    var qd = vec3<f32>(0.0);
-    var qs = vec3<f32>(0.0);
-    var qt = vec3<f32>(0.0);
-    var n = 0u;
-    for (var i = 0u; i < R.samples; i++) {
-        let r = reference_sample(a.xyz, b.xyz, c.xyz, mi, pixel, R.first + i);
+    if (j < R.count && i < R.samples) {
+        let a = surfaces[3u * j];
+        let b = surfaces[3u * j + 1u];
+        let c = surfaces[3u * j + 2u];
+        let r = reference_sample(a.xyz, b.xyz, c.xyz, bitcast<u32>(b.w), bitcast<u32>(a.w), R.first + i);
         if (r.accepted) {
-            let t = r.d + r.s;
-            sd += r.d;
-            ss += r.s;
-            st += t;
-            qd += r.d * r.d;
-            qs += r.s * r.s;
-            qt += t * t;
-            n += 1u;
+            let tot = r.d + r.s;
+            v[0] = vec4<f32>(r.d, 0.0);
+            v[1] = vec4<f32>(r.s, 0.0);
+            v[2] = vec4<f32>(tot, 0.0);
+            v[3] = vec4<f32>(r.d * r.d, 0.0);
+            v[4] = vec4<f32>(r.s * r.s, 0.0);
+            v[5] = vec4<f32>(tot * tot, 0.0);
+            v[6] = vec4<f32>(1.0, 0.0, 0.0, 0.0);
         }
     }
-    let o = 7u * j;
-    sums[o] = vec4<f32>(sd, 0.0);
-    sums[o + 1u] = vec4<f32>(ss, 0.0);
-    sums[o + 2u] = vec4<f32>(st, 0.0);
-    sums[o + 3u] = vec4<f32>(qd, 0.0);
-    sums[o + 4u] = vec4<f32>(qs, 0.0);
-    sums[o + 5u] = vec4<f32>(qt, 0.0);
-    sums[o + 6u] = vec4<f32>(f32(n), 0.0, 0.0, 0.0);
+    for (var c = 0u; c < 7u; c++) {
+        partial[64u * c + lid] = v[c];
+    }
+    for (var stride = R.slot / 2u; stride > 0u; stride /= 2u) {
+        workgroupBarrier();
+        if (i < stride) {
+            for (var c = 0u; c < 7u; c++) {
+                partial[64u * c + lid] += partial[64u * c + lid + stride];
+            }
+        }
+    }
+    if (i == 0u && j < R.count) {
+        for (var c = 0u; c < 7u; c++) {
+            sums[7u * j + c] = partial[64u * c + lid];
+        }
+    }
 }
