@@ -14,6 +14,7 @@ fn sphere6200() -> Scene {
         materials: vec![Material::lambert(Vec3::splat(0.5))],
         lights: vec![],
         environment: Environment::Black,
+        textures: Vec::new(),
     }
 }
 

@@ -37,6 +37,11 @@ struct Cli {
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
     #[arg(long)]
     env: Option<PathBuf>,
+    /// glTF materials' texture maps (base colour, metallic-roughness, emissive): `sample`
+    /// them at every path vertex (the CPU bake; `--device auto` then bakes on the CPU), or
+    /// bake the materials' `factors` alone (what the GPU kernels read).
+    #[arg(long, default_value = "sample", value_parser = ["sample", "factors"])]
+    material_maps: String,
     /// Lightmap texels per scene unit.
     #[arg(long, default_value_t = 16.0)]
     texels_per_unit: f32,
@@ -263,6 +268,7 @@ fn options(c: Cli) -> Result<Options, String> {
     Ok(Options {
         scene: c.scene,
         environment: c.env,
+        material_maps: c.material_maps == "sample",
         texels_per_unit: c.texels_per_unit,
         padding: c.padding,
         passes: c.passes,

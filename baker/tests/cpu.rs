@@ -113,10 +113,12 @@ fn tri_mesh(p: Vec<Vec3>, idx: Vec<[u32; 3]>) -> Scene {
             material: 0,
             lightmap_uv: None,
             lightmapped: true,
+            uv: None,
         }],
         materials: vec![scene::Material::lambert(Vec3::splat(0.5))],
         lights: vec![],
         environment: scene::Environment::Black,
+        textures: Vec::new(),
     }
 }
 

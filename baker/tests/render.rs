@@ -596,6 +596,7 @@ fn planes(rho: f64, l_sky: f64) -> baker::scene::Scene {
         material,
         lightmap_uv: None,
         lightmapped: true,
+        uv: None,
     };
     let mut glossy = Material::glossy(Vec3::splat(rho as f32), 0.5);
     glossy.specular = 5.0; // F0 = 0.2
@@ -605,6 +606,7 @@ fn planes(rho: f64, l_sky: f64) -> baker::scene::Scene {
         materials: vec![Material::lambert(Vec3::splat(rho as f32)), glossy],
         lights: vec![],
         environment: Environment::Constant(Vec3::splat(l_sky as f32)),
+        textures: Vec::new(),
     }
 }
 
@@ -782,6 +784,7 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
         material: 0,
         lightmap_uv: None,
         lightmapped: true,
+        uv: None,
     };
     let sphere = Mesh { lightmapped: false, ..baker::scene::uv_sphere("ball", Vec3::new(0.0, 0.8, 0.0), 0.7, 48, 96, 1) };
     let scene = Scene {
@@ -790,6 +793,7 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
         materials: vec![Material::lambert(Vec3::splat(0.5)), glossy],
         lights: vec![],
         environment: Environment::Constant(Vec3::splat(1.0)),
+        textures: Vec::new(),
     };
     let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
     let y00 = 0.5 / std::f64::consts::PI.sqrt();

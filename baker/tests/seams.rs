@@ -29,6 +29,7 @@ fn cut_plane(folded: bool) -> Scene {
         material: 0,
         lightmap_uv: Some(lightmap_uv),
         lightmapped: true,
+        uv: None,
     }];
     s
 }

@@ -61,10 +61,12 @@ fn plane_scene_sized(h: f32, lights: Vec<Light>, environment: Environment) -> Sc
             material: 0,
             lightmap_uv: None,
             lightmapped: true,
+            uv: None,
         }],
         materials: vec![Material::lambert(Vec3::splat(0.5))],
         lights,
         environment,
+        textures: Vec::new(),
     }
 }
 
@@ -533,6 +535,7 @@ fn shading_normals_are_interpolated() {
         materials: vec![Material::lambert(Vec3::splat(0.5))],
         lights: vec![Light::Directional { direction: l, irradiance: e }],
         environment: Environment::Black,
+        textures: Vec::new(),
     };
     for (name, g) in engines() {
         let passes = 48;
@@ -980,10 +983,12 @@ fn coefficients_live_in_the_documented_tangent_frame() {
             material: 0,
             lightmap_uv: None,
             lightmapped: true,
+            uv: None,
         }],
         materials: vec![Material::lambert(Vec3::splat(0.5))],
         lights: vec![Light::Directional { direction: d.as_vec3(), irradiance: Vec3::splat(e as f32) }],
         environment: Environment::Black,
+        textures: Vec::new(),
     };
     let sh = BasisKind::ShL2.basis();
     let mut y = vec![0.0; sh.len()];

@@ -183,6 +183,7 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
     let o = Options {
         scene: c.scene.clone(),
         environment: c.env.clone(),
+        material_maps: false,
         texels_per_unit: c.texels_per_unit,
         passes: c.passes,
         config: BakeConfig { bases: bases.to_vec(), sg_sharpness: c.sg_sharpness, indirect_only: c.indirect_only, ..BakeConfig::default() },
@@ -202,6 +203,18 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
         sg_sharpness: o.config.sg_sharpness,
         indirect_only: o.config.indirect_only,
     })
+}
+
+/// The scene of `--scene` (and `--env`) with its cameras, its materials' factors alone:
+/// the raster pass shades factors (texture maps are not built into it yet), so the bake
+/// and the reference take the factors too and the comparison stays the same quantity.
+fn load_scene(c: &Cli) -> Result<(baker::scene::Scene, Vec<SceneCamera>), String> {
+    let (scene, cameras) = baker::scene::load::load_with_cameras(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
+    if !scene.has_textures() {
+        return Ok((scene, cameras));
+    }
+    eprintln!("render: the materials' texture maps are not shaded by the renderer yet: the bake, the reference and the raster pass use their factors");
+    Ok((scene.without_maps(), cameras))
 }
 
 /// The scene's name as bake.json records it (a file's stem for glTF).
@@ -286,7 +299,7 @@ fn render(c: Cli) -> Result<(), String> {
         return Err(format!("--reference-noise must be in [0, 1), not {}", c.reference_noise));
     }
     run::limits::check_writable(&c.out)?;
-    let (scene, scene_cameras) = baker::scene::load::load_with_cameras(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
+    let (scene, scene_cameras) = load_scene(&c)?;
     let dynamic = scene.meshes.iter().filter(|m| !m.lightmapped && scene.materials[m.material].emissive.max_element() <= 0.0).count();
     let grid = match c.probes.as_slice() {
         [x, y, z] if *x > 0 && *y > 0 && *z > 0 => [*x, *y, *z],

@@ -59,6 +59,34 @@ impl Fnv {
     }
 }
 
+/// The materials' maps, their textures and the meshes' TEXCOORD_0 — nothing for an
+/// untextured scene, whose identity stays what it was before maps existed.
+fn hash_maps(h: &mut Fnv, scene: &Scene) {
+    if !scene.has_textures() {
+        return;
+    }
+    for m in &scene.materials {
+        for r in [m.maps.base_color, m.maps.metallic_roughness, m.maps.emissive] {
+            match r {
+                None => h.u64(u64::MAX),
+                Some(r) => {
+                    h.u64(r.texture as u64);
+                    h.u64(r.texcoord as u64);
+                    r.transform.iter().for_each(|row| h.f32s(row));
+                }
+            }
+        }
+    }
+    for t in &scene.textures {
+        h.u64(((t.width as u64) << 32) | t.height as u64);
+        h.bytes(t.texels.as_flattened());
+        h.bytes(format!("{:?}{:?}", t.wrap, t.filter).as_bytes());
+    }
+    for m in &scene.meshes {
+        m.uv.iter().flatten().for_each(|v| h.f32s(&v.to_array()));
+    }
+}
+
 /// The identity of a bake: a hash of the scene content (geometry, normals, lightmap UVs,
 /// materials, lights, environment texels), the targets (every sample point and item —
 /// so the layout and the probe positions), and the settings that change the result.
@@ -81,6 +109,7 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
         h.f32s(&[m.metallic, m.roughness, m.specular]);
         h.u64(m.double_sided as u64);
     }
+    hash_maps(&mut h, scene);
     for l in &scene.lights {
         match *l {
             Light::Directional { direction, irradiance } => {

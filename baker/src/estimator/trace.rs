@@ -80,6 +80,30 @@ struct AreaSample {
     target: Option<Vec3>,
 }
 
+/// Points per side of the barycentric grid that averages a textured emitter's radiance.
+const EMISSION_GRID: usize = 8;
+
+/// A textured emitter's mean radiance over its triangle, from the centres of the
+/// EMISSION_GRID² sub-triangles of a regular subdivision (equal areas). It only sets the
+/// triangle's share of NEE (its selection probability); every sample evaluates the map at
+/// its own point and MIS keeps the estimate unbiased for any share > 0.
+fn mean_emission(scene: &Scene, t: &crate::scene::bvh::Tri) -> Vec3 {
+    let n = EMISSION_GRID;
+    let mut sum = Vec3::ZERO;
+    for i in 0..n {
+        for j in 0..n - i {
+            // The upward sub-triangle (i, j) and, but on the diagonal, the downward one.
+            let up = [(i as f32 + 1.0 / 3.0) / n as f32, (j as f32 + 1.0 / 3.0) / n as f32];
+            sum += scene.material_at(t, up[0], up[1]).emissive;
+            if i + j + 1 < n {
+                let down = [(i as f32 + 2.0 / 3.0) / n as f32, (j as f32 + 2.0 / 3.0) / n as f32];
+                sum += scene.material_at(t, down[0], down[1]).emissive;
+            }
+        }
+    }
+    sum / (n * n) as f32
+}
+
 /// The power heuristic (β = 2) weight of the strategy with pdf `a` against one with `b`.
 fn power2(a: f64, b: f64) -> f64 {
     a * a / (a * a + b * b)
@@ -90,9 +114,13 @@ impl<'a> Tracer<'a> {
         let mut emitters = Vec::new();
         let mut power = Vec::new();
         for (k, t) in bvh.tris.iter().enumerate() {
-            let le = scene.materials[t.material as usize].emissive;
-            if le.max_element() > 0.0 {
+            let m = &scene.materials[t.material as usize];
+            if m.emissive.max_element() > 0.0 {
                 emitters.push(k as u32);
+                let le = match m.maps.emissive {
+                    None => m.emissive,
+                    Some(_) => mean_emission(scene, t),
+                };
                 power.push(luminance(le).max(1e-12) * t.area() as f64);
             }
         }
@@ -194,7 +222,7 @@ impl<'a> Tracer<'a> {
     fn area_samples(&self, x: Vec3, smp: &PathSampler) -> [Option<AreaSample>; 2] {
         let ue = smp.get(EMITTER);
         let emitter = match self.pick_emitter([ue[0], ue[1], ue[2]]) {
-            Some((tri, q)) => {
+            Some((tri, q, bary)) => {
                 let to = q - x;
                 let dist = to.length();
                 let wi = to / dist;
@@ -202,7 +230,7 @@ impl<'a> Tracer<'a> {
                 let cos_l = -wi.dot(t.normal());
                 (cos_l > 0.0).then(|| AreaSample {
                     wi,
-                    radiance: self.scene.materials[t.material as usize].emissive,
+                    radiance: self.scene.material_at(t, bary[0], bary[1]).emissive,
                     pdf: self.emitter_pdf(tri, dist, cos_l),
                     target: Some(q),
                 })
@@ -240,8 +268,9 @@ impl<'a> Tracer<'a> {
         d > 0.0 && !self.bvh.occluded(o, to / d, 0.0, d * (1.0 - 1e-4))
     }
 
-    /// An emitter by power (u₀) and a point uniform on it (u₁, u₂).
-    fn pick_emitter(&self, u: [f64; 3]) -> Option<(u32, Vec3)> {
+    /// An emitter by power (u₀) and a point uniform on it (u₁, u₂), with its barycentric
+    /// coordinates.
+    fn pick_emitter(&self, u: [f64; 3]) -> Option<(u32, Vec3, [f32; 2])> {
         if self.emitters.is_empty() {
             return None;
         }
@@ -250,7 +279,7 @@ impl<'a> Tracer<'a> {
         let tri = &self.bvh.tris[ti as usize];
         let [a, b] = [u[1], u[2]];
         let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
-        Some((ti, tri.v0() + tri.e1() * a as f32 + tri.e2() * b as f32))
+        Some((ti, tri.v0() + tri.e1() * a as f32 + tri.e2() * b as f32, [a as f32, b as f32]))
     }
 
     /// The path from origin `o` along `dir`. `first_pdf` > 0: the pdf of the strategy
@@ -276,7 +305,7 @@ impl<'a> Tracer<'a> {
                 break;
             };
             let tri = &self.bvh.tris[hit.tri as usize];
-            let mat = &self.scene.materials[tri.material as usize];
+            let mat = &self.scene.material_at(tri, hit.u, hit.v);
             let ng = tri.normal();
             let front = d.dot(ng) < 0.0;
             if bounce == 0 && reject_back && !front && !mat.double_sided {

@@ -111,6 +111,18 @@ fn collect_profile(
     Ok(())
 }
 
+/// The GPU kernels read the materials' factors, not their texture maps: a textured scene
+/// is refused rather than baked with the wrong colours (the CPU path samples the maps).
+pub(crate) fn refuse_textures(tracer: &Tracer) -> Result<(), String> {
+    match tracer.scene.materials.iter().find(|m| !m.maps.is_empty()) {
+        None => Ok(()),
+        Some(_) => {
+            Err("the scene's materials have texture maps: the CPU path samples them, the GPU kernels do not yet — bake with --device cpu"
+                .into())
+        }
+    }
+}
+
 /// Slots of the wavefront's path pool for a bake of `items` items on a device whose
 /// storage bindings hold `max_binding` bytes: a uniform wave of up to
 /// [`MAX_PASSES_PER_DISPATCH`] passes of every item (at most
@@ -134,6 +146,7 @@ pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usi
 impl<'g> GpuBake<'g> {
     /// Uploads the scene, BVH and targets and compiles the kernel.
     pub fn new(gpu: &'g Gpu, tracer: &Tracer, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
+        refuse_textures(tracer)?;
         if targets.items.is_empty() {
             return Err("nothing to bake: no valid texels or probes".into());
         }

@@ -26,6 +26,10 @@ pub struct BakeJson {
     /// emitter, a delta light or the sky is not in the lightmap.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub indirect_only: bool,
+    /// The textures the materials' maps sampled (absent: none; `--material-maps factors`
+    /// drops them before the bake).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material_maps: Option<MapsJson>,
     pub solver: String,
     pub layout: LayoutJson,
     pub filter: Option<FilterJson>,
@@ -235,4 +239,14 @@ pub struct ProbeJson {
     pub relocated_from: Option<[f64; 3]>,
     pub standard_error: [f64; 3],
     pub valid: bool,
+}
+
+/// The texture maps a bake sampled (mip 0, each sampler's magnification filter).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct MapsJson {
+    /// Textures, and their texels' bytes (RGBA8).
+    pub textures: usize,
+    pub bytes: usize,
+    /// Materials with at least one map.
+    pub materials: usize,
 }

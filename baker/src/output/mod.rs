@@ -97,7 +97,7 @@ pub fn preview(
                 None => scene.environment.radiance(d),
                 Some(h) => {
                     let tri = &bvh.tris[h.tri as usize];
-                    let m = &scene.materials[tri.material as usize];
+                    let m = &scene.material_at(tri, h.u, h.v);
                     let mesh = &scene.meshes[tri.mesh as usize];
                     let lit = if mesh.lightmapped {
                         let uv = lm.triangle_uv[tri.mesh as usize][tri.prim as usize];

@@ -98,6 +98,13 @@ pub fn run(
     gpu: Option<&shaders::gpu::Gpu>,
     log: &mut dyn FnMut(String),
 ) -> Result<Outcome, String> {
+    if scene.has_textures() {
+        // The raster pass and the references shade the visible surface with its material's
+        // factors: a textured scene's image would not be the bake's.
+        return Err(
+            "the scene's materials have texture maps: the renderer shades material factors only (textured shading is not built yet)".into(),
+        );
+    }
     let cam = setup.camera;
     let visible = visible::cast(scene, bvh, lm, &cam);
     let lit = visible.iter().filter(|v| v.is_some_and(|v| v.lightmapped)).count();

@@ -43,7 +43,11 @@ pub(crate) type ProbePlacement = (Vec<Vec3>, Vec<(usize, Vec3)>);
 /// Loads the scene, builds the BVH and the atlas, places the probes; logs each and checks
 /// the state fits in memory.
 pub(crate) fn prepare(o: &Options, log: &mut dyn FnMut(String)) -> Result<Prepared, String> {
-    let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
+    let mut scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
+    if !o.material_maps && scene.has_textures() {
+        log("--material-maps factors: the materials' texture maps are dropped, their factors baked".into());
+        scene = scene.without_maps();
+    }
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, o.texels_per_unit, o.padding).map_err(|e| e.to_string())?;
     log_scene_and_layout(o, &scene, &bvh, &lm, log);
@@ -73,7 +77,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     limits::check_writable(&o.out)?;
     let Prepared { scene, bvh, lm, targets, config, probes } = prepare(o, log)?;
     let glossy = scene.has_glossy();
-    let (gpus, device) = devices::select(o, log)?;
+    let (gpus, device) = devices::select(o, log, scene.has_textures())?;
     if gpus.is_empty() && o.config.pipeline != crate::accumulate::Pipeline::default() {
         log(format!("notice: --pipeline {} applies to GPU bakes; this bake runs on the CPU path", o.config.pipeline.name()));
     }

@@ -21,6 +21,9 @@ pub struct Options {
     pub scene: String,
     /// A lat-long .hdr/.exr environment replacing the scene's.
     pub environment: Option<PathBuf>,
+    /// Sample the materials' texture maps (true; the CPU path) or bake their factors alone
+    /// (false: `--material-maps factors`, which GPU bakes of textured scenes need).
+    pub material_maps: bool,
     pub texels_per_unit: f32,
     pub padding: usize,
     pub passes: u64,
@@ -81,6 +84,7 @@ impl Default for Options {
         Options {
             scene: "cornell".into(),
             environment: None,
+            material_maps: true,
             texels_per_unit: 16.0,
             padding: 2,
             passes: 128,

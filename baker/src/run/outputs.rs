@@ -113,6 +113,11 @@ pub(crate) fn write_outputs(
         paths: state.moments.iter().map(crate::accumulate::Moments::count).sum::<u64>(),
         max_bounces: o.config.max_bounces,
         indirect_only: o.config.indirect_only,
+        material_maps: scene.has_textures().then(|| crate::output::bake_json::MapsJson {
+            textures: scene.textures.len(),
+            bytes: scene.textures.iter().map(crate::scene::texture::Texture::bytes).sum(),
+            materials: scene.materials.iter().filter(|m| !m.maps.is_empty()).count(),
+        }),
         solver: format!("{:?}", o.config.solver),
         layout: LayoutJson {
             width: lm.width,

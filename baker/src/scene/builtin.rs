@@ -19,6 +19,7 @@ fn quad(name: &str, a: Vec3, b: Vec3, c: Vec3, d: Vec3, material: usize, lightma
         material,
         lightmap_uv: None,
         lightmapped,
+        uv: None,
     }
 }
 
@@ -76,7 +77,7 @@ pub fn disk_light(name: &str, centre: Vec3, normal: Vec3, radius: f32, material:
         positions.push(centre + (t * a.cos() as f32 + b * a.sin() as f32) * rc as f32);
     }
     let indices = (0..k as u32).map(|i| [0, 1 + i, 1 + (i + 1) % k as u32]).collect();
-    Mesh { name: name.into(), normals: vec![n; k + 1], positions, indices, material, lightmap_uv: None, lightmapped: false }
+    Mesh { name: name.into(), normals: vec![n; k + 1], positions, indices, material, lightmap_uv: None, lightmapped: false, uv: None }
 }
 
 /// A UV sphere of `rings` × `segments` quads (2·rings·segments triangles; the poles'
@@ -102,7 +103,7 @@ pub fn uv_sphere(name: &str, centre: Vec3, radius: f32, rings: usize, segments: 
             indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
     }
-    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: true }
+    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: true, uv: None }
 }
 
 /// A sphere area light: a UV sphere of `rings` × 2·`rings` quads, normals outwards.
@@ -139,6 +140,7 @@ pub fn cornell() -> Scene {
             horizon: Vec3::new(0.8, 0.85, 0.9),
             ground: Vec3::new(0.2, 0.18, 0.15),
         },
+        textures: Vec::new(),
     }
 }
 
@@ -206,6 +208,7 @@ pub fn room_1m() -> Scene {
             range: f32::INFINITY,
         }],
         environment: Environment::Black,
+        textures: Vec::new(),
     }
 }
 
@@ -220,6 +223,7 @@ pub fn slit() -> Scene {
         materials: vec![Material::lambert(Vec3::splat(0.3))],
         lights: vec![],
         environment: Environment::Constant(Vec3::new(3.0, 3.3, 3.9)),
+        textures: Vec::new(),
     }
 }
 
@@ -249,6 +253,7 @@ pub fn sunbeam() -> Scene {
         // A dim dusk sky: the ground's noise (≈ L/√3 per sample from a constant sky under
         // uniform hemisphere sampling) stays well below the hut's.
         environment: Environment::Constant(Vec3::new(0.1, 0.11, 0.13)),
+        textures: Vec::new(),
     }
 }
 
@@ -257,7 +262,14 @@ pub fn sunbeam() -> Scene {
 pub fn furnace(le: f32, albedo: f32) -> Scene {
     let mut mat = Material::lambert(Vec3::splat(albedo));
     mat.emissive = Vec3::splat(le);
-    Scene { name: "furnace".into(), meshes: room(1.0, [0; 6], None), materials: vec![mat], lights: vec![], environment: Environment::Black }
+    Scene {
+        name: "furnace".into(),
+        meshes: room(1.0, [0; 6], None),
+        materials: vec![mat],
+        lights: vec![],
+        environment: Environment::Black,
+        textures: Vec::new(),
+    }
 }
 
 /// The built-in scene plus a displaced sphere of at least `min_triangles` triangles
@@ -291,7 +303,16 @@ pub fn dense(min_triangles: usize) -> Scene {
     }
     s.materials.push(Material::lambert(Vec3::splat(0.6)));
     let material = s.materials.len() - 1;
-    s.meshes.push(Mesh { name: "dense sphere".into(), positions, normals, indices, material, lightmap_uv: None, lightmapped: false });
+    s.meshes.push(Mesh {
+        name: "dense sphere".into(),
+        positions,
+        normals,
+        indices,
+        material,
+        lightmap_uv: None,
+        lightmapped: false,
+        uv: None,
+    });
     s.name = "dense".into();
     s
 }
@@ -326,7 +347,7 @@ fn bent_grid(
             indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
     }
-    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: Some(uv), lightmapped: true }
+    Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: Some(uv), lightmapped: true, uv: None }
 }
 
 /// An atrium at the scale of seed 004's Table 8.1 workload (a hall with columns, arches and
@@ -453,5 +474,6 @@ pub fn atrium() -> Scene {
             horizon: Vec3::new(1.6, 1.7, 1.8),
             ground: Vec3::new(0.3, 0.28, 0.25),
         },
+        textures: Vec::new(),
     }
 }

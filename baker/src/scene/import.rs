@@ -19,36 +19,6 @@ pub struct ImportReport {
     pub cameras: Vec<super::camera::SceneCamera>,
 }
 
-/// Decodes standard base64 (RFC 4648, padding optional).
-fn base64(s: &str) -> Result<Vec<u8>, String> {
-    let val = |c: u8| -> Result<u32, String> {
-        Ok(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' | b'-' => 62,
-            b'/' | b'_' => 63,
-            _ => return Err(format!("invalid base64 character '{}'", c as char)),
-        } as u32)
-    };
-    let bytes: Vec<u8> = s.bytes().filter(|c| !c.is_ascii_whitespace() && *c != b'=').collect();
-    let mut out = Vec::with_capacity(bytes.len() * 3 / 4);
-    for chunk in bytes.chunks(4) {
-        let mut acc = 0u32;
-        for (k, c) in chunk.iter().enumerate() {
-            acc |= val(*c)? << (18 - 6 * k);
-        }
-        let n = match chunk.len() {
-            4 => 3,
-            3 => 2,
-            2 => 1,
-            _ => return Err("truncated base64 data".into()),
-        };
-        out.extend_from_slice(&acc.to_be_bytes()[1..1 + n]);
-    }
-    Ok(out)
-}
-
 /// Reads an external buffer file: a regular file, at most `declared` bytes taken (so a
 /// special file such as /dev/zero or a huge file costs no more than the asset declares).
 fn read_bounded(p: &Path, declared: usize, index: usize) -> Result<Vec<u8>, SceneError> {
@@ -69,7 +39,8 @@ fn read_bounded(p: &Path, declared: usize, index: usize) -> Result<Vec<u8>, Scen
 enum Use {
     Position,
     Normal,
-    LightmapUv,
+    /// TEXCOORD_0 or TEXCOORD_1.
+    Uv,
     Indices,
 }
 
@@ -83,9 +54,7 @@ fn check_accessor(a: &gltf::Accessor, usage: Use, mesh: &str, data: &[Vec<u8>]) 
     let bad = |what: String| SceneError::Io(format!("mesh '{mesh}': accessor {} ({usage:?}): {what}", a.index()));
     let ok_type = match usage {
         Use::Position | Use::Normal => a.data_type() == T::F32 && a.dimensions() == D::Vec3,
-        Use::LightmapUv => {
-            a.dimensions() == D::Vec2 && (a.data_type() == T::F32 || (a.normalized() && matches!(a.data_type(), T::U8 | T::U16)))
-        }
+        Use::Uv => a.dimensions() == D::Vec2 && (a.data_type() == T::F32 || (a.normalized() && matches!(a.data_type(), T::U8 | T::U16))),
         Use::Indices => a.dimensions() == D::Scalar && matches!(a.data_type(), T::U8 | T::U16 | T::U32),
     };
     if !ok_type {
@@ -139,9 +108,9 @@ fn buffers(doc: &gltf::Document, blob: Option<Vec<u8>>, base: &Path) -> Result<V
                     let (_, payload) = rest
                         .split_once(";base64,")
                         .ok_or_else(|| SceneError::Io(format!("buffer {}: data URI is not base64", b.index())))?;
-                    base64(payload).map_err(|e| SceneError::Io(format!("buffer {}: {e}", b.index())))?
+                    super::uri::base64(payload).map_err(|e| SceneError::Io(format!("buffer {}: {e}", b.index())))?
                 } else {
-                    read_bounded(&base.join(uri), b.length(), b.index())?
+                    read_bounded(&base.join(super::uri::percent_decode(uri)), b.length(), b.index())?
                 }
             }
         };
@@ -205,8 +174,14 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         materials: Vec::new(),
         lights: Vec::new(),
         environment: Environment::Black,
+        textures: Vec::new(),
     };
-    scene.materials = materials(&g.document, &mut report);
+    scene.materials = materials(&g.document);
+    let maps = super::import_maps::load(&g.document, &data, base, &mut report.notes).map_err(SceneError::Io)?;
+    for (m, maps) in scene.materials.iter_mut().zip(maps.maps) {
+        m.maps = maps;
+    }
+    scene.textures = maps.textures;
     // glTF's default material (white dielectric, roughness 1) for primitives without one.
     let default_material = scene.materials.len();
     scene.materials.push(Material::glossy(Vec3::ONE, 1.0));
@@ -261,8 +236,9 @@ fn camera(cam: &gltf::Camera, node: &gltf::Node, world: Mat4, report: &mut Impor
     Ok(())
 }
 
-/// The materials of a glTF document (factors; a note where textures are left unsampled).
-fn materials(doc: &gltf::Document, report: &mut ImportReport) -> Vec<Material> {
+/// The materials of a glTF document (their factors; the maps come from
+/// [`super::import_maps`]).
+fn materials(doc: &gltf::Document) -> Vec<Material> {
     let mut out = Vec::new();
     for m in doc.materials() {
         let pbr = m.pbr_metallic_roughness();
@@ -271,9 +247,6 @@ fn materials(doc: &gltf::Document, report: &mut ImportReport) -> Vec<Material> {
         mat.metallic = pbr.metallic_factor();
         mat.emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
         mat.double_sided = m.double_sided();
-        if pbr.base_color_texture().is_some() || pbr.metallic_roughness_texture().is_some() || m.emissive_texture().is_some() {
-            report.notes.push(format!("material '{}': textures are not sampled (factors used)", m.name().unwrap_or("?")));
-        }
         out.push(mat);
     }
     out
@@ -329,7 +302,9 @@ fn primitive(
     };
     check_accessor(&pa, Use::Position, &name, data)?;
     let vertices = pa.count();
-    for (sem, usage) in [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(1), Use::LightmapUv)] {
+    for (sem, usage) in
+        [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(0), Use::Uv), (gltf::Semantic::TexCoords(1), Use::Uv)]
+    {
         if let Some(a) = prim.get(&sem) {
             check_accessor(&a, usage, &name, data)?;
             if a.count() != vertices {
@@ -379,7 +354,17 @@ fn primitive(
     if lightmap_uv.is_none() {
         report.notes.push(format!("{name}: no TEXCOORD_1, lightmap charts generated (uvunwrap: normal-cone charts, planar or LSCM)"));
     }
+    let uv: Option<Vec<Vec2>> = reader.read_tex_coords(0).map(|t| t.into_f32().map(Vec2::from).collect());
     let material = prim.material().index().unwrap_or(default_material);
+    if let Some(m) = materials.get(material) {
+        let maps = [m.maps.base_color, m.maps.metallic_roughness, m.maps.emissive];
+        let missing = |set: u32, have: bool| !have && maps.iter().flatten().any(|r| r.texcoord == set);
+        for (set, have) in [(0, uv.is_some()), (1, lightmap_uv.is_some())] {
+            if missing(set, have) {
+                report.notes.push(format!("{name}: its material's maps read TEXCOORD_{set}, which it lacks: factors used there"));
+            }
+        }
+    }
     let emissive = materials.get(material).is_some_and(|m| m.emissive.max_element() > 0.0);
-    Ok(Some(Mesh { name, positions, normals, indices, material, lightmap_uv, lightmapped: !emissive }))
+    Ok(Some(Mesh { name, positions, normals, indices, material, lightmap_uv, lightmapped: !emissive, uv }))
 }

@@ -13,8 +13,11 @@ pub mod bvh;
 pub mod camera;
 pub mod geometry;
 pub mod import;
+mod import_maps;
 pub mod lights;
 pub mod load;
+pub mod texture;
+mod uri;
 
 pub use builtin::{atrium, cornell, dense, disk_light, furnace, room_1m, slit, sphere_light, sunbeam, uv_sphere};
 
@@ -38,20 +41,47 @@ pub struct Material {
     /// sample ray first meets a back face is inside geometry, and the sample is
     /// rejected and counted (texel validity). Reflection is two-sided either way.
     pub double_sided: bool,
+    /// Texture maps multiplying the factors above (glTF 2.0 §3.9.2); evaluated at a point
+    /// by [`Scene::material_at`].
+    pub maps: texture::Maps,
 }
 
 impl Material {
     /// Pure Lambert with albedo `c`.
     pub fn lambert(c: Vec3) -> Self {
-        Material { base_color: c, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: Vec3::ZERO, double_sided: false }
+        Material {
+            base_color: c,
+            metallic: 0.0,
+            roughness: 1.0,
+            specular: 0.0,
+            emissive: Vec3::ZERO,
+            double_sided: false,
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None },
+        }
     }
     /// glTF-style dielectric with GGX roughness.
     pub fn glossy(c: Vec3, roughness: f32) -> Self {
-        Material { base_color: c, metallic: 0.0, roughness, specular: 1.0, emissive: Vec3::ZERO, double_sided: false }
+        Material {
+            base_color: c,
+            metallic: 0.0,
+            roughness,
+            specular: 1.0,
+            emissive: Vec3::ZERO,
+            double_sided: false,
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None },
+        }
     }
     /// A black emitter.
     pub fn emitter(radiance: Vec3) -> Self {
-        Material { base_color: Vec3::ZERO, metallic: 0.0, roughness: 1.0, specular: 0.0, emissive: radiance, double_sided: false }
+        Material {
+            base_color: Vec3::ZERO,
+            metallic: 0.0,
+            roughness: 1.0,
+            specular: 0.0,
+            emissive: radiance,
+            double_sided: false,
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None },
+        }
     }
     /// Albedo of the Lambert layer: base·(1 − metallic).
     pub fn diffuse_albedo(&self) -> Vec3 {
@@ -68,7 +98,9 @@ impl Material {
     }
     /// Whether the GGX layer contributes.
     pub fn is_glossy(&self) -> bool {
-        self.specular_f0().max_element() > 0.0
+        // A metallic-roughness map can lower metallic below its factor, uncovering the
+        // dielectric 0.04·specular.
+        self.specular_f0().max_element() > 0.0 || (self.maps.metallic_roughness.is_some() && self.specular > 0.0)
     }
 }
 
@@ -86,6 +118,8 @@ pub struct Mesh {
     pub lightmap_uv: Option<Vec<Vec2>>,
     /// Whether the mesh receives a lightmap (emitters and helper geometry do not).
     pub lightmapped: bool,
+    /// Texture coordinates (glTF TEXCOORD_0) for its material's maps; `None`: none.
+    pub uv: Option<Vec<Vec2>>,
 }
 
 /// Delta light sources (area lights are emissive triangles: see [`disk_light`] and
@@ -169,6 +203,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub environment: Environment,
+    /// The images the materials' maps read ([`texture`]).
+    pub textures: Vec<texture::Texture>,
 }
 
 /// The largest coordinate magnitude a scene may hold (cross products of edges must stay
@@ -212,6 +248,54 @@ impl std::fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 impl Scene {
+    /// The material of BVH triangle `tri` at barycentric (u, v), the point at corner +
+    /// u·edge_u + v·edge_v: its factors times its maps sampled there (glTF 2.0 §3.9.2: the
+    /// base colour times the sRGB-decoded map, roughness times G and metallic times B of
+    /// the metallic-roughness map, emission times the sRGB-decoded emissive map). Without
+    /// maps, the material itself.
+    pub fn material_at(&self, tri: &bvh::Tri, u: f32, v: f32) -> Material {
+        let m = self.materials[tri.material as usize];
+        if m.maps.is_empty() {
+            return m;
+        }
+        let mesh = &self.meshes[tri.mesh as usize];
+        let idx = mesh.indices[tri.prim as usize];
+        let read = |r: &texture::TextureRef, srgb: bool| {
+            let set = if r.texcoord == 1 { mesh.lightmap_uv.as_ref() } else { mesh.uv.as_ref() };
+            // The importer keeps a map only where its coordinate set exists.
+            let c = set?;
+            let [a, b, d] = idx.map(|i| c[i as usize]);
+            let uv = a * (1.0 - u - v) + b * u + d * v;
+            Some(self.textures[r.texture].sample(r.apply(uv), srgb))
+        };
+        let mut out = m;
+        if let Some(t) = m.maps.base_color.as_ref().and_then(|r| read(r, true)) {
+            out.base_color *= t.truncate();
+        }
+        if let Some(t) = m.maps.metallic_roughness.as_ref().and_then(|r| read(r, false)) {
+            out.roughness *= t.y;
+            out.metallic *= t.z;
+        }
+        if let Some(t) = m.maps.emissive.as_ref().and_then(|r| read(r, true)) {
+            out.emissive *= t.truncate();
+        }
+        out
+    }
+
+    /// Whether any material has a texture map.
+    pub fn has_textures(&self) -> bool {
+        self.materials.iter().any(|m| !m.maps.is_empty())
+    }
+
+    /// The scene with its materials' factors alone (maps and textures dropped).
+    pub fn without_maps(mut self) -> Scene {
+        for m in &mut self.materials {
+            m.maps = texture::Maps::default();
+        }
+        self.textures.clear();
+        self
+    }
+
     /// Checks the scene; returns the number of degenerate (zero-area) triangles, which
     /// are skipped by the BVH and the layout (documented handling, not an error).
     pub fn validate(&self) -> Result<usize, SceneError> {
