@@ -124,26 +124,35 @@ fn solid_angle(r: [f64; 4], p: Vec3) -> f64 {
     f(x1, z1) - f(x0, z1) - f(x1, z0) + f(x0, z0)
 }
 
-/// Bakes probes at `positions` on the CPU path and checks each channel of their mean
-/// radiance against `want` within 4σ of the bake's own standard error (the estimator is
-/// unbiased; σ from its per-probe sample variance).
-fn check_probes(scene: &Scene, positions: &[Vec3], want: &dyn Fn(Vec3) -> [f64; 3], what: &str) {
+/// Bakes probes at `positions` on the CPU path and on the GPU (megakernel, and the
+/// wavefront pipeline where `wavefront`) and checks each channel of their mean radiance
+/// against `want` within 4σ of the bake's own standard error (the estimator is unbiased;
+/// σ from its per-probe sample variance; f32 texture sampling on the GPU moves a probe's
+/// mean by ≪ σ).
+fn check_probes(scene: &Scene, positions: &[Vec3], want: &dyn Fn(Vec3) -> [f64; 3], what: &str, wavefront: bool) {
     let targets = Targets::probes(positions);
     let cfg = BakeConfig { seed: 3, max_bounces: 2, bases: vec![BasisKind::ShL1], solver: Solver::Ls, ..Default::default() };
-    let st = common::bake_on(None, scene, &targets, &cfg, 16384);
-    let (m, se) = (st.mean(), st.standard_error());
-    for (k, p) in positions.iter().enumerate() {
-        let w = want(*p);
-        println!("{what}: probe at {p}: {:.5?} ± {:.2?} vs closed form {w:.5?}", m[k], se[k]);
-        for c in 0..3 {
-            assert!(
-                (m[k][c] - w[c]).abs() <= 4.0 * se[k][c] + 1e-6 * w[c],
-                "{what}: probe {k} at {p}, channel {c}: {} vs {}",
-                m[k][c],
-                w[c]
-            );
+    let gpu = common::gpu();
+    let mut runs = vec![("CPU", common::bake_on(None, scene, &targets, &cfg, 16384))];
+    if let Some(g) = &gpu {
+        runs.push(("GPU megakernel", common::bake_on(Some(g), scene, &targets, &cfg, 4096)));
+        if wavefront {
+            let w = BakeConfig { pipeline: baker::accumulate::Pipeline::Wavefront, ..cfg.clone() };
+            runs.push(("GPU wavefront", common::bake_on(Some(g), scene, &targets, &w, 4096)));
         }
     }
+    for (engine, st) in &runs {
+        let (m, se) = (st.mean(), st.standard_error());
+        for (k, p) in positions.iter().enumerate() {
+            let w = want(*p);
+            println!("{what}, {engine}: probe at {p}: {:.5?} ± {:.3?} vs closed form {w:.5?}", m[k], se[k]);
+            for c in 0..3 {
+                let ok = (m[k][c] - w[c]).abs() <= 4.0 * se[k][c] + 1e-6 * w[c];
+                assert!(ok, "{what}, {engine}: probe {k} at {p}, channel {c}: {} vs {}", m[k][c], w[c]);
+            }
+        }
+    }
+    let se = runs[0].1.standard_error();
     // The probes tell the cells apart: neighbouring probes' closed forms differ by ≫ σ.
     let spread = (0..3).map(|c| (want(positions[0])[c] - want(positions[1])[c]).abs()).fold(0.0, f64::max);
     assert!(spread > 20.0 * se[0].iter().cloned().fold(0.0, f64::max), "{what}: the probes do not discriminate the cells");
@@ -157,8 +166,9 @@ fn probe_positions() -> Vec<Vec3> {
 /// A base-colour map on a Lambert floor under a constant sky: each cell reflects ρ·L (the
 /// floor sees only the sky), directions past the floor see the sky, so
 /// M = L·[1 − Σ_cells (1 − ρ_cell)·Ω_cell / 4π]. The image is a file next to the asset.
-/// Mutations: the map ignored (`material_at` returns the factors), its rows flipped, its
-/// texels not sRGB-decoded — each fails.
+/// Mutations: the map ignored (`material_at` returns the factors; on the GPU
+/// `textured_material` returns `load_material`), its rows flipped, its texels not
+/// sRGB-decoded (CPU and GPU) — each fails.
 #[test]
 fn base_colour_map_gives_each_cell_its_bounce_colour() {
     let dir = std::env::temp_dir().join(format!("sbf-textures-{}", std::process::id()));
@@ -179,15 +189,7 @@ fn base_colour_map_gives_each_cell_its_bounce_colour() {
             l * (1.0 - dark / (4.0 * PI))
         })
     };
-    check_probes(&scene, &probe_positions(), &want, "base colour map");
-    // The GPU kernels do not sample maps yet: a GPU bake refuses the scene.
-    if let Some(g) = common::gpu() {
-        let bvh = baker::scene::bvh::Bvh::build(&scene);
-        let targets = Targets::probes(&probe_positions());
-        let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, 2);
-        let err = baker::gpu::GpuBake::new(&g, &tracer, &targets, &BakeConfig::default()).unwrap_err();
-        assert!(err.contains("texture maps"), "{err}");
-    }
+    check_probes(&scene, &probe_positions(), &want, "base colour map", false);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -214,6 +216,6 @@ fn emissive_map_with_texture_transform_emits_each_cells_colour() {
     let want = |p: Vec3| -> [f64; 3] {
         std::array::from_fn(|c| grid.iter().map(|(r, col)| 4.0 * srgb(col[c]) * solid_angle(*r, p)).sum::<f64>() / (4.0 * PI))
     };
-    check_probes(&scene, &probe_positions(), &want, "emissive map");
+    check_probes(&scene, &probe_positions(), &want, "emissive map", true);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -87,7 +87,7 @@ const EMISSION_GRID: usize = 8;
 /// EMISSION_GRID² sub-triangles of a regular subdivision (equal areas). It only sets the
 /// triangle's share of NEE (its selection probability); every sample evaluates the map at
 /// its own point and MIS keeps the estimate unbiased for any share > 0.
-fn mean_emission(scene: &Scene, t: &crate::scene::bvh::Tri) -> Vec3 {
+pub(crate) fn mean_emission(scene: &Scene, t: &crate::scene::bvh::Tri) -> Vec3 {
     let n = EMISSION_GRID;
     let mut sum = Vec3::ZERO;
     for i in 0..n {

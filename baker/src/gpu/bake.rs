@@ -14,7 +14,7 @@
 
 use super::buffers::{check_sizes, upload, BakeBuffers};
 use super::guide::{grid, GuideGpu};
-use super::kernel::{kernel, GuideBuild, Kernel};
+use super::kernel::{GuideBuild, Kernel};
 use super::params::{aux_data, trace_params, TraceParams};
 use crate::accumulate::{BakeConfig, Targets};
 use crate::estimator::trace::Tracer;
@@ -111,18 +111,6 @@ fn collect_profile(
     Ok(())
 }
 
-/// The GPU kernels read the materials' factors, not their texture maps: a textured scene
-/// is refused rather than baked with the wrong colours (the CPU path samples the maps).
-pub(crate) fn refuse_textures(tracer: &Tracer) -> Result<(), String> {
-    match tracer.scene.materials.iter().find(|m| !m.maps.is_empty()) {
-        None => Ok(()),
-        Some(_) => {
-            Err("the scene's materials have texture maps: the CPU path samples them, the GPU kernels do not yet — bake with --device cpu"
-                .into())
-        }
-    }
-}
-
 /// Slots of the wavefront's path pool for a bake of `items` items on a device whose
 /// storage bindings hold `max_binding` bytes: a uniform wave of up to
 /// [`MAX_PASSES_PER_DISPATCH`] passes of every item (at most
@@ -146,7 +134,6 @@ pub fn wave_capacity(config: &BakeConfig, items: usize, max_binding: u64) -> usi
 impl<'g> GpuBake<'g> {
     /// Uploads the scene, BVH and targets and compiles the kernel.
     pub fn new(gpu: &'g Gpu, tracer: &Tracer, targets: &Targets, config: &BakeConfig) -> Result<Self, String> {
-        refuse_textures(tracer)?;
         if targets.items.is_empty() {
             return Err("nothing to bake: no valid texels or probes".into());
         }
@@ -154,7 +141,9 @@ impl<'g> GpuBake<'g> {
             return Err("probes need sphere bases (sh1, sh2, ad12)".into());
         }
         config.check(targets)?;
-        let kernel = kernel(config, targets.sphere, tracer.scene.has_glossy())?;
+        let textured = tracer.scene.has_textures();
+        let kernel = crate::gpu::kernel::kernel_with(config, targets.sphere, tracer.scene.has_glossy(), textured)?;
+        let maps = textured.then(|| crate::gpu::maps::maps_data(tracer));
         let d = gpu.device();
         let wavefront = config.pipeline == crate::accumulate::Pipeline::Wavefront;
         let (aux, at) = aux_data(tracer);
@@ -165,9 +154,10 @@ impl<'g> GpuBake<'g> {
         let limit = d.limits().max_storage_buffer_binding_size;
         let pool = if wavefront { wave_capacity(config, items, limit) } else { 0 };
         check_sizes(tracer, targets, aux.len(), states_len, clusters, pool, limit)?;
+        crate::gpu::check_bindings(&[("material maps", maps.as_ref().map_or(0, |m| 4 * m.len() as u64))], limit)?;
         let mut params = trace_params(tracer, targets, config, &at);
         params.point_split = crate::gpu::buffers::point_split(targets.points.len(), limit);
-        let buffers = upload(d, tracer, targets, &params, &aux, states_len);
+        let buffers = upload(d, tracer, targets, &params, &aux, states_len, maps.as_deref());
         let guide = guiding.map(|g| GuideGpu::for_bake(d, targets, g, gpu.subgroup_sizes)).transpose()?;
         let adapt = batch_selector(d, tracer, targets, config, &buffers.moments)?;
         let filter = filtered_accumulation(d, &kernel, targets, config, &buffers.moments, adapt.as_ref())?;
@@ -552,6 +542,9 @@ fn bind_entries<'a>(
     ];
     if states {
         entries.push(entry(7, &b.states));
+    }
+    if let Some(m) = &b.maps {
+        entries.push(entry(20, m));
     }
     if let Some(g) = guide {
         entries.extend([entry(9, &g.rec_buf), entry(10, &g.dist_buf)]);

@@ -19,6 +19,8 @@ pub(crate) struct BakeBuffers {
     pub(crate) moments: wgpu::Buffer,
     pub(crate) states: wgpu::Buffer,
     pub(crate) counters: wgpu::Buffer,
+    /// The materials' texture maps (binding 20; [`crate::gpu::maps`]) of a textured scene.
+    pub(crate) maps: Option<wgpu::Buffer>,
 }
 
 /// Bytes of one sample point on the GPU (position, shading normal + u, geometric normal + v).
@@ -39,6 +41,7 @@ pub(crate) fn upload(
     params: &TraceParams,
     aux: &[[f32; 4]],
     states_len: usize,
+    maps: Option<&[u32]>,
 ) -> BakeBuffers {
     let items = targets.items.len();
     let storage = |label: &str, bytes: &[u8], extra| storage(d, label, bytes, extra);
@@ -82,6 +85,7 @@ pub(crate) fn upload(
         moments: moments_buf,
         states: states_buf,
         counters: counters_buf,
+        maps: maps.map(|m| storage("material maps", bytemuck::cast_slice(m), wgpu::BufferUsages::empty())),
     }
 }
 

@@ -26,8 +26,9 @@ use shaders::progressive::EncoderParams;
 use std::collections::HashMap;
 
 /// The composable modules (file, source).
-const MODULES: [(&str, &str); 14] = [
+const MODULES: [(&str, &str); 15] = [
     ("bindings.wgsl", include_str!("wgsl/bindings.wgsl")),
+    ("maps.wgsl", include_str!("wgsl/maps.wgsl")),
     ("sequence.wgsl", include_str!("wgsl/sequence.wgsl")),
     ("traverse.wgsl", include_str!("wgsl/traverse.wgsl")),
     ("lights.wgsl", include_str!("wgsl/lights.wgsl")),
@@ -168,13 +169,24 @@ fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(Hash
 /// Composes the shaders of a bake of `config` (`glossy`: whether any material has a GGX
 /// layer): the megakernel or the wavefront's passes, and the filter's gather.
 pub fn kernel(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<Kernel, String> {
-    let (defs, roots) = defs(config, sphere_targets, glossy)?;
+    kernel_with(config, sphere_targets, glossy, false)
+}
+
+/// [`kernel`], with the materials' texture maps (maps.wgsl, binding 20) where `textured`.
+pub fn kernel_with(config: &BakeConfig, sphere_targets: bool, glossy: bool, textured: bool) -> Result<Kernel, String> {
+    let (mut defs, roots) = defs(config, sphere_targets, glossy)?;
+    if textured {
+        defs.insert("TEXTURES".into(), ShaderDefValue::Bool(true));
+    }
     let lib = shaders::compose::compose_roots(shaders::compose::Config { name: "baker".into(), features: Default::default() }, &roots)?;
     let mut c = composer(&lib.source)?;
     let mut entries = Vec::new();
     let mut left_out = Vec::new();
     if !glossy {
         left_out.push("GGX layer (no material in the scene is glossy): glossy sampling and the shaders GGX terms".to_string());
+    }
+    if !textured {
+        left_out.push("texture maps (no material has one): the maps binding and their sampling".to_string());
     }
     if !defs.contains_key("GUIDING") {
         left_out.push("ray guiding (not enabled, or probes): the guide bindings, sampler and pdf".to_string());

@@ -17,6 +17,7 @@ pub mod encoders;
 pub mod filter;
 pub mod guide;
 pub mod kernel;
+pub mod maps;
 pub mod multi;
 pub mod params;
 pub mod prims;

@@ -62,7 +62,10 @@ impl<'g> GpuReference<'g> {
     /// the reference shades (lightmapped or dynamic), seen from `eye`, with random numbers
     /// from `seed`.
     pub fn new(gpu: &'g Gpu, tracer: &Tracer, visible: &[Option<Visible>], eye: Vec3, seed: u64) -> Result<Self, String> {
-        crate::gpu::bake::refuse_textures(tracer)?;
+        if tracer.scene.has_textures() {
+            // The reference kernel reads the materials' factors (the renderer drops maps).
+            return Err("the scene's materials have texture maps: the GPU reference reads their factors only (Scene::without_maps)".into());
+        }
         let d = gpu.device();
         let glossy = tracer.scene.has_glossy();
         let source = crate::gpu::kernel::estimator_kernel(REFERENCE_WGSL, glossy)?;

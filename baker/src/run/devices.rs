@@ -8,15 +8,10 @@ use crate::gpu::GpuBake;
 use shaders::gpu::Gpu;
 
 /// The GPUs to bake on (none: the CPU path) for `o.device` and `o.gpus`, and the device
-/// line bake.json records. A scene with texture maps bakes on the CPU path (the GPU
-/// kernels read the materials' factors only): chosen by `auto`, refused for `--device gpu`.
-pub(crate) fn select(o: &Options, log: &mut dyn FnMut(String), textured: bool) -> Result<(Vec<Gpu>, String), String> {
+/// line bake.json records.
+pub(crate) fn select(o: &Options, log: &mut dyn FnMut(String)) -> Result<(Vec<Gpu>, String), String> {
     if o.gpus == 0 || (o.gpus > 1 && o.device == Device::Cpu) {
         return Err(format!("--gpus {} with --device {:?}: give ≥ 1 GPU, and more than one only on a GPU device", o.gpus, o.device));
-    }
-    if textured && o.device == Device::Auto {
-        log("the scene's materials have texture maps, which the CPU path samples and the GPU kernels do not yet: baking on the CPU".into());
-        return Ok((Vec::new(), format!("CPU: {} threads (rayon)", rayon::current_num_threads())));
     }
     let gpus: Vec<Gpu> = match o.device {
         _ if o.gpus > 1 => Gpu::hardware(o.gpus)?,

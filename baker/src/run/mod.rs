@@ -77,7 +77,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     limits::check_writable(&o.out)?;
     let Prepared { scene, bvh, lm, targets, config, probes } = prepare(o, log)?;
     let glossy = scene.has_glossy();
-    let (gpus, device) = devices::select(o, log, scene.has_textures())?;
+    let (gpus, device) = devices::select(o, log)?;
     if gpus.is_empty() && o.config.pipeline != crate::accumulate::Pipeline::default() {
         log(format!("notice: --pipeline {} applies to GPU bakes; this bake runs on the CPU path", o.config.pipeline.name()));
     }

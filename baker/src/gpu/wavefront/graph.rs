@@ -48,6 +48,7 @@ pub fn buffer_name(group: u32, binding: u32) -> &'static str {
         (0, 13) => "batch samples",
         (0, 14) => "filter records",
         (0, 18) => "filter params",
+        (0, 20) => "material maps",
         (1, 0) => "paths",
         (1, 1) => "hits",
         (1, 2) => "sampler keys",

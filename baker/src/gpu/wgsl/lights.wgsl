@@ -7,6 +7,9 @@
 #import baker::bindings::{ENV_CONSTANT, ENV_MAP, ENV_SKY, LIGHT_DIRECTIONAL, LIGHT_SPOT, NO_HIT, P, T_FAR, aux, load_material, luminance, tris}
 #import baker::sequence::{Sampler, USE_EMITTER, USE_ENVIRONMENT, sample4}
 #import baker::traverse::{count_ray, traverse}
+#ifdef TEXTURES
+#import baker::maps::{select_emission, textured_material}
+#endif
 #import sbf::runtime::PI
 
 fn environment(d: vec3<f32>) -> vec3<f32> {
@@ -115,6 +118,8 @@ fn visible_point(o: vec3<f32>, q: vec3<f32>) -> bool {
 struct EmitterPoint {
     tri: u32,
     q: vec3<f32>,
+    // Barycentric coordinates of q.
+    b: vec2<f32>,
 }
 
 // An emitter by power (u.x) and a point uniform on it (u.y, u.z).
@@ -139,7 +144,7 @@ fn pick_emitter(u3: vec3<f32>) -> EmitterPoint {
         a = 1.0 - a;
         b = 1.0 - b;
     }
-    return EmitterPoint(ti, tri.corner + tri.edge_u * a + tri.edge_v * b);
+    return EmitterPoint(ti, tri.corner + tri.edge_u * a + tri.edge_v * b, vec2<f32>(a, b));
 }
 
 // Solid-angle pdf of NEE reaching a point of emitter `le` at distance t, cosine cos_l:
@@ -241,8 +246,13 @@ fn area_sample(k: u32, x: vec3<f32>, smp: Sampler) -> AreaSample {
         if (!(cos_l > 0.0)) {
             return AreaSample(wi, vec3<f32>(0.0), 0.0, em.q, true);
         }
+#ifdef TEXTURES
+        let le = textured_material(tri.material, em.tri, em.b).emissive;
+        return AreaSample(wi, le, emitter_pdf(select_emission(tri.material, em.tri, le), dist, cos_l), em.q, true);
+#else
         let le = load_material(tri.material).emissive;
         return AreaSample(wi, le, emitter_pdf(le, dist, cos_l), em.q, true);
+#endif
     }
     let es = env_sample(sample4(smp, USE_ENVIRONMENT).xyz);
     if (!(es.pdf > 0.0)) {

@@ -18,6 +18,9 @@
 #import baker::lights::{area_sample, delta_at, emitter_pdf, env_pdf, environment, offset_ray, visible_area, visible_delta}
 #import baker::sequence::{Sampler, USE_DIRECTION, sample4}
 #import baker::traverse::{count_ray, traverse}
+#ifdef TEXTURES
+#import baker::maps::{barycentrics, select_emission, textured_material}
+#endif
 
 // Next-event estimation at p (shading normal ns facing wo): one emitter by power and one
 // environment direction, MIS against the BSDF; every delta light. Shadow rays start at
@@ -105,7 +108,13 @@ fn path_step(st: ptr<function, PathState>, hit: Hit, smp0: Sampler) -> bool {
         return false;
     }
     let tri = tris[hit.tri];
+#ifdef TEXTURES
+    let m = textured_material(tri.material, hit.tri, barycentrics(tri, (*st).o + d * hit.t));
+    let le_share = select_emission(tri.material, hit.tri, m.emissive);
+#else
     let m = load_material(tri.material);
+    let le_share = m.emissive;
+#endif
     let ng = normalize(cross(tri.edge_u, tri.edge_v));
     let front = dot(d, ng) < 0.0;
     if (bounce == 0u && ((*st).flags & PATH_REJECT_BACK) != 0u && !front && !m.double_sided) {
@@ -116,7 +125,7 @@ fn path_step(st: ptr<function, PathState>, hit: Hit, smp0: Sampler) -> bool {
     if (front && max3(m.emissive) > 0.0 && (bounce > 0u || P.indirect_only == 0u)) {
         var w = 1.0;
         if ((*st).prev_pdf > 0.0) {
-            w = power2((*st).prev_pdf, emitter_pdf(m.emissive, hit.t, -dot(d, ng)));
+            w = power2((*st).prev_pdf, emitter_pdf(le_share, hit.t, -dot(d, ng)));
         }
         (*st).radiance += (*st).throughput * m.emissive * w;
     }
