@@ -34,9 +34,15 @@ fn srgb(v: u8) -> f64 {
 }
 
 fn checker_png() -> Vec<u8> {
+    checker_png_with(&|_| 255)
+}
+
+/// The checker with alpha `alpha(colour index)`.
+fn checker_png_with(alpha: &dyn Fn(usize) -> u8) -> Vec<u8> {
     let img = image::RgbaImage::from_fn(N as u32, N as u32, |i, j| {
-        let c = COLOURS[(i as usize + 2 * j as usize) % 3];
-        image::Rgba([c[0], c[1], c[2], 255])
+        let k = (i as usize + 2 * j as usize) % 3;
+        let c = COLOURS[k];
+        image::Rgba([c[0], c[1], c[2], alpha(k)])
     });
     let mut out = std::io::Cursor::new(Vec::new());
     img.write_to(&mut out, image::ImageFormat::Png).unwrap();
@@ -58,8 +64,13 @@ fn b64(bytes: &[u8]) -> String {
 /// The floor as a .gltf in `dir` with `material` (JSON) and the checker as `image` (JSON),
 /// NEAREST magnification and REPEAT wrapping; returns the imported scene.
 fn floor(dir: &std::path::Path, material: &str, image: &str) -> Scene {
+    plane(dir, material, image, 0.0)
+}
+
+/// [`floor`] at height `y`.
+fn plane(dir: &std::path::Path, material: &str, image: &str, y: f32) -> Scene {
     let a = A as f32;
-    let pos = [[-a, 0.0, -a], [a, 0.0, -a], [a, 0.0, a], [-a, 0.0, a]];
+    let pos = [[-a, y, -a], [a, y, -a], [a, y, a], [-a, y, a]];
     let mut bin: Vec<u8> = Vec::new();
     for p in pos {
         bin.extend(p.iter().flat_map(|x| x.to_le_bytes()));
@@ -84,7 +95,7 @@ fn floor(dir: &std::path::Path, material: &str, image: &str) -> Scene {
         "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}],
         "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":48}},
                        {{"buffer":0,"byteOffset":96,"byteLength":32}},{{"buffer":0,"byteOffset":128,"byteLength":12}}],
-        "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[-{a},0,-{a}],"max":[{a},0,{a}]}},
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[-{a},{y},-{a}],"max":[{a},{y},{a}]}},
                      {{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},
                      {{"bufferView":2,"componentType":5126,"count":4,"type":"VEC2"}},
                      {{"bufferView":3,"componentType":5123,"count":6,"type":"SCALAR"}}]}}"#,
@@ -217,5 +228,33 @@ fn emissive_map_with_texture_transform_emits_each_cells_colour() {
         std::array::from_fn(|c| grid.iter().map(|(r, col)| 4.0 * srgb(col[c]) * solid_angle(*r, p)).sum::<f64>() / (4.0 * PI))
     };
     check_probes(&scene, &probe_positions(), &want, "emissive map", true);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// An alpha-masked plane 0.5 m above the probes (alphaMode MASK, cutoff 0.5; its base
+/// colour map's alpha 0 on the checker's colour-0 cells, 1 elsewhere; black, double-sided)
+/// under a constant sky: the probes see the sky below, through the holes and past the
+/// plane, and nothing where it is solid, so M = L·[1 − Σ_solid cells Ω_cell / 4π].
+/// Mutations: the mask ignored (CPU `is_hole` false; GPU `is_hole` false), the cutoff
+/// compared the wrong way — each fails.
+#[test]
+fn alpha_mask_lets_light_through_its_holes() {
+    let dir = std::env::temp_dir().join(format!("sbf-textures-m-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let material = r#"{"name":"screen","doubleSided":true,"alphaMode":"MASK","alphaCutoff":0.5,
+        "pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1],"metallicFactor":0,"roughnessFactor":1,"baseColorTexture":{"index":0}}}"#;
+    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, b64(&checker_png_with(&|k| if k == 0 { 0 } else { 255 })));
+    let mut scene = plane(&dir, material, &image, 1.0);
+    scene.materials[0].specular = 0.0;
+    let l = 1.5f64;
+    scene.environment = Environment::Constant(Vec3::splat(l as f32));
+    let cuts: Vec<f64> = (0..=N).map(|k| -A + 2.0 * A * k as f64 / N as f64).collect();
+    let grid = cells(&cuts, &|u, v| (u, v));
+    // The plane is 0.5 m above each probe: the same solid angles as a floor 0.5 m below.
+    let want = |p: Vec3| -> [f64; 3] {
+        let solid: f64 = grid.iter().filter(|(_, col)| *col != COLOURS[0]).map(|(r, _)| solid_angle(*r, p)).sum();
+        [l * (1.0 - solid / (4.0 * PI)); 3]
+    };
+    check_probes(&scene, &probe_positions(), &want, "alpha mask", false);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -76,6 +76,9 @@ fn hash_maps(h: &mut Fnv, scene: &Scene) {
                 }
             }
         }
+        if let Some(mask) = m.maps.mask {
+            h.f32s(&[mask.factor, mask.cutoff]);
+        }
     }
     for t in &scene.textures {
         h.u64(((t.width as u64) << 32) | t.height as u64);

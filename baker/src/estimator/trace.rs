@@ -49,6 +49,8 @@ pub struct Tracer<'a> {
     /// samples and the first segment's emitter and sky hits — as the thesis' Fig. 8.6 bakes
     /// (seed 004 §8.4.3: "indirect light from baked lightmaps").
     pub indirect_only: bool,
+    /// Some material has an alpha mask: rays pass through its holes.
+    masked: bool,
 }
 
 /// A light sample at the baked point: world direction towards the light and c = L·w/p·V
@@ -134,7 +136,24 @@ impl<'a> Tracer<'a> {
             select_pdf[*k as usize] = p / total;
         }
         let env = EnvSampler::new(&scene.environment);
-        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, env, indirect_only: false }
+        let masked = scene.materials.iter().any(|m| m.maps.mask.is_some());
+        Tracer { scene, bvh, emitters, cdf, select_pdf, total_power: total, max_bounces, env, indirect_only: false, masked }
+    }
+
+    /// Closest hit along o + t·d, t in (tmin, tmax), through the holes of alpha masks.
+    fn hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<crate::scene::bvh::Hit> {
+        match self.masked {
+            false => self.bvh.intersect(o, d, tmin, tmax),
+            true => self.bvh.intersect_solid(o, d, tmin, tmax, &|k, u, v| !self.scene.is_hole(&self.bvh.tris[k as usize], u, v)),
+        }
+    }
+
+    /// Whether a solid surface (not an alpha mask's hole) lies along o + t·d, t in (tmin, tmax).
+    fn blocked(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        match self.masked {
+            false => self.bvh.occluded(o, d, tmin, tmax),
+            true => self.bvh.occluded_solid(o, d, tmin, tmax, &|k, u, v| !self.scene.is_hole(&self.bvh.tris[k as usize], u, v)),
+        }
     }
 
     /// Emissive triangles (indices into `bvh.tris`) with the CDF of their power.
@@ -250,14 +269,14 @@ impl<'a> Tracer<'a> {
     fn visible(&self, o: Vec3, a: &AreaSample) -> bool {
         match a.target {
             Some(q) => self.visible_point(o, q),
-            None => !self.bvh.occluded(o, a.wi, 0.0, f32::INFINITY),
+            None => !self.blocked(o, a.wi, 0.0, f32::INFINITY),
         }
     }
 
     /// Whether a shadow ray from offset origin `o` reaches the delta light.
     fn visible_delta(&self, l: &crate::scene::Light, o: Vec3) -> bool {
         let (d, len) = shadow_ray(l, o);
-        !self.bvh.occluded(o, d, 0.0, len)
+        !self.blocked(o, d, 0.0, len)
     }
 
     /// Whether a shadow ray from offset origin `o` reaches point `q` (aimed and measured
@@ -265,7 +284,7 @@ impl<'a> Tracer<'a> {
     fn visible_point(&self, o: Vec3, q: Vec3) -> bool {
         let to = q - o;
         let d = to.length();
-        d > 0.0 && !self.bvh.occluded(o, to / d, 0.0, d * (1.0 - 1e-4))
+        d > 0.0 && !self.blocked(o, to / d, 0.0, d * (1.0 - 1e-4))
     }
 
     /// An emitter by power (u₀) and a point uniform on it (u₁, u₂), with its barycentric
@@ -294,7 +313,7 @@ impl<'a> Tracer<'a> {
         // pdf of the sample that produced `d` (None: counted fully).
         let mut prev_pdf: Option<f64> = (first_pdf > 0.0).then_some(first_pdf);
         for bounce in 0..=self.max_bounces {
-            let Some(hit) = self.bvh.intersect(o, d, 0.0, f32::INFINITY) else {
+            let Some(hit) = self.hit(o, d, 0.0, f32::INFINITY) else {
                 let w = match (prev_pdf, &self.env) {
                     (Some(pb), Some(env)) => power2(pb, env.pdf(d)),
                     _ => 1.0,

@@ -8,7 +8,7 @@ use crate::scene::texture::{Filter, Wrap};
 
 /// Words per material, per map reference and per triangle (maps.wgsl's MAT_WORDS,
 /// MAP_WORDS, TRI_WORDS).
-const MAT_WORDS: usize = 34;
+const MAT_WORDS: usize = 36;
 const TRI_WORDS: usize = 14;
 
 /// The maps buffer of `tracer`'s scene (see maps.wgsl for the layout).
@@ -31,6 +31,9 @@ pub(crate) fn maps_data(tracer: &Tracer) -> Vec<u32> {
                 }
             }
         }
+        // The alpha mask's cutoff (−1: none) and the base colour factor's alpha.
+        let (cutoff, alpha) = m.maps.mask.map_or((-1.0, 1.0), |k| (k.cutoff, k.factor));
+        out.extend([f(cutoff), f(alpha)]);
     }
     debug_assert_eq!(out.len(), 4 + MAT_WORDS * scene.materials.len());
     out[1] = out.len() as u32;

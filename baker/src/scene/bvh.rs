@@ -195,15 +195,25 @@ impl Bvh {
 
     /// Closest hit along o + t·d for t in (tmin, tmax).
     pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
-        self.traverse(o, d, tmin, tmax, false)
+        self.traverse(o, d, tmin, tmax, false, &|_, _, _| true)
     }
 
     /// Whether anything lies along o + t·d for t in (tmin, tmax).
     pub fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        self.traverse(o, d, tmin, tmax, true).is_some()
+        self.traverse(o, d, tmin, tmax, true, &|_, _, _| true).is_some()
     }
 
-    fn traverse(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, any: bool) -> Option<Hit> {
+    /// [`Self::intersect`] counting only the hits `solid(tri, u, v)` accepts (alpha masks).
+    pub fn intersect_solid(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, solid: &dyn Fn(u32, f32, f32) -> bool) -> Option<Hit> {
+        self.traverse(o, d, tmin, tmax, false, solid)
+    }
+
+    /// [`Self::occluded`] counting only the hits `solid(tri, u, v)` accepts (alpha masks).
+    pub fn occluded_solid(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, solid: &dyn Fn(u32, f32, f32) -> bool) -> bool {
+        self.traverse(o, d, tmin, tmax, true, solid).is_some()
+    }
+
+    fn traverse(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, any: bool, solid: &dyn Fn(u32, f32, f32) -> bool) -> Option<Hit> {
         if self.tris.is_empty() {
             return None;
         }
@@ -217,7 +227,7 @@ impl Bvh {
             let n = &self.nodes[stack[sp] as usize];
             if n.count > 0 {
                 for k in n.left_first..n.left_first + n.count {
-                    if let Some((t, u, v)) = intersect_tri(&self.tris[k as usize], o, d, tmin, t_best) {
+                    if let Some((t, u, v)) = intersect_tri(&self.tris[k as usize], o, d, tmin, t_best).filter(|h| solid(k, h.1, h.2)) {
                         t_best = t;
                         best = Some(Hit { t, tri: k, u, v });
                         if any {

@@ -4,10 +4,11 @@
 //! `image` crate) into 8-bit RGBA. Images wider or taller than [`MAX_TEXTURE_SIZE`] are
 //! reduced by whole halvings (a 2×2 box in linear light per step), and the report says so;
 //! an image that cannot be read or decoded leaves its map out, with a note.
-//! Not used, and noted: normal and occlusion maps, alpha (every surface is opaque), and
+//! Alpha mode MASK makes the base colour's alpha below the cutoff a hole rays pass
+//! through. Not used, and noted: normal and occlusion maps, alpha mode BLEND (opaque), and
 //! texture coordinate sets above 1.
 
-use super::texture::{Filter, Maps, Texture, TextureRef, Wrap};
+use super::texture::{AlphaMask, Filter, Maps, Texture, TextureRef, Wrap};
 use std::path::Path;
 
 /// The largest texture side kept (larger images are halved until they fit).
@@ -63,12 +64,14 @@ pub(crate) fn load(doc: &gltf::Document, data: &[Vec<u8>], base: &Path, notes: &
             base_color: map(pbr.base_color_texture(), "base colour")?,
             metallic_roughness: map(pbr.metallic_roughness_texture(), "metallic-roughness")?,
             emissive: map(m.emissive_texture(), "emissive")?,
+            mask: (m.alpha_mode() == gltf::material::AlphaMode::Mask)
+                .then(|| AlphaMask { factor: pbr.base_color_factor()[3], cutoff: m.alpha_cutoff().unwrap_or(0.5) }),
         };
         if m.normal_texture().is_some() || m.occlusion_texture().is_some() {
             notes.push(format!("material '{name}': normal and occlusion maps are not used"));
         }
-        if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
-            notes.push(format!("material '{name}': alpha mode {:?} taken as opaque", m.alpha_mode()));
+        if m.alpha_mode() == gltf::material::AlphaMode::Blend {
+            notes.push(format!("material '{name}': alpha mode BLEND taken as opaque (MASK is honoured)"));
         }
         maps.push(maps_of);
     }

@@ -56,7 +56,7 @@ impl Material {
             specular: 0.0,
             emissive: Vec3::ZERO,
             double_sided: false,
-            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None },
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None },
         }
     }
     /// glTF-style dielectric with GGX roughness.
@@ -68,7 +68,7 @@ impl Material {
             specular: 1.0,
             emissive: Vec3::ZERO,
             double_sided: false,
-            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None },
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None },
         }
     }
     /// A black emitter.
@@ -80,7 +80,7 @@ impl Material {
             specular: 0.0,
             emissive: radiance,
             double_sided: false,
-            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None },
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None },
         }
     }
     /// Albedo of the Lambert layer: base·(1 − metallic).
@@ -258,16 +258,7 @@ impl Scene {
         if m.maps.is_empty() {
             return m;
         }
-        let mesh = &self.meshes[tri.mesh as usize];
-        let idx = mesh.indices[tri.prim as usize];
-        let read = |r: &texture::TextureRef, srgb: bool| {
-            let set = if r.texcoord == 1 { mesh.lightmap_uv.as_ref() } else { mesh.uv.as_ref() };
-            // The importer keeps a map only where its coordinate set exists.
-            let c = set?;
-            let [a, b, d] = idx.map(|i| c[i as usize]);
-            let uv = a * (1.0 - u - v) + b * u + d * v;
-            Some(self.textures[r.texture].sample(r.apply(uv), srgb))
-        };
+        let read = |r: &texture::TextureRef, srgb: bool| self.map_at(tri, r, u, v, srgb);
         let mut out = m;
         if let Some(t) = m.maps.base_color.as_ref().and_then(|r| read(r, true)) {
             out.base_color *= t.truncate();
@@ -282,7 +273,29 @@ impl Scene {
         out
     }
 
-    /// Whether any material has a texture map.
+    /// Map `r` of BVH triangle `tri`'s material at barycentric (u, v); None where its mesh
+    /// lacks the map's coordinate set (the importer notes it; the factor stands alone).
+    fn map_at(&self, tri: &bvh::Tri, r: &texture::TextureRef, u: f32, v: f32, srgb: bool) -> Option<sbf::glam::Vec4> {
+        let mesh = &self.meshes[tri.mesh as usize];
+        let set = if r.texcoord == 1 { mesh.lightmap_uv.as_ref() } else { mesh.uv.as_ref() }?;
+        let [a, b, c] = mesh.indices[tri.prim as usize].map(|i| set[i as usize]);
+        let uv = a * (1.0 - u - v) + b * u + c * v;
+        Some(self.textures[r.texture].sample(r.apply(uv), srgb))
+    }
+
+    /// Whether rays pass through BVH triangle `tri` at barycentric (u, v): its material's
+    /// alpha mask (factor × the base colour map's alpha) is below the cutoff there.
+    pub fn is_hole(&self, tri: &bvh::Tri, u: f32, v: f32) -> bool {
+        let m = &self.materials[tri.material as usize];
+        let Some(mask) = m.maps.mask else { return false };
+        let alpha = match m.maps.base_color {
+            None => 1.0,
+            Some(r) => self.map_at(tri, &r, u, v, false).map_or(1.0, |t| t.w),
+        };
+        mask.factor * alpha < mask.cutoff
+    }
+
+    /// Whether any material has a texture map (or an alpha mask).
     pub fn has_textures(&self) -> bool {
         self.materials.iter().any(|m| !m.maps.is_empty())
     }

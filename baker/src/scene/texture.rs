@@ -78,11 +78,21 @@ pub struct Maps {
     pub metallic_roughness: Option<TextureRef>,
     /// sRGB colour.
     pub emissive: Option<TextureRef>,
+    /// glTF alphaMode MASK: the base colour's alpha (factor × map) below the cutoff is a
+    /// hole rays pass through.
+    pub mask: Option<AlphaMask>,
+}
+
+/// glTF's alpha mask (§3.9.4): the base colour factor's alpha and the cutoff.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlphaMask {
+    pub factor: f32,
+    pub cutoff: f32,
 }
 
 impl Maps {
     pub fn is_empty(&self) -> bool {
-        self.base_color.is_none() && self.metallic_roughness.is_none() && self.emissive.is_none()
+        self.base_color.is_none() && self.metallic_roughness.is_none() && self.emissive.is_none() && self.mask.is_none()
     }
 }
 

@@ -12,14 +12,15 @@
 // Words 0–3: where the materials, the texture headers, the triangles and the texels
 // begin. Per material MAT_WORDS: base colour (3), metallic, roughness, specular,
 // emission (3), whether it has a map, then per map (base colour, metallic-roughness,
-// emissive) MAP_WORDS: texture + 1 (0: none), texcoord set, the transform's rows (2 × 3).
+// emissive) MAP_WORDS: texture + 1 (0: none), texcoord set, the transform's rows (2 × 3);
+// then the alpha mask's cutoff (< 0: none) and the base colour factor's alpha.
 // Per texture 4: first texel, width, height, wrap S | wrap T << 2 | nearest << 4 (wrap: 0
 // repeat, 1 clamp, 2 mirror). Per BVH triangle TRI_WORDS: TEXCOORD_0 and _1 at its three
 // corners, which sets it has (bits), the luminance of its mean emission (its NEE share).
 // Texels RGBA8, R in the low byte. Floats as their bits.
 @group(0) @binding(20) var<storage, read> maps: array<u32>;
 
-const MAT_WORDS: u32 = 34u;
+const MAT_WORDS: u32 = 36u;
 const MAP_WORDS: u32 = 8u;
 const TRI_WORDS: u32 = 14u;
 
@@ -142,4 +143,16 @@ fn select_emission(m: u32, tri: u32, le: vec3<f32>) -> vec3<f32> {
         return le;
     }
     return vec3<f32>(word_f(maps[2] + TRI_WORDS * tri + 13u));
+}
+
+// Whether rays pass through BVH triangle k (`tri`) at point p: its material's alpha mask,
+// the base colour factor's alpha × the map's, is below the cutoff (CPU twin:
+// Scene::is_hole).
+fn is_hole(k: u32, tri: Tri, p: vec3<f32>) -> bool {
+    let o = maps[0] + MAT_WORDS * tri.material;
+    let cutoff = word_f(o + 34u);
+    if (cutoff < 0.0) {
+        return false;
+    }
+    return word_f(o + 35u) * map_value(tri.material, 0u, k, barycentrics(tri, p), false).w < cutoff;
 }

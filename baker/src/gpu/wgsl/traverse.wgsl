@@ -4,6 +4,9 @@
 #define_import_path baker::traverse
 
 #import baker::bindings::{CUT_TRAVERSALS, Hit, NO_HIT, Node, P, T_FAR, Tri, counters, nodes, tris}
+#ifdef TEXTURES
+#import baker::maps::is_hole
+#endif
 
 fn slab(n: Node, o: vec3<f32>, inv: vec3<f32>, tmax: f32) -> f32 {
     let t0 = (n.min - o) * inv;
@@ -52,6 +55,11 @@ fn traverse(o: vec3<f32>, d: vec3<f32>, tmax: f32, any: bool) -> Hit {
         if (n.count > 0u) {
             for (var k = n.left_first; k < n.left_first + n.count; k++) {
                 let t = intersect_tri(tris[k], o, d, best.t);
+#ifdef TEXTURES
+                if (t < best.t && is_hole(k, tris[k], o + d * t)) {
+                    continue;
+                }
+#endif
                 if (t < best.t) {
                     best = Hit(t, k);
                     if (any) {
