@@ -39,8 +39,10 @@ fn read_bounded(p: &Path, declared: usize, index: usize) -> Result<Vec<u8>, Scen
 enum Use {
     Position,
     Normal,
-    /// TEXCOORD_0 or TEXCOORD_1.
+    /// TEXCOORD_0 (the material maps' coordinates).
     Uv,
+    /// TEXCOORD_1.
+    LightmapUv,
     Indices,
 }
 
@@ -54,7 +56,9 @@ fn check_accessor(a: &gltf::Accessor, usage: Use, mesh: &str, data: &[Vec<u8>]) 
     let bad = |what: String| SceneError::Io(format!("mesh '{mesh}': accessor {} ({usage:?}): {what}", a.index()));
     let ok_type = match usage {
         Use::Position | Use::Normal => a.data_type() == T::F32 && a.dimensions() == D::Vec3,
-        Use::Uv => a.dimensions() == D::Vec2 && (a.data_type() == T::F32 || (a.normalized() && matches!(a.data_type(), T::U8 | T::U16))),
+        Use::Uv | Use::LightmapUv => {
+            a.dimensions() == D::Vec2 && (a.data_type() == T::F32 || (a.normalized() && matches!(a.data_type(), T::U8 | T::U16)))
+        }
         Use::Indices => a.dimensions() == D::Scalar && matches!(a.data_type(), T::U8 | T::U16 | T::U32),
     };
     if !ok_type {
@@ -303,7 +307,7 @@ fn primitive(
     check_accessor(&pa, Use::Position, &name, data)?;
     let vertices = pa.count();
     for (sem, usage) in
-        [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(0), Use::Uv), (gltf::Semantic::TexCoords(1), Use::Uv)]
+        [(gltf::Semantic::Normals, Use::Normal), (gltf::Semantic::TexCoords(0), Use::Uv), (gltf::Semantic::TexCoords(1), Use::LightmapUv)]
     {
         if let Some(a) = prim.get(&sem) {
             check_accessor(&a, usage, &name, data)?;
