@@ -1,0 +1,344 @@
+//! The directional lightmap formats engines ship, as encodings of L1 irradiance, each
+//! decoded exactly as its engine's published shader does.
+//!
+//! Every format here stores a colour (HDR) and one or three "unit" textures (values in
+//! [0, 1], as 8-bit or f16 channels), and its shader turns them into E/π — the value the
+//! engine multiplies by albedo — at the shading normal n:
+//!
+//! | format | stored per texel | decode (E/π at n) |
+//! |---|---|---|
+//! | Godot 4 LightmapGI, SH mode | L0 (RGB f16) + three RGB f16 layers s_y, s_z, s_x | L0 + Σ_k 4·L0·(2s_k − 1)·n_k |
+//! | Bakery MonoSH | L0 (RGB) + one direction t (RGB8) | max(0, L0 + 2·L0·((2t − 1)·n)) |
+//! | Enlighten directional (single) | irradiance C (RGB) + t (RGBA8) | C·((t.xyz − ½)·n + ½)/max(t.w, 10⁻⁴) |
+//! | Enlighten directional (RGB) | C + one RGBA8 t per channel | per channel as the single form |
+//!
+//! Sources of the decodes: Godot's `scene_forward_clustered.glsl` (`USE_SH_LIGHTMAP`:
+//! `lm_light_l1* = (texture − 0.5)·2`, `ambient += lm_light_l1*·n_k·(L0·4)`, layers in
+//! the order l1n1 (y), l1_0 (z), l1p1 (x)) and its packing pass (`lm_compute.glsl`,
+//! `MODE_PACK_L1_COEFFS`: c/(8·L0) + ½, clamped to [0, 1]); Bakery's `Bakery.cginc`
+//! (`BakeryMonoSH`: `nL1 = dominantDir·2 − 1`, `L1x = nL1.x·L0·2`, …,
+//! `max(L0 + n·L1, 0)`); Unity's `UnityCG.cginc` `DecodeDirectionalLightmap` for
+//! Enlighten's directional output (`halfLambert = dot(n, dirTex.xyz − 0.5) + 0.5`,
+//! `color·halfLambert/max(1e-4, dirTex.w)`), whose texture Enlighten's SDK documents
+//! ("Solving for directional irradiance": the luminance-based dominant direction in
+//! RGB, 8 bits per channel, its length the directionality — 1 for light from one
+//! direction, ½ for light uniform over the hemisphere — and the rescaling factor in
+//! alpha; three such textures for the RGB variant).
+//!
+//! Encodes, from the linear L1 irradiance E/π = a₀ + a₁·n of each channel
+//! ([`L1Irradiance`], from SH L1 radiance coefficients):
+//! - Godot: L0 = a₀, s = a₁/(8a₀) + ½ (Godot's own packing; s ∈ [¼, ¾] for any
+//!   non-negative radiance, since |a₁| ≤ 2a₀). The decode then returns a₀ + a₁·n: the
+//!   L1 irradiance itself. (Godot's own baker scales its direct lights' L1 to a ratio of
+//!   4 — the comments in `lm_compute.glsl` — not the Lambert ratio 2 used here.)
+//! - MonoSH: L0 = a₀ per channel, one direction d = Y(a₁)/(2·Y(a₀)) with Y the Rec. 709
+//!   luminance (Bakery's format stores the luminance L1; its encoder is not published).
+//!   For radiance from one colour the decode is the L1 irradiance exactly.
+//! - Enlighten: d = ∫Y(L)ω dω/∫Y(L) dω, the luminance-weighted mean incident direction
+//!   (length 1 for one direction, ½ for a uniform hemisphere, as the SDK describes),
+//!   which for SH L1 is Y(a₁)/(2·Y(a₀)) — the same vector as MonoSH's; C = E/π at the
+//!   baking normal n₀ (exact when the caller has it, else the L1 value), and the
+//!   rescaling factor w = ½(1 + n₀·d) (BakingLab's encoder: `dot(tau, (d, 1))`,
+//!   τ = ½(n₀, 1)), so the decode returns C exactly at n₀ and C·(1 + n·d)/(1 + n₀·d)
+//!   elsewhere — half the directional contrast of the L1 irradiance (1 + 2d·n).
+//!
+//! Values a texture cannot hold (a unit channel outside [0, 1], a direction longer than
+//! 1) are clamped as the engines' packers clamp, and counted in [`Encoded::clamped`].
+
+use super::sh::LUMINANCE;
+use glam::DVec3;
+use std::f64::consts::PI;
+
+/// A directional lightmap format an engine ships.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EngineFormat {
+    /// Godot 4 LightmapGI with "Use Spherical Harmonics": L1 SH, L1 packed relative to L0.
+    GodotL1,
+    /// Bakery's MonoSH: RGB L0 and one luminance L1 direction.
+    MonoSh,
+    /// Enlighten's directional irradiance, one luminance dominant direction.
+    Enlighten,
+    /// Enlighten's directional irradiance, one dominant direction per colour channel.
+    EnlightenRgb,
+}
+
+/// How a texture channel is stored at the engine's precision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Channel {
+    /// IEEE half float.
+    F16,
+    /// 8-bit unsigned normalised: k/255.
+    Unorm8,
+}
+
+impl EngineFormat {
+    /// Every format, in report order.
+    pub const ALL: [EngineFormat; 4] = [EngineFormat::GodotL1, EngineFormat::MonoSh, EngineFormat::Enlighten, EngineFormat::EnlightenRgb];
+
+    /// Short identifier (probes mode ids, file names).
+    pub fn id(self) -> &'static str {
+        match self {
+            EngineFormat::GodotL1 => "godot-l1",
+            EngineFormat::MonoSh => "monosh",
+            EngineFormat::Enlighten => "enlighten",
+            EngineFormat::EnlightenRgb => "enlighten-rgb",
+        }
+    }
+
+    /// Unit textures per texel (RGBA each).
+    pub fn unit_textures(self) -> usize {
+        match self {
+            EngineFormat::GodotL1 | EngineFormat::EnlightenRgb => 3,
+            EngineFormat::MonoSh | EngineFormat::Enlighten => 1,
+        }
+    }
+
+    /// Channels of the unit textures the decode reads: RGB, or RGBA for Enlighten (the
+    /// rescaling factor in alpha).
+    pub fn unit_channels(self) -> usize {
+        match self {
+            EngineFormat::GodotL1 | EngineFormat::MonoSh => 3,
+            EngineFormat::Enlighten | EngineFormat::EnlightenRgb => 4,
+        }
+    }
+
+    /// How the unit textures are stored: Godot keeps its SH layers in RGBA16F, Bakery and
+    /// Enlighten their directions in RGBA8.
+    pub fn unit_storage(self) -> Channel {
+        match self {
+            EngineFormat::GodotL1 => Channel::F16,
+            _ => Channel::Unorm8,
+        }
+    }
+
+    /// Scalars the decode reads per texel: the RGB colour and the unit channels.
+    pub fn scalars(self) -> usize {
+        3 + self.unit_textures() * self.unit_channels()
+    }
+
+    /// Bytes per texel as the engine stores it uncompressed: the colour as RGBA16F (8 B;
+    /// RGB textures are padded to four channels by GPUs) and each unit texture as RGBA16F
+    /// (Godot) or RGBA8.
+    pub fn engine_bytes(self) -> usize {
+        let unit = match self.unit_storage() {
+            Channel::F16 => 8,
+            Channel::Unorm8 => 4,
+        };
+        8 + unit * self.unit_textures()
+    }
+}
+
+/// Linear L1 irradiance of each channel: E/π(n) = a₀ + a₁·n.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct L1Irradiance {
+    /// a₀ per channel.
+    pub a0: [f64; 3],
+    /// a₁ per channel.
+    pub a1: [DVec3; 3],
+}
+
+impl L1Irradiance {
+    /// From SH L1 radiance coefficients per channel (order Y₀₀, Y₁₋₁ ∝ y, Y₁₀ ∝ z,
+    /// Y₁₁ ∝ x, as [`crate::basis::sh`]): a₀ = c₀/(2√π), a₁ = (2/3)√(3/4π)·(c₃, c₁, c₂)
+    /// (Ramamoorthi & Hanrahan 2001: A₀ = π, A₁ = 2π/3, divided by π).
+    pub fn from_sh(rgb: &[[f64; 4]; 3]) -> L1Irradiance {
+        let k0 = 0.5 / PI.sqrt();
+        let k1 = (2.0 / 3.0) * (3.0 / (4.0 * PI)).sqrt();
+        L1Irradiance { a0: rgb.map(|c| c[0] * k0), a1: rgb.map(|c| DVec3::new(c[3], c[1], c[2]) * k1) }
+    }
+
+    /// E/π at `n` (linear, unclamped).
+    pub fn eval(&self, n: DVec3) -> [f64; 3] {
+        [0, 1, 2].map(|k| self.a0[k] + self.a1[k].dot(n))
+    }
+
+    /// The luminance-weighted direction Y(a₁)/(2·Y(a₀)): MonoSH's L1 and Enlighten's
+    /// dominant direction; zero when Y(a₀) ≤ 0.
+    pub fn luminance_direction(&self) -> DVec3 {
+        let y0: f64 = (0..3).map(|k| LUMINANCE[k] * self.a0[k]).sum();
+        let y1: DVec3 = (0..3).map(|k| self.a1[k] * LUMINANCE[k]).sum();
+        if y0 > 0.0 {
+            y1 / (2.0 * y0)
+        } else {
+            DVec3::ZERO
+        }
+    }
+
+    /// The direction of channel `k` alone: a₁/(2a₀); zero when a₀ ≤ 0.
+    pub fn channel_direction(&self, k: usize) -> DVec3 {
+        if self.a0[k] > 0.0 {
+            self.a1[k] / (2.0 * self.a0[k])
+        } else {
+            DVec3::ZERO
+        }
+    }
+}
+
+/// A texel as its textures hold it: the colour and up to three unit textures (RGBA;
+/// unused channels are 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Texel {
+    /// The HDR colour (L0, or Enlighten's irradiance), E/π units.
+    pub colour: [f64; 3],
+    /// The unit textures as sampled, [0, 1].
+    pub unit: [[f64; 4]; 3],
+}
+
+/// An encoded texel and how many stored values had to be clamped.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Encoded {
+    /// The texel at full precision ([`Texel::stored`] rounds it as the engine stores it).
+    pub texel: Texel,
+    /// Stored values that were out of range and clamped.
+    pub clamped: usize,
+}
+
+/// Clamps to [0, 1], counting a value that was outside (NaN counts and becomes ½).
+fn unit(x: f64, clamped: &mut usize) -> f64 {
+    if (0.0..=1.0).contains(&x) {
+        x
+    } else {
+        *clamped += 1;
+        if x.is_nan() {
+            0.5
+        } else {
+            x.clamp(0.0, 1.0)
+        }
+    }
+}
+
+/// A direction packed as (d + 1)/2 per axis, its length first limited to 1 (counted).
+fn pack_direction(d: DVec3, clamped: &mut usize) -> [f64; 3] {
+    let len = d.length();
+    let d = if len > 1.0 {
+        *clamped += 1;
+        d / len
+    } else {
+        d
+    };
+    [d.x, d.y, d.z].map(|v| unit(0.5 * v + 0.5, clamped))
+}
+
+/// Encodes one texel. `n0` is the baking normal and `e_n0` the E/π there, for the
+/// Enlighten formats (`None`: the L1 value at `n0`); the other formats ignore both.
+pub fn encode(format: EngineFormat, l1: &L1Irradiance, n0: DVec3, e_n0: Option<[f64; 3]>) -> Encoded {
+    let mut clamped = 0;
+    let mut texel = Texel { colour: l1.a0, unit: [[1.0; 4]; 3] };
+    match format {
+        EngineFormat::GodotL1 => {
+            // Layers in Godot's order: l1n1 (y), l1_0 (z), l1p1 (x); c/(8·L0) + ½ where
+            // L0 ≠ 0, c + ½ where it is 0 (MODE_PACK_L1_COEFFS).
+            for (layer, axis) in [1usize, 2, 0].into_iter().enumerate() {
+                for k in 0..3 {
+                    let c = l1.a1[k].to_array()[axis];
+                    let s = if l1.a0[k] != 0.0 { c / (8.0 * l1.a0[k]) } else { c };
+                    texel.unit[layer][k] = unit(s + 0.5, &mut clamped);
+                }
+            }
+        }
+        EngineFormat::MonoSh => {
+            let t = pack_direction(l1.luminance_direction(), &mut clamped);
+            texel.unit[0][..3].copy_from_slice(&t);
+        }
+        EngineFormat::Enlighten | EngineFormat::EnlightenRgb => {
+            texel.colour = e_n0.unwrap_or_else(|| l1.eval(n0));
+            let dirs: Vec<DVec3> = if format == EngineFormat::Enlighten {
+                vec![l1.luminance_direction()]
+            } else {
+                (0..3).map(|k| l1.channel_direction(k)).collect()
+            };
+            for (t, d) in texel.unit.iter_mut().zip(dirs) {
+                let p = pack_direction(d, &mut clamped);
+                // The rescaling factor from the direction as stored, so the decode
+                // returns the colour at n₀ exactly.
+                let ds = DVec3::new(p[0], p[1], p[2]) * 2.0 - DVec3::ONE;
+                t[..3].copy_from_slice(&p);
+                t[3] = unit((0.5 * n0.dot(ds) + 0.5).max(1e-4), &mut clamped);
+            }
+        }
+    }
+    Encoded { texel, clamped }
+}
+
+/// Rounds a value to the nearest IEEE half (round-to-nearest-even).
+pub fn round_f16(x: f64) -> f64 {
+    half::f16::from_f64(x).to_f64()
+}
+
+/// Rounds a [0, 1] value to the nearest k/255.
+pub fn round_unorm8(x: f64) -> f64 {
+    (x.clamp(0.0, 1.0) * 255.0).round() / 255.0
+}
+
+impl Texel {
+    /// The texel as the engine's textures hold it: colour in f16, unit textures in the
+    /// format's [`EngineFormat::unit_storage`].
+    pub fn stored(&self, format: EngineFormat) -> Texel {
+        let r: fn(f64) -> f64 = match format.unit_storage() {
+            Channel::F16 => round_f16,
+            Channel::Unorm8 => round_unorm8,
+        };
+        Texel { colour: self.colour.map(round_f16), unit: self.unit.map(|t| t.map(r)) }
+    }
+}
+
+/// E/π at unit normal `n`, as the format's published shader computes it (module docs).
+pub fn decode(format: EngineFormat, t: &Texel, n: DVec3) -> [f64; 3] {
+    let dir = |u: &[f64; 4]| DVec3::new(u[0], u[1], u[2]) * 2.0 - DVec3::ONE;
+    match format {
+        EngineFormat::GodotL1 => {
+            let nk = [n.y, n.z, n.x];
+            [0, 1, 2].map(|k| {
+                let l0 = t.colour[k];
+                l0 + (0..3).map(|layer| (t.unit[layer][k] - 0.5) * 2.0 * nk[layer] * (l0 * 4.0)).sum::<f64>()
+            })
+        }
+        EngineFormat::MonoSh => {
+            let nl1 = dir(&t.unit[0]);
+            t.colour.map(|l0| (l0 + 2.0 * l0 * nl1.dot(n)).max(0.0))
+        }
+        EngineFormat::Enlighten => {
+            let u = &t.unit[0];
+            let half_lambert = n.dot(DVec3::new(u[0], u[1], u[2]) - DVec3::splat(0.5)) + 0.5;
+            t.colour.map(|c| c * half_lambert / u[3].max(1e-4))
+        }
+        EngineFormat::EnlightenRgb => [0, 1, 2].map(|k| {
+            let u = &t.unit[k];
+            let half_lambert = n.dot(DVec3::new(u[0], u[1], u[2]) - DVec3::splat(0.5)) + 0.5;
+            t.colour[k] * half_lambert / u[3].max(1e-4)
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Radiance of one white delta light of unit integral from `w`, projected on SH L1:
+    /// c₀ = Y₀₀ = 1/(2√π), (c₁, c₂, c₃) = √(3/4π)·(w_y, w_z, w_x).
+    fn delta_sh(w: DVec3, rgb: [f64; 3]) -> [[f64; 4]; 3] {
+        let k1 = (3.0 / (4.0 * PI)).sqrt();
+        rgb.map(|s| [0.5 / PI.sqrt() * s, k1 * w.y * s, k1 * w.z * s, k1 * w.x * s])
+    }
+
+    #[test]
+    fn l1_irradiance_of_a_delta_light_is_the_closed_form() {
+        // E/π of a unit delta light in L1 is (1 + 2 w·n)/(4π) (A₀ = π, A₁ = 2π/3).
+        let w = DVec3::new(0.3, 0.8, -0.52).normalize();
+        let l1 = L1Irradiance::from_sh(&delta_sh(w, [1.0; 3]));
+        for n in [DVec3::X, DVec3::Y, DVec3::new(0.2, -0.9, 0.4).normalize()] {
+            let want = (1.0 + 2.0 * w.dot(n)) / (4.0 * PI);
+            assert!((l1.eval(n)[0] - want).abs() < 1e-15, "{n}: {} vs {want}", l1.eval(n)[0]);
+        }
+        // Its luminance direction is w itself (length 1: one direction).
+        assert!((l1.luminance_direction() - w).length() < 1e-14);
+    }
+
+    #[test]
+    fn stored_rounding_is_half_and_unorm8() {
+        assert_eq!(round_f16(1.0 + 1.0 / 4096.0), 1.0); // below half an f16 ulp (2⁻¹¹)
+        assert_eq!(round_f16(1.0 + 1.0 / 1024.0), 1.0 + 1.0 / 1024.0);
+        assert_eq!(round_unorm8(0.5), 128.0 / 255.0);
+        assert_eq!(round_unorm8(1.2), 1.0);
+    }
+}
