@@ -5,9 +5,10 @@
 //!
 //! Modes map to the WGSL runtime they would use: SH L2 → `sh_l2_irradiance`; SG 9/12 →
 //! Hill irradiance (+ for specular the per-lobe GGX tables, or the ASG warp with
-//! `--specular-runtime fit`); Ambient Dice SRBF 9/12 → `ad9`/`ad12` irradiance (+ the tables,
-//! or the Listing 8.1 fit × LUT). Modes without a WGSL runtime
-//! (ambient cube, SH L1 variants and L3+, the Bézier/YCoCg Ambient Dice, the H-basis, the
+//! `--specular-runtime fit`); Ambient Dice SRBF 9/12 → `ad9`/`ad12` irradiance (+ the
+//! tables, or the Listing 8.1 fit × LUT); the engine formats → their decodes
+//! (`engine.wgsl`). Modes without a WGSL runtime (ambient cube, SH L1 variants and L3+,
+//! the Bézier/YCoCg Ambient Dice, the H-basis, the
 //! Monte Carlo reference) get none and stay off the GPU front.
 
 use serde::{Deserialize, Serialize};
@@ -49,6 +50,10 @@ pub fn kernel_of(id: &str) -> Option<&'static str> {
         "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg12h" => Some("SG12"),
         "ad9" => Some("AD9"),
         "adrbf" | "adrbf-irr" | "adrbf-tangent" | "adpls" | "adpnnls" => Some("AD12"),
+        "godot-l1" => Some("Godot L1"),
+        "monosh" => Some("MonoSH"),
+        "enlighten" => Some("Enlighten"),
+        "enlighten-rgb" => Some("Enlighten RGB"),
         _ => None,
     }
 }

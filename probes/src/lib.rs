@@ -2,7 +2,7 @@
 //!
 //! Error against run time for every mode: the tool loads lat-long maps
 //! ([`input`]), computes exact references ([`reference`](mod@reference)), runs each mode
-//! ([`modes`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
+//! ([`modes`]; the engines' directional lightmap formats in [`engine_modes`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
 //! images and plots ([`images`]).
 //! `--reference appendix-c` reproduces seed 004 Appendix C's conventions ([`appendix_c`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
@@ -15,6 +15,7 @@ pub mod compare;
 pub mod cost;
 pub mod decide;
 pub mod decision_text;
+pub mod engine_modes;
 pub mod gpu_cost;
 pub mod images;
 /// Map loading lives in `sbf::io` (shared with the baker); re-exported under its old name.

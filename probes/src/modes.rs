@@ -236,6 +236,9 @@ pub struct ModeResult {
     pub eval: crate::cost::CostStat,
     /// Scalars stored per probe/texel (RGB coefficients × 3, or per YCoCg channel).
     pub stored_scalars: usize,
+    /// Bytes per probe/texel where a mode is an engine's storage format (f16 and 8-bit
+    /// channels, [`crate::engine_modes`]); `None`: f32 per scalar.
+    pub engine_bytes: Option<usize>,
     /// Whether the irradiance path is the WGSL runtime's (`shaders`): false for the SG
     /// modes reconstructed with the peer's kernel or the prior estimate, which have none —
     /// their GPU cost is then not reported.
@@ -292,6 +295,10 @@ pub const MODES: &[(&str, &str)] = &[
     ("adrbf-tangent", "Ambient Dice SRBF 12 on the icosahedron in tangent space, eq. 8.14 irradiance (Appendix C's AD12)"),
     ("h4", "H-basis 4 (tangent space, normal +Y in the map), fitted to the irradiance image over the upper hemisphere"),
     ("h6", "H-basis 6, fitted to the irradiance image over the upper hemisphere"),
+    ("godot-l1", "Godot 4 LightmapGI SH: L0 + L1/L0 packed in three RGBA16F layers, Godot's decode"),
+    ("monosh", "Bakery MonoSH: RGB L0 + one luminance L1 direction (RGBA8), Bakery's decode"),
+    ("enlighten", "Enlighten directional irradiance: one luminance direction + rescaling factor (RGBA8), half-Lambert decode"),
+    ("enlighten-rgb", "Enlighten directional irradiance: one direction + rescaling factor per channel (3 × RGBA8)"),
 ];
 
 /// Default modes for `--domain hemisphere` (seed Appendix C).
@@ -356,9 +363,9 @@ impl ModeResult {
         self.encode_s + if self.needs_reference { reference_s } else { 0.0 }
     }
 
-    /// Bytes per probe/texel at the runtime precision (f32).
+    /// Bytes per probe/texel: f32 per scalar, or an engine format's own storage.
     pub fn storage_bytes(&self) -> usize {
-        crate::cost::storage_bytes(self.stored_scalars)
+        self.engine_bytes.unwrap_or_else(|| crate::cost::storage_bytes(self.stored_scalars))
     }
 }
 
@@ -367,14 +374,14 @@ pub use crate::cost::{EncodeJob, Timing, ENCODE_BUDGET_S};
 /// `f` run once (untimed) for its result, and `f` as the job that times it later
 /// (`repeats` runs, [`crate::cost::time_encodes`]). `f` owns what it reads, so
 /// the job outlives this mode's other work.
-fn timed<'a, T: 'a>(repeats: usize, mut f: impl FnMut() -> T + Send + 'a) -> (T, EncodeJob<'a>) {
+pub(crate) fn timed<'a, T: 'a>(repeats: usize, mut f: impl FnMut() -> T + Send + 'a) -> (T, EncodeJob<'a>) {
     let out = f();
     (out, EncodeJob::new(repeats, move || drop(std::hint::black_box(f()))))
 }
 
 /// The image of `f` over the output directions, and `f` as the job that measures its
 /// steady-state cost later ([`crate::cost`]: a run measures every mode's job side by side).
-fn eval_cost<'a>(ctx: &'a Context, mut f: impl FnMut(DVec3) -> [f64; 3] + Send + 'a) -> (Vec<[f64; 3]>, Option<CostJob<'a>>) {
+pub(crate) fn eval_cost<'a>(ctx: &'a Context, mut f: impl FnMut(DVec3) -> [f64; 3] + Send + 'a) -> (Vec<[f64; 3]>, Option<CostJob<'a>>) {
     let out: Vec<[f64; 3]> = ctx.dirs.iter().map(|d| f(*d)).collect();
     let dirs = &ctx.dirs;
     (out, Some(CostJob::over(dirs.len(), ctx.eval_work, move |k| f(dirs[k]))))
@@ -584,6 +591,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             irradiance,
             clamped_negative_fraction: None,
             stored_scalars: 3 * coefficients.len(),
+            engine_bytes: None,
             wgsl_irradiance: true,
             irradiance_variant: "",
             encode_s: 0.0,
@@ -705,6 +713,15 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 ns,
             );
             r.result.needs_reference = id == "ac";
+            Ok(r)
+        }
+        _ if crate::engine_modes::format(id).is_some() => {
+            let format = crate::engine_modes::format(id).expect("guarded");
+            let e = crate::engine_modes::prepare(format, ctx, repeats)?;
+            let mut r = mk(e.basis, "SH L1 projection, encoded and stored as the engine does", e.stored, Vec::new(), None, e.irradiance, e.encode, e.eval);
+            r.result.stored_scalars = e.scalars;
+            r.result.engine_bytes = Some(e.bytes);
+            r.result.clamped_negative_fraction = e.clamped_negative_fraction;
             Ok(r)
         }
         _ if sh_order(id).is_some() => {

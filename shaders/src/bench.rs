@@ -1,6 +1,7 @@
 //! GPU reconstruction throughput (`shaders bench`): evaluations per second for SH9,
 //! SG9/SG12 (Hill + ASG warp) and AD9/AD12 (quadratic + Listing 8.1 fit × LUT), diffuse
-//! only and diffuse + specular, and the progressive encoder's per-sample update (state
+//! only and diffuse + specular, the engines' directional lightmap decodes (Godot L1,
+//! MonoSH, Enlighten single/RGB), and the progressive encoder's per-sample update (state
 //! loaded and stored, as a baker does). Each invocation reads its normal, view and α from a
 //! buffer and one of 1024 coefficient sets (as a lightmap fetch would), evaluates, and
 //! writes the sum of the RGB result, so that nothing is optimised away.
@@ -97,6 +98,11 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         b + "    outp[i] = e.x + e.y + e.z;"
     };
     let sh = pre(9) + "    let e = sh_l2_irradiance(c, n);\n    outp[i] = e.x + e.y + e.z;";
+    // The engines' directional lightmap formats (engine.wgsl): the colour in c[0], the unit
+    // textures' RGB in c[1..], Enlighten's rescaling factors in the last set's xyz. The values
+    // come from the f32 buffer like every other kernel's (an engine's f16/8-bit texture
+    // fetch is not modelled).
+    let engine = |k: usize, call: &str| pre(k) + &format!("    let e = {call};\n    outp[i] = e.x + e.y + e.z;");
     // Progressive encoding as a baker does it: load the texel's state, evaluate the
     // basis at the sample direction (here n, radiance from the coefficient set), add the
     // sample, store the state (208 bytes read and written per sample).
@@ -121,6 +127,16 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         ("AD9", "ad9-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, false)),
         ("AD12", "ad12-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, false)),
         ("AD12 progressive LS", "ad-eval,progressive", 12, "encode", encode(12)),
+        ("Godot L1", "engine-formats", 4, "diffuse", engine(4, "godot_l1_irradiance(c[0], c[1], c[2], c[3], n)")),
+        ("MonoSH", "engine-formats", 2, "diffuse", engine(2, "monosh_irradiance(c[0], c[1], n)")),
+        ("Enlighten", "engine-formats", 3, "diffuse", engine(3, "enlighten_irradiance(c[0], vec4<f32>(c[1], c[2].x), n)")),
+        (
+            "Enlighten RGB",
+            "engine-formats",
+            5,
+            "diffuse",
+            engine(5, "enlighten_rgb_irradiance(c[0], vec4<f32>(c[1], c[4].x), vec4<f32>(c[2], c[4].y), vec4<f32>(c[3], c[4].z), n)"),
+        ),
     ]
 }
 

@@ -35,13 +35,14 @@ pub enum Feature {
     Ggx,
     GgxEnergyCompensation,
     AdBezier,
+    EngineFormats,
     Progressive,
     Slc,
 }
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 22] = [
+    pub const ALL: [(Feature, &'static str); 23] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -62,6 +63,7 @@ impl Feature {
         (Feature::Ggx, "ggx"),
         (Feature::GgxEnergyCompensation, "ggx-energy-compensation"),
         (Feature::AdBezier, "ad-bezier"),
+        (Feature::EngineFormats, "engine-formats"),
         (Feature::Progressive, "progressive"),
         (Feature::Slc, "slc"),
     ];
@@ -89,6 +91,7 @@ impl Feature {
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
             Feature::GgxEnergyCompensation => &["ggx_energy_compensation"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
+            Feature::EngineFormats => &["godot_l1_irradiance", "monosh_irradiance", "enlighten_irradiance", "enlighten_rgb_irradiance"],
             Feature::Progressive => &["progressive_update"],
             Feature::Slc => &[
                 "slc_acceptance",
@@ -120,7 +123,7 @@ impl Feature {
 }
 
 /// Named configurations (a preset or a comma-separated feature list is accepted).
-pub const PRESETS: [(&str, &[&str]); 8] = [
+pub const PRESETS: [(&str, &[&str]); 9] = [
     ("all", &[]),
     ("ad9-irradiance", &["ad9-irradiance"]),
     ("ad9", &["ad9-irradiance", "ad9-specular"]),
@@ -129,6 +132,7 @@ pub const PRESETS: [(&str, &[&str]); 8] = [
     ("sh-l1", &["sh-l1-irradiance", "sh-l1-geomerics", "sh-l1-zh3"]),
     ("sg", &["sg-irradiance", "sg-specular"]),
     ("lambert", &["sh-l2-irradiance", "sg-irradiance", "ad9-irradiance", "ad12-irradiance"]),
+    ("engine-formats", &["engine-formats"]),
 ];
 
 /// A set of features.

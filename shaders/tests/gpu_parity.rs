@@ -107,7 +107,62 @@ in_every_language!(
     slc_parity,
     slc_media_parity,
     slc_tile_parity,
+    engine_parity,
 );
+
+/// The engine lightmap formats' decodes (engine.wgsl) against `sbf::recon::engine::decode`
+/// (f64 on the same f32 inputs): colours in [0, 2], unit textures in [0, 1] with rescaling
+/// factors in [0.05, 1]. Scale: the sum of the magnitudes of each decode's terms (Godot
+/// |L0| + Σ 8|L0||s − ½||n_k|; MonoSH |L0|(1 + 2|nL1·n|); Enlighten
+/// |C|(Σ|n_k||t_k − ½| + ½)/w).
+fn engine_parity(lang: Lang) {
+    use sbf::recon::engine::{decode, EngineFormat, Texel};
+    let Some(g) = gpu(lang) else { return };
+    let lib = library("engine-formats");
+    let mut r = Pcg32::new(41, 6);
+    let (mut inp, mut items) = (Vec::new(), Vec::new());
+    for _ in 0..N {
+        let n = dir(&mut r);
+        let c = [0; 3].map(|_| 2.0 * r.next_2d()[0] as f32);
+        let mut unit = [[0.0f32; 4]; 3];
+        for t in unit.iter_mut() {
+            for (k, v) in t.iter_mut().enumerate() {
+                let u = r.next_2d()[0] as f32;
+                *v = if k == 3 { 0.05 + 0.95 * u } else { u };
+            }
+        }
+        push3(&mut inp, n);
+        inp.extend_from_slice(&c);
+        inp.extend(unit.iter().flatten());
+        items.push((n, c, unit));
+    }
+    let body = "    let o = i * 18u;\n    let n = ld3(o);\n    let c = ld3(o + 3u);\n    let t0 = vec4<f32>(ld3(o + 6u), inp[o + 9u]);\n    let t1 = vec4<f32>(ld3(o + 10u), inp[o + 13u]);\n    let t2 = vec4<f32>(ld3(o + 14u), inp[o + 17u]);\n    let e = array<vec3<f32>, 4>(godot_l1_irradiance(c, t0.xyz, t1.xyz, t2.xyz, n), monosh_irradiance(c, t0.xyz, n), enlighten_irradiance(c, t0, n), enlighten_rgb_irradiance(c, t0, t1, t2, n));\n    for (var k = 0u; k < 4u; k++) {\n        outp[i * 12u + 3u * k] = e[k].x;\n        outp[i * 12u + 3u * k + 1u] = e[k].y;\n        outp[i * 12u + 3u * k + 2u] = e[k].z;\n    }";
+    let (out, _) = g.run(&lib, body, &inp, 12, N, None, 0).unwrap();
+    let names = ["godot_l1_irradiance", "monosh_irradiance", "enlighten_irradiance", "enlighten_rgb_irradiance"];
+    for (f, format) in EngineFormat::ALL.into_iter().enumerate() {
+        let (mut cpu, mut scale, mut gpu_f) = (Vec::new(), Vec::new(), Vec::new());
+        for (j, (n, c, unit)) in items.iter().enumerate() {
+            let t = Texel { colour: c.map(f64::from), unit: unit.map(|u| u.map(f64::from)) };
+            let nd = n.as_dvec3();
+            let e = decode(format, &t, nd);
+            let na = [nd.x.abs(), nd.y.abs(), nd.z.abs()];
+            for ch in 0..3 {
+                let l0 = t.colour[ch].abs();
+                let half = |u: &[f64; 4]| (0..3).map(|k| na[k] * (u[k] - 0.5).abs()).sum::<f64>() + 0.5;
+                let s = match format {
+                    EngineFormat::GodotL1 => l0 + (0..3).map(|layer| 8.0 * l0 * (t.unit[layer][ch] - 0.5).abs() * na[[1, 2, 0][layer]]).sum::<f64>(),
+                    EngineFormat::MonoSh => l0 * (1.0 + 2.0 * half(&t.unit[0]) * 2.0),
+                    EngineFormat::Enlighten => l0 * half(&t.unit[0]) / t.unit[0][3],
+                    EngineFormat::EnlightenRgb => l0 * half(&t.unit[ch]) / t.unit[ch][3],
+                };
+                cpu.push(e[ch]);
+                scale.push(s);
+                gpu_f.push(out[j * 12 + 3 * f + ch]);
+            }
+        }
+        check(names[f], &gpu_f, &cpu, &scale);
+    }
+}
 
 fn library(cfg: &str) -> String {
     compose::compose(&Config::parse(cfg).unwrap()).unwrap().source

@@ -217,6 +217,22 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         result += r;
     }
     {
+        vec3 r = godot_l1_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
+        vec3 r = monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        vec3 r = enlighten_irradiance(n, vec4(0.5), n);
+        result += r;
+    }
+    {
+        vec3 r = enlighten_rgb_irradiance(n, vec4(0.5), vec4(0.5), vec4(0.5), n);
+        result += r;
+    }
+    {
         float r = slc_acceptance(0.5, 0.5, 0.5);
         result += vec3(r);
     }

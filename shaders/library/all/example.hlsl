@@ -215,6 +215,22 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += r;
     }
     {
+        float3 r = godot_l1_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
+        float3 r = monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        float3 r = enlighten_irradiance(n, ((float4)0.5), n);
+        result += r;
+    }
+    {
+        float3 r = enlighten_rgb_irradiance(n, ((float4)0.5), ((float4)0.5), ((float4)0.5), n);
+        result += r;
+    }
+    {
         float r = slc_acceptance(0.5, 0.5, 0.5);
         result += ((float3)r);
     }

@@ -215,6 +215,22 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += r;
     }
     {
+        float3 r = godot_l1_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
+        float3 r = monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        float3 r = enlighten_irradiance(n, float4(0.5f), n);
+        result += r;
+    }
+    {
+        float3 r = enlighten_rgb_irradiance(n, float4(0.5f), float4(0.5f), float4(0.5f), n);
+        result += r;
+    }
+    {
         float r = slc_acceptance(0.5f, 0.5f, 0.5f);
         result += float3(r);
     }

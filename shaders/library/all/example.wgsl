@@ -249,6 +249,26 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += r;
     }
     {
+        // godot_l1_irradiance
+        let r = godot_l1_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
+        // monosh_irradiance
+        let r = monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        // enlighten_irradiance
+        let r = enlighten_irradiance(n, vec4<f32>(0.5), n);
+        result += r;
+    }
+    {
+        // enlighten_rgb_irradiance
+        let r = enlighten_rgb_irradiance(n, vec4<f32>(0.5), vec4<f32>(0.5), vec4<f32>(0.5), n);
+        result += r;
+    }
+    {
         // slc_acceptance
         let r = slc_acceptance(0.5, 0.5, 0.5);
         result += vec3<f32>(r);

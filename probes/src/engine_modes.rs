@@ -1,0 +1,88 @@
+//! The directional lightmap formats engines ship (`sbf::recon::engine`) as comparison
+//! modes: Godot's packed L1 SH, Bakery's MonoSH and Enlighten's single- and RGB-direction
+//! maps. Each fits SH L1 to the map (the `shl1` projection), encodes it as its engine does,
+//! rounds every stored value to the engine's precision (colour f16; directions 8-bit, or
+//! f16 for Godot) and decodes with the engine's published shader — so the error includes the
+//! format's storage. Enlighten keeps the exact E/π at its baking normal, the probe's "up"
+//! (+Y in the map, the hemisphere domain's normal); its encode is charged the one exact
+//! irradiance it needs.
+
+use crate::cost::{CostJob, EncodeJob};
+use crate::modes::{eval_cost, timed, Context};
+use crate::reference;
+use sbf::glam::DVec3;
+use sbf::recon::engine::{self, EngineFormat, L1Irradiance, Texel};
+use sbf::solve::moments;
+use sbf::ShBasis;
+
+/// The format of an engine-format mode id.
+pub fn format(id: &str) -> Option<EngineFormat> {
+    EngineFormat::ALL.into_iter().find(|f| f.id() == id)
+}
+
+/// The probe's baking normal for the Enlighten formats (world +Y: `modes::tangent_to_world`'s
+/// image of the tangent normal).
+pub const BAKING_NORMAL: DVec3 = DVec3::Y;
+
+/// What an engine-format mode produced.
+#[derive(Debug)]
+pub struct EngineRun<'a> {
+    /// Basis text for the report (format, bytes per texel, clamped values).
+    pub basis: String,
+    /// The stored values: the colour, then each unit texture's RGB, then (Enlighten) the
+    /// rescaling factors of the unit textures.
+    pub stored: Vec<[f64; 3]>,
+    pub irradiance: Vec<[f64; 3]>,
+    pub encode: EncodeJob<'a>,
+    pub eval: Option<CostJob<'a>>,
+    pub scalars: usize,
+    pub bytes: usize,
+    /// Fraction of output texels whose decode hit the format's clamp at 0 (MonoSH's `max`).
+    pub clamped_negative_fraction: Option<f64>,
+}
+
+/// The stored values as RGB rows (see [`EngineRun::stored`]).
+fn rows(format: EngineFormat, t: &Texel) -> Vec<[f64; 3]> {
+    let n = format.unit_textures();
+    let mut out = vec![t.colour];
+    out.extend(t.unit[..n].iter().map(|u| [u[0], u[1], u[2]]));
+    if format.unit_channels() == 4 {
+        let mut w = [0.0; 3];
+        for (k, u) in t.unit[..n].iter().enumerate() {
+            w[k] = u[3];
+        }
+        out.push(w);
+    }
+    out
+}
+
+/// Runs an engine-format mode (see the module docs).
+pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Result<EngineRun<'a>, String> {
+    let sh = ShBasis::new(1).map_err(|e| e.to_string())?;
+    let enlighten = matches!(format, EngineFormat::Enlighten | EngineFormat::EnlightenRgb);
+    let (enc, encode) = timed(repeats, move || {
+        let m = moments(&sh, &ctx.samples);
+        let rgb: [[f64; 4]; 3] = [0, 1, 2].map(|k| [m[(0, k)], m[(1, k)], m[(2, k)], m[(3, k)]]);
+        let e_n0 = enlighten.then(|| reference::irradiance_at(&ctx.map, BAKING_NORMAL));
+        engine::encode(format, &L1Irradiance::from_sh(&rgb), BAKING_NORMAL, e_n0)
+    });
+    let stored = enc.texel.stored(format);
+    let (irradiance, eval) = eval_cost(ctx, move |d| engine::decode(format, &stored, d));
+    // MonoSH's decode clamps at 0: the texels where it did (the linear value was negative).
+    let clamped_negative_fraction = (format == EngineFormat::MonoSh).then(|| {
+        let nl1 = DVec3::new(stored.unit[0][0], stored.unit[0][1], stored.unit[0][2]) * 2.0 - DVec3::ONE;
+        let neg = ctx.dirs.iter().filter(|d| stored.colour.iter().any(|l0| l0 + 2.0 * l0 * nl1.dot(**d) < 0.0)).count();
+        neg as f64 / ctx.dirs.len().max(1) as f64
+    });
+    let clamp_note = if enc.clamped > 0 { format!(", {} stored values clamped", enc.clamped) } else { String::new() };
+    Ok(EngineRun {
+        basis: format!("{} ({} B/texel as the engine stores it{clamp_note})", format.id(), format.engine_bytes()),
+        stored: rows(format, &stored),
+        irradiance,
+        encode,
+        eval,
+        scalars: format.scalars(),
+        bytes: format.engine_bytes(),
+        clamped_negative_fraction,
+    })
+}

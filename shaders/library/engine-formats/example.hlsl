@@ -1,0 +1,35 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+#include "sbf_engine_formats.hlsl"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
+    float3 result = ((float3)0.0);
+    {
+        float3 r = godot_l1_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
+        float3 r = monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        float3 r = enlighten_irradiance(n, ((float4)0.5), n);
+        result += r;
+    }
+    {
+        float3 r = enlighten_rgb_irradiance(n, ((float4)0.5), ((float4)0.5), ((float4)0.5), n);
+        result += r;
+    }
+    return result;
+}
+
+cbuffer Inputs : register(b0) {
+    float4 coefficients[36];
+    float4 view_alpha;
+};
+
+float4 main(float3 normal : NORMAL) : SV_Target {
+    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients), 1.0);
+}

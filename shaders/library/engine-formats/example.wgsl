@@ -1,0 +1,42 @@
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+// WGSL has no #include: this file follows sbf_engine_formats.wgsl (naga validates the two together).
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>) -> vec3<f32> {
+    var result = vec3<f32>(0.0);
+    {
+        // godot_l1_irradiance
+        let r = godot_l1_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
+        // monosh_irradiance
+        let r = monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        // enlighten_irradiance
+        let r = enlighten_irradiance(n, vec4<f32>(0.5), n);
+        result += r;
+    }
+    {
+        // enlighten_rgb_irradiance
+        let r = enlighten_rgb_irradiance(n, vec4<f32>(0.5), vec4<f32>(0.5), vec4<f32>(0.5), n);
+        result += r;
+    }
+    return result;
+}
+
+struct Inputs {
+    coefficients: array<vec4<f32>, 36>,
+    view_alpha: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> inputs: Inputs;
+
+@fragment
+fn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients), 1.0);
+}
