@@ -718,7 +718,16 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
         _ if crate::engine_modes::format(id).is_some() => {
             let format = crate::engine_modes::format(id).expect("guarded");
             let e = crate::engine_modes::prepare(format, ctx, repeats)?;
-            let mut r = mk(e.basis, "SH L1 projection, encoded and stored as the engine does", e.stored, Vec::new(), None, e.irradiance, e.encode, e.eval);
+            let mut r = mk(
+                e.basis,
+                "SH L1 projection, encoded and stored as the engine does",
+                e.stored,
+                Vec::new(),
+                None,
+                e.irradiance,
+                e.encode,
+                e.eval,
+            );
             r.result.stored_scalars = e.scalars;
             r.result.engine_bytes = Some(e.bytes);
             r.result.clamped_negative_fraction = e.clamped_negative_fraction;

@@ -150,7 +150,9 @@ fn engine_parity(lang: Lang) {
                 let l0 = t.colour[ch].abs();
                 let half = |u: &[f64; 4]| (0..3).map(|k| na[k] * (u[k] - 0.5).abs()).sum::<f64>() + 0.5;
                 let s = match format {
-                    EngineFormat::GodotL1 => l0 + (0..3).map(|layer| 8.0 * l0 * (t.unit[layer][ch] - 0.5).abs() * na[[1, 2, 0][layer]]).sum::<f64>(),
+                    EngineFormat::GodotL1 => {
+                        l0 + (0..3).map(|layer| 8.0 * l0 * (t.unit[layer][ch] - 0.5).abs() * na[[1, 2, 0][layer]]).sum::<f64>()
+                    }
                     EngineFormat::MonoSh => l0 * (1.0 + 2.0 * half(&t.unit[0]) * 2.0),
                     EngineFormat::Enlighten => l0 * half(&t.unit[0]) / t.unit[0][3],
                     EngineFormat::EnlightenRgb => l0 * half(&t.unit[ch]) / t.unit[ch][3],
