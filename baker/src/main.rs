@@ -42,6 +42,13 @@ struct Cli {
     /// bake the materials' `factors` alone (what the GPU kernels read).
     #[arg(long, default_value = "sample", value_parser = ["sample", "factors"])]
     material_maps: String,
+    /// Also write the lightmap in the directional formats engines ship, repackaged from the
+    /// SH L1 bake (needs `sh1` in --bases): comma-separated `godot-l1` (Godot 4 LightmapGI
+    /// SH), `monosh` (Bakery), `enlighten`, `enlighten-rgb` (Enlighten/Unity directional
+    /// lightmaps), or `all`. bake.json says what each loses at the baked normal and in
+    /// storage.
+    #[arg(long)]
+    engine_formats: Option<String>,
     /// Lightmap texels per scene unit.
     #[arg(long, default_value_t = 16.0)]
     texels_per_unit: f32,
@@ -217,6 +224,39 @@ fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
         .collect()
 }
 
+/// `--engine-formats`: the formats named (or every one for `all`); they are encoded from
+/// the SH L1 bake, so `sh1` must be among the lightmap bases.
+fn engine_formats(arg: Option<&str>, bases: &[String]) -> Result<Vec<sbf::recon::engine::EngineFormat>, String> {
+    use sbf::recon::engine::EngineFormat;
+    let Some(arg) = arg else { return Ok(Vec::new()) };
+    let ids: Vec<&str> = EngineFormat::ALL.iter().map(|f| f.id()).collect();
+    let mut out = Vec::new();
+    for part in arg.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        if part == "all" {
+            out.extend(EngineFormat::ALL);
+            continue;
+        }
+        let f = EngineFormat::ALL
+            .into_iter()
+            .find(|f| f.id() == part)
+            .ok_or_else(|| format!("unknown engine format '{part}' (expected {} or all)", ids.join(", ")))?;
+        out.push(f);
+    }
+    if out.is_empty() {
+        return Err(format!("--engine-formats needs at least one of {} or all", ids.join(", ")));
+    }
+    let mut unique = Vec::new();
+    for f in out {
+        if !unique.contains(&f) {
+            unique.push(f);
+        }
+    }
+    if !bases.iter().any(|b| b.trim() == "sh1") {
+        return Err(format!("--engine-formats repackages the SH L1 lightmap: add sh1 to the bases (they are {})", bases.join(",")));
+    }
+    Ok(unique)
+}
+
 fn options(c: Cli) -> Result<Options, String> {
     let d = Options::default();
     let solver = match c.solver.as_str() {
@@ -265,7 +305,9 @@ fn options(c: Cli) -> Result<Options, String> {
         return Err(format!("--batch-ms must be ≥ 0 (0: one dispatch per pass), not {}", c.batch_ms));
     }
     let (adaptive, guiding, camera) = strategies(&c)?;
+    let engine_formats = engine_formats(c.engine_formats.as_deref(), &bases)?;
     Ok(Options {
+        engine_formats,
         scene: c.scene,
         environment: c.env,
         material_maps: c.material_maps == "sample",

@@ -4,14 +4,15 @@
 //! rounds every stored value to the engine's precision (colour f16; directions 8-bit, or
 //! f16 for Godot) and decodes with the engine's published shader — so the error includes the
 //! format's storage. Enlighten keeps the exact E/π at its baking normal, the probe's "up"
-//! (+Y in the map, the hemisphere domain's normal); its encode is charged the one exact
+//! (+Y in the map, the hemisphere domain's normal), and its direction is the radiance's
+//! mean over the sphere (a probe sees all of it); its encode is charged the one exact
 //! irradiance it needs.
 
 use crate::cost::{CostJob, EncodeJob};
 use crate::modes::{eval_cost, timed, Context};
 use crate::reference;
 use sbf::glam::DVec3;
-use sbf::recon::engine::{self, EngineFormat, L1Irradiance, Texel};
+use sbf::recon::engine::{self, EngineFormat, EnlightenInput, L1Irradiance, Moments, Texel};
 use sbf::solve::moments;
 use sbf::ShBasis;
 
@@ -63,9 +64,14 @@ pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Re
     let (enc, encode) = timed(repeats, move || {
         let m = moments(&sh, &ctx.samples);
         let rgb: [[f64; 4]; 3] = [0, 1, 2].map(|k| [m[(0, k)], m[(1, k)], m[(2, k)], m[(3, k)]]);
-        let e_n0 = enlighten.then(|| reference::irradiance_at(&ctx.map, BAKING_NORMAL));
-        engine::encode(format, &L1Irradiance::from_sh(&rgb), BAKING_NORMAL, e_n0)
+        let input = enlighten.then(|| EnlightenInput {
+            normal: BAKING_NORMAL,
+            irradiance: reference::irradiance_at(&ctx.map, BAKING_NORMAL),
+            moments: Moments::sphere(&rgb),
+        });
+        engine::encode(format, &L1Irradiance::from_sh(&rgb), input.as_ref())
     });
+    let enc = enc.ok_or("an Enlighten format without its input")?;
     let stored = enc.texel.stored(format);
     let (irradiance, eval) = eval_cost(ctx, move |d| engine::decode(format, &stored, d));
     // MonoSH's decode clamps at 0: the texels where it did (the linear value was negative).

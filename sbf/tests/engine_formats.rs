@@ -8,7 +8,7 @@
 //! directionality ½).
 
 use sbf::glam::DVec3;
-use sbf::recon::engine::{decode, encode, EngineFormat, L1Irradiance, Texel};
+use sbf::recon::engine::{decode, encode, EngineFormat, EnlightenInput, L1Irradiance, Moments, Texel};
 use std::f64::consts::PI;
 
 fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
@@ -77,7 +77,7 @@ fn godot_and_monosh_round_trip_the_l1_irradiance_of_a_delta_light() {
     let tint = [1.0, 0.5, 0.25];
     let l1 = L1Irradiance::from_sh(&delta_sh(w, tint));
     for f in [EngineFormat::GodotL1, EngineFormat::MonoSh] {
-        let enc = encode(f, &l1, DVec3::Z, None);
+        let enc = encode(f, &l1, None).unwrap();
         assert_eq!(enc.clamped, 0, "{f:?}: nothing to clamp for a physical input");
         let stored = enc.texel.stored(f);
         for n in normals() {
@@ -104,11 +104,17 @@ fn enlighten_keeps_the_colour_at_the_baking_normal_and_follows_half_lambert_else
     let w = DVec3::new(0.3, -0.2, 0.93).normalize();
     let n0 = DVec3::Z;
     let tint = [0.8, 1.0, 0.3];
-    let l1 = L1Irradiance::from_sh(&delta_sh(w, tint));
+    let sh = delta_sh(w, tint);
+    let l1 = L1Irradiance::from_sh(&sh);
     // The exact E/π at n₀ of the delta light: tint·max(0, w·n₀)/π.
     let exact = tint.map(|s| s * w.dot(n0).max(0.0) / PI);
+    // Its mean direction over the sphere is w (SH L1 holds a delta light's moments exactly).
+    let d = Moments::sphere(&sh).luminance_direction();
+    assert!((d - w).length() < 1e-14, "{d} vs {w}");
+    let input = EnlightenInput { normal: n0, irradiance: exact, moments: Moments::sphere(&sh) };
+    assert!(encode(EngineFormat::Enlighten, &l1, None).is_none(), "Enlighten needs its input");
     for f in [EngineFormat::Enlighten, EngineFormat::EnlightenRgb] {
-        let enc = encode(f, &l1, n0, Some(exact));
+        let enc = encode(f, &l1, Some(&input)).unwrap();
         assert_eq!(enc.clamped, 0);
         for n in normals() {
             let want = exact.map(|c| c * (1.0 + n.dot(w)) / (1.0 + n0.dot(w)));
@@ -121,14 +127,16 @@ fn enlighten_keeps_the_colour_at_the_baking_normal_and_follows_half_lambert_else
 
 #[test]
 fn enlighten_directionality_of_a_uniform_hemisphere_is_one_half() {
-    // L = 1 over z > 0: c₀ = ∫Y₀₀ = 2π/(2√π) = √π, c_z = √(3/4π)·∫cosθ = √(3/4π)·π.
+    // The SDK: light uniform over the hemisphere has directionality ½. L = 1 over z > 0 and
+    // 0 below (a texel's light, zero below its surface), projected on SH L1: c₀ = ∫Y₀₀ =
+    // 2π/(2√π) = √π, c_z = √(3/4π)·∫cosθ = √(3/4π)·π.
     let k1 = (3.0 / (4.0 * PI)).sqrt();
-    let c = [PI.sqrt(), 0.0, k1 * PI, 0.0];
-    let l1 = L1Irradiance::from_sh(&[c; 3]);
-    let d = l1.luminance_direction();
+    let sh = [[PI.sqrt(), 0.0, k1 * PI, 0.0]; 3];
+    let d = Moments::sphere(&sh).luminance_direction();
     assert!((d - DVec3::new(0.0, 0.0, 0.5)).length() < 1e-15, "{d}");
     // Stored: (d + 1)/2 = (½, ½, ¾), rescaling factor ½(1 + n₀·d) = ¾ at n₀ = z.
-    let t = encode(EngineFormat::Enlighten, &l1, DVec3::Z, None).texel;
+    let input = EnlightenInput { normal: DVec3::Z, irradiance: [1.0; 3], moments: Moments::sphere(&sh) };
+    let t = encode(EngineFormat::Enlighten, &L1Irradiance::from_sh(&sh), Some(&input)).unwrap().texel;
     assert!((t.unit[0][2] - 0.75).abs() < 1e-15 && (t.unit[0][3] - 0.75).abs() < 1e-15, "{:?}", t.unit[0]);
 }
 
@@ -136,12 +144,14 @@ fn enlighten_directionality_of_a_uniform_hemisphere_is_one_half() {
 fn out_of_range_inputs_are_clamped_and_counted() {
     // L1 longer than the Lambert bound (|a₁| > 2a₀: not a non-negative radiance).
     let l1 = L1Irradiance { a0: [0.1; 3], a1: [DVec3::new(0.5, 0.0, 0.0); 3] };
+    let input =
+        EnlightenInput { normal: DVec3::Y, irradiance: [0.1; 3], moments: Moments { m0: [0.1; 3], m1: [DVec3::new(0.5, 0.0, 0.0); 3] } };
     for f in EngineFormat::ALL {
-        let enc = encode(f, &l1, DVec3::Y, None);
+        let enc = encode(f, &l1, Some(&input)).unwrap();
         assert!(enc.clamped > 0, "{f:?}");
         assert!(enc.texel.unit.iter().flatten().all(|v| (0.0..=1.0).contains(v)));
     }
     let nan = L1Irradiance { a0: [f64::NAN; 3], a1: [DVec3::ZERO; 3] };
-    let enc = encode(EngineFormat::GodotL1, &nan, DVec3::Y, None);
+    let enc = encode(EngineFormat::GodotL1, &nan, None).unwrap();
     assert!(enc.clamped > 0);
 }

@@ -39,6 +39,9 @@ pub struct BakeJson {
     pub guiding: Option<GuidingJson>,
     pub denoise: Option<DenoiseJson>,
     pub seams: SeamsJson,
+    /// The lightmap in engines' directional formats (`--engine-formats`; absent: none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub engine_formats: Vec<crate::output::engine::EngineFormatJson>,
     pub stage_seconds: StageSecondsJson,
     /// Per mesh: its chart(s) in the atlas (see [`crate::output::mesh_mapping`]).
     pub meshes: serde_json::Value,

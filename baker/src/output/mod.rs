@@ -2,11 +2,13 @@
 //! alpha), JSON metadata, probe coefficients, the runtime WGSL
 //! composed for the scene (with only the LUTs it needs), and a preview PNG of the scene
 //! lit by the baked irradiance (CPU ray cast through the same BVH); [`bake_json`] holds
-//! bake.json's and probes.json's records.
+//! bake.json's and probes.json's records; [`engine`] repackages the SH L1 lightmap in the
+//! directional formats engines ship.
 //!
 //! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::post`].
 
 pub mod bake_json;
+pub mod engine;
 
 use crate::accumulate::{BakeConfig, BasisKind};
 use crate::layout::lightmap::Lightmap;

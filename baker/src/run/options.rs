@@ -67,6 +67,9 @@ pub struct Options {
     /// Bake only shard I of N (`--shard I/N`) and write its partial state for
     /// `baker merge` instead of the outputs ([`crate::checkpoint::shard`]).
     pub shard: Option<ShardSpec>,
+    /// The directional formats engines ship to write beside the bases
+    /// (`--engine-formats`, [`crate::output::engine`]; needs the `sh1` basis).
+    pub engine_formats: Vec<sbf::recon::engine::EngineFormat>,
 }
 
 /// One shard of a bake spread over machines.
@@ -108,6 +111,7 @@ impl Default for Options {
             denoise: Some(crate::post::denoise::DenoiseOptions::default()),
             stitch_seams: true,
             shard: None,
+            engine_formats: Vec::new(),
         }
     }
 }

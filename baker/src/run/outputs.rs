@@ -57,6 +57,30 @@ fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> Option<Gui
     })
 }
 
+/// The engine formats of `--engine-formats`, from the SH L1 lightmap.
+fn engine_step(
+    o: &Options,
+    img: &LightmapImages,
+    log: &mut dyn FnMut(String),
+) -> Result<Vec<crate::output::engine::EngineFormatJson>, String> {
+    if o.engine_formats.is_empty() {
+        return Ok(Vec::new());
+    }
+    let b = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisKind::ShL1).ok_or("--engine-formats needs the sh1 basis")?;
+    let out = crate::output::engine::write_engine_formats(&o.out, img, &img.coefficients[b], &o.engine_formats)?;
+    for f in &out {
+        log(format!(
+            "engine format {}: {} B/texel, error at the texel normal {:.2} % of the E/π RMS ({:.3} % from storage){}",
+            f.format,
+            f.bytes_per_texel,
+            100.0 * f.error_at_normal_rel_rms,
+            100.0 * f.storage_rel_rms,
+            if f.clamped_values > 0 { format!(", {} stored values clamped", f.clamped_values) } else { String::new() }
+        ));
+    }
+    Ok(out)
+}
+
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn write_outputs(
     o: &Options,
@@ -82,6 +106,7 @@ pub(crate) fn write_outputs(
     let (dilated, seams, seam_seconds) = seams_step(o, scene, lm, &mut img, log);
     let t_out = Instant::now();
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
+    let engine_formats = engine_step(o, &img, log)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width, o.config.camera.map(|c| c.camera));
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
     let runtime = write_runtime(o, glossy, log)?;
@@ -143,6 +168,7 @@ pub(crate) fn write_outputs(
         guiding: guiding_json(o, targets, state),
         denoise: denoised,
         seams,
+        engine_formats,
         stage_seconds,
         meshes: output::mesh_mapping(scene, lm),
         runtime,

@@ -35,9 +35,9 @@
 //!   luminance (Bakery's format stores the luminance L1; its encoder is not published).
 //!   For radiance from one colour the decode is the L1 irradiance exactly.
 //! - Enlighten: d = ∫Y(L)ω dω/∫Y(L) dω, the luminance-weighted mean incident direction
-//!   (length 1 for one direction, ½ for a uniform hemisphere, as the SDK describes),
-//!   which for SH L1 is Y(a₁)/(2·Y(a₀)) — the same vector as MonoSH's; C = E/π at the
-//!   baking normal n₀ (exact when the caller has it, else the L1 value), and the
+//!   (length 1 for one direction, ½ for a uniform hemisphere, as the SDK describes), from
+//!   the radiance's moments over what the texel or probe sees ([`Moments`], from SH L1:
+//!   d = Y(a₁)/(2·Y(a₀)), MonoSH's vector, where the radiance is zero below a texel); C = E/π at the baking normal n₀ (the caller's exact value), and the
 //!   rescaling factor w = ½(1 + n₀·d) (BakingLab's encoder: `dot(tau, (d, 1))`,
 //!   τ = ½(n₀, 1)), so the decode returns C exactly at n₀ and C·(1 + n·d)/(1 + n₀·d)
 //!   elsewhere — half the directional contrast of the L1 irradiance (1 + 2d·n).
@@ -152,8 +152,8 @@ impl L1Irradiance {
         [0, 1, 2].map(|k| self.a0[k] + self.a1[k].dot(n))
     }
 
-    /// The luminance-weighted direction Y(a₁)/(2·Y(a₀)): MonoSH's L1 and Enlighten's
-    /// dominant direction; zero when Y(a₀) ≤ 0.
+    /// The luminance-weighted direction Y(a₁)/(2·Y(a₀)): MonoSH's L1 (over the sphere also
+    /// Enlighten's dominant direction, [`Moments::sphere`]); zero when Y(a₀) ≤ 0.
     pub fn luminance_direction(&self) -> DVec3 {
         let y0: f64 = (0..3).map(|k| LUMINANCE[k] * self.a0[k]).sum();
         let y1: DVec3 = (0..3).map(|k| self.a1[k] * LUMINANCE[k]).sum();
@@ -163,15 +163,65 @@ impl L1Irradiance {
             DVec3::ZERO
         }
     }
+}
 
-    /// The direction of channel `k` alone: a₁/(2a₀); zero when a₀ ≤ 0.
-    pub fn channel_direction(&self, k: usize) -> DVec3 {
-        if self.a0[k] > 0.0 {
-            self.a1[k] / (2.0 * self.a0[k])
+/// The radiance's moments per channel over a domain: m₀ = ∫L dω and m₁ = ∫L·ω dω —
+/// what Enlighten's dominant direction m₁/m₀ summarises.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Moments {
+    /// m₀ per channel.
+    pub m0: [f64; 3],
+    /// m₁ per channel.
+    pub m1: [DVec3; 3],
+}
+
+impl Moments {
+    /// Over the sphere, of radiance with SH L1 projection `rgb` (order as
+    /// [`L1Irradiance::from_sh`]): m₀ = 4π·Y₀₀·c₀ = 2√π·c₀, m₁ = (4π/3)·√(3/4π)·(c₃, c₁, c₂)
+    /// (∫ω_iω_j = (4π/3)δ_ij). Exact for any radiance, since 1 and ω are in SH L1's span:
+    /// for a lightmap texel whose radiance is projected with zero below the surface (the
+    /// baker's hemisphere handling), these are the moments over its upper hemisphere.
+    pub fn sphere(rgb: &[[f64; 4]; 3]) -> Moments {
+        let k1 = (3.0 / (4.0 * PI)).sqrt();
+        Moments { m0: rgb.map(|c| 2.0 * PI.sqrt() * c[0]), m1: rgb.map(|c| DVec3::new(c[3], c[1], c[2]) * (k1 * 4.0 * PI / 3.0)) }
+    }
+
+    /// The moments with m₁ in another frame: m₁ ↦ t·m₁.x + b·m₁.y + n·m₁.z.
+    pub fn to_frame(&self, t: DVec3, b: DVec3, n: DVec3) -> Moments {
+        Moments { m0: self.m0, m1: self.m1.map(|m| t * m.x + b * m.y + n * m.z) }
+    }
+
+    /// Y(m₁)/Y(m₀) (Rec. 709 luminance Y); zero when Y(m₀) ≤ 0.
+    pub fn luminance_direction(&self) -> DVec3 {
+        let y0: f64 = (0..3).map(|k| LUMINANCE[k] * self.m0[k]).sum();
+        let y1: DVec3 = (0..3).map(|k| self.m1[k] * LUMINANCE[k]).sum();
+        if y0 > 0.0 {
+            y1 / y0
         } else {
             DVec3::ZERO
         }
     }
+
+    /// m₁/m₀ of channel `k`; zero when m₀ ≤ 0.
+    pub fn channel_direction(&self, k: usize) -> DVec3 {
+        if self.m0[k] > 0.0 {
+            self.m1[k] / self.m0[k]
+        } else {
+            DVec3::ZERO
+        }
+    }
+}
+
+/// What the Enlighten formats need: the baking normal n₀, the E/π
+/// there, and the radiance's moments (world frame) for the dominant direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnlightenInput {
+    /// The baking normal n₀ (unit).
+    pub normal: DVec3,
+    /// E/π at n₀.
+    pub irradiance: [f64; 3],
+    /// The radiance's moments over the domain the texel or probe sees.
+    pub moments: Moments,
 }
 
 /// A texel as its textures hold it: the colour and up to three unit textures (RGBA;
@@ -219,9 +269,9 @@ fn pack_direction(d: DVec3, clamped: &mut usize) -> [f64; 3] {
     [d.x, d.y, d.z].map(|v| unit(0.5 * v + 0.5, clamped))
 }
 
-/// Encodes one texel. `n0` is the baking normal and `e_n0` the E/π there, for the
-/// Enlighten formats (`None`: the L1 value at `n0`); the other formats ignore both.
-pub fn encode(format: EngineFormat, l1: &L1Irradiance, n0: DVec3, e_n0: Option<[f64; 3]>) -> Encoded {
+/// Encodes one texel from its L1 irradiance (Godot, MonoSH) or its [`EnlightenInput`]
+/// (the Enlighten formats; `None` for those returns `None`).
+pub fn encode(format: EngineFormat, l1: &L1Irradiance, enlighten: Option<&EnlightenInput>) -> Option<Encoded> {
     let mut clamped = 0;
     let mut texel = Texel { colour: l1.a0, unit: [[1.0; 4]; 3] };
     match format {
@@ -241,11 +291,13 @@ pub fn encode(format: EngineFormat, l1: &L1Irradiance, n0: DVec3, e_n0: Option<[
             texel.unit[0][..3].copy_from_slice(&t);
         }
         EngineFormat::Enlighten | EngineFormat::EnlightenRgb => {
-            texel.colour = e_n0.unwrap_or_else(|| l1.eval(n0));
+            let input = enlighten?;
+            let n0 = input.normal;
+            texel.colour = input.irradiance;
             let dirs: Vec<DVec3> = if format == EngineFormat::Enlighten {
-                vec![l1.luminance_direction()]
+                vec![input.moments.luminance_direction()]
             } else {
-                (0..3).map(|k| l1.channel_direction(k)).collect()
+                (0..3).map(|k| input.moments.channel_direction(k)).collect()
             };
             for (t, d) in texel.unit.iter_mut().zip(dirs) {
                 let p = pack_direction(d, &mut clamped);
@@ -257,7 +309,7 @@ pub fn encode(format: EngineFormat, l1: &L1Irradiance, n0: DVec3, e_n0: Option<[
             }
         }
     }
-    Encoded { texel, clamped }
+    Some(Encoded { texel, clamped })
 }
 
 /// Rounds a value to the nearest IEEE half (round-to-nearest-even).
