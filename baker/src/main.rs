@@ -49,6 +49,11 @@ struct Cli {
     /// storage.
     #[arg(long)]
     engine_formats: Option<String>,
+    /// Also write every lightmap image (E/π and each basis lobe) as a BC6H DDS file
+    /// (`bc6h`, 1 byte per texel); bake.json gives the error it adds per image and per
+    /// basis (E/π at the texel normal), next to f16's.
+    #[arg(long, value_parser = ["bc6h"])]
+    compress: Option<String>,
     /// Lightmap texels per scene unit.
     #[arg(long, default_value_t = 16.0)]
     texels_per_unit: f32,
@@ -308,6 +313,7 @@ fn options(c: Cli) -> Result<Options, String> {
     let engine_formats = engine_formats(c.engine_formats.as_deref(), &bases)?;
     Ok(Options {
         engine_formats,
+        compress_bc6h: c.compress.is_some(),
         scene: c.scene,
         environment: c.env,
         material_maps: c.material_maps == "sample",

@@ -91,6 +91,29 @@ impl BasisKind {
             BasisKind::Ad12 => sbf::AmbientDiceSrbf::twelve().lobes().to_vec(),
         }
     }
+    /// E/π at the tangent-frame normal +Z from the lobes' RGB values `c` — each family's
+    /// Lambert runtime: SH's band factors (Ramamoorthi & Hanrahan 2001), SG by Hill's fit
+    /// at sharpness `sg_sharpness`, AD by the minimax quadratic per lobe (seed 004 §8.3).
+    pub fn irradiance_at_normal(self, c: &[DVec3], sg_sharpness: f64) -> DVec3 {
+        use sbf::recon::{ambient_dice, sg, sh};
+        let z = DVec3::Z;
+        match self {
+            BasisKind::ShL1 | BasisKind::ShL2 => {
+                let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), z).expect("SH coefficients");
+                DVec3::new(ch(0), ch(1), ch(2))
+            }
+            BasisKind::Sg9 | BasisKind::Sg12 => self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: sg_sharpness, amplitude: 1.0 });
+                acc + *ci * lobe.eval(z)
+            }),
+            BasisKind::Ad9 | BasisKind::Ad12 => {
+                self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                    acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.z)
+                })
+            }
+        }
+    }
+
     /// Whether the basis is a set of spherical Gaussians (its sharpness matters).
     pub fn is_sg(self) -> bool {
         matches!(self, BasisKind::Sg9 | BasisKind::Sg12)

@@ -42,6 +42,9 @@ pub struct BakeJson {
     /// The lightmap in engines' directional formats (`--engine-formats`; absent: none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub engine_formats: Vec<crate::output::engine::EngineFormatJson>,
+    /// BC6H copies of the lightmap images (`--compress bc6h`; absent: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compression: Option<crate::output::compress::CompressionJson>,
     pub stage_seconds: StageSecondsJson,
     /// Per mesh: its chart(s) in the atlas (see [`crate::output::mesh_mapping`]).
     pub meshes: serde_json::Value,

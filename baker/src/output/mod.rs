@@ -3,11 +3,12 @@
 //! composed for the scene (with only the LUTs it needs), and a preview PNG of the scene
 //! lit by the baked irradiance (CPU ray cast through the same BVH); [`bake_json`] holds
 //! bake.json's and probes.json's records; [`engine`] repackages the SH L1 lightmap in the
-//! directional formats engines ship.
+//! directional formats engines ship; [`compress`] writes BC6H DDS copies with their error.
 //!
 //! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::post`].
 
 pub mod bake_json;
+pub mod compress;
 pub mod engine;
 
 use crate::accumulate::{BakeConfig, BasisKind};

@@ -69,24 +69,11 @@ impl Shader {
         Terms { diffuse, specular }
     }
 
-    /// E/π at the tangent-frame normal +Z.
+    /// E/π at the tangent-frame normal +Z ([`BasisKind::irradiance_at_normal`]).
     pub fn irradiance(&self, c: &[DVec3]) -> DVec3 {
-        let z = DVec3::Z;
         match self.lighting.encoding {
             Encoding::Irradiance => c[0],
-            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => {
-                let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), z).expect("SH coefficients");
-                DVec3::new(ch(0), ch(1), ch(2))
-            }
-            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
-                let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: self.lighting.sg_sharpness, amplitude: 1.0 });
-                acc + *ci * lobe.eval(z)
-            }),
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
-                self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
-                    acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.z)
-                })
-            }
+            Encoding::Basis(b) => b.irradiance_at_normal(c, self.lighting.sg_sharpness),
         }
     }
 

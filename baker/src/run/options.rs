@@ -70,6 +70,9 @@ pub struct Options {
     /// The directional formats engines ship to write beside the bases
     /// (`--engine-formats`, [`crate::output::engine`]; needs the `sh1` basis).
     pub engine_formats: Vec<sbf::recon::engine::EngineFormat>,
+    /// Also write every lightmap image as BC6H DDS (`--compress bc6h`,
+    /// [`crate::output::compress`]).
+    pub compress_bc6h: bool,
 }
 
 /// One shard of a bake spread over machines.
@@ -112,6 +115,7 @@ impl Default for Options {
             stitch_seams: true,
             shard: None,
             engine_formats: Vec::new(),
+            compress_bc6h: false,
         }
     }
 }

@@ -57,6 +57,30 @@ fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> Option<Gui
     })
 }
 
+/// The BC6H copies of `--compress bc6h`.
+fn compress_step(
+    o: &Options,
+    img: &LightmapImages,
+    log: &mut dyn FnMut(String),
+) -> Result<Option<crate::output::compress::CompressionJson>, String> {
+    if !o.compress_bc6h {
+        return Ok(None);
+    }
+    let c = crate::output::compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness)?;
+    for b in &c.bases {
+        log(format!(
+            "BC6H {}: {:.1} B/texel (f32 {:.0}, f16 {:.0}); E/π at the normal changes by {:.3} % RMS (f16: {:.4} %)",
+            b.basis,
+            b.bytes_per_texel[2],
+            b.bytes_per_texel[0],
+            b.bytes_per_texel[1],
+            100.0 * b.irradiance_rel_rms_bc6h,
+            100.0 * b.irradiance_rel_rms_f16
+        ));
+    }
+    Ok(Some(c))
+}
+
 /// The engine formats of `--engine-formats`, from the SH L1 lightmap.
 fn engine_step(
     o: &Options,
@@ -107,6 +131,7 @@ pub(crate) fn write_outputs(
     let t_out = Instant::now();
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let engine_formats = engine_step(o, &img, log)?;
+    let compression = compress_step(o, &img, log)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width, o.config.camera.map(|c| c.camera));
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
     let runtime = write_runtime(o, glossy, log)?;
@@ -169,6 +194,7 @@ pub(crate) fn write_outputs(
         denoise: denoised,
         seams,
         engine_formats,
+        compression,
         stage_seconds,
         meshes: output::mesh_mapping(scene, lm),
         runtime,
