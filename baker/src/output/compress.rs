@@ -14,7 +14,8 @@
 //! to the source's RMS; per basis, the error each storage adds to E/π at the texel normal
 //! (the basis's Lambert runtime on the lobes, [`BasisKind::irradiance_at_normal`]): f16
 //! (each lobe rounded to half, as the renderer's f16 textures) and BC6H, relative to the
-//! RMS of E/π from the f32 lobes.
+//! RMS of E/π from the f32 lobes; and each storage's total error at the normal against the
+//! bake's own E/π (`irradiance.exr`).
 
 use crate::accumulate::BasisKind;
 use crate::post::images::LightmapImages;
@@ -47,6 +48,10 @@ pub struct BasisStorageJson {
     /// of E/π from the f32 lobes: with every lobe rounded to f16, and through BC6H.
     pub irradiance_rel_rms_f16: f64,
     pub irradiance_rel_rms_bc6h: f64,
+    /// RMS over baked texels of (E/π at the texel normal from the lobes − the bake's E/π
+    /// there, `irradiance.exr`), relative to the latter's RMS, from the f32, f16 and BC6H
+    /// lobes: the basis's own error at the normal plus what storage adds.
+    pub error_at_normal_rel_rms: [f64; 3],
 }
 
 /// What `--compress bc6h` wrote and measured.
@@ -186,7 +191,9 @@ pub fn write_bc6h(dir: &Path, img: &LightmapImages, bases: &[BasisKind], sg_shar
         bytes_per_texel: [12.0, 8.0, texels],
         irradiance_rel_rms_f16: rel(e16, s),
         irradiance_rel_rms_bc6h: rel(e, s),
+        error_at_normal_rel_rms: [0.0, rel(e16, s), rel(e, s)],
     });
+    let bake: Vec<DVec3> = img.irradiance.iter().map(|p| dv(*p)).collect();
     for (b, kind) in bases.iter().enumerate() {
         let lobes = &img.coefficients[b];
         let mut decoded = Vec::with_capacity(lobes.len());
@@ -202,14 +209,19 @@ pub fn write_bc6h(dir: &Path, img: &LightmapImages, bases: &[BasisKind], sg_shar
         let full: Vec<DVec3> = (0..n).map(|t| at(&|l, t| dv(lobes[l][t]), t)).collect();
         let half: Vec<DVec3> = (0..n).map(|t| at(&|l, t| dv(f16(&lobes[l][t])), t)).collect();
         let bc: Vec<DVec3> = (0..n).map(|t| at(&|l, t| dv(decoded[l][t]), t)).collect();
-        let (e16, s) = rms_pair(&img.validity, half.into_iter(), full.iter().copied());
-        let (ebc, _) = rms_pair(&img.validity, bc.into_iter(), full.iter().copied());
+        let (e16, s) = rms_pair(&img.validity, half.iter().copied(), full.iter().copied());
+        let (ebc, _) = rms_pair(&img.validity, bc.iter().copied(), full.iter().copied());
+        let vs_bake = |x: &[DVec3]| {
+            let (e, s) = rms_pair(&img.validity, x.iter().copied(), bake.iter().copied());
+            rel(e, s)
+        };
         let k = lobes.len() as f64;
         out_bases.push(BasisStorageJson {
             basis: kind.name().into(),
             bytes_per_texel: [12.0 * k, 8.0 * k, texels * k],
             irradiance_rel_rms_f16: rel(e16, s),
             irradiance_rel_rms_bc6h: rel(ebc, s),
+            error_at_normal_rel_rms: [vs_bake(&full), vs_bake(&half), vs_bake(&bc)],
         });
     }
     Ok(CompressionJson {

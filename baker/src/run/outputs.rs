@@ -69,13 +69,16 @@ fn compress_step(
     let c = crate::output::compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness)?;
     for b in &c.bases {
         log(format!(
-            "BC6H {}: {:.1} B/texel (f32 {:.0}, f16 {:.0}); E/π at the normal changes by {:.3} % RMS (f16: {:.4} %)",
+            "BC6H {}: {:.1} B/texel (f32 {:.0}, f16 {:.0}); E/π at the normal changes by {:.3} % RMS (f16: {:.4} %); error against the bake's E/π f32 / f16 / BC6H {:.2} / {:.2} / {:.2} %",
             b.basis,
             b.bytes_per_texel[2],
             b.bytes_per_texel[0],
             b.bytes_per_texel[1],
             100.0 * b.irradiance_rel_rms_bc6h,
-            100.0 * b.irradiance_rel_rms_f16
+            100.0 * b.irradiance_rel_rms_f16,
+            100.0 * b.error_at_normal_rel_rms[0],
+            100.0 * b.error_at_normal_rel_rms[1],
+            100.0 * b.error_at_normal_rel_rms[2]
         ));
     }
     Ok(Some(c))
