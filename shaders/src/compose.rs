@@ -35,6 +35,7 @@ pub enum Feature {
     Ggx,
     GgxEnergyCompensation,
     AdBezier,
+    LightmapBicubic,
     EngineFormats,
     Progressive,
     Slc,
@@ -42,7 +43,7 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 23] = [
+    pub const ALL: [(Feature, &'static str); 24] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -63,6 +64,7 @@ impl Feature {
         (Feature::Ggx, "ggx"),
         (Feature::GgxEnergyCompensation, "ggx-energy-compensation"),
         (Feature::AdBezier, "ad-bezier"),
+        (Feature::LightmapBicubic, "lightmap-bicubic"),
         (Feature::EngineFormats, "engine-formats"),
         (Feature::Progressive, "progressive"),
         (Feature::Slc, "slc"),
@@ -91,6 +93,7 @@ impl Feature {
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
             Feature::GgxEnergyCompensation => &["ggx_energy_compensation"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
+            Feature::LightmapBicubic => &["lightmap_bicubic_taps", "lightmap_bspline_axis"],
             Feature::EngineFormats => &["godot_l1_irradiance", "monosh_irradiance", "enlighten_irradiance", "enlighten_rgb_irradiance"],
             Feature::Progressive => &["progressive_update"],
             Feature::Slc => &[
@@ -132,7 +135,7 @@ pub const PRESETS: [(&str, &[&str]); 9] = [
     ("sh-l1", &["sh-l1-irradiance", "sh-l1-geomerics", "sh-l1-zh3"]),
     ("sg", &["sg-irradiance", "sg-specular"]),
     ("lambert", &["sh-l2-irradiance", "sg-irradiance", "ad9-irradiance", "ad12-irradiance"]),
-    ("engine-formats", &["engine-formats"]),
+    ("engine-formats", &["engine-formats", "lightmap-bicubic"]),
 ];
 
 /// A set of features.

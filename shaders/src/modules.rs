@@ -80,6 +80,7 @@ pub fn all() -> Vec<Module> {
             name: "ambient_dice_bezier",
             source: Cow::Owned(format!("{}\n{}", include_str!("../wgsl/ambient_dice_bezier.wgsl"), bezier_tables_wgsl())),
         },
+        Module { name: "lightmap", source: Cow::Borrowed(include_str!("../wgsl/lightmap.wgsl")) },
         Module { name: "engine", source: Cow::Borrowed(include_str!("../wgsl/engine.wgsl")) },
         Module { name: "progressive", source: Cow::Borrowed(include_str!("../wgsl/progressive.wgsl")) },
         Module { name: "slc", source: Cow::Borrowed(include_str!("../wgsl/slc.wgsl")) },

@@ -108,6 +108,7 @@ in_every_language!(
     slc_media_parity,
     slc_tile_parity,
     engine_parity,
+    lightmap_parity,
 );
 
 /// The engine lightmap formats' decodes (engine.wgsl) against `sbf::recon::engine::decode`
@@ -164,6 +165,60 @@ fn engine_parity(lang: Lang) {
         }
         check(names[f], &gpu_f, &cpu, &scale);
     }
+}
+
+/// The B-spline lightmap taps (lightmap.wgsl) against the B-spline itself: the GPU's four
+/// taps, each a bilinear lookup (done here in f64) of the texture T(i, j) = sin(0.3i) +
+/// cos(0.2j) + 0.01·i·j/size, weighted as the function's comment says, must give the
+/// 16-texel sum Σ w_a(fx)·w_b(fy)·T with `sbf::recon::lut::bspline_weights` (comparing tap
+/// positions would be ill-posed: where c − ½ is an integer, f32 and f64 may floor to
+/// neighbouring texels with equal results). uv uniform in [0.1, 0.9]² (taps inside), 16 to
+/// 1024 texels per side. Error model: f32 keeps c = uv·size to size·2⁻²⁴ ≤ 6e-5 texels,
+/// times T's slope ≤ 0.4: ≤ 3e-5 of T's magnitude (scale 2).
+fn lightmap_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
+    let lib = library("lightmap-bicubic");
+    let mut r = Pcg32::new(43, 7);
+    let (mut inp, mut items) = (Vec::new(), Vec::new());
+    for _ in 0..N {
+        let [u, v] = r.next_2d();
+        let [a, b] = r.next_2d();
+        let size = [(16.0 + 1008.0 * a).floor() as f32, (16.0 + 1008.0 * b).floor() as f32];
+        let uv = [(0.1 + 0.8 * u) as f32, (0.1 + 0.8 * v) as f32];
+        inp.extend_from_slice(&[uv[0], uv[1], size[0], size[1]]);
+        items.push((uv, size));
+    }
+    let body = "    let o = i * 4u;\n    let t = lightmap_bicubic_taps(vec2<f32>(inp[o], inp[o + 1u]), vec2<f32>(inp[o + 2u], inp[o + 3u]));\n    for (var k = 0u; k < 4u; k++) {\n        outp[i * 8u + k] = t.pos[k];\n        outp[i * 8u + 4u + k] = t.w[k];\n    }";
+    let (out, _) = g.run(&lib, body, &inp, 8, N, None, 0).unwrap();
+    let (mut gpu_v, mut cpu_v) = (Vec::new(), Vec::new());
+    for (j, (uv, size)) in items.iter().enumerate() {
+        let (sx, sy) = (size[0] as f64, size[1] as f64);
+        let tex = |i: f64, j: f64| (0.3 * i).sin() + (0.2 * j).cos() + 0.01 * i * j / sx;
+        // Bilinear at a point in texels (centres at i + ½).
+        let bilinear = |px: f64, py: f64| {
+            let (x, y) = (px - 0.5, py - 0.5);
+            let (i, j) = (x.floor(), y.floor());
+            let (fx, fy) = (x - i, y - j);
+            (tex(i, j) * (1.0 - fx) + tex(i + 1.0, j) * fx) * (1.0 - fy) + (tex(i, j + 1.0) * (1.0 - fx) + tex(i + 1.0, j + 1.0) * fx) * fy
+        };
+        let o = &out[j * 8..j * 8 + 8];
+        let (px, py) = ([o[0] as f64 * sx, o[1] as f64 * sx], [o[2] as f64 * sy, o[3] as f64 * sy]);
+        let w = [o[4] as f64, o[5] as f64, o[6] as f64, o[7] as f64];
+        let gpu_sum = w[2] * (w[0] * bilinear(px[0], py[0]) + w[1] * bilinear(px[1], py[0]))
+            + w[3] * (w[0] * bilinear(px[0], py[1]) + w[1] * bilinear(px[1], py[1]));
+        let (cx, cy) = (uv[0] as f64 * sx - 0.5, uv[1] as f64 * sy - 0.5);
+        let (i, jj) = (cx.floor(), cy.floor());
+        let (wx, wy) = (sbf::recon::lut::bspline_weights(cx - i), sbf::recon::lut::bspline_weights(cy - jj));
+        let mut sum = 0.0;
+        for (b, wyb) in wy.iter().enumerate() {
+            for (a, wxa) in wx.iter().enumerate() {
+                sum += wxa * wyb * tex(i - 1.0 + a as f64, jj - 1.0 + b as f64);
+            }
+        }
+        gpu_v.push(gpu_sum as f32);
+        cpu_v.push(sum);
+    }
+    check("lightmap_bicubic_taps", &gpu_v, &cpu_v, &vec![2.0; cpu_v.len()]);
 }
 
 fn library(cfg: &str) -> String {

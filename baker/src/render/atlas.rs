@@ -10,6 +10,8 @@ use super::lighting::{Encoding, Storage};
 use sbf::glam::DVec3;
 use std::path::Path;
 
+pub use sbf::recon::lut::{bspline_taps, bspline_weights};
+
 /// Per lobe, the RGB texels of the atlas (row-major, y down).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Atlas {
@@ -38,27 +40,6 @@ pub fn footprint(width: usize, height: usize, uv: [f64; 2]) -> Footprint {
         texels: [y0 * width + x0, y0 * width + x1, y1 * width + x0, y1 * width + x1],
         weights: [(1.0 - fx) * (1.0 - fy), fx * (1.0 - fy), (1.0 - fx) * fy, fx * fy],
     }
-}
-
-/// The cubic B-spline's weights of the four texels around a lookup, for the fractional
-/// position f ∈ [0, 1) past the second (de Boor; Sigg and Hadwiger 2005, eq. 1).
-pub fn bspline_weights(f: f64) -> [f64; 4] {
-    let (f2, f3) = (f * f, f * f * f);
-    [(1.0 - f).powi(3) / 6.0, (3.0 * f3 - 6.0 * f2 + 4.0) / 6.0, (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) / 6.0, f3 / 6.0]
-}
-
-/// The GPU's four bilinear taps of the B-spline at `uv` (texels): per axis two positions
-/// (texels, the sampler's coordinates × size) and weights — tap k at i − 1 + w₁/(w₀ + w₁)
-/// and i + 1 + w₃/(w₂ + w₃) (+ ½: centres), weighted w₀ + w₁ and w₂ + w₃ (Sigg and
-/// Hadwiger 2005): a bilinear lookup there weights its two texels w₀:w₁, w₂:w₃.
-pub fn bspline_taps(uv: [f64; 2]) -> [([f64; 2], [f64; 2]); 2] {
-    [0, 1].map(|a| {
-        let x = uv[a] - 0.5;
-        let i = x.floor();
-        let w = bspline_weights(x - i);
-        let (g0, g1) = (w[0] + w[1], w[2] + w[3]);
-        ([i - 1.0 + w[1] / g0 + 0.5, i + 1.0 + w[3] / g1 + 0.5], [g0, g1])
-    })
 }
 
 impl Atlas {

@@ -24,9 +24,9 @@ use wgpu::util::DeviceExt;
 
 const RENDER_WGSL: &str = include_str!("wgsl/render.wgsl");
 
-/// The `shaders` features the render shader calls: every basis's irradiance and both
-/// specular paths (the pipeline constants select one; the rest is folded away).
-const FEATURES: &str = "sh-l1-irradiance,sh-l2-irradiance,sh-specular,sg-irradiance,sg-specular,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular,lobe-ggx-specular";
+/// The `shaders` features the render shader calls: the B-spline lightmap filter, every
+/// basis's irradiance and both specular paths (the pipeline constants select one; the rest is folded away).
+const FEATURES: &str = "lightmap-bicubic,sh-l1-irradiance,sh-l2-irradiance,sh-specular,sg-irradiance,sg-specular,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular,lobe-ggx-specular";
 
 /// The full render module: the composed runtime library, then `render.wgsl`; validated.
 pub fn module_source() -> Result<String, String> {

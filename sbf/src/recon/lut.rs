@@ -1,5 +1,7 @@
-//! Small 2D look-up tables over [0, 1]² with texel-centre sampling, and the Ambient
-//! Dice specular LUT of seed 004 Listing 8.2 built from [`super::ambient_dice`].
+//! Small 2D look-up tables over [0, 1]² with texel-centre sampling, the Ambient
+//! Dice specular LUT of seed 004 Listing 8.2 built from [`super::ambient_dice`], and the
+//! cubic B-spline texture filter by four bilinear taps that lightmaps are read with
+//! ([`bspline_taps`]; WGSL twin `lightmap_bicubic_taps`).
 //!
 //! Layout: `width × height` texels, `channels` values each, row-major, row j for
 //! the second axis. Texel (i, j) holds the function at ((i + ½)/width, (j + ½)/height);
@@ -166,4 +168,25 @@ pub fn ad_specular_lut(n_nv: usize, n_alpha: usize, samples: u32) -> Result<Lut2
 #[cfg(feature = "ambient-dice")]
 pub fn ad_specular_lut_with(n_nv: usize, n_alpha: usize, samples: u32, convention: crate::ggx::Convention) -> Result<Lut2, SbfError> {
     Lut2::from_fn(n_nv, n_alpha, 2, |nv, alpha| super::ambient_dice::specular_lut_entry_with(nv, alpha, samples, convention).to_vec())
+}
+
+/// The cubic B-spline's weights of the four texels around a lookup, for the fractional
+/// position f ∈ [0, 1) past the second (de Boor; Sigg and Hadwiger 2005, eq. 1).
+pub fn bspline_weights(f: f64) -> [f64; 4] {
+    let (f2, f3) = (f * f, f * f * f);
+    [(1.0 - f).powi(3) / 6.0, (3.0 * f3 - 6.0 * f2 + 4.0) / 6.0, (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) / 6.0, f3 / 6.0]
+}
+
+/// The GPU's four bilinear taps of the B-spline at `uv` (texels): per axis two positions
+/// (texels, the sampler's coordinates × size) and weights — tap k at i − 1 + w₁/(w₀ + w₁)
+/// and i + 1 + w₃/(w₂ + w₃) (+ ½: centres), weighted w₀ + w₁ and w₂ + w₃ (Sigg and
+/// Hadwiger 2005): a bilinear lookup there weights its two texels w₀:w₁, w₂:w₃.
+pub fn bspline_taps(uv: [f64; 2]) -> [([f64; 2], [f64; 2]); 2] {
+    [0, 1].map(|a| {
+        let x = uv[a] - 0.5;
+        let i = x.floor();
+        let w = bspline_weights(x - i);
+        let (g0, g1) = (w[0] + w[1], w[2] + w[3]);
+        ([i - 1.0 + w[1] / g0 + 0.5, i + 1.0 + w[3] / g1 + 0.5], [g0, g1])
+    })
 }

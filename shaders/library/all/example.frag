@@ -217,6 +217,12 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         result += r;
     }
     {
+        LightmapTaps r = lightmap_bicubic_taps(vec2(0.5), vec2(0.5));
+    }
+    {
+        vec4 r = lightmap_bspline_axis(0.5);
+    }
+    {
         vec3 r = godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }

@@ -215,6 +215,12 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += r;
     }
     {
+        LightmapTaps r = lightmap_bicubic_taps(((float2)0.5), ((float2)0.5));
+    }
+    {
+        float4 r = lightmap_bspline_axis(0.5);
+    }
+    {
         float3 r = godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }

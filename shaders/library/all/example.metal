@@ -215,6 +215,12 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += r;
     }
     {
+        LightmapTaps r = lightmap_bicubic_taps(float2(0.5f), float2(0.5f));
+    }
+    {
+        float4 r = lightmap_bspline_axis(0.5f);
+    }
+    {
         float3 r = godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }

@@ -249,6 +249,14 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += r;
     }
     {
+        // lightmap_bicubic_taps
+        let r = lightmap_bicubic_taps(vec2<f32>(0.5), vec2<f32>(0.5));
+    }
+    {
+        // lightmap_bspline_axis
+        let r = lightmap_bspline_axis(0.5);
+    }
+    {
         // godot_l1_irradiance
         let r = godot_l1_irradiance(n, n, n, n, n);
         result += r;

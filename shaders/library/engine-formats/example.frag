@@ -7,6 +7,12 @@
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
+    {
+        LightmapTaps r = lightmap_bicubic_taps(vec2(0.5), vec2(0.5));
+    }
+    {
+        vec4 r = lightmap_bspline_axis(0.5);
+    }
     vec3 result = vec3(0.0);
     {
         vec3 r = godot_l1_irradiance(n, n, n, n, n);

@@ -5,6 +5,12 @@
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
 inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients) {
+    {
+        LightmapTaps r = lightmap_bicubic_taps(float2(0.5f), float2(0.5f));
+    }
+    {
+        float4 r = lightmap_bspline_axis(0.5f);
+    }
     float3 result = float3(0.0f);
     {
         float3 r = godot_l1_irradiance(n, n, n, n, n);

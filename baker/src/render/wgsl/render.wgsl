@@ -20,7 +20,7 @@ override LOBES: u32 = 1u;
 // lobe, the weights at the GPU's sub-texel precision) instead of four loads weighted in f32.
 override HW_FILTER: bool = false;
 // The cubic B-spline instead, by four bilinear taps of the sampler (Sigg and Hadwiger 2005;
-// baker::render::atlas::bspline_taps).
+// the library's lightmap_bspline_axis, CPU twin sbf::recon::lut::bspline_taps).
 override BICUBIC: bool = false;
 // Timing only: fetch every lobe (the same bilinear lookups) and sum them, no runtime — the
 // configuration's lightmap-bandwidth floor.
@@ -100,23 +100,6 @@ struct Footprint {
     g: vec4<f32>,
 }
 
-// The cubic B-spline's two taps along one axis at texel coordinate c (centres at i + ½):
-// positions in texels (xy) and weights (zw) (baker::render::atlas::bspline_taps).
-fn bspline_axis(c: f32) -> vec4<f32> {
-    let x = c - 0.5;
-    let i = floor(x);
-    let f = x - i;
-    let f2 = f * f;
-    let f3 = f2 * f;
-    let w0 = (1.0 - f) * (1.0 - f) * (1.0 - f) / 6.0;
-    let w1 = (3.0 * f3 - 6.0 * f2 + 4.0) / 6.0;
-    let w2 = (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) / 6.0;
-    let w3 = f3 / 6.0;
-    let g0 = w0 + w1;
-    let g1 = w2 + w3;
-    return vec4<f32>(i - 0.5 + w1 / g0, i + 1.5 + w3 / g1, g0, g1);
-}
-
 fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
     let size = vec2<i32>(frame.atlas.xy);
     let x = uv - vec2<f32>(0.5);
@@ -124,8 +107,8 @@ fn lightmap_footprint(uv: vec2<f32>) -> Footprint {
     let i = vec2<i32>(fl);
     var fp = Footprint(clamp(i, vec2<i32>(0), size - 1), clamp(i + 1, vec2<i32>(0), size - 1), x - fl, uv / vec2<f32>(frame.atlas.xy), vec4<f32>(0.0), vec4<f32>(0.0));
     if (BICUBIC) {
-        let ax = bspline_axis(uv.x);
-        let ay = bspline_axis(uv.y);
+        let ax = lightmap_bspline_axis(uv.x);
+        let ay = lightmap_bspline_axis(uv.y);
         let s = vec2<f32>(frame.atlas.xy);
         fp.tap = vec4<f32>(ax.xy / s.x, ay.xy / s.y);
         fp.g = vec4<f32>(ax.zw, ay.zw);
