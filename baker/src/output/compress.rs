@@ -68,7 +68,7 @@ pub struct CompressionJson {
 const F16_MAX: f32 = 65504.0;
 
 /// Encodes one RGB image as BC6H blocks; returns (blocks, offset, clamped count).
-fn encode(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, [f32; 3], usize) {
+pub fn encode(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, [f32; 3], usize) {
     let mut offset = [0.0f32; 3];
     for p in rgb {
         for k in 0..3 {
@@ -116,13 +116,55 @@ pub fn decode(width: usize, height: usize, blocks: &[u8], offset: [f32; 3]) -> V
     out
 }
 
-/// Writes BC6H blocks as a DDS file (DX10 header, BC6H_UF16).
-fn write_dds(path: &Path, width: usize, height: usize, blocks: Vec<u8>) -> Result<(), String> {
+/// An 8-bit RGBA image (values in [0, 1], rounded to k/255) as BC1 (RGB, `alpha` false:
+/// 8 bytes per 4 × 4 block) or BC7 (RGBA, 16 bytes per block; ISPC's "alpha slow" settings),
+/// padded like [`encode`]; returns (blocks, DXGI format, the bcdec decode in [0, 1]).
+pub fn encode_unorm(width: usize, height: usize, rgba: &[[f64; 4]], alpha: bool) -> (Vec<u8>, ddsfile::DxgiFormat, Vec<[f64; 4]>) {
+    let (pw, ph) = (width.div_ceil(4) * 4, height.div_ceil(4) * 4);
+    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let mut data = Vec::with_capacity(pw * ph * 4);
+    for y in 0..ph {
+        for x in 0..pw {
+            let p = rgba[y.min(height - 1) * width + x.min(width - 1)];
+            data.extend_from_slice(&[byte(p[0]), byte(p[1]), byte(p[2]), if alpha { byte(p[3]) } else { 255 }]);
+        }
+    }
+    let surface = intel_tex_2::RgbaSurface { data: &data, width: pw as u32, height: ph as u32, stride: (pw * 4) as u32 };
+    let (blocks, format, block_bytes) = if alpha {
+        (intel_tex_2::bc7::compress_blocks(&intel_tex_2::bc7::alpha_slow_settings(), &surface), ddsfile::DxgiFormat::BC7_UNorm, 16)
+    } else {
+        (intel_tex_2::bc1::compress_blocks(&surface), ddsfile::DxgiFormat::BC1_UNorm, 8)
+    };
+    let bw = width.div_ceil(4);
+    let mut out = vec![[0.0; 4]; width * height];
+    let mut texels = [0u8; 64];
+    for (b, block) in blocks.chunks_exact(block_bytes).enumerate() {
+        if alpha {
+            bcdec_rs::bc7(block, &mut texels, 16);
+        } else {
+            bcdec_rs::bc1(block, &mut texels, 16);
+        }
+        let (bx, by) = (b % bw, b / bw);
+        for j in 0..4 {
+            for i in 0..4 {
+                let (x, y) = (bx * 4 + i, by * 4 + j);
+                if x < width && y < height {
+                    let t = &texels[j * 16 + i * 4..j * 16 + i * 4 + 4];
+                    out[y * width + x] = [0, 1, 2, 3].map(|k| t[k] as f64 / 255.0);
+                }
+            }
+        }
+    }
+    (blocks, format, out)
+}
+
+/// Writes compressed blocks as a DDS file (DX10 header, `format`).
+pub fn write_dds_as(path: &Path, width: usize, height: usize, format: ddsfile::DxgiFormat, blocks: Vec<u8>) -> Result<(), String> {
     let mut dds = ddsfile::Dds::new_dxgi(ddsfile::NewDxgiParams {
         height: height as u32,
         width: width as u32,
         depth: None,
-        format: ddsfile::DxgiFormat::BC6H_UF16,
+        format,
         mipmap_levels: None,
         array_layers: None,
         caps2: None,
@@ -168,7 +210,7 @@ fn compress_image(dir: &Path, img: &LightmapImages, stem: &str, rgb: &[[f32; 3]]
     let decoded = decode(img.width, img.height, &blocks, offset);
     let bytes = blocks.len();
     let file = format!("{stem}.dds");
-    write_dds(&dir.join(&file), img.width, img.height, blocks)?;
+    write_dds_as(&dir.join(&file), img.width, img.height, ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
     let (e, s) = rms_pair(&img.validity, decoded.iter().map(|p| dv(*p)), rgb.iter().map(|p| dv(*p)));
     Ok((CompressedImageJson { file, source: format!("{stem}.exr"), offset, bytes, rel_rms: rel(e, s), clamped_values }, decoded))
 }

@@ -24,7 +24,8 @@
 //! stores, the values clamped, and two errors over the baked texels: the decode at the texel
 //! normal against the bake's E/π there (what the format loses at the baking normal), and
 //! the decode from the stored values against the same decode at full precision (what
-//! storage alone loses).
+//! storage alone loses). With `--compress bc6h` each format is also written block-compressed
+//! ([`CompressedFormatJson`]: `.dds` beside each file), with the same two errors.
 
 use super::write_exr;
 use crate::post::images::LightmapImages;
@@ -49,6 +50,25 @@ pub struct EngineFormatJson {
     /// RMS over baked texels of (decode of the stored values − decode at full precision) at
     /// the texel normal, divided by the RMS of the bake's E/π.
     pub storage_rel_rms: f64,
+    /// The same textures block-compressed (`--compress bc6h`; absent: not asked).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compressed: Option<CompressedFormatJson>,
+}
+
+/// An engine format's textures block-compressed: the colour as BC6H, RGB unit textures as
+/// BC1 (Godot's layers, as its proposal for SH lightmaps; MonoSH's direction), RGBA ones
+/// (Enlighten's direction + rescaling factor) as BC7.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompressedFormatJson {
+    pub files: Vec<String>,
+    pub bytes_per_texel: f64,
+    /// As [`EngineFormatJson::error_at_normal_rel_rms`], decoded from the compressed files.
+    pub error_at_normal_rel_rms: f64,
+    /// RMS of (compressed decode − full-precision decode) at the normal / RMS of E/π.
+    pub storage_rel_rms: f64,
+    /// Colour values below 0 (BC6H_UF16 holds none; engines' colours are ≥ 0 but MC noise
+    /// and LS fits can dip below), clamped to 0.
+    pub clamped_values: usize,
 }
 
 /// Per texel: (normal, full-precision texel, stored texel, clamped count); None where the
@@ -140,13 +160,71 @@ fn write_files(
     Ok(names)
 }
 
+/// The texture names of a format (colour first), without extension.
+fn stems(format: EngineFormat) -> Vec<String> {
+    match format {
+        EngineFormat::GodotL1 => (0..4).map(|k| format!("godot_l1_{k}")).collect(),
+        EngineFormat::MonoSh => vec!["monosh_l0".into(), "monosh_dir".into()],
+        EngineFormat::Enlighten => vec!["enlighten_irradiance".into(), "enlighten_dir".into()],
+        EngineFormat::EnlightenRgb => ["irradiance", "dir_r", "dir_g", "dir_b"].iter().map(|s| format!("enlighten_rgb_{s}")).collect(),
+    }
+}
+
+/// Writes the format's textures block-compressed (see [`CompressedFormatJson`]) and returns
+/// the texels as the engine would read them back, with the files and bytes per texel.
+#[allow(clippy::type_complexity)]
+fn compress_format(
+    dir: &Path,
+    img: &LightmapImages,
+    texels: &[Option<(DVec3, Texel, Texel, usize)>],
+    format: EngineFormat,
+) -> Result<(Vec<Option<Texel>>, Vec<String>, f64, usize), String> {
+    use super::compress::{decode as bc6h_decode, encode as bc6h_encode, encode_unorm, write_dds_as};
+    let (w, h) = (img.width, img.height);
+    let names = stems(format);
+    let colour: Vec<[f32; 3]> = texels.iter().map(|t| t.as_ref().map_or([0.0; 3], |(_, _, s, _)| s.colour.map(|v| v as f32))).collect();
+    let negative = colour.iter().flatten().filter(|v| **v < 0.0).count();
+    let colour: Vec<[f32; 3]> = colour.iter().map(|c| c.map(|v| v.max(0.0))).collect();
+    let (blocks, offset, _) = bc6h_encode(w, h, &colour);
+    debug_assert_eq!(offset, [0.0; 3]);
+    let mut bytes = blocks.len();
+    let decoded_colour = bc6h_decode(w, h, &blocks, offset);
+    write_dds_as(&dir.join(format!("{}.dds", names[0])), w, h, ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
+    let alpha = format.unit_channels() == 4;
+    let mut units = Vec::new();
+    for k in 0..format.unit_textures() {
+        let rgba: Vec<[f64; 4]> = texels.iter().map(|t| t.as_ref().map_or([0.5, 0.5, 0.5, 1.0], |(_, _, s, _)| s.unit[k])).collect();
+        let (blocks, dxgi, decoded) = encode_unorm(w, h, &rgba, alpha);
+        bytes += blocks.len();
+        write_dds_as(&dir.join(format!("{}.dds", names[k + 1])), w, h, dxgi, blocks)?;
+        units.push(decoded);
+    }
+    let read: Vec<Option<Texel>> = texels
+        .iter()
+        .enumerate()
+        .map(|(t, tx)| {
+            tx.as_ref().map(|_| {
+                let mut unit = [[1.0; 4]; 3];
+                for (k, u) in units.iter().enumerate() {
+                    unit[k] = if alpha { u[t] } else { [u[t][0], u[t][1], u[t][2], 1.0] };
+                }
+                Texel { colour: decoded_colour[t].map(f64::from), unit }
+            })
+        })
+        .collect();
+    let files = names.iter().map(|n| format!("{n}.dds")).collect();
+    Ok((read, files, bytes as f64 / (w * h).max(1) as f64, negative))
+}
+
 /// Encodes the SH L1 lightmap (`sh1[lobe][texel]`, 4 lobes) in every format of `formats`,
-/// writes their files into `dir` and returns their bake.json records.
+/// writes their files into `dir` (and block-compressed copies with `compress`) and returns
+/// their bake.json records.
 pub fn write_engine_formats(
     dir: &Path,
     img: &LightmapImages,
     sh1: &[Vec<[f32; 3]>],
     formats: &[EngineFormat],
+    compress: bool,
 ) -> Result<Vec<EngineFormatJson>, String> {
     if sh1.len() != 4 {
         return Err(format!("engine formats are encoded from SH L1 (4 lobes), got {} lobes", sh1.len()));
@@ -155,21 +233,34 @@ pub fn write_engine_formats(
     for &format in formats {
         let texels = encode_texels(img, sh1, format);
         let files = write_files(dir, img, &texels, format)?;
-        let (mut err, mut storage, mut signal) = (0.0, 0.0, 0.0);
+        let read = if compress { Some(compress_format(dir, img, &texels, format)?) } else { None };
+        let (mut err, mut storage, mut signal, mut err_c, mut storage_c) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for (t, tx) in texels.iter().enumerate() {
             let Some((n, full, stored, _)) = tx else { continue };
             if img.validity[t] <= 0.0 {
                 continue;
             }
             let (df, ds) = (engine::decode(format, full, *n), engine::decode(format, stored, *n));
+            let dc = read.as_ref().and_then(|r| r.0[t].as_ref()).map(|c| engine::decode(format, c, *n));
             for k in 0..3 {
                 let e = f64::from(img.irradiance[t][k]);
                 err += (ds[k] - e).powi(2);
                 storage += (ds[k] - df[k]).powi(2);
                 signal += e * e;
+                if let Some(dc) = dc {
+                    err_c += (dc[k] - e).powi(2);
+                    storage_c += (dc[k] - df[k]).powi(2);
+                }
             }
         }
         let rel = |x: f64| if signal > 0.0 { (x / signal).sqrt() } else { 0.0 };
+        let compressed = read.map(|(_, files, bytes_per_texel, clamped_values)| CompressedFormatJson {
+            files,
+            bytes_per_texel,
+            error_at_normal_rel_rms: rel(err_c),
+            storage_rel_rms: rel(storage_c),
+            clamped_values,
+        });
         out.push(EngineFormatJson {
             format: format.id(),
             files,
@@ -177,6 +268,7 @@ pub fn write_engine_formats(
             clamped_values: texels.iter().flatten().map(|t| t.3).sum(),
             error_at_normal_rel_rms: rel(err),
             storage_rel_rms: rel(storage),
+            compressed,
         });
     }
     Ok(out)

@@ -94,7 +94,7 @@ fn engine_step(
         return Ok(Vec::new());
     }
     let b = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisKind::ShL1).ok_or("--engine-formats needs the sh1 basis")?;
-    let out = crate::output::engine::write_engine_formats(&o.out, img, &img.coefficients[b], &o.engine_formats)?;
+    let out = crate::output::engine::write_engine_formats(&o.out, img, &img.coefficients[b], &o.engine_formats, o.compress_bc6h)?;
     for f in &out {
         log(format!(
             "engine format {}: {} B/texel, error at the texel normal {:.2} % of the E/π RMS ({:.3} % from storage){}",
@@ -104,6 +104,15 @@ fn engine_step(
             100.0 * f.storage_rel_rms,
             if f.clamped_values > 0 { format!(", {} stored values clamped", f.clamped_values) } else { String::new() }
         ));
+        if let Some(c) = &f.compressed {
+            log(format!(
+                "engine format {} block-compressed: {:.2} B/texel, error at the texel normal {:.2} % ({:.2} % from storage)",
+                f.format,
+                c.bytes_per_texel,
+                100.0 * c.error_at_normal_rel_rms,
+                100.0 * c.storage_rel_rms
+            ));
+        }
     }
     Ok(out)
 }
