@@ -135,7 +135,7 @@ pub const PRESETS: [(&str, &[&str]); 9] = [
     ("sh-l1", &["sh-l1-irradiance", "sh-l1-geomerics", "sh-l1-zh3"]),
     ("sg", &["sg-irradiance", "sg-specular"]),
     ("lambert", &["sh-l2-irradiance", "sg-irradiance", "ad9-irradiance", "ad12-irradiance"]),
-    ("engine-formats", &["engine-formats", "lightmap-bicubic"]),
+    ("engine-lightmaps", &["engine-formats", "lightmap-bicubic"]),
 ];
 
 /// A set of features.

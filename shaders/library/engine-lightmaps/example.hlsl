@@ -1,6 +1,6 @@
 // Example: a fragment shader that includes the library and shades with it. The inputs are
 // placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
-#include "sbf_engine_formats.hlsl"
+#include "sbf_engine_lightmaps.hlsl"
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.

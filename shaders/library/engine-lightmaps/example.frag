@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Example: a fragment shader that includes the library and shades with it. The inputs are
 // placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
-#include "sbf_engine_formats.glsl"
+#include "sbf_engine_lightmaps.glsl"
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
