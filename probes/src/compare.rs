@@ -30,6 +30,8 @@ pub struct Settings {
     pub specular_runtime: SpecularRuntime,
     /// Which GGX integral the specular reference computes (`--reference`).
     pub convention: sbf::ggx::Convention,
+    /// How every mode's coefficients are stored (`--storage`).
+    pub storage: crate::storage::Storage,
 }
 
 /// A mode's timing jobs, kept until the end of the run: its evaluation, its encode, and
@@ -53,6 +55,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
     ctx.sg_irradiance = s.sg_irradiance;
     ctx.specular_runtime = s.specular_runtime;
     ctx.convention = s.convention;
+    ctx.storage = s.storage;
     let ref_s = t.elapsed().as_secs_f64();
     let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(s.ids.len() as u64);
@@ -96,6 +99,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
         height: h,
         domain: if s.domain == sbf::Domain::Sphere { "sphere" } else { "upper hemisphere" },
         reference_method: method,
+        storage: s.storage,
         sanitized,
         rows,
         specular_method,

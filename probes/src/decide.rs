@@ -149,7 +149,7 @@ fn signal(name: String, raw: &[Raw]) -> SignalDecision {
     // Cost rank per axis: storage exactly, the timed axes by tier.
     let rank = |i: usize, axis: usize| -> Option<f64> {
         match axis {
-            0 => Some(c[i].point.bytes as f64),
+            0 => Some(c[i].point.bytes),
             k => (tier_of[k - 1][i] > 0).then(|| tier_of[k - 1][i] as f64),
         }
     };
@@ -180,7 +180,7 @@ fn front(c: &[Candidate], on: &[usize], rank: impl Fn(usize) -> f64) -> Vec<Poin
 
 /// Order of preference between two points of equal cost: lower error, smaller storage, id.
 fn better(a: &Point, b: &Point) -> std::cmp::Ordering {
-    a.error.total_cmp(&b.error).then(a.bytes.cmp(&b.bytes)).then(a.id.cmp(&b.id))
+    a.error.total_cmp(&b.error).then(a.bytes.total_cmp(&b.bytes)).then(a.id.cmp(&b.id))
 }
 
 /// The recommendation on a CPU front (see the module docs).
@@ -192,11 +192,11 @@ fn recommend(front: &[Point]) -> Option<Recommendation> {
 
 /// The lowest-error candidate within each budget of storage (rows) and CPU tier (columns).
 fn budget(c: &[Candidate]) -> Budget {
-    let mut bytes: Vec<usize> = c.iter().map(|x| x.point.bytes).collect();
-    bytes.sort_unstable();
+    let mut bytes: Vec<f64> = c.iter().map(|x| x.point.bytes).collect();
+    bytes.sort_unstable_by(f64::total_cmp);
     bytes.dedup();
     let top = c.iter().map(|x| x.point.cpu_tier).max().unwrap_or(0);
-    let cell = |b: usize, t: usize| -> Option<Point> {
+    let cell = |b: f64, t: usize| -> Option<Point> {
         c.iter().filter(|x| x.point.bytes <= b && x.point.cpu_tier <= t).map(|x| &x.point).min_by(|p, q| better(p, q)).cloned()
     };
     let all: Vec<Vec<Option<Point>>> = bytes.iter().map(|b| (1..=top).map(|t| cell(*b, t)).collect()).collect();

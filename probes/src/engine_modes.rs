@@ -37,7 +37,7 @@ pub struct EngineRun<'a> {
     pub encode: EncodeJob<'a>,
     pub eval: Option<CostJob<'a>>,
     pub scalars: usize,
-    pub bytes: usize,
+    pub bytes: f64,
     /// Fraction of output texels whose decode hit the format's clamp at 0 (MonoSH's `max`).
     pub clamped_negative_fraction: Option<f64>,
 }
@@ -72,7 +72,20 @@ pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Re
         engine::encode(format, &L1Irradiance::from_sh(&rgb), input.as_ref())
     });
     let enc = enc.ok_or("an Enlighten format without its input")?;
-    let stored = enc.texel.stored(format);
+    let mut stored = enc.texel.stored(format);
+    // Under --storage bc6h the engine's textures compressed as the baker writes them: the
+    // colour BC6H, the unit textures BC1 (RGB) or BC7 (RGBA); f16 and f32 leave the
+    // engine's own precision.
+    let storage = ctx.storage;
+    let alpha = format.unit_channels() == 4;
+    let n = format.unit_textures();
+    stored.colour = storage.store(&[stored.colour])[0];
+    let units = storage.store_unorm(&stored.unit[..n], alpha);
+    stored.unit[..n].copy_from_slice(&units);
+    let bytes = match storage {
+        crate::storage::Storage::Bc6h => 1.0 + n as f64 * storage.unorm_bytes(alpha),
+        _ => format.engine_bytes() as f64,
+    };
     let (irradiance, eval) = eval_cost(ctx, move |d| engine::decode(format, &stored, d));
     // MonoSH's decode clamps at 0: the texels where it did (the linear value was negative).
     let clamped_negative_fraction = (format == EngineFormat::MonoSh).then(|| {
@@ -82,13 +95,13 @@ pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Re
     });
     let clamp_note = if enc.clamped > 0 { format!(", {} stored values clamped", enc.clamped) } else { String::new() };
     Ok(EngineRun {
-        basis: format!("{} ({} B/texel as the engine stores it{clamp_note})", format.id(), format.engine_bytes()),
+        basis: format!("{} ({bytes} B/texel as the engine stores it{clamp_note})", format.id()),
         stored: rows(format, &stored),
         irradiance,
         encode,
         eval,
         scalars: format.scalars(),
-        bytes: format.engine_bytes(),
+        bytes,
         clamped_negative_fraction,
     })
 }

@@ -30,4 +30,5 @@ pub mod reference;
 pub mod report;
 pub mod results;
 pub mod specular;
+pub mod storage;
 pub mod viewer;

@@ -117,6 +117,12 @@ struct CompareArgs {
     /// --reference appendix-c]
     #[arg(long)]
     specular_runtime: Option<String>,
+    /// How each mode's coefficients are stored before they are reconstructed: `f32`, `f16`
+    /// (a half-float texture) or `bc6h` (1 byte per RGB coefficient, a uniform 4×4 block of
+    /// the probe through BC6H — the precision floor under distant light; engine formats'
+    /// directions in BC1/BC7). Errors and the storage axis are the stored data's.
+    #[arg(long, default_value = "f32")]
+    storage: String,
     /// Images written per mode and signal: `png` (previews), `exr` (PNG and float EXR),
     /// or `none`.
     #[arg(long, default_value = "png")]
@@ -220,7 +226,11 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         "appendix-c" => sbf::ggx::Convention::AppendixC,
         other => return Err(format!("--reference {other}: expected `physical` or `appendix-c`")),
     };
+    let storage = probes::storage::Storage::parse(&a.storage)?;
     let seed = convention == sbf::ggx::Convention::AppendixC;
+    if seed && storage != probes::storage::Storage::F32 {
+        return Err("--reference appendix-c reproduces the seed's figures, made from f32 coefficients: leave --storage at f32".into());
+    }
     let spec_rt = match (a.specular_runtime.as_deref(), seed) {
         (None, false) => probes::specular::SpecularRuntime::Table,
         (None, true) => probes::specular::SpecularRuntime::Fit,
@@ -351,6 +361,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
             sg_irradiance: sgi,
             specular_runtime: *rt,
             convention,
+            storage,
         };
         let mut reports = Vec::new();
         for (label, map, sanitized) in &maps {
@@ -418,6 +429,7 @@ fn main() -> ExitCode {
                 sg_irradiance: modes::SgIrradiance::Auto,
                 specular_runtime: Default::default(),
                 convention: Default::default(),
+                storage: probes::storage::Storage::F32,
             };
             let rep = compare("procedural-sky", map, 0, &settings)?;
             write_reports(&out, &mut [rep], false, (true, false), None, None)

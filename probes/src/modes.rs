@@ -47,6 +47,9 @@ pub struct Context {
     pub eval_work: usize,
     /// Work several modes share (per-lobe specular responses of one lobe layout and α).
     pub shared: crate::memo::Memo<Vec<f32>>,
+    /// How coefficients are stored (`--storage`): every mode's images are reconstructed
+    /// from its stored values.
+    pub storage: crate::storage::Storage,
 }
 
 /// Irradiance reconstruction of the SG 12 batch modes (`sg`, `sgls`, `sglsa`, `sgnnls`).
@@ -198,7 +201,13 @@ impl Context {
             reference_s,
             eval_work: 1,
             shared: crate::memo::Memo::new(),
+            storage: crate::storage::Storage::F32,
         }
+    }
+
+    /// RGB coefficients as [`Context::storage`] stores them.
+    pub fn stored(&self, c: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
+        self.storage.store(&c)
     }
 
     /// The map's radiance at the output grid's texel centres (bilinear).
@@ -237,8 +246,11 @@ pub struct ModeResult {
     /// Scalars stored per probe/texel (RGB coefficients × 3, or per YCoCg channel).
     pub stored_scalars: usize,
     /// Bytes per probe/texel where a mode is an engine's storage format (f16 and 8-bit
-    /// channels, [`crate::engine_modes`]); `None`: f32 per scalar.
-    pub engine_bytes: Option<usize>,
+    /// channels, [`crate::engine_modes`]; compressed under BC6H); `None`: `storage`'s bytes
+    /// per scalar.
+    pub engine_bytes: Option<f64>,
+    /// How the coefficients were stored ([`Context::storage`]).
+    pub storage: crate::storage::Storage,
     /// Whether the irradiance path is the WGSL runtime's (`shaders`): false for the SG
     /// modes reconstructed with the peer's kernel or the prior estimate, which have none —
     /// their GPU cost is then not reported.
@@ -363,9 +375,19 @@ impl ModeResult {
         self.encode_s + if self.needs_reference { reference_s } else { 0.0 }
     }
 
-    /// Bytes per probe/texel: f32 per scalar, or an engine format's own storage.
-    pub fn storage_bytes(&self) -> usize {
-        self.engine_bytes.unwrap_or_else(|| crate::cost::storage_bytes(self.stored_scalars))
+    /// How the values are stored: `f32`, `f16` or `bc6h`; an engine format's own
+    /// precision (`engine`) or, under BC6H, its compressed textures (`bc6h+bc1/bc7`).
+    pub fn storage_precision(&self) -> String {
+        match (self.engine_bytes.is_some(), self.storage) {
+            (true, crate::storage::Storage::Bc6h) => "bc6h+bc1/bc7".into(),
+            (true, _) => "engine".into(),
+            (false, s) => s.name().into(),
+        }
+    }
+
+    /// Bytes per probe/texel: the storage's bytes per scalar, or an engine format's own.
+    pub fn storage_bytes(&self) -> f64 {
+        self.engine_bytes.unwrap_or_else(|| self.storage.bytes(self.stored_scalars))
     }
 }
 
@@ -592,6 +614,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             clamped_negative_fraction: None,
             stored_scalars: 3 * coefficients.len(),
             engine_bytes: None,
+            storage: ctx.storage,
             wgsl_irradiance: true,
             irradiance_variant: "",
             encode_s: 0.0,
@@ -695,7 +718,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                     Ok(axes.iter().map(|a| reference::irradiance_at(&ctx.map, *a)).collect())
                 })
             };
-            let c = c?;
+            let c = ctx.stored(c?);
             let cc = c.clone();
             let (irr, ns) = eval_cost(ctx, move |d| {
                 let mut w = [0.0; 6];
@@ -738,7 +761,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             let sh = ShBasis::new(order).map_err(err)?;
             let sh_t = sh.clone();
             let (m, t) = timed(repeats, move || moments(&sh_t, &ctx.samples));
-            let c = channels(&m);
+            let c = ctx.stored(channels(&m));
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let (irr, ns) = match id {
                 "shl1g" => {
@@ -773,7 +796,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 let (c, t) = timed(repeats, move || {
                     solve_gram(&g.matrix, &moments(&ad_t, &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
-                let c = c.map_err(err)?;
+                let c = ctx.stored(c.map_err(err)?);
                 let (cc, adc) = (c.clone(), ad.clone());
                 let (irr, ns) = eval_cost(ctx, move |d| dot_rgb(&cc, adc.lobes().iter().map(|a| adr::lobe_irradiance_cos(a.dot(d)))));
                 let rad = reconstruct(&ad, &c, dirs);
@@ -784,7 +807,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 let (c, t) = timed(repeats, move || {
                     solve_gram(&sbf::solve::sample_gram(&ad_t, &s), &moments(&ad_t, &s), LsOptions::default()).map(|s| channels(&s.coeffs))
                 });
-                let c = c.map_err(err)?;
+                let c = ctx.stored(c.map_err(err)?);
                 let (irr, ns) = eval_basis(ctx, ad.clone(), c.clone());
                 let mut r =
                     mk(ad.name(), "least squares (irradiance image)", c, ad.lobes().iter().map(|l| (*l, 0.0)).collect(), None, irr, t, ns);
@@ -837,6 +860,8 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 Ok((c, cp))
             });
             let (c, cp) = c?;
+            // The prior estimate stores c′ (what its runtime reads); the radiance image reads c.
+            let (c, cp) = (ctx.stored(c), ctx.stored(cp));
             let lobes = sg_lobes(&basis, id);
             let (irr, ns) = match prior {
                 Some(mut p) => eval_cost(ctx, move |d| p.eval(&cp, d)),
@@ -883,7 +908,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 }
                 Ok(out)
             });
-            let c = c?;
+            let c = ctx.stored(c?);
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let e = [0, 1, 2].map(|k| shr::irradiance_coefficients(&chans[k]).expect("9 coefficients"));
             let mut y = vec![0.0; sh.len()];
@@ -908,7 +933,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 let (c, t) = timed(repeats, move || {
                     solve_gram(&sbf::solve::sample_gram(&bz_t, &s), &moments(&bz_t, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
                 });
-                let c = c.map_err(err)?;
+                let c = ctx.stored(c.map_err(err)?);
                 let (irr, ns) = eval_basis(ctx, bz.clone(), c.clone());
                 let mut r = mk(bz.name(), "least squares (irradiance image)", c, Vec::new(), None, irr, t, ns);
                 r.result.needs_reference = true;
@@ -928,6 +953,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                     ))
                 });
                 let (y, co, cg) = c?;
+                let (y, co, cg) = (ctx.storage.store_scalars(&y), ctx.storage.store_scalars(&co), ctx.storage.store_scalars(&cg));
                 let yc = sbf::AmbientDiceYCoCg::new();
                 let (ya, coa, cga): ([f64; 36], [f64; 12], [f64; 12]) =
                     (y.clone().try_into().unwrap(), co.clone().try_into().unwrap(), cg.clone().try_into().unwrap());
@@ -993,7 +1019,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 }
                 Ok(channels(&enc.coefficients()))
             });
-            let c = c?;
+            let c = ctx.stored(c?);
             let sgb = SgBasis::new(&vogel12, 6.0, false).map_err(err)?;
             let ad = AmbientDiceSrbf::twelve();
             // Irradiance of one direction from RGB coefficients. The peer's running
@@ -1089,7 +1115,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                     solve_gram(&g.matrix, &moments(b.as_ref(), &ctx.samples), LsOptions::default()).map(|s| channels(&s.coeffs))
                 })
             };
-            let c = c.map_err(err)?;
+            let c = ctx.stored(c.map_err(err)?);
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let (axes, lobes): (Vec<DVec3>, Vec<(DVec3, f64)>) = if is_ad {
                 let ad = AmbientDiceSrbf::from_axes(
@@ -1137,7 +1163,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             let (c, t) = timed(repeats, move || {
                 solve_gram(&sbf::solve::sample_gram(&h, &s), &moments(&h, &s), LsOptions::default()).map(|x| channels(&x.coeffs))
             });
-            let c = c.map_err(err)?;
+            let c = ctx.stored(c.map_err(err)?);
             let chans = [channel(&c, 0), channel(&c, 1), channel(&c, 2)];
             let mut sc = vec![0.0; h.len()];
             let (irr, ns) = eval_cost(ctx, move |d| {

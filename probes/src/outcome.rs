@@ -41,6 +41,8 @@ pub struct MapReport {
     pub height: usize,
     pub domain: &'static str,
     pub reference_method: String,
+    /// How the modes' coefficients were stored (`--storage`).
+    pub storage: crate::storage::Storage,
     pub sanitized: usize,
     pub rows: Vec<Row>,
     /// How the specular references were computed ("" when no α was requested).

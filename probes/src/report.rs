@@ -74,7 +74,16 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
         );
     }
     for m in maps {
-        let _ = write!(s, "\n## {} ({}×{}, {})\n\nReference: {}.", m.path, m.width, m.height, m.domain, m.reference_method);
+        let _ = write!(
+            s,
+            "\n## {} ({}×{}, {})\n\nReference: {}. Storage: {}.",
+            m.path,
+            m.width,
+            m.height,
+            m.domain,
+            m.reference_method,
+            m.storage.describe()
+        );
         if m.sanitized > 0 {
             let _ = write!(s, " {} texel channels were sanitised to 0.", m.sanitized);
         }
@@ -264,12 +273,13 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
         let exposure = crate::images::auto_exposure(&m.reference);
         let _ = write!(
             s,
-            "<h2>{} ({}×{}, {})</h2><p>Reference: {}. Exposure {:+.2} EV.</p><p><img src=\"{}/reference_irradiance.png\"></p>",
+            "<h2>{} ({}×{}, {})</h2><p>Reference: {}. Storage: {}. Exposure {:+.2} EV.</p><p><img src=\"{}/reference_irradiance.png\"></p>",
             esc_html(&m.path),
             m.width,
             m.height,
             m.domain,
             esc_html(&m.reference_method),
+            esc_html(m.storage.describe()),
             exposure,
             m.slug
         );
@@ -466,8 +476,8 @@ fn write_plots(out: &crate::outdir::OutDir, d: &std::path::Path, m: &MapReport) 
         (
             "error_vs_storage.png",
             format!("{}: irradiance error vs storage", m.path),
-            "bytes per probe (f32)",
-            pts(&|r| r.result.storage_bytes() as f64),
+            "bytes per probe (as stored, --storage)",
+            pts(&|r| r.result.storage_bytes()),
         ),
         (
             "error_vs_eval_cost.png",

@@ -37,6 +37,9 @@ pub struct MapResults {
     pub map: MapInfo,
     /// `sphere` or `upper hemisphere` (where errors are measured).
     pub domain: String,
+    /// How every mode's coefficients were stored before reconstruction (`--storage`).
+    #[serde(default)]
+    pub storage: String,
     pub reference: ReferenceInfo,
     /// The lobe modes' specular runtime path (absent without specular).
     #[serde(default, skip_serializing_if = "String::is_empty")]
@@ -208,8 +211,8 @@ pub struct Cost {
     /// without specular).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub specular_eval: Option<CostStat>,
-    /// Bytes per probe/texel at the runtime precision.
-    pub storage_bytes: usize,
+    /// Bytes per probe/texel as stored (`storage_precision`; BC1 halves a byte).
+    pub storage_bytes: f64,
     pub storage_precision: String,
     /// GPU cost of the mode's WGSL runtime (`--gpu-cost`; None without it or without a
     /// WGSL runtime for the mode).
@@ -280,7 +283,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                     eval: x.eval,
                     specular_eval: r.specular_cost,
                     storage_bytes: x.storage_bytes(),
-                    storage_precision: "f32".into(),
+                    storage_precision: x.storage_precision(),
                     gpu: gpu.filter(|_| x.wgsl_irradiance).and_then(|g| g.for_mode(x.id, m.runtime)),
                 },
                 cost_keys: CostKeys {
@@ -307,6 +310,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
     MapResults {
         map: MapInfo { path: m.path.clone(), width: m.width, height: m.height, sanitized_texels: m.sanitized, folder: f.clone() },
         domain: m.domain.to_string(),
+        storage: m.storage.describe().to_string(),
         reference: ReferenceInfo {
             convention: m.convention.name().to_string(),
             method: m.reference_method.clone(),
@@ -410,7 +414,7 @@ pub struct Point {
     pub id: String,
     pub error: f64,
     pub error_percent: f64,
-    pub bytes: usize,
+    pub bytes: f64,
     /// CPU cost tier (1 = cheapest), see [`Tiers`].
     pub cpu_tier: usize,
 }
@@ -419,7 +423,7 @@ pub struct Point {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Budget {
     /// Storage budgets (rows): the distinct storage sizes of the candidates, bytes.
-    pub bytes: Vec<usize>,
+    pub bytes: Vec<f64>,
     /// CPU budgets (columns): "costs no more than tier k" (1 = cheapest); a tier that
     /// changes no cell of the table is left out; the last column is every tier.
     pub cpu_tiers: Vec<usize>,

@@ -169,6 +169,7 @@ fn results_json_coefficients_match_dense_ls() {
             height: 128,
             domain: "sphere",
             reference_method: String::new(),
+            storage: probes::storage::Storage::F32,
             sanitized: 0,
             rows,
             specular_method: String::new(),

@@ -49,6 +49,7 @@ fn compatible_mode_reproduces_the_seeds_figures() {
         sg_irradiance: SgIrradiance::Auto,
         specular_runtime: SpecularRuntime::Fit,
         convention: Convention::AppendixC,
+        storage: probes::storage::Storage::F32,
     };
     let (mut ggx_two_sided, mut ggx_one_sided, mut ggx_cells) = (0, 0, 0);
     let (mut lambert_two_sided, mut lambert_one_sided) = (0, 0);
@@ -125,6 +126,7 @@ fn tables_add_no_more_error_than_the_fits_in_any_cell() {
         sg_irradiance: SgIrradiance::Auto,
         specular_runtime: runtime,
         convention: Convention::Physical,
+        storage: probes::storage::Storage::F32,
     };
     let mut cells = 0;
     let mut worst: (f64, String) = (0.0, String::new());

@@ -64,7 +64,7 @@ fn results_json_names_existing_images() {
             "{id}: {:?}",
             c.eval
         );
-        assert_eq!(c.storage_bytes, 12 * mode.coefficient_count, "{id}");
+        assert_eq!(c.storage_bytes, 12.0 * mode.coefficient_count as f64, "{id}");
         let charged = c.encode_total_s - c.encode_s;
         if id == "ac" {
             assert_eq!(c.encode_input, "irradiance reference");
@@ -194,7 +194,7 @@ fn decision_matches_brute_force_from_results_json() {
         assert!(sd.cpu_costs.starts_with("calibrated"), "{}", sd.cpu_costs);
         let floor = probes::decide::NOISE_FLOOR;
         let cal = probes::calibration::committed();
-        let cands: Vec<(String, f64, usize, (f64, f64))> = r
+        let cands: Vec<(String, f64, f64, (f64, f64))> = r
             .modes
             .iter()
             .filter_map(|m| {
@@ -230,9 +230,9 @@ fn decision_matches_brute_force_from_results_json() {
         }
         // Fronts: dominance in (cost rank, error), rank = bytes or CPU tier.
         for f in &sd.fronts {
-            let rank = |c: &(String, f64, usize, (f64, f64))| -> Option<f64> {
+            let rank = |c: &(String, f64, f64, (f64, f64))| -> Option<f64> {
                 match f.axis.as_str() {
-                    "storage_bytes" => Some(c.2 as f64),
+                    "storage_bytes" => Some(c.2),
                     "eval_ns" => Some(tier_of(&c.0) as f64),
                     _ => None,
                 }
@@ -241,7 +241,7 @@ fn decision_matches_brute_force_from_results_json() {
                 continue;
             }
             let on: Vec<&str> = f.points.iter().map(|p| p.id.as_str()).collect();
-            let dominates = |a: &(String, f64, usize, (f64, f64)), b: &(String, f64, usize, (f64, f64))| {
+            let dominates = |a: &(String, f64, f64, (f64, f64)), b: &(String, f64, f64, (f64, f64))| {
                 let (ra, rb) = (rank(a).unwrap(), rank(b).unwrap());
                 ra <= rb && a.1 <= b.1 && (ra < rb || a.1 < b.1)
             };

@@ -40,6 +40,7 @@
 //! | [`slc`] | stochastic light culling (seeds 000–002): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
 //! | [`error`] | [`SbfError`] and input checks |
 //! | [`frame`] | an orthonormal tangent frame for a unit normal (Duff et al. 2017) |
+//! | `bc` | (feature `bc`) block-compressed storage: BC6H, BC1 and BC7 encode (ISPC), an independent decode (bcdec) and DDS files |
 //! | `io` | (feature `io`) loading and validating lat-long `.hdr`/`.exr` maps |
 //! | `profile` | (feature `profile`) the lighting profile (TOML) every tool takes with `--profile` |
 //!
@@ -69,6 +70,8 @@
 #![warn(missing_docs)]
 
 pub mod basis;
+#[cfg(feature = "bc")]
+pub mod bc;
 pub mod envmap;
 pub mod error;
 pub mod frame;

@@ -179,7 +179,7 @@ fn compress_format(
     texels: &[Option<(DVec3, Texel, Texel, usize)>],
     format: EngineFormat,
 ) -> Result<(Vec<Option<Texel>>, Vec<String>, f64, usize), String> {
-    use super::compress::{decode as bc6h_decode, encode as bc6h_encode, encode_unorm, write_dds_as};
+    use sbf::bc::{decode_bc6h as bc6h_decode, encode_bc6h as bc6h_encode, encode_unorm, write_dds as write_dds_as};
     let (w, h) = (img.width, img.height);
     let names = stems(format);
     let colour: Vec<[f32; 3]> = texels.iter().map(|t| t.as_ref().map_or([0.0; 3], |(_, _, s, _)| s.colour.map(|v| v as f32))).collect();
@@ -189,7 +189,7 @@ fn compress_format(
     debug_assert_eq!(offset, [0.0; 3]);
     let mut bytes = blocks.len();
     let decoded_colour = bc6h_decode(w, h, &blocks, offset);
-    write_dds_as(&dir.join(format!("{}.dds", names[0])), w, h, ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
+    write_dds_as(&dir.join(format!("{}.dds", names[0])), w, h, sbf::bc::ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
     let alpha = format.unit_channels() == 4;
     let mut units = Vec::new();
     for k in 0..format.unit_textures() {

@@ -42,6 +42,21 @@ pub fn footprint(width: usize, height: usize, uv: [f64; 2]) -> Footprint {
     }
 }
 
+/// Whether the widest lookup the renderer makes at `uv` (the B-spline's 4 × 4 texels,
+/// which contain the bilinear 2 × 2) reads a texel outside the chart of the texel under
+/// `uv`: another chart's, or a gutter texel the bake dilated (`texel_charts`: per texel its
+/// chart, [`NO_CHART`](crate::layout::lightmap::NO_CHART) where none). Such pixels are where
+/// filtering can leak light across chart borders.
+pub fn reaches_outside_chart(texel_charts: &[u32], width: usize, height: usize, uv: [f64; 2]) -> bool {
+    let clamp = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1);
+    let own = texel_charts[clamp(uv[1].floor(), height) * width + clamp(uv[0].floor(), width)];
+    let (i, j) = ((uv[0] - 0.5).floor(), (uv[1] - 0.5).floor());
+    (-1..3).any(|b| {
+        let row = clamp(j + b as f64, height) * width;
+        (-1..3).any(|a| texel_charts[row + clamp(i + a as f64, width)] != own)
+    }) || own == crate::layout::lightmap::NO_CHART
+}
+
 impl Atlas {
     /// The files of `encoding` in a bake folder, in lobe order.
     pub fn files(encoding: Encoding) -> Vec<String> {
@@ -144,7 +159,7 @@ impl Atlas {
 
 #[cfg(test)]
 mod tests {
-    use super::{bspline_taps, Atlas};
+    use super::{bspline_taps, reaches_outside_chart, Atlas};
     use sbf::glam::DVec3;
 
     /// A one-lobe 12×10 atlas with texel (x, y) = f(x + ½, y + ½) (its centre).
@@ -183,5 +198,29 @@ mod tests {
             }
             assert!((sum.x - at(&wavy, u, v)).abs() < 1e-5, "taps at ({u}, {v}): {} vs {}", sum.x, at(&wavy, u, v));
         }
+    }
+
+    /// Two charts side by side in a 12 × 8 atlas, columns 0–4 chart 0, 5 a gutter, 6–11
+    /// chart 1: the B-spline's footprint at x spans texels ⌊x − ½⌋ − 1 … ⌊x − ½⌋ + 2.
+    #[test]
+    fn outside_chart_means_the_four_by_four_footprint() {
+        let none = crate::layout::lightmap::NO_CHART;
+        let charts: Vec<u32> = (0..12 * 8)
+            .map(|k| match k % 12 {
+                0..=4 => 0,
+                5 => none,
+                _ => 1,
+            })
+            .collect();
+        let at = |x: f64| reaches_outside_chart(&charts, 12, 8, [x, 4.0]);
+        // Footprint columns at x = 3.4: 1..4 (inside); at 3.5: 2..5 (the gutter).
+        assert!(!at(3.4));
+        assert!(at(3.5));
+        assert!(at(5.5), "on the gutter itself");
+        // Chart 1 from the right: x = 8.5 reads 7..10; x = 7.49 reads 5..8.
+        assert!(!at(8.5));
+        assert!(at(7.49));
+        // Rows clamp at the atlas edge: nothing outside there.
+        assert!(!reaches_outside_chart(&charts, 12, 8, [2.0, 0.1]));
     }
 }

@@ -18,8 +18,8 @@ pub struct ResultsJson {
     pub camera: CameraJson,
     /// "GPU: adapter" or "CPU (the shading's twin)".
     pub device: String,
-    /// How the GPU interpolated the lightmap: `exact` (four loads weighted in f32) or
-    /// `hardware` (the sampler's bilinear filter).
+    /// How the lightmap was interpolated: `exact` (four loads weighted in f32),
+    /// `hardware` (the sampler's bilinear filter) or `bicubic` (the cubic B-spline).
     pub lightmap_filter: &'static str,
     pub reference: ReferenceJson,
     pub configurations: Vec<ConfigurationJson>,
@@ -63,6 +63,13 @@ pub struct ConfigurationJson {
     pub total: super::compare::Errors,
     /// The dynamic objects' pixels (shaded from the probes): errors of the total.
     pub dynamic: Option<super::compare::Errors>,
+    /// Errors of the total where the B-spline's 4 × 4 footprint reads a texel outside the
+    /// pixel's chart (another chart or the gutter: where filtering can leak), and elsewhere;
+    /// the same pixels for every filter.
+    pub chart_border: super::compare::Errors,
+    pub chart_border_pixels: usize,
+    pub interior: super::compare::Errors,
+    pub interior_pixels: usize,
     pub frame: Option<FrameTime>,
     /// Median frame time minus the plain E/π configuration's (same storage), ms.
     pub overhead_ms: Option<f64>,
@@ -120,6 +127,10 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
             specular: r.specular,
             total: r.total,
             dynamic: r.dynamic,
+            chart_border: r.chart_border.0,
+            chart_border_pixels: r.chart_border.1,
+            interior: r.interior.0,
+            interior_pixels: r.interior.1,
             frame: r.frame,
             overhead_ms: match (r.frame, none.and_then(|n| n.frame)) {
                 (Some(f), Some(n)) => Some(f.median_ms - n.median_ms),
@@ -175,7 +186,7 @@ fn html(r: &ResultsJson) -> String {
     for c in &r.configurations {
         let ms = |f: Option<f64>| f.map(|x| format!("{x:.3}")).unwrap_or_else(|| "–".into());
         rows += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.3}</td><td>{}</td><td>{}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.3}</td><td>{:.4e} ({} px)</td><td>{:.4e} ({} px)</td><td>{}</td><td>{}</td></tr>\n",
             esc(&c.name),
             c.lobes,
             c.bytes_per_texel,
@@ -184,6 +195,10 @@ fn html(r: &ResultsJson) -> String {
             c.specular.rmse,
             c.total.rmse,
             c.total.relative_rmse,
+            c.chart_border.rmse,
+            c.chart_border_pixels,
+            c.interior.rmse,
+            c.interior_pixels,
             ms(c.frame.map(|f| f.median_ms)),
             ms(c.overhead_ms)
         );
@@ -198,7 +213,7 @@ fn html(r: &ResultsJson) -> String {
         );
     }
     format!(
-        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>frame ms</th><th>overhead ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>RMSE at chart borders</th><th>RMSE inside charts</th><th>frame ms</th><th>overhead ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
         scene = esc(&r.scene),
         w = r.camera.width,
         h = r.camera.height,

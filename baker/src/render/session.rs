@@ -71,6 +71,12 @@ pub struct Rendered {
     /// Errors of the total over the dynamic objects' pixels (shaded from the probes, the
     /// same in every configuration); None where none is visible.
     pub dynamic: Option<Errors>,
+    /// The compared pixels split where light can leak across chart borders: those whose
+    /// B-spline footprint reads a texel of another chart or of the gutter
+    /// ([`super::atlas::reaches_outside_chart`]; the same pixels whatever the filter) and the
+    /// rest — errors of the total and how many pixels each.
+    pub chart_border: (Errors, usize),
+    pub interior: (Errors, usize),
     pub frame: Option<FrameTime>,
 }
 
@@ -126,18 +132,28 @@ pub fn run(
         reference::relative_noise(&reference)
     ));
     let renderer = gpu.map(|g| Renderer::new(g, scene, lm, probes).map(|r| r.with_filter(setup.lightmap_filter))).transpose()?;
+    let border: Vec<bool> = visible
+        .iter()
+        .map(|v| {
+            v.is_some_and(|v| {
+                v.lightmapped && super::atlas::reaches_outside_chart(&lm.texel_charts, lm.width, lm.height, v.uv.map(f64::from))
+            })
+        })
+        .collect();
     let mut rendered = Vec::new();
     for l in &setup.configurations {
         let atlas = Atlas::read(bake_dir, l.encoding, lm.width, lm.height)?.stored(l.storage)?;
-        let r = render_one(scene, &visible, &reference, &atlas, probes, l, renderer.as_ref(), setup)?;
+        let r = render_one(scene, &visible, &border, &reference, &atlas, probes, l, renderer.as_ref(), setup)?;
         log(format!(
-            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}){}",
+            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}; chart borders {:.4e}, inside {:.4e}){}",
             l.name(),
             r.shaded_on,
             r.diffuse.rmse,
             r.specular.rmse,
             r.total.rmse,
             r.total.relative_rmse,
+            r.chart_border.0.rmse,
+            r.interior.0.rmse,
             r.frame
                 .map(|f| format!(", frame {:.3} ms (lobes fetched only: {:.3} ms)", f.median_ms, f.fetch_only_ms.unwrap_or(f64::NAN)))
                 .unwrap_or_default()
@@ -182,6 +198,7 @@ fn reference_image(
 fn render_one(
     scene: &Scene,
     visible: &[Option<Visible>],
+    border: &[bool],
     reference: &Reference,
     atlas: &Atlas,
     probes: Option<&ProbeField>,
@@ -235,6 +252,10 @@ fn render_one(
     let ref_tot: Vec<DVec3> = reference.diffuse.iter().zip(&reference.specular).map(|(a, b)| *a + *b).collect();
     let mask: Vec<bool> = kinds.iter().zip(&reference.accepted).map(|(k, n)| *k == 1 && *n > 0).collect();
     let dyn_mask: Vec<bool> = kinds.iter().zip(&reference.accepted).map(|(k, n)| *k == 2 && *n > 0).collect();
+    let split = |at_border: bool| {
+        let m: Vec<bool> = mask.iter().zip(border).map(|(m, b)| *m && *b == at_border).collect();
+        (errors(&tot, &ref_tot, &reference.var_total, &m), m.iter().filter(|x| **x).count())
+    };
     Ok(Rendered {
         lighting: *l,
         shaded_on,
@@ -243,6 +264,8 @@ fn render_one(
         specular: errors(&s, &reference.specular, &reference.var_specular, &mask),
         total: errors(&tot, &ref_tot, &reference.var_total, &mask),
         dynamic: dyn_mask.iter().any(|m| *m).then(|| errors(&tot, &ref_tot, &reference.var_total, &dyn_mask)),
+        chart_border: split(true),
+        interior: split(false),
         terms,
         frame,
     })

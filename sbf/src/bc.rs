@@ -1,0 +1,131 @@
+//! Block-compressed texture storage (feature `bc`): HDR RGB images as BC6H
+//! (DXGI_FORMAT_BC6H_UF16, 1 byte per texel) and 8-bit RGBA images as BC1 (½ byte) or BC7
+//! (1 byte), what engines stream instead of float textures, with an independent decoder to
+//! measure the error each adds, and the DDS container.
+//!
+//! Encoder: ISPC Texture Compressor through `intel_tex_2` (BC6H at its "very slow", highest
+//! quality settings; BC7 "alpha slow"). Its prebuilt C++ object needs the C++ runtime, which
+//! `build.rs` links on Linux. Images are padded to whole 4 × 4 blocks by repeating the last
+//! row and column. BC6H_UF16 holds non-negative half floats: an image with negative values is
+//! stored shifted by a per-channel offset (−its minimum; the reader subtracts it), as engines
+//! store signed lightmap data in unsigned formats; values above the f16 maximum (65 504) are
+//! counted and clamped.
+//!
+//! Decoder: `bcdec_rs` (a port of bcdec, independent of the encoder).
+
+pub use ddsfile;
+use std::path::Path;
+
+/// The largest finite half float.
+pub const F16_MAX: f32 = 65504.0;
+
+/// Encodes one RGB image as BC6H blocks; returns (blocks, offset, clamped count).
+pub fn encode_bc6h(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, [f32; 3], usize) {
+    let mut offset = [0.0f32; 3];
+    for p in rgb {
+        for k in 0..3 {
+            offset[k] = offset[k].max(-p[k]);
+        }
+    }
+    let (pw, ph) = (width.div_ceil(4) * 4, height.div_ceil(4) * 4);
+    let mut clamped = 0;
+    let mut data = Vec::with_capacity(pw * ph * 8);
+    for y in 0..ph {
+        for x in 0..pw {
+            let p = rgb[y.min(height - 1) * width + x.min(width - 1)];
+            for k in 0..3 {
+                let v = p[k] + offset[k];
+                if v > F16_MAX && x < width && y < height {
+                    clamped += 1;
+                }
+                data.extend_from_slice(&half::f16::from_f32(v.clamp(0.0, F16_MAX)).to_le_bytes());
+            }
+            data.extend_from_slice(&half::f16::ONE.to_le_bytes());
+        }
+    }
+    let surface = intel_tex_2::RgbaSurface { data: &data, width: pw as u32, height: ph as u32, stride: (pw * 8) as u32 };
+    (intel_tex_2::bc6h::compress_blocks(&intel_tex_2::bc6h::very_slow_settings(), &surface), offset, clamped)
+}
+
+/// Decodes BC6H blocks of a `width` × `height` image (bcdec) and removes the offset.
+pub fn decode_bc6h(width: usize, height: usize, blocks: &[u8], offset: [f32; 3]) -> Vec<[f32; 3]> {
+    let bw = width.div_ceil(4);
+    let mut out = vec![[0.0f32; 3]; width * height];
+    let mut texels = [0.0f32; 48];
+    for (b, block) in blocks.chunks_exact(16).enumerate() {
+        bcdec_rs::bc6h_float(block, &mut texels, 12, false);
+        let (bx, by) = (b % bw, b / bw);
+        for j in 0..4 {
+            for i in 0..4 {
+                let (x, y) = (bx * 4 + i, by * 4 + j);
+                if x < width && y < height {
+                    let t = &texels[j * 12 + i * 3..j * 12 + i * 3 + 3];
+                    out[y * width + x] = [t[0] - offset[0], t[1] - offset[1], t[2] - offset[2]];
+                }
+            }
+        }
+    }
+    out
+}
+
+/// An 8-bit RGBA image (values in [0, 1], rounded to k/255) as BC1 (RGB, `alpha` false:
+/// 8 bytes per 4 × 4 block) or BC7 (RGBA, 16 bytes per block; ISPC's "alpha slow" settings),
+/// padded like [`encode_bc6h`]; returns (blocks, DXGI format, the bcdec decode in [0, 1]).
+pub fn encode_unorm(width: usize, height: usize, rgba: &[[f64; 4]], alpha: bool) -> (Vec<u8>, ddsfile::DxgiFormat, Vec<[f64; 4]>) {
+    let (pw, ph) = (width.div_ceil(4) * 4, height.div_ceil(4) * 4);
+    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let mut data = Vec::with_capacity(pw * ph * 4);
+    for y in 0..ph {
+        for x in 0..pw {
+            let p = rgba[y.min(height - 1) * width + x.min(width - 1)];
+            data.extend_from_slice(&[byte(p[0]), byte(p[1]), byte(p[2]), if alpha { byte(p[3]) } else { 255 }]);
+        }
+    }
+    let surface = intel_tex_2::RgbaSurface { data: &data, width: pw as u32, height: ph as u32, stride: (pw * 4) as u32 };
+    let (blocks, format, block_bytes) = if alpha {
+        (intel_tex_2::bc7::compress_blocks(&intel_tex_2::bc7::alpha_slow_settings(), &surface), ddsfile::DxgiFormat::BC7_UNorm, 16)
+    } else {
+        (intel_tex_2::bc1::compress_blocks(&surface), ddsfile::DxgiFormat::BC1_UNorm, 8)
+    };
+    let bw = width.div_ceil(4);
+    let mut out = vec![[0.0; 4]; width * height];
+    let mut texels = [0u8; 64];
+    for (b, block) in blocks.chunks_exact(block_bytes).enumerate() {
+        if alpha {
+            bcdec_rs::bc7(block, &mut texels, 16);
+        } else {
+            bcdec_rs::bc1(block, &mut texels, 16);
+        }
+        let (bx, by) = (b % bw, b / bw);
+        for j in 0..4 {
+            for i in 0..4 {
+                let (x, y) = (bx * 4 + i, by * 4 + j);
+                if x < width && y < height {
+                    let t = &texels[j * 16 + i * 4..j * 16 + i * 4 + 4];
+                    out[y * width + x] = [0, 1, 2, 3].map(|k| t[k] as f64 / 255.0);
+                }
+            }
+        }
+    }
+    (blocks, format, out)
+}
+
+/// Writes compressed blocks as a DDS file (DX10 header, `format`).
+pub fn write_dds(path: &Path, width: usize, height: usize, format: ddsfile::DxgiFormat, blocks: Vec<u8>) -> Result<(), String> {
+    let mut dds = ddsfile::Dds::new_dxgi(ddsfile::NewDxgiParams {
+        height: height as u32,
+        width: width as u32,
+        depth: None,
+        format,
+        mipmap_levels: None,
+        array_layers: None,
+        caps2: None,
+        is_cubemap: false,
+        resource_dimension: ddsfile::D3D10ResourceDimension::Texture2D,
+        alpha_mode: ddsfile::AlphaMode::Unknown,
+    })
+    .map_err(|e| format!("DDS header for {}: {e}", path.display()))?;
+    dds.data = blocks;
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| format!("creating {}: {e}", path.display()))?);
+    dds.write(&mut f).map_err(|e| format!("writing {}: {e}", path.display()))
+}
