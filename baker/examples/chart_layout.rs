@@ -15,6 +15,7 @@ fn sphere6200() -> Scene {
         lights: vec![],
         environment: Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 

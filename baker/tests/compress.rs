@@ -88,3 +88,60 @@ fn bc6h_files_decode_to_the_error_bake_json_states() {
     }
     std::fs::remove_dir_all(&out).ok();
 }
+
+/// The probe grid's BC6H volumes: each DDS is an NX × NY × NZ Texture3D whose texels, read
+/// by image_dds (its own DDS parser and 3D block layout) minus the stated offset, give the
+/// coefficient error bake.json states against probes.json's coefficients over valid probes
+/// (same oracle and tolerance as the lightmap images); f16 rounds each coefficient by
+/// ≤ 2⁻¹¹ relative, so its E/π change stays below 2e-3 and below BC6H's.
+#[test]
+fn probe_volumes_decode_to_the_error_bake_json_states() {
+    let out = tmp("probes");
+    let (nx, ny, nz) = (6usize, 5usize, 3usize);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_baker"))
+        .args(["--device", "cpu", "--passes", "8", "--texels-per-unit", "4", "--bases", "sh1", "--probes", "6,5,3", "--compress", "bc6h"])
+        .args(["--preview-width", "16", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let meta: Value = serde_json::from_str(&std::fs::read_to_string(out.join("bake.json")).unwrap()).unwrap();
+    let probes: Value = serde_json::from_str(&std::fs::read_to_string(out.join("probes.json")).unwrap()).unwrap();
+    let list = probes["probes"].as_array().unwrap();
+    assert_eq!(list.len(), nx * ny * nz);
+    let volumes = meta["compression"]["probes"].as_array().unwrap();
+    assert_eq!(volumes.len(), probes["bases"].as_array().unwrap().len());
+    for v in volumes {
+        let basis = v["basis"].as_str().unwrap();
+        let files = v["files"].as_array().unwrap();
+        let (mut e, mut s) = (0.0, 0.0);
+        for (l, f) in files.iter().enumerate() {
+            let file = f.as_str().unwrap();
+            let dds = image_dds::ddsfile::Dds::read(std::fs::File::open(out.join(file)).unwrap()).unwrap();
+            assert_eq!(dds.get_dxgi_format(), Some(image_dds::ddsfile::DxgiFormat::BC6H_UF16), "{file}");
+            let surf = image_dds::Surface::from_dds(&dds).unwrap().decode_rgbaf32().unwrap();
+            assert_eq!((surf.width as usize, surf.height as usize, surf.depth as usize), (nx, ny, nz), "{file}");
+            let offset: Vec<f64> = v["offsets"][l].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+            for (k, p) in list.iter().enumerate() {
+                if !p["valid"].as_bool().unwrap() {
+                    continue;
+                }
+                let c = &p["coefficients"][basis][l];
+                for ch in 0..3 {
+                    let want = c[ch].as_f64().unwrap();
+                    let got = surf.data[4 * k + ch] as f64 - offset[ch];
+                    e += (got - want).powi(2);
+                    s += want * want;
+                }
+            }
+        }
+        let mine = (e / s).sqrt();
+        let stated = v["coefficient_rel_rms"].as_f64().unwrap();
+        println!("{basis}: stated {stated:.5}, recomputed {mine:.5}");
+        assert!((mine - stated).abs() <= 1e-4 * stated.max(1e-6), "{basis}: bake.json says {stated}, the files give {mine}");
+        assert!(mine < 0.25, "{basis}: BC6H lost {mine} of the RMS");
+        let (f16, bc) = (v["irradiance_rel_rms_f16"].as_f64().unwrap(), v["irradiance_rel_rms_bc6h"].as_f64().unwrap());
+        assert!(f16 < 2e-3 && f16 < bc && bc.is_finite(), "{v}");
+    }
+    std::fs::remove_dir_all(&out).ok();
+}

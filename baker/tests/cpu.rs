@@ -119,6 +119,7 @@ fn tri_mesh(p: Vec<Vec3>, idx: Vec<[u32; 3]>) -> Scene {
         lights: vec![],
         environment: scene::Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 

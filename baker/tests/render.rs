@@ -607,6 +607,7 @@ fn planes(rho: f64, l_sky: f64) -> baker::scene::Scene {
         lights: vec![],
         environment: Environment::Constant(Vec3::splat(l_sky as f32)),
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -794,6 +795,7 @@ fn dynamic_object_under_uniform_probes_renders_the_closed_form() {
         lights: vec![],
         environment: Environment::Constant(Vec3::splat(1.0)),
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     };
     let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
     let y00 = 0.5 / std::f64::consts::PI.sqrt();

@@ -49,18 +49,6 @@ fn checker_png_with(alpha: &dyn Fn(usize) -> u8) -> Vec<u8> {
     out.into_inner()
 }
 
-fn b64(bytes: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
-        for k in 0..4 {
-            s.push(if k <= c.len() { T[(n >> (18 - 6 * k) & 63) as usize] as char } else { '=' });
-        }
-    }
-    s
-}
-
 /// The floor as a .gltf in `dir` with `material` (JSON) and the checker as `image` (JSON),
 /// NEAREST magnification and REPEAT wrapping; returns the imported scene.
 fn floor(dir: &std::path::Path, material: &str, image: &str) -> Scene {
@@ -69,41 +57,7 @@ fn floor(dir: &std::path::Path, material: &str, image: &str) -> Scene {
 
 /// [`floor`] at height `y`.
 fn plane(dir: &std::path::Path, material: &str, image: &str, y: f32) -> Scene {
-    let a = A as f32;
-    let pos = [[-a, y, -a], [a, y, -a], [a, y, a], [-a, y, a]];
-    let mut bin: Vec<u8> = Vec::new();
-    for p in pos {
-        bin.extend(p.iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for _ in pos {
-        bin.extend([0.0f32, 1.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for p in pos {
-        bin.extend([(p[0] + a) / (2.0 * a), (p[2] + a) / (2.0 * a)].iter().flat_map(|x| x.to_le_bytes()));
-    }
-    // Counter-clockwise seen from +Y: the floor faces up (and emits upwards).
-    for i in [0u16, 3, 2, 0, 2, 1] {
-        bin.extend(i.to_le_bytes());
-    }
-    let json = format!(
-        r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_texture_transform","KHR_materials_emissive_strength"],
-        "scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
-        "meshes":[{{"name":"floor","primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2}},"indices":3,"material":0}}]}}],
-        "materials":[{material}],
-        "textures":[{{"source":0,"sampler":0}}],"samplers":[{{"magFilter":9728,"wrapS":10497,"wrapT":10497}}],
-        "images":[{image}],
-        "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}],
-        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":48}},
-                       {{"buffer":0,"byteOffset":96,"byteLength":32}},{{"buffer":0,"byteOffset":128,"byteLength":12}}],
-        "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[-{a},{y},-{a}],"max":[{a},{y},{a}]}},
-                     {{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"}},
-                     {{"bufferView":2,"componentType":5126,"count":4,"type":"VEC2"}},
-                     {{"bufferView":3,"componentType":5123,"count":6,"type":"SCALAR"}}]}}"#,
-        len = bin.len(),
-        data = b64(&bin),
-    );
-    let path = dir.join("floor.gltf");
-    std::fs::write(&path, json).unwrap();
+    let path = common::gltf::plane(dir, A as f32, y, material, image);
     let (scene, report) = baker::scene::import::load(&path).unwrap();
     println!("import notes: {:?}", report.notes);
     assert!(!report.notes.iter().any(|n| n.contains("not sampled")), "{:?}", report.notes);
@@ -217,7 +171,7 @@ fn emissive_map_with_texture_transform_emits_each_cells_colour() {
     let material = r#"{"name":"lamp","pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1],"metallicFactor":0,"roughnessFactor":1},
         "emissiveFactor":[1,1,1],"emissiveTexture":{"index":0,"extensions":{"KHR_texture_transform":{"scale":[2,2],"offset":[0.25,0]}}},
         "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":4}}}"#;
-    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, b64(&checker_png()));
+    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, common::gltf::b64(&checker_png()));
     let mut scene = floor(&dir, material, &image);
     scene.materials[0].specular = 0.0;
     scene.environment = Environment::Black;
@@ -243,7 +197,7 @@ fn alpha_mask_lets_light_through_its_holes() {
     std::fs::create_dir_all(&dir).unwrap();
     let material = r#"{"name":"screen","doubleSided":true,"alphaMode":"MASK","alphaCutoff":0.5,
         "pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1],"metallicFactor":0,"roughnessFactor":1,"baseColorTexture":{"index":0}}}"#;
-    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, b64(&checker_png_with(&|k| if k == 0 { 0 } else { 255 })));
+    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, common::gltf::b64(&checker_png_with(&|k| if k == 0 { 0 } else { 255 })));
     let mut scene = plane(&dir, material, &image, 1.0);
     scene.materials[0].specular = 0.0;
     let l = 1.5f64;

@@ -67,6 +67,7 @@ fn plane_scene_sized(h: f32, lights: Vec<Light>, environment: Environment) -> Sc
         lights,
         environment,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -536,6 +537,7 @@ fn shading_normals_are_interpolated() {
         lights: vec![Light::Directional { direction: l, irradiance: e }],
         environment: Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     };
     for (name, g) in engines() {
         let passes = 48;
@@ -989,6 +991,7 @@ fn coefficients_live_in_the_documented_tangent_frame() {
         lights: vec![Light::Directional { direction: d.as_vec3(), irradiance: Vec3::splat(e as f32) }],
         environment: Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     };
     let sh = BasisKind::ShL2.basis();
     let mut y = vec![0.0; sh.len()];

@@ -112,16 +112,33 @@ pub fn encode_unorm(width: usize, height: usize, rgba: &[[f64; 4]], alpha: bool)
 
 /// Writes compressed blocks as a DDS file (DX10 header, `format`).
 pub fn write_dds(path: &Path, width: usize, height: usize, format: ddsfile::DxgiFormat, blocks: Vec<u8>) -> Result<(), String> {
+    write_dds_volume(path, width, height, None, format, blocks)
+}
+
+/// [`write_dds`] for a volume (`depth` Some: a Texture3D whose slices follow each other,
+/// each in its own 4 × 4 blocks), e.g. a probe grid's coefficient.
+pub fn write_dds_volume(
+    path: &Path,
+    width: usize,
+    height: usize,
+    depth: Option<usize>,
+    format: ddsfile::DxgiFormat,
+    blocks: Vec<u8>,
+) -> Result<(), String> {
     let mut dds = ddsfile::Dds::new_dxgi(ddsfile::NewDxgiParams {
         height: height as u32,
         width: width as u32,
-        depth: None,
+        depth: depth.map(|d| d as u32),
         format,
         mipmap_levels: None,
         array_layers: None,
         caps2: None,
         is_cubemap: false,
-        resource_dimension: ddsfile::D3D10ResourceDimension::Texture2D,
+        resource_dimension: if depth.is_some() {
+            ddsfile::D3D10ResourceDimension::Texture3D
+        } else {
+            ddsfile::D3D10ResourceDimension::Texture2D
+        },
         alpha_mode: ddsfile::AlphaMode::Unknown,
     })
     .map_err(|e| format!("DDS header for {}: {e}", path.display()))?;

@@ -95,22 +95,25 @@ impl BasisKind {
     /// Lambert runtime: SH's band factors (Ramamoorthi & Hanrahan 2001), SG by Hill's fit
     /// at sharpness `sg_sharpness`, AD by the minimax quadratic per lobe (seed 004 §8.3).
     pub fn irradiance_at_normal(self, c: &[DVec3], sg_sharpness: f64) -> DVec3 {
+        self.irradiance_at(c, DVec3::Z, sg_sharpness)
+    }
+
+    /// E/π at unit tangent-frame direction `n` (a normal-mapped normal; +Z is the texel's
+    /// own), by the same runtimes as [`BasisKind::irradiance_at_normal`].
+    pub fn irradiance_at(self, c: &[DVec3], n: DVec3, sg_sharpness: f64) -> DVec3 {
         use sbf::recon::{ambient_dice, sg, sh};
-        let z = DVec3::Z;
         match self {
             BasisKind::ShL1 | BasisKind::ShL2 => {
-                let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), z).expect("SH coefficients");
+                let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), n).expect("SH coefficients");
                 DVec3::new(ch(0), ch(1), ch(2))
             }
             BasisKind::Sg9 | BasisKind::Sg12 => self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
                 let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: sg_sharpness, amplitude: 1.0 });
-                acc + *ci * lobe.eval(z)
+                acc + *ci * lobe.eval(n)
             }),
-            BasisKind::Ad9 | BasisKind::Ad12 => {
-                self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
-                    acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.z)
-                })
-            }
+            BasisKind::Ad9 | BasisKind::Ad12 => self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.dot(n))
+            }),
         }
     }
 

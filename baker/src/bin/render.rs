@@ -72,6 +72,11 @@ struct Cli {
     /// GPU, the 16 texels exactly on the CPU).
     #[arg(long, default_value = "exact")]
     lightmap_filter: String,
+    /// Shade with the materials' glTF normal maps (MikkTSpace tangents): every basis is
+    /// evaluated at the perturbed normal, and the reference path-traces with it. The images
+    /// are then shaded by the CPU twin (the raster pass does not read normal maps).
+    #[arg(long)]
+    normal_maps: bool,
     /// Lightmap texel storage on the GPU: f32, f16 or both.
     #[arg(long, default_value = "f32")]
     storage: String,
@@ -208,13 +213,35 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
 /// The scene of `--scene` (and `--env`) with its cameras, its materials' factors alone:
 /// the raster pass shades factors (texture maps are not built into it yet), so the bake
 /// and the reference take the factors too and the comparison stays the same quantity.
-fn load_scene(c: &Cli) -> Result<(baker::scene::Scene, Vec<SceneCamera>), String> {
+/// With `--normal-maps`, the materials' normal maps (with their meshes' tangents), else None.
+type Loaded = (baker::scene::Scene, Vec<SceneCamera>, Option<baker::render::normal_map::NormalMaps>);
+fn load_scene(c: &Cli) -> Result<Loaded, String> {
     let (scene, cameras) = baker::scene::load::load_with_cameras(&c.scene, c.env.as_deref(), &mut |m| eprintln!("{m}"))?;
-    if !scene.has_textures() {
-        return Ok((scene, cameras));
+    let has_normal_maps = scene.materials.iter().any(|m| m.maps.normal.is_some());
+    let normal_maps = match (c.normal_maps, has_normal_maps) {
+        (true, true) => {
+            let maps = baker::render::normal_map::NormalMaps::build(&scene, &mut |m| eprintln!("render: {m}"));
+            if !maps.as_ref().is_some_and(|m| (0..scene.meshes.len()).any(|k| m.applies_to(k))) {
+                return Err("--normal-maps: no mesh of the scene is shaded with a normal map (the materials that have one are unused, or their meshes lack the texture coordinates)".into());
+            }
+            maps
+        }
+        (true, false) => return Err("--normal-maps: the scene's materials have no normal map".into()),
+        (false, true) => {
+            eprintln!("notice: the scene's materials have normal maps; --normal-maps shades with them");
+            None
+        }
+        (false, false) => None,
+    };
+    if !scene.has_textures() && !has_normal_maps {
+        return Ok((scene, cameras, normal_maps));
     }
-    eprintln!("render: the materials' texture maps are not shaded by the renderer yet: the bake, the reference and the raster pass use their factors");
-    Ok((scene.without_maps(), cameras))
+    if scene.has_textures() {
+        eprintln!(
+            "render: the materials' texture maps are not shaded by the renderer yet: the bake, the reference and the raster pass use their factors"
+        );
+    }
+    Ok((scene.without_maps(), cameras, normal_maps))
 }
 
 /// The scene's name as bake.json records it (a file's stem for glTF).
@@ -253,6 +280,22 @@ fn view(arg: Option<&str>, cameras: &[SceneCamera], bvh: &Bvh, w: u32, h: u32) -
     Ok(ViewCamera::from_scene(chosen, w, h))
 }
 
+/// `--lightmap-filter`, checked against where the images are shaded.
+fn lightmap_filter(c: &Cli, device: Device) -> Result<LightmapFilter, String> {
+    let f = LightmapFilter::parse(&c.lightmap_filter)
+        .ok_or_else(|| format!("--lightmap-filter '{}': expected exact, hardware or bicubic", c.lightmap_filter))?;
+    if f == LightmapFilter::Hardware && c.normal_maps {
+        return Err(
+            "--lightmap-filter hardware is the raster pass's sampler, and --normal-maps shades on the CPU twin: use exact or bicubic"
+                .into(),
+        );
+    }
+    if f == LightmapFilter::Hardware && device == Device::Cpu {
+        return Err("--lightmap-filter hardware is the GPU's sampler: it needs --device gpu or auto".into());
+    }
+    Ok(f)
+}
+
 fn render(c: Cli) -> Result<(), String> {
     let bases = c
         .bases
@@ -287,11 +330,7 @@ fn render(c: Cli) -> Result<(), String> {
         "none" => false,
         s => return Err(format!("--probe-window '{s}': expected sinc4 or none")),
     };
-    let lightmap_filter = LightmapFilter::parse(&c.lightmap_filter)
-        .ok_or_else(|| format!("--lightmap-filter '{}': expected exact, hardware or bicubic", c.lightmap_filter))?;
-    if lightmap_filter == LightmapFilter::Hardware && device == Device::Cpu {
-        return Err("--lightmap-filter hardware is the GPU's sampler: it needs --device gpu or auto".into());
-    }
+    let lightmap_filter = lightmap_filter(&c, device)?;
     if c.reference_samples == 0 {
         return Err("--reference-samples must be at least 1".into());
     }
@@ -299,7 +338,7 @@ fn render(c: Cli) -> Result<(), String> {
         return Err(format!("--reference-noise must be in [0, 1), not {}", c.reference_noise));
     }
     run::limits::check_writable(&c.out)?;
-    let (scene, scene_cameras) = load_scene(&c)?;
+    let (scene, scene_cameras, normal_maps) = load_scene(&c)?;
     let dynamic = scene.meshes.iter().filter(|m| !m.lightmapped && scene.materials[m.material].emissive.max_element() <= 0.0).count();
     let grid = match c.probes.as_slice() {
         [x, y, z] if *x > 0 && *y > 0 && *z > 0 => [*x, *y, *z],
@@ -370,6 +409,7 @@ fn render(c: Cli) -> Result<(), String> {
         lightmap_filter,
         indirect_only,
         timing: (c.frames > 0 && gpu.as_ref().is_some_and(|g| g.timestamps)).then_some((fw, fh, 20, c.frames)),
+        normal_maps: normal_maps.map(std::sync::Arc::new),
     };
     let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;
     std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;

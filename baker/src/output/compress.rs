@@ -50,6 +50,30 @@ pub struct BasisStorageJson {
     pub error_at_normal_rel_rms: [f64; 3],
 }
 
+/// One probe basis's volumes against their error in bake.json.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProbeStorageJson {
+    pub basis: String,
+    /// One DDS volume per coefficient (`probes_{basis}_{lobe}.dds`): NX × NY × NZ texels in
+    /// the grid's order (x fastest, then y, then z), BC6H per slice.
+    pub files: Vec<String>,
+    /// Per file, added per channel before encoding (subtract after decoding).
+    pub offsets: Vec<[f32; 3]>,
+    /// Bytes per probe: f32 RGB, f16 RGBA (a GPU volume's rgba16float) and BC6H (the
+    /// files' blocks over the probes: slices padded to whole 4 × 4 blocks).
+    pub bytes_per_probe: [f64; 3],
+    /// RMS over valid probes of (decoded − baked) coefficients relative to the
+    /// coefficients' RMS there.
+    pub coefficient_rel_rms: f64,
+    /// RMS over valid probes and 64 spherical-Fibonacci normals of the change in E/π
+    /// (the basis's Lambert runtime, [`BasisKind::irradiance_at`]) relative to its RMS:
+    /// every coefficient rounded to f16, and through BC6H.
+    pub irradiance_rel_rms_f16: f64,
+    pub irradiance_rel_rms_bc6h: f64,
+    /// Values above the f16 maximum, clamped to it.
+    pub clamped_values: usize,
+}
+
 /// What `--compress bc6h` wrote and measured.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompressionJson {
@@ -58,7 +82,101 @@ pub struct CompressionJson {
     pub decoder: &'static str,
     pub images: Vec<CompressedImageJson>,
     pub bases: Vec<BasisStorageJson>,
+    /// The probe grid's volumes (absent without probes).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub probes: Vec<ProbeStorageJson>,
     pub seconds: f64,
+}
+
+/// The probe grid of a bake as `--compress bc6h` stores it.
+#[derive(Debug)]
+pub struct ProbeGrid<'a> {
+    /// NX, NY, NZ (probe k at x = k mod NX, y = (k / NX) mod NY, z = k / (NX·NY)).
+    pub n: [usize; 3],
+    pub bases: &'a [BasisKind],
+    /// `coefficients[basis][probe][lobe]`, world frame.
+    pub coefficients: Vec<Vec<Vec<[f64; 3]>>>,
+    pub valid: &'a [bool],
+    pub sg_sharpness: f64,
+}
+
+/// Writes every probe basis's coefficients as BC6H DDS volumes (one per coefficient) and
+/// measures what f16 and BC6H storage do to the probes' E/π.
+pub fn write_probe_volumes(dir: &Path, g: &ProbeGrid) -> Result<Vec<ProbeStorageJson>, String> {
+    let [nx, ny, nz] = g.n;
+    let slice = nx * ny;
+    let count = slice * nz;
+    let normals: Vec<DVec3> = (0..64).map(|i| sbf::sampling::spherical_fibonacci(i, 64)).collect();
+    let mut out = Vec::new();
+    for (b, kind) in g.bases.iter().enumerate() {
+        let c = &g.coefficients[b];
+        if c.len() != count {
+            return Err(format!("probe grid {nx}×{ny}×{nz} holds {count} probes, the bake {}", c.len()));
+        }
+        let lobes = c.first().map_or(0, Vec::len);
+        let (mut files, mut offsets, mut clamped_values, mut block_bytes) = (Vec::new(), Vec::new(), 0, 0);
+        // decoded[probe][lobe]
+        let mut decoded = vec![vec![DVec3::ZERO; lobes]; count];
+        for l in 0..lobes {
+            let mut offset = [0.0f32; 3];
+            for p in c {
+                for k in 0..3 {
+                    offset[k] = offset[k].max(-(p[l][k] as f32));
+                }
+            }
+            let mut blocks = Vec::new();
+            for z in 0..nz {
+                let texels: Vec<[f32; 3]> = (0..slice).map(|i| [0, 1, 2].map(|k| c[z * slice + i][l][k] as f32 + offset[k])).collect();
+                let (bl, _, clamped) = bc::encode_bc6h(nx, ny, &texels);
+                clamped_values += clamped;
+                for (i, t) in bc::decode_bc6h(nx, ny, &bl, [0.0; 3]).iter().enumerate() {
+                    decoded[z * slice + i][l] = dv([0, 1, 2].map(|k| t[k] - offset[k]));
+                }
+                blocks.extend(bl);
+            }
+            let file = format!("probes_{}_{l:02}.dds", kind.name());
+            block_bytes += blocks.len();
+            bc::write_dds_volume(&dir.join(&file), nx, ny, Some(nz), bc::ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
+            files.push(file);
+            offsets.push(offset);
+        }
+        let valid = || (0..count).filter(|p| g.valid[*p]);
+        let (mut e, mut s) = (0.0, 0.0);
+        for p in valid() {
+            for l in 0..lobes {
+                let x = DVec3::from(c[p][l]);
+                e += (decoded[p][l] - x).length_squared();
+                s += x.length_squared();
+            }
+        }
+        let irr = |src: &dyn Fn(usize) -> DVec3| -> Vec<DVec3> {
+            let cs: Vec<DVec3> = (0..lobes).map(src).collect();
+            normals.iter().map(|n| kind.irradiance_at(&cs, *n, g.sg_sharpness)).collect()
+        };
+        let (mut e16, mut ebc, mut sirr) = (0.0, 0.0, 0.0);
+        for p in valid() {
+            let full = irr(&|l| DVec3::from(c[p][l]));
+            let half = irr(&|l| DVec3::from(c[p][l].map(|v| half::f16::from_f64(v).to_f64())));
+            let bc = irr(&|l| decoded[p][l]);
+            for ((f, h), d) in full.iter().zip(&half).zip(&bc) {
+                e16 += (*h - *f).length_squared();
+                ebc += (*d - *f).length_squared();
+                sirr += f.length_squared();
+            }
+        }
+        let k = lobes as f64;
+        out.push(ProbeStorageJson {
+            basis: kind.name().into(),
+            files,
+            offsets,
+            bytes_per_probe: [12.0 * k, 8.0 * k, block_bytes as f64 / count as f64],
+            coefficient_rel_rms: rel(e.sqrt(), s.sqrt()),
+            irradiance_rel_rms_f16: rel(e16.sqrt(), sirr.sqrt()),
+            irradiance_rel_rms_bc6h: rel(ebc.sqrt(), sirr.sqrt()),
+            clamped_values,
+        });
+    }
+    Ok(out)
 }
 
 /// RMS of (a − b) over valid texels and RMS of b there.
@@ -155,6 +273,7 @@ pub fn write_bc6h(dir: &Path, img: &LightmapImages, bases: &[BasisKind], sg_shar
         decoder: "bcdec_rs 0.2 (bc6h_float)",
         images,
         bases: out_bases,
+        probes: Vec::new(),
         seconds: t0.elapsed().as_secs_f64(),
     })
 }

@@ -10,6 +10,7 @@
 //! | [`probes`] | dynamic objects' lighting: the bake's SH L2 probe grid, trilinear |
 //! | [`atlas`] | a bake's coefficient images (one per lobe) read back from its EXRs; the bilinear lookup both shaders use |
 //! | [`shade`] | the CPU twin of the fragment shading in f64 through `sbf` (the GPU image's oracle) |
+//! | [`normal_map`] | normal-mapped shading: glTF normal maps on MikkTSpace tangents perturb the visible surface's shading normal |
 //! | [`visible`] | the visible surface per pixel by ray casting (the rasteriser's CPU twin) and the CPU image |
 //! | `bindings` | what every render pipeline binds (the layout) and the probes as shader rows |
 //! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
@@ -27,6 +28,7 @@ pub mod atlas;
 mod bindings;
 pub mod compare;
 pub mod lighting;
+pub mod normal_map;
 pub mod probes;
 pub mod raster;
 pub mod reference;

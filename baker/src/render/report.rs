@@ -70,6 +70,11 @@ pub struct ConfigurationJson {
     pub chart_border_pixels: usize,
     pub interior: super::compare::Errors,
     pub interior_pixels: usize,
+    /// With `--normal-maps`: errors of the total where the map moved the shading normal.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_mapped: Option<super::compare::Errors>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_mapped_pixels: Option<usize>,
     pub frame: Option<FrameTime>,
     /// Median frame time minus the plain E/π configuration's (same storage), ms.
     pub overhead_ms: Option<f64>,
@@ -131,6 +136,8 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
             chart_border_pixels: r.chart_border.1,
             interior: r.interior.0,
             interior_pixels: r.interior.1,
+            normal_mapped: r.normal_mapped.map(|x| x.0),
+            normal_mapped_pixels: r.normal_mapped.map(|x| x.1),
             frame: r.frame,
             overhead_ms: match (r.frame, none.and_then(|n| n.frame)) {
                 (Some(f), Some(n)) => Some(f.median_ms - n.median_ms),

@@ -40,6 +40,9 @@ pub struct Setup {
     pub indirect_only: bool,
     /// Frame-time measurement: (width, height, warm-up frames, measured frames); None: off.
     pub timing: Option<(u32, u32, usize, usize)>,
+    /// Normal maps perturbing the shading normals (`--normal-maps`): the images are then
+    /// shaded by the CPU twin (the raster pass does not read normal maps).
+    pub normal_maps: Option<std::sync::Arc<super::normal_map::NormalMaps>>,
 }
 
 /// Frame times of one configuration (ms, GPU timestamps).
@@ -77,6 +80,9 @@ pub struct Rendered {
     /// rest — errors of the total and how many pixels each.
     pub chart_border: (Errors, usize),
     pub interior: (Errors, usize),
+    /// With normal maps: errors of the total over the pixels whose shading normal the map
+    /// moved, and how many.
+    pub normal_mapped: Option<(Errors, usize)>,
     pub frame: Option<FrameTime>,
 }
 
@@ -112,7 +118,7 @@ pub fn run(
         );
     }
     let cam = setup.camera;
-    let visible = visible::cast(scene, bvh, lm, &cam);
+    let visible = visible::cast_mapped(scene, bvh, lm, setup.normal_maps.as_deref(), &cam);
     let lit = visible.iter().filter(|v| v.is_some_and(|v| v.lightmapped)).count();
     let dynamic = visible.iter().filter(|v| v.is_some_and(|v| v.probed)).count();
     if lit == 0 {
@@ -131,7 +137,15 @@ pub fn run(
         reference.samples,
         reference::relative_noise(&reference)
     ));
-    let renderer = gpu.map(|g| Renderer::new(g, scene, lm, probes).map(|r| r.with_filter(setup.lightmap_filter))).transpose()?;
+    let raster_gpu = match (gpu, &setup.normal_maps) {
+        (Some(_), Some(_)) => {
+            log("render: normal maps: the images are shaded by the CPU twin (the raster pass does not read normal maps; no frame times)"
+                .into());
+            None
+        }
+        _ => gpu,
+    };
+    let renderer = raster_gpu.map(|g| Renderer::new(g, scene, lm, probes).map(|r| r.with_filter(setup.lightmap_filter))).transpose()?;
     let border: Vec<bool> = visible
         .iter()
         .map(|v| {
@@ -145,7 +159,7 @@ pub fn run(
         let atlas = Atlas::read(bake_dir, l.encoding, lm.width, lm.height)?.stored(l.storage)?;
         let r = render_one(scene, &visible, &border, &reference, &atlas, probes, l, renderer.as_ref(), setup)?;
         log(format!(
-            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}; chart borders {:.4e}, inside {:.4e}){}",
+            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}; chart borders {:.4e}, inside {:.4e}{}){}",
             l.name(),
             r.shaded_on,
             r.diffuse.rmse,
@@ -154,6 +168,7 @@ pub fn run(
             r.total.relative_rmse,
             r.chart_border.0.rmse,
             r.interior.0.rmse,
+            r.normal_mapped.map(|(e, n)| format!("; normal-mapped pixels ({n}) {:.4e}", e.rmse)).unwrap_or_default(),
             r.frame
                 .map(|f| format!(", frame {:.3} ms (lobes fetched only: {:.3} ms)", f.median_ms, f.fetch_only_ms.unwrap_or(f64::NAN)))
                 .unwrap_or_default()
@@ -252,6 +267,11 @@ fn render_one(
     let ref_tot: Vec<DVec3> = reference.diffuse.iter().zip(&reference.specular).map(|(a, b)| *a + *b).collect();
     let mask: Vec<bool> = kinds.iter().zip(&reference.accepted).map(|(k, n)| *k == 1 && *n > 0).collect();
     let dyn_mask: Vec<bool> = kinds.iter().zip(&reference.accepted).map(|(k, n)| *k == 2 && *n > 0).collect();
+    let moved: Vec<bool> = visible.iter().map(|v| v.is_some_and(|v| v.normal != v.frame_normal)).collect();
+    let normal_mapped = setup.normal_maps.as_ref().map(|_| {
+        let m: Vec<bool> = mask.iter().zip(&moved).map(|(a, b)| *a && *b).collect();
+        (errors(&tot, &ref_tot, &reference.var_total, &m), m.iter().filter(|x| **x).count())
+    });
     let split = |at_border: bool| {
         let m: Vec<bool> = mask.iter().zip(border).map(|(m, b)| *m && *b == at_border).collect();
         (errors(&tot, &ref_tot, &reference.var_total, &m), m.iter().filter(|x| **x).count())
@@ -266,6 +286,7 @@ fn render_one(
         dynamic: dyn_mask.iter().any(|m| *m).then(|| errors(&tot, &ref_tot, &reference.var_total, &dyn_mask)),
         chart_border: split(true),
         interior: split(false),
+        normal_mapped,
         terms,
         frame,
     })

@@ -3,7 +3,8 @@
 //! material and unit world normal n and view v (towards the eye):
 //!
 //! - the tangent frame (t, b, n) of n (Duff et al. 2017: `tangent_frame`, the frame the
-//!   bake encoded every texel in), v in it: v_t = (v·t, v·b, v·n), n_t = +Z;
+//!   bake encoded every texel in), v in it: v_t = (v·t, v·b, v·n), n_t = +Z — or, with a
+//!   normal map ([`Shader::terms_at`]), n_t the perturbed normal in the texel's frame;
 //! - diffuse = albedo · E/π(c, n_t): the plain E/π itself, SH's band factors
 //!   (Ramamoorthi & Hanrahan 2001), SG by Hill's fit (the runtime's c₀), AD by the
 //!   minimax quadratic per lobe (seed 004 §8.3);
@@ -54,14 +55,22 @@ impl Shader {
 
     /// Diffuse and specular at unit world normal `n`, unit view `v`, lobe values `c`.
     pub fn terms(&self, c: &[DVec3], m: &SurfaceMaterial, n: DVec3, v: DVec3) -> Terms {
-        let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(n);
-        let vt = DVec3::new(v.dot(t), v.dot(b), v.dot(n));
-        let diffuse = m.albedo * self.irradiance(c);
-        let specular = if m.glossy() && vt.z > 0.0 && self.lighting.encoding != Encoding::Irradiance {
+        self.terms_at(c, m, n, n, v)
+    }
+
+    /// [`Shader::terms`] at a shading normal `n` other than the texel's: the lobes are in
+    /// the tangent frame of `frame` (the interpolated normal the bake encoded them in), and
+    /// both diffuse and specular are evaluated at `n` in that frame (normal mapping).
+    pub fn terms_at(&self, c: &[DVec3], m: &SurfaceMaterial, frame: DVec3, n: DVec3, v: DVec3) -> Terms {
+        let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(frame);
+        let local = |x: DVec3| DVec3::new(x.dot(t), x.dot(b), x.dot(frame));
+        let (nt, vt) = (local(n), local(v));
+        let diffuse = m.albedo * self.irradiance_at(c, nt);
+        let specular = if m.glossy() && nt.dot(vt) > 0.0 && self.lighting.encoding != Encoding::Irradiance {
             if m.f0.x == m.f0.y && m.f0.y == m.f0.z {
-                self.specular(c, vt, m.alpha, m.f0.x, 1.0)
+                self.specular_at(c, nt, vt, m.alpha, m.f0.x, 1.0)
             } else {
-                m.f0 * self.specular(c, vt, m.alpha, 1.0, 0.0) + self.specular(c, vt, m.alpha, 0.0, 1.0)
+                m.f0 * self.specular_at(c, nt, vt, m.alpha, 1.0, 0.0) + self.specular_at(c, nt, vt, m.alpha, 0.0, 1.0)
             }
         } else {
             DVec3::ZERO
@@ -69,25 +78,36 @@ impl Shader {
         Terms { diffuse, specular }
     }
 
-    /// E/π at the tangent-frame normal +Z ([`BasisKind::irradiance_at_normal`]).
-    pub fn irradiance(&self, c: &[DVec3]) -> DVec3 {
+    /// E/π at tangent-frame direction `nt` (the plain E/π lightmap has no direction: its
+    /// value whatever `nt`).
+    pub fn irradiance_at(&self, c: &[DVec3], nt: DVec3) -> DVec3 {
         match self.lighting.encoding {
             Encoding::Irradiance => c[0],
-            Encoding::Basis(b) => b.irradiance_at_normal(c, self.lighting.sg_sharpness),
+            Encoding::Basis(b) => b.irradiance_at(c, nt, self.lighting.sg_sharpness),
         }
+    }
+
+    /// E/π at the tangent-frame normal +Z ([`BasisKind::irradiance_at_normal`]).
+    pub fn irradiance(&self, c: &[DVec3]) -> DVec3 {
+        self.irradiance_at(c, DVec3::Z)
     }
 
     /// Specular radiance towards tangent-frame view `vt` (vt.z > 0) with Schlick (f0, f90).
     pub fn specular(&self, c: &[DVec3], vt: DVec3, alpha: f64, f0: f64, f90: f64) -> DVec3 {
-        let z = DVec3::Z;
+        self.specular_at(c, DVec3::Z, vt, alpha, f0, f90)
+    }
+
+    /// [`Shader::specular`] at tangent-frame normal `z` (z·vt > 0).
+    pub fn specular_at(&self, c: &[DVec3], z: DVec3, vt: DVec3, alpha: f64, f0: f64, f90: f64) -> DVec3 {
+        let nv = z.dot(vt);
         let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
         let tables = self.lighting.specular == SpecularPath::Tables;
         let s = match self.lighting.encoding {
             Encoding::Irradiance => [0.0; 3],
             Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => {
                 let sh = self.sh.as_ref().expect("SH basis");
-                let g = sh::specular_zonal_filter(sh.order(), vt.z, alpha);
-                let dfg = sbf::luts::committed::dfg().sample2(vt.z.clamp(0.0, 1.0) as f32, alpha as f32);
+                let g = sh::specular_zonal_filter(sh.order(), nv, alpha);
+                let dfg = sbf::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 sh::specular_zonal_rgb(sh, &rgb, &g, z, vt, alpha, f0, f90, [dfg[0] as f64, dfg[1] as f64]).expect("SH coefficients")
             }
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if tables => {
@@ -104,7 +124,7 @@ impl Shader {
                 lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_ad(), &self.axes, &rgb, z, vt, alpha, f0, f90)
             }
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
-                let l = sbf::luts::committed::ad_specular_2d().sample2(vt.z.clamp(0.0, 1.0) as f32, alpha as f32);
+                let l = sbf::luts::committed::ad_specular_2d().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 ambient_dice::specular_rgb(&self.axes, &rgb, z, vt, alpha, f0, f90, [l[0] as f64, l[1] as f64])
             }
         };

@@ -5,6 +5,7 @@
 
 use super::atlas::Atlas;
 use super::lighting::{LightmapFilter, SurfaceMaterial};
+use super::normal_map::NormalMaps;
 use super::probes::ProbeField;
 use super::shade::{Shader, Terms};
 use crate::layout::lightmap::Lightmap;
@@ -19,8 +20,12 @@ use sbf::glam::{DVec3, Vec3};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Visible {
     pub position: Vec3,
-    /// Unit shading normal (vertex normals interpolated; the face normal where they cancel).
+    /// Unit shading normal: the interpolated vertex normal (the face normal where they
+    /// cancel), perturbed by the material's normal map where one is applied
+    /// ([`super::normal_map`]).
     pub normal: Vec3,
+    /// The interpolated normal itself: the lightmap's texels are baked in its tangent frame.
+    pub frame_normal: Vec3,
     /// Unit geometric normal.
     pub geometric: Vec3,
     /// Lightmap position in atlas texels (texel (i, j) covers [i, i + 1) × [j, j + 1)).
@@ -36,8 +41,9 @@ pub struct Visible {
     pub probed: bool,
 }
 
-/// The surface of triangle hit `h` (barycentrics u, v at corners 1 and 2) seen along `d`.
-pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, o: Vec3, d: Vec3, h: &Hit) -> Visible {
+/// The surface of triangle hit `h` (barycentrics u, v at corners 1 and 2) seen along `d`,
+/// its shading normal perturbed by `maps` where they apply.
+pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, maps: Option<&NormalMaps>, o: Vec3, d: Vec3, h: &Hit) -> Visible {
     let tri = &bvh.tris[h.tri as usize];
     let mesh = &scene.meshes[tri.mesh as usize];
     let idx = mesh.indices[tri.prim as usize];
@@ -46,9 +52,11 @@ pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, o: Vec3, d: Vec3, h: 
     let vn = idx.map(|i| mesh.normals[i as usize]);
     let uvs = lm.triangle_uv[tri.mesh as usize][tri.prim as usize];
     let uv = uvs[0] * w[0] + uvs[1] * w[1] + uvs[2] * w[2];
+    let n = shading_normal(vn, w, ng);
     Visible {
         position: o + d * h.t,
-        normal: shading_normal(vn, w, ng),
+        normal: maps.map_or(n, |m| m.perturb(scene, tri.mesh as usize, tri.prim as usize, w, n)),
+        frame_normal: n,
         geometric: ng,
         uv: [uv.x, uv.y],
         material: tri.material,
@@ -60,12 +68,17 @@ pub fn surface_at(scene: &Scene, bvh: &Bvh, lm: &Lightmap, o: Vec3, d: Vec3, h: 
 /// The visible surface through every pixel centre of `cam` (row-major; None: the ray
 /// leaves the scene).
 pub fn cast(scene: &Scene, bvh: &Bvh, lm: &Lightmap, cam: &ViewCamera) -> Vec<Option<Visible>> {
+    cast_mapped(scene, bvh, lm, None, cam)
+}
+
+/// [`cast`] with the shading normals perturbed by `maps`.
+pub fn cast_mapped(scene: &Scene, bvh: &Bvh, lm: &Lightmap, maps: Option<&NormalMaps>, cam: &ViewCamera) -> Vec<Option<Visible>> {
     (0..cam.width * cam.height)
         .into_par_iter()
         .map(|k| {
             let (x, y) = (k % cam.width, k / cam.width);
             let (o, d) = cam.ray(x as f32 + 0.5, y as f32 + 0.5);
-            bvh.intersect(o, d, 0.0, f32::INFINITY).map(|h| surface_at(scene, bvh, lm, o, d, &h))
+            bvh.intersect(o, d, 0.0, f32::INFINITY).map(|h| surface_at(scene, bvh, lm, maps, o, d, &h))
         })
         .collect()
 }
@@ -94,7 +107,7 @@ pub fn shade_one(
     let c = atlas.sample(filter, [s.uv[0] as f64, s.uv[1] as f64]);
     let p = s.position.as_dvec3();
     let v = (eye - p).normalize();
-    shader.terms(&c, &materials[s.material as usize], s.normal.as_dvec3().normalize(), v)
+    shader.terms_at(&c, &materials[s.material as usize], s.frame_normal.as_dvec3().normalize(), s.normal.as_dvec3().normalize(), v)
 }
 
 /// The CPU image: every pixel's terms (zero where neither a lightmap nor the probes apply).

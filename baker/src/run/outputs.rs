@@ -61,12 +61,42 @@ fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> Option<Gui
 fn compress_step(
     o: &Options,
     img: &LightmapImages,
+    probes: Option<&BakeState>,
     log: &mut dyn FnMut(String),
 ) -> Result<Option<crate::output::compress::CompressionJson>, String> {
+    use crate::output::compress;
     if !o.compress_bc6h {
         return Ok(None);
     }
-    let c = crate::output::compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness)?;
+    let mut c = compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness)?;
+    if let (Some(ps), Some(n)) = (probes, o.probes) {
+        let valid = ps.valid();
+        let coefficients = (0..o.probe_bases.len())
+            .map(|b| {
+                ps.encoders[b]
+                    .iter()
+                    .map(|e| {
+                        let m = e.coefficients();
+                        (0..m.nrows()).map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)]]).collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        let grid = compress::ProbeGrid { n, bases: &o.probe_bases, coefficients, valid: &valid, sg_sharpness: o.config.sg_sharpness };
+        c.probes = compress::write_probe_volumes(&o.out, &grid)?;
+        for p in &c.probes {
+            log(format!(
+                "BC6H probes {}: {} volumes, {:.2} B/probe (f32 {:.0}, f16 {:.0}); E/π over 64 normals changes by {:.3} % RMS (f16: {:.4} %)",
+                p.basis,
+                p.files.len(),
+                p.bytes_per_probe[2],
+                p.bytes_per_probe[0],
+                p.bytes_per_probe[1],
+                100.0 * p.irradiance_rel_rms_bc6h,
+                100.0 * p.irradiance_rel_rms_f16
+            ));
+        }
+    }
     for b in &c.bases {
         log(format!(
             "BC6H {}: {:.1} B/texel (f32 {:.0}, f16 {:.0}); E/π at the normal changes by {:.3} % RMS (f16: {:.4} %); error against the bake's E/π f32 / f16 / BC6H {:.2} / {:.2} / {:.2} %",
@@ -143,7 +173,7 @@ pub(crate) fn write_outputs(
     let t_out = Instant::now();
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let engine_formats = engine_step(o, &img, log)?;
-    let compression = compress_step(o, &img, log)?;
+    let compression = compress_step(o, &img, probes, log)?;
     let png = output::preview(scene, bvh, lm, &img, o.preview_width, o.config.camera.map(|c| c.camera));
     png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
     let runtime = write_runtime(o, glossy, log)?;

@@ -141,6 +141,7 @@ pub fn cornell() -> Scene {
             ground: Vec3::new(0.2, 0.18, 0.15),
         },
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -209,6 +210,7 @@ pub fn room_1m() -> Scene {
         }],
         environment: Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -224,6 +226,7 @@ pub fn slit() -> Scene {
         lights: vec![],
         environment: Environment::Constant(Vec3::new(3.0, 3.3, 3.9)),
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -254,6 +257,7 @@ pub fn sunbeam() -> Scene {
         // uniform hemisphere sampling) stays well below the hut's.
         environment: Environment::Constant(Vec3::new(0.1, 0.11, 0.13)),
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -269,6 +273,7 @@ pub fn furnace(le: f32, albedo: f32) -> Scene {
         lights: vec![],
         environment: Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }
 
@@ -475,5 +480,6 @@ pub fn atrium() -> Scene {
             ground: Vec3::new(0.3, 0.28, 0.25),
         },
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     }
 }

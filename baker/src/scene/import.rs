@@ -179,6 +179,7 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         lights: Vec::new(),
         environment: Environment::Black,
         textures: Vec::new(),
+        normal_textures: Vec::new(),
     };
     scene.materials = materials(&g.document);
     let maps = super::import_maps::load(&g.document, &data, base, &mut report.notes).map_err(SceneError::Io)?;
@@ -186,6 +187,7 @@ pub fn load(path: &Path) -> Result<(Scene, ImportReport), SceneError> {
         m.maps = maps;
     }
     scene.textures = maps.textures;
+    scene.normal_textures = maps.normal_textures;
     // glTF's default material (white dielectric, roughness 1) for primitives without one.
     let default_material = scene.materials.len();
     scene.materials.push(Material::glossy(Vec3::ONE, 1.0));

@@ -5,10 +5,11 @@
 //! reduced by whole halvings (a 2×2 box in linear light per step), and the report says so;
 //! an image that cannot be read or decoded leaves its map out, with a note.
 //! Alpha mode MASK makes the base colour's alpha below the cutoff a hole rays pass
-//! through. Not used, and noted: normal and occlusion maps, alpha mode BLEND (opaque), and
+//! through. Normal maps are loaded into their own list for the renderer's shading (the bake
+//! does not read them). Not used, and noted: occlusion maps, alpha mode BLEND (opaque), and
 //! texture coordinate sets above 1.
 
-use super::texture::{AlphaMask, Filter, Maps, Texture, TextureRef, Wrap};
+use super::texture::{AlphaMask, Filter, Maps, NormalMap, Texture, TextureRef, Wrap};
 use std::path::Path;
 
 /// The largest texture side kept (larger images are halved until they fit).
@@ -16,10 +17,13 @@ pub const MAX_TEXTURE_SIZE: u32 = 4096;
 /// The largest image file read (bytes).
 const MAX_IMAGE_FILE: u64 = 512 << 20;
 
-/// The maps of every material, and the textures they read (one per glTF texture used).
+/// The maps of every material, and the textures they read (one per glTF texture used):
+/// those the bake samples, and the normal maps' apart (the renderer's shading alone reads
+/// them, so a bake never uploads them).
 pub(crate) struct Loaded {
     pub maps: Vec<Maps>,
     pub textures: Vec<Texture>,
+    pub normal_textures: Vec<Texture>,
 }
 
 /// Reads the maps of `doc`'s materials; `data` are its buffers, `base` the asset's folder.
@@ -27,6 +31,8 @@ pub(crate) fn load(doc: &gltf::Document, data: &[Vec<u8>], base: &Path, notes: &
     let mut textures = Vec::new();
     // glTF texture index → index into `textures`.
     let mut index: Vec<Option<usize>> = vec![None; doc.textures().len()];
+    let mut normal_textures = Vec::new();
+    let mut normal_index: Vec<Option<usize>> = vec![None; doc.textures().len()];
     let mut maps = Vec::new();
     for m in doc.materials() {
         let name = m.name().unwrap_or("?").to_string();
@@ -60,15 +66,52 @@ pub(crate) fn load(doc: &gltf::Document, data: &[Vec<u8>], base: &Path, notes: &
             }
             Ok(Some(r))
         };
-        let maps_of = Maps {
+        let mut maps_of = Maps {
             base_color: map(pbr.base_color_texture(), "base colour")?,
             metallic_roughness: map(pbr.metallic_roughness_texture(), "metallic-roughness")?,
             emissive: map(m.emissive_texture(), "emissive")?,
             mask: (m.alpha_mode() == gltf::material::AlphaMode::Mask)
                 .then(|| AlphaMask { factor: pbr.base_color_factor()[3], cutoff: m.alpha_cutoff().unwrap_or(0.5) }),
+            normal: None,
         };
-        if m.normal_texture().is_some() || m.occlusion_texture().is_some() {
-            notes.push(format!("material '{name}': normal and occlusion maps are not used"));
+        if let Some(nt) = m.normal_texture() {
+            let t = nt.texture();
+            let k = match normal_index[t.index()] {
+                Some(k) => Some(k),
+                None => match texture(&t, false, data, base, notes) {
+                    Ok(tex) => {
+                        normal_textures.push(tex);
+                        normal_index[t.index()] = Some(normal_textures.len() - 1);
+                        Some(normal_textures.len() - 1)
+                    }
+                    Err(e) => {
+                        notes.push(format!("material '{name}': its normal map is not used: {e}"));
+                        None
+                    }
+                },
+            };
+            if let Some(k) = k {
+                let mut r = TextureRef { texcoord: nt.tex_coord(), ..TextureRef::new(k) };
+                // gltf 1.4 has no accessor for a normal texture's KHR_texture_transform: read
+                // the extension's JSON (offset, rotation, scale, texCoord; glTF defaults).
+                if let Some(x) = nt.extension_value("KHR_texture_transform") {
+                    let pair = |key: &str, d: [f32; 2]| {
+                        x[key].as_array().map_or(d, |a| [0, 1].map(|i| a.get(i).and_then(|v| v.as_f64()).map_or(d[i], |v| v as f32)))
+                    };
+                    let rotation = x["rotation"].as_f64().unwrap_or(0.0) as f32;
+                    r = r.with_transform(pair("offset", [0.0, 0.0]), rotation, pair("scale", [1.0, 1.0]));
+                    r.texcoord = x["texCoord"].as_u64().map_or(r.texcoord, |v| v as u32);
+                }
+                if r.texcoord > 1 {
+                    notes.push(format!("material '{name}': its normal map reads TEXCOORD_{}: not used (sets 0 and 1 only)", r.texcoord));
+                } else {
+                    maps_of.normal = Some(NormalMap { texture: r, scale: nt.scale() });
+                    notes.push(format!("material '{name}': its normal map is used by the renderer's shading (render --normal-maps), not at the bake's path vertices"));
+                }
+            }
+        }
+        if m.occlusion_texture().is_some() {
+            notes.push(format!("material '{name}': its occlusion map is not used"));
         }
         if m.alpha_mode() == gltf::material::AlphaMode::Blend {
             notes.push(format!("material '{name}': alpha mode BLEND taken as opaque (MASK is honoured)"));
@@ -83,7 +126,7 @@ pub(crate) fn load(doc: &gltf::Document, data: &[Vec<u8>], base: &Path, notes: &
             bytes as f64 / 1e6
         ));
     }
-    Ok(Loaded { maps, textures })
+    Ok(Loaded { maps, textures, normal_textures })
 }
 
 /// One glTF texture: its image decoded to RGBA8 (halved to fit: in linear light when

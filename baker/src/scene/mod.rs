@@ -56,7 +56,7 @@ impl Material {
             specular: 0.0,
             emissive: Vec3::ZERO,
             double_sided: false,
-            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None },
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None, normal: None },
         }
     }
     /// glTF-style dielectric with GGX roughness.
@@ -68,7 +68,7 @@ impl Material {
             specular: 1.0,
             emissive: Vec3::ZERO,
             double_sided: false,
-            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None },
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None, normal: None },
         }
     }
     /// A black emitter.
@@ -80,7 +80,7 @@ impl Material {
             specular: 0.0,
             emissive: radiance,
             double_sided: false,
-            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None },
+            maps: texture::Maps { base_color: None, metallic_roughness: None, emissive: None, mask: None, normal: None },
         }
     }
     /// Albedo of the Lambert layer: base·(1 − metallic).
@@ -205,6 +205,9 @@ pub struct Scene {
     pub environment: Environment,
     /// The images the materials' maps read ([`texture`]).
     pub textures: Vec<texture::Texture>,
+    /// The images of the materials' normal maps (the renderer's shading reads them, the
+    /// bake does not).
+    pub normal_textures: Vec<texture::Texture>,
 }
 
 /// The largest coordinate magnitude a scene may hold (cross products of edges must stay
@@ -306,6 +309,7 @@ impl Scene {
             m.maps = texture::Maps::default();
         }
         self.textures.clear();
+        self.normal_textures.clear();
         self
     }
 

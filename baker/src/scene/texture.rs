@@ -81,6 +81,18 @@ pub struct Maps {
     /// glTF alphaMode MASK: the base colour's alpha (factor × map) below the cutoff is a
     /// hole rays pass through.
     pub mask: Option<AlphaMask>,
+    /// Tangent-space normals (its texture is one of `Scene::normal_textures`): the
+    /// renderer's shading reads it (`render --normal-maps`); the bake does not.
+    pub normal: Option<NormalMap>,
+}
+
+/// A material's normal map (glTF 2.0 §3.9.3): linear RGB, each texel the tangent-space
+/// normal (2·rgb − 1) with x and y scaled by `scale`, in the MikkTSpace frame of the
+/// texture coordinates it reads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalMap {
+    pub texture: TextureRef,
+    pub scale: f32,
 }
 
 /// glTF's alpha mask (§3.9.4): the base colour factor's alpha and the cutoff.
@@ -91,6 +103,7 @@ pub struct AlphaMask {
 }
 
 impl Maps {
+    /// No map the bake samples (the normal map is the renderer's alone).
     pub fn is_empty(&self) -> bool {
         self.base_color.is_none() && self.metallic_roughness.is_none() && self.emissive.is_none() && self.mask.is_none()
     }

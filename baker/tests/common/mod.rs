@@ -1,6 +1,8 @@
 //! Helpers shared by the baker's integration tests.
 
 #[allow(dead_code)]
+pub mod gltf;
+#[allow(dead_code)]
 pub mod outputs;
 
 /// The process-wide device, leased for the calling test alone (GPU tests run one at a

@@ -1,0 +1,137 @@
+//! Normal-mapped shading (`render --normal-maps`) against glTF 2.0's definition of the
+//! tangent frame, on a square written by the test (common::gltf::plane: facing +Y, u along
+//! +x, v along +z) whose normal map is one constant texel.
+//!
+//! Oracle (glTF 2.0 §3.9.3, KHR_texture_transform): the tangent points where u grows, the
+//! bitangent up the image — where v falls, glTF's v running down the image — and a texel
+//! (r, g, b) is the tangent-space normal (2·rgb/255 − 1) with x, y × scale. Rotating the
+//! texture coordinates by ρ (u′ = cos ρ·u + sin ρ·v, v′ = −sin ρ·u + cos ρ·v) turns the frame
+//! with them: at ρ = π/2, u′ = v grows along +z and v′ = −u falls along +x. Shading: SH L2
+//! holding the linear radiance L(ω) = a + β·ω_z of the texel's frame (c₀₀ = 2√π·a,
+//! c₁₀ = √(4π/3)·β) gives E/π(n′) = a + (2/3)·β·(n′·N) at a mapped normal n′ (A₀/π = 1,
+//! A₁/π = 2/3) — no frame convention of the library enters the expected value.
+//! Error model: f32 tangents, normals and texel decode (≲ 1e-6 relative), f64 shading.
+
+mod common;
+
+use baker::accumulate::BasisKind;
+use baker::layout::lightmap::Lightmap;
+use baker::render::atlas::Atlas;
+use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage};
+use baker::render::normal_map::NormalMaps;
+use baker::render::shade::Shader;
+use baker::scene::camera::ViewCamera;
+use baker::scene::Scene;
+use sbf::glam::{DVec3, Vec3};
+use sbf::profile::SpecularPath;
+
+const TEXEL: [u8; 3] = [200, 90, 230];
+
+/// A fresh folder for this test's asset.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("sbf-normal-maps-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A 4 × 4 PNG of one colour.
+fn constant_png(rgb: [u8; 3]) -> Vec<u8> {
+    let img = image::RgbaImage::from_pixel(4, 4, image::Rgba([rgb[0], rgb[1], rgb[2], 255]));
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+    out.into_inner()
+}
+
+/// The square with a normal map of `TEXEL`, `scale`, its coordinates rotated by `rotation`.
+fn scene(dir: &std::path::Path, scale: f32, rotation: f32) -> Scene {
+    let material = format!(
+        r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.8,0.8,1],"metallicFactor":0,"roughnessFactor":1}},
+        "normalTexture":{{"index":0,"scale":{scale},"extensions":{{"KHR_texture_transform":{{"rotation":{rotation}}}}}}}}}"#
+    );
+    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, common::gltf::b64(&constant_png(TEXEL)));
+    let path = common::gltf::plane(dir, 1.0, 0.0, &material, &image);
+    let (scene, report) = baker::scene::import::load(&path).unwrap();
+    println!("import notes: {:?}", report.notes);
+    scene
+}
+
+/// The mapped normal by glTF's definition: tangent `t`, bitangent `b`, normal +Y.
+fn expected(t: Vec3, b: Vec3, scale: f32) -> Vec3 {
+    let m = TEXEL.map(|c| 2.0 * c as f32 / 255.0 - 1.0);
+    (t * m[0] * scale + b * m[1] * scale + Vec3::Y * m[2]).normalize()
+}
+
+#[test]
+fn normal_maps_load_apart_and_perturb_in_gltfs_frame() {
+    let dir = scratch("frame");
+    for (rotation, t, b) in [(0.0, Vec3::X, Vec3::NEG_Z), (std::f32::consts::FRAC_PI_2, Vec3::Z, Vec3::X)] {
+        for scale in [1.0, 0.5] {
+            let s = scene(&dir, scale, rotation);
+            // The bake's maps and textures do not hold it; the renderer's do.
+            assert!(s.textures.is_empty() && s.materials[0].maps.is_empty(), "the bake would sample the normal map");
+            assert_eq!(s.normal_textures.len(), 1);
+            assert_eq!(s.materials[0].maps.normal.map(|n| n.scale), Some(scale));
+            let maps = NormalMaps::build(&s, &mut |m| panic!("{m}")).expect("a normal map");
+            assert!(maps.applies_to(0));
+            let want = expected(t, b, scale);
+            for prim in 0..2 {
+                for w in [[1.0 / 3.0; 3], [0.8, 0.1, 0.1], [0.05, 0.05, 0.9]] {
+                    let got = maps.perturb(&s, 0, prim, w, Vec3::Y);
+                    assert!((got - want).length() < 2e-6, "rotation {rotation}, scale {scale}, triangle {prim} at {w:?}: {got} vs {want}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn shading_evaluates_the_lightmap_at_the_mapped_normal() {
+    let dir = scratch("shading");
+    let s = scene(&dir, 1.0, 0.0);
+    let maps = NormalMaps::build(&s, &mut |m| panic!("{m}")).unwrap();
+    let scene = s.without_maps();
+    let lm = Lightmap::build(&scene, 8.0, 2).unwrap();
+    let cam = ViewCamera::parse("0,1.2,1.6:0,0,0:50", 64, 48).unwrap();
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let visible = baker::render::visible::cast_mapped(&scene, &bvh, &lm, Some(&maps), &cam);
+    let (a, beta) = (0.7, 0.4);
+    let mut lobes = vec![vec![[0.0f32; 3]; lm.width * lm.height]; 9];
+    let c00 = (2.0 * std::f64::consts::PI.sqrt() * a) as f32;
+    let c10 = ((4.0 * std::f64::consts::PI / 3.0).sqrt() * beta) as f32;
+    lobes[0].iter_mut().for_each(|t| *t = [c00; 3]);
+    lobes[2].iter_mut().for_each(|t| *t = [c10; 3]);
+    let atlas = Atlas { width: lm.width, height: lm.height, lobes };
+    let shader = Shader::new(Lighting {
+        encoding: Encoding::Basis(BasisKind::ShL2),
+        specular: SpecularPath::Fit,
+        storage: Storage::F32,
+        sg_sharpness: 6.0,
+    });
+    let terms = baker::render::visible::shade_pixels(&shader, &atlas, LightmapFilter::Exact, None, &scene, cam.eye, &visible);
+    let n_mapped = expected(Vec3::X, Vec3::NEG_Z, 1.0);
+    let want = 0.8 * (a + 2.0 / 3.0 * beta * n_mapped.dot(Vec3::Y) as f64);
+    let unmapped = 0.8 * (a + 2.0 / 3.0 * beta);
+    assert!((want - unmapped).abs() > 1e-2, "the map must change the shading");
+    let mut n = 0;
+    for (v, t) in visible.iter().zip(&terms) {
+        let Some(v) = v.filter(|v| v.lightmapped) else { continue };
+        n += 1;
+        assert!((v.normal - n_mapped).length() < 2e-6 && (v.frame_normal - Vec3::Y).length() < 1e-6, "{} / {}", v.normal, v.frame_normal);
+        let d = t.diffuse;
+        assert!((d - DVec3::splat(want)).abs().max_element() < 1e-5 * want, "diffuse {d} vs {want} (unmapped {unmapped})");
+    }
+    assert!(n > 500, "{n} lightmapped pixels");
+}
+
+/// `--normal-maps` on a scene without one is refused, naming the option (exit 2).
+#[test]
+fn normal_maps_on_a_scene_without_one_is_refused() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_render"))
+        .args(["--scene", "cornell", "--normal-maps", "--out"])
+        .arg(scratch("refused").join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("--normal-maps") && err.contains("no normal map"), "{err}");
+}
