@@ -330,3 +330,24 @@ pub fn compose_roots(config: Config, roots: &[&str]) -> Result<Composed, String>
     }
     Ok(Composed { config, source, included, left_out })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Config, Feature, PRESETS};
+
+    /// Every preset lists known features (an unknown name would be dropped silently), and a
+    /// preset named like a feature is that feature alone — `Config::parse` prefers presets,
+    /// so anything else would change what the feature's name composes.
+    #[test]
+    fn presets_are_known_features_and_do_not_shadow_one() {
+        for (name, feats) in PRESETS {
+            for f in feats {
+                assert!(Feature::parse(f).is_some(), "preset '{name}' lists unknown feature '{f}'");
+            }
+            if let Some(f) = Feature::parse(name) {
+                let c = Config::parse(name).unwrap();
+                assert_eq!(c.features.into_iter().collect::<Vec<_>>(), vec![f], "preset '{name}' shadows the feature of that name");
+            }
+        }
+    }
+}
