@@ -78,10 +78,13 @@ fn engines(g: Option<&Gpu>) -> Vec<(&'static str, Renderer<'_>)> {
 /// brute-force image — the global mean within 3σ (σ from the K image means) and per pixel
 /// |mean − brute| ≤ 4σ_pixel for ≥ 99% of the lit pixels (pixels where every draw is
 /// identical must match to f32 rounding, 1e-4 relative) — while the deterministic range
-/// cut misses the global mean by more than 3σ. CPU and GPU, each with its own draws (the
-/// CPU 1…K, the GPU K+1…2K: the GPU leg is an independent estimate, not a replay of the
-/// CPU's numbers); the two legs' means then agree within 4σ of their difference
-/// (σ² = σ²_CPU + σ²_GPU from each leg's K draws).
+/// cut misses the global mean by more than 3σ. CPU and GPU, each with its own random
+/// numbers: the CPU draws 1…K through `slc::vpl_xi`, the GPU seeds K+1…2K of its own
+/// stream (cull.wgsl's PCG hash, `SlcGpu::set_xi_seed`; the uploaded ξ unused) — the GPU
+/// leg is an independent estimate by an unrelated generator, not a replay of the CPU's
+/// numbers; the two legs' means then agree within 4σ of their difference
+/// (σ² = σ²_CPU + σ²_GPU from each leg's K draws). Mutations: the GPU stream ignoring its
+/// seed (every draw the same ξ) fails the GPU's per-pixel and mean checks.
 #[test]
 fn culled_image_is_unbiased_and_a_range_cut_is_not() {
     let g = gpu();
@@ -94,8 +97,19 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
         let (mut sum, mut sum2) = (vec![0.0f64; n], vec![0.0f64; n]);
         let mut means = Vec::new();
         let (mut kept, mut fp, mut lpp) = (0u64, 0u64, 0u64);
+        // The GPU leg: one upload of the VPLs, ξ from the GPU's own stream per draw.
+        let mut own = match (name, g.as_deref()) {
+            ("GPU", Some(gpu)) => Some(baker::slc::gpu::SlcGpu::new(gpu, &gb, &vpls(0), DELTA, 1).unwrap()),
+            _ => None,
+        };
         for draw in leg as u64 * k + 1..=(leg as u64 + 1) * k {
-            let r = run(&gb, &vpls(draw), Mode::Culled);
+            let r = match own.as_mut() {
+                Some(sg) => {
+                    sg.set_xi_seed(Some(draw as u32));
+                    sg.run(Mode::Culled).unwrap()
+                }
+                None => run(&gb, &vpls(draw), Mode::Culled),
+            };
             kept += r.kept;
             fp += r.false_positives;
             lpp += r.lights_per_pixel.iter().map(|x| *x as u64).sum::<u64>();

@@ -28,6 +28,11 @@ struct SlcParams {
     // Interleaved sampling (002 §6): I × I subregions, subregion s shading VPLs j ≡ s
     // (mod I²) weighted by I² (1: off).
     interleave: u32,
+    // 0: each light's ξ as uploaded; otherwise drawn here from this seed (slc_gpu_xi).
+    xi_seed: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> SP: SlcParams;
@@ -55,12 +60,30 @@ struct SlcVpl {
     xi: f32,
 }
 
+// The PCG hash (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering").
+fn slc_pcg_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Light j's ξ ∈ (0, 1] of the GPU's own stream: 24 bits of pcg(pcg(seed) ^ j) — a generator
+// unrelated to the CPU's (baker::slc::vpl_xi), so images made with it are an independent
+// estimate of the same expectation (seed 002 eq. 3).
+fn slc_gpu_xi(seed: u32, j: u32) -> f32 {
+    return 1.0 - f32(slc_pcg_hash(slc_pcg_hash(seed) ^ j) >> 8u) / 16777216.0;
+}
+
 fn slc_load_vpl(j: u32) -> SlcVpl {
     let a = lights[4u * j];
     let b = lights[4u * j + 1u];
     let c = lights[4u * j + 2u];
     let d = lights[4u * j + 3u];
-    return SlcVpl(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w, d.x, d.y);
+    var xi = d.y;
+    if (SP.xi_seed != 0u) {
+        xi = slc_gpu_xi(SP.xi_seed, j);
+    }
+    return SlcVpl(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w, d.x, xi);
 }
 
 // Radiant intensity towards unit wo (CPU twin: Vpl::intensity).

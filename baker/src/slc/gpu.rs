@@ -18,8 +18,18 @@ pub struct SlcParams {
     pub tan_y: f32,
     pub delta: f32,
     pub interleave: u32,
+    /// 0: every light's ξ as uploaded (the CPU twin's, [`Vpl::xi`]); otherwise the GPU
+    /// draws its own ξ per light from this seed (`slc_gpu_xi` in cull.wgsl).
+    pub xi_seed: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
-shaders::gpu_struct!(SlcParams, "SlcParams", [width, height, light_count, mode, tan_x, tan_y, delta, interleave]);
+shaders::gpu_struct!(
+    SlcParams,
+    "SlcParams",
+    [width, height, light_count, mode, tan_x, tan_y, delta, interleave, xi_seed, pad0, pad1, pad2]
+);
 
 const KERNEL: &str = include_str!("cull.wgsl");
 
@@ -125,6 +135,10 @@ impl<'g> SlcGpu<'g> {
             tan_y: g.tan_xy.1,
             delta,
             interleave: interleave as u32,
+            xi_seed: 0,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         };
         let (gb, lv) = (pack_gbuffer(g), pack_vpls(vpls));
         shaders::gpu::check_bindings(
@@ -185,6 +199,13 @@ impl<'g> SlcGpu<'g> {
     /// Whether frames run the cross-bilateral filter (default on; off to time without it).
     pub fn set_filter(&mut self, on: bool) {
         self.filter_on = on;
+    }
+
+    /// Where the following frames take each light's ξ from: None, the uploaded VPLs' (the
+    /// CPU twin's, so images agree pixel for pixel); Some(seed), the GPU's own stream — a
+    /// hash of (seed, light) independent of the CPU's generator (seed 0 is taken as 1).
+    pub fn set_xi_seed(&mut self, seed: Option<u32>) {
+        self.params.xi_seed = seed.map_or(0, |s| s.max(1));
     }
 
     /// Which bound culls glossy VPLs in the following frames.

@@ -121,6 +121,12 @@ fn slc_medium(
     }))
 }
 
+/// The GPU's own ξ stream for `--seed` (cull.wgsl's PCG hash): the GPU leg is an independent
+/// estimate, not a replay of the CPU's `slc::vpl_xi` (the VPLs themselves are the same).
+fn gpu_xi_seed(seed: u64) -> u32 {
+    ((seed ^ (seed >> 32)) as u32).max(1)
+}
+
 /// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
 /// light culling (crate::slc) on the GPU or the CPU; writes slc.exr/png, the VPLs per
 /// pixel, and slc.json (counts, false discovery rate, frame time).
@@ -166,6 +172,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     let (culled, brute, seconds, device) = match gpu {
         Some(gp) => {
             let mut r = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
+            r.set_xi_seed(Some(gpu_xi_seed(s.seed)));
             r.set_bound(s.bound);
             let culled = r.run(Mode::Culled)?;
             r.set_filter(false);
@@ -174,7 +181,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
             let seconds = r.time(Mode::Culled, s.frames)?;
             log(format!("slc GPU frame without the filter: {:.3} ms", unfiltered * 1e3));
             let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
-            (culled, brute, seconds, format!("GPU: {}", gp.adapter))
+            (culled, brute, seconds, format!("GPU: {} (its own ξ stream, seed {})", gp.adapter, gpu_xi_seed(s.seed)))
         }
         None => {
             let t = Instant::now();
@@ -266,6 +273,7 @@ fn compare_bounds(
         let (r, sec) = match gpu {
             Some(gp) => {
                 let mut r = crate::slc::gpu::SlcGpu::new(gp, g, vpls, s.delta, s.interleave)?;
+                r.set_xi_seed(Some(gpu_xi_seed(s.seed)));
                 r.set_bound(b);
                 (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
             }
