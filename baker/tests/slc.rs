@@ -500,3 +500,73 @@ fn one_vpl_over_a_lambert_plane_matches_the_closed_form() {
         assert!(lit > w * h / 4, "{name}: only {lit} pixels lit");
     }
 }
+
+/// The environment as a source (`vpls_from_scene_with(…, sky: true)`): light paths from the
+/// sky onto a lone two-sided quad (side 2, facing ±Y, albedo 0.5) leave on each face,
+/// summed over the diffuse VPLs facing that way, the power the sky delivers to it:
+/// A·∫ lum(L(ω))·max(±ω_y, 0) dω — computed here by a midpoint rule over (θ, φ) of
+/// 720 × 1440 cells, split at the horizon where the sky's ground colour starts (its own
+/// error < 1e-4 relative), independent of the sampler's 64 × 32 tabulation. Error model: each
+/// face's Σ flux is a sum over paths of i.i.d. weighted hit indicators; its variance is at
+/// most Σ flux² over its VPLs (the second moment), and the test allows 4σ. Mutations: the
+/// disk's power πR²∫ taken as 4πR²∫; the disk sampled uniformly in radius (not area); the
+/// path started on the far side (light arriving from the opposite direction: the two faces
+/// swap) — each fails.
+#[test]
+fn sky_vpls_carry_the_environments_power_onto_a_plane() {
+    use baker::scene::{Environment, Material, Mesh, Scene};
+    let quad = Mesh {
+        name: "quad".into(),
+        positions: vec![Vec3::new(-1.0, 0.0, -1.0), Vec3::new(-1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, -1.0)],
+        normals: vec![Vec3::Y; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material: 0,
+        lightmap_uv: None,
+        lightmapped: true,
+        uv: None,
+    };
+    let mut m = Material::lambert(Vec3::splat(0.5));
+    m.double_sided = true;
+    let sky = Environment::Sky { zenith: Vec3::new(2.0, 2.2, 2.6), horizon: Vec3::splat(0.5), ground: Vec3::splat(0.1) };
+    let scene = Scene {
+        name: "quad".into(),
+        meshes: vec![quad],
+        materials: vec![m],
+        lights: vec![],
+        environment: sky.clone(),
+        textures: Vec::new(),
+        normal_textures: Vec::new(),
+    };
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let cam = baker::slc::Camera { eye: Vec3::new(0.0, 1.0, 3.0), tan_x: 1.0 };
+    assert!(baker::slc::vpls_from_scene(&scene, &bvh, cam, 1000, 1).is_empty(), "the sky is a source only when asked");
+    let vpls = baker::slc::vpls_from_scene_with(&scene, &bvh, cam, 200_000, 1, true);
+    // A·∫ lum(L)·max(±ω_y, 0) dω by the midpoint rule; lum = Rec. 709 luminance.
+    let lum = |c: Vec3| 0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64;
+    let (nt, np) = (720, 1440);
+    let (mut up, mut down) = (0.0, 0.0);
+    for j in 0..nt {
+        let th = std::f64::consts::PI * (j as f64 + 0.5) / nt as f64;
+        let dth = std::f64::consts::PI / nt as f64;
+        for i in 0..np {
+            let ph = std::f64::consts::TAU * (i as f64 + 0.5) / np as f64;
+            let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
+            let e = lum(sky.radiance(d)) * th.cos().abs() * th.sin() * dth * std::f64::consts::TAU / np as f64;
+            if th < std::f64::consts::FRAC_PI_2 {
+                up += e;
+            } else {
+                down += e;
+            }
+        }
+    }
+    let mut total = 0;
+    for (face, sign, want) in [("top", 1.0f32, 4.0 * up), ("bottom", -1.0, 4.0 * down)] {
+        let flux: Vec<f64> = vpls.iter().filter(|v| v.diffuse > 0.0 && v.normal.y * sign > 0.5).map(|v| v.flux as f64).collect();
+        let got: f64 = flux.iter().sum();
+        let sigma = flux.iter().map(|f| f * f).sum::<f64>().sqrt();
+        println!("sky VPLs, {face}: {} VPLs, Σ flux {got:.5} vs A·∫L·cos {want:.5} ({:+.2}σ)", flux.len(), (got - want) / sigma);
+        assert!((got - want).abs() <= 4.0 * sigma, "{face}: Σ flux {got} vs {want} ± {sigma}");
+        total += flux.len();
+    }
+    assert!(total > 50_000, "{total} VPLs");
+}

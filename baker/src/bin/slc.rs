@@ -14,7 +14,7 @@ use std::process::ExitCode;
 #[command(
     version,
     about = "Render single-bounce indirect light from virtual point lights (VPLs) with stochastic light culling: each VPL gets a random range, tiles keep only the VPLs whose bounds reach them, pixels shade the kept ones unbiasedly.",
-    after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4"
+    after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky"
 )]
 struct Cli {
     /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a
@@ -27,6 +27,10 @@ struct Cli {
     /// Light paths traced from the scene's emitters; each hit becomes a VPL.
     #[arg(long, default_value_t = 1000)]
     vpls: usize,
+    /// Also start light paths at the environment (the scene's sky or --env): a direction
+    /// by the environment's importance, entering over a disk that covers the scene.
+    #[arg(long)]
+    sky: bool,
     /// Image size, WIDTHxHEIGHT pixels.
     #[arg(long, default_value = "960x540")]
     size: String,
@@ -126,6 +130,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         glossy_alpha: c.glossy_alpha,
         compare_bounds: c.compare_bounds,
         medium: c.medium.as_deref().map(parse_medium).transpose()?,
+        sky: c.sky,
     })
 }
 

@@ -23,6 +23,9 @@ pub struct EnvSampler {
     pub col_cdf: Vec<f32>,
     /// Probability of each cell (row-major).
     pub cell_p: Vec<f32>,
+    /// ∫ luminance(L) dω over the sphere as tabulated (Σ cells luminance × solid angle):
+    /// the luminance-weighted power of the environment per unit of cross-section.
+    pub total: f64,
 }
 
 impl EnvSampler {
@@ -77,7 +80,7 @@ impl EnvSampler {
         if let Some(l) = row_cdf.last_mut() {
             *l = 1.0;
         }
-        Some(EnvSampler { width: w, height: h, row_cdf, col_cdf, cell_p })
+        Some(EnvSampler { width: w, height: h, row_cdf, col_cdf, cell_p, total })
     }
 
     /// A direction for uniform `u` in [0,1)³ and its solid-angle pdf.

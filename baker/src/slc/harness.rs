@@ -42,6 +42,8 @@ pub struct SlcOptions {
     pub compare_bounds: bool,
     /// Also render single scattering in this medium (CPU, culled and brute force).
     pub medium: Option<crate::slc::media::Medium>,
+    /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
+    pub sky: bool,
 }
 
 /// The single-scattering part of [`render`] ([`crate::slc::media`], CPU on every core):
@@ -139,7 +141,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     let cam = Camera::preview(&bvh);
     let t = Instant::now();
     let g = slc::gbuffer_from_scene(&scene, &bvh, cam, s.width, s.height);
-    let mut vpls = slc::vpls_from_scene(&scene, &bvh, cam, s.vpls, o.seed);
+    let mut vpls = slc::vpls_from_scene_with(&scene, &bvh, cam, s.vpls, o.seed, s.sky);
     match s.kind.as_str() {
         "both" => {}
         "diffuse" => vpls.retain(|v| v.diffuse > 0.0),
@@ -153,9 +155,10 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     }
     if vpls.is_empty() {
         return Err(format!(
-            "scene '{}' yields no VPLs from {} light paths: VPLs start only at its lights and emissive triangles (not at the environment or sky), and none of their paths met a surface{}",
+            "scene '{}' yields no VPLs from {} light paths: they start at its lights and emissive triangles{}, and none met a surface{}",
             scene.name,
             s.vpls,
+            if s.sky { " and its environment" } else { " (not at the environment or sky: --sky adds it)" },
             if s.kind == "both" { "" } else { " of the kept kind" }
         ));
     }
@@ -212,7 +215,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
     let bounds = if s.compare_bounds && glossy > 0 { compare_bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
     let mut meta = json!({
-        "scene": scene.name, "device": device, "vpls": vpls.len(), "glossy_vpls": glossy, "light_paths": s.vpls,
+        "scene": scene.name, "device": device, "vpls": vpls.len(), "sky_paths": s.sky, "glossy_vpls": glossy, "light_paths": s.vpls,
         "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
         "glossy_bound": format!("{:?}", s.bound), "kind": s.kind, "glossy_alpha": s.glossy_alpha,
         "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,

@@ -404,8 +404,26 @@ pub fn pixel_light_uniforms(seed: u64, pixel: u64, light: u64) -> [f32; 2] {
 /// covering the scene bounds, point and spot lights over the sphere weighted by their cone,
 /// emissive triangles by area with cosine directions) and end at their first surface hit,
 /// which becomes a diffuse VPL (flux × Lambert albedo) and, on a glossy material, a GGX VPL
-/// (α, F0); each carries the total light power / count. One ξ per VPL from `seed`.
+/// (α, F0); each carries the total light power / count. One ξ per VPL from `seed`. The
+/// environment is not a source here: [`vpls_from_scene_with`] adds it.
 pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh, cam: Camera, count: usize, seed: u64) -> Vec<Vpl> {
+    vpls_from_scene_with(scene, bvh, cam, count, seed, false)
+}
+
+/// [`vpls_from_scene`], with the environment (sky or map) as a source too when `sky`: its
+/// power over the disk of radius R (the bounding sphere's) facing each direction is
+/// πR²·∫ luminance(L) dω; a path picks a direction ω by the environment's importance sampler
+/// (luminance × solid angle, pdf p), starts on that disk 2R out along ω and travels along
+/// −ω, weighted luminance(L(ω))/(p(ω)·∫ luminance(L) dω) (1 in expectation: the light's
+/// power is kept). Paths that miss the scene carry their power out of it.
+pub fn vpls_from_scene_with(
+    scene: &crate::scene::Scene,
+    bvh: &crate::scene::bvh::Bvh,
+    cam: Camera,
+    count: usize,
+    seed: u64,
+    sky: bool,
+) -> Vec<Vpl> {
     use crate::scene::lights::luminance;
     use crate::scene::Light;
     let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
@@ -429,7 +447,13 @@ pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh
         })
         .collect();
     let emitter_power: f64 = emitters.iter().map(|e| e.1).sum();
-    let total: f64 = sources.iter().map(|s| s.1).sum::<f64>() + emitter_power;
+    let env = if sky { crate::sampling::environment::EnvSampler::new(&scene.environment) } else { None };
+    let env_power = env.as_ref().map_or(0.0, |e| std::f64::consts::PI * (radius as f64).powi(2) * e.total);
+    let light_power: f64 = sources.iter().map(|s| s.1).sum();
+    // Lights take u in [0, lights_end), emitters [lights_end, light + emitter power), the
+    // environment the rest (the first two as without it, to the bit).
+    let lights_end = (light_power + emitter_power) - emitter_power;
+    let total: f64 = light_power + emitter_power + env_power;
     let mut out = Vec::with_capacity(count);
     if total <= 0.0 || count == 0 {
         return out;
@@ -451,8 +475,17 @@ pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh
         let [a, b] = rng.next_2d();
         let [c, d] = rng.next_2d();
         // (origin, direction, weight relative to the power the choice assumed, range)
-        let (o, dir, w, range) = if u < total - emitter_power {
-            let s = &sources[pick(u / (total - emitter_power), &sources, 1.0)];
+        let (o, dir, w, range) = if let (Some(e), true) = (env.as_ref(), u >= light_power + emitter_power) {
+            // The environment: a direction by its sampler, a point on the disk facing it.
+            let (towards, pdf) = e.sample([a, b, c]);
+            let weight = luminance(scene.environment.radiance(towards)) / (pdf * e.total);
+            let (t, bt) = crate::scene::geometry::frame(towards);
+            let [r1, r2] = rng.next_2d();
+            let r = radius * (r1 as f32).sqrt();
+            let phi = std::f32::consts::TAU * r2 as f32;
+            (centre + towards * (2.0 * radius) + (t * phi.cos() + bt * phi.sin()) * r, -towards, weight as f32, f32::INFINITY)
+        } else if u < lights_end {
+            let s = &sources[pick(u / lights_end, &sources, 1.0)];
             match scene.lights[s.0] {
                 Light::Directional { direction, .. } => {
                     let (t, bt) = crate::scene::geometry::frame(direction);
@@ -467,7 +500,7 @@ pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh
                 }
             }
         } else {
-            let (ti, _) = emitters[pick((u - (total - emitter_power)) / emitter_power, &emitters, 1.0)];
+            let (ti, _) = emitters[pick((u - lights_end) / emitter_power, &emitters, 1.0)];
             let t = &bvh.tris[ti];
             let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
             let p = t.v0() + t.e1() * a as f32 + t.e2() * b as f32;
