@@ -114,10 +114,11 @@ fn probe_volumes_decode_to_the_error_bake_json_states() {
     for v in volumes {
         let basis = v["basis"].as_str().unwrap();
         let files = v["files"].as_array().unwrap();
-        let (mut e, mut s) = (0.0, 0.0);
+        let (mut e, mut s, mut bytes) = (0.0, 0.0, 0usize);
         for (l, f) in files.iter().enumerate() {
             let file = f.as_str().unwrap();
             let dds = image_dds::ddsfile::Dds::read(std::fs::File::open(out.join(file)).unwrap()).unwrap();
+            bytes += dds.data.len();
             assert_eq!(dds.get_dxgi_format(), Some(image_dds::ddsfile::DxgiFormat::BC6H_UF16), "{file}");
             let surf = image_dds::Surface::from_dds(&dds).unwrap().decode_rgbaf32().unwrap();
             assert_eq!((surf.width as usize, surf.height as usize, surf.depth as usize), (nx, ny, nz), "{file}");
@@ -141,7 +142,9 @@ fn probe_volumes_decode_to_the_error_bake_json_states() {
         assert!((mine - stated).abs() <= 1e-4 * stated.max(1e-6), "{basis}: bake.json says {stated}, the files give {mine}");
         assert!(mine < 0.25, "{basis}: BC6H lost {mine} of the RMS");
         let (f16, bc) = (v["irradiance_rel_rms_f16"].as_f64().unwrap(), v["irradiance_rel_rms_bc6h"].as_f64().unwrap());
-        assert!(f16 < 2e-3 && f16 < bc && bc.is_finite(), "{v}");
+        assert!(f16 > 0.0 && f16 < 2e-3 && f16 < bc && bc.is_finite(), "{v}");
+        let stated = v["bytes_per_probe"][2].as_f64().unwrap();
+        assert_eq!(stated, bytes as f64 / (nx * ny * nz) as f64, "{basis}: BC6H bytes per probe");
     }
     std::fs::remove_dir_all(&out).ok();
 }

@@ -80,6 +80,15 @@ fn normal_maps_load_apart_and_perturb_in_gltfs_frame() {
                     assert!((got - want).length() < 2e-6, "rotation {rotation}, scale {scale}, triangle {prim} at {w:?}: {got} vs {want}");
                 }
             }
+            // An interpolated normal tilted off the face: the tangent made orthogonal to it
+            // (Gram–Schmidt), the bitangent n × t.
+            let n = (Vec3::Y + 0.4 * t + 0.2 * b).normalize();
+            let t2 = (t - n * n.dot(t)).normalize();
+            let b2 = n.cross(t2);
+            let m = TEXEL.map(|c| 2.0 * c as f32 / 255.0 - 1.0);
+            let want = (t2 * m[0] * scale + b2 * m[1] * scale + n * m[2]).normalize();
+            let got = maps.perturb(&s, 0, 0, [1.0 / 3.0; 3], n);
+            assert!((got - want).length() < 2e-6, "tilted normal, rotation {rotation}, scale {scale}: {got} vs {want}");
         }
     }
 }
@@ -134,4 +143,96 @@ fn normal_maps_on_a_scene_without_one_is_refused() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("--normal-maps") && err.contains("no normal map"), "{err}");
+}
+
+/// Shading at a mapped normal n′ (`Shader::terms_at`, the texel's frame +Z) equals shading
+/// the same light turned by the rotation R that takes n′ to +Z, at +Z — rotation invariance
+/// of the Lambert and GGX integrals. The oracle takes the +Z paths: SH L2 through its
+/// rotated coefficients (`ShRotation`) and the shader's own +Z functions; SG and AD through
+/// the `sbf` runtimes called directly on the lobe axes turned by R (Hill's fit and the ASG
+/// warp, the minimax quadratic and Listing 8.1 with its table at the turned view's n·v, the
+/// per-lobe tables). The view is below the texel's horizon but above the mapped normal's
+/// (v·Z < 0 < v·n′), so the specular gate must use n′. Error model: both sides f64 on the
+/// same tables; only the tables' f32 coordinates differ by rounding (≤ 1e-6 relative).
+/// Mutations: the SH zonal filter or the AD table at v·Z instead of n′·v; specular at +Z;
+/// the gate on v·Z; SG/AD irradiance at +Z — each fails.
+#[test]
+fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
+    use baker::render::lighting::SurfaceMaterial;
+    use sbf::glam::{DMat3, DQuat};
+    use sbf::recon::{ambient_dice, lobe_ggx, sg};
+    let nt = DVec3::new(40f64.to_radians().sin(), 0.1, 40f64.to_radians().cos()).normalize();
+    let vt = DVec3::new(1.0, 0.2, -0.15).normalize();
+    assert!(vt.z < 0.0 && nt.dot(vt) > 0.2);
+    let r = DMat3::from_quat(DQuat::from_rotation_arc(nt, DVec3::Z));
+    assert!((r * nt - DVec3::Z).length() < 1e-12);
+    let rv = r * vt;
+    let m = SurfaceMaterial { albedo: DVec3::splat(0.6), alpha: 0.35, f0: DVec3::splat(0.5) };
+    let mut rng = sbf::sampling::Pcg32::new(7, 7);
+    for (kind, path) in [
+        (BasisKind::ShL2, SpecularPath::Fit),
+        (BasisKind::Sg12, SpecularPath::Fit),
+        (BasisKind::Sg12, SpecularPath::Tables),
+        (BasisKind::Ad12, SpecularPath::Fit),
+        (BasisKind::Ad12, SpecularPath::Tables),
+    ] {
+        let shader = Shader::new(Lighting { encoding: Encoding::Basis(kind), specular: path, storage: Storage::F32, sg_sharpness: 6.0 });
+        let lobes = if kind == BasisKind::ShL2 { 9 } else { 12 };
+        let c: Vec<DVec3> = (0..lobes)
+            .map(|k| {
+                let u = rng.next_2d();
+                if kind == BasisKind::ShL2 && k == 0 {
+                    DVec3::new(1.5, 1.4, 1.2)
+                } else if kind == BasisKind::ShL2 {
+                    DVec3::new(0.6 * u[0] - 0.3, 0.6 * u[1] - 0.3, 0.2)
+                } else {
+                    DVec3::new(0.2 + u[0], 0.2 + u[1], 0.5)
+                }
+            })
+            .collect();
+        let got = shader.terms_at(&c, &m, DVec3::Z, nt, vt);
+        let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
+        let axes: Vec<DVec3> = kind.lobe_axes().iter().map(|a| r * *a).collect();
+        let (f0, f90) = (m.f0.x, 1.0);
+        let (e, s): (DVec3, DVec3) = match (kind, path) {
+            (BasisKind::ShL2, _) => {
+                let rot = sbf::ShRotation::new(2, r).unwrap();
+                let ch: Vec<Vec<f64>> = (0..3).map(|k| rot.apply(&c.iter().map(|x| x[k]).collect::<Vec<_>>()).unwrap()).collect();
+                let cr: Vec<DVec3> = (0..9).map(|i| DVec3::new(ch[0][i], ch[1][i], ch[2][i])).collect();
+                (shader.irradiance(&cr), shader.specular(&cr, rv, m.alpha, f0, f90))
+            }
+            (BasisKind::Sg12, p) => {
+                let e = axes.iter().zip(&c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                    acc + *ci * sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: 6.0, amplitude: 1.0 }).eval(DVec3::Z)
+                });
+                let s = if p == SpecularPath::Tables {
+                    DVec3::from(lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_sg6(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
+                } else {
+                    let w = sg::AsgWarp::new(DVec3::Z, rv, m.alpha, f0, f90);
+                    axes.iter()
+                        .zip(&c)
+                        .fold(DVec3::ZERO, |acc, (a, ci)| acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: 6.0, amplitude: 1.0 }))
+                };
+                (e, s)
+            }
+            (_, p) => {
+                let e = axes.iter().zip(&c).fold(DVec3::ZERO, |acc, (a, ci)| {
+                    acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.z)
+                });
+                let s = if p == SpecularPath::Tables {
+                    DVec3::from(lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_ad(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
+                } else {
+                    let l = sbf::luts::committed::ad_specular_2d().sample2(rv.z as f32, m.alpha as f32);
+                    DVec3::from(ambient_dice::specular_rgb(&axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90, [l[0] as f64, l[1] as f64]))
+                };
+                (e, s)
+            }
+        };
+        let want = (m.albedo * e, s);
+        println!("{kind:?} {path:?}: diffuse {} vs {}, specular {} vs {}", got.diffuse, want.0, got.specular, want.1);
+        assert!(want.1.min_element() > 1e-3, "{kind:?}: the turned view must see specular");
+        let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() <= 1e-6 * b.abs().max_element().max(1e-3);
+        assert!(close(got.diffuse, want.0), "{kind:?} {path:?} diffuse: {} vs {}", got.diffuse, want.0);
+        assert!(close(got.specular, want.1), "{kind:?} {path:?} specular: {} vs {}", got.specular, want.1);
+    }
 }

@@ -92,10 +92,18 @@ fn sh_l1_reconstructs_from_its_stored_coefficients() {
 #[test]
 fn engine_formats_count_their_compressed_bytes() {
     for (id, engine, bc) in [("godot-l1", 32.0, 2.5), ("monosh", 12.0, 1.5), ("enlighten", 12.0, 2.0), ("enlighten-rgb", 20.0, 4.0)] {
+        let mut runs = Vec::new();
         for (s, want) in [(Storage::F32, engine), (Storage::F16, engine), (Storage::Bc6h, bc)] {
             let r = prepare(id, &ctx(s), 1).unwrap().result;
             assert_eq!(r.storage_bytes(), want, "{id} {s:?}");
+            runs.push(r);
         }
+        // f16 is the engine's own precision (nothing changes); BC6H changes the stored colour
+        // (row 0) and the direction textures (the rows after it), and so the image.
+        assert_eq!(runs[1].coefficients, runs[0].coefficients, "{id}: f16 changed the engine's own storage");
+        assert_ne!(runs[2].coefficients[0], runs[0].coefficients[0], "{id}: the colour was not compressed");
+        assert_ne!(runs[2].coefficients[1..], runs[0].coefficients[1..], "{id}: the directions were not compressed");
+        assert_ne!(runs[2].irradiance, runs[0].irradiance, "{id}: the image is not the compressed data's");
     }
 }
 
@@ -103,7 +111,7 @@ fn engine_formats_count_their_compressed_bytes() {
 #[test]
 fn every_coefficient_mode_stores_halves() {
     let c = ctx(Storage::F16);
-    for id in ["ac", "shl2", "shl2w", "adrbf", "sg", "sgls", "sgnnls", "ad", "sgpls", "ad9", "sg9h", "h4"] {
+    for id in ["ac", "shl2", "shl2w", "adrbf", "sg", "sgls", "sgnnls", "ad", "adycocg", "sgpls", "ad9", "sg9h", "h4"] {
         let r = prepare(id, &c, 1).unwrap().result;
         assert!(!r.coefficients.is_empty(), "{id}");
         for v in &r.coefficients {
@@ -113,4 +121,13 @@ fn every_coefficient_mode_stores_halves() {
         }
         assert_eq!(r.storage_bytes(), 2.0 * r.stored_scalars as f64, "{id}");
     }
+}
+
+/// The prior estimate's runtime reads c′ = Σ⁻¹G·c: under f16 its image must be that of the
+/// stored c′ — different from the f32 image (where storage reached c alone, the image would
+/// be unchanged).
+#[test]
+fn the_prior_estimate_reads_its_stored_vector() {
+    let (a, b) = (prepare("sgls", &ctx(Storage::F32), 1).unwrap().result, prepare("sgls", &ctx(Storage::F16), 1).unwrap().result);
+    assert_ne!(a.irradiance, b.irradiance);
 }

@@ -220,7 +220,23 @@ mod tests {
         // Chart 1 from the right: x = 8.5 reads 7..10; x = 7.49 reads 5..8.
         assert!(!at(8.5));
         assert!(at(7.49));
-        // Rows clamp at the atlas edge: nothing outside there.
+        // Rows clamp at the atlas edge: nothing outside there; the right edge too.
         assert!(!reaches_outside_chart(&charts, 12, 8, [2.0, 0.1]));
+        assert!(!reaches_outside_chart(&charts, 12, 8, [11.9, 7.9]));
+        // The same along rows: rows 0–3 chart 0, row 4 a gutter, rows 5–7 chart 1 (a
+        // single column of texels, 1 × 8).
+        let rows: Vec<u32> = (0..8)
+            .map(|j| match j {
+                0..=3 => 0,
+                4 => none,
+                _ => 1,
+            })
+            .collect();
+        let at_y = |y: f64| reaches_outside_chart(&rows, 1, 8, [0.5, y]);
+        assert!(!at_y(2.4) && at_y(2.5), "rows: 0..3 inside at 2.4, the gutter at 2.5");
+        assert!(!at_y(6.5) && at_y(5.4), "rows: chart 1 from below");
+        // Inside a wide gutter every texel is "another chart's" only by its own NO_CHART.
+        let wide = vec![none; 12 * 8];
+        assert!(reaches_outside_chart(&wide, 12, 8, [6.0, 4.0]));
     }
 }
