@@ -44,11 +44,16 @@ fn constant_png(rgb: [u8; 3]) -> Vec<u8> {
 
 /// The square with a normal map of `TEXEL`, `scale`, its coordinates rotated by `rotation`.
 fn scene(dir: &std::path::Path, scale: f32, rotation: f32) -> Scene {
+    scene_with(dir, scale, rotation, &constant_png(TEXEL))
+}
+
+/// [`scene`] with the normal map `png`.
+fn scene_with(dir: &std::path::Path, scale: f32, rotation: f32, png: &[u8]) -> Scene {
     let material = format!(
         r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.8,0.8,1],"metallicFactor":0,"roughnessFactor":1}},
         "normalTexture":{{"index":0,"scale":{scale},"extensions":{{"KHR_texture_transform":{{"rotation":{rotation}}}}}}}}}"#
     );
-    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, common::gltf::b64(&constant_png(TEXEL)));
+    let image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, common::gltf::b64(png));
     let path = common::gltf::plane(dir, 1.0, 0.0, &material, &image);
     let (scene, report) = baker::scene::import::load(&path).unwrap();
     println!("import notes: {:?}", report.notes);
@@ -235,4 +240,27 @@ fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
         assert!(close(got.diffuse, want.0), "{kind:?} {path:?} diffuse: {} vs {}", got.diffuse, want.0);
         assert!(close(got.specular, want.1), "{kind:?} {path:?} specular: {} vs {}", got.specular, want.1);
     }
+}
+
+/// The texel is read at the transformed coordinates: a 2 × 1 map (left texel `TEXEL`, right
+/// another), NEAREST, REPEAT, rotated by π/2 (u′ = v, v′ = −u); at (u, v) = (¼, ¾) — triangle
+/// 0's barycentrics (¼, ½, ¼) of corners uv (0, 0), (0, 1), (1, 1) — u′ = ¾ reads the right
+/// texel (untransformed, u = ¼ would read the left). Mutation: the texel read at the raw
+/// coordinates fails.
+#[test]
+fn the_normal_map_is_read_at_its_transformed_coordinates() {
+    let right = [60u8, 200, 210];
+    let img = image::RgbaImage::from_fn(2, 1, |x, _| {
+        let c = if x == 0 { TEXEL } else { right };
+        image::Rgba([c[0], c[1], c[2], 255])
+    });
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let dir = scratch("transform");
+    let s = scene_with(&dir, 1.0, std::f32::consts::FRAC_PI_2, png.get_ref());
+    let maps = NormalMaps::build(&s, &mut |m| panic!("{m}")).unwrap();
+    let m = right.map(|c| 2.0 * c as f32 / 255.0 - 1.0);
+    let want = (Vec3::Z * m[0] + Vec3::X * m[1] + Vec3::Y * m[2]).normalize();
+    let got = maps.perturb(&s, 0, 0, [0.25, 0.5, 0.25], Vec3::Y);
+    assert!((got - want).length() < 2e-6, "{got} vs {want}");
 }
