@@ -26,7 +26,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("output", &["scene", "layout", "sampling", "estimator", "accumulate", "post"]),
     ("render", &["scene", "layout", "sampling", "estimator", "accumulate", "gpu", "output"]),
     ("run", &["scene", "layout", "sampling", "estimator", "accumulate", "checkpoint", "gpu", "post", "output"]),
-    ("slc", &["scene", "output"]),
+    ("slc", &["scene", "sampling", "output"]),
 ];
 
 /// The longest source file the crate accepts.
