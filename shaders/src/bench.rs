@@ -48,6 +48,8 @@ pub enum Inputs {
 /// (name, configuration, lobes, signal, WGSL body).
 /// The signal of the kernels that take specular through the per-lobe GGX tables.
 pub const TABLE_SPECULAR: &str = "diffuse + specular (lobe tables)";
+/// The signal of the kernels that take it through the same tables, hardware-filtered.
+pub const FILTERED_SPECULAR: &str = "diffuse + specular (lobe tables, filtered)";
 
 fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static str, String)> {
     // Input layout: 12 axes (36 floats), the SG sharpness (read, so the compiler cannot
@@ -77,15 +79,22 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
     // irradiance as a separate call taking the coefficient array by value
     // (`ad{k}_irradiance(c, n)`) before the table loop, the NVIDIA driver kept the array in
     // local memory and AD 9 took 0.6 ms more than SG 9 at 4 M evaluations (H200).
-    let table = |k: usize, sg: bool| {
+    // `filtered`: the same tables through the texture unit's filter (lobe_ggx_filtered_*,
+    // two fetches per lobe) instead of 16 loads.
+    let table = |k: usize, sg: bool, filtered: bool| {
         let mut b = pre(k);
         let (axis, diffuse) = if sg {
             ("ld3(3u * j)".to_string(), "sg_hill_irradiance(axis, lam, n)")
         } else {
             (format!("AD{k}_AXES[j]"), "ad_lobe_irradiance(axis, n)")
         };
+        let (pixel, lobe) = if filtered {
+            ("lobe_ggx_filtered_pixel(lobe_tex3, n, v, a)", "lobe_ggx_filtered_lobe(lobe_tex3, lobe_smp, px, axis)")
+        } else {
+            ("lobe_ggx_pixel(lobe_tab, n, v, a)", "lobe_ggx_lobe(lobe_tab, px, axis)")
+        };
         b += &format!(
-            "    var e = vec3<f32>(0.0);\n    let px = lobe_ggx_pixel(lobe_tab, n, v, a);\n    for (var j = 0u; j < {k}u; j++) {{\n        let axis = {axis};\n        let r = lobe_ggx_lobe(lobe_tab, px, axis);\n        e += c[j] * ({diffuse} + 0.04 * r.x + r.y);\n    }}\n"
+            "    var e = vec3<f32>(0.0);\n    let px = {pixel};\n    for (var j = 0u; j < {k}u; j++) {{\n        let axis = {axis};\n        let r = {lobe};\n        e += c[j] * ({diffuse} + 0.04 * r.x + r.y);\n    }}\n"
         );
         b + "    outp[i] = e.x + e.y + e.z;"
     };
@@ -122,10 +131,14 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         ("AD9", "ad9-irradiance,ad9-specular", 9, "diffuse + specular", ad(9, true)),
         ("AD12", "ad12-irradiance", 12, "diffuse", ad(12, false)),
         ("AD12", "ad12-irradiance,ad12-specular", 12, "diffuse + specular", ad(12, true)),
-        ("SG9", "sg-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, true)),
-        ("SG12", "sg-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, true)),
-        ("AD9", "ad9-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, false)),
-        ("AD12", "ad12-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, false)),
+        ("SG9", "sg-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, true, false)),
+        ("SG12", "sg-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, true, false)),
+        ("AD9", "ad9-irradiance,lobe-ggx-specular", 9, TABLE_SPECULAR, table(9, false, false)),
+        ("AD12", "ad12-irradiance,lobe-ggx-specular", 12, TABLE_SPECULAR, table(12, false, false)),
+        ("SG9", "sg-irradiance,lobe-ggx-filtered", 9, FILTERED_SPECULAR, table(9, true, true)),
+        ("SG12", "sg-irradiance,lobe-ggx-filtered", 12, FILTERED_SPECULAR, table(12, true, true)),
+        ("AD9", "ad9-irradiance,lobe-ggx-filtered", 9, FILTERED_SPECULAR, table(9, false, true)),
+        ("AD12", "ad12-irradiance,lobe-ggx-filtered", 12, FILTERED_SPECULAR, table(12, false, true)),
         ("AD12 progressive LS", "ad-eval,progressive", 12, "encode", encode(12)),
         ("Godot L1", "engine-formats", 4, "diffuse", engine(4, "godot_l1_irradiance(c[0], c[1], c[2], c[3], n)")),
         ("MonoSH", "engine-formats", 2, "diffuse", engine(2, "monosh_irradiance(c[0], c[1], n)")),
@@ -181,15 +194,10 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let encodes = signal == "encode";
         let count = if encodes { count.min(MAX_ENCODE_COUNT).min(limit / STATE_BYTES) } else { count };
         let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
-        let lobe = body.contains("lobe_tab").then(|| {
-            if name.starts_with("SG") {
-                sbf::luts::committed::lobe_ggx_sg6()
-            } else {
-                sbf::luts::committed::lobe_ggx_ad()
-            }
-        });
+        let table = if name.starts_with("SG") { sbf::luts::committed::lobe_ggx_sg6() } else { sbf::luts::committed::lobe_ggx_ad() };
         let o = gpu.launch(&Launch {
-            lobe,
+            lobe: body.contains("lobe_tab").then_some(table),
+            lobe_filtered: body.contains("lobe_tex3").then_some(table),
             library: &lib,
             body: &body,
             input: &inp,
@@ -231,9 +239,14 @@ pub fn table(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs, rows: &[Ro
         s += &format!("\n{} ({}): {} invocations per dispatch (capped: one encoder state each).", r.name, r.signal, r.count);
     }
     let find = |n: &str, sp: &str| rows.iter().find(|r| r.name == n && r.signal == sp).map(|r| r.seconds_per_dispatch);
-    for sp in ["diffuse", "diffuse + specular"] {
+    for sp in ["diffuse", "diffuse + specular", TABLE_SPECULAR, FILTERED_SPECULAR] {
         if let (Some(a), Some(b)) = (find("AD9", sp), find("SG9", sp)) {
             s += &format!("\nAD9/SG9 time ratio ({sp}): {:.3}", a / b);
+        }
+    }
+    for b in ["SG9", "SG12", "AD9", "AD12"] {
+        if let (Some(fit), Some(t), Some(f)) = (find(b, "diffuse + specular"), find(b, TABLE_SPECULAR), find(b, FILTERED_SPECULAR)) {
+            s += &format!("\n{b} tables / fits: {:.2} (16 loads per lobe), {:.2} (filtered, 2 fetches)", t / fit, f / fit);
         }
     }
     s += "\n(seed 004 Table 8.1: frame times AD9 2.30 ms / SG9 3.27 ms = 0.70; above the 1.39 ms no-lightmap base, 0.91/1.88 = 0.48.)\n";

@@ -32,6 +32,7 @@ pub enum Feature {
     Ad9Specular,
     Ad12Specular,
     LobeGgxSpecular,
+    LobeGgxFiltered,
     Ggx,
     GgxEnergyCompensation,
     AdBezier,
@@ -43,7 +44,7 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 24] = [
+    pub const ALL: [(Feature, &'static str); 25] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -61,6 +62,7 @@ impl Feature {
         (Feature::Ad9Specular, "ad9-specular"),
         (Feature::Ad12Specular, "ad12-specular"),
         (Feature::LobeGgxSpecular, "lobe-ggx-specular"),
+        (Feature::LobeGgxFiltered, "lobe-ggx-filtered"),
         (Feature::Ggx, "ggx"),
         (Feature::GgxEnergyCompensation, "ggx-energy-compensation"),
         (Feature::AdBezier, "ad-bezier"),
@@ -90,6 +92,7 @@ impl Feature {
             Feature::Ad9Specular => &["ad9_specular"],
             Feature::Ad12Specular => &["ad12_specular"],
             Feature::LobeGgxSpecular => &["lobe_ggx_pixel", "lobe_ggx_lobe"],
+            Feature::LobeGgxFiltered => &["lobe_ggx_filtered_pixel", "lobe_ggx_filtered_lobe"],
             Feature::Ggx => &["ggx_d", "ggx_g1", "ggx_g2", "ggx_lambda", "schlick_weight"],
             Feature::GgxEnergyCompensation => &["ggx_energy_compensation"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],

@@ -5,7 +5,9 @@
 //! Kernel layout: binding 0 `inp: array<f32>` (read), binding 1 `outp: array<f32>`
 //! (write), optional binding 2 `lut: texture_2d<f32>` (an rg32float table), binding 3
 //! `uni` (a uniform struct), binding 4 `io` (a read-write array of structs) and binding 5
-//! `lobe_tab: texture_2d_array<f32>` (a lobe GGX table, see `wgsl/lobe_ggx.wgsl`). The body
+//! `lobe_tab: texture_2d_array<f32>` (a lobe GGX table, see `wgsl/lobe_ggx.wgsl`), bindings 6
+//! and 7 `lobe_tex3: texture_3d<f32>` and `lobe_smp: sampler` (the same table laid out for
+//! the texture unit's filter, with a linear clamp-to-edge sampler). The body
 //! sees the invocation index `i` (< `count`) and the helper `ld3(k)` (three floats of
 //! `inp` from k). Dispatch is 2D so counts above 65535 × 64 work.
 
@@ -50,6 +52,9 @@ pub struct Launch<'a> {
     /// Binding 5, `lobe_tab: texture_2d_array<f32>` (rg32float; x = ψ, y = γ, layer =
     /// n·v node × N_√α + √α node).
     pub lobe: Option<&'a sbf::recon::lobe_ggx::Table>,
+    /// Bindings 6 and 7, `lobe_tex3: texture_3d<f32>` (rg16float; x = √α node × N_ψ + ψ,
+    /// y = γ, z = n·v) and `lobe_smp: sampler` (linear, clamp to edge).
+    pub lobe_filtered: Option<&'a sbf::recon::lobe_ggx::Table>,
     /// Timed dispatches after the checked one.
     pub repeats: usize,
     /// The language the kernel runs in: WGSL (wgpu's own front end), or HLSL/GLSL (the
@@ -328,6 +333,9 @@ impl Gpu {
         if l.lobe.is_some() {
             bindings += "@group(0) @binding(5) var lobe_tab: texture_2d_array<f32>;\n";
         }
+        if l.lobe_filtered.is_some() {
+            bindings += "@group(0) @binding(6) var lobe_tex3: texture_3d<f32>;\n@group(0) @binding(7) var lobe_smp: sampler;\n";
+        }
         format!(
             "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{bindings}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\nfn sbf_body(i: u32) {{\n{body}\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>) {{\n    let i = gid.x + gid.y * {row}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n    sbf_body(i);\n}}\n"
         )
@@ -367,7 +375,7 @@ impl Gpu {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                sample_type: wgpu::TextureSampleType::Float { filterable: view_dimension == wgpu::TextureViewDimension::D3 },
                 view_dimension,
                 multisampled: false,
             },
@@ -390,6 +398,15 @@ impl Gpu {
         }
         if l.lobe.is_some() {
             entries.push(texture(5, wgpu::TextureViewDimension::D2Array));
+        }
+        if l.lobe_filtered.is_some() {
+            entries.push(texture(6, wgpu::TextureViewDimension::D3));
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 7,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            });
         }
         let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &entries });
         let layout =
@@ -480,6 +497,8 @@ impl Gpu {
             self.lobe_texture(t)
                 .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() })
         });
+        let filtered =
+            l.lobe_filtered.map(|t| (self.lobe_texture_filtered(t).create_view(&Default::default()), self.linear_clamp_sampler()));
         let unib = l.uniform.map(|(_, bytes)| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("uni"),
@@ -518,6 +537,10 @@ impl Gpu {
         }
         if let Some(v) = &lobe_view {
             entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(v) });
+        }
+        if let Some((v, s)) = &filtered {
+            entries.push(wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(v) });
+            entries.push(wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(s) });
         }
         let bg =
             d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipeline.get_bind_group_layout(0), entries: &entries });
@@ -585,6 +608,38 @@ impl Gpu {
         self.rg32_texture("lobe_tab", [g.psi as u32, g.gamma as u32, (g.theta_v * g.alpha) as u32], &t.values)
     }
 
+    /// A per-lobe GGX table as the `texture_3d<f32>` the library's `lobe_ggx_filtered_*`
+    /// functions sample: rg16float holding the table's values (committed as f16, so exact),
+    /// x = √α node × N_ψ + ψ node, y = γ node, z = n·v node.
+    pub fn lobe_texture_filtered(&self, t: &sbf::recon::lobe_ggx::Table) -> wgpu::Texture {
+        let (size, texels) = lobe_filtered_texels(t);
+        self.device.create_texture_with_data(
+            &self.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("lobe_tex3"),
+                size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: size[2] },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D3,
+                format: wgpu::TextureFormat::Rg16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&texels),
+        )
+    }
+
+    /// The sampler `lobe_ggx_filtered_lobe` expects: linear in every axis, clamp to edge, mip 0.
+    pub fn linear_clamp_sampler(&self) -> wgpu::Sampler {
+        self.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("lobe_smp"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        })
+    }
+
     /// An rg32float 2D texture (array: `size[2]` layers) holding `data` (two floats per
     /// texel, layer-major), for sampling by textureLoad.
     pub fn rg32_texture(&self, label: &str, size: [u32; 3], data: &[f32]) -> wgpu::Texture {
@@ -629,4 +684,25 @@ impl Gpu {
     pub fn wait(&self) -> Result<(), String> {
         self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| format!("device poll: {e}"))
     }
+}
+
+/// The texels of [`Gpu::lobe_texture_filtered`]: its size (x, y, z) and two f16 per texel,
+/// x fastest, as IEEE half bit patterns. The table's values are f16 as committed, so this
+/// is exact (`half` would round any other value to nearest).
+pub fn lobe_filtered_texels(t: &sbf::recon::lobe_ggx::Table) -> ([u32; 3], Vec<u16>) {
+    let g = t.grid;
+    let (np, ng, na, nv) = (g.psi, g.gamma, g.alpha, g.theta_v);
+    let mut out = Vec::with_capacity(2 * np * ng * na * nv);
+    for i in 0..nv {
+        for k in 0..ng {
+            for j in 0..na {
+                for l in 0..np {
+                    // The table's order: ψ fastest, then γ, √α, n·v.
+                    let at = 2 * (((i * na + j) * ng + k) * np + l);
+                    out.extend([half::f16::from_f32(t.values[at]).to_bits(), half::f16::from_f32(t.values[at + 1]).to_bits()]);
+                }
+            }
+        }
+    }
+    ([(na * np) as u32, ng as u32, nv as u32], out)
 }

@@ -55,6 +55,10 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
             if l.lobe.is_some() {
                 b += &format!("layout(set = 0, binding = {}) uniform texture2DArray lobe_tab;\n", slot());
             }
+            if l.lobe_filtered.is_some() {
+                b += &format!("layout(set = 0, binding = {}) uniform texture3D lobe_tex3;\n", slot());
+                b += &format!("layout(set = 0, binding = {}) uniform sampler lobe_smp;\n", slot());
+            }
             b += &format!(
                 "\n{helpers}layout(local_size_x = {wg}) in;\nvoid main() {{\n    uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * {row}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n    sbf_body(i);\n}}\n"
             );
@@ -75,6 +79,10 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
             }
             if l.lobe.is_some() {
                 b += &format!("[[vk::binding({}, 0)]] Texture2DArray<float4> lobe_tab;\n", slot());
+            }
+            if l.lobe_filtered.is_some() {
+                b += &format!("[[vk::binding({}, 0)]] Texture3D<float4> lobe_tex3;\n", slot());
+                b += &format!("[[vk::binding({}, 0)]] SamplerState lobe_smp;\n", slot());
             }
             b += &format!(
                 "\n{helpers}[numthreads({wg}, 1, 1)]\nvoid main(uint3 gid : SV_DispatchThreadID) {{\n    uint i = gid.x + gid.y * {row}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n    sbf_body(i);\n}}\n"

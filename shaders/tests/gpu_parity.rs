@@ -100,6 +100,7 @@ in_every_language!(
     sg_parity,
     ambient_dice_parity,
     lobe_ggx_parity,
+    lobe_ggx_filtered_parity,
     lut_parity,
     progressive_parity,
     ambient_dice_bezier_parity,
@@ -664,8 +665,59 @@ fn ambient_dice_parity(lang: Lang) {
 /// when n, v and the axis move by 1.2e-7 (four random directions) ×1e4 (= 1/BAR) is an
 /// allowed error, and values are measured against a floor of 1e-3 of the table's peak.
 fn lobe_ggx_parity(lang: Lang) {
+    lobe_table_parity(lang, false);
+}
+
+/// lobe_ggx_filtered_pixel + lobe_ggx_filtered_lobe (the same tables through the texture
+/// unit's trilinear filter, two fetches per lobe) against the same f64 lookup on the same
+/// cases. Error model: `lobe_ggx_parity`'s, plus the filter's (`filter_bound`).
+fn lobe_ggx_filtered_parity(lang: Lang) {
+    lobe_table_parity(lang, true);
+}
+
+/// The error a texture unit's trilinear filter of an f16 table may add to one lookup at
+/// (n·v, α, γ, ψ), per channel: its weights are fixed point with 8 sub-texel bits (Vulkan's
+/// `subTexelPrecisionBits` on NVIDIA, AMD, Intel and llvmpipe), and Vulkan does not say
+/// whether the fraction is rounded or truncated, so each filtered fraction (ψ, γ, n·v) is
+/// within 2⁻⁸ of the exact one, which moves the result by at most 2⁻⁸ × the largest
+/// difference of neighbouring nodes along that axis in the cell (the H200 measured up to
+/// 1.5× the rounding bound 2⁻⁹: it truncates); and the filtered
+/// value of an f16 texture may come back rounded to f16 (2⁻¹¹ of the cell's largest value,
+/// for each of the two fetches the shader blends).
+fn filter_bound(t: &sbf::recon::lobe_ggx::Table, n_dot_v: f64, alpha: f64, gamma: f64, psi: f64) -> [f64; 2] {
+    use sbf::recon::lobe_ggx::Grid;
+    let g = t.grid;
+    let sizes = g.sizes();
+    let locate = |x: f64, d: usize| {
+        let (lo, hi) = Grid::RANGES[d];
+        let u = ((x - lo) / (hi - lo)).clamp(0.0, 1.0) * (sizes[d] - 1) as f64;
+        (u.floor() as usize).min(sizes[d] - 2)
+    };
+    let base = [locate(n_dot_v, 0), locate(alpha.clamp(0.0, 1.0).sqrt(), 1), locate(gamma, 2), locate(psi, 3)];
+    let at = |k: [usize; 4], c: usize| t.values[2 * (((k[0] * g.alpha + k[1]) * g.gamma + k[2]) * g.psi + k[3]) + c] as f64;
+    let mut out = [0.0; 2];
+    for (c, o) in out.iter_mut().enumerate() {
+        let (mut spread, mut peak) = ([0.0f64; 4], 0.0f64);
+        for corner in 0..16 {
+            let k: [usize; 4] = std::array::from_fn(|d| base[d] + (corner >> d & 1));
+            peak = peak.max(at(k, c).abs());
+            for (d, s) in spread.iter_mut().enumerate() {
+                if k[d] == base[d] {
+                    let mut up = k;
+                    up[d] += 1;
+                    *s = s.max((at(up, c) - at(k, c)).abs());
+                }
+            }
+        }
+        // Axes 0, 2, 3 (n·v, γ, ψ) are filtered; √α (axis 1) is blended in f32.
+        *o = 2f64.powi(-8) * (spread[0] + spread[2] + spread[3]) + 2.0 * 2f64.powi(-11) * peak;
+    }
+    out
+}
+
+fn lobe_table_parity(lang: Lang, filtered: bool) {
     let Some(g) = gpu(lang) else { return };
-    let lib = library("lobe-ggx-specular");
+    let lib = library(if filtered { "lobe-ggx-filtered" } else { "lobe-ggx-specular" });
     for (table, seed) in [(sbf::luts::committed::lobe_ggx_sg6(), 31), (sbf::luts::committed::lobe_ggx_ad(), 32)] {
         let peak = table.values.iter().fold(0.0f32, |a, b| a.max(b.abs())) as f64;
         let mut r = Pcg32::new(seed, 9);
@@ -683,9 +735,22 @@ fn lobe_ggx_parity(lang: Lang) {
             inp.push(a);
             cases.push((n, v, axis, a));
         }
-        let body = "    let b = i * 10u;\n    let px = lobe_ggx_pixel(lobe_tab, ld3(b), ld3(b + 3u), inp[b + 9u]);\n    let e = lobe_ggx_lobe(lobe_tab, px, ld3(b + 6u));\n    outp[i * 2u] = e.x;\n    outp[i * 2u + 1u] = e.y;";
+        let body = if filtered {
+            "    let b = i * 10u;\n    let px = lobe_ggx_filtered_pixel(lobe_tex3, ld3(b), ld3(b + 3u), inp[b + 9u]);\n    let e = lobe_ggx_filtered_lobe(lobe_tex3, lobe_smp, px, ld3(b + 6u));\n    outp[i * 2u] = e.x;\n    outp[i * 2u + 1u] = e.y;"
+        } else {
+            "    let b = i * 10u;\n    let px = lobe_ggx_pixel(lobe_tab, ld3(b), ld3(b + 3u), inp[b + 9u]);\n    let e = lobe_ggx_lobe(lobe_tab, px, ld3(b + 6u));\n    outp[i * 2u] = e.x;\n    outp[i * 2u + 1u] = e.y;"
+        };
         let o = g
-            .launch(&Launch { library: &lib, body, input: &inp, out_per_item: 2, count, lobe: Some(table), ..Default::default() })
+            .launch(&Launch {
+                library: &lib,
+                body,
+                input: &inp,
+                out_per_item: 2,
+                count,
+                lobe: (!filtered).then_some(table),
+                lobe_filtered: filtered.then_some(table),
+                ..Default::default()
+            })
             .unwrap();
         let mut r2 = Pcg32::new(seed, 10);
         let f64_at = |n: sbf::glam::DVec3, v: sbf::glam::DVec3, p: sbf::glam::DVec3, a: f64| {
@@ -705,12 +770,91 @@ fn lobe_ggx_parity(lang: Lang) {
                     dmax[c] = dmax[c].max((w[c] - val[c]).abs());
                 }
             }
+            let filter = if filtered {
+                let (gm, ps) = sbf::recon::lobe_ggx::MirrorFrame::new(n, v).angles(p);
+                filter_bound(table, n.dot(v), a, gm, ps)
+            } else {
+                [0.0; 2]
+            };
             for c in 0..2 {
                 cpu.push(val[c]);
-                scale.push((1e-3 * peak).max(dmax[c] * 1e4));
+                scale.push((1e-3 * peak).max(dmax[c] * 1e4).max(filter[c] / BAR));
             }
         }
-        check(if seed == 31 { "lobe_ggx (sg6)" } else { "lobe_ggx (ad)" }, &o.out, &cpu, &scale);
+        let name = match (seed, filtered) {
+            (31, false) => "lobe_ggx (sg6)",
+            (_, false) => "lobe_ggx (ad)",
+            (31, true) => "lobe_ggx_filtered (sg6)",
+            (_, true) => "lobe_ggx_filtered (ad)",
+        };
+        check(name, &o.out, &cpu, &scale);
+    }
+}
+
+/// What the texture unit's filter does to the tables' error: at 1024 pseudo-random points
+/// uniform in (n·v, √α, γ, ψ) (as luts/MANIFEST measures the tables), the filtered lookup
+/// on the GPU and the exact multilinear lookup of the same f16 values (f64), each against
+/// direct quadrature (n = 64, `sbf::recon::lobe_ggx::response`). Printed; asserted: the
+/// filtered RMS is at most the lookup's plus the RMS of `filter_bound` (the triangle
+/// inequality under that error model) — a filter reaching into the next √α tile or reading
+/// the wrong node fails it by far more.
+#[test]
+fn lobe_ggx_filtered_keeps_the_tables_error() {
+    use sbf::recon::lobe_ggx::{axis, response, RadialLobe};
+    use std::f64::consts::PI;
+    let Some(g) = gpu(Lang::Wgsl) else { return };
+    let lib = library("lobe-ggx-filtered");
+    for (table, lobe, seed) in [
+        (sbf::luts::committed::lobe_ggx_sg6(), RadialLobe::Sg { sharpness: 6.0 }, 61),
+        (sbf::luts::committed::lobe_ggx_ad(), RadialLobe::AdSrbf, 62),
+    ] {
+        let mut r = Pcg32::new(seed, 3);
+        let pts: Vec<[f64; 4]> = (0..1024).map(|_| [r.next_2d(), r.next_2d()]).map(|[a, b]| [a[0], a[1], b[0], b[1]]).collect();
+        let mut inp = Vec::new();
+        for u in &pts {
+            let (nv, alpha, gamma, psi) = (u[0], u[1] * u[1], u[2] * PI, u[3] * PI);
+            let tv = nv.acos();
+            let v = sbf::glam::DVec3::new(tv.sin(), 0.0, nv);
+            for x in [sbf::glam::DVec3::Z, v, axis(tv, gamma, psi)] {
+                push3(&mut inp, x.as_vec3());
+            }
+            inp.push(alpha as f32);
+        }
+        let body = "    let b = i * 10u;\n    let px = lobe_ggx_filtered_pixel(lobe_tex3, ld3(b), ld3(b + 3u), inp[b + 9u]);\n    let e = lobe_ggx_filtered_lobe(lobe_tex3, lobe_smp, px, ld3(b + 6u));\n    outp[i * 2u] = e.x;\n    outp[i * 2u + 1u] = e.y;";
+        let o = g
+            .launch(&Launch {
+                library: &lib,
+                body,
+                input: &inp,
+                out_per_item: 2,
+                count: pts.len(),
+                lobe_filtered: Some(table),
+                ..Default::default()
+            })
+            .unwrap();
+        let (mut gpu_sq, mut cpu_sq, mut bound_sq, mut gpu_max, mut cpu_max) = (0.0, 0.0, 0.0, 0.0f64, 0.0f64);
+        for (k, u) in pts.iter().enumerate() {
+            let (nv, alpha, gamma, psi) = (u[0], u[1] * u[1], u[2] * PI, u[3] * PI);
+            let exact = response(lobe, nv, alpha, gamma, psi, 64);
+            let lookup = table.lobe(&table.pixel(nv, alpha), gamma, psi);
+            let bound = filter_bound(table, nv, alpha, gamma, psi);
+            for c in 0..2 {
+                let (eg, ec) = (o.out[2 * k + c] as f64 - exact[c], lookup[c] - exact[c]);
+                gpu_sq += eg * eg;
+                cpu_sq += ec * ec;
+                bound_sq += bound[c] * bound[c];
+                gpu_max = gpu_max.max(eg.abs());
+                cpu_max = cpu_max.max(ec.abs());
+            }
+        }
+        let m = 2.0 * pts.len() as f64;
+        let (gpu_rms, cpu_rms, bound_rms) = ((gpu_sq / m).sqrt(), (cpu_sq / m).sqrt(), (bound_sq / m).sqrt());
+        println!(
+            "{}: error against quadrature — filtered on {}: RMS {gpu_rms:.4e}, max {gpu_max:.4e}; exact lookup: RMS {cpu_rms:.4e}, max {cpu_max:.4e}; filter bound RMS {bound_rms:.4e}",
+            lobe.name(),
+            g.lease.adapter
+        );
+        assert!(gpu_rms <= cpu_rms + bound_rms, "{}: filtered RMS {gpu_rms:e} > lookup {cpu_rms:e} + bound {bound_rms:e}", lobe.name());
     }
 }
 

@@ -72,3 +72,61 @@ fn lobe_ggx_lobe(tab: texture_2d_array<f32>, px: LobeGgxPixel, axis: vec3<f32>) 
     }
     return e;
 }
+
+// ---- The same table through the texture unit's filter ----
+// A texture_3d, rg16float (the table's f16 values as committed, filterable on every WebGPU
+// device): x = √α node × N_ψ + ψ node, y = γ node, z = n·v node, sampled at mip 0 with a
+// linear, clamp-to-edge sampler. One fetch interpolates ψ, γ and n·v; the shader blends
+// the two √α tiles: 2 fetches per lobe instead of 16 loads, the same multilinear function.
+// A tile is read between its edge texels' centres, so the filter never reaches the next
+// tile. The filter's weights are fixed point (8 fractional bits on NVIDIA, AMD and Intel;
+// Vulkan's subTexelPrecisionBits): each 1D fraction moves by ≤ 2⁻⁹, i.e. by ≤ 2⁻⁹ × the
+// difference between neighbouring nodes along that axis. Per pixel
+// `lobe_ggx_filtered_pixel`, per lobe `lobe_ggx_filtered_lobe` → (R₀, R₁), as `lobe_ggx_lobe`.
+// CPU twin (the exact multilinear lookup): sbf::recon::runtime::lobe_ggx_specular.
+
+struct LobeGgxFilteredPixel {
+    r: vec3<f32>,
+    t: vec3<f32>,
+    // Texture coordinates: x of ψ = 0 in the two √α tiles, x per unit ψ/π, y of γ = 0, y
+    // per unit γ/π, z of this n·v.
+    x0: f32,
+    x1: f32,
+    sx: f32,
+    y0: f32,
+    sy: f32,
+    z: f32,
+    // Weight of the upper √α tile.
+    wa: f32,
+}
+
+fn lobe_ggx_filtered_pixel(tab: texture_3d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32) -> LobeGgxFilteredPixel {
+    let size = vec3<f32>(textureDimensions(tab));
+    let na = LOBE_GGX_SQRT_ALPHA_NODES;
+    let npsi = size.x / f32(na);
+    let b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), na);
+    let x0 = (b.x * npsi + 0.5) / size.x;
+    let z = (clamp(dot(n, v), 0.0, 1.0) * (size.z - 1.0) + 0.5) / size.z;
+    let r = 2.0 * dot(v, n) * n - v;
+    let t0 = n - dot(n, r) * r;
+    var t = vec3<f32>(0.0);
+    if (dot(t0, t0) > 1e-12) {
+        t = normalize(t0);
+    }
+    return LobeGgxFilteredPixel(r, t, x0, x0 + npsi / size.x, (npsi - 1.0) / size.x, 0.5 / size.y, (size.y - 1.0) / size.y, z, b.y);
+}
+
+// (R₀, R₁) of one unit lobe with axis `axis`.
+fn lobe_ggx_filtered_lobe(tab: texture_3d<f32>, smp: sampler, px: LobeGgxFilteredPixel, axis: vec3<f32>) -> vec2<f32> {
+    let rp = clamp(dot(px.r, axis), -1.0, 1.0);
+    let st2 = max(1.0 - rp * rp, 0.0);
+    var psi = 0.0;
+    if (st2 > 1e-12 && dot(px.t, px.t) > 0.0) {
+        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
+    }
+    let xp = clamp(psi / PI, 0.0, 1.0) * px.sx;
+    let y = px.y0 + clamp(lobe_ggx_acos(rp) / PI, 0.0, 1.0) * px.sy;
+    let lo = textureSampleLevel(tab, smp, vec3<f32>(px.x0 + xp, y, px.z), 0.0).xy;
+    let hi = textureSampleLevel(tab, smp, vec3<f32>(px.x1 + xp, y, px.z), 0.0).xy;
+    return mix(lo, hi, px.wa);
+}

@@ -6,7 +6,7 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+// Not called here (they need state or data from the host): lobe_ggx_filtered_pixel (a parameter type the example does not build), lobe_ggx_filtered_lobe (a parameter type the example does not build), progressive_update (a pointer to state the caller keeps).
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D lut, texture2DArray lobe_table) {
     vec3 result = vec3(0.0);
     {

@@ -5,7 +5,7 @@
 // Use: after `#version 450`, `#include "this file"` (GL_GOOGLE_include_directive) or
 // paste it in. It enables GL_EXT_samplerless_texture_functions (texelFetch on texture2D);
 // OpenGL engines `#define texture2D sampler2D` and `#define texture2DArray sampler2DArray`
-// before it instead.
+// before it instead (the filtered lobe tables take a separate texture3D and sampler: Vulkan GLSL).
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.

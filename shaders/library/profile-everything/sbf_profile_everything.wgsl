@@ -215,6 +215,18 @@ fn lobe_ggx_lobe(tab: texture_2d_array<f32>, px: LobeGgxPixel, axis: vec3<f32>) 
     return e;
 }
 
+// ---- The same table through the texture unit's filter ----
+// A texture_3d, rg16float (the table's f16 values as committed, filterable on every WebGPU
+// device): x = √α node × N_ψ + ψ node, y = γ node, z = n·v node, sampled at mip 0 with a
+// linear, clamp-to-edge sampler. One fetch interpolates ψ, γ and n·v; the shader blends
+// the two √α tiles: 2 fetches per lobe instead of 16 loads, the same multilinear function.
+// A tile is read between its edge texels' centres, so the filter never reaches the next
+// tile. The filter's weights are fixed point (8 fractional bits on NVIDIA, AMD and Intel;
+// Vulkan's subTexelPrecisionBits): each 1D fraction moves by ≤ 2⁻⁹, i.e. by ≤ 2⁻⁹ × the
+// difference between neighbouring nodes along that axis. Per pixel
+// `lobe_ggx_filtered_pixel`, per lobe `lobe_ggx_filtered_lobe` → (R₀, R₁), as `lobe_ggx_lobe`.
+// CPU twin (the exact multilinear lookup): sbf::recon::runtime::lobe_ggx_specular.
+
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
 // Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
 // Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,

@@ -74,6 +74,15 @@ fn operands(e: &E) -> Vec<Handle<E>> {
             v.extend([image, coordinate]);
             v.extend(array_index.into_iter().chain(sample).chain(level));
         }
+        E::ImageSample { image, sampler, coordinate, array_index, offset, level, depth_ref, .. } => {
+            v.extend([image, sampler, coordinate]);
+            v.extend(array_index.into_iter().chain(offset).chain(depth_ref));
+            match level {
+                naga::SampleLevel::Exact(l) | naga::SampleLevel::Bias(l) => v.push(l),
+                naga::SampleLevel::Gradient { x, y } => v.extend([x, y]),
+                naga::SampleLevel::Auto | naga::SampleLevel::Zero => {}
+            }
+        }
         E::ImageQuery { image, query } => {
             v.push(image);
             if let naga::ImageQuery::Size { level: Some(l) } = query {
@@ -180,6 +189,7 @@ pub(super) fn hlsl_helper(name: &str) -> &'static str {
     match name {
         "size" => "uint2 sbf_texture_size(Texture2D<float4> t) {\n    uint w, h;\n    t.GetDimensions(w, h);\n    return uint2(w, h);\n}\n",
         "size_array" => "uint2 sbf_texture_size(Texture2DArray<float4> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return uint2(w, h);\n}\n",
+        "size_3d" => "uint3 sbf_texture_size(Texture3D<float4> t) {\n    uint w, h, d;\n    t.GetDimensions(w, h, d);\n    return uint3(w, h, d);\n}\n",
         _ => "uint sbf_texture_layers(Texture2DArray<float4> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return n;\n}\n",
     }
 }
@@ -917,10 +927,57 @@ impl<'c, 'a> W<'c, 'a> {
                 };
                 (t, ATOM)
             }
+            // Filtered sampling at an explicit mip level (the subset the library uses:
+            // no gather, offset, array layer or depth comparison).
+            E::ImageSample {
+                image,
+                sampler,
+                gather: None,
+                coordinate,
+                array_index: None,
+                offset: None,
+                level,
+                depth_ref: None,
+                clamp_to_edge: false,
+            } => {
+                let dim = match self.value_ty(image) {
+                    TypeInner::Image { dim, .. } => dim,
+                    _ => return Err("a sample from a non-texture".into()),
+                };
+                let lod = match level {
+                    naga::SampleLevel::Zero => "0.0".to_string(),
+                    naga::SampleLevel::Exact(l) => self.top(l)?,
+                    other => return Err(format!("texture sample at level {other:?}: only explicit levels are exported")),
+                };
+                let (t, smp, xyz) = (self.sub(image, ATOM)?, self.top(sampler)?, self.top(coordinate)?);
+                let t = match lang {
+                    Lang::Glsl => {
+                        let combined = match dim {
+                            naga::ImageDimension::D2 => "sampler2D",
+                            naga::ImageDimension::D3 => "sampler3D",
+                            other => return Err(format!("texture sample of a {other:?} texture is not in the exported subset")),
+                        };
+                        format!("textureLod({combined}({t}, {smp}), {xyz}, {lod})")
+                    }
+                    Lang::Hlsl => format!("{t}.SampleLevel({smp}, {xyz}, {lod})"),
+                    Lang::Msl => format!("{t}.sample({smp}, {xyz}, level({lod}))"),
+                    Lang::Wgsl => unreachable!(),
+                };
+                (t, ATOM)
+            }
             E::ImageQuery { image, query } => {
                 let arrayed = matches!(self.value_ty(image), TypeInner::Image { arrayed: true, .. });
+                let volume = matches!(self.value_ty(image), TypeInner::Image { dim: naga::ImageDimension::D3, .. });
                 let t = self.sub(image, ATOM)?;
                 let s = match (query, lang) {
+                    (naga::ImageQuery::Size { level: None }, Lang::Glsl) if volume => format!("uvec3(textureSize({t}, 0))"),
+                    (naga::ImageQuery::Size { level: None }, Lang::Hlsl) if volume => {
+                        c.helpers.borrow_mut().insert("size_3d");
+                        format!("sbf_texture_size({t})")
+                    }
+                    (naga::ImageQuery::Size { level: None }, Lang::Msl) if volume => {
+                        format!("uint3({t}.get_width(), {t}.get_height(), {t}.get_depth())")
+                    }
                     (naga::ImageQuery::Size { level: None }, Lang::Glsl) => format!("uvec2(textureSize({t}, 0).xy)"),
                     (naga::ImageQuery::Size { level: None }, Lang::Hlsl) => {
                         c.helpers.borrow_mut().insert(if arrayed { "size_array" } else { "size" });

@@ -96,6 +96,7 @@ impl<'a> Ctx<'a> {
                 self.m.types[h].name.clone().ok_or("an unnamed struct")?
             }
             TypeInner::Image { dim, arrayed, class } => syntax::image(self.lang, dim, arrayed, class)?.to_string(),
+            TypeInner::Sampler { comparison } => syntax::sampler(self.lang, comparison)?.to_string(),
             TypeInner::Pointer { base, .. } => self.type_name(base)?,
             ref other => return Err(format!("type {other:?} is not in the exported subset")),
         })
@@ -506,7 +507,7 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
     let lang = ctx.lang;
     let mut h = String::new();
     let (langname, include) = match lang {
-        Lang::Glsl => ("GLSL 4.50 (Vulkan GLSL; SPIR-V through glslang)", "after `#version 450`, `#include \"this file\"` (GL_GOOGLE_include_directive) or\n// paste it in. It enables GL_EXT_samplerless_texture_functions (texelFetch on texture2D);\n// OpenGL engines `#define texture2D sampler2D` and `#define texture2DArray sampler2DArray`\n// before it instead"),
+        Lang::Glsl => ("GLSL 4.50 (Vulkan GLSL; SPIR-V through glslang)", "after `#version 450`, `#include \"this file\"` (GL_GOOGLE_include_directive) or\n// paste it in. It enables GL_EXT_samplerless_texture_functions (texelFetch on texture2D);\n// OpenGL engines `#define texture2D sampler2D` and `#define texture2DArray sampler2DArray`\n// before it instead (the filtered lobe tables take a separate texture3D and sampler: Vulkan GLSL)"),
         Lang::Hlsl => ("HLSL (Shader Model 5+; DXC, FXC or glslang)", "`#include \"this file\"` in any stage"),
         Lang::Msl => ("Metal Shading Language 2.0+", "`#include \"this file\"`; it includes <metal_stdlib> and opens `namespace metal`"),
         Lang::Wgsl => unreachable!(),
@@ -530,13 +531,20 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
         }
         sigs.push(format!("//   {}", function::signature(ctx, fh)?));
         for a in &f.arguments {
-            if let TypeInner::Image { arrayed, .. } = ctx.m.types[a.ty].inner {
+            if let TypeInner::Image { arrayed, dim, .. } = ctx.m.types[a.ty].inner {
                 let an = a.name.clone().unwrap_or_default();
-                textures.push(format!(
-                    "//   {name}({an}): {}, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;\n//     bilinear by hand). {}",
-                    if arrayed { "2D array" } else { "2D" },
-                    texture_note(&name)
-                ));
+                textures.push(if dim == naga::ImageDimension::D3 {
+                    format!(
+                        "//   {name}({an}): 3D, rg16float, sampled at mip 0 through the sampler parameter\n//     (linear min/mag filter, clamp to edge). {}",
+                        texture_note(&name)
+                    )
+                } else {
+                    format!(
+                        "//   {name}({an}): {}, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;\n//     bilinear by hand). {}",
+                        if arrayed { "2D array" } else { "2D" },
+                        texture_note(&name)
+                    )
+                });
             }
         }
     }
@@ -566,6 +574,9 @@ fn texture_note(function: &str) -> &'static str {
         }
         "lobe_ggx_pixel" | "lobe_ggx_lobe" => {
             "The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,\n//     layer = n·v node × 12 + √α node)."
+        }
+        "lobe_ggx_filtered_pixel" | "lobe_ggx_filtered_lobe" => {
+            "The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node\n//     × 24 + ψ node, y = γ node, z = n·v node)."
         }
         _ => "See the function's comment.",
     }

@@ -68,8 +68,17 @@ pub fn matrix(lang: Lang, columns: VectorSize, rows: VectorSize) -> String {
 
 /// The name of a sampled float texture parameter type.
 pub fn image(lang: Lang, dim: ImageDimension, arrayed: bool, class: ImageClass) -> Result<&'static str, String> {
-    if dim != ImageDimension::D2 || !matches!(class, ImageClass::Sampled { kind: ScalarKind::Float, multi: false }) {
-        return Err(format!("texture {dim:?} {class:?}: only 2D float textures (and arrays) are exported"));
+    let volume = dim == ImageDimension::D3 && !arrayed;
+    if !(dim == ImageDimension::D2 || volume) || !matches!(class, ImageClass::Sampled { kind: ScalarKind::Float, multi: false }) {
+        return Err(format!("texture {dim:?} {class:?}: only 2D float textures (and arrays) and 3D float textures are exported"));
+    }
+    if volume {
+        return Ok(match lang {
+            Lang::Glsl => "texture3D",
+            Lang::Hlsl => "Texture3D<float4>",
+            Lang::Msl => "texture3d<float>",
+            Lang::Wgsl => "texture_3d<f32>",
+        });
     }
     Ok(match (lang, arrayed) {
         (Lang::Glsl, false) => "texture2D",
@@ -80,6 +89,19 @@ pub fn image(lang: Lang, dim: ImageDimension, arrayed: bool, class: ImageClass) 
         (Lang::Msl, true) => "texture2d_array<float>",
         (Lang::Wgsl, false) => "texture_2d<f32>",
         (Lang::Wgsl, true) => "texture_2d_array<f32>",
+    })
+}
+
+/// The name of a (non-comparison) sampler parameter type.
+pub fn sampler(lang: Lang, comparison: bool) -> Result<&'static str, String> {
+    if comparison {
+        return Err("comparison samplers are not exported".into());
+    }
+    Ok(match lang {
+        Lang::Glsl => "sampler",
+        Lang::Hlsl => "SamplerState",
+        Lang::Msl => "sampler",
+        Lang::Wgsl => "sampler",
     })
 }
 
