@@ -501,7 +501,7 @@ fn scenes_without_gloss_leave_specular_out() {
     );
     let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Tables]);
     assert!(
-        f.contains(&"lobe-ggx-specular")
+        f.contains(&"lobe-ggx-filtered")
             && !f.contains(&"ad9-specular")
             && l == ["dfg.sbflut", "lobe_ggx_ad.sbflut", "lobe_ggx_sg6.sbflut"],
         "{f:?} {l:?}"

@@ -73,10 +73,10 @@ pub fn specular_runtime(basis: &str, path: SpecularPath) -> (Option<&'static str
     match (basis, path) {
         ("sh1" | "sh2", _) => (Some("sh-specular"), Some("dfg")),
         ("sg9" | "sg12", SpecularPath::Fit) => (Some("sg-specular"), None),
-        ("sg9" | "sg12", SpecularPath::Tables) => (Some("lobe-ggx-specular"), Some("lobe-ggx-sg6")),
+        ("sg9" | "sg12", SpecularPath::Tables) => (Some("lobe-ggx-filtered"), Some("lobe-ggx-sg6")),
         ("ad9", SpecularPath::Fit) => (Some("ad9-specular"), Some("ad-specular-2d")),
         ("ad12", SpecularPath::Fit) => (Some("ad12-specular"), Some("ad-specular-2d")),
-        ("ad9" | "ad12", SpecularPath::Tables) => (Some("lobe-ggx-specular"), Some("lobe-ggx-ad")),
+        ("ad9" | "ad12", SpecularPath::Tables) => (Some("lobe-ggx-filtered"), Some("lobe-ggx-ad")),
         _ => (None, None),
     }
 }

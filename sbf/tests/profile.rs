@@ -66,10 +66,10 @@ fn bad_profiles_name_the_key() {
         (p.specular_features(), p.tables())
     };
     assert_eq!(tables("[\"fit\"]", "bases = [\"ad9\"]"), (vec!["ad9-specular"], vec!["fits", "fits-wgsl", "ad-specular-2d"]));
-    assert_eq!(tables("[\"tables\"]", "bases = [\"ad9\"]"), (vec!["lobe-ggx-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-ad"]));
+    assert_eq!(tables("[\"tables\"]", "bases = [\"ad9\"]"), (vec!["lobe-ggx-filtered"], vec!["fits", "fits-wgsl", "lobe-ggx-ad"]));
     assert_eq!(
         tables("[\"fit\", \"tables\"]", "bases = [\"sg9\", \"sh1\"]"),
-        (vec!["lobe-ggx-specular", "sg-specular", "sh-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
+        (vec!["lobe-ggx-filtered", "sg-specular", "sh-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
     );
     // Multiple scattering: "compensated" adds the energy-compensation feature and the DFG
     // table it reads; "single" is the default; an unknown value or one without GGX is refused.

@@ -106,9 +106,13 @@ fn wgsl_header(t: &Target) -> String {
 struct Uses {
     lut: bool,
     lobe_table: bool,
+    /// The filtered lobe table (`texture_3d<f32>`) and its sampler.
+    lobe_volume: bool,
+    sampler: bool,
 }
 
-/// `sbf_example(n, v, alpha, coefficients[, lut][, lobe_table]) -> vec3<f32>` in WGSL: one
+/// `sbf_example(n, v, alpha, coefficients[, lut][, lobe_table][, lobe_volume][, lobe_sampler])
+/// -> vec3<f32>` in WGSL: one
 /// block per public function whose arguments it can build, its result added to the colour.
 fn example_function(source: &str, roots: &[String]) -> Result<(String, Uses), String> {
     let (m, _) = export::validate(source)?;
@@ -146,6 +150,12 @@ fn example_function(source: &str, roots: &[String]) -> Result<(String, Uses), St
     }
     if uses.lobe_table {
         params += ", lobe_table: texture_2d_array<f32>";
+    }
+    if uses.lobe_volume {
+        params += ", lobe_volume: texture_3d<f32>";
+    }
+    if uses.sampler {
+        params += ", lobe_sampler: sampler";
     }
     let note = if skipped.is_empty() {
         String::new()
@@ -208,6 +218,14 @@ fn call(m: &naga::Module, fh: naga::Handle<naga::Function>, pre: &mut String, us
                 uses.lobe_table = true;
                 "lobe_table".into()
             }
+            TypeInner::Image { dim: ImageDimension::D3, arrayed: false, .. } => {
+                uses.lobe_volume = true;
+                "lobe_volume".into()
+            }
+            TypeInner::Sampler { comparison: false } => {
+                uses.sampler = true;
+                "lobe_sampler".into()
+            }
             TypeInner::Struct { .. } => {
                 let producer = m.functions.iter().find(|(g, gf)| *g != fh && gf.result.as_ref().is_some_and(|r| r.ty == a.ty));
                 match producer {
@@ -238,6 +256,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
     if uses.lobe_table {
         args += ", lobe_table";
     }
+    if uses.lobe_volume {
+        args += ", lobe_volume";
+    }
+    if uses.sampler {
+        args += ", lobe_sampler";
+    }
     let head = "// Example: a fragment shader that includes the library and shades with it. The inputs are\n// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).\n";
     Ok(match lang {
         Lang::Wgsl => {
@@ -249,6 +273,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
             }
             if uses.lobe_table {
                 s += "@group(0) @binding(2) var lobe_table: texture_2d_array<f32>;\n";
+            }
+            if uses.lobe_volume {
+                s += "@group(0) @binding(3) var lobe_volume: texture_3d<f32>;\n";
+            }
+            if uses.sampler {
+                s += "@group(0) @binding(4) var lobe_sampler: sampler;\n";
             }
             let a = args.replace("view_alpha", "inputs.view_alpha").replace("coefficients", "inputs.coefficients");
             s += &format!("\n@fragment\nfn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {{\n    return vec4<f32>(sbf_example({a}), 1.0);\n}}\n");
@@ -274,6 +304,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     if uses.lobe_table {
                         s += "layout(set = 0, binding = 2) uniform texture2DArray lobe_table;\n";
                     }
+                    if uses.lobe_volume {
+                        s += "layout(set = 0, binding = 3) uniform texture3D lobe_volume;\n";
+                    }
+                    if uses.sampler {
+                        s += "layout(set = 0, binding = 4) uniform sampler lobe_sampler;\n";
+                    }
                     s += &format!("layout(location = 0) in vec3 normal;\nlayout(location = 0) out vec4 color;\n\nvoid main() {{\n    color = vec4(sbf_example({args}), 1.0);\n}}\n");
                     s
                 }
@@ -285,6 +321,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     }
                     if uses.lobe_table {
                         s += "Texture2DArray<float4> lobe_table : register(t1);\n";
+                    }
+                    if uses.lobe_volume {
+                        s += "Texture3D<float4> lobe_volume : register(t2);\n";
+                    }
+                    if uses.sampler {
+                        s += "SamplerState lobe_sampler : register(s0);\n";
                     }
                     s += &format!(
                         "\nfloat4 main(float3 normal : NORMAL) : SV_Target {{\n    return float4(sbf_example({args}), 1.0);\n}}\n"
@@ -300,6 +342,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     }
                     if uses.lobe_table {
                         params += ", texture2d_array<float> lobe_table [[texture(1)]]";
+                    }
+                    if uses.lobe_volume {
+                        params += ", texture3d<float> lobe_volume [[texture(2)]]";
+                    }
+                    if uses.sampler {
+                        params += ", sampler lobe_sampler [[sampler(0)]]";
                     }
                     let a = args
                         .replace("normal)", "frag.normal)")

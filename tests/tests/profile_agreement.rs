@@ -52,6 +52,7 @@ fn exported_specular(wgsl: &str) -> BTreeSet<String> {
         ("ad9-specular", "ad9_specular"),
         ("ad12-specular", "ad12_specular"),
         ("lobe-ggx-specular", "lobe_ggx_lobe"),
+        ("lobe-ggx-filtered", "lobe_ggx_filtered_lobe"),
     ]
     .iter()
     .filter(|(_, f)| wgsl.contains(&format!("fn {f}(")))
@@ -98,7 +99,7 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
             }
         }
         if paths.contains("tables") && (has("sg") || has("ad")) {
-            want_features.insert("lobe-ggx-specular".to_string());
+            want_features.insert("lobe-ggx-filtered".to_string());
             if has("sg") {
                 want_tables.insert("lobe-ggx-sg6".into());
             }
@@ -161,7 +162,8 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
         let strings =
             |v: &serde_json::Value| -> BTreeSet<String> { v.as_array().unwrap().iter().map(|x| x.as_str().unwrap().to_string()).collect() };
         let rt = &bake["runtime"];
-        let baked_spec: BTreeSet<String> = strings(&rt["features"]).into_iter().filter(|f| f.contains("specular")).collect();
+        let baked_spec: BTreeSet<String> =
+            strings(&rt["features"]).into_iter().filter(|f| f.contains("specular") || f.starts_with("lobe-ggx")).collect();
         // The bake ships the lightmap's runtime (its probes run with no probes here): SH's
         // specular and its dfg table only where a lightmap basis is SH.
         let lm_sh = p.specular && p.lightmap_bases.iter().any(|b| b.starts_with("sh"));

@@ -1,7 +1,7 @@
 //! What the render pipelines bind, shared by all of them: the bind group layout (frame
-//! uniform, materials, lightmap array, 2D table, lobe table, probes, DFG table, the
-//! lightmap's sampler — the bindings of `wgsl/render.wgsl`) and the probe grid as the
-//! shader's rows.
+//! uniform, materials, lightmap array, 2D table, lobe table (3D, filtered), probes, DFG
+//! table, the lightmap's sampler, the lobe table's sampler — the bindings of
+//! `wgsl/render.wgsl`) and the probe grid as the shader's rows.
 
 use super::lighting::LightmapFilter;
 use super::probes::ProbeField;
@@ -10,7 +10,8 @@ use super::probes::ProbeField;
 pub(super) type Lattice = ([u32; 4], [f32; 4], [f32; 4]);
 
 /// The bind group layout every render pipeline shares (frame, materials, lightmap, table,
-/// lobe table, probes, DFG, lightmap sampler) and the pipeline layout around it;
+/// lobe table, probes, DFG, lightmap sampler, lobe table sampler) and the pipeline layout
+/// around it;
 /// `filtering`: the lightmap is read through a filtering sampler (else a non-filtering
 /// one the shader never samples with).
 pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
@@ -18,7 +19,8 @@ pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayo
         binding,
         visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
         ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: filtering && binding == 2 },
+            // The lightmap when it is sampled; the lobe table (3D), always.
+            sample_type: wgpu::TextureSampleType::Float { filterable: (filtering && binding == 2) || binding == 4 },
             view_dimension: dim,
             multisampled: false,
         },
@@ -37,7 +39,7 @@ pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayo
             buffer(1, wgpu::BufferBindingType::Storage { read_only: true }),
             texture(2, wgpu::TextureViewDimension::D2Array),
             texture(3, wgpu::TextureViewDimension::D2),
-            texture(4, wgpu::TextureViewDimension::D2Array),
+            texture(4, wgpu::TextureViewDimension::D3),
             buffer(5, wgpu::BufferBindingType::Storage { read_only: true }),
             texture(6, wgpu::TextureViewDimension::D2),
             wgpu::BindGroupLayoutEntry {
@@ -48,6 +50,12 @@ pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayo
                 } else {
                     wgpu::SamplerBindingType::NonFiltering
                 }),
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 8,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                 count: None,
             },
         ],

@@ -26,7 +26,7 @@ const RENDER_WGSL: &str = include_str!("wgsl/render.wgsl");
 
 /// The `shaders` features the render shader calls: the B-spline lightmap filter, every
 /// basis's irradiance and both specular paths (the pipeline constants select one; the rest is folded away).
-const FEATURES: &str = "lightmap-bicubic,sh-l1-irradiance,sh-l2-irradiance,sh-specular,sg-irradiance,sg-specular,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular,lobe-ggx-specular";
+const FEATURES: &str = "lightmap-bicubic,sh-l1-irradiance,sh-l2-irradiance,sh-specular,sg-irradiance,sg-specular,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular,lobe-ggx-filtered";
 
 /// The full render module: the composed runtime library, then `render.wgsl`; validated.
 pub fn module_source() -> Result<String, String> {
@@ -108,6 +108,8 @@ pub struct Renderer<'g> {
     dfg: wgpu::Texture,
     filter: LightmapFilter,
     sampler: wgpu::Sampler,
+    /// The per-lobe GGX tables' trilinear sampler.
+    lobe_sampler: wgpu::Sampler,
 }
 
 impl<'g> Renderer<'g> {
@@ -191,6 +193,7 @@ impl<'g> Renderer<'g> {
             dfg,
             filter: LightmapFilter::Exact,
             sampler: lightmap_sampler(d, LightmapFilter::Exact),
+            lobe_sampler: gpu.linear_clamp_sampler(),
         })
     }
 
@@ -277,18 +280,27 @@ impl<'g> Renderer<'g> {
         };
         let lobe = match l.encoding {
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if l.specular == SpecularPath::Tables => {
-                self.gpu.lobe_texture(sbf::luts::committed::lobe_ggx_sg6())
+                self.gpu.lobe_texture_filtered(sbf::luts::committed::lobe_ggx_sg6())
             }
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if l.specular == SpecularPath::Tables => {
-                self.gpu.lobe_texture(sbf::luts::committed::lobe_ggx_ad())
+                self.gpu.lobe_texture_filtered(sbf::luts::committed::lobe_ggx_ad())
             }
-            _ => self.gpu.rg32_texture("no lobe table", [1, 1, 2], &[0.0; 4]),
+            _ => d.create_texture(&wgpu::TextureDescriptor {
+                label: Some("no lobe table"),
+                size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D3,
+                format: wgpu::TextureFormat::Rg16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            }),
         };
         let array = wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() };
         let views = [
             lightmap.create_view(&array),
             lut.create_view(&Default::default()),
-            lobe.create_view(&array),
+            lobe.create_view(&Default::default()),
             self.dfg.create_view(&Default::default()),
         ];
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -303,6 +315,7 @@ impl<'g> Renderer<'g> {
                 wgpu::BindGroupEntry { binding: 5, resource: self.probes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&views[3]) },
                 wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::Sampler(&self.lobe_sampler) },
             ],
         });
         Ok((group, frame_buf))

@@ -6,8 +6,8 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-// Not called here (they need state or data from the host): lobe_ggx_filtered_pixel (a parameter type the example does not build), lobe_ggx_filtered_lobe (a parameter type the example does not build), progressive_update (a pointer to state the caller keeps).
-vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D lut, texture2DArray lobe_table) {
+// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D lut, texture2DArray lobe_table, texture3D lobe_volume, sampler lobe_sampler) {
     vec3 result = vec3(0.0);
     {
         float r[4] = sh_eval_l1(n);
@@ -163,6 +163,14 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
     {
         LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
         vec2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += vec3(r, 0.0);
+    }
+    {
+        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+    }
+    {
+        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        vec2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += vec3(r, 0.0);
     }
     {
@@ -323,9 +331,11 @@ layout(std140, set = 0, binding = 0) uniform Inputs {
 };
 layout(set = 0, binding = 1) uniform texture2D lut;
 layout(set = 0, binding = 2) uniform texture2DArray lobe_table;
+layout(set = 0, binding = 3) uniform texture3D lobe_volume;
+layout(set = 0, binding = 4) uniform sampler lobe_sampler;
 layout(location = 0) in vec3 normal;
 layout(location = 0) out vec4 color;
 
 void main() {
-    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_table), 1.0);
+    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_table, lobe_volume, lobe_sampler), 1.0);
 }

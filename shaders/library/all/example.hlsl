@@ -4,8 +4,8 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-// Not called here (they need state or data from the host): lobe_ggx_filtered_pixel (a parameter type the example does not build), lobe_ggx_filtered_lobe (a parameter type the example does not build), progressive_update (a pointer to state the caller keeps).
-float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut, Texture2DArray<float4> lobe_table) {
+// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut, Texture2DArray<float4> lobe_table, Texture3D<float4> lobe_volume, SamplerState lobe_sampler) {
     float3 result = ((float3)0.0);
     {
         float r[4] = sh_eval_l1(n);
@@ -161,6 +161,14 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
     {
         LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
         float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += float3(r, 0.0);
+    }
+    {
+        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+    }
+    {
+        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        float2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += float3(r, 0.0);
     }
     {
@@ -321,7 +329,9 @@ cbuffer Inputs : register(b0) {
 };
 Texture2D<float4> lut : register(t0);
 Texture2DArray<float4> lobe_table : register(t1);
+Texture3D<float4> lobe_volume : register(t2);
+SamplerState lobe_sampler : register(s0);
 
 float4 main(float3 normal : NORMAL) : SV_Target {
-    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_table), 1.0);
+    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_table, lobe_volume, lobe_sampler), 1.0);
 }

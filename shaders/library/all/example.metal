@@ -4,8 +4,8 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-// Not called here (they need state or data from the host): lobe_ggx_filtered_pixel (a parameter type the example does not build), lobe_ggx_filtered_lobe (a parameter type the example does not build), progressive_update (a pointer to state the caller keeps).
-inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut, texture2d_array<float> lobe_table) {
+// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut, texture2d_array<float> lobe_table, texture3d<float> lobe_volume, sampler lobe_sampler) {
     float3 result = float3(0.0f);
     {
         array<float, 4> r = sh_eval_l1(n);
@@ -161,6 +161,14 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
     {
         LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
         float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += float3(r, 0.0f);
+    }
+    {
+        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+    }
+    {
+        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        float2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += float3(r, 0.0f);
     }
     {
@@ -324,6 +332,6 @@ struct FragmentIn {
     float3 normal [[user(locn0)]];
 };
 
-fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]], texture2d<float> lut [[texture(0)]], texture2d_array<float> lobe_table [[texture(1)]]) {
-    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table), 1.0f);
+fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]], texture2d<float> lut [[texture(0)]], texture2d_array<float> lobe_table [[texture(1)]], texture3d<float> lobe_volume [[texture(2)]], sampler lobe_sampler [[sampler(0)]]) {
+    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table, lobe_volume, lobe_sampler), 1.0f);
 }

@@ -4,8 +4,8 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-// Not called here (they need state or data from the host): lobe_ggx_filtered_pixel (a parameter type the example does not build), lobe_ggx_filtered_lobe (a parameter type the example does not build), progressive_update (a pointer to state the caller keeps).
-fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>, lobe_table: texture_2d_array<f32>) -> vec3<f32> {
+// Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
+fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>, lobe_table: texture_2d_array<f32>, lobe_volume: texture_3d<f32>, lobe_sampler: sampler) -> vec3<f32> {
     var result = vec3<f32>(0.0);
     {
         // sh_eval_l1
@@ -186,6 +186,16 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         // lobe_ggx_lobe
         let lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
         let r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        result += vec3<f32>(r, 0.0);
+    }
+    {
+        // lobe_ggx_filtered_pixel
+        let r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+    }
+    {
+        // lobe_ggx_filtered_lobe
+        let lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        let r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += vec3<f32>(r, 0.0);
     }
     {
@@ -381,8 +391,10 @@ struct Inputs {
 @group(0) @binding(0) var<uniform> inputs: Inputs;
 @group(0) @binding(1) var lut: texture_2d<f32>;
 @group(0) @binding(2) var lobe_table: texture_2d_array<f32>;
+@group(0) @binding(3) var lobe_volume: texture_3d<f32>;
+@group(0) @binding(4) var lobe_sampler: sampler;
 
 @fragment
 fn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table), 1.0);
+    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table, lobe_volume, lobe_sampler), 1.0);
 }

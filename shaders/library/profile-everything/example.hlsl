@@ -4,7 +4,7 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut, Texture2DArray<float4> lobe_table) {
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut, Texture3D<float4> lobe_volume, SamplerState lobe_sampler) {
     float3 result = ((float3)0.0);
     {
         float3 sh_l1_irradiance_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
@@ -83,11 +83,11 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += r;
     }
     {
-        LobeGgxPixel r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
-        LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
-        float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        float2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += float3(r, 0.0);
     }
     {
@@ -102,8 +102,9 @@ cbuffer Inputs : register(b0) {
     float4 view_alpha;
 };
 Texture2D<float4> lut : register(t0);
-Texture2DArray<float4> lobe_table : register(t1);
+Texture3D<float4> lobe_volume : register(t2);
+SamplerState lobe_sampler : register(s0);
 
 float4 main(float3 normal : NORMAL) : SV_Target {
-    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_table), 1.0);
+    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_volume, lobe_sampler), 1.0);
 }

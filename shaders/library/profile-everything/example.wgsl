@@ -4,7 +4,7 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>, lobe_table: texture_2d_array<f32>) -> vec3<f32> {
+fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>, lobe_volume: texture_3d<f32>, lobe_sampler: sampler) -> vec3<f32> {
     var result = vec3<f32>(0.0);
     {
         // sh_l1_irradiance
@@ -94,13 +94,13 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += r;
     }
     {
-        // lobe_ggx_pixel
-        let r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        // lobe_ggx_filtered_pixel
+        let r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
-        // lobe_ggx_lobe
-        let lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
-        let r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        // lobe_ggx_filtered_lobe
+        let lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        let r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += vec3<f32>(r, 0.0);
     }
     {
@@ -118,9 +118,10 @@ struct Inputs {
 
 @group(0) @binding(0) var<uniform> inputs: Inputs;
 @group(0) @binding(1) var lut: texture_2d<f32>;
-@group(0) @binding(2) var lobe_table: texture_2d_array<f32>;
+@group(0) @binding(3) var lobe_volume: texture_3d<f32>;
+@group(0) @binding(4) var lobe_sampler: sampler;
 
 @fragment
 fn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_table), 1.0);
+    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut, lobe_volume, lobe_sampler), 1.0);
 }

@@ -12,7 +12,8 @@
 
 // 0: plain E/π (diffuse only), 1: SH L1, 2: SH L2, 3: SG, 4: AD 9, 5: AD 12.
 override ENCODING: u32 = 0u;
-// Specular through the per-lobe tables (lobe_ggx) instead of the fits.
+// Specular through the per-lobe tables (lobe_ggx_filtered: the texture unit interpolates
+// three of their four axes) instead of the fits.
 override TABLES: bool = false;
 // Lobes per texel (1 for the plain E/π; the lightmap texture may hold a padding layer).
 override LOBES: u32 = 1u;
@@ -52,12 +53,14 @@ struct MaterialGpu {
 @group(0) @binding(1) var<storage, read> materials: array<MaterialGpu>;
 @group(0) @binding(2) var lightmap: texture_2d_array<f32>;
 @group(0) @binding(3) var lut: texture_2d<f32>;
-@group(0) @binding(4) var lobe_tab: texture_2d_array<f32>;
+@group(0) @binding(4) var lobe_tab: texture_3d<f32>;
 // SH L2 probes (world frame), 9 RGB rows per probe, x fastest; row 0's w: 1 valid, 0 inside geometry.
 @group(0) @binding(5) var<storage, read> probes: array<vec4<f32>>;
 @group(0) @binding(6) var dfg: texture_2d<f32>;
 // Bilinear, clamped to the edge (HW_FILTER only).
 @group(0) @binding(7) var lightmap_sampler: sampler;
+// Trilinear, clamped to the edge: the lobe table's.
+@group(0) @binding(8) var lobe_sampler: sampler;
 
 // The material index's high bits: the surface has a lightmap, or is a dynamic object
 // shaded from the probes.
@@ -191,10 +194,10 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
     var warp_b: SgAsgWarp;
     var fit: AdSpecularFit;
     var scale = vec3<f32>(0.0);
-    var px: LobeGgxPixel;
+    var px: LobeGgxFilteredPixel;
     if (g.on) {
         if (TABLES) {
-            px = lobe_ggx_pixel(lobe_tab, n, vt, g.alpha);
+            px = lobe_ggx_filtered_pixel(lobe_tab, n, vt, g.alpha);
         } else if (sg) {
             warp_a = sg_asg_warp(n, vt, g.alpha, f0a, f90a);
             warp_b = sg_asg_warp(n, vt, g.alpha, 0.0, 1.0);
@@ -219,7 +222,7 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
         if (g.on) {
             var w: vec3<f32>;
             if (TABLES) {
-                let r = lobe_ggx_lobe(lobe_tab, px, axis);
+                let r = lobe_ggx_filtered_lobe(lobe_tab, lobe_sampler, px, axis);
                 w = select(g.f0 * r.x + vec3<f32>(r.y), vec3<f32>(g.f0.x * r.x + r.y), g.grey);
             } else if (sg) {
                 let a = sg_asg_lobe(warp_a, axis, lambda);
