@@ -5,7 +5,7 @@
 //! GPU part on any adapter (lavapipe in CI); `SBF_REQUIRE_GPU=1` makes a missing one fail.
 
 mod common;
-use baker::slc::{render, GBuffer, Mode, Render, Vpl};
+use baker::slc::{render, Filter, GBuffer, Mode, Render, Vpl};
 use common::gpu;
 use sbf::glam::Vec3;
 use sbf::sampling::{uniform_hemisphere, Pcg32};
@@ -304,15 +304,30 @@ fn plane(w: usize, h: usize, t: f32, z: f32, albedo: impl Fn(usize, usize) -> f3
     GBuffer { width: w, height: h, tan_xy: (t, t), texels }
 }
 
-/// The filter recombines the interleaving subsets exactly: on a plane whose subregion s
+/// Both filters recombine the interleaving subsets exactly: on a plane whose subregion s
 /// carries the irradiance I²·c_s (any c_s) under a checkerboard albedo, every pixel whose
-/// I × I window lies inside the image returns albedo·Σ c_s/π — the full set's value — to
-/// f32 rounding (64 terms: 1e-5 relative); pixels of different surfaces are not mixed: on
-/// the floor/wall G-buffer and on two parallel planes 3 apart (a depth step), an image that
-/// is a constant irradiance per surface comes back unchanged (1e-6 relative).
+/// window (I × I for the box, (2R + 1)² for the bilateral filter) lies inside the image
+/// returns albedo·Σ c_s/π — the full set's value — to f32 rounding (one ε per term summed:
+/// 64 or 289 terms); pixels of different surfaces are not mixed: on the floor/wall G-buffer
+/// and on two parallel planes 3 apart (a depth step), an image that is a constant
+/// irradiance per surface comes back unchanged (1e-6 relative).
 #[test]
 fn filter_recombines_subsets_and_keeps_surfaces_apart() {
+    for f in [Filter::Box, Filter::SEED] {
+        filter_recombines(f);
+    }
+}
+
+fn filter_recombines(f: Filter) {
     let il = 8usize;
+    let reach = match f {
+        Filter::Box => il / 2,
+        Filter::Bilateral { radius } => radius,
+    };
+    let terms = match f {
+        Filter::Box => il * il,
+        Filter::Bilateral { radius } => (2 * radius + 1).pow(2),
+    };
     let mut r = Pcg32::new(9, 9);
     let c: Vec<f32> = (0..il * il).map(|_| r.next_f64() as f32).collect();
     let total: f32 = c.iter().sum();
@@ -324,13 +339,13 @@ fn filter_recombines_subsets_and_keeps_surfaces_apart() {
             (il * il) as f32 * c[(x % il) + il * (y % il)] * g.texels[k].unwrap().2 / pi
         })
         .collect();
-    let f = baker::slc::filter(&g, &img, il);
+    let out = baker::slc::filter(&g, &img, il, f);
     let mut checked = 0;
-    for y in il / 2..g.height - il / 2 {
-        for x in il / 2..g.width - il / 2 {
+    for y in reach..g.height - reach {
+        for x in reach..g.width - reach {
             let k = y * g.width + x;
             let want = g.texels[k].unwrap().2 * total / pi;
-            assert!((f[k] - want).abs() <= 1e-5 * want, "pixel ({x}, {y}): {} vs {want}", f[k]);
+            assert!((out[k] - want).abs() <= terms as f32 * f32::EPSILON * want, "{f:?} pixel ({x}, {y}): {} vs {want}", out[k]);
             checked += 1;
         }
     }
@@ -354,9 +369,9 @@ fn filter_recombines_subsets_and_keeps_surfaces_apart() {
             }
         };
         let img: Vec<f32> = gb.texels.iter().map(|t| t.map_or(0.0, |(x, n, a)| e(x, n) * a / pi)).collect();
-        let f = baker::slc::filter(&gb, &img, il);
+        let out = baker::slc::filter(&gb, &img, il, f);
         for (k, t) in gb.texels.iter().enumerate() {
-            assert!((f[k] - img[k]).abs() <= 1e-6 * img[k].abs(), "pixel {k} ({t:?}): {} vs {}", f[k], img[k]);
+            assert!((out[k] - img[k]).abs() <= 1e-6 * img[k].abs(), "{f:?} pixel {k} ({t:?}): {} vs {}", out[k], img[k]);
         }
     }
 }
@@ -367,11 +382,22 @@ fn filter_recombines_subsets_and_keeps_surfaces_apart() {
 /// and each light's f_j(y) ≤ f_j(x)·e^{G_j·|y − x|} with G_j = 1/(d·cos_l) + 4/d the
 /// bound on |∇ ln f_j| along the plane (the receiver cosine is constant on it), so
 /// |filtered − E| ≤ Σ_j f_j(x)·(e^{G_j·h} − 1), h the window's largest pixel offset in
-/// world units (√2·I/2 pixels). Interior pixels (full windows) only; the unfiltered
-/// interleaved image's error is reported next to it.
+/// world units (√2·I/2 pixels for the box, √2·R for the bilateral filter) — for any
+/// non-negative weights that give every subregion the same total. Interior pixels (full
+/// windows) only; the unfiltered interleaved image's error is reported next to it.
 #[test]
 fn filter_error_is_within_the_lipschitz_bound() {
+    for f in [Filter::Box, Filter::SEED] {
+        filter_error_bound(f);
+    }
+}
+
+fn filter_error_bound(f: Filter) {
     let il = 8usize;
+    let reach = match f {
+        Filter::Box => il / 2,
+        Filter::Bilateral { radius } => radius,
+    };
     let g = plane(160, 160, 0.6, -6.0, |_, _| 0.5);
     let mut r = Pcg32::new(21, 2);
     let vpls: Vec<Vpl> = (0..256)
@@ -387,12 +413,12 @@ fn filter_error_is_within_the_lipschitz_bound() {
         })
         .collect();
     let full = render(&g, &vpls, DELTA, Mode::BruteForce, 1);
-    let inter = render(&g, &vpls, DELTA, Mode::BruteForce, il);
+    let inter = baker::slc::render_filtered(&g, &vpls, DELTA, Mode::BruteForce, il, baker::slc::Bound::Tight, f);
     let pix = 2.0 * 0.6 * 6.0 / 160.0;
-    let h = std::f32::consts::SQRT_2 * (il / 2) as f32 * pix;
+    let h = std::f32::consts::SQRT_2 * reach as f32 * pix;
     let (mut worst, mut rms_f, mut rms_u, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
-    for y in il / 2..g.height - il / 2 {
-        for x in il / 2..g.width - il / 2 {
+    for y in reach..g.height - reach {
+        for x in reach..g.width - reach {
             let k = y * g.width + x;
             let (p, nrm, a) = g.texels[k].unwrap();
             let bound: f64 = vpls
@@ -416,11 +442,11 @@ fn filter_error_is_within_the_lipschitz_bound() {
         }
     }
     println!(
-        "filter: relative RMS error {:.2e} filtered vs {:.2e} unfiltered (interleave {il}); worst error / bound {worst:.3}",
+        "filter {f:?}: relative RMS error {:.2e} filtered vs {:.2e} unfiltered (interleave {il}); worst error / bound {worst:.3}",
         (rms_f / n as f64).sqrt(),
         (rms_u / n as f64).sqrt()
     );
-    assert!(worst <= 1.0, "the filtered image leaves the Lipschitz bound ({worst})");
+    assert!(worst <= 1.0, "{f:?}: the filtered image leaves the Lipschitz bound ({worst})");
 }
 
 /// The radiance model against closed forms written here (not the renderer's functions):

@@ -6,6 +6,7 @@
 use baker::slc::harness::{self, SlcOptions};
 use baker::slc::media::Medium;
 use baker::slc::Bound;
+use baker::slc::Filter;
 use clap::Parser;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -38,8 +39,8 @@ struct Cli {
     /// intensity falls to δ·ξ of its peak (smaller: longer ranges, less noise, more work).
     #[arg(long, default_value_t = 1e-3)]
     delta: f32,
-    /// Also render the brute-force reference (every VPL at every pixel) and report the
-    /// culled image's difference from it.
+    /// Also render the brute-force reference (every VPL at every pixel, no interleaving, no
+    /// filter) and report the culled image's error against it, before and after the filter.
     #[arg(long)]
     brute: bool,
     /// Also cull with each glossy bound (tight, sphere, th16) and report their false
@@ -52,9 +53,18 @@ struct Cli {
     #[arg(long)]
     medium: Option<String>,
     /// Interleaved sampling: I × I pixel subregions each shade 1/I² of the VPLs, then a
-    /// cross-bilateral filter joins them (1: off). Unbiased in expectation over VPL sets.
+    /// filter joins them (1: off). Unbiased in expectation over VPL sets.
     #[arg(long, default_value_t = 8)]
     interleave: usize,
+    /// The filter joining the subregions: bilateral (the seeds' cross-bilateral filter:
+    /// depth and normal weights, radius --filter-radius) or box (one interleaving period,
+    /// box weights, hard surface tests).
+    #[arg(long, default_value = "bilateral")]
+    filter: String,
+    /// Kernel radius of the bilateral filter in pixels (the seeds': 8); at least half the
+    /// interleaving period.
+    #[arg(long, default_value_t = 8)]
+    filter_radius: usize,
     /// Bound of glossy VPLs: tight (the GGX lobe's spheroid), sphere (its enclosing
     /// sphere) or th16 (a sphere of radius r/α at the VPL), the last two for comparison.
     #[arg(long, default_value = "tight")]
@@ -110,6 +120,15 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
     if !["both", "diffuse", "glossy"].contains(&c.kind.as_str()) {
         return Err(format!("--kind takes both, diffuse or glossy, not {}", c.kind));
     }
+    let filter = match c.filter.as_str() {
+        "box" => Filter::Box,
+        "bilateral" => Filter::Bilateral { radius: c.filter_radius },
+        f => return Err(format!("--filter takes bilateral or box, not {f}")),
+    };
+    if !(1..=64).contains(&c.filter_radius) {
+        return Err(format!("--filter-radius must be 1 to 64 pixels, not {}", c.filter_radius));
+    }
+    filter.check(c.interleave).map_err(|e| format!("--filter-radius: {e}"))?;
     if !["auto", "gpu", "cpu"].contains(&c.device.as_str()) {
         return Err(format!("unknown --device '{}' (auto, gpu or cpu)", c.device));
     }
@@ -125,6 +144,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         brute: c.brute,
         frames: 10,
         interleave: c.interleave,
+        filter,
         bound: Bound::parse(&c.bound).map_err(|e| format!("--bound: {e}"))?,
         kind: c.kind,
         glossy_alpha: c.glossy_alpha,

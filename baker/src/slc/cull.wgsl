@@ -9,8 +9,8 @@
 //                   ones to a shared list; every pixel then shades the list with the
 //                   stochastic falloff L/p where p > ξ; per kept light a shared flag says
 //                   whether any pixel accepted it (false positives for the FDR).
-//   slc_filter      one thread per pixel: the cross-bilateral filter over the interleaving
-//                   period (CPU twin baker::slc::filter).
+//   slc_filter      one thread per pixel: the filter joining the interleaving subregions
+//                   (CPU twin baker::slc::filter).
 // Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
 // INV_PI.
 
@@ -30,7 +30,9 @@ struct SlcParams {
     interleave: u32,
     // 0: each light's ξ as uploaded; otherwise drawn here from this seed (slc_gpu_xi).
     xi_seed: u32,
-    pad0: u32,
+    // The filter joining the subregions: 0 the box of one period, R the cross-bilateral
+    // filter of radius R (slc_filter).
+    filter_radius: u32,
     pad1: u32,
     pad2: u32,
 }
@@ -258,13 +260,26 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     }
 }
 
-// cos 25° (CPU twin: baker::slc::FILTER_COS).
+// cos 25° (CPU twin: baker::slc::filter::FILTER_COS).
 const SLC_FILTER_COS: f32 = 0.9063078;
 
-// The cross-bilateral filter for the interleaving noise, one thread per pixel (CPU twin:
-// baker::slc::filter): the irradiance (radiance / albedo) of the I × I window's valid
-// pixels on p's surface (normals within 25°, plane distance within the window's lateral
-// extent at p), averaged with box weights and re-modulated by p's albedo.
+// Spatial weight of offset d along one axis of the cross-bilateral filter (CPU twin:
+// baker::slc::filter::spatial_weight): the trapezoid box_I ∗ box_(2R+2−I) on −R..=R, equal
+// total weight for every residue mod I.
+fn slc_filter_spatial(d: i32, il: i32, r: i32) -> f32 {
+    let a = -(il / 2);
+    let a_end = a + il - 1;
+    let b = -r - a;
+    let b_end = b + (2 * r + 2 - il) - 1;
+    return f32(max(min(a_end, d - b) - max(a, d - b_end) + 1, 0));
+}
+
+// The filter joining the interleaving subregions, one thread per pixel (CPU twin:
+// baker::slc::filter): the irradiance (radiance / albedo) of p's neighbours on its surface,
+// averaged and re-modulated by p's albedo. SP.filter_radius 0: one period, box weights,
+// hard tests (normals within 25°, plane distance within the window's lateral extent at p);
+// R > 0: the seeds' cross-bilateral filter (002 §6–7) of radius R — the trapezoid spatial
+// weights × exp(−½(d/σ_d)²) on the plane distance d, σ_d = R/2 pixel footprints × (n_p·n_q)³².
 @compute @workgroup_size(8, 8)
 fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= SP.width || gid.y >= SP.height) {
@@ -282,12 +297,17 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
         filtered[k] = image[k].x;
         return;
     }
-    let lo = -(il / 2);
-    let tau = 2.0 * SP.tan_x / f32(SP.width) * f32(il) * length(a.xyz);
+    let r = i32(SP.filter_radius);
+    let bilateral = r > 0;
+    let lo = select(-(il / 2), -r, bilateral);
+    let hi = select(il - 1 - il / 2, r, bilateral);
+    let footprint = 2.0 * SP.tan_x / f32(SP.width) * length(a.xyz);
+    let sd = 0.5 * f32(r) * footprint;
     var sum = 0.0;
-    var count = 0u;
-    for (var dy = lo; dy < lo + il; dy++) {
-        for (var dx = lo; dx < lo + il; dx++) {
+    var total = 0.0;
+    for (var dy = lo; dy <= hi; dy++) {
+        let wy = select(1.0, slc_filter_spatial(dy, il, r), bilateral);
+        for (var dx = lo; dx <= hi; dx++) {
             let qx = i32(gid.x) + dx;
             let qy = i32(gid.y) + dy;
             if (qx < 0 || qy < 0 || qx >= i32(SP.width) || qy >= i32(SP.height)) {
@@ -296,12 +316,23 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
             let q = u32(qy) * SP.width + u32(qx);
             let qa = gbuffer[2u * q];
             let qb = gbuffer[2u * q + 1u];
-            if (qa.w < 0.5 || dot(b.xyz, qb.xyz) < SLC_FILTER_COS || abs(dot(b.xyz, qa.xyz - a.xyz)) > tau || qb.w <= 0.0) {
+            if (qa.w < 0.5 || qb.w <= 0.0) {
                 continue;
             }
-            sum += image[q].x / qb.w;
-            count += 1u;
+            let c = dot(b.xyz, qb.xyz);
+            let plane = abs(dot(b.xyz, qa.xyz - a.xyz));
+            var w = 1.0;
+            if (bilateral) {
+                let c2 = max(c, 0.0) * max(c, 0.0);
+                let c8 = c2 * c2 * c2 * c2;
+                let c32 = c8 * c8 * c8 * c8;
+                w = wy * slc_filter_spatial(dx, il, r) * exp(-0.5 * (plane / sd) * (plane / sd)) * c32;
+            } else if (c < SLC_FILTER_COS || plane > footprint * f32(il)) {
+                continue;
+            }
+            sum += w * image[q].x / qb.w;
+            total += w;
         }
     }
-    filtered[k] = select(sum / f32(count) * b.w, image[k].x, count == 0u);
+    filtered[k] = select(image[k].x, sum / total * b.w, total > 0.0);
 }

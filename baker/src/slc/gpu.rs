@@ -2,7 +2,7 @@
 //! module (bounds per light on the GPU, one workgroup per 16 × 16 tile with shared-memory
 //! light lists), run on a G-buffer and a VPL set; results read back in the CPU twin's form.
 
-use crate::slc::{Bound, GBuffer, Mode, Render, Vpl, TILE};
+use crate::slc::{Bound, Filter, GBuffer, Mode, Render, Vpl, TILE};
 use shaders::gpu::Gpu;
 use wgpu::util::DeviceExt;
 
@@ -21,14 +21,16 @@ pub struct SlcParams {
     /// 0: every light's ξ as uploaded (the CPU twin's, [`Vpl::xi`]); otherwise the GPU
     /// draws its own ξ per light from this seed (`slc_gpu_xi` in cull.wgsl).
     pub xi_seed: u32,
-    pub pad0: u32,
+    /// The filter joining the subregions: 0 the box of one period, R the cross-bilateral
+    /// filter of radius R ([`crate::slc::Filter`]).
+    pub filter_radius: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
 shaders::gpu_struct!(
     SlcParams,
     "SlcParams",
-    [width, height, light_count, mode, tan_x, tan_y, delta, interleave, xi_seed, pad0, pad1, pad2]
+    [width, height, light_count, mode, tan_x, tan_y, delta, interleave, xi_seed, filter_radius, pad1, pad2]
 );
 
 const KERNEL: &str = include_str!("cull.wgsl");
@@ -136,7 +138,7 @@ impl<'g> SlcGpu<'g> {
             delta,
             interleave: interleave as u32,
             xi_seed: 0,
-            pad0: 0,
+            filter_radius: Filter::SEED.gpu_radius(),
             pad1: 0,
             pad2: 0,
         };
@@ -196,9 +198,15 @@ impl<'g> SlcGpu<'g> {
         })
     }
 
-    /// Whether frames run the cross-bilateral filter (default on; off to time without it).
+    /// Whether frames run the filter (default on; off to time without it).
     pub fn set_filter(&mut self, on: bool) {
         self.filter_on = on;
+    }
+
+    /// Which filter joins the subregions in the following frames (default
+    /// [`Filter::SEED`], as the CPU's [`crate::slc::render_with`]).
+    pub fn set_filter_kind(&mut self, f: Filter) {
+        self.params.filter_radius = f.gpu_radius();
     }
 
     /// Where the following frames take each light's ξ from: None, the uploaded VPLs' (the

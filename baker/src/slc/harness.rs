@@ -31,6 +31,8 @@ pub struct SlcOptions {
     pub frames: usize,
     /// Interleaved sampling: I × I subregions each shading 1/I² of the VPLs (1: off).
     pub interleave: usize,
+    /// The filter joining the subregions.
+    pub filter: crate::slc::Filter,
     /// The bound of glossy VPLs (the spheroid, or its enclosing sphere for comparison).
     pub bound: crate::slc::Bound,
     /// Which VPLs: "both", "diffuse" (glossy ones dropped) or "glossy" (every VPL made a
@@ -177,22 +179,30 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
             let mut r = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
             r.set_xi_seed(Some(gpu_xi_seed(s.seed)));
             r.set_bound(s.bound);
+            r.set_filter_kind(s.filter);
             let culled = r.run(Mode::Culled)?;
             r.set_filter(false);
             let unfiltered = r.time(Mode::Culled, s.frames)?;
             r.set_filter(true);
             let seconds = r.time(Mode::Culled, s.frames)?;
             log(format!("slc GPU frame without the filter: {:.3} ms", unfiltered * 1e3));
-            let brute = if s.brute { Some((r.run(Mode::BruteForce)?, r.time(Mode::BruteForce, 1)?)) } else { None };
+            // The reference: every VPL at every pixel (no interleaving), no filter.
+            let brute = if s.brute {
+                let mut b = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, 1)?;
+                b.set_filter(false);
+                Some((b.run(Mode::BruteForce)?, b.time(Mode::BruteForce, 1)?))
+            } else {
+                None
+            };
             (culled, brute, seconds, format!("GPU: {} (its own ξ stream, seed {})", gp.adapter, gpu_xi_seed(s.seed)))
         }
         None => {
             let t = Instant::now();
-            let culled = slc::render_with(&g, &vpls, s.delta, Mode::Culled, s.interleave, s.bound);
+            let culled = slc::render_filtered(&g, &vpls, s.delta, Mode::Culled, s.interleave, s.bound, s.filter);
             let seconds = t.elapsed().as_secs_f64();
             let brute = s.brute.then(|| {
                 let t = Instant::now();
-                (slc::render(&g, &vpls, s.delta, Mode::BruteForce, s.interleave), t.elapsed().as_secs_f64())
+                (slc::render(&g, &vpls, s.delta, Mode::BruteForce, 1), t.elapsed().as_secs_f64())
             });
             (culled, brute, seconds, "CPU (one thread)".to_string())
         }
@@ -221,7 +231,8 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
         "pairs_accepted_by_no_pixel": culled.false_positives, "false_discoveries": culled.false_discoveries(),
         "false_discovery_rate": fdr,
-        "image": "slc.exr (slc.png)", "filtered_image": "slc_filtered.exr (slc_filtered.png): the cross-bilateral filter over the interleaving period",
+        "image": "slc.exr (slc.png)", "filtered_image": "slc_filtered.exr (slc_filtered.png): the subregions joined by the filter",
+        "filter": filter_json(s),
         "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (counts)",
         "false_discovery_image": "slc_fdr.exr (per pixel; slc_fdr.png: hue blue→red 0→100%, brightness VPLs per pixel)",
         "bounds": bounds,
@@ -229,14 +240,54 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     if let Some((b, bs)) = brute {
         output::write_exr(&o.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), &valid)?;
         let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
-        log(format!("slc brute force: {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}", bs * 1e3));
-        meta["brute_force"] = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm});
+        let err = error_against(&b.image, &culled.image, &culled.filtered, &valid);
+        log(format!(
+            "slc brute force (every VPL at every pixel): {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}; relative RMSE against it {:.4} before the filter, {:.4} after ({})",
+            bs * 1e3,
+            err["unfiltered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
+            err["filtered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
+            s.filter.name()
+        ));
+        meta["brute_force"] = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm, "error": err});
     }
     if let Some(m) = &s.medium {
         meta["medium"] = slc_medium(s, m, &scene, cam, &g, &vpls, log)?;
     }
     std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
     Ok(())
+}
+
+/// slc.json's description of the filter joining the subregions.
+fn filter_json(s: &SlcOptions) -> serde_json::Value {
+    use crate::slc::filter::{Filter, NORMAL_POWER};
+    match s.filter {
+        Filter::Box => json!({"kind": "box", "window": s.interleave, "max_normal_angle_deg": 25.0}),
+        Filter::Bilateral { radius } => json!({
+            "kind": "bilateral", "radius": radius, "spatial": format!("trapezoid box_{} * box_{} per axis", s.interleave, (2 * radius + 2).saturating_sub(s.interleave)),
+            "depth_sigma_pixel_footprints": radius as f64 / 2.0, "normal_power": NORMAL_POWER,
+        }),
+    }
+}
+
+/// The culled image's error against the brute-force reference over the valid pixels,
+/// before and after the filter: RMSE, RMSE relative to the reference's mean, mean bias.
+fn error_against(reference: &[f32], unfiltered: &[f32], filtered: &[f32], valid: &[f32]) -> serde_json::Value {
+    let one = |img: &[f32]| {
+        let (mut sq, mut bias, mut mean, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+        for ((r, x), v) in reference.iter().zip(img).zip(valid) {
+            if *v > 0.0 {
+                let e = *x as f64 - *r as f64;
+                sq += e * e;
+                bias += e;
+                mean += *r as f64;
+                n += 1;
+            }
+        }
+        let n = n.max(1) as f64;
+        let rmse = (sq / n).sqrt();
+        json!({"rmse": rmse, "relative_rmse": rmse / (mean / n).max(f64::MIN_POSITIVE), "mean_bias": bias / n})
+    };
+    json!({"unfiltered": one(unfiltered), "filtered": one(filtered), "pixels": valid.iter().filter(|v| **v > 0.0).count()})
 }
 
 /// Writes the culled, filtered, VPLs-per-pixel and false-discovery images (EXR and PNG);

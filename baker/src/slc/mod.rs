@@ -13,13 +13,17 @@
 
 //!
 //! The module tree: this file (VPLs, G-buffer, bounds, tiled culling and shading on the
-//! CPU), [`gpu`] (the wgpu twin), [`media`] (single scattering, seed 001), [`harness`]
+//! CPU), [`filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
+//! [`media`] (single scattering, seed 001), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
 //! Uses: [`crate::scene`] and the image writers of [`crate::output`].
+pub mod filter;
 pub mod gpu;
 pub mod harness;
 pub mod media;
+
+pub use filter::{filter, Filter};
 
 use sbf::glam::{Mat3, Vec3};
 use sbf::slc::runtime as slc;
@@ -140,7 +144,7 @@ pub enum Mode {
 pub struct Render {
     /// Radiance towards the camera per pixel.
     pub image: Vec<f32>,
-    /// The image after the cross-bilateral filter over the interleaving period ([`filter`]).
+    /// The image after the filter joining the interleaving subregions ([`filter()`]).
     pub filtered: Vec<f32>,
     /// Lights shaded per pixel (kept by its tile).
     pub lights_per_pixel: Vec<u32>,
@@ -187,6 +191,11 @@ pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usi
 
 /// [`render`] with a choice of bound for glossy VPLs.
 pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize, bound: Bound) -> Render {
+    render_filtered(g, vpls, delta, mode, interleave, bound, Filter::SEED)
+}
+
+/// [`render_with`] joining the subregions with `filter` (its `filtered` image).
+pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize, bound: Bound, filter: Filter) -> Render {
     let il = interleave.max(1);
     let n = g.width * g.height;
     let mut out = Render { image: vec![0.0; n], lights_per_pixel: vec![0; n], false_per_pixel: vec![0; n], ..Default::default() };
@@ -197,7 +206,7 @@ pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave
         let subset: Vec<usize> = (sub..vpls.len()).step_by(il * il).collect();
         render_subregion(g, vpls, &bounds, delta, mode, (il, sx, sy), &subset, weight, &mut out);
     }
-    out.filtered = filter(g, &out.image, il);
+    out.filtered = self::filter(g, &out.image, il, filter);
     out
 }
 
@@ -274,55 +283,6 @@ fn render_subregion(
         }
     }
 }
-
-/// The cross-bilateral filter for the interleaving noise (002 §6, Fig. 8: "variance is
-/// visible as noise which can be removed using a denoising filter"): each valid pixel p
-/// averages the irradiance (radiance / albedo) of the valid pixels q of the I × I window
-/// at offsets −⌊I/2⌋ ..= I − 1 − ⌊I/2⌋ — one pixel of every interleaving subregion — that
-/// lie on p's surface: n_p·n_q ≥ cos 25° and plane distance |n_p·(x_q − x_p)| ≤ the
-/// window's lateral extent at p (I pixels of 2·tan_x·|x_p|/width); the mean is re-modulated
-/// by p's albedo. Box weights: on a plane every subregion counts once, so the VPL subsets
-/// recombine into the full set (E = Σ_s E_s) up to the irradiance's change over the window.
-/// `I` = 1 returns the image unchanged. Pixels without a G-buffer sample stay 0.
-pub fn filter(g: &GBuffer, image: &[f32], interleave: usize) -> Vec<f32> {
-    let il = interleave.max(1) as i64;
-    if il == 1 {
-        return image.to_vec();
-    }
-    let lo = -(il / 2);
-    let footprint = 2.0 * g.tan_xy.0 / g.width as f32 * il as f32;
-    (0..g.width * g.height)
-        .map(|k| {
-            let Some((xp, np, ap)) = g.texels[k] else { return 0.0 };
-            let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
-            let tau = footprint * xp.length();
-            let (mut sum, mut count) = (0.0f32, 0u32);
-            for dy in lo..lo + il {
-                for dx in lo..lo + il {
-                    let (qx, qy) = (px + dx, py + dy);
-                    if qx < 0 || qy < 0 || qx >= g.width as i64 || qy >= g.height as i64 {
-                        continue;
-                    }
-                    let q = (qy as usize) * g.width + qx as usize;
-                    let Some((xq, nq, aq)) = g.texels[q] else { continue };
-                    if np.dot(nq) < FILTER_COS || np.dot(xq - xp).abs() > tau || aq <= 0.0 {
-                        continue;
-                    }
-                    sum += image[q] / aq;
-                    count += 1;
-                }
-            }
-            if count == 0 {
-                image[k]
-            } else {
-                sum / count as f32 * ap
-            }
-        })
-        .collect()
-}
-
-/// cos 25°: the largest normal difference the filter averages over.
-pub const FILTER_COS: f32 = 0.906_307_8;
 
 /// A pinhole camera at `eye` looking down −z (world axes; the bake preview's camera):
 /// view space is world space moved by −eye.

@@ -1,0 +1,175 @@
+//! The filter that joins the interleaving subregions (seed 002 §6: "the variance is visible
+//! as noise … removed using a cross bilateral filter [PSA*04, ED04]"; §7: "cross bilateral
+//! filtering of kernel radius 8"). CPU twin of `slc_filter` in `cull.wgsl`.
+//!
+//! Both filters average the irradiance (radiance / albedo) of a pixel's neighbours on its
+//! own surface and re-modulate by the pixel's albedo. Each pixel of subregion s carries I²
+//! times subset s's light, so on a plane a filter that gives every subregion the same total
+//! weight returns the full VPL set's light (the subsets recombine exactly), up to the
+//! irradiance's change over the window.
+
+use super::GBuffer;
+
+/// Which filter joins the I × I interleaving subregions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Filter {
+    /// One interleaving period (offsets −⌊I/2⌋ ..= I − 1 − ⌊I/2⌋: every subregion once),
+    /// box weights, hard surface tests: normals within 25°, plane distance within the
+    /// window's lateral extent at the pixel.
+    Box,
+    /// The seeds' cross-bilateral filter of kernel radius `radius` (002 §7: 8). The seeds
+    /// name the filter and its radius, not its weights; ours: a spatial kernel separable in
+    /// x and y, per axis the trapezoid box_I ∗ box_(2R+2−I) over offsets −R..=R — a box of
+    /// one interleaving period convolved with another box, so every residue mod I gets the
+    /// same total weight and the subsets recombine exactly on a plane (a Gaussian would
+    /// weigh some subsets more than others and leave their pattern) — times a depth weight
+    /// exp(−½(d/σ_d)²) on the plane distance d = |n_p·(x_q − x_p)| with σ_d = R/2 pixel
+    /// footprints at p (ED04's range weight on the guide's geometry), times the normal
+    /// weight max(0, n_p·n_q)^32 (0.04 at 25°).
+    Bilateral {
+        /// Kernel radius R in pixels, ≥ (I − 1)/2.
+        radius: usize,
+    },
+}
+
+/// The normal weight's exponent of [`Filter::Bilateral`].
+pub const NORMAL_POWER: i32 = 32;
+
+/// cos 25°: the largest normal difference [`Filter::Box`] averages over.
+pub const FILTER_COS: f32 = 0.906_307_8;
+
+impl Filter {
+    /// The seeds' filter: cross-bilateral, kernel radius 8.
+    pub const SEED: Filter = Filter::Bilateral { radius: 8 };
+
+    /// `box` or `bilateral`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Box => "box",
+            Filter::Bilateral { .. } => "bilateral",
+        }
+    }
+
+    /// Checks the filter against the interleaving period I: the bilateral kernel's
+    /// trapezoid needs 2R + 2 − I ≥ 1.
+    pub fn check(self, interleave: usize) -> Result<(), String> {
+        match self {
+            Filter::Bilateral { radius } if 2 * radius + 1 < interleave => Err(format!(
+                "a bilateral filter of radius {radius} cannot join {interleave}×{interleave} interleaving: the radius must be at least {} (every subregion within reach)",
+                interleave / 2
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// The GPU's encoding (`SlcParams.filter_radius`): 0 for the box, else R.
+    pub fn gpu_radius(self) -> u32 {
+        match self {
+            Filter::Box => 0,
+            Filter::Bilateral { radius } => radius as u32,
+        }
+    }
+}
+
+/// Spatial weight of offset `d` along one axis of [`Filter::Bilateral`]: the number of ways
+/// to write d = i + j with i in box A = [a, a + I − 1], a = −⌊I/2⌋, and j in box B =
+/// [−R − a, −R − a + m − 1], m = 2R + 2 − I — the trapezoid A ∗ B, nonzero on −R..=R and
+/// symmetric. Σ over d ≡ r (mod I) is m for every residue r.
+pub fn spatial_weight(d: i64, interleave: i64, radius: i64) -> f32 {
+    let a = -(interleave / 2);
+    let a_end = a + interleave - 1;
+    let b = -radius - a;
+    let b_end = b + (2 * radius + 2 - interleave) - 1;
+    (a_end.min(d - b) - a.max(d - b_end) + 1).max(0) as f32
+}
+
+/// `image` after `f` over the interleaving period `interleave` (I = 1: unchanged — nothing
+/// to join). Pixels without a G-buffer sample stay 0; a pixel with no neighbour that
+/// passes keeps its value.
+pub fn filter(g: &GBuffer, image: &[f32], interleave: usize, f: Filter) -> Vec<f32> {
+    let il = interleave.max(1) as i64;
+    if il == 1 {
+        return image.to_vec();
+    }
+    // One pixel's lateral extent at unit distance.
+    let pixel = 2.0 * g.tan_xy.0 / g.width as f32;
+    let (lo, hi, weights) = match f {
+        Filter::Box => (-(il / 2), il - 1 - il / 2, vec![1.0; il as usize]),
+        Filter::Bilateral { radius } => {
+            let r = radius as i64;
+            (-r, r, (-r..=r).map(|d| spatial_weight(d, il, r)).collect())
+        }
+    };
+    (0..g.width * g.height)
+        .map(|k| {
+            let Some((xp, np, ap)) = g.texels[k] else { return 0.0 };
+            let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
+            let footprint = pixel * xp.length();
+            let (mut sum, mut total) = (0.0f32, 0.0f32);
+            for dy in lo..=hi {
+                for dx in lo..=hi {
+                    let (qx, qy) = (px + dx, py + dy);
+                    if qx < 0 || qy < 0 || qx >= g.width as i64 || qy >= g.height as i64 {
+                        continue;
+                    }
+                    let q = (qy as usize) * g.width + qx as usize;
+                    let Some((xq, nq, aq)) = g.texels[q] else { continue };
+                    if aq <= 0.0 {
+                        continue;
+                    }
+                    let (cos, plane) = (np.dot(nq), np.dot(xq - xp).abs());
+                    let w = match f {
+                        Filter::Box => {
+                            if cos < FILTER_COS || plane > footprint * il as f32 {
+                                continue;
+                            }
+                            1.0
+                        }
+                        Filter::Bilateral { radius } => {
+                            let sd = 0.5 * radius as f32 * footprint;
+                            weights[(dx - lo) as usize]
+                                * weights[(dy - lo) as usize]
+                                * (-0.5 * (plane / sd).powi(2)).exp()
+                                * cos.max(0.0).powi(NORMAL_POWER)
+                        }
+                    };
+                    sum += w * image[q] / aq;
+                    total += w;
+                }
+            }
+            if total > 0.0 {
+                sum / total * ap
+            } else {
+                image[k]
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The trapezoid's defining identities, counted independently: symmetric, nonzero on
+    /// exactly −R..=R, and every residue mod I sums to m = 2R + 2 − I (so every interleaving
+    /// subregion gets the same weight); too small a radius is refused.
+    #[test]
+    fn trapezoid_weighs_every_residue_the_same() {
+        for il in 1..=16i64 {
+            for r in (il - 1 + 1) / 2..=12 {
+                let w = |d: i64| spatial_weight(d, il, r);
+                for d in -r - 3..=r + 3 {
+                    assert_eq!(w(d), w(-d), "I {il} R {r} d {d}: not symmetric");
+                    assert_eq!(w(d) > 0.0, d.abs() <= r, "I {il} R {r} d {d}: support");
+                }
+                for res in 0..il {
+                    let sum: f32 = (-r..=r).filter(|d| (d - res).rem_euclid(il) == 0).map(w).sum();
+                    assert_eq!(sum, (2 * r + 2 - il) as f32, "I {il} R {r} residue {res}");
+                }
+            }
+        }
+        assert!(Filter::Bilateral { radius: 3 }.check(8).is_err());
+        assert!(Filter::Bilateral { radius: 4 }.check(8).is_ok());
+        assert!(Filter::Box.check(16).is_ok());
+    }
+}
