@@ -162,7 +162,8 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
 /// image's largest value: a few hundred f32 terms), kept pairs and false positives within
 /// 0.5% (a bound test within rounding of a tie may flip), and the brute-force images.
 /// Interleaved brute force keeps the image's mean (each VPL shaded by 1/64 of the pixels,
-/// weighted 64): within 5% here, a sampling error, not a bias to assert.
+/// weighted 64): within 5% here, a sampling error, not a bias to assert. The filtered
+/// images agree too, for every filter (box, bilateral in and beyond workgroup memory).
 #[test]
 fn gpu_matches_cpu() {
     let Some(g) = gpu() else { return };
@@ -211,6 +212,20 @@ fn gpu_matches_cpu() {
     // contains the enclosing one: |c − q| + r_u = r/α) a superset of both.
     assert!(fdr[1].0 >= fdr[0].0 && fdr[1].1 >= fdr[0].1, "sphere {:?} vs spheroid {:?}", fdr[1], fdr[0]);
     assert!(fdr[2].0 >= fdr[1].0 && fdr[2].1 >= fdr[1].1, "TH16 {:?} vs sphere {:?}", fdr[2], fdr[1]);
+    // Every filter on the GPU (the default's window in workgroup memory; radius 12 reaches
+    // past it and reads the G-buffer directly) against the CPU's on the same image.
+    let l = vpls(7);
+    for f in [Filter::Box, Filter::Bilateral { radius: 4 }, Filter::Bilateral { radius: 12 }] {
+        let c = baker::slc::render_filtered(&gb, &l, DELTA, Mode::Culled, 8, tight, f);
+        let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &l, DELTA, 8).unwrap();
+        run.set_filter_kind(f);
+        let gg = run.run(Mode::Culled).unwrap();
+        assert!(c.image.iter().zip(&gg.image).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs()).count() <= c.image.len() / 200);
+        let ftop = c.filtered.iter().fold(0.0f32, |a, x| a.max(*x));
+        let fbad = c.filtered.iter().zip(&gg.filtered).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * ftop).count();
+        println!("filter {f:?}: {fbad} filtered pixels differ");
+        assert!(fbad <= c.filtered.len() / 200, "{f:?}: {fbad} filtered pixels differ");
+    }
 }
 
 /// 002 §7 / Fig. 10: glossy VPLs reflecting a light onto a wall (glossy caustics). 768 × 768
