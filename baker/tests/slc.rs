@@ -163,7 +163,7 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
 /// 0.5% (a bound test within rounding of a tie may flip), and the brute-force images.
 /// Interleaved brute force keeps the image's mean (each VPL shaded by 1/64 of the pixels,
 /// weighted 64): within 5% here, a sampling error, not a bias to assert. The filtered
-/// images agree too, for every filter (box, bilateral in and beyond workgroup memory).
+/// images agree too, for every filter (box, bilateral of radius 4, 8 and 12).
 #[test]
 fn gpu_matches_cpu() {
     let Some(g) = gpu() else { return };
@@ -212,8 +212,7 @@ fn gpu_matches_cpu() {
     // contains the enclosing one: |c − q| + r_u = r/α) a superset of both.
     assert!(fdr[1].0 >= fdr[0].0 && fdr[1].1 >= fdr[0].1, "sphere {:?} vs spheroid {:?}", fdr[1], fdr[0]);
     assert!(fdr[2].0 >= fdr[1].0 && fdr[2].1 >= fdr[1].1, "TH16 {:?} vs sphere {:?}", fdr[2], fdr[1]);
-    // Every filter on the GPU (the default's window in workgroup memory; radius 12 reaches
-    // past it and reads the G-buffer directly) against the CPU's on the same image.
+    // Every filter on the GPU against the CPU's on the same image.
     let l = vpls(7);
     for f in [Filter::Box, Filter::Bilateral { radius: 4 }, Filter::Bilateral { radius: 12 }] {
         let c = baker::slc::render_filtered(&gb, &l, DELTA, Mode::Culled, 8, tight, f);

@@ -274,42 +274,6 @@ fn slc_filter_spatial(d: i32, il: i32, r: i32) -> f32 {
     return f32(max(min(a_end, d - b) - max(a, d - b_end) + 1, 0));
 }
 
-// The filter's neighbourhood in workgroup memory: an 8 × 8 workgroup's pixels and
-// SLC_FILTER_APRON around them (position, normal, irradiance; irradiance −1: no sample),
-// read from the G-buffer once per workgroup instead of once per tap — windows reaching
-// farther read the G-buffer directly. 7 × 576 floats = 16 128 bytes (WebGPU's minimum
-// limit is 16 384).
-const SLC_FILTER_APRON: i32 = 8;
-const SLC_FILTER_SIDE: i32 = 24;
-var<workgroup> fl_px: array<f32, 576>;
-var<workgroup> fl_py: array<f32, 576>;
-var<workgroup> fl_pz: array<f32, 576>;
-var<workgroup> fl_nx: array<f32, 576>;
-var<workgroup> fl_ny: array<f32, 576>;
-var<workgroup> fl_nz: array<f32, 576>;
-var<workgroup> fl_e: array<f32, 576>;
-
-// Pixel (x, y)'s view-space position, normal and irradiance (radiance / albedo; −1 when it
-// has no sample, lies outside the image or has no albedo).
-struct SlcFilterTap {
-    p: vec3<f32>,
-    n: vec3<f32>,
-    e: f32,
-}
-
-fn slc_filter_fetch(x: i32, y: i32) -> SlcFilterTap {
-    if (x < 0 || y < 0 || x >= i32(SP.width) || y >= i32(SP.height)) {
-        return SlcFilterTap(vec3<f32>(0.0), vec3<f32>(0.0), -1.0);
-    }
-    let q = u32(y) * SP.width + u32(x);
-    let qa = gbuffer[2u * q];
-    let qb = gbuffer[2u * q + 1u];
-    if (qa.w < 0.5 || qb.w <= 0.0) {
-        return SlcFilterTap(vec3<f32>(0.0), vec3<f32>(0.0), -1.0);
-    }
-    return SlcFilterTap(qa.xyz, qb.xyz, image[q].x / qb.w);
-}
-
 // The filter joining the interleaving subregions, one thread per pixel (CPU twin:
 // baker::slc::filter): the irradiance (radiance / albedo) of p's neighbours on its surface,
 // averaged and re-modulated by p's albedo. SP.filter_radius 0: one period, box weights,
@@ -317,20 +281,7 @@ fn slc_filter_fetch(x: i32, y: i32) -> SlcFilterTap {
 // R > 0: the seeds' cross-bilateral filter (002 §6–7) of radius R — the trapezoid spatial
 // weights × exp(−½(d/σ_d)²) on the plane distance d, σ_d = R/2 pixel footprints × (n_p·n_q)³².
 @compute @workgroup_size(8, 8)
-fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    // The workgroup's tile: every invocation helps load it, then all wait.
-    let origin = vec2<i32>(wid.xy) * 8 - vec2<i32>(SLC_FILTER_APRON);
-    for (var t = i32(li); t < SLC_FILTER_SIDE * SLC_FILTER_SIDE; t += 64) {
-        let f = slc_filter_fetch(origin.x + t % SLC_FILTER_SIDE, origin.y + t / SLC_FILTER_SIDE);
-        fl_px[t] = f.p.x;
-        fl_py[t] = f.p.y;
-        fl_pz[t] = f.p.z;
-        fl_nx[t] = f.n.x;
-        fl_ny[t] = f.n.y;
-        fl_nz[t] = f.n.z;
-        fl_e[t] = f.e;
-    }
-    workgroupBarrier();
+fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= SP.width || gid.y >= SP.height) {
         return;
     }
@@ -350,7 +301,6 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_
     let bilateral = r > 0;
     let lo = select(-(il / 2), -r, bilateral);
     let hi = select(il - 1 - il / 2, r, bilateral);
-    let tiled = -lo <= SLC_FILTER_APRON && hi <= SLC_FILTER_APRON;
     let footprint = 2.0 * SP.tan_x / f32(SP.width) * length(a.xyz);
     let sd = 0.5 * f32(r) * footprint;
     var sum = 0.0;
@@ -358,18 +308,19 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_
     for (var dy = lo; dy <= hi; dy++) {
         let wy = select(1.0, slc_filter_spatial(dy, il, r), bilateral);
         for (var dx = lo; dx <= hi; dx++) {
-            var q: SlcFilterTap;
-            if (tiled) {
-                let t = (i32(gid.x) + dx - origin.x) + SLC_FILTER_SIDE * (i32(gid.y) + dy - origin.y);
-                q = SlcFilterTap(vec3<f32>(fl_px[t], fl_py[t], fl_pz[t]), vec3<f32>(fl_nx[t], fl_ny[t], fl_nz[t]), fl_e[t]);
-            } else {
-                q = slc_filter_fetch(i32(gid.x) + dx, i32(gid.y) + dy);
-            }
-            if (q.e < 0.0) {
+            let qx = i32(gid.x) + dx;
+            let qy = i32(gid.y) + dy;
+            if (qx < 0 || qy < 0 || qx >= i32(SP.width) || qy >= i32(SP.height)) {
                 continue;
             }
-            let c = dot(b.xyz, q.n);
-            let plane = abs(dot(b.xyz, q.p - a.xyz));
+            let q = u32(qy) * SP.width + u32(qx);
+            let qa = gbuffer[2u * q];
+            let qb = gbuffer[2u * q + 1u];
+            if (qa.w < 0.5 || qb.w <= 0.0) {
+                continue;
+            }
+            let c = dot(b.xyz, qb.xyz);
+            let plane = abs(dot(b.xyz, qa.xyz - a.xyz));
             var w = 1.0;
             if (bilateral) {
                 let c2 = max(c, 0.0) * max(c, 0.0);
@@ -379,7 +330,7 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_
             } else if (c < SLC_FILTER_COS || plane > footprint * f32(il)) {
                 continue;
             }
-            sum += w * q.e;
+            sum += w * image[q].x / qb.w;
             total += w;
         }
     }
