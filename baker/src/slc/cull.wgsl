@@ -1,5 +1,5 @@
 // slc_cull.wgsl — stochastic light culling of VPLs on a view-space G-buffer (seed 002
-// §5–6), the GPU twin of baker::slc::render. Two entry points:
+// §5–6), the GPU twin of baker::slc::render. Entry points:
 //   slc_prepare     one thread per light: its bound (diffuse sphere or GGX spheroid) as
 //                   the culling transform M = B·S and M·c (the shaders slc module);
 //   slc_cull_shade  one 16 × 16 workgroup per tile of one interleaving subregion
@@ -9,8 +9,9 @@
 //                   ones to a shared list; every pixel then shades the list with the
 //                   stochastic falloff L/p where p > ξ; per kept light a shared flag says
 //                   whether any pixel accepted it (false positives for the FDR).
-//   slc_filter      one thread per pixel: the filter joining the interleaving subregions
-//                   (CPU twin baker::slc::filter).
+//   slc_filter      one thread per pixel: the box filter joining the interleaving
+//                   subregions; slc_filter_rows, slc_filter_cols: the bilateral filter's
+//                   two passes (CPU twin baker::slc::filter).
 // Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
 // INV_PI.
 
@@ -50,6 +51,8 @@ struct SlcParams {
 @group(0) @binding(5) var<storage, read_write> stats: array<atomic<u32>, 2>;
 // Per pixel: the radiance after the cross-bilateral filter (slc_filter).
 @group(0) @binding(6) var<storage, read_write> filtered: array<f32>;
+// Per pixel: the irradiance after the bilateral filter's first pass (rows; −1: none).
+@group(0) @binding(7) var<storage, read_write> filter_rows: array<f32>;
 
 struct SlcVpl {
     position: vec3<f32>,
@@ -274,12 +277,10 @@ fn slc_filter_spatial(d: i32, il: i32, r: i32) -> f32 {
     return f32(max(min(a_end, d - b) - max(a, d - b_end) + 1, 0));
 }
 
-// The filter joining the interleaving subregions, one thread per pixel (CPU twin:
-// baker::slc::filter): the irradiance (radiance / albedo) of p's neighbours on its surface,
-// averaged and re-modulated by p's albedo. SP.filter_radius 0: one period, box weights,
-// hard tests (normals within 25°, plane distance within the window's lateral extent at p);
-// R > 0: the seeds' cross-bilateral filter (002 §6–7) of radius R — the trapezoid spatial
-// weights × exp(−½(d/σ_d)²) on the plane distance d, σ_d = R/2 pixel footprints × (n_p·n_q)³².
+// The box filter joining the interleaving subregions (SP.filter_radius 0), one thread per
+// pixel (CPU twin: baker::slc::filter, Filter::Box): the irradiance (radiance / albedo) of
+// the valid pixels of one period's window on p's surface (normals within 25°, plane
+// distance within the window's lateral extent at p), averaged and re-modulated by p's albedo.
 @compute @workgroup_size(8, 8)
 fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= SP.width || gid.y >= SP.height) {
@@ -297,17 +298,12 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
         filtered[k] = image[k].x;
         return;
     }
-    let r = i32(SP.filter_radius);
-    let bilateral = r > 0;
-    let lo = select(-(il / 2), -r, bilateral);
-    let hi = select(il - 1 - il / 2, r, bilateral);
-    let footprint = 2.0 * SP.tan_x / f32(SP.width) * length(a.xyz);
-    let sd = 0.5 * f32(r) * footprint;
+    let lo = -(il / 2);
+    let tau = 2.0 * SP.tan_x / f32(SP.width) * f32(il) * length(a.xyz);
     var sum = 0.0;
-    var total = 0.0;
-    for (var dy = lo; dy <= hi; dy++) {
-        let wy = select(1.0, slc_filter_spatial(dy, il, r), bilateral);
-        for (var dx = lo; dx <= hi; dx++) {
+    var count = 0u;
+    for (var dy = lo; dy < lo + il; dy++) {
+        for (var dx = lo; dx < lo + il; dx++) {
             let qx = i32(gid.x) + dx;
             let qy = i32(gid.y) + dy;
             if (qx < 0 || qy < 0 || qx >= i32(SP.width) || qy >= i32(SP.height)) {
@@ -316,23 +312,93 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
             let q = u32(qy) * SP.width + u32(qx);
             let qa = gbuffer[2u * q];
             let qb = gbuffer[2u * q + 1u];
-            if (qa.w < 0.5 || qb.w <= 0.0) {
+            if (qa.w < 0.5 || dot(b.xyz, qb.xyz) < SLC_FILTER_COS || abs(dot(b.xyz, qa.xyz - a.xyz)) > tau || qb.w <= 0.0) {
                 continue;
             }
-            let c = dot(b.xyz, qb.xyz);
-            let plane = abs(dot(b.xyz, qa.xyz - a.xyz));
-            var w = 1.0;
-            if (bilateral) {
-                let c2 = max(c, 0.0) * max(c, 0.0);
-                let c8 = c2 * c2 * c2 * c2;
-                let c32 = c8 * c8 * c8 * c8;
-                w = wy * slc_filter_spatial(dx, il, r) * exp(-0.5 * (plane / sd) * (plane / sd)) * c32;
-            } else if (c < SLC_FILTER_COS || plane > footprint * f32(il)) {
-                continue;
-            }
-            sum += w * image[q].x / qb.w;
-            total += w;
+            sum += image[q].x / qb.w;
+            count += 1u;
         }
     }
-    filtered[k] = select(image[k].x, sum / total * b.w, total > 0.0);
+    filtered[k] = select(sum / f32(count) * b.w, image[k].x, count == 0u);
+}
+
+// One 1D pass of the seeds' cross-bilateral filter (002 §6–7) of radius R =
+// SP.filter_radius along `axis` for pixel `gid` (CPU twin: baker::slc::filter's
+// bilateral_pass): the weighted mean of its neighbours' irradiance at offsets −R..=R —
+// from the image (radiance / albedo) on the rows pass, from the rows pass's result on the
+// columns pass — weights the trapezoid × exp(−½(d/σ_d)²) on the plane distance d (σ_d = R/2
+// pixel footprints at p) × (n_p·n_q)³²; −1 where none passes.
+fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> f32 {
+    let k = gid.y * SP.width + gid.x;
+    let a = gbuffer[2u * k];
+    let b = gbuffer[2u * k + 1u];
+    if (a.w < 0.5) {
+        return -1.0;
+    }
+    let il = i32(SP.interleave);
+    let r = i32(SP.filter_radius);
+    let sd = 0.5 * f32(r) * 2.0 * SP.tan_x / f32(SP.width) * length(a.xyz);
+    var sum = 0.0;
+    var total = 0.0;
+    for (var d = -r; d <= r; d++) {
+        let qx = i32(gid.x) + d * axis.x;
+        let qy = i32(gid.y) + d * axis.y;
+        if (qx < 0 || qy < 0 || qx >= i32(SP.width) || qy >= i32(SP.height)) {
+            continue;
+        }
+        let q = u32(qy) * SP.width + u32(qx);
+        let qa = gbuffer[2u * q];
+        let qb = gbuffer[2u * q + 1u];
+        if (qa.w < 0.5) {
+            continue;
+        }
+        var e: f32;
+        if (first) {
+            e = select(-1.0, image[q].x / qb.w, qb.w > 0.0);
+        } else {
+            e = filter_rows[q];
+        }
+        if (e < 0.0) {
+            continue;
+        }
+        let c = max(dot(b.xyz, qb.xyz), 0.0);
+        let c2 = c * c;
+        let c8 = c2 * c2 * c2 * c2;
+        let plane = abs(dot(b.xyz, qa.xyz - a.xyz)) / sd;
+        let w = slc_filter_spatial(d, il, r) * exp(-0.5 * plane * plane) * (c8 * c8 * c8 * c8);
+        sum += w * e;
+        total += w;
+    }
+    return select(-1.0, sum / total, total > 0.0);
+}
+
+// The bilateral filter's first pass (rows) into filter_rows.
+@compute @workgroup_size(8, 8)
+fn slc_filter_rows(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= SP.width || gid.y >= SP.height) {
+        return;
+    }
+    filter_rows[gid.y * SP.width + gid.x] = slc_bilateral_pass(gid.xy, vec2<i32>(1, 0), true);
+}
+
+// The bilateral filter's second pass (columns) over filter_rows, re-modulated by p's albedo
+// into `filtered` (p keeps its value where no neighbour passed; no sample: 0).
+@compute @workgroup_size(8, 8)
+fn slc_filter_cols(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= SP.width || gid.y >= SP.height) {
+        return;
+    }
+    let k = gid.y * SP.width + gid.x;
+    let a = gbuffer[2u * k];
+    let b = gbuffer[2u * k + 1u];
+    if (a.w < 0.5) {
+        filtered[k] = 0.0;
+        return;
+    }
+    if (SP.interleave == 1u) {
+        filtered[k] = image[k].x;
+        return;
+    }
+    let e = slc_bilateral_pass(gid.xy, vec2<i32>(0, 1), false);
+    filtered[k] = select(image[k].x, e * b.w, e >= 0.0 && b.w > 0.0);
 }

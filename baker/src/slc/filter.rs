@@ -18,14 +18,14 @@ pub enum Filter {
     /// window's lateral extent at the pixel.
     Box,
     /// The seeds' cross-bilateral filter of kernel radius `radius` (002 §7: 8). The seeds
-    /// name the filter and its radius, not its weights; ours: a spatial kernel separable in
-    /// x and y, per axis the trapezoid box_I ∗ box_(2R+2−I) over offsets −R..=R — a box of
-    /// one interleaving period convolved with another box, so every residue mod I gets the
-    /// same total weight and the subsets recombine exactly on a plane (a Gaussian would
-    /// weigh some subsets more than others and leave their pattern) — times a depth weight
-    /// exp(−½(d/σ_d)²) on the plane distance d = |n_p·(x_q − x_p)| with σ_d = R/2 pixel
-    /// footprints at p (ED04's range weight on the guide's geometry), times the normal
-    /// weight max(0, n_p·n_q)^32 (0.04 at 25°).
+    /// name the filter and its radius, not its weights; ours: per axis the trapezoid
+    /// box_I ∗ box_(2R+2−I) over offsets −R..=R — a box of one interleaving period
+    /// convolved with another box, so every residue mod I gets the same total weight and
+    /// the subsets recombine exactly on a plane (a Gaussian would weigh some subsets more
+    /// than others and leave their pattern) — times a depth weight exp(−½(d/σ_d)²) on the
+    /// plane distance d = |n_p·(x_q − x_p)| with σ_d = R/2 pixel footprints at p (ED04's
+    /// range weight on the guide's geometry), times the normal weight max(0, n_p·n_q)^32
+    /// (0.04 at 25°); in two 1D passes, rows then columns (`bilateral_pass`).
     Bilateral {
         /// Kernel radius R in pixels, ≥ (I − 1)/2.
         radius: usize,
@@ -91,21 +91,76 @@ pub fn filter(g: &GBuffer, image: &[f32], interleave: usize, f: Filter) -> Vec<f
     if il == 1 {
         return image.to_vec();
     }
-    // One pixel's lateral extent at unit distance.
-    let pixel = 2.0 * g.tan_xy.0 / g.width as f32;
-    let (lo, hi, weights) = match f {
-        Filter::Box => (-(il / 2), il - 1 - il / 2, vec![1.0; il as usize]),
+    match f {
+        Filter::Box => box_filter(g, image, il),
         Filter::Bilateral { radius } => {
-            let r = radius as i64;
-            (-r, r, (-r..=r).map(|d| spatial_weight(d, il, r)).collect())
+            // Irradiance per pixel (−1: no sample or no albedo), then the two passes.
+            let e: Vec<f32> = g.texels.iter().zip(image).map(|(t, x)| t.filter(|t| t.2 > 0.0).map_or(-1.0, |t| x / t.2)).collect();
+            let rows = bilateral_pass(g, &e, il, radius as i64, (1, 0));
+            let both = bilateral_pass(g, &rows, il, radius as i64, (0, 1));
+            both.iter()
+                .zip(&g.texels)
+                .zip(image)
+                .map(|((e, t), x)| match t {
+                    None => 0.0,
+                    Some(t) if *e >= 0.0 && t.2 > 0.0 => e * t.2,
+                    Some(_) => *x,
+                })
+                .collect()
         }
-    };
+    }
+}
+
+/// One 1D pass of [`Filter::Bilateral`] along `axis` ((1, 0): rows, (0, 1): columns) over
+/// the irradiance `e` (−1: none): each pixel p with a sample gets the weighted mean of the
+/// e ≥ 0 at offsets −R..=R, weights trapezoid × depth × normal against p's own G-buffer
+/// sample (−1 where none passes or p has no sample). Rows then columns: the 2D trapezoid
+/// (a product) and each subregion's weight equal on a plane, at 2(2R + 1) taps instead of
+/// (2R + 1)² — the separable approximation of the 2D cross-bilateral weights (Pham and van
+/// Vliet 2005): a neighbour off both axes is weighed through the pixel between them.
+fn bilateral_pass(g: &GBuffer, e: &[f32], il: i64, r: i64, axis: (i64, i64)) -> Vec<f32> {
+    let pixel = 2.0 * g.tan_xy.0 / g.width as f32;
+    let weights: Vec<f32> = (-r..=r).map(|d| spatial_weight(d, il, r)).collect();
+    (0..g.width * g.height)
+        .map(|k| {
+            let Some((xp, np, _)) = g.texels[k] else { return -1.0 };
+            let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
+            let sd = 0.5 * r as f32 * pixel * xp.length();
+            let (mut sum, mut total) = (0.0f32, 0.0f32);
+            for d in -r..=r {
+                let (qx, qy) = (px + d * axis.0, py + d * axis.1);
+                if qx < 0 || qy < 0 || qx >= g.width as i64 || qy >= g.height as i64 {
+                    continue;
+                }
+                let q = (qy as usize) * g.width + qx as usize;
+                let Some((xq, nq, _)) = g.texels[q] else { continue };
+                if e[q] < 0.0 {
+                    continue;
+                }
+                let (cos, plane) = (np.dot(nq), np.dot(xq - xp).abs());
+                let w = weights[(d + r) as usize] * (-0.5 * (plane / sd).powi(2)).exp() * cos.max(0.0).powi(NORMAL_POWER);
+                sum += w * e[q];
+                total += w;
+            }
+            if total > 0.0 {
+                sum / total
+            } else {
+                -1.0
+            }
+        })
+        .collect()
+}
+
+/// [`Filter::Box`].
+fn box_filter(g: &GBuffer, image: &[f32], il: i64) -> Vec<f32> {
+    let pixel = 2.0 * g.tan_xy.0 / g.width as f32;
+    let (lo, hi) = (-(il / 2), il - 1 - il / 2);
     (0..g.width * g.height)
         .map(|k| {
             let Some((xp, np, ap)) = g.texels[k] else { return 0.0 };
             let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
-            let footprint = pixel * xp.length();
-            let (mut sum, mut total) = (0.0f32, 0.0f32);
+            let tau = pixel * xp.length() * il as f32;
+            let (mut sum, mut count) = (0.0f32, 0u32);
             for dy in lo..=hi {
                 for dx in lo..=hi {
                     let (qx, qy) = (px + dx, py + dy);
@@ -114,31 +169,15 @@ pub fn filter(g: &GBuffer, image: &[f32], interleave: usize, f: Filter) -> Vec<f
                     }
                     let q = (qy as usize) * g.width + qx as usize;
                     let Some((xq, nq, aq)) = g.texels[q] else { continue };
-                    if aq <= 0.0 {
+                    if aq <= 0.0 || np.dot(nq) < FILTER_COS || np.dot(xq - xp).abs() > tau {
                         continue;
                     }
-                    let (cos, plane) = (np.dot(nq), np.dot(xq - xp).abs());
-                    let w = match f {
-                        Filter::Box => {
-                            if cos < FILTER_COS || plane > footprint * il as f32 {
-                                continue;
-                            }
-                            1.0
-                        }
-                        Filter::Bilateral { radius } => {
-                            let sd = 0.5 * radius as f32 * footprint;
-                            weights[(dx - lo) as usize]
-                                * weights[(dy - lo) as usize]
-                                * (-0.5 * (plane / sd).powi(2)).exp()
-                                * cos.max(0.0).powi(NORMAL_POWER)
-                        }
-                    };
-                    sum += w * image[q] / aq;
-                    total += w;
+                    sum += image[q] / aq;
+                    count += 1;
                 }
             }
-            if total > 0.0 {
-                sum / total * ap
+            if count > 0 {
+                sum / count as f32 * ap
             } else {
                 image[k]
             }

@@ -69,7 +69,10 @@ pub struct SlcGpu<'g> {
     gpu: &'g Gpu,
     prepare: wgpu::ComputePipeline,
     shade: wgpu::ComputePipeline,
+    /// The box filter, and the bilateral filter's two passes (rows, then columns).
     filter: wgpu::ComputePipeline,
+    filter_rows: wgpu::ComputePipeline,
+    filter_cols: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
     params: SlcParams,
     params_buf: wgpu::Buffer,
@@ -111,6 +114,7 @@ impl<'g> SlcGpu<'g> {
                 entry(4, storage(false)),
                 entry(5, storage(false)),
                 entry(6, storage(false)),
+                entry(7, storage(false)),
             ],
         });
         let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -158,6 +162,7 @@ impl<'g> SlcGpu<'g> {
         let image_buf = init("image", &vec![0u8; g.width * g.height * 16], rw);
         let stats_buf = init("stats", &[0u8; 8], rw);
         let filtered_buf = init("filtered", &vec![0u8; g.width * g.height * 4], rw);
+        let rows_buf = init("filter rows", &vec![0u8; g.width * g.height * 4], wgpu::BufferUsages::STORAGE);
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slc"),
             layout: &layout,
@@ -169,6 +174,7 @@ impl<'g> SlcGpu<'g> {
                 image_buf.as_entire_binding(),
                 stats_buf.as_entire_binding(),
                 filtered_buf.as_entire_binding(),
+                rows_buf.as_entire_binding(),
             ]
             .into_iter()
             .enumerate()
@@ -180,6 +186,8 @@ impl<'g> SlcGpu<'g> {
             prepare: pipeline("slc_prepare"),
             shade: pipeline("slc_cull_shade"),
             filter: pipeline("slc_filter"),
+            filter_rows: pipeline("slc_filter_rows"),
+            filter_cols: pipeline("slc_filter_cols"),
             group,
             params,
             params_buf,
@@ -243,8 +251,16 @@ impl<'g> SlcGpu<'g> {
             pass.set_pipeline(&self.shade);
             pass.dispatch_workgroups(self.tiles.0, self.tiles.1, self.tiles.2);
             if self.filter_on {
-                pass.set_pipeline(&self.filter);
-                pass.dispatch_workgroups(self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8), 1);
+                let groups = (self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8));
+                if self.params.filter_radius == 0 {
+                    pass.set_pipeline(&self.filter);
+                    pass.dispatch_workgroups(groups.0, groups.1, 1);
+                } else {
+                    pass.set_pipeline(&self.filter_rows);
+                    pass.dispatch_workgroups(groups.0, groups.1, 1);
+                    pass.set_pipeline(&self.filter_cols);
+                    pass.dispatch_workgroups(groups.0, groups.1, 1);
+                }
             }
         }
         q.submit([enc.finish()]);
