@@ -598,6 +598,21 @@ fn slc_command_writes_its_outputs() {
     let none = slc(&["--scene", "slit", "--vpls", "64", "--size", "32x18", "--device", "cpu", "--out", d.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&none.stderr);
     assert!(!none.status.success() && err.contains("yields no VPLs") && err.contains("environment"), "{err}");
+    // The equal-time sweep: on the CPU every render is deterministic, so the spheroid at the
+    // run's δ is the main image — its equal-time error is the main run's filtered error —
+    // and every method reports a point per δ; a sweep without --delta is refused.
+    let sw = tmp("slc-sweep");
+    let o = slc(&["--vpls", "256", "--size", "48x32", "--device", "cpu", "--sweep", "3e-4,1e-3,3e-3", "--out", sw.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(sw.join("slc.json")).unwrap()).unwrap();
+    assert_eq!(meta["sweep"]["points"].as_array().unwrap().len(), 9);
+    let (at, own) = (
+        meta["sweep"]["equal_time"]["relative_rmse_filtered"]["spheroid"].as_f64().unwrap(),
+        meta["brute_force"]["error"]["filtered"]["relative_rmse"].as_f64().unwrap(),
+    );
+    assert!((at - own).abs() <= 1e-12 * own, "spheroid at δ {at} vs the main run's {own}");
+    let bad = slc(&["--sweep", "1e-2", "--out", sw.to_str().unwrap()]);
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("include --delta"));
 }
 
 /// `--profile`: a Lambert-only profile on the glossy built-in scene bakes only its bases,

@@ -47,6 +47,12 @@ struct Cli {
     /// discovery rates and frame times side by side.
     #[arg(long)]
     compare_bounds: bool,
+    /// The equal-time experiment (seed 000 Fig. 2): render with each of these δ (comma
+    /// separated, e.g. 1e-4,3e-4,1e-3,3e-3,1e-2; include --delta) by the spheroid, the
+    /// enclosing sphere and the biased range cut, and report each one's error against brute
+    /// force at the time the spheroid takes at --delta. Implies --brute.
+    #[arg(long)]
+    sweep: Option<String>,
     /// Also render single scattering in a homogeneous medium filling the view depths
     /// NEAR..FAR (scene units), lit by the scene's point lights and the diffuse VPLs,
     /// culled and brute force: SIGMA_S,SIGMA_T,NEAR,FAR in 1/unit (e.g. 0.2,0.3,0.5,4).
@@ -120,6 +126,21 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
     if !["both", "diffuse", "glossy"].contains(&c.kind.as_str()) {
         return Err(format!("--kind takes both, diffuse or glossy, not {}", c.kind));
     }
+    let sweep = c
+        .sweep
+        .as_deref()
+        .map(|v| {
+            let d: Vec<f32> =
+                v.split(',').map(|x| x.trim().parse::<f32>().map_err(|e| format!("--sweep {v}: {e}"))).collect::<Result<_, _>>()?;
+            if let Some(x) = d.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
+                return Err(format!("--sweep: every δ must be finite and > 0, not {x}"));
+            }
+            if !d.contains(&c.delta) {
+                return Err(format!("--sweep {v}: include --delta ({}), the time the methods are compared at", c.delta));
+            }
+            Ok(d)
+        })
+        .transpose()?;
     let filter = match c.filter.as_str() {
         "box" => Filter::Box,
         "bilateral" => Filter::Bilateral { radius: c.filter_radius },
@@ -141,7 +162,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         width,
         height,
         delta: c.delta,
-        brute: c.brute,
+        brute: c.brute || sweep.is_some(),
         frames: 10,
         interleave: c.interleave,
         filter,
@@ -151,6 +172,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         compare_bounds: c.compare_bounds,
         medium: c.medium.as_deref().map(parse_medium).transpose()?,
         sky: c.sky,
+        sweep: sweep.unwrap_or_default(),
     })
 }
 

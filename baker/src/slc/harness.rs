@@ -46,6 +46,8 @@ pub struct SlcOptions {
     pub medium: Option<crate::slc::media::Medium>,
     /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
     pub sky: bool,
+    /// The equal-time experiment over these δ ([`crate::slc::sweep`]; needs `brute`).
+    pub sweep: Vec<f32>,
 }
 
 /// The single-scattering part of [`render`] ([`crate::slc::media`], CPU on every core):
@@ -127,7 +129,7 @@ fn slc_medium(
 
 /// The GPU's own ξ stream for `--seed` (cull.wgsl's PCG hash): the GPU leg is an independent
 /// estimate, not a replay of the CPU's `slc::vpl_xi` (the VPLs themselves are the same).
-fn gpu_xi_seed(seed: u64) -> u32 {
+pub(crate) fn gpu_xi_seed(seed: u64) -> u32 {
     ((seed ^ (seed >> 32)) as u32).max(1)
 }
 
@@ -220,7 +222,6 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         culled.false_positives
     ));
     let valid = write_images(s, &g, &culled)?;
-    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
     // The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
     // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
     let bounds = if s.compare_bounds && glossy > 0 { compare_bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
@@ -238,23 +239,55 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         "bounds": bounds,
     });
     if let Some((b, bs)) = brute {
-        output::write_exr(&o.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), &valid)?;
-        let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
-        let err = error_against(&b.image, &culled.image, &culled.filtered, &valid);
-        log(format!(
-            "slc brute force (every VPL at every pixel): {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}; relative RMSE against it {:.4} before the filter, {:.4} after ({})",
-            bs * 1e3,
-            err["unfiltered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
-            err["filtered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
-            s.filter.name()
-        ));
-        meta["brute_force"] = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm, "error": err});
+        meta["brute_force"] = brute_report(s, gpu, (&g, &vpls), (&b, bs), &culled, &valid, log)?;
+        if let Some(sw) = meta["brute_force"].as_object_mut().and_then(|m| m.remove("sweep")) {
+            meta["sweep"] = sw;
+        }
     }
     if let Some(m) = &s.medium {
         meta["medium"] = slc_medium(s, m, &scene, cam, &g, &vpls, log)?;
     }
     std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
     Ok(())
+}
+
+/// The brute-force reference's part of slc.json (its image written, the culled image's error
+/// against it) and, with `s.sweep`, the equal-time experiment under the key `sweep`.
+fn brute_report(
+    s: &SlcOptions,
+    gpu: Option<&shaders::gpu::Gpu>,
+    (g, vpls): (&crate::slc::GBuffer, &[crate::slc::Vpl]),
+    (b, bs): (&crate::slc::Render, f64),
+    culled: &crate::slc::Render,
+    valid: &[f32],
+    log: &mut dyn FnMut(String),
+) -> Result<serde_json::Value, String> {
+    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    output::write_exr(&s.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), valid)?;
+    let n = (s.width * s.height) as f64;
+    let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
+    let err = error_against(&b.image, &culled.image, &culled.filtered, valid);
+    log(format!(
+        "slc brute force (every VPL at every pixel): {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}; relative RMSE against it {:.4} before the filter, {:.4} after ({})",
+        bs * 1e3,
+        err["unfiltered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
+        err["filtered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
+        s.filter.name()
+    ));
+    let mut out = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm, "error": err});
+    if !s.sweep.is_empty() {
+        let points = crate::slc::sweep::run(s, gpu, g, vpls, &s.sweep, (&b.image, valid), log)?;
+        let j = crate::slc::sweep::json(&points, s.delta);
+        let at = j["equal_time"]["seconds_per_frame"].as_f64().unwrap_or(f64::NAN);
+        log(format!(
+            "slc equal time (at the spheroid's {:.3} ms per frame, δ {:e}): filtered relative RMSE {}",
+            at * 1e3,
+            s.delta,
+            j["equal_time"]["relative_rmse_filtered"]
+        ));
+        out["sweep"] = j;
+    }
+    Ok(out)
 }
 
 /// slc.json's description of the filter joining the subregions.

@@ -14,7 +14,7 @@
 //!
 //! The module tree: this file (VPLs, G-buffer, bounds, tiled culling and shading on the
 //! CPU), [`filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
-//! [`media`] (single scattering, seed 001), [`harness`]
+//! [`media`] (single scattering, seed 001), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
 //! Uses: [`crate::scene`] and the image writers of [`crate::output`].
@@ -22,6 +22,7 @@ pub mod filter;
 pub mod gpu;
 pub mod harness;
 pub mod media;
+pub mod sweep;
 
 pub use filter::{filter, Filter};
 
