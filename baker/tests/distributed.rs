@@ -23,13 +23,20 @@ use std::time::{Duration, Instant};
 
 fn python() -> Option<String> {
     let py = std::env::var("SBF_PYTHON").unwrap_or_else(|_| "python3".into());
-    let ok = Command::new(&py).args(["-c", "import distributed"]).output().is_ok_and(|o| o.status.success());
+    // `import dask.distributed` from a neutral folder: run from baker/ (the test's working
+    // directory), a bare `import distributed` finds baker/distributed/ as a namespace package
+    // and passes without Dask installed.
+    let ok = Command::new(&py)
+        .args(["-c", "import dask.distributed"])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .is_ok_and(|o| o.status.success());
     if ok {
         return Some(py);
     }
     assert!(
         std::env::var("SBF_REQUIRE_DASK").map_or(true, |v| v != "1"),
-        "SBF_REQUIRE_DASK=1 but `{py} -c 'import distributed'` fails: pip install -r baker/distributed/requirements.txt"
+        "SBF_REQUIRE_DASK=1 but `{py} -c 'import dask.distributed'` fails: pip install -r baker/distributed/requirements.txt"
     );
     println!("skipped: {py} has no dask distributed (pip install -r baker/distributed/requirements.txt; SBF_PYTHON names the interpreter)");
     None
