@@ -157,6 +157,40 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
     }
 }
 
+/// The range cut (tiled shading with clamped ranges) culls tiles by the range at ξ = ½ and
+/// must drop no pair its per-pixel cut keeps: its image equals, to f32 rounding, the sum
+/// written here over every VPL at every pixel of L = I(ω)·cos θ_r/d²·ρ/π where d ≤ the
+/// range at ξ = ½ (sbf's `random_range`), with the culling bound widened to nothing.
+#[test]
+fn range_cut_culls_no_pair_it_keeps() {
+    let gb = gbuffer();
+    let l = vpls(3);
+    let r = render(&gb, &l, DELTA, Mode::RangeCut, 1);
+    let mut worst = 0.0f32;
+    for (k, t) in gb.texels.iter().enumerate() {
+        let Some((x, n, a)) = t else { continue };
+        let want: f32 = l
+            .iter()
+            .map(|v| {
+                let to = *x - v.position;
+                let d = to.length();
+                let i = v.intensity(to / d);
+                let range = sbf::slc::runtime::random_range(i, DELTA, 0.5);
+                if d <= range {
+                    i * n.dot(-to / d).max(0.0) / (d * d) * a / std::f32::consts::PI
+                } else {
+                    0.0
+                }
+            })
+            .sum();
+        let e = (r.image[k] - want).abs() / want.max(1e-6);
+        worst = worst.max(e);
+    }
+    println!("range cut: worst relative difference {worst:.2e}");
+    assert!(worst <= 1e-4, "the range cut's tiles dropped light: {worst}");
+    assert!(r.kept < (l.len() * gb.texels.len().div_ceil(256)) as u64, "the range cut culled no tile");
+}
+
 /// The GPU kernel and the CPU reference agree for the same ξ, without and with 8 × 8
 /// interleaved sampling: images to f32 rounding (1e-3 of the pixel plus 1e-6 of the
 /// image's largest value: a few hundred f32 terms), kept pairs and false positives within
@@ -179,6 +213,7 @@ fn gpu_matches_cpu() {
         (Mode::Culled, 1, sphere),
         (Mode::Culled, 1, baker::slc::Bound::Th16),
         (Mode::Culled, 8, sphere),
+        (Mode::RangeCut, 8, tight),
     ] {
         let l = vpls(7);
         let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
@@ -212,6 +247,13 @@ fn gpu_matches_cpu() {
     // contains the enclosing one: |c − q| + r_u = r/α) a superset of both.
     assert!(fdr[1].0 >= fdr[0].0 && fdr[1].1 >= fdr[0].1, "sphere {:?} vs spheroid {:?}", fdr[1], fdr[0]);
     assert!(fdr[2].0 >= fdr[1].0 && fdr[2].1 >= fdr[1].1, "TH16 {:?} vs sphere {:?}", fdr[2], fdr[1]);
+    // Per-stage timestamps (where the adapter has them): each stage took time, the filter's
+    // pass too.
+    let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &vpls(7), DELTA, 8).unwrap();
+    if let Some(st) = run.time_stages(Mode::Culled, 3).unwrap() {
+        println!("stages: {st:?} s");
+        assert!(st.iter().all(|t| t.is_finite() && *t > 0.0), "{st:?}");
+    }
     // Every filter on the GPU against the CPU's on the same image.
     let l = vpls(7);
     for f in [Filter::Box, Filter::Bilateral { radius: 4 }, Filter::Bilateral { radius: 12 }] {

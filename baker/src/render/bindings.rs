@@ -102,3 +102,18 @@ pub(super) fn lightmap_sampler(d: &wgpu::Device, filter: LightmapFilter) -> wgpu
         ..Default::default()
     })
 }
+
+/// What binds in the lobe table's place when a configuration reads no table: a 1 × 1 × 1
+/// rg16float 3D texture.
+pub(super) fn no_lobe_table(d: &wgpu::Device) -> wgpu::Texture {
+    d.create_texture(&wgpu::TextureDescriptor {
+        label: Some("no lobe table"),
+        size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format: wgpu::TextureFormat::Rg16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}

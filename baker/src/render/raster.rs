@@ -11,7 +11,7 @@
 //! that the CPU twin shades the very same inputs).
 
 use super::atlas::Atlas;
-use super::bindings::{layouts, lightmap_sampler, probe_rows, Lattice};
+use super::bindings::{layouts, lightmap_sampler, no_lobe_table, probe_rows, Lattice};
 use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use super::probes::ProbeField;
 use crate::accumulate::BasisKind;
@@ -285,16 +285,7 @@ impl<'g> Renderer<'g> {
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if l.specular == SpecularPath::Tables => {
                 self.gpu.lobe_texture_filtered(sbf::luts::committed::lobe_ggx_ad())
             }
-            _ => d.create_texture(&wgpu::TextureDescriptor {
-                label: Some("no lobe table"),
-                size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D3,
-                format: wgpu::TextureFormat::Rg16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            }),
+            _ => no_lobe_table(d),
         };
         let array = wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() };
         let views = [

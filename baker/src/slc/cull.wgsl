@@ -117,7 +117,11 @@ fn slc_prepare(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (j >= SP.light_count) {
         return;
     }
-    let v = slc_load_vpl(j);
+    var v = slc_load_vpl(j);
+    // The range cut keeps every light within its range at ξ = ½: its bound is that range's.
+    if ((SP.mode & 3u) == 2u) {
+        v.xi = 0.5;
+    }
     var e: SlcEllipsoid;
     if (v.diffuse > 0.0) {
         let s = slc_diffuse_sphere(v.position, v.normal, v.flux * v.diffuse, SP.delta, v.xi);
@@ -212,7 +216,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         let j = tile.z + stride * m;
         if (any_valid && m < sub_count) {
             var keep = true;
-            if ((SP.mode & 3u) == 0u) {
+            if ((SP.mode & 3u) != 1u) {
                 let c = SlcCullEllipsoid(mat3x3<f32>(bounds[4u * j].xyz, bounds[4u * j + 1u].xyz, bounds[4u * j + 2u].xyz), bounds[4u * j + 3u].xyz);
                 keep = slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half);
             }

@@ -230,6 +230,13 @@ impl<'g> SlcGpu<'g> {
     }
 
     fn dispatch(&mut self, mode: Mode) {
+        self.record(mode, None);
+    }
+
+    /// Submits one frame; with `timestamps` (query set, first index) each stage runs in its
+    /// own compute pass and writes its begin and end times at first + 2·stage (+1): stage 0
+    /// the bounds (range determination), 1 culling + shading, 2 the filter.
+    fn record(&mut self, mode: Mode, timestamps: Option<(&wgpu::QuerySet, u32)>) {
         self.params.mode = match mode {
             Mode::Culled => 0,
             Mode::BruteForce => 1,
@@ -243,27 +250,76 @@ impl<'g> SlcGpu<'g> {
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         q.write_buffer(&self.stats_buf, 0, &[0u8; 8]);
         let mut enc = self.gpu.device().create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
+        let groups = (self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8));
+        let mut stages: Vec<Stage> = vec![vec![(&self.prepare, (self.lights.div_ceil(64).max(1), 1, 1))], vec![(&self.shade, self.tiles)]];
+        if self.filter_on {
+            stages.push(if self.params.filter_radius == 0 {
+                vec![(&self.filter, (groups.0, groups.1, 1))]
+            } else {
+                vec![(&self.filter_rows, (groups.0, groups.1, 1)), (&self.filter_cols, (groups.0, groups.1, 1))]
+            });
+        }
+        if timestamps.is_none() {
+            // One pass for the whole frame.
+            stages = vec![stages.concat()];
+        } else if !self.filter_on {
+            // An empty pass still writes the filter's two timestamps (resolved with the rest).
+            stages.push(Vec::new());
+        }
+        for (k, stage) in stages.iter().enumerate() {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("slc"),
+                timestamp_writes: timestamps.map(|(qs, first)| wgpu::ComputePassTimestampWrites {
+                    query_set: qs,
+                    beginning_of_pass_write_index: Some(first + 2 * k as u32),
+                    end_of_pass_write_index: Some(first + 2 * k as u32 + 1),
+                }),
+            });
             pass.set_bind_group(0, &self.group, &[]);
-            pass.set_pipeline(&self.prepare);
-            pass.dispatch_workgroups(self.lights.div_ceil(64).max(1), 1, 1);
-            pass.set_pipeline(&self.shade);
-            pass.dispatch_workgroups(self.tiles.0, self.tiles.1, self.tiles.2);
-            if self.filter_on {
-                let groups = (self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8));
-                if self.params.filter_radius == 0 {
-                    pass.set_pipeline(&self.filter);
-                    pass.dispatch_workgroups(groups.0, groups.1, 1);
-                } else {
-                    pass.set_pipeline(&self.filter_rows);
-                    pass.dispatch_workgroups(groups.0, groups.1, 1);
-                    pass.set_pipeline(&self.filter_cols);
-                    pass.dispatch_workgroups(groups.0, groups.1, 1);
-                }
+            for (pipeline, (x, y, z)) in stage {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups(*x, *y, *z);
             }
         }
         q.submit([enc.finish()]);
+    }
+
+    /// Per-stage GPU times (seconds; medians of `frames` frames after two warm-up frames, by
+    /// timestamp queries): the bounds (range determination), culling + shading, the filter
+    /// (0 with the filter off) — seed 002 Table 1's rows that run here. None where the
+    /// adapter has no timestamp queries.
+    pub fn time_stages(&mut self, mode: Mode, frames: usize) -> Result<Option<[f64; 3]>, String> {
+        if !self.gpu.timestamps {
+            return Ok(None);
+        }
+        let d = self.gpu.device();
+        let total = (frames.max(1) + 2) as u32;
+        let queries =
+            d.create_query_set(&wgpu::QuerySetDescriptor { label: Some("slc stages"), ty: wgpu::QueryType::Timestamp, count: 6 * total });
+        let resolve = d.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("slc stages"),
+            size: 8 * 6 * total as u64,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        for k in 0..total {
+            self.record(mode, Some((&queries, 6 * k)));
+            self.gpu.wait()?;
+        }
+        let stages = if self.filter_on { 3 } else { 2 };
+        let mut enc = d.create_command_encoder(&Default::default());
+        enc.resolve_query_set(&queries, 0..6 * total, &resolve, 0);
+        self.gpu.queue().submit([enc.finish()]);
+        let ticks: Vec<u64> = bytemuck::cast_slice(&self.gpu.read_back(&resolve)?).to_vec();
+        let period = self.gpu.timestamp_period() as f64 * 1e-9;
+        let mut out = [0.0; 3];
+        for (s, o) in out.iter_mut().enumerate().take(stages as usize) {
+            let mut t: Vec<f64> =
+                (2..total as usize).map(|k| ticks[6 * k + 2 * s + 1].saturating_sub(ticks[6 * k + 2 * s]) as f64 * period).collect();
+            t.sort_by(f64::total_cmp);
+            *o = t[t.len() / 2];
+        }
+        Ok(Some(out))
     }
 
     /// One frame: bounds, culling, shading and the filter; the images and statistics read
@@ -301,6 +357,9 @@ impl<'g> SlcGpu<'g> {
         Ok(t[t.len() / 2])
     }
 }
+
+/// One stage's dispatches: (pipeline, workgroups).
+type Stage<'a> = Vec<(&'a wgpu::ComputePipeline, (u32, u32, u32))>;
 
 /// Renders one frame on the GPU (same result as [`crate::slc::render`] up to f32 rounding).
 pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Result<Render, String> {

@@ -129,7 +129,7 @@ fn slc_medium(
 
 /// The GPU's own ξ stream for `--seed` (cull.wgsl's PCG hash): the GPU leg is an independent
 /// estimate, not a replay of the CPU's `slc::vpl_xi` (the VPLs themselves are the same).
-pub(crate) fn gpu_xi_seed(seed: u64) -> u32 {
+fn gpu_xi_seed(seed: u64) -> u32 {
     ((seed ^ (seed >> 32)) as u32).max(1)
 }
 
@@ -176,6 +176,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         s.vpls,
         t.elapsed().as_secs_f64()
     ));
+    let mut stages = None;
     let (culled, brute, seconds, device) = match gpu {
         Some(gp) => {
             let mut r = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, s.interleave)?;
@@ -188,6 +189,10 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
             r.set_filter(true);
             let seconds = r.time(Mode::Culled, s.frames)?;
             log(format!("slc GPU frame without the filter: {:.3} ms", unfiltered * 1e3));
+            stages = r.time_stages(Mode::Culled, s.frames)?;
+            if let Some(st) = stages {
+                log(stages_line(st));
+            }
             // The reference: every VPL at every pixel (no interleaving), no filter.
             let brute = if s.brute {
                 let mut b = crate::slc::gpu::SlcGpu::new(gp, &g, &vpls, s.delta, 1)?;
@@ -234,6 +239,8 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         "false_discovery_rate": fdr,
         "image": "slc.exr (slc.png)", "filtered_image": "slc_filtered.exr (slc_filtered.png): the subregions joined by the filter",
         "filter": filter_json(s),
+        "stages_ms": stages.map(|[b, c, f]| json!({"range_determination": b * 1e3, "culling_and_shading": c * 1e3, "filter": f * 1e3,
+            "note": "GPU timestamps, medians; the G-buffer and the VPLs (light paths) are made on the CPU and not timed"})),
         "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (counts)",
         "false_discovery_image": "slc_fdr.exr (per pixel; slc_fdr.png: hue blue→red 0→100%, brightness VPLs per pixel)",
         "bounds": bounds,
@@ -276,7 +283,9 @@ fn brute_report(
     ));
     let mut out = json!({"image": "slc_brute.exr", "seconds_per_frame": bs, "mean": bm, "culled_mean": cm, "error": err});
     if !s.sweep.is_empty() {
-        let points = crate::slc::sweep::run(s, gpu, g, vpls, &s.sweep, (&b.image, valid), log)?;
+        let settings =
+            crate::slc::sweep::Settings { interleave: s.interleave, filter: s.filter, frames: s.frames, xi_seed: gpu_xi_seed(s.seed) };
+        let points = crate::slc::sweep::run(settings, gpu, g, vpls, &s.sweep, (&b.image, valid), log)?;
         let j = crate::slc::sweep::json(&points, s.delta);
         let at = j["equal_time"]["seconds_per_frame"].as_f64().unwrap_or(f64::NAN);
         log(format!(
@@ -288,6 +297,16 @@ fn brute_report(
         out["sweep"] = j;
     }
     Ok(out)
+}
+
+/// The per-stage GPU times as a log line.
+fn stages_line([b, c, f]: [f64; 3]) -> String {
+    format!(
+        "slc GPU stages (timestamps; seed 002 Table 1's rows that run here): range determination {:.3} ms, culling + shading {:.3} ms, filter {:.3} ms",
+        b * 1e3,
+        c * 1e3,
+        f * 1e3
+    )
 }
 
 /// slc.json's description of the filter joining the subregions.

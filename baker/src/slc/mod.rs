@@ -136,7 +136,8 @@ pub enum Mode {
     Culled,
     /// Every light, no falloff (the reference).
     BruteForce,
-    /// Every light within its range for ξ = ½, unweighted (the classic biased cut).
+    /// Every light within its range for ξ = ½, unweighted (the classic biased cut: tiled
+    /// shading with clamped ranges, tiles culled by those ranges).
     RangeCut,
 }
 
@@ -200,7 +201,9 @@ pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interl
     let il = interleave.max(1);
     let n = g.width * g.height;
     let mut out = Render { image: vec![0.0; n], lights_per_pixel: vec![0; n], false_per_pixel: vec![0; n], ..Default::default() };
-    let bounds: Vec<(Mat3, Vec3)> = vpls.iter().map(|v| v.bound(delta, bound)).collect();
+    // The range cut keeps every light within its range at ξ = ½ (tiles culled by that range).
+    let bounds: Vec<(Mat3, Vec3)> =
+        vpls.iter().map(|v| if mode == Mode::RangeCut { Vpl { xi: 0.5, ..*v } } else { *v }.bound(delta, bound)).collect();
     let weight = (il * il) as f32;
     for sub in 0..il * il {
         let (sx, sy) = (sub % il, sub / il);
@@ -249,8 +252,8 @@ fn render_subregion(
             for &j in subset {
                 let v = &vpls[j];
                 let keep = match mode {
-                    Mode::Culled => halves.iter().any(|c| slc::ellipsoid_hits_corners(bounds[j].0, bounds[j].1, c)),
-                    Mode::BruteForce | Mode::RangeCut => true,
+                    Mode::Culled | Mode::RangeCut => halves.iter().any(|c| slc::ellipsoid_hits_corners(bounds[j].0, bounds[j].1, c)),
+                    Mode::BruteForce => true,
                 };
                 if !keep {
                     continue;

@@ -6,8 +6,7 @@
 //! GGX spheroid (002 §5), with its enclosing sphere, and the deterministic range cut at
 //! ξ = ½ (the classic clamped ranges: biased).
 
-use super::harness::SlcOptions;
-use super::{Bound, GBuffer, Mode, Vpl};
+use super::{Bound, Filter, GBuffer, Mode, Vpl};
 use serde_json::json;
 use std::time::Instant;
 
@@ -40,10 +39,21 @@ fn relative_rmse(reference: &[f32], img: &[f32], valid: &[f32]) -> f64 {
     (sq / n).sqrt() / (mean / n).max(f64::MIN_POSITIVE)
 }
 
+/// How the sweep renders: as the main run does.
+#[derive(Debug, Clone, Copy)]
+pub struct Settings {
+    pub interleave: usize,
+    pub filter: Filter,
+    /// Timed GPU frames per point (median).
+    pub frames: usize,
+    /// The GPU's own ξ stream ([`super::gpu::SlcGpu::set_xi_seed`]).
+    pub xi_seed: u32,
+}
+
 /// Renders every method at every δ of `deltas` (GPU frames timed as the main run's, or one
 /// CPU render each) and measures its error against `reference`.
 pub fn run(
-    s: &SlcOptions,
+    s: Settings,
     gpu: Option<&shaders::gpu::Gpu>,
     g: &GBuffer,
     vpls: &[Vpl],
@@ -57,7 +67,7 @@ pub fn run(
             let (r, seconds) = match gpu {
                 Some(gp) => {
                     let mut r = super::gpu::SlcGpu::new(gp, g, vpls, delta, s.interleave)?;
-                    r.set_xi_seed(Some(super::harness::gpu_xi_seed(s.seed)));
+                    r.set_xi_seed(Some(s.xi_seed));
                     r.set_bound(bound);
                     r.set_filter_kind(s.filter);
                     (r.run(mode)?, r.time(mode, s.frames)?)
