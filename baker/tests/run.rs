@@ -611,6 +611,22 @@ fn slc_command_writes_its_outputs() {
         meta["brute_force"]["error"]["filtered"]["relative_rmse"].as_f64().unwrap(),
     );
     assert!((at - own).abs() <= 1e-12 * own, "spheroid at δ {at} vs the main run's {own}");
+    let spheroid = meta["sweep"]["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["method"] == "spheroid" && p["delta"].as_f64() == Some(1e-3f32 as f64))
+        .unwrap()
+        .clone();
+    let unfiltered = meta["brute_force"]["error"]["unfiltered"]["relative_rmse"].as_f64().unwrap();
+    assert_eq!(spheroid["relative_rmse_unfiltered"].as_f64().unwrap(), unfiltered);
+    // --filter-radius reaches the filter (slc.json states it, and the image changes).
+    let r4 = tmp("slc-r4");
+    let o = slc(&["--vpls", "256", "--size", "48x32", "--device", "cpu", "--brute", "--filter-radius", "4", "--out", r4.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m4: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(r4.join("slc.json")).unwrap()).unwrap();
+    assert_eq!(m4["filter"]["radius"].as_u64(), Some(4));
+    assert_ne!(m4["brute_force"]["error"]["filtered"]["relative_rmse"], meta["brute_force"]["error"]["filtered"]["relative_rmse"]);
     let bad = slc(&["--sweep", "1e-2", "--out", sw.to_str().unwrap()]);
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("include --delta"));
 }

@@ -57,6 +57,40 @@ fn every_configuration_validates_and_exports() {
     }
 }
 
+/// The filtered lobe tables' texture operations in each language, as written by hand here:
+/// the 3D size query per axis and the explicit-level sample through the sampler (GLSL and
+/// HLSL also run in the GPU parity tests; MSL has no compiler here, so its text is checked).
+#[test]
+fn filtered_tables_export_their_texture_operations() {
+    let composed = compose::compose(&Config::parse("lobe-ggx-filtered").unwrap()).unwrap();
+    let want = [
+        (
+            Lang::Msl,
+            vec![
+                "uint3(tab.get_width(), tab.get_height(), tab.get_depth())",
+                "tab.sample(smp, ",
+                ", level(0.0f))",
+                "texture3d<float> tab, sampler smp",
+            ],
+        ),
+        (Lang::Glsl, vec!["uvec3(textureSize(tab, 0))", "textureLod(sampler3D(tab, smp), ", "texture3D tab, sampler smp"]),
+        (
+            Lang::Hlsl,
+            vec![
+                "t.GetDimensions(w, h, d);\n    return uint3(w, h, d);",
+                "tab.SampleLevel(smp, ",
+                "Texture3D<float4> tab, SamplerState smp",
+            ],
+        ),
+    ];
+    for (lang, needles) in want {
+        let out = export::export(&composed.source, lang).unwrap();
+        for n in needles {
+            assert!(out.contains(n), "{lang:?}: `{n}` missing");
+        }
+    }
+}
+
 /// Pruning: "AD9 irradiance only" is a fraction of "all", keeps no SH/SG/GGX/LUT code,
 /// and the two together account for every byte (kept + left out = all items).
 #[test]

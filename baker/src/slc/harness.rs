@@ -404,3 +404,21 @@ fn compare_bounds(
     }
     Ok(bounds)
 }
+
+#[cfg(test)]
+mod tests {
+    /// The error measures on a 4-pixel case worked by hand: reference (1, 2, 3, ·) with the
+    /// last pixel invalid; errors +1, −1, +1 → RMSE 1, relative 1/2 (mean 2), signed bias ⅓.
+    #[test]
+    fn error_against_is_rmse_relative_rmse_and_signed_bias() {
+        let reference = [1.0, 2.0, 3.0, 100.0];
+        let img = [2.0, 1.0, 4.0, 0.0];
+        let e = super::error_against(&reference, &img, &reference, &[1.0, 1.0, 1.0, 0.0]);
+        let u = &e["unfiltered"];
+        assert!((u["rmse"].as_f64().unwrap() - 1.0).abs() < 1e-12, "{e}");
+        assert!((u["relative_rmse"].as_f64().unwrap() - 0.5).abs() < 1e-12, "{e}");
+        assert!((u["mean_bias"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12, "{e}");
+        assert_eq!(e["filtered"]["rmse"].as_f64().unwrap(), 0.0);
+        assert_eq!(e["pixels"].as_u64().unwrap(), 3);
+    }
+}

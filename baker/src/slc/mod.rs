@@ -13,7 +13,7 @@
 
 //!
 //! The module tree: this file (VPLs, G-buffer, bounds, tiled culling and shading on the
-//! CPU), [`filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
+//! CPU), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
 //! [`media`] (single scattering, seed 001), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!

@@ -140,5 +140,8 @@ mod tests {
         assert_eq!(error_at(&pts, "a", 0.5), None);
         assert_eq!(error_at(&pts, "b", 2.0), None);
         assert!((error_at(&pts, "a", 4.0).unwrap() - 0.5).abs() < 1e-12);
+        // The ends of the range are inside it.
+        assert!((error_at(&pts, "a", 16.0).unwrap() - 0.25).abs() < 1e-12);
+        assert!((error_at(&pts, "a", 1.0).unwrap() - 1.0).abs() < 1e-12);
     }
 }
