@@ -5,15 +5,16 @@
 //! GPU part on any adapter (lavapipe in CI); `SBF_REQUIRE_GPU=1` makes a missing one fail.
 
 mod common;
-use baker::slc::{render, Filter, GBuffer, Mode, Render, Vpl};
+use baker::slc::{render, Filter, GBuffer, Layers, Mode, Render, Surface, Vpl};
 use common::gpu;
-use sbf::glam::Vec3;
+use sbf::glam::{DVec3, Vec3};
 use sbf::sampling::{uniform_hemisphere, Pcg32};
 use shaders::gpu::Gpu;
 
 const DELTA: f32 = 1e-3;
 
-/// 96 × 48 pixels: the floor y = −1 (albedo 0.7) below, the wall z = −6 (albedo 0.5) above
+/// 96 × 48 pixels: the floor y = −1 below — glossy: albedo (0.7, 0.5, 0.3) under a GGX layer
+/// of F0 (0.9, 0.6, 0.3), α 0.3 — and the Lambert wall z = −6 (albedo (0.4, 0.5, 0.6)) above
 /// up to y = 2.5, background beyond.
 fn gbuffer() -> GBuffer {
     let (w, h, tx, ty) = (96usize, 48usize, 0.8f32, 0.4f32);
@@ -23,9 +24,15 @@ fn gbuffer() -> GBuffer {
             let d = Vec3::new((2.0 * (px as f32 + 0.5) / w as f32 - 1.0) * tx, (1.0 - 2.0 * (py as f32 + 0.5) / h as f32) * ty, -1.0);
             let t_floor = if d.y < 0.0 { -1.0 / d.y } else { f32::INFINITY };
             texels.push(if t_floor < 6.0 {
-                Some((d * t_floor, Vec3::Y, 0.7))
+                Some(Surface {
+                    position: d * t_floor,
+                    normal: Vec3::Y,
+                    albedo: Vec3::new(0.7, 0.5, 0.3),
+                    f0: Vec3::new(0.9, 0.6, 0.3),
+                    alpha: 0.3,
+                })
             } else if (d * 6.0).y < 2.5 {
-                Some((d * 6.0, Vec3::Z, 0.5))
+                Some(Surface { albedo: Vec3::new(0.4, 0.5, 0.6), ..Surface::lambert(d * 6.0, Vec3::Z, 0.0) })
             } else {
                 None
             });
@@ -34,8 +41,9 @@ fn gbuffer() -> GBuffer {
     GBuffer { width: w, height: h, tan_xy: (tx, ty), texels }
 }
 
-/// 200 VPLs on the floor and the wall, half diffuse, half GGX (α 0.1–0.5, F0 0.9), with
-/// the light's ξ = `slc::vpl_xi(draw, light)` (the same positions for every draw).
+/// 200 coloured VPLs on the floor and the wall, half diffuse (k (0.6, 0.5, 0.4)), half GGX
+/// (α 0.1–0.5, F0 (0.9, 0.8, 0.6)), flux ∝ (1, 0.8, 0.6), with the light's ξ =
+/// `slc::vpl_xi(draw, light)` (the same positions for every draw).
 fn vpls(draw: u64) -> Vec<Vpl> {
     let mut r = Pcg32::new(404, 1);
     (0..200)
@@ -54,14 +62,26 @@ fn vpls(draw: u64) -> Vec<Vpl> {
                 position,
                 normal,
                 incoming,
-                flux: 0.02 + 0.2 * r.next_f64() as f32,
-                diffuse: if glossy { 0.0 } else { 0.6 },
+                flux: Vec3::new(1.0, 0.8, 0.6) * (0.02 + 0.2 * r.next_f64() as f32),
+                diffuse: if glossy { Vec3::ZERO } else { Vec3::new(0.6, 0.5, 0.4) },
                 alpha: 0.1 + 0.4 * r.next_f64() as f32,
-                f0: 0.9,
+                f0: Vec3::new(0.9, 0.8, 0.6),
                 xi: baker::slc::vpl_xi(draw, k as u64),
             }
         })
         .collect()
+}
+
+/// A pixel's channels summed (a linear functional: unbiasedness carries over).
+fn s3(v: Vec3) -> f64 {
+    v.as_dvec3().element_sum()
+}
+
+/// Pixels where `b` differs from `a` by more than 1e-3 of a's channel plus 1e-6 of a's
+/// largest value (f32 rounding over a few hundred terms).
+fn differing(a: &[Vec3], b: &[Vec3]) -> usize {
+    let top = a.iter().fold(0.0f32, |m, x| m.max(x.max_element()));
+    a.iter().zip(b).filter(|(a, b)| ((**a - **b).abs() - (a.abs() * 1e-3 + Vec3::splat(1e-6 * top))).max_element() > 0.0).count()
 }
 
 type Renderer<'a> = Box<dyn Fn(&GBuffer, &[Vpl], Mode) -> Render + 'a>;
@@ -114,15 +134,15 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
             fp += r.false_positives;
             lpp += r.lights_per_pixel.iter().map(|x| *x as u64).sum::<u64>();
             for p in 0..n {
-                sum[p] += r.image[p] as f64;
-                sum2[p] += (r.image[p] as f64).powi(2);
+                sum[p] += s3(r.image[p]);
+                sum2[p] += s3(r.image[p]).powi(2);
             }
-            means.push(r.image.iter().map(|x| *x as f64).sum::<f64>() / n as f64);
+            means.push(r.image.iter().map(|x| s3(*x)).sum::<f64>() / n as f64);
         }
         let kf = k as f64;
         let (mut ok, mut lit) = (0, 0);
         for p in 0..n {
-            let b = brute.image[p] as f64;
+            let b = s3(brute.image[p]);
             if b <= 0.0 && sum[p] == 0.0 {
                 continue;
             }
@@ -135,9 +155,9 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
         }
         let gm = means.iter().sum::<f64>() / kf;
         let gs = (means.iter().map(|m| (m - gm).powi(2)).sum::<f64>() / (kf - 1.0) / kf).sqrt();
-        let bm = brute.image.iter().map(|x| *x as f64).sum::<f64>() / n as f64;
+        let bm = brute.image.iter().map(|x| s3(*x)).sum::<f64>() / n as f64;
         let cut = run(&gb, &vpls(1), Mode::RangeCut);
-        let cm = cut.image.iter().map(|x| *x as f64).sum::<f64>() / n as f64;
+        let cm = cut.image.iter().map(|x| s3(*x)).sum::<f64>() / n as f64;
         println!(
             "{name}: brute mean {bm:.6}, culled mean over {k} draws {gm:.6} ± {gs:.1e} ({:+.2}σ), range cut {cm:.6} ({:+.1}σ); {ok}/{lit} lit pixels within 4σ; lights per pixel {:.1} of 200; FDR {:.3}",
             (gm - bm) / gs,
@@ -159,8 +179,10 @@ fn culled_image_is_unbiased_and_a_range_cut_is_not() {
 
 /// The range cut (tiled shading with clamped ranges) culls tiles by the range at ξ = ½ and
 /// must drop no pair its per-pixel cut keeps: its image equals, to f32 rounding, the sum
-/// written here over every VPL at every pixel of L = I(ω)·cos θ_r/d²·ρ/π where d ≤ the
-/// range at ξ = ½ (sbf's `random_range`), with the culling bound widened to nothing.
+/// written here over every VPL at every pixel of L = I(ω)·cos θ_r/d²·f_r where d ≤ the
+/// range at ξ = ½ (sbf's `random_range` of the largest channel), with the culling bound
+/// widened to nothing (f_r = ρ/π + the GGX layer: the receiver's own model, checked by the
+/// closed-form test below).
 #[test]
 fn range_cut_culls_no_pair_it_keeps() {
     let gb = gbuffer();
@@ -168,22 +190,22 @@ fn range_cut_culls_no_pair_it_keeps() {
     let r = render(&gb, &l, DELTA, Mode::RangeCut, 1);
     let mut worst = 0.0f32;
     for (k, t) in gb.texels.iter().enumerate() {
-        let Some((x, n, a)) = t else { continue };
-        let want: f32 = l
+        let Some(s) = t else { continue };
+        let want: Vec3 = l
             .iter()
             .map(|v| {
-                let to = *x - v.position;
+                let to = s.position - v.position;
                 let d = to.length();
                 let i = v.intensity(to / d);
-                let range = sbf::slc::runtime::random_range(i, DELTA, 0.5);
+                let range = sbf::slc::runtime::random_range(i.max_element(), DELTA, 0.5);
                 if d <= range {
-                    i * n.dot(-to / d).max(0.0) / (d * d) * a / std::f32::consts::PI
+                    i * s.normal.dot(-to / d).max(0.0) / (d * d) * (s.albedo / std::f32::consts::PI + s.specular(-to / d))
                 } else {
-                    0.0
+                    Vec3::ZERO
                 }
             })
             .sum();
-        let e = (r.image[k] - want).abs() / want.max(1e-6);
+        let e = ((r.image[k] - want).abs() / want.max(Vec3::splat(1e-6))).max_element();
         worst = worst.max(e);
     }
     println!("range cut: worst relative difference {worst:.2e}");
@@ -224,9 +246,8 @@ fn gpu_matches_cpu() {
         if mode == Mode::Culled && il == 1 {
             fdr.push((c.kept, c.false_positives));
         }
-        let top = c.image.iter().fold(0.0f32, |a, x| a.max(*x));
-        let bad = c.image.iter().zip(&gg.image).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * top).count();
-        let mean = |v: &[f32]| v.iter().map(|x| *x as f64).sum::<f64>() / v.len() as f64;
+        let bad = differing(&c.image, &gg.image);
+        let mean = |v: &[Vec3]| v.iter().map(|x| s3(*x)).sum::<f64>() / v.len() as f64;
         println!(
             "{mode:?} interleave {il} {bound:?}: CPU kept {} fp {}, GPU kept {} fp {}; {bad} pixels differ; image mean {:.6}",
             c.kept,
@@ -240,8 +261,7 @@ fn gpu_matches_cpu() {
         assert!((c.false_positives as f64 - gg.false_positives as f64).abs() <= 0.005 * c.kept as f64);
         let shaded = c.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>();
         assert!((c.false_discoveries() as f64 - gg.false_discoveries() as f64).abs() <= 0.005 * shaded, "false discoveries");
-        let ftop = c.filtered.iter().fold(0.0f32, |a, x| a.max(*x));
-        let fbad = c.filtered.iter().zip(&gg.filtered).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * ftop).count();
+        let fbad = differing(&c.filtered, &gg.filtered);
         assert!(fbad <= c.filtered.len() / 200, "{mode:?}: {fbad} filtered pixels differ");
     }
     // The enclosing sphere keeps a superset of the spheroid's pairs, the TH16 sphere (which
@@ -258,16 +278,16 @@ fn gpu_matches_cpu() {
     // The filters' geometry weights on a surface where they matter: the wall made wavy
     // (normals tilted by up to ~17°, depth ripples of a few pixel footprints) with a
     // checkerboard albedo, so the normal power, σ_d, the box's plane test and each
-    // neighbour's own albedo all change the result; the CPU and GPU must agree on it.
+    // pixel's own albedo all change the result; the CPU and GPU must agree on it.
     let l = vpls(7);
     let mut wavy = gb.clone();
     for (k, t) in wavy.texels.iter_mut().enumerate() {
-        if let Some((x, n, _)) = t {
-            if n.z > 0.5 {
+        if let Some(s) = t {
+            if s.normal.z > 0.5 {
                 let (u, v) = ((k % gb.width) as f32, (k / gb.width) as f32);
-                *x *= 1.0 + 0.02 * (0.7 * u).sin() * (0.5 * v).cos();
-                *n = Vec3::new(0.3 * (0.35 * u).sin(), 0.3 * (0.45 * v).cos(), 1.0).normalize();
-                *t = Some((*x, *n, 0.3 + 0.4 * ((k % gb.width + k / gb.width) % 2) as f32));
+                s.position *= 1.0 + 0.02 * (0.7 * u).sin() * (0.5 * v).cos();
+                s.normal = Vec3::new(0.3 * (0.35 * u).sin(), 0.3 * (0.45 * v).cos(), 1.0).normalize();
+                s.albedo = Vec3::new(0.3, 0.5, 0.2) + 0.4 * ((k % gb.width + k / gb.width) % 2) as f32;
             }
         }
     }
@@ -276,8 +296,7 @@ fn gpu_matches_cpu() {
         let mut run = baker::slc::gpu::SlcGpu::new(&g, &wavy, &l, DELTA, 8).unwrap();
         run.set_filter_kind(f);
         let gg = run.run(Mode::BruteForce).unwrap();
-        let ftop = c.filtered.iter().fold(0.0f32, |a, x| a.max(*x));
-        let fbad = c.filtered.iter().zip(&gg.filtered).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * ftop).count();
+        let fbad = differing(&c.filtered, &gg.filtered);
         println!("wavy wall, filter {f:?}: {fbad} filtered pixels differ");
         assert!(fbad <= c.filtered.len() / 200, "wavy wall {f:?}: {fbad} filtered pixels differ");
     }
@@ -287,9 +306,8 @@ fn gpu_matches_cpu() {
         let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &l, DELTA, 8).unwrap();
         run.set_filter_kind(f);
         let gg = run.run(Mode::Culled).unwrap();
-        assert!(c.image.iter().zip(&gg.image).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs()).count() <= c.image.len() / 200);
-        let ftop = c.filtered.iter().fold(0.0f32, |a, x| a.max(*x));
-        let fbad = c.filtered.iter().zip(&gg.filtered).filter(|(a, b)| (*a - *b).abs() > 1e-3 * a.abs() + 1e-6 * ftop).count();
+        assert!(differing(&c.image, &gg.image) <= c.image.len() / 200);
+        let fbad = differing(&c.filtered, &gg.filtered);
         println!("filter {f:?}: {fbad} filtered pixels differ");
         assert!(fbad <= c.filtered.len() / 200, "{f:?}: {fbad} filtered pixels differ");
     }
@@ -307,7 +325,7 @@ fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
         .map(|k| {
             let d =
                 Vec3::new((2.0 * ((k % w) as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * ((k / w) as f32 + 0.5) / h as f32) * t, -1.0);
-            Some((d * 6.0, Vec3::Z, 0.5))
+            Some(Surface::lambert(d * 6.0, Vec3::Z, 0.5))
         })
         .collect();
     let g = GBuffer { width: w, height: h, tan_xy: (t, t), texels };
@@ -324,10 +342,10 @@ fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
                 position: Vec3::new(5.0 * x as f32 - 2.5, 5.0 * y as f32 - 2.5, -1.5 - r.next_f64() as f32),
                 normal,
                 incoming,
-                flux: 0.1,
-                diffuse: 0.0,
+                flux: Vec3::splat(0.1),
+                diffuse: Vec3::ZERO,
                 alpha,
-                f0: 0.9,
+                f0: Vec3::splat(0.9),
                 xi: 1.0 - r.next_f64() as f32,
             }
         })
@@ -380,19 +398,20 @@ fn plane(w: usize, h: usize, t: f32, z: f32, albedo: impl Fn(usize, usize) -> f3
         .map(|k| {
             let (x, y) = (k % w, k / w);
             let d = Vec3::new((2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * t, -1.0);
-            Some((d * -z, Vec3::Z, albedo(x, y)))
+            Some(Surface::lambert(d * -z, Vec3::Z, albedo(x, y)))
         })
         .collect();
     GBuffer { width: w, height: h, tan_xy: (t, t), texels }
 }
 
-/// Both filters recombine the interleaving subsets exactly: on a plane whose subregion s
-/// carries the irradiance I²·c_s (any c_s) under a checkerboard albedo, every pixel whose
-/// window (I × I for the box, (2R + 1)² for the bilateral filter) lies inside the image
-/// returns albedo·Σ c_s/π — the full set's value — to f32 rounding (one ε per term summed:
-/// 64 or 289 terms); pixels of different surfaces are not mixed: on the floor/wall G-buffer
-/// and on two parallel planes 3 apart (a depth step), an image that is a constant
-/// irradiance per surface comes back unchanged (1e-6 relative).
+/// Both filters recombine the interleaving subsets exactly: on a glossy plane whose
+/// subregion s carries the irradiance I²·c_s·(1, ½, ¼) and the specular radiance
+/// I²·d_s·(¼, 1, ½) (any c_s, d_s) under a checkerboard albedo, every pixel whose window
+/// (I × I for the box, (2R + 1)² for the bilateral filter) lies inside the image returns
+/// ρ/π·Σ c_s·(1, ½, ¼) + Σ d_s·(¼, 1, ½) — the full set's value — to f32 rounding (one ε per
+/// term summed: 64 or 289 terms, twice); pixels of different surfaces are not mixed: on the
+/// floor/wall G-buffer and on two parallel planes 3 apart (a depth step), layers that are
+/// constant per surface come back unchanged (1e-6 relative).
 #[test]
 fn filter_recombines_subsets_and_keeps_surfaces_apart() {
     for f in [Filter::Box, Filter::SEED] {
@@ -412,22 +431,28 @@ fn filter_recombines(f: Filter) {
     };
     let mut r = Pcg32::new(9, 9);
     let c: Vec<f32> = (0..il * il).map(|_| r.next_f64() as f32).collect();
-    let total: f32 = c.iter().sum();
-    let g = plane(61, 45, 0.5, -6.0, |x, y| 0.2 + 0.6 * ((x + y) % 2) as f32);
+    let dc: Vec<f32> = (0..il * il).map(|_| r.next_f64() as f32).collect();
+    let (ce, cs) = (Vec3::new(1.0, 0.5, 0.25), Vec3::new(0.25, 1.0, 0.5));
+    let (total, total_s) = (c.iter().sum::<f32>() * ce, dc.iter().sum::<f32>() * cs);
+    let mut g = plane(61, 45, 0.5, -6.0, |x, y| 0.2 + 0.6 * ((x + y) % 2) as f32);
+    for t in g.texels.iter_mut().flatten() {
+        t.f0 = Vec3::splat(0.04);
+    }
     let pi = std::f32::consts::PI;
-    let img: Vec<f32> = (0..g.width * g.height)
-        .map(|k| {
-            let (x, y) = (k % g.width, k / g.width);
-            (il * il) as f32 * c[(x % il) + il * (y % il)] * g.texels[k].unwrap().2 / pi
-        })
-        .collect();
-    let out = baker::slc::filter(&g, &img, il, f);
+    let sub = |k: usize| (k % g.width % il) + il * (k / g.width % il);
+    let w = (il * il) as f32;
+    let layers = Layers {
+        irradiance: (0..g.width * g.height).map(|k| w * c[sub(k)] * ce).collect(),
+        specular: (0..g.width * g.height).map(|k| w * dc[sub(k)] * cs).collect(),
+    };
+    let out = baker::slc::filter(&g, &layers, il, f);
     let mut checked = 0;
     for y in reach..g.height - reach {
         for x in reach..g.width - reach {
             let k = y * g.width + x;
-            let want = g.texels[k].unwrap().2 * total / pi;
-            assert!((out[k] - want).abs() <= terms as f32 * f32::EPSILON * want, "{f:?} pixel ({x}, {y}): {} vs {want}", out[k]);
+            let want = g.texels[k].unwrap().albedo * total / pi + total_s;
+            let tol = 2.0 * terms as f32 * f32::EPSILON * want;
+            assert!(((out[k] - want).abs() - tol).max_element() <= 0.0, "{f:?} pixel ({x}, {y}): {} vs {want}", out[k]);
             checked += 1;
         }
     }
@@ -436,24 +461,34 @@ fn filter_recombines(f: Filter) {
     let mut step = plane(64, 48, 0.5, -6.0, |_, _| 0.5);
     for k in 0..step.texels.len() {
         if k % 64 < 32 {
-            let (x, n, a) = step.texels[k].unwrap();
-            step.texels[k] = Some((x * 0.5, n, a));
+            let t = step.texels[k].as_mut().unwrap();
+            t.position *= 0.5;
         }
     }
     for gb in [gbuffer(), step] {
-        let e = |x: Vec3, n: Vec3| {
-            if n.y > 0.5 {
+        let e = |s: &Surface| {
+            if s.normal.y > 0.5 {
                 1.0
-            } else if x.z < -4.0 {
+            } else if s.position.z < -4.0 {
                 7.0
             } else {
                 3.0
             }
         };
-        let img: Vec<f32> = gb.texels.iter().map(|t| t.map_or(0.0, |(x, n, a)| e(x, n) * a / pi)).collect();
-        let out = baker::slc::filter(&gb, &img, il, f);
+        let layers = Layers {
+            irradiance: gb.texels.iter().map(|t| t.map_or(Vec3::ZERO, |s| e(&s) * ce)).collect(),
+            // The specular layer where a receiver has a GGX layer (zero elsewhere, as shaded).
+            specular: gb.texels.iter().map(|t| t.filter(Surface::is_glossy).map_or(Vec3::ZERO, |s| e(&s) * cs)).collect(),
+        };
+        let img = baker::slc::compose(&gb, &layers);
+        let out = baker::slc::filter(&gb, &layers, il, f);
         for (k, t) in gb.texels.iter().enumerate() {
-            assert!((out[k] - img[k]).abs() <= 1e-6 * img[k].abs(), "{f:?} pixel {k} ({t:?}): {} vs {}", out[k], img[k]);
+            assert!(
+                ((out[k] - img[k]).abs() - 1e-6 * img[k].abs()).max_element() <= 0.0,
+                "{f:?} pixel {k} ({t:?}): {} vs {}",
+                out[k],
+                img[k]
+            );
         }
     }
 }
@@ -487,10 +522,10 @@ fn filter_error_bound(f: Filter) {
             position: Vec3::new(5.0 * r.next_f64() as f32 - 2.5, 5.0 * r.next_f64() as f32 - 2.5, -2.0 - r.next_f64() as f32),
             normal: -Vec3::Z,
             incoming: -Vec3::Z,
-            flux: 0.1 + r.next_f64() as f32,
-            diffuse: 0.7,
+            flux: Vec3::splat(0.1 + r.next_f64() as f32),
+            diffuse: Vec3::splat(0.7),
             alpha: 0.5,
-            f0: 0.04,
+            f0: Vec3::splat(0.04),
             xi: 1.0,
         })
         .collect();
@@ -502,24 +537,26 @@ fn filter_error_bound(f: Filter) {
     for y in reach..g.height - reach {
         for x in reach..g.width - reach {
             let k = y * g.width + x;
-            let (p, nrm, a) = g.texels[k].unwrap();
+            let s = g.texels[k].unwrap();
+            let (p, nrm, a) = (s.position, s.normal, s.albedo.x);
             let bound: f64 = vpls
                 .iter()
                 .map(|v| {
                     let to = p - v.position;
                     let d = to.length();
                     let (cl, cr) = (v.normal.dot(to / d), nrm.dot(-to / d));
-                    let fj = v.flux * v.diffuse / std::f32::consts::PI * cl.max(0.0) * cr.max(0.0) / (d * d) * a / std::f32::consts::PI;
+                    let fj = v.flux.x * v.diffuse.x / std::f32::consts::PI * cl.max(0.0) * cr.max(0.0) / (d * d) * a / std::f32::consts::PI;
                     let gj = 1.0 / (d * cl) + 4.0 / d;
                     fj as f64 * ((gj * h) as f64).exp_m1()
                 })
                 .sum::<f64>()
                 * 1.001
-                + 1e-5 * full.image[k] as f64;
-            let e = (inter.filtered[k] - full.image[k]) as f64;
+                + 1e-5 * full.image[k].x as f64;
+            // Grey lights on a grey plane: the channels are equal; the first stands for all.
+            let e = (inter.filtered[k].x - full.image[k].x) as f64;
             worst = worst.max(e.abs() / bound);
-            rms_f += (e / full.image[k] as f64).powi(2);
-            rms_u += ((inter.image[k] - full.image[k]) as f64 / full.image[k] as f64).powi(2);
+            rms_f += (e / full.image[k].x as f64).powi(2);
+            rms_u += ((inter.image[k].x - full.image[k].x) as f64 / full.image[k].x as f64).powi(2);
             n += 1;
         }
     }
@@ -531,88 +568,120 @@ fn filter_error_bound(f: Filter) {
     assert!(worst <= 1.0, "{f:?}: the filtered image leaves the Lipschitz bound ({worst})");
 }
 
-/// The radiance model against closed forms written here (not the renderer's functions):
-/// one VPL at q in front of a Lambert plane (view-space z = −4, normal +z, albedo 0.6),
-/// 64 × 64 pixels, brute force (every light, no falloff). A pixel at x receives
-/// L = I(ω)·cos θ_r/d²·ρ/π, ω = (x − q)/d, cos θ_r = n_r·(q − x)/d (the point-source
-/// irradiance), with
+/// The GGX BRDF f(a, b) around unit normal `n` for one channel, written out here: D =
+/// α²/(π((n·h)²(α² − 1) + 1)²) (Walter et al. 2007), height-correlated Smith G2 = 1/(1 +
+/// Λ(a) + Λ(b)), Λ = (√(1 + α² tan² θ) − 1)/2 (Heitz 2014), Schlick F with F0 at a·h;
+/// f = D·G2·F/(4 cos θ_a cos θ_b), 0 below the surface.
+fn ggx_closed(n: DVec3, a: DVec3, b: DVec3, alpha: f64, f0: f64) -> f64 {
+    let (ca, cb) = (n.dot(a), n.dot(b));
+    if ca <= 0.0 || cb <= 0.0 {
+        return 0.0;
+    }
+    let hv = (a + b).normalize();
+    let (ch, a2) = (n.dot(hv), alpha * alpha);
+    let d = a2 / (std::f64::consts::PI * (ch * ch * (a2 - 1.0) + 1.0).powi(2));
+    let lambda = |c: f64| (((1.0 + a2 * (1.0 - c * c) / (c * c)).sqrt()) - 1.0) / 2.0;
+    let g2 = 1.0 / (1.0 + lambda(ca) + lambda(cb));
+    let f = f0 + (1.0 - f0) * (1.0 - a.dot(hv)).powi(5);
+    d * g2 * f / (4.0 * ca * cb)
+}
+
+/// The radiance model against closed forms written here (not the renderer's functions),
+/// in RGB: one coloured VPL at q in front of a plane (view-space z = −4, normal +z, albedo
+/// ρ = (0.6, 0.4, 0.8)), 64 × 64 pixels, brute force (every light, no falloff). A pixel at x
+/// receives per channel L = I(ω)·cos θ_r/d²·f_r(−ω, v), ω = (x − q)/d, cos θ_r = n_r·(q − x)/d
+/// (the point-source irradiance), v = −x/|x| (the camera at the origin), with
 /// - a diffuse VPL (002 eq. 4, Lambert): I(ω) = Φ·k·max(n·ω, 0)/π;
-/// - a GGX VPL (002 eq. 4–6): I(ω) = Φ·f(ω_i, ω)·max(n·ω, 0), f = D·G2·F/(4 cos θ_i cos θ_o)
-///   with D = α²/(π((n·h)²(α² − 1) + 1)²) (Walter et al. 2007), height-correlated Smith
-///   G2 = 1/(1 + Λ(ω_i) + Λ(ω_o)), Λ = (√(1 + α² tan² θ) − 1)/2 (Heitz 2014), Schlick F
-///   with F0 at ω_i·h.
+/// - a GGX VPL (002 eq. 4–6): I(ω) = Φ·f_GGX(ω_i, ω)·max(n·ω, 0) ([`ggx_closed`], F0 per channel);
+/// - a Lambert receiver f_r = ρ/π, or a glossy one f_r = ρ/π + f_GGX(−ω, v) (F0 (0.9, 0.5,
+///   0.2), α 0.3: the bake's layered material).
 ///
-/// Tolerance: f32 rounding of ~60 operations (diffuse) or ~150 with D's conditioning
-/// (d ln D/d cos θ_h ≤ 4/α² ≈ 44 at α 0.3) — 2e-5 and 2e-4 of the value — plus 1e-6 of the
-/// image's largest value for pixels whose cosines nearly cancel. Mutations tried: the
-/// diffuse intensity's cos → cos² (`Vpl::intensity`) fails the first; D × 1.02 (in
-/// `sbf::ggx::d`) fails the second.
+/// Tolerance: f32 rounding of ~60 operations (diffuse to Lambert) or ~150 per GGX factor with
+/// D's conditioning (d ln D/d cos θ_h ≤ 4/α² ≈ 44 at α 0.3) — 2e-5, and 2e-4 per GGX
+/// factor, of the value — plus 1e-6 of the image's largest value for pixels whose cosines
+/// nearly cancel. Mutations tried: the diffuse intensity's cos → cos² (`Vpl::intensity`)
+/// fails the first; D × 1.02 (in `sbf::ggx::d`) fails the GGX cases; the receiver's Fresnel
+/// taken at n·v fails the glossy receivers; channels swapped in the VPL's flux fail all.
 #[test]
-fn one_vpl_over_a_lambert_plane_matches_the_closed_form() {
-    let (w, h, t, z, rho) = (64usize, 64usize, 0.6f32, -4.0f32, 0.6f32);
-    let g = plane(w, h, t, z, |_, _| rho);
+fn one_vpl_over_a_plane_matches_the_closed_form() {
+    let (w, h, t, z) = (64usize, 64usize, 0.6f32, -4.0f32);
+    let rho = Vec3::new(0.6, 0.4, 0.8);
+    let lambert = {
+        let mut g = plane(w, h, t, z, |_, _| 0.0);
+        g.texels.iter_mut().flatten().for_each(|s| s.albedo = rho);
+        g
+    };
+    let (f0r, alphar) = (Vec3::new(0.9, 0.5, 0.2), 0.3f32);
+    let glossy_plane = {
+        let mut g = lambert.clone();
+        g.texels.iter_mut().flatten().for_each(|s| {
+            s.f0 = f0r;
+            s.alpha = alphar;
+        });
+        g
+    };
     let q = Vec3::new(0.3, -0.2, -2.5);
     let n = Vec3::new(0.2, 0.1, -1.0).normalize();
     let wi = Vec3::new(-0.3, 0.4, -1.0).normalize();
-    let (phi, k, alpha, f0) = (5.0f32, 0.7f32, 0.3f32, 0.9f32);
+    let (phi, k, alpha, f0) = (Vec3::new(5.0, 3.0, 1.5), Vec3::new(0.7, 0.5, 0.3), 0.3f32, Vec3::new(0.9, 0.7, 0.5));
     let diffuse = Vpl { position: q, normal: n, incoming: wi, flux: phi, diffuse: k, alpha, f0, xi: 0.5 };
-    let glossy = Vpl { diffuse: 0.0, ..diffuse };
+    let glossy = Vpl { diffuse: Vec3::ZERO, ..diffuse };
     let pi = std::f64::consts::PI;
     let (nd, wid) = (n.as_dvec3(), wi.as_dvec3());
-    let intensity_diffuse = |wo: sbf::glam::DVec3| phi as f64 * k as f64 * nd.dot(wo).max(0.0) / pi;
-    let intensity_ggx = |wo: sbf::glam::DVec3| {
-        let (ci, co) = (nd.dot(wid), nd.dot(wo));
-        if ci <= 0.0 || co <= 0.0 {
-            return 0.0;
-        }
-        let hv = (wid + wo).normalize();
-        let (ch, a2) = (nd.dot(hv), (alpha as f64).powi(2));
-        let d = a2 / (pi * (ch * ch * (a2 - 1.0) + 1.0).powi(2));
-        let lambda = |c: f64| (((1.0 + a2 * (1.0 - c * c) / (c * c)).sqrt()) - 1.0) / 2.0;
-        let g2 = 1.0 / (1.0 + lambda(ci) + lambda(co));
-        let f = f0 as f64 + (1.0 - f0 as f64) * (1.0 - wid.dot(hv)).powi(5);
-        phi as f64 * d * g2 * f / (4.0 * ci * co) * co
-    };
-    for (name, vpl, intensity, rel) in [
-        ("diffuse", diffuse, &intensity_diffuse as &dyn Fn(sbf::glam::DVec3) -> f64, 2e-5),
-        ("GGX", glossy, &intensity_ggx as &dyn Fn(sbf::glam::DVec3) -> f64, 2e-4),
+    let intensity_diffuse = |wo: DVec3, c: usize| phi[c] as f64 * k[c] as f64 * nd.dot(wo).max(0.0) / pi;
+    let intensity_ggx = |wo: DVec3, c: usize| phi[c] as f64 * ggx_closed(nd, wid, wo, alpha as f64, f0[c] as f64) * nd.dot(wo).max(0.0);
+    type Intensity<'a> = &'a dyn Fn(DVec3, usize) -> f64;
+    for (name, vpl, intensity, g, rel) in [
+        ("diffuse → Lambert", diffuse, &intensity_diffuse as Intensity, &lambert, 2e-5),
+        ("GGX → Lambert", glossy, &intensity_ggx as Intensity, &lambert, 2e-4),
+        ("diffuse → glossy", diffuse, &intensity_diffuse as Intensity, &glossy_plane, 2e-4),
+        ("GGX → glossy", glossy, &intensity_ggx as Intensity, &glossy_plane, 4e-4),
     ] {
-        let img = render(&g, &[vpl], DELTA, Mode::BruteForce, 1).image;
-        let want: Vec<f64> = g
+        let img = render(g, &[vpl], DELTA, Mode::BruteForce, 1).image;
+        let want: Vec<[f64; 3]> = g
             .texels
             .iter()
             .map(|tx| {
-                let (x, nr, a) = tx.expect("every pixel sees the plane");
-                let to = (x - q).as_dvec3();
+                let s = tx.expect("every pixel sees the plane");
+                let to = (s.position - q).as_dvec3();
                 let dist = to.length();
                 let wo = to / dist;
-                let cos_r = nr.as_dvec3().dot(-wo).max(0.0);
-                intensity(wo) * cos_r / (dist * dist) * a as f64 / pi
+                let nr = s.normal.as_dvec3();
+                let cos_r = nr.dot(-wo).max(0.0);
+                let v = -s.position.as_dvec3().normalize();
+                std::array::from_fn(|c| {
+                    let spec = if s.f0.max_element() > 0.0 { ggx_closed(nr, -wo, v, s.alpha as f64, s.f0[c] as f64) } else { 0.0 };
+                    intensity(wo, c) * cos_r / (dist * dist) * (s.albedo[c] as f64 / pi + spec)
+                })
             })
             .collect();
-        let top = want.iter().copied().fold(0.0, f64::max);
-        let lit = want.iter().filter(|v| **v > 1e-3 * top).count();
+        let top = want.iter().flatten().copied().fold(0.0, f64::max);
+        let lit = want.iter().filter(|v| v[0] > 1e-3 * top).count();
         let mut worst = 0.0f64;
         for (p, (got, wv)) in img.iter().zip(&want).enumerate() {
-            let err = (*got as f64 - wv).abs();
-            assert!(
-                err <= rel * wv + 1e-6 * top,
-                "{name} VPL, pixel {p}: {got} vs closed form {wv} ({:.2e} relative)",
-                err / wv.max(1e-300)
-            );
-            if *wv > 1e-3 * top {
-                worst = worst.max(err / wv);
+            for c in 0..3 {
+                let err = (got[c] as f64 - wv[c]).abs();
+                assert!(
+                    err <= rel * wv[c] + 1e-6 * top,
+                    "{name}, pixel {p} channel {c}: {} vs closed form {} ({:.2e} relative)",
+                    got[c],
+                    wv[c],
+                    err / wv[c].max(1e-300)
+                );
+                if wv[c] > 1e-3 * top {
+                    worst = worst.max(err / wv[c]);
+                }
             }
         }
-        println!("{name} VPL: {lit} lit pixels, worst relative error {worst:.2e} (bound {rel:.0e})");
+        println!("{name}: {lit} lit pixels, worst relative error {worst:.2e} (bound {rel:.0e})");
         assert!(lit > w * h / 4, "{name}: only {lit} pixels lit");
     }
 }
 
 /// The environment as a source (`vpls_from_scene_with(…, sky: true)`): light paths from the
 /// sky onto a lone two-sided quad (side 2, facing ±Y, albedo 0.5) leave on each face,
-/// summed over the diffuse VPLs facing that way, the power the sky delivers to it:
-/// A·∫ lum(L(ω))·max(±ω_y, 0) dω — computed here by a midpoint rule over (θ, φ) of
+/// summed over the diffuse VPLs facing that way, the power the sky delivers to it per
+/// channel: A·∫ L(ω)·max(±ω_y, 0) dω — computed here by a midpoint rule over (θ, φ) of
 /// 720 × 1440 cells, split at the horizon where the sky's ground colour starts (its own
 /// error < 1e-4 relative), independent of the sampler's 64 × 32 tabulation. Error model: each
 /// face's Σ flux is a sum over paths of i.i.d. weighted hit indicators; its variance is at
@@ -649,17 +718,16 @@ fn sky_vpls_carry_the_environments_power_onto_a_plane() {
     let cam = baker::slc::Camera { eye: Vec3::new(0.0, 1.0, 3.0), tan_x: 1.0 };
     assert!(baker::slc::vpls_from_scene(&scene, &bvh, cam, 1000, 1).is_empty(), "the sky is a source only when asked");
     let vpls = baker::slc::vpls_from_scene_with(&scene, &bvh, cam, 200_000, 1, true);
-    // A·∫ lum(L)·max(±ω_y, 0) dω by the midpoint rule; lum = Rec. 709 luminance.
-    let lum = |c: Vec3| 0.2126 * c.x as f64 + 0.7152 * c.y as f64 + 0.0722 * c.z as f64;
+    // A·∫ L·max(±ω_y, 0) dω per channel by the midpoint rule.
     let (nt, np) = (720, 1440);
-    let (mut up, mut down) = (0.0, 0.0);
+    let (mut up, mut down) = (DVec3::ZERO, DVec3::ZERO);
     for j in 0..nt {
         let th = std::f64::consts::PI * (j as f64 + 0.5) / nt as f64;
         let dth = std::f64::consts::PI / nt as f64;
         for i in 0..np {
             let ph = std::f64::consts::TAU * (i as f64 + 0.5) / np as f64;
             let d = Vec3::new((th.sin() * ph.cos()) as f32, th.cos() as f32, (th.sin() * ph.sin()) as f32);
-            let e = lum(sky.radiance(d)) * th.cos().abs() * th.sin() * dth * std::f64::consts::TAU / np as f64;
+            let e = sky.radiance(d).as_dvec3() * th.cos().abs() * th.sin() * dth * std::f64::consts::TAU / np as f64;
             if th < std::f64::consts::FRAC_PI_2 {
                 up += e;
             } else {
@@ -669,11 +737,18 @@ fn sky_vpls_carry_the_environments_power_onto_a_plane() {
     }
     let mut total = 0;
     for (face, sign, want) in [("top", 1.0f32, 4.0 * up), ("bottom", -1.0, 4.0 * down)] {
-        let flux: Vec<f64> = vpls.iter().filter(|v| v.diffuse > 0.0 && v.normal.y * sign > 0.5).map(|v| v.flux as f64).collect();
-        let got: f64 = flux.iter().sum();
-        let sigma = flux.iter().map(|f| f * f).sum::<f64>().sqrt();
-        println!("sky VPLs, {face}: {} VPLs, Σ flux {got:.5} vs A·∫L·cos {want:.5} ({:+.2}σ)", flux.len(), (got - want) / sigma);
-        assert!((got - want).abs() <= 4.0 * sigma, "{face}: Σ flux {got} vs {want} ± {sigma}");
+        let flux: Vec<DVec3> = vpls.iter().filter(|v| v.is_diffuse() && v.normal.y * sign > 0.5).map(|v| v.flux.as_dvec3()).collect();
+        for c in 0..3 {
+            let got: f64 = flux.iter().map(|f| f[c]).sum();
+            let sigma = flux.iter().map(|f| f[c] * f[c]).sum::<f64>().sqrt();
+            println!(
+                "sky VPLs, {face}, channel {c}: {} VPLs, Σ flux {got:.5} vs A·∫L·cos {:.5} ({:+.2}σ)",
+                flux.len(),
+                want[c],
+                (got - want[c]) / sigma
+            );
+            assert!((got - want[c]).abs() <= 4.0 * sigma, "{face} channel {c}: Σ flux {got} vs {} ± {sigma}", want[c]);
+        }
         total += flux.len();
     }
     assert!(total > 50_000, "{total} VPLs");

@@ -5,7 +5,7 @@
 //! flat).
 
 use baker::slc::media::{ray_segment, render, MediaLight, MediaMode, Medium};
-use baker::slc::GBuffer;
+use baker::slc::{GBuffer, Surface};
 use sbf::glam::{DVec3, Vec3};
 use sbf::sampling::Pcg32;
 use std::f64::consts::PI;
@@ -21,7 +21,7 @@ fn gbuffer() -> GBuffer {
         .map(|k| {
             let (x, y) = (k % w, k / w);
             let d = Vec3::new((2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * t, -1.0);
-            (y >= h / 3).then_some((d * 9.0, Vec3::Z, 0.5))
+            (y >= h / 3).then_some(Surface::lambert(d * 9.0, Vec3::Z, 0.5))
         })
         .collect();
     GBuffer { width: w, height: h, tan_xy: (t, t), texels }

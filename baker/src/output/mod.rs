@@ -115,10 +115,18 @@ pub fn preview(
             };
         }
     }
-    let lum: Vec<f32> = hdr.iter().map(|c| c.dot(Vec3::new(0.2126, 0.7152, 0.0722))).collect();
-    let exposure = exposure_scale(&lum);
+    tonemap_rgb(width, height, &hdr, exposure_scale(&luminances(&hdr)))
+}
+
+/// Each colour's luminance (Rec. 709 weights).
+pub fn luminances(v: &[Vec3]) -> Vec<f32> {
+    v.iter().map(|c| c.dot(Vec3::new(0.2126, 0.7152, 0.0722))).collect()
+}
+
+/// An RGB radiance image × `exposure`, tone mapped x/(1 + x) per channel and sRGB-encoded.
+pub fn tonemap_rgb(width: usize, height: usize, hdr: &[Vec3], exposure: f32) -> image::RgbImage {
     image::RgbImage::from_fn(width as u32, height as u32, |x, y| {
-        let c = hdr[y as usize * width + x as usize] * exposure;
+        let c = hdr[y as usize * width + x as usize].max(Vec3::ZERO) * exposure;
         let t = c / (Vec3::ONE + c);
         image::Rgb([srgb8(t.x), srgb8(t.y), srgb8(t.z)])
     })

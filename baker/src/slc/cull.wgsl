@@ -7,11 +7,13 @@
 //                   G-buffer (workgroup atomics), split in two (Modified HalfZ); lights in
 //                   chunks of 256, each thread testing one light and appending the kept
 //                   ones to a shared list; every pixel then shades the list with the
-//                   stochastic falloff L/p where p > ξ; per kept light a shared flag says
-//                   whether any pixel accepted it (false positives for the FDR).
+//                   stochastic falloff L/p where p > ξ into its two RGB layers (irradiance E,
+//                   the GGX layer's radiance S); per kept light a shared flag says whether
+//                   any pixel accepted it (false positives for the FDR).
 //   slc_filter      one thread per pixel: the box filter joining the interleaving
 //                   subregions; slc_filter_rows, slc_filter_cols: the bilateral filter's
-//                   two passes (CPU twin baker::slc::filter).
+//                   two passes (CPU twin baker::slc::filter); each writes the pixel's
+//                   radiance ρ/π·E + S.
 // Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
 // INV_PI.
 
@@ -21,7 +23,8 @@ struct SlcParams {
     light_count: u32,
     // Bits 0–1: 0 culled (stochastic falloff), 1 brute force, 2 deterministic range cut
     // (ξ = ½); bits 2–3: glossy VPLs bounded by 0 their spheroid, 1 the sphere enclosing
-    // it, 2 the TH16 sphere (centre at the VPL, radius r/α; 002 §7).
+    // it, 2 the TH16 sphere (centre at the VPL, radius r/α; 002 §7); bit 4: some receiver
+    // has a GGX layer (the specular layer is shaded and filtered).
     mode: u32,
     tan_x: f32,
     tan_y: f32,
@@ -39,30 +42,39 @@ struct SlcParams {
 }
 
 @group(0) @binding(0) var<uniform> SP: SlcParams;
-// Per pixel 2 vec4: (view-space position, 1 if valid), (normal, albedo).
+// Per pixel 4 vec4: (view-space position, 1 if valid), (normal, GGX α), (albedo ρ, 0),
+// (GGX F0, 0; zero: Lambert only).
 @group(0) @binding(1) var<storage, read> gbuffer: array<vec4<f32>>;
-// Per light 4 vec4: (position, flux), (normal, diffuse k), (incoming ω_i, α), (F0, ξ, 0, 0).
+// Per light 5 vec4: (position, ξ), (normal, α), (incoming ω_i, 1 diffuse / 0 GGX),
+// (flux Φ, 0), (diffuse k or GGX F0, 0).
 @group(0) @binding(2) var<storage, read> lights: array<vec4<f32>>;
 // Per light 4 vec4: M's columns and M·c (w unused).
 @group(0) @binding(3) var<storage, read_write> bounds: array<vec4<f32>>;
-// Per pixel: (radiance, lights shaded, of those lights with p ≤ ξ (false discoveries), 0).
+// Per pixel 2 vec4: (irradiance E, lights shaded), (the GGX layer's radiance S, of those
+// lights the ones with p ≤ ξ (false discoveries)).
 @group(0) @binding(4) var<storage, read_write> image: array<vec4<f32>>;
 // Kept (tile, light) pairs and false positives.
 @group(0) @binding(5) var<storage, read_write> stats: array<atomic<u32>, 2>;
-// Per pixel: the radiance after the cross-bilateral filter (slc_filter).
-@group(0) @binding(6) var<storage, read_write> filtered: array<f32>;
-// Per pixel: the irradiance after the bilateral filter's first pass (rows; −1: none).
-@group(0) @binding(7) var<storage, read_write> filter_rows: array<f32>;
+// Per pixel: the radiance after the filter (rgb, 0).
+@group(0) @binding(6) var<storage, read_write> filtered: array<vec4<f32>>;
+// Per pixel 2 vec4: the layers after the bilateral filter's first pass (rows): (E, 1; 0:
+// none passed), (S, 0).
+@group(0) @binding(7) var<storage, read_write> filter_rows: array<vec4<f32>>;
 
 struct SlcVpl {
     position: vec3<f32>,
-    flux: f32,
-    normal: vec3<f32>,
-    diffuse: f32,
-    incoming: vec3<f32>,
-    alpha: f32,
-    f0: f32,
     xi: f32,
+    normal: vec3<f32>,
+    alpha: f32,
+    incoming: vec3<f32>,
+    diffuse: bool,
+    flux: vec3<f32>,
+    // Diffuse k or GGX F0.
+    refl: vec3<f32>,
+}
+
+fn slc_max3(v: vec3<f32>) -> f32 {
+    return max(v.x, max(v.y, v.z));
 }
 
 // The PCG hash (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering").
@@ -80,35 +92,39 @@ fn slc_gpu_xi(seed: u32, j: u32) -> f32 {
 }
 
 fn slc_load_vpl(j: u32) -> SlcVpl {
-    let a = lights[4u * j];
-    let b = lights[4u * j + 1u];
-    let c = lights[4u * j + 2u];
-    let d = lights[4u * j + 3u];
-    var xi = d.y;
+    let a = lights[5u * j];
+    let b = lights[5u * j + 1u];
+    let c = lights[5u * j + 2u];
+    var xi = a.w;
     if (SP.xi_seed != 0u) {
         xi = slc_gpu_xi(SP.xi_seed, j);
     }
-    return SlcVpl(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w, d.x, xi);
+    return SlcVpl(a.xyz, xi, b.xyz, b.w, c.xyz, c.w > 0.5, lights[5u * j + 3u].xyz, lights[5u * j + 4u].xyz);
 }
 
-// Radiant intensity towards unit wo (CPU twin: Vpl::intensity).
-fn slc_vpl_intensity(v: SlcVpl, wo: vec3<f32>) -> f32 {
+// The GGX BRDF f(a, b) per channel of f0 (height-correlated Smith G2, Schlick at a·h) for
+// a, b in the tangent frame of their surface (CPU twin: baker::slc::ggx_brdf).
+fn slc_ggx_local(a: vec3<f32>, b: vec3<f32>, alpha: f32, f0: vec3<f32>) -> vec3<f32> {
+    if (a.z <= 0.0 || b.z <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let h = normalize(a + b);
+    return (f0 + (1.0 - f0) * schlick_weight(dot(a, h))) * (ggx_g2(a, b, alpha) * ggx_d(h, alpha) / (4.0 * a.z * b.z));
+}
+
+// Radiant intensity towards unit wo per channel (CPU twin: Vpl::intensity).
+fn slc_vpl_intensity(v: SlcVpl, wo: vec3<f32>) -> vec3<f32> {
     let c = dot(wo, v.normal);
     if (c <= 0.0) {
-        return 0.0;
+        return vec3<f32>(0.0);
     }
-    if (v.diffuse > 0.0) {
-        return v.flux * v.diffuse * c * INV_PI;
+    if (v.diffuse) {
+        return v.flux * v.refl * (c * INV_PI);
     }
     let fr = tangent_frame(v.normal);
     let wi = vec3<f32>(dot(v.incoming, fr[0]), dot(v.incoming, fr[1]), dot(v.incoming, v.normal));
     let wl = vec3<f32>(dot(wo, fr[0]), dot(wo, fr[1]), c);
-    if (wi.z <= 0.0) {
-        return 0.0;
-    }
-    let h = normalize(wi + wl);
-    let f = (v.f0 + (1.0 - v.f0) * schlick_weight(dot(wi, h))) * ggx_g2(wi, wl, v.alpha) * ggx_d(h, v.alpha) / (4.0 * wi.z * wl.z);
-    return v.flux * f * wl.z;
+    return v.flux * slc_ggx_local(wi, wl, v.alpha, v.refl) * c;
 }
 
 @compute @workgroup_size(64)
@@ -123,12 +139,14 @@ fn slc_prepare(@builtin(global_invocation_id) gid: vec3<u32>) {
         v.xi = 0.5;
     }
     var e: SlcEllipsoid;
-    if (v.diffuse > 0.0) {
-        let s = slc_diffuse_sphere(v.position, v.normal, v.flux * v.diffuse, SP.delta, v.xi);
+    // Each bound holds the largest channel (CPU twin: Vpl::bound).
+    if (v.diffuse) {
+        let s = slc_diffuse_sphere(v.position, v.normal, slc_max3(v.flux * v.refl), SP.delta, v.xi);
         e = SlcEllipsoid(s.center, mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0)), vec3<f32>(s.radius));
     } else {
         let cos_i = dot(v.incoming, v.normal);
-        let r = slc_spheroid_scale(v.flux, slc_schlick_max(v.f0, cos_i), slc_g1_dist(cos_i, v.alpha), cos_i, SP.delta, v.xi);
+        let fmax = vec3<f32>(slc_schlick_max(v.refl.x, cos_i), slc_schlick_max(v.refl.y, cos_i), slc_schlick_max(v.refl.z, cos_i));
+        let r = slc_spheroid_scale(slc_max3(v.flux * fmax), 1.0, slc_g1_dist(cos_i, v.alpha), cos_i, SP.delta, v.xi);
         e = slc_ggx_spheroid(v.position, v.incoming, v.normal, v.alpha, r);
         let ident = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
         let bound = (SP.mode >> 2u) & 3u;
@@ -169,16 +187,25 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let k = py * SP.width + px;
     var x = vec3<f32>(0.0);
     var n = vec3<f32>(0.0, 0.0, 1.0);
-    var albedo = 0.0;
+    var alpha = 1.0;
+    var f0 = vec3<f32>(0.0);
     var valid = false;
     if (inside) {
-        let a = gbuffer[2u * k];
-        let b = gbuffer[2u * k + 1u];
+        let a = gbuffer[4u * k];
+        let b = gbuffer[4u * k + 1u];
         valid = a.w > 0.5;
         x = a.xyz;
         n = b.xyz;
-        albedo = b.w;
+        alpha = b.w;
+        if ((SP.mode & 16u) != 0u) {
+            f0 = gbuffer[4u * k + 3u].xyz;
+        }
     }
+    // The GGX layer's frame and view direction (the camera at the origin).
+    let glossy = valid && slc_max3(f0) > 0.0;
+    let fr = tangent_frame(n);
+    let wv = normalize(-x);
+    let v_local = vec3<f32>(dot(wv, fr[0]), dot(wv, fr[1]), dot(wv, n));
     if (t == 0u) {
         atomicStore(&wg_zmin, 0x7f800000u);
         atomicStore(&wg_zmax, 0u);
@@ -204,7 +231,8 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let tan_xy = vec2<f32>(SP.tan_x, SP.tan_y);
     let near_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, zmin, mid);
     let far_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, mid, zmax);
-    var radiance = 0.0;
+    var irradiance = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
     var shaded = 0u;
     var false_hits = 0u;
     for (var base = 0u; base < sub_count; base += SLC_CHUNK) {
@@ -236,20 +264,29 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 let d = sqrt(d2);
                 let wo = to / d;
                 let intensity = slc_vpl_intensity(v, wo);
-                let l = intensity * max(dot(-wo, n), 0.0) / d2 * albedo * INV_PI;
+                let i = slc_max3(intensity);
                 shaded += 1u;
-                if ((SP.mode & 3u) == 1u) {
-                    radiance += l;
-                } else if ((SP.mode & 3u) == 2u) {
-                    radiance += select(0.0, l, d <= slc_random_range(intensity, SP.delta, 0.5));
-                } else {
-                    let p = slc_acceptance(intensity, SP.delta, d);
+                // The estimator's factor on this (light, pixel) (CPU twin: render_subregion).
+                var f = 1.0;
+                if ((SP.mode & 3u) == 2u) {
+                    f = select(0.0, 1.0, d <= slc_random_range(i, SP.delta, 0.5));
+                } else if ((SP.mode & 3u) == 0u) {
+                    let p = slc_acceptance(i, SP.delta, d);
                     if (p > v.xi) {
                         atomicStore(&wg_accepted[s], 1u);
                     } else {
                         false_hits += 1u;
                     }
-                    radiance += slc_culled_estimate(l, p, v.xi);
+                    f = slc_culled_estimate(1.0, p, v.xi);
+                }
+                if (f > 0.0) {
+                    let e = intensity * (max(dot(-wo, n), 0.0) / d2 * f);
+                    irradiance += e;
+                    if (glossy) {
+                        let wl = -wo;
+                        let l_local = vec3<f32>(dot(wl, fr[0]), dot(wl, fr[1]), dot(wl, n));
+                        specular += e * slc_ggx_local(l_local, v_local, alpha, f0);
+                    }
                 }
             }
         }
@@ -263,7 +300,8 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         workgroupBarrier();
     }
     if (inside) {
-        image[k] = vec4<f32>(radiance * f32(stride), f32(shaded), f32(false_hits), 0.0);
+        image[2u * k] = vec4<f32>(irradiance * f32(stride), f32(shaded));
+        image[2u * k + 1u] = vec4<f32>(specular * f32(stride), f32(false_hits));
     }
 }
 
@@ -281,30 +319,33 @@ fn slc_filter_spatial(d: i32, il: i32, r: i32) -> f32 {
     return f32(max(min(a_end, d - b) - max(a, d - b_end) + 1, 0));
 }
 
+// Pixel k's radiance from its layers: ρ/π·E + S (CPU twin: Surface::radiance).
+fn slc_compose(k: u32, e: vec3<f32>, s: vec3<f32>) -> vec4<f32> {
+    return vec4<f32>(gbuffer[4u * k + 2u].xyz * INV_PI * e + s, 0.0);
+}
+
 // The box filter joining the interleaving subregions (SP.filter_radius 0), one thread per
-// pixel (CPU twin: baker::slc::filter, Filter::Box): the irradiance (radiance / albedo) of
-// the valid pixels of one period's window on p's surface (normals within 25°, plane
-// distance within the window's lateral extent at p), averaged and re-modulated by p's albedo.
+// pixel (CPU twin: baker::slc::filter, Filter::Box): each layer averaged over the valid
+// pixels of one period's window on p's surface (normals within 25°, plane distance within
+// the window's lateral extent at p), composed with p's albedo.
 @compute @workgroup_size(8, 8)
 fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= SP.width || gid.y >= SP.height) {
         return;
     }
     let k = gid.y * SP.width + gid.x;
-    let a = gbuffer[2u * k];
-    let b = gbuffer[2u * k + 1u];
+    let a = gbuffer[4u * k];
+    let b = gbuffer[4u * k + 1u];
     if (a.w < 0.5) {
-        filtered[k] = 0.0;
+        filtered[k] = vec4<f32>(0.0);
         return;
     }
     let il = i32(SP.interleave);
-    if (il == 1) {
-        filtered[k] = image[k].x;
-        return;
-    }
+    let specular = (SP.mode & 16u) != 0u;
     let lo = -(il / 2);
     let tau = 2.0 * SP.tan_x / f32(SP.width) * f32(il) * length(a.xyz);
-    var sum = 0.0;
+    var e = vec3<f32>(0.0);
+    var s = vec3<f32>(0.0);
     var count = 0u;
     for (var dy = lo; dy < lo + il; dy++) {
         for (var dx = lo; dx < lo + il; dx++) {
@@ -314,35 +355,44 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let q = u32(qy) * SP.width + u32(qx);
-            let qa = gbuffer[2u * q];
-            let qb = gbuffer[2u * q + 1u];
-            if (qa.w < 0.5 || dot(b.xyz, qb.xyz) < SLC_FILTER_COS || abs(dot(b.xyz, qa.xyz - a.xyz)) > tau || qb.w <= 0.0) {
+            let qa = gbuffer[4u * q];
+            let qb = gbuffer[4u * q + 1u];
+            if (qa.w < 0.5 || dot(b.xyz, qb.xyz) < SLC_FILTER_COS || abs(dot(b.xyz, qa.xyz - a.xyz)) > tau) {
                 continue;
             }
-            sum += image[q].x / qb.w;
+            e += image[2u * q].xyz;
+            if (specular) {
+                s += image[2u * q + 1u].xyz;
+            }
             count += 1u;
         }
     }
-    filtered[k] = select(sum / f32(count) * b.w, image[k].x, count == 0u);
+    if (count == 0u || il == 1) {
+        filtered[k] = slc_compose(k, image[2u * k].xyz, image[2u * k + 1u].xyz);
+    } else {
+        filtered[k] = slc_compose(k, e / f32(count), s / f32(count));
+    }
 }
 
 // One 1D pass of the seeds' cross-bilateral filter (002 §6–7) of radius R =
 // SP.filter_radius along `axis` for pixel `gid` (CPU twin: baker::slc::filter's
-// bilateral_pass): the weighted mean of its neighbours' irradiance at offsets −R..=R —
-// from the image (radiance / albedo) on the rows pass, from the rows pass's result on the
-// columns pass — weights the trapezoid × exp(−½(d/σ_d)²) on the plane distance d (σ_d = R/2
-// pixel footprints at p) × (n_p·n_q)³²; −1 where none passes.
-fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> f32 {
+// bilateral_pass): each layer's weighted mean over the neighbours at offsets −R..=R — from
+// the image on the rows pass, from the rows pass's result on the columns pass — weights the
+// trapezoid × exp(−½(d/σ_d)²) on the plane distance d (σ_d = R/2 pixel footprints at p) ×
+// (n_p·n_q)³²; returns (E, 1), (S, 0), or w = 0 where none passes.
+fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> array<vec4<f32>, 2> {
     let k = gid.y * SP.width + gid.x;
-    let a = gbuffer[2u * k];
-    let b = gbuffer[2u * k + 1u];
+    let a = gbuffer[4u * k];
+    let b = gbuffer[4u * k + 1u];
     if (a.w < 0.5) {
-        return -1.0;
+        return array<vec4<f32>, 2>(vec4<f32>(0.0), vec4<f32>(0.0));
     }
+    let specular = (SP.mode & 16u) != 0u;
     let il = i32(SP.interleave);
     let r = i32(SP.filter_radius);
     let sd = 0.5 * f32(r) * 2.0 * SP.tan_x / f32(SP.width) * length(a.xyz);
-    var sum = 0.0;
+    var e = vec3<f32>(0.0);
+    var s = vec3<f32>(0.0);
     var total = 0.0;
     for (var d = -r; d <= r; d++) {
         let qx = i32(gid.x) + d * axis.x;
@@ -351,29 +401,39 @@ fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> f32 {
             continue;
         }
         let q = u32(qy) * SP.width + u32(qx);
-        let qa = gbuffer[2u * q];
-        let qb = gbuffer[2u * q + 1u];
+        let qa = gbuffer[4u * q];
         if (qa.w < 0.5) {
             continue;
         }
-        var e: f32;
+        var eq: vec4<f32>;
         if (first) {
-            e = select(-1.0, image[q].x / qb.w, qb.w > 0.0);
+            eq = vec4<f32>(image[2u * q].xyz, 1.0);
         } else {
-            e = filter_rows[q];
+            eq = filter_rows[2u * q];
         }
-        if (e < 0.0) {
+        if (eq.w < 0.5) {
             continue;
         }
+        let qb = gbuffer[4u * q + 1u];
         let c = max(dot(b.xyz, qb.xyz), 0.0);
         let c2 = c * c;
         let c8 = c2 * c2 * c2 * c2;
         let plane = abs(dot(b.xyz, qa.xyz - a.xyz)) / sd;
         let w = slc_filter_spatial(d, il, r) * exp(-0.5 * plane * plane) * (c8 * c8 * c8 * c8);
-        sum += w * e;
+        e += w * eq.xyz;
+        if (specular) {
+            if (first) {
+                s += w * image[2u * q + 1u].xyz;
+            } else {
+                s += w * filter_rows[2u * q + 1u].xyz;
+            }
+        }
         total += w;
     }
-    return select(-1.0, sum / total, total > 0.0);
+    if (total > 0.0) {
+        return array<vec4<f32>, 2>(vec4<f32>(e / total, 1.0), vec4<f32>(s / total, 0.0));
+    }
+    return array<vec4<f32>, 2>(vec4<f32>(0.0), vec4<f32>(0.0));
 }
 
 // The bilateral filter's first pass (rows) into filter_rows.
@@ -382,27 +442,28 @@ fn slc_filter_rows(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= SP.width || gid.y >= SP.height) {
         return;
     }
-    filter_rows[gid.y * SP.width + gid.x] = slc_bilateral_pass(gid.xy, vec2<i32>(1, 0), true);
+    let k = gid.y * SP.width + gid.x;
+    let r = slc_bilateral_pass(gid.xy, vec2<i32>(1, 0), true);
+    filter_rows[2u * k] = r[0];
+    filter_rows[2u * k + 1u] = r[1];
 }
 
-// The bilateral filter's second pass (columns) over filter_rows, re-modulated by p's albedo
-// into `filtered` (p keeps its value where no neighbour passed; no sample: 0).
+// The bilateral filter's second pass (columns) over filter_rows, composed with p's albedo
+// into `filtered` (p keeps its own layers where no neighbour passed; no sample: 0).
 @compute @workgroup_size(8, 8)
 fn slc_filter_cols(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= SP.width || gid.y >= SP.height) {
         return;
     }
     let k = gid.y * SP.width + gid.x;
-    let a = gbuffer[2u * k];
-    let b = gbuffer[2u * k + 1u];
-    if (a.w < 0.5) {
-        filtered[k] = 0.0;
+    if (gbuffer[4u * k].w < 0.5) {
+        filtered[k] = vec4<f32>(0.0);
         return;
     }
-    if (SP.interleave == 1u) {
-        filtered[k] = image[k].x;
-        return;
+    let r = slc_bilateral_pass(gid.xy, vec2<i32>(0, 1), false);
+    if (SP.interleave == 1u || r[0].w < 0.5) {
+        filtered[k] = slc_compose(k, image[2u * k].xyz, image[2u * k + 1u].xyz);
+    } else {
+        filtered[k] = slc_compose(k, r[0].xyz, r[1].xyz);
     }
-    let e = slc_bilateral_pass(gid.xy, vec2<i32>(0, 1), false);
-    filtered[k] = select(image[k].x, e * b.w, e >= 0.0 && b.w > 0.0);
 }

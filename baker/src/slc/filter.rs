@@ -2,13 +2,15 @@
 //! as noise … removed using a cross bilateral filter [PSA*04, ED04]"; §7: "cross bilateral
 //! filtering of kernel radius 8"). CPU twin of `slc_filter` in `cull.wgsl`.
 //!
-//! Both filters average the irradiance (radiance / albedo) of a pixel's neighbours on its
-//! own surface and re-modulate by the pixel's albedo. Each pixel of subregion s carries I²
+//! Both filters average the irradiance E and the GGX layer's radiance S ([`Layers`]) of a
+//! pixel's neighbours on its own surface and compose them with the pixel's own albedo
+//! (ρ/π·E + S): the albedo's detail is kept. Each pixel of subregion s carries I²
 //! times subset s's light, so on a plane a filter that gives every subregion the same total
 //! weight returns the full VPL set's light (the subsets recombine exactly), up to the
 //! irradiance's change over the window.
 
-use super::GBuffer;
+use super::{GBuffer, Layers};
+use sbf::glam::Vec3;
 
 /// Which filter joins the I × I interleaving subregions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,84 +85,82 @@ pub fn spatial_weight(d: i64, interleave: i64, radius: i64) -> f32 {
     (a_end.min(d - b) - a.max(d - b_end) + 1).max(0) as f32
 }
 
-/// `image` after `f` over the interleaving period `interleave` (I = 1: unchanged — nothing
-/// to join). Pixels without a G-buffer sample stay 0; a pixel with no neighbour that
-/// passes keeps its value.
-pub fn filter(g: &GBuffer, image: &[f32], interleave: usize, f: Filter) -> Vec<f32> {
+/// The radiance after `f` joins `layers` over the interleaving period `interleave` (I = 1:
+/// the layers composed unchanged — nothing to join). Each layer is filtered with the same
+/// weights (the specular layer only where some receiver has a GGX layer), then composed
+/// with the pixel's own albedo (ρ/π·E + S). Pixels without a G-buffer sample are 0; a pixel
+/// with no neighbour that passes keeps its own layers.
+pub fn filter(g: &GBuffer, layers: &Layers, interleave: usize, f: Filter) -> Vec<Vec3> {
     let il = interleave.max(1) as i64;
     if il == 1 {
-        return image.to_vec();
+        return super::compose(g, layers);
     }
-    match f {
-        Filter::Box => box_filter(g, image, il),
-        Filter::Bilateral { radius } => {
-            // Irradiance per pixel (−1: no sample or no albedo), then the two passes.
-            let e: Vec<f32> = g.texels.iter().zip(image).map(|(t, x)| t.filter(|t| t.2 > 0.0).map_or(-1.0, |t| x / t.2)).collect();
-            let rows = bilateral_pass(g, &e, il, radius as i64, (1, 0));
-            let both = bilateral_pass(g, &rows, il, radius as i64, (0, 1));
-            both.iter()
-                .zip(&g.texels)
-                .zip(image)
-                .map(|((e, t), x)| match t {
-                    None => 0.0,
-                    Some(t) if *e >= 0.0 && t.2 > 0.0 => e * t.2,
-                    Some(_) => *x,
-                })
-                .collect()
+    let specular = g.has_glossy();
+    let one = |layer: &[Vec3]| -> Vec<Option<Vec3>> {
+        match f {
+            Filter::Box => box_filter(g, layer, il),
+            Filter::Bilateral { radius } => {
+                let e: Vec<Option<Vec3>> = g.texels.iter().zip(layer).map(|(t, x)| t.map(|_| *x)).collect();
+                let rows = bilateral_pass(g, &e, il, radius as i64, (1, 0));
+                bilateral_pass(g, &rows, il, radius as i64, (0, 1))
+            }
         }
-    }
+    };
+    let e = one(&layers.irradiance);
+    let s = if specular { one(&layers.specular) } else { vec![Some(Vec3::ZERO); layers.specular.len()] };
+    (0..g.texels.len())
+        .map(|k| match (g.texels[k], e[k], s[k]) {
+            (None, ..) => Vec3::ZERO,
+            (Some(t), Some(e), Some(s)) => t.radiance(e, s),
+            (Some(t), ..) => t.radiance(layers.irradiance[k], layers.specular[k]),
+        })
+        .collect()
 }
 
 /// One 1D pass of [`Filter::Bilateral`] along `axis` ((1, 0): rows, (0, 1): columns) over
-/// the irradiance `e` (−1: none): each pixel p with a sample gets the weighted mean of the
-/// e ≥ 0 at offsets −R..=R, weights trapezoid × depth × normal against p's own G-buffer
-/// sample (−1 where none passes or p has no sample). Rows then columns: the 2D trapezoid
-/// (a product) and each subregion's weight equal on a plane, at 2(2R + 1) taps instead of
-/// (2R + 1)² — the separable approximation of the 2D cross-bilateral weights (Pham and van
-/// Vliet 2005): a neighbour off both axes is weighed through the pixel between them.
-fn bilateral_pass(g: &GBuffer, e: &[f32], il: i64, r: i64, axis: (i64, i64)) -> Vec<f32> {
+/// the layer `e` (None: no sample): each pixel p with a sample gets the weighted mean of
+/// the samples at offsets −R..=R, weights trapezoid × depth × normal against p's own
+/// G-buffer sample (None where none passes or p has no sample). Rows then columns: the 2D
+/// trapezoid (a product) and each subregion's weight equal on a plane, at 2(2R + 1) taps
+/// instead of (2R + 1)² — the separable approximation of the 2D cross-bilateral weights
+/// (Pham and van Vliet 2005): a neighbour off both axes is weighed through the pixel
+/// between them.
+fn bilateral_pass(g: &GBuffer, e: &[Option<Vec3>], il: i64, r: i64, axis: (i64, i64)) -> Vec<Option<Vec3>> {
     let pixel = 2.0 * g.tan_xy.0 / g.width as f32;
     let weights: Vec<f32> = (-r..=r).map(|d| spatial_weight(d, il, r)).collect();
     (0..g.width * g.height)
         .map(|k| {
-            let Some((xp, np, _)) = g.texels[k] else { return -1.0 };
+            let p = g.texels[k]?;
             let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
-            let sd = 0.5 * r as f32 * pixel * xp.length();
-            let (mut sum, mut total) = (0.0f32, 0.0f32);
+            let sd = 0.5 * r as f32 * pixel * p.position.length();
+            let (mut sum, mut total) = (Vec3::ZERO, 0.0f32);
             for d in -r..=r {
                 let (qx, qy) = (px + d * axis.0, py + d * axis.1);
                 if qx < 0 || qy < 0 || qx >= g.width as i64 || qy >= g.height as i64 {
                     continue;
                 }
                 let q = (qy as usize) * g.width + qx as usize;
-                let Some((xq, nq, _)) = g.texels[q] else { continue };
-                if e[q] < 0.0 {
-                    continue;
-                }
-                let (cos, plane) = (np.dot(nq), np.dot(xq - xp).abs());
+                let (Some(sq), Some(eq)) = (g.texels[q], e[q]) else { continue };
+                let (cos, plane) = (p.normal.dot(sq.normal), p.normal.dot(sq.position - p.position).abs());
                 let w = weights[(d + r) as usize] * (-0.5 * (plane / sd).powi(2)).exp() * cos.max(0.0).powi(NORMAL_POWER);
-                sum += w * e[q];
+                sum += w * eq;
                 total += w;
             }
-            if total > 0.0 {
-                sum / total
-            } else {
-                -1.0
-            }
+            (total > 0.0).then(|| sum / total)
         })
         .collect()
 }
 
-/// [`Filter::Box`].
-fn box_filter(g: &GBuffer, image: &[f32], il: i64) -> Vec<f32> {
+/// [`Filter::Box`] of one layer (None: no sample, or no neighbour passed).
+fn box_filter(g: &GBuffer, layer: &[Vec3], il: i64) -> Vec<Option<Vec3>> {
     let pixel = 2.0 * g.tan_xy.0 / g.width as f32;
     let (lo, hi) = (-(il / 2), il - 1 - il / 2);
     (0..g.width * g.height)
         .map(|k| {
-            let Some((xp, np, ap)) = g.texels[k] else { return 0.0 };
+            let p = g.texels[k]?;
             let (px, py) = ((k % g.width) as i64, (k / g.width) as i64);
-            let tau = pixel * xp.length() * il as f32;
-            let (mut sum, mut count) = (0.0f32, 0u32);
+            let tau = pixel * p.position.length() * il as f32;
+            let (mut sum, mut count) = (Vec3::ZERO, 0u32);
             for dy in lo..=hi {
                 for dx in lo..=hi {
                     let (qx, qy) = (px + dx, py + dy);
@@ -168,19 +168,15 @@ fn box_filter(g: &GBuffer, image: &[f32], il: i64) -> Vec<f32> {
                         continue;
                     }
                     let q = (qy as usize) * g.width + qx as usize;
-                    let Some((xq, nq, aq)) = g.texels[q] else { continue };
-                    if aq <= 0.0 || np.dot(nq) < FILTER_COS || np.dot(xq - xp).abs() > tau {
+                    let Some(sq) = g.texels[q] else { continue };
+                    if p.normal.dot(sq.normal) < FILTER_COS || p.normal.dot(sq.position - p.position).abs() > tau {
                         continue;
                     }
-                    sum += image[q] / aq;
+                    sum += layer[q];
                     count += 1;
                 }
             }
-            if count > 0 {
-                sum / count as f32 * ap
-            } else {
-                image[k]
-            }
+            (count > 0).then(|| sum / count as f32)
         })
         .collect()
 }

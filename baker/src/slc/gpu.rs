@@ -2,7 +2,8 @@
 //! module (bounds per light on the GPU, one workgroup per 16 × 16 tile with shared-memory
 //! light lists), run on a G-buffer and a VPL set; results read back in the CPU twin's form.
 
-use crate::slc::{Bound, Filter, GBuffer, Mode, Render, Vpl, TILE};
+use crate::slc::{Bound, Filter, GBuffer, Layers, Mode, Render, Vpl, TILE};
+use sbf::glam::{Vec3, Vec4};
 use shaders::gpu::Gpu;
 use wgpu::util::DeviceExt;
 
@@ -84,6 +85,10 @@ pub struct SlcGpu<'g> {
     tiles: (u32, u32, u32),
     bound: Bound,
     filter_on: bool,
+    /// Some receiver has a GGX layer (SlcParams.mode bit 4: the specular layer runs).
+    specular: bool,
+    /// The receivers, to compose the unfiltered image from the layers read back.
+    surfaces: Vec<Option<crate::slc::Surface>>,
 }
 
 impl<'g> SlcGpu<'g> {
@@ -148,7 +153,7 @@ impl<'g> SlcGpu<'g> {
         };
         let (gb, lv) = (pack_gbuffer(g), pack_vpls(vpls));
         shaders::gpu::check_bindings(
-            &[("G-buffer", (gb.len() * 16) as u64), ("VPLs", (lv.len() * 16) as u64), ("image", (g.width * g.height * 16) as u64)],
+            &[("G-buffer", (gb.len() * 16) as u64), ("VPLs", (lv.len() * 16) as u64), ("image", (g.width * g.height * 32) as u64)],
             d.limits().max_storage_buffer_binding_size,
         )?;
         let rw = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
@@ -159,10 +164,10 @@ impl<'g> SlcGpu<'g> {
         let gbb = init("gbuffer", bytemuck::cast_slice(&gb), wgpu::BufferUsages::STORAGE);
         let lb = init("lights", bytemuck::cast_slice(if lv.is_empty() { &[[0.0f32; 4]][..] } else { &lv }), wgpu::BufferUsages::STORAGE);
         let bb = init("bounds", &vec![0u8; vpls.len().max(1) * 64], rw);
-        let image_buf = init("image", &vec![0u8; g.width * g.height * 16], rw);
+        let image_buf = init("image", &vec![0u8; g.width * g.height * 32], rw);
         let stats_buf = init("stats", &[0u8; 8], rw);
-        let filtered_buf = init("filtered", &vec![0u8; g.width * g.height * 4], rw);
-        let rows_buf = init("filter rows", &vec![0u8; g.width * g.height * 4], wgpu::BufferUsages::STORAGE);
+        let filtered_buf = init("filtered", &vec![0u8; g.width * g.height * 16], rw);
+        let rows_buf = init("filter rows", &vec![0u8; g.width * g.height * 32], wgpu::BufferUsages::STORAGE);
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slc"),
             layout: &layout,
@@ -203,6 +208,8 @@ impl<'g> SlcGpu<'g> {
             ),
             bound: Bound::Tight,
             filter_on: true,
+            specular: g.has_glossy(),
+            surfaces: g.texels.clone(),
         })
     }
 
@@ -245,7 +252,7 @@ impl<'g> SlcGpu<'g> {
             Bound::Tight => 0,
             Bound::Sphere => 4,
             Bound::Th16 => 8,
-        };
+        } | if self.specular { 16 } else { 0 };
         let q = self.gpu.queue();
         q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
         q.write_buffer(&self.stats_buf, 0, &[0u8; 8]);
@@ -326,14 +333,24 @@ impl<'g> SlcGpu<'g> {
     /// back.
     pub fn run(&mut self, mode: Mode) -> Result<Render, String> {
         self.dispatch(mode);
-        let img: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.image_buf)?);
+        let img: Vec<[[f32; 4]; 2]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.image_buf)?);
         let st: Vec<u32> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.stats_buf)?);
-        let filtered: Vec<f32> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.filtered_buf)?);
+        let filtered: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.filtered_buf)?);
+        let rgb = |v: [f32; 4]| Vec3::new(v[0], v[1], v[2]);
+        let layers = Layers { irradiance: img.iter().map(|p| rgb(p[0])).collect(), specular: img.iter().map(|p| rgb(p[1])).collect() };
+        let image = self
+            .surfaces
+            .iter()
+            .zip(&layers.irradiance)
+            .zip(&layers.specular)
+            .map(|((t, e), s)| t.map_or(Vec3::ZERO, |t| t.radiance(*e, *s)))
+            .collect();
         Ok(Render {
-            image: img.iter().map(|p| p[0]).collect(),
-            filtered,
-            lights_per_pixel: img.iter().map(|p| p[1] as u32).collect(),
-            false_per_pixel: img.iter().map(|p| p[2] as u32).collect(),
+            image,
+            filtered: filtered.into_iter().map(rgb).collect(),
+            lights_per_pixel: img.iter().map(|p| p[0][3] as u32).collect(),
+            false_per_pixel: img.iter().map(|p| p[1][3] as u32).collect(),
+            layers,
             kept: st[0] as u64,
             false_positives: st[1] as u64,
         })
@@ -366,27 +383,33 @@ pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, inte
     SlcGpu::new(gpu, g, vpls, delta, interleave)?.run(mode)
 }
 
-/// The G-buffer as the kernel reads it: per pixel (position, 1), (normal, albedo).
+/// The G-buffer as the kernel reads it: per pixel (position, 1), (normal, α), (albedo, 0),
+/// (F0, 0).
 fn pack_gbuffer(g: &GBuffer) -> Vec<[f32; 4]> {
     g.texels
         .iter()
         .flat_map(|t| match t {
-            Some((x, n, a)) => [[x.x, x.y, x.z, 1.0], [n.x, n.y, n.z, *a]],
-            None => [[0.0; 4], [0.0, 0.0, 1.0, 0.0]],
+            Some(s) => {
+                [s.position.extend(1.0), s.normal.extend(s.alpha), s.albedo.extend(0.0), s.f0.extend(0.0)].map(|v: Vec4| v.to_array())
+            }
+            None => [[0.0; 4], [0.0, 0.0, 1.0, 1.0], [0.0; 4], [0.0; 4]],
         })
         .collect()
 }
 
-/// The VPLs as the kernel reads them: (position, flux), (normal, diffuse), (incoming, α), (F0, ξ).
+/// The VPLs as the kernel reads them: (position, ξ), (normal, α), (incoming, 1 diffuse / 0
+/// GGX), (flux, 0), (diffuse k or F0, 0).
 fn pack_vpls(vpls: &[Vpl]) -> Vec<[f32; 4]> {
     vpls.iter()
         .flat_map(|v| {
             [
-                v.position.extend(v.flux).to_array(),
-                v.normal.extend(v.diffuse).to_array(),
-                v.incoming.extend(v.alpha).to_array(),
-                [v.f0, v.xi, 0.0, 0.0],
+                v.position.extend(v.xi),
+                v.normal.extend(v.alpha),
+                v.incoming.extend(v.is_diffuse() as u8 as f32),
+                v.flux.extend(0.0),
+                if v.is_diffuse() { v.diffuse } else { v.f0 }.extend(0.0),
             ]
+            .map(|v: Vec4| v.to_array())
         })
         .collect()
 }

@@ -85,10 +85,11 @@ fn slc_medium(
             "slc medium: {spots} spot light(s) scatter as isotropic point lights (no cone), {directional} directional light(s) left out (single scattering from VPLs and point lights only)"
         ));
     }
-    lights.extend(vpls.iter().filter(|v| v.diffuse > 0.0).map(|v| MediaLight {
+    // The medium renders luminance: each diffuse VPL scatters the luminance of its Φk.
+    lights.extend(vpls.iter().filter(|v| v.is_diffuse()).map(|v| MediaLight {
         position: v.position,
         normal: v.normal,
-        power: v.flux * v.diffuse,
+        power: crate::scene::lights::luminance(v.flux * v.diffuse) as f32,
         xi: v.xi,
     }));
     let t = Instant::now();
@@ -148,11 +149,11 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     let mut vpls = slc::vpls_from_scene_with(&scene, &bvh, cam, s.vpls, o.seed, s.sky);
     match s.kind.as_str() {
         "both" => {}
-        "diffuse" => vpls.retain(|v| v.diffuse > 0.0),
+        "diffuse" => vpls.retain(slc::Vpl::is_diffuse),
         "glossy" => {
-            vpls.retain(|v| v.diffuse > 0.0);
+            vpls.retain(slc::Vpl::is_diffuse);
             for v in vpls.iter_mut() {
-                *v = slc::Vpl { diffuse: 0.0, alpha: s.glossy_alpha, f0: 0.9, ..*v };
+                *v = slc::Vpl { diffuse: Vec3::ZERO, alpha: s.glossy_alpha, f0: Vec3::splat(0.9), ..*v };
             }
         }
         k => return Err(format!("--kind takes both, diffuse or glossy, not {k}")),
@@ -166,7 +167,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
             if s.kind == "both" { "" } else { " of the kept kind" }
         ));
     }
-    let glossy = vpls.iter().filter(|v| v.diffuse == 0.0).count();
+    let glossy = vpls.iter().filter(|v| !v.is_diffuse()).count();
     log(format!(
         "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} light paths in {:.2} s",
         s.width,
@@ -269,13 +270,11 @@ fn brute_report(
     valid: &[f32],
     log: &mut dyn FnMut(String),
 ) -> Result<serde_json::Value, String> {
-    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
-    output::write_exr(&s.out.join("slc_brute.exr"), s.width, s.height, &gray(&b.image), valid)?;
-    let n = (s.width * s.height) as f64;
-    let (cm, bm) = (culled.image.iter().map(|x| *x as f64).sum::<f64>() / n, b.image.iter().map(|x| *x as f64).sum::<f64>() / n);
+    output::write_exr(&s.out.join("slc_brute.exr"), s.width, s.height, &rgb(&b.image), valid)?;
+    let (cm, bm) = (mean(&culled.image), mean(&b.image));
     let err = error_against(&b.image, &culled.image, &culled.filtered, valid);
     log(format!(
-        "slc brute force (every VPL at every pixel): {:.3} ms per frame; image means culled {cm:.6}, brute {bm:.6}; relative RMSE against it {:.4} before the filter, {:.4} after ({})",
+        "slc brute force (every VPL at every pixel): {:.3} ms per frame; image means (RGB) culled {cm:.6}, brute {bm:.6}; relative RMSE against it {:.4} before the filter, {:.4} after ({})",
         bs * 1e3,
         err["unfiltered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
         err["filtered"]["relative_rmse"].as_f64().unwrap_or(f64::NAN),
@@ -321,18 +320,31 @@ fn filter_json(s: &SlcOptions) -> serde_json::Value {
     }
 }
 
-/// The culled image's error against the brute-force reference over the valid pixels,
-/// before and after the filter: RMSE, RMSE relative to the reference's mean, mean bias.
-fn error_against(reference: &[f32], unfiltered: &[f32], filtered: &[f32], valid: &[f32]) -> serde_json::Value {
-    let one = |img: &[f32]| {
+/// An image's mean over pixels and channels.
+fn mean(img: &[Vec3]) -> f64 {
+    img.iter().map(|c| c.as_dvec3().element_sum()).sum::<f64>() / (3 * img.len().max(1)) as f64
+}
+
+/// An RGB image as the EXR writer takes it.
+fn rgb(img: &[Vec3]) -> Vec<[f32; 3]> {
+    img.iter().map(|c| c.to_array()).collect()
+}
+
+/// The culled image's error against the brute-force reference over the valid pixels' RGB
+/// values (every channel a sample), before and after the filter: RMSE, RMSE relative to
+/// the reference's mean, mean bias.
+fn error_against(reference: &[Vec3], unfiltered: &[Vec3], filtered: &[Vec3], valid: &[f32]) -> serde_json::Value {
+    let one = |img: &[Vec3]| {
         let (mut sq, mut bias, mut mean, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
         for ((r, x), v) in reference.iter().zip(img).zip(valid) {
             if *v > 0.0 {
-                let e = *x as f64 - *r as f64;
-                sq += e * e;
-                bias += e;
-                mean += *r as f64;
-                n += 1;
+                for c in 0..3 {
+                    let e = x[c] as f64 - r[c] as f64;
+                    sq += e * e;
+                    bias += e;
+                    mean += r[c] as f64;
+                    n += 1;
+                }
             }
         }
         let n = n.max(1) as f64;
@@ -348,16 +360,16 @@ fn write_images(s: &SlcOptions, g: &crate::slc::GBuffer, culled: &crate::slc::Re
     let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
     let valid: Vec<f32> = g.texels.iter().map(|t| t.is_some() as u8 as f32).collect();
     let filtered = &culled.filtered;
-    output::write_exr(&s.out.join("slc.exr"), s.width, s.height, &gray(&culled.image), &valid)?;
-    output::write_exr(&s.out.join("slc_filtered.exr"), s.width, s.height, &gray(filtered), &valid)?;
+    output::write_exr(&s.out.join("slc.exr"), s.width, s.height, &rgb(&culled.image), &valid)?;
+    output::write_exr(&s.out.join("slc_filtered.exr"), s.width, s.height, &rgb(filtered), &valid)?;
     let lp: Vec<f32> = culled.lights_per_pixel.iter().map(|x| *x as f32).collect();
     output::write_exr(&s.out.join("slc_vpls_per_pixel.exr"), s.width, s.height, &gray(&lp), &valid)?;
     let fdr_img: Vec<f32> =
         culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
     output::write_exr(&s.out.join("slc_fdr.exr"), s.width, s.height, &gray(&fdr_img), &valid)?;
-    let scale = output::exposure_scale(filtered);
-    output::save_png(&s.out.join("slc.png"), &output::tonemap(s.width, s.height, &culled.image, scale))?;
-    output::save_png(&s.out.join("slc_filtered.png"), &output::tonemap(s.width, s.height, filtered, scale))?;
+    let scale = output::exposure_scale(&output::luminances(filtered));
+    output::save_png(&s.out.join("slc.png"), &output::tonemap_rgb(s.width, s.height, &culled.image, scale))?;
+    output::save_png(&s.out.join("slc_filtered.png"), &output::tonemap_rgb(s.width, s.height, filtered, scale))?;
     output::save_png(&s.out.join("slc_fdr.png"), &output::heat(s.width, s.height, &fdr_img, &lp))?;
     Ok(valid)
 }
@@ -407,17 +419,20 @@ fn compare_bounds(
 
 #[cfg(test)]
 mod tests {
-    /// The error measures on a 4-pixel case worked by hand: reference (1, 2, 3, ·) with the
-    /// last pixel invalid; errors +1, −1, +1 → RMSE 1, relative 1/2 (mean 2), signed bias ⅓.
+    /// The error measures on a 4-pixel case worked by hand: reference (1, 2, 3, ·) grey with
+    /// the last pixel invalid; errors +1, −1, +1 in the red channel only → 9 samples, RMSE
+    /// √(3/9), relative √(1/3)/2 (mean 2), signed bias 1/9.
     #[test]
     fn error_against_is_rmse_relative_rmse_and_signed_bias() {
-        let reference = [1.0, 2.0, 3.0, 100.0];
-        let img = [2.0, 1.0, 4.0, 0.0];
+        use sbf::glam::Vec3;
+        let reference = [1.0, 2.0, 3.0, 100.0].map(Vec3::splat);
+        let img = [(1.0, 1.0), (2.0, -1.0), (3.0, 1.0), (100.0, -100.0)].map(|(r, e)| Vec3::splat(r) + Vec3::new(e, 0.0, 0.0));
         let e = super::error_against(&reference, &img, &reference, &[1.0, 1.0, 1.0, 0.0]);
         let u = &e["unfiltered"];
-        assert!((u["rmse"].as_f64().unwrap() - 1.0).abs() < 1e-12, "{e}");
-        assert!((u["relative_rmse"].as_f64().unwrap() - 0.5).abs() < 1e-12, "{e}");
-        assert!((u["mean_bias"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12, "{e}");
+        let rmse = (1.0f64 / 3.0).sqrt();
+        assert!((u["rmse"].as_f64().unwrap() - rmse).abs() < 1e-12, "{e}");
+        assert!((u["relative_rmse"].as_f64().unwrap() - rmse / 2.0).abs() < 1e-12, "{e}");
+        assert!((u["mean_bias"].as_f64().unwrap() - 1.0 / 9.0).abs() < 1e-12, "{e}");
         assert_eq!(e["filtered"]["rmse"].as_f64().unwrap(), 0.0);
         assert_eq!(e["pixels"].as_u64().unwrap(), 3);
     }

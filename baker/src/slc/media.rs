@@ -146,7 +146,7 @@ pub fn ray_segment(g: &GBuffer, m: &Medium, k: usize) -> (Vec3, Option<(f32, f32
     )
     .normalize();
     let per_depth = 1.0 / -d.z;
-    let surface = g.texels[k].map_or(f32::INFINITY, |(p, _, _)| p.length());
+    let surface = g.texels[k].map_or(f32::INFINITY, |s| s.position.length());
     let (t0, t1) = (m.near * per_depth, (m.far * per_depth).min(surface));
     (d, (t1 > t0).then_some((t0, t1)))
 }
@@ -240,7 +240,7 @@ pub fn render(g: &GBuffer, m: &Medium, lights: &[MediaLight], delta: f32, mode: 
                 .flat_map(|y| (tx * TILE..((tx + 1) * TILE).min(g.width)).map(move |x| y * g.width + x))
                 .collect();
             // The tile's medium: from the near depth to the farthest surface (or far).
-            let zmax = pixels.iter().map(|k| g.texels[*k].map_or(m.far, |(p, _, _)| (-p.z).min(m.far))).fold(m.near, f32::max);
+            let zmax = pixels.iter().map(|k| g.texels[*k].map_or(m.far, |s| (-s.position.z).min(m.far))).fold(m.near, f32::max);
             let mid = 0.5 * (m.near + zmax);
             let (x0, y0) = ((tx * TILE) as f32, (ty * TILE) as f32);
             let (x1, y1) = ((x0 + TILE as f32).min(g.width as f32), (y0 + TILE as f32).min(g.height as f32));

@@ -12,19 +12,22 @@
 //! positions and normals, so lights are given in view space too.
 
 //!
-//! The module tree: this file (VPLs, G-buffer, bounds, tiled culling and shading on the
-//! CPU), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
+//! The module tree: this file (VPLs, receivers, bounds, tiled culling and shading on the
+//! CPU), [`from_scene`] (the camera, G-buffer, VPLs and random numbers a scene gives),
+//! [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
 //! [`media`] (single scattering, seed 001), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
 //! Uses: [`crate::scene`] and the image writers of [`crate::output`].
 pub mod filter;
+pub mod from_scene;
 pub mod gpu;
 pub mod harness;
 pub mod media;
 pub mod sweep;
 
 pub use filter::{filter, Filter};
+pub use from_scene::{gbuffer_from_scene, pixel_light_uniforms, vpl_xi, vpls_from_scene, vpls_from_scene_with, Camera};
 
 use sbf::glam::{Mat3, Vec3};
 use sbf::slc::runtime as slc;
@@ -32,7 +35,7 @@ use sbf::slc::runtime as slc;
 /// Tile side in pixels.
 pub const TILE: usize = 16;
 
-/// A VPL (view space).
+/// A VPL (view space), RGB.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Vpl {
     pub position: Vec3,
@@ -40,34 +43,60 @@ pub struct Vpl {
     pub normal: Vec3,
     /// Unit direction towards where its light came from (ω_i, in n's hemisphere).
     pub incoming: Vec3,
-    /// Flux arriving at the VPL (one channel).
-    pub flux: f32,
-    /// Diffuse reflectance k (diffuse VPL) — 0 for a glossy one.
-    pub diffuse: f32,
-    /// GGX α and Schlick F0 (glossy VPL; ignored when `diffuse` > 0).
+    /// Flux arriving at the VPL, per channel.
+    pub flux: Vec3,
+    /// Diffuse reflectance k per channel (diffuse VPL) — zero for a glossy one.
+    pub diffuse: Vec3,
+    /// GGX α and Schlick F0 per channel (glossy VPL; ignored when `diffuse` is not zero).
     pub alpha: f32,
-    pub f0: f32,
+    pub f0: Vec3,
     /// The light's one uniform number ξ ∈ (0, 1].
     pub xi: f32,
 }
 
+/// The GGX specular BRDF f(a, b) (Cook–Torrance with the height-correlated Smith G2 and
+/// Schlick's Fresnel at a·h, per channel of `f0`; 002 eq. 4 for the VPL, the material model
+/// of the bake's path tracer for a receiver) for unit directions `a`, `b` around normal `n`;
+/// zero when either is below the surface. Reciprocal: a·h = b·h.
+pub fn ggx_brdf(n: Vec3, a: Vec3, b: Vec3, alpha: f32, f0: Vec3) -> Vec3 {
+    let (t, bt) = crate::scene::geometry::frame(n);
+    let local = |w: Vec3| sbf::glam::DVec3::new(w.dot(t) as f64, w.dot(bt) as f64, w.dot(n) as f64);
+    let (la, lb) = (local(a), local(b));
+    if la.z <= 0.0 || lb.z <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let alpha = alpha as f64;
+    let h = (la + lb).normalize();
+    let dg = sbf::ggx::d(h, alpha) * sbf::ggx::g2(la, lb, alpha) / (4.0 * la.z * lb.z);
+    let w = sbf::ggx::schlick_weight(la.dot(h)) as f32;
+    (f0 + (Vec3::ONE - f0) * w) * dg as f32
+}
+
+/// The one number per (light, point) that stochastic culling works with for an RGB
+/// intensity: its largest channel. Any scalar keeps the estimate unbiased (002 eq. 3 divides
+/// every channel by the same p); the largest channel gives a coloured light the acceptance
+/// its brightest channel needs, and the bounds below bound it channel by channel.
+pub fn culling_intensity(i: Vec3) -> f32 {
+    i.max_element()
+}
+
 impl Vpl {
-    /// Radiant intensity towards unit direction `wo` (002 eq. 4): Φk·cos/π for a diffuse
-    /// VPL, Φ·f_GGX(ω_i, ω_o)·cos for a glossy one (height-correlated Smith G2, Schlick).
-    pub fn intensity(&self, wo: Vec3) -> f32 {
+    /// Whether it reflects diffusely (k > 0 in some channel) rather than by GGX.
+    pub fn is_diffuse(&self) -> bool {
+        self.diffuse.max_element() > 0.0
+    }
+
+    /// Radiant intensity towards unit direction `wo` per channel (002 eq. 4): Φk·cos/π for
+    /// a diffuse VPL, Φ·f_GGX(ω_i, ω_o)·cos for a glossy one ([`ggx_brdf`]).
+    pub fn intensity(&self, wo: Vec3) -> Vec3 {
         let c = wo.dot(self.normal);
         if c <= 0.0 {
-            return 0.0;
+            return Vec3::ZERO;
         }
-        if self.diffuse > 0.0 {
+        if self.is_diffuse() {
             return self.flux * self.diffuse * c * std::f32::consts::FRAC_1_PI;
         }
-        let (t, b) = crate::scene::geometry::frame(self.normal);
-        let local = |w: Vec3| sbf::glam::DVec3::new(w.dot(t) as f64, w.dot(b) as f64, w.dot(self.normal) as f64);
-        let f0 = self.f0 as f64;
-        sbf::slc::ggx_vpl_intensity(self.flux as f64, local(self.incoming), local(wo), self.alpha as f64, &|ch| {
-            f0 + (1.0 - f0) * (1.0 - ch).powi(5)
-        }) as f32
+        self.flux * ggx_brdf(self.normal, self.incoming, wo, self.alpha, self.f0) * c
     }
 
     /// The culling transform (M = B·S, M·c) of the light's bound for random-range
@@ -75,15 +104,17 @@ impl Vpl {
     /// with `Bound::Sphere` a glossy VPL gets the sphere enclosing its spheroid instead
     /// (centre c, radius r_u), with `Bound::Th16` the sphere at the VPL of radius r/α
     /// (the maximum of s(ω_o) = r√(πD), 002 eq. 12, πD ≤ 1/α²) — the two comparisons of
-    /// 002 §7 and Fig. 9.
+    /// 002 §7 and Fig. 9. Each bounds [`culling_intensity`]: the diffuse sphere of
+    /// max_c Φ_c·k_c, the spheroid of max_c Φ_c·F_max(f0_c) (each channel's intensity is at
+    /// most its Φ_c·F_max,c times the channel-free rest of 002 eq. 12).
     pub fn bound(&self, delta: f32, kind: Bound) -> (Mat3, Vec3) {
-        let e = if self.diffuse > 0.0 {
-            let s = slc::diffuse_sphere(self.position, self.normal, self.flux * self.diffuse, delta, self.xi);
+        let e = if self.is_diffuse() {
+            let s = slc::diffuse_sphere(self.position, self.normal, culling_intensity(self.flux * self.diffuse), delta, self.xi);
             slc::Ellipsoid { center: s.center, axes: Mat3::IDENTITY, radii: Vec3::splat(s.radius) }
         } else {
             let cos_i = self.incoming.dot(self.normal);
-            let r =
-                slc::spheroid_scale(self.flux, slc::schlick_max(self.f0, cos_i), slc::g1_dist(cos_i, self.alpha), cos_i, delta, self.xi);
+            let f = Vec3::new(slc::schlick_max(self.f0.x, cos_i), slc::schlick_max(self.f0.y, cos_i), slc::schlick_max(self.f0.z, cos_i));
+            let r = slc::spheroid_scale(culling_intensity(self.flux * f), 1.0, slc::g1_dist(cos_i, self.alpha), cos_i, delta, self.xi);
             let e = slc::ggx_spheroid(self.position, self.incoming, self.normal, self.alpha, r);
             match kind {
                 Bound::Tight => e,
@@ -95,14 +126,64 @@ impl Vpl {
     }
 }
 
-/// A view-space G-buffer: per pixel position, normal and Lambert albedo (None: background).
+/// A receiver of the G-buffer (view space): Lambert albedo plus, where `f0` is not zero, a
+/// GGX layer (the bake's material model: f = ρ/π + f_GGX).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    pub position: Vec3,
+    /// Unit normal facing the camera.
+    pub normal: Vec3,
+    /// Diffuse albedo ρ per channel.
+    pub albedo: Vec3,
+    /// Schlick F0 per channel of the GGX layer (zero: Lambert only).
+    pub f0: Vec3,
+    /// GGX α of that layer (> 0).
+    pub alpha: f32,
+}
+
+impl Surface {
+    /// A grey Lambert receiver.
+    pub fn lambert(position: Vec3, normal: Vec3, albedo: f32) -> Surface {
+        Surface { position, normal, albedo: Vec3::splat(albedo), f0: Vec3::ZERO, alpha: 1.0 }
+    }
+
+    /// Whether it has a GGX layer.
+    pub fn is_glossy(&self) -> bool {
+        self.f0.max_element() > 0.0
+    }
+
+    /// The GGX layer's BRDF towards the camera (at the view-space origin) for light arriving
+    /// from unit direction `wl` (zero without the layer).
+    pub fn specular(&self, wl: Vec3) -> Vec3 {
+        if !self.is_glossy() {
+            return Vec3::ZERO;
+        }
+        ggx_brdf(self.normal, wl, -self.position.normalize(), self.alpha, self.f0)
+    }
+
+    /// Radiance towards the camera from the irradiance `e` and the specular radiance `s` the
+    /// layers gathered: ρ/π·E + S.
+    pub fn radiance(&self, e: Vec3, s: Vec3) -> Vec3 {
+        self.albedo * std::f32::consts::FRAC_1_PI * e + s
+    }
+}
+
+/// A view-space G-buffer: per pixel the receiver (None: background).
 #[derive(Debug, Clone)]
 pub struct GBuffer {
     pub width: usize,
     pub height: usize,
     /// tan of the half field of view in x and y (symmetric perspective).
     pub tan_xy: (f32, f32),
-    pub texels: Vec<Option<(Vec3, Vec3, f32)>>,
+    pub texels: Vec<Option<Surface>>,
+}
+
+impl GBuffer {
+    /// Whether any receiver has a GGX layer (the specular layer is shaded and filtered only
+    /// then).
+    pub fn has_glossy(&self) -> bool {
+        self.texels.iter().flatten().any(Surface::is_glossy)
+    }
 }
 
 /// Which bound culls a glossy VPL.
@@ -141,13 +222,24 @@ pub enum Mode {
     RangeCut,
 }
 
+/// What the shading gathers per pixel before the filter: the irradiance E = Σ I·cos/d² and
+/// the GGX layer's radiance S = Σ I·cos/d²·f_GGX, RGB. The filter joins each and the pixel's
+/// radiance is ρ/π·E + S ([`Surface::radiance`]): the albedo never enters the filter's sums.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Layers {
+    pub irradiance: Vec<Vec3>,
+    pub specular: Vec<Vec3>,
+}
+
 /// A rendered image and the culling statistics.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Render {
-    /// Radiance towards the camera per pixel.
-    pub image: Vec<f32>,
+    /// Radiance towards the camera per pixel, RGB.
+    pub image: Vec<Vec3>,
     /// The image after the filter joining the interleaving subregions ([`filter()`]).
-    pub filtered: Vec<f32>,
+    pub filtered: Vec<Vec3>,
+    /// What the image is made of (the filter's input).
+    pub layers: Layers,
     /// Lights shaded per pixel (kept by its tile).
     pub lights_per_pixel: Vec<u32>,
     /// Of those, the false discoveries: lights kept whose random range does not reach the
@@ -172,15 +264,16 @@ impl Render {
     }
 }
 
-/// The radiance a Lambert receiver at `x` (normal `n`, albedo ρ) sends to the camera from
-/// a light of intensity I towards it: I·max(n·(q − x)/d, 0)/d² · ρ/π; with the distance d.
-fn receive(v: &Vpl, x: Vec3, n: Vec3, albedo: f32) -> (f32, f32) {
-    let to = x - v.position;
+/// What light `v` gives receiver `s`: (I·cos_r/d² for the irradiance, that times the GGX
+/// layer's BRDF for the specular radiance, the distance d, the culling intensity towards s).
+fn receive(v: &Vpl, s: &Surface) -> (Vec3, Vec3, f32, f32) {
+    let to = s.position - v.position;
     let d2 = to.length_squared();
     let d = d2.sqrt();
     let wo = to / d;
-    let cos_r = (-wo).dot(n).max(0.0);
-    (v.intensity(wo) * cos_r / d2 * albedo * std::f32::consts::FRAC_1_PI, d)
+    let i = v.intensity(wo);
+    let e = i * (-wo).dot(s.normal).max(0.0) / d2;
+    (e, e * s.specular(-wo), d, culling_intensity(i))
 }
 
 /// Renders `g` lit by `vpls` in `mode` (CPU reference of the GPU kernel). `interleave` I
@@ -200,7 +293,12 @@ pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave
 pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize, bound: Bound, filter: Filter) -> Render {
     let il = interleave.max(1);
     let n = g.width * g.height;
-    let mut out = Render { image: vec![0.0; n], lights_per_pixel: vec![0; n], false_per_pixel: vec![0; n], ..Default::default() };
+    let mut out = Render {
+        layers: Layers { irradiance: vec![Vec3::ZERO; n], specular: vec![Vec3::ZERO; n] },
+        lights_per_pixel: vec![0; n],
+        false_per_pixel: vec![0; n],
+        ..Default::default()
+    };
     // The range cut keeps every light within its range at ξ = ½ (tiles culled by that range).
     let bounds: Vec<(Mat3, Vec3)> =
         vpls.iter().map(|v| if mode == Mode::RangeCut { Vpl { xi: 0.5, ..*v } } else { *v }.bound(delta, bound)).collect();
@@ -210,8 +308,14 @@ pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interl
         let subset: Vec<usize> = (sub..vpls.len()).step_by(il * il).collect();
         render_subregion(g, vpls, &bounds, delta, mode, (il, sx, sy), &subset, weight, &mut out);
     }
-    out.filtered = self::filter(g, &out.image, il, filter);
+    out.image = compose(g, &out.layers);
+    out.filtered = self::filter(g, &out.layers, il, filter);
     out
+}
+
+/// Each pixel's radiance from its layers ([`Surface::radiance`]; background 0).
+pub fn compose(g: &GBuffer, layers: &Layers) -> Vec<Vec3> {
+    g.texels.iter().zip(&layers.irradiance).zip(&layers.specular).map(|((t, e), s)| t.map_or(Vec3::ZERO, |t| t.radiance(*e, *s))).collect()
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -239,7 +343,7 @@ fn render_subregion(
                 continue;
             }
             let (zmin, zmax) = pixels.iter().fold((f32::INFINITY, 0.0f32), |(a, b), k| {
-                let z = -g.texels[*k].expect("valid").0.z;
+                let z = -g.texels[*k].expect("valid").position.z;
                 (a.min(z), b.max(z))
             });
             let mid = 0.5 * (zmin + zmax);
@@ -261,239 +365,24 @@ fn render_subregion(
                 out.kept += 1;
                 let mut accepted = false;
                 for &k in &pixels {
-                    let (x, n, albedo) = g.texels[k].expect("valid");
-                    let (l, d) = receive(v, x, n, albedo);
-                    let add = match mode {
-                        Mode::BruteForce => l,
+                    let (e, s, d, i) = receive(v, &g.texels[k].expect("valid"));
+                    // The estimator's factor on this (light, pixel): 1, L/p where p > ξ, or the cut.
+                    let f = match mode {
+                        Mode::BruteForce => 1.0,
                         Mode::Culled => {
-                            let p = slc::acceptance_probability(v.intensity((x - v.position) / d), delta, d);
+                            let p = slc::acceptance_probability(i, delta, d);
                             accepted |= p > v.xi;
                             out.false_per_pixel[k] += (p <= v.xi) as u32;
-                            slc::culled_estimate(l, p, v.xi)
+                            slc::culled_estimate(1.0, p, v.xi)
                         }
-                        Mode::RangeCut => {
-                            if d <= slc::random_range(v.intensity((x - v.position) / d), delta, 0.5) {
-                                l
-                            } else {
-                                0.0
-                            }
-                        }
+                        Mode::RangeCut => (d <= slc::random_range(i, delta, 0.5)) as u8 as f32,
                     };
-                    out.image[k] += add * weight;
+                    out.layers.irradiance[k] += e * (f * weight);
+                    out.layers.specular[k] += s * (f * weight);
                     out.lights_per_pixel[k] += 1;
                 }
                 out.false_positives += (mode == Mode::Culled && !accepted) as u64;
             }
         }
     }
-}
-
-/// A pinhole camera at `eye` looking down −z (world axes; the bake preview's camera):
-/// view space is world space moved by −eye.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Camera {
-    pub eye: Vec3,
-    /// tan of the horizontal half field of view (80° like the preview).
-    pub tan_x: f32,
-}
-
-impl Camera {
-    /// The preview camera of a scene: at the front of its bounds, centred.
-    pub fn preview(bvh: &crate::scene::bvh::Bvh) -> Camera {
-        let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-        let centre = 0.5 * (lo + hi);
-        Camera { eye: centre + Vec3::new(0.0, 0.0, 0.49 * (hi.z - lo.z)), tan_x: (40f32).to_radians().tan() }
-    }
-}
-
-/// The G-buffer of `scene` seen by `cam` at `width` × `height` (primary rays through the
-/// BVH): view-space position, the face normal turned towards the camera, and the
-/// luminance of the diffuse albedo; emitters and misses are background.
-pub fn gbuffer_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh, cam: Camera, width: usize, height: usize) -> GBuffer {
-    let tan_y = cam.tan_x * height as f32 / width as f32;
-    let texels = (0..width * height)
-        .map(|k| {
-            let (x, y) = (k % width, k / width);
-            let d = Vec3::new(
-                (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * cam.tan_x,
-                (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * tan_y,
-                -1.0,
-            );
-            let h = bvh.intersect(cam.eye, d.normalize(), 0.0, f32::INFINITY)?;
-            let tri = &bvh.tris[h.tri as usize];
-            let m = &scene.materials[tri.material as usize];
-            if m.emissive.max_element() > 0.0 {
-                return None;
-            }
-            let n = tri.normal();
-            let n = if n.dot(d) > 0.0 { -n } else { n };
-            let p = d.normalize() * h.t;
-            Some((p, n, crate::scene::lights::luminance(m.diffuse_albedo()) as f32))
-        })
-        .collect();
-    GBuffer { width, height, tan_xy: (cam.tan_x, tan_y), texels }
-}
-
-/// SplitMix64's output function (Steele, Lea and Flood 2014, "Fast splittable
-/// pseudorandom number generators"): a bijective 64-bit mix whose outputs for consecutive
-/// or related inputs are statistically independent.
-fn splitmix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// The ξ ∈ (0, 1] of light path `path` of the bake seeded `seed` (seed 002 eq. 3: one
-/// uniform number per light): a hash of (seed, path, this use) — the seed mixed first, so
-/// that no two (seed, path) pairs share a value by any linear relation (a PCG stream per
-/// path seeded by `seed` made ξ depend on about seed + 2·path) — its top 24 bits as the
-/// f32 1 − k/2²⁴.
-pub fn vpl_xi(seed: u64, path: u64) -> f32 {
-    const USE_XI: u64 = 0x5c1_0001;
-    let h = splitmix64(splitmix64(splitmix64(seed) ^ path) ^ USE_XI);
-    1.0 - (h >> 40) as f32 / (1u64 << 24) as f32
-}
-
-/// Two uniforms in [0, 1) (24 bits each) for (seed, pixel, light): the same hash chain as
-/// [`vpl_xi`] with another use — independent across seeds, pixels and lights.
-pub fn pixel_light_uniforms(seed: u64, pixel: u64, light: u64) -> [f32; 2] {
-    const USE_PIXEL_LIGHT: u64 = 0x5c1_0002;
-    let h = splitmix64(splitmix64(splitmix64(splitmix64(seed) ^ pixel) ^ light) ^ USE_PIXEL_LIGHT);
-    [(h >> 40) as f32 / (1u64 << 24) as f32, ((h >> 16) & 0xff_ffff) as f32 / (1u64 << 24) as f32]
-}
-
-/// `count` VPLs of `scene` (view space for `cam`) — the reflective-shadow-map equivalent:
-/// light paths start at a light chosen by luminance power (directional lights over a disk
-/// covering the scene bounds, point and spot lights over the sphere weighted by their cone,
-/// emissive triangles by area with cosine directions) and end at their first surface hit,
-/// which becomes a diffuse VPL (flux × Lambert albedo) and, on a glossy material, a GGX VPL
-/// (α, F0); each carries the total light power / count. One ξ per VPL from `seed`. The
-/// environment is not a source here: [`vpls_from_scene_with`] adds it.
-pub fn vpls_from_scene(scene: &crate::scene::Scene, bvh: &crate::scene::bvh::Bvh, cam: Camera, count: usize, seed: u64) -> Vec<Vpl> {
-    vpls_from_scene_with(scene, bvh, cam, count, seed, false)
-}
-
-/// [`vpls_from_scene`], with the environment (sky or map) as a source too when `sky`: its
-/// power over the disk of radius R (the bounding sphere's) facing each direction is
-/// πR²·∫ luminance(L) dω; a path picks a direction ω by the environment's importance sampler
-/// (luminance × solid angle, pdf p), starts on that disk 2R out along ω and travels along
-/// −ω, weighted luminance(L(ω))/(p(ω)·∫ luminance(L) dω) (1 in expectation: the light's
-/// power is kept). Paths that miss the scene carry their power out of it.
-pub fn vpls_from_scene_with(
-    scene: &crate::scene::Scene,
-    bvh: &crate::scene::bvh::Bvh,
-    cam: Camera,
-    count: usize,
-    seed: u64,
-    sky: bool,
-) -> Vec<Vpl> {
-    use crate::scene::lights::luminance;
-    use crate::scene::Light;
-    let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-    let (centre, radius) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
-    // Sources with their power (luminance, W).
-    let mut sources: Vec<(usize, f64)> = Vec::new();
-    for (k, l) in scene.lights.iter().enumerate() {
-        let p = match *l {
-            Light::Directional { irradiance, .. } => luminance(irradiance) * std::f64::consts::PI * (radius as f64).powi(2),
-            Light::Point { intensity, .. } | Light::Spot { intensity, .. } => luminance(intensity) * 4.0 * std::f64::consts::PI,
-        };
-        sources.push((k, p));
-    }
-    let emitters: Vec<(usize, f64)> = bvh
-        .tris
-        .iter()
-        .enumerate()
-        .filter_map(|(k, t)| {
-            let le = scene.materials[t.material as usize].emissive;
-            (le.max_element() > 0.0).then(|| (k, luminance(le) * t.area() as f64 * std::f64::consts::PI))
-        })
-        .collect();
-    let emitter_power: f64 = emitters.iter().map(|e| e.1).sum();
-    let env = if sky { crate::sampling::environment::EnvSampler::new(&scene.environment) } else { None };
-    let env_power = env.as_ref().map_or(0.0, |e| std::f64::consts::PI * (radius as f64).powi(2) * e.total);
-    let light_power: f64 = sources.iter().map(|s| s.1).sum();
-    // Lights take u in [0, lights_end), emitters [lights_end, light + emitter power), the
-    // environment the rest (the first two as without it, to the bit).
-    let lights_end = (light_power + emitter_power) - emitter_power;
-    let total: f64 = light_power + emitter_power + env_power;
-    let mut out = Vec::with_capacity(count);
-    if total <= 0.0 || count == 0 {
-        return out;
-    }
-    let per_path = (total / count as f64) as f32;
-    let mut rng = sbf::sampling::Pcg32::new(seed, 0x5c1);
-    let pick = |u: f64, items: &[(usize, f64)], sum: f64| -> usize {
-        let mut acc = 0.0;
-        for (k, (_, p)) in items.iter().enumerate() {
-            acc += p / sum;
-            if u < acc {
-                return k;
-            }
-        }
-        items.len() - 1
-    };
-    for path in 0..count {
-        let u = rng.next_f64() * total;
-        let [a, b] = rng.next_2d();
-        let [c, d] = rng.next_2d();
-        // (origin, direction, weight relative to the power the choice assumed, range)
-        let (o, dir, w, range) = if let (Some(e), true) = (env.as_ref(), u >= light_power + emitter_power) {
-            // The environment: a direction by its sampler, a point on the disk facing it.
-            let (towards, pdf) = e.sample([a, b, c]);
-            let weight = luminance(scene.environment.radiance(towards)) / (pdf * e.total);
-            let (t, bt) = crate::scene::geometry::frame(towards);
-            let [r1, r2] = rng.next_2d();
-            let r = radius * (r1 as f32).sqrt();
-            let phi = std::f32::consts::TAU * r2 as f32;
-            (centre + towards * (2.0 * radius) + (t * phi.cos() + bt * phi.sin()) * r, -towards, weight as f32, f32::INFINITY)
-        } else if u < lights_end {
-            let s = &sources[pick(u / lights_end, &sources, 1.0)];
-            match scene.lights[s.0] {
-                Light::Directional { direction, .. } => {
-                    let (t, bt) = crate::scene::geometry::frame(direction);
-                    let r = radius * (a as f32).sqrt();
-                    let phi = std::f32::consts::TAU * b as f32;
-                    (centre + direction * (2.0 * radius) + (t * phi.cos() + bt * phi.sin()) * r, -direction, 1.0, f32::INFINITY)
-                }
-                Light::Point { position, range, .. } => (position, sbf::sampling::uniform_sphere([a, b]).as_vec3(), 1.0, range),
-                Light::Spot { position, direction, cos_inner, cos_outer, range, .. } => {
-                    let dir = sbf::sampling::uniform_sphere([a, b]).as_vec3();
-                    (position, dir, crate::scene::lights::spot_attenuation(dir.dot(direction), cos_inner, cos_outer), range)
-                }
-            }
-        } else {
-            let (ti, _) = emitters[pick((u - lights_end) / emitter_power, &emitters, 1.0)];
-            let t = &bvh.tris[ti];
-            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
-            let p = t.v0() + t.e1() * a as f32 + t.e2() * b as f32;
-            let n = t.normal();
-            let l = sbf::sampling::cosine_hemisphere([c, d]);
-            let (tt, bt) = crate::scene::geometry::frame(n);
-            let dir = (tt * l.x as f32 + bt * l.y as f32 + n * l.z as f32).normalize();
-            (crate::scene::lights::offset_ray(p, n), dir, 1.0, f32::INFINITY)
-        };
-        let Some(h) = bvh.intersect(o, dir, 0.0, f32::INFINITY) else { continue };
-        let tri = &bvh.tris[h.tri as usize];
-        let m = &scene.materials[tri.material as usize];
-        let ng = tri.normal();
-        let n = if ng.dot(dir) > 0.0 { -ng } else { ng };
-        let x = o + dir * h.t - cam.eye;
-        let xi = vpl_xi(seed, path as u64);
-        let flux = per_path * w * crate::scene::lights::range_window(h.t, range);
-        if flux <= 0.0 {
-            continue;
-        }
-        let base =
-            Vpl { position: x, normal: n, incoming: -dir, flux, diffuse: 0.0, alpha: m.alpha(), f0: luminance(m.specular_f0()) as f32, xi };
-        let k = luminance(m.diffuse_albedo()) as f32;
-        if k > 0.0 {
-            out.push(Vpl { diffuse: k, ..base });
-        }
-        if m.is_glossy() {
-            out.push(base);
-        }
-    }
-    out
 }

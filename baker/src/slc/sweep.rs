@@ -7,6 +7,7 @@
 //! ξ = ½ (the classic clamped ranges: biased).
 
 use super::{Bound, Filter, GBuffer, Mode, Vpl};
+use sbf::glam::Vec3;
 use serde_json::json;
 use std::time::Instant;
 
@@ -25,14 +26,17 @@ pub struct Point {
 const METHODS: [(&str, Mode, Bound); 3] =
     [("spheroid", Mode::Culled, Bound::Tight), ("sphere", Mode::Culled, Bound::Sphere), ("range cut", Mode::RangeCut, Bound::Tight)];
 
-/// Relative RMSE of `img` against `reference` over the valid pixels.
-fn relative_rmse(reference: &[f32], img: &[f32], valid: &[f32]) -> f64 {
+/// Relative RMSE of `img` against `reference` over the valid pixels' RGB values.
+fn relative_rmse(reference: &[Vec3], img: &[Vec3], valid: &[f32]) -> f64 {
     let (mut sq, mut mean, mut n) = (0.0f64, 0.0f64, 0usize);
     for ((r, x), v) in reference.iter().zip(img).zip(valid) {
         if *v > 0.0 {
-            sq += (*x as f64 - *r as f64).powi(2);
-            mean += *r as f64;
-            n += 1;
+            // Channel by channel, as the main run's error (the same sums to the bit).
+            for c in 0..3 {
+                sq += (x[c] as f64 - r[c] as f64).powi(2);
+                mean += r[c] as f64;
+                n += 1;
+            }
         }
     }
     let n = n.max(1) as f64;
@@ -58,7 +62,7 @@ pub fn run(
     g: &GBuffer,
     vpls: &[Vpl],
     deltas: &[f32],
-    (reference, valid): (&[f32], &[f32]),
+    (reference, valid): (&[Vec3], &[f32]),
     log: &mut dyn FnMut(String),
 ) -> Result<Vec<Point>, String> {
     let mut out = Vec::new();
