@@ -598,6 +598,16 @@ fn slc_command_writes_its_outputs() {
     let none = slc(&["--scene", "slit", "--vpls", "64", "--size", "32x18", "--device", "cpu", "--out", d.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&none.stderr);
     assert!(!none.status.success() && err.contains("yields no VPLs") && err.contains("environment"), "{err}");
+    // VPLs from reflective shadow maps: the built-in scene's light seen through a 16 × 16
+    // map; with --sky (the environment has no shadow map) refused.
+    let rd = tmp("slc-rsm");
+    let o = slc(&["--rsm", "16", "--size", "48x32", "--device", "cpu", "--out", rd.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(rd.join("slc.json")).unwrap()).unwrap();
+    assert_eq!(meta["vpl_source"], "16×16 reflective shadow maps", "{meta}");
+    assert!(meta["vpls"].as_u64().unwrap() > 0 && meta["light_paths"].is_null(), "{meta}");
+    let o = slc(&["--rsm", "16", "--sky", "--device", "cpu", "--out", rd.to_str().unwrap()]);
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("no shadow map"));
     // The equal-time sweep: on the CPU every render is deterministic, so the spheroid at the
     // run's δ is the main image — its equal-time error is the main run's filtered error —
     // and every method reports a point per δ; a sweep without --delta is refused.

@@ -15,7 +15,7 @@ use std::process::ExitCode;
 #[command(
     version,
     about = "Render single-bounce indirect light from virtual point lights (VPLs) with stochastic light culling: each VPL gets a random range, tiles keep only the VPLs whose bounds reach them, pixels shade the kept ones unbiasedly.",
-    after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky"
+    after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky\n  slc --scene sunbeam --rsm 256"
 )]
 struct Cli {
     /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a
@@ -32,6 +32,12 @@ struct Cli {
     /// by the environment's importance, entering over a disk that covers the scene.
     #[arg(long)]
     sky: bool,
+    /// VPLs from a reflective shadow map of N × N texels per punctual light instead of light
+    /// paths (the seeds' 256: one ray per texel from the light, its hit a VPL with the texel's
+    /// flux; six N × N cube faces for a point light); needs a directional, spot or point
+    /// light, and takes the place of --vpls and --sky.
+    #[arg(long, value_name = "N")]
+    rsm: Option<usize>,
     /// Image size, WIDTHxHEIGHT pixels.
     #[arg(long, default_value = "960x540")]
     size: String,
@@ -114,6 +120,12 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
     if c.vpls == 0 {
         return Err("--vpls must be at least 1".into());
     }
+    match c.rsm {
+        Some(0) => return Err("--rsm must be at least 1 texel".into()),
+        Some(n) if n > 4096 => return Err(format!("--rsm {n}: at most 4096 texels a side (16.8 M VPLs per map)")),
+        Some(_) if c.sky => return Err("--sky starts light paths at the environment, which has no shadow map: use it without --rsm".into()),
+        _ => {}
+    }
     if !(c.delta > 0.0 && c.delta.is_finite()) {
         return Err(format!("--delta must be finite and > 0, not {}", c.delta));
     }
@@ -172,6 +184,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         compare_bounds: c.compare_bounds,
         medium: c.medium.as_deref().map(parse_medium).transpose()?,
         sky: c.sky,
+        rsm: c.rsm,
         sweep: sweep.unwrap_or_default(),
     })
 }

@@ -208,25 +208,51 @@ pub fn vpls_from_scene_with(
             let le = scene.materials[t.material as usize].emissive;
             (crate::scene::lights::offset_ray(p, n), dir, colour(le), f32::INFINITY)
         };
-        let Some(h) = bvh.intersect(o, dir, 0.0, f32::INFINITY) else { continue };
-        let tri = &bvh.tris[h.tri as usize];
-        let m = &scene.materials[tri.material as usize];
-        let ng = tri.normal();
-        let n = if ng.dot(dir) > 0.0 { -ng } else { ng };
-        let x = o + dir * h.t - cam.eye;
         let xi = vpl_xi(seed, path as u64);
-        let flux = per_path * w * crate::scene::lights::range_window(h.t, range);
-        if flux.max_element() <= 0.0 {
-            continue;
-        }
-        let base = Vpl { position: x, normal: n, incoming: -dir, flux, diffuse: Vec3::ZERO, alpha: m.alpha(), f0: m.specular_f0(), xi };
-        let k = m.diffuse_albedo();
-        if k.max_element() > 0.0 {
-            out.push(Vpl { diffuse: k, ..base });
-        }
-        if m.is_glossy() {
-            out.push(base);
-        }
+        out.extend(vpls_at_hit(scene, bvh, cam, (o, dir, range), per_path * w, xi));
+    }
+    out
+}
+
+/// The VPLs where the ray (origin, unit direction, light range) carrying `flux` first meets
+/// a surface (view space for `cam`): a diffuse VPL (flux × the material's diffuse albedo)
+/// where the albedo is not black and a GGX VPL (α, F0) where the material is glossy, both
+/// with random number ξ; none where the ray leaves the scene or the light's range window
+/// leaves no flux there. The emitted side is the one facing the ray.
+pub(super) fn vpls_at_hit(
+    scene: &crate::scene::Scene,
+    bvh: &crate::scene::bvh::Bvh,
+    cam: Camera,
+    (o, dir, range): (Vec3, Vec3, f32),
+    flux: Vec3,
+    xi: f32,
+) -> Vec<Vpl> {
+    let Some(h) = bvh.intersect(o, dir, 0.0, f32::INFINITY) else { return Vec::new() };
+    let tri = &bvh.tris[h.tri as usize];
+    let m = &scene.materials[tri.material as usize];
+    let ng = tri.normal();
+    let n = if ng.dot(dir) > 0.0 { -ng } else { ng };
+    let flux = flux * crate::scene::lights::range_window(h.t, range);
+    if flux.max_element() <= 0.0 {
+        return Vec::new();
+    }
+    let base = Vpl {
+        position: o + dir * h.t - cam.eye,
+        normal: n,
+        incoming: -dir,
+        flux,
+        diffuse: Vec3::ZERO,
+        alpha: m.alpha(),
+        f0: m.specular_f0(),
+        xi,
+    };
+    let k = m.diffuse_albedo();
+    let mut out = Vec::with_capacity(2);
+    if k.max_element() > 0.0 {
+        out.push(Vpl { diffuse: k, ..base });
+    }
+    if m.is_glossy() {
+        out.push(base);
     }
     out
 }

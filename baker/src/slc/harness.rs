@@ -46,6 +46,9 @@ pub struct SlcOptions {
     pub medium: Option<crate::slc::media::Medium>,
     /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
     pub sky: bool,
+    /// VPLs from a reflective shadow map of this many texels a side per punctual light
+    /// ([`crate::slc::rsm`]) instead of `vpls` light paths.
+    pub rsm: Option<usize>,
     /// The equal-time experiment over these δ ([`crate::slc::sweep`]; needs `brute`).
     pub sweep: Vec<f32>,
 }
@@ -134,19 +137,14 @@ fn gpu_xi_seed(seed: u64) -> u32 {
     ((seed ^ (seed >> 32)) as u32).max(1)
 }
 
-/// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
-/// light culling (crate::slc) on the GPU or the CPU; writes slc.exr/png, the VPLs per
-/// pixel, and slc.json (counts, false discovery rate, frame time).
-pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnMut(String)) -> Result<(), String> {
-    use crate::slc::{self, Camera, Mode};
-    let o = s;
-    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
-    let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
-    let bvh = Bvh::build(&scene);
-    let cam = Camera::preview(&bvh);
-    let t = Instant::now();
-    let g = slc::gbuffer_from_scene(&scene, &bvh, cam, s.width, s.height);
-    let mut vpls = slc::vpls_from_scene_with(&scene, &bvh, cam, s.vpls, o.seed, s.sky);
+/// The VPLs of the run: from reflective shadow maps or light paths, of the kind asked for;
+/// an error naming why when there are none.
+fn make_vpls(s: &SlcOptions, scene: &crate::scene::Scene, bvh: &Bvh, cam: crate::slc::Camera) -> Result<Vec<crate::slc::Vpl>, String> {
+    use crate::slc;
+    let mut vpls = match s.rsm {
+        Some(n) => slc::rsm::vpls_from_rsm(scene, bvh, cam, n, s.seed)?,
+        None => slc::vpls_from_scene_with(scene, bvh, cam, s.vpls, s.seed, s.sky),
+    };
     match s.kind.as_str() {
         "both" => {}
         "diffuse" => vpls.retain(slc::Vpl::is_diffuse),
@@ -159,6 +157,13 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         k => return Err(format!("--kind takes both, diffuse or glossy, not {k}")),
     }
     if vpls.is_empty() {
+        if let Some(n) = s.rsm {
+            return Err(format!(
+                "scene '{}' yields no VPLs from its {n}×{n} reflective shadow maps: no texel's ray met a surface{}",
+                scene.name,
+                if s.kind == "both" { "" } else { " of the kept kind" }
+            ));
+        }
         return Err(format!(
             "scene '{}' yields no VPLs from {} light paths: they start at its lights and emissive triangles{}, and none met a surface{}",
             scene.name,
@@ -167,14 +172,30 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
             if s.kind == "both" { "" } else { " of the kept kind" }
         ));
     }
+    Ok(vpls)
+}
+
+/// Renders single-bounce indirect light from `s.vpls` VPLs of the scene with stochastic
+/// light culling (crate::slc) on the GPU or the CPU; writes slc.exr/png, the VPLs per
+/// pixel, and slc.json (counts, false discovery rate, frame time).
+pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnMut(String)) -> Result<(), String> {
+    use crate::slc::{self, Camera, Mode};
+    let o = s;
+    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
+    let scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
+    let bvh = Bvh::build(&scene);
+    let cam = Camera::preview(&bvh);
+    let t = Instant::now();
+    let g = slc::gbuffer_from_scene(&scene, &bvh, cam, s.width, s.height);
+    let vpls = make_vpls(s, &scene, &bvh, cam)?;
     let glossy = vpls.iter().filter(|v| !v.is_diffuse()).count();
     log(format!(
-        "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} light paths in {:.2} s",
+        "slc: {}×{} G-buffer, {} VPLs ({} diffuse, {glossy} glossy) from {} in {:.2} s",
         s.width,
         s.height,
         vpls.len(),
         vpls.len() - glossy,
-        s.vpls,
+        source_name(s),
         t.elapsed().as_secs_f64()
     ));
     let mut stages = None;
@@ -232,7 +253,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
     let bounds = if s.compare_bounds && glossy > 0 { compare_bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
     let mut meta = json!({
-        "scene": scene.name, "device": device, "vpls": vpls.len(), "sky_paths": s.sky, "glossy_vpls": glossy, "light_paths": s.vpls,
+        "scene": scene.name, "device": device, "vpls": vpls.len(), "sky_paths": s.sky, "glossy_vpls": glossy, "light_paths": s.rsm.is_none().then_some(s.vpls), "rsm_texels": s.rsm, "vpl_source": source_name(s),
         "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
         "glossy_bound": format!("{:?}", s.bound), "kind": s.kind, "glossy_alpha": s.glossy_alpha,
         "seconds_per_frame": seconds, "vpls_per_pixel": lpp, "kept_pairs": culled.kept,
@@ -296,6 +317,14 @@ fn brute_report(
         out["sweep"] = j;
     }
     Ok(out)
+}
+
+/// Where the VPLs came from, in words.
+fn source_name(s: &SlcOptions) -> String {
+    match s.rsm {
+        Some(n) => format!("{n}×{n} reflective shadow maps"),
+        None => format!("{} light paths", s.vpls),
+    }
 }
 
 /// The per-stage GPU times as a log line.

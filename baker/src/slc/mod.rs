@@ -14,7 +14,7 @@
 //!
 //! The module tree: this file (VPLs, receivers, bounds, tiled culling and shading on the
 //! CPU), [`from_scene`] (the camera, G-buffer, VPLs and random numbers a scene gives),
-//! [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
+//! [`rsm`] (VPLs from reflective shadow maps), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
 //! [`media`] (single scattering, seed 001), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
@@ -24,6 +24,7 @@ pub mod from_scene;
 pub mod gpu;
 pub mod harness;
 pub mod media;
+pub mod rsm;
 pub mod sweep;
 
 pub use filter::{filter, Filter};

@@ -1,0 +1,80 @@
+//! VPLs from reflective shadow maps (`slc::rsm`, seed 002 §7) carry the light's power onto
+//! the surfaces they see, against closed forms written here:
+//! - a directional light (irradiance E per channel at normal incidence, straight down) over
+//!   a quad of side 2 facing it: the orthographic map is the quad's footprint, so every
+//!   texel hits and the diffuse VPLs' reflected flux Φ·k sums per channel to E·k·4 (k the
+//!   albedo);
+//! - a point light (intensity I) 1 above the centre of a quad of half side 1.0005: the
+//!   bottom cube face's frustum (45° half angle) lands inside the quad and no other face's
+//!   texel centre does (the nearest is half a texel above 45°: it meets the plane 1 + 1/n
+//!   out), so the reflected flux sums to I·k·4π/6.
+//!
+//! Error model: each texel's flux is an f32 product of a few terms (relative 1e-6), summed
+//! in f64 — 1e-5 relative. Mutations tried: the texel solid angle taken as its flat area
+//! (the point case's sum becomes I·k·4 instead of I·k·4π/6); the directional texel's flux
+//! × 1.02 — each fails.
+
+use baker::scene::{Environment, Light, Material, Mesh, Scene};
+use baker::slc::{rsm, Camera};
+use sbf::glam::Vec3;
+
+/// A one-quad scene: the square of half side `a` at y = 0 facing +Y, albedo `k`, lit by
+/// `lights`.
+fn quad_scene(a: f32, k: Vec3, lights: Vec<Light>) -> Scene {
+    let quad = Mesh {
+        name: "quad".into(),
+        positions: vec![Vec3::new(-a, 0.0, -a), Vec3::new(-a, 0.0, a), Vec3::new(a, 0.0, a), Vec3::new(a, 0.0, -a)],
+        normals: vec![Vec3::Y; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material: 0,
+        lightmap_uv: None,
+        lightmapped: true,
+        uv: None,
+    };
+    Scene {
+        name: "quad".into(),
+        meshes: vec![quad],
+        materials: vec![Material::lambert(k)],
+        lights,
+        environment: Environment::Black,
+        textures: Vec::new(),
+        normal_textures: Vec::new(),
+    }
+}
+
+/// Σ reflected flux Φ·k of the diffuse VPLs per channel, and their count.
+fn total_flux(scene: &Scene, n: usize) -> ([f64; 3], usize) {
+    let bvh = baker::scene::bvh::Bvh::build(scene);
+    let cam = Camera { eye: Vec3::new(0.0, 2.0, 3.0), tan_x: 1.0 };
+    let v = rsm::vpls_from_rsm(scene, &bvh, cam, n, 1).unwrap();
+    let d: Vec<_> = v.iter().filter(|v| v.is_diffuse()).collect();
+    (std::array::from_fn(|c| d.iter().map(|v| v.flux[c] as f64 * v.diffuse[c] as f64).sum()), d.len())
+}
+
+#[test]
+fn rsm_vpls_carry_the_lights_power() {
+    let k = Vec3::new(0.5, 0.4, 0.3);
+    let e = Vec3::new(3.0, 2.0, 1.0);
+    let n = 64;
+    let (got, count) = total_flux(&quad_scene(1.0, k, vec![Light::Directional { direction: Vec3::Y, irradiance: e }]), n);
+    assert_eq!(count, n * n, "every texel of the directional map sees the quad");
+    for c in 0..3 {
+        let want = e[c] as f64 * k[c] as f64 * 4.0;
+        println!("directional, channel {c}: Σ flux {:.7} vs E·k·A {want:.7}", got[c]);
+        assert!((got[c] - want).abs() <= 1e-5 * want, "directional channel {c}: {} vs {want}", got[c]);
+    }
+    let i = Vec3::new(2.0, 1.5, 1.0);
+    let point = Light::Point { position: Vec3::Y, intensity: i, range: f32::INFINITY };
+    let (got, count) = total_flux(&quad_scene(1.0005, k, vec![point]), n);
+    assert_eq!(count, n * n, "the bottom face's texels, and no other");
+    for c in 0..3 {
+        let want = i[c] as f64 * k[c] as f64 * 4.0 * std::f64::consts::PI / 6.0;
+        println!("point, channel {c}: Σ flux {:.7} vs I·k·4π/6 {want:.7}", got[c]);
+        assert!((got[c] - want).abs() <= 1e-5 * want, "point channel {c}: {} vs {want}", got[c]);
+    }
+    // A scene without punctual lights has no shadow map to render.
+    let dark = quad_scene(1.0, k, vec![]);
+    let bvh = baker::scene::bvh::Bvh::build(&dark);
+    let err = rsm::vpls_from_rsm(&dark, &bvh, Camera { eye: Vec3::Z, tan_x: 1.0 }, 8, 1).unwrap_err();
+    assert!(err.contains("no punctual"), "{err}");
+}
