@@ -601,11 +601,19 @@ fn slc_command_writes_its_outputs() {
     // VPLs from reflective shadow maps: the built-in scene's light seen through a 16 × 16
     // map; with --sky (the environment has no shadow map) refused.
     let rd = tmp("slc-rsm");
-    let o = slc(&["--rsm", "16", "--size", "48x32", "--device", "cpu", "--out", rd.to_str().unwrap()]);
+    // With the culling comparison: per VPL set, clustered shading shades no more VPLs per
+    // pixel than the tiles (it only drops false discoveries).
+    let o = slc(&["--rsm", "16", "--size", "48x32", "--device", "cpu", "--compare-culling", "--out", rd.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(rd.join("slc.json")).unwrap()).unwrap();
     assert_eq!(meta["vpl_source"], "16×16 reflective shadow maps", "{meta}");
     assert!(meta["vpls"].as_u64().unwrap() > 0 && meta["light_paths"].is_null(), "{meta}");
+    let rows = meta["culling_comparison"]["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4, "{meta}");
+    for pair in rows.chunks(2) {
+        assert_eq!(pair[0]["vpls"], pair[1]["vpls"]);
+        assert!(pair[1]["vpls_per_pixel"].as_f64().unwrap() <= pair[0]["vpls_per_pixel"].as_f64().unwrap(), "{pair:?}");
+    }
     let o = slc(&["--rsm", "16", "--sky", "--device", "cpu", "--out", rd.to_str().unwrap()]);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("no shadow map"));
     // The equal-time sweep: on the CPU every render is deterministic, so the spheroid at the

@@ -313,6 +313,45 @@ fn gpu_matches_cpu() {
     }
 }
 
+/// Clustered shading (seed 002 Table 2's baseline: depth slices per tile) drops only false
+/// discoveries: a pixel skips a light only where the light's bound misses the pixel's slice,
+/// so p ≤ ξ there and the culled estimate is 0 — the image equals Modified HalfZ's to the
+/// bit (the same non-zero terms in the same order), while the lights shaded per pixel and
+/// the false discoveries can only drop. CPU at 4 and 32 slices, interleave 1 and 8; the
+/// GPU's clustered kernel against the CPU's (as `gpu_matches_cpu`). Mutations: the pixel's
+/// slice index one too high (CPU or WGSL) fails the equality or the GPU match.
+#[test]
+fn clustered_culling_drops_only_false_discoveries() {
+    use baker::slc::{Bound, Culling};
+    let gb = gbuffer();
+    let l = vpls(11);
+    for il in [1, 8] {
+        let half = baker::slc::render_culled(&gb, &l, DELTA, Mode::Culled, il, Bound::Tight, Filter::SEED, Culling::HalfZ);
+        for n in [4, 32] {
+            let c = baker::slc::render_culled(&gb, &l, DELTA, Mode::Culled, il, Bound::Tight, Filter::SEED, Culling::Clustered(n));
+            println!(
+                "interleave {il}, {n} slices: lights per pixel {:.2} vs HalfZ {:.2}; false discoveries {} vs {}",
+                c.lights_per_pixel.iter().sum::<u32>() as f64 / gb.texels.len() as f64,
+                half.lights_per_pixel.iter().sum::<u32>() as f64 / gb.texels.len() as f64,
+                c.false_discoveries(),
+                half.false_discoveries()
+            );
+            assert_eq!(c.image, half.image, "interleave {il}, {n} slices: the image changed");
+            assert!(c.lights_per_pixel.iter().zip(&half.lights_per_pixel).all(|(a, b)| a <= b));
+            assert!(c.false_discoveries() < half.false_discoveries(), "{n} slices dropped no false discovery");
+            let Some(g) = gpu() else { continue };
+            let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
+            run.set_culling(Culling::Clustered(n)).unwrap();
+            let gg = run.run(Mode::Culled).unwrap();
+            assert!(differing(&c.image, &gg.image) <= c.image.len() / 200, "GPU clustered image");
+            assert!((c.kept as f64 - gg.kept as f64).abs() <= 0.005 * c.kept as f64, "kept {} vs {}", c.kept, gg.kept);
+            let shaded = c.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>();
+            assert!((c.false_discoveries() as f64 - gg.false_discoveries() as f64).abs() <= 0.005 * shaded, "false discoveries");
+        }
+    }
+    assert!(Culling::Clustered(33).check().is_err() && Culling::Clustered(2).check().is_err());
+}
+
 /// 002 §7 / Fig. 10: glossy VPLs reflecting a light onto a wall (glossy caustics). 768 × 768
 /// pixels see the wall z = −6 (normal +z, albedo 0.5) head on; 100 GGX VPLs (F0 0.9) on
 /// a glossy patch at z ∈ [−2.5, −1.5], facing the wall, lit from within 10° of their

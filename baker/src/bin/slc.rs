@@ -53,6 +53,11 @@ struct Cli {
     /// discovery rates and frame times side by side.
     #[arg(long)]
     compare_bounds: bool,
+    /// Also time tiled culling (the seeds' Modified HalfZ) against clustered shading (32
+    /// depth slices per tile) on the diffuse VPLs and on them made glossy (seed 002 Table 2),
+    /// and report each one's culling + shading time, VPLs per pixel and false discovery rate.
+    #[arg(long)]
+    compare_culling: bool,
     /// The equal-time experiment (seed 000 Fig. 2): render with each of these δ (comma
     /// separated, e.g. 1e-4,3e-4,1e-3,3e-3,1e-2; include --delta) by the spheroid, the
     /// enclosing sphere and the biased range cut, and report each one's error against brute
@@ -182,6 +187,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         kind: c.kind,
         glossy_alpha: c.glossy_alpha,
         compare_bounds: c.compare_bounds,
+        compare_culling: c.compare_culling,
         medium: c.medium.as_deref().map(parse_medium).transpose()?,
         sky: c.sky,
         rsm: c.rsm,

@@ -37,7 +37,9 @@ struct SlcParams {
     // The filter joining the subregions: 0 the box of one period, R the cross-bilateral
     // filter of radius R (slc_filter).
     filter_radius: u32,
-    pad1: u32,
+    // 0: the tile's depth range split in two (Modified HalfZ); n > 2: clustered shading,
+    // n depth slices per tile, a pixel shading only the lights meeting its slice.
+    clusters: u32,
     pad2: u32,
 }
 
@@ -172,6 +174,22 @@ var<workgroup> wg_zmax: atomic<u32>;
 var<workgroup> wg_count: atomic<u32>;
 var<workgroup> wg_list: array<u32, 256>;
 var<workgroup> wg_accepted: array<atomic<u32>, 256>;
+// Per kept light: the depth slices its bound meets (clustered shading; all bits otherwise).
+var<workgroup> wg_mask: array<u32, 256>;
+
+// Depth slice s of n over [zmin, zmax], widened by 1e-4 of the range plus 1e-6 of zmax
+// (CPU twin: baker::slc::cluster_range).
+fn slc_cluster_range(zmin: f32, zmax: f32, s: u32, n: u32) -> vec2<f32> {
+    let w = zmax - zmin;
+    let pad = 1e-4 * w + 1e-6 * zmax;
+    return vec2<f32>(zmin + w * f32(s) / f32(n) - pad, zmin + w * f32(s + 1u) / f32(n) + pad);
+}
+
+// The slice of depth z among n over [zmin, zmax] (CPU twin: baker::slc::cluster_of).
+fn slc_cluster_of(z: f32, zmin: f32, zmax: f32, n: u32) -> u32 {
+    let w = max(zmax - zmin, 1.17549435e-38);
+    return min(u32(max((z - zmin) / w * f32(n), 0.0)), n - 1u);
+}
 
 @compute @workgroup_size(16, 16)
 fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) t: u32, @builtin(local_invocation_id) lid: vec3<u32>) {
@@ -231,6 +249,11 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let tan_xy = vec2<f32>(SP.tan_x, SP.tan_y);
     let near_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, zmin, mid);
     let far_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, mid, zmax);
+    let clustered = SP.clusters > 0u && (SP.mode & 3u) != 1u;
+    var slice_bit = 0xffffffffu;
+    if (clustered && valid) {
+        slice_bit = 1u << slc_cluster_of(-x.z, zmin, zmax, SP.clusters);
+    }
     var irradiance = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
     var shaded = 0u;
@@ -243,14 +266,25 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         let m = base + t;
         let j = tile.z + stride * m;
         if (any_valid && m < sub_count) {
-            var keep = true;
+            var mask = 0xffffffffu;
             if ((SP.mode & 3u) != 1u) {
                 let c = SlcCullEllipsoid(mat3x3<f32>(bounds[4u * j].xyz, bounds[4u * j + 1u].xyz, bounds[4u * j + 2u].xyz), bounds[4u * j + 3u].xyz);
-                keep = slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half);
+                if (clustered) {
+                    mask = 0u;
+                    for (var sl = 0u; sl < SP.clusters; sl++) {
+                        let r = slc_cluster_range(zmin, zmax, sl, SP.clusters);
+                        if (slc_ellipsoid_hits_corners(c, slc_tile_corners(x0, y0, x1, y1, size, tan_xy, r.x, r.y))) {
+                            mask |= 1u << sl;
+                        }
+                    }
+                } else if (!(slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half))) {
+                    mask = 0u;
+                }
             }
-            if (keep) {
+            if (mask != 0u) {
                 let slot = atomicAdd(&wg_count, 1u);
                 wg_list[slot] = j;
+                wg_mask[slot] = mask;
                 atomicStore(&wg_accepted[slot], 0u);
             }
         }
@@ -258,6 +292,9 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
         let count = atomicLoad(&wg_count);
         if (valid) {
             for (var s = 0u; s < count; s++) {
+                if ((wg_mask[s] & slice_bit) == 0u) {
+                    continue;
+                }
                 let v = slc_load_vpl(wg_list[s]);
                 let to = x - v.position;
                 let d2 = dot(to, to);

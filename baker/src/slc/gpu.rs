@@ -2,7 +2,7 @@
 //! module (bounds per light on the GPU, one workgroup per 16 × 16 tile with shared-memory
 //! light lists), run on a G-buffer and a VPL set; results read back in the CPU twin's form.
 
-use crate::slc::{Bound, Filter, GBuffer, Layers, Mode, Render, Vpl, TILE};
+use crate::slc::{Bound, Culling, Filter, GBuffer, Layers, Mode, Render, Vpl, TILE};
 use sbf::glam::{Vec3, Vec4};
 use shaders::gpu::Gpu;
 use wgpu::util::DeviceExt;
@@ -25,13 +25,14 @@ pub struct SlcParams {
     /// The filter joining the subregions: 0 the box of one period, R the cross-bilateral
     /// filter of radius R ([`crate::slc::Filter`]).
     pub filter_radius: u32,
-    pub pad1: u32,
+    /// 0: Modified HalfZ tiles; n > 2: n depth slices per tile ([`crate::slc::Culling`]).
+    pub clusters: u32,
     pub pad2: u32,
 }
 shaders::gpu_struct!(
     SlcParams,
     "SlcParams",
-    [width, height, light_count, mode, tan_x, tan_y, delta, interleave, xi_seed, filter_radius, pad1, pad2]
+    [width, height, light_count, mode, tan_x, tan_y, delta, interleave, xi_seed, filter_radius, clusters, pad2]
 );
 
 const KERNEL: &str = include_str!("cull.wgsl");
@@ -148,7 +149,7 @@ impl<'g> SlcGpu<'g> {
             interleave: interleave as u32,
             xi_seed: 0,
             filter_radius: Filter::SEED.gpu_radius(),
-            pad1: 0,
+            clusters: 0,
             pad2: 0,
         };
         let (gb, lv) = (pack_gbuffer(g), pack_vpls(vpls));
@@ -229,6 +230,14 @@ impl<'g> SlcGpu<'g> {
     /// hash of (seed, light) independent of the CPU's generator (seed 0 is taken as 1).
     pub fn set_xi_seed(&mut self, seed: Option<u32>) {
         self.params.xi_seed = seed.map_or(0, |s| s.max(1));
+    }
+
+    /// How tiles cull lights against their depths in the following frames (default
+    /// [`Culling::HalfZ`]).
+    pub fn set_culling(&mut self, c: Culling) -> Result<(), String> {
+        c.check()?;
+        self.params.clusters = c.gpu_clusters();
+        Ok(())
     }
 
     /// Which bound culls glossy VPLs in the following frames.

@@ -6,52 +6,9 @@ use crate::output;
 use crate::scene::bvh::Bvh;
 use sbf::glam::Vec3;
 use serde_json::json;
-use std::path::PathBuf;
 use std::time::Instant;
 
-/// What the `slc` command renders.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SlcOptions {
-    /// A built-in scene name or a glTF file ([`crate::scene::load::load`]).
-    pub scene: String,
-    /// A lat-long environment map replacing the scene's.
-    pub environment: Option<PathBuf>,
-    /// Seed of the VPL light paths.
-    pub seed: u64,
-    /// Output folder.
-    pub out: PathBuf,
-    /// Light paths traced from the scene's emitters (VPLs at their hits).
-    pub vpls: usize,
-    pub width: usize,
-    pub height: usize,
-    pub delta: f32,
-    /// Also render the brute-force reference (every VPL at every pixel).
-    pub brute: bool,
-    /// Timed GPU frames (median reported).
-    pub frames: usize,
-    /// Interleaved sampling: I × I subregions each shading 1/I² of the VPLs (1: off).
-    pub interleave: usize,
-    /// The filter joining the subregions.
-    pub filter: crate::slc::Filter,
-    /// The bound of glossy VPLs (the spheroid, or its enclosing sphere for comparison).
-    pub bound: crate::slc::Bound,
-    /// Which VPLs: "both", "diffuse" (glossy ones dropped) or "glossy" (every VPL made a
-    /// GGX VPL of α `glossy_alpha` and F0 0.9 — the seed's glossy-only workload).
-    pub kind: String,
-    pub glossy_alpha: f32,
-    /// Also cull the same VPLs with each glossy bound (spheroid, enclosing sphere, TH16
-    /// sphere) and report their false discovery rates and times.
-    pub compare_bounds: bool,
-    /// Also render single scattering in this medium (CPU, culled and brute force).
-    pub medium: Option<crate::slc::media::Medium>,
-    /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
-    pub sky: bool,
-    /// VPLs from a reflective shadow map of this many texels a side per punctual light
-    /// ([`crate::slc::rsm`]) instead of `vpls` light paths.
-    pub rsm: Option<usize>,
-    /// The equal-time experiment over these δ ([`crate::slc::sweep`]; needs `brute`).
-    pub sweep: Vec<f32>,
-}
+pub use super::options::{gpu_xi_seed, SlcOptions};
 
 /// The single-scattering part of [`render`] ([`crate::slc::media`], CPU on every core):
 /// the scene's point lights (spot lights too, as the point lights they are inside their
@@ -129,12 +86,6 @@ fn slc_medium(
         "false_discovery_rate": fd as f64 / shaded.max(1) as f64, "culled_mean": mean(&culled.image), "brute_force_mean": mean(&brute.image),
         "image": "slc_medium.exr (slc_medium.png)", "brute_force_image": "slc_medium_brute.exr",
     }))
-}
-
-/// The GPU's own ξ stream for `--seed` (cull.wgsl's PCG hash): the GPU leg is an independent
-/// estimate, not a replay of the CPU's `slc::vpl_xi` (the VPLs themselves are the same).
-fn gpu_xi_seed(seed: u64) -> u32 {
-    ((seed ^ (seed >> 32)) as u32).max(1)
 }
 
 /// The VPLs of the run: from reflective shadow maps or light paths, of the kind asked for;
@@ -251,7 +202,8 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
     let valid = write_images(s, &g, &culled)?;
     // The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
     // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
-    let bounds = if s.compare_bounds && glossy > 0 { compare_bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
+    let bounds = if s.compare_bounds && glossy > 0 { crate::slc::compare::bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
+    let culling = if s.compare_culling { crate::slc::compare::culling(s, gpu, &g, &vpls, log)? } else { serde_json::Value::Null };
     let mut meta = json!({
         "scene": scene.name, "device": device, "vpls": vpls.len(), "sky_paths": s.sky, "glossy_vpls": glossy, "light_paths": s.rsm.is_none().then_some(s.vpls), "rsm_texels": s.rsm, "vpl_source": source_name(s),
         "width": s.width, "height": s.height, "delta": s.delta, "tile": slc::TILE, "interleave": s.interleave,
@@ -266,6 +218,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         "vpls_per_pixel_image": "slc_vpls_per_pixel.exr (counts)",
         "false_discovery_image": "slc_fdr.exr (per pixel; slc_fdr.png: hue blue→red 0→100%, brightness VPLs per pixel)",
         "bounds": bounds,
+        "culling_comparison": culling,
     });
     if let Some((b, bs)) = brute {
         meta["brute_force"] = brute_report(s, gpu, (&g, &vpls), (&b, bs), &culled, &valid, log)?;
@@ -401,49 +354,6 @@ fn write_images(s: &SlcOptions, g: &crate::slc::GBuffer, culled: &crate::slc::Re
     output::save_png(&s.out.join("slc_filtered.png"), &output::tonemap_rgb(s.width, s.height, filtered, scale))?;
     output::save_png(&s.out.join("slc_fdr.png"), &output::heat(s.width, s.height, &fdr_img, &lp))?;
     Ok(valid)
-}
-
-/// The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
-/// spheroid, the sphere enclosing it and the TH16 sphere of radius r/α; their times, VPLs
-/// per pixel and false discoveries.
-fn compare_bounds(
-    s: &SlcOptions,
-    gpu: Option<&shaders::gpu::Gpu>,
-    g: &crate::slc::GBuffer,
-    vpls: &[crate::slc::Vpl],
-    log: &mut dyn FnMut(String),
-) -> Result<serde_json::Map<String, serde_json::Value>, String> {
-    use crate::slc::{self, Mode};
-    let n = (s.width * s.height) as f64;
-    let mut bounds = serde_json::Map::new();
-    for b in [slc::Bound::Tight, slc::Bound::Sphere, slc::Bound::Th16] {
-        let (r, sec) = match gpu {
-            Some(gp) => {
-                let mut r = crate::slc::gpu::SlcGpu::new(gp, g, vpls, s.delta, s.interleave)?;
-                r.set_xi_seed(Some(gpu_xi_seed(s.seed)));
-                r.set_bound(b);
-                (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
-            }
-            None => {
-                let t = Instant::now();
-                (slc::render_with(g, vpls, s.delta, Mode::Culled, s.interleave, b), t.elapsed().as_secs_f64())
-            }
-        };
-        let shaded: u64 = r.lights_per_pixel.iter().map(|x| *x as u64).sum();
-        log(format!(
-            "slc bound {b:?}: {:.3} ms per frame, {:.1} VPLs per pixel, false discovery rate {:.3}, {} false discoveries",
-            sec * 1e3,
-            shaded as f64 / n,
-            r.pixel_fdr(),
-            r.false_discoveries()
-        ));
-        bounds.insert(
-            format!("{b:?}").to_lowercase(),
-            json!({"seconds_per_frame": sec, "vpls_per_pixel": shaded as f64 / n, "false_discovery_rate": r.pixel_fdr(),
-                   "false_discoveries": r.false_discoveries(), "shaded": shaded, "kept_pairs": r.kept, "pairs_accepted_by_no_pixel": r.false_positives}),
-        );
-    }
-    Ok(bounds)
 }
 
 #[cfg(test)]

@@ -14,16 +14,18 @@
 //!
 //! The module tree: this file (VPLs, receivers, bounds, tiled culling and shading on the
 //! CPU), [`from_scene`] (the camera, G-buffer, VPLs and random numbers a scene gives),
-//! [`rsm`] (VPLs from reflective shadow maps), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
+//! [`rsm`] (VPLs from reflective shadow maps), [`compare`] (bounds and culling schemes side by side), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
 //! [`media`] (single scattering, seed 001), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
 //! Uses: [`crate::scene`] and the image writers of [`crate::output`].
+pub mod compare;
 pub mod filter;
 pub mod from_scene;
 pub mod gpu;
 pub mod harness;
 pub mod media;
+pub mod options;
 pub mod rsm;
 pub mod sweep;
 
@@ -292,6 +294,72 @@ pub fn render_with(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave
 
 /// [`render_with`] joining the subregions with `filter` (its `filtered` image).
 pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize, bound: Bound, filter: Filter) -> Render {
+    render_culled(g, vpls, delta, mode, interleave, bound, filter, Culling::HalfZ)
+}
+
+/// How a tile's lights are culled against its depths.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Culling {
+    /// Tiled culling with the tile's depth range split in two (Modified HalfZ, Harada et
+    /// al. 2012; seed 002 §5): a light meeting either half is shaded by every pixel of the
+    /// tile.
+    #[default]
+    HalfZ,
+    /// Clustered shading (Olsson et al. 2012; seed 002 Table 2's baseline with "32 depth
+    /// clusters for each 16×16 pixel tile"): the tile's depth range cut into `n` equal
+    /// slices (2 < n ≤ 32), each light tested against every slice, and a pixel shades only
+    /// the lights whose bound meets its own slice — fewer false discoveries for n bound tests
+    /// per (tile, light) instead of two. Here in compute, not by conservative rasterisation.
+    Clustered(u32),
+}
+
+impl Culling {
+    /// The GPU's encoding (`SlcParams.clusters`): 0 HalfZ, else the slice count.
+    pub fn gpu_clusters(self) -> u32 {
+        match self {
+            Culling::HalfZ => 0,
+            Culling::Clustered(n) => n,
+        }
+    }
+
+    /// Checks the slice count (3 to 32: a 32-bit mask per light).
+    pub fn check(self) -> Result<(), String> {
+        match self {
+            Culling::Clustered(n) if !(3..=32).contains(&n) => {
+                Err(format!("clustered culling takes 3 to 32 depth slices per tile, not {n}"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Depth slice `s` of `n` over the tile's [zmin, zmax], widened on both sides by 1e-4 of the
+/// range plus 1e-6 of zmax so a pixel whose slice index rounds across a boundary still lies
+/// inside the slice it is shaded with (GPU twin: slc_cluster_range in cull.wgsl).
+pub fn cluster_range(zmin: f32, zmax: f32, s: u32, n: u32) -> (f32, f32) {
+    let w = zmax - zmin;
+    let pad = 1e-4 * w + 1e-6 * zmax;
+    (zmin + w * s as f32 / n as f32 - pad, zmin + w * (s + 1) as f32 / n as f32 + pad)
+}
+
+/// The slice of depth z among `n` over [zmin, zmax] (GPU twin: slc_cluster_of).
+pub fn cluster_of(z: f32, zmin: f32, zmax: f32, n: u32) -> u32 {
+    let w = (zmax - zmin).max(f32::MIN_POSITIVE);
+    (((z - zmin) / w * n as f32).max(0.0) as u32).min(n - 1)
+}
+
+/// [`render_filtered`] with a choice of [`Culling`].
+#[allow(clippy::too_many_arguments)]
+pub fn render_culled(
+    g: &GBuffer,
+    vpls: &[Vpl],
+    delta: f32,
+    mode: Mode,
+    interleave: usize,
+    bound: Bound,
+    filter: Filter,
+    culling: Culling,
+) -> Render {
     let il = interleave.max(1);
     let n = g.width * g.height;
     let mut out = Render {
@@ -307,7 +375,7 @@ pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interl
     for sub in 0..il * il {
         let (sx, sy) = (sub % il, sub / il);
         let subset: Vec<usize> = (sub..vpls.len()).step_by(il * il).collect();
-        render_subregion(g, vpls, &bounds, delta, mode, (il, sx, sy), &subset, weight, &mut out);
+        render_subregion(g, vpls, (&bounds, culling), delta, mode, (il, sx, sy), &subset, weight, &mut out);
     }
     out.image = compose(g, &out.layers);
     out.filtered = self::filter(g, &out.layers, il, filter);
@@ -323,7 +391,7 @@ pub fn compose(g: &GBuffer, layers: &Layers) -> Vec<Vec3> {
 fn render_subregion(
     g: &GBuffer,
     vpls: &[Vpl],
-    bounds: &[(Mat3, Vec3)],
+    (bounds, culling): (&[(Mat3, Vec3)], Culling),
     delta: f32,
     mode: Mode,
     (il, sx, sy): (usize, usize, usize),
@@ -354,19 +422,40 @@ fn render_subregion(
                 slc::tile_corners(x0, y0, x0 + span, y0 + span, g.width as f32, g.height as f32, g.tan_xy.0, g.tan_xy.1, a, b)
             };
             let halves = [part(zmin, mid), part(mid, zmax)];
+            let slices: Vec<[Vec3; 8]> = match culling {
+                Culling::HalfZ => Vec::new(),
+                Culling::Clustered(n) => (0..n).map(|s| cluster_range(zmin, zmax, s, n)).map(|(a, b)| part(a, b)).collect(),
+            };
             for &j in subset {
                 let v = &vpls[j];
-                let keep = match mode {
-                    Mode::Culled | Mode::RangeCut => halves.iter().any(|c| slc::ellipsoid_hits_corners(bounds[j].0, bounds[j].1, c)),
-                    Mode::BruteForce => true,
+                // The slices the light's bound meets (every one for HalfZ and brute force).
+                let mask: u32 = match (mode, culling) {
+                    (Mode::BruteForce, _) => u32::MAX,
+                    (_, Culling::HalfZ) => {
+                        if halves.iter().any(|c| slc::ellipsoid_hits_corners(bounds[j].0, bounds[j].1, c)) {
+                            u32::MAX
+                        } else {
+                            0
+                        }
+                    }
+                    (_, Culling::Clustered(_)) => slices
+                        .iter()
+                        .enumerate()
+                        .fold(0, |m, (s, c)| m | ((slc::ellipsoid_hits_corners(bounds[j].0, bounds[j].1, c) as u32) << s)),
                 };
-                if !keep {
+                if mask == 0 {
                     continue;
                 }
                 out.kept += 1;
                 let mut accepted = false;
                 for &k in &pixels {
-                    let (e, s, d, i) = receive(v, &g.texels[k].expect("valid"));
+                    let surface = g.texels[k].expect("valid");
+                    if let (Culling::Clustered(n), false) = (culling, mode == Mode::BruteForce) {
+                        if mask & (1 << cluster_of(-surface.position.z, zmin, zmax, n)) == 0 {
+                            continue;
+                        }
+                    }
+                    let (e, s, d, i) = receive(v, &surface);
                     // The estimator's factor on this (light, pixel): 1, L/p where p > ξ, or the cut.
                     let f = match mode {
                         Mode::BruteForce => 1.0,
