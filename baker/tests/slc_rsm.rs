@@ -72,6 +72,14 @@ fn rsm_vpls_carry_the_lights_power() {
         println!("point, channel {c}: Σ flux {:.7} vs I·k·4π/6 {want:.7}", got[c]);
         assert!((got[c] - want).abs() <= 1e-5 * want, "point channel {c}: {} vs {want}", got[c]);
     }
+    // The museum (spot lights over a glossy floor): its maps give diffuse and GGX VPLs, the
+    // GGX ones on the floor with its α and F0.
+    let museum = baker::scene::museum();
+    let bvh = baker::scene::bvh::Bvh::build(&museum);
+    let v = rsm::vpls_from_rsm(&museum, &bvh, Camera::preview(&bvh), 16, 1).unwrap();
+    let glossy: Vec<_> = v.iter().filter(|v| !v.is_diffuse()).collect();
+    assert!(glossy.len() > 100 && v.len() > glossy.len() + 100, "{} VPLs, {} glossy", v.len(), glossy.len());
+    assert!(glossy.iter().all(|g| (g.alpha - 0.09).abs() < 1e-6 && g.normal.y > 0.99 && g.f0.x > 0.5), "{:?}", glossy[0]);
     // A scene without punctual lights has no shadow map to render.
     let dark = quad_scene(1.0, k, vec![]);
     let bvh = baker::scene::bvh::Bvh::build(&dark);

@@ -483,3 +483,46 @@ pub fn atrium() -> Scene {
         normal_textures: Vec::new(),
     }
 }
+
+/// A gallery where glossy VPLs matter (after seed 002's Museum scene: "glossy caustics"
+/// from a polished floor under spot lights): an 8 × 4 × 10 m room whose floor is polished
+/// stone-like metal (base (0.85, 0.8, 0.75), metallic 0.7, roughness 0.3: GGX α 0.09, F0
+/// ≈ 0.6), Lambert walls (one blue-grey) and ceiling, lit only by three spot lights from the
+/// ceiling aimed at the floor in front of the back wall — their light reaches the walls
+/// mostly by the floor's glossy reflection. Planar lightmap UVs, 4 cells per metre.
+pub fn museum() -> Scene {
+    let mut floor = Material::glossy(Vec3::new(0.85, 0.8, 0.75), 0.3);
+    floor.metallic = 0.7;
+    let materials = vec![floor, Material::lambert(Vec3::splat(0.75)), Material::lambert(Vec3::new(0.5, 0.55, 0.65))];
+    let v = Vec3::new;
+    let (w, h, d) = (4.0f32, 4.0f32, 5.0f32);
+    let cells = |len: f32| (len * 4.0).ceil() as usize;
+    let g = |name: &str, c: Vec3, u: Vec3, w: Vec3, m: usize| grid(name, c, u, w, cells(u.length()), cells(w.length()), m);
+    let meshes = vec![
+        // Inward-facing (u × v points into the room).
+        g("floor", v(-w, 0.0, -d), v(0.0, 0.0, 2.0 * d), v(2.0 * w, 0.0, 0.0), 0),
+        g("ceiling", v(-w, h, -d), v(2.0 * w, 0.0, 0.0), v(0.0, 0.0, 2.0 * d), 1),
+        g("back", v(-w, 0.0, -d), v(2.0 * w, 0.0, 0.0), v(0.0, h, 0.0), 1),
+        g("front", v(w, 0.0, d), v(-2.0 * w, 0.0, 0.0), v(0.0, h, 0.0), 1),
+        g("left", v(-w, 0.0, d), v(0.0, 0.0, -2.0 * d), v(0.0, h, 0.0), 2),
+        g("right", v(w, 0.0, -d), v(0.0, 0.0, 2.0 * d), v(0.0, h, 0.0), 1),
+    ];
+    let spot = |x: f32| Light::Spot {
+        position: v(x, h - 0.05, -1.0),
+        direction: v(0.0, -1.0, -0.45).normalize(),
+        intensity: Vec3::new(60.0, 56.0, 50.0),
+        cos_inner: 20f32.to_radians().cos(),
+        cos_outer: 28f32.to_radians().cos(),
+        range: f32::INFINITY,
+    };
+    Scene {
+        name: "museum".into(),
+        meshes,
+        materials,
+        lights: vec![spot(-2.5), spot(0.0), spot(2.5)],
+        environment: Environment::Black,
+        textures: Vec::new(),
+        normal_textures: Vec::new(),
+    }
+}
+

@@ -21,6 +21,7 @@ pub fn load_with_cameras(name: &str, environment: Option<&Path>, log: &mut dyn F
         "sunbeam" => builtin::sunbeam(),
         "room-1m" => builtin::room_1m(),
         "atrium" => builtin::atrium(),
+        "museum" => builtin::museum(),
         "dense" => builtin::dense(1 << 20),
         path => {
             let (s, report) = super::import::load(Path::new(path)).map_err(|e| e.to_string())?;

@@ -19,7 +19,7 @@ pub mod load;
 pub mod texture;
 mod uri;
 
-pub use builtin::{atrium, cornell, dense, disk_light, furnace, room_1m, slit, sphere_light, sunbeam, uv_sphere};
+pub use builtin::{atrium, cornell, dense, disk_light, furnace, museum, room_1m, slit, sphere_light, sunbeam, uv_sphere};
 
 use sbf::glam::{Vec2, Vec3};
 
