@@ -18,7 +18,7 @@ use std::process::ExitCode;
     after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky\n  slc --scene sunbeam --rsm 256"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a
+    /// Scene: `cornell` (built-in), `museum`, `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a
     /// .gltf/.glb file.
     #[arg(long, default_value = "cornell")]
     scene: String,

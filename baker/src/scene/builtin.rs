@@ -525,4 +525,3 @@ pub fn museum() -> Scene {
         normal_textures: Vec::new(),
     }
 }
-
