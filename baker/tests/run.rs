@@ -614,6 +614,30 @@ fn slc_command_writes_its_outputs() {
         assert_eq!(pair[0]["vpls"], pair[1]["vpls"]);
         assert!(pair[1]["vpls_per_pixel"].as_f64().unwrap() <= pair[0]["vpls_per_pixel"].as_f64().unwrap(), "{pair:?}");
     }
+    // The medium with 16 extra point lights: their count in slc.json, the FDR image written.
+    let md = tmp("slc-medium");
+    let o = slc(&[
+        "--size",
+        "32x18",
+        "--vpls",
+        "64",
+        "--device",
+        "cpu",
+        "--medium",
+        "0.2,0.3,0.5,4",
+        "--point-lights",
+        "16",
+        "--out",
+        md.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(md.join("slc.json")).unwrap()).unwrap();
+    let diffuse = meta["vpls"].as_u64().unwrap() - meta["glossy_vpls"].as_u64().unwrap();
+    assert_eq!(meta["medium"]["extra_point_lights"], 16);
+    assert!(meta["medium"]["lights"].as_u64().unwrap() >= 16 + diffuse, "{meta}");
+    assert!(md.join("slc_medium_fdr.png").exists() && md.join("slc_medium_fdr.exr").exists());
+    let o = slc(&["--point-lights", "10", "--device", "cpu", "--out", rd.to_str().unwrap()]);
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--medium"));
     let o = slc(&["--rsm", "16", "--sky", "--device", "cpu", "--out", rd.to_str().unwrap()]);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("no shadow map"));
     // The equal-time sweep: on the CPU every render is deterministic, so the spheroid at the

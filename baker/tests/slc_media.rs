@@ -4,6 +4,7 @@
 //! oracle, written here: Simpson's rule in the equiangular angle, where the 1/l² peak is
 //! flat).
 
+mod common;
 use baker::slc::media::{ray_segment, render, MediaLight, MediaMode, Medium};
 use baker::slc::{GBuffer, Surface};
 use sbf::glam::{DVec3, Vec3};
@@ -92,7 +93,13 @@ fn quadrature(l: &MediaLight, d: Vec3, (t0, t1): (f32, f32)) -> f64 {
 /// and the brute-force renders each lie within 3σ of the quadrature's (σ from the K
 /// draws' image means), and within 3σ (combined) of each other; per pixel, ≥ 99% of the
 /// pixels' culled means are within 4σ_pixel of the quadrature. Culling must also cull:
-/// fewer lights per pixel than the 48 brute force shades.
+/// fewer lights per pixel than the 48 brute force shades. The GPU kernel (its own random
+/// numbers: an independent estimate) passes the same checks against the quadrature, culled
+/// and brute force, where an adapter exists (`SBF_REQUIRE_GPU=1`: must); its distance
+/// samples are its own (a PCG hash), the lights' ξ those uploaded. Mutations: the WGSL's
+/// outer-part pdf × 1.05, its inner-part pdf × 1.05, its acceptance probability from I
+/// instead of I_max — each fails the GPU leg; sampling the outer part at a fixed point does
+/// not (f/P is nearly constant there: for a point light I/I_max = 1, only T varies).
 #[test]
 fn culled_single_scattering_matches_brute_force_and_quadrature() {
     let g = gbuffer();
@@ -106,10 +113,22 @@ fn culled_single_scattering_matches_brute_force_and_quadrature() {
         .collect();
     let k = 64u64;
     let mut stats = Vec::new();
-    for mode in [MediaMode::Culled, MediaMode::BruteForce] {
+    let gpu = common::gpu();
+    let mut legs = vec![("CPU", MediaMode::Culled), ("CPU", MediaMode::BruteForce)];
+    if gpu.is_some() {
+        legs.extend([("GPU", MediaMode::Culled), ("GPU", MediaMode::BruteForce)]);
+    }
+    let mut on_gpu = gpu.as_deref().map(|gp| baker::slc::media_gpu::MediaGpu::new(gp, &g, &MEDIUM, &base, DELTA).unwrap());
+    for (leg, mode) in legs {
         let (mut sum, mut sum2, mut means, mut lpp, mut fd) = (vec![0.0f64; n], vec![0.0f64; n], Vec::new(), 0u64, 0u64);
         for draw in 1..=k {
-            let r = render(&g, &MEDIUM, &lights(draw), DELTA, mode, draw * 7919);
+            let r = match (leg, on_gpu.as_mut()) {
+                ("GPU", Some(mg)) => {
+                    mg.set_lights(&lights(draw)).unwrap();
+                    mg.run(mode, draw as u32 * 7919).unwrap()
+                }
+                _ => render(&g, &MEDIUM, &lights(draw), DELTA, mode, draw * 7919),
+            };
             for p in 0..n {
                 sum[p] += r.image[p] as f64;
                 sum2[p] += (r.image[p] as f64).powi(2);
@@ -130,18 +149,23 @@ fn culled_single_scattering_matches_brute_force_and_quadrature() {
             })
             .count();
         println!(
-            "{mode:?}: image mean {gm:.6e} ± {gs:.1e} vs quadrature {em:.6e} ({:+.2}σ); {within}/{n} pixels within 4σ; {:.1} lights per pixel, false discovery rate {:.3}",
+            "{leg} {mode:?}: image mean {gm:.6e} ± {gs:.1e} vs quadrature {em:.6e} ({:+.2}σ); {within}/{n} pixels within 4σ; {:.1} lights per pixel, false discovery rate {:.3}",
             (gm - em) / gs,
             lpp as f64 / (kf * n as f64),
             fd as f64 / lpp.max(1) as f64
         );
-        assert!((gm - em).abs() <= 3.0 * gs, "{mode:?}: mean {gm} vs quadrature {em} ± {gs}");
-        assert!(within as f64 >= 0.99 * n as f64, "{mode:?}: {within}/{n} pixels within 4σ");
+        assert!((gm - em).abs() <= 3.0 * gs, "{leg} {mode:?}: mean {gm} vs quadrature {em} ± {gs}");
+        assert!(within as f64 >= 0.99 * n as f64, "{leg} {mode:?}: {within}/{n} pixels within 4σ");
         stats.push((gm, gs, lpp as f64 / (kf * n as f64)));
     }
     let ((cm, cs, clpp), (bm, bs, blpp)) = (stats[0], stats[1]);
     assert!((cm - bm).abs() <= 3.0 * (cs * cs + bs * bs).sqrt(), "culled {cm} ± {cs} vs brute force {bm} ± {bs}");
     assert!(clpp < blpp, "culling kept {clpp} lights per pixel of {blpp}");
+    if let [_, _, (gm, gs, glpp), (gbm, gbs, gblpp)] = stats[..] {
+        assert!((gm - cm).abs() <= 3.0 * (gs * gs + cs * cs).sqrt(), "GPU culled {gm} ± {gs} vs CPU culled {cm} ± {cs}");
+        assert!((gbm - bm).abs() <= 3.0 * (gbs * gbs + bs * bs).sqrt(), "GPU brute force {gbm} ± {gbs} vs CPU {bm} ± {bs}");
+        assert!(glpp < gblpp && (glpp - clpp).abs() <= 0.01 * clpp, "GPU kept {glpp} lights per pixel (CPU {clpp}, brute {gblpp})");
+    }
 }
 
 /// The medium's slab length and transmittance by value: a segment crossing the whole slab

@@ -15,7 +15,7 @@ use std::process::ExitCode;
 #[command(
     version,
     about = "Render single-bounce indirect light from virtual point lights (VPLs) with stochastic light culling: each VPL gets a random range, tiles keep only the VPLs whose bounds reach them, pixels shade the kept ones unbiasedly.",
-    after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky\n  slc --scene sunbeam --rsm 256"
+    after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky\n  slc --scene sunbeam --rsm 256\n  slc --delta 0.05 --medium 0.2,0.3,0.5,4 --point-lights 2560"
 )]
 struct Cli {
     /// Scene: `cornell` (built-in), `museum`, `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a
@@ -58,6 +58,11 @@ struct Cli {
     /// and report each one's culling + shading time, VPLs per pixel and false discovery rate.
     #[arg(long)]
     compare_culling: bool,
+    /// With --medium: also scatter this many point lights uniformly through the scene's
+    /// bounds, sharing 4πR² W (R the bounding radius) — seed 001's 2 560-point-light
+    /// experiment (`--medium … --point-lights 2560`: its false discovery rate image).
+    #[arg(long, default_value_t = 0)]
+    point_lights: usize,
     /// The equal-time experiment (seed 000 Fig. 2): render with each of these δ (comma
     /// separated, e.g. 1e-4,3e-4,1e-3,3e-3,1e-2; include --delta) by the spheroid, the
     /// enclosing sphere and the biased range cut, and report each one's error against brute
@@ -66,7 +71,8 @@ struct Cli {
     sweep: Option<String>,
     /// Also render single scattering in a homogeneous medium filling the view depths
     /// NEAR..FAR (scene units), lit by the scene's point lights and the diffuse VPLs,
-    /// culled and brute force: SIGMA_S,SIGMA_T,NEAR,FAR in 1/unit (e.g. 0.2,0.3,0.5,4).
+    /// culled and brute force (on the GPU or the CPU, as --device), with its false discovery
+    /// rate image: SIGMA_S,SIGMA_T,NEAR,FAR in 1/unit (e.g. 0.2,0.3,0.5,4).
     #[arg(long)]
     medium: Option<String>,
     /// Interleaved sampling: I × I pixel subregions each shade 1/I² of the VPLs, then a
@@ -124,6 +130,9 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
     }
     if c.vpls == 0 {
         return Err("--vpls must be at least 1".into());
+    }
+    if c.point_lights > 0 && c.medium.is_none() {
+        return Err("--point-lights scatter lights in the medium: give --medium too".into());
     }
     match c.rsm {
         Some(0) => return Err("--rsm must be at least 1 texel".into()),
@@ -188,6 +197,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         glossy_alpha: c.glossy_alpha,
         compare_bounds: c.compare_bounds,
         compare_culling: c.compare_culling,
+        point_lights: c.point_lights,
         medium: c.medium.as_deref().map(parse_medium).transpose()?,
         sky: c.sky,
         rsm: c.rsm,

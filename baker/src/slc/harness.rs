@@ -10,84 +10,6 @@ use std::time::Instant;
 
 pub use super::options::{gpu_xi_seed, SlcOptions};
 
-/// The single-scattering part of [`render`] ([`crate::slc::media`], CPU on every core):
-/// the scene's point lights (spot lights too, as the point lights they are inside their
-/// cone — logged) and the diffuse VPLs in medium `m`, culled and brute force with the same
-/// ξ; writes slc_medium.exr/png and slc_medium_brute.exr; returns the numbers.
-#[allow(clippy::too_many_arguments)]
-fn slc_medium(
-    s: &SlcOptions,
-    m: &crate::slc::media::Medium,
-    scene: &crate::scene::Scene,
-    cam: crate::slc::Camera,
-    g: &crate::slc::GBuffer,
-    vpls: &[crate::slc::Vpl],
-    log: &mut dyn FnMut(String),
-) -> Result<serde_json::Value, String> {
-    use crate::scene::Light;
-    use crate::slc::media::{render, MediaLight, MediaMode};
-    let mut rng = sbf::sampling::Pcg32::new(s.seed, 0x3ed1);
-    let mut lights: Vec<MediaLight> = Vec::new();
-    let (mut spots, mut directional) = (0, 0);
-    for l in &scene.lights {
-        match *l {
-            Light::Point { position, intensity, .. } | Light::Spot { position, intensity, .. } => {
-                spots += matches!(l, Light::Spot { .. }) as usize;
-                let xi = 1.0 - rng.next_f64() as f32;
-                let power = (crate::scene::lights::luminance(intensity) * 4.0 * std::f64::consts::PI) as f32;
-                lights.push(MediaLight { position: position - cam.eye, normal: Vec3::ZERO, power, xi });
-            }
-            Light::Directional { .. } => directional += 1,
-        }
-    }
-    if spots + directional > 0 {
-        log(format!(
-            "slc medium: {spots} spot light(s) scatter as isotropic point lights (no cone), {directional} directional light(s) left out (single scattering from VPLs and point lights only)"
-        ));
-    }
-    // The medium renders luminance: each diffuse VPL scatters the luminance of its Φk.
-    lights.extend(vpls.iter().filter(|v| v.is_diffuse()).map(|v| MediaLight {
-        position: v.position,
-        normal: v.normal,
-        power: crate::scene::lights::luminance(v.flux * v.diffuse) as f32,
-        xi: v.xi,
-    }));
-    let t = Instant::now();
-    let culled = render(g, m, &lights, s.delta, MediaMode::Culled, s.seed);
-    let ct = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let brute = render(g, m, &lights, s.delta, MediaMode::BruteForce, s.seed);
-    let bt = t.elapsed().as_secs_f64();
-    let n = (g.width * g.height) as f64;
-    let mean = |v: &[f32]| v.iter().map(|x| *x as f64).sum::<f64>() / n;
-    let shaded: u64 = culled.lights_per_pixel.iter().map(|x| *x as u64).sum();
-    let fd: u64 = culled.false_per_pixel.iter().map(|x| *x as u64).sum();
-    log(format!(
-        "slc medium ({} lights, CPU on {} threads): culled {:.1} ms ({:.1} lights per pixel, false discovery rate {:.3}), brute force {:.1} ms; image means {:.6e} / {:.6e}",
-        lights.len(),
-        rayon::current_num_threads(),
-        ct * 1e3,
-        shaded as f64 / n,
-        fd as f64 / shaded.max(1) as f64,
-        bt * 1e3,
-        mean(&culled.image),
-        mean(&brute.image)
-    ));
-    let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
-    let ones = vec![1.0f32; g.width * g.height];
-    output::write_exr(&s.out.join("slc_medium.exr"), g.width, g.height, &gray(&culled.image), &ones)?;
-    output::write_exr(&s.out.join("slc_medium_brute.exr"), g.width, g.height, &gray(&brute.image), &ones)?;
-    let scale = output::exposure_scale(&brute.image);
-    output::save_png(&s.out.join("slc_medium.png"), &output::tonemap(g.width, g.height, &culled.image, scale))?;
-    Ok(json!({
-        "sigma_s": m.sigma_s, "sigma_t": m.sigma_t, "near": m.near, "far": m.far, "lights": lights.len(),
-        "spot_lights_as_points": spots, "directional_lights_left_out": directional,
-        "culled_seconds": ct, "brute_force_seconds": bt, "lights_per_pixel": shaded as f64 / n,
-        "false_discovery_rate": fd as f64 / shaded.max(1) as f64, "culled_mean": mean(&culled.image), "brute_force_mean": mean(&brute.image),
-        "image": "slc_medium.exr (slc_medium.png)", "brute_force_image": "slc_medium_brute.exr",
-    }))
-}
-
 /// The VPLs of the run: from reflective shadow maps or light paths, of the kind asked for;
 /// an error naming why when there are none.
 fn make_vpls(s: &SlcOptions, scene: &crate::scene::Scene, bvh: &Bvh, cam: crate::slc::Camera) -> Result<Vec<crate::slc::Vpl>, String> {
@@ -227,7 +149,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         }
     }
     if let Some(m) = &s.medium {
-        meta["medium"] = slc_medium(s, m, &scene, cam, &g, &vpls, log)?;
+        meta["medium"] = crate::slc::media_run::render(s, m, gpu, (&scene, &bvh, cam), &g, &vpls, log)?;
     }
     std::fs::write(o.out.join("slc.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("slc.json: {e}"))?;
     Ok(())

@@ -39,8 +39,12 @@ pub struct SlcOptions {
     /// Also time tiled culling (Modified HalfZ) against clustered shading (32 depth slices
     /// per tile) on diffuse-only and glossy-only VPL sets (seed 002 Table 2's comparison).
     pub compare_culling: bool,
-    /// Also render single scattering in this medium (CPU, culled and brute force).
+    /// Also render single scattering in this medium (culled and brute force, on the run's
+    /// device).
     pub medium: Option<crate::slc::media::Medium>,
+    /// Point lights scattered uniformly through the scene's bounds for the medium run
+    /// (seed 001 supplement Fig. 1: 2 560 point lights).
+    pub point_lights: usize,
     /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
     pub sky: bool,
     /// VPLs from a reflective shadow map of this many texels a side per punctual light
