@@ -86,3 +86,52 @@ fn rsm_vpls_carry_the_lights_power() {
     let err = rsm::vpls_from_rsm(&dark, &bvh, Camera { eye: Vec3::Z, tan_x: 1.0 }, 8, 1).unwrap_err();
     assert!(err.contains("no punctual"), "{err}");
 }
+
+/// Multi-bounce VPLs (`slc::add_bounces`) keep the light's power: inside a closed cube (side
+/// 2, every face Lambert with albedo k, facing in) lit by a point light at its centre, the
+/// point light's cube map meets the walls everywhere, so the first hits' VPLs receive P = 4πI
+/// in total, and every diffuse bounce reflects all of its light onto the walls again: the
+/// VPLs of bounce b receive P·k^b, and over B bounces Σ arriving flux = P·(1 + k + … + k^B)
+/// per channel (an identity of the closed box, no sampling error; f32 rounding of the
+/// products and the f64 sum: 1e-5). Mutations: the continued flux not multiplied by k, or
+/// multiplied twice — each fails.
+#[test]
+fn bounces_keep_a_closed_boxs_power() {
+    let (k, i) = (Vec3::new(0.6, 0.5, 0.4), Vec3::new(1.0, 2.0, 3.0));
+    let face = |name: &str, corner: Vec3, u: Vec3, v: Vec3| Mesh {
+        name: name.into(),
+        positions: vec![corner, corner + u, corner + u + v, corner + v],
+        normals: vec![u.cross(v).normalize(); 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        material: 0,
+        lightmap_uv: None,
+        lightmapped: true,
+        uv: None,
+    };
+    let (x, y, z) = (Vec3::X * 2.0, Vec3::Y * 2.0, Vec3::Z * 2.0);
+    let o = Vec3::splat(-1.0);
+    // u × v points into the box.
+    let meshes = vec![
+        face("floor", o, z, x),
+        face("ceiling", o + y, x, z),
+        face("back", o, x, y),
+        face("front", o + z, y, x),
+        face("left", o, y, z),
+        face("right", o + x, z, y),
+    ];
+    let mut scene = quad_scene(1.0, k, vec![Light::Point { position: Vec3::ZERO, intensity: i, range: f32::INFINITY }]);
+    scene.meshes = meshes;
+    let bvh = baker::scene::bvh::Bvh::build(&scene);
+    let cam = Camera { eye: Vec3::new(0.0, 0.0, 0.9), tan_x: 1.0 };
+    let first = rsm::vpls_from_rsm(&scene, &bvh, cam, 32, 1).unwrap();
+    let bounces = 3;
+    let all = baker::slc::add_bounces(&scene, &bvh, cam, first.clone(), bounces, 1);
+    assert_eq!(all[..first.len()], first[..], "the first hits' VPLs come first, unchanged");
+    for c in 0..3 {
+        let got: f64 = all.iter().filter(|v| v.is_diffuse()).map(|v| v.flux[c] as f64).sum();
+        let p = 4.0 * std::f64::consts::PI * i[c] as f64;
+        let want: f64 = (0..=bounces).map(|b| p * (k[c] as f64).powi(b as i32)).sum();
+        println!("closed box, channel {c}: Σ arriving flux {got:.6} vs P·Σ k^b {want:.6}");
+        assert!((got - want).abs() <= 1e-5 * want, "channel {c}: {got} vs {want}");
+    }
+}

@@ -38,6 +38,11 @@ struct Cli {
     /// light, and takes the place of --vpls and --sky.
     #[arg(long, value_name = "N")]
     rsm: Option<usize>,
+    /// Continue the light paths (or the shadow maps' rays) this many diffuse bounces past
+    /// the first hit, each hit a VPL too: multi-bounce indirect light (0: the seeds'
+    /// single-bounce VPLs). Only the Lambert layer reflects on.
+    #[arg(long, default_value_t = 0)]
+    bounces: usize,
     /// Image size, WIDTHxHEIGHT pixels.
     #[arg(long, default_value = "960x540")]
     size: String,
@@ -134,6 +139,9 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
     if c.point_lights > 0 && c.medium.is_none() {
         return Err("--point-lights scatter lights in the medium: give --medium too".into());
     }
+    if c.bounces > 16 {
+        return Err(format!("--bounces {}: at most 16", c.bounces));
+    }
     match c.rsm {
         Some(0) => return Err("--rsm must be at least 1 texel".into()),
         Some(n) if n > 4096 => return Err(format!("--rsm {n}: at most 4096 texels a side (16.8 M VPLs per map)")),
@@ -198,6 +206,7 @@ fn options(c: Cli) -> Result<SlcOptions, String> {
         compare_bounds: c.compare_bounds,
         compare_culling: c.compare_culling,
         point_lights: c.point_lights,
+        bounces: c.bounces,
         medium: c.medium.as_deref().map(parse_medium).transpose()?,
         sky: c.sky,
         rsm: c.rsm,

@@ -3,6 +3,7 @@
 //! environment) with their per-light random numbers.
 
 use super::{GBuffer, Surface, Vpl};
+use rayon::prelude::*;
 use sbf::glam::Vec3;
 
 /// A pinhole camera at `eye` looking down −z (world axes; the bake preview's camera):
@@ -253,6 +254,44 @@ pub(super) fn vpls_at_hit(
     }
     if m.is_glossy() {
         out.push(base);
+    }
+    out
+}
+
+/// `vpls` and, for `bounces` more diffuse bounces, the VPLs the light reaches next (the
+/// multi-bounce part of the seeds' VPL generation: light paths continued past the first hit):
+/// from each diffuse VPL (arriving flux Φ, reflectance k) a cosine-distributed direction
+/// about its normal (the Lambert lobe's pdf, so the ray carries Φ·k) to the next hit, whose
+/// VPLs ([`vpls_at_hit`]) carry Φ·k, and from its diffuse VPL on. Only the Lambert layer
+/// reflects on: a glossy material's GGX layer is not continued (its light is dropped
+/// beyond the first hit). Directions and ξ from (seed, VPL, bounce) hashes ([`vpl_xi`],
+/// [`pixel_light_uniforms`]): the same for any order or thread count.
+pub fn add_bounces(
+    scene: &crate::scene::Scene,
+    bvh: &crate::scene::bvh::Bvh,
+    cam: Camera,
+    vpls: Vec<Vpl>,
+    bounces: usize,
+    seed: u64,
+) -> Vec<Vpl> {
+    let mut out = vpls;
+    let mut front: Vec<Vpl> = out.iter().filter(|v| v.is_diffuse()).copied().collect();
+    for b in 1..=bounces as u64 {
+        let bounce_seed = seed ^ (b << 48);
+        let next: Vec<Vec<Vpl>> = front
+            .par_iter()
+            .enumerate()
+            .map(|(j, v)| {
+                let [u1, u2] = pixel_light_uniforms(bounce_seed, j as u64, 0xb0);
+                let l = sbf::sampling::cosine_hemisphere([u1 as f64, u2 as f64]);
+                let (t, bt) = crate::scene::geometry::frame(v.normal);
+                let dir = (t * l.x as f32 + bt * l.y as f32 + v.normal * l.z as f32).normalize();
+                let o = crate::scene::lights::offset_ray(v.position + cam.eye, v.normal);
+                vpls_at_hit(scene, bvh, cam, (o, dir, f32::INFINITY), v.flux * v.diffuse, vpl_xi(bounce_seed, j as u64))
+            })
+            .collect();
+        front = next.iter().flatten().filter(|v| v.is_diffuse()).copied().collect();
+        out.extend(next.into_iter().flatten());
     }
     out
 }

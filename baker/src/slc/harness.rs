@@ -14,10 +14,11 @@ pub use super::options::{gpu_xi_seed, SlcOptions};
 /// an error naming why when there are none.
 fn make_vpls(s: &SlcOptions, scene: &crate::scene::Scene, bvh: &Bvh, cam: crate::slc::Camera) -> Result<Vec<crate::slc::Vpl>, String> {
     use crate::slc;
-    let mut vpls = match s.rsm {
+    let vpls = match s.rsm {
         Some(n) => slc::rsm::vpls_from_rsm(scene, bvh, cam, n, s.seed)?,
         None => slc::vpls_from_scene_with(scene, bvh, cam, s.vpls, s.seed, s.sky),
     };
+    let mut vpls = slc::add_bounces(scene, bvh, cam, vpls, s.bounces, s.seed);
     match s.kind.as_str() {
         "both" => {}
         "diffuse" => vpls.retain(slc::Vpl::is_diffuse),
@@ -196,9 +197,13 @@ fn brute_report(
 
 /// Where the VPLs came from, in words.
 fn source_name(s: &SlcOptions) -> String {
-    match s.rsm {
+    let first = match s.rsm {
         Some(n) => format!("{n}×{n} reflective shadow maps"),
         None => format!("{} light paths", s.vpls),
+    };
+    match s.bounces {
+        0 => first,
+        b => format!("{first} and {b} diffuse bounce(s)"),
     }
 }
 

@@ -32,7 +32,7 @@ pub mod rsm;
 pub mod sweep;
 
 pub use filter::{filter, Filter};
-pub use from_scene::{gbuffer_from_scene, pixel_light_uniforms, vpl_xi, vpls_from_scene, vpls_from_scene_with, Camera};
+pub use from_scene::{add_bounces, gbuffer_from_scene, pixel_light_uniforms, vpl_xi, vpls_from_scene, vpls_from_scene_with, Camera};
 
 use sbf::glam::{Mat3, Vec3};
 use sbf::slc::runtime as slc;

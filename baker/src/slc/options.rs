@@ -42,6 +42,9 @@ pub struct SlcOptions {
     /// Also render single scattering in this medium (culled and brute force, on the run's
     /// device).
     pub medium: Option<crate::slc::media::Medium>,
+    /// Diffuse bounces after the first hit ([`crate::slc::add_bounces`]; 0: single-bounce
+    /// VPLs as the seeds').
+    pub bounces: usize,
     /// Point lights scattered uniformly through the scene's bounds for the medium run
     /// (seed 001 supplement Fig. 1: 2 560 point lights).
     pub point_lights: usize,
