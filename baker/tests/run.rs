@@ -613,6 +613,8 @@ fn slc_command_writes_its_outputs() {
     for pair in rows.chunks(2) {
         assert_eq!(pair[0]["vpls"], pair[1]["vpls"]);
         assert!(pair[1]["vpls_per_pixel"].as_f64().unwrap() <= pair[0]["vpls_per_pixel"].as_f64().unwrap(), "{pair:?}");
+        // … and drops some false discoveries (the rows are not the same scheme twice).
+        assert!(pair[1]["false_discovery_rate"].as_f64().unwrap() < pair[0]["false_discovery_rate"].as_f64().unwrap(), "{pair:?}");
     }
     // The medium with 16 extra point lights: their count in slc.json, the FDR image written.
     let md = tmp("slc-medium");

@@ -42,7 +42,8 @@ fn gbuffer() -> GBuffer {
 }
 
 /// 200 coloured VPLs on the floor and the wall, half diffuse (k (0.6, 0.5, 0.4)), half GGX
-/// (α 0.1–0.5, F0 (0.9, 0.8, 0.6)), flux ∝ (1, 0.8, 0.6), with the light's ξ =
+/// (α 0.1–0.5, F0 (0.9, 0.8, 0.6) or green-dominant (0.3, 0.9, 0.4), so each channel leads
+/// some bound), flux ∝ (1, 0.8, 0.6), with the light's ξ =
 /// `slc::vpl_xi(draw, light)` (the same positions for every draw).
 fn vpls(draw: u64) -> Vec<Vpl> {
     let mut r = Pcg32::new(404, 1);
@@ -65,7 +66,7 @@ fn vpls(draw: u64) -> Vec<Vpl> {
                 flux: Vec3::new(1.0, 0.8, 0.6) * (0.02 + 0.2 * r.next_f64() as f32),
                 diffuse: if glossy { Vec3::ZERO } else { Vec3::new(0.6, 0.5, 0.4) },
                 alpha: 0.1 + 0.4 * r.next_f64() as f32,
-                f0: Vec3::new(0.9, 0.8, 0.6),
+                f0: if k % 8 >= 6 { Vec3::new(0.3, 0.9, 0.4) } else { Vec3::new(0.9, 0.8, 0.6) },
                 xi: baker::slc::vpl_xi(draw, k as u64),
             }
         })
@@ -310,6 +311,49 @@ fn gpu_matches_cpu() {
         let fbad = differing(&c.filtered, &gg.filtered);
         println!("filter {f:?}: {fbad} filtered pixels differ");
         assert!(fbad <= c.filtered.len() / 200, "{f:?}: {fbad} filtered pixels differ");
+    }
+}
+
+/// Every bound is conservative (the definition of the acceptance, not the bound's formula, is
+/// the oracle): for diffuse and GGX VPLs with red-, green- and blue-dominant colours, 20 000
+/// random points around each, every point where the culled estimate is non-zero — p =
+/// min(max_c I_c(ω)/(δd²), 1) > ξ — lies inside the light's bound, |M·x − M·c| ≤ 1 (+1e-4
+/// for f32 rounding of the transform). Mutation: the green channel's F_max taken from F0's
+/// red one (`Vpl::bound`) fails.
+#[test]
+fn bounds_contain_every_accepted_point() {
+    let mut r = Pcg32::new(5, 5);
+    let colours = [Vec3::new(1.0, 0.2, 0.1), Vec3::new(0.1, 1.0, 0.2), Vec3::new(0.2, 0.1, 1.0)];
+    for (ci, c) in colours.iter().enumerate() {
+        for glossy in [false, true] {
+            let normal = Vec3::new(0.2, 0.9, 0.1).normalize();
+            let (t, b) = baker::scene::geometry::frame(normal);
+            let incoming = (normal * 0.8 + t * 0.5 + b * 0.2).normalize();
+            let v = Vpl {
+                position: Vec3::new(0.0, 0.0, -3.0),
+                normal,
+                incoming,
+                flux: Vec3::splat(2.0) * *c,
+                diffuse: if glossy { Vec3::ZERO } else { *c * 0.8 },
+                alpha: 0.2,
+                f0: colours[(ci + 1) % 3] * 0.9,
+                xi: 0.3,
+            };
+            let (m, mc) = v.bound(DELTA, baker::slc::Bound::Tight);
+            let mut accepted = 0;
+            for _ in 0..20_000 {
+                let x = v.position + Vec3::new(r.next_f64() as f32 - 0.5, r.next_f64() as f32 - 0.5, r.next_f64() as f32 - 0.5) * 120.0;
+                let to = x - v.position;
+                let d = to.length();
+                let i = v.intensity(to / d);
+                if i.max_element() / (DELTA * d * d) > v.xi {
+                    accepted += 1;
+                    let q = (m * x - mc).length();
+                    assert!(q <= 1.0 + 1e-4, "colour {ci} glossy {glossy}: accepted point {x} outside the bound ({q})");
+                }
+            }
+            assert!(accepted > 100, "colour {ci} glossy {glossy}: only {accepted} accepted points");
+        }
     }
 }
 

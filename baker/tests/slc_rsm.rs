@@ -21,9 +21,15 @@ use sbf::glam::Vec3;
 /// A one-quad scene: the square of half side `a` at y = 0 facing +Y, albedo `k`, lit by
 /// `lights`.
 fn quad_scene(a: f32, k: Vec3, lights: Vec<Light>) -> Scene {
+    rect_scene(a, a, k, lights)
+}
+
+/// The rectangle of half sides `ax` (x) and `az` (z) at y = 0 facing +Y.
+fn rect_scene(ax: f32, az: f32, k: Vec3, lights: Vec<Light>) -> Scene {
+    let a = ax;
     let quad = Mesh {
         name: "quad".into(),
-        positions: vec![Vec3::new(-a, 0.0, -a), Vec3::new(-a, 0.0, a), Vec3::new(a, 0.0, a), Vec3::new(a, 0.0, -a)],
+        positions: vec![Vec3::new(-a, 0.0, -az), Vec3::new(-a, 0.0, az), Vec3::new(a, 0.0, az), Vec3::new(a, 0.0, -az)],
         normals: vec![Vec3::Y; 4],
         indices: vec![[0, 1, 2], [0, 2, 3]],
         material: 0,
@@ -63,6 +69,13 @@ fn rsm_vpls_carry_the_lights_power() {
         println!("directional, channel {c}: Σ flux {:.7} vs E·k·A {want:.7}", got[c]);
         assert!((got[c] - want).abs() <= 1e-5 * want, "directional channel {c}: {} vs {want}", got[c]);
     }
+    // A 2 × 1 rectangle: the texel is not square (its area du·dv).
+    let (got, count) = total_flux(&rect_scene(1.0, 0.5, k, vec![Light::Directional { direction: Vec3::Y, irradiance: e }]), n);
+    assert_eq!(count, n * n);
+    for c in 0..3 {
+        let want = e[c] as f64 * k[c] as f64 * 2.0;
+        assert!((got[c] - want).abs() <= 1e-5 * want, "directional on a 2 × 1 rectangle, channel {c}: {} vs {want}", got[c]);
+    }
     let i = Vec3::new(2.0, 1.5, 1.0);
     let point = Light::Point { position: Vec3::Y, intensity: i, range: f32::INFINITY };
     let (got, count) = total_flux(&quad_scene(1.0005, k, vec![point]), n);
@@ -72,6 +85,33 @@ fn rsm_vpls_carry_the_lights_power() {
         println!("point, channel {c}: Σ flux {:.7} vs I·k·4π/6 {want:.7}", got[c]);
         assert!((got[c] - want).abs() <= 1e-5 * want, "point channel {c}: {} vs {want}", got[c]);
     }
+    // A spot light 1 above a quad wide enough for its cone (outer 36.87°: cos 0.8, the
+    // attenuation's ramp from cos 0.8 to 0.801): Σ Φ·k = k·2πI[(ci − co)/3 + 1 − ci], the
+    // ramp ((c − co)/(ci − co))² integrated over the cosine. The square map's texels that the
+    // cone's edge crosses are the error: bounded here by their count (corners on both sides,
+    // counted in the test) × the largest texel's solid angle (the axis texel's flat area),
+    // × I·k.
+    let (co, ci) = (0.8f32, 0.801f32);
+    let spot = Light::Spot { position: Vec3::Y, direction: -Vec3::Y, intensity: i, cos_inner: ci, cos_outer: co, range: f32::INFINITY };
+    let n = 128;
+    let (got, _) = total_flux(&quad_scene(3.0, k, vec![spot]), n);
+    let h = (1.0 - (co as f64).powi(2)).sqrt() / co as f64;
+    let cosine = |x: f64, y: f64| 1.0 / (1.0 + x * x + y * y).sqrt();
+    let at = |j: usize| -h + 2.0 * h * j as f64 / n as f64;
+    let straddling = (0..n * n)
+        .filter(|t| {
+            let (a, b) = (t % n, t / n);
+            let c = [cosine(at(a), at(b)), cosine(at(a + 1), at(b)), cosine(at(a), at(b + 1)), cosine(at(a + 1), at(b + 1))];
+            c.iter().any(|c| *c < ci as f64) && c.iter().any(|c| *c > co as f64)
+        })
+        .count();
+    let texel = (2.0 * h / n as f64).powi(2);
+    for c in 0..3 {
+        let want = k[c] as f64 * 2.0 * std::f64::consts::PI * i[c] as f64 * ((ci - co) as f64 / 3.0 + 1.0 - ci as f64);
+        let bound = straddling as f64 * texel * i[c] as f64 * k[c] as f64 + 1e-5 * want;
+        println!("spot, channel {c}: Σ flux {:.6} vs closed form {want:.6} (bound {bound:.2e}, {straddling} edge texels)", got[c]);
+        assert!((got[c] - want).abs() <= bound, "spot channel {c}: {} vs {want} ± {bound}", got[c]);
+    }
     // The museum (spot lights over a glossy floor): its maps give diffuse and GGX VPLs, the
     // GGX ones on the floor with its α and F0.
     let museum = baker::scene::museum();
@@ -80,6 +120,15 @@ fn rsm_vpls_carry_the_lights_power() {
     let glossy: Vec<_> = v.iter().filter(|v| !v.is_diffuse()).collect();
     assert!(glossy.len() > 100 && v.len() > glossy.len() + 100, "{} VPLs, {} glossy", v.len(), glossy.len());
     assert!(glossy.iter().all(|g| (g.alpha - 0.09).abs() < 1e-6 && g.normal.y > 0.99 && g.f0.x > 0.5), "{:?}", glossy[0]);
+    // Each VPL's incoming direction points back at the spot that lit it.
+    let eye = Camera::preview(&bvh).eye;
+    let spots: Vec<Vec3> =
+        museum.lights.iter().map(|l| if let Light::Spot { position, .. } = l { *position } else { unreachable!() }).collect();
+    for v in &v {
+        let p = v.position + eye;
+        let best = spots.iter().map(|s| v.incoming.dot((*s - p).normalize())).fold(f32::MIN, f32::max);
+        assert!(best > 0.9999, "incoming {} at {p} points at no spot ({best})", v.incoming);
+    }
     // A scene without punctual lights has no shadow map to render.
     let dark = quad_scene(1.0, k, vec![]);
     let bvh = baker::scene::bvh::Bvh::build(&dark);
@@ -124,6 +173,14 @@ fn bounces_keep_a_closed_boxs_power() {
     let bvh = baker::scene::bvh::Bvh::build(&scene);
     let cam = Camera { eye: Vec3::new(0.0, 0.0, 0.9), tan_x: 1.0 };
     let first = rsm::vpls_from_rsm(&scene, &bvh, cam, 32, 1).unwrap();
+    // Light paths from the same point light: every path meets a wall, so the paths' diffuse
+    // VPLs receive 4πI per channel — the colour carried per unit of luminance.
+    let paths = baker::slc::vpls_from_scene(&scene, &bvh, cam, 5000, 1);
+    for c in 0..3 {
+        let got: f64 = paths.iter().filter(|v| v.is_diffuse()).map(|v| v.flux[c] as f64).sum();
+        let want = 4.0 * std::f64::consts::PI * i[c] as f64;
+        assert!((got - want).abs() <= 1e-5 * want, "light paths, channel {c}: Σ flux {got} vs 4πI {want}");
+    }
     let bounces = 3;
     let all = baker::slc::add_bounces(&scene, &bvh, cam, first.clone(), bounces, 1);
     assert_eq!(all[..first.len()], first[..], "the first hits' VPLs come first, unchanged");

@@ -262,7 +262,7 @@ pub(super) fn vpls_at_hit(
 /// multi-bounce part of the seeds' VPL generation: light paths continued past the first hit):
 /// from each diffuse VPL (arriving flux Φ, reflectance k) a cosine-distributed direction
 /// about its normal (the Lambert lobe's pdf, so the ray carries Φ·k) to the next hit, whose
-/// VPLs ([`vpls_at_hit`]) carry Φ·k, and from its diffuse VPL on. Only the Lambert layer
+/// VPLs (`vpls_at_hit`) carry Φ·k, and from its diffuse VPL on. Only the Lambert layer
 /// reflects on: a glossy material's GGX layer is not continued (its light is dropped
 /// beyond the first hit). Directions and ξ from (seed, VPL, bounce) hashes ([`vpl_xi`],
 /// [`pixel_light_uniforms`]): the same for any order or thread count.
