@@ -15,7 +15,7 @@
 //                   two passes (CPU twin baker::slc::filter); each writes the pixel's
 //                   radiance ρ/π·E + S.
 // Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
-// INV_PI.
+// INV_PI; slc_pcg_hash from hash.wgsl.
 
 struct SlcParams {
     width: u32,
@@ -77,13 +77,6 @@ struct SlcVpl {
 
 fn slc_max3(v: vec3<f32>) -> f32 {
     return max(v.x, max(v.y, v.z));
-}
-
-// The PCG hash (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering").
-fn slc_pcg_hash(v: u32) -> u32 {
-    let state = v * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
 }
 
 // Light j's ξ ∈ (0, 1] of the GPU's own stream: 24 bits of pcg(pcg(seed) ^ j) — a generator

@@ -58,10 +58,16 @@ pub fn kernel() -> Result<String, String> {
         "PI",
         "INV_PI",
     ];
-    let cfg = shaders::compose::Config { name: "slc-cull".into(), features: Default::default() };
-    let lib = shaders::compose::compose_roots(cfg, &roots)?;
-    let source = format!("{}\n{KERNEL}", lib.source);
-    shaders::export::validate(&source).map_err(|e| format!("slc kernel: {e}"))?;
+    compose_kernel("slc-cull", &roots, KERNEL)
+}
+
+/// The `shaders` library functions reachable from `roots`, the shared hash (hash.wgsl) and
+/// `kernel`, validated by naga — how every light-culling kernel is put together.
+pub fn compose_kernel(name: &str, roots: &[&str], kernel: &str) -> Result<String, String> {
+    let cfg = shaders::compose::Config { name: name.into(), features: Default::default() };
+    let lib = shaders::compose::compose_roots(cfg, roots)?;
+    let source = format!("{}\n{}\n{kernel}", lib.source, include_str!("hash.wgsl"));
+    shaders::export::validate(&source).map_err(|e| format!("{name} kernel: {e}"))?;
     Ok(source)
 }
 

@@ -7,7 +7,7 @@
 // inside the inner sphere, uniform between the inner and the outer one, weighted by the
 // acceptance probability of 001 supp. eq. 1). Distance samples: the GPU's own PCG hash of
 // (seed, pixel, light), unrelated to the CPU's SplitMix64 chain; each light's ξ as uploaded.
-// Needs from `shaders`: the slc module and PI.
+// Needs from `shaders`: the slc module and PI; slc_pcg_hash from hash.wgsl.
 
 struct MediaParams {
     width: u32,
@@ -186,16 +186,10 @@ fn media_estimate(l: MediaLight, d: vec3<f32>, t0: f32, t1: f32, u: vec2<f32>) -
     return vec2<f32>(select(0.0, m.f / (p * pdf), pdf > 0.0 && p > 0.0), 1.0);
 }
 
-fn media_pcg(v: u32) -> u32 {
-    let state = v * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
 // Two uniforms in [0, 1) for (seed, pixel, light): the PCG hash (Jarzynski and Olano 2020).
 fn media_uniforms(pixel: u32, light: u32) -> vec2<f32> {
-    let h = media_pcg(media_pcg(media_pcg(MP.seed) ^ pixel) ^ light);
-    let h2 = media_pcg(h ^ 0x5bd1e995u);
+    let h = slc_pcg_hash(slc_pcg_hash(slc_pcg_hash(MP.seed) ^ pixel) ^ light);
+    let h2 = slc_pcg_hash(h ^ 0x5bd1e995u);
     return vec2<f32>(f32(h >> 8u), f32(h2 >> 8u)) / 16777216.0;
 }
 

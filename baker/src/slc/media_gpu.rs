@@ -49,11 +49,7 @@ pub fn kernel() -> Result<String, String> {
         "slc_ellipsoid_hits_corners",
         "PI",
     ];
-    let cfg = shaders::compose::Config { name: "slc-media".into(), features: Default::default() };
-    let lib = shaders::compose::compose_roots(cfg, &roots)?;
-    let source = format!("{}\n{KERNEL}", lib.source);
-    shaders::export::validate(&source).map_err(|e| format!("slc media kernel: {e}"))?;
-    Ok(source)
+    super::gpu::compose_kernel("slc-media", &roots, KERNEL)
 }
 
 /// A G-buffer, medium and light set uploaded with the pipeline built.
