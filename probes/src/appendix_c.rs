@@ -3,7 +3,7 @@
 //! troughton/Probulator, branch `ambient-dice`, commit 2a6cfda4e011ecdecf286c1975679c716a97369f):
 //!
 //! - the GGX reference weighs each visible-normal sample by G2·G1(v) instead of G2/G1(v),
-//!   lets light from below the surface in, and uses Schlick's Fresnel with f0 0.9, f90 1
+//!   lets light from below the surface in (none comes: see the last point), and uses Schlick's Fresnel with f0 0.9, f90 1
 //!   ([`sbf::ggx::Convention::AppendixC`]; the kernel is [`crate::specular::GgxRows`]);
 //! - the runtimes are the seed's: SG lobes through the ASG warp (with the physical
 //!   visibility, as the seed's SG code computes it, and its arbitrary frame about the
@@ -12,7 +12,14 @@
 //! - the SG fits point-sample the map: 20 000 Halton directions over the sphere, each the
 //!   nearest texel of the map resized to 512×256 ([`sg_samples`]), equal weights;
 //! - RMS over the upper half of the output rows, every texel equal (as `--domain
-//!   hemisphere` always does).
+//!   hemisphere` always does);
+//! - the environment is black below the horizon ([`clip_below_horizon`]): "the images are
+//!   clipped to the upper hemisphere to represent lightmap use cases" (Appendix C) — a
+//!   lightmap texel facing up receives no light from below. No code of the fork does this
+//!   (its committed `upperHemisphereOnly` clips the output images only); the printed
+//!   figures say it: with the lower half black, every radiance cell and every SG GGX cell
+//!   comes within 1.00–1.05× of the seed's, with it lit wells' SG cells sit at 1.25–1.29×
+//!   (docs/probes.md has both tables).
 //!
 //! The lobe layouts are the seed's in both modes ([`crate::modes::tangent_to_world`]).
 
@@ -27,7 +34,7 @@ pub fn label(convention: sbf::ggx::Convention) -> &'static str {
     match convention {
         sbf::ggx::Convention::Physical => "f0 = f90 = 1, physical reference",
         sbf::ggx::Convention::AppendixC => {
-            "APPENDIX C COMPATIBLE reference, not the physical integral: the seed's G2·G1 visibility, no horizon cut, Schlick f0 0.9 / f90 1; the seed's runtimes; SG fits point-sampled"
+            "APPENDIX C COMPATIBLE reference, not the physical integral: the environment black below the horizon, the seed's G2·G1 visibility, Schlick f0 0.9 / f90 1; the seed's runtimes; SG fits point-sampled"
         }
     }
 }
@@ -36,6 +43,19 @@ pub fn label(convention: sbf::ggx::Convention) -> &'static str {
 pub const SIZE: LatLong = LatLong { width: 512, height: 256 };
 /// Halton samples of the point-sampled fits (`sampleCount = 20000`).
 pub const SAMPLES: u32 = 20_000;
+
+/// The map with every texel whose centre lies below the horizon set to black: rows j with
+/// polar angle π(j + ½)/h > π/2, i.e. 2j + 1 > h (both tools' lat-long rows run from the
+/// zenith; an odd height's middle row, centred on the horizon, is kept). What the seed's
+/// figures measure (module docs); the rows above are returned bit for bit.
+pub fn clip_below_horizon(map: &LatLongImage) -> LatLongImage {
+    let g = map.geometry;
+    let texels = (0..g.height)
+        .flat_map(|j| (0..g.width).map(move |i| (i, j)))
+        .map(|(i, j)| if 2 * j + 1 > g.height { [0.0; 3] } else { map.texel(i, j) })
+        .collect();
+    LatLongImage::new(g.width, g.height, texels).expect("same geometry as a valid map")
+}
 
 /// The Listing 8.2 table with the seed's G2·G1 ground truth, 64² over (n·v, α) like the
 /// committed physical one, 2048 Hammersley samples per entry (built once per process).
@@ -148,12 +168,14 @@ pub fn resized(map: &LatLongImage) -> Result<LatLongImage, String> {
     LatLongImage::new(SIZE.width, SIZE.height, out).map_err(|e| e.to_string())
 }
 
-/// The seed's SG fitting samples, in our world frame: Halton (2, 3) points 1..=20 000 mapped
+/// The seed's SG fitting samples of `map` (already [`clip_below_horizon`]ed), in our world frame: Halton (2, 3) points 1..=20 000 mapped
 /// uniformly onto the sphere (`sampleUniformSphere`), each valued by the nearest texel of the
 /// resized map at the peer's `cartesianToLatLongTexcoord`, weight 4π/N (its sample Gram and
 /// moments). Computed in f32 like the peer, so each sample reads the same texel.
 pub fn sg_samples(map: &LatLongImage) -> Result<Vec<RadianceSample>, String> {
-    let m = resized(map)?;
+    // Black below the horizon at the resized size too: Catmull–Rom's lobes would carry
+    // the upper rows a little way below it.
+    let m = clip_below_horizon(&resized(map)?);
     let weight = 4.0 * std::f64::consts::PI / SAMPLES as f64;
     let pi = std::f32::consts::PI;
     Ok((1..=SAMPLES)
@@ -255,15 +277,16 @@ mod tests {
     }
 
     /// Each point sample reads the texel the peer's lookup names: on a 512×256 map (used as
-    /// it is) whose texels hold their own index, sample k (Halton point k + 1) reads the
-    /// texel at floor(u·512), floor(v·256) of the peer's `cartesianToLatLongTexcoord` of
-    /// `sampleUniformSphere`, written here from its source in f64 — equal except where a
-    /// point lies within f32 rounding of a texel edge (at most a few of 2000). Mutations
-    /// tried: `round` for `floor`; the Halton index from 0 — both fail.
+    /// it is) whose texels hold their own index + 1, black below the horizon, sample k
+    /// (Halton point k + 1) reads the texel at floor(u·512), floor(v·256) of the peer's
+    /// `cartesianToLatLongTexcoord` of `sampleUniformSphere`, written here from its source
+    /// in f64 — equal except where a point lies within f32 rounding of a texel edge (at most
+    /// a few of 2000). Mutations tried: `round` for `floor`; the Halton index from 0; the
+    /// resized map not clipped — all fail.
     #[test]
     fn point_samples_read_the_peers_texels() {
         let (w, h) = (SIZE.width, SIZE.height);
-        let map = LatLongImage::new(w, h, (0..w * h).map(|k| [k as f32, 0.0, 0.0]).collect()).unwrap();
+        let map = LatLongImage::new(w, h, (0..w * h).map(|k| [k as f32 + 1.0, 0.0, 0.0]).collect()).unwrap();
         let s = sg_samples(&map).unwrap();
         let radical = |mut i: u64, b: u64| {
             let (mut f, mut r) = (1.0, 0.0);
@@ -283,10 +306,29 @@ mod tests {
             let (x, y) = (r * p.cos(), r * p.sin());
             let tu = 0.5 * (1.0 + x.atan2(-y) / std::f64::consts::PI);
             let tv = z.acos() / std::f64::consts::PI;
-            let want = ((tv * h as f64).floor() as usize).min(h - 1) * w + ((tu * w as f64).floor() as usize).min(w - 1);
-            differ += usize::from(s[k].value[0] != want as f64);
+            let (x, y) = (((tu * w as f64).floor() as usize).min(w - 1), ((tv * h as f64).floor() as usize).min(h - 1));
+            // Texel index + 1 above the horizon; black below it (`clip_below_horizon`).
+            let want = if 2 * y + 1 > h { 0.0 } else { (y * w + x + 1) as f64 };
+            differ += usize::from(s[k].value[0] != want);
         }
         assert!(differ <= 4, "{differ} of 2000 samples read another texel than the peer's");
+    }
+
+    /// Rows whose centre lies below the horizon are black, the rest untouched, for an even
+    /// and an odd height (the odd one's middle row sits on the horizon and stays). Mutations
+    /// tried: `>=` for `>` (the odd middle row goes), `j >= h / 2` (odd: the same).
+    #[test]
+    fn clipping_blackens_exactly_the_rows_below_the_horizon() {
+        for (h, kept) in [(4, 2), (5, 3), (128, 64)] {
+            let map = LatLongImage::new(3, h, (0..3 * h).map(|k| [k as f32 + 1.0, 2.0, 3.0]).collect()).unwrap();
+            let c = clip_below_horizon(&map);
+            for j in 0..h {
+                for i in 0..3 {
+                    let want = if j < kept { map.texel(i, j) } else { [0.0; 3] };
+                    assert_eq!(c.texel(i, j), want, "h {h}: texel ({i}, {j})");
+                }
+            }
+        }
     }
 
     #[test]

@@ -50,6 +50,8 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
         }
         crate::appendix_c::resized(&map)?;
     }
+    // Appendix C's environment is black below the horizon (see `appendix_c`).
+    let map = if s.convention == sbf::ggx::Convention::AppendixC { crate::appendix_c::clip_below_horizon(&map) } else { map };
     let t = Instant::now();
     let mut ctx = Context::with_domain(map, s.domain);
     ctx.sg_irradiance = s.sg_irradiance;

@@ -77,7 +77,8 @@ struct CompareArgs {
     domain: Option<String>,
     /// The specular reference: `physical` (the single-scattering GGX integral, light from
     /// above the surface) or `appendix-c` (seed 004 Appendix C's pipeline as its code reads:
-    /// G2·G1 visibility, no horizon cut, Schlick f0 0.9 / f90 1, the seed's runtimes with
+    /// the environment black below the horizon, G2·G1 visibility, Schlick f0 0.9 / f90 1,
+    /// the seed's runtimes with
     /// its Listing 8.2 table, SG fits point-sampled; to compare with the seed's printed
     /// figures — every report says which). appendix-c implies --domain hemisphere,
     /// --specular-runtime fit and the modes ad9, adrbf-tangent, sg9h, sg12h.

@@ -10,23 +10,35 @@
 //! What is asserted, and why those tolerances (the issue's, not fitted to these numbers):
 //! - radiance, every cell within 1.10× either way: the fits are the seed's method (least
 //!   squares over the sphere); grace's sun, a few texels, is the largest difference;
-//! - GGX at α ≤ 0.4 on ennis, grace, pisa and uffizi (48 cells) within 1.10× either way —
-//!   the reproduction; wells and α ≥ 0.6 are reported, not asserted (docs/probes.md says
-//!   which cells are not reproduced and what was tried);
-//! - Lambert of AD 9 and AD 12 no more than 1.15× the seed's: its reference is a
-//!   5000-sample Monte Carlo estimate whose noise only adds to its errors, ours is exact.
+//! - every SG 9 and SG 12 GGX cell (46) and every AD GGX cell at α ≤ 0.2 (20) within 1.10×
+//!   either way — the reproduction; AD at α ≥ 0.4 is reported, not asserted cell by cell
+//!   (docs/probes.md says which cells are not reproduced and what was tried);
+//! - the issue's count: at least 88 of the 92 GGX cells no more than 1.10× the seed's (its
+//!   own reproduction of the fork, "90 of 92 within 1.10× (AD mean 0.86)", counts that way);
+//! - Lambert: every cell no more than 1.15× the seed's, and SG's within 1.15× either way —
+//!   the seed's Lambert reference is a 5000-sample Monte Carlo estimate whose noise only
+//!   adds to its errors (ours is exact), which leaves AD's small errors below the seed's.
 //!
 //! Mutations tried: the reference kernel made physical (G2/G1, horizon cut, F ≡ 1) under
 //! the compatible runtimes — every probe fails (ennis AD 9 α 0.4: 3.1×); the physical
 //! Listing 8.2 table in the compatible mode — AD fails (ennis AD 9 α 0.4: 3.2×); the ASG
 //! warp's frame in the plane of n and R instead of the seed's — SG fails (ennis SG 12 α 0.4:
-//! 1.20, uffizi SG 9: 1.16).
+//! 1.20, uffizi SG 9: 1.16); the environment lit below the horizon (no
+//! `clip_below_horizon` anywhere) — SG fails (wells SG 12 α 0.2: 1.24, α 0.4: 1.29); the map
+//! not clipped in `compare` but the SG samples' map still clipped — fails (82 of 92; wells
+//! SG 12 Lambert 4.5×).
 
 use probes::appendix_c::{ALPHAS, MODES, PROBES, SEED};
 use probes::compare::{compare, Settings};
 use probes::modes::{SgIrradiance, SpecularRuntime};
 use sbf::ggx::Convention;
 use std::path::PathBuf;
+
+/// `x` to four significant figures (the seed prints three or four).
+fn four_figures(x: f64) -> String {
+    let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+    format!("{x:.decimals$}")
+}
 
 fn probe(name: &str) -> Option<sbf::envmap::LatLongImage> {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../shared/probes/{name}.hdr"));
@@ -74,14 +86,14 @@ fn compatible_mode_reproduces_the_seeds_figures() {
                     _ => row.specular.iter().find(|(a, _)| *a == ALPHAS[ri - 2]).expect("α ran").1.rms,
                 };
                 let r = ours / seed;
-                line += &format!("  {basis:>4} {ours:9.4} / {seed:<8} = {r:.2}");
+                line += &format!("  {basis:>4} {:>9} / {seed:<8} = {r:.2}", four_figures(ours));
                 let within = |k: f64| r <= k && r >= 1.0 / k;
                 match ri {
                     0 if !within(1.10) => failures.push(format!("{name} {basis} radiance: {r:.3}")),
                     1 => {
                         lambert_two_sided += usize::from(within(1.15));
                         lambert_one_sided += usize::from(r <= 1.15);
-                        if bi < 2 && r > 1.15 {
+                        if r > 1.15 || (bi >= 2 && !within(1.15)) {
                             failures.push(format!("{name} {basis} Lambert: {r:.3}"));
                         }
                     }
@@ -89,7 +101,7 @@ fn compatible_mode_reproduces_the_seeds_figures() {
                         ggx_cells += 1;
                         ggx_two_sided += usize::from(within(1.10));
                         ggx_one_sided += usize::from(r <= 1.10);
-                        if *name != "wells" && ALPHAS[ri - 2] <= 0.4 && !within(1.10) {
+                        if (bi >= 2 || ALPHAS[ri - 2] <= 0.2) && !within(1.10) {
                             failures.push(format!("{name} {basis} {label}: {r:.3}"));
                         }
                     }
@@ -104,6 +116,7 @@ fn compatible_mode_reproduces_the_seeds_figures() {
          Lambert within 1.15× either way: {lambert_two_sided} of 20; at most 1.15× the seed's: {lambert_one_sided}"
     );
     assert_eq!(ggx_cells, 92, "Appendix C has 92 GGX cells");
+    assert!(ggx_one_sided >= 88, "{ggx_one_sided} of 92 GGX cells no more than 1.10× the seed's (the issue asks ≥ 88)");
     assert!(failures.is_empty(), "cells outside the tolerance:\n{}", failures.join("\n"));
 }
 
