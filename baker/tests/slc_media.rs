@@ -14,15 +14,16 @@ use std::f64::consts::PI;
 const DELTA: f32 = 0.01;
 const MEDIUM: Medium = Medium { sigma_s: 0.3, sigma_t: 0.5, near: 2.0, far: 8.0 };
 
-/// 40 × 30 pixels, tan 0.5: a wall at depth 9 (beyond the slab) over the lower two thirds,
-/// background (rays end at the slab's far side) above.
+/// 40 × 30 pixels, tan 0.5: a wall at depth 9 (beyond the slab) over the middle third, a
+/// ledge at depth 6 (inside it: rays end at the surface, at distance 6·|d| ≠ its depth)
+/// over the lower third, background (rays end at the slab's far side) above.
 fn gbuffer() -> GBuffer {
     let (w, h, t) = (40usize, 30usize, 0.5f32);
     let texels = (0..w * h)
         .map(|k| {
             let (x, y) = (k % w, k / w);
             let d = Vec3::new((2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * t, (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * t, -1.0);
-            (y >= h / 3).then_some(Surface::lambert(d * 9.0, Vec3::Z, 0.5))
+            (y >= h / 3).then_some(Surface::lambert(d * if y >= 2 * h / 3 { 6.0 } else { 9.0 }, Vec3::Z, 0.5))
         })
         .collect();
     GBuffer { width: w, height: h, tan_xy: (t, t), texels }
@@ -98,7 +99,8 @@ fn quadrature(l: &MediaLight, d: Vec3, (t0, t1): (f32, f32)) -> f64 {
 /// and brute force, where an adapter exists (`SBF_REQUIRE_GPU=1`: must); its distance
 /// samples are its own (a PCG hash), the lights' ξ those uploaded. Mutations: the WGSL's
 /// outer-part pdf × 1.05, its inner-part pdf × 1.05, its acceptance probability from I
-/// instead of I_max — each fails the GPU leg; sampling the outer part at a fixed point does
+/// instead of I_max, the surfaces' depth uploaded for their distance (the ledge: −4.6σ) —
+/// each fails the GPU leg; sampling the outer part at a fixed point does
 /// not (f/P is nearly constant there: for a point light I/I_max = 1, only T varies).
 #[test]
 fn culled_single_scattering_matches_brute_force_and_quadrature() {

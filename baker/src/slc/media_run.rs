@@ -11,40 +11,41 @@ use sbf::glam::Vec3;
 use serde_json::json;
 use std::time::Instant;
 
-/// The lights in the medium (view space for `cam`): the scene's point lights (spot lights as
-/// the point lights they are inside their cone; directional ones left out — counted), `extra`
-/// point lights uniform in the scene's bounds sharing the power 4πR² W (R the bounding
-/// radius: an irradiance of 1 W/m² at R from each, summed), and the diffuse VPLs (their Φk's
-/// luminance: the medium renders luminance). Returns (lights, spots as points, directional
-/// left out).
+/// The lights in the medium, in view space (world moved by −`eye`): the scene's point
+/// lights (spot lights as the point lights they are inside their cone; directional ones left
+/// out — counted), `extra` point lights uniform in the scene's bounds `(lo, hi)` sharing the
+/// power 4πR² W (R the bounding radius: an irradiance of 1 W/m² at R from each, summed), and
+/// the diffuse VPLs (already in view space; their Φk's luminance: the medium renders
+/// luminance). Returns (lights, spots as points, directional left out).
 fn lights(
-    s: &SlcOptions,
-    (scene, bvh, cam): (&crate::scene::Scene, &crate::scene::bvh::Bvh, super::Camera),
+    scene_lights: &[Light],
+    (lo, hi): (Vec3, Vec3),
+    eye: Vec3,
+    seed: u64,
     extra: usize,
     vpls: &[super::Vpl],
 ) -> (Vec<MediaLight>, usize, usize) {
-    let mut rng = sbf::sampling::Pcg32::new(s.seed, 0x3ed1);
+    let mut rng = sbf::sampling::Pcg32::new(seed, 0x3ed1);
     let mut out: Vec<MediaLight> = Vec::new();
     let (mut spots, mut directional) = (0, 0);
-    for l in &scene.lights {
+    for l in scene_lights {
         match *l {
             Light::Point { position, intensity, .. } | Light::Spot { position, intensity, .. } => {
                 spots += matches!(l, Light::Spot { .. }) as usize;
                 let xi = 1.0 - rng.next_f64() as f32;
                 let power = (crate::scene::lights::luminance(intensity) * 4.0 * std::f64::consts::PI) as f32;
-                out.push(MediaLight { position: position - cam.eye, normal: Vec3::ZERO, power, xi });
+                out.push(MediaLight { position: position - eye, normal: Vec3::ZERO, power, xi });
             }
             Light::Directional { .. } => directional += 1,
         }
     }
-    let (lo, hi) = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
     let radius = 0.5 * (hi - lo).length();
     for k in 0..extra {
         let [a, b] = rng.next_2d();
         let c = rng.next_f64();
         let p = lo + (hi - lo) * Vec3::new(a as f32, b as f32, c as f32);
         let power = 4.0 * std::f32::consts::PI * radius * radius / extra as f32;
-        out.push(MediaLight { position: p - cam.eye, normal: Vec3::ZERO, power, xi: super::vpl_xi(s.seed ^ 0x2560, k as u64) });
+        out.push(MediaLight { position: p - eye, normal: Vec3::ZERO, power, xi: super::vpl_xi(seed ^ 0x2560, k as u64) });
     }
     out.extend(vpls.iter().filter(|v| v.is_diffuse()).map(|v| MediaLight {
         position: v.position,
@@ -67,7 +68,9 @@ pub fn render(
     vpls: &[super::Vpl],
     log: &mut dyn FnMut(String),
 ) -> Result<serde_json::Value, String> {
-    let (lights, spots, directional) = lights(s, scene, s.point_lights, vpls);
+    let (sc, bvh, cam) = scene;
+    let bounds = bvh.nodes.first().map(|n| (Vec3::from(n.min), Vec3::from(n.max))).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
+    let (lights, spots, directional) = lights(&sc.lights, bounds, cam.eye, s.seed, s.point_lights, vpls);
     if spots + directional > 0 {
         log(format!(
             "slc medium: {spots} spot light(s) scatter as isotropic point lights (no cone), {directional} directional light(s) left out (single scattering from point lights and VPLs only)"
@@ -127,4 +130,66 @@ pub fn render(
         "image": "slc_medium.exr (slc_medium.png)", "brute_force_image": "slc_medium_brute.exr",
         "false_discovery_image": "slc_medium_fdr.exr (slc_medium_fdr.png: blue 0 → red 100 %)",
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn vpl(flux: Vec3, diffuse: Vec3) -> super::super::Vpl {
+        super::super::Vpl {
+            position: Vec3::new(0.5, -1.0, -3.0),
+            normal: Vec3::Y,
+            incoming: Vec3::Y,
+            flux,
+            diffuse,
+            alpha: 0.3,
+            f0: Vec3::splat(0.5),
+            xi: 0.25,
+        }
+    }
+
+    /// Each light's power against its closed form, written here: a point light of intensity I
+    /// emits Φ = 4π·lum(I) (lum = 0.2126 R + 0.7152 G + 0.0722 B, Rec. 709); a diffuse VPL
+    /// reflects lum(Φ ⊙ k); the extra lights share 4πR² with R half the bounds' diagonal, and
+    /// sit inside the bounds; positions are view space (−eye); a GGX VPL and a directional light
+    /// are left out. Tolerance: f32 rounding of a handful of products (1e-6 relative).
+    /// Mutations tried: lum(Φ) for lum(Φ ⊙ k); a point light's power without 4π; the extra
+    /// lights' share not divided by their count; the eye not subtracted — each fails.
+    #[test]
+    fn lights_carry_their_closed_form_powers() {
+        let eye = Vec3::new(1.0, 2.0, 3.0);
+        let scene = [
+            Light::Point { position: Vec3::new(0.0, 1.0, 0.0), intensity: Vec3::new(1.0, 2.0, 3.0), range: f32::INFINITY },
+            Light::Spot {
+                position: Vec3::new(1.0, 1.0, 0.0),
+                direction: -Vec3::Y,
+                intensity: Vec3::new(4.0, 0.0, 0.0),
+                cos_inner: 0.9,
+                cos_outer: 0.8,
+                range: f32::INFINITY,
+            },
+            Light::Directional { direction: Vec3::Y, irradiance: Vec3::ONE },
+        ];
+        let vpls = [vpl(Vec3::new(2.0, 4.0, 8.0), Vec3::new(0.5, 0.25, 0.125)), vpl(Vec3::ONE, Vec3::ZERO)];
+        let (lo, hi) = (Vec3::new(-2.0, 0.0, -1.0), Vec3::new(2.0, 3.0, 1.0));
+        let (l, spots, directional) = lights(&scene, (lo, hi), eye, 7, 8, &vpls);
+        assert_eq!((l.len(), spots, directional), (2 + 8 + 1, 1, 1));
+        let close = |a: f32, b: f64| ((a as f64 - b) / b).abs() < 1e-6;
+        let four_pi = 4.0 * std::f64::consts::PI;
+        assert!(close(l[0].power, four_pi * (0.2126 + 0.7152 * 2.0 + 0.0722 * 3.0)), "point light: {}", l[0].power);
+        assert!(close(l[1].power, four_pi * 0.2126 * 4.0), "spot light: {}", l[1].power);
+        assert_eq!((l[0].position, l[0].normal), (Vec3::new(-1.0, -1.0, -3.0), Vec3::ZERO));
+        let r2 = 0.25 * (16.0 + 9.0 + 4.0);
+        let extra: f64 = l[2..10].iter().map(|x| x.power as f64).sum();
+        assert!(close(extra as f32, four_pi * r2), "extra lights: {extra}");
+        for x in &l[2..10] {
+            let p = x.position + eye;
+            assert!(p.cmpge(lo).all() && p.cmple(hi).all() && x.normal == Vec3::ZERO && x.xi > 0.0 && x.xi <= 1.0, "{x:?}");
+        }
+        // Φ ⊙ k = (1, 1, 1): luminance 1.
+        let v = l[10];
+        assert!(close(v.power, 1.0), "diffuse VPL: {}", v.power);
+        assert_eq!((v.position, v.normal, v.xi), (vpls[0].position, Vec3::Y, 0.25));
+    }
 }
