@@ -207,4 +207,69 @@ mod tests {
         assert!(Filter::Bilateral { radius: 4 }.check(8).is_ok());
         assert!(Filter::Box.check(16).is_ok());
     }
+
+    /// The bilateral weights by value, against the documented filter written out here: one
+    /// row of 31 pixels on the plane z = −5 (normal +Z, albedo 0.5), irradiance zero except an
+    /// impulse E₀ at pixel 15 whose normal is tilted by θ and whose position is lifted by h off
+    /// the plane. At pixel p = 15 + dx (its window inside the row) the row pass gives
+    ///   Ẽ = w(dx)·c·g·E₀ / (Σ_{d=−R..R} w(d) − w(dx) + w(dx)·c·g),
+    /// c = cos^32 θ (normal weight), g = exp(−½(h/σ_d)²) with σ_d = R/2 pixel footprints
+    /// (2·tan_x/width·|x_p|), w the trapezoid counted here by brute force (the ways to write d =
+    /// i + j, i in a box of I, j in one of 2R + 2 − I, both centred as documented); the column
+    /// pass of a one-row image returns it; the radiance is ρ/π·Ẽ. Tolerance: f32 sums of 17
+    /// terms (1e-5 relative). Mutations tried: normal power 32 → 16, σ_d = R (not R/2), the
+    /// depth weight without ½ — each fails (this pins the CPU twin by value; the GPU twin is
+    /// held to it by the wavy-wall test in tests/slc.rs).
+    #[test]
+    fn bilateral_weights_by_value() {
+        let (w, il, r) = (31usize, 4i64, 8i64);
+        let tan_x = 0.4f32;
+        let trapezoid = |d: i64| {
+            let a = -(il / 2);
+            let b = -r - a;
+            let mut n = 0;
+            for i in a..a + il {
+                for j in b..b + 2 * r + 2 - il {
+                    n += i32::from(i + j == d);
+                }
+            }
+            n as f64
+        };
+        let total: f64 = (-r..=r).map(trapezoid).sum();
+        for (theta, h) in [(0.0f64, 0.0f64), (20f64.to_radians(), 0.0), (0.0, 0.5), (15f64.to_radians(), 0.3)] {
+            let texels: Vec<Option<super::super::Surface>> = (0..w)
+                .map(|k| {
+                    let x = (k as f32 - 15.0) * 0.1;
+                    Some(if k == 15 {
+                        super::super::Surface::lambert(
+                            Vec3::new(x, 0.0, -5.0 + h as f32),
+                            Vec3::new(theta.sin() as f32, 0.0, theta.cos() as f32),
+                            0.5,
+                        )
+                    } else {
+                        super::super::Surface::lambert(Vec3::new(x, 0.0, -5.0), Vec3::Z, 0.5)
+                    })
+                })
+                .collect();
+            let g = GBuffer { width: w, height: 1, tan_xy: (tan_x, tan_x), texels };
+            let e0 = Vec3::new(1.0, 2.0, 3.0);
+            let layers =
+                Layers { irradiance: (0..w).map(|k| if k == 15 { e0 } else { Vec3::ZERO }).collect(), specular: vec![Vec3::ZERO; w] };
+            let out = filter(&g, &layers, il as usize, Filter::SEED);
+            for dx in [-3i64, 1, 2, 5] {
+                let p = (15 + dx) as usize;
+                let xp = g.texels[p].unwrap().position.as_dvec3();
+                let sigma = 0.5 * r as f64 * (2.0 * tan_x as f64 / w as f64) * xp.length();
+                let c = theta.cos().powi(32);
+                let gw = (-0.5 * (h / sigma).powi(2)).exp();
+                let wd = trapezoid(dx);
+                let e = wd * c * gw / (total - wd + wd * c * gw);
+                for ch in 0..3 {
+                    let want = 0.5 / std::f64::consts::PI * e * e0[ch] as f64;
+                    let got = out[p][ch] as f64;
+                    assert!((got - want).abs() <= 1e-5 * want, "θ {theta:.3} h {h} dx {dx} channel {ch}: {got} vs {want}");
+                }
+            }
+        }
+    }
 }
