@@ -105,7 +105,11 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
         sanitized,
         rows,
         specular_method,
-        specular_runtime: if s.alphas.is_empty() { String::new() } else { s.specular_runtime.describe().to_string() },
+        specular_runtime: match (s.alphas.is_empty(), s.convention) {
+            (true, _) => String::new(),
+            (false, sbf::ggx::Convention::AppendixC) => crate::appendix_c::RUNTIMES.to_string(),
+            (false, sbf::ggx::Convention::Physical) => s.specular_runtime.describe().to_string(),
+        },
         convention: s.convention,
         runtime: s.specular_runtime,
         specular_samples: s.specular_samples,

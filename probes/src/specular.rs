@@ -484,9 +484,19 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
     let chans = [chan(0), chan(1), chan(2)];
     let dfg = sbf::luts::committed::dfg();
     let (f0, f90) = ctx.convention.fresnel().unwrap_or((1.0, 1.0));
-    let lut = match ctx.convention {
-        Convention::Physical => sbf::luts::committed::ad_specular_2d(),
-        Convention::AppendixC => crate::appendix_c::ad_lut(),
+    let lut = sbf::luts::committed::ad_specular_2d();
+    // Appendix C's AD runtime computes its table per pixel from n·v, which is constant along
+    // an output row: once per row.
+    let fork_rows: Vec<[f64; 2]> = if ctx.convention == Convention::AppendixC && !is_sh(r.id) && !is_sg(r.id) {
+        (0..ctx.grid.height)
+            .into_par_iter()
+            .map(|j| {
+                geometry(ctx, j * ctx.grid.width)
+                    .map_or([0.0; 2], |(n, v)| crate::appendix_c::ad_table(n.dot(v), alpha, crate::appendix_c::AD_TABLE_SAMPLES))
+            })
+            .collect()
+    } else {
+        Vec::new()
     };
     let sh = sbf::ShBasis::new(if is_sh(r.id) { (c.len() as f64).sqrt().round() as usize - 1 } else { 0 }).ok()?;
     // SH: n·v is constant along an output row in both domains, so is the band filter.
@@ -536,6 +546,16 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
             if c.len() > r.lobes.len() {
                 for ch in 0..3 {
                     e[ch] += c[r.lobes.len()][ch] * (f0 * d[0] as f64 + f90 * d[1] as f64);
+                }
+            }
+            e
+        } else if ctx.convention == Convention::AppendixC {
+            let t = fork_rows[k / ctx.grid.width];
+            let mut e = [0.0; 3];
+            for (axis, ci) in axes.iter().zip(c) {
+                let w = crate::appendix_c::ad_lobe_fit(*axis, n, v, alpha) * (f0 * t[0] + f90 * t[1]);
+                for ch in 0..3 {
+                    e[ch] += w * ci[ch];
                 }
             }
             e

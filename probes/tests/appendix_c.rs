@@ -10,9 +10,9 @@
 //! What is asserted, and why those tolerances (the issue's, not fitted to these numbers):
 //! - radiance, every cell within 1.10× either way: the fits are the seed's method (least
 //!   squares over the sphere); grace's sun, a few texels, is the largest difference;
-//! - every SG 9 and SG 12 GGX cell (46) and every AD GGX cell at α ≤ 0.2 (20) within 1.10×
-//!   either way — the reproduction; AD at α ≥ 0.4 is reported, not asserted cell by cell
-//!   (docs/probes.md says which cells are not reproduced and what was tried);
+//! - every SG 9 and SG 12 GGX cell (46) and every AD GGX cell at α ≤ 0.4 (30) within 1.10×
+//!   either way — the reproduction; AD at α 0.6–0.8 is reported, not asserted cell by cell
+//!   (docs/probes.md says which cells are not reproduced and why);
 //! - the count: at least 88 of the 92 GGX cells no more than 1.10× the seed's (its
 //!   own reproduction of the fork, "90 of 92 within 1.10× (AD mean 0.86)", counts that way);
 //! - Lambert: every cell no more than 1.15× the seed's, and SG's within 1.15× either way —
@@ -23,7 +23,8 @@
 //! the compatible runtimes — every probe fails (ennis AD 9 α 0.4: 3.1×); the physical
 //! Listing 8.2 table in the compatible mode — AD fails (ennis AD 9 α 0.4: 3.2×); the ASG
 //! warp's frame in the plane of n and R instead of the seed's — SG fails (ennis SG 12 α 0.4:
-//! 1.20, uffizi SG 9: 1.16); the environment lit below the horizon (no
+//! 1.20, uffizi SG 9: 1.16); Listing 8.1 × its G2·G1 table for the fork's AD fit and
+//! per-pixel table — AD fails (wells AD 9 α 0.4: 1.34, pisa 1.17); the environment lit below the horizon (no
 //! `clip_below_horizon` anywhere) — SG fails (wells SG 12 α 0.2: 1.24, α 0.4: 1.29); the map
 //! not clipped in `compare` but the SG samples' map still clipped — fails (82 of 92; wells
 //! SG 12 Lambert 4.5×).
@@ -101,7 +102,7 @@ fn compatible_mode_reproduces_the_seeds_figures() {
                         ggx_cells += 1;
                         ggx_two_sided += usize::from(within(1.10));
                         ggx_one_sided += usize::from(r <= 1.10);
-                        if (bi >= 2 || ALPHAS[ri - 2] <= 0.2) && !within(1.10) {
+                        if (bi >= 2 || ALPHAS[ri - 2] <= 0.4) && !within(1.10) {
                             failures.push(format!("{name} {basis} {label}: {r:.3}"));
                         }
                     }
