@@ -153,6 +153,55 @@ pub fn ad_table(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     gt.map(|g| g / samples as f64 / value)
 }
 
+/// The seed's GGX reference as the fork computes it (`ExperimentMonteCarlo.h`, its
+/// `upperHemisphereOnly` branch): per output texel with view `views[k]` (world; None: no
+/// signal) and normal +Y, `samples` visible normals (the fork's Hammersley points through
+/// Heitz's 2017 routine, as [`ad_table`]), each reflected to l and weighted by
+/// F·G2·G1(v) (Schlick f0 0.9, f90 1 at saturate(v·h)), the radiance read bilinearly —
+/// the peer's `sampleBilinear`, texel corners at integer coordinates — from the map resized
+/// to 512×256 and black below the horizon, averaged. A quasi-Monte Carlo estimate with the
+/// same points at every texel: its error is structured, and is the seed's (the exact
+/// integral of the same kernel is the default reference).
+pub fn monte_carlo_reference(map: &LatLongImage, views: &[Option<DVec3>], alpha: f64, samples: u32) -> Result<Vec<[f64; 3]>, String> {
+    use rayon::prelude::*;
+    let m = clip_below_horizon(&resized(map)?);
+    let (w, h) = (m.geometry.width, m.geometry.height);
+    let points: Vec<(f64, f64)> = (0..samples).map(|i| (i as f64 / samples as f64, sbf::sampling::radical_inverse(2, i as u64))).collect();
+    let bilinear = |p: DVec3| -> [f64; 3] {
+        let pi = std::f64::consts::PI;
+        let (x, y) = (0.5 * (1.0 + p.x.atan2(-p.y) / pi) * w as f64, p.z.clamp(-1.0, 1.0).acos() / pi * h as f64);
+        let (x0, y0) = ((x.floor().max(0.0) as usize).min(w - 1), (y.floor().max(0.0) as usize).min(h - 1));
+        let (x1, y1) = ((x.ceil().max(0.0) as usize).min(w - 1), (y.ceil().max(0.0) as usize).min(h - 1));
+        let (fx, fy) = (x - x0 as f64, y - y0 as f64);
+        let t = |i: usize, j: usize| m.texel(i, j);
+        [0, 1, 2].map(|c| {
+            t(x0, y0)[c] as f64 * (1.0 - fx) * (1.0 - fy)
+                + t(x0, y1)[c] as f64 * (1.0 - fx) * fy
+                + t(x1, y0)[c] as f64 * fx * (1.0 - fy)
+                + t(x1, y1)[c] as f64 * fx * fy
+        })
+    };
+    Ok(views
+        .par_iter()
+        .map(|view| {
+            let Some(view) = view else { return [0.0; 3] };
+            let v = crate::modes::world_to_tangent(*view);
+            let mut acc = [0.0; 3];
+            for &(u2, u1) in &points {
+                let hm = vndf_2017(v, alpha, u1, u2);
+                let l = 2.0 * v.dot(hm) * hm - v;
+                let f = 0.9 + 0.1 * sbf::ggx::schlick_weight(v.dot(hm));
+                let weight = f * sbf::ggx::Convention::AppendixC.vndf_weight(v, l, alpha);
+                let radiance = bilinear(l.normalize());
+                for c in 0..3 {
+                    acc[c] += weight * radiance[c];
+                }
+            }
+            acc.map(|a| a / samples as f64)
+        })
+        .collect())
+}
+
 /// The seed's SG runtime for normal n, view v (world): the ASG warp with the orthonormal
 /// basis of Duff et al. 2017 ("Building an Orthonormal Basis, Revisited", Listing 3) about
 /// the reflected direction in the peer's z-up tangent frame, as its `sgWarpDistribution`

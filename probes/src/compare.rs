@@ -32,6 +32,11 @@ pub struct Settings {
     pub convention: sbf::ggx::Convention,
     /// How every mode's coefficients are stored (`--storage`).
     pub storage: crate::storage::Storage,
+    /// Appendix C only: the GGX reference by the fork's own Monte Carlo estimator with this
+    /// many samples per texel ([`crate::appendix_c::monte_carlo_reference`]; the fork used
+    /// 8192) instead of the exact integral of its kernel — the seed's reference noise
+    /// included. None: the exact integral.
+    pub seed_estimator: Option<u32>,
 }
 
 /// A mode's timing jobs, kept until the end of the run: its evaluation, its encode, and
@@ -49,6 +54,8 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
             return Err("--reference appendix-c runs the seed's runtimes (the fits): use --specular-runtime fit".into());
         }
         crate::appendix_c::resized(&map)?;
+    } else if s.seed_estimator.is_some() {
+        return Err("the seed's Monte Carlo estimator is the Appendix C reference's: it needs --reference appendix-c".into());
     }
     // Appendix C's environment is black below the horizon (see `appendix_c`).
     let map = if s.convention == sbf::ggx::Convention::AppendixC { crate::appendix_c::clip_below_horizon(&map) } else { map };
@@ -58,6 +65,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
     ctx.specular_runtime = s.specular_runtime;
     ctx.convention = s.convention;
     ctx.storage = s.storage;
+    ctx.seed_estimator = s.seed_estimator;
     let ref_s = t.elapsed().as_secs_f64();
     let method = format!("{}, at every {}×{} output texel centre ({ref_s:.2} s)", ctx.reference_method, ctx.grid.width, ctx.grid.height);
     let pb = indicatif::ProgressBar::new(s.ids.len() as u64);
@@ -134,12 +142,31 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> Resu
         .map(|&alpha| match specular::reference_fft(ctx, alpha) {
             Ok(r) => {
                 let sub = if r.coarsening > 1 { format!("1/{}", r.coarsening) } else { r.subdivision.to_string() };
-                let sr = SpecularReference {
-                    alpha,
-                    image: r.image,
-                    error_rms: r.error_rms,
-                    signal_rms: r.signal_rms,
-                    texels_checked: r.texels_checked,
+                let sr = match ctx.seed_estimator {
+                    // The seed's estimator, its error measured against the exact integral.
+                    Some(n) => {
+                        let views: Vec<Option<sbf::glam::DVec3>> =
+                            (0..ctx.dirs.len()).map(|k| specular::geometry(ctx, k).map(|(_, v)| v)).collect();
+                        let image = crate::appendix_c::monte_carlo_reference(&ctx.map, &views, alpha, n)
+                            .expect("compare checked that the map resizes");
+                        let (mut e2, mut s2, mut m) = (0.0, 0.0, 0usize);
+                        for (k, _) in views.iter().enumerate().filter(|(_, v)| v.is_some()) {
+                            for c in 0..3 {
+                                e2 += (image[k][c] - r.image[k][c]).powi(2);
+                                s2 += r.image[k][c].powi(2);
+                            }
+                            m += 1;
+                        }
+                        let m3 = (3 * m).max(1) as f64;
+                        SpecularReference { alpha, image, error_rms: (e2 / m3).sqrt(), signal_rms: (s2 / m3).sqrt(), texels_checked: m }
+                    }
+                    None => SpecularReference {
+                        alpha,
+                        image: r.image,
+                        error_rms: r.error_rms,
+                        signal_rms: r.signal_rms,
+                        texels_checked: r.texels_checked,
+                    },
                 };
                 (sr, Ok(sub))
             }
@@ -161,8 +188,14 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> Resu
         return Err(format!("--reference appendix-c needs the quadrature reference: {why}"));
     }
     let worst = spec_refs.iter().map(|r| r.error_rms / r.signal_rms.max(f64::MIN_POSITIVE)).fold(0.0, f64::max);
-    let method = match &fallback {
-        None => format!(
+    let method = match (&fallback, ctx.seed_estimator) {
+        (None, Some(n)) => format!(
+            "the fork's Monte Carlo estimator (ExperimentMonteCarlo.h: {n} Hammersley visible normals per texel by Heitz's 2017 routine, the map resized to 512×256 read bilinearly) — the seed's reference with its noise; its RMS difference from the exact integral (the azimuthal quadrature) ≤ {:.3}% of the signal's RMS, per α in results.json ({:.2} s for {} α)",
+            100.0 * worst,
+            ts.elapsed().as_secs_f64(),
+            alphas.len()
+        ),
+        (None, None) => format!(
             "azimuthal FFT quadrature of the bilinear radiance (the BRDF is invariant about the pole), cells per texel side {} for α {:?} (1/D: D×D texels box-filtered into one cell, where they are below α/16) ({:.2} s for {} α, including the check); estimated error (4/3 × the difference to cells of half the size on 1 in {} output rows) ≤ {:.3}% of the signal's RMS, per α in results.json",
             subdivisions.join(", "),
             alphas,
@@ -171,7 +204,7 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> Resu
             specular::FFT_CHECK_STRIDE,
             100.0 * worst
         ),
-        Some(why) => format!(
+        (Some(why), _) => format!(
             "{spec_samples} visible-normal (Halton) + {spec_samples} map-importance (R2) samples per texel, balance-heuristic MIS, bilinear radiance ({:.2} s for {} α, including the check; no FFT quadrature: {why}); estimated error (vs {}× the samples on 1 in {} texels) ≤ {:.2}% of the signal's RMS, per α in results.json",
             ts.elapsed().as_secs_f64(),
             alphas.len(),

@@ -363,6 +363,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
             specular_runtime: *rt,
             convention,
             storage,
+            seed_estimator: None,
         };
         let mut reports = Vec::new();
         for (label, map, sanitized) in &maps {
@@ -431,6 +432,7 @@ fn main() -> ExitCode {
                 specular_runtime: Default::default(),
                 convention: Default::default(),
                 storage: probes::storage::Storage::F32,
+                seed_estimator: None,
             };
             let rep = compare("procedural-sky", map, 0, &settings)?;
             write_reports(&out, &mut [rep], false, (true, false), None, None)

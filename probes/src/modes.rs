@@ -50,6 +50,9 @@ pub struct Context {
     /// How coefficients are stored (`--storage`): every mode's images are reconstructed
     /// from its stored values.
     pub storage: crate::storage::Storage,
+    /// Appendix C's reference by the fork's Monte Carlo estimator (see
+    /// [`crate::compare::Settings::seed_estimator`]).
+    pub seed_estimator: Option<u32>,
 }
 
 /// Irradiance reconstruction of the SG 12 batch modes (`sg`, `sgls`, `sglsa`, `sgnnls`).
@@ -202,6 +205,7 @@ impl Context {
             eval_work: 1,
             shared: crate::memo::Memo::new(),
             storage: crate::storage::Storage::F32,
+            seed_estimator: None,
         }
     }
 

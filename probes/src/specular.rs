@@ -24,7 +24,7 @@ use sbf::recon::{ambient_dice as adr, sg as sgr, sh as shr};
 use sbf::Domain;
 
 /// (normal, view) of output texel `k`, or `None` where the signal is zero.
-fn geometry(ctx: &Context, k: usize) -> Option<(DVec3, DVec3)> {
+pub(crate) fn geometry(ctx: &Context, k: usize) -> Option<(DVec3, DVec3)> {
     let d = ctx.dirs[k];
     match ctx.domain {
         Domain::Sphere => Some((d, d)),

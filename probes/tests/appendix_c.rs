@@ -51,19 +51,26 @@ fn probe(name: &str) -> Option<sbf::envmap::LatLongImage> {
     Some(probes::input::load_map(&p, false).expect("probe loads").0)
 }
 
-#[test]
-fn compatible_mode_reproduces_the_seeds_figures() {
-    let settings = Settings {
+/// The compatible run's settings: the four modes, `alphas`, the reference exact (None) or by
+/// the seed's Monte Carlo estimator with that many samples.
+fn compatible(alphas: &[f64], seed_estimator: Option<u32>) -> Settings {
+    Settings {
         ids: MODES.iter().map(|(_, id)| id.to_string()).collect(),
         repeats: 1,
         domain: sbf::Domain::UpperHemisphere,
-        alphas: ALPHAS.to_vec(),
+        alphas: alphas.to_vec(),
         specular_samples: 256,
         sg_irradiance: SgIrradiance::Auto,
         specular_runtime: SpecularRuntime::Fit,
         convention: Convention::AppendixC,
         storage: probes::storage::Storage::F32,
-    };
+        seed_estimator,
+    }
+}
+
+#[test]
+fn compatible_mode_reproduces_the_seeds_figures() {
+    let settings = compatible(&ALPHAS, None);
     let (mut ggx_two_sided, mut ggx_one_sided, mut ggx_cells) = (0, 0, 0);
     let (mut lambert_two_sided, mut lambert_one_sided) = (0, 0);
     let mut failures = Vec::new();
@@ -141,6 +148,7 @@ fn tables_add_no_more_error_than_the_fits_in_any_cell() {
         specular_runtime: runtime,
         convention: Convention::Physical,
         storage: probes::storage::Storage::F32,
+        seed_estimator: None,
     };
     let mut cells = 0;
     let mut worst: (f64, String) = (0.0, String::new());
@@ -162,4 +170,66 @@ fn tables_add_no_more_error_than_the_fits_in_any_cell() {
     }
     assert_eq!(cells, 100);
     println!("tables' runtime error / the fits': at most {:.3} ({})", worst.0, worst.1);
+}
+
+/// The seed's Monte Carlo estimator converges to the exact integral of its kernel (the
+/// azimuthal quadrature, an independent method): on a smooth synthetic map (64×32, colour
+/// varying with both angles, black below the horizon), 1024 samples per texel, α 0.2 and
+/// 0.6, the reported RMS difference is at most 2 % of the signal — a Hammersley estimate of a
+/// smooth integrand cut at the horizon errs by O(N^-¾) ≈ 0.5 % here, times a constant of a
+/// few. Mutation tried: the physical weight G2/G1(v) in the estimator — fails (the kernels
+/// differ by G1(v)², 0.5 and less at grazing views).
+#[test]
+fn seeds_estimator_converges_to_the_exact_integral() {
+    let (w, h) = (64usize, 32usize);
+    let texels = (0..w * h)
+        .map(|k| {
+            let (u, v) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
+            let (phi, theta) = (2.0 * std::f32::consts::PI * u / w as f32, std::f32::consts::PI * v / h as f32);
+            [1.0 + 0.5 * phi.cos() * theta.sin(), 0.8 + 0.3 * theta.cos(), 0.6 + 0.2 * (2.0 * phi).sin()]
+        })
+        .collect();
+    let map = sbf::envmap::LatLongImage::new(w, h, texels).unwrap();
+    let report = compare("smooth", map, 0, &compatible(&[0.2, 0.6], Some(1024))).expect("the run");
+    assert!(report.specular_method.contains("Monte Carlo estimator"), "{}", report.specular_method);
+    for r in &report.specular_reference {
+        println!("α {}: estimator − exact RMS {:.3e}, signal {:.3e}", r.alpha, r.error_rms, r.signal_rms);
+        assert!(r.error_rms <= 0.02 * r.signal_rms, "α {}: {} of {}", r.alpha, r.error_rms, r.signal_rms);
+    }
+}
+
+/// With the seed's own reference estimator (8192 samples, as the fork) the printed figures
+/// come back to their digits on the four probes without a sun: every SG GGX cell and every
+/// AD cell at α ≤ 0.4 within 1.02× either way on ennis, pisa, uffizi and wells; grace (its
+/// sun: the estimator's own error there exceeds the printed AD errors) is printed, not
+/// asserted. Slow (minutes on two cores): `cargo test --release -p probes --test appendix_c
+/// -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn the_seeds_estimator_reproduces_its_figures() {
+    let settings = compatible(&ALPHAS, Some(8192));
+    let mut failures = Vec::new();
+    for (pi, name) in PROBES.iter().enumerate() {
+        let Some(map) = probe(name) else { return };
+        let report = compare(name, map, 0, &settings).expect("the compatible run");
+        println!("\n{name}, the seed's estimator: RMSE ours / the seed's = ratio");
+        for (ai, alpha) in ALPHAS.iter().enumerate() {
+            let mut line = format!("  GGX {alpha}");
+            for (bi, (basis, id)) in MODES.iter().enumerate() {
+                let seed = SEED[pi][ai + 2][bi];
+                if seed.is_nan() {
+                    continue;
+                }
+                let row = report.rows.iter().find(|r| r.result.id == *id).expect("mode ran");
+                let ours = row.specular.iter().find(|(a, _)| a == alpha).expect("α ran").1.rms;
+                let r = ours / seed;
+                line += &format!("  {basis:>4} {:>9} / {seed:<8} = {r:.3}", four_figures(ours));
+                if *name != "grace" && (bi >= 2 || *alpha <= 0.4) && !(1.0 / 1.02..=1.02).contains(&r) {
+                    failures.push(format!("{name} {basis} GGX {alpha}: {r:.3}"));
+                }
+            }
+            println!("{line}");
+        }
+    }
+    assert!(failures.is_empty(), "cells outside 1.02×:\n{}", failures.join("\n"));
 }
