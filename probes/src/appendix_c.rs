@@ -419,8 +419,8 @@ mod tests {
     /// (Halton point k + 1) reads the texel at floor(u·512), floor(v·256) of the peer's
     /// `cartesianToLatLongTexcoord` of `sampleUniformSphere`, written here from its source
     /// in f64 — equal except where a point lies within f32 rounding of a texel edge (at most
-    /// a few of 2000). Mutations tried: `round` for `floor`; the Halton index from 0; the
-    /// resized map not clipped — all fail.
+    /// a few of 2000). Mutations tried: `round` for `floor`; the Halton index from 0 — both
+    /// fail (the clip after the resize: `samples_below_the_horizon_read_black_after_the_resize`).
     #[test]
     fn point_samples_read_the_peers_texels() {
         let (w, h) = (SIZE.width, SIZE.height);
@@ -499,6 +499,27 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The map the SG samples read is black below the horizon even where the resize's
+    /// Catmull–Rom lobes would carry the upper rows across it: a 256×128 map lit everywhere,
+    /// clipped (as `compare` passes it), then resized — every sample in a 512×256 row ≥ 128
+    /// (by the peer's lookup, in f64) reads exactly 0, but for at most 4 within f32 rounding
+    /// of the horizon row's edge. Mutation tried: no clip after the resize — fails (the rows
+    /// just below the horizon ring).
+    #[test]
+    fn samples_below_the_horizon_read_black_after_the_resize() {
+        let map = clip_below_horizon(&LatLongImage::new(256, 128, vec![[1.0, 2.0, 3.0]; 256 * 128]).unwrap());
+        let s = sg_samples(&map).unwrap();
+        let lit_below = s
+            .iter()
+            .filter(|x| {
+                let p = crate::modes::world_to_tangent(x.direction);
+                let row = (p.z.clamp(-1.0, 1.0).acos() / std::f64::consts::PI * 256.0).floor();
+                row >= 128.0 && x.value != [0.0; 3]
+            })
+            .count();
+        assert!(lit_below <= 4, "{lit_below} samples below the horizon read light");
     }
 
     #[test]

@@ -217,8 +217,9 @@ mod tests {
     /// (2·tan_x/width·|x_p|), w the trapezoid counted here by brute force (the ways to write d =
     /// i + j, i in a box of I, j in one of 2R + 2 − I, both centred as documented); the column
     /// pass of a one-row image returns it; the radiance is ρ/π·Ẽ. Tolerance: f32 sums of 17
-    /// terms (1e-5 relative). Mutations tried: normal power 32 → 16, σ_d = R (not R/2), the
-    /// depth weight without ½ — each fails (this pins the CPU twin by value; the GPU twin is
+    /// terms (1e-5 relative; a normal turned away, θ = 180°, weighs exactly 0). Mutations
+    /// tried: normal power 32 → 16, σ_d = R (not R/2), the depth weight without ½, |cos| for
+    /// max(cos, 0) — each fails (this pins the CPU twin by value; the GPU twin is
     /// held to it by the wavy-wall test in tests/slc.rs).
     #[test]
     fn bilateral_weights_by_value() {
@@ -236,7 +237,8 @@ mod tests {
             n as f64
         };
         let total: f64 = (-r..=r).map(trapezoid).sum();
-        for (theta, h) in [(0.0f64, 0.0f64), (20f64.to_radians(), 0.0), (0.0, 0.5), (15f64.to_radians(), 0.3)] {
+        for (theta, h) in [(0.0f64, 0.0f64), (20f64.to_radians(), 0.0), (0.0, 0.5), (15f64.to_radians(), 0.3), (std::f64::consts::PI, 0.0)]
+        {
             let texels: Vec<Option<super::super::Surface>> = (0..w)
                 .map(|k| {
                     let x = (k as f32 - 15.0) * 0.1;
@@ -260,14 +262,14 @@ mod tests {
                 let p = (15 + dx) as usize;
                 let xp = g.texels[p].unwrap().position.as_dvec3();
                 let sigma = 0.5 * r as f64 * (2.0 * tan_x as f64 / w as f64) * xp.length();
-                let c = theta.cos().powi(32);
+                let c = theta.cos().max(0.0).powi(32);
                 let gw = (-0.5 * (h / sigma).powi(2)).exp();
                 let wd = trapezoid(dx);
                 let e = wd * c * gw / (total - wd + wd * c * gw);
                 for ch in 0..3 {
                     let want = 0.5 / std::f64::consts::PI * e * e0[ch] as f64;
                     let got = out[p][ch] as f64;
-                    assert!((got - want).abs() <= 1e-5 * want, "θ {theta:.3} h {h} dx {dx} channel {ch}: {got} vs {want}");
+                    assert!((got - want).abs() <= 1e-5 * want.max(1e-30), "θ {theta:.3} h {h} dx {dx} channel {ch}: {got} vs {want}");
                 }
             }
         }

@@ -155,7 +155,9 @@ mod tests {
     /// sit inside the bounds; positions are view space (−eye); a GGX VPL and a directional light
     /// are left out. Tolerance: f32 rounding of a handful of products (1e-6 relative).
     /// Mutations tried: lum(Φ) for lum(Φ ⊙ k); a point light's power without 4π; the extra
-    /// lights' share not divided by their count; the eye not subtracted — each fails.
+    /// lights' share not divided by their count; the eye not subtracted; `hi·u` for
+    /// `(hi − lo)·u`; a scene light's ξ = u (may be 0); the extra lights' ξ from the VPLs'
+    /// stream — each fails.
     #[test]
     fn lights_carry_their_closed_form_powers() {
         let eye = Vec3::new(1.0, 2.0, 3.0);
@@ -172,7 +174,7 @@ mod tests {
             Light::Directional { direction: Vec3::Y, irradiance: Vec3::ONE },
         ];
         let vpls = [vpl(Vec3::new(2.0, 4.0, 8.0), Vec3::new(0.5, 0.25, 0.125)), vpl(Vec3::ONE, Vec3::ZERO)];
-        let (lo, hi) = (Vec3::new(-2.0, 0.0, -1.0), Vec3::new(2.0, 3.0, 1.0));
+        let (lo, hi) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(5.0, 5.0, 5.0));
         let (l, spots, directional) = lights(&scene, (lo, hi), eye, 7, 8, &vpls);
         assert_eq!((l.len(), spots, directional), (2 + 8 + 1, 1, 1));
         let close = |a: f32, b: f64| ((a as f64 - b) / b).abs() < 1e-6;
@@ -181,11 +183,16 @@ mod tests {
         assert!(close(l[1].power, four_pi * 0.2126 * 4.0), "spot light: {}", l[1].power);
         assert_eq!((l[0].position, l[0].normal), (Vec3::new(-1.0, -1.0, -3.0), Vec3::ZERO));
         let r2 = 0.25 * (16.0 + 9.0 + 4.0);
+        for x in &l[..2] {
+            assert!(x.xi > 0.0 && x.xi <= 1.0, "scene light ξ {}", x.xi);
+        }
         let extra: f64 = l[2..10].iter().map(|x| x.power as f64).sum();
         assert!(close(extra as f32, four_pi * r2), "extra lights: {extra}");
-        for x in &l[2..10] {
+        for (k, x) in l[2..10].iter().enumerate() {
             let p = x.position + eye;
             assert!(p.cmpge(lo).all() && p.cmple(hi).all() && x.normal == Vec3::ZERO && x.xi > 0.0 && x.xi <= 1.0, "{x:?}");
+            // Their own stream of ξ, not the VPLs' (path k of the same seed).
+            assert_ne!(x.xi, super::super::vpl_xi(7, k as u64), "extra light {k} shares a VPL's ξ");
         }
         // Φ ⊙ k = (1, 1, 1): luminance 1.
         let v = l[10];
