@@ -277,9 +277,10 @@ fn gpu_matches_cpu() {
         assert!(st.iter().all(|t| t.is_finite() && *t > 0.0), "{st:?}");
     }
     // The filters' geometry weights on a surface where they matter: the wall made wavy
-    // (normals tilted by up to ~17°, depth ripples of a few pixel footprints) with a
-    // checkerboard albedo, so the normal power, σ_d, the box's plane test and each
-    // pixel's own albedo all change the result; the CPU and GPU must agree on it.
+    // (normals tilted by up to ~17°, a few turned away, depth ripples of a few pixel
+    // footprints) with a checkerboard albedo, so the normal power and its clamp, σ_d, the
+    // box's plane test and each pixel's own albedo all change the result; the CPU and GPU
+    // must agree on it.
     let l = vpls(7);
     let mut wavy = gb.clone();
     for (k, t) in wavy.texels.iter_mut().enumerate() {
@@ -289,6 +290,11 @@ fn gpu_matches_cpu() {
                 s.position *= 1.0 + 0.02 * (0.7 * u).sin() * (0.5 * v).cos();
                 s.normal = Vec3::new(0.3 * (0.35 * u).sin(), 0.3 * (0.45 * v).cos(), 1.0).normalize();
                 s.albedo = Vec3::new(0.3, 0.5, 0.2) + 0.4 * ((k % gb.width + k / gb.width) % 2) as f32;
+                // A few texels turned away (a thin fin): weight max(0, cos)³² = 0 to their
+                // neighbours, not |cos|³² = 1.
+                if k % 97 == 0 {
+                    s.normal = -s.normal;
+                }
             }
         }
     }
