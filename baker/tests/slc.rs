@@ -403,8 +403,9 @@ fn every_pixel_lies_inside_its_slice() {
 /// so p ≤ ξ there and the culled estimate is 0 — the image equals Modified HalfZ's to the
 /// bit (the same non-zero terms in the same order), while the lights shaded per pixel and
 /// the false discoveries can only drop. CPU at 4 and 32 slices, interleave 1 and 8; the
-/// GPU's clustered kernel against the CPU's (as `gpu_matches_cpu`). Mutations: the pixel's
-/// slice index one too high (CPU or WGSL) fails the equality or the GPU match.
+/// GPU's clustered kernel against the CPU's (as `gpu_matches_cpu`) and against its own HalfZ
+/// image, to the bit. Mutations: the pixel's slice index one too high (CPU or WGSL) fails the
+/// equality or the GPU match.
 #[test]
 fn clustered_culling_drops_only_false_discoveries() {
     use baker::slc::{Bound, Culling};
@@ -429,6 +430,15 @@ fn clustered_culling_drops_only_false_discoveries() {
             run.set_culling(Culling::Clustered(n)).unwrap();
             let gg = run.run(Mode::Culled).unwrap();
             assert!(differing(&c.image, &gg.image) <= c.image.len() / 200, "GPU clustered image");
+            // On the GPU too, clustering only skips lights whose terms are 0: the same image
+            // as its own HalfZ tiles, to the bit (WGSL slices and their rounding pad).
+            run.set_culling(Culling::HalfZ).unwrap();
+            let gh = run.run(Mode::Culled).unwrap();
+            assert!(
+                gg.image == gh.image,
+                "interleave {il}, {n} slices: the GPU's clustered image differs from its HalfZ image ({} pixels beyond 1e-3)",
+                differing(&gg.image, &gh.image)
+            );
             assert!((c.kept as f64 - gg.kept as f64).abs() <= 0.005 * c.kept as f64, "kept {} vs {}", c.kept, gg.kept);
             let shaded = c.lights_per_pixel.iter().map(|x| *x as f64).sum::<f64>();
             assert!((c.false_discoveries() as f64 - gg.false_discoveries() as f64).abs() <= 0.005 * shaded, "false discoveries");
