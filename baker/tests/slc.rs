@@ -363,18 +363,12 @@ fn bounds_contain_every_accepted_point() {
     }
 }
 
-/// A pixel's depth lies inside the depth range of the slice it is shaded with — the range a
-/// light's bound is tested against (a light that meets the pixel's depth but misses that
-/// range would be dropped: bias). Exhaustive over the rounding cases: 2 000 random tiles
-/// (zmin 0.05–200, widths 1e-5–500) × n 3, 8, 32 slices × every slice boundary and its f32
-/// neighbours, plus 64 random depths per tile. Exact f32 comparisons (the property, no
-/// tolerance). Mutation tried: the widening pad set to 0 — fails (a boundary depth whose
-/// index rounds up lies below its slice's start).
-#[test]
-fn every_pixel_lies_inside_its_slice() {
-    use baker::slc::{cluster_of, cluster_range};
+/// Depths to shade against their tile's slices: 2 000 random tiles (zmin 0.05–200, widths
+/// 1e-5–500) × n 3, 8, 32 slices × every slice boundary and its f32 neighbours, plus 64
+/// random depths per tile — (zmin, zmax, z, n).
+fn slice_cases() -> Vec<[f32; 4]> {
     let mut rng = Pcg32::new(5, 77);
-    let mut checked = 0u64;
+    let mut cases = Vec::new();
     for _ in 0..2000 {
         let zmin = (0.05 * 4000f64.powf(rng.next_f64())) as f32;
         let w = (1e-5 * 5e7f64.powf(rng.next_f64())) as f32;
@@ -387,15 +381,63 @@ fn every_pixel_lies_inside_its_slice() {
                 })
                 .collect();
             zs.extend((0..64).map(|_| zmin + (zmax - zmin) * rng.next_f64() as f32));
-            for z in zs.into_iter().filter(|z| (zmin..=zmax).contains(z)) {
-                let s = cluster_of(z, zmin, zmax, n);
-                let (lo, hi) = cluster_range(zmin, zmax, s, n);
-                assert!(lo <= z && z <= hi, "z {z:e} in slice {s} of {n} over [{zmin:e}, {zmax:e}]: range [{lo:e}, {hi:e}]");
-                checked += 1;
-            }
+            cases.extend(zs.into_iter().filter(|z| (zmin..=zmax).contains(z)).map(|z| [zmin, zmax, z, n as f32]));
         }
     }
-    assert!(checked > 400_000, "{checked} depths checked");
+    cases
+}
+
+/// A pixel's depth lies inside the depth range of the slice it is shaded with — the range a
+/// light's bound is tested against (a light that meets the pixel's depth but misses that
+/// range would be dropped: bias). Exhaustive over the rounding cases ([`slice_cases`]),
+/// exact f32 comparisons (the property, no tolerance). Mutation tried: the widening pad set
+/// to 0 — fails (a boundary depth whose index rounds up lies below its slice's start).
+#[test]
+fn every_pixel_lies_inside_its_slice() {
+    use baker::slc::{cluster_of, cluster_range};
+    let cases = slice_cases();
+    for &[zmin, zmax, z, n] in &cases {
+        let s = cluster_of(z, zmin, zmax, n as u32);
+        let (lo, hi) = cluster_range(zmin, zmax, s, n as u32);
+        assert!(lo <= z && z <= hi, "z {z:e} in slice {s} of {n} over [{zmin:e}, {zmax:e}]: range [{lo:e}, {hi:e}]");
+    }
+    assert!(cases.len() > 400_000, "{} depths checked", cases.len());
+}
+
+/// [`every_pixel_lies_inside_its_slice`] for the WGSL twins (`slc_cluster_of`,
+/// `slc_cluster_range`, taken from cull.wgsl and run on every case): the GPU's slices hold
+/// their pixels too. Mutations tried: the WGSL pad set to 0; the slice's start moved up by
+/// the pad — each fails.
+#[test]
+fn gpu_pixels_lie_inside_their_slices() {
+    let Some(g) = gpu() else { return };
+    let src = include_str!("../src/slc/cull.wgsl");
+    let function = |name: &str| {
+        let a = src.find(&format!("fn {name}(")).unwrap_or_else(|| panic!("{name} in cull.wgsl"));
+        let b = a + src[a..].find("\n}\n").expect("function end") + 3;
+        src[a..b].to_string()
+    };
+    let library = function("slc_cluster_range") + &function("slc_cluster_of");
+    let cases = slice_cases();
+    let launch = shaders::gpu::Launch {
+        library: &library,
+        body: "    outp[i] = inp[0];\n    let c = io[i];\n    let s = slc_cluster_of(c.z, c.x, c.y, u32(c.w));\n    let r = slc_cluster_range(c.x, c.y, s, u32(c.w));\n    io[i] = vec4<f32>(r.x, r.y, c.z, f32(s));",
+        input: &[0.0],
+        out_per_item: 1,
+        count: cases.len(),
+        io: Some(("vec4<f32>", bytemuck::cast_slice(&cases))),
+        ..Default::default()
+    };
+    let out = g.launch(&launch).unwrap_or_else(|e| panic!("{e}"));
+    let got: &[[f32; 4]] = bytemuck::cast_slice(&out.io);
+    let outside: Vec<String> = cases
+        .iter()
+        .zip(got)
+        .filter(|(_, [lo, hi, z, _])| !(lo <= z && z <= hi))
+        .take(3)
+        .map(|(c, r)| format!("{c:?} → slice {} [{:e}, {:e}]", r[3], r[0], r[1]))
+        .collect();
+    assert!(outside.is_empty(), "GPU depths outside their slice: {outside:?}");
 }
 
 /// Clustered shading (seed 002 Table 2's baseline: depth slices per tile) drops only false
