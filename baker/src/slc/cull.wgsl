@@ -86,15 +86,24 @@ fn slc_gpu_xi(seed: u32, j: u32) -> f32 {
     return 1.0 - f32(slc_pcg_hash(slc_pcg_hash(seed) ^ j) >> 8u) / 16777216.0;
 }
 
-fn slc_load_vpl(j: u32) -> SlcVpl {
+// Light j's ξ: as uploaded, or from the GPU's own stream.
+fn slc_light_xi(j: u32) -> f32 {
+    if (SP.xi_seed != 0u) {
+        return slc_gpu_xi(SP.xi_seed, j);
+    }
+    return lights[5u * j].w;
+}
+
+// Light j with its ξ given (drawn once per tile by the thread that culls it, not per pixel).
+fn slc_load_vpl_xi(j: u32, xi: f32) -> SlcVpl {
     let a = lights[5u * j];
     let b = lights[5u * j + 1u];
     let c = lights[5u * j + 2u];
-    var xi = a.w;
-    if (SP.xi_seed != 0u) {
-        xi = slc_gpu_xi(SP.xi_seed, j);
-    }
     return SlcVpl(a.xyz, xi, b.xyz, b.w, c.xyz, c.w > 0.5, lights[5u * j + 3u].xyz, lights[5u * j + 4u].xyz);
+}
+
+fn slc_load_vpl(j: u32) -> SlcVpl {
+    return slc_load_vpl_xi(j, slc_light_xi(j));
 }
 
 // The GGX BRDF f(a, b) per channel of f0 (height-correlated Smith G2, Schlick at a·h) for
@@ -169,6 +178,8 @@ var<workgroup> wg_list: array<u32, 256>;
 var<workgroup> wg_accepted: array<atomic<u32>, 256>;
 // Per kept light: the depth slices its bound meets (clustered shading; all bits otherwise).
 var<workgroup> wg_mask: array<u32, 256>;
+// Per kept light: its ξ.
+var<workgroup> wg_xi: array<f32, 256>;
 
 // Depth slice s of n over [zmin, zmax], widened by 1e-4 of the range plus 1e-6 of zmax
 // (CPU twin: baker::slc::cluster_range).
@@ -278,6 +289,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 let slot = atomicAdd(&wg_count, 1u);
                 wg_list[slot] = j;
                 wg_mask[slot] = mask;
+                wg_xi[slot] = slc_light_xi(j);
                 atomicStore(&wg_accepted[slot], 0u);
             }
         }
@@ -288,7 +300,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 if ((wg_mask[s] & slice_bit) == 0u) {
                     continue;
                 }
-                let v = slc_load_vpl(wg_list[s]);
+                let v = slc_load_vpl_xi(wg_list[s], wg_xi[s]);
                 let to = x - v.position;
                 let d2 = dot(to, to);
                 let d = sqrt(d2);
