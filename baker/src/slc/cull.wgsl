@@ -14,7 +14,7 @@
 //                   subregions; slc_filter_rows, slc_filter_cols: the bilateral filter's
 //                   two passes (CPU twin baker::slc::filter); each writes the pixel's
 //                   radiance ρ/π·E + S.
-// Needs from `shaders`: the slc module, ggx_d, ggx_g2, schlick_weight, tangent_frame, PI,
+// Needs from `shaders`: the slc module, ggx_d, ggx_lambda, schlick_weight, tangent_frame, PI,
 // INV_PI; slc_pcg_hash from hash.wgsl.
 
 struct SlcParams {
@@ -107,17 +107,36 @@ fn slc_load_vpl(j: u32) -> SlcVpl {
 }
 
 // The GGX BRDF f(a, b) per channel of f0 (height-correlated Smith G2, Schlick at a·h) for
-// a, b in the tangent frame of their surface (CPU twin: baker::slc::ggx_brdf).
-fn slc_ggx_local(a: vec3<f32>, b: vec3<f32>, alpha: f32, f0: vec3<f32>) -> vec3<f32> {
+// a, b in the tangent frame of their surface, given Λ(a) and Λ(b) (ignored where a_z or
+// b_z ≤ 0: f = 0) (CPU twin: baker::slc::ggx_brdf).
+fn slc_ggx_lambdas(a: vec3<f32>, b: vec3<f32>, lambda_a: f32, lambda_b: f32, alpha: f32, f0: vec3<f32>) -> vec3<f32> {
     if (a.z <= 0.0 || b.z <= 0.0) {
         return vec3<f32>(0.0);
     }
     let h = normalize(a + b);
-    return (f0 + (1.0 - f0) * schlick_weight(dot(a, h))) * (ggx_g2(a, b, alpha) * ggx_d(h, alpha) / (4.0 * a.z * b.z));
+    let g2 = 1.0 / (1.0 + lambda_a + lambda_b);
+    return (f0 + (1.0 - f0) * schlick_weight(dot(a, h))) * (g2 * ggx_d(h, alpha) / (4.0 * a.z * b.z));
 }
 
-// Radiant intensity towards unit wo per channel (CPU twin: Vpl::intensity).
-fn slc_vpl_intensity(v: SlcVpl, wo: vec3<f32>) -> vec3<f32> {
+// Smith Λ(w) where w_z > 0, else 0 (unused there).
+fn slc_lambda(w: vec3<f32>, alpha: f32) -> f32 {
+    return select(0.0, ggx_lambda(w, alpha), w.z > 0.0);
+}
+
+// What shading a GGX VPL needs per light, not per pixel: ω_i in the VPL's tangent frame
+// and Λ(ω_i) (0 for a diffuse VPL).
+fn slc_vpl_incoming(v: SlcVpl) -> vec4<f32> {
+    if (v.diffuse) {
+        return vec4<f32>(0.0);
+    }
+    let fr = tangent_frame(v.normal);
+    let wi = vec3<f32>(dot(v.incoming, fr[0]), dot(v.incoming, fr[1]), dot(v.incoming, v.normal));
+    return vec4<f32>(wi, slc_lambda(wi, v.alpha));
+}
+
+// Radiant intensity towards unit wo per channel, `incoming` = slc_vpl_incoming(v) (CPU
+// twin: Vpl::intensity).
+fn slc_vpl_intensity(v: SlcVpl, incoming: vec4<f32>, wo: vec3<f32>) -> vec3<f32> {
     let c = dot(wo, v.normal);
     if (c <= 0.0) {
         return vec3<f32>(0.0);
@@ -126,9 +145,8 @@ fn slc_vpl_intensity(v: SlcVpl, wo: vec3<f32>) -> vec3<f32> {
         return v.flux * v.refl * (c * INV_PI);
     }
     let fr = tangent_frame(v.normal);
-    let wi = vec3<f32>(dot(v.incoming, fr[0]), dot(v.incoming, fr[1]), dot(v.incoming, v.normal));
     let wl = vec3<f32>(dot(wo, fr[0]), dot(wo, fr[1]), c);
-    return v.flux * slc_ggx_local(wi, wl, v.alpha, v.refl) * c;
+    return v.flux * slc_ggx_lambdas(incoming.xyz, wl, incoming.w, ggx_lambda(wl, v.alpha), v.alpha, v.refl) * c;
 }
 
 @compute @workgroup_size(64)
@@ -180,6 +198,8 @@ var<workgroup> wg_accepted: array<atomic<u32>, 256>;
 var<workgroup> wg_mask: array<u32, 256>;
 // Per kept light: its ξ.
 var<workgroup> wg_xi: array<f32, 256>;
+// Per kept light: slc_vpl_incoming.
+var<workgroup> wg_incoming: array<vec4<f32>, 256>;
 
 // Depth slice s of n over [zmin, zmax], widened by 1e-4 of the range plus 1e-6 of zmax
 // (CPU twin: baker::slc::cluster_range).
@@ -228,6 +248,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let fr = tangent_frame(n);
     let wv = normalize(-x);
     let v_local = vec3<f32>(dot(wv, fr[0]), dot(wv, fr[1]), dot(wv, n));
+    let lambda_v = slc_lambda(v_local, alpha);
     if (t == 0u) {
         atomicStore(&wg_zmin, 0x7f800000u);
         atomicStore(&wg_zmax, 0u);
@@ -289,7 +310,9 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 let slot = atomicAdd(&wg_count, 1u);
                 wg_list[slot] = j;
                 wg_mask[slot] = mask;
-                wg_xi[slot] = slc_light_xi(j);
+                let xi = slc_light_xi(j);
+                wg_xi[slot] = xi;
+                wg_incoming[slot] = slc_vpl_incoming(slc_load_vpl_xi(j, xi));
                 atomicStore(&wg_accepted[slot], 0u);
             }
         }
@@ -305,7 +328,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 let d2 = dot(to, to);
                 let d = sqrt(d2);
                 let wo = to / d;
-                let intensity = slc_vpl_intensity(v, wo);
+                let intensity = slc_vpl_intensity(v, wg_incoming[s], wo);
                 let i = slc_max3(intensity);
                 shaded += 1u;
                 // The estimator's factor on this (light, pixel) (CPU twin: render_subregion).
@@ -327,7 +350,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                     if (glossy) {
                         let wl = -wo;
                         let l_local = vec3<f32>(dot(wl, fr[0]), dot(wl, fr[1]), dot(wl, n));
-                        specular += e * slc_ggx_local(l_local, v_local, alpha, f0);
+                        specular += e * slc_ggx_lambdas(l_local, v_local, slc_lambda(l_local, alpha), lambda_v, alpha, f0);
                     }
                 }
             }

@@ -52,7 +52,7 @@ pub fn kernel() -> Result<String, String> {
         "slc_culled_estimate",
         "slc_random_range",
         "ggx_d",
-        "ggx_g2",
+        "ggx_lambda",
         "schlick_weight",
         "tangent_frame",
         "PI",
