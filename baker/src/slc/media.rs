@@ -18,7 +18,11 @@
 //! every light, equiangular sampling over the whole segment, no culling.
 //!
 //! Isotropic phase function 1/(4π); transmittance exp(−σ_t·length inside the slab) on the
-//! camera ray and on the light's segment; no visibility (as the surface harness).
+//! camera ray and on the light's segment; no visibility (as the surface harness). Colour: a
+//! light's channels share its angular shape, so each light is estimated in its largest
+//! channel (its peak: the bounds hold every channel, as the surface VPLs' do) and the
+//! estimate scaled by power/peak per channel — the same estimator per channel, unbiased
+//! channel by channel.
 
 use crate::slc::{pixel_light_uniforms as slc_uniforms, GBuffer, TILE};
 use rayon::prelude::*;
@@ -71,13 +75,13 @@ impl Medium {
 }
 
 /// A light in the medium (view space): an isotropic point light (`normal` zero) of
-/// intensity power/(4π), or a diffuse VPL of intensity power·max(d·n, 0)/π.
+/// intensity power/(4π) per channel, or a diffuse VPL of intensity power·max(d·n, 0)/π.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MediaLight {
     pub position: Vec3,
     pub normal: Vec3,
-    /// Emitted power Φ (point light) or reflected flux Φk (diffuse VPL).
-    pub power: f32,
+    /// Emitted power Φ (point light) or reflected flux Φ ⊙ k (diffuse VPL), RGB, ≥ 0.
+    pub power: Vec3,
     /// The light's one ξ ∈ (0, 1].
     pub xi: f32,
 }
@@ -87,12 +91,27 @@ impl MediaLight {
         self.normal == Vec3::ZERO
     }
 
-    /// Radiant intensity towards unit `d`.
+    /// The largest channel of the power: the channel the light is estimated and bounded in.
+    pub fn peak(&self) -> f32 {
+        self.power.max_element()
+    }
+
+    /// Each channel's power over the peak (0 for a black light).
+    pub fn tint(&self) -> Vec3 {
+        let p = self.peak();
+        if p > 0.0 {
+            self.power / p
+        } else {
+            Vec3::ZERO
+        }
+    }
+
+    /// Radiant intensity of the peak channel towards unit `d`.
     pub fn intensity(&self, d: Vec3) -> f32 {
         if self.is_point() {
-            self.power / (4.0 * PI)
+            self.peak() / (4.0 * PI)
         } else {
-            self.power * d.dot(self.normal).max(0.0) / PI
+            self.peak() * d.dot(self.normal).max(0.0) / PI
         }
     }
 
@@ -100,9 +119,9 @@ impl MediaLight {
     /// the bound I_max(d) of 001 supp. eq. 7 for a diffuse VPL.
     pub fn intensity_bound(&self, d: Vec3) -> f32 {
         if self.is_point() {
-            self.power / (4.0 * PI)
+            self.peak() / (4.0 * PI)
         } else {
-            slc::diffuse_intensity_bound(d.dot(self.normal), self.power)
+            slc::diffuse_intensity_bound(d.dot(self.normal), self.peak())
         }
     }
 
@@ -110,9 +129,9 @@ impl MediaLight {
     /// the inner sphere, where P = 1).
     pub fn sphere(&self, delta: f32, xi: f32) -> slc::Sphere {
         if self.is_point() {
-            slc::point_sphere(self.position, self.power / (4.0 * PI), delta, xi)
+            slc::point_sphere(self.position, self.peak() / (4.0 * PI), delta, xi)
         } else {
-            slc::diffuse_sphere(self.position, self.normal, self.power, delta, xi)
+            slc::diffuse_sphere(self.position, self.normal, self.peak(), delta, xi)
         }
     }
 }
@@ -127,7 +146,8 @@ pub enum MediaMode {
 /// In-scattered radiance per pixel and the culling statistics.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MediaRender {
-    pub image: Vec<f32>,
+    /// RGB radiance per pixel.
+    pub image: Vec<Vec3>,
     /// Lights kept by the pixel's tile.
     pub lights_per_pixel: Vec<u32>,
     /// Of those, lights whose sphere the pixel's ray segment misses (they add 0).
@@ -173,9 +193,9 @@ fn closest(d: Vec3, q: Vec3) -> (f32, f32) {
     (tc, (q - d * tc).length().max(1e-6 * (1.0 + q.length())))
 }
 
-/// One estimate of light `l`'s in-scattering along the ray d over [t0, t1] in `mode`,
-/// from two uniforms; in culled mode None when the ray misses the light's sphere (a
-/// false discovery of the tile).
+/// One estimate of light `l`'s in-scattering (its peak channel) along the ray d over
+/// [t0, t1] in `mode`, from two uniforms; in culled mode None when the ray misses the
+/// light's sphere (a false discovery of the tile).
 pub fn estimate(m: &Medium, l: &MediaLight, delta: f32, mode: MediaMode, d: Vec3, (t0, t1): (f32, f32), u: [f32; 2]) -> Option<f32> {
     let (tc, h) = closest(d, l.position);
     if mode == MediaMode::BruteForce {
@@ -192,7 +212,7 @@ pub fn estimate(m: &Medium, l: &MediaLight, delta: f32, mode: MediaMode, d: Vec3
         None => vec![outer],
     };
     let outer_len: f32 = parts.iter().map(|(a, b)| b - a).sum();
-    let representative = if l.is_point() { l.power / (4.0 * PI) } else { l.power / PI };
+    let representative = if l.is_point() { l.peak() / (4.0 * PI) } else { l.peak() / PI };
     let w_in = inner.map_or(0.0, |(a, b)| {
         let angle = (b - tc).atan2(h) - (a - tc).atan2(h);
         representative * angle / h
@@ -227,12 +247,12 @@ pub fn estimate(m: &Medium, l: &MediaLight, delta: f32, mode: MediaMode, d: Vec3
     Some(if pdf > 0.0 && p > 0.0 { f / (p * pdf) } else { 0.0 })
 }
 
-/// Renders the single-scattered radiance of `lights` in `m` seen through `g`'s pixels
+/// Renders the single-scattered RGB radiance of `lights` in `m` seen through `g`'s pixels
 /// (the G-buffer only ends rays at surfaces), one sample per pixel and light from
 /// (`seed`, pixel, light) — identical for any thread count.
 pub fn render(g: &GBuffer, m: &Medium, lights: &[MediaLight], delta: f32, mode: MediaMode, seed: u64) -> MediaRender {
     let (tw, th) = (g.width.div_ceil(TILE), g.height.div_ceil(TILE));
-    let tiles: Vec<Vec<(usize, f32, u32, u32)>> = (0..tw * th)
+    let tiles: Vec<Vec<(usize, Vec3, u32, u32)>> = (0..tw * th)
         .into_par_iter()
         .map(|tile| {
             let (tx, ty) = (tile % tw, tile / tw);
@@ -262,12 +282,12 @@ pub fn render(g: &GBuffer, m: &Medium, lights: &[MediaLight], delta: f32, mode: 
                 .iter()
                 .map(|&k| {
                     let (d, seg) = ray_segment(g, m, k);
-                    let Some(seg) = seg else { return (k, 0.0, kept.len() as u32, kept.len() as u32) };
-                    let (mut sum, mut misses) = (0.0f32, 0u32);
+                    let Some(seg) = seg else { return (k, Vec3::ZERO, kept.len() as u32, kept.len() as u32) };
+                    let (mut sum, mut misses) = (Vec3::ZERO, 0u32);
                     for &j in &kept {
                         let u = slc_uniforms(seed, k as u64, j as u64);
                         match estimate(m, &lights[j], delta, mode, d, seg, u) {
-                            Some(v) => sum += v,
+                            Some(v) => sum += v * lights[j].tint(),
                             None => misses += 1,
                         }
                     }
@@ -277,7 +297,7 @@ pub fn render(g: &GBuffer, m: &Medium, lights: &[MediaLight], delta: f32, mode: 
         })
         .collect();
     let n = g.width * g.height;
-    let mut out = MediaRender { image: vec![0.0; n], lights_per_pixel: vec![0; n], false_per_pixel: vec![0; n] };
+    let mut out = MediaRender { image: vec![Vec3::ZERO; n], lights_per_pixel: vec![0; n], false_per_pixel: vec![0; n] };
     for (k, v, c, f) in tiles.into_iter().flatten() {
         out.image[k] = v;
         out.lights_per_pixel[k] = c;

@@ -28,23 +28,27 @@ struct MediaParams {
 @group(0) @binding(0) var<uniform> MP: MediaParams;
 // Per pixel: the distance along its camera ray to the surface (3.4e38: none).
 @group(0) @binding(1) var<storage, read> surface_distance: array<f32>;
-// Per light 2 vec4: (position, power Φ or Φk), (normal (zero: a point light), ξ).
+// Per light 3 vec4: (position, peak: the largest channel of the power Φ or Φ ⊙ k), (normal
+// (zero: a point light), ξ), (power / peak per channel, 0) — estimated in the peak channel,
+// scaled per channel (CPU twin: MediaLight::peak, tint).
 @group(0) @binding(2) var<storage, read> mlights: array<vec4<f32>>;
-// Per pixel: (radiance, lights kept by the tile, of those the ones whose sphere the pixel's
-// segment misses (false discoveries), 0).
+// Per pixel 2 vec4: (RGB radiance, lights kept by the tile), (of those the ones whose sphere
+// the pixel's segment misses (false discoveries), 0, 0, 0).
 @group(0) @binding(3) var<storage, read_write> mout: array<vec4<f32>>;
 
 struct MediaLight {
     position: vec3<f32>,
+    // The peak channel's power.
     power: f32,
     normal: vec3<f32>,
     xi: f32,
+    tint: vec3<f32>,
 }
 
 fn media_light(j: u32) -> MediaLight {
-    let a = mlights[2u * j];
-    let b = mlights[2u * j + 1u];
-    return MediaLight(a.xyz, a.w, b.xyz, b.w);
+    let a = mlights[3u * j];
+    let b = mlights[3u * j + 1u];
+    return MediaLight(a.xyz, a.w, b.xyz, b.w, mlights[3u * j + 2u].xyz);
 }
 
 fn media_is_point(l: MediaLight) -> bool {
@@ -234,7 +238,7 @@ fn media_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invoc
     let seg0 = MP.near * per_depth;
     let seg1 = min(MP.far * per_depth, surface);
     let has_segment = seg1 > seg0;
-    var radiance = 0.0;
+    var radiance = vec3<f32>(0.0);
     var kept = 0u;
     var misses = 0u;
     for (var base = 0u; base < MP.light_count; base += 256u) {
@@ -260,8 +264,9 @@ fn media_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invoc
         if (inside && has_segment) {
             for (var s = 0u; s < count; s++) {
                 let lj = mwg_list[s];
-                let e = media_estimate(media_light(lj), d, seg0, seg1, media_uniforms(k, lj));
-                radiance += e.x;
+                let l = media_light(lj);
+                let e = media_estimate(l, d, seg0, seg1, media_uniforms(k, lj));
+                radiance += e.x * l.tint;
                 misses += u32(e.y < 0.5);
             }
         } else {
@@ -270,6 +275,7 @@ fn media_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invoc
         workgroupBarrier();
     }
     if (inside) {
-        mout[k] = vec4<f32>(radiance, f32(kept), f32(misses), 0.0);
+        mout[2u * k] = vec4<f32>(radiance, f32(kept));
+        mout[2u * k + 1u] = vec4<f32>(f32(misses), 0.0, 0.0, 0.0);
     }
 }

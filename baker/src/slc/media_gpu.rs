@@ -5,6 +5,7 @@
 
 use crate::slc::media::{MediaLight, MediaMode, MediaRender, Medium};
 use crate::slc::{GBuffer, TILE};
+use sbf::glam::Vec3;
 use shaders::gpu::Gpu;
 use wgpu::util::DeviceExt;
 
@@ -52,6 +53,14 @@ pub fn kernel() -> Result<String, String> {
     super::gpu::compose_kernel("slc-media", &roots, KERNEL)
 }
 
+/// The lights as the kernel reads them: per light (position, peak), (normal, ξ), (tint, 0).
+fn light_vectors(lights: &[MediaLight]) -> Vec<[f32; 4]> {
+    lights
+        .iter()
+        .flat_map(|l| [l.position.extend(l.peak()).to_array(), l.normal.extend(l.xi).to_array(), l.tint().extend(0.0).to_array()])
+        .collect()
+}
+
 /// A G-buffer, medium and light set uploaded with the pipeline built.
 #[derive(Debug)]
 pub struct MediaGpu<'g> {
@@ -90,10 +99,9 @@ impl<'g> MediaGpu<'g> {
             far: if m.far.is_finite() { m.far } else { f32::MAX },
         };
         let dist: Vec<f32> = g.texels.iter().map(|t| t.map_or(3.4e38, |s| s.position.length())).collect();
-        let lv: Vec<[f32; 4]> =
-            lights.iter().flat_map(|l| [l.position.extend(l.power).to_array(), l.normal.extend(l.xi).to_array()]).collect();
+        let lv = light_vectors(lights);
         shaders::gpu::check_bindings(
-            &[("lights", (lv.len() * 16) as u64), ("image", (dist.len() * 16) as u64)],
+            &[("lights", (lv.len() * 16) as u64), ("image", (dist.len() * 32) as u64)],
             d.limits().max_storage_buffer_binding_size,
         )?;
         let init = |label: &str, bytes: &[u8], usage| {
@@ -106,7 +114,7 @@ impl<'g> MediaGpu<'g> {
             bytemuck::cast_slice(if lv.is_empty() { &[[0.0f32; 4]][..] } else { &lv }),
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         );
-        let out_buf = init("media image", &vec![0u8; dist.len() * 16], wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+        let out_buf = init("media image", &vec![0u8; dist.len() * 32], wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
         let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("media_cull_shade"),
             layout: None,
@@ -141,8 +149,7 @@ impl<'g> MediaGpu<'g> {
         if lights.len() as u32 != self.params.light_count {
             return Err(format!("{} lights given, {} uploaded", lights.len(), self.params.light_count));
         }
-        let lv: Vec<[f32; 4]> =
-            lights.iter().flat_map(|l| [l.position.extend(l.power).to_array(), l.normal.extend(l.xi).to_array()]).collect();
+        let lv = light_vectors(lights);
         self.gpu.queue().write_buffer(&self.light_buf, 0, bytemuck::cast_slice(&lv));
         Ok(())
     }
@@ -167,9 +174,9 @@ impl<'g> MediaGpu<'g> {
         self.dispatch(mode, seed);
         let px: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&self.gpu.read_back(&self.out_buf)?);
         Ok(MediaRender {
-            image: px.iter().map(|p| p[0]).collect(),
-            lights_per_pixel: px.iter().map(|p| p[1] as u32).collect(),
-            false_per_pixel: px.iter().map(|p| p[2] as u32).collect(),
+            image: px.chunks_exact(2).map(|p| Vec3::new(p[0][0], p[0][1], p[0][2])).collect(),
+            lights_per_pixel: px.chunks_exact(2).map(|p| p[0][3] as u32).collect(),
+            false_per_pixel: px.chunks_exact(2).map(|p| p[1][0] as u32).collect(),
         })
     }
 

@@ -15,8 +15,8 @@ use std::time::Instant;
 /// lights (spot lights as the point lights they are inside their cone; directional ones left
 /// out — counted), `extra` point lights uniform in the scene's bounds `(lo, hi)` sharing the
 /// power 4πR² W (R the bounding radius: an irradiance of 1 W/m² at R from each, summed), and
-/// the diffuse VPLs (already in view space; their Φk's luminance: the medium renders
-/// luminance). Returns (lights, spots as points, directional left out).
+/// the diffuse VPLs (already in view space; their Φ ⊙ k). Powers are RGB. Returns (lights,
+/// spots as points, directional left out).
 fn lights(
     scene_lights: &[Light],
     (lo, hi): (Vec3, Vec3),
@@ -33,8 +33,7 @@ fn lights(
             Light::Point { position, intensity, .. } | Light::Spot { position, intensity, .. } => {
                 spots += matches!(l, Light::Spot { .. }) as usize;
                 let xi = 1.0 - rng.next_f64() as f32;
-                let power = (crate::scene::lights::luminance(intensity) * 4.0 * std::f64::consts::PI) as f32;
-                out.push(MediaLight { position: position - eye, normal: Vec3::ZERO, power, xi });
+                out.push(MediaLight { position: position - eye, normal: Vec3::ZERO, power: intensity * (4.0 * std::f32::consts::PI), xi });
             }
             Light::Directional { .. } => directional += 1,
         }
@@ -44,13 +43,13 @@ fn lights(
         let [a, b] = rng.next_2d();
         let c = rng.next_f64();
         let p = lo + (hi - lo) * Vec3::new(a as f32, b as f32, c as f32);
-        let power = 4.0 * std::f32::consts::PI * radius * radius / extra as f32;
+        let power = Vec3::splat(4.0 * std::f32::consts::PI * radius * radius / extra as f32);
         out.push(MediaLight { position: p - eye, normal: Vec3::ZERO, power, xi: super::vpl_xi(seed ^ 0x2560, k as u64) });
     }
     out.extend(vpls.iter().filter(|v| v.is_diffuse()).map(|v| MediaLight {
         position: v.position,
         normal: v.normal,
-        power: crate::scene::lights::luminance(v.flux * v.diffuse) as f32,
+        power: v.flux * v.diffuse,
         xi: v.xi,
     }));
     (out, spots, directional)
@@ -93,7 +92,9 @@ pub fn render(
     let (culled, ct) = run(MediaMode::Culled)?;
     let (brute, bt) = run(MediaMode::BruteForce)?;
     let n = (g.width * g.height) as f64;
-    let mean = |v: &[f32]| v.iter().map(|x| *x as f64).sum::<f64>() / n;
+    // Means of the images' luminance and of each channel.
+    let mean = |v: &[Vec3]| output::luminances(v).iter().map(|x| *x as f64).sum::<f64>() / n;
+    let mean_rgb = |v: &[Vec3]| v.iter().fold([0.0f64; 3], |a, c| [a[0] + c.x as f64 / n, a[1] + c.y as f64 / n, a[2] + c.z as f64 / n]);
     let shaded: u64 = culled.lights_per_pixel.iter().map(|x| *x as u64).sum();
     let fd: u64 = culled.false_per_pixel.iter().map(|x| *x as u64).sum();
     let device = match gpu {
@@ -101,7 +102,7 @@ pub fn render(
         None => format!("CPU on {} threads", rayon::current_num_threads()),
     };
     log(format!(
-        "slc medium ({} lights: {} extra point lights; {device}): culled {:.3} ms ({:.1} lights per pixel, false discovery rate {:.3}), brute force {:.3} ms; image means {:.6e} / {:.6e}",
+        "slc medium ({} lights: {} extra point lights; {device}): culled {:.3} ms ({:.1} lights per pixel, false discovery rate {:.3}), brute force {:.3} ms; image means (luminance) {:.6e} / {:.6e}",
         lights.len(),
         s.point_lights,
         ct * 1e3,
@@ -112,11 +113,12 @@ pub fn render(
         mean(&brute.image)
     ));
     let gray = |v: &[f32]| -> Vec<[f32; 3]> { v.iter().map(|x| [*x; 3]).collect() };
+    let rgb = |v: &[Vec3]| -> Vec<[f32; 3]> { v.iter().map(|c| c.to_array()).collect() };
     let ones = vec![1.0f32; g.width * g.height];
-    output::write_exr(&s.out.join("slc_medium.exr"), g.width, g.height, &gray(&culled.image), &ones)?;
-    output::write_exr(&s.out.join("slc_medium_brute.exr"), g.width, g.height, &gray(&brute.image), &ones)?;
-    let scale = output::exposure_scale(&brute.image);
-    output::save_png(&s.out.join("slc_medium.png"), &output::tonemap(g.width, g.height, &culled.image, scale))?;
+    output::write_exr(&s.out.join("slc_medium.exr"), g.width, g.height, &rgb(&culled.image), &ones)?;
+    output::write_exr(&s.out.join("slc_medium_brute.exr"), g.width, g.height, &rgb(&brute.image), &ones)?;
+    let scale = output::exposure_scale(&output::luminances(&brute.image));
+    output::save_png(&s.out.join("slc_medium.png"), &output::tonemap_rgb(g.width, g.height, &culled.image, scale))?;
     // The false discovery rate per pixel (001 supplement Fig. 1: blue 0 → red 100 %).
     let fdr: Vec<f32> = culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
     let kept: Vec<f32> = culled.lights_per_pixel.iter().map(|x| (*x > 0) as u8 as f32).collect();
@@ -127,6 +129,7 @@ pub fn render(
         "spot_lights_as_points": spots, "directional_lights_left_out": directional, "device": device,
         "culled_seconds": ct, "brute_force_seconds": bt, "lights_per_pixel": shaded as f64 / n,
         "false_discovery_rate": fd as f64 / shaded.max(1) as f64, "culled_mean": mean(&culled.image), "brute_force_mean": mean(&brute.image),
+        "culled_mean_rgb": mean_rgb(&culled.image), "brute_force_mean_rgb": mean_rgb(&brute.image),
         "image": "slc_medium.exr (slc_medium.png)", "brute_force_image": "slc_medium_brute.exr",
         "false_discovery_image": "slc_medium_fdr.exr (slc_medium_fdr.png: blue 0 → red 100 %)",
     }))
@@ -149,12 +152,12 @@ mod tests {
         }
     }
 
-    /// Each light's power against its closed form, written here: a point light of intensity I
-    /// emits Φ = 4π·lum(I) (lum = 0.2126 R + 0.7152 G + 0.0722 B, Rec. 709); a diffuse VPL
-    /// reflects lum(Φ ⊙ k); the extra lights share 4πR² with R half the bounds' diagonal, and
-    /// sit inside the bounds; positions are view space (−eye); a GGX VPL and a directional light
-    /// are left out. Tolerance: f32 rounding of a handful of products (1e-6 relative).
-    /// Mutations tried: lum(Φ) for lum(Φ ⊙ k); a point light's power without 4π; the extra
+    /// Each light's RGB power against its closed form, written here: a point light of
+    /// intensity I emits Φ = 4π·I per channel; a diffuse VPL reflects Φ ⊙ k; the extra lights
+    /// share 4πR² (white) with R half the bounds' diagonal, and sit inside the bounds;
+    /// positions are view space (−eye); a GGX VPL and a directional light are left out.
+    /// Tolerance: f32 rounding of a handful of products (1e-6 relative).
+    /// Mutations tried: Φ for Φ ⊙ k; a point light's power without 4π; the extra
     /// lights' share not divided by their count; the eye not subtracted; `hi·u` for
     /// `(hi − lo)·u`; a scene light's ξ = u (may be 0); the extra lights' ξ from the VPLs'
     /// stream — each fails.
@@ -177,26 +180,29 @@ mod tests {
         let (lo, hi) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(5.0, 5.0, 5.0));
         let (l, spots, directional) = lights(&scene, (lo, hi), eye, 7, 8, &vpls);
         assert_eq!((l.len(), spots, directional), (2 + 8 + 1, 1, 1));
-        let close = |a: f32, b: f64| ((a as f64 - b) / b).abs() < 1e-6;
+        let close = |a: f32, b: f64| if b == 0.0 { a == 0.0 } else { ((a as f64 - b) / b).abs() < 1e-6 };
+        let close3 = |a: Vec3, b: [f64; 3]| (0..3).all(|c| close(a[c], b[c]));
         let four_pi = 4.0 * std::f64::consts::PI;
-        assert!(close(l[0].power, four_pi * (0.2126 + 0.7152 * 2.0 + 0.0722 * 3.0)), "point light: {}", l[0].power);
-        assert!(close(l[1].power, four_pi * 0.2126 * 4.0), "spot light: {}", l[1].power);
+        assert!(close3(l[0].power, [four_pi, four_pi * 2.0, four_pi * 3.0]), "point light: {}", l[0].power);
+        assert!(close3(l[1].power, [four_pi * 4.0, 0.0, 0.0]), "spot light: {}", l[1].power);
         assert_eq!((l[0].position, l[0].normal), (Vec3::new(-1.0, -1.0, -3.0), Vec3::ZERO));
         let r2 = 0.25 * (16.0 + 9.0 + 4.0);
         for x in &l[..2] {
             assert!(x.xi > 0.0 && x.xi <= 1.0, "scene light ξ {}", x.xi);
         }
-        let extra: f64 = l[2..10].iter().map(|x| x.power as f64).sum();
-        assert!(close(extra as f32, four_pi * r2), "extra lights: {extra}");
+        for c in 0..3 {
+            let extra: f64 = l[2..10].iter().map(|x| x.power[c] as f64).sum();
+            assert!(close(extra as f32, four_pi * r2), "extra lights, channel {c}: {extra}");
+        }
         for (k, x) in l[2..10].iter().enumerate() {
             let p = x.position + eye;
             assert!(p.cmpge(lo).all() && p.cmple(hi).all() && x.normal == Vec3::ZERO && x.xi > 0.0 && x.xi <= 1.0, "{x:?}");
             // Their own stream of ξ, not the VPLs' (path k of the same seed).
             assert_ne!(x.xi, super::super::vpl_xi(7, k as u64), "extra light {k} shares a VPL's ξ");
         }
-        // Φ ⊙ k = (1, 1, 1): luminance 1.
+        // Φ ⊙ k = (2, 4, 8) ⊙ (0.5, 0.25, 0.125) = (1, 1, 1).
         let v = l[10];
-        assert!(close(v.power, 1.0), "diffuse VPL: {}", v.power);
+        assert!(close3(v.power, [1.0; 3]), "diffuse VPL: {}", v.power);
         assert_eq!((v.position, v.normal, v.xi), (vpls[0].position, Vec3::Y, 0.25));
     }
 }
