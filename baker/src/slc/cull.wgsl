@@ -6,7 +6,8 @@
 //                   (workgroup z; pixel (I·(16·tile + lid) + s)): the tile's depth range from the
 //                   G-buffer (workgroup atomics), split in two (Modified HalfZ); lights in
 //                   chunks of 256, each thread testing one light and appending the kept
-//                   ones to a shared list; every pixel then shades the list with the
+//                   ones to a shared list with what is per light, not per pixel (its ξ; a
+//                   GGX VPL's ω_i in its frame and Λ(ω_i)); every pixel then shades the list with the
 //                   stochastic falloff L/p where p > ξ into its two RGB layers (irradiance E,
 //                   the GGX layer's radiance S); per kept light a shared flag says whether
 //                   any pixel accepted it (false positives for the FDR).
