@@ -85,6 +85,21 @@ pub fn check_bindings(buffers: &[(&str, u64)], max_binding: u64) -> Result<(), S
     }
 }
 
+/// Checks the workgroup memory `wgsl`'s entry points may use (the sum of its `var<workgroup>`
+/// sizes, as naga lays them out) against the adapter's limit before a pipeline is made: over
+/// the limit, wgpu's pipeline creation fails with a validation panic instead of an error.
+pub fn check_workgroup_memory(what: &str, wgsl: &str, max_bytes: u32) -> Result<(), String> {
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| format!("{what}: {}", e.emit_to_string(wgsl)))?;
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).map_err(|e| format!("{what}: laying out its types: {e}"))?;
+    let bytes: u32 =
+        module.global_variables.iter().filter(|(_, v)| v.space == naga::AddressSpace::WorkGroup).map(|(_, v)| layouter[v.ty].size).sum();
+    if bytes > max_bytes {
+        return Err(format!("{what} needs {bytes} bytes of workgroup memory; the adapter allows {max_bytes}"));
+    }
+    Ok(())
+}
+
 /// One device per process, created on first use and shared by every caller (tests run
 /// on many threads: one device avoids N concurrent device creations and N first-time
 /// pipeline compilations competing on a freshly started driver). The error is kept too,

@@ -5,9 +5,9 @@
 //   slc_cull_shade  one 16 × 16 workgroup per tile of one interleaving subregion
 //                   (workgroup z; pixel (I·(16·tile + lid) + s)): the tile's depth range from the
 //                   G-buffer (workgroup atomics), split in two (Modified HalfZ); lights in
-//                   chunks of 256, each thread testing one light and appending the kept
-//                   ones to a shared list with what is per light, not per pixel (its ξ; a
-//                   GGX VPL's ω_i in its frame and Λ(ω_i)); every pixel then shades the list with the
+//                   chunks of 256, each thread testing one light and copying the kept
+//                   ones into workgroup memory with what is per light, not per pixel (its ξ;
+//                   a GGX VPL's ω_i in its frame and Λ(ω_i)); every pixel then shades them with the
 //                   stochastic falloff L/p where p > ξ into its two RGB layers (irradiance E,
 //                   the GGX layer's radiance S); per kept light a shared flag says whether
 //                   any pixel accepted it (false positives for the FDR).
@@ -95,16 +95,11 @@ fn slc_light_xi(j: u32) -> f32 {
     return lights[5u * j].w;
 }
 
-// Light j with its ξ given (drawn once per tile by the thread that culls it, not per pixel).
-fn slc_load_vpl_xi(j: u32, xi: f32) -> SlcVpl {
+fn slc_load_vpl(j: u32) -> SlcVpl {
     let a = lights[5u * j];
     let b = lights[5u * j + 1u];
     let c = lights[5u * j + 2u];
-    return SlcVpl(a.xyz, xi, b.xyz, b.w, c.xyz, c.w > 0.5, lights[5u * j + 3u].xyz, lights[5u * j + 4u].xyz);
-}
-
-fn slc_load_vpl(j: u32) -> SlcVpl {
-    return slc_load_vpl_xi(j, slc_light_xi(j));
+    return SlcVpl(a.xyz, slc_light_xi(j), b.xyz, b.w, c.xyz, c.w > 0.5, lights[5u * j + 3u].xyz, lights[5u * j + 4u].xyz);
 }
 
 // The GGX BRDF f(a, b) per channel of f0 (height-correlated Smith G2, Schlick at a·h) for
@@ -133,21 +128,6 @@ fn slc_vpl_incoming(v: SlcVpl) -> vec4<f32> {
     let fr = tangent_frame(v.normal);
     let wi = vec3<f32>(dot(v.incoming, fr[0]), dot(v.incoming, fr[1]), dot(v.incoming, v.normal));
     return vec4<f32>(wi, slc_lambda(wi, v.alpha));
-}
-
-// Radiant intensity towards unit wo per channel, `incoming` = slc_vpl_incoming(v) (CPU
-// twin: Vpl::intensity).
-fn slc_vpl_intensity(v: SlcVpl, incoming: vec4<f32>, wo: vec3<f32>) -> vec3<f32> {
-    let c = dot(wo, v.normal);
-    if (c <= 0.0) {
-        return vec3<f32>(0.0);
-    }
-    if (v.diffuse) {
-        return v.flux * v.refl * (c * INV_PI);
-    }
-    let fr = tangent_frame(v.normal);
-    let wl = vec3<f32>(dot(wo, fr[0]), dot(wo, fr[1]), c);
-    return v.flux * slc_ggx_lambdas(incoming.xyz, wl, incoming.w, ggx_lambda(wl, v.alpha), v.alpha, v.refl) * c;
 }
 
 @compute @workgroup_size(64)
@@ -193,14 +173,35 @@ const SLC_CHUNK: u32 = 256u;
 var<workgroup> wg_zmin: atomic<u32>;
 var<workgroup> wg_zmax: atomic<u32>;
 var<workgroup> wg_count: atomic<u32>;
-var<workgroup> wg_list: array<u32, 256>;
 var<workgroup> wg_accepted: array<atomic<u32>, 256>;
 // Per kept light: the depth slices its bound meets (clustered shading; all bits otherwise).
 var<workgroup> wg_mask: array<u32, 256>;
-// Per kept light: its ξ.
-var<workgroup> wg_xi: array<f32, 256>;
-// Per kept light: slc_vpl_incoming.
+// Per kept light, what shading reads (slc_kept_intensity): (position, ξ), (normal, α),
+// (Φ·k for a diffuse VPL, Φ for a GGX one; 1 diffuse / 0 GGX), (GGX F0, 0) and
+// slc_vpl_incoming — loaded once per tile from `lights` by the thread that culls the light.
+var<workgroup> wg_position: array<vec4<f32>, 256>;
+var<workgroup> wg_normal: array<vec4<f32>, 256>;
+var<workgroup> wg_power: array<vec4<f32>, 256>;
+var<workgroup> wg_f0: array<vec4<f32>, 256>;
 var<workgroup> wg_incoming: array<vec4<f32>, 256>;
+
+// Radiant intensity of kept light s towards unit wo per channel, from the workgroup's copy
+// (CPU twin: Vpl::intensity).
+fn slc_kept_intensity(s: u32, wo: vec3<f32>) -> vec3<f32> {
+    let nb = wg_normal[s];
+    let c = dot(wo, nb.xyz);
+    if (c <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let pw = wg_power[s];
+    if (pw.w > 0.5) {
+        return pw.xyz * (c * INV_PI);
+    }
+    let incoming = wg_incoming[s];
+    let fr = tangent_frame(nb.xyz);
+    let wl = vec3<f32>(dot(wo, fr[0]), dot(wo, fr[1]), c);
+    return pw.xyz * slc_ggx_lambdas(incoming.xyz, wl, incoming.w, ggx_lambda(wl, nb.w), nb.w, wg_f0[s].xyz) * c;
+}
 
 // Depth slice s of n over [zmin, zmax], widened by 1e-4 of the range plus 1e-6 of zmax
 // (CPU twin: baker::slc::cluster_range).
@@ -309,11 +310,13 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
             }
             if (mask != 0u) {
                 let slot = atomicAdd(&wg_count, 1u);
-                wg_list[slot] = j;
                 wg_mask[slot] = mask;
-                let xi = slc_light_xi(j);
-                wg_xi[slot] = xi;
-                wg_incoming[slot] = slc_vpl_incoming(slc_load_vpl_xi(j, xi));
+                let v = slc_load_vpl(j);
+                wg_position[slot] = vec4<f32>(v.position, v.xi);
+                wg_normal[slot] = vec4<f32>(v.normal, v.alpha);
+                wg_power[slot] = vec4<f32>(select(v.flux, v.flux * v.refl, v.diffuse), select(0.0, 1.0, v.diffuse));
+                wg_f0[slot] = vec4<f32>(v.refl, 0.0);
+                wg_incoming[slot] = slc_vpl_incoming(v);
                 atomicStore(&wg_accepted[slot], 0u);
             }
         }
@@ -324,12 +327,13 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 if ((wg_mask[s] & slice_bit) == 0u) {
                     continue;
                 }
-                let v = slc_load_vpl_xi(wg_list[s], wg_xi[s]);
-                let to = x - v.position;
+                let pos = wg_position[s];
+                let xi = pos.w;
+                let to = x - pos.xyz;
                 let d2 = dot(to, to);
                 let d = sqrt(d2);
                 let wo = to / d;
-                let intensity = slc_vpl_intensity(v, wg_incoming[s], wo);
+                let intensity = slc_kept_intensity(s, wo);
                 let i = slc_max3(intensity);
                 shaded += 1u;
                 // The estimator's factor on this (light, pixel) (CPU twin: render_subregion).
@@ -338,12 +342,12 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                     f = select(0.0, 1.0, d <= slc_random_range(i, SP.delta, 0.5));
                 } else if ((SP.mode & 3u) == 0u) {
                     let p = slc_acceptance(i, SP.delta, d);
-                    if (p > v.xi) {
+                    if (p > xi) {
                         atomicStore(&wg_accepted[s], 1u);
                     } else {
                         false_hits += 1u;
                     }
-                    f = slc_culled_estimate(1.0, p, v.xi);
+                    f = slc_culled_estimate(1.0, p, xi);
                 }
                 if (f > 0.0) {
                     let e = intensity * (max(dot(-wo, n), 0.0) / d2 * f);

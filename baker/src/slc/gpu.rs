@@ -107,6 +107,7 @@ impl<'g> SlcGpu<'g> {
         }
         let d = gpu.device();
         let source = kernel()?;
+        shaders::gpu::check_workgroup_memory("slc_cull.wgsl", &source, d.limits().max_compute_workgroup_storage_size)?;
         let module =
             d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("slc"), source: wgpu::ShaderSource::Wgsl(source.into()) });
         let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {

@@ -80,9 +80,11 @@ impl<'g> MediaGpu<'g> {
     pub fn new(gpu: &'g Gpu, g: &GBuffer, m: &Medium, lights: &[MediaLight], delta: f32) -> Result<Self, String> {
         m.validate()?;
         let d = gpu.device();
+        let source = kernel()?;
+        shaders::gpu::check_workgroup_memory("slc media.wgsl", &source, d.limits().max_compute_workgroup_storage_size)?;
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("slc media"),
-            source: wgpu::ShaderSource::Wgsl(kernel()?.into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let params = MediaParams {
             width: g.width as u32,
