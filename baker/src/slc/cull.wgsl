@@ -45,8 +45,9 @@ struct SlcParams {
 }
 
 @group(0) @binding(0) var<uniform> SP: SlcParams;
-// Per pixel 4 vec4: (view-space position, 1 if valid), (normal, GGX α), (albedo ρ, 0),
-// (GGX F0, 0; zero: Lambert only).
+// Two planes of 2 vec4 per pixel, the geometry the culling and the filter's taps read
+// first, then the material: (view-space position, 1 if valid), (normal, GGX α) at 2k,
+// 2k + 1; (albedo ρ, 0), (GGX F0, 0; zero: Lambert only) at 2N + 2k, 2N + 2k + 1 (N pixels).
 @group(0) @binding(1) var<storage, read> gbuffer: array<vec4<f32>>;
 // Per light 5 vec4: (position, ξ), (normal, α), (incoming ω_i, 1 diffuse / 0 GGX),
 // (flux Φ, 0), (diffuse k or GGX F0, 0).
@@ -74,6 +75,23 @@ struct SlcVpl {
     flux: vec3<f32>,
     // Diffuse k or GGX F0.
     refl: vec3<f32>,
+}
+
+// Pixel k's G-buffer entries (the layout above).
+fn slc_gb_position(k: u32) -> vec4<f32> {
+    return gbuffer[2u * k];
+}
+
+fn slc_gb_normal(k: u32) -> vec4<f32> {
+    return gbuffer[2u * k + 1u];
+}
+
+fn slc_gb_albedo(k: u32) -> vec3<f32> {
+    return gbuffer[2u * (SP.width * SP.height + k)].xyz;
+}
+
+fn slc_gb_f0(k: u32) -> vec3<f32> {
+    return gbuffer[2u * (SP.width * SP.height + k) + 1u].xyz;
 }
 
 fn slc_max3(v: vec3<f32>) -> f32 {
@@ -235,14 +253,14 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     var f0 = vec3<f32>(0.0);
     var valid = false;
     if (inside) {
-        let a = gbuffer[4u * k];
-        let b = gbuffer[4u * k + 1u];
+        let a = slc_gb_position(k);
+        let b = slc_gb_normal(k);
         valid = a.w > 0.5;
         x = a.xyz;
         n = b.xyz;
         alpha = b.w;
         if ((SP.mode & 16u) != 0u) {
-            f0 = gbuffer[4u * k + 3u].xyz;
+            f0 = slc_gb_f0(k);
         }
     }
     // The GGX layer's frame and view direction (the camera at the origin).
@@ -391,7 +409,7 @@ fn slc_filter_spatial(d: i32, il: i32, r: i32) -> f32 {
 
 // Pixel k's radiance from its layers: ρ/π·E + S (CPU twin: Surface::radiance).
 fn slc_compose(k: u32, e: vec3<f32>, s: vec3<f32>) -> vec4<f32> {
-    return vec4<f32>(gbuffer[4u * k + 2u].xyz * INV_PI * e + s, 0.0);
+    return vec4<f32>(slc_gb_albedo(k) * INV_PI * e + s, 0.0);
 }
 
 // The box filter joining the interleaving subregions (SP.filter_radius 0), one thread per
@@ -404,8 +422,8 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let k = gid.y * SP.width + gid.x;
-    let a = gbuffer[4u * k];
-    let b = gbuffer[4u * k + 1u];
+    let a = slc_gb_position(k);
+    let b = slc_gb_normal(k);
     if (a.w < 0.5) {
         filtered[k] = vec4<f32>(0.0);
         return;
@@ -425,8 +443,8 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let q = u32(qy) * SP.width + u32(qx);
-            let qa = gbuffer[4u * q];
-            let qb = gbuffer[4u * q + 1u];
+            let qa = slc_gb_position(q);
+            let qb = slc_gb_normal(q);
             if (qa.w < 0.5 || dot(b.xyz, qb.xyz) < SLC_FILTER_COS || abs(dot(b.xyz, qa.xyz - a.xyz)) > tau) {
                 continue;
             }
@@ -452,8 +470,8 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
 // (n_p·n_q)³²; returns (E, 1), (S, 0), or w = 0 where none passes.
 fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> array<vec4<f32>, 2> {
     let k = gid.y * SP.width + gid.x;
-    let a = gbuffer[4u * k];
-    let b = gbuffer[4u * k + 1u];
+    let a = slc_gb_position(k);
+    let b = slc_gb_normal(k);
     if (a.w < 0.5) {
         return array<vec4<f32>, 2>(vec4<f32>(0.0), vec4<f32>(0.0));
     }
@@ -471,7 +489,7 @@ fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> array<vec
             continue;
         }
         let q = u32(qy) * SP.width + u32(qx);
-        let qa = gbuffer[4u * q];
+        let qa = slc_gb_position(q);
         if (qa.w < 0.5) {
             continue;
         }
@@ -484,7 +502,7 @@ fn slc_bilateral_pass(gid: vec2<u32>, axis: vec2<i32>, first: bool) -> array<vec
         if (eq.w < 0.5) {
             continue;
         }
-        let qb = gbuffer[4u * q + 1u];
+        let qb = slc_gb_normal(q);
         let c = max(dot(b.xyz, qb.xyz), 0.0);
         let c2 = c * c;
         let c8 = c2 * c2 * c2 * c2;
@@ -526,7 +544,7 @@ fn slc_filter_cols(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let k = gid.y * SP.width + gid.x;
-    if (gbuffer[4u * k].w < 0.5) {
+    if (slc_gb_position(k).w < 0.5) {
         filtered[k] = vec4<f32>(0.0);
         return;
     }

@@ -307,8 +307,8 @@ impl<'g> SlcGpu<'g> {
         q.submit([enc.finish()]);
     }
 
-    /// Per-stage GPU times (seconds; medians of `frames` frames after two warm-up frames, by
-    /// timestamp queries): the bounds (range determination), culling + shading, the filter
+    /// Per-stage GPU times (seconds; medians of `frames` frames after [`Self::warm_up`] and two
+    /// untimed frames, by timestamp queries): the bounds (range determination), culling + shading, the filter
     /// (0 with the filter off) — seed 002 Table 1's rows that run here. None where the
     /// adapter has no timestamp queries.
     pub fn time_stages(&mut self, mode: Mode, frames: usize) -> Result<Option<[f64; 3]>, String> {
@@ -325,6 +325,7 @@ impl<'g> SlcGpu<'g> {
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        self.warm_up(mode)?;
         for k in 0..total {
             self.record(mode, Some((&queries, 6 * k)));
             self.gpu.wait()?;
@@ -372,13 +373,23 @@ impl<'g> SlcGpu<'g> {
         })
     }
 
-    /// Seconds per frame (bounds + culling + shading + filter), median of `frames` timed frames
-    /// after two warm-up frames, each waited for (wall time around submit + wait).
-    pub fn time(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
-        for _ in 0..2 {
+    /// Frames dispatched back to back for at least [`WARM_UP`] (and two frames), so the GPU
+    /// is at its working clock when timing starts.
+    fn warm_up(&mut self, mode: Mode) -> Result<(), String> {
+        let start = std::time::Instant::now();
+        let mut n = 0;
+        while n < 2 || start.elapsed() < WARM_UP {
             self.dispatch(mode);
             self.gpu.wait()?;
+            n += 1;
         }
+        Ok(())
+    }
+
+    /// Seconds per frame (bounds + culling + shading + filter), median of `frames` timed frames
+    /// after [`Self::warm_up`], each waited for (wall time around submit + wait).
+    pub fn time(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
+        self.warm_up(mode)?;
         let mut t = Vec::with_capacity(frames);
         for _ in 0..frames.max(1) {
             let s = std::time::Instant::now();
@@ -391,6 +402,11 @@ impl<'g> SlcGpu<'g> {
     }
 }
 
+/// How long frames run untimed before a measurement: an idle GPU drops its clock (the H100
+/// idles at 345 MHz of 1 980) and two frames of a few milliseconds do not bring it back, so
+/// timings taken after CPU work (a readback, a new δ) came out up to 10× slow and unordered.
+pub const WARM_UP: std::time::Duration = std::time::Duration::from_millis(300);
+
 /// One stage's dispatches: (pipeline, workgroups).
 type Stage<'a> = Vec<(&'a wgpu::ComputePipeline, (u32, u32, u32))>;
 
@@ -399,18 +415,19 @@ pub fn render(gpu: &Gpu, g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, inte
     SlcGpu::new(gpu, g, vpls, delta, interleave)?.run(mode)
 }
 
-/// The G-buffer as the kernel reads it: per pixel (position, 1), (normal, α), (albedo, 0),
-/// (F0, 0).
+/// The G-buffer as the kernel reads it, in two planes: per pixel (position, 1), (normal, α),
+/// then per pixel (albedo, 0), (F0, 0) — the culling and the filter's taps read only the
+/// first.
 fn pack_gbuffer(g: &GBuffer) -> Vec<[f32; 4]> {
-    g.texels
-        .iter()
-        .flat_map(|t| match t {
-            Some(s) => {
-                [s.position.extend(1.0), s.normal.extend(s.alpha), s.albedo.extend(0.0), s.f0.extend(0.0)].map(|v: Vec4| v.to_array())
-            }
-            None => [[0.0; 4], [0.0, 0.0, 1.0, 1.0], [0.0; 4], [0.0; 4]],
-        })
-        .collect()
+    let geometry = g.texels.iter().flat_map(|t| match t {
+        Some(s) => [s.position.extend(1.0), s.normal.extend(s.alpha)].map(|v: Vec4| v.to_array()),
+        None => [[0.0; 4], [0.0, 0.0, 1.0, 1.0]],
+    });
+    let material = g.texels.iter().flat_map(|t| match t {
+        Some(s) => [s.albedo.extend(0.0), s.f0.extend(0.0)].map(|v: Vec4| v.to_array()),
+        None => [[0.0; 4]; 2],
+    });
+    geometry.chain(material).collect()
 }
 
 /// The VPLs as the kernel reads them: (position, ξ), (normal, α), (incoming, 1 diffuse / 0
