@@ -929,3 +929,83 @@ fn sky_vpls_carry_the_environments_power_onto_a_plane() {
     }
     assert!(total > 50_000, "{total} VPLs");
 }
+
+/// The GPU's Modified HalfZ test (`slc_ellipsoid_hits_halves`: M applied to the tile's four
+/// corner rays, each half's AABB from the rays scaled by its two depths) against the
+/// definition computed here in f64: each half's 8 corners transformed by M, their AABB, the
+/// unit sphere about M·c (002 §5). 4 000 random transforms, tiles, depths and centres (half of
+/// them hit); a case counts only where the oracle's squared distance is farther than 1e-3
+/// from 1 — f32 rounding of coordinates up to |M|·|r|·z ≤ 60 is ≈ 60 · 2⁻²⁴ · 4 ≈ 1.5e-5, and
+/// d² moves by at most 2·d·(that) across three axes, below 1e-4. Mutations: one ray left out of
+/// a half's AABB, the far half tested with the near half's depths — fail.
+#[test]
+fn gpu_halfz_test_matches_the_corners_aabb() {
+    let Some(g) = gpu() else { return };
+    let cull = include_str!("../src/slc/cull.wgsl");
+    let lib = include_str!("../../shaders/wgsl/slc.wgsl");
+    let item = |src: &str, head: &str, end: &str| {
+        let a = src.find(head).unwrap_or_else(|| panic!("{head}"));
+        let b = a + src[a..].find(end).expect("end") + end.len();
+        src[a..b].to_string()
+    };
+    let library = item(lib, "struct SlcCullEllipsoid {", "\n}\n")
+        + &item(lib, "fn slc_unit_sphere_hits_aabb(", "\n}\n")
+        + &item(cull, "fn slc_scaled_rays_hit(", "\n}\n")
+        + &item(cull, "fn slc_ellipsoid_hits_halves(", "\n}\n");
+    let mut rng = Pcg32::new(2026, 12);
+    let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
+    let n = 4000;
+    let mut input = Vec::with_capacity(28 * n);
+    let mut oracle = Vec::with_capacity(n);
+    for _ in 0..n {
+        let m: [DVec3; 3] = std::array::from_fn(|_| DVec3::new(u(-2.0, 2.0), u(-2.0, 2.0), u(-2.0, 2.0)));
+        let apply = |p: DVec3| m[0] * p.x + m[1] * p.y + m[2] * p.z;
+        let (x0, y0) = (u(-1.0, 0.9), u(-0.9, 1.0));
+        let (x1, y1) = (x0 + u(0.001, 0.1), y0 - u(0.001, 0.1));
+        let rays = [DVec3::new(x0, y0, -1.0), DVec3::new(x1, y0, -1.0), DVec3::new(x0, y1, -1.0), DVec3::new(x1, y1, -1.0)];
+        let mut z = [u(0.1, 10.0), u(0.1, 10.0), u(0.1, 10.0)];
+        z.sort_by(f64::total_cmp);
+        let aabb = |z0: f64, z1: f64| {
+            let ps: Vec<DVec3> = rays.iter().flat_map(|r| [apply(*r * z0), apply(*r * z1)]).collect();
+            (ps.iter().fold(DVec3::splat(f64::MAX), |a, p| a.min(*p)), ps.iter().fold(DVec3::splat(f64::MIN), |a, p| a.max(*p)))
+        };
+        let halves = [aabb(z[0], z[1]), aabb(z[1], z[2])];
+        // A centre around the halves' union, up to 1.5 beyond it on each axis.
+        let (lo, hi) = (halves[0].0.min(halves[1].0), halves[0].1.max(halves[1].1));
+        let c = DVec3::new(u(lo.x - 1.5, hi.x + 1.5), u(lo.y - 1.5, hi.y + 1.5), u(lo.z - 1.5, hi.z + 1.5));
+        let d2 = halves.iter().map(|(lo, hi)| (c - c.clamp(*lo, *hi)).length_squared()).fold(f64::MAX, f64::min);
+        oracle.push(d2);
+        for v in m.iter().chain([&c]).chain(rays.iter()) {
+            input.extend([v.x as f32, v.y as f32, v.z as f32]);
+        }
+        input.extend([z[0] as f32, z[1] as f32, z[2] as f32, 0.0]);
+    }
+    let body = "    let b = 28u * i;
+    let v = array<vec3<f32>, 8>(vec3<f32>(inp[b], inp[b + 1u], inp[b + 2u]), vec3<f32>(inp[b + 3u], inp[b + 4u], inp[b + 5u]),
+        vec3<f32>(inp[b + 6u], inp[b + 7u], inp[b + 8u]), vec3<f32>(inp[b + 9u], inp[b + 10u], inp[b + 11u]),
+        vec3<f32>(inp[b + 12u], inp[b + 13u], inp[b + 14u]), vec3<f32>(inp[b + 15u], inp[b + 16u], inp[b + 17u]),
+        vec3<f32>(inp[b + 18u], inp[b + 19u], inp[b + 20u]), vec3<f32>(inp[b + 21u], inp[b + 22u], inp[b + 23u]));
+    let rays = array<vec3<f32>, 8>(v[4], v[5], v[6], v[7], v[4], v[5], v[6], v[7]);
+    let e = SlcCullEllipsoid(mat3x3<f32>(v[0], v[1], v[2]), v[3]);
+    outp[i] = select(0.0, 1.0, slc_ellipsoid_hits_halves(e, rays, vec3<f32>(inp[b + 24u], inp[b + 25u], inp[b + 26u])));";
+    let launch = shaders::gpu::Launch { library: &library, body, input: &input, out_per_item: 1, count: n, ..Default::default() };
+    let out = g.launch(&launch).unwrap_or_else(|e| panic!("{e}"));
+    let (mut hits, mut misses, mut wrong) = (0, 0, Vec::new());
+    for (k, (&d2, &got)) in oracle.iter().zip(&out.out).enumerate() {
+        if (d2 - 1.0).abs() <= 1e-3 {
+            continue;
+        }
+        let want = d2 <= 1.0;
+        if want {
+            hits += 1
+        } else {
+            misses += 1
+        }
+        if want != (got > 0.5) {
+            wrong.push(format!("case {k}: oracle d² {d2:.6}, GPU {got}"));
+        }
+    }
+    println!("{hits} hits, {misses} misses, {} disagree", wrong.len());
+    assert!(hits > n / 5 && misses > n / 5, "{hits} hits, {misses} misses: the cases do not exercise both outcomes");
+    assert!(wrong.is_empty(), "{} of {} cases disagree: {:?}", wrong.len(), hits + misses, &wrong[..wrong.len().min(3)]);
+}

@@ -235,6 +235,27 @@ fn slc_cluster_of(z: f32, zmin: f32, zmax: f32, n: u32) -> u32 {
     return min(u32(max((z - zmin) / w * f32(n), 0.0)), n - 1u);
 }
 
+// Whether the unit sphere about `center` meets the AABB of the points z·p, z ∈ {z0, z1}, p
+// the four transformed corner rays.
+fn slc_scaled_rays_hit(center: vec3<f32>, pa: vec3<f32>, pb: vec3<f32>, pc: vec3<f32>, pd: vec3<f32>, z0: f32, z1: f32) -> bool {
+    let lo = min(min(min(pa * z0, pa * z1), min(pb * z0, pb * z1)), min(min(pc * z0, pc * z1), min(pd * z0, pd * z1)));
+    let hi = max(max(max(pa * z0, pa * z1), max(pb * z0, pb * z1)), max(max(pc * z0, pc * z1), max(pd * z0, pd * z1)));
+    return slc_unit_sphere_hits_aabb(center, lo, hi);
+}
+
+// Modified HalfZ's test of one light against the tile's two halves, depths [z.x, z.y] and
+// [z.y, z.z]: slc_ellipsoid_hits_corners on each half's 8 corners, with M applied to the four
+// corner rays r (depth 1) once instead of to 16 corners — M·(z·r) = z·(M·r), so a half's
+// AABB is the per-axis min/max of z·(M·r) over its two depths (equal up to f32 rounding to
+// the corners' own; H100, 1080p, 65 603 VPLs: culling + shading 1.325 → 0.976 ms).
+fn slc_ellipsoid_hits_halves(c: SlcCullEllipsoid, rays: array<vec3<f32>, 8>, z: vec3<f32>) -> bool {
+    let pa = c.transform * rays[0];
+    let pb = c.transform * rays[1];
+    let pc = c.transform * rays[2];
+    let pd = c.transform * rays[3];
+    return slc_scaled_rays_hit(c.center, pa, pb, pc, pd, z.x, z.y) || slc_scaled_rays_hit(c.center, pa, pb, pc, pd, z.y, z.z);
+}
+
 @compute @workgroup_size(16, 16)
 fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) t: u32, @builtin(local_invocation_id) lid: vec3<u32>) {
     let il = SP.interleave;
@@ -292,8 +313,8 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     let y1 = y0 + f32(il * (SLC_TILE - 1u) + 1u);
     let size = vec2<f32>(f32(SP.width), f32(SP.height));
     let tan_xy = vec2<f32>(SP.tan_x, SP.tan_y);
-    let near_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, zmin, mid);
-    let far_half = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, mid, zmax);
+    // The tile's four corner rays at depth 1 (the first four corners).
+    let rays = slc_tile_corners(x0, y0, x1, y1, size, tan_xy, 1.0, 1.0);
     let clustered = SP.clusters > 0u && (SP.mode & 3u) != 1u;
     var slice_bit = 0xffffffffu;
     if (clustered && valid) {
@@ -322,7 +343,7 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                             mask |= 1u << sl;
                         }
                     }
-                } else if (!(slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half))) {
+                } else if (!slc_ellipsoid_hits_halves(c, rays, vec3<f32>(zmin, mid, zmax))) {
                     mask = 0u;
                 }
             }
