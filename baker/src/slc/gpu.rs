@@ -307,7 +307,7 @@ impl<'g> SlcGpu<'g> {
         q.submit([enc.finish()]);
     }
 
-    /// Per-stage GPU times (seconds; medians of `frames` frames after [`Self::warm_up`] and two
+    /// Per-stage GPU times (seconds; medians of `frames` frames after [`WARM_UP`] of warm-up frames and two
     /// untimed frames, by timestamp queries): the bounds (range determination), culling + shading, the filter
     /// (0 with the filter off) — seed 002 Table 1's rows that run here. None where the
     /// adapter has no timestamp queries.
@@ -387,7 +387,7 @@ impl<'g> SlcGpu<'g> {
     }
 
     /// Seconds per frame (bounds + culling + shading + filter), median of `frames` timed frames
-    /// after [`Self::warm_up`], each waited for (wall time around submit + wait).
+    /// after [`WARM_UP`] of warm-up frames, each waited for (wall time around submit + wait).
     pub fn time(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
         self.warm_up(mode)?;
         let mut t = Vec::with_capacity(frames);
