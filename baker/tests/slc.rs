@@ -46,8 +46,13 @@ fn gbuffer() -> GBuffer {
 /// some bound), flux ∝ (1, 0.8, 0.6), with the light's ξ =
 /// `slc::vpl_xi(draw, light)` (the same positions for every draw).
 fn vpls(draw: u64) -> Vec<Vpl> {
+    vpls_n(draw, 200)
+}
+
+/// `n` VPLs of [`vpls`]'s kind (the first 200 are its).
+fn vpls_n(draw: u64, n: usize) -> Vec<Vpl> {
     let mut r = Pcg32::new(404, 1);
-    (0..200)
+    (0..n)
         .map(|k| {
             let on_floor = k % 2 == 0;
             let (position, normal) = if on_floor {
@@ -220,7 +225,9 @@ fn range_cut_culls_no_pair_it_keeps() {
 /// 0.5% (a bound test within rounding of a tie may flip), and the brute-force images.
 /// Interleaved brute force keeps the image's mean (each VPL shaded by 1/64 of the pixels,
 /// weighted 64): within 5% here, a sampling error, not a bias to assert. The filtered
-/// images agree too, for every filter (box, bilateral of radius 4, 8 and 12).
+/// images agree too, for every filter (box, bilateral of radius 4, 8 and 12). With 700 VPLs
+/// (1 300 at 2 × 2 interleaving) a tile takes its lights in several chunks of 256, whose
+/// counts and flags alternate between two workgroup copies (`slc_cull_shade`).
 #[test]
 fn gpu_matches_cpu() {
     let Some(g) = gpu() else { return };
@@ -228,29 +235,31 @@ fn gpu_matches_cpu() {
     let sphere = baker::slc::Bound::Sphere;
     let tight = baker::slc::Bound::Tight;
     let mut fdr = Vec::new();
-    for (mode, il, bound) in [
-        (Mode::Culled, 1, tight),
-        (Mode::BruteForce, 1, tight),
-        (Mode::Culled, 8, tight),
-        (Mode::BruteForce, 8, tight),
-        (Mode::Culled, 1, sphere),
-        (Mode::Culled, 1, baker::slc::Bound::Th16),
-        (Mode::Culled, 8, sphere),
-        (Mode::RangeCut, 8, tight),
-        (Mode::RangeCut, 1, tight),
+    for (mode, il, bound, n) in [
+        (Mode::Culled, 1, tight, 200),
+        (Mode::BruteForce, 1, tight, 200),
+        (Mode::Culled, 8, tight, 200),
+        (Mode::BruteForce, 8, tight, 200),
+        (Mode::Culled, 1, sphere, 200),
+        (Mode::Culled, 1, baker::slc::Bound::Th16, 200),
+        (Mode::Culled, 8, sphere, 200),
+        (Mode::RangeCut, 8, tight, 200),
+        (Mode::RangeCut, 1, tight, 200),
+        (Mode::Culled, 1, tight, 700),
+        (Mode::Culled, 2, sphere, 1300),
     ] {
-        let l = vpls(7);
+        let l = vpls_n(7, n);
         let c = baker::slc::render_with(&gb, &l, DELTA, mode, il, bound);
         let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &l, DELTA, il).unwrap();
         run.set_bound(bound);
         let gg = run.run(mode).unwrap();
-        if mode == Mode::Culled && il == 1 {
+        if mode == Mode::Culled && il == 1 && n == 200 {
             fdr.push((c.kept, c.false_positives));
         }
         let bad = differing(&c.image, &gg.image);
         let mean = |v: &[Vec3]| v.iter().map(|x| s3(*x)).sum::<f64>() / v.len() as f64;
         println!(
-            "{mode:?} interleave {il} {bound:?}: CPU kept {} fp {}, GPU kept {} fp {}; {bad} pixels differ; image mean {:.6}",
+            "{mode:?} interleave {il} {bound:?}, {n} VPLs: CPU kept {} fp {}, GPU kept {} fp {}; {bad} pixels differ; image mean {:.6}",
             c.kept,
             c.false_positives,
             gg.kept,
@@ -270,11 +279,14 @@ fn gpu_matches_cpu() {
     assert!(fdr[1].0 >= fdr[0].0 && fdr[1].1 >= fdr[0].1, "sphere {:?} vs spheroid {:?}", fdr[1], fdr[0]);
     assert!(fdr[2].0 >= fdr[1].0 && fdr[2].1 >= fdr[1].1, "TH16 {:?} vs sphere {:?}", fdr[2], fdr[1]);
     // Per-stage timestamps (where the adapter has them): each stage took time, the filter's
-    // pass too.
+    // pass too, and the frame's span on the GPU holds the three stages.
     let mut run = baker::slc::gpu::SlcGpu::new(&g, &gb, &vpls(7), DELTA, 8).unwrap();
     if let Some(st) = run.time_stages(Mode::Culled, 3).unwrap() {
         println!("stages: {st:?} s");
-        assert!(st.iter().all(|t| t.is_finite() && *t > 0.0), "{st:?}");
+        let stages = [st.bounds, st.culling_shading, st.filter];
+        assert!(stages.iter().all(|t| t.is_finite() && *t > 0.0), "{st:?}");
+        // Medians of different frames: each stage's at most its frame's span.
+        assert!(stages.iter().all(|t| *t <= st.frame), "{st:?}");
     }
     // The filters' geometry weights on a surface where they matter: the wall made wavy
     // (normals tilted by up to ~17°, a few turned away, depth ripples of a few pixel

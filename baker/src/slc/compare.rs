@@ -83,7 +83,7 @@ pub fn culling(
                     r.set_filter(false);
                     let st = r.time_stages(Mode::Culled, s.frames)?;
                     let ms = match st {
-                        Some([_, shade, _]) => shade * 1e3,
+                        Some(st) => st.culling_shading * 1e3,
                         None => r.time(Mode::Culled, s.frames)? * 1e3,
                     };
                     (r.run(Mode::Culled)?, ms)

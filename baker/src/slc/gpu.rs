@@ -84,6 +84,8 @@ pub struct SlcGpu<'g> {
     group: wgpu::BindGroup,
     params: SlcParams,
     params_buf: wgpu::Buffer,
+    // What `params_buf` holds: frames write the parameters only when they changed.
+    params_written: SlcParams,
     image_buf: wgpu::Buffer,
     stats_buf: wgpu::Buffer,
     filtered_buf: wgpu::Buffer,
@@ -204,6 +206,7 @@ impl<'g> SlcGpu<'g> {
             group,
             params,
             params_buf,
+            params_written: params,
             image_buf,
             stats_buf,
             filtered_buf,
@@ -270,16 +273,23 @@ impl<'g> SlcGpu<'g> {
             Bound::Th16 => 8,
         } | if self.specular { 16 } else { 0 };
         let q = self.gpu.queue();
-        q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
-        q.write_buffer(&self.stats_buf, 0, &[0u8; 8]);
+        if self.params != self.params_written {
+            q.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+            self.params_written = self.params;
+        }
         let mut enc = self.gpu.device().create_command_encoder(&Default::default());
+        enc.clear_buffer(&self.stats_buf, 0, None);
         let groups = (self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(8));
         let mut stages: Vec<Stage> = vec![vec![(&self.prepare, (self.lights.div_ceil(64).max(1), 1, 1))], vec![(&self.shade, self.tiles)]];
         if self.filter_on {
             stages.push(if self.params.filter_radius == 0 {
                 vec![(&self.filter, (groups.0, groups.1, 1))]
             } else {
-                vec![(&self.filter_rows, (groups.0, groups.1, 1)), (&self.filter_cols, (groups.0, groups.1, 1))]
+                // The passes' workgroups: 32 × 8 and 8 × 32 (cull.wgsl).
+                vec![
+                    (&self.filter_rows, (self.pixels.0.div_ceil(32), self.pixels.1.div_ceil(8), 1)),
+                    (&self.filter_cols, (self.pixels.0.div_ceil(8), self.pixels.1.div_ceil(32), 1)),
+                ]
             });
         }
         if timestamps.is_none() {
@@ -307,11 +317,9 @@ impl<'g> SlcGpu<'g> {
         q.submit([enc.finish()]);
     }
 
-    /// Per-stage GPU times (seconds; medians of `frames` frames after [`WARM_UP`] of warm-up frames and two
-    /// untimed frames, by timestamp queries): the bounds (range determination), culling + shading, the filter
-    /// (0 with the filter off) — seed 002 Table 1's rows that run here. None where the
-    /// adapter has no timestamp queries.
-    pub fn time_stages(&mut self, mode: Mode, frames: usize) -> Result<Option<[f64; 3]>, String> {
+    /// Per-stage GPU times (medians of `frames` frames after [`WARM_UP`] of warm-up frames and two
+    /// untimed frames, by timestamp queries). None where the adapter has no timestamp queries.
+    pub fn time_stages(&mut self, mode: Mode, frames: usize) -> Result<Option<StageTimes>, String> {
         if !self.gpu.timestamps {
             return Ok(None);
         }
@@ -336,14 +344,32 @@ impl<'g> SlcGpu<'g> {
         self.gpu.queue().submit([enc.finish()]);
         let ticks: Vec<u64> = bytemuck::cast_slice(&self.gpu.read_back(&resolve)?).to_vec();
         let period = self.gpu.timestamp_period() as f64 * 1e-9;
+        // Median over the timed frames of the span between two of a frame's timestamps.
+        let median = |from: usize, to: usize| {
+            let mut t: Vec<f64> =
+                (2..total as usize).map(|k| ticks[6 * k + to].saturating_sub(ticks[6 * k + from]) as f64 * period).collect();
+            t.sort_by(f64::total_cmp);
+            t[t.len() / 2]
+        };
         let mut out = [0.0; 3];
         for (s, o) in out.iter_mut().enumerate().take(stages as usize) {
-            let mut t: Vec<f64> =
-                (2..total as usize).map(|k| ticks[6 * k + 2 * s + 1].saturating_sub(ticks[6 * k + 2 * s]) as f64 * period).collect();
-            t.sort_by(f64::total_cmp);
-            *o = t[t.len() / 2];
+            *o = median(2 * s, 2 * s + 1);
         }
-        Ok(Some(out))
+        Ok(Some(StageTimes { bounds: out[0], culling_shading: out[1], filter: out[2], frame: median(0, 5) }))
+    }
+
+    /// Seconds per frame of frames dispatched back to back as a renderer runs them (the host
+    /// waits once per `frames` frames, not per frame), after [`WARM_UP`]: the frame rate's
+    /// inverse, where [`Self::time`] adds to each frame its submission and the host's wait.
+    pub fn time_back_to_back(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
+        self.warm_up(mode)?;
+        let n = frames.max(1);
+        let s = std::time::Instant::now();
+        for _ in 0..n {
+            self.dispatch(mode);
+        }
+        self.gpu.wait()?;
+        Ok(s.elapsed().as_secs_f64() / n as f64)
     }
 
     /// One frame: bounds, culling, shading and the filter; the images and statistics read
@@ -406,6 +432,20 @@ impl<'g> SlcGpu<'g> {
 /// idles at 345 MHz of 1 980) and two frames of a few milliseconds do not bring it back, so
 /// timings taken after CPU work (a readback, a new δ) came out up to 10× slow and unordered.
 pub const WARM_UP: std::time::Duration = std::time::Duration::from_millis(300);
+
+/// One frame's GPU times in seconds by timestamp queries (medians over frames): seed 002
+/// Table 1's rows that run here, and the frame's span on the GPU.
+#[derive(Clone, Copy, Debug)]
+pub struct StageTimes {
+    /// The bounds (range determination).
+    pub bounds: f64,
+    /// Culling and shading.
+    pub culling_shading: f64,
+    /// The filter (0 with the filter off).
+    pub filter: f64,
+    /// From the bounds' start to the filter's end: the stages and the gaps between them.
+    pub frame: f64,
+}
 
 /// One stage's dispatches: (pipeline, workgroups).
 type Stage<'a> = Vec<(&'a wgpu::ComputePipeline, (u32, u32, u32))>;
