@@ -6,8 +6,9 @@ use serde_json::json;
 use std::time::Instant;
 
 /// The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
-/// spheroid, the sphere enclosing it and the TH16 sphere of radius r/α; their times, VPLs
-/// per pixel and false discoveries.
+/// spheroid, the sphere enclosing it and the TH16 sphere of radius r/α; their times (GPU:
+/// the frame's span by timestamps, `SlcGpu::time_frame`), VPLs per pixel and false
+/// discoveries.
 pub fn bounds(
     s: &SlcOptions,
     gpu: Option<&shaders::gpu::Gpu>,
@@ -25,7 +26,7 @@ pub fn bounds(
                 let mut r = crate::slc::gpu::SlcGpu::new(gp, g, vpls, s.delta, s.interleave)?;
                 r.set_xi_seed(Some(gpu_xi_seed(s.seed)));
                 r.set_bound(b);
-                (r.run(Mode::Culled)?, r.time(Mode::Culled, s.frames)?)
+                (r.run(Mode::Culled)?, r.time_frame(Mode::Culled, s.frames)?)
             }
             None => {
                 let t = Instant::now();

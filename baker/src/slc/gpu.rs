@@ -358,6 +358,17 @@ impl<'g> SlcGpu<'g> {
         Ok(Some(StageTimes { bounds: out[0], culling_shading: out[1], filter: out[2], frame: median(0, 5) }))
     }
 
+    /// Seconds per frame for comparing settings: the frame's span on the GPU
+    /// ([`StageTimes::frame`]) where the adapter has timestamp queries, else [`Self::time`]'s
+    /// wall time. The span leaves out the host's submission and wait, which are the same
+    /// for every setting and made isolated frames' times vary by up to 2× between runs.
+    pub fn time_frame(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
+        match self.time_stages(mode, frames)? {
+            Some(t) => Ok(t.frame),
+            None => self.time(mode, frames),
+        }
+    }
+
     /// Seconds per frame of frames dispatched back to back as a renderer runs them (the host
     /// waits once per `frames` frames, not per frame), after [`WARM_UP`]: the frame rate's
     /// inverse, where [`Self::time`] adds to each frame its submission and the host's wait.

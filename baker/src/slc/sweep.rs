@@ -16,6 +16,8 @@ use std::time::Instant;
 pub struct Point {
     pub method: &'static str,
     pub delta: f32,
+    /// Seconds per frame: on the GPU the frame's span by timestamps
+    /// (`SlcGpu::time_frame`), on the CPU the render's wall time.
     pub seconds: f64,
     /// Relative RMSE against brute force after the filter, and before it.
     pub filtered: f64,
@@ -74,7 +76,7 @@ pub fn run(
                     r.set_xi_seed(Some(s.xi_seed));
                     r.set_bound(bound);
                     r.set_filter_kind(s.filter);
-                    (r.run(mode)?, r.time(mode, s.frames)?)
+                    (r.run(mode)?, r.time_frame(mode, s.frames)?)
                 }
                 None => {
                     let t = Instant::now();
@@ -122,7 +124,7 @@ pub fn json(points: &[Point], delta: f32) -> serde_json::Value {
         "points": points.iter().map(|p| json!({"method": p.method, "delta": p.delta, "seconds_per_frame": p.seconds,
             "relative_rmse_filtered": p.filtered, "relative_rmse_unfiltered": p.unfiltered})).collect::<Vec<_>>(),
         "equal_time": {"seconds_per_frame": at, "relative_rmse_filtered": equal,
-            "note": "each method's filtered relative RMSE interpolated (log-log) at the spheroid's frame time at the run's δ; null: the method's δ range did not reach that time"},
+            "note": "each method's filtered relative RMSE interpolated (log-log) at the spheroid's frame time at the run's δ; null: the method's δ range did not reach that time; GPU times: the frame's span by timestamp queries (host submission and wait left out)"},
     })
 }
 
