@@ -287,6 +287,12 @@ fn gpu_matches_cpu() {
         assert!(stages.iter().all(|t| t.is_finite() && *t > 0.0), "{st:?}");
         // Medians of different frames: each stage's at most its frame's span.
         assert!(stages.iter().all(|t| *t <= st.frame), "{st:?}");
+        // Frames back to back run one after another on the GPU, none faster than its span;
+        // a quarter of it leaves room for the span's own frames running slower (lavapipe
+        // shares the CPU with the other tests).
+        let b = run.time_back_to_back(Mode::Culled, 2, 100).unwrap();
+        println!("back to back: {b} s per frame");
+        assert!(b.is_finite() && b >= 0.25 * st.frame, "back to back {b} s, span {} s", st.frame);
     }
     // The filters' geometry weights on a surface where they matter: the wall made wavy
     // (normals tilted by up to ~17°, a few turned away, depth ripples of a few pixel

@@ -370,11 +370,13 @@ impl<'g> SlcGpu<'g> {
     }
 
     /// Seconds per frame of frames dispatched back to back as a renderer runs them (the host
-    /// waits once per `frames` frames, not per frame), after [`WARM_UP`]: the frame rate's
-    /// inverse, where [`Self::time`] adds to each frame its submission and the host's wait.
-    pub fn time_back_to_back(&mut self, mode: Mode, frames: usize) -> Result<f64, String> {
-        self.warm_up(mode)?;
-        let n = frames.max(1);
+    /// waits once, after the last), after [`WARM_UP`]: the frame rate's inverse, where
+    /// [`Self::time`] adds to each frame its submission and the host's wait. As many frames
+    /// as take about [`WARM_UP`] at the warm-up's pace, at least `frames` and at most
+    /// `max_frames`.
+    pub fn time_back_to_back(&mut self, mode: Mode, frames: usize, max_frames: usize) -> Result<f64, String> {
+        let pace = self.warm_up(mode)?;
+        let n = ((WARM_UP.as_secs_f64() / pace) as usize).clamp(frames.max(1), max_frames.max(frames).max(1));
         let s = std::time::Instant::now();
         for _ in 0..n {
             self.dispatch(mode);
@@ -410,9 +412,9 @@ impl<'g> SlcGpu<'g> {
         })
     }
 
-    /// Frames dispatched back to back for at least [`WARM_UP`] (and two frames), so the GPU
-    /// is at its working clock when timing starts.
-    fn warm_up(&mut self, mode: Mode) -> Result<(), String> {
+    /// Frames dispatched (each waited for) for at least [`WARM_UP`] and two frames, so the
+    /// GPU is at its working clock when timing starts; returns their mean seconds per frame.
+    fn warm_up(&mut self, mode: Mode) -> Result<f64, String> {
         let start = std::time::Instant::now();
         let mut n = 0;
         while n < 2 || start.elapsed() < WARM_UP {
@@ -420,7 +422,7 @@ impl<'g> SlcGpu<'g> {
             self.gpu.wait()?;
             n += 1;
         }
-        Ok(())
+        Ok(start.elapsed().as_secs_f64() / n as f64)
     }
 
     /// Seconds per frame (bounds + culling + shading + filter), median of `frames` timed frames
