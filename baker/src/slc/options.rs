@@ -21,7 +21,8 @@ pub struct SlcOptions {
     pub delta: f32,
     /// Also render the brute-force reference (every VPL at every pixel).
     pub brute: bool,
-    /// Timed GPU frames (median reported).
+    /// Timed GPU frames: medians of as many isolated and timestamped frames; frames back to
+    /// back at least as many.
     pub frames: usize,
     /// Interleaved sampling: I × I subregions each shading 1/I² of the VPLs (1: off).
     pub interleave: usize,
