@@ -199,8 +199,9 @@ fn media_uniforms(pixel: u32, light: u32) -> vec2<f32> {
 
 const MEDIA_TILE: u32 = 16u;
 var<workgroup> mwg_zmax: atomic<u32>;
-var<workgroup> mwg_count: atomic<u32>;
-var<workgroup> mwg_list: array<u32, 256>;
+// Which of the chunk's 256 lights the tile keeps (bit m of word m / 32), walked in order so
+// every pixel sums its lights in light order, whatever order the culling threads finish in.
+var<workgroup> mwg_kept: array<atomic<u32>, 8>;
 
 @compute @workgroup_size(16, 16)
 fn media_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) t: u32, @builtin(local_invocation_id) lid: vec3<u32>) {
@@ -242,8 +243,8 @@ fn media_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invoc
     var kept = 0u;
     var misses = 0u;
     for (var base = 0u; base < MP.light_count; base += 256u) {
-        if (t == 0u) {
-            atomicStore(&mwg_count, 0u);
+        if (t < 8u) {
+            atomicStore(&mwg_kept[t], 0u);
         }
         workgroupBarrier();
         let j = base + t;
@@ -255,22 +256,26 @@ fn media_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invoc
                 keep = zmax > MP.near && (slc_ellipsoid_hits_corners(c, near_half) || slc_ellipsoid_hits_corners(c, far_half));
             }
             if (keep) {
-                mwg_list[atomicAdd(&mwg_count, 1u)] = j;
+                atomicOr(&mwg_kept[t / 32u], 1u << (t % 32u));
             }
         }
         workgroupBarrier();
-        let count = atomicLoad(&mwg_count);
-        kept += count;
-        if (inside && has_segment) {
-            for (var s = 0u; s < count; s++) {
-                let lj = mwg_list[s];
+        for (var w = 0u; w < 8u; w++) {
+            var bits = atomicLoad(&mwg_kept[w]);
+            let count = countOneBits(bits);
+            kept += count;
+            if (!(inside && has_segment)) {
+                misses += count;
+                continue;
+            }
+            while (bits != 0u) {
+                let lj = base + 32u * w + firstTrailingBit(bits);
+                bits &= bits - 1u;
                 let l = media_light(lj);
                 let e = media_estimate(l, d, seg0, seg1, media_uniforms(k, lj));
                 radiance += e.x * l.tint;
                 misses += u32(e.y < 0.5);
             }
-        } else {
-            misses += count;
         }
         workgroupBarrier();
     }

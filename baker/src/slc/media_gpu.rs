@@ -1,5 +1,5 @@
 //! The wgpu path of [`crate::slc::media`]: `slc/media.wgsl` composed with the `shaders` slc
-//! module — one workgroup per 16 × 16 tile culling the lights' spheres into a shared list,
+//! module — one workgroup per 16 × 16 tile culling the lights' spheres into a shared bit mask,
 //! one distance sample per pixel and kept light — with its own distance samples (a PCG hash
 //! of (seed, pixel, light)) and the lights' ξ as uploaded.
 
