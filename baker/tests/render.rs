@@ -93,6 +93,40 @@ fn twin(
     Some(shader.terms(&c, &mats[m], nn, v))
 }
 
+/// The most the texture unit's filter of the per-lobe tables adds to the specular at pixel
+/// k (`Shader::table_filter_error` with the sampler's measured precision); zero for the
+/// fits. The lobes and inputs are those of [`twin`].
+fn table_filter_error(
+    shader: &Shader,
+    lobes: &dyn Fn([f64; 2]) -> Vec<DVec3>,
+    mats: &[SurfaceMaterial],
+    eye: DVec3,
+    a: &Analysis,
+    k: usize,
+    precision: (f64, f64),
+) -> DVec3 {
+    let (nu, pv) = (a.normal_u[k], a.position_v[k]);
+    let n = DVec3::new(nu[0] as f64, nu[1] as f64, nu[2] as f64).normalize();
+    let v = (eye - DVec3::new(pv[0] as f64, pv[1] as f64, pv[2] as f64)).normalize();
+    let c = lobes([nu[3] as f64, pv[3] as f64]);
+    shader.table_filter_error(&c, &mats[a.diffuse[k][3] as usize], n, v, precision.0, precision.1)
+}
+
+/// The adapter's sampler on a texture of `format` (2D or 3D), measured
+/// (`shaders::sampler`): (weight error per axis, relative error of the returned value).
+fn sampler_precision(gpu: &shaders::gpu::Gpu, format: shaders::sampler::ProbeFormat, three_d: bool) -> (f64, f64) {
+    let p = shaders::sampler::measure(gpu, format, three_d).unwrap();
+    println!(
+        "sampler ({format:?}, {}): {} weight bits ({}), weight error ≤ {:.3e}, result error ≤ {:.3e}",
+        if three_d { "3D" } else { "2D" },
+        p.weight_bits,
+        if p.truncates { "truncated" } else { "rounded" },
+        p.weight_error(),
+        p.result_error()
+    );
+    (p.weight_error(), p.result_error())
+}
+
 /// The lookup position `uv` (atlas texels) moved by `shift` texels but kept in its bilinear
 /// cell (between the centres of its four texels): where a sampler whose weights are off by
 /// up to |shift| may read. Within a cell the lookup is bilinear in the position, so with
@@ -116,15 +150,21 @@ fn hw_shifted(uv: [f64; 2], shift: [f64; 2]) -> [f64; 2] {
 /// change of the f64 value when v and n move by 4e-7 in two random directions, ×4, is
 /// allowed — plus the bilinear weights' f32 rounding (u, v up to the atlas size: one ulp
 /// of the largest coordinate times the largest lobe value, 1.2, times 12 lobes).
-/// With the sampler's bilinear filter (`LightmapFilter::Hardware`, fits only) the weights
-/// are those of a position within 2⁻⁴ texel of the exact one (Vulkan's least
-/// subTexelPrecisionBits, 4), in the same cell: the twin's largest change over the four
-/// corners of that box ([`hw_shifted`]) is allowed on top. The cubic B-spline
-/// (`LightmapFilter::Bicubic`, fits only): the twin sums the 16 texels exactly; the GPU's
-/// four bilinear taps each carry that error, weighted by the tap's weight (summed).
+/// The sampler's precision is measured on the adapter (`shaders::sampler`: wgpu does not
+/// report Vulkan's subTexelPrecisionBits): weights within ε_w of the exact fractions, the
+/// returned value within ε_r of the exact blend, relatively (lavapipe: exact; NVIDIA:
+/// 8 bits truncated, f16 results rounded to f16). With the sampler's bilinear filter
+/// (`LightmapFilter::Hardware`, fits only) the weights are those of a position within ε_w
+/// texel of the exact one, in the same cell: the twin's largest change over the four
+/// corners of that box ([`hw_shifted`]) is allowed on top, and ε_r of the value. The cubic
+/// B-spline (`LightmapFilter::Bicubic`, fits only): the twin sums the 16 texels exactly;
+/// the GPU's four bilinear taps each carry that error, weighted by the tap's weight
+/// (summed). The per-lobe tables (`SpecularPath::Tables`: f16 in a 3D texture through
+/// the sampler) add `Shader::table_filter_error` with the 3D texture's measured precision.
 /// Mutations: specular ×1.02 in render.wgsl → fails (relative error 2e-2 ≫ 1e-4); the
 /// sampler's position off by half a texel, or u and v swapped → the hardware leg fails;
-/// the B-spline's taps at the bilinear weights' positions → the bicubic leg fails.
+/// the B-spline's taps at the bilinear weights' positions → the bicubic leg fails; the
+/// tables' values × (1 + 2⁻⁹) on upload → the tables' configurations fail.
 #[test]
 fn gpu_image_equals_cpu_twin() {
     let Some(gpu) = common::gpu() else { return };
@@ -140,6 +180,10 @@ fn gpu_image_equals_cpu_twin() {
     let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
     let eye = cam.eye.as_dvec3();
     let uv_ulp = (lm.width.max(lm.height) as f64) * f32::EPSILON as f64;
+    use shaders::sampler::ProbeFormat;
+    let tables_precision = sampler_precision(&gpu, ProbeFormat::F16, true);
+    let lightmap_precision =
+        |storage: Storage| sampler_precision(&gpu, if storage == Storage::F16 { ProbeFormat::F16 } else { ProbeFormat::F32 }, false);
     let runs = configurations()
         .into_iter()
         .map(|l| (l, LightmapFilter::Exact))
@@ -148,6 +192,8 @@ fn gpu_image_equals_cpu_twin() {
     for (ci, (l, filter)) in runs.enumerate() {
         let l = &l;
         let renderer = Renderer::new(&gpu, &scene, &lm, None).unwrap().with_filter(filter);
+        // The lightmap's sampler (Hardware, Bicubic): weight error and result rounding.
+        let hw_precision = if filter == LightmapFilter::Exact { (0.0, 0.0) } else { lightmap_precision(l.storage) };
         let atlas = random_atlas(&lm, l, 11 + ci as u64).stored(l.storage).unwrap();
         let a = renderer.analysis(l, &atlas, &cam).unwrap();
         let shader = Shader::new(*l);
@@ -168,10 +214,10 @@ fn gpu_image_equals_cpu_twin() {
                 dmax[1] = dmax[1].max((tj.specular - t.specular).abs());
             }
             // The sampler's sub-texel precision: each bilinear lookup it makes may sit up to
-            // 2⁻⁴ texel off in its cell (one lookup for `Hardware`, four B-spline taps for
+            // ε_w texel off in its cell (one lookup for `Hardware`, four B-spline taps for
             // `Bicubic`, each tap's change weighted by its weight).
-            const SUBTEXEL: f64 = 1.0 / 16.0;
-            let shifts = [[-SUBTEXEL, -SUBTEXEL], [SUBTEXEL, -SUBTEXEL], [-SUBTEXEL, SUBTEXEL], [SUBTEXEL, SUBTEXEL]];
+            let subtexel = hw_precision.0;
+            let shifts = [[-subtexel, -subtexel], [subtexel, -subtexel], [-subtexel, subtexel], [subtexel, subtexel]];
             let mut dhw = [DVec3::ZERO; 2];
             let widen = |lobes: &dyn Fn([f64; 2]) -> Vec<DVec3>, acc: &mut [DVec3; 2]| {
                 let ts = twin(&shader, lobes, &mats, eye, &a, k, None).unwrap();
@@ -203,6 +249,10 @@ fn gpu_image_equals_cpu_twin() {
                     }
                 }
             }
+            // The returned value's rounding, relative to the shaded value (every lobe and
+            // term here is positive, or dominated by a positive c₀₀).
+            dhw[0] += hw_precision.1 * t.diffuse.abs();
+            dhw[1] += hw_precision.1 * t.specular.abs() + table_filter_error(&shader, &exact, &mats, eye, &a, k, tables_precision);
             let g = [a.diffuse[k], a.specular[k]];
             for (q, (cpu, gq)) in [(t.diffuse, g[0]), (t.specular, g[1])].into_iter().enumerate() {
                 for ch in 0..3 {

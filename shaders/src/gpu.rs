@@ -27,6 +27,8 @@ pub struct Gpu {
     pub subgroup_sizes: Option<(u32, u32)>,
     /// The device has `Features::TIMESTAMP_QUERY` (GPU times of compute passes).
     pub timestamps: bool,
+    /// The API the adapter runs through (Vulkan, or GL where no Vulkan driver exists).
+    pub backend: wgpu::Backend,
 }
 
 const WG: u32 = 64;
@@ -205,9 +207,16 @@ impl Gpu {
         Self::on(&adapter)
     }
 
+    /// Vulkan and GL, narrowed by wgpu's own `WGPU_BACKEND` variable where it is set
+    /// (`WGPU_BACKEND=gl` runs as a machine without a Vulkan driver; CI sets `vulkan` so
+    /// that a missing lavapipe fails instead of falling back to GL).
+    fn backends() -> wgpu::Backends {
+        (wgpu::Backends::VULKAN | wgpu::Backends::GL).with_env() & (wgpu::Backends::VULKAN | wgpu::Backends::GL)
+    }
+
     fn instance() -> wgpu::Instance {
         wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::VULKAN | wgpu::Backends::GL,
+            backends: Self::backends(),
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         })
     }
@@ -253,6 +262,7 @@ impl Gpu {
             software,
             subgroup_sizes,
             timestamps,
+            backend: info.backend,
         })
     }
 
@@ -262,7 +272,7 @@ impl Gpu {
     /// fewer than `n` exist.
     pub fn hardware(n: usize) -> Result<Vec<Gpu>, String> {
         let instance = Self::instance();
-        let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN | wgpu::Backends::GL));
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(Self::backends()));
         adapters.sort_by_key(|a| a.get_info().backend != wgpu::Backend::Vulkan);
         let mut seen: Vec<(String, wgpu::Backend)> = Vec::new();
         let mut software = Vec::new();
@@ -356,6 +366,19 @@ impl Gpu {
         )
     }
 
+    /// Why this device cannot run glslang's SPIR-V (the HLSL/GLSL parity kernels), or None
+    /// when it can: SPIR-V passthrough exists on Vulkan alone — wgpu's GL backend reports
+    /// `PASSTHROUGH_SHADERS` too, but what it passes through is GLSL source, not SPIR-V.
+    pub fn spirv_unavailable(&self) -> Option<String> {
+        if self.backend != wgpu::Backend::Vulkan {
+            Some(format!("SPIR-V kernels need a Vulkan adapter; {} runs {:?}", self.adapter, self.backend))
+        } else if !self.device.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) {
+            Some(format!("{} cannot take SPIR-V as is (no PASSTHROUGH_SHADERS)", self.adapter))
+        } else {
+            None
+        }
+    }
+
     /// The launch's pipeline: WGSL, or HLSL/GLSL compiled by glslang and given to wgpu as
     /// SPIR-V (passthrough, with the harness's bind group layout spelled out).
     fn pipeline(&self, l: &Launch, src: &str) -> Result<wgpu::ComputePipeline, String> {
@@ -371,8 +394,8 @@ impl Gpu {
                 cache: None,
             }));
         }
-        if !d.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) {
-            return Err("the adapter cannot take SPIR-V as is (no PASSTHROUGH_SHADERS)".into());
+        if let Some(why) = self.spirv_unavailable() {
+            return Err(why);
         }
         let words = crate::spirv::build(l, src, Self::groups(l.count).0 * WG, WG)?;
         let module = Self::passthrough(d, words);

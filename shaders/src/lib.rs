@@ -18,7 +18,9 @@
 //! - [`progressive`]: the Rust twins of the progressive encoder's GPU structs.
 //! - `gpu` (feature `gpu`, default): a wgpu compute harness for the parity tests and
 //!   the throughput benchmark; `spirv`: the same harness in HLSL and GLSL (glslang →
-//!   SPIR-V), around the exported library.
+//!   SPIR-V), around the exported library; `sampler`: the adapter's texture filter
+//!   precision (weight bits, result rounding), measured, for the filtered lookups' error
+//!   models.
 //!
 //! The `shaders` binary exposes composition and export:
 //! `shaders export --config ad9-irradiance --lang hlsl --out ad9.hlsl`.
@@ -35,5 +37,7 @@ pub mod library;
 pub mod modules;
 pub mod profile;
 pub mod progressive;
+#[cfg(feature = "gpu")]
+pub mod sampler;
 #[cfg(feature = "gpu")]
 pub mod spirv;

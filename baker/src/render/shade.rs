@@ -78,6 +78,45 @@ impl Shader {
         Terms { diffuse, specular }
     }
 
+    /// The most the GPU's per-lobe tables can add to [`Shader::terms`]' specular when the
+    /// texture unit filters them (`lobe_ggx_filtered_*`) with weights within
+    /// `weight_error` and a returned value within `result_error` (relative) of exact —
+    /// [`lobe_ggx::specular_rgb_filter_error`] in the same frame and Fresnel split as the
+    /// twin; zero for the fits and every path without tables.
+    pub fn table_filter_error(&self, c: &[DVec3], m: &SurfaceMaterial, n: DVec3, v: DVec3, weight_error: f64, result_error: f64) -> DVec3 {
+        let table = match self.lighting.encoding {
+            _ if self.lighting.specular != SpecularPath::Tables => return DVec3::ZERO,
+            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => sbf::luts::committed::lobe_ggx_sg6(),
+            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => sbf::luts::committed::lobe_ggx_ad(),
+            _ => return DVec3::ZERO,
+        };
+        let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(n);
+        let vt = DVec3::new(v.dot(t), v.dot(b), v.dot(n));
+        if !m.glossy() || vt.z <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
+        let bound = |f0: f64, f90: f64| {
+            DVec3::from(lobe_ggx::specular_rgb_filter_error(
+                table,
+                &self.axes,
+                &rgb,
+                DVec3::Z,
+                vt,
+                m.alpha,
+                f0,
+                f90,
+                weight_error,
+                result_error,
+            ))
+        };
+        if m.f0.x == m.f0.y && m.f0.y == m.f0.z {
+            bound(m.f0.x, 1.0)
+        } else {
+            m.f0.abs() * bound(1.0, 0.0) + bound(0.0, 1.0)
+        }
+    }
+
     /// E/π at tangent-frame direction `nt` (the plain E/π lightmap has no direction: its
     /// value whatever `nt`).
     pub fn irradiance_at(&self, c: &[DVec3], nt: DVec3) -> DVec3 {

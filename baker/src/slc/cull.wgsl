@@ -6,7 +6,9 @@
 //                   (workgroup z; pixel (I·(16·tile + lid) + s)): the tile's depth range from the
 //                   G-buffer (workgroup atomics), split in two (Modified HalfZ); lights in
 //                   chunks of 256, each thread testing one light and copying the kept
-//                   ones into workgroup memory with what is per light, not per pixel (its ξ;
+//                   ones, in the lights' order (a popcount prefix, so every pixel sums them
+//                   in the same order on any hardware), into workgroup memory with what is
+//                   per light, not per pixel (its ξ;
 //                   a GGX VPL's ω_i in its frame and Λ(ω_i)); every pixel then shades them with the
 //                   stochastic falloff L/p where p > ξ into its two RGB layers (irradiance E,
 //                   the GGX layer's radiance S); per kept light a shared flag says whether
@@ -190,10 +192,13 @@ const SLC_CHUNK: u32 = 256u;
 
 var<workgroup> wg_zmin: atomic<u32>;
 var<workgroup> wg_zmax: atomic<u32>;
-// Per chunk parity: the kept lights' count and, per kept light, whether some pixel accepted
-// it — two of each, so a chunk's statistics are read while the next chunk is culled (two
-// barriers per chunk, not four).
-var<workgroup> wg_count: array<atomic<u32>, 2>;
+// Per chunk parity: which of the chunk's 256 lights its tile keeps (bit t: the light thread
+// t culled) and, per kept light, whether some pixel accepted it — two of each, so one
+// chunk's words are cleared and its statistics read while the next is culled (two barriers
+// per chunk). A kept light's slot is the number of kept lights before it (a popcount
+// prefix over the words): the slots, and so every pixel's sum, follow the lights' order on
+// any hardware — an atomic counter's slots would follow the order threads arrive in.
+var<workgroup> wg_kept: array<array<atomic<u32>, 8>, 2>;
 var<workgroup> wg_accepted: array<array<atomic<u32>, 256>, 2>;
 // Per kept light: the depth slices its bound meets (clustered shading; all bits otherwise).
 var<workgroup> wg_mask: array<u32, 256>;
@@ -296,7 +301,9 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     if (t == 0u) {
         atomicStore(&wg_zmin, 0x7f800000u);
         atomicStore(&wg_zmax, 0u);
-        atomicStore(&wg_count[0], 0u);
+    }
+    if (t < 8u) {
+        atomicStore(&wg_kept[0][t], 0u);
     }
     workgroupBarrier();
     if (valid) {
@@ -328,20 +335,23 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
     var specular = vec3<f32>(0.0);
     var shaded = 0u;
     var false_hits = 0u;
-    // Per chunk two barriers: after the culling (the kept lights' records complete) and after
-    // the shading (the records free for the next chunk). Chunk c keeps its count and flags
-    // at parity c % 2; the other parity's count is reset during c's culling — every thread
-    // read it before the previous chunk's second barrier, and the next chunk adds to it only
-    // after this chunk's.
+    // Per chunk two barriers: after the culling (the kept words complete), and after the kept
+    // lights' records are written at their slots (complete for shading). Chunk c keeps its
+    // words and flags at parity c % 2; the other parity's words are cleared during c's
+    // culling — their last reader, chunk c − 1's slot prefix, finished before c − 1's second
+    // barrier. Chunk c − 1's statistics are read after c's first barrier (its shading done);
+    // the last chunk's after the loop.
     var parity = 0u;
+    var previous_count = 0u;
     for (var base = 0u; base < sub_count; base += SLC_CHUNK) {
-        if (t == 0u) {
-            atomicStore(&wg_count[parity ^ 1u], 0u);
+        if (t < 8u) {
+            atomicStore(&wg_kept[parity ^ 1u][t], 0u);
         }
         let m = base + t;
         let j = tile.z + stride * m;
+        var mask = 0u;
         if (any_valid && m < sub_count) {
-            var mask = 0xffffffffu;
+            mask = 0xffffffffu;
             if ((SP.mode & 3u) != 1u) {
                 let c = SlcCullEllipsoid(mat3x3<f32>(bounds[4u * j].xyz, bounds[4u * j + 1u].xyz, bounds[4u * j + 2u].xyz), bounds[4u * j + 3u].xyz);
                 if (clustered) {
@@ -356,20 +366,40 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                     mask = 0u;
                 }
             }
-            if (mask != 0u) {
-                let slot = atomicAdd(&wg_count[parity], 1u);
-                wg_mask[slot] = mask;
-                let v = slc_load_vpl(j);
-                wg_position[slot] = vec4<f32>(v.position, v.xi);
-                wg_normal[slot] = vec4<f32>(v.normal, v.alpha);
-                wg_power[slot] = vec4<f32>(select(v.flux, v.flux * v.refl, v.diffuse), select(0.0, 1.0, v.diffuse));
-                wg_f0[slot] = vec4<f32>(v.refl, 0.0);
-                wg_incoming[slot] = slc_vpl_incoming(v);
-                atomicStore(&wg_accepted[parity][slot], 0u);
-            }
+        }
+        // A kept light's record is read before the barrier (its latency hidden by the wait).
+        var v: SlcVpl;
+        if (mask != 0u) {
+            v = slc_load_vpl(j);
+            atomicOr(&wg_kept[parity][t / 32u], 1u << (t % 32u));
         }
         workgroupBarrier();
-        let count = atomicLoad(&wg_count[parity]);
+        // The slot: kept lights before this one; the count: all kept lights.
+        var count = 0u;
+        var slot = 0u;
+        for (var w = 0u; w < 8u; w++) {
+            let bits = countOneBits(atomicLoad(&wg_kept[parity][w]));
+            if (w < t / 32u) {
+                slot += bits;
+            }
+            count += bits;
+        }
+        slot += countOneBits(atomicLoad(&wg_kept[parity][t / 32u]) & ((1u << (t % 32u)) - 1u));
+        if (mask != 0u) {
+            wg_mask[slot] = mask;
+            wg_position[slot] = vec4<f32>(v.position, v.xi);
+            wg_normal[slot] = vec4<f32>(v.normal, v.alpha);
+            wg_power[slot] = vec4<f32>(select(v.flux, v.flux * v.refl, v.diffuse), select(0.0, 1.0, v.diffuse));
+            wg_f0[slot] = vec4<f32>(v.refl, 0.0);
+            wg_incoming[slot] = slc_vpl_incoming(v);
+            atomicStore(&wg_accepted[parity][slot], 0u);
+        }
+        // The previous chunk's statistics (its shading finished before this chunk's first
+        // barrier; its flags are the other parity's, rewritten only after the next barrier).
+        if ((SP.mode & 3u) == 0u && t < previous_count && atomicLoad(&wg_accepted[parity ^ 1u][t]) == 0u) {
+            atomicAdd(&stats[1], 1u);
+        }
+        workgroupBarrier();
         if (valid) {
             for (var s = 0u; s < count; s++) {
                 if ((wg_mask[s] & slice_bit) == 0u) {
@@ -408,14 +438,16 @@ fn slc_cull_shade(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocat
                 }
             }
         }
-        workgroupBarrier();
-        if ((SP.mode & 3u) == 0u && t < count && atomicLoad(&wg_accepted[parity][t]) == 0u) {
-            atomicAdd(&stats[1], 1u);
-        }
         if (t == 0u) {
             atomicAdd(&stats[0], count);
         }
+        previous_count = count;
         parity ^= 1u;
+    }
+    // The last chunk's statistics, once its shading is done.
+    workgroupBarrier();
+    if ((SP.mode & 3u) == 0u && t < previous_count && atomicLoad(&wg_accepted[parity ^ 1u][t]) == 0u) {
+        atomicAdd(&stats[1], 1u);
     }
     if (inside) {
         image[2u * k] = vec4<f32>(irradiance * f32(stride), f32(shaded));

@@ -232,9 +232,54 @@ impl Table {
         let slab = 2 * g.gamma * g.psi;
         let base = |di: usize, dj: usize| ((i + di) * g.alpha + j + dj) * slab;
         TablePixel {
+            nodes: [i, j],
             corners: [base(0, 0), base(0, 1), base(1, 0), base(1, 1)],
             weights: [(1.0 - a) * (1.0 - b), (1.0 - a) * b, a * (1.0 - b), a * b],
         }
+    }
+
+    /// The most a texture unit's filter can change one lookup [`Table::lobe`] when the table
+    /// is sampled as the runtime's `lobe_ggx_filtered_*` do — f16 texels in a 3D texture
+    /// filtered along n·v, γ and ψ, two fetches blended along √α in the shader — by a
+    /// sampler whose weights are within `weight_error` of the exact fractions on each axis
+    /// and whose returned value is within `result_error` of the exact blend, relatively:
+    /// per channel, `weight_error` × Σ over the three filtered axes of the largest
+    /// difference of neighbouring nodes along that axis, plus `result_error` × the largest
+    /// node value. A trilinear blend moves by at most its weight's change times that
+    /// difference (it is linear in each weight); the two fetches' blend weighs them by
+    /// weights summing to one. Along each filtered axis the window spans the cell and its
+    /// two neighbours: an f32 position near a node may land in either cell.
+    pub fn filter_error(&self, px: &TablePixel, gamma: f64, psi: f64, weight_error: f64, result_error: f64) -> [f64; 2] {
+        let g = self.grid;
+        let sizes = g.sizes();
+        let base = [px.nodes[0], px.nodes[1], locate(gamma, 2, g.gamma).0, locate(psi, 3, g.psi).0];
+        let window = |d: usize| if d == 1 { (base[d], base[d] + 1) } else { (base[d].saturating_sub(1), (base[d] + 2).min(sizes[d] - 1)) };
+        let w = [window(0), window(1), window(2), window(3)];
+        let at = |k: [usize; 4], c: usize| self.values[2 * (((k[0] * g.alpha + k[1]) * g.gamma + k[2]) * g.psi + k[3]) + c] as f64;
+        let mut out = [0.0; 2];
+        for (c, o) in out.iter_mut().enumerate() {
+            let (mut spread, mut peak) = ([0.0f64; 4], 0.0f64);
+            for k0 in w[0].0..=w[0].1 {
+                for k1 in w[1].0..=w[1].1 {
+                    for k2 in w[2].0..=w[2].1 {
+                        for k3 in w[3].0..=w[3].1 {
+                            let k = [k0, k1, k2, k3];
+                            peak = peak.max(at(k, c).abs());
+                            for (d, s) in spread.iter_mut().enumerate() {
+                                if k[d] < w[d].1 {
+                                    let mut up = k;
+                                    up[d] += 1;
+                                    *s = s.max((at(up, c) - at(k, c)).abs());
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            // √α (axis 1) is blended by the shader in f32, not by the filter.
+            *o = weight_error * (spread[0] + spread[2] + spread[3]) + result_error * peak;
+        }
+        out
     }
 
     /// R = (R₀, R₁) at (γ, ψ) for a pixel's corners.
@@ -268,6 +313,8 @@ impl Table {
 /// A pixel's (θ_v, √α) corners in a [`Table`] and their bilinear weights.
 #[derive(Debug, Clone, Copy)]
 pub struct TablePixel {
+    /// The lower (n·v, √α) nodes.
+    nodes: [usize; 2],
     corners: [usize; 4],
     weights: [f64; 4],
 }
@@ -306,12 +353,48 @@ pub fn lobe_angles(n: DVec3, v: DVec3, p: DVec3) -> (f64, f64) {
 
 /// Specular of RGB lobe coefficients through a table: Σ_i b_i·(f0·R₀ + f90·R₁)(p_i).
 pub fn specular_rgb(table: &Table, axes: &[DVec3], coeffs: &[[f64; 3]], n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64) -> [f64; 3] {
+    specular_rgb_by(table, axes, coeffs, n, v, alpha, f0, f90, |px, gamma, psi| table.lobe(px, gamma, psi))
+}
+
+/// The most a texture unit's filter can change [`specular_rgb`] (the runtime's
+/// `lobe_ggx_filtered_*` path): Σ_i |b_i|·(|f0|·ε₀ + |f90|·ε₁)(p_i), ε from
+/// [`Table::filter_error`] with the sampler's `weight_error` and `result_error`.
+pub fn specular_rgb_filter_error(
+    table: &Table,
+    axes: &[DVec3],
+    coeffs: &[[f64; 3]],
+    n: DVec3,
+    v: DVec3,
+    alpha: f64,
+    f0: f64,
+    f90: f64,
+    weight_error: f64,
+    result_error: f64,
+) -> [f64; 3] {
+    let magnitudes: Vec<[f64; 3]> = coeffs.iter().map(|b| b.map(f64::abs)).collect();
+    specular_rgb_by(table, axes, &magnitudes, n, v, alpha, f0.abs(), f90.abs(), |px, gamma, psi| {
+        table.filter_error(px, gamma, psi, weight_error, result_error)
+    })
+}
+
+/// Σ_i b_i·(f0·R₀ + f90·R₁)(p_i) with R from `lookup` (pixel, γ, ψ).
+fn specular_rgb_by(
+    table: &Table,
+    axes: &[DVec3],
+    coeffs: &[[f64; 3]],
+    n: DVec3,
+    v: DVec3,
+    alpha: f64,
+    f0: f64,
+    f90: f64,
+    lookup: impl Fn(&TablePixel, f64, f64) -> [f64; 2],
+) -> [f64; 3] {
     let px = table.pixel(n.dot(v), alpha);
     let frame = MirrorFrame::new(n, v);
     let mut e = [0.0; 3];
     for (p, b) in axes.iter().zip(coeffs) {
         let (gamma, psi) = frame.angles(*p);
-        let r = table.lobe(&px, gamma, psi);
+        let r = lookup(&px, gamma, psi);
         let w = f0 * r[0] + f90 * r[1];
         for c in 0..3 {
             e[c] += w * b[c];

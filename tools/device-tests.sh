@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# Every GPU test binary of the workspace, run whole on a machine with a real GPU (the
+# device: an NVIDIA H100/H200 with no Rust toolchain), one summary line per binary.
+#
+#   tools/device-tests.sh pack     here: builds the release test binaries and the
+#                                  workspace's binaries, strips them and packs them with
+#                                  ../shared's data and the Debian packages the device
+#                                  lacks (Vulkan/EGL loaders, glslang) into target/device/
+#   tools/device-tests.sh run      there (repo root, target/device carried): unpacks, puts
+#                                  the checkout where the binaries' compiled-in paths point,
+#                                  runs each binary with SBF_REQUIRE_GPU=1 SBF_REQUIRE_PROBES=1
+#                                  from its package's folder (as cargo does), and prints
+#                                  "PASS|FAIL <binary> <passed> passed <failed> failed <s> s"
+#                                  per binary and the adapter; logs in target/device/logs (and
+#                                  $OUT/device-test-logs.tar.gz where $OUT is set)
+#
+# Test binaries find their data and the binaries they invoke through absolute paths fixed at
+# build time (CARGO_MANIFEST_DIR, CARGO_BIN_EXE_*), so `run` links this checkout to the path
+# it was packed at, and the data beside it as ../shared. Extra arguments after `run` go to
+# every test binary (a filter, --test-threads).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+pack=target/device
+
+# The test binaries that reach a GPU (their sources lease the device, make one, or run a
+# command on it), as cargo names them: <package>/<test>.
+gpu_tests() {
+  grep -l -E 'common::gpu|shaders::gpu::|Gpu::(new|hardware|logical)|"--device", "gpu"|gpu-cost|fn gpu\(' \
+    baker/tests/*.rs shaders/tests/*.rs probes/tests/*.rs tests/tests/*.rs | sed -E 's#^(tests)/tests/#sbf-tests/#; s#^([a-z]+)/tests/#\1/#; s#\.rs$##'
+}
+
+case "${1:-}" in
+pack)
+  rm -rf "$pack" && mkdir -p "$pack/bin" "$pack/deb"
+  cargo build --workspace --release --bins
+  # Test executables and their packages, from cargo's own report.
+  cargo test --workspace --release --no-run --message-format=json 2>/dev/null \
+    | python3 -c '
+import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["kind"] == ["test"]:
+        pkg = m["package_id"].split("#")[0].rstrip("/").split("/")[-1].split("@")[0]
+        print(pkg + "/" + m["target"]["name"], m["executable"], m["manifest_path"])
+' >"$pack/all-tests.txt"
+  wanted=$(gpu_tests)
+  : >"$pack/tests.txt"
+  while read -r name exe manifest; do
+    grep -qx "$name" <<<"$wanted" || continue
+    strip -o "$pack/bin/${name//\//__}" "$exe"
+    echo "$name ${name//\//__} $(dirname "$manifest")" >>"$pack/tests.txt"
+  done <"$pack/all-tests.txt"
+  for b in target/release/{baker,render,slc,probes,shaders,fitgen}; do [ -x "$b" ] && strip -o "$pack/bin/$(basename "$b")" "$b"; done
+  echo "$PWD" >"$pack/root.txt"
+  (cd "$pack/bin" && tar cJf ../bin.tar.xz . && cd .. && rm -rf bin)
+  mkdir -p "$pack/shared" && cp -r ../shared/probes ../shared/hdri ../shared/scenes "$pack/shared/"
+  # The loaders (libvulkan, EGL/GL dispatch) and glslang for the HLSL/GLSL parity runs.
+  mkdir -p /tmp/amd64/partial
+  o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+  # shellcheck disable=SC2086
+  apt-get $o update -qq && (cd "$pack/deb" && apt-get $o download libvulkan1 libglvnd0 libegl1 libopengl0 libgl1 libglx0 libgles2 glslang-tools spirv-tools >/dev/null)
+  du -sh "$pack"
+  echo "packed $(wc -l <"$pack/tests.txt") GPU test binaries: carry target/device"
+  ;;
+run)
+  shift
+  [ -f "$pack/tests.txt" ] || { echo "no $pack/tests.txt: run '$0 pack' where the toolchain is, and carry $pack" >&2; exit 2; }
+  for f in "$pack"/deb/*.deb; do dpkg -x "$f" /; done
+  ldconfig
+  if [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]; then
+    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+    export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+  fi
+  root=$(cat "$pack/root.txt")
+  if [ "$root" != "$PWD" ]; then
+    [ -e "$root" ] && [ ! -L "$root" ] && { echo "$root exists here and is not this checkout" >&2; exit 2; }
+    mkdir -p "$(dirname "$root")" && ln -sfn "$PWD" "$root"
+  fi
+  [ -e "$(dirname "$root")/shared" ] || ln -sfn "$PWD/$pack/shared" "$(dirname "$root")/shared"
+  mkdir -p target/release "$pack/run"
+  tar xJf "$pack/bin.tar.xz" -C "$pack/run"
+  for b in baker render slc probes shaders fitgen; do [ -f "$pack/run/$b" ] && cp "$pack/run/$b" target/release/; done
+  logs=$pack/logs
+  rm -rf "$logs" && mkdir -p "$logs"
+  export SBF_REQUIRE_GPU=1 SBF_REQUIRE_PROBES=1
+  status=0
+  while read -r name file dir; do
+    start=$(date +%s.%N)
+    set +e
+    exe="$PWD/$pack/run/$file"
+    (cd "$dir" && "$exe" "$@") >"$logs/${file}.log" 2>&1
+    rc=$?
+    set -e
+    secs=$(python3 -c "import time; print(f'{time.time() - $start:.1f}')")
+    passed=$(grep -oE '[0-9]+ passed' "$logs/${file}.log" | awk '{s += $1} END {print s + 0}')
+    failed=$(grep -oE '[0-9]+ failed' "$logs/${file}.log" | awk '{s += $1} END {print s + 0}')
+    if [ "$rc" = 0 ]; then verdict=PASS; else verdict=FAIL; status=1; fi
+    printf '%s %-26s %4s passed %3s failed %7s s\n' "$verdict" "$name" "$passed" "$failed" "$secs"
+    [ "$rc" = 0 ] || grep -E "panicked|^test .* FAILED|error" "$logs/${file}.log" | head -5 | sed 's/^/    /'
+  done <"$pack/tests.txt"
+  grep -h -oE "[^:]*\((Vulkan|Gl), [^)]*\)" "$logs"/*.log | sed 's/.* on //; s/^adapter: //' | sort | uniq -c | sort -rn | head -3
+  # The logs, one file ($OUT brings back few files).
+  [ -z "${OUT:-}" ] || tar czf "$OUT/device-test-logs.tar.gz" -C "$pack" logs
+  exit $status
+  ;;
+*)
+  sed -n '2,20p' "$0"
+  exit 2
+  ;;
+esac
