@@ -2,6 +2,7 @@
 # Every GPU test binary of the workspace, run whole on a machine with a real GPU (the
 # device: an NVIDIA H100/H200 with no Rust toolchain), one summary line per binary.
 #
+#   tools/device-tests.sh list     the GPU test binaries, one "<package>/<test>" a line
 #   tools/device-tests.sh pack     here: builds the release test binaries and the
 #                                  workspace's binaries, strips them and packs them with
 #                                  ../shared's data and the Debian packages the device
@@ -23,16 +24,20 @@ cd "$(dirname "$0")/.."
 pack=target/device
 
 # The test binaries that reach a GPU (their sources lease the device, make one, or run a
-# command on it), as cargo names them: <package>/<test>.
+# command on it): <package folder>/<test>.
 gpu_tests() {
   grep -l -E 'common::gpu|shaders::gpu::|Gpu::(new|hardware|logical)|"--device", "gpu"|gpu-cost|fn gpu\(' \
-    baker/tests/*.rs shaders/tests/*.rs probes/tests/*.rs tests/tests/*.rs | sed -E 's#^(tests)/tests/#sbf-tests/#; s#^([a-z]+)/tests/#\1/#; s#\.rs$##'
+    baker/tests/*.rs shaders/tests/*.rs probes/tests/*.rs tests/tests/*.rs | sed -E 's#^([a-z]+)/tests/#\1/#; s#\.rs$##'
 }
 
 case "${1:-}" in
+list)
+  gpu_tests
+  ;;
 pack)
   rm -rf "$pack" && mkdir -p "$pack/bin" "$pack/deb"
-  cargo build --workspace --release --bins
+  # (The binaries the tests run are those `cargo test` builds: `cargo build --bins` unifies
+  # other features and would build others.)
   # Test executables and their packages, from cargo's own report.
   cargo test --workspace --release --no-run --message-format=json 2>/dev/null \
     | python3 -c '
@@ -40,7 +45,7 @@ import json, sys
 for line in sys.stdin:
     m = json.loads(line)
     if m.get("reason") == "compiler-artifact" and m.get("executable") and m["target"]["kind"] == ["test"]:
-        pkg = m["package_id"].split("#")[0].rstrip("/").split("/")[-1].split("@")[0]
+        pkg = m["manifest_path"].split("/")[-2]
         print(pkg + "/" + m["target"]["name"], m["executable"], m["manifest_path"])
 ' >"$pack/all-tests.txt"
   wanted=$(gpu_tests)
@@ -50,9 +55,14 @@ for line in sys.stdin:
     strip -o "$pack/bin/${name//\//__}" "$exe"
     echo "$name ${name//\//__} $(dirname "$manifest")" >>"$pack/tests.txt"
   done <"$pack/all-tests.txt"
-  for b in target/release/{baker,render,slc,probes,shaders,fitgen}; do [ -x "$b" ] && strip -o "$pack/bin/$(basename "$b")" "$b"; done
+  # The workspace binaries those tests run (CARGO_BIN_EXE_*).
+  for b in $(cd "$pack" && grep -ohE 'CARGO_BIN_EXE_[a-z_]+' $(sed -E 's#^([a-z]+)/(.*)#../../\1/tests/\2.rs#' <<<"$wanted") ../../*/tests/common/*.rs | sort -u | sed 's/CARGO_BIN_EXE_//'); do
+    strip -o "$pack/bin/$b" "target/release/$b"
+  done
   echo "$PWD" >"$pack/root.txt"
-  (cd "$pack/bin" && tar cJf ../bin.tar.xz . && cd .. && rm -rf bin)
+  # One solid stream with a 64 MiB window: the binaries share most of their code (≈ 230 MB
+  # stripped → ≈ 22 MB; the device call carries at most 64 MiB).
+  (cd "$pack/bin" && tar cf - --sort=name . | xz -9e -T1 >../bin.tar.xz) && rm -rf "$pack/bin"
   mkdir -p "$pack/shared" && cp -r ../shared/probes ../shared/hdri ../shared/scenes "$pack/shared/"
   # The loaders (libvulkan, EGL/GL dispatch) and glslang for the HLSL/GLSL parity runs.
   mkdir -p /tmp/amd64/partial
@@ -79,7 +89,7 @@ run)
   [ -e "$(dirname "$root")/shared" ] || ln -sfn "$PWD/$pack/shared" "$(dirname "$root")/shared"
   mkdir -p target/release "$pack/run"
   tar xJf "$pack/bin.tar.xz" -C "$pack/run"
-  for b in baker render slc probes shaders fitgen; do [ -f "$pack/run/$b" ] && cp "$pack/run/$b" target/release/; done
+  for b in baker render slc probes; do [ -f "$pack/run/$b" ] && cp "$pack/run/$b" target/release/; done
   logs=$pack/logs
   rm -rf "$logs" && mkdir -p "$logs"
   export SBF_REQUIRE_GPU=1 SBF_REQUIRE_PROBES=1
