@@ -88,17 +88,25 @@ run)
   fi
   [ -e "$(dirname "$root")/shared" ] || ln -sfn "$PWD/$pack/shared" "$(dirname "$root")/shared"
   mkdir -p target/release "$pack/run"
-  tar xJf "$pack/bin.tar.xz" -C "$pack/run"
+  [ "$pack/run/.unpacked" -nt "$pack/bin.tar.xz" ] || { tar xJf "$pack/bin.tar.xz" -C "$pack/run" && touch "$pack/run/.unpacked"; }
   for b in baker render slc probes; do [ -f "$pack/run/$b" ] && cp "$pack/run/$b" target/release/; done
   logs=$pack/logs
-  rm -rf "$logs" && mkdir -p "$logs"
+  mkdir -p "$logs"
   export SBF_REQUIRE_GPU=1 SBF_REQUIRE_PROBES=1
   status=0
+  # DEVICE_TESTS: only these binaries ("<package>/<test> …"), in that order.
+  order=$pack/tests.txt
+  if [ -n "${DEVICE_TESTS:-}" ]; then
+    order=$pack/tests-chosen.txt
+    for t in $DEVICE_TESTS; do grep "^$t " "$pack/tests.txt" || echo "no GPU test binary $t" >&2; done >"$order"
+  fi
   while read -r name file dir; do
     start=$(date +%s.%N)
     set +e
     exe="$PWD/$pack/run/$file"
-    (cd "$dir" && "$exe" "$@") >"$logs/${file}.log" 2>&1
+    # Each binary within DEVICE_TEST_TIMEOUT seconds (default 600): one that hangs is
+    # reported, not waited for.
+    (cd "$dir" && timeout "${DEVICE_TEST_TIMEOUT:-600}" "$exe" "$@") >"$logs/${file}.log" 2>&1
     rc=$?
     set -e
     secs=$(python3 -c "import time; print(f'{time.time() - $start:.1f}')")
@@ -107,7 +115,7 @@ run)
     if [ "$rc" = 0 ]; then verdict=PASS; else verdict=FAIL; status=1; fi
     printf '%s %-26s %4s passed %3s failed %7s s\n' "$verdict" "$name" "$passed" "$failed" "$secs"
     [ "$rc" = 0 ] || grep -E "panicked|^test .* FAILED|error" "$logs/${file}.log" | head -5 | sed 's/^/    /'
-  done <"$pack/tests.txt"
+  done <"$order"
   grep -h -oE "[^:]*\((Vulkan|Gl), [^)]*\)" "$logs"/*.log | sed 's/.* on //; s/^adapter: //' | sort | uniq -c | sort -rn | head -3
   # The logs, one file ($OUT brings back few files).
   [ -z "${OUT:-}" ] || tar czf "$OUT/device-test-logs.tar.gz" -C "$pack" logs

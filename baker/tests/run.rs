@@ -22,17 +22,12 @@ fn baker(args: &[&str]) -> Command {
     c
 }
 
-/// Whether a GPU is there: without one the test is skipped (printed), unless
-/// `SBF_REQUIRE_GPU=1`, where that fails it.
-fn have_gpu() -> bool {
-    match shaders::gpu::Gpu::new() {
-        Ok(_) => true,
-        Err(e) => {
-            assert!(std::env::var("SBF_REQUIRE_GPU").map_or(true, |v| v != "1"), "SBF_REQUIRE_GPU=1 but {e}");
-            println!("skipped: {e}");
-            false
-        }
-    }
+/// The device for the calling test alone, or None (printed) without one — unless
+/// `SBF_REQUIRE_GPU=1`, where that fails the test. Held while the test's `baker` runs on
+/// the GPU: GPU tests run one at a time (`shaders::gpu::lease`), so no two bakes of this
+/// binary share the device.
+fn have_gpu() -> Option<shaders::gpu::Lease> {
+    common::gpu()
 }
 
 /// A GPU bake of the built-in scene at 6 texels per unit into `dir`, with `extra`
@@ -187,9 +182,7 @@ fn resume_refuses_edited_scenes_and_other_probe_grids() {
 /// uninterrupted passes (the state round-trips exactly through the checkpoint).
 #[test]
 fn gpu_bake_resumes_to_the_identical_result() {
-    if !have_gpu() {
-        return;
-    }
+    let Some(_gpu) = have_gpu() else { return };
     let (a, b) = (tmp("gpu-straight"), tmp("gpu-resumed"));
     let run = |dir: &Path, passes: &str, extra: &[&str]| {
         gpu_bake(dir, &[&["--passes", passes, "--checkpoint-every", "8", "--probes", "2,2,2"][..], extra].concat(), &[])
@@ -808,9 +801,7 @@ fn gltf_cameras_import_and_set_the_view() {
 /// their moments differ and the bake stops with that error.
 #[test]
 fn gpu_bake_in_basis_groups_equals_the_single_bake() {
-    if !have_gpu() {
-        return;
-    }
+    let Some(_gpu) = have_gpu() else { return };
     let (a, b) = (tmp("groups-one"), tmp("groups-three"));
     let run = |dir: &Path, extra: &[&str]| {
         let base = ["--passes", "16", "--bases", "sh1,sh2,sg9,sg12,ad9,ad12", "--checkpoint-every", "0", "--probes", "0,0,0"];
@@ -842,9 +833,7 @@ fn gpu_bake_in_basis_groups_equals_the_single_bake() {
 /// binding → the files differ.
 #[test]
 fn gpu_bake_with_points_in_two_bindings_equals_the_single_bake() {
-    if !have_gpu() {
-        return;
-    }
+    let Some(_gpu) = have_gpu() else { return };
     let targets =
         baker::accumulate::Targets::lightmap(&baker::layout::lightmap::Lightmap::build(&baker::scene::cornell(), 6.0, 2).unwrap());
     let point_bytes = targets.points.len() * 48;

@@ -694,14 +694,16 @@ fn lobe_ggx_filtered_parity(lang: Lang) {
     lobe_table_parity(lang, true);
 }
 
-/// The adapter's texture filter on an f16 3D texture (the tables' rg16float), measured by
-/// `shaders::sampler` — weight bits and whether they truncate, the returned value's rounding
-/// — and printed: wgpu does not report Vulkan's `subTexelPrecisionBits`, so the probe asks
-/// the sampler itself. Returns (weight error per axis, relative error of the result).
-fn filter_precision(g: &shaders::gpu::Gpu) -> (f64, f64) {
-    let p = shaders::sampler::measure(g, shaders::sampler::ProbeFormat::F16, true).unwrap();
+/// The adapter's texture filter on an f16 3D texture of the table's size (its rg16float),
+/// measured by `shaders::sampler` — weight bits and whether they truncate, the returned
+/// value's rounding — and printed: wgpu does not report Vulkan's `subTexelPrecisionBits`, so
+/// the probe asks the sampler itself. Returns (weight error per axis, relative error of the
+/// result).
+fn filter_precision(g: &shaders::gpu::Gpu, table: &sbf::recon::lobe_ggx::Table) -> (f64, f64) {
+    let size = shaders::gpu::lobe_filtered_texels(table).0;
+    let p = shaders::sampler::measure(g, shaders::sampler::ProbeFormat::F16, size, true).unwrap();
     println!(
-        "sampler on {}: {} weight bits ({}), weight error ≤ {:.3e} (seen {:.3e}), result error ≤ {:.3e} (seen {:.3e})",
+        "sampler on {}, {size:?} texels: {} weight bits ({}), weight error ≤ {:.3e} (seen {:.3e}), result error ≤ {:.3e} (seen {:.3e})",
         g.adapter,
         p.weight_bits,
         if p.truncates { "truncated" } else { "rounded" },
@@ -735,9 +737,9 @@ fn lobe_table_parity(lang: Lang, filtered: bool) {
 /// passes), the GPU reading the tables' values × `gpu_scale` (1: as committed).
 fn table_parity_worst(g: &G, filtered: bool, gpu_scale: f32) -> f64 {
     let lib = library(if filtered { "lobe-ggx-filtered" } else { "lobe-ggx-specular" });
-    let (weight_error, result_error) = if filtered { filter_precision(&g.lease) } else { (0.0, 0.0) };
     let mut worst = 0.0f64;
     for (table, seed) in [(sbf::luts::committed::lobe_ggx_sg6(), 31), (sbf::luts::committed::lobe_ggx_ad(), 32)] {
+        let (weight_error, result_error) = if filtered { filter_precision(&g.lease, table) } else { (0.0, 0.0) };
         let mut gpu_table = table.clone();
         gpu_table.values.iter_mut().for_each(|v| *v *= gpu_scale);
         let peak = table.values.iter().fold(0.0f32, |a, b| a.max(b.abs())) as f64;
@@ -829,11 +831,11 @@ fn lobe_ggx_filtered_keeps_the_tables_error() {
     use std::f64::consts::PI;
     let Some(g) = gpu(Lang::Wgsl) else { return };
     let lib = library("lobe-ggx-filtered");
-    let (weight_error, result_error) = filter_precision(&g.lease);
     for (table, lobe, seed) in [
         (sbf::luts::committed::lobe_ggx_sg6(), RadialLobe::Sg { sharpness: 6.0 }, 61),
         (sbf::luts::committed::lobe_ggx_ad(), RadialLobe::AdSrbf, 62),
     ] {
+        let (weight_error, result_error) = filter_precision(&g.lease, table);
         let mut r = Pcg32::new(seed, 3);
         let pts: Vec<[f64; 4]> = (0..1024).map(|_| [r.next_2d(), r.next_2d()]).map(|[a, b]| [a[0], a[1], b[0], b[1]]).collect();
         let mut inp = Vec::new();

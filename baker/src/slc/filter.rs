@@ -1,6 +1,6 @@
 //! The filter that joins the interleaving subregions (seed 002 §6: "the variance is visible
 //! as noise … removed using a cross bilateral filter [PSA*04, ED04]"; §7: "cross bilateral
-//! filtering of kernel radius 8"). CPU twin of `slc_filter` in `cull.wgsl`.
+//! filtering of kernel radius 8"). CPU twin of `slc_filter` in `filter.wgsl`.
 //!
 //! Both filters average the irradiance E and the GGX layer's radiance S ([`Layers`]) of a
 //! pixel's neighbours on its own surface and compose them with the pixel's own albedo

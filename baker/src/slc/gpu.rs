@@ -35,7 +35,8 @@ shaders::gpu_struct!(
     [width, height, light_count, mode, tan_x, tan_y, delta, interleave, xi_seed, filter_radius, clusters, pad2]
 );
 
-const KERNEL: &str = include_str!("cull.wgsl");
+/// The culling kernel and, appended (it reads the kernel's bindings), the filters.
+const KERNEL: &str = concat!(include_str!("cull.wgsl"), "\n", include_str!("filter.wgsl"));
 
 /// The composed kernel source (validated by naga).
 pub fn kernel() -> Result<String, String> {
