@@ -14,6 +14,8 @@
 #                                  "PASS|FAIL <binary> <passed> passed <failed> failed <s> s"
 #                                  per binary and the adapter; logs in target/device/logs (and
 #                                  $OUT/device-test-logs.tar.gz where $OUT is set)
+#   DEVICE_PACK: the pack's folder (default target/device); DEVICE_TESTS: which binaries, in
+#   that order; DEVICE_TEST_TIMEOUT: seconds per binary (default 600).
 #
 # Test binaries find their data and the binaries they invoke through absolute paths fixed at
 # build time (CARGO_MANIFEST_DIR, CARGO_BIN_EXE_*), so `run` links this checkout to the path
@@ -21,7 +23,7 @@
 # every test binary (a filter, --test-threads).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-pack=target/device
+pack=${DEVICE_PACK:-target/device}
 
 # The test binaries that reach a GPU (their sources lease the device, make one, or run a
 # command on it): <package folder>/<test>.

@@ -92,7 +92,7 @@ pub fn measure(gpu: &Gpu, format: ProbeFormat, size: [u32; 3], three_d: bool) ->
     let [w, h, d] = size.map(|s| s as usize);
     let texels: Vec<[f32; 4]> = (0..w * h * d)
         .map(|t| {
-            let (x, y, z) = (t % w & 1, (t / w) % h & 1, t / (w * h) & 1);
+            let (x, y, z) = ((t % w) & 1, ((t / w) % h) & 1, (t / (w * h)) & 1);
             [x as f32, y as f32, z as f32, (1.0 + delta * (x + 2 * y + 4 * z) as f64) as f32]
         })
         .collect();
