@@ -62,9 +62,21 @@ fn random_atlas(lm: &Lightmap, l: &Lighting, seed: u64) -> Atlas {
     Atlas { width: lm.width, height: lm.height, lobes }
 }
 
-/// The CPU twin's terms at pixel k of the GPU's analysis (its interpolated inputs), the
-/// lobes taken by `lobes` at the pixel's lightmap position, or None where nothing
-/// lightmapped is visible.
+/// Pixel k of the GPU's analysis (its interpolated inputs): material index, unit normal,
+/// unit view and lightmap position (atlas texels), or None where nothing lightmapped is
+/// visible.
+fn pixel(a: &Analysis, eye: DVec3, k: usize) -> Option<(usize, DVec3, DVec3, [f64; 2])> {
+    if a.diffuse[k][3] < 0.0 {
+        return None;
+    }
+    let (nu, pv) = (a.normal_u[k], a.position_v[k]);
+    let n = DVec3::new(nu[0] as f64, nu[1] as f64, nu[2] as f64).normalize();
+    let v = (eye - DVec3::new(pv[0] as f64, pv[1] as f64, pv[2] as f64)).normalize();
+    Some((a.diffuse[k][3] as usize, n, v, [nu[3] as f64, pv[3] as f64]))
+}
+
+/// The CPU twin's terms at pixel k (see [`pixel`]), the lobes taken by `lobes` at the
+/// pixel's lightmap position, normal and view moved by `jitter` where given.
 #[allow(clippy::too_many_arguments)]
 fn twin(
     shader: &Shader,
@@ -75,22 +87,12 @@ fn twin(
     k: usize,
     jitter: Option<DVec3>,
 ) -> Option<baker::render::shade::Terms> {
-    if a.diffuse[k][3] < 0.0 {
-        return None;
-    }
-    let m = a.diffuse[k][3] as usize;
-    let nu = a.normal_u[k];
-    let pv = a.position_v[k];
-    let n = DVec3::new(nu[0] as f64, nu[1] as f64, nu[2] as f64).normalize();
-    let p = DVec3::new(pv[0] as f64, pv[1] as f64, pv[2] as f64);
-    let mut v = (eye - p).normalize();
-    let mut nn = n;
+    let (m, mut n, mut v, uv) = pixel(a, eye, k)?;
     if let Some(j) = jitter {
         v = (v + j).normalize();
-        nn = (n - j.zxy()).normalize();
+        n = (n - j.zxy()).normalize();
     }
-    let c = lobes([nu[3] as f64, pv[3] as f64]);
-    Some(shader.terms(&c, &mats[m], nn, v))
+    Some(shader.terms(&lobes(uv), &mats[m], n, v))
 }
 
 /// The most the texture unit's filter of the per-lobe tables adds to the specular at pixel
@@ -105,11 +107,8 @@ fn table_filter_error(
     k: usize,
     precision: (f64, f64),
 ) -> DVec3 {
-    let (nu, pv) = (a.normal_u[k], a.position_v[k]);
-    let n = DVec3::new(nu[0] as f64, nu[1] as f64, nu[2] as f64).normalize();
-    let v = (eye - DVec3::new(pv[0] as f64, pv[1] as f64, pv[2] as f64)).normalize();
-    let c = lobes([nu[3] as f64, pv[3] as f64]);
-    shader.table_filter_error(&c, &mats[a.diffuse[k][3] as usize], n, v, precision.0, precision.1)
+    let Some((m, n, v, uv)) = pixel(a, eye, k) else { return DVec3::ZERO };
+    shader.table_filter_error(&lobes(uv), &mats[m], n, v, precision.0, precision.1)
 }
 
 /// Vulkan's least `subTexelPrecisionBits` (4): a sub-texel step every conformant adapter's
