@@ -14,8 +14,9 @@
 #                                  "PASS|FAIL <binary> <passed> passed <failed> failed <s> s"
 #                                  per binary and the adapter; logs in target/device/logs (and
 #                                  $OUT/device-test-logs.tar.gz where $OUT is set)
-#   DEVICE_PACK: the pack's folder (default target/device); DEVICE_TESTS: which binaries, in
-#   that order; DEVICE_TEST_TIMEOUT: seconds per binary (default 600).
+#   DEVICE_PACK: the pack's folder (default target/device); DEVICE_TESTS: which binaries
+#   (`pack`: only those are packed, a smaller and quicker pack; `run`: in that order);
+#   DEVICE_TEST_TIMEOUT: seconds per binary (default 600).
 #
 # Test binaries find their data and the binaries they invoke through absolute paths fixed at
 # build time (CARGO_MANIFEST_DIR, CARGO_BIN_EXE_*), so `run` links this checkout to the path
@@ -51,6 +52,10 @@ for line in sys.stdin:
         print(pkg + "/" + m["target"]["name"], m["executable"], m["manifest_path"])
 ' >"$pack/all-tests.txt"
   wanted=$(gpu_tests)
+  if [ -n "${DEVICE_TESTS:-}" ]; then
+    for t in $DEVICE_TESTS; do grep -qx "$t" <<<"$wanted" || { echo "no GPU test binary $t" >&2; exit 2; }; done
+    wanted=$(tr ' ' '\n' <<<"$DEVICE_TESTS")
+  fi
   : >"$pack/tests.txt"
   while read -r name exe manifest; do
     grep -qx "$name" <<<"$wanted" || continue

@@ -6,7 +6,7 @@ mod common;
 use baker::accumulate::BasisKind;
 use baker::layout::lightmap::Lightmap;
 use baker::render::atlas::Atlas;
-use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
+use baker::render::lighting::{Encoding, FramePath, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use baker::render::raster::{Analysis, Renderer};
 use baker::render::shade::Shader;
 use baker::scene::camera::ViewCamera;
@@ -142,8 +142,10 @@ fn hw_shifted(uv: [f64; 2], shift: [f64; 2]) -> [f64; 2] {
 }
 
 /// GPU image = CPU twin (f64 through sbf) at ≥ 1 000 random pixels of the built-in scene
-/// (Lambert walls, a glossy block), for every configuration, shading the very inputs the
-/// rasteriser interpolated (read back from `fs_surface`).
+/// (Lambert walls, a glossy block), for every configuration, on both paths — forward (the
+/// fragment shader shades) and deferred (a G-buffer, then a compute pass shades) — shading
+/// the very inputs the rasteriser interpolated (read back from `fs_surface`, or the
+/// G-buffer the compute pass read).
 ///
 /// Error model, per pixel and channel: the runtime functions agree with their f64 twins
 /// to 1e-4 of the magnitude of the terms they add (the GPU parity tests' bar; all terms
@@ -202,8 +204,9 @@ fn gpu_image_equals_cpu_twin() {
         .into_iter()
         .map(|l| (l, LightmapFilter::Exact))
         .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Hardware)))
-        .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Bicubic)));
-    for (ci, (l, filter)) in runs.enumerate() {
+        .chain(configurations().into_iter().filter(|l| l.specular == SpecularPath::Fit).map(|l| (l, LightmapFilter::Bicubic)))
+        .flat_map(|(l, f)| [FramePath::Forward, FramePath::Deferred].map(|p| (l, f, p)));
+    for (ci, (l, filter, path)) in runs.enumerate() {
         let l = &l;
         if filter != LightmapFilter::Exact && l.storage == Storage::F32 && !filters_f32 {
             println!("{:<14} {:<8} skipped: {} cannot filter f32 textures (no FLOAT32_FILTERABLE)", l.name(), filter.name(), gpu.adapter);
@@ -213,7 +216,10 @@ fn gpu_image_equals_cpu_twin() {
         // The lightmap's sampler (Hardware, Bicubic): weight error and result rounding.
         let hw_precision = if filter == LightmapFilter::Exact { (0.0, 0.0) } else { lightmap_precision(l.storage) };
         let atlas = random_atlas(&lm, l, 11 + ci as u64).stored(l.storage).unwrap();
-        let a = renderer.analysis(l, &atlas, &cam).unwrap();
+        let a = match path {
+            FramePath::Forward => renderer.analysis(l, &atlas, &cam).unwrap(),
+            FramePath::Deferred => renderer.analysis_deferred(l, &atlas, &cam).unwrap(),
+        };
         let shader = Shader::new(*l);
         let mut r = Pcg32::new(5, ci as u64);
         let (mut checked, mut glossy, mut worst) = (0, 0, (0.0f64, 0usize));
@@ -292,9 +298,10 @@ fn gpu_image_equals_cpu_twin() {
             checked += 1;
         }
         println!(
-            "{:<14} {:<8} {checked} pixels ({glossy} with specular), worst error / tolerance {:.3} at pixel {}",
+            "{:<14} {:<8} {:<8} {checked} pixels ({glossy} with specular), worst error / tolerance {:.3} at pixel {}",
             l.name(),
             filter.name(),
+            path.name(),
             worst.0,
             worst.1
         );
@@ -302,7 +309,15 @@ fn gpu_image_equals_cpu_twin() {
         if l.encoding != Encoding::Irradiance {
             assert!(glossy >= 50, "{}: only {glossy} pixels with specular: the test would not see the specular term", l.name());
         }
-        assert!(worst.0 <= 1.0, "{}: GPU differs from the CPU twin by {:.3}× the tolerance at pixel {}", l.name(), worst.0, worst.1);
+        assert!(
+            worst.0 <= 1.0,
+            "{} ({}, {}): GPU differs from the CPU twin by {:.3}× the tolerance at pixel {}",
+            l.name(),
+            filter.name(),
+            path.name(),
+            worst.0,
+            worst.1
+        );
     }
 }
 

@@ -17,7 +17,7 @@ pub(super) type Lattice = ([u32; 4], [f32; 4], [f32; 4]);
 pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
     let texture = |binding: u32, dim: wgpu::TextureViewDimension| wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Texture {
             // The lightmap when it is sampled; the lobe table (3D), always.
             sample_type: wgpu::TextureSampleType::Float { filterable: (filtering && binding == 2) || binding == 4 },
@@ -28,7 +28,7 @@ pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayo
     };
     let buffer = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
         count: None,
     };
@@ -44,7 +44,7 @@ pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayo
             texture(6, wgpu::TextureViewDimension::D2),
             wgpu::BindGroupLayoutEntry {
                 binding: 7,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Sampler(if filtering {
                     wgpu::SamplerBindingType::Filtering
                 } else {
@@ -54,7 +54,7 @@ pub(super) fn layouts(d: &wgpu::Device, filtering: bool) -> (wgpu::BindGroupLayo
             },
             wgpu::BindGroupLayoutEntry {
                 binding: 8,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                 count: None,
             },

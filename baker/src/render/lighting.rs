@@ -38,6 +38,26 @@ impl Storage {
     }
 }
 
+/// How a frame is shaded on the GPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FramePath {
+    /// A depth pre-pass, then every visible pixel shaded in the raster pass's fragment
+    /// shader (`fs_frame`).
+    Forward,
+    /// A depth pre-pass and a G-buffer pass (the fragments' inputs in f32), then shading in
+    /// a compute pass over 8×8-pixel tiles (`cs_frame`), as current engines light a frame.
+    Deferred,
+}
+
+impl FramePath {
+    pub fn name(self) -> &'static str {
+        match self {
+            FramePath::Forward => "forward",
+            FramePath::Deferred => "deferred",
+        }
+    }
+}
+
 /// How the raster pass interpolates the lightmap between texel centres.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LightmapFilter {

@@ -14,6 +14,7 @@
 //! | [`visible`] | the visible surface per pixel by ray casting (the rasteriser's CPU twin) and the CPU image |
 //! | `bindings` | what every render pipeline binds (the layout) and the probes as shader rows |
 //! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
+//! | `deferred` | the deferred path: a G-buffer from the raster pass, shading in a compute pass over 8×8 tiles |
 //! | [`reference`](mod@reference) | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
 //! | [`reference_gpu`] | the same reference on the GPU: the bake's WGSL path tracer over the same visible surfaces (`wgsl/reference.wgsl`) |
 //! | [`compare`] | errors against the reference (its noise subtracted) |
@@ -27,6 +28,7 @@
 pub mod atlas;
 mod bindings;
 pub mod compare;
+mod deferred;
 pub mod lighting;
 pub mod normal_map;
 pub mod probes;

@@ -12,7 +12,7 @@
 
 use super::atlas::Atlas;
 use super::bindings::{layouts, lightmap_sampler, no_lobe_table, probe_rows, Lattice};
-use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
+use super::lighting::{lobe_axes, Encoding, FramePath, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use super::probes::ProbeField;
 use crate::accumulate::BasisKind;
 use crate::layout::lightmap::Lightmap;
@@ -93,14 +93,14 @@ pub struct Analysis {
 /// The scene on the GPU and the render module.
 #[derive(Debug)]
 pub struct Renderer<'g> {
-    gpu: &'g Gpu,
-    module: wgpu::ShaderModule,
+    pub(super) gpu: &'g Gpu,
+    pub(super) module: wgpu::ShaderModule,
     vertices: wgpu::Buffer,
     vertex_count: u32,
     materials: wgpu::Buffer,
     /// The scene's bounds (near and far planes per camera).
     bounds: (sbf::glam::Vec3, sbf::glam::Vec3),
-    group_layout: wgpu::BindGroupLayout,
+    pub(super) group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
     /// SH L2 probes (9 rows of 4 floats per probe) and the lattice, or one zero row.
     probes: wgpu::Buffer,
@@ -219,7 +219,7 @@ impl<'g> Renderer<'g> {
 
     /// The pipeline constants of `l` (`fetch_only`: the timing variant that only fetches
     /// the lobes).
-    fn constants(&self, l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 6] {
+    pub(super) fn constants(&self, l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 6] {
         let (enc, lobes) = match l.encoding {
             Encoding::Irradiance => (0, 1),
             Encoding::Basis(BasisKind::ShL1) => (1, 4),
@@ -241,7 +241,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// The bind group of a configuration: frame uniform, materials, lightmap, table(s).
-    fn bind(&self, l: &Lighting, atlas: &Atlas, cam: &ViewCamera) -> Result<(wgpu::BindGroup, wgpu::Buffer), String> {
+    pub(super) fn bind(&self, l: &Lighting, atlas: &Atlas, cam: &ViewCamera) -> Result<(wgpu::BindGroup, wgpu::Buffer), String> {
         let d = self.gpu.device();
         l.check()?;
         if atlas.lobes.len() != l.lobes() {
@@ -364,7 +364,12 @@ impl<'g> Renderer<'g> {
 
     /// A pipeline: the depth pre-pass (`fragment` None) or a shading entry point with its
     /// targets (depth test Equal, no depth write).
-    fn pipeline(&self, l: &Lighting, fragment: Option<(&str, &[wgpu::TextureFormat])>, fetch_only: bool) -> wgpu::RenderPipeline {
+    pub(super) fn pipeline(
+        &self,
+        l: &Lighting,
+        fragment: Option<(&str, &[wgpu::TextureFormat])>,
+        fetch_only: bool,
+    ) -> wgpu::RenderPipeline {
         let constants = self.constants(l, fetch_only);
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let targets: Vec<Option<wgpu::ColorTargetState>> = fragment
@@ -407,7 +412,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// A render target of the camera's size.
-    fn target(&self, cam: &ViewCamera, format: wgpu::TextureFormat, label: &str) -> wgpu::Texture {
+    pub(super) fn target(&self, cam: &ViewCamera, format: wgpu::TextureFormat, label: &str) -> wgpu::Texture {
         self.gpu.device().create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d { width: cam.width, height: cam.height, depth_or_array_layers: 1 },
@@ -420,16 +425,18 @@ impl<'g> Renderer<'g> {
         })
     }
 
-    /// Records the depth pre-pass, then one shading pass per (pipeline, targets).
+    /// Records the depth pre-pass, then one shading pass per (pipeline, targets);
+    /// timestamps at the pre-pass's beginning (`begin`) and the last pass's end (`end`).
     #[allow(clippy::too_many_arguments)]
-    fn record(
+    pub(super) fn record(
         &self,
         enc: &mut wgpu::CommandEncoder,
         group: &wgpu::BindGroup,
         depth_pipeline: &wgpu::RenderPipeline,
         depth: &wgpu::TextureView,
         shading: &[(&wgpu::RenderPipeline, Vec<&wgpu::TextureView>)],
-        timestamps: Option<(&wgpu::QuerySet, u32)>,
+        begin: Option<(&wgpu::QuerySet, u32)>,
+        end: Option<(&wgpu::QuerySet, u32)>,
     ) {
         {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -440,7 +447,7 @@ impl<'g> Renderer<'g> {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: timestamps.map(|(q, i)| wgpu::RenderPassTimestampWrites {
+                timestamp_writes: begin.map(|(q, i)| wgpu::RenderPassTimestampWrites {
                     query_set: q,
                     beginning_of_pass_write_index: Some(i),
                     end_of_pass_write_index: None,
@@ -478,10 +485,10 @@ impl<'g> Renderer<'g> {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: timestamps.filter(|_| last).map(|(q, i)| wgpu::RenderPassTimestampWrites {
+                timestamp_writes: end.filter(|_| last).map(|(q, i)| wgpu::RenderPassTimestampWrites {
                     query_set: q,
                     beginning_of_pass_write_index: None,
-                    end_of_pass_write_index: Some(i + 1),
+                    end_of_pass_write_index: Some(i),
                 }),
                 occlusion_query_set: None,
                 multiview_mask: None,
@@ -494,7 +501,7 @@ impl<'g> Renderer<'g> {
     }
 
     /// Reads an rgba32uint target holding f32 bits back.
-    fn read_rgba32(&self, tex: &wgpu::Texture) -> Result<Vec<[f32; 4]>, String> {
+    pub(super) fn read_rgba32(&self, tex: &wgpu::Texture) -> Result<Vec<[f32; 4]>, String> {
         let (w, h) = (tex.width() as usize, tex.height() as usize);
         let row = (w * 16).div_ceil(256) * 256;
         let buf = self.gpu.device().create_buffer(&wgpu::BufferDescriptor {
@@ -541,6 +548,7 @@ impl<'g> Renderer<'g> {
             &depth,
             &[(&terms, vec![&views[0], &views[1]]), (&surface, vec![&views[2], &views[3]])],
             None,
+            None,
         );
         self.gpu.queue().submit([enc.finish()]);
         let mut out = tex.iter().map(|t| self.read_rgba32(t)).collect::<Result<Vec<_>, _>>()?;
@@ -548,13 +556,16 @@ impl<'g> Renderer<'g> {
         Ok(Analysis { width: cam.width as usize, height: cam.height as usize, diffuse, specular, normal_u, position_v })
     }
 
-    /// GPU time (ms) of the depth pre-pass and the forward pass of `l` into one rgba16float
-    /// target, per frame, from timestamp queries: `warmup` frames dropped, then `frames`
-    /// measured, one submission each. None when the adapter has no timestamp queries.
-    /// `fetch_only`: the pass fetches the lobes and sums them, no runtime (the
-    /// configuration's bandwidth floor).
+    /// GPU time (ms) of one frame of `l` on `path` into one rgba16float target, from
+    /// timestamp queries — forward: the depth pre-pass and the forward pass; deferred: the
+    /// depth pre-pass, the G-buffer pass and the compute pass — `warmup` frames dropped,
+    /// then `frames` measured, one submission each. None when the adapter has no timestamp
+    /// queries. `fetch_only`: the shading fetches the lobes and sums them, no runtime (the
+    /// configuration's lightmap-bandwidth floor).
+    #[allow(clippy::too_many_arguments)]
     pub fn frame_times(
         &self,
+        path: FramePath,
         l: &Lighting,
         atlas: &Atlas,
         cam: &ViewCamera,
@@ -566,20 +577,33 @@ impl<'g> Renderer<'g> {
         }
         let d = self.gpu.device();
         let (group, _frame) = self.bind(l, atlas, cam)?;
-        let depth_pipeline = self.pipeline(l, None, false);
-        let shade = self.pipeline(l, Some(("fs_frame", &[wgpu::TextureFormat::Rgba16Float])), fetch_only);
-        let depth = self.target(cam, wgpu::TextureFormat::Depth32Float, "render depth").create_view(&Default::default());
-        let colour = self.target(cam, wgpu::TextureFormat::Rgba16Float, "render frame").create_view(&Default::default());
         let total = (warmup + frames) as u32;
         let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("render timestamps"),
             ty: wgpu::QueryType::Timestamp,
             count: 2 * total,
         });
-        for k in 0..total {
-            let mut enc = d.create_command_encoder(&Default::default());
-            self.record(&mut enc, &group, &depth_pipeline, &depth, &[(&shade, vec![&colour])], Some((&queries, 2 * k)));
-            self.gpu.queue().submit([enc.finish()]);
+        let depth_pipeline = self.pipeline(l, None, false);
+        let depth = self.target(cam, wgpu::TextureFormat::Depth32Float, "render depth").create_view(&Default::default());
+        match path {
+            FramePath::Forward => {
+                let shade = self.pipeline(l, Some(("fs_frame", &[wgpu::TextureFormat::Rgba16Float])), fetch_only);
+                let colour = self.target(cam, wgpu::TextureFormat::Rgba16Float, "render frame").create_view(&Default::default());
+                for k in 0..total {
+                    let mut enc = d.create_command_encoder(&Default::default());
+                    let (begin, end) = (Some((&queries, 2 * k)), Some((&queries, 2 * k + 1)));
+                    self.record(&mut enc, &group, &depth_pipeline, &depth, &[(&shade, vec![&colour])], begin, end);
+                    self.gpu.queue().submit([enc.finish()]);
+                }
+            }
+            FramePath::Deferred => {
+                let pass = super::deferred::Deferred::new(self, l, cam, super::deferred::Output::Frame, fetch_only);
+                for k in 0..total {
+                    let mut enc = d.create_command_encoder(&Default::default());
+                    pass.record(self, &mut enc, &group, &depth_pipeline, &depth, Some((&queries, 2 * k)));
+                    self.gpu.queue().submit([enc.finish()]);
+                }
+            }
         }
         let resolve = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("render timestamps"),

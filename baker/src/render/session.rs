@@ -1,11 +1,11 @@
 //! One comparison as the `render` command runs it: a baked scene, a camera, the
 //! configurations to shade; the visible surfaces and the path-traced reference once, then
 //! per configuration the image (GPU raster pass where an adapter is given, else the CPU
-//! twin), its errors against the reference, and its GPU frame time.
+//! twin), its errors against the reference, and its GPU frame times (forward and deferred).
 
 use super::atlas::Atlas;
 use super::compare::{errors, Errors};
-use super::lighting::{Lighting, LightmapFilter};
+use super::lighting::{FramePath, Lighting, LightmapFilter};
 use super::probes::ProbeField;
 use super::raster::Renderer;
 use super::reference::{self, Reference};
@@ -83,7 +83,10 @@ pub struct Rendered {
     /// With normal maps: errors of the total over the pixels whose shading normal the map
     /// moved, and how many.
     pub normal_mapped: Option<(Errors, usize)>,
+    /// Frame times on the forward path (the raster pass shades) and on the deferred path
+    /// (a G-buffer, then shading in a compute pass).
     pub frame: Option<FrameTime>,
+    pub frame_deferred: Option<FrameTime>,
 }
 
 /// The whole comparison.
@@ -169,9 +172,15 @@ pub fn run(
             r.chart_border.0.rmse,
             r.interior.0.rmse,
             r.normal_mapped.map(|(e, n)| format!("; normal-mapped pixels ({n}) {:.4e}", e.rmse)).unwrap_or_default(),
-            r.frame
-                .map(|f| format!(", frame {:.3} ms (lobes fetched only: {:.3} ms)", f.median_ms, f.fetch_only_ms.unwrap_or(f64::NAN)))
-                .unwrap_or_default()
+            [(FramePath::Forward, r.frame), (FramePath::Deferred, r.frame_deferred)]
+                .iter()
+                .filter_map(|(p, f)| f.map(|f| format!(
+                    ", {} frame {:.3} ms (lobes fetched only: {:.3} ms)",
+                    p.name(),
+                    f.median_ms,
+                    f.fetch_only_ms.unwrap_or(f64::NAN)
+                )))
+                .collect::<String>()
         ));
         rendered.push(r);
     }
@@ -228,7 +237,8 @@ fn render_one(
         Some(v) if v.probed => Some((2, v.material)),
         _ => None,
     };
-    let (terms, kinds, shaded_on, frame): (Vec<Terms>, Vec<u8>, &'static str, Option<FrameTime>) = match renderer {
+    type Frames = [Option<FrameTime>; 2];
+    let (terms, kinds, shaded_on, frames): (Vec<Terms>, Vec<u8>, &'static str, Frames) = match renderer {
         Some(r) => {
             let a = r.analysis(l, atlas, &cam)?;
             let terms: Vec<Terms> = (0..a.diffuse.len())
@@ -245,20 +255,22 @@ fn render_one(
                     _ => 0,
                 })
                 .collect();
-            let frame = match setup.timing {
-                Some((w, h, warm, n)) if n > 0 => {
-                    let big = ViewCamera { width: w, height: h, ..cam };
-                    let floor = r.frame_times(l, atlas, &big, (warm, n), true)?.map(|t| frame_stats(w, h, t).median_ms);
-                    r.frame_times(l, atlas, &big, (warm, n), false)?.map(|t| FrameTime { fetch_only_ms: floor, ..frame_stats(w, h, t) })
+            let mut frames = [None; 2];
+            if let Some((w, h, warm, n)) = setup.timing.filter(|t| t.3 > 0) {
+                let big = ViewCamera { width: w, height: h, ..cam };
+                for (k, path) in [FramePath::Forward, FramePath::Deferred].into_iter().enumerate() {
+                    let floor = r.frame_times(path, l, atlas, &big, (warm, n), true)?.map(|t| frame_stats(w, h, t).median_ms);
+                    frames[k] = r
+                        .frame_times(path, l, atlas, &big, (warm, n), false)?
+                        .map(|t| FrameTime { fetch_only_ms: floor, ..frame_stats(w, h, t) });
                 }
-                _ => None,
-            };
-            (terms, kinds, "GPU", frame)
+            }
+            (terms, kinds, "GPU", frames)
         }
         None => {
             let shader = Shader::new(*l);
             let terms = visible::shade_pixels(&shader, atlas, setup.lightmap_filter, probes, scene, cam.eye, visible);
-            (terms, visible.iter().map(|v| kind(v).map_or(0, |k| k.0)).collect(), "CPU", None)
+            (terms, visible.iter().map(|v| kind(v).map_or(0, |k| k.0)).collect(), "CPU", [None; 2])
         }
     };
     let d: Vec<DVec3> = terms.iter().map(|t| t.diffuse).collect();
@@ -288,7 +300,8 @@ fn render_one(
         interior: split(false),
         normal_mapped,
         terms,
-        frame,
+        frame: frames[0],
+        frame_deferred: frames[1],
     })
 }
 

@@ -9,6 +9,9 @@
 // memory past ~9 vec3s). CPU twin: baker::render::shade (f64) with
 // baker::render::atlas::footprint.
 // Pipeline-overridable constants pick the configuration, so the driver folds the switch.
+// Two paths shade with the same `shade`: forward (fs_frame, fs_terms: the raster pass's
+// fragments) and deferred (fs_gbuffer writes the fragments' inputs, then cs_frame or
+// cs_terms shade them in a compute pass over 8×8 tiles; baker::render::deferred).
 
 // 0: plain E/π (diffuse only), 1: SH L1, 2: SH L2, 3: SG, 4: AD 9, 5: AD 12.
 override ENCODING: u32 = 0u;
@@ -236,9 +239,21 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
     return t;
 }
 
-// 1: the pixel sees the lit side of a lightmapped surface (the lightmap holds the light
-// arriving at the side its face normal points to); 2: the front of a dynamic object; 0:
-// neither (the back of a surface, an emitter): black.
+// What a pixel shades: 1 the lit side of a lightmapped surface (the lightmap holds the light
+// arriving at the side its face normal points to); 2 the front of a dynamic object; 0
+// neither (the back of a surface, an emitter, no surface): black. The rest is what the
+// rasteriser interpolated — the forward pass's fragment inputs, or the deferred path's
+// G-buffer.
+struct Surface {
+    kind: u32,
+    // The material's index (flags removed).
+    material: u32,
+    position: vec3<f32>,
+    // Interpolated, not normalised.
+    normal: vec3<f32>,
+    uv: vec2<f32>,
+}
+
 fn surface_kind(vo: VertexOut) -> u32 {
     if (dot(frame.eye.xyz - vo.position, vo.face) <= 0.0) {
         return 0u;
@@ -247,6 +262,10 @@ fn surface_kind(vo: VertexOut) -> u32 {
         return 1u;
     }
     return select(0u, 2u, (vo.material & PROBED) != 0u);
+}
+
+fn surface_of(vo: VertexOut) -> Surface {
+    return Surface(surface_kind(vo), vo.material & ~(LIGHTMAPPED | PROBED), vo.position, vo.normal, vo.uv);
 }
 
 struct ProbeSample {
@@ -306,23 +325,23 @@ fn shade_probed(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, g: Gloss) -> Terms {
     return t;
 }
 
-fn shade(vo: VertexOut) -> Terms {
-    let kind = surface_kind(vo);
+fn shade(s: Surface) -> Terms {
+    let kind = s.kind;
     if (kind == 0u) {
         return Terms(vec3<f32>(0.0), vec3<f32>(0.0));
     }
-    let m = materials[vo.material & ~(LIGHTMAPPED | PROBED)];
-    let n = normalize(vo.normal);
-    let v = normalize(frame.eye.xyz - vo.position);
+    let m = materials[s.material];
+    let n = normalize(s.normal);
+    let v = normalize(frame.eye.xyz - s.position);
     let f0 = m.f0.xyz;
     let glossy = max(f0.x, max(f0.y, f0.z)) > 0.0;
     var t: Terms;
     if (kind == 2u) {
-        t = shade_probed(vo.position, n, v, Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, glossy && dot(n, v) > 0.0));
+        t = shade_probed(s.position, n, v, Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, glossy && dot(n, v) > 0.0));
     } else {
         let tb = tangent_frame(n);
         let vt = vec3<f32>(dot(v, tb[0]), dot(v, tb[1]), dot(v, n));
-        let fp = lightmap_footprint(vo.uv);
+        let fp = lightmap_footprint(s.uv);
         let g = Gloss(m.albedo_alpha.w, f0, f0.x == f0.y && f0.y == f0.z, ENCODING != 0u && glossy && vt.z > 0.0);
         if (FETCH_ONLY) {
             var c = vec3<f32>(0.0);
@@ -350,7 +369,7 @@ fn shade(vo: VertexOut) -> Terms {
 // The frame as an engine draws it: reflected radiance, one target.
 @fragment
 fn fs_frame(vo: VertexOut) -> @location(0) vec4<f32> {
-    let t = shade(vo);
+    let t = shade(surface_of(vo));
     return vec4<f32>(t.diffuse + t.specular, 1.0);
 }
 
@@ -366,10 +385,13 @@ struct TermsOut {
 // Diffuse and specular apart (analysis).
 @fragment
 fn fs_terms(vo: VertexOut) -> TermsOut {
-    let t = shade(vo);
-    let kind = surface_kind(vo);
-    let id = select(-1.0, f32(vo.material & ~(LIGHTMAPPED | PROBED)) + 0.5, kind != 0u);
-    return TermsOut(bitcast<vec4<u32>>(vec4<f32>(t.diffuse, id)), bitcast<vec4<u32>>(vec4<f32>(t.specular, f32(kind))));
+    return terms_out(surface_of(vo));
+}
+
+fn terms_out(s: Surface) -> TermsOut {
+    let t = shade(s);
+    let id = select(-1.0, f32(s.material) + 0.5, s.kind != 0u);
+    return TermsOut(bitcast<vec4<u32>>(vec4<f32>(t.diffuse, id)), bitcast<vec4<u32>>(vec4<f32>(t.specular, f32(s.kind))));
 }
 
 struct SurfaceOut {
@@ -383,4 +405,67 @@ struct SurfaceOut {
 @fragment
 fn fs_surface(vo: VertexOut) -> SurfaceOut {
     return SurfaceOut(bitcast<vec4<u32>>(vec4<f32>(vo.normal, vo.uv.x)), bitcast<vec4<u32>>(vec4<f32>(vo.position, vo.uv.y)));
+}
+
+// ---- The deferred path: a G-buffer from the raster pass, then shading in a compute pass
+// over 8×8-pixel tiles (how current engines light a frame). The G-buffer keeps what the
+// forward pass's fragments are given, in f32, so that both paths shade the same inputs.
+
+struct GBufferOut {
+    // xyz: interpolated normal (unnormalised); w: lightmap u (f32 bits).
+    @location(0) normal_u: vec4<u32>,
+    // xyz: world position; w: lightmap v (f32 bits).
+    @location(1) position_v: vec4<u32>,
+    // The material's index | kind << 30 (0: nothing to shade; the clear value).
+    @location(2) surface: u32,
+}
+
+@fragment
+fn fs_gbuffer(vo: VertexOut) -> GBufferOut {
+    let s = surface_of(vo);
+    return GBufferOut(
+        bitcast<vec4<u32>>(vec4<f32>(vo.normal, vo.uv.x)),
+        bitcast<vec4<u32>>(vec4<f32>(vo.position, vo.uv.y)),
+        select(0u, s.material | (s.kind << 30u), s.kind != 0u),
+    );
+}
+
+@group(1) @binding(0) var gbuffer_normal_u: texture_2d<u32>;
+@group(1) @binding(1) var gbuffer_position_v: texture_2d<u32>;
+@group(1) @binding(2) var gbuffer_surface: texture_2d<u32>;
+// cs_frame's target (the engine's frame) and cs_terms' (diffuse and specular apart, as
+// fs_terms writes them).
+@group(1) @binding(3) var frame_out: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(4) var diffuse_out: texture_storage_2d<rgba32uint, write>;
+@group(1) @binding(5) var specular_out: texture_storage_2d<rgba32uint, write>;
+
+// The surface the G-buffer holds at pixel p.
+fn gbuffer_surface_at(p: vec2<i32>) -> Surface {
+    let word = textureLoad(gbuffer_surface, p, 0).x;
+    let nu = bitcast<vec4<f32>>(textureLoad(gbuffer_normal_u, p, 0));
+    let pv = bitcast<vec4<f32>>(textureLoad(gbuffer_position_v, p, 0));
+    return Surface(word >> 30u, word & 0x3fffffffu, pv.xyz, nu.xyz, vec2<f32>(nu.w, pv.w));
+}
+
+// One invocation per pixel, a workgroup per 8×8 tile.
+@compute @workgroup_size(8, 8)
+fn cs_frame(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(gbuffer_surface);
+    if (any(id.xy >= size)) {
+        return;
+    }
+    let t = shade(gbuffer_surface_at(vec2<i32>(id.xy)));
+    textureStore(frame_out, vec2<i32>(id.xy), vec4<f32>(t.diffuse + t.specular, 1.0));
+}
+
+// Diffuse and specular apart (analysis; the same words fs_terms writes).
+@compute @workgroup_size(8, 8)
+fn cs_terms(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(gbuffer_surface);
+    if (any(id.xy >= size)) {
+        return;
+    }
+    let o = terms_out(gbuffer_surface_at(vec2<i32>(id.xy)));
+    textureStore(diffuse_out, vec2<i32>(id.xy), o.diffuse);
+    textureStore(specular_out, vec2<i32>(id.xy), o.specular);
 }
