@@ -101,8 +101,9 @@ impl Deferred {
         Deferred { gbuffer_pipeline, compute, gbuffer, outputs, group, tiles: [cam.width.div_ceil(8), cam.height.div_ceil(8)] }
     }
 
-    /// Records the depth pre-pass (timestamp `2k` of `timestamps` at its beginning), the
-    /// G-buffer pass and the compute pass (timestamp `2k + 1` at its end).
+    /// Records the depth pre-pass (timestamp `i` of `timestamps` at its beginning), the
+    /// G-buffer pass and the compute pass (timestamps `i + 1` and `i + 2` at its beginning
+    /// and end).
     pub(super) fn record(
         &self,
         r: &Renderer,
@@ -118,8 +119,8 @@ impl Deferred {
             label: Some("render deferred shading"),
             timestamp_writes: timestamps.map(|(q, i)| wgpu::ComputePassTimestampWrites {
                 query_set: q,
-                beginning_of_pass_write_index: None,
-                end_of_pass_write_index: Some(i + 1),
+                beginning_of_pass_write_index: Some(i + 1),
+                end_of_pass_write_index: Some(i + 2),
             }),
         });
         pass.set_pipeline(&self.compute);

@@ -13,8 +13,9 @@
 //! | [`normal_map`] | normal-mapped shading: glTF normal maps on MikkTSpace tangents perturb the visible surface's shading normal |
 //! | [`visible`] | the visible surface per pixel by ray casting (the rasteriser's CPU twin) and the CPU image |
 //! | `bindings` | what every render pipeline binds (the layout) and the probes as shader rows |
-//! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime), timestamps |
+//! | [`raster`] | the GPU pass on wgpu: depth pre-pass, forward shading (`wgsl/render.wgsl` after the composed runtime) |
 //! | `deferred` | the deferred path: a G-buffer from the raster pass, shading in a compute pass over 8×8 tiles |
+//! | `timing` | frame times on either path by timestamp queries: the frame and its shading pass |
 //! | [`reference`](mod@reference) | the path-traced reference: the same reflected radiance, estimated with the bake's own incident-radiance estimator |
 //! | [`reference_gpu`] | the same reference on the GPU: the bake's WGSL path tracer over the same visible surfaces (`wgsl/reference.wgsl`) |
 //! | [`compare`] | errors against the reference (its noise subtracted) |
@@ -38,4 +39,5 @@ pub mod reference_gpu;
 pub mod report;
 pub mod session;
 pub mod shade;
+mod timing;
 pub mod visible;

@@ -8,11 +8,12 @@
 //! bilinear filter as engines read it. Three fragment entry points share the shading: `fs_frame` (the
 //! engine's frame, one rgba16float target; timed by timestamp queries), `fs_terms`
 //! (diffuse and specular apart) and `fs_surface` (what the rasteriser interpolated, so
-//! that the CPU twin shades the very same inputs).
+//! that the CPU twin shades the very same inputs). The deferred path (`super::deferred`)
+//! and the frame times (`super::timing`) build on this pass.
 
 use super::atlas::Atlas;
 use super::bindings::{layouts, lightmap_sampler, no_lobe_table, probe_rows, Lattice};
-use super::lighting::{lobe_axes, Encoding, FramePath, Lighting, LightmapFilter, Storage, SurfaceMaterial};
+use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use super::probes::ProbeField;
 use crate::accumulate::BasisKind;
 use crate::layout::lightmap::Lightmap;
@@ -426,7 +427,8 @@ impl<'g> Renderer<'g> {
     }
 
     /// Records the depth pre-pass, then one shading pass per (pipeline, targets);
-    /// timestamps at the pre-pass's beginning (`begin`) and the last pass's end (`end`).
+    /// timestamps at the pre-pass's beginning (`begin`) and at the last pass's beginning
+    /// and end (`timed`: the set and the two indices).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn record(
         &self,
@@ -436,7 +438,7 @@ impl<'g> Renderer<'g> {
         depth: &wgpu::TextureView,
         shading: &[(&wgpu::RenderPipeline, Vec<&wgpu::TextureView>)],
         begin: Option<(&wgpu::QuerySet, u32)>,
-        end: Option<(&wgpu::QuerySet, u32)>,
+        timed: Option<(&wgpu::QuerySet, u32, u32)>,
     ) {
         {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -476,7 +478,6 @@ impl<'g> Renderer<'g> {
                     })
                 })
                 .collect();
-            let last = k + 1 == shading.len();
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("render shading"),
                 color_attachments: &attachments,
@@ -485,10 +486,10 @@ impl<'g> Renderer<'g> {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: end.filter(|_| last).map(|(q, i)| wgpu::RenderPassTimestampWrites {
+                timestamp_writes: timed.filter(|_| k + 1 == shading.len()).map(|(q, b, e)| wgpu::RenderPassTimestampWrites {
                     query_set: q,
-                    beginning_of_pass_write_index: None,
-                    end_of_pass_write_index: Some(i),
+                    beginning_of_pass_write_index: Some(b),
+                    end_of_pass_write_index: Some(e),
                 }),
                 occlusion_query_set: None,
                 multiview_mask: None,
@@ -554,68 +555,5 @@ impl<'g> Renderer<'g> {
         let mut out = tex.iter().map(|t| self.read_rgba32(t)).collect::<Result<Vec<_>, _>>()?;
         let (position_v, normal_u, specular, diffuse) = (out.pop().unwrap(), out.pop().unwrap(), out.pop().unwrap(), out.pop().unwrap());
         Ok(Analysis { width: cam.width as usize, height: cam.height as usize, diffuse, specular, normal_u, position_v })
-    }
-
-    /// GPU time (ms) of one frame of `l` on `path` into one rgba16float target, from
-    /// timestamp queries — forward: the depth pre-pass and the forward pass; deferred: the
-    /// depth pre-pass, the G-buffer pass and the compute pass — `warmup` frames dropped,
-    /// then `frames` measured, one submission each. None when the adapter has no timestamp
-    /// queries. `fetch_only`: the shading fetches the lobes and sums them, no runtime (the
-    /// configuration's lightmap-bandwidth floor).
-    #[allow(clippy::too_many_arguments)]
-    pub fn frame_times(
-        &self,
-        path: FramePath,
-        l: &Lighting,
-        atlas: &Atlas,
-        cam: &ViewCamera,
-        (warmup, frames): (usize, usize),
-        fetch_only: bool,
-    ) -> Result<Option<Vec<f64>>, String> {
-        if !self.gpu.timestamps {
-            return Ok(None);
-        }
-        let d = self.gpu.device();
-        let (group, _frame) = self.bind(l, atlas, cam)?;
-        let total = (warmup + frames) as u32;
-        let queries = d.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("render timestamps"),
-            ty: wgpu::QueryType::Timestamp,
-            count: 2 * total,
-        });
-        let depth_pipeline = self.pipeline(l, None, false);
-        let depth = self.target(cam, wgpu::TextureFormat::Depth32Float, "render depth").create_view(&Default::default());
-        match path {
-            FramePath::Forward => {
-                let shade = self.pipeline(l, Some(("fs_frame", &[wgpu::TextureFormat::Rgba16Float])), fetch_only);
-                let colour = self.target(cam, wgpu::TextureFormat::Rgba16Float, "render frame").create_view(&Default::default());
-                for k in 0..total {
-                    let mut enc = d.create_command_encoder(&Default::default());
-                    let (begin, end) = (Some((&queries, 2 * k)), Some((&queries, 2 * k + 1)));
-                    self.record(&mut enc, &group, &depth_pipeline, &depth, &[(&shade, vec![&colour])], begin, end);
-                    self.gpu.queue().submit([enc.finish()]);
-                }
-            }
-            FramePath::Deferred => {
-                let pass = super::deferred::Deferred::new(self, l, cam, super::deferred::Output::Frame, fetch_only);
-                for k in 0..total {
-                    let mut enc = d.create_command_encoder(&Default::default());
-                    pass.record(self, &mut enc, &group, &depth_pipeline, &depth, Some((&queries, 2 * k)));
-                    self.gpu.queue().submit([enc.finish()]);
-                }
-            }
-        }
-        let resolve = d.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("render timestamps"),
-            size: 16 * total as u64,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let mut enc = d.create_command_encoder(&Default::default());
-        enc.resolve_query_set(&queries, 0..2 * total, &resolve, 0);
-        self.gpu.queue().submit([enc.finish()]);
-        let ticks: Vec<u64> = bytemuck::cast_slice(&self.gpu.read_back(&resolve)?).to_vec();
-        let period = self.gpu.timestamp_period() as f64;
-        Ok(Some((warmup..total as usize).map(|k| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * period * 1e-6).collect()))
     }
 }

@@ -202,7 +202,7 @@ fn html(r: &ResultsJson) -> String {
     for c in &r.configurations {
         let ms = |f: Option<f64>| f.map(|x| format!("{x:.3}")).unwrap_or_else(|| "–".into());
         rows += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.3}</td><td>{:.4e} ({} px)</td><td>{:.4e} ({} px)</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:.3}</td><td>{:.4e} ({} px)</td><td>{:.4e} ({} px)</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
             esc(&c.name),
             c.lobes,
             c.bytes_per_texel,
@@ -218,7 +218,8 @@ fn html(r: &ResultsJson) -> String {
             ms(c.frame.map(|f| f.median_ms)),
             ms(c.overhead_ms),
             ms(c.frame_deferred.map(|f| f.median_ms)),
-            ms(c.overhead_deferred_ms)
+            ms(c.overhead_deferred_ms),
+            ms(c.frame_deferred.map(|f| f.shading_ms))
         );
     }
     let mut figs = String::from("<figure><img src=\"reference.png\"><figcaption>reference</figcaption></figure>\n");
@@ -231,7 +232,7 @@ fn html(r: &ResultsJson) -> String {
         );
     }
     format!(
-        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>RMSE at chart borders</th><th>RMSE inside charts</th><th>forward frame ms</th><th>forward overhead ms</th><th>deferred frame ms</th><th>deferred overhead ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>RMSE at chart borders</th><th>RMSE inside charts</th><th>forward frame ms</th><th>forward overhead ms</th><th>deferred frame ms</th><th>deferred overhead ms</th><th>deferred compute pass ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
         scene = esc(&r.scene),
         w = r.camera.width,
         h = r.camera.height,

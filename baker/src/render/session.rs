@@ -54,9 +54,12 @@ pub struct FrameTime {
     pub median_ms: f64,
     pub p10_ms: f64,
     pub p90_ms: f64,
-    /// Median frame of the same pass fetching the lobes and summing them, no runtime: the
-    /// configuration's lightmap-bandwidth floor.
+    /// Median of the shading pass alone (the forward pass; the deferred path's compute pass).
+    pub shading_ms: f64,
+    /// Median frame, and its shading pass, with the shading only fetching the lobes and
+    /// summing them, no runtime: the configuration's lightmap-bandwidth floor.
     pub fetch_only_ms: Option<f64>,
+    pub fetch_only_shading_ms: Option<f64>,
 }
 
 /// One configuration's image and errors.
@@ -175,10 +178,12 @@ pub fn run(
             [(FramePath::Forward, r.frame), (FramePath::Deferred, r.frame_deferred)]
                 .iter()
                 .filter_map(|(p, f)| f.map(|f| format!(
-                    ", {} frame {:.3} ms (lobes fetched only: {:.3} ms)",
+                    ", {} frame {:.3} ms, shading pass {:.3} ms (lobes fetched only: {:.3}, {:.3} ms)",
                     p.name(),
                     f.median_ms,
-                    f.fetch_only_ms.unwrap_or(f64::NAN)
+                    f.shading_ms,
+                    f.fetch_only_ms.unwrap_or(f64::NAN),
+                    f.fetch_only_shading_ms.unwrap_or(f64::NAN)
                 )))
                 .collect::<String>()
         ));
@@ -259,10 +264,12 @@ fn render_one(
             if let Some((w, h, warm, n)) = setup.timing.filter(|t| t.3 > 0) {
                 let big = ViewCamera { width: w, height: h, ..cam };
                 for (k, path) in [FramePath::Forward, FramePath::Deferred].into_iter().enumerate() {
-                    let floor = r.frame_times(path, l, atlas, &big, (warm, n), true)?.map(|t| frame_stats(w, h, t).median_ms);
-                    frames[k] = r
-                        .frame_times(path, l, atlas, &big, (warm, n), false)?
-                        .map(|t| FrameTime { fetch_only_ms: floor, ..frame_stats(w, h, t) });
+                    let floor = r.frame_times(path, l, atlas, &big, (warm, n), true)?.map(|t| frame_stats(w, h, t));
+                    frames[k] = r.frame_times(path, l, atlas, &big, (warm, n), false)?.map(|t| FrameTime {
+                        fetch_only_ms: floor.map(|f| f.median_ms),
+                        fetch_only_shading_ms: floor.map(|f| f.shading_ms),
+                        ..frame_stats(w, h, t)
+                    });
                 }
             }
             (terms, kinds, "GPU", frames)
@@ -305,9 +312,25 @@ fn render_one(
     })
 }
 
-/// Median and 10th/90th percentiles of the measured frames.
-fn frame_stats(width: u32, height: u32, mut t: Vec<f64>) -> FrameTime {
-    t.sort_by(f64::total_cmp);
-    let q = |f: f64| t[((t.len() - 1) as f64 * f).round() as usize];
-    FrameTime { width, height, frames: t.len(), median_ms: q(0.5), p10_ms: q(0.1), p90_ms: q(0.9), fetch_only_ms: None }
+/// Median and 10th/90th percentiles of the measured frames ([frame, shading pass] each),
+/// and the shading pass's median.
+fn frame_stats(width: u32, height: u32, t: Vec<[f64; 2]>) -> FrameTime {
+    let sorted = |i: usize| {
+        let mut v: Vec<f64> = t.iter().map(|x| x[i]).collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let (f, s) = (sorted(0), sorted(1));
+    let q = |v: &[f64], p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
+    FrameTime {
+        width,
+        height,
+        frames: t.len(),
+        median_ms: q(&f, 0.5),
+        p10_ms: q(&f, 0.1),
+        p90_ms: q(&f, 0.9),
+        shading_ms: q(&s, 0.5),
+        fetch_only_ms: None,
+        fetch_only_shading_ms: None,
+    }
 }
