@@ -6,6 +6,7 @@
 //! | batch least squares, Gram form (Cholesky → eigen pseudo-inverse, Tikhonov) | [`solve_gram`] | [`lsq`] |
 //! | batch least squares, design-matrix form (QR → SVD) | [`solve_design`] | [`lsq`] |
 //! | non-negative least squares (Lawson–Hanson, bounded, explicit status) | [`nnls_gram`], [`nnls_design`] | [`nnls`] |
+//! | NNLS under equality constraints (null-space elimination, LSI → LDP → NNLS; KKT check) | [`nnls_gram_eq`] | [`nnls_eq`] |
 //! | progressive per-sample LS/NNLS (seed 004 §7.3), naive projection, running average | [`ProgressiveEncoder`], [`naive_projection`] | [`progressive`] |
 //! | projection/convolution matrices and basis conversion (seed 004 §7.4) | [`projection_matrix`], [`Conversion`] | [`projection`] |
 //!
@@ -15,11 +16,13 @@
 
 pub mod lsq;
 pub mod nnls;
+pub mod nnls_eq;
 pub mod progressive;
 pub mod projection;
 
 pub use lsq::{solve_design, solve_gram, LsMethod, LsOptions, LsSolution};
 pub use nnls::{nnls_design, nnls_gram, NnlsOptions, NnlsSolution, NnlsStatus};
+pub use nnls_eq::{nnls_gram_eq, NnlsEqSolution};
 pub use progressive::{naive_projection, Denominator, Iteration, ProgressiveEncoder, ProgressiveOptions, Real};
 pub use projection::{projection_matrix, Conversion, Kernel, ProjectionOptions};
 
