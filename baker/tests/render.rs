@@ -209,7 +209,8 @@ fn gpu_image_equals_cpu_twin() {
     for (ci, (l, filter, path)) in runs.enumerate() {
         let l = &l;
         if filter != LightmapFilter::Exact && l.storage == Storage::F32 && !filters_f32 {
-            println!("{:<14} {:<8} skipped: {} cannot filter f32 textures (no FLOAT32_FILTERABLE)", l.name(), filter.name(), gpu.adapter);
+            let (name, filter, path, adapter) = (l.name(), filter.name(), path.name(), &gpu.adapter);
+            println!("{name:<14} {filter:<8} {path:<8} skipped: {adapter} cannot filter f32 textures (no FLOAT32_FILTERABLE)");
             continue;
         }
         let renderer = Renderer::new(&gpu, &scene, &lm, None).unwrap().with_filter(filter);

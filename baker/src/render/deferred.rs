@@ -28,6 +28,8 @@ pub(super) struct Deferred {
     gbuffer_pipeline: wgpu::RenderPipeline,
     compute: wgpu::ComputePipeline,
     gbuffer: Vec<wgpu::Texture>,
+    /// The G-buffer's views as render targets.
+    targets: Vec<wgpu::TextureView>,
     /// The compute pass's outputs (one for `Frame`, two for `Terms`).
     outputs: Vec<wgpu::Texture>,
     group: wgpu::BindGroup,
@@ -98,7 +100,8 @@ impl Deferred {
                 .map(|(b, v)| wgpu::BindGroupEntry { binding: *b, resource: wgpu::BindingResource::TextureView(v) })
                 .collect::<Vec<_>>(),
         });
-        Deferred { gbuffer_pipeline, compute, gbuffer, outputs, group, tiles: [cam.width.div_ceil(8), cam.height.div_ceil(8)] }
+        let targets = gbuffer.iter().map(|t| t.create_view(&Default::default())).collect();
+        Deferred { gbuffer_pipeline, compute, gbuffer, targets, outputs, group, tiles: [cam.width.div_ceil(8), cam.height.div_ceil(8)] }
     }
 
     /// Records the depth pre-pass (timestamp `i` of `timestamps` at its beginning), the
@@ -113,8 +116,7 @@ impl Deferred {
         depth: &wgpu::TextureView,
         timestamps: Option<(&wgpu::QuerySet, u32)>,
     ) {
-        let views: Vec<wgpu::TextureView> = self.gbuffer.iter().map(|t| t.create_view(&Default::default())).collect();
-        r.record(enc, group, depth_pipeline, depth, &[(&self.gbuffer_pipeline, views.iter().collect())], timestamps, None);
+        r.record(enc, group, depth_pipeline, depth, &[(&self.gbuffer_pipeline, self.targets.iter().collect())], timestamps, None);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("render deferred shading"),
             timestamp_writes: timestamps.map(|(q, i)| wgpu::ComputePassTimestampWrites {
