@@ -134,8 +134,11 @@ struct Cli {
     /// bake.json. The thesis' Fig. 8.6 compares bases on indirect light.
     #[arg(long)]
     indirect_only: bool,
-    /// Progressive solver: ls or nnls. NNLS applies to the non-negative bases (SG, Ambient
-    /// Dice); SH is always least squares (its coefficients are legitimately negative).
+    /// Progressive solver: ls, nnls or nnls-irradiance. NNLS applies to the non-negative
+    /// bases (SG, Ambient Dice); SH is always least squares (its coefficients are
+    /// legitimately negative). nnls-irradiance: the lightmap's SG/AD lobes are baked by least
+    /// squares, then refitted per texel as NNLS with their E/π at the normal pinned to the
+    /// texel's (plain NNLS of a small source keeps up to ~1.8× its irradiance); probes NNLS.
     #[arg(long, default_value = "nnls")]
     solver: String,
     /// Seed of every random number of the bake (the same seed gives the same bake, on
@@ -267,7 +270,8 @@ fn options(c: Cli) -> Result<Options, String> {
     let solver = match c.solver.as_str() {
         "ls" => Solver::Ls,
         "nnls" => Solver::Nnls,
-        s => return Err(format!("unknown solver '{s}' (ls or nnls)")),
+        "nnls-irradiance" => Solver::NnlsIrradiance,
+        s => return Err(format!("unknown solver '{s}' (ls, nnls or nnls-irradiance)")),
     };
     let device = match c.device.as_str() {
         "auto" => Device::Auto,

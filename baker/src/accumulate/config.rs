@@ -137,6 +137,10 @@ impl BasisKind {
 pub enum Solver {
     Ls,
     Nnls,
+    /// Texels: progressive LS while baking, then per texel the NNLS fit of the same normal
+    /// equations with E/π at the normal pinned to the texel's estimate
+    /// ([`crate::post::refit`]); probes (sphere targets): NNLS.
+    NnlsIrradiance,
 }
 
 /// Bake settings.
@@ -291,6 +295,7 @@ impl BakeConfig {
     pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
         let opts = match self.solver {
             Solver::Nnls if basis.non_negative() => ProgressiveOptions::non_negative(),
+            Solver::NnlsIrradiance if basis.non_negative() && sphere_targets => ProgressiveOptions::non_negative(),
             _ => ProgressiveOptions::default(),
         };
         ProgressiveOptions { acceleration: BAKE_ACCELERATION, mirror_hemisphere: basis.is_sphere() && !sphere_targets, ..opts }

@@ -165,13 +165,14 @@ pub fn run(
         let atlas = Atlas::read(bake_dir, l.encoding, lm.width, lm.height)?.stored(l.storage)?;
         let r = render_one(scene, &visible, &border, &reference, &atlas, probes, l, renderer.as_ref(), setup)?;
         log(format!(
-            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}; chart borders {:.4e}, inside {:.4e}{}){}",
+            "{:<16} {}: RMSE diffuse {:.4e} specular {:.4e} total {:.4e} (relative {:.3}; mean ×{:.4} of the reference; chart borders {:.4e}, inside {:.4e}{}){}",
             l.name(),
             r.shaded_on,
             r.diffuse.rmse,
             r.specular.rmse,
             r.total.rmse,
             r.total.relative_rmse,
+            r.total.mean_ratio,
             r.chart_border.0.rmse,
             r.interior.0.rmse,
             r.normal_mapped.map(|(e, n)| format!("; normal-mapped pixels ({n}) {:.4e}", e.rmse)).unwrap_or_default(),

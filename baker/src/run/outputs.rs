@@ -167,6 +167,19 @@ pub(crate) fn write_outputs(
         "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
         lm_validity.invalid, targets.items.len(), crate::accumulate::MAX_BACK_FACE_FRACTION, lm_validity.back_face_samples, lm_validity.non_finite_samples
     ));
+    if o.config.solver == Solver::NnlsIrradiance {
+        let t = Instant::now();
+        for a in crate::post::refit::pin_irradiance(&mut img, &o.config.bases, o.config.sg_sharpness)? {
+            log(format!(
+                "solver: {} refitted as NNLS with E/π pinned ({} texel-channels, worst KKT residual {:.1e}; the LS estimate's E/π was {:.4}× the texel's on average) in {:.2} s",
+                a.basis,
+                a.fits,
+                a.worst_kkt,
+                a.mean_ls_ratio,
+                t.elapsed().as_secs_f64()
+            ));
+        }
+    }
     // Denoise (optional) before dilation: the filter reads valid texels only.
     let denoised = denoise_step(o, &mut img, lm, log)?;
     let (dilated, seams, seam_seconds) = seams_step(o, scene, lm, &mut img, log);
@@ -489,7 +502,11 @@ fn bases_json(o: &Options) -> Vec<BasisJson> {
         .map(|b| {
             let lobes = b.lobes();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
-            let solver = if o.config.solver == Solver::Nnls && b.non_negative() { "progressive NNLS" } else { "progressive LS" };
+            let solver = match o.config.solver {
+                Solver::Nnls if b.non_negative() => "progressive NNLS",
+                Solver::NnlsIrradiance if b.non_negative() => "progressive LS, refitted per texel as NNLS with E/π at the normal pinned",
+                _ => "progressive LS",
+            };
             BasisJson {
                 name: b.name(),
                 lobes,
