@@ -134,12 +134,14 @@ struct Cli {
     /// bake.json. The thesis' Fig. 8.6 compares bases on indirect light.
     #[arg(long)]
     indirect_only: bool,
-    /// Progressive solver: ls, nnls or nnls-irradiance. NNLS applies to the non-negative
-    /// bases (SG, Ambient Dice); SH is always least squares (its coefficients are
-    /// legitimately negative). nnls-irradiance: the lightmap's SG/AD lobes are baked by least
-    /// squares, then refitted per texel as NNLS with their E/π at the normal pinned to the
-    /// texel's (plain NNLS of a small source keeps up to ~1.8× its irradiance); probes NNLS.
-    #[arg(long, default_value = "nnls")]
+    /// Progressive solver: nnls-rescaled, nnls, ls or nnls-irradiance. NNLS applies to the
+    /// non-negative bases (SG, Ambient Dice); SH is always least squares (its coefficients are
+    /// legitimately negative). Plain NNLS of a small source keeps up to ~1.8× its irradiance,
+    /// so by default (nnls-rescaled) the lightmap's SG/AD lobes are scaled per texel so that
+    /// their E/π at the normal is the texel's (the light the bake measured).
+    /// nnls-irradiance: SG/AD baked by least squares, then refitted per texel as NNLS with
+    /// their E/π at the normal pinned. Probes: NNLS.
+    #[arg(long, default_value = "nnls-rescaled")]
     solver: String,
     /// Seed of every random number of the bake (the same seed gives the same bake, on
     /// any thread count).
@@ -271,7 +273,8 @@ fn options(c: Cli) -> Result<Options, String> {
         "ls" => Solver::Ls,
         "nnls" => Solver::Nnls,
         "nnls-irradiance" => Solver::NnlsIrradiance,
-        s => return Err(format!("unknown solver '{s}' (ls, nnls or nnls-irradiance)")),
+        "nnls-rescaled" => Solver::NnlsRescaled,
+        s => return Err(format!("unknown solver '{s}' (ls, nnls, nnls-irradiance or nnls-rescaled)")),
     };
     let device = match c.device.as_str() {
         "auto" => Device::Auto,

@@ -15,6 +15,7 @@ pub const GAUSS_SEIDEL: u32 = 2;
 pub const DENOM_BLEND: u32 = 0;
 pub const DENOM_CLAMP_TO_TRUE: u32 = 1;
 pub const DENOM_RAW: u32 = 2;
+pub const DENOM_PROJECTION: u32 = 3;
 
 /// WGSL `EncoderParams`.
 #[repr(C)]
@@ -47,14 +48,22 @@ impl EncoderParams {
         let denominator = match &opts.denominator {
             Denominator::Blend => DENOM_BLEND,
             Denominator::Raw => DENOM_RAW,
-            Denominator::ClampToTrue(t) => {
+            Denominator::ClampToTrue(t) | Denominator::Projection(t) => {
                 if t.len() != lobes {
-                    return Err(format!("clamp-to-true denominator has {} values for {lobes} lobes", t.len()));
+                    return Err(format!("the exact means of B_i² have {} values for {lobes} lobes", t.len()));
+                }
+                let projection = matches!(opts.denominator, Denominator::Projection(_));
+                if let Some(v) = t.iter().find(|v| projection && !(v.is_finite() && **v > 0.0)) {
+                    return Err(format!("the projection's exact mean of B_i² must be finite and > 0, not {v}"));
                 }
                 for (i, v) in t.iter().enumerate() {
                     true_mean[i / 4][i % 4] = *v as f32;
                 }
-                DENOM_CLAMP_TO_TRUE
+                if projection {
+                    DENOM_PROJECTION
+                } else {
+                    DENOM_CLAMP_TO_TRUE
+                }
             }
         };
         let flags =

@@ -1033,6 +1033,10 @@ fn progressive_parity(lang: Lang) {
     let bake = ProgressiveOptions { acceleration: 1.0, ..ProgressiveOptions::default() };
     progressive_case(&g, "projected LS/SH2", &sh2, bake.clone(), N, 8, 37, true);
     progressive_case(&g, "projected NNLS/AD9 long", &ad9, ProgressiveOptions { non_negative: true, ..bake }, 2000, 256, 38, true);
+    // The bake's SH update: the projection with the exact mean of Y² (1/4π), light samples
+    // included.
+    let projection = ProgressiveOptions::projection(vec![0.25 / std::f64::consts::PI; 9], false);
+    progressive_case(&g, "projection/SH2", &sh2, projection, N, 8, 39, true);
 }
 
 fn ambient_dice_bezier_parity(lang: Lang) {

@@ -141,6 +141,10 @@ pub enum Solver {
     /// equations with E/π at the normal pinned to the texel's estimate
     /// ([`crate::post::refit`]); probes (sphere targets): NNLS.
     NnlsIrradiance,
+    /// Progressive NNLS, then per texel and channel the lobes scaled so that their E/π at
+    /// the normal equals the texel's estimate ([`crate::post::refit::rescale_irradiance`]);
+    /// probes: NNLS.
+    NnlsRescaled,
 }
 
 /// Bake settings.
@@ -205,14 +209,14 @@ impl Pipeline {
 
 impl Default for BakeConfig {
     /// The `baker` command's defaults: seed 1, 4 bounces, SH L2 and Ambient Dice 9 with
-    /// NNLS (where it applies), Sobol' sequences, uniform passes on the megakernel, no
+    /// NNLS rescaled to the texels' E/π (where it applies), Sobol' sequences, uniform passes on the megakernel, no
     /// guiding and no filter.
     fn default() -> Self {
         BakeConfig {
             seed: 1,
             max_bounces: 4,
             bases: vec![BasisKind::ShL2, BasisKind::Ad9],
-            solver: Solver::Nnls,
+            solver: Solver::NnlsRescaled,
             guiding: None,
             sampler: Default::default(),
             adaptive: None,
@@ -294,8 +298,13 @@ impl BakeConfig {
     /// always least squares ([`BasisKind::non_negative`]).
     pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
         let opts = match self.solver {
-            Solver::Nnls if basis.non_negative() => ProgressiveOptions::non_negative(),
+            Solver::Nnls | Solver::NnlsRescaled if basis.non_negative() => ProgressiveOptions::non_negative(),
             Solver::NnlsIrradiance if basis.non_negative() && sphere_targets => ProgressiveOptions::non_negative(),
+            // SH is orthonormal over the sphere, which probes sample uniformly and texels
+            // with a mirrored zero below every upper-hemisphere sample: its Gram is the
+            // identity, so the projection ∫Y_i f — a running mean — is the least-squares
+            // fit, unbiased at every pass.
+            _ if !basis.non_negative() => ProgressiveOptions::projection(vec![0.25 / std::f64::consts::PI; basis.lobes()], false),
             _ => ProgressiveOptions::default(),
         };
         ProgressiveOptions { acceleration: BAKE_ACCELERATION, mirror_hemisphere: basis.is_sphere() && !sphere_targets, ..opts }

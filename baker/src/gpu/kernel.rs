@@ -145,8 +145,18 @@ fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(Hash
         let lobes = b.lobes();
         let opts = config.encoder_options(*b, sphere_targets);
         let p = EncoderParams::new(&sbf::solve::ProgressiveOptions { mirror_hemisphere: false, ..opts.clone() }, lobes)?;
-        if p.true_mean != [[0.0; 4]; 3] || p.acceleration != 1.0 {
-            return Err(format!("{}: bases.wgsl's encoders take acceleration 1 and no clamp-to-true denominator", b.name()));
+        let projection = p.denominator == shaders::progressive::DENOM_PROJECTION;
+        // The projection of an orthonormal basis: every true mean 1/4π (bases.wgsl's
+        // ORTHONORMAL_MEAN) on the lobes, zero past them.
+        let orthonormal = (0..12).all(|i| p.true_mean[i / 4][i % 4] == if i < lobes { (0.25 / std::f64::consts::PI) as f32 } else { 0.0 });
+        if p.acceleration != 1.0 || (projection && !orthonormal) || (!projection && p.true_mean != [[0.0; 4]; 3]) {
+            return Err(format!(
+                "{}: bases.wgsl's encoders take acceleration 1, no clamp-to-true denominator, and the projection only with the exact means 1/4π of an orthonormal basis",
+                b.name()
+            ));
+        }
+        if projection {
+            d.insert(format!("SLOT_{k}_PROJECTION"), ShaderDefValue::Bool(true));
         }
         let slot = |what: &str| if what.is_empty() { format!("SLOT_{k}") } else { format!("SLOT_{k}_{what}") };
         d.insert(slot(""), ShaderDefValue::UInt(kind));

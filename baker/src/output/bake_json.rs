@@ -131,6 +131,24 @@ pub struct BasisJson {
     /// SG and Ambient Dice: the lobe axes in the tangent frame, in coefficient order.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lobe_axes: Option<Vec<[f64; 3]>>,
+    /// What the lobes keep of the texels' E/π at the normal (so a biased fit shows in
+    /// every bake).
+    pub irradiance_ratio: IrradianceRatioJson,
+}
+
+/// Σ (the basis' E/π at the texel's normal, by the renderer's runtime) / Σ (the texel's
+/// E/π) over the valid texels and RGB: of the written lobes (after the solver's per-texel
+/// step, denoising and seams) overall and for the chart furthest from 1 (charts of ≥ 4
+/// valid texels with light), and of the progressive fit before the solver's step. NaN (as
+/// null) where no texel has light.
+#[derive(Debug, Clone, Serialize)]
+pub struct IrradianceRatioJson {
+    pub mean: f64,
+    pub worst_chart: Option<u32>,
+    pub worst_chart_ratio: f64,
+    pub worst_chart_texels: usize,
+    pub fit_mean: f64,
+    pub fit_worst_chart_ratio: f64,
 }
 
 /// Ray guiding.

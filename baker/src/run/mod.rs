@@ -148,7 +148,7 @@ fn log_scene_and_layout(o: &Options, scene: &Scene, bvh: &Bvh, lm: &Lightmap, lo
     let mut sh: Vec<&str> = o.config.bases.iter().chain(&o.probe_bases).filter(|b| !b.non_negative()).map(|b| b.name()).collect();
     sh.sort_unstable();
     sh.dedup();
-    if matches!(o.config.solver, Solver::Nnls | Solver::NnlsIrradiance) && !sh.is_empty() {
+    if matches!(o.config.solver, Solver::Nnls | Solver::NnlsIrradiance | Solver::NnlsRescaled) && !sh.is_empty() {
         log(format!(
             "solver: NNLS applies to the non-negative bases (SG, Ambient Dice); {} fitted by least squares (SH coefficients of non-negative radiance are legitimately negative)",
             sh.join(", ")

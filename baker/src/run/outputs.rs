@@ -7,10 +7,11 @@ use crate::accumulate::{BakeState, Solver, Targets};
 use crate::layout::lightmap::Lightmap;
 use crate::output;
 use crate::output::bake_json::{
-    AdaptiveJson, BakeJson, BasisJson, DenoiseJson, FileJson, FilterJson, GuidingJson, LayoutJson, ProbeJson, ProbesJson,
-    ProbesSummaryJson, ProfileJson, RuntimeJson, SeamsJson, StageSecondsJson, ValidityJson,
+    AdaptiveJson, BakeJson, BasisJson, DenoiseJson, FileJson, FilterJson, GuidingJson, IrradianceRatioJson, LayoutJson, ProbeJson,
+    ProbesJson, ProbesSummaryJson, ProfileJson, RuntimeJson, SeamsJson, StageSecondsJson, ValidityJson,
 };
 use crate::post::images::LightmapImages;
+use crate::post::refit::IrradianceRatio;
 use crate::scene::bvh::Bvh;
 use crate::scene::Scene;
 use sbf::glam::Vec3;
@@ -167,23 +168,12 @@ pub(crate) fn write_outputs(
         "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
         lm_validity.invalid, targets.items.len(), crate::accumulate::MAX_BACK_FACE_FRACTION, lm_validity.back_face_samples, lm_validity.non_finite_samples
     ));
-    if o.config.solver == Solver::NnlsIrradiance {
-        let t = Instant::now();
-        for a in crate::post::refit::pin_irradiance(&mut img, &o.config.bases, o.config.sg_sharpness)? {
-            log(format!(
-                "solver: {} refitted as NNLS with E/π pinned ({} texel-channels, worst KKT residual {:.1e}; the LS estimate's E/π was {:.4}× the texel's on average) in {:.2} s",
-                a.basis,
-                a.fits,
-                a.worst_kkt,
-                a.mean_ls_ratio,
-                t.elapsed().as_secs_f64()
-            ));
-        }
-    }
+    let fit_ratios = crate::post::refit::solver_step(&mut img, &o.config, &lm.texel_charts, log)?;
     // Denoise (optional) before dilation: the filter reads valid texels only.
     let denoised = denoise_step(o, &mut img, lm, log)?;
     let (dilated, seams, seam_seconds) = seams_step(o, scene, lm, &mut img, log);
     let t_out = Instant::now();
+    let ratios = crate::post::refit::irradiance_ratios(&img, &o.config.bases, o.config.sg_sharpness, &lm.texel_charts);
     let files = output::write_lightmap(&o.out, &img, &o.config)?;
     let engine_formats = engine_step(o, &img, log)?;
     let compression = compress_step(o, &img, probes, log)?;
@@ -244,7 +234,7 @@ pub(crate) fn write_outputs(
             quantity: "world-space unit shading normal per texel (the basis frame's +Z)",
             standard_error: None,
         },
-        bases: bases_json(o),
+        bases: bases_json(o, &fit_ratios, &ratios),
         guiding: guiding_json(o, targets, state),
         denoise: denoised,
         seams,
@@ -494,17 +484,19 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
 }
 
 /// bake.json's account of each lightmap basis: lobes, domain, solver, frame, files.
-fn bases_json(o: &Options) -> Vec<BasisJson> {
+fn bases_json(o: &Options, fit: &[IrradianceRatio], written: &[IrradianceRatio]) -> Vec<BasisJson> {
     o
         .config
         .bases
         .iter()
-        .map(|b| {
+        .zip(fit.iter().zip(written))
+        .map(|(b, (fit, written))| {
             let lobes = b.lobes();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
             let solver = match o.config.solver {
                 Solver::Nnls if b.non_negative() => "progressive NNLS",
                 Solver::NnlsIrradiance if b.non_negative() => "progressive LS, refitted per texel as NNLS with E/π at the normal pinned",
+                Solver::NnlsRescaled if b.non_negative() => "progressive NNLS, lobes scaled per texel to the texel's E/π at the normal",
                 _ => "progressive LS",
             };
             BasisJson {
@@ -519,6 +511,14 @@ fn bases_json(o: &Options) -> Vec<BasisJson> {
                 lobe_axes: {
                     let axes = b.lobe_axes();
                     (!axes.is_empty()).then(|| axes.iter().map(|a| a.to_array()).collect())
+                },
+                irradiance_ratio: IrradianceRatioJson {
+                    mean: written.mean,
+                    worst_chart: written.worst_chart,
+                    worst_chart_ratio: written.worst_chart_ratio,
+                    worst_chart_texels: written.worst_chart_texels,
+                    fit_mean: fit.mean,
+                    fit_worst_chart_ratio: fit.worst_chart_ratio,
                 },
             }
         })

@@ -111,6 +111,14 @@ pub enum Denominator {
     ClampToTrue(Vec<f64>),
     /// The raw running mean I_i (noisy at low counts; for comparison).
     Raw,
+    /// No residual: b_i is the running mean of the projection (B_i(ω)·f + q_i)/t_i, t_i the
+    /// exact mean of B_i² per unit weight (as in [`Denominator::ClampToTrue`]). For a basis
+    /// orthogonal over the sampled measure (SH over the sphere, or over the upper hemisphere
+    /// with mirrored zero samples) that is the Monte Carlo projection ∫B_i f / ∫B_i²:
+    /// unbiased after any number of samples (with unit weights), where the residual update's
+    /// ratio of running means converges from below at low counts. The acceleration is not
+    /// used; the non-negative clamp still applies.
+    Projection(Vec<f64>),
 }
 
 /// Options of the progressive encoder.
@@ -147,6 +155,12 @@ impl ProgressiveOptions {
     /// Progressive NNLS: the default with the non-negative clamp.
     pub fn non_negative() -> Self {
         ProgressiveOptions { non_negative: true, ..Self::default() }
+    }
+    /// The Monte Carlo projection ([`Denominator::Projection`]) with `exact_mean_b2` the
+    /// exact mean of B_i² per unit weight over the sampled measure (1/4π for every
+    /// orthonormal SH function over the sphere).
+    pub fn projection(exact_mean_b2: Vec<f64>, non_negative: bool) -> Self {
+        ProgressiveOptions { non_negative, denominator: Denominator::Projection(exact_mean_b2), ..Self::default() }
     }
     /// The public "running average" for a basis: Jacobi, α = 1, denominator clamped
     /// to the exact mean of B_i² over `domain_gram_diagonal`/solid angle.
@@ -320,7 +334,8 @@ impl<T: Real> ProgressiveEncoder<T> {
         for i in 0..n {
             bt[i] = T::from_f64(b[i]);
         }
-        let mut delta = [T::from_f64(value[0]), T::from_f64(value[1]), T::from_f64(value[2])];
+        let value_t = [T::from_f64(value[0]), T::from_f64(value[1]), T::from_f64(value[2])];
+        let mut delta = value_t;
         for i in 0..n {
             for c in 0..3 {
                 delta[c] = delta[c] - self.amplitudes[i][c] * bt[i];
@@ -333,6 +348,25 @@ impl<T: Real> ProgressiveEncoder<T> {
                 Denominator::Blend => s + (T::ONE - s) * self.integrals[i],
                 Denominator::ClampToTrue(t) => self.integrals[i].max(T::from_f64(t[i])),
                 Denominator::Raw => self.integrals[i],
+                Denominator::Projection(t) => {
+                    let ti = T::from_f64(t[i]);
+                    if ti.partial_cmp(&T::ZERO) != Some(std::cmp::Ordering::Greater) {
+                        continue; // not a mean of B_i²: the amplitude stays
+                    }
+                    for c in 0..3 {
+                        let old = self.amplitudes[i][c];
+                        let f = match q.get(i) {
+                            Some(qi) => bi * value_t[c] + T::from_f64(qi[c]),
+                            None => bi * value_t[c],
+                        };
+                        let mut new = old + s * (f / ti - old);
+                        if self.opts.non_negative {
+                            new = new.max(T::ZERO);
+                        }
+                        self.amplitudes[i][c] = new;
+                    }
+                    continue;
+                }
             };
             if denom.partial_cmp(&T::ZERO) != Some(std::cmp::Ordering::Greater) {
                 continue; // B_i has been zero on every sample so far

@@ -5,7 +5,8 @@
 // zero twin where a sphere basis bakes a texel's hemisphere), `project` adds a light
 // sample's projections. Shader defs (baker::gpu::kernel) say which kinds and slots a bake
 // has: KIND_n (basis kind n used), SLOT_k = the kind of slot k, SLOT_k_LOBES, SLOT_k_FLAGS,
-// SLOT_k_DENOMINATOR, SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds
+// SLOT_k_DENOMINATOR, SLOT_k_PROJECTION (the projection encoder of an orthonormal basis),
+// SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds
 // in baker::accumulate::BasisKind order: 0 sh1, 1 sh2, 2 sg9, 3 sg12, 4 ad9, 5 ad12.
 // FILTERED adds the same updates on a gather target's states (filter_gather.wgsl).
 // The six slots are spelled out (WGSL has no macros, and a loop over a runtime slot list
@@ -40,6 +41,10 @@
 // Acceleration α of every encoder (baker::accumulate::BAKE_ACCELERATION; the kernel
 // refuses another value).
 const ACCELERATION: f32 = 1.0;
+
+// The exact mean of B_i² of a basis orthonormal over the sphere (1/4π): the true means of
+// a slot whose encoder is the projection (SLOT_k_PROJECTION; the kernel refuses others).
+const ORTHONORMAL_MEAN: array<vec4<f32>, 3> = array<vec4<f32>, 3>(vec4<f32>(0.07957747), vec4<f32>(0.07957747), vec4<f32>(0.07957747));
 
 // The hemisphere SG lobes (sbf::layout::vogel_hemisphere, as f32; a test holds them to
 // the CPU's) and their sharpness, the bake's (BakeConfig::sg_sharpness) as f32 bits (a
@@ -142,42 +147,66 @@ fn basis_kind_5(d: vec3<f32>) -> array<f32, 12> {
 fn basis_0(d: vec3<f32>) -> array<f32, 12> {
     return basis_kind_#{SLOT_0}(d);
 }
+#ifdef SLOT_0_PROJECTION
+const ENCODER_0: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_0_LOBES}u, #{SLOT_0_FLAGS}u, #{SLOT_0_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
 const ENCODER_0: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_0_LOBES}u, #{SLOT_0_FLAGS}u, #{SLOT_0_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
 var<private> Q_0: array<vec3<f32>, 12>;
 #endif
 #ifdef SLOT_1
 fn basis_1(d: vec3<f32>) -> array<f32, 12> {
     return basis_kind_#{SLOT_1}(d);
 }
+#ifdef SLOT_1_PROJECTION
+const ENCODER_1: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_1_LOBES}u, #{SLOT_1_FLAGS}u, #{SLOT_1_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
 const ENCODER_1: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_1_LOBES}u, #{SLOT_1_FLAGS}u, #{SLOT_1_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
 var<private> Q_1: array<vec3<f32>, 12>;
 #endif
 #ifdef SLOT_2
 fn basis_2(d: vec3<f32>) -> array<f32, 12> {
     return basis_kind_#{SLOT_2}(d);
 }
+#ifdef SLOT_2_PROJECTION
+const ENCODER_2: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_2_LOBES}u, #{SLOT_2_FLAGS}u, #{SLOT_2_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
 const ENCODER_2: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_2_LOBES}u, #{SLOT_2_FLAGS}u, #{SLOT_2_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
 var<private> Q_2: array<vec3<f32>, 12>;
 #endif
 #ifdef SLOT_3
 fn basis_3(d: vec3<f32>) -> array<f32, 12> {
     return basis_kind_#{SLOT_3}(d);
 }
+#ifdef SLOT_3_PROJECTION
+const ENCODER_3: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_3_LOBES}u, #{SLOT_3_FLAGS}u, #{SLOT_3_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
 const ENCODER_3: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_3_LOBES}u, #{SLOT_3_FLAGS}u, #{SLOT_3_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
 var<private> Q_3: array<vec3<f32>, 12>;
 #endif
 #ifdef SLOT_4
 fn basis_4(d: vec3<f32>) -> array<f32, 12> {
     return basis_kind_#{SLOT_4}(d);
 }
+#ifdef SLOT_4_PROJECTION
+const ENCODER_4: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_4_LOBES}u, #{SLOT_4_FLAGS}u, #{SLOT_4_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
 const ENCODER_4: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_4_LOBES}u, #{SLOT_4_FLAGS}u, #{SLOT_4_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
 var<private> Q_4: array<vec3<f32>, 12>;
 #endif
 #ifdef SLOT_5
 fn basis_5(d: vec3<f32>) -> array<f32, 12> {
     return basis_kind_#{SLOT_5}(d);
 }
+#ifdef SLOT_5_PROJECTION
+const ENCODER_5: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_5_LOBES}u, #{SLOT_5_FLAGS}u, #{SLOT_5_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
 const ENCODER_5: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_5_LOBES}u, #{SLOT_5_FLAGS}u, #{SLOT_5_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
 var<private> Q_5: array<vec3<f32>, 12>;
 #endif
 // A sample (direction d in the item's frame, radiance l, encoder weight w) into every
