@@ -988,6 +988,10 @@ const uint ENCODER_DENOM_CLAMP_TO_TRUE = 1u;
 
 const uint ENCODER_DENOM_RAW = 2u;
 
+// No residual: the amplitude is the running mean of (B_i·value + q_i)/true_mean_i (sbf's
+// Denominator::Projection; unbiased for a basis orthogonal over the sampled measure).
+const uint ENCODER_DENOM_PROJECTION = 3u;
+
 // Encoder options (uniform or storage).
 struct EncoderParams {
     float acceleration;
@@ -1021,6 +1025,14 @@ void progressive_update_projected(inout EncoderState state, EncoderParams p, flo
         float bi = b[i];
         vec4 lobe = state.lobes[i];
         lobe.w = lobe.w + s * (bi * bi - lobe.w);
+        if (p.denominator == ENCODER_DENOM_PROJECTION) {
+            vec3 amp = lobe.xyz + s * ((bi * value + q[i]) / vec3(p.true_mean[i / 4u][i % 4u]) - lobe.xyz);
+            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+                amp = max(amp, vec3(0.0));
+            }
+            state.lobes[i] = vec4(amp, lobe.w);
+            continue;
+        }
         float denom = 0.0;
         switch (p.denominator) {
         case 1u: {

@@ -986,6 +986,10 @@ constant uint ENCODER_DENOM_CLAMP_TO_TRUE = 1u;
 
 constant uint ENCODER_DENOM_RAW = 2u;
 
+// No residual: the amplitude is the running mean of (B_i·value + q_i)/true_mean_i (sbf's
+// Denominator::Projection; unbiased for a basis orthogonal over the sampled measure).
+constant uint ENCODER_DENOM_PROJECTION = 3u;
+
 // Encoder options (uniform or storage).
 struct EncoderParams {
     float acceleration;
@@ -1019,6 +1023,14 @@ inline void progressive_update_projected(thread EncoderState& state, EncoderPara
         float bi = b[i];
         float4 lobe = state.lobes[i];
         lobe.w = lobe.w + s * (bi * bi - lobe.w);
+        if (p.denominator == ENCODER_DENOM_PROJECTION) {
+            float3 amp = lobe.xyz + s * ((bi * value + q[i]) / float3(p.true_mean[i / 4u][i % 4u]) - lobe.xyz);
+            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+                amp = max(amp, float3(0.0f));
+            }
+            state.lobes[i] = float4(amp, lobe.w);
+            continue;
+        }
         float denom = 0.0f;
         switch (p.denominator) {
         case 1u: {

@@ -1152,6 +1152,10 @@ const ENCODER_DENOM_CLAMP_TO_TRUE: u32 = 1u;
 
 const ENCODER_DENOM_RAW: u32 = 2u;
 
+// No residual: the amplitude is the running mean of (B_i·value + q_i)/true_mean_i (sbf's
+// Denominator::Projection; unbiased for a basis orthogonal over the sampled measure).
+const ENCODER_DENOM_PROJECTION: u32 = 3u;
+
 // Encoder options (uniform or storage).
 struct EncoderParams {
     acceleration: f32,
@@ -1160,7 +1164,8 @@ struct EncoderParams {
     flags: u32,
     // ENCODER_DENOM_*
     denominator: u32,
-    // For ENCODER_DENOM_CLAMP_TO_TRUE: the exact mean of B_i² (lobe i at [i / 4][i % 4]).
+    // For ENCODER_DENOM_CLAMP_TO_TRUE and _PROJECTION: the exact mean of B_i² (lobe i at
+    // [i / 4][i % 4]).
     true_mean: array<vec4<f32>, 3>,
 }
 
@@ -1200,6 +1205,14 @@ fn progressive_update_projected(
         let bi = b[i];
         var lobe = (*state).lobes[i];
         lobe.w = lobe.w + s * (bi * bi - lobe.w);
+        if (p.denominator == ENCODER_DENOM_PROJECTION) {
+            var amp = lobe.xyz + s * ((bi * value + q[i]) / p.true_mean[i / 4u][i % 4u] - lobe.xyz);
+            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+                amp = max(amp, vec3<f32>(0.0));
+            }
+            (*state).lobes[i] = vec4<f32>(amp, lobe.w);
+            continue;
+        }
         var denom: f32;
         switch p.denominator {
             case ENCODER_DENOM_CLAMP_TO_TRUE: {
