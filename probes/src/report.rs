@@ -87,13 +87,13 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
         if m.sanitized > 0 {
             let _ = write!(s, " {} texel channels were sanitised to 0.", m.sanitized);
         }
-        s.push_str("\n\n| mode | basis | solver | coeffs | bytes | irradiance RMS | Ω-RMS | rel | max | neg. | radiance RMS | encode ms (from map) | eval ns/dir (min–max) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        s.push_str("\n\n| mode | basis | solver | coeffs | bytes | irradiance RMS | Ω-RMS | rel | mean × | max | neg. | radiance RMS | encode ms (from map) | eval ns/dir (min–max) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for r in &m.rows {
             let x = &r.result;
             let rad = r.radiance.map_or("—".to_string(), |v| format!("{:.4}", v.rms));
             let _ = writeln!(
                 s,
-                "| `{}` | {} | {} | {} | {} | {:.5} | {:.5} | {:.4} | {:.4} | {:.3} | {} | {:.3}{} | {:.1} ({:.1}–{:.1}) |",
+                "| `{}` | {} | {} | {} | {} | {:.5} | {:.5} | {:.4} | {:.4} | {:.4} | {:.3} | {} | {:.3}{} | {:.1} ({:.1}–{:.1}) |",
                 x.id,
                 x.basis,
                 x.solver,
@@ -102,6 +102,7 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
                 r.irradiance.rms,
                 r.irradiance.rms_weighted,
                 r.irradiance.rel_rms,
+                r.irradiance.mean_ratio,
                 r.irradiance.max_abs,
                 r.irradiance.negative_fraction,
                 rad,

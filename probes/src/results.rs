@@ -155,6 +155,13 @@ pub struct MetricsJson {
     pub smape: f64,
     #[serde(with = "nullable")]
     pub negative_fraction: f64,
+    /// [`Metrics::mean_ratio`] (absent from results written before it: NaN).
+    #[serde(with = "nullable", default = "nan")]
+    pub mean_ratio: f64,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 impl From<Metrics> for MetricsJson {
@@ -166,6 +173,7 @@ impl From<Metrics> for MetricsJson {
             max_abs: m.max_abs,
             smape: m.smape,
             negative_fraction: m.negative_fraction,
+            mean_ratio: m.mean_ratio,
         }
     }
 }
