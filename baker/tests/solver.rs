@@ -99,20 +99,7 @@ fn pinned_lobes_keep_the_texels_irradiance() {
 /// 63°–76° off the floor's normal (the hard case of a non-negative fit). Black environment,
 /// nothing for light to bounce off.
 fn grazing_scene(dir: &Path, candela: f32) -> PathBuf {
-    let pos = [[-1.0f32, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
-    let mut bin: Vec<u8> = Vec::new();
-    for p in pos {
-        bin.extend(p.iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for _ in pos {
-        bin.extend([0.0f32, 1.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for p in pos {
-        bin.extend([(p[0] + 1.0) / 2.0, (p[2] + 1.0) / 2.0].iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for i in [0u16, 3, 2, 0, 2, 1] {
-        bin.extend(i.to_le_bytes());
-    }
+    let bin = common::gltf::square_buffer(1.0, 0.0);
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_lights_punctual"],
         "extensions":{{"KHR_lights_punctual":{{"lights":[{{"type":"point","color":[1,1,1],"intensity":{candela}}}]}}}},

@@ -18,21 +18,7 @@ pub fn b64(bytes: &[u8]) -> String {
 /// (z + a)/2a), one texture (image `image`, NEAREST magnification, REPEAT) and the
 /// material `material` (JSON); returns its path.
 pub fn plane(dir: &std::path::Path, a: f32, y: f32, material: &str, image: &str) -> std::path::PathBuf {
-    let pos = [[-a, y, -a], [a, y, -a], [a, y, a], [-a, y, a]];
-    let mut bin: Vec<u8> = Vec::new();
-    for p in pos {
-        bin.extend(p.iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for _ in pos {
-        bin.extend([0.0f32, 1.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
-    }
-    for p in pos {
-        bin.extend([(p[0] + a) / (2.0 * a), (p[2] + a) / (2.0 * a)].iter().flat_map(|x| x.to_le_bytes()));
-    }
-    // Counter-clockwise seen from +Y: the floor faces up (and emits upwards).
-    for i in [0u16, 3, 2, 0, 2, 1] {
-        bin.extend(i.to_le_bytes());
-    }
+    let bin = square_buffer(a, y);
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_texture_transform","KHR_materials_emissive_strength"],
         "scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
@@ -53,4 +39,26 @@ pub fn plane(dir: &std::path::Path, a: f32, y: f32, material: &str, image: &str)
     let path = dir.join("floor.gltf");
     std::fs::write(&path, json).unwrap();
     path
+}
+
+/// The buffer of the square [−a, a]² at height `y` facing +Y: 4 positions (VEC3 f32, bytes
+/// 0..48), 4 normals +Y (48..96), 4 texture coordinates ((x + a)/2a, (z + a)/2a) (VEC2 f32,
+/// 96..128) and 6 u16 indices (128..140), counter-clockwise seen from +Y.
+pub fn square_buffer(a: f32, y: f32) -> Vec<u8> {
+    let pos = [[-a, y, -a], [a, y, -a], [a, y, a], [-a, y, a]];
+    let mut bin: Vec<u8> = Vec::new();
+    for p in pos {
+        bin.extend(p.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    for _ in pos {
+        bin.extend([0.0f32, 1.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
+    }
+    for p in pos {
+        bin.extend([(p[0] + a) / (2.0 * a), (p[2] + a) / (2.0 * a)].iter().flat_map(|x| x.to_le_bytes()));
+    }
+    // Counter-clockwise seen from +Y: the floor faces up (and emits upwards).
+    for i in [0u16, 3, 2, 0, 2, 1] {
+        bin.extend(i.to_le_bytes());
+    }
+    bin
 }
