@@ -130,6 +130,9 @@ pub struct RescaleAccount {
     /// Mean over texel-channels with E/π > 0 of the fit's E/π at the normal over the
     /// texel's before the rescale.
     pub mean_ratio: f64,
+    /// The largest and smallest scale applied (1 where nothing was rescaled).
+    pub max_scale: f64,
+    pub min_scale: f64,
 }
 
 /// Scales every non-negative basis' lobes of `img` per texel and channel so that their E/π
@@ -143,6 +146,7 @@ pub fn rescale_irradiance(img: &mut LightmapImages, bases: &[BasisKind], sg_shar
         }
         let row = constraint_row(*kind, sg_sharpness);
         let (mut rescaled, mut unscalable, mut ratio) = (0usize, 0usize, 0.0f64);
+        let (mut max_scale, mut min_scale) = (1.0f64, 1.0f64);
         for t in 0..img.validity.len() {
             if img.validity[t] <= 0.0 {
                 continue;
@@ -160,6 +164,8 @@ pub fn rescale_irradiance(img: &mut LightmapImages, bases: &[BasisKind], sg_shar
                     ratio += e / d;
                     rescaled += 1;
                     let k = d / e;
+                    max_scale = max_scale.max(k);
+                    min_scale = min_scale.min(k);
                     for l in 0..row.len() {
                         let v = &mut img.coefficients[bi][l][t][ch];
                         *v = (*v as f64 * k) as f32;
@@ -174,6 +180,8 @@ pub fn rescale_irradiance(img: &mut LightmapImages, bases: &[BasisKind], sg_shar
             rescaled,
             unscalable,
             mean_ratio: if rescaled > 0 { ratio / rescaled as f64 } else { f64::NAN },
+            max_scale,
+            min_scale,
         });
     }
     Ok(out)
@@ -266,8 +274,8 @@ pub fn solver_step(
         Solver::NnlsRescaled => {
             for a in rescale_irradiance(img, &config.bases, config.sg_sharpness)? {
                 log(format!(
-                    "solver: {} NNLS lobes rescaled to the texel's E/π ({} texel-channels; their E/π was {:.4}× the texel's on average; {} with no light in the fit left as they are)",
-                    a.basis, a.rescaled, a.mean_ratio, a.unscalable
+                    "solver: {} NNLS lobes rescaled to the texel's E/π ({} texel-channels, scales {:.3}…{:.3}; their E/π was {:.4}× the texel's on average; {} with no light in the fit left as they are)",
+                    a.basis, a.rescaled, a.min_scale, a.max_scale, a.mean_ratio, a.unscalable
                 ));
             }
         }
