@@ -209,8 +209,8 @@ impl Pipeline {
 
 impl Default for BakeConfig {
     /// The `baker` command's defaults: seed 1, 4 bounces, SH L2 and Ambient Dice 9 with
-    /// NNLS rescaled to the texels' E/π (where it applies), Sobol' sequences, uniform passes on the megakernel, no
-    /// guiding and no filter.
+    /// NNLS rescaled to the texels' E/π (where it applies), Sobol' sequences, uniform
+    /// passes on the megakernel, no guiding and no filter.
     fn default() -> Self {
         BakeConfig {
             seed: 1,
@@ -289,13 +289,15 @@ impl BakeConfig {
         kind.basis_with(self.sg_sharpness)
     }
 
-    /// The progressive options for `basis` on these targets: Gauss–Seidel with the
-    /// eq. 7.15 denominator at acceleration [`BAKE_ACCELERATION`]; sphere bases on
-    /// texels see only the upper hemisphere, so mirrored zero samples pin the lower half
-    /// (seed §7.3's hemisphere handling); probes sample the whole sphere.
-    /// NNLS applies only to bases whose functions are non-negative (SG, Ambient Dice):
-    /// SH coefficients of a non-negative signal are legitimately negative, so SH is
-    /// always least squares ([`BasisKind::non_negative`]).
+    /// The progressive options for `basis` on these targets: SG and Ambient Dice by
+    /// Gauss–Seidel with the eq. 7.15 denominator at acceleration [`BAKE_ACCELERATION`]
+    /// (NNLS or LS by the solver); SH by the running Monte Carlo projection
+    /// (`sbf::solve::Denominator::Projection`: its least-squares fit, unbiased at every
+    /// pass). Sphere bases on texels see only the upper hemisphere, so mirrored zero samples
+    /// pin the lower half (seed §7.3's hemisphere handling); probes sample the whole sphere.
+    /// NNLS applies only to bases whose functions are non-negative (SG, Ambient Dice): SH
+    /// coefficients of a non-negative signal are legitimately negative
+    /// ([`BasisKind::non_negative`]).
     pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
         let opts = match self.solver {
             Solver::Nnls | Solver::NnlsRescaled if basis.non_negative() => ProgressiveOptions::non_negative(),
