@@ -7,7 +7,7 @@
 //! Uses: [`crate::scene`], [`crate::accumulate`].
 //!
 //! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
-//! (scene, layout, seed, bounces, bases, solver, sample sequence, adaptive sampling: a resumed bake must be the same bake);
+//! (scene, layout, seed, bounces, bases, solver and each basis' update rule, sample sequence, adaptive sampling: a resumed bake must be the same bake);
 //! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
 //! and the u64 counts of accepted, back-face and non-finite samples;
 //! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
@@ -162,6 +162,9 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     h.u64(config.max_bounces as u64);
     config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
     h.bytes(format!("{:?}", config.solver).as_bytes());
+    // Each basis' update rule (a state saved under another rule — e.g. SH's residual update
+    // before the projection — is not this bake's running estimate).
+    config.bases.iter().for_each(|b| h.bytes(format!("{:?}", config.encoder_options(*b, targets.sphere)).as_bytes()));
     h.bytes(config.sampler.name().as_bytes());
     if let Some(c) = config.camera {
         h.bytes(b"camera");
