@@ -1,13 +1,15 @@
 //! NNLS under equality constraints (`sbf::solve::nnls_gram_eq`) against a closed form (one
 //! source between two SG lobes, the irradiance at the normal pinned), against an
-//! independent exact method (every support set's equality-constrained KKT system), and on
-//! bad input.
+//! independent exact method (every support set's equality-constrained KKT system), against
+//! scipy (values pinned by `tests/generators/nnls_eq_scipy.py`), and on bad input.
 //!
 //! Mutations tried (2026-12-06; each fails at least one test here): the equality dropped
 //! (d taken as 0: all three tests), its sign flipped (all three), the least-distance
 //! solution's sign flipped (x = +r/rₙ₊₁: enumeration and bad input), the active-set
 //! refinement left out (the LDP's rounding: enumeration), the refinement's multiplier sign
-//! flipped (enumeration).
+//! flipped (enumeration). The refinement's right-hand side d scaled by 1.02 fails
+//! `matches_scipy`; the elimination's particular point b₀ scaled by 1.02 passes every test,
+//! as it should: the refinement re-solves the support's KKT system from the true d.
 mod common;
 
 use sbf::nalgebra::{DMatrix, DVector};
@@ -218,4 +220,93 @@ fn bad_constraints_are_named() {
     // On the boundary: d = 0 with non-negative rows leaves only b = 0.
     let s = nnls_gram_eq(&g, &m, &row(&[1.0, 2.0, 0.5]), &[0.0], NnlsOptions::default()).unwrap();
     assert_eq!(s.coeffs, vec![0.0; 3]);
+}
+
+/// Four fixed problems (G = AᵀA + ridge·I) against scipy 1.17.1, pinned by
+/// `sbf/tests/generators/nnls_eq_scipy.py`: Lawson & Hanson's weighting method
+/// (`scipy.optimize.nnls` on [Lᵀ; wC] for w = 1e3, 1e4, 1e5, extrapolated to 1/w² → 0),
+/// which the script checks against `scipy.optimize.minimize(method="SLSQP")` before printing.
+/// The oracle's error: the extrapolation's remainder O(w⁻⁶) is negligible; the weighted
+/// NNLS' rounding is ε · cond([Lᵀ; wC]) ≈ ε · w_max · √cond(G) relative — allowed ×4 here, plus
+/// this solver's own 1e-10 (the closed-form test's bound). Plain NNLS (no row) misses every
+/// problem's constraint, so a dropped equality fails.
+#[test]
+fn matches_scipy() {
+    struct P {
+        a: &'static [&'static [f64]],
+        ridge: f64,
+        m: &'static [f64],
+        c: &'static [&'static [f64]],
+        d: &'static [f64],
+        scipy: &'static [f64],
+    }
+    let problems = [
+        P {
+            a: &[&[1.0, 0.6, 0.2, 0.0], &[0.0, 1.0, 0.5, 0.1], &[0.0, 0.0, 1.0, 0.4], &[0.0, 0.0, 0.0, 1.0], &[0.3, 0.3, 0.3, 0.3]],
+            ridge: 0.0,
+            m: &[2.0, 0.5, -0.3, 1.4],
+            c: &[&[1.0, 1.0, 1.0, 1.0]],
+            d: &[1.5],
+            scipy: &[1.085253456215692e+00, 0.0, 0.0, 4.147465437843079e-01],
+        },
+        P {
+            a: &[
+                &[2.0, 0.1, 0.0, 0.3, 0.0],
+                &[0.0, 1.5, 0.2, 0.0, 0.1],
+                &[0.1, 0.0, 1.0, 0.2, 0.0],
+                &[0.0, 0.3, 0.0, 0.8, 0.2],
+                &[0.0, 0.0, 0.4, 0.0, 1.2],
+                &[0.5, 0.5, 0.5, 0.5, 0.5],
+            ],
+            ridge: 0.0,
+            m: &[1.0, -0.5, 0.8, 0.2, -0.1],
+            c: &[&[0.2, 0.4, 0.6, 0.8, 1.0], &[1.0, -1.0, 0.5, 0.0, 0.3]],
+            d: &[0.9, 0.1],
+            scipy: &[0.0, 8.823998364633774e-02, 3.745546059787275e-01, 7.959528842887272e-01, 3.208935523246517e-03],
+        },
+        P {
+            a: &[
+                &[1.0, 0.98, 0.9, 0.7, 0.45, 0.2],
+                &[0.2, 0.45, 0.7, 0.9, 0.98, 1.0],
+                &[0.5, 0.6, 0.7, 0.7, 0.6, 0.5],
+                &[0.0, 0.1, 0.0, 0.1, 0.0, 0.1],
+                &[0.1, 0.0, 0.1, 0.0, 0.1, 0.0],
+                &[0.3, 0.2, 0.1, 0.1, 0.2, 0.3],
+                &[0.05, 0.0, 0.0, 0.0, 0.0, 0.05],
+            ],
+            ridge: 1e-4,
+            m: &[1.2, 0.3, 1.3, 0.4, -0.2, 1.1],
+            c: &[&[0.9, 0.7, 0.4, 0.4, 0.7, 0.9]],
+            d: &[1.8],
+            scipy: &[1.076911244430764e+00, 0.0, 0.0, 0.0, 0.0, 9.230887555692364e-01],
+        },
+        P {
+            a: &[&[1.0, 0.5, 0.0], &[0.0, 1.0, 0.5], &[0.2, 0.0, 1.0]],
+            ridge: 0.0,
+            m: &[1.0, 1.0, -1.0],
+            c: &[&[0.0, 0.0, 1.0]],
+            d: &[0.25],
+            scipy: &[7.142857142826560e-01, 4.142857142857145e-01, 2.499999999999999e-01],
+        },
+    ];
+    for (i, p) in problems.iter().enumerate() {
+        let n = p.m.len();
+        let a = DMatrix::from_fn(p.a.len(), n, |r, c| p.a[r][c]);
+        let g = a.transpose() * &a + DMatrix::identity(n, n) * p.ridge;
+        let c = DMatrix::from_fn(p.c.len(), n, |r, k| p.c[r][k]);
+        let sol = nnls_gram_eq(&g, p.m, &c, p.d, NnlsOptions::default()).unwrap();
+        let sv = g.clone().svd(false, false).singular_values;
+        let cond = sv.max() / sv.min();
+        let scale = p.scipy.iter().fold(1.0f64, |s, v| s.max(v.abs()));
+        let tol = 1e-10 + 4.0 * f64::EPSILON * 1e5 * cond.sqrt();
+        let gap = sol.coeffs.iter().zip(p.scipy).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale;
+        println!("problem {i}: cond(G) {cond:.2e}, gap to scipy {gap:.1e} (allowed {tol:.1e}), KKT {:.1e}", sol.kkt_residual);
+        assert_eq!(sol.status, NnlsStatus::Converged, "problem {i}");
+        assert!(gap <= tol, "problem {i}: {:?} vs scipy {:?}", sol.coeffs, p.scipy);
+        assert!(sol.kkt_residual <= 1e-8, "problem {i}: KKT residual {:e}", sol.kkt_residual);
+        // The equality matters: plain NNLS misses it by far more than the tolerance.
+        let plain = nnls_gram(&g, p.m, NnlsOptions::default()).unwrap();
+        let miss = (&c * DVector::from_column_slice(&plain.coeffs) - DVector::from_column_slice(p.d)).amax();
+        assert!(miss > 0.1, "problem {i}: plain NNLS already meets the rows ({miss:e})");
+    }
 }
