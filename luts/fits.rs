@@ -6,9 +6,9 @@ pub const AD_DIFFUSE_DEGREE_2: [f64; 3] = [6.00260416666666824e-2, 1.29166666666
 /// Max error of seed eq. 8.14 on the same grid: 1.217e-3.
 pub const AD_DIFFUSE_SEED_EQ_8_14_MAX_ERROR: f64 = 1.21666666666664369e-3;
 /// Hill's c0 re-fitted (minimax over λ ∈ [2, 64]); max error / peak 1.368e-2 (published 0.36: 1.762e-2).
-pub const HILL_C0: f64 = 3.65201308538065095e-1;
+pub const HILL_C0: f64 = 3.65201308538062874e-1;
 /// The error HILL_C0 reaches: max |Hill − exact| / peak E/π over λ ∈ {2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64} × 91 angles θ = kπ/90.
-pub const HILL_C0_MAX_ERROR: f64 = 1.36803766607596234e-2;
+pub const HILL_C0_MAX_ERROR: f64 = 1.36803766607612592e-2;
 /// Byte size of luts/dfg.sbflut (asserted by sbf at compile time).
 pub const DFG_BYTES: usize = 131232;
 /// Byte size of luts/ad_specular_2d.sbflut (asserted by sbf at compile time).

@@ -6,17 +6,19 @@
 #
 #   tools/solver-compare.sh OUT SCENE… (SCENE: a built-in name or a .gltf path)
 #   SOLVERS (default "nnls ls nnls-rescaled nnls-irradiance"), PASSES (256), BASES
-#   (sh2,ad9,sg9), SIZE (480x270), SPP (1024), DEVICE (auto), BIN (target/release).
+#   (sh2,ad9,sg9), SIZE (480x270), SPP (1024), DEVICE (auto), BIN (target/release),
+#   BAKE_ARGS (more `baker` arguments, e.g. "--texels-per-unit 32"; default none), TAG (a
+#   suffix for the output names).
 set -euo pipefail
 out=$1; shift
 bin=${BIN:-target/release}
 mkdir -p "$out"
 for scene in "$@"; do
-  tag=$(basename "$scene" | sed 's/\.gl[tb]f\?$//')
+  tag=$(basename "$scene" | sed 's/\.gl[tb]f\?$//')${TAG:-}
   for solver in ${SOLVERS:-nnls ls nnls-rescaled nnls-irradiance}; do
     d=$out/$tag-$solver
     "$bin/baker" --scene "$scene" --device "${DEVICE:-auto}" --passes "${PASSES:-256}" --bases "${BASES:-sh2,ad9,sg9}" \
-      --solver "$solver" --out "$d/bake" >"$d.bake.log" 2>&1 || { echo "bake failed: $d.bake.log"; tail -3 "$d.bake.log"; exit 1; }
+      --solver "$solver" ${BAKE_ARGS:-} --out "$d/bake" >"$d.bake.log" 2>&1 || { echo "bake failed: $d.bake.log"; tail -3 "$d.bake.log"; exit 1; }
     "$bin/render" --scene "$scene" --bake "$d/bake" --bases "${BASES:-sh2,ad9,sg9}" --specular both --size "${SIZE:-480x270}" \
       --reference-samples "${SPP:-1024}" --reference-noise 0.005 --frames 0 --device "${DEVICE:-auto}" --out "$d/render" >"$d.render.log" 2>&1 \
       || { echo "render failed: $d.render.log"; tail -3 "$d.render.log"; exit 1; }

@@ -213,7 +213,8 @@ fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
                 let s = if p == SpecularPath::Tables {
                     DVec3::from(lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_sg6(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
                 } else {
-                    let w = sg::AsgWarp::new(DVec3::Z, rv, m.alpha, f0, f90);
+                    let d = sbf::luts::committed::dfg().sample2(rv.z.clamp(0.0, 1.0) as f32, m.alpha as f32);
+                    let w = sg::SplitSumWarp::new(DVec3::Z, rv, m.alpha, f0, f90, [d[0] as f64, d[1] as f64]);
                     axes.iter()
                         .zip(&c)
                         .fold(DVec3::ZERO, |acc, (a, ci)| acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: 6.0, amplitude: 1.0 }))

@@ -4,8 +4,8 @@
 //! a buffer and writes the RGB sum; mean of back-to-back dispatches after a warm-up).
 //!
 //! Modes map to the WGSL runtime they would use: SH L2 → `sh_l2_irradiance`; SG 9/12 →
-//! Hill irradiance (+ for specular the per-lobe GGX tables, or the ASG warp with
-//! `--specular-runtime fit`); Ambient Dice SRBF 9/12 → `ad9`/`ad12` irradiance (+ the
+//! Hill irradiance (+ for specular the per-lobe GGX tables, or the split sum over the
+//! warped NDF with `--specular-runtime fit`); Ambient Dice SRBF 9/12 → `ad9`/`ad12` irradiance (+ the
 //! tables, or the Listing 8.1 fit × LUT); the engine formats → their decodes
 //! (`engine.wgsl`). Modes without a WGSL runtime (ambient cube, SH L1 variants and L3+,
 //! the Bézier/YCoCg Ambient Dice, the H-basis, the

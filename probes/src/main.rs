@@ -114,7 +114,8 @@ struct CompareArgs {
     sg_irradiance: String,
     /// Specular runtime of the SG and AD modes: `table` (per-lobe GGX response tables,
     /// luts/lobe_ggx_*.sbflut; interpolation is the only approximation) or `fit` (the
-    /// ASG warp for SG, seed Listing 8.1 × its LUT for AD). [default: table; fit with
+    /// split sum over the warped NDF for SG — the ASG warp with --reference appendix-c —,
+    /// seed Listing 8.1 × its LUT for AD). [default: table; fit with
     /// --reference appendix-c]
     #[arg(long)]
     specular_runtime: Option<String>,

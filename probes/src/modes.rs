@@ -120,7 +120,8 @@ pub enum SpecularRuntime {
     /// interpolation is the only approximation.
     #[default]
     Table,
-    /// The closed-form fits: SG through the ASG warp (Xu et al. 2013, Pettineo), AD through
+    /// The closed-form fits: SG through the split sum over the warped NDF (Karis 2013; the
+    /// ASG warp of Xu et al. 2013 under the Appendix C convention), AD through
     /// seed Listing 8.1 × the 2D LUT of Listing 8.2.
     Fit,
 }
@@ -147,7 +148,7 @@ impl SpecularRuntime {
     pub fn describe(&self) -> &'static str {
         match self {
             SpecularRuntime::Table => "SG and AD lobes through per-lobe GGX response tables (luts/lobe_ggx_*.sbflut: 4D over n·v, √α and the lobe axis about the mirror direction, multilinear; table error in luts/MANIFEST); SH by its zonal GGX convolution × DFG",
-            SpecularRuntime::Fit => "SG lobes through the ASG warp (Xu et al. 2013, as Pettineo), AD lobes through seed Listing 8.1 × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
+            SpecularRuntime::Fit => "SG lobes through the split sum over the warped NDF (Karis 2013; Appendix C convention: the ASG warp, Xu et al. 2013), AD lobes through seed Listing 8.1 × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
         }
     }
 }

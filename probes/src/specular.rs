@@ -9,7 +9,8 @@
 //! reported number of each per texel, radiance by bilinear lookup; its error is
 //! estimated against 16× the samples on a texel subset ([`reference_error`]).
 //! Reconstructions, from the coefficients a mode stored: SH by zonal convolution about
-//! the dominant direction with the committed DFG table; SG lobes by the ASG warp; Ambient
+//! the dominant direction with the committed DFG table; SG lobes by the split sum over the warped NDF
+//! ([`sbf::recon::sg::SplitSumWarp`]; the ASG warp under the Appendix C convention); Ambient
 //! Dice SRBF lobes by the seed's fit (Listing 8.1) times the committed 2D LUT
 //! (Listing 8.2). Other modes store irradiance, not radiance, and have no specular.
 
@@ -529,15 +530,17 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
             shr::specular_zonal_rgb(&sh, c, &sh_filters[k / ctx.grid.width], n, v, alpha, f0, f90, [d[0] as f64, d[1] as f64])
                 .unwrap_or([f64::NAN; 3])
         } else if is_sg(r.id) {
-            let warp = match ctx.convention {
-                Convention::Physical => sgr::AsgWarp::new(n, v, alpha, f0, f90),
-                Convention::AppendixC => crate::appendix_c::asg_warp(n, v, alpha, f0, f90),
-            };
             let d = dfg.sample2(nv as f32, alpha as f32);
+            // The runtime's split sum; the seed's Appendix C convention keeps its ASG warp.
+            let (split, asg) = match ctx.convention {
+                Convention::Physical => (Some(sgr::SplitSumWarp::new(n, v, alpha, f0, f90, [d[0] as f64, d[1] as f64])), None),
+                Convention::AppendixC => (None, Some(crate::appendix_c::asg_warp(n, v, alpha, f0, f90))),
+            };
             // Each lobe's warped integral once, then RGB (the runtime's form).
             let mut e = [0.0; 3];
             for ((axis, lam), ci) in r.lobes.iter().zip(c) {
-                let w = warp.lobe(&sbf::Sg { axis: *axis, sharpness: *lam, amplitude: 1.0 });
+                let lobe = sbf::Sg { axis: *axis, sharpness: *lam, amplitude: 1.0 };
+                let w = split.map_or_else(|| asg.map_or(0.0, |a| a.lobe(&lobe)), |s| s.lobe(&lobe));
                 for ch in 0..3 {
                     e[ch] += w * ci[ch];
                 }

@@ -50,8 +50,8 @@
 //! Irradiance: SH by the exact band factors, SG by Hill's fit, AD by the minimax quadratic
 //! ([`crate::recon::runtime`], the twins of the WGSL functions). Specular: SH by zonal
 //! convolution about the dominant direction with the DFG split sum
-//! ([`crate::recon::sh::specular_zonal_rgb`], f64), SG by the ASG warp, AD by the seed's
-//! Listing 8.1 fit and Listing 8.2 table. Fresnel is Schlick with f0 given and f90 = 1.
+//! ([`crate::recon::sh::specular_zonal_rgb`], f64), SG by the split sum over the warped
+//! NDF ([`crate::recon::runtime::sg_specular_split_sum`]), AD by the seed's Listing 8.1 fit and Listing 8.2 table. Fresnel is Schlick with f0 given and f90 = 1.
 
 use crate::basis::Basis;
 use crate::envmap::LatLongImage;
@@ -307,7 +307,10 @@ impl Probe {
                 .expect("coefficients of the basis's order");
                 Vec3::new(s[0] as f32, s[1] as f32, s[2] as f32)
             }
-            ProbeBasis::Sg9 | ProbeBasis::Sg12 => runtime::sg_specular_asg(&self.axes, SG_SHARPNESS as f32, c, n, v, alpha, f0, 1.0),
+            ProbeBasis::Sg9 | ProbeBasis::Sg12 => {
+                let dfg = crate::luts::committed::dfg().sample2(n.dot(v).clamp(0.0, 1.0), alpha);
+                runtime::sg_specular_split_sum(&self.axes, SG_SHARPNESS as f32, c, n, v, alpha, f0, 1.0, dfg)
+            }
             ProbeBasis::Ad9 | ProbeBasis::Ad12 => {
                 runtime::ad_specular(&self.axes, c, n, v, alpha, f0, 1.0, crate::luts::committed::ad_specular_2d())
             }

@@ -68,11 +68,12 @@ impl SpecularPath {
 
 /// What a basis's GGX specular needs at runtime on a path: the `shaders` composition
 /// feature (None: none) and the fitgen table it reads (None: none). SH has one path on
-/// both names: the zonal filter about the dominant direction with the split-sum DFG.
+/// both names: the zonal filter about the dominant direction with the split-sum DFG; SG's
+/// fit path is a split sum too and reads the same table.
 pub fn specular_runtime(basis: &str, path: SpecularPath) -> (Option<&'static str>, Option<&'static str>) {
     match (basis, path) {
         ("sh1" | "sh2", _) => (Some("sh-specular"), Some("dfg")),
-        ("sg9" | "sg12", SpecularPath::Fit) => (Some("sg-specular"), None),
+        ("sg9" | "sg12", SpecularPath::Fit) => (Some("sg-specular"), Some("dfg")),
         ("sg9" | "sg12", SpecularPath::Tables) => (Some("lobe-ggx-filtered"), Some("lobe-ggx-sg6")),
         ("ad9", SpecularPath::Fit) => (Some("ad9-specular"), Some("ad-specular-2d")),
         ("ad12", SpecularPath::Fit) => (Some("ad12-specular"), Some("ad-specular-2d")),

@@ -139,12 +139,9 @@ fn sg_and_ad_specular_are_their_f64_references() {
                 let (nd, vd, a, f) = (n.as_dvec3(), v.as_dvec3(), alpha as f64, f0 as f64);
                 let got = probe.specular(n, v, alpha, f0).unwrap();
                 let (want, scale): ([f64; 3], [f64; 3]) = if matches!(basis, ProbeBasis::Sg9 | ProbeBasis::Sg12) {
-                    let s: Vec<f64> = axes
-                        .iter()
-                        .map(|ax| {
-                            sbf::recon::sg::specular_asg_warp(&sbf::Sg::new(*ax, sbf::probe::SG_SHARPNESS, 1.0).unwrap(), nd, vd, a, f, 1.0)
-                        })
-                        .collect();
+                    let d = sbf::luts::committed::dfg().sample2(nd.dot(vd).clamp(0.0, 1.0) as f32, alpha);
+                    let w = sbf::recon::sg::SplitSumWarp::new(nd, vd, a, f, 1.0, [d[0] as f64, d[1] as f64]);
+                    let s: Vec<f64> = axes.iter().map(|ax| w.lobe(&sbf::Sg::new(*ax, sbf::probe::SG_SHARPNESS, 1.0).unwrap())).collect();
                     let sum = |k: usize, abs: bool| {
                         c.iter().zip(&s).map(|(ci, si)| if abs { (ci[k] * si).abs() } else { ci[k] * si }).sum::<f64>()
                     };

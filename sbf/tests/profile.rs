@@ -69,7 +69,7 @@ fn bad_profiles_name_the_key() {
     assert_eq!(tables("[\"tables\"]", "bases = [\"ad9\"]"), (vec!["lobe-ggx-filtered"], vec!["fits", "fits-wgsl", "lobe-ggx-ad"]));
     assert_eq!(
         tables("[\"fit\", \"tables\"]", "bases = [\"sg9\", \"sh1\"]"),
-        (vec!["lobe-ggx-filtered", "sg-specular", "sh-specular"], vec!["fits", "fits-wgsl", "lobe-ggx-sg6", "dfg"])
+        (vec!["lobe-ggx-filtered", "sg-specular", "sh-specular"], vec!["fits", "fits-wgsl", "dfg", "lobe-ggx-sg6"])
     );
     // Multiple scattering: "compensated" adds the energy-compensation feature and the DFG
     // table it reads; "single" is the default; an unknown value or one without GGX is refused.

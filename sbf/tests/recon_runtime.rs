@@ -307,6 +307,31 @@ fn extreme_inputs_by_value() {
                     "α={alpha} n·v={nv} λ={lam}: f32 {} vs f64 {warp}",
                     f32v.x
                 );
+                // (e') The f32 split sum equals the f64 one (same dfg pair) to f32 rounding of
+                // its ~40 operations, bar 1e-5 relative of the lobe's value on the reflection
+                // direction (its peak); n·v enters Hill's transition band through
+                // (λ_D n·v + λ p·n)/|λ_D R + λ p|, whose f32 rounding is relative to n·v's.
+                let dfg = [0.61f32, 0.07f32];
+                let split = sgr::SplitSumWarp::new(DVec3::Z, v, alpha, 0.04, 1.0, [dfg[0] as f64, dfg[1] as f64]);
+                let want = split.lobe(&s);
+                let peak = split.lobe(&Sg { axis: sbf::ggx::reflect(v, DVec3::Z), ..s });
+                let got = rt::sg_specular_split_sum(
+                    &[s.axis.as_vec3()],
+                    lam as f32,
+                    &[Vec3::splat(1.0)],
+                    Vec3::Z,
+                    v.as_vec3(),
+                    alpha as f32,
+                    0.04,
+                    1.0,
+                    dfg,
+                )
+                .x as f64
+                    * 1e6;
+                assert!(
+                    got.is_finite() && (got - want).abs() <= 1e-5 * want.abs().max(peak) + 1e-30,
+                    "α={alpha} n·v={nv} λ={lam}: split sum f32 {got} vs f64 {want} (peak {peak})"
+                );
                 let (hill, exact) = (sgr::irradiance_hill(&s, DVec3::Z), sgr::irradiance_exact(&s, DVec3::Z));
                 let integral = 1e6 * sbf::basis::sg::sg_unit_integral(lam) / PI;
                 assert!((hill - exact).abs() <= 0.02 * integral, "λ={lam}: Hill {hill} vs exact {exact} (integral/π {integral})");

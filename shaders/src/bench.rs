@@ -15,7 +15,8 @@ use crate::progressive::{EncoderParams, EncoderState};
 pub struct Row {
     pub name: &'static str,
     pub lobes: usize,
-    /// "diffuse", "diffuse + specular" or "encode" (one progressive update).
+    /// "diffuse", "diffuse + specular", one of the variants "diffuse + specular (…)" or
+    /// "encode" (one progressive update).
     pub signal: &'static str,
     /// Evaluations per dispatch.
     pub count: usize,
@@ -65,14 +66,20 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
             "    let cb = 37u + (i % {SETS}u) * 36u;\n    let lam = inp[36u];\n{geometry}    var c: array<vec3<f32>, {k}>;\n    for (var j = 0u; j < {k}u; j++) {{\n        c[j] = ld3(cb + 3u * j);\n    }}\n"
         )
     };
-    let sg = |k: usize, spec: bool| {
+    // The anisotropic warp (sg-specular-asg), SG's fit path before the split sum, for the
+    // cost side by side.
+    let sg_kernel = |k: usize, spec: bool, asg: bool| {
         let mut b = pre(k);
         b += &format!("    var e = vec3<f32>(0.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_hill_irradiance(ld3(3u * j), lam, n);\n    }}\n");
-        if spec {
+        if asg {
             b += &format!("    let w = sg_asg_warp(n, v, a, 0.04, 1.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_asg_lobe(w, ld3(3u * j), lam);\n    }}\n");
+        } else if spec {
+            // The split sum reads the dfg table, bound as `lut` for these kernels.
+            b += &format!("    let w = sg_split_sum_setup(lut, n, v, a, 0.04, 1.0);\n    for (var j = 0u; j < {k}u; j++) {{\n        e += c[j] * sg_split_sum_lobe(w, ld3(3u * j), lam);\n    }}\n");
         }
         b + "    outp[i] = e.x + e.y + e.z;"
     };
+    let sg = |k: usize, spec: bool| sg_kernel(k, spec, false);
     // The per-lobe GGX tables (lobe_ggx.wgsl) instead of the fits: SG axes from the buffer,
     // AD axes from the layout constants; f0 = 0.04, f90 = 1. One loop over the lobes adds
     // each lobe's irradiance and specular, as a shader using the tables would: with the AD
@@ -125,6 +132,7 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         ("SH9 (L2)", "sh-l2-irradiance", 9, "diffuse", sh),
         ("SG9", "sg-irradiance", 9, "diffuse", sg(9, false)),
         ("SG9", "sg-irradiance,sg-specular", 9, "diffuse + specular", sg(9, true)),
+        ("SG9", "sg-irradiance,sg-specular-asg", 9, "diffuse + specular (ASG warp)", sg_kernel(9, true, true)),
         ("SG12", "sg-irradiance", 12, "diffuse", sg(12, false)),
         ("SG12", "sg-irradiance,sg-specular", 12, "diffuse + specular", sg(12, true)),
         ("AD9", "ad9-irradiance", 9, "diffuse", ad(9, false)),
@@ -186,6 +194,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         inp.extend([n.x as f32, n.y as f32, n.z as f32, v.x as f32, v.y as f32, v.z as f32, (0.05 + 0.9 * rng.next_2d()[0]) as f32]);
     }
     let lut = sbf::luts::committed::ad_specular_2d();
+    let dfg = sbf::luts::committed::dfg();
     let mut rows = Vec::new();
     let params = EncoderParams::new(&sbf::solve::ProgressiveOptions::default(), 12)?;
     for (name, cfg, lobes, signal, body) in kernels(inputs) {
@@ -203,7 +212,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
             input: &inp,
             out_per_item: 1,
             count,
-            lut: uses_lut.then_some(lut),
+            lut: uses_lut.then_some(if body.contains("sg_split_sum") { dfg } else { lut }),
             uniform: encodes.then_some(("EncoderParams", bytemuck::bytes_of(&params))),
             io: encodes.then_some(("EncoderState", bytemuck::cast_slice(&states))),
             repeats,

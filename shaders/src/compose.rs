@@ -26,6 +26,7 @@ pub enum Feature {
     SgEval,
     SgIrradiance,
     SgSpecular,
+    SgSpecularAsg,
     AdEval,
     Ad9Irradiance,
     Ad12Irradiance,
@@ -44,7 +45,7 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature with its command-line name.
-    pub const ALL: [(Feature, &'static str); 25] = [
+    pub const ALL: [(Feature, &'static str); 26] = [
         (Feature::ShEval, "sh-eval"),
         (Feature::ShL1Irradiance, "sh-l1-irradiance"),
         (Feature::ShL2Irradiance, "sh-l2-irradiance"),
@@ -56,6 +57,7 @@ impl Feature {
         (Feature::SgEval, "sg-eval"),
         (Feature::SgIrradiance, "sg-irradiance"),
         (Feature::SgSpecular, "sg-specular"),
+        (Feature::SgSpecularAsg, "sg-specular-asg"),
         (Feature::AdEval, "ad-eval"),
         (Feature::Ad9Irradiance, "ad9-irradiance"),
         (Feature::Ad12Irradiance, "ad12-irradiance"),
@@ -85,7 +87,8 @@ impl Feature {
             Feature::ShRotate => &["sh_rotate_l1", "sh_rotate_l2", "sh_rotate_l4"],
             Feature::SgEval => &["sg_eval", "sg_integral"],
             Feature::SgIrradiance => &["sg_hill_irradiance"],
-            Feature::SgSpecular => &["sg_asg_warp", "sg_asg_lobe"],
+            Feature::SgSpecular => &["sg_split_sum_setup", "sg_split_sum_lobe"],
+            Feature::SgSpecularAsg => &["sg_asg_warp", "sg_asg_lobe"],
             Feature::AdEval => &["ad_srbf_eval"],
             Feature::Ad9Irradiance => &["ad9_irradiance"],
             Feature::Ad12Irradiance => &["ad12_irradiance"],

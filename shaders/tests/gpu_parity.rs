@@ -109,6 +109,7 @@ in_every_language!(
     sh_rotation_parity,
     ggx_parity,
     sg_parity,
+    sg_split_sum_parity,
     ambient_dice_parity,
     lobe_ggx_parity,
     lobe_ggx_filtered_parity,
@@ -473,7 +474,7 @@ fn ggx_parity(lang: Lang) {
 
 fn sg_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
-    let lib = library("sg-eval,sg-irradiance,sg-specular");
+    let lib = library("sg-eval,sg-irradiance,sg-specular-asg");
     let mut r = Pcg32::new(13, 3);
     let mut inp = Vec::new();
     let mut cases = Vec::new();
@@ -535,6 +536,60 @@ fn sg_parity(lang: Lang) {
     check("sg_eval", &col(0), &ce, &vec![1e-6; N]);
     check("sg_hill_irradiance", &col(1), &ch, &vec![1e-6; N]);
     check("sg_asg_warp+lobe", &col(2), &cs, &ss);
+}
+
+/// sg_split_sum_setup + sg_split_sum_lobe against the f64 split sum
+/// (`sbf::recon::sg::SplitSumWarp`, the dfg table sampled by the CPU's `Lut2`), one light
+/// lobe of λ ∈ [2, 64] per case. Scale: the lobe's value with its axis on the reflection
+/// direction (its peak) × 1e-5 — where the product lobe's sharpness falls below 2 (λ_D
+/// within 2 of λ, the lobe facing away from R) the f64 reference's zonal branch and the
+/// WGSL's Hill curve differ by ≤ 2 % of a product amplitude ≤ e^(−4): < 1e-5 of the peak.
+/// Input conditioning as in the SG and SH tests: the change of the f64 value when n, v and
+/// the axis move by 1.2e-7 (four random directions) ×1e4 (= 1/BAR) is an allowed error.
+fn sg_split_sum_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
+    let lib = library("sg-specular");
+    let lut = sbf::luts::committed::dfg();
+    let mut r = Pcg32::new(17, 9);
+    let (mut inp, mut cases) = (Vec::new(), Vec::new());
+    for _ in 0..N {
+        let axis = dir(&mut r);
+        let n = dir(&mut r);
+        let v = view(&mut r, n);
+        let lam = (2.0 * 32f64.powf(r.next_2d()[0])) as f32;
+        let a = alpha(&mut r);
+        let (f0, f90) = (r.next_2d()[0] as f32, 1.0f32);
+        for x in [axis, n, v] {
+            push3(&mut inp, x);
+        }
+        inp.extend([lam, a, f0, f90]);
+        cases.push((axis, n, v, lam, a, f0, f90));
+    }
+    let body = "    let b = i * 13u;\n    let w = sg_split_sum_setup(lut, ld3(b + 3u), ld3(b + 6u), inp[b + 10u], inp[b + 11u], inp[b + 12u]);\n    outp[i] = sg_split_sum_lobe(w, ld3(b), inp[b + 9u]);";
+    let (out, _) = g.run(&lib, body, &inp, 1, N, Some(lut), 0).unwrap();
+    let mut r2 = Pcg32::new(19, 4);
+    let (mut cpu, mut scale) = (Vec::new(), Vec::new());
+    for (axis, n, v, lam, a, f0, f90) in &cases {
+        let eval = |axis: sbf::glam::DVec3, n: sbf::glam::DVec3, v: sbf::glam::DVec3| {
+            let d = lut.sample2(n.dot(v).clamp(0.0, 1.0) as f32, *a);
+            let w = sbf::recon::sg::SplitSumWarp::new(n, v, *a as f64, *f0 as f64, *f90 as f64, [d[0] as f64, d[1] as f64]);
+            (
+                w.lobe(&sbf::Sg { axis, sharpness: *lam as f64, amplitude: 1.0 }),
+                w.lobe(&sbf::Sg { axis: sbf::ggx::reflect(v, n), sharpness: *lam as f64, amplitude: 1.0 }),
+            )
+        };
+        let (nd, vd, ad) = (n.as_dvec3(), v.as_dvec3(), axis.as_dvec3());
+        let (val, peak) = eval(ad, nd, vd);
+        let mut dmax = 0.0f64;
+        for _ in 0..4 {
+            let mut jitter = |x: sbf::glam::DVec3| (x + dir(&mut r2).as_dvec3() * 1.2e-7).normalize();
+            let (ap, np, vp) = (jitter(ad), jitter(nd), jitter(vd));
+            dmax = dmax.max((eval(ap, np, vp).0 - val).abs());
+        }
+        cpu.push(val);
+        scale.push((1e-5 * peak).max(dmax * 1e4));
+    }
+    check("sg_split_sum_setup+lobe", &out, &cpu, &scale);
 }
 
 /// sh_l1_specular and sh_l2_specular against the f64 zonal path

@@ -1,8 +1,11 @@
 // sg.wgsl — spherical Gaussians G(v) = μ·exp(λ(v·p − 1)): evaluation, Lambert
 // irradiance by Hill's fit (c0 from fitgen: HILL_C0, minimax re-fit over λ ∈ [2, 64]),
-// and GGX specular by the anisotropic warp (Xu et al. 2013, "Anisotropic Spherical
-// Gaussians"; Pettineo's SG series). CPU twins: sbf::Sg::eval,
-// sbf::recon::sg::hill_curve (with fits::HILL_C0), sbf::recon::sg::AsgWarp.
+// and GGX specular two ways: the split sum over the warped NDF (sg_split_sum_*, the
+// feature sg-specular; Karis 2013) and the anisotropic warp (sg_asg_*, the feature
+// sg-specular-asg; Xu et al. 2013, "Anisotropic Spherical Gaussians"; Pettineo's SG
+// series), which loses up to half the light of rough surfaces (sbf::recon::sg's docs).
+// CPU twins: sbf::Sg::eval, sbf::recon::sg::hill_curve (with fits::HILL_C0),
+// sbf::recon::sg::SplitSumWarp, sbf::recon::sg::AsgWarp.
 // Runtime range: λ ≥ 2 for the irradiance fit (below, sbf switches to the exact zonal
 // expansion, which is not in WGSL); every function stays finite for λ > 0.
 
@@ -31,6 +34,11 @@ fn expm1_f32(x: f32) -> f32 {
 
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
 fn sg_hill_irradiance(axis: vec3<f32>, sharpness: f32, n: vec3<f32>) -> f32 {
+    return sg_hill_cos(dot(axis, n), sharpness);
+}
+
+// sg_hill_irradiance for x = cos(axis, normal).
+fn sg_hill_cos(x_in: f32, sharpness: f32) -> f32 {
     let lam = max(sharpness, 1e-30);
     let c0 = HILL_C0;
     let c1 = 1.0 / (4.0 * c0);
@@ -39,8 +47,9 @@ fn sg_hill_irradiance(axis: vec3<f32>, sharpness: f32, n: vec3<f32>) -> f32 {
     let r = 1.0 / lam;
     let scale = 1.0 + 2.0 * e2 - r;
     let bias = (e1 - e2) * r - e2;
-    let xs = sqrt(max(1.0 - scale, 0.0));
-    let x = clamp(dot(axis, n), -1.0, 1.0);
+    // 1 − scale = 1/λ − 2e^(−2λ), without f32 cancellation at large λ.
+    let xs = sqrt(max(r - 2.0 * e2, 0.0));
+    let x = clamp(x_in, -1.0, 1.0);
     let x0 = c0 * x;
     let x1 = c1 * xs;
     var y = clamp(x, 0.0, 1.0);
@@ -103,4 +112,52 @@ fn sg_asg_lobe(w: SgAsgWarp, axis: vec3<f32>, sharpness: f32) -> f32 {
     let px = dot(axis, w.x);
     let py = dot(axis, w.y);
     return w.mu * amp * max(dot(axis, w.z), 0.0) * exp(-lx2 * px * px - ly2 * py * py) * w.tail;
+}
+
+// The per-pixel part of the split-sum SG specular (Karis 2013, "Real Shading in Unreal
+// Engine 4"; CPU twins sbf::recon::sg::SplitSumWarp, sbf::recon::runtime::sg_specular_split_sum):
+// the GGX NDF as an SG about n (λ = 2/α², Wang et al. 2009) warped to the reflection
+// direction R with λ/(4 n·v) (held ≥ 2, Hill's range), and the BRDF's energy
+// f0·dfg.x + f90·dfg.y (the dfg table at (n·v, α)) over the warped lobe's E/π at n.
+struct SgSplitSum {
+    n: vec3<f32>,
+    r: vec3<f32>,
+    nv: f32,
+    sharpness: f32,
+    scale: f32,
+}
+
+fn sg_split_sum_setup(dfg: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha_in: f32, f0: f32, f90: f32) -> SgSplitSum {
+    let alpha = clamp(alpha_in, 1e-4, 1.0);
+    let nv = max(dot(n, v), SG_NV_EPSILON);
+    let lw = max(0.5 / (alpha * alpha * nv), 2.0);
+    let r = reflect_about(v, n);
+    let d = lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
+    // n·R = n·v: from the inputs, not from R's rounding (λ_D magnifies it at grazing view).
+    let den = sg_hill_cos(dot(n, v), lw);
+    var scale = 0.0;
+    if (den > 0.0) {
+        scale = (f0 * d.x + f90 * d.y) / den;
+    }
+    return SgSplitSum(n, r, dot(n, v), lw, scale);
+}
+
+// Specular from one unit-amplitude SG light lobe: the radiance prefiltered by the warped
+// NDF with the n·l weight, E/π(D·G) / E/π(D), times the BRDF's energy. D·G is one SG
+// (axis λ_D R + λ p normalised, sharpness |λ_D R + λ p|, amplitude
+// exp(−λ_D λ |R − p|² / (λ_D + λ + |λ_D R + λ p|)): the exponent without cancellation).
+fn sg_split_sum_lobe(w: SgSplitSum, axis: vec3<f32>, sharpness: f32) -> f32 {
+    let pm = w.sharpness * w.r + sharpness * axis;
+    let d = length(pm);
+    let q = w.r - axis;
+    let amp = exp(-w.sharpness * sharpness * dot(q, q) / (w.sharpness + sharpness + d));
+    // The product's axis·n = (λ_D n·v + λ p·n)/|λ_D R + λ p| (n·v as in the setup).
+    var x = w.nv;
+    if (d > 0.0) {
+        x = (w.sharpness * w.nv + sharpness * dot(axis, w.n)) / d;
+    }
+    // Below λ 2 (outside Hill's range; amplitude < e^(−2)): Hill's curve at λ 2 with the
+    // product lobe's own integral, as sbf::recon::sg::SplitSumWarp::lobe.
+    let e = sg_hill_cos(x, max(d, 2.0)) * sg_integral(d) / sg_integral(max(d, 2.0));
+    return amp * e * w.scale;
 }

@@ -47,7 +47,7 @@ fn tmp(name: &str) -> PathBuf {
 /// The specular shader features whose functions a WGSL export defines.
 fn exported_specular(wgsl: &str) -> BTreeSet<String> {
     [
-        ("sg-specular", "sg_asg_lobe"),
+        ("sg-specular", "sg_split_sum_lobe"),
         ("sh-specular", "sh_l1_specular"),
         ("ad9-specular", "ad9_specular"),
         ("ad12-specular", "ad12_specular"),
@@ -207,7 +207,7 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
                 ""
             } else if measured.starts_with("SG and AD lobes through per-lobe") {
                 "tables"
-            } else if measured.starts_with("SG lobes through the ASG warp") {
+            } else if measured.starts_with("SG lobes through the split sum") {
                 "fit"
             } else {
                 panic!("{stem}: unknown runtime description {measured}")

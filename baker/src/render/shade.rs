@@ -153,7 +153,8 @@ impl Shader {
                 lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_sg6(), &self.axes, &rgb, z, vt, alpha, f0, f90)
             }
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => {
-                let w = sg::AsgWarp::new(z, vt, alpha, f0, f90);
+                let d = sbf::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
+                let w = sg::SplitSumWarp::new(z, vt, alpha, f0, f90, [d[0] as f64, d[1] as f64]);
                 let s = self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
                     acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: self.lighting.sg_sharpness, amplitude: 1.0 })
                 });

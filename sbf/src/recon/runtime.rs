@@ -87,24 +87,92 @@ pub fn sg_irradiance(axes: &[Vec3], sharpness: f32, coeffs: &[Vec3], n: Vec3) ->
         }
         return e;
     }
-    let lam = sharpness;
-    // fitgen's re-fitted c₀ (the WGSL `sg_hill_irradiance` reads the same constant).
-    let c0 = crate::luts::committed::constants::HILL_C0 as f32;
-    let c1 = 1.0 / (4.0 * c0);
-    let e1 = (-lam).exp();
-    let e2 = e1 * e1;
-    let r = 1.0 / lam;
-    let scale = 1.0 + 2.0 * e2 - r;
-    let bias = (e1 - e2) * r - e2;
-    let xs = (1.0 - scale).max(0.0).sqrt();
-    let integral = crate::basis::sg::sg_unit_integral_f32(lam) * std::f32::consts::FRAC_1_PI;
+    let hill = HillF32::new(sharpness);
     for (a, c) in axes.iter().zip(coeffs) {
-        let x = a.dot(n).clamp(-1.0, 1.0);
-        let (x0, x1) = (c0 * x, c1 * xs);
-        let y = if x0.abs() <= x1 && xs > 0.0 { (x0 + x1) * (x0 + x1) / xs } else { x.clamp(0.0, 1.0) };
-        e += *c * ((scale * y + bias) * integral);
+        e += *c * hill.eval(a.dot(n));
     }
     e
+}
+
+/// Hill's fit for one sharpness λ in f32 (fitgen's re-fitted c₀; the WGSL
+/// `sg_hill_irradiance` reads the same constant): E/π of a unit-amplitude lobe at
+/// x = axis·n. No zonal branch: as the WGSL, accurate for λ ≥ 2.
+#[cfg(feature = "sg")]
+#[derive(Clone, Copy)]
+struct HillF32 {
+    c0: f32,
+    x1: f32,
+    xs: f32,
+    scale: f32,
+    bias: f32,
+    integral: f32,
+}
+
+#[cfg(feature = "sg")]
+impl HillF32 {
+    fn new(lam: f32) -> Self {
+        let lam = lam.max(1e-30);
+        let c0 = crate::luts::committed::constants::HILL_C0 as f32;
+        let c1 = 1.0 / (4.0 * c0);
+        let e1 = (-lam).exp();
+        let e2 = e1 * e1;
+        let r = 1.0 / lam;
+        let scale = 1.0 + 2.0 * e2 - r;
+        let bias = (e1 - e2) * r - e2;
+        // 1 − scale without cancellation (1/λ − 2e^(−2λ)): f32 loses 1 − scale at large λ.
+        let xs = (r - 2.0 * e2).max(0.0).sqrt();
+        let integral = crate::basis::sg::sg_unit_integral_f32(lam) * std::f32::consts::FRAC_1_PI;
+        HillF32 { c0, x1: c1 * xs, xs, scale, bias, integral }
+    }
+
+    fn eval(&self, x: f32) -> f32 {
+        let x = x.clamp(-1.0, 1.0);
+        let x0 = self.c0 * x;
+        let y = if x0.abs() <= self.x1 && self.xs > 0.0 { (x0 + self.x1) * (x0 + self.x1) / self.xs } else { x.clamp(0.0, 1.0) };
+        (self.scale * y + self.bias) * self.integral
+    }
+}
+
+/// GGX specular from SG lobes of one shared sharpness by the split sum, in f32: the CPU twin
+/// of the WGSL `sg_split_sum_setup` + `sg_split_sum_lobe` (f64 reference:
+/// [`super::sg::SplitSumWarp`], with the same treatment of product lobes below λ 2).
+/// `dfg` is the DFG table's (A, B) at (n·v, α).
+#[cfg(feature = "sg")]
+pub fn sg_specular_split_sum(
+    axes: &[Vec3],
+    sharpness: f32,
+    coeffs: &[Vec3],
+    n: Vec3,
+    v: Vec3,
+    alpha: f32,
+    f0: f32,
+    f90: f32,
+    dfg: [f32; 2],
+) -> Vec3 {
+    debug_assert_eq!(axes.len(), coeffs.len());
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let nv = n.dot(v).max(super::sg::NV_EPSILON as f32);
+    let lw = (0.5 / (alpha * alpha * nv)).max(super::sg::HILL_MIN_SHARPNESS as f32);
+    let r = 2.0 * v.dot(n) * n - v;
+    // n·R = n·v from the inputs, not from R's rounding (λ_D magnifies it at grazing view).
+    let nv_in = n.dot(v);
+    let den = HillF32::new(lw).eval(nv_in);
+    let scale = if den > 0.0 { (f0 * dfg[0] + f90 * dfg[1]) / den } else { 0.0 };
+    let mut s = Vec3::ZERO;
+    for (a, c) in axes.iter().zip(coeffs) {
+        // The product lobe exp(λ_D(ω·R − 1))·exp(λ(ω·p − 1)) (Sg::product's stable exponent).
+        let pm = lw * r + sharpness * *a;
+        let d = pm.length();
+        let amp = (-lw * sharpness * (r - *a).length_squared() / (lw + sharpness + d)).exp();
+        // The product's axis·n = (λ_D n·v + λ p·n)/|λ_D R + λ p|.
+        let x = if d > 0.0 { (lw * nv_in + sharpness * a.dot(n)) / d } else { nv_in };
+        // Below λ 2 Hill's curve at 2 with the lobe's own integral (SplitSumWarp::lobe).
+        let hill = HillF32::new(d.max(2.0)).eval(x);
+        let e =
+            if d >= 2.0 { hill } else { hill * crate::basis::sg::sg_unit_integral_f32(d) / crate::basis::sg::sg_unit_integral_f32(2.0) };
+        s += *c * (amp * e);
+    }
+    s * scale
 }
 
 /// (band l, A_l/π) of the bands the clamped cosine keeps up to l = 8 (Ramamoorthi &

@@ -114,6 +114,14 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         result += vec3(r);
     }
     {
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+    }
+    {
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        result += vec3(r);
+    }
+    {
         SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
     }
     {

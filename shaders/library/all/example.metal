@@ -112,6 +112,14 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += float3(r);
     }
     {
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+    }
+    {
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
+        result += float3(r);
+    }
+    {
         SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
     }
     {

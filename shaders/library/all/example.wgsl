@@ -128,6 +128,16 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += vec3<f32>(r);
     }
     {
+        // sg_split_sum_setup
+        let r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+    }
+    {
+        // sg_split_sum_lobe
+        let sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        let r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        result += vec3<f32>(r);
+    }
+    {
         // sg_asg_warp
         let r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
     }

@@ -86,8 +86,8 @@ float sg_integral(float sharpness) {
     return 6.2831855 * -expm1_f32(-2.0 * sharpness) / sharpness;
 }
 
-// E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
+// sg_hill_irradiance for x = cos(axis, normal).
+float sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30);
     float c1 = 1.0 / (4.0 * HILL_C0);
     float e1 = exp(-lam);
@@ -95,8 +95,8 @@ float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
     float r = 1.0 / lam;
     float scale = 1.0 + 2.0 * e2 - r;
     float bias = (e1 - e2) * r - e2;
-    float xs = sqrt(max(1.0 - scale, 0.0));
-    float x = clamp(dot(axis, n), -1.0, 1.0);
+    float xs = sqrt(max(r - 2.0 * e2, 0.0));
+    float x = clamp(x_in, -1.0, 1.0);
     float x0 = HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0, 1.0);
@@ -104,6 +104,11 @@ float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
         y = (x0 + x1) * (x0 + x1) / xs;
     }
     return (scale * y + bias) * sg_integral(lam) * INV_PI;
+}
+
+// E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
+float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
+    return sg_hill_cos(dot(axis, n), sharpness);
 }
 
 // E/π of a unit-coefficient lobe at unit normal n.

@@ -96,9 +96,12 @@ fn sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
 
 // sg.wgsl — spherical Gaussians G(v) = μ·exp(λ(v·p − 1)): evaluation, Lambert
 // irradiance by Hill's fit (c0 from fitgen: HILL_C0, minimax re-fit over λ ∈ [2, 64]),
-// and GGX specular by the anisotropic warp (Xu et al. 2013, "Anisotropic Spherical
-// Gaussians"; Pettineo's SG series). CPU twins: sbf::Sg::eval,
-// sbf::recon::sg::hill_curve (with fits::HILL_C0), sbf::recon::sg::AsgWarp.
+// and GGX specular two ways: the split sum over the warped NDF (sg_split_sum_*, the
+// feature sg-specular; Karis 2013) and the anisotropic warp (sg_asg_*, the feature
+// sg-specular-asg; Xu et al. 2013, "Anisotropic Spherical Gaussians"; Pettineo's SG
+// series), which loses up to half the light of rough surfaces (sbf::recon::sg's docs).
+// CPU twins: sbf::Sg::eval, sbf::recon::sg::hill_curve (with fits::HILL_C0),
+// sbf::recon::sg::SplitSumWarp, sbf::recon::sg::AsgWarp.
 // Runtime range: λ ≥ 2 for the irradiance fit (below, sbf switches to the exact zonal
 // expansion, which is not in WGSL); every function stays finite for λ > 0.
 
@@ -122,6 +125,11 @@ fn expm1_f32(x: f32) -> f32 {
 
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
 fn sg_hill_irradiance(axis: vec3<f32>, sharpness: f32, n: vec3<f32>) -> f32 {
+    return sg_hill_cos(dot(axis, n), sharpness);
+}
+
+// sg_hill_irradiance for x = cos(axis, normal).
+fn sg_hill_cos(x_in: f32, sharpness: f32) -> f32 {
     let lam = max(sharpness, 1e-30);
     let c0 = HILL_C0;
     let c1 = 1.0 / (4.0 * c0);
@@ -130,8 +138,9 @@ fn sg_hill_irradiance(axis: vec3<f32>, sharpness: f32, n: vec3<f32>) -> f32 {
     let r = 1.0 / lam;
     let scale = 1.0 + 2.0 * e2 - r;
     let bias = (e1 - e2) * r - e2;
-    let xs = sqrt(max(1.0 - scale, 0.0));
-    let x = clamp(dot(axis, n), -1.0, 1.0);
+    // 1 − scale = 1/λ − 2e^(−2λ), without f32 cancellation at large λ.
+    let xs = sqrt(max(r - 2.0 * e2, 0.0));
+    let x = clamp(x_in, -1.0, 1.0);
     let x0 = c0 * x;
     let x1 = c1 * xs;
     var y = clamp(x, 0.0, 1.0);

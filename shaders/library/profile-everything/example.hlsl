@@ -43,11 +43,11 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += ((float3)r);
     }
     {
-        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
-        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += ((float3)r);
     }
     {

@@ -6,18 +6,18 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
+vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D lut) {
     vec3 result = vec3(0.0);
     {
         float r = sg_hill_irradiance(n, 0.5, n);
         result += vec3(r);
     }
     {
-        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
-        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3(r);
     }
     return result;
@@ -27,9 +27,10 @@ layout(std140, set = 0, binding = 0) uniform Inputs {
     vec4 coefficients[36];
     vec4 view_alpha;
 };
+layout(set = 0, binding = 1) uniform texture2D lut;
 layout(location = 0) in vec3 normal;
 layout(location = 0) out vec4 color;
 
 void main() {
-    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients), 1.0);
+    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut), 1.0);
 }

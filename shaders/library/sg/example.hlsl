@@ -4,18 +4,18 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut) {
     float3 result = ((float3)0.0);
     {
         float r = sg_hill_irradiance(n, 0.5, n);
         result += ((float3)r);
     }
     {
-        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
-        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += ((float3)r);
     }
     return result;
@@ -25,7 +25,8 @@ cbuffer Inputs : register(b0) {
     float4 coefficients[36];
     float4 view_alpha;
 };
+Texture2D<float4> lut : register(t0);
 
 float4 main(float3 normal : NORMAL) : SV_Target {
-    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients), 1.0);
+    return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut), 1.0);
 }

@@ -4,18 +4,18 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients) {
+inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut) {
     float3 result = float3(0.0f);
     {
         float r = sg_hill_irradiance(n, 0.5f, n);
         result += float3(r);
     }
     {
-        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
     }
     {
-        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
-        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5f);
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
         result += float3(r);
     }
     return result;
@@ -30,6 +30,6 @@ struct FragmentIn {
     float3 normal [[user(locn0)]];
 };
 
-fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]]) {
-    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients), 1.0f);
+fragment float4 fs_main(FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]], texture2d<float> lut [[texture(0)]]) {
+    return float4(sbf_example(normalize(frag.normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut), 1.0f);
 }

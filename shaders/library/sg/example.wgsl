@@ -4,7 +4,7 @@
 
 // Shades with every public function of the library: n and v unit (world space), alpha
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
-fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>) -> vec3<f32> {
+fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>) -> vec3<f32> {
     var result = vec3<f32>(0.0);
     {
         // sg_hill_irradiance
@@ -12,13 +12,13 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += vec3<f32>(r);
     }
     {
-        // sg_asg_warp
-        let r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        // sg_split_sum_setup
+        let r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        // sg_asg_lobe
-        let sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
-        let r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        // sg_split_sum_lobe
+        let sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        let r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3<f32>(r);
     }
     return result;
@@ -30,8 +30,9 @@ struct Inputs {
 }
 
 @group(0) @binding(0) var<uniform> inputs: Inputs;
+@group(0) @binding(1) var lut: texture_2d<f32>;
 
 @fragment
 fn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients), 1.0);
+    return vec4<f32>(sbf_example(normalize(normal), normalize(inputs.view_alpha.xyz), inputs.view_alpha.w, inputs.coefficients, lut), 1.0);
 }

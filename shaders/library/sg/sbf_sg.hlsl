@@ -8,27 +8,24 @@
 // are parameters, bound however the engine likes.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float sg_hill_irradiance(float3 axis, float sharpness, float3 n)
-//   SgAsgWarp sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float f90)
-//   float sg_asg_lobe(SgAsgWarp w, float3 axis, float sharpness)
+//   SgSplitSum sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
+//   float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness)
+// Textures these functions read:
+//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_SG_HLSL
 #define SBF_SG_HLSL
 
-typedef float3 float3_array2[2];
+uint2 sbf_texture_size(Texture2D<float4> t) {
+    uint w, h;
+    t.GetDimensions(w, h);
+    return uint2(w, h);
+}
 
 static const float PI = 3.1415927;
 
 static const float INV_PI = 0.31830987;
-
-// Orthonormal tangent and bitangent for unit n (Duff et al. 2017, "Building an
-// Orthonormal Basis, Revisited"). CPU twin: sbf::basis::ambient_dice_bezier::tangent_frame.
-float3_array2 tangent_frame(float3 n) {
-    float s = n.z >= 0.0 ? 1.0 : -1.0;
-    float a = -1.0 / (s + n.z);
-    float b = n.x * n.y * a;
-    float3 tmp[2] = { float3(1.0 + s * n.x * n.x * a, s * b, -s * n.x), float3(b, s + n.y * n.y * a, -n.y) };
-    return tmp;
-}
 
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
 float3 reflect_about(float3 v, float3 n) {
@@ -37,29 +34,21 @@ float3 reflect_about(float3 v, float3 n) {
 
 static const float HILL_C0 = 0.3652013;
 
-// a = α² tan²θ for unit w with w_z > 0.
-float ggx_a_term(float3 w, float alpha) {
-    return alpha * alpha * (w.x * w.x + w.y * w.y) / (w.z * w.z);
-}
-
-// Smith Λ(w); precondition w_z > 0.
-float ggx_lambda(float3 w, float alpha) {
-    float a = ggx_a_term(w, alpha);
-    return a / (2.0 * (1.0 + sqrt(1.0 + a)));
-}
-
-float ggx_g2(float3 v, float3 l, float alpha) {
-    if (v.z <= 0.0 || l.z <= 0.0) {
-        return 0.0;
-    }
-    return 1.0 / (1.0 + ggx_lambda(v, alpha) + ggx_lambda(l, alpha));
-}
-
-// Schlick's Fresnel weight (1 − v·h)^5; F = f0·(1 − w) + f90·w.
-float schlick_weight(float v_dot_h) {
-    float x = clamp(1.0 - v_dot_h, 0.0, 1.0);
-    float x2 = x * x;
-    return x2 * x2 * x;
+float2 lut2_sample(Texture2D<float4> t, float u, float v) {
+    int2 size = int2(sbf_texture_size(t));
+    float uu = u == u ? u : 0.0;
+    float vv = v == v ? v : 0.0;
+    float x = clamp(uu * float(size.x) - 0.5, 0.0, float(size.x - 1));
+    float y = clamp(vv * float(size.y) - 0.5, 0.0, float(size.y - 1));
+    int i0 = min(int(floor(x)), size.x - 1);
+    int j0 = min(int(floor(y)), size.y - 1);
+    int i1 = min(i0 + 1, size.x - 1);
+    int j1 = min(j0 + 1, size.y - 1);
+    float fx = x - float(i0);
+    float fy = y - float(j0);
+    float2 a = t.Load(int3(int2(int2(i0, j0)), int(0))).xy * (1.0 - fx) + t.Load(int3(int2(int2(i1, j0)), int(0))).xy * fx;
+    float2 b = t.Load(int3(int2(int2(i0, j1)), int(0))).xy * (1.0 - fx) + t.Load(int3(int2(int2(i1, j1)), int(0))).xy * fx;
+    return a * (1.0 - fy) + b * fy;
 }
 
 // e^x − 1 without cancellation for small |x| (WGSL has no expm1).
@@ -78,8 +67,8 @@ float sg_integral(float sharpness) {
     return 6.2831855 * -expm1_f32(-2.0 * sharpness) / sharpness;
 }
 
-// E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-float sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
+// sg_hill_irradiance for x = cos(axis, normal).
+float sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30);
     float c1 = 1.0 / (4.0 * HILL_C0);
     float e1 = exp(-lam);
@@ -87,8 +76,8 @@ float sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
     float r = 1.0 / lam;
     float scale = 1.0 + 2.0 * e2 - r;
     float bias = (e1 - e2) * r - e2;
-    float xs = sqrt(max(1.0 - scale, 0.0));
-    float x = clamp(dot(axis, n), -1.0, 1.0);
+    float xs = sqrt(max(r - 2.0 * e2, 0.0));
+    float x = clamp(x_in, -1.0, 1.0);
     float x0 = HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0, 1.0);
@@ -98,59 +87,57 @@ float sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
     return (scale * y + bias) * sg_integral(lam) * INV_PI;
 }
 
+// E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
+float sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
+    return sg_hill_cos(dot(axis, n), sharpness);
+}
+
 // Lower bound on n·v used by the warp (as sbf::recon::sg::NV_EPSILON).
 static const float SG_NV_EPSILON = 0.0001;
 
-// The per-pixel part of the ASG warp: warped NDF frame and bandwidths, and the
-// visibility·Fresnel·cosine tail evaluated at the reflection direction.
-struct SgAsgWarp {
-    float3 x;
-    float3 y;
-    float3 z;
-    float lx;
-    float ly;
-    float mu;
-    float tail;
+// The per-pixel part of the split-sum SG specular (Karis 2013, "Real Shading in Unreal
+// Engine 4"; CPU twins sbf::recon::sg::SplitSumWarp, sbf::recon::runtime::sg_specular_split_sum):
+// the GGX NDF as an SG about n (λ = 2/α², Wang et al. 2009) warped to the reflection
+// direction R with λ/(4 n·v) (held ≥ 2, Hill's range), and the BRDF's energy
+// f0·dfg.x + f90·dfg.y (the dfg table at (n·v, α)) over the warped lobe's E/π at n.
+struct SgSplitSum {
+    float3 n;
+    float3 r;
+    float nv;
+    float sharpness;
+    float scale;
 };
 
-SgAsgWarp sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float f90) {
+SgSplitSum sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
-    float a2 = alpha * alpha;
-    float lam = 2.0 / a2;
-    float mu = 1.0 / (PI * a2);
     float nv = max(dot(n, v), SG_NV_EPSILON);
-    float3 z = reflect_about(v, n);
-    float3 y0 = cross(n, z);
-    float3 y = tangent_frame(z)[1];
-    if (dot(y0, y0) > 1e-12) {
-        y = normalize(y0);
+    float lw = max(0.5 / (alpha * alpha * nv), 2.0);
+    float3 r = reflect_about(v, n);
+    float2 d = lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
+    float den = sg_hill_cos(dot(n, v), lw);
+    float scale = 0.0;
+    if (den > 0.0) {
+        scale = (f0 * d.x + f90 * d.y) / den;
     }
-    float3 x = cross(y, z);
-    float nl = dot(n, z);
-    float tail = 0.0;
-    if (nl > 0.0) {
-        float g2 = ggx_g2(float3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv), float3(sqrt(max(1.0 - nl * nl, 0.0)), 0.0, nl), alpha);
-        float3 hv = v + z;
-        float hl = length(hv);
-        float fc = 0.0;
-        if (hl > 0.0) {
-            fc = schlick_weight(dot(v, hv / ((float3)hl)));
-        }
-        tail = g2 / (4.0 * nv) * (f0 * (1.0 - fc) + f90 * fc);
-    }
-    SgAsgWarp tmp = { x, y, z, lam / (8.0 * nv * nv), lam / 8.0, mu, tail };
+    SgSplitSum tmp = { n, r, dot(n, v), lw, scale };
     return tmp;
 }
 
-// Specular from one unit-amplitude SG light lobe: the ASG convolved with the SG.
-float sg_asg_lobe(SgAsgWarp w, float3 axis, float sharpness) {
-    float nu = 0.5 * sharpness;
-    float lx2 = nu * w.lx / (nu + w.lx);
-    float ly2 = nu * w.ly / (nu + w.ly);
-    float amp = PI / sqrt((nu + w.lx) * (nu + w.ly));
-    float px = dot(axis, w.x);
-    float py = dot(axis, w.y);
-    return w.mu * amp * max(dot(axis, w.z), 0.0) * exp(-lx2 * px * px - ly2 * py * py) * w.tail;
+// Specular from one unit-amplitude SG light lobe: the radiance prefiltered by the warped
+// NDF with the n·l weight, E/π(D·G) / E/π(D), times the BRDF's energy. D·G is one SG
+// (axis λ_D R + λ p normalised, sharpness |λ_D R + λ p|, amplitude
+// exp(−λ_D λ |R − p|² / (λ_D + λ + |λ_D R + λ p|)): the exponent without cancellation).
+float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness) {
+    float3 pm = w.sharpness * w.r + sharpness * axis;
+    float d = length(pm);
+    float3 q = w.r - axis;
+    float amp = exp(-w.sharpness * sharpness * dot(q, q) / (w.sharpness + sharpness + d));
+    float x = w.nv;
+    if (d > 0.0) {
+        x = (w.sharpness * w.nv + sharpness * dot(axis, w.n)) / d;
+    }
+    float e = sg_hill_cos(x, max(d, 2.0)) * sg_integral(d) / sg_integral(max(d, 2.0));
+    return amp * e * w.scale;
 }
 
 #endif // SBF_SG_HLSL

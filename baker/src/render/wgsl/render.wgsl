@@ -193,8 +193,8 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
     // Per-pixel parts of each specular runtime ((1, 0) and (0, 1) Fresnel for a coloured F0).
     let f0a = select(1.0, g.f0.x, g.grey);
     let f90a = select(0.0, 1.0, g.grey);
-    var warp_a: SgAsgWarp;
-    var warp_b: SgAsgWarp;
+    var warp_a: SgSplitSum;
+    var warp_b: SgSplitSum;
     var fit: AdSpecularFit;
     var scale = vec3<f32>(0.0);
     var px: LobeGgxFilteredPixel;
@@ -202,8 +202,8 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
         if (TABLES) {
             px = lobe_ggx_filtered_pixel(lobe_tab, n, vt, g.alpha);
         } else if (sg) {
-            warp_a = sg_asg_warp(n, vt, g.alpha, f0a, f90a);
-            warp_b = sg_asg_warp(n, vt, g.alpha, 0.0, 1.0);
+            warp_a = sg_split_sum_setup(dfg, n, vt, g.alpha, f0a, f90a);
+            warp_b = sg_split_sum_setup(dfg, n, vt, g.alpha, 0.0, 1.0);
         } else {
             fit = ad_specular_fit(n, vt, g.alpha);
             if (g.grey) {
@@ -228,8 +228,8 @@ fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
                 let r = lobe_ggx_filtered_lobe(lobe_tab, lobe_sampler, px, axis);
                 w = select(g.f0 * r.x + vec3<f32>(r.y), vec3<f32>(g.f0.x * r.x + r.y), g.grey);
             } else if (sg) {
-                let a = sg_asg_lobe(warp_a, axis, lambda);
-                w = select(g.f0 * a + vec3<f32>(sg_asg_lobe(warp_b, axis, lambda)), vec3<f32>(a), g.grey);
+                let a = sg_split_sum_lobe(warp_a, axis, lambda);
+                w = select(g.f0 * a + vec3<f32>(sg_split_sum_lobe(warp_b, axis, lambda)), vec3<f32>(a), g.grey);
             } else {
                 w = ad_specular_lobe(fit, axis) * scale;
             }
