@@ -2,7 +2,8 @@
 # The lightmap solvers side by side at scene level (docs/render.md, "Directional lightmaps
 # that keep the measured light"): per scene and solver, `baker` then `render --bake` against
 # the path-traced reference; one line per scene × solver × configuration with the mean ratio
-# to the reference and the RMSEs of diffuse, specular and total.
+# to the reference and the RMSEs of diffuse, specular and total. Bakes take the materials'
+# factors (`--material-maps factors`): `render` shades factors and refuses a textured bake.
 #
 #   tools/solver-compare.sh OUT SCENE… (SCENE: a built-in name or a .gltf path)
 #   SOLVERS (default "nnls ls nnls-rescaled nnls-irradiance"), PASSES (256), BASES
@@ -18,7 +19,7 @@ for scene in "$@"; do
   for solver in ${SOLVERS:-nnls ls nnls-rescaled nnls-irradiance}; do
     d=$out/$tag-$solver
     "$bin/baker" --scene "$scene" --device "${DEVICE:-auto}" --passes "${PASSES:-256}" --bases "${BASES:-sh2,ad9,sg9}" \
-      --solver "$solver" ${BAKE_ARGS:-} --out "$d/bake" >"$d.bake.log" 2>&1 || { echo "bake failed: $d.bake.log"; tail -3 "$d.bake.log"; exit 1; }
+      --solver "$solver" --material-maps factors ${BAKE_ARGS:-} --out "$d/bake" >"$d.bake.log" 2>&1 || { echo "bake failed: $d.bake.log"; tail -3 "$d.bake.log"; exit 1; }
     "$bin/render" --scene "$scene" --bake "$d/bake" --bases "${BASES:-sh2,ad9,sg9}" --specular both --size "${SIZE:-480x270}" \
       --reference-samples "${SPP:-1024}" --reference-noise 0.005 --frames 0 --device "${DEVICE:-auto}" --out "$d/render" >"$d.render.log" 2>&1 \
       || { echo "render failed: $d.render.log"; tail -3 "$d.render.log"; exit 1; }

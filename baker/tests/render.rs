@@ -390,6 +390,13 @@ fn render_command_writes_its_comparison() {
         assert_eq!(a["total"], b["total"], "{}: a rerun from the bake differs", a["name"]);
     }
     report_loads_in_a_headless_browser(&out, names.len());
+    // A bake that sampled texture maps (bake.json's material_maps, as `baker` writes it for a
+    // textured glTF baked with `--material-maps sample`): refused, the renderer shades factors.
+    let textured = out.join("bake-textured");
+    std::fs::create_dir_all(&textured).unwrap();
+    let mut j: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("bake/bake.json")).unwrap()).unwrap();
+    j["material_maps"] = serde_json::json!({"textures": 2, "bytes": 64, "materials": 1});
+    std::fs::write(textured.join("bake.json"), serde_json::to_vec(&j).unwrap()).unwrap();
     for (args, msg) in [
         (vec!["--size", "0x5"], "--size"),
         (vec!["--bases", "sh3"], "unknown basis 'sh3'"),
@@ -401,6 +408,7 @@ fn render_command_writes_its_comparison() {
         (vec!["--sg-sharpness", "100"], "--sg-sharpness"),
         (vec!["--sg-sharpness", "8", "--specular", "tables", "--bases", "sg9"], "use the fits"),
         (vec!["--bake", out.join("bake").to_str().unwrap(), "--indirect-only"], "--indirect-only"),
+        (vec!["--bake", textured.to_str().unwrap()], "--material-maps factors"),
     ] {
         let mut a = vec!["--device", "cpu", "--out", out2.to_str().unwrap()];
         a.extend(args.iter());

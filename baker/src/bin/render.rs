@@ -174,6 +174,15 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
         let tpu = j["layout"]["texels_per_unit"].as_f64().ok_or("bake.json: no layout.texels_per_unit")? as f32;
         let padding = j["layout"]["padding"].as_u64().ok_or("bake.json: no layout.padding")? as usize;
         let bounces = j["max_bounces"].as_u64().ok_or("bake.json: no max_bounces")? as u32;
+        // The raster pass and the references shade the materials' factors (load_scene): a
+        // bake that sampled texture maps holds the light of another scene.
+        if let Some(m) = j.get("material_maps").filter(|m| !m.is_null()) {
+            return Err(format!(
+                "{}: the bake sampled the materials' texture maps ({} materials with maps); the renderer and its reference shade the factors alone, so the images would compare two scenes — bake with `baker --material-maps factors`",
+                path.display(),
+                m["materials"].as_u64().unwrap_or(0)
+            ));
+        }
         if j["scene"].as_str() != Some(scene_name(&c.scene).as_str()) {
             eprintln!("notice: bake.json names scene '{}', --scene is '{}'", j["scene"].as_str().unwrap_or("?"), c.scene);
         }
