@@ -20,7 +20,7 @@
 //!
 //! [runtime]
 //! precision = "f32"           # the runtime library is f32
-//! language = "wgsl"           # wgsl, hlsl, glsl, msl
+//! language = "wgsl"           # wgsl, hlsl, glsl (Vulkan), glsl-gl, glsl-es, msl
 //! specular = ["fit"]          # with "ggx": "fit" and/or "tables" (see SpecularPath)
 //! ```
 //!
@@ -39,7 +39,8 @@ pub const PROBE_BASES: [&str; 3] = ["sh1", "sh2", "ad12"];
 /// BRDF models.
 pub const BRDF_MODELS: [&str; 2] = ["lambert", "ggx"];
 /// Target shading languages (`shaders export --lang`).
-pub const LANGUAGES: [&str; 4] = ["wgsl", "hlsl", "glsl", "msl"];
+/// `glsl` is Vulkan GLSL; `glsl-gl` OpenGL 3.3+ core; `glsl-es` OpenGL ES 3.0 / WebGL 2.
+pub const LANGUAGES: [&str; 6] = ["wgsl", "hlsl", "glsl", "glsl-gl", "glsl-es", "msl"];
 /// Specular runtime paths (`runtime.specular`).
 pub const SPECULAR_PATHS: [&str; 2] = ["fit", "tables"];
 
@@ -105,7 +106,8 @@ pub struct Profile {
     pub multiple_scattering: bool,
     /// Always "f32" today (the only runtime precision the library has).
     pub precision: String,
-    /// The shading language its runtime is exported in: "wgsl", "hlsl", "glsl" or "msl".
+    /// The shading language its runtime is exported in: "wgsl", "hlsl", "glsl" (Vulkan),
+    /// "glsl-gl" (OpenGL 3.3+ core), "glsl-es" (OpenGL ES 3.0) or "msl".
     pub language: String,
     /// The specular runtime paths (one or both; empty without GGX).
     pub specular_paths: Vec<SpecularPath>,

@@ -9,30 +9,68 @@ pub enum Lang {
     #[default]
     Wgsl,
     Hlsl,
-    Glsl,
+    /// GLSL in one of its dialects.
+    Glsl(Glsl),
     Msl,
 }
 
+/// The GLSL dialects: they differ in how a texture is declared and sampled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Glsl {
+    /// Vulkan GLSL 4.50 (glslang → SPIR-V): separate `texture2D`/`sampler` objects,
+    /// `texelFetch` on a texture through `GL_EXT_samplerless_texture_functions`.
+    #[default]
+    Vulkan,
+    /// OpenGL 3.3–4.6 core: combined `sampler2D`/`sampler3D`; a function that takes a
+    /// texture and a sampler in the other languages takes the one combined sampler.
+    Gl,
+    /// OpenGL ES 3.0 (WebGL 2): as [`Glsl::Gl`], with `highp` samplers (ES fragment
+    /// shaders have no default precision for 3D and array samplers).
+    Es,
+}
+
 impl Lang {
-    pub const ALL: [Lang; 4] = [Lang::Wgsl, Lang::Hlsl, Lang::Glsl, Lang::Msl];
+    /// Every language and dialect the library is written in.
+    pub const ALL: [Lang; 6] = [Lang::Wgsl, Lang::Hlsl, Lang::Glsl(Glsl::Vulkan), Lang::Glsl(Glsl::Gl), Lang::Glsl(Glsl::Es), Lang::Msl];
+    /// Vulkan GLSL, the dialect `glsl` names.
+    pub const GLSL: Lang = Lang::Glsl(Glsl::Vulkan);
 
     pub fn parse(s: &str) -> Result<Lang, String> {
         match s {
             "wgsl" => Ok(Lang::Wgsl),
             "hlsl" => Ok(Lang::Hlsl),
-            "glsl" => Ok(Lang::Glsl),
+            "glsl" => Ok(Lang::Glsl(Glsl::Vulkan)),
+            "glsl-gl" => Ok(Lang::Glsl(Glsl::Gl)),
+            "glsl-es" => Ok(Lang::Glsl(Glsl::Es)),
             "msl" => Ok(Lang::Msl),
-            _ => Err(format!("unknown language '{s}' (wgsl, hlsl, glsl, msl)")),
+            _ => {
+                Err(format!("unknown language '{s}' (wgsl, hlsl, glsl (Vulkan), glsl-gl (OpenGL 3.3+ core), glsl-es (OpenGL ES 3.0), msl)"))
+            }
         }
     }
 
+    /// The file extension of an include file in this language (`gl.glsl`, `es.glsl` for
+    /// the OpenGL dialects).
     pub fn extension(self) -> &'static str {
         match self {
             Lang::Wgsl => "wgsl",
             Lang::Hlsl => "hlsl",
-            Lang::Glsl => "glsl",
+            Lang::Glsl(Glsl::Vulkan) => "glsl",
+            Lang::Glsl(Glsl::Gl) => "gl.glsl",
+            Lang::Glsl(Glsl::Es) => "es.glsl",
             Lang::Msl => "metal",
         }
+    }
+
+    /// Whether this is GLSL in any dialect.
+    pub fn is_glsl(self) -> bool {
+        matches!(self, Lang::Glsl(_))
+    }
+
+    /// Whether textures are combined samplers (the OpenGL dialects): a sampler parameter
+    /// is dropped and a texture parameter is the combined sampler.
+    pub fn combined_samplers(self) -> bool {
+        matches!(self, Lang::Glsl(Glsl::Gl | Glsl::Es))
     }
 }
 

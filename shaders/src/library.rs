@@ -10,7 +10,7 @@
 
 use crate::compose::{self, Config, PRESETS};
 use crate::emit::{self, Options};
-use crate::export::{self, Lang};
+use crate::export::{self, Glsl, Lang};
 use naga::{ImageDimension, ScalarKind, TypeInner, VectorSize};
 use std::path::Path;
 
@@ -84,7 +84,9 @@ pub fn files(t: &Target) -> Result<Vec<(String, String)>, String> {
         };
         let example = example_file(&comp.source, &lib, &lib_name, &example_fn, uses, lang)?;
         let ext = match lang {
-            Lang::Glsl => "frag",
+            Lang::Glsl(Glsl::Vulkan) => "frag",
+            Lang::Glsl(Glsl::Gl) => "gl.frag",
+            Lang::Glsl(Glsl::Es) => "es.frag",
             _ => lang.extension(),
         };
         out.push((lib_name, lib));
@@ -259,7 +261,7 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
     if uses.lobe_volume {
         args += ", lobe_volume";
     }
-    if uses.sampler {
+    if uses.sampler && !lang.combined_samplers() {
         args += ", lobe_sampler";
     }
     let head = "// Example: a fragment shader that includes the library and shades with it. The inputs are\n// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).\n";
@@ -294,7 +296,32 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                 &Options { skip, bare: true, included: Some(lib.to_string()), ..Default::default() },
             )?;
             match lang {
-                Lang::Glsl => {
+                Lang::Glsl(dialect @ (Glsl::Gl | Glsl::Es)) => {
+                    // OpenGL has no #include: the engine's own include step (or a paste) puts
+                    // the library where the directive is.
+                    let (version, precision, binding) = match dialect {
+                        Glsl::Es => ("#version 300 es\nprecision highp float;\nprecision highp int;\n", "highp ", false),
+                        _ => ("#version 450 core\n", "", true),
+                    };
+                    let mut s = format!(
+                        "{version}{head}// OpenGL has no #include directive: the engine's include step, or a paste, puts\n// {lib_name} here.\n#include \"{lib_name}\"\n\n{body}"
+                    );
+                    let block = if binding { "layout(std140, binding = 0)" } else { "layout(std140)" };
+                    s += &format!("{block} uniform Inputs {{\n    vec4 coefficients[{SLOTS}];\n    vec4 view_alpha;\n}};\n");
+                    if uses.lut {
+                        s += &format!("uniform {precision}sampler2D lut;\n");
+                    }
+                    if uses.lobe_table {
+                        s += &format!("uniform {precision}sampler2DArray lobe_table;\n");
+                    }
+                    if uses.lobe_volume {
+                        s += &format!("uniform {precision}sampler3D lobe_volume;\n");
+                    }
+                    let input = if binding { "layout(location = 0) in" } else { "in" };
+                    s += &format!("{input} vec3 normal;\nlayout(location = 0) out vec4 color;\n\nvoid main() {{\n    color = vec4(sbf_example({args}), 1.0);\n}}\n");
+                    s
+                }
+                Lang::Glsl(Glsl::Vulkan) => {
                     let mut s =
                         format!("#version 450\n#extension GL_GOOGLE_include_directive : require\n{head}#include \"{lib_name}\"\n\n{body}");
                     s += &format!("layout(std140, set = 0, binding = 0) uniform Inputs {{\n    vec4 coefficients[{SLOTS}];\n    vec4 view_alpha;\n}};\n");

@@ -31,7 +31,7 @@ enum Cmd {
         /// need, in its language (unless --lang is given).
         #[arg(long)]
         profile: Option<PathBuf>,
-        /// wgsl, hlsl, glsl or msl (default: the profile's language, else wgsl).
+        /// wgsl, hlsl, glsl (Vulkan), glsl-gl (OpenGL 3.3+ core), glsl-es (OpenGL ES 3.0) or msl (default: the profile's language, else wgsl).
         #[arg(long)]
         lang: Option<String>,
         /// Output file (default: stdout).
@@ -107,7 +107,7 @@ fn main() -> ExitCode {
                         problems.join("\n  ")
                     ));
                 }
-                println!("{}: {} presets and profiles × 4 languages match the sources", out.display(), targets.len());
+                println!("{}: {} presets and profiles × 6 languages and dialects match the sources", out.display(), targets.len());
             } else {
                 let n = shaders::library::write(&out, &targets)?;
                 println!("wrote {n} files for {} presets and profiles under {}", targets.len(), out.display());

@@ -37,7 +37,7 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
     };
     let count = l.count;
     let text = match lang {
-        Lang::Glsl => {
+        Lang::Glsl(_) => {
             let mut b = format!(
                 "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"{lib_name}\"\n\n\
                  layout(std430, set = 0, binding = 0) readonly buffer Inp {{ float inp[]; }};\n\

@@ -2,7 +2,7 @@
 //! validates with naga and exports to HLSL, GLSL and MSL; composition prunes.
 
 use shaders::compose::{self, Config, Feature};
-use shaders::export::{self, Lang};
+use shaders::export::{self, Glsl, Lang};
 use shaders::modules;
 
 /// The item splitter sees all of every source: header + items re-assemble to the file
@@ -73,7 +73,16 @@ fn filtered_tables_export_their_texture_operations() {
                 "texture3d<float> tab, sampler smp",
             ],
         ),
-        (Lang::Glsl, vec!["uvec3(textureSize(tab, 0))", "textureLod(sampler3D(tab, smp), ", "texture3D tab, sampler smp"]),
+        (Lang::GLSL, vec!["uvec3(textureSize(tab, 0))", "textureLod(sampler3D(tab, smp), ", "texture3D tab, sampler smp"]),
+        // OpenGL: the texture is the combined sampler; no sampler parameter or argument.
+        (
+            Lang::Glsl(Glsl::Gl),
+            vec!["uvec3(textureSize(tab, 0))", "textureLod(tab, ", "(sampler3D tab, LobeGgxFilteredPixel px, vec3 axis)"],
+        ),
+        (
+            Lang::Glsl(Glsl::Es),
+            vec!["uvec3(textureSize(tab, 0))", "textureLod(tab, ", "(highp sampler3D tab, LobeGgxFilteredPixel px, vec3 axis)"],
+        ),
         (
             Lang::Hlsl,
             vec![
@@ -87,6 +96,10 @@ fn filtered_tables_export_their_texture_operations() {
         let out = export::export(&composed.source, lang).unwrap();
         for n in needles {
             assert!(out.contains(n), "{lang:?}: `{n}` missing");
+        }
+        if lang.combined_samplers() {
+            let code: String = out.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
+            assert!(!code.contains("smp") && !code.contains("sampler "), "{lang:?}: a separate sampler is left");
         }
     }
 }

@@ -95,7 +95,7 @@ macro_rules! in_every_language {
             $(#[test] fn $check() { super::$check(super::Lang::Wgsl) })*
         }
         mod glsl {
-            $(#[test] fn $check() { super::$check(super::Lang::Glsl) })*
+            $(#[test] fn $check() { super::$check(super::Lang::GLSL) })*
         }
         mod hlsl {
             $(#[test] fn $check() { super::$check(super::Lang::Hlsl) })*

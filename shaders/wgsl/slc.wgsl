@@ -14,10 +14,15 @@ fn slc_acceptance(intensity: f32, delta: f32, l: f32) -> f32 {
     return min(intensity / (delta * l * l), 1.0);
 }
 
+// The largest finite f32, 0x1.fffffep127 = 3.4028234664e38. Written with fewer digits above
+// it, as 3.4028235e38, it rounds to the same f32 in naga but is out of f32's range for tint
+// (Chrome's WGSL compiler), which converts literals without rounding to the largest value.
+const SLC_F32_MAX: f32 = 3.40282346e38;
+
 // l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
 fn slc_random_range(intensity: f32, delta: f32, xi: f32) -> f32 {
     if (xi <= 0.0) {
-        return 3.4028235e38;
+        return SLC_F32_MAX;
     }
     return sqrt(max(intensity, 0.0) / (delta * xi));
 }
@@ -79,7 +84,7 @@ fn slc_ggx_ndf(cos_m: f32, alpha: f32) -> f32 {
 // r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
 fn slc_spheroid_scale(phi: f32, f_max: f32, g1: f32, cos_i: f32, delta: f32, xi: f32) -> f32 {
     if (xi <= 0.0) {
-        return 3.4028235e38;
+        return SLC_F32_MAX;
     }
     return sqrt(phi * f_max * g1 / (4.0 * PI * delta * xi * abs(cos_i)));
 }
@@ -234,8 +239,8 @@ fn slc_unit_sphere_hits_aabb(center: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) ->
 // The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
 // their AABB, the unit sphere about M·c.
 fn slc_ellipsoid_hits_corners(e: SlcCullEllipsoid, corners: array<vec3<f32>, 8>) -> bool {
-    var lo = vec3<f32>(3.4028235e38);
-    var hi = vec3<f32>(-3.4028235e38);
+    var lo = vec3<f32>(SLC_F32_MAX);
+    var hi = vec3<f32>(-SLC_F32_MAX);
     for (var k = 0u; k < 8u; k++) {
         let p = e.transform * corners[k];
         lo = min(lo, p);

@@ -10,7 +10,7 @@
 //   float3 ad12_irradiance(array<float3, 12> c, float3 n)
 //   float3 ad12_specular(array<float3, 12> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
 
 #ifndef SBF_AD12_METAL

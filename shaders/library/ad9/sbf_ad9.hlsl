@@ -10,7 +10,7 @@
 //   float3 ad9_irradiance(float3 c[9], float3 n)
 //   float3 ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
 
 #ifndef SBF_AD9_HLSL

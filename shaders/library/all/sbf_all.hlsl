@@ -71,10 +71,10 @@
 //   float3_array8 slc_tile_corners(float x0, float y0, float x1, float y1, float2 size, float2 tan_xy, float z0, float z1)
 //   bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, float3 corners[8])
 // Textures these functions read:
-//   lobe_ggx_pixel(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   lobe_ggx_pixel(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,
 //     layer = n·v node × 12 + √α node).
-//   lobe_ggx_lobe(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   lobe_ggx_lobe(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,
 //     layer = n·v node × 12 + √α node).
 //   lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
@@ -83,15 +83,15 @@
 //   lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
 //     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
 //     × 24 + ψ node, y = γ node, z = n·v node).
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
 
 #ifndef SBF_ALL_HLSL
@@ -1178,10 +1178,15 @@ float slc_acceptance(float intensity, float delta, float l) {
     return min(intensity / (delta * l * l), 1.0);
 }
 
+// The largest finite f32, 0x1.fffffep127 = 3.4028234664e38. Written with fewer digits above
+// it, as 3.4028235e38, it rounds to the same f32 in naga but is out of f32's range for tint
+// (Chrome's WGSL compiler), which converts literals without rounding to the largest value.
+static const float SLC_F32_MAX = 3.4028235e38;
+
 // l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
 float slc_random_range(float intensity, float delta, float xi) {
     if (xi <= 0.0) {
-        return 3.4028235e38;
+        return SLC_F32_MAX;
     }
     return sqrt(max(intensity, 0.0) / (delta * xi));
 }
@@ -1243,7 +1248,7 @@ float slc_ggx_ndf(float cos_m, float alpha) {
 // r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
 float slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi) {
     if (xi <= 0.0) {
-        return 3.4028235e38;
+        return SLC_F32_MAX;
     }
     return sqrt(phi * f_max * g1 / (12.566371 * delta * xi * abs(cos_i)));
 }

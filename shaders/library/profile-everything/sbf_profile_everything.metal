@@ -28,15 +28,15 @@
 //   lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
 //     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
 //     × 24 + ψ node, y = γ node, z = n·v node).
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
 
 #ifndef SBF_PROFILE_EVERYTHING_METAL

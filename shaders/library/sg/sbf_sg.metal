@@ -11,7 +11,7 @@
 //   SgSplitSum sg_split_sum_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
 //   float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness)
 // Textures these functions read:
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;
+//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
 
 #ifndef SBF_SG_METAL

@@ -271,6 +271,9 @@ impl<'c, 'a> W<'c, 'a> {
         };
         let mut params = Vec::new();
         for (a, n) in self.f.arguments.iter().zip(&self.args) {
+            if c.lang.combined_samplers() && is_sampler(&c.m.types[a.ty].inner) {
+                continue; // the texture parameter is the combined sampler
+            }
             params.push(match c.m.types[a.ty].inner {
                 TypeInner::Pointer { base, space: naga::AddressSpace::Function } => match c.lang {
                     Lang::Msl => format!("thread {}& {n}", c.type_name(base)?),
@@ -642,7 +645,12 @@ impl<'c, 'a> W<'c, 'a> {
             S::Call { function, arguments, result } => {
                 let callee = &self.c.m.functions[*function];
                 let name = callee.name.clone().ok_or("a call to an unnamed function")?;
-                let args: Vec<String> = arguments.iter().map(|a| self.top(*a)).collect::<R<_>>()?;
+                let mut args = Vec::new();
+                for (a, p) in arguments.iter().zip(&callee.arguments) {
+                    if !(self.c.lang.combined_samplers() && is_sampler(&self.c.m.types[p.ty].inner)) {
+                        args.push(self.top(*a)?);
+                    }
+                }
                 let call = format!("{name}({})", args.join(", "));
                 let takes_pointer = callee.arguments.iter().any(|a| matches!(self.c.m.types[a.ty].inner, TypeInner::Pointer { .. }));
                 match result {
@@ -917,8 +925,8 @@ impl<'c, 'a> W<'c, 'a> {
                 };
                 let layer = array_index.map(|a| self.top(a)).transpose()?;
                 let t = match (lang, layer) {
-                    (Lang::Glsl, None) => format!("texelFetch({t}, ivec2({xy}), int({lod}))"),
-                    (Lang::Glsl, Some(a)) => format!("texelFetch({t}, ivec3(ivec2({xy}), int({a})), int({lod}))"),
+                    (Lang::Glsl(_), None) => format!("texelFetch({t}, ivec2({xy}), int({lod}))"),
+                    (Lang::Glsl(_), Some(a)) => format!("texelFetch({t}, ivec3(ivec2({xy}), int({a})), int({lod}))"),
                     (Lang::Hlsl, None) => format!("{t}.Load(int3(int2({xy}), int({lod})))"),
                     (Lang::Hlsl, Some(a)) => format!("{t}.Load(int4(int2({xy}), int({a}), int({lod})))"),
                     (Lang::Msl, None) => format!("{t}.read(uint2({xy}), uint({lod}))"),
@@ -949,9 +957,12 @@ impl<'c, 'a> W<'c, 'a> {
                     naga::SampleLevel::Exact(l) => self.top(l)?,
                     other => return Err(format!("texture sample at level {other:?}: only explicit levels are exported")),
                 };
-                let (t, smp, xyz) = (self.sub(image, ATOM)?, self.top(sampler)?, self.top(coordinate)?);
+                let (t, xyz) = (self.sub(image, ATOM)?, self.top(coordinate)?);
+                // A combined sampler is the texture itself; the sampler expression is not written.
+                let smp = if lang.combined_samplers() { String::new() } else { self.top(sampler)? };
                 let t = match lang {
-                    Lang::Glsl => {
+                    _ if lang.combined_samplers() => format!("textureLod({t}, {xyz}, {lod})"),
+                    Lang::Glsl(_) => {
                         let combined = match dim {
                             naga::ImageDimension::D2 => "sampler2D",
                             naga::ImageDimension::D3 => "sampler3D",
@@ -970,7 +981,7 @@ impl<'c, 'a> W<'c, 'a> {
                 let volume = matches!(self.value_ty(image), TypeInner::Image { dim: naga::ImageDimension::D3, .. });
                 let t = self.sub(image, ATOM)?;
                 let s = match (query, lang) {
-                    (naga::ImageQuery::Size { level: None }, Lang::Glsl) if volume => format!("uvec3(textureSize({t}, 0))"),
+                    (naga::ImageQuery::Size { level: None }, Lang::Glsl(_)) if volume => format!("uvec3(textureSize({t}, 0))"),
                     (naga::ImageQuery::Size { level: None }, Lang::Hlsl) if volume => {
                         c.helpers.borrow_mut().insert("size_3d");
                         format!("sbf_texture_size({t})")
@@ -978,13 +989,13 @@ impl<'c, 'a> W<'c, 'a> {
                     (naga::ImageQuery::Size { level: None }, Lang::Msl) if volume => {
                         format!("uint3({t}.get_width(), {t}.get_height(), {t}.get_depth())")
                     }
-                    (naga::ImageQuery::Size { level: None }, Lang::Glsl) => format!("uvec2(textureSize({t}, 0).xy)"),
+                    (naga::ImageQuery::Size { level: None }, Lang::Glsl(_)) => format!("uvec2(textureSize({t}, 0).xy)"),
                     (naga::ImageQuery::Size { level: None }, Lang::Hlsl) => {
                         c.helpers.borrow_mut().insert(if arrayed { "size_array" } else { "size" });
                         format!("sbf_texture_size({t})")
                     }
                     (naga::ImageQuery::Size { level: None }, Lang::Msl) => format!("uint2({t}.get_width(), {t}.get_height())"),
-                    (naga::ImageQuery::NumLayers, Lang::Glsl) => format!("uint(textureSize({t}, 0).z)"),
+                    (naga::ImageQuery::NumLayers, Lang::Glsl(_)) => format!("uint(textureSize({t}, 0).z)"),
                     (naga::ImageQuery::NumLayers, Lang::Hlsl) => {
                         c.helpers.borrow_mut().insert("layers");
                         format!("sbf_texture_layers({t})")
@@ -997,7 +1008,7 @@ impl<'c, 'a> W<'c, 'a> {
             E::Unary { op, expr } => {
                 let bool_vector = matches!(self.ty(expr), TypeInner::Vector { scalar, .. } if scalar.kind == naga::ScalarKind::Bool);
                 match op {
-                    naga::UnaryOperator::LogicalNot if lang == Lang::Glsl && bool_vector => (format!("not({})", self.top(expr)?), ATOM),
+                    naga::UnaryOperator::LogicalNot if lang.is_glsl() && bool_vector => (format!("not({})", self.top(expr)?), ATOM),
                     _ => {
                         let sym = match op {
                             naga::UnaryOperator::Negate => "-",
@@ -1016,7 +1027,7 @@ impl<'c, 'a> W<'c, 'a> {
             E::Select { condition, accept, reject } => {
                 let vector = matches!(self.ty(condition), TypeInner::Vector { .. });
                 match (lang, vector) {
-                    (Lang::Glsl, true) => (format!("mix({}, {}, {})", self.top(reject)?, self.top(accept)?, self.top(condition)?), ATOM),
+                    (Lang::Glsl(_), true) => (format!("mix({}, {}, {})", self.top(reject)?, self.top(accept)?, self.top(condition)?), ATOM),
                     (Lang::Msl, true) => (format!("select({}, {}, {})", self.top(reject)?, self.top(accept)?, self.top(condition)?), ATOM),
                     _ => {
                         let cnd = self.sub(condition, LOR)?;
@@ -1058,10 +1069,10 @@ impl<'c, 'a> W<'c, 'a> {
                         use naga::ScalarKind::{Float, Sint, Uint};
                         let f = match (lang, from, kind) {
                             (Lang::Msl, _, _) => format!("as_type<{target}>"),
-                            (Lang::Glsl, Float, Uint) => "floatBitsToUint".into(),
-                            (Lang::Glsl, Float, Sint) => "floatBitsToInt".into(),
-                            (Lang::Glsl, Uint, Float) => "uintBitsToFloat".into(),
-                            (Lang::Glsl, Sint, Float) => "intBitsToFloat".into(),
+                            (Lang::Glsl(_), Float, Uint) => "floatBitsToUint".into(),
+                            (Lang::Glsl(_), Float, Sint) => "floatBitsToInt".into(),
+                            (Lang::Glsl(_), Uint, Float) => "uintBitsToFloat".into(),
+                            (Lang::Glsl(_), Sint, Float) => "intBitsToFloat".into(),
                             (Lang::Hlsl, _, Uint) => "asuint".into(),
                             (Lang::Hlsl, _, Sint) => "asint".into(),
                             (Lang::Hlsl, _, Float) => "asfloat".into(),
@@ -1097,11 +1108,11 @@ impl<'c, 'a> W<'c, 'a> {
             let (l, r) = (self.top(left)?, self.top(right)?);
             return Ok(match lang {
                 // WGSL's float % truncates (like fmod); GLSL's mod floors.
-                Lang::Glsl => (format!("({l}) - ({r}) * trunc(({l}) / ({r}))"), ADD),
+                Lang::Glsl(_) => (format!("({l}) - ({r}) * trunc(({l}) / ({r}))"), ADD),
                 _ => (format!("fmod({l}, {r})"), ATOM),
             });
         }
-        if lang == Lang::Glsl && is_vector(&lt) {
+        if lang.is_glsl() && is_vector(&lt) {
             let f = match op {
                 B::Less => Some("lessThan"),
                 B::LessEqual => Some("lessThanEqual"),
@@ -1159,4 +1170,10 @@ impl<'c, 'a> W<'c, 'a> {
         let r = operand(self, right, true)?;
         Ok((format!("{l} {sym} {r}"), p))
     }
+}
+
+/// Whether a parameter type is a sampler (dropped in the OpenGL dialects, whose textures are
+/// combined samplers).
+fn is_sampler(inner: &TypeInner) -> bool {
+    matches!(inner, TypeInner::Sampler { .. })
 }

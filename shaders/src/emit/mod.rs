@@ -16,7 +16,7 @@
 mod function;
 pub mod syntax;
 
-use crate::export::Lang;
+use crate::export::{Glsl, Lang};
 use naga::valid::ModuleInfo;
 use naga::{Handle, Type, TypeInner};
 use std::cell::RefCell;
@@ -116,7 +116,7 @@ impl<'a> Ctx<'a> {
             let elem_h = self.innermost(base);
             let b = self.base_name(elem, elem_h)?;
             return Ok(match self.lang {
-                Lang::Glsl => format!("{b}{}", dims.iter().map(|n| format!("[{n}]")).collect::<String>()),
+                Lang::Glsl(_) => format!("{b}{}", dims.iter().map(|n| format!("[{n}]")).collect::<String>()),
                 Lang::Msl => dims.iter().rev().fold(b, |acc, n| format!("array<{acc}, {n}>")),
                 Lang::Hlsl => {
                     let name = format!("{b}{}", dims.iter().map(|n| format!("_array{n}")).collect::<String>());
@@ -141,7 +141,7 @@ impl<'a> Ctx<'a> {
     /// `T name` with the array dimensions on the declarator (GLSL, HLSL) or in the type
     /// (MSL).
     pub fn decl(&self, inner: &TypeInner, handle: Option<Handle<Type>>, name: &str) -> Result<String, String> {
-        if let (TypeInner::Array { base, .. }, Lang::Glsl | Lang::Hlsl) = (inner, self.lang) {
+        if let (TypeInner::Array { base, .. }, Lang::Glsl(_) | Lang::Hlsl) = (inner, self.lang) {
             let (elem, dims) = self.array_dims(inner)?;
             let b = self.base_name(elem, self.innermost(*base))?;
             return Ok(format!("{b} {name}{}", dims.iter().map(|n| format!("[{n}]")).collect::<String>()));
@@ -171,7 +171,7 @@ impl<'a> Ctx<'a> {
                 }
                 _ => format!("(({})0)", self.type_name(ty)?),
             },
-            Lang::Glsl => match *inner {
+            Lang::Glsl(_) => match *inner {
                 TypeInner::Scalar(s) => syntax::literal(self.lang, zero_literal(s)?)?,
                 TypeInner::Vector { scalar, .. } => {
                     format!("{}({})", self.type_name(ty)?, syntax::literal(self.lang, zero_literal(scalar)?)?)
@@ -433,7 +433,7 @@ pub fn library(source: &str, module: &naga::Module, info: &ModuleInfo, lang: Lan
                 let d = ctx.decl(ctx.inner(k.ty), Some(k.ty), &name)?;
                 let formula = formulas.get(&name).map(|f| format!(" // {f}")).unwrap_or_default();
                 body.push_str(&match lang {
-                    Lang::Glsl => format!("const {d} = {value};{formula}\n"),
+                    Lang::Glsl(_) => format!("const {d} = {value};{formula}\n"),
                     Lang::Hlsl => format!("static const {d} = {value};{formula}\n"),
                     Lang::Msl => format!("constant {d} = {value};{formula}\n"),
                     Lang::Wgsl => unreachable!(),
@@ -459,7 +459,7 @@ pub fn library(source: &str, module: &naga::Module, info: &ModuleInfo, lang: Lan
         out.push_str(&header(&ctx, opts, &order)?);
         out.push_str(&format!("#ifndef {guard}\n#define {guard}\n\n"));
         match lang {
-            Lang::Glsl => out.push_str("#extension GL_EXT_samplerless_texture_functions : require\n\n"),
+            Lang::Glsl(Glsl::Vulkan) => out.push_str("#extension GL_EXT_samplerless_texture_functions : require\n\n"),
             Lang::Msl => out.push_str("#include <metal_stdlib>\nusing namespace metal;\n\n"),
             _ => {}
         }
@@ -507,7 +507,9 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
     let lang = ctx.lang;
     let mut h = String::new();
     let (langname, include) = match lang {
-        Lang::Glsl => ("GLSL 4.50 (Vulkan GLSL; SPIR-V through glslang)", "after `#version 450`, `#include \"this file\"` (GL_GOOGLE_include_directive) or\n// paste it in. It enables GL_EXT_samplerless_texture_functions (texelFetch on texture2D);\n// OpenGL engines `#define texture2D sampler2D` and `#define texture2DArray sampler2DArray`\n// before it instead (the filtered lobe tables take a separate texture3D and sampler: Vulkan GLSL)"),
+        Lang::Glsl(Glsl::Vulkan) => ("GLSL 4.50 for Vulkan (SPIR-V through glslang or shaderc)", "after `#version 450`, `#include \"this file\"` (GL_GOOGLE_include_directive) or\n// paste it in. It enables GL_EXT_samplerless_texture_functions (texelFetch on texture2D), which\n// OpenGL lacks: OpenGL engines include the `.gl.glsl` or `.es.glsl` file instead"),
+        Lang::Glsl(Glsl::Gl) => ("GLSL 3.30–4.60 core for OpenGL (no extension; tested as 4.50 core)", "after `#version 330 core` or later (and the engine's own declarations), paste this file\n// in or include it with the engine's include mechanism. Textures are combined samplers\n// (`sampler2D`, `sampler2DArray`, `sampler3D`): a function that takes a texture and a sampler in\n// the other languages takes the combined sampler alone, its filter set on the texture object"),
+        Lang::Glsl(Glsl::Es) => ("GLSL ES 3.00 for OpenGL ES 3.0 and WebGL 2 (no extension)", "after `#version 300 es` and `precision highp float;` (the functions need highp:\n// f32 coefficients and table coordinates), paste this file in. Textures are combined `highp`\n// samplers: a function that takes a texture and a sampler in the other languages takes the\n// combined sampler alone, its filter set on the texture object"),
         Lang::Hlsl => ("HLSL (Shader Model 5+; DXC, FXC or glslang)", "`#include \"this file\"` in any stage"),
         Lang::Msl => ("Metal Shading Language 2.0+", "`#include \"this file\"`; it includes <metal_stdlib> and opens `namespace metal`"),
         Lang::Wgsl => unreachable!(),
@@ -535,12 +537,13 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
                 let an = a.name.clone().unwrap_or_default();
                 textures.push(if dim == naga::ImageDimension::D3 {
                     format!(
-                        "//   {name}({an}): 3D, rg16float, sampled at mip 0 through the sampler parameter\n//     (linear min/mag filter, clamp to edge). {}",
+                        "//   {name}({an}): 3D, rg16float, sampled at mip 0 through {}\n//     (linear min/mag filter, clamp to edge). {}",
+                        if lang.combined_samplers() { "its combined sampler" } else { "the sampler parameter" },
                         texture_note(&name)
                     )
                 } else {
                     format!(
-                        "//   {name}({an}): {}, rg32float, read with texelFetch/Load/read at mip 0 (no sampler;\n//     bilinear by hand). {}",
+                        "//   {name}({an}): {}, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;\n//     bilinear by hand). {}",
                         if arrayed { "2D array" } else { "2D" },
                         texture_note(&name)
                     )
@@ -549,7 +552,11 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
         }
     }
     if !sigs.is_empty() {
-        h.push_str("// Functions (the same names and parameters in every language; each is documented below):\n");
+        h.push_str(if lang.combined_samplers() {
+            "// Functions (the same names and parameters in every language, less the sampler parameters;\n// each is documented below):\n"
+        } else {
+            "// Functions (the same names and parameters in every language; each is documented below):\n"
+        });
         for s in sigs {
             h.push_str(&s);
             h.push('\n');

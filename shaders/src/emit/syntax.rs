@@ -8,7 +8,7 @@
 //! ((AB)ᵀ = BᵀAᵀ). This is the convention of naga's HLSL back end and of DXC's SPIR-V
 //! output for WGSL-origin shaders.
 
-use crate::export::Lang;
+use crate::export::{Glsl, Lang};
 use naga::{ImageClass, ImageDimension, Literal, MathFunction, Scalar, ScalarKind, TypeInner, VectorSize};
 
 /// The name of a scalar type.
@@ -31,7 +31,7 @@ fn size(n: VectorSize) -> u8 {
 pub fn vector(lang: Lang, n: VectorSize, s: Scalar) -> Result<String, String> {
     let base = scalar(lang, s)?;
     Ok(match lang {
-        Lang::Glsl => {
+        Lang::Glsl(_) => {
             let p = match s.kind {
                 ScalarKind::Float => "",
                 ScalarKind::Sint => "i",
@@ -59,8 +59,8 @@ fn wgsl_scalar(s: Scalar) -> &'static str {
 pub fn matrix(lang: Lang, columns: VectorSize, rows: VectorSize) -> String {
     let (c, r) = (size(columns), size(rows));
     match lang {
-        Lang::Glsl if c == r => format!("mat{c}"),
-        Lang::Glsl => format!("mat{c}x{r}"),
+        Lang::Glsl(_) if c == r => format!("mat{c}"),
+        Lang::Glsl(_) => format!("mat{c}x{r}"),
         Lang::Wgsl => format!("mat{c}x{r}<f32>"),
         Lang::Hlsl | Lang::Msl => format!("float{c}x{r}"),
     }
@@ -74,15 +74,21 @@ pub fn image(lang: Lang, dim: ImageDimension, arrayed: bool, class: ImageClass) 
     }
     if volume {
         return Ok(match lang {
-            Lang::Glsl => "texture3D",
+            Lang::Glsl(Glsl::Vulkan) => "texture3D",
+            Lang::Glsl(Glsl::Gl) => "sampler3D",
+            Lang::Glsl(Glsl::Es) => "highp sampler3D",
             Lang::Hlsl => "Texture3D<float4>",
             Lang::Msl => "texture3d<float>",
             Lang::Wgsl => "texture_3d<f32>",
         });
     }
     Ok(match (lang, arrayed) {
-        (Lang::Glsl, false) => "texture2D",
-        (Lang::Glsl, true) => "texture2DArray",
+        (Lang::Glsl(Glsl::Vulkan), false) => "texture2D",
+        (Lang::Glsl(Glsl::Vulkan), true) => "texture2DArray",
+        (Lang::Glsl(Glsl::Gl), false) => "sampler2D",
+        (Lang::Glsl(Glsl::Gl), true) => "sampler2DArray",
+        (Lang::Glsl(Glsl::Es), false) => "highp sampler2D",
+        (Lang::Glsl(Glsl::Es), true) => "highp sampler2DArray",
         (Lang::Hlsl, false) => "Texture2D<float4>",
         (Lang::Hlsl, true) => "Texture2DArray<float4>",
         (Lang::Msl, false) => "texture2d<float>",
@@ -98,7 +104,7 @@ pub fn sampler(lang: Lang, comparison: bool) -> Result<&'static str, String> {
         return Err("comparison samplers are not exported".into());
     }
     Ok(match lang {
-        Lang::Glsl => "sampler",
+        Lang::Glsl(_) => "sampler",
         Lang::Hlsl => "SamplerState",
         Lang::Msl => "sampler",
         Lang::Wgsl => "sampler",
@@ -147,7 +153,7 @@ pub fn math(lang: Lang, fun: MathFunction) -> Result<Math, String> {
         M::Min => ("min", "min", "min"),
         M::Max => ("max", "max", "max"),
         M::Clamp => ("clamp", "clamp", "clamp"),
-        M::Saturate => return Ok(if lang == Lang::Glsl { Math::ClampUnit } else { Math::Call("saturate") }),
+        M::Saturate => return Ok(if lang.is_glsl() { Math::ClampUnit } else { Math::Call("saturate") }),
         M::Cos => ("cos", "cos", "cos"),
         M::Cosh => ("cosh", "cosh", "cosh"),
         M::Sin => ("sin", "sin", "sin"),
@@ -194,7 +200,7 @@ pub fn math(lang: Lang, fun: MathFunction) -> Result<Math, String> {
         other => return Err(format!("{other:?} is not in the exported subset (add it to emit::syntax::math)")),
     };
     Ok(Math::Call(match lang {
-        Lang::Glsl => g,
+        Lang::Glsl(_) => g,
         Lang::Hlsl => h,
         Lang::Msl => m,
         Lang::Wgsl => return Err("WGSL is exported as written".into()),

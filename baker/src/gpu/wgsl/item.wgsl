@@ -20,8 +20,9 @@
 #endif
 
 fn finite3(v: vec3<f32>) -> bool {
-    // NaN fails every comparison; ±∞ exceeds the largest finite f32.
-    return all(abs(v) <= vec3<f32>(3.4028235e38));
+    // NaN fails every comparison; ±∞ exceeds the largest finite f32 (3.40282346e38 is it
+    // exactly; 3.4028235e38 lies above it, which tint rejects).
+    return all(abs(v) <= vec3<f32>(3.40282346e38));
 }
 
 #ifdef FILTERED

@@ -1,0 +1,41 @@
+#version 450 core
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+// OpenGL has no #include directive: the engine's include step, or a paste, puts
+// sbf_ad9.gl.glsl here.
+#include "sbf_ad9.gl.glsl"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D lut) {
+    vec3 result = vec3(0.0);
+    {
+        vec3 ad9_irradiance_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 ad9_specular_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    return result;
+}
+
+layout(std140, binding = 0) uniform Inputs {
+    vec4 coefficients[36];
+    vec4 view_alpha;
+};
+uniform sampler2D lut;
+layout(location = 0) in vec3 normal;
+layout(location = 0) out vec4 color;
+
+void main() {
+    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut), 1.0);
+}

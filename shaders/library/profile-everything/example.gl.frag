@@ -1,0 +1,114 @@
+#version 450 core
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+// OpenGL has no #include directive: the engine's include step, or a paste, puts
+// sbf_profile_everything.gl.glsl here.
+#include "sbf_profile_everything.gl.glsl"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D lut, sampler3D lobe_volume) {
+    vec3 result = vec3(0.0);
+    {
+        vec3 sh_l1_irradiance_c[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 sh_l2_irradiance_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 sh_l1_specular_c[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        vec3 sh_l2_specular_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        float r = sg_hill_irradiance(n, 0.5, n);
+        result += vec3(r);
+    }
+    {
+        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+    }
+    {
+        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        result += vec3(r);
+    }
+    {
+        vec3 ad9_irradiance_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 ad12_irradiance_c[12] = vec3[12](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = ad12_irradiance(ad12_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 ad9_specular_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            ad9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        vec3 ad12_specular_c[12] = vec3[12](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 12u; k++) {
+            ad12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+    }
+    {
+        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        vec2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_ggx_filtered_lobe_px, n);
+        result += vec3(r, 0.0);
+    }
+    {
+        float r = ggx_energy_compensation(vec2(0.5), 0.04);
+        result += vec3(r);
+    }
+    return result;
+}
+
+layout(std140, binding = 0) uniform Inputs {
+    vec4 coefficients[36];
+    vec4 view_alpha;
+};
+uniform sampler2D lut;
+uniform sampler3D lobe_volume;
+layout(location = 0) in vec3 normal;
+layout(location = 0) out vec4 color;
+
+void main() {
+    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut, lobe_volume), 1.0);
+}

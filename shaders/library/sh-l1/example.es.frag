@@ -1,0 +1,50 @@
+#version 300 es
+precision highp float;
+precision highp int;
+// Example: a fragment shader that includes the library and shades with it. The inputs are
+// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
+// OpenGL has no #include directive: the engine's include step, or a paste, puts
+// sbf_sh_l1.es.glsl here.
+#include "sbf_sh_l1.es.glsl"
+
+// Shades with every public function of the library: n and v unit (world space), alpha
+// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
+    vec3 result = vec3(0.0);
+    {
+        vec3 sh_l1_irradiance_c[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 sh_l1_geomerics_irradiance_c[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        result += r;
+    }
+    {
+        vec3 sh_l1_zh3_irradiance_c[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 4u; k++) {
+            sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        result += r;
+    }
+    return result;
+}
+
+layout(std140) uniform Inputs {
+    vec4 coefficients[36];
+    vec4 view_alpha;
+};
+in vec3 normal;
+layout(location = 0) out vec4 color;
+
+void main() {
+    color = vec4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients), 1.0);
+}
