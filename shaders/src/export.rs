@@ -96,12 +96,16 @@ pub fn validate_subgroups(source: &str) -> Result<(naga::Module, ModuleInfo), St
     Ok((module, info))
 }
 
-/// Translates composed WGSL to `lang`: WGSL as composed (validated), the other
-/// languages through [`crate::emit`] as an include file headed by `opts`.
+/// Translates composed WGSL to `lang`: WGSL as composed with its items' exported names
+/// ([`crate::emit::names`]; validated again), the other languages through [`crate::emit`]
+/// as an include file headed by `opts`.
 pub fn export_with(source: &str, lang: Lang, opts: &crate::emit::Options) -> Result<String, String> {
     let (module, info) = validate(source)?;
     if lang == Lang::Wgsl {
-        return Ok(source.to_string());
+        let renames = crate::emit::names::renames(&module);
+        let out = crate::emit::names::prefix_wgsl(source, &module, &renames)?;
+        validate(&out).map_err(|e| format!("the WGSL with exported names: {e}"))?;
+        return Ok(out);
     }
     crate::emit::library(source, &module, &info, lang, opts)
 }

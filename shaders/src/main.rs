@@ -145,7 +145,13 @@ fn main() -> ExitCode {
                 Some(p) => format!("profile '{}'", p.name),
                 None => format!("configuration '{}'", cfg.name),
             };
-            let text = export::export_with(&c.source, lang, &shaders::emit::Options { title, roots, ..Default::default() })?;
+            // The committed library's guard for the same preset or profile file.
+            let slug = match profile.as_deref() {
+                Some(f) => format!("profile-{}", std::path::Path::new(f).file_stem().and_then(|s| s.to_str()).unwrap_or("profile")),
+                None => cfg.name.clone(),
+            };
+            let guard = Some(shaders::library::guard(&slug, lang));
+            let text = export::export_with(&c.source, lang, &shaders::emit::Options { title, roots, guard, ..Default::default() })?;
             if let Some(p) = &prof {
                 let all = compose::compose(&Config::parse("all")?)?;
                 let (_, notes) = shaders::profile::features(p);

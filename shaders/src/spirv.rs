@@ -36,6 +36,12 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
         next - 1
     };
     let count = l.count;
+    // The harness buffers' struct types under the library's exported names.
+    let lib_items = emit::item_names(l.library)?;
+    let exported =
+        |ty: &str| if lib_items.contains(ty) { emit::names::exported(emit::names::ItemKind::Struct, ty) } else { ty.to_string() };
+    let uniform = l.uniform.map(|(ty, _)| exported(ty));
+    let io = l.io.map(|(ty, _)| exported(ty));
     let text = match lang {
         Lang::Glsl(_) => {
             let mut b = format!(
@@ -46,10 +52,10 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
             if l.lut.is_some() {
                 b += &format!("layout(set = 0, binding = {}) uniform texture2D lut;\n", slot());
             }
-            if let Some((ty, _)) = l.uniform {
+            if let Some(ty) = &uniform {
                 b += &format!("layout(std140, set = 0, binding = {}) uniform Uni {{ {ty} uni; }};\n", slot());
             }
-            if let Some((ty, _)) = l.io {
+            if let Some(ty) = &io {
                 b += &format!("layout(std430, set = 0, binding = {}) buffer Io {{ {ty} io[]; }};\n", slot());
             }
             if l.lobe.is_some() {
@@ -71,10 +77,10 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
             if l.lut.is_some() {
                 b += &format!("[[vk::binding({}, 0)]] Texture2D<float4> lut;\n", slot());
             }
-            if let Some((ty, _)) = l.uniform {
+            if let Some(ty) = &uniform {
                 b += &format!("[[vk::binding({}, 0)]] cbuffer Uni {{ {ty} uni; }};\n", slot());
             }
-            if let Some((ty, _)) = l.io {
+            if let Some(ty) = &io {
                 b += &format!("[[vk::binding({}, 0)]] RWStructuredBuffer<{ty}> io;\n", slot());
             }
             if l.lobe.is_some() {

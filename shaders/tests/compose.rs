@@ -77,11 +77,11 @@ fn filtered_tables_export_their_texture_operations() {
         // OpenGL: the texture is the combined sampler; no sampler parameter or argument.
         (
             Lang::Glsl(Glsl::Gl),
-            vec!["uvec3(textureSize(tab, 0))", "textureLod(tab, ", "(sampler3D tab, LobeGgxFilteredPixel px, vec3 axis)"],
+            vec!["uvec3(textureSize(tab, 0))", "textureLod(tab, ", "(sampler3D tab, SbfLobeGgxFilteredPixel px, vec3 axis)"],
         ),
         (
             Lang::Glsl(Glsl::Es),
-            vec!["uvec3(textureSize(tab, 0))", "textureLod(tab, ", "(highp sampler3D tab, LobeGgxFilteredPixel px, vec3 axis)"],
+            vec!["uvec3(textureSize(tab, 0))", "textureLod(tab, ", "(highp sampler3D tab, SbfLobeGgxFilteredPixel px, vec3 axis)"],
         ),
         (
             Lang::Hlsl,
@@ -207,4 +207,16 @@ fn pruning_keeps_exactly_what_nagas_call_graph_reaches() {
         // function becomes a literal), so the IR cannot tell which constants the source
         // names. The text pruner follows names in the source, which is what must compile.
     }
+}
+
+/// A component-wise select of vectors in HLSL: `sbf_select`, which is `select()` under
+/// DXC's HLSL 2021 rules (a vector condition in `?:` is an error there) and `?:` for FXC
+/// and older DXC; a scalar select stays `?:`.
+#[test]
+fn hlsl_vector_select_holds_under_hlsl_2021() {
+    let src = "fn pick(v: vec3<f32>, s: f32) -> vec3<f32> {\n    let a = select(vec3<f32>(0.0), v, v > vec3<f32>(0.0));\n    return a * select(1.0, 2.0, s > 0.0);\n}\n";
+    let out = export::export(src, Lang::Hlsl).unwrap();
+    assert!(out.contains("sbf_select(v > ((float3)0.0), v, ((float3)0.0))"), "{out}");
+    assert!(out.contains("#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif"), "{out}");
+    assert!(out.contains("s > 0.0 ? 2.0 : 1.0"), "{out}");
 }

@@ -1,8 +1,12 @@
 //! The exported include files (`shaders/library/`): the committed copy is what the sources
-//! export, every WGSL function keeps its name in every language, the GLSL and HLSL
-//! examples compile as fragment shaders with glslang (the functions' values on a GPU are
-//! gpu_parity.rs's job: the same files, in compute kernels), WGSL examples validate with
-//! naga, and MSL — which no compiler here reads — is checked for structure only.
+//! export, every WGSL item keeps its name behind the library's prefix in every language,
+//! the GLSL and HLSL examples compile as fragment shaders with glslang — alone, and every
+//! pair of configurations after an engine's own declarations (the functions' values on a
+//! GPU are gpu_parity.rs's job: the same files, in compute kernels; OpenGL and ES are
+//! gl_compile.rs's), WGSL examples validate with naga and tint, and MSL — which no compiler
+//! here reads — is checked for structure only.
+
+mod common;
 
 use shaders::export::Lang;
 use shaders::library::{self, Target};
@@ -32,29 +36,61 @@ fn code(text: &str) -> String {
     text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n")
 }
 
+/// Identifiers outside comments.
+fn identifiers(code: &str) -> std::collections::BTreeSet<&str> {
+    code.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| w.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_'))
+        .collect()
+}
+
+/// Every item keeps its WGSL name behind the library's prefix (sbf_ functions, Sbf structs,
+/// SBF_ constants), in every language; no bare item name is left in the code, where it could
+/// meet an engine's own `PI` or `schlick_weight`.
 #[test]
-fn every_wgsl_function_struct_and_constant_keeps_its_name_in_every_language() {
+fn every_wgsl_function_struct_and_constant_is_exported_under_its_prefixed_name() {
+    use shaders::emit::names::{exported, ItemKind};
     let mut checked = 0;
     for t in targets() {
         let comp = shaders::compose::compose(&t.config).unwrap();
         let (m, _) = shaders::export::validate(&comp.source).unwrap();
         let files = library::files(&t).unwrap();
-        for lang in Lang::ALL.into_iter().filter(|l| *l != Lang::Wgsl) {
+        for lang in Lang::ALL {
             let name = library::file_name(&t.slug, lang);
             let text = code(&files.iter().find(|(n, _)| *n == name).unwrap().1);
+            let ids = identifiers(&text);
+            let mut bare = Vec::new();
             for (_, f) in m.functions.iter() {
                 let f = f.name.as_deref().unwrap();
-                assert!(text.contains(&format!(" {f}(")), "{name}: function {f} is not defined by its WGSL name");
+                let e = exported(ItemKind::Function, f);
+                assert!(e.starts_with("sbf_"));
+                let def = if lang == Lang::Wgsl { format!("fn {e}(") } else { format!(" {e}(") };
+                assert!(text.contains(&def), "{name}: function {f} is not defined as {e}");
+                bare.push(f);
                 checked += 1;
             }
             for (_, ty) in m.types.iter() {
                 if let (Some(s), naga::TypeInner::Struct { .. }) = (ty.name.as_deref(), &ty.inner) {
-                    assert!(text.contains(&format!("struct {s} {{")), "{name}: struct {s} is not declared by its WGSL name");
+                    let e = exported(ItemKind::Struct, s);
+                    assert!(e.starts_with("Sbf"));
+                    assert!(text.contains(&format!("struct {e} {{")), "{name}: struct {s} is not declared as {e}");
+                    bare.push(s);
                 }
             }
             for (_, c) in m.constants.iter() {
                 let c = c.name.as_deref().unwrap();
-                assert!(text.contains(&format!(" {c} =")) || text.contains(&format!(" {c}[")), "{name}: constant {c} lost its name");
+                let e = exported(ItemKind::Constant, c);
+                assert!(e.starts_with("SBF_"));
+                let found = if lang == Lang::Wgsl {
+                    text.contains(&format!("const {e}:"))
+                } else {
+                    text.contains(&format!(" {e} =")) || text.contains(&format!(" {e}["))
+                };
+                assert!(found, "{name}: constant {c} is not declared as {e}");
+                bare.push(c);
+            }
+            for b in bare {
+                let prefixed = b.starts_with("sbf_") || b.starts_with("Sbf") || b.starts_with("SBF_");
+                assert!(prefixed || !ids.contains(b), "{name}: the bare name `{b}` is left in the code");
             }
             // No entry point and no binding in a library.
             for bad in ["void main(", "layout(set", "register(", "[[buffer", "@compute", "@fragment"] {
@@ -62,7 +98,7 @@ fn every_wgsl_function_struct_and_constant_keeps_its_name_in_every_language() {
             }
         }
     }
-    assert!(checked > 300, "only {checked} function names checked");
+    assert!(checked > 500, "only {checked} function names checked");
 }
 
 /// glslangValidator, or None when it is missing and nothing requires it.
@@ -173,4 +209,38 @@ fn wgsl_library_compiles_in_tint() {
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every pair of configurations (each with itself too) in one Vulkan GLSL and one HLSL
+/// fragment shader after an engine's declarations ([`common::ENGINE_GLSL`],
+/// [`common::ENGINE_HLSL`]: its own `PI`, `schlick_weight`, `LobeGgxPixel`, a `lut2_sample`
+/// macro, …), with the first one's example shading, through glslang (SPIR-V for Vulkan;
+/// its HLSL front end).
+#[test]
+fn vulkan_glsl_and_hlsl_build_every_pair_of_presets_after_engine_declarations() {
+    let Some(glslang) = glslang() else { return };
+    let dir = std::env::temp_dir().join(format!("sbf-pairs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let slugs = common::slugs();
+    let pairs = common::pairs(&slugs);
+    let mut failures = Vec::new();
+    for (a, b) in &pairs {
+        for (example, lib, prelude, args) in [
+            ("frag", "glsl", common::ENGINE_GLSL, vec!["-V", "-S", "frag"]),
+            ("hlsl", "hlsl", common::ENGINE_HLSL, vec!["-D", "-V", "-S", "frag", "-e", "main"]),
+        ] {
+            let src = dir.join(format!("shader.{example}"));
+            std::fs::write(&src, common::assemble(a, &[b.as_str()], example, lib, prelude)).unwrap();
+            let o = std::process::Command::new(glslang).args(&args).arg("-o").arg(dir.join("shader.spv")).arg(&src).output().unwrap();
+            if !o.status.success() {
+                let log = String::from_utf8_lossy(&o.stdout);
+                failures.push(format!(
+                    "{a} + {b} ({lib}): {}",
+                    log.lines().filter(|l| l.contains("ERROR")).take(3).collect::<Vec<_>>().join(" | ")
+                ));
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(failures.is_empty(), "{} of {} builds fail:\n{}", failures.len(), 2 * pairs.len(), failures.join("\n"));
 }

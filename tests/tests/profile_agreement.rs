@@ -44,7 +44,8 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// The specular shader features whose functions a WGSL export defines.
+/// The specular shader features whose functions a WGSL export defines (under the library's
+/// `sbf_` prefix).
 fn exported_specular(wgsl: &str) -> BTreeSet<String> {
     [
         ("sg-specular", "sg_split_sum_lobe"),
@@ -55,7 +56,7 @@ fn exported_specular(wgsl: &str) -> BTreeSet<String> {
         ("lobe-ggx-filtered", "lobe_ggx_filtered_lobe"),
     ]
     .iter()
-    .filter(|(_, f)| wgsl.contains(&format!("fn {f}(")))
+    .filter(|(_, f)| wgsl.contains(&format!("fn sbf_{f}(")))
     .map(|(feat, _)| feat.to_string())
     .collect()
 }
@@ -134,7 +135,7 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
             "ad9_irradiance",
             "ad12_irradiance",
         ];
-        let got_irr: BTreeSet<&str> = all_irr.iter().copied().filter(|f| wgsl.contains(&format!("fn {f}("))).collect();
+        let got_irr: BTreeSet<&str> = all_irr.iter().copied().filter(|f| wgsl.contains(&format!("fn sbf_{f}("))).collect();
         assert_eq!(got_irr, want_irr, "{stem}: shaders' irradiance functions");
         // probes: one mode per basis, the one that evaluates that runtime function (a
         // lightmap basis in tangent space, a probe basis on the sphere).

@@ -432,7 +432,9 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
     let (features, luts) = output::runtime_features(&o.config.bases, &paths);
     let cfg = shaders::compose::Config::parse(&features.join(","))?;
     let runtime = shaders::compose::compose(&cfg)?;
-    std::fs::write(o.out.join("runtime.wgsl"), &runtime.source).map_err(|e| format!("runtime.wgsl: {e}"))?;
+    // As the library exports it: the items under their sbf_/Sbf/SBF_ names.
+    let runtime_wgsl = shaders::export::export_with(&runtime.source, shaders::export::Lang::Wgsl, &shaders::emit::Options::default())?;
+    std::fs::write(o.out.join("runtime.wgsl"), runtime_wgsl).map_err(|e| format!("runtime.wgsl: {e}"))?;
     let mut runtime_files = vec!["runtime.wgsl".to_string()];
     if let Some(p) = &o.profile {
         let lang = shaders::export::Lang::parse(&p.language)?;

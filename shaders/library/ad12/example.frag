@@ -13,7 +13,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_irradiance(ad12_irradiance_c, n);
+        vec3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -21,7 +21,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

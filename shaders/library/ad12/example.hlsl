@@ -11,7 +11,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        float3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -19,7 +19,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

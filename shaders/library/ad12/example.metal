@@ -11,7 +11,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        float3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -19,7 +19,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        float3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
         result += r;
     }
     return result;

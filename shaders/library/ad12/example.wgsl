@@ -12,7 +12,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad12_irradiance(ad12_irradiance_c, n);
+        let r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -21,7 +21,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

@@ -9,35 +9,55 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
-//   vec3 ad12_irradiance(vec3 c[12], vec3 n)
-//   vec3 ad12_specular(vec3 c[12], highp sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n)
+//   vec3 sbf_ad12_specular(vec3 c[12], highp sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
 // Textures these functions read:
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
+//   sbf_ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_AD12_ES_GLSL
 #define SBF_AD12_ES_GLSL
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-vec3 reflect_about(vec3 v, vec3 n) {
+vec3 sbf_reflect_about(vec3 v, vec3 n) {
     return 2.0 * dot(v, n) * n - v;
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-const vec3 AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+const vec3 SBF_AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
+#define SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
-const float AD_SPECULAR_PARAMS[8] = float[8](3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125);
+const float SBF_AD_SPECULAR_PARAMS[8] = float[8](3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125);
+#endif
 
-const vec3 AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+#define SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+const vec3 SBF_AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD12_AXES
+#define SBF_DEFINED_SBF_AD12_AXES
 // Ambient Dice 12: icosahedron vertices (sbf::AmbientDiceSrbf::twelve).
-const vec3 AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0.8506508, 0.5257311, 0.0), vec3(0.8506508, -0.5257311, 0.0), vec3(-0.8506508, -0.5257311, 0.0), vec3(0.0, 0.8506508, 0.5257311), vec3(0.0, -0.8506508, 0.5257311), vec3(0.0, 0.8506508, -0.5257311), vec3(0.0, -0.8506508, -0.5257311), vec3(0.5257311, 0.0, 0.8506508), vec3(-0.5257311, 0.0, 0.8506508), vec3(0.5257311, 0.0, -0.8506508), vec3(-0.5257311, 0.0, -0.8506508));
+const vec3 SBF_AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0.8506508, 0.5257311, 0.0), vec3(0.8506508, -0.5257311, 0.0), vec3(-0.8506508, -0.5257311, 0.0), vec3(0.0, 0.8506508, 0.5257311), vec3(0.0, -0.8506508, 0.5257311), vec3(0.0, 0.8506508, -0.5257311), vec3(0.0, -0.8506508, -0.5257311), vec3(0.5257311, 0.0, 0.8506508), vec3(-0.5257311, 0.0, 0.8506508), vec3(0.5257311, 0.0, -0.8506508), vec3(-0.5257311, 0.0, -0.8506508));
+#endif
 
-vec2 lut2_sample(highp sampler2D t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+vec2 sbf_lut2_sample(highp sampler2D t, float u, float v) {
     ivec2 size = ivec2(uvec2(textureSize(t, 0).xy));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -53,65 +73,90 @@ vec2 lut2_sample(highp sampler2D t, float u, float v) {
     vec2 b = texelFetch(t, ivec2(ivec2(i0, j1)), int(0)).xy * (1.0 - fx) + texelFetch(t, ivec2(ivec2(i1, j1)), int(0)).xy * fx;
     return a * (1.0 - fy) + b * fy;
 }
+#endif
 
-float ad_srbf_lobe(float c) {
+#ifndef SBF_DEFINED_sbf_ad_srbf_lobe
+#define SBF_DEFINED_sbf_ad_srbf_lobe
+float sbf_ad_srbf_lobe(float c) {
     float x = max(c, 0.0);
     float x2 = x * x;
     return x2 * (0.35 + 0.25 * x2);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-float ad_lobe_irradiance(vec3 axis, vec3 n) {
+float sbf_ad_lobe_irradiance(vec3 axis, vec3 n) {
     float x = clamp(dot(axis, n), -1.0, 1.0);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdSpecularFit
+#define SBF_DEFINED_SbfAdSpecularFit
 // Per-pixel part of Listing 8.1: reflection vector and the two blend weights.
-struct AdSpecularFit {
+struct SbfAdSpecularFit {
     vec3 n;
     vec3 r;
     float focus;
     float alpha_lerp;
 };
+#endif
 
-AdSpecularFit ad_specular_fit(vec3 n, vec3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_ad_specular_fit
+#define SBF_DEFINED_sbf_ad_specular_fit
+SbfAdSpecularFit sbf_ad_specular_fit(vec3 n, vec3 v, float alpha) {
     float sa = sqrt(alpha);
-    float focus = clamp(AD_SPECULAR_PARAMS[0] * sa + AD_SPECULAR_PARAMS[1] * alpha + AD_SPECULAR_PARAMS[2] * sa * alpha + AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
-    float alpha_lerp = clamp(AD_SPECULAR_PARAMS[4] * sa + AD_SPECULAR_PARAMS[5] * alpha + AD_SPECULAR_PARAMS[6] * sa * alpha + AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
-    return AdSpecularFit(n, reflect_about(v, n), focus, alpha_lerp);
+    float focus = clamp(SBF_AD_SPECULAR_PARAMS[0] * sa + SBF_AD_SPECULAR_PARAMS[1] * alpha + SBF_AD_SPECULAR_PARAMS[2] * sa * alpha + SBF_AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
+    float alpha_lerp = clamp(SBF_AD_SPECULAR_PARAMS[4] * sa + SBF_AD_SPECULAR_PARAMS[5] * alpha + SBF_AD_SPECULAR_PARAMS[6] * sa * alpha + SBF_AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
+    return SbfAdSpecularFit(n, sbf_reflect_about(v, n), focus, alpha_lerp);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_lobe
+#define SBF_DEFINED_sbf_ad_specular_lobe
 // The fit's value for one lobe axis (before the LUT factor).
-float ad_specular_lobe(AdSpecularFit f, vec3 axis) {
+float sbf_ad_specular_lobe(SbfAdSpecularFit f, vec3 axis) {
     float r_dot = dot(f.r, axis);
     float n_dot = dot(f.n, axis);
-    float mirror = ad_srbf_lobe(r_dot);
+    float mirror = sbf_ad_srbf_lobe(r_dot);
     float c = r_dot + (n_dot - r_dot) * f.focus;
-    float d = AD_SPECULAR_DIFFUSE.x + c * (AD_SPECULAR_DIFFUSE.y + c * AD_SPECULAR_DIFFUSE.z);
+    float d = SBF_AD_SPECULAR_DIFFUSE.x + c * (SBF_AD_SPECULAR_DIFFUSE.y + c * SBF_AD_SPECULAR_DIFFUSE.z);
     return mirror + (d - mirror) * f.alpha_lerp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_scale
+#define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float ad_specular_scale(highp sampler2D lut, float n_dot_v, float alpha, float f0, float f90) {
-    vec2 l = lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
+float sbf_ad_specular_scale(highp sampler2D lut, float n_dot_v, float alpha, float f0, float f90) {
+    vec2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
+#endif
 
-vec3 ad12_irradiance(vec3 c[12], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad12_irradiance
+#define SBF_DEFINED_sbf_ad12_irradiance
+vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 12; i++) {
-        e += c[i] * ad_lobe_irradiance(AD12_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD12_AXES[i], n);
     }
     return e;
 }
+#endif
 
-vec3 ad12_specular(vec3 c[12], highp sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad12_specular
+#define SBF_DEFINED_sbf_ad12_specular
+vec3 sbf_ad12_specular(vec3 c[12], highp sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     vec3 s = vec3(0.0);
     for (int i = 0; i < 12; i++) {
-        s += c[i] * ad_specular_lobe(f, AD12_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD12_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
 #endif // SBF_AD12_ES_GLSL

@@ -14,7 +14,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        vec3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     return result;

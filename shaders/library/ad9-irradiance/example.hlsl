@@ -11,7 +11,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        float3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     return result;

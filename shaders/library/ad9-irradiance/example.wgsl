@@ -12,7 +12,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad9_irradiance(ad9_irradiance_c, n);
+        let r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     return result;

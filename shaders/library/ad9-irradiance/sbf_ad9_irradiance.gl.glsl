@@ -9,31 +9,46 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
-//   vec3 ad9_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n)
 
 #ifndef SBF_AD9_IRRADIANCE_GL_GLSL
 #define SBF_AD9_IRRADIANCE_GL_GLSL
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-const vec3 AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+const vec3 SBF_AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-const vec3 AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+const vec3 SBF_AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-float ad_lobe_irradiance(vec3 axis, vec3 n) {
+float sbf_ad_lobe_irradiance(vec3 axis, vec3 n) {
     float x = clamp(dot(axis, n), -1.0, 1.0);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
-vec3 ad9_irradiance(vec3 c[9], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
 #endif // SBF_AD9_IRRADIANCE_GL_GLSL

@@ -6,8 +6,11 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float3 ad9_irradiance(array<float3, 9> c, float3 n)
+//   float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n)
 
 #ifndef SBF_AD9_IRRADIANCE_METAL
 #define SBF_AD9_IRRADIANCE_METAL
@@ -15,24 +18,36 @@
 #include <metal_stdlib>
 using namespace metal;
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-constant float3 AD_DIFFUSE_QUADRATIC = float3(0.060026042f, 0.12916666f, 0.06979167f);
+constant float3 SBF_AD_DIFFUSE_QUADRATIC = float3(0.060026042f, 0.12916666f, 0.06979167f);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-constant array<float3, 9> AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
+constant array<float3, 9> SBF_AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-inline float ad_lobe_irradiance(float3 axis, float3 n) {
+inline float sbf_ad_lobe_irradiance(float3 axis, float3 n) {
     float x = clamp(dot(axis, n), -1.0f, 1.0f);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
-inline float3 ad9_irradiance(array<float3, 9> c, float3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+inline float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n) {
     float3 e = float3(0.0f);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
 #endif // SBF_AD9_IRRADIANCE_METAL

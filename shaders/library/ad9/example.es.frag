@@ -16,7 +16,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], highp sampl
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        vec3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -24,7 +24,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], highp sampl
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

@@ -11,7 +11,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        float3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -19,7 +19,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        float3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
         result += r;
     }
     return result;

@@ -10,15 +10,15 @@
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D lut, texture2DArray lobe_table, texture3D lobe_volume, sampler lobe_sampler) {
     vec3 result = vec3(0.0);
     {
-        float r[4] = sh_eval_l1(n);
+        float r[4] = sbf_sh_eval_l1(n);
         result += vec3(r[0]);
     }
     {
-        float r[9] = sh_eval_l2(n);
+        float r[9] = sbf_sh_eval_l2(n);
         result += vec3(r[0]);
     }
     {
-        float r[25] = sh_eval_l4(n);
+        float r[25] = sbf_sh_eval_l4(n);
         result += vec3(r[0]);
     }
     {
@@ -26,7 +26,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        vec3 r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     {
@@ -34,7 +34,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        vec3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -42,7 +42,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 25u; k++) {
             sh_l4_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l4_irradiance(sh_l4_irradiance_c, n);
+        vec3 r = sbf_sh_l4_irradiance(sh_l4_irradiance_c, n);
         result += r;
     }
     {
@@ -50,7 +50,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        vec3 r = sbf_sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
         result += r;
     }
     {
@@ -58,7 +58,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        vec3 r = sbf_sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
         result += r;
     }
     {
@@ -66,7 +66,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -74,7 +74,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -82,7 +82,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_rotate_l1_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r[4] = sh_rotate_l1(sh_rotate_l1_c, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)));
+        vec3 r[4] = sbf_sh_rotate_l1(sh_rotate_l1_c, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)));
         result += r[0];
     }
     {
@@ -90,7 +90,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_rotate_l2_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r[9] = sh_rotate_l2(sh_rotate_l2_c, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)));
+        vec3 r[9] = sbf_sh_rotate_l2(sh_rotate_l2_c, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)));
         result += r[0];
     }
     {
@@ -98,39 +98,39 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 25u; k++) {
             sh_rotate_l4_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r[25] = sh_rotate_l4(sh_rotate_l4_c, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)));
+        vec3 r[25] = sbf_sh_rotate_l4(sh_rotate_l4_c, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)));
         result += r[0];
     }
     {
-        float r = sg_eval(n, 0.5, v);
+        float r = sbf_sg_eval(n, 0.5, v);
         result += vec3(r);
     }
     {
-        float r = sg_integral(0.5);
+        float r = sbf_sg_integral(0.5);
         result += vec3(r);
     }
     {
-        float r = sg_hill_irradiance(n, 0.5, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3(r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3(r);
     }
     {
-        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        SbfSgAsgWarp r = sbf_sg_asg_warp(n, v, alpha, 0.04, 1.0);
     }
     {
-        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04, 1.0);
-        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
+        SbfSgAsgWarp sg_asg_lobe_w = sbf_sg_asg_warp(n, v, alpha, 0.04, 1.0);
+        float r = sbf_sg_asg_lobe(sg_asg_lobe_w, n, 0.5);
         result += vec3(r);
     }
     {
-        float r = ad_srbf_eval(n, v);
+        float r = sbf_ad_srbf_eval(n, v);
         result += vec3(r);
     }
     {
@@ -138,7 +138,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        vec3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -146,7 +146,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_irradiance(ad12_irradiance_c, n);
+        vec3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -154,7 +154,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -162,58 +162,58 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
-        LobeGgxPixel r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        SbfLobeGgxPixel r = sbf_lobe_ggx_pixel(lobe_table, n, v, alpha);
     }
     {
-        LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
-        vec2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        SbfLobeGgxPixel lobe_ggx_lobe_px = sbf_lobe_ggx_pixel(lobe_table, n, v, alpha);
+        vec2 r = sbf_lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
         result += vec3(r, 0.0);
     }
     {
-        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        SbfLobeGgxFilteredPixel r = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
-        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
-        vec2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
+        SbfLobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        vec2 r = sbf_lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += vec3(r, 0.0);
     }
     {
-        float r = ggx_d(n, alpha);
+        float r = sbf_ggx_d(n, alpha);
         result += vec3(r);
     }
     {
-        float r = ggx_g1(n, alpha);
+        float r = sbf_ggx_g1(n, alpha);
         result += vec3(r);
     }
     {
-        float r = ggx_g2(v, v, alpha);
+        float r = sbf_ggx_g2(v, v, alpha);
         result += vec3(r);
     }
     {
-        float r = ggx_lambda(n, alpha);
+        float r = sbf_ggx_lambda(n, alpha);
         result += vec3(r);
     }
     {
-        float r = schlick_weight(0.5);
+        float r = sbf_schlick_weight(0.5);
         result += vec3(r);
     }
     {
-        float r = ggx_energy_compensation(vec2(0.5), 0.04);
+        float r = sbf_ggx_energy_compensation(vec2(0.5), 0.04);
         result += vec3(r);
     }
     {
-        AdBezierWeights r = ad_bezier_weights(n);
+        SbfAdBezierWeights r = sbf_ad_bezier_weights(n);
     }
     {
         vec3 ad_bezier_eval_c[36] = vec3[36](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
         for (uint k = 0u; k < 36u; k++) {
             ad_bezier_eval_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad_bezier_eval(ad_bezier_eval_c, n);
+        vec3 r = sbf_ad_bezier_eval(ad_bezier_eval_c, n);
         result += r;
     }
     {
@@ -229,105 +229,105 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad_ycocg_eval_cg[k] = coefficients[k % 36u].x;
         }
-        vec3 r = ad_ycocg_eval(ad_ycocg_eval_y, ad_ycocg_eval_co, ad_ycocg_eval_cg, n);
+        vec3 r = sbf_ad_ycocg_eval(ad_ycocg_eval_y, ad_ycocg_eval_co, ad_ycocg_eval_cg, n);
         result += r;
     }
     {
-        LightmapTaps r = lightmap_bicubic_taps(vec2(0.5), vec2(0.5));
+        SbfLightmapTaps r = sbf_lightmap_bicubic_taps(vec2(0.5), vec2(0.5));
     }
     {
-        vec4 r = lightmap_bspline_axis(0.5);
+        vec4 r = sbf_lightmap_bspline_axis(0.5);
     }
     {
-        vec3 r = godot_l1_irradiance(n, n, n, n, n);
+        vec3 r = sbf_godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }
     {
-        vec3 r = monosh_irradiance(n, n, n);
+        vec3 r = sbf_monosh_irradiance(n, n, n);
         result += r;
     }
     {
-        vec3 r = enlighten_irradiance(n, vec4(0.5), n);
+        vec3 r = sbf_enlighten_irradiance(n, vec4(0.5), n);
         result += r;
     }
     {
-        vec3 r = enlighten_rgb_irradiance(n, vec4(0.5), vec4(0.5), vec4(0.5), n);
+        vec3 r = sbf_enlighten_rgb_irradiance(n, vec4(0.5), vec4(0.5), vec4(0.5), n);
         result += r;
     }
     {
-        float r = slc_acceptance(0.5, 0.5, 0.5);
+        float r = sbf_slc_acceptance(0.5, 0.5, 0.5);
         result += vec3(r);
     }
     {
-        float r = slc_random_range(0.5, 0.5, 0.5);
+        float r = sbf_slc_random_range(0.5, 0.5, 0.5);
         result += vec3(r);
     }
     {
-        float r = slc_culled_estimate(0.5, 0.5, 0.5);
+        float r = sbf_slc_culled_estimate(0.5, 0.5, 0.5);
         result += vec3(r);
     }
     {
-        float r = slc_schlick_max(0.04, 0.5);
+        float r = sbf_slc_schlick_max(0.04, 0.5);
         result += vec3(r);
     }
     {
-        float r = slc_dielectric_max(0.5, 0.5);
+        float r = sbf_slc_dielectric_max(0.5, 0.5);
         result += vec3(r);
     }
     {
-        float r = slc_g1_dist(0.5, alpha);
+        float r = sbf_slc_g1_dist(0.5, alpha);
         result += vec3(r);
     }
     {
-        float r = slc_spheroid_scale(0.5, 0.5, 0.5, 0.5, 0.5, 0.5);
+        float r = sbf_slc_spheroid_scale(0.5, 0.5, 0.5, 0.5, 0.5, 0.5);
         result += vec3(r);
     }
     {
-        float r = slc_bound_surface(0.5, 0.5, alpha);
+        float r = sbf_slc_bound_surface(0.5, 0.5, alpha);
         result += vec3(r);
     }
     {
-        SlcEllipsoid r = slc_ggx_spheroid(n, v, n, alpha, 0.5);
+        SbfSlcEllipsoid r = sbf_slc_ggx_spheroid(n, v, n, alpha, 0.5);
     }
     {
-        SlcSphere r = slc_diffuse_sphere(n, n, 0.5, 0.5, 0.5);
+        SbfSlcSphere r = sbf_slc_diffuse_sphere(n, n, 0.5, 0.5, 0.5);
     }
     {
-        float r = slc_diffuse_intensity_bound(0.5, 0.5);
+        float r = sbf_slc_diffuse_intensity_bound(0.5, 0.5);
         result += vec3(r);
     }
     {
-        SlcSphere r = slc_point_sphere(n, 0.5, 0.5, 0.5);
+        SbfSlcSphere r = sbf_slc_point_sphere(n, 0.5, 0.5, 0.5);
     }
     {
-        SlcSphere slc_ray_sphere_s = slc_diffuse_sphere(n, n, 0.5, 0.5, 0.5);
-        vec3 r = slc_ray_sphere(n, n, slc_ray_sphere_s);
+        SbfSlcSphere slc_ray_sphere_s = sbf_slc_diffuse_sphere(n, n, 0.5, 0.5, 0.5);
+        vec3 r = sbf_slc_ray_sphere(n, n, slc_ray_sphere_s);
         result += r;
     }
     {
-        vec2 r = slc_equiangular_sample(0.5, 0.5, 0.5, 0.5, 0.5);
+        vec2 r = sbf_slc_equiangular_sample(0.5, 0.5, 0.5, 0.5, 0.5);
         result += vec3(r, 0.0);
     }
     {
-        float r = slc_equiangular_pdf(0.5, 0.5, 0.5, 0.5, 0.5);
+        float r = sbf_slc_equiangular_pdf(0.5, 0.5, 0.5, 0.5, 0.5);
         result += vec3(r);
     }
     {
-        SlcEllipsoid slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5);
-        SlcCullEllipsoid r = slc_cull_transform(slc_cull_transform_e, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)), n);
+        SbfSlcEllipsoid slc_cull_transform_e = sbf_slc_ggx_spheroid(n, v, n, alpha, 0.5);
+        SbfSlcCullEllipsoid r = sbf_slc_cull_transform(slc_cull_transform_e, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)), n);
     }
     {
-        vec3 r[8] = slc_tile_corners(0.5, 0.5, 0.5, 0.5, vec2(0.5), vec2(0.5), 0.5, 0.5);
+        vec3 r[8] = sbf_slc_tile_corners(0.5, 0.5, 0.5, 0.5, vec2(0.5), vec2(0.5), 0.5, 0.5);
         result += r[0];
     }
     {
-        SlcEllipsoid slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5);
-        SlcCullEllipsoid slc_ellipsoid_hits_corners_e = slc_cull_transform(slc_cull_transform_e, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)), n);
+        SbfSlcEllipsoid slc_cull_transform_e = sbf_slc_ggx_spheroid(n, v, n, alpha, 0.5);
+        SbfSlcCullEllipsoid slc_ellipsoid_hits_corners_e = sbf_slc_cull_transform(slc_cull_transform_e, mat3(vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)), n);
         vec3 slc_ellipsoid_hits_corners_corners[8] = vec3[8](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
         for (uint k = 0u; k < 8u; k++) {
             slc_ellipsoid_hits_corners_corners[k] = coefficients[k % 36u].xyz;
         }
-        bool r = slc_ellipsoid_hits_corners(slc_ellipsoid_hits_corners_e, slc_ellipsoid_hits_corners_corners);
+        bool r = sbf_slc_ellipsoid_hits_corners(slc_ellipsoid_hits_corners_e, slc_ellipsoid_hits_corners_corners);
         result += r ? vec3(1.0) : vec3(0.0);
     }
     return result;

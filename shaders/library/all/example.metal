@@ -8,15 +8,15 @@
 inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut, texture2d_array<float> lobe_table, texture3d<float> lobe_volume, sampler lobe_sampler) {
     float3 result = float3(0.0f);
     {
-        array<float, 4> r = sh_eval_l1(n);
+        array<float, 4> r = sbf_sh_eval_l1(n);
         result += float3(r[0]);
     }
     {
-        array<float, 9> r = sh_eval_l2(n);
+        array<float, 9> r = sbf_sh_eval_l2(n);
         result += float3(r[0]);
     }
     {
-        array<float, 25> r = sh_eval_l4(n);
+        array<float, 25> r = sbf_sh_eval_l4(n);
         result += float3(r[0]);
     }
     {
@@ -24,7 +24,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        float3 r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     {
@@ -32,7 +32,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        float3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -40,7 +40,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 25u; k++) {
             sh_l4_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l4_irradiance(sh_l4_irradiance_c, n);
+        float3 r = sbf_sh_l4_irradiance(sh_l4_irradiance_c, n);
         result += r;
     }
     {
@@ -48,7 +48,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_geomerics_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
+        float3 r = sbf_sh_l1_geomerics_irradiance(sh_l1_geomerics_irradiance_c, n);
         result += r;
     }
     {
@@ -56,7 +56,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_zh3_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
+        float3 r = sbf_sh_l1_zh3_irradiance(sh_l1_zh3_irradiance_c, n);
         result += r;
     }
     {
@@ -64,7 +64,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        float3 r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
         result += r;
     }
     {
@@ -72,7 +72,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        float3 r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
         result += r;
     }
     {
@@ -80,7 +80,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 4u; k++) {
             sh_rotate_l1_c[k] = coefficients[k % 36u].xyz;
         }
-        array<float3, 4> r = sh_rotate_l1(sh_rotate_l1_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
+        array<float3, 4> r = sbf_sh_rotate_l1(sh_rotate_l1_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
         result += r[0];
     }
     {
@@ -88,7 +88,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             sh_rotate_l2_c[k] = coefficients[k % 36u].xyz;
         }
-        array<float3, 9> r = sh_rotate_l2(sh_rotate_l2_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
+        array<float3, 9> r = sbf_sh_rotate_l2(sh_rotate_l2_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
         result += r[0];
     }
     {
@@ -96,39 +96,39 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 25u; k++) {
             sh_rotate_l4_c[k] = coefficients[k % 36u].xyz;
         }
-        array<float3, 25> r = sh_rotate_l4(sh_rotate_l4_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
+        array<float3, 25> r = sbf_sh_rotate_l4(sh_rotate_l4_c, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)));
         result += r[0];
     }
     {
-        float r = sg_eval(n, 0.5f, v);
+        float r = sbf_sg_eval(n, 0.5f, v);
         result += float3(r);
     }
     {
-        float r = sg_integral(0.5f);
+        float r = sbf_sg_integral(0.5f);
         result += float3(r);
     }
     {
-        float r = sg_hill_irradiance(n, 0.5f, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5f, n);
         result += float3(r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
         result += float3(r);
     }
     {
-        SgAsgWarp r = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
+        SbfSgAsgWarp r = sbf_sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
     }
     {
-        SgAsgWarp sg_asg_lobe_w = sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
-        float r = sg_asg_lobe(sg_asg_lobe_w, n, 0.5f);
+        SbfSgAsgWarp sg_asg_lobe_w = sbf_sg_asg_warp(n, v, alpha, 0.04f, 1.0f);
+        float r = sbf_sg_asg_lobe(sg_asg_lobe_w, n, 0.5f);
         result += float3(r);
     }
     {
-        float r = ad_srbf_eval(n, v);
+        float r = sbf_ad_srbf_eval(n, v);
         result += float3(r);
     }
     {
@@ -136,7 +136,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        float3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -144,7 +144,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        float3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -152,7 +152,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        float3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
         result += r;
     }
     {
@@ -160,58 +160,58 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
+        float3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04f, 1.0f);
         result += r;
     }
     {
-        LobeGgxPixel r = lobe_ggx_pixel(lobe_table, n, v, alpha);
+        SbfLobeGgxPixel r = sbf_lobe_ggx_pixel(lobe_table, n, v, alpha);
     }
     {
-        LobeGgxPixel lobe_ggx_lobe_px = lobe_ggx_pixel(lobe_table, n, v, alpha);
-        float2 r = lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
+        SbfLobeGgxPixel lobe_ggx_lobe_px = sbf_lobe_ggx_pixel(lobe_table, n, v, alpha);
+        float2 r = sbf_lobe_ggx_lobe(lobe_table, lobe_ggx_lobe_px, n);
         result += float3(r, 0.0f);
     }
     {
-        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        SbfLobeGgxFilteredPixel r = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
-        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
-        float2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
+        SbfLobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        float2 r = sbf_lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += float3(r, 0.0f);
     }
     {
-        float r = ggx_d(n, alpha);
+        float r = sbf_ggx_d(n, alpha);
         result += float3(r);
     }
     {
-        float r = ggx_g1(n, alpha);
+        float r = sbf_ggx_g1(n, alpha);
         result += float3(r);
     }
     {
-        float r = ggx_g2(v, v, alpha);
+        float r = sbf_ggx_g2(v, v, alpha);
         result += float3(r);
     }
     {
-        float r = ggx_lambda(n, alpha);
+        float r = sbf_ggx_lambda(n, alpha);
         result += float3(r);
     }
     {
-        float r = schlick_weight(0.5f);
+        float r = sbf_schlick_weight(0.5f);
         result += float3(r);
     }
     {
-        float r = ggx_energy_compensation(float2(0.5f), 0.04f);
+        float r = sbf_ggx_energy_compensation(float2(0.5f), 0.04f);
         result += float3(r);
     }
     {
-        AdBezierWeights r = ad_bezier_weights(n);
+        SbfAdBezierWeights r = sbf_ad_bezier_weights(n);
     }
     {
         array<float3, 36> ad_bezier_eval_c = array<float3, 36>{};
         for (uint k = 0u; k < 36u; k++) {
             ad_bezier_eval_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad_bezier_eval(ad_bezier_eval_c, n);
+        float3 r = sbf_ad_bezier_eval(ad_bezier_eval_c, n);
         result += r;
     }
     {
@@ -227,105 +227,105 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 12u; k++) {
             ad_ycocg_eval_cg[k] = coefficients[k % 36u].x;
         }
-        float3 r = ad_ycocg_eval(ad_ycocg_eval_y, ad_ycocg_eval_co, ad_ycocg_eval_cg, n);
+        float3 r = sbf_ad_ycocg_eval(ad_ycocg_eval_y, ad_ycocg_eval_co, ad_ycocg_eval_cg, n);
         result += r;
     }
     {
-        LightmapTaps r = lightmap_bicubic_taps(float2(0.5f), float2(0.5f));
+        SbfLightmapTaps r = sbf_lightmap_bicubic_taps(float2(0.5f), float2(0.5f));
     }
     {
-        float4 r = lightmap_bspline_axis(0.5f);
+        float4 r = sbf_lightmap_bspline_axis(0.5f);
     }
     {
-        float3 r = godot_l1_irradiance(n, n, n, n, n);
+        float3 r = sbf_godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }
     {
-        float3 r = monosh_irradiance(n, n, n);
+        float3 r = sbf_monosh_irradiance(n, n, n);
         result += r;
     }
     {
-        float3 r = enlighten_irradiance(n, float4(0.5f), n);
+        float3 r = sbf_enlighten_irradiance(n, float4(0.5f), n);
         result += r;
     }
     {
-        float3 r = enlighten_rgb_irradiance(n, float4(0.5f), float4(0.5f), float4(0.5f), n);
+        float3 r = sbf_enlighten_rgb_irradiance(n, float4(0.5f), float4(0.5f), float4(0.5f), n);
         result += r;
     }
     {
-        float r = slc_acceptance(0.5f, 0.5f, 0.5f);
+        float r = sbf_slc_acceptance(0.5f, 0.5f, 0.5f);
         result += float3(r);
     }
     {
-        float r = slc_random_range(0.5f, 0.5f, 0.5f);
+        float r = sbf_slc_random_range(0.5f, 0.5f, 0.5f);
         result += float3(r);
     }
     {
-        float r = slc_culled_estimate(0.5f, 0.5f, 0.5f);
+        float r = sbf_slc_culled_estimate(0.5f, 0.5f, 0.5f);
         result += float3(r);
     }
     {
-        float r = slc_schlick_max(0.04f, 0.5f);
+        float r = sbf_slc_schlick_max(0.04f, 0.5f);
         result += float3(r);
     }
     {
-        float r = slc_dielectric_max(0.5f, 0.5f);
+        float r = sbf_slc_dielectric_max(0.5f, 0.5f);
         result += float3(r);
     }
     {
-        float r = slc_g1_dist(0.5f, alpha);
+        float r = sbf_slc_g1_dist(0.5f, alpha);
         result += float3(r);
     }
     {
-        float r = slc_spheroid_scale(0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
+        float r = sbf_slc_spheroid_scale(0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
         result += float3(r);
     }
     {
-        float r = slc_bound_surface(0.5f, 0.5f, alpha);
+        float r = sbf_slc_bound_surface(0.5f, 0.5f, alpha);
         result += float3(r);
     }
     {
-        SlcEllipsoid r = slc_ggx_spheroid(n, v, n, alpha, 0.5f);
+        SbfSlcEllipsoid r = sbf_slc_ggx_spheroid(n, v, n, alpha, 0.5f);
     }
     {
-        SlcSphere r = slc_diffuse_sphere(n, n, 0.5f, 0.5f, 0.5f);
+        SbfSlcSphere r = sbf_slc_diffuse_sphere(n, n, 0.5f, 0.5f, 0.5f);
     }
     {
-        float r = slc_diffuse_intensity_bound(0.5f, 0.5f);
+        float r = sbf_slc_diffuse_intensity_bound(0.5f, 0.5f);
         result += float3(r);
     }
     {
-        SlcSphere r = slc_point_sphere(n, 0.5f, 0.5f, 0.5f);
+        SbfSlcSphere r = sbf_slc_point_sphere(n, 0.5f, 0.5f, 0.5f);
     }
     {
-        SlcSphere slc_ray_sphere_s = slc_diffuse_sphere(n, n, 0.5f, 0.5f, 0.5f);
-        float3 r = slc_ray_sphere(n, n, slc_ray_sphere_s);
+        SbfSlcSphere slc_ray_sphere_s = sbf_slc_diffuse_sphere(n, n, 0.5f, 0.5f, 0.5f);
+        float3 r = sbf_slc_ray_sphere(n, n, slc_ray_sphere_s);
         result += r;
     }
     {
-        float2 r = slc_equiangular_sample(0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
+        float2 r = sbf_slc_equiangular_sample(0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
         result += float3(r, 0.0f);
     }
     {
-        float r = slc_equiangular_pdf(0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
+        float r = sbf_slc_equiangular_pdf(0.5f, 0.5f, 0.5f, 0.5f, 0.5f);
         result += float3(r);
     }
     {
-        SlcEllipsoid slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5f);
-        SlcCullEllipsoid r = slc_cull_transform(slc_cull_transform_e, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)), n);
+        SbfSlcEllipsoid slc_cull_transform_e = sbf_slc_ggx_spheroid(n, v, n, alpha, 0.5f);
+        SbfSlcCullEllipsoid r = sbf_slc_cull_transform(slc_cull_transform_e, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)), n);
     }
     {
-        array<float3, 8> r = slc_tile_corners(0.5f, 0.5f, 0.5f, 0.5f, float2(0.5f), float2(0.5f), 0.5f, 0.5f);
+        array<float3, 8> r = sbf_slc_tile_corners(0.5f, 0.5f, 0.5f, 0.5f, float2(0.5f), float2(0.5f), 0.5f, 0.5f);
         result += r[0];
     }
     {
-        SlcEllipsoid slc_cull_transform_e = slc_ggx_spheroid(n, v, n, alpha, 0.5f);
-        SlcCullEllipsoid slc_ellipsoid_hits_corners_e = slc_cull_transform(slc_cull_transform_e, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)), n);
+        SbfSlcEllipsoid slc_cull_transform_e = sbf_slc_ggx_spheroid(n, v, n, alpha, 0.5f);
+        SbfSlcCullEllipsoid slc_ellipsoid_hits_corners_e = sbf_slc_cull_transform(slc_cull_transform_e, float3x3(float3(1.0f, 0.0f, 0.0f), float3(0.0f, 1.0f, 0.0f), float3(0.0f, 0.0f, 1.0f)), n);
         array<float3, 8> slc_ellipsoid_hits_corners_corners = array<float3, 8>{};
         for (uint k = 0u; k < 8u; k++) {
             slc_ellipsoid_hits_corners_corners[k] = coefficients[k % 36u].xyz;
         }
-        bool r = slc_ellipsoid_hits_corners(slc_ellipsoid_hits_corners_e, slc_ellipsoid_hits_corners_corners);
+        bool r = sbf_slc_ellipsoid_hits_corners(slc_ellipsoid_hits_corners_e, slc_ellipsoid_hits_corners_corners);
         result += r ? float3(1.0f) : float3(0.0f);
     }
     return result;

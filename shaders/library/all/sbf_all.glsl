@@ -8,191 +8,246 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float ggx_d(vec3 h, float alpha)
-//   float ggx_lambda(vec3 w, float alpha)
-//   float ggx_g1(vec3 w, float alpha)
-//   float ggx_g2(vec3 v, vec3 l, float alpha)
-//   float schlick_weight(float v_dot_h)
-//   float ggx_energy_compensation(vec2 dfg, float f0)
-//   LobeGgxPixel lobe_ggx_pixel(texture2DArray tab, vec3 n, vec3 v, float alpha)
-//   vec2 lobe_ggx_lobe(texture2DArray tab, LobeGgxPixel px, vec3 axis)
-//   LobeGgxFilteredPixel lobe_ggx_filtered_pixel(texture3D tab, vec3 n, vec3 v, float alpha)
-//   vec2 lobe_ggx_filtered_lobe(texture3D tab, sampler smp, LobeGgxFilteredPixel px, vec3 axis)
-//   float[4] sh_eval_l1(vec3 d)
-//   float[9] sh_eval_l2(vec3 d)
-//   float[25] sh_eval_l4(vec3 d)
-//   vec3 sh_l1_irradiance(vec3 c[4], vec3 n)
-//   vec3 sh_l2_irradiance(vec3 c[9], vec3 n)
-//   vec3 sh_l4_irradiance(vec3 c[25], vec3 n)
-//   vec3 sh_l1_geomerics_irradiance(vec3 c[4], vec3 n)
-//   vec3 sh_l1_zh3_irradiance(vec3 c[4], vec3 n)
-//   vec3 sh_l1_specular(vec3 c[4], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
-//   vec3 sh_l2_specular(vec3 c[9], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
-//   vec3[4] sh_rotate_l1(vec3 c[4], mat3 r)
-//   vec3[9] sh_rotate_l2(vec3 c[9], mat3 r)
-//   vec3[25] sh_rotate_l4(vec3 c[25], mat3 r)
-//   float sg_eval(vec3 axis, float sharpness, vec3 v)
-//   float sg_integral(float sharpness)
-//   float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n)
-//   SgAsgWarp sg_asg_warp(vec3 n, vec3 v, float alpha_in, float f0, float f90)
-//   float sg_asg_lobe(SgAsgWarp w, vec3 axis, float sharpness)
-//   SgSplitSum sg_split_sum_setup(texture2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90)
-//   float sg_split_sum_lobe(SgSplitSum w, vec3 axis, float sharpness)
-//   float ad_srbf_eval(vec3 axis, vec3 v)
-//   vec3 ad12_irradiance(vec3 c[12], vec3 n)
-//   vec3 ad9_irradiance(vec3 c[9], vec3 n)
-//   vec3 ad12_specular(vec3 c[12], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
-//   vec3 ad9_specular(vec3 c[9], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
-//   AdBezierWeights ad_bezier_weights(vec3 d)
-//   vec3 ad_bezier_eval(vec3 c[36], vec3 d)
-//   vec3 ad_ycocg_eval(float y[36], float co[12], float cg[12], vec3 d)
-//   vec4 lightmap_bspline_axis(float c)
-//   LightmapTaps lightmap_bicubic_taps(vec2 uv, vec2 size)
-//   vec3 godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n)
-//   vec3 monosh_irradiance(vec3 l0, vec3 dir, vec3 n)
-//   vec3 enlighten_irradiance(vec3 colour, vec4 dir, vec3 n)
-//   vec3 enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n)
-//   void progressive_update(inout EncoderState state, EncoderParams p, float b[12], vec3 value, float weight)
-//   float slc_acceptance(float intensity, float delta, float l)
-//   float slc_random_range(float intensity, float delta, float xi)
-//   float slc_culled_estimate(float radiance, float p, float xi)
-//   float slc_schlick_max(float f0, float cos_i)
-//   float slc_dielectric_max(float eta, float cos_i)
-//   float slc_g1_dist(float cos_i, float alpha)
-//   float slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi)
-//   float slc_bound_surface(float theta, float r, float alpha)
-//   SlcEllipsoid slc_ggx_spheroid(vec3 q, vec3 wi, vec3 n, float alpha, float r)
-//   SlcSphere slc_diffuse_sphere(vec3 q, vec3 n, float phi_k, float delta, float xi)
-//   SlcSphere slc_point_sphere(vec3 q, float intensity, float delta, float xi)
-//   vec3 slc_ray_sphere(vec3 o, vec3 d, SlcSphere s)
-//   float slc_equiangular_pdf(float tc, float h, float a, float b, float t)
-//   vec2 slc_equiangular_sample(float tc, float h, float a, float b, float u)
-//   float slc_diffuse_intensity_bound(float d_dot_n, float phi)
-//   SlcCullEllipsoid slc_cull_transform(SlcEllipsoid e, mat3 view, vec3 origin)
-//   vec3[8] slc_tile_corners(float x0, float y0, float x1, float y1, vec2 size, vec2 tan_xy, float z0, float z1)
-//   bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, vec3 corners[8])
+//   float sbf_ggx_d(vec3 h, float alpha)
+//   float sbf_ggx_lambda(vec3 w, float alpha)
+//   float sbf_ggx_g1(vec3 w, float alpha)
+//   float sbf_ggx_g2(vec3 v, vec3 l, float alpha)
+//   float sbf_schlick_weight(float v_dot_h)
+//   float sbf_ggx_energy_compensation(vec2 dfg, float f0)
+//   SbfLobeGgxPixel sbf_lobe_ggx_pixel(texture2DArray tab, vec3 n, vec3 v, float alpha)
+//   vec2 sbf_lobe_ggx_lobe(texture2DArray tab, SbfLobeGgxPixel px, vec3 axis)
+//   SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(texture3D tab, vec3 n, vec3 v, float alpha)
+//   vec2 sbf_lobe_ggx_filtered_lobe(texture3D tab, sampler smp, SbfLobeGgxFilteredPixel px, vec3 axis)
+//   float[4] sbf_sh_eval_l1(vec3 d)
+//   float[9] sbf_sh_eval_l2(vec3 d)
+//   float[25] sbf_sh_eval_l4(vec3 d)
+//   vec3 sbf_sh_l1_irradiance(vec3 c[4], vec3 n)
+//   vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_sh_l4_irradiance(vec3 c[25], vec3 n)
+//   vec3 sbf_sh_l1_geomerics_irradiance(vec3 c[4], vec3 n)
+//   vec3 sbf_sh_l1_zh3_irradiance(vec3 c[4], vec3 n)
+//   vec3 sbf_sh_l1_specular(vec3 c[4], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3 sbf_sh_l2_specular(vec3 c[9], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3[4] sbf_sh_rotate_l1(vec3 c[4], mat3 r)
+//   vec3[9] sbf_sh_rotate_l2(vec3 c[9], mat3 r)
+//   vec3[25] sbf_sh_rotate_l4(vec3 c[25], mat3 r)
+//   float sbf_sg_eval(vec3 axis, float sharpness, vec3 v)
+//   float sbf_sg_integral(float sharpness)
+//   float sbf_sg_hill_irradiance(vec3 axis, float sharpness, vec3 n)
+//   SbfSgAsgWarp sbf_sg_asg_warp(vec3 n, vec3 v, float alpha_in, float f0, float f90)
+//   float sbf_sg_asg_lobe(SbfSgAsgWarp w, vec3 axis, float sharpness)
+//   SbfSgSplitSum sbf_sg_split_sum_setup(texture2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90)
+//   float sbf_sg_split_sum_lobe(SbfSgSplitSum w, vec3 axis, float sharpness)
+//   float sbf_ad_srbf_eval(vec3 axis, vec3 v)
+//   vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n)
+//   vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_ad12_specular(vec3 c[12], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3 sbf_ad9_specular(vec3 c[9], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   SbfAdBezierWeights sbf_ad_bezier_weights(vec3 d)
+//   vec3 sbf_ad_bezier_eval(vec3 c[36], vec3 d)
+//   vec3 sbf_ad_ycocg_eval(float y[36], float co[12], float cg[12], vec3 d)
+//   vec4 sbf_lightmap_bspline_axis(float c)
+//   SbfLightmapTaps sbf_lightmap_bicubic_taps(vec2 uv, vec2 size)
+//   vec3 sbf_godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n)
+//   vec3 sbf_monosh_irradiance(vec3 l0, vec3 dir, vec3 n)
+//   vec3 sbf_enlighten_irradiance(vec3 colour, vec4 dir, vec3 n)
+//   vec3 sbf_enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n)
+//   void sbf_progressive_update(inout SbfEncoderState state, SbfEncoderParams p, float b[12], vec3 value, float weight)
+//   float sbf_slc_acceptance(float intensity, float delta, float l)
+//   float sbf_slc_random_range(float intensity, float delta, float xi)
+//   float sbf_slc_culled_estimate(float radiance, float p, float xi)
+//   float sbf_slc_schlick_max(float f0, float cos_i)
+//   float sbf_slc_dielectric_max(float eta, float cos_i)
+//   float sbf_slc_g1_dist(float cos_i, float alpha)
+//   float sbf_slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi)
+//   float sbf_slc_bound_surface(float theta, float r, float alpha)
+//   SbfSlcEllipsoid sbf_slc_ggx_spheroid(vec3 q, vec3 wi, vec3 n, float alpha, float r)
+//   SbfSlcSphere sbf_slc_diffuse_sphere(vec3 q, vec3 n, float phi_k, float delta, float xi)
+//   SbfSlcSphere sbf_slc_point_sphere(vec3 q, float intensity, float delta, float xi)
+//   vec3 sbf_slc_ray_sphere(vec3 o, vec3 d, SbfSlcSphere s)
+//   float sbf_slc_equiangular_pdf(float tc, float h, float a, float b, float t)
+//   vec2 sbf_slc_equiangular_sample(float tc, float h, float a, float b, float u)
+//   float sbf_slc_diffuse_intensity_bound(float d_dot_n, float phi)
+//   SbfSlcCullEllipsoid sbf_slc_cull_transform(SbfSlcEllipsoid e, mat3 view, vec3 origin)
+//   vec3[8] sbf_slc_tile_corners(float x0, float y0, float x1, float y1, vec2 size, vec2 tan_xy, float z0, float z1)
+//   bool sbf_slc_ellipsoid_hits_corners(SbfSlcCullEllipsoid e, vec3 corners[8])
 // Textures these functions read:
-//   lobe_ggx_pixel(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,
-//     layer = n·v node × 12 + √α node).
-//   lobe_ggx_lobe(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,
-//     layer = n·v node × 12 + √α node).
-//   lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
-//     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
-//     × 24 + ψ node, y = γ node, z = n·v node).
-//   lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
-//     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
-//     × 24 + ψ node, y = γ node, z = n·v node).
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_pixel(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_lobe(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
+//     (linear min/mag filter, clamp to edge). See the function's comment.
+//   sbf_lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
+//     (linear min/mag filter, clamp to edge). See the function's comment.
+//   sbf_sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
+//   sbf_sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_ALL_GLSL
 #define SBF_ALL_GLSL
 
 #extension GL_EXT_samplerless_texture_functions : require
 
-const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+const float SBF_PI = 3.1415927;
+#endif
 
-const float INV_PI = 0.31830987;
+#ifndef SBF_DEFINED_SBF_INV_PI
+#define SBF_DEFINED_SBF_INV_PI
+const float SBF_INV_PI = 0.31830987;
+#endif
 
+#ifndef SBF_DEFINED_sbf_tangent_frame
+#define SBF_DEFINED_sbf_tangent_frame
 // Orthonormal tangent and bitangent for unit n (Duff et al. 2017, "Building an
 // Orthonormal Basis, Revisited"). CPU twin: sbf::basis::ambient_dice_bezier::tangent_frame.
-vec3[2] tangent_frame(vec3 n) {
+vec3[2] sbf_tangent_frame(vec3 n) {
     float s = n.z >= 0.0 ? 1.0 : -1.0;
     float a = -1.0 / (s + n.z);
     float b = n.x * n.y * a;
     return vec3[2](vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x), vec3(b, s + n.y * n.y * a, -n.y));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-vec3 reflect_about(vec3 v, vec3 n) {
+vec3 sbf_reflect_about(vec3 v, vec3 n) {
     return 2.0 * dot(v, n) * n - v;
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-const vec3 AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+const vec3 SBF_AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+#endif
 
-const float HILL_C0 = 0.3652013;
+#ifndef SBF_DEFINED_SBF_HILL_C0
+#define SBF_DEFINED_SBF_HILL_C0
+const float SBF_HILL_C0 = 0.3652013;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
+#define SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
-const float AD_SPECULAR_PARAMS[8] = float[8](3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125);
+const float SBF_AD_SPECULAR_PARAMS[8] = float[8](3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125);
+#endif
 
-const vec3 AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+#define SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+const vec3 SBF_AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
+#endif
 
+#ifndef SBF_DEFINED_SBF_LOBE_GGX_SQRT_ALPHA_NODES
+#define SBF_DEFINED_SBF_LOBE_GGX_SQRT_ALPHA_NODES
 // Lobe GGX tables (texture_2d_array: x = ψ, y = γ, layer = n·v node × this + √α node).
-const int LOBE_GGX_SQRT_ALPHA_NODES = 12;
+const int SBF_LOBE_GGX_SQRT_ALPHA_NODES = 12;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD12_AXES
+#define SBF_DEFINED_SBF_AD12_AXES
 // Ambient Dice 12: icosahedron vertices (sbf::AmbientDiceSrbf::twelve).
-const vec3 AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0.8506508, 0.5257311, 0.0), vec3(0.8506508, -0.5257311, 0.0), vec3(-0.8506508, -0.5257311, 0.0), vec3(0.0, 0.8506508, 0.5257311), vec3(0.0, -0.8506508, 0.5257311), vec3(0.0, 0.8506508, -0.5257311), vec3(0.0, -0.8506508, -0.5257311), vec3(0.5257311, 0.0, 0.8506508), vec3(-0.5257311, 0.0, 0.8506508), vec3(0.5257311, 0.0, -0.8506508), vec3(-0.5257311, 0.0, -0.8506508));
+const vec3 SBF_AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0.8506508, 0.5257311, 0.0), vec3(0.8506508, -0.5257311, 0.0), vec3(-0.8506508, -0.5257311, 0.0), vec3(0.0, 0.8506508, 0.5257311), vec3(0.0, -0.8506508, 0.5257311), vec3(0.0, 0.8506508, -0.5257311), vec3(0.0, -0.8506508, -0.5257311), vec3(0.5257311, 0.0, 0.8506508), vec3(-0.5257311, 0.0, 0.8506508), vec3(0.5257311, 0.0, -0.8506508), vec3(-0.5257311, 0.0, -0.8506508));
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-const vec3 AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+const vec3 SBF_AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+#endif
 
-float ggx_d(vec3 h, float alpha) {
+#ifndef SBF_DEFINED_sbf_ggx_d
+#define SBF_DEFINED_sbf_ggx_d
+float sbf_ggx_d(vec3 h, float alpha) {
     if (h.z <= 0.0) {
         return 0.0;
     }
     float a2 = alpha * alpha;
     float t = a2 * h.z * h.z + (h.x * h.x + h.y * h.y);
-    return a2 / (PI * t * t);
+    return a2 / (SBF_PI * t * t);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_a_term
+#define SBF_DEFINED_sbf_ggx_a_term
 // a = α² tan²θ for unit w with w_z > 0.
-float ggx_a_term(vec3 w, float alpha) {
+float sbf_ggx_a_term(vec3 w, float alpha) {
     return alpha * alpha * (w.x * w.x + w.y * w.y) / (w.z * w.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_lambda
+#define SBF_DEFINED_sbf_ggx_lambda
 // Smith Λ(w); precondition w_z > 0.
-float ggx_lambda(vec3 w, float alpha) {
-    float a = ggx_a_term(w, alpha);
+float sbf_ggx_lambda(vec3 w, float alpha) {
+    float a = sbf_ggx_a_term(w, alpha);
     return a / (2.0 * (1.0 + sqrt(1.0 + a)));
 }
+#endif
 
-float ggx_g1(vec3 w, float alpha) {
+#ifndef SBF_DEFINED_sbf_ggx_g1
+#define SBF_DEFINED_sbf_ggx_g1
+float sbf_ggx_g1(vec3 w, float alpha) {
     if (w.z <= 0.0) {
         return 0.0;
     }
-    return 2.0 / (1.0 + sqrt(1.0 + ggx_a_term(w, alpha)));
+    return 2.0 / (1.0 + sqrt(1.0 + sbf_ggx_a_term(w, alpha)));
 }
+#endif
 
-float ggx_g2(vec3 v, vec3 l, float alpha) {
+#ifndef SBF_DEFINED_sbf_ggx_g2
+#define SBF_DEFINED_sbf_ggx_g2
+float sbf_ggx_g2(vec3 v, vec3 l, float alpha) {
     if (v.z <= 0.0 || l.z <= 0.0) {
         return 0.0;
     }
-    return 1.0 / (1.0 + ggx_lambda(v, alpha) + ggx_lambda(l, alpha));
+    return 1.0 / (1.0 + sbf_ggx_lambda(v, alpha) + sbf_ggx_lambda(l, alpha));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_schlick_weight
+#define SBF_DEFINED_sbf_schlick_weight
 // Schlick's Fresnel weight (1 − v·h)^5; F = f0·(1 − w) + f90·w.
-float schlick_weight(float v_dot_h) {
+float sbf_schlick_weight(float v_dot_h) {
     float x = clamp(1.0 - v_dot_h, 0.0, 1.0);
     float x2 = x * x;
     return x2 * x2 * x;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_energy_compensation
+#define SBF_DEFINED_sbf_ggx_energy_compensation
 // Multiple-scattering energy compensation (Fdez-Agüera 2019, "A Multiple-Scattering
 // Microfacet Model for Real-Time Image-based Lighting", JCGT 8(1); as Filament): the factor
 // 1 + f0·(1/E − 1) that scales any single-scattering GGX specular response, E = dfg.x + dfg.y
 // the DFG table's single-scattering albedo at (n·v, α) for f0 = f90 = 1; 1 where E ≤ 0.
-float ggx_energy_compensation(vec2 dfg, float f0) {
+float sbf_ggx_energy_compensation(vec2 dfg, float f0) {
     float e = dfg.x + dfg.y;
     if (e <= 0.0) {
         return 1.0;
     }
     return 1.0 + f0 * (1.0 / e - 1.0);
 }
+#endif
 
-vec2 lut2_sample(texture2D t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+vec2 sbf_lut2_sample(texture2D t, float u, float v) {
     ivec2 size = ivec2(uvec2(textureSize(t, 0).xy));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -208,38 +263,50 @@ vec2 lut2_sample(texture2D t, float u, float v) {
     vec2 b = texelFetch(t, ivec2(ivec2(i0, j1)), int(0)).xy * (1.0 - fx) + texelFetch(t, ivec2(ivec2(i1, j1)), int(0)).xy * fx;
     return a * (1.0 - fy) + b * fy;
 }
+#endif
 
-struct LobeGgxPixel {
+#ifndef SBF_DEFINED_SbfLobeGgxPixel
+#define SBF_DEFINED_SbfLobeGgxPixel
+struct SbfLobeGgxPixel {
     vec3 r;
     vec3 t;
     ivec4 layer;
     vec4 w;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_acos
+#define SBF_DEFINED_sbf_lobe_ggx_acos
 // acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad on [−1, 1]): Vulkan only bounds
 // the built-in acos through atan's 4096 ulp (≈ 3e-4 rad measured on lavapipe), which moves
 // a lookup by up to 0.1% of its value.
-float lobe_ggx_acos(float x) {
+float sbf_lobe_ggx_acos(float x) {
     float a = abs(x);
     float p = 1.5707963 + a * (-0.2145988 + a * (0.08897899 + a * (-0.050174303 + a * (0.03089188 + a * (-0.017088126 + a * (0.00667009 - a * 0.0012624911))))));
     float r = sqrt(max(1.0 - a, 0.0)) * p;
-    return x < 0.0 ? PI - r : r;
+    return x < 0.0 ? SBF_PI - r : r;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_locate
+#define SBF_DEFINED_sbf_lobe_ggx_locate
 // (lower node, fraction) of x ∈ [0, 1] on `size` nodes, clamped.
-vec2 lobe_ggx_locate(float x, int size) {
+vec2 sbf_lobe_ggx_locate(float x, int size) {
     float t = clamp(x, 0.0, 1.0) * float(size - 1);
     float i = min(floor(t), float(size - 2));
     return vec2(i, t - i);
 }
+#endif
 
-LobeGgxPixel lobe_ggx_pixel(texture2DArray tab, vec3 n, vec3 v, float alpha) {
-    int nv_nodes = int(uint(textureSize(tab, 0).z)) / LOBE_GGX_SQRT_ALPHA_NODES;
-    vec2 a = lobe_ggx_locate(dot(n, v), nv_nodes);
-    vec2 b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), LOBE_GGX_SQRT_ALPHA_NODES);
+#ifndef SBF_DEFINED_sbf_lobe_ggx_pixel
+#define SBF_DEFINED_sbf_lobe_ggx_pixel
+SbfLobeGgxPixel sbf_lobe_ggx_pixel(texture2DArray tab, vec3 n, vec3 v, float alpha) {
+    int nv_nodes = int(uint(textureSize(tab, 0).z)) / SBF_LOBE_GGX_SQRT_ALPHA_NODES;
+    vec2 a = sbf_lobe_ggx_locate(dot(n, v), nv_nodes);
+    vec2 b = sbf_lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), SBF_LOBE_GGX_SQRT_ALPHA_NODES);
     int i = int(a.x);
     int j = int(b.x);
-    ivec4 layer = ivec4(i * LOBE_GGX_SQRT_ALPHA_NODES + j, i * LOBE_GGX_SQRT_ALPHA_NODES + j + 1, (i + 1) * LOBE_GGX_SQRT_ALPHA_NODES + j, (i + 1) * LOBE_GGX_SQRT_ALPHA_NODES + j + 1);
+    ivec4 layer = ivec4(i * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j, i * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j + 1, (i + 1) * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j, (i + 1) * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j + 1);
     vec4 w = vec4((1.0 - a.y) * (1.0 - b.y), (1.0 - a.y) * b.y, a.y * (1.0 - b.y), a.y * b.y);
     vec3 r = 2.0 * dot(v, n) * n - v;
     vec3 t0 = n - dot(n, r) * r;
@@ -247,20 +314,23 @@ LobeGgxPixel lobe_ggx_pixel(texture2DArray tab, vec3 n, vec3 v, float alpha) {
     if (dot(t0, t0) > 1e-12) {
         t = normalize(t0);
     }
-    return LobeGgxPixel(r, t, layer, w);
+    return SbfLobeGgxPixel(r, t, layer, w);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_lobe
+#define SBF_DEFINED_sbf_lobe_ggx_lobe
 // (R₀, R₁) of one unit lobe with axis `axis`.
-vec2 lobe_ggx_lobe(texture2DArray tab, LobeGgxPixel px, vec3 axis) {
+vec2 sbf_lobe_ggx_lobe(texture2DArray tab, SbfLobeGgxPixel px, vec3 axis) {
     ivec2 size = ivec2(uvec2(textureSize(tab, 0).xy));
     float rp = clamp(dot(px.r, axis), -1.0, 1.0);
     float st2 = max(1.0 - rp * rp, 0.0);
     float psi = 0.0;
     if (st2 > 1e-12 && dot(px.t, px.t) > 0.0) {
-        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
+        psi = sbf_lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
     }
-    vec2 g = lobe_ggx_locate(lobe_ggx_acos(rp) / PI, size.y);
-    vec2 p = lobe_ggx_locate(psi / PI, size.x);
+    vec2 g = sbf_lobe_ggx_locate(sbf_lobe_ggx_acos(rp) / SBF_PI, size.y);
+    vec2 p = sbf_lobe_ggx_locate(psi / SBF_PI, size.x);
     int k = int(g.x);
     int l = int(p.x);
     vec2 e = vec2(0.0);
@@ -272,8 +342,11 @@ vec2 lobe_ggx_lobe(texture2DArray tab, LobeGgxPixel px, vec3 axis) {
     }
     return e;
 }
+#endif
 
-struct LobeGgxFilteredPixel {
+#ifndef SBF_DEFINED_SbfLobeGgxFilteredPixel
+#define SBF_DEFINED_SbfLobeGgxFilteredPixel
+struct SbfLobeGgxFilteredPixel {
     vec3 r;
     vec3 t;
     float x0;
@@ -284,11 +357,14 @@ struct LobeGgxFilteredPixel {
     float z;
     float wa;
 };
+#endif
 
-LobeGgxFilteredPixel lobe_ggx_filtered_pixel(texture3D tab, vec3 n, vec3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_pixel
+#define SBF_DEFINED_sbf_lobe_ggx_filtered_pixel
+SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(texture3D tab, vec3 n, vec3 v, float alpha) {
     vec3 size = vec3(uvec3(textureSize(tab, 0)));
-    float npsi = size.x / float(LOBE_GGX_SQRT_ALPHA_NODES);
-    vec2 b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), LOBE_GGX_SQRT_ALPHA_NODES);
+    float npsi = size.x / float(SBF_LOBE_GGX_SQRT_ALPHA_NODES);
+    vec2 b = sbf_lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), SBF_LOBE_GGX_SQRT_ALPHA_NODES);
     float x0 = (b.x * npsi + 0.5) / size.x;
     float z = (clamp(dot(n, v), 0.0, 1.0) * (size.z - 1.0) + 0.5) / size.z;
     vec3 r = 2.0 * dot(v, n) * n - v;
@@ -297,94 +373,172 @@ LobeGgxFilteredPixel lobe_ggx_filtered_pixel(texture3D tab, vec3 n, vec3 v, floa
     if (dot(t0, t0) > 1e-12) {
         t = normalize(t0);
     }
-    return LobeGgxFilteredPixel(r, t, x0, x0 + npsi / size.x, (npsi - 1.0) / size.x, 0.5 / size.y, (size.y - 1.0) / size.y, z, b.y);
+    return SbfLobeGgxFilteredPixel(r, t, x0, x0 + npsi / size.x, (npsi - 1.0) / size.x, 0.5 / size.y, (size.y - 1.0) / size.y, z, b.y);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
+#define SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
 // (R₀, R₁) of one unit lobe with axis `axis`.
-vec2 lobe_ggx_filtered_lobe(texture3D tab, sampler smp, LobeGgxFilteredPixel px, vec3 axis) {
+vec2 sbf_lobe_ggx_filtered_lobe(texture3D tab, sampler smp, SbfLobeGgxFilteredPixel px, vec3 axis) {
     float rp = clamp(dot(px.r, axis), -1.0, 1.0);
     float st2 = max(1.0 - rp * rp, 0.0);
     float psi = 0.0;
     if (st2 > 1e-12 && dot(px.t, px.t) > 0.0) {
-        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
+        psi = sbf_lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
     }
-    float xp = clamp(psi / PI, 0.0, 1.0) * px.sx;
-    float y = px.y0 + clamp(lobe_ggx_acos(rp) / PI, 0.0, 1.0) * px.sy;
+    float xp = clamp(psi / SBF_PI, 0.0, 1.0) * px.sx;
+    float y = px.y0 + clamp(sbf_lobe_ggx_acos(rp) / SBF_PI, 0.0, 1.0) * px.sy;
     vec2 lo = textureLod(sampler3D(tab, smp), vec3(px.x0 + xp, y, px.z), 0.0).xy;
     vec2 hi = textureLod(sampler3D(tab, smp), vec3(px.x1 + xp, y, px.z), 0.0).xy;
     return mix(lo, hi, px.wa);
 }
+#endif
 
-const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
-const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-const float SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+const float SBF_SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-const float SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+const float SBF_SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-const float SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+const float SBF_SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#endif
 
-const float SH_K33 = 0.59004354; // 0.25 * sqrt(35.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K33
+#define SBF_DEFINED_SBF_SH_K33
+const float SBF_SH_K33 = 0.59004354; // 0.25 * sqrt(35.0 / (2.0 * PI))
+#endif
 
-const float SH_K32A = 2.8906114; // 0.5 * sqrt(105.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K32A
+#define SBF_DEFINED_SBF_SH_K32A
+const float SBF_SH_K32A = 2.8906114; // 0.5 * sqrt(105.0 / PI)
+#endif
 
-const float SH_K31 = 0.4570458; // 0.25 * sqrt(21.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K31
+#define SBF_DEFINED_SBF_SH_K31
+const float SBF_SH_K31 = 0.4570458; // 0.25 * sqrt(21.0 / (2.0 * PI))
+#endif
 
-const float SH_K30 = 0.37317634; // 0.25 * sqrt(7.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K30
+#define SBF_DEFINED_SBF_SH_K30
+const float SBF_SH_K30 = 0.37317634; // 0.25 * sqrt(7.0 / PI)
+#endif
 
-const float SH_K32B = 1.4453057; // 0.25 * sqrt(105.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K32B
+#define SBF_DEFINED_SBF_SH_K32B
+const float SBF_SH_K32B = 1.4453057; // 0.25 * sqrt(105.0 / PI)
+#endif
 
-const float SH_K44 = 2.5033429; // 0.75 * sqrt(35.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K44
+#define SBF_DEFINED_SBF_SH_K44
+const float SBF_SH_K44 = 2.5033429; // 0.75 * sqrt(35.0 / PI)
+#endif
 
-const float SH_K43 = 1.7701306; // 0.75 * sqrt(35.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K43
+#define SBF_DEFINED_SBF_SH_K43
+const float SBF_SH_K43 = 1.7701306; // 0.75 * sqrt(35.0 / (2.0 * PI))
+#endif
 
-const float SH_K42 = 0.94617474; // 0.75 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K42
+#define SBF_DEFINED_SBF_SH_K42
+const float SBF_SH_K42 = 0.94617474; // 0.75 * sqrt(5.0 / PI)
+#endif
 
-const float SH_K41 = 0.6690465; // 0.75 * sqrt(5.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K41
+#define SBF_DEFINED_SBF_SH_K41
+const float SBF_SH_K41 = 0.6690465; // 0.75 * sqrt(5.0 / (2.0 * PI))
+#endif
 
-const float SH_K40 = 0.10578554; // (3.0 / 16.0) * sqrt(1.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K40
+#define SBF_DEFINED_SBF_SH_K40
+const float SBF_SH_K40 = 0.10578554; // (3.0 / 16.0) * sqrt(1.0 / PI)
+#endif
 
-const float SH_K42B = 0.47308737; // (3.0 / 8.0) * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K42B
+#define SBF_DEFINED_SBF_SH_K42B
+const float SBF_SH_K42B = 0.47308737; // (3.0 / 8.0) * sqrt(5.0 / PI)
+#endif
 
-const float SH_K44B = 0.6258357; // (3.0 / 16.0) * sqrt(35.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K44B
+#define SBF_DEFINED_SBF_SH_K44B
+const float SBF_SH_K44B = 0.6258357; // (3.0 / 16.0) * sqrt(35.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+const float SBF_SH_BAND2 = 0.25;
+#endif
 
-const float SH_BAND4 = -0.041666668; // -1.0 / 24.0
+#ifndef SBF_DEFINED_SBF_SH_BAND4
+#define SBF_DEFINED_SBF_SH_BAND4
+const float SBF_SH_BAND4 = -0.041666668; // -1.0 / 24.0
+#endif
 
-float[4] sh_eval_l1(vec3 d) {
-    return float[4](SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x);
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+float[4] sbf_sh_eval_l1(vec3 d) {
+    return float[4](SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
+#endif
 
-float[9] sh_eval_l2(vec3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+float[9] sbf_sh_eval_l2(vec3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    return float[9](SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0 * z * z - 1.0), SH_K2A * x * z, SH_K22 * (x * x - y * y));
+    return float[9](SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0 * z * z - 1.0), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y));
 }
+#endif
 
-float[25] sh_eval_l4(vec3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l4
+#define SBF_DEFINED_sbf_sh_eval_l4
+float[25] sbf_sh_eval_l4(vec3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
     float x2 = x * x;
     float y2 = y * y;
     float z2 = z * z;
-    return float[25](SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0 * z2 - 1.0), SH_K2A * x * z, SH_K22 * (x2 - y2), SH_K33 * y * (3.0 * x2 - y2), SH_K32A * x * y * z, SH_K31 * y * (5.0 * z2 - 1.0), SH_K30 * z * (5.0 * z2 - 3.0), SH_K31 * x * (5.0 * z2 - 1.0), SH_K32B * z * (x2 - y2), SH_K33 * x * (x2 - 3.0 * y2), SH_K44 * x * y * (x2 - y2), SH_K43 * y * z * (3.0 * x2 - y2), SH_K42 * x * y * (7.0 * z2 - 1.0), SH_K41 * y * z * (7.0 * z2 - 3.0), SH_K40 * (35.0 * z2 * z2 - 30.0 * z2 + 3.0), SH_K41 * x * z * (7.0 * z2 - 3.0), SH_K42B * (x2 - y2) * (7.0 * z2 - 1.0), SH_K43 * x * z * (x2 - 3.0 * y2), SH_K44B * (x2 * (x2 - 3.0 * y2) - y2 * (3.0 * x2 - y2)));
+    return float[25](SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0 * z2 - 1.0), SBF_SH_K2A * x * z, SBF_SH_K22 * (x2 - y2), SBF_SH_K33 * y * (3.0 * x2 - y2), SBF_SH_K32A * x * y * z, SBF_SH_K31 * y * (5.0 * z2 - 1.0), SBF_SH_K30 * z * (5.0 * z2 - 3.0), SBF_SH_K31 * x * (5.0 * z2 - 1.0), SBF_SH_K32B * z * (x2 - y2), SBF_SH_K33 * x * (x2 - 3.0 * y2), SBF_SH_K44 * x * y * (x2 - y2), SBF_SH_K43 * y * z * (3.0 * x2 - y2), SBF_SH_K42 * x * y * (7.0 * z2 - 1.0), SBF_SH_K41 * y * z * (7.0 * z2 - 3.0), SBF_SH_K40 * (35.0 * z2 * z2 - 30.0 * z2 + 3.0), SBF_SH_K41 * x * z * (7.0 * z2 - 3.0), SBF_SH_K42B * (x2 - y2) * (7.0 * z2 - 1.0), SBF_SH_K43 * x * z * (x2 - 3.0 * y2), SBF_SH_K44B * (x2 * (x2 - 3.0 * y2) - y2 * (3.0 * x2 - y2)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_irradiance
+#define SBF_DEFINED_sbf_sh_l1_irradiance
 // E/π at unit normal n from RGB radiance coefficients.
-vec3 sh_l1_irradiance(vec3 c[4], vec3 n) {
-    float y[4] = sh_eval_l1(n);
-    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
+vec3 sbf_sh_l1_irradiance(vec3 c[4], vec3 n) {
+    float y[4] = sbf_sh_eval_l1(n);
+    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
+#endif
 
-vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
-    float y[9] = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n) {
+    float y[9] = sbf_sh_eval_l2(n);
     vec3 b1 = vec3(0.0);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -393,11 +547,14 @@ vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
-vec3 sh_l4_irradiance(vec3 c[25], vec3 n) {
-    float y[25] = sh_eval_l4(n);
+#ifndef SBF_DEFINED_sbf_sh_l4_irradiance
+#define SBF_DEFINED_sbf_sh_l4_irradiance
+vec3 sbf_sh_l4_irradiance(vec3 c[25], vec3 n) {
+    float y[25] = sbf_sh_eval_l4(n);
     vec3 b1 = vec3(0.0);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -410,13 +567,16 @@ vec3 sh_l4_irradiance(vec3 c[25], vec3 n) {
     for (int i = 16; i < 25; i++) {
         b4 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2 + b4 * SH_BAND4;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2 + b4 * SBF_SH_BAND4;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_channel
+#define SBF_DEFINED_sbf_sh_l1_geomerics_channel
 // Geomerics' non-linear L1 reconstruction (Geomerics / Graham Hazel 2015, as in
 // sbf::recon::sh::irradiance_l1_geomerics), per channel; E/π.
-float sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
-    float r0 = c0 * SH_K00;
+float sbf_sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
+    float r0 = c0 * SBF_SH_K00;
     vec3 r1 = c1 * 0.1628675;
     float len = length(r1);
     if (r0 <= 0.0 || len <= 0.0) {
@@ -428,18 +588,27 @@ float sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
     float a = (1.0 - ratio) / (1.0 + ratio);
     return r0 * (a + (1.0 - a) * (p + 1.0) * pow(max(q, 0.0), p));
 }
+#endif
 
-vec3 sh_l1_geomerics_irradiance(vec3 c[4], vec3 n) {
-    return vec3(sh_l1_geomerics_channel(c[0].x, vec3(c[3].x, c[1].x, c[2].x), n), sh_l1_geomerics_channel(c[0].y, vec3(c[3].y, c[1].y, c[2].y), n), sh_l1_geomerics_channel(c[0].z, vec3(c[3].z, c[1].z, c[2].z), n));
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+#define SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+vec3 sbf_sh_l1_geomerics_irradiance(vec3 c[4], vec3 n) {
+    return vec3(sbf_sh_l1_geomerics_channel(c[0].x, vec3(c[3].x, c[1].x, c[2].x), n), sbf_sh_l1_geomerics_channel(c[0].y, vec3(c[3].y, c[1].y, c[2].y), n), sbf_sh_l1_geomerics_channel(c[0].z, vec3(c[3].z, c[1].z, c[2].z), n));
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_LUMINANCE
+#define SBF_DEFINED_SBF_SH_LUMINANCE
 // ZH3 hallucination for L1 (Roughton & Sloan 2024, "ZH3: Quadratic Zonal Harmonics",
 // as in sbf::recon::sh::irradiance_l1_zh3): a zonal band-2 term about the luminance
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
-const vec3 SH_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
+const vec3 SBF_SH_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
+#endif
 
-vec3 sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
-    vec3 lum = vec3(dot(c[3], SH_LUMINANCE), dot(c[1], SH_LUMINANCE), dot(c[2], SH_LUMINANCE));
+#ifndef SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+#define SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+vec3 sbf_sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
+    vec3 lum = vec3(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));
     float len2 = dot(lum, lum);
     vec3 axis = len2 > 0.0 ? lum * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
     vec3 along = abs(c[3] * axis.x + c[1] * axis.y + c[2] * axis.z);
@@ -447,55 +616,73 @@ vec3 sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
     vec3 zh = c[0] * (0.08 * r + 0.6 * r * r);
     float t = dot(n, axis);
     float y20 = 0.31539157 * (3.0 * t * t - 1.0);
-    return sh_l1_irradiance(c, n) + SH_BAND2 * zh * y20;
+    return sbf_sh_l1_irradiance(c, n) + SBF_SH_BAND2 * zh * y20;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_ratios
+#define SBF_DEFINED_sbf_sh_specular_ratios
 // (g₁/g₀, g₂/g₀) of the unit-integral SG of sharpness λ ≥ 0.5 (n·v ≤ 1, α ≤ 1). With
 // e = e^(−2λ), coth λ = (1 + e)/(1 − e); 1 − e ≥ 0.63 here, so no cancellation there;
 // g₁ loses ≤ 4 bits to the subtraction at λ = 0.5 and g₂ ≤ 6 (≈ 1e-5 relative).
-vec2 sh_specular_ratios(float lambda) {
+vec2 sbf_sh_specular_ratios(float lambda) {
     float e = exp(-2.0 * lambda);
     float g1 = (1.0 + e) / (1.0 - e) - 1.0 / lambda;
     return vec2(g1, 1.0 - 3.0 * g1 / lambda);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_dominant
+#define SBF_DEFINED_sbf_sh_specular_dominant
 // The dominant direction normalize(mix(n, r, s(√s + α))), s = saturate(1 − α)
 // (sbf::ggx::dominant_direction).
-vec3 sh_specular_dominant(vec3 n, vec3 r, float alpha) {
+vec3 sbf_sh_specular_dominant(vec3 n, vec3 r, float alpha) {
     float s = clamp(1.0 - alpha, 0.0, 1.0);
     float f = s * (sqrt(s) + alpha);
     return normalize(n + (r - n) * f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_setup
+#define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-vec4 sh_specular_setup(texture2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
+vec4 sbf_sh_specular_setup(texture2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = dot(n, v);
     float lambda = 2.0 / (alpha * alpha) / (4.0 * max(nv, 0.0001));
-    vec2 g = sh_specular_ratios(lambda);
-    vec2 d = lut2_sample(dfg, clamp(nv, 0.0, 1.0), alpha_in);
+    vec2 g = sbf_sh_specular_ratios(lambda);
+    vec2 d = sbf_lut2_sample(dfg, clamp(nv, 0.0, 1.0), alpha_in);
     return vec4(g, f0 * d.x + f90 * d.y, alpha);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_specular
+#define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-vec3 sh_l1_specular(vec3 c[4], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    vec4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    float y[4] = sh_eval_l1(sh_specular_dominant(n, reflect_about(v, n), s.w));
+vec3 sbf_sh_l1_specular(vec3 c[4], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    vec4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    float y[4] = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     vec3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
     return l * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l2_specular
+#define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-vec3 sh_l2_specular(vec3 c[9], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    vec4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    float y[9] = sh_eval_l2(sh_specular_dominant(n, reflect_about(v, n), s.w));
+vec3 sbf_sh_l2_specular(vec3 c[9], texture2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    vec4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    float y[9] = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     vec3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
     vec3 b2 = c[4] * y[4] + c[5] * y[5] + c[6] * y[6] + c[7] * y[7] + c[8] * y[8];
     return (c[0] * y[0] + s.x * b1 + s.y * b2) * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rot_band1
+#define SBF_DEFINED_sbf_sh_rot_band1
 // Band 1: R with rows and columns in the (y, z, x) order of m = −1, 0, 1.
-float[81] sh_rot_band1(mat3 r) {
+float[81] sbf_sh_rot_band1(mat3 r) {
     mat3 rr = r;
     int axis[3] = int[3](1, 2, 0);
     float b[81] = float[81](0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
@@ -506,9 +693,12 @@ float[81] sh_rot_band1(mat3 r) {
     }
     return b;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rot_p
+#define SBF_DEFINED_sbf_sh_rot_p
 // The recurrence's P(i, a, b) for band l from band 1 (r1) and band l − 1 (prev).
-float sh_rot_p(int i, int l, int a, int b, inout float r1[81], inout float prev[81]) {
+float sbf_sh_rot_p(int i, int l, int a, int b, inout float r1[81], inout float prev[81]) {
     int ri = (i + 1) * 9;
     int pa = (a + l - 1) * 9;
     if (b == l) {
@@ -519,9 +709,12 @@ float sh_rot_p(int i, int l, int a, int b, inout float r1[81], inout float prev[
     }
     return r1[ri + 1] * prev[pa + b + l - 1];
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rot_next_band
+#define SBF_DEFINED_sbf_sh_rot_next_band
 // Band l (≥ 2) from band 1 and band l − 1: M_mn = u·U + v·V + w·W.
-float[81] sh_rot_next_band(int l, inout float r1[81], inout float prev[81]) {
+float[81] sbf_sh_rot_next_band(int l, inout float r1[81], inout float prev[81]) {
     int m = -l;
     float out_[81] = float[81](0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     for (; m <= l; m++) {
@@ -534,24 +727,24 @@ float[81] sh_rot_next_band(int l, inout float r1[81], inout float prev[81]) {
             }
             float x = 0.0;
             if (am < l) {
-                float sh_rot_p_result = sh_rot_p(0, l, m, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(0, l, m, n, r1, prev);
                 x += sqrt(float((l + m) * (l - m)) / den) * sh_rot_p_result;
             }
             float v = 0.5 * sqrt((1.0 + d0) * float((l + am - 1) * (l + am)) / den) * (1.0 - 2.0 * d0);
             float vv = 0.0;
             if (m == 0) {
-                float sh_rot_p_result = sh_rot_p(1, l, 1, n, r1, prev);
-                float sh_rot_p_result_1 = sh_rot_p(-1, l, -1, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(1, l, 1, n, r1, prev);
+                float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -1, n, r1, prev);
                 vv = sh_rot_p_result + sh_rot_p_result_1;
             } else if (m > 0) {
                 float d1 = m == 1 ? 1.0 : 0.0;
-                float sh_rot_p_result = sh_rot_p(1, l, m - 1, n, r1, prev);
-                float sh_rot_p_result_1 = sh_rot_p(-1, l, -m + 1, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(1, l, m - 1, n, r1, prev);
+                float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m + 1, n, r1, prev);
                 vv = sh_rot_p_result * sqrt(1.0 + d1) - sh_rot_p_result_1 * (1.0 - d1);
             } else {
                 float d1 = m == -1 ? 1.0 : 0.0;
-                float sh_rot_p_result = sh_rot_p(1, l, m + 1, n, r1, prev);
-                float sh_rot_p_result_1 = sh_rot_p(-1, l, -m - 1, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(1, l, m + 1, n, r1, prev);
+                float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m - 1, n, r1, prev);
                 vv = sh_rot_p_result * (1.0 - d1) + sh_rot_p_result_1 * sqrt(1.0 + d1);
             }
             x += v * vv;
@@ -559,12 +752,12 @@ float[81] sh_rot_next_band(int l, inout float r1[81], inout float prev[81]) {
                 float w = -0.5 * sqrt(float((l - am - 1) * (l - am)) / den);
                 float ww = 0.0;
                 if (m > 0) {
-                    float sh_rot_p_result = sh_rot_p(1, l, m + 1, n, r1, prev);
-                    float sh_rot_p_result_1 = sh_rot_p(-1, l, -m - 1, n, r1, prev);
+                    float sh_rot_p_result = sbf_sh_rot_p(1, l, m + 1, n, r1, prev);
+                    float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m - 1, n, r1, prev);
                     ww = sh_rot_p_result + sh_rot_p_result_1;
                 } else {
-                    float sh_rot_p_result = sh_rot_p(1, l, m - 1, n, r1, prev);
-                    float sh_rot_p_result_1 = sh_rot_p(-1, l, -m + 1, n, r1, prev);
+                    float sh_rot_p_result = sbf_sh_rot_p(1, l, m - 1, n, r1, prev);
+                    float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m + 1, n, r1, prev);
                     ww = sh_rot_p_result - sh_rot_p_result_1;
                 }
                 x += w * ww;
@@ -574,18 +767,21 @@ float[81] sh_rot_next_band(int l, inout float r1[81], inout float prev[81]) {
     }
     return out_;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rotate_bands
+#define SBF_DEFINED_sbf_sh_rotate_bands
 // RGB coefficients of bands 0..=order (≤ 4, the rest of the array passes through
 // untouched) rotated by r.
-vec3[25] sh_rotate_bands(vec3 c[25], int order, mat3 r) {
+vec3[25] sbf_sh_rotate_bands(vec3 c[25], int order, mat3 r) {
     vec3 src[25] = c;
     vec3 out_[25] = c;
-    float r1[81] = sh_rot_band1(r);
+    float r1[81] = sbf_sh_rot_band1(r);
     float band[81] = r1;
     for (int l = 1; l <= order; l++) {
         if (l > 1) {
             float prev[81] = band;
-            float sh_rot_next_band_result[81] = sh_rot_next_band(l, r1, prev);
+            float sh_rot_next_band_result[81] = sbf_sh_rot_next_band(l, r1, prev);
             band = sh_rot_next_band_result;
         }
         int base = l * l;
@@ -599,60 +795,81 @@ vec3[25] sh_rotate_bands(vec3 c[25], int order, mat3 r) {
     }
     return out_;
 }
+#endif
 
-vec3[4] sh_rotate_l1(vec3 c[4], mat3 r) {
+#ifndef SBF_DEFINED_sbf_sh_rotate_l1
+#define SBF_DEFINED_sbf_sh_rotate_l1
+vec3[4] sbf_sh_rotate_l1(vec3 c[4], mat3 r) {
     vec3 src[4] = c;
     vec3 full[25] = vec3[25](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     for (int k = 0; k < 4; k++) {
         full[k] = src[k];
     }
-    vec3 o[25] = sh_rotate_bands(full, 1, r);
+    vec3 o[25] = sbf_sh_rotate_bands(full, 1, r);
     return vec3[4](o[0], o[1], o[2], o[3]);
 }
+#endif
 
-vec3[9] sh_rotate_l2(vec3 c[9], mat3 r) {
+#ifndef SBF_DEFINED_sbf_sh_rotate_l2
+#define SBF_DEFINED_sbf_sh_rotate_l2
+vec3[9] sbf_sh_rotate_l2(vec3 c[9], mat3 r) {
     vec3 src[9] = c;
     vec3 full[25] = vec3[25](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     for (int k = 0; k < 9; k++) {
         full[k] = src[k];
     }
-    vec3 o[25] = sh_rotate_bands(full, 2, r);
+    vec3 o[25] = sbf_sh_rotate_bands(full, 2, r);
     vec3 out_[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     for (int k = 0; k < 9; k++) {
         out_[k] = o[k];
     }
     return out_;
 }
+#endif
 
-vec3[25] sh_rotate_l4(vec3 c[25], mat3 r) {
-    return sh_rotate_bands(c, 4, r);
+#ifndef SBF_DEFINED_sbf_sh_rotate_l4
+#define SBF_DEFINED_sbf_sh_rotate_l4
+vec3[25] sbf_sh_rotate_l4(vec3 c[25], mat3 r) {
+    return sbf_sh_rotate_bands(c, 4, r);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_eval
+#define SBF_DEFINED_sbf_sg_eval
 // Unit-amplitude lobe value at unit direction v.
-float sg_eval(vec3 axis, float sharpness, vec3 v) {
+float sbf_sg_eval(vec3 axis, float sharpness, vec3 v) {
     return exp(sharpness * (dot(axis, v) - 1.0));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_expm1_f32
+#define SBF_DEFINED_sbf_expm1_f32
 // e^x − 1 without cancellation for small |x| (WGSL has no expm1).
-float expm1_f32(float x) {
+float sbf_expm1_f32(float x) {
     if (abs(x) < 0.01) {
         return x * (1.0 + x * (0.5 + x * (0.16666667 + x / 24.0)));
     }
     return exp(x) - 1.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_integral
+#define SBF_DEFINED_sbf_sg_integral
 // ∫ G over the sphere for unit amplitude: 2π(1 − e^(−2λ))/λ, with its limit 4π at λ → 0.
-float sg_integral(float sharpness) {
+float sbf_sg_integral(float sharpness) {
     if (sharpness < 1e-30) {
         return 12.566371;
     }
-    return 6.2831855 * -expm1_f32(-2.0 * sharpness) / sharpness;
+    return 6.2831855 * -sbf_expm1_f32(-2.0 * sharpness) / sharpness;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_cos
+#define SBF_DEFINED_sbf_sg_hill_cos
 // sg_hill_irradiance for x = cos(axis, normal).
-float sg_hill_cos(float x_in, float sharpness) {
+float sbf_sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30);
-    float c1 = 1.0 / (4.0 * HILL_C0);
+    float c1 = 1.0 / (4.0 * SBF_HILL_C0);
     float e1 = exp(-lam);
     float e2 = e1 * e1;
     float r = 1.0 / lam;
@@ -660,26 +877,35 @@ float sg_hill_cos(float x_in, float sharpness) {
     float bias = (e1 - e2) * r - e2;
     float xs = sqrt(max(r - 2.0 * e2, 0.0));
     float x = clamp(x_in, -1.0, 1.0);
-    float x0 = HILL_C0 * x;
+    float x0 = SBF_HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0, 1.0);
     if (abs(x0) <= x1 && xs > 0.0) {
         y = (x0 + x1) * (x0 + x1) / xs;
     }
-    return (scale * y + bias) * sg_integral(lam) * INV_PI;
+    return (scale * y + bias) * sbf_sg_integral(lam) * SBF_INV_PI;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_irradiance
+#define SBF_DEFINED_sbf_sg_hill_irradiance
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
-    return sg_hill_cos(dot(axis, n), sharpness);
+float sbf_sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
+    return sbf_sg_hill_cos(dot(axis, n), sharpness);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SG_NV_EPSILON
+#define SBF_DEFINED_SBF_SG_NV_EPSILON
 // Lower bound on n·v used by the warp (as sbf::recon::sg::NV_EPSILON).
-const float SG_NV_EPSILON = 0.0001;
+const float SBF_SG_NV_EPSILON = 0.0001;
+#endif
 
+#ifndef SBF_DEFINED_SbfSgAsgWarp
+#define SBF_DEFINED_SbfSgAsgWarp
 // The per-pixel part of the ASG warp: warped NDF frame and bandwidths, and the
 // visibility·Fresnel·cosine tail evaluated at the reflection direction.
-struct SgAsgWarp {
+struct SbfSgAsgWarp {
     vec3 x;
     vec3 y;
     vec3 z;
@@ -688,16 +914,19 @@ struct SgAsgWarp {
     float mu;
     float tail;
 };
+#endif
 
-SgAsgWarp sg_asg_warp(vec3 n, vec3 v, float alpha_in, float f0, float f90) {
+#ifndef SBF_DEFINED_sbf_sg_asg_warp
+#define SBF_DEFINED_sbf_sg_asg_warp
+SbfSgAsgWarp sbf_sg_asg_warp(vec3 n, vec3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float a2 = alpha * alpha;
     float lam = 2.0 / a2;
-    float mu = 1.0 / (PI * a2);
-    float nv = max(dot(n, v), SG_NV_EPSILON);
-    vec3 z = reflect_about(v, n);
+    float mu = 1.0 / (SBF_PI * a2);
+    float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
+    vec3 z = sbf_reflect_about(v, n);
     vec3 y0 = cross(n, z);
-    vec3 y = tangent_frame(z)[1];
+    vec3 y = sbf_tangent_frame(z)[1];
     if (dot(y0, y0) > 1e-12) {
         y = normalize(y0);
     }
@@ -705,61 +934,73 @@ SgAsgWarp sg_asg_warp(vec3 n, vec3 v, float alpha_in, float f0, float f90) {
     float nl = dot(n, z);
     float tail = 0.0;
     if (nl > 0.0) {
-        float g2 = ggx_g2(vec3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv), vec3(sqrt(max(1.0 - nl * nl, 0.0)), 0.0, nl), alpha);
+        float g2 = sbf_ggx_g2(vec3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv), vec3(sqrt(max(1.0 - nl * nl, 0.0)), 0.0, nl), alpha);
         vec3 hv = v + z;
         float hl = length(hv);
         float fc = 0.0;
         if (hl > 0.0) {
-            fc = schlick_weight(dot(v, hv / vec3(hl)));
+            fc = sbf_schlick_weight(dot(v, hv / vec3(hl)));
         }
         tail = g2 / (4.0 * nv) * (f0 * (1.0 - fc) + f90 * fc);
     }
-    return SgAsgWarp(x, y, z, lam / (8.0 * nv * nv), lam / 8.0, mu, tail);
+    return SbfSgAsgWarp(x, y, z, lam / (8.0 * nv * nv), lam / 8.0, mu, tail);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_asg_lobe
+#define SBF_DEFINED_sbf_sg_asg_lobe
 // Specular from one unit-amplitude SG light lobe: the ASG convolved with the SG.
-float sg_asg_lobe(SgAsgWarp w, vec3 axis, float sharpness) {
+float sbf_sg_asg_lobe(SbfSgAsgWarp w, vec3 axis, float sharpness) {
     float nu = 0.5 * sharpness;
     float lx2 = nu * w.lx / (nu + w.lx);
     float ly2 = nu * w.ly / (nu + w.ly);
-    float amp = PI / sqrt((nu + w.lx) * (nu + w.ly));
+    float amp = SBF_PI / sqrt((nu + w.lx) * (nu + w.ly));
     float px = dot(axis, w.x);
     float py = dot(axis, w.y);
     return w.mu * amp * max(dot(axis, w.z), 0.0) * exp(-lx2 * px * px - ly2 * py * py) * w.tail;
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfSgSplitSum
+#define SBF_DEFINED_SbfSgSplitSum
 // The per-pixel part of the split-sum SG specular (Karis 2013, "Real Shading in Unreal
 // Engine 4"; CPU twins sbf::recon::sg::SplitSumWarp, sbf::recon::runtime::sg_specular_split_sum):
 // the GGX NDF as an SG about n (λ = 2/α², Wang et al. 2009) warped to the reflection
 // direction R with λ/(4 n·v) (held ≥ 2, Hill's range), and the BRDF's energy
 // f0·dfg.x + f90·dfg.y (the dfg table at (n·v, α)) over the warped lobe's E/π at n.
-struct SgSplitSum {
+struct SbfSgSplitSum {
     vec3 n;
     vec3 r;
     float nv;
     float sharpness;
     float scale;
 };
+#endif
 
-SgSplitSum sg_split_sum_setup(texture2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
+#ifndef SBF_DEFINED_sbf_sg_split_sum_setup
+#define SBF_DEFINED_sbf_sg_split_sum_setup
+SbfSgSplitSum sbf_sg_split_sum_setup(texture2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
-    float nv = max(dot(n, v), SG_NV_EPSILON);
+    float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
     float lw = max(0.5 / (alpha * alpha * nv), 2.0);
-    vec3 r = reflect_about(v, n);
-    vec2 d = lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
-    float den = sg_hill_cos(dot(n, v), lw);
+    vec3 r = sbf_reflect_about(v, n);
+    vec2 d = sbf_lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
+    float den = sbf_sg_hill_cos(dot(n, v), lw);
     float scale = 0.0;
     if (den > 0.0) {
         scale = (f0 * d.x + f90 * d.y) / den;
     }
-    return SgSplitSum(n, r, dot(n, v), lw, scale);
+    return SbfSgSplitSum(n, r, dot(n, v), lw, scale);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_split_sum_lobe
+#define SBF_DEFINED_sbf_sg_split_sum_lobe
 // Specular from one unit-amplitude SG light lobe: the radiance prefiltered by the warped
 // NDF with the n·l weight, E/π(D·G) / E/π(D), times the BRDF's energy. D·G is one SG
 // (axis λ_D R + λ p normalised, sharpness |λ_D R + λ p|, amplitude
 // exp(−λ_D λ |R − p|² / (λ_D + λ + |λ_D R + λ p|)): the exponent without cancellation).
-float sg_split_sum_lobe(SgSplitSum w, vec3 axis, float sharpness) {
+float sbf_sg_split_sum_lobe(SbfSgSplitSum w, vec3 axis, float sharpness) {
     vec3 pm = w.sharpness * w.r + sharpness * axis;
     float d = length(pm);
     vec3 q = w.r - axis;
@@ -768,134 +1009,194 @@ float sg_split_sum_lobe(SgSplitSum w, vec3 axis, float sharpness) {
     if (d > 0.0) {
         x = (w.sharpness * w.nv + sharpness * dot(axis, w.n)) / d;
     }
-    float e = sg_hill_cos(x, max(d, 2.0)) * sg_integral(d) / sg_integral(max(d, 2.0));
+    float e = sbf_sg_hill_cos(x, max(d, 2.0)) * sbf_sg_integral(d) / sbf_sg_integral(max(d, 2.0));
     return amp * e * w.scale;
 }
+#endif
 
-float ad_srbf_lobe(float c) {
+#ifndef SBF_DEFINED_sbf_ad_srbf_lobe
+#define SBF_DEFINED_sbf_ad_srbf_lobe
+float sbf_ad_srbf_lobe(float c) {
     float x = max(c, 0.0);
     float x2 = x * x;
     return x2 * (0.35 + 0.25 * x2);
 }
+#endif
 
-float ad_srbf_eval(vec3 axis, vec3 v) {
-    return ad_srbf_lobe(dot(axis, v));
+#ifndef SBF_DEFINED_sbf_ad_srbf_eval
+#define SBF_DEFINED_sbf_ad_srbf_eval
+float sbf_ad_srbf_eval(vec3 axis, vec3 v) {
+    return sbf_ad_srbf_lobe(dot(axis, v));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-float ad_lobe_irradiance(vec3 axis, vec3 n) {
+float sbf_ad_lobe_irradiance(vec3 axis, vec3 n) {
     float x = clamp(dot(axis, n), -1.0, 1.0);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdSpecularFit
+#define SBF_DEFINED_SbfAdSpecularFit
 // Per-pixel part of Listing 8.1: reflection vector and the two blend weights.
-struct AdSpecularFit {
+struct SbfAdSpecularFit {
     vec3 n;
     vec3 r;
     float focus;
     float alpha_lerp;
 };
+#endif
 
-AdSpecularFit ad_specular_fit(vec3 n, vec3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_ad_specular_fit
+#define SBF_DEFINED_sbf_ad_specular_fit
+SbfAdSpecularFit sbf_ad_specular_fit(vec3 n, vec3 v, float alpha) {
     float sa = sqrt(alpha);
-    float focus = clamp(AD_SPECULAR_PARAMS[0] * sa + AD_SPECULAR_PARAMS[1] * alpha + AD_SPECULAR_PARAMS[2] * sa * alpha + AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
-    float alpha_lerp = clamp(AD_SPECULAR_PARAMS[4] * sa + AD_SPECULAR_PARAMS[5] * alpha + AD_SPECULAR_PARAMS[6] * sa * alpha + AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
-    return AdSpecularFit(n, reflect_about(v, n), focus, alpha_lerp);
+    float focus = clamp(SBF_AD_SPECULAR_PARAMS[0] * sa + SBF_AD_SPECULAR_PARAMS[1] * alpha + SBF_AD_SPECULAR_PARAMS[2] * sa * alpha + SBF_AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
+    float alpha_lerp = clamp(SBF_AD_SPECULAR_PARAMS[4] * sa + SBF_AD_SPECULAR_PARAMS[5] * alpha + SBF_AD_SPECULAR_PARAMS[6] * sa * alpha + SBF_AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
+    return SbfAdSpecularFit(n, sbf_reflect_about(v, n), focus, alpha_lerp);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_lobe
+#define SBF_DEFINED_sbf_ad_specular_lobe
 // The fit's value for one lobe axis (before the LUT factor).
-float ad_specular_lobe(AdSpecularFit f, vec3 axis) {
+float sbf_ad_specular_lobe(SbfAdSpecularFit f, vec3 axis) {
     float r_dot = dot(f.r, axis);
     float n_dot = dot(f.n, axis);
-    float mirror = ad_srbf_lobe(r_dot);
+    float mirror = sbf_ad_srbf_lobe(r_dot);
     float c = r_dot + (n_dot - r_dot) * f.focus;
-    float d = AD_SPECULAR_DIFFUSE.x + c * (AD_SPECULAR_DIFFUSE.y + c * AD_SPECULAR_DIFFUSE.z);
+    float d = SBF_AD_SPECULAR_DIFFUSE.x + c * (SBF_AD_SPECULAR_DIFFUSE.y + c * SBF_AD_SPECULAR_DIFFUSE.z);
     return mirror + (d - mirror) * f.alpha_lerp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_scale
+#define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float ad_specular_scale(texture2D lut, float n_dot_v, float alpha, float f0, float f90) {
-    vec2 l = lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
+float sbf_ad_specular_scale(texture2D lut, float n_dot_v, float alpha, float f0, float f90) {
+    vec2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
+#endif
 
-vec3 ad12_irradiance(vec3 c[12], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad12_irradiance
+#define SBF_DEFINED_sbf_ad12_irradiance
+vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 12; i++) {
-        e += c[i] * ad_lobe_irradiance(AD12_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD12_AXES[i], n);
     }
     return e;
 }
+#endif
 
-vec3 ad9_irradiance(vec3 c[9], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
-vec3 ad12_specular(vec3 c[12], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad12_specular
+#define SBF_DEFINED_sbf_ad12_specular
+vec3 sbf_ad12_specular(vec3 c[12], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     vec3 s = vec3(0.0);
     for (int i = 0; i < 12; i++) {
-        s += c[i] * ad_specular_lobe(f, AD12_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD12_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
-vec3 ad9_specular(vec3 c[9], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad9_specular
+#define SBF_DEFINED_sbf_ad9_specular
+vec3 sbf_ad9_specular(vec3 c[9], texture2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     vec3 s = vec3(0.0);
     for (int i = 0; i < 9; i++) {
-        s += c[i] * ad_specular_lobe(f, AD9_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD9_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdFace
+#define SBF_DEFINED_SbfAdFace
 // The face holding unit d (nearest face centre) and its unnormalised barycentrics.
-struct AdFace {
+struct SbfAdFace {
     uint face;
     vec3 b;
 };
+#endif
 
+#ifndef SBF_DEFINED_SbfAdBezierWeights
+#define SBF_DEFINED_SbfAdBezierWeights
 // The 9 non-zero Bézier weights at d: the face's vertices and per corner the weights of
 // (f, Du, Dv).
-struct AdBezierWeights {
+struct SbfAdBezierWeights {
     uvec3 vertices;
     vec3 w[3];
 };
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_ICO_CENTRES
+#define SBF_DEFINED_SBF_AD_ICO_CENTRES
 // Icosahedron (sbf::Icosahedron::standard): unit face centres, faces as vertex indices,
 // barycentric normals as matrix columns (b = d * AD_ICO_BARY[f]).
-const vec3 AD_ICO_CENTRES[20] = vec3[20](vec3(0.93417233, 0.0, 0.3568221), vec3(0.93417233, 0.0, -0.3568221), vec3(0.3568221, 0.93417233, 0.0), vec3(0.57735026, 0.57735026, 0.57735026), vec3(0.57735026, 0.57735026, -0.57735026), vec3(-0.93417233, 0.0, 0.3568221), vec3(-0.93417233, 0.0, -0.3568221), vec3(-0.3568221, 0.93417233, 0.0), vec3(-0.57735026, 0.57735026, 0.57735026), vec3(-0.57735026, 0.57735026, -0.57735026), vec3(0.3568221, -0.93417233, 0.0), vec3(0.57735026, -0.57735026, 0.57735026), vec3(0.57735026, -0.57735026, -0.57735026), vec3(-0.3568221, -0.93417233, 0.0), vec3(-0.57735026, -0.57735026, 0.57735026), vec3(-0.57735026, -0.57735026, -0.57735026), vec3(0.0, 0.3568221, 0.93417233), vec3(0.0, -0.3568221, 0.93417233), vec3(0.0, 0.3568221, -0.93417233), vec3(0.0, -0.3568221, -0.93417233));
+const vec3 SBF_AD_ICO_CENTRES[20] = vec3[20](vec3(0.93417233, 0.0, 0.3568221), vec3(0.93417233, 0.0, -0.3568221), vec3(0.3568221, 0.93417233, 0.0), vec3(0.57735026, 0.57735026, 0.57735026), vec3(0.57735026, 0.57735026, -0.57735026), vec3(-0.93417233, 0.0, 0.3568221), vec3(-0.93417233, 0.0, -0.3568221), vec3(-0.3568221, 0.93417233, 0.0), vec3(-0.57735026, 0.57735026, 0.57735026), vec3(-0.57735026, 0.57735026, -0.57735026), vec3(0.3568221, -0.93417233, 0.0), vec3(0.57735026, -0.57735026, 0.57735026), vec3(0.57735026, -0.57735026, -0.57735026), vec3(-0.3568221, -0.93417233, 0.0), vec3(-0.57735026, -0.57735026, 0.57735026), vec3(-0.57735026, -0.57735026, -0.57735026), vec3(0.0, 0.3568221, 0.93417233), vec3(0.0, -0.3568221, 0.93417233), vec3(0.0, 0.3568221, -0.93417233), vec3(0.0, -0.3568221, -0.93417233));
+#endif
 
-const uvec3 AD_ICO_FACES[20] = uvec3[20](uvec3(0u, 8u, 2u), uvec3(0u, 2u, 10u), uvec3(0u, 6u, 4u), uvec3(0u, 4u, 8u), uvec3(0u, 10u, 6u), uvec3(1u, 3u, 9u), uvec3(1u, 11u, 3u), uvec3(1u, 4u, 6u), uvec3(1u, 9u, 4u), uvec3(1u, 6u, 11u), uvec3(2u, 5u, 7u), uvec3(2u, 8u, 5u), uvec3(2u, 7u, 10u), uvec3(3u, 7u, 5u), uvec3(3u, 5u, 9u), uvec3(3u, 11u, 7u), uvec3(4u, 9u, 8u), uvec3(5u, 8u, 9u), uvec3(6u, 10u, 11u), uvec3(7u, 11u, 10u));
+#ifndef SBF_DEFINED_SBF_AD_ICO_FACES
+#define SBF_DEFINED_SBF_AD_ICO_FACES
+const uvec3 SBF_AD_ICO_FACES[20] = uvec3[20](uvec3(0u, 8u, 2u), uvec3(0u, 2u, 10u), uvec3(0u, 6u, 4u), uvec3(0u, 4u, 8u), uvec3(0u, 10u, 6u), uvec3(1u, 3u, 9u), uvec3(1u, 11u, 3u), uvec3(1u, 4u, 6u), uvec3(1u, 9u, 4u), uvec3(1u, 6u, 11u), uvec3(2u, 5u, 7u), uvec3(2u, 8u, 5u), uvec3(2u, 7u, 10u), uvec3(3u, 7u, 5u), uvec3(3u, 5u, 9u), uvec3(3u, 11u, 7u), uvec3(4u, 9u, 8u), uvec3(5u, 8u, 9u), uvec3(6u, 10u, 11u), uvec3(7u, 11u, 10u));
+#endif
 
-const mat3 AD_ICO_BARY[20] = mat3[20](mat3(vec3(0.58778524, 0.95105654, -0.36327127), vec3(-0.0, 0.0, 1.1755705), vec3(0.58778524, -0.95105654, -0.36327127)), mat3(vec3(0.58778524, 0.95105654, 0.36327127), vec3(0.58778524, -0.95105654, 0.36327127), vec3(0.0, 0.0, -1.1755705)), mat3(vec3(1.1755705, -0.0, 0.0), vec3(-0.36327127, 0.58778524, -0.95105654), vec3(-0.36327127, 0.58778524, 0.95105654)), mat3(vec3(0.95105654, 0.36327127, -0.58778524), vec3(-0.58778524, 0.95105654, 0.36327127), vec3(0.36327127, -0.58778524, 0.95105654)), mat3(vec3(0.95105654, 0.36327127, 0.58778524), vec3(0.36327127, -0.58778524, -0.95105654), vec3(-0.58778524, 0.95105654, -0.36327127)), mat3(vec3(-0.58778524, 0.95105654, -0.36327127), vec3(-0.58778524, -0.95105654, -0.36327127), vec3(0.0, 0.0, 1.1755705)), mat3(vec3(-0.58778524, 0.95105654, 0.36327127), vec3(-0.0, 0.0, -1.1755705), vec3(-0.58778524, -0.95105654, 0.36327127)), mat3(vec3(-1.1755705, 0.0, 0.0), vec3(0.36327127, 0.58778524, 0.95105654), vec3(0.36327127, 0.58778524, -0.95105654)), mat3(vec3(-0.95105654, 0.36327127, -0.58778524), vec3(-0.36327127, -0.58778524, 0.95105654), vec3(0.58778524, 0.95105654, 0.36327127)), mat3(vec3(-0.95105654, 0.36327127, 0.58778524), vec3(0.58778524, 0.95105654, -0.36327127), vec3(-0.36327127, -0.58778524, -0.95105654)), mat3(vec3(1.1755705, 0.0, 0.0), vec3(-0.36327127, -0.58778524, 0.95105654), vec3(-0.36327127, -0.58778524, -0.95105654)), mat3(vec3(0.95105654, -0.36327127, -0.58778524), vec3(0.36327127, 0.58778524, 0.95105654), vec3(-0.58778524, -0.95105654, 0.36327127)), mat3(vec3(0.95105654, -0.36327127, 0.58778524), vec3(-0.58778524, -0.95105654, -0.36327127), vec3(0.36327127, 0.58778524, -0.95105654)), mat3(vec3(-1.1755705, -0.0, 0.0), vec3(0.36327127, -0.58778524, -0.95105654), vec3(0.36327127, -0.58778524, 0.95105654)), mat3(vec3(-0.95105654, -0.36327127, -0.58778524), vec3(0.58778524, -0.95105654, 0.36327127), vec3(-0.36327127, 0.58778524, 0.95105654)), mat3(vec3(-0.95105654, -0.36327127, 0.58778524), vec3(-0.36327127, 0.58778524, -0.95105654), vec3(0.58778524, -0.95105654, -0.36327127)), mat3(vec3(0.0, 1.1755705, -0.0), vec3(-0.95105654, -0.36327127, 0.58778524), vec3(0.95105654, -0.36327127, 0.58778524)), mat3(vec3(0.0, -1.1755705, 0.0), vec3(0.95105654, 0.36327127, 0.58778524), vec3(-0.95105654, 0.36327127, 0.58778524)), mat3(vec3(0.0, 1.1755705, 0.0), vec3(0.95105654, -0.36327127, -0.58778524), vec3(-0.95105654, -0.36327127, -0.58778524)), mat3(vec3(0.0, -1.1755705, -0.0), vec3(-0.95105654, 0.36327127, -0.58778524), vec3(0.95105654, 0.36327127, -0.58778524)));
+#ifndef SBF_DEFINED_SBF_AD_ICO_BARY
+#define SBF_DEFINED_SBF_AD_ICO_BARY
+const mat3 SBF_AD_ICO_BARY[20] = mat3[20](mat3(vec3(0.58778524, 0.95105654, -0.36327127), vec3(-0.0, 0.0, 1.1755705), vec3(0.58778524, -0.95105654, -0.36327127)), mat3(vec3(0.58778524, 0.95105654, 0.36327127), vec3(0.58778524, -0.95105654, 0.36327127), vec3(0.0, 0.0, -1.1755705)), mat3(vec3(1.1755705, -0.0, 0.0), vec3(-0.36327127, 0.58778524, -0.95105654), vec3(-0.36327127, 0.58778524, 0.95105654)), mat3(vec3(0.95105654, 0.36327127, -0.58778524), vec3(-0.58778524, 0.95105654, 0.36327127), vec3(0.36327127, -0.58778524, 0.95105654)), mat3(vec3(0.95105654, 0.36327127, 0.58778524), vec3(0.36327127, -0.58778524, -0.95105654), vec3(-0.58778524, 0.95105654, -0.36327127)), mat3(vec3(-0.58778524, 0.95105654, -0.36327127), vec3(-0.58778524, -0.95105654, -0.36327127), vec3(0.0, 0.0, 1.1755705)), mat3(vec3(-0.58778524, 0.95105654, 0.36327127), vec3(-0.0, 0.0, -1.1755705), vec3(-0.58778524, -0.95105654, 0.36327127)), mat3(vec3(-1.1755705, 0.0, 0.0), vec3(0.36327127, 0.58778524, 0.95105654), vec3(0.36327127, 0.58778524, -0.95105654)), mat3(vec3(-0.95105654, 0.36327127, -0.58778524), vec3(-0.36327127, -0.58778524, 0.95105654), vec3(0.58778524, 0.95105654, 0.36327127)), mat3(vec3(-0.95105654, 0.36327127, 0.58778524), vec3(0.58778524, 0.95105654, -0.36327127), vec3(-0.36327127, -0.58778524, -0.95105654)), mat3(vec3(1.1755705, 0.0, 0.0), vec3(-0.36327127, -0.58778524, 0.95105654), vec3(-0.36327127, -0.58778524, -0.95105654)), mat3(vec3(0.95105654, -0.36327127, -0.58778524), vec3(0.36327127, 0.58778524, 0.95105654), vec3(-0.58778524, -0.95105654, 0.36327127)), mat3(vec3(0.95105654, -0.36327127, 0.58778524), vec3(-0.58778524, -0.95105654, -0.36327127), vec3(0.36327127, 0.58778524, -0.95105654)), mat3(vec3(-1.1755705, -0.0, 0.0), vec3(0.36327127, -0.58778524, -0.95105654), vec3(0.36327127, -0.58778524, 0.95105654)), mat3(vec3(-0.95105654, -0.36327127, -0.58778524), vec3(0.58778524, -0.95105654, 0.36327127), vec3(-0.36327127, 0.58778524, 0.95105654)), mat3(vec3(-0.95105654, -0.36327127, 0.58778524), vec3(-0.36327127, 0.58778524, -0.95105654), vec3(0.58778524, -0.95105654, -0.36327127)), mat3(vec3(0.0, 1.1755705, -0.0), vec3(-0.95105654, -0.36327127, 0.58778524), vec3(0.95105654, -0.36327127, 0.58778524)), mat3(vec3(0.0, -1.1755705, 0.0), vec3(0.95105654, 0.36327127, 0.58778524), vec3(-0.95105654, 0.36327127, 0.58778524)), mat3(vec3(0.0, 1.1755705, 0.0), vec3(0.95105654, -0.36327127, -0.58778524), vec3(-0.95105654, -0.36327127, -0.58778524)), mat3(vec3(0.0, -1.1755705, -0.0), vec3(-0.95105654, 0.36327127, -0.58778524), vec3(0.95105654, 0.36327127, -0.58778524)));
+#endif
 
-AdFace ad_ico_locate(vec3 d) {
+#ifndef SBF_DEFINED_sbf_ad_ico_locate
+#define SBF_DEFINED_sbf_ad_ico_locate
+SbfAdFace sbf_ad_ico_locate(vec3 d) {
     uint best = 0u;
     float best_dot = -2.0;
     for (uint f = 0u; f < 20u; f++) {
-        float s = dot(AD_ICO_CENTRES[f], d);
+        float s = dot(SBF_AD_ICO_CENTRES[f], d);
         if (s > best_dot) {
             best_dot = s;
             best = f;
         }
     }
-    return AdFace(best, d * AD_ICO_BARY[best]);
+    return SbfAdFace(best, d * SBF_AD_ICO_BARY[best]);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_ICO_EDGE_COS
+#define SBF_DEFINED_SBF_AD_ICO_EDGE_COS
 // cos of the icosahedron's edge angle (1/√5).
-const float AD_ICO_EDGE_COS = 0.4472136;
+const float SBF_AD_ICO_EDGE_COS = 0.4472136;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_BEZIER_DERIV
+#define SBF_DEFINED_SBF_AD_BEZIER_DERIV
 // Hybrid Bézier (sbf::AmbientDiceBezier::edge_factors): column k of face f holds corner k's
 // (Du, Dv) factors for its edges to corners k + 1 and k + 2.
-const mat3x4 AD_BEZIER_DERIV[20] = mat3x4[20](mat3x4(vec4(-0.1927661, -0.22744256, 0.15674274, -0.25361508), vec4(0.24120227, -0.1752437, 0.24120227, 0.1752437), vec4(0.15674274, 0.25361508, -0.1927661, 0.22744256)), mat3x4(vec4(0.15674274, -0.25361508, 0.28963843, 0.07069983), vec4(0.28963843, -0.07069983, 0.15674274, 0.25361508), vec4(0.24120227, -0.1752437, 0.24120227, 0.1752437)), mat3x4(vec4(0.022263663, 0.29730996, -0.27587873, 0.11304784), vec4(0.0, -0.2981424, 0.28355026, -0.09213106), vec4(0.28355026, 0.09213106, 0.0, 0.2981424)), mat3x4(vec4(-0.27587873, 0.11304784, -0.1927661, -0.22744256), vec4(0.1752437, -0.24120227, 0.28355026, 0.09213106), vec4(0.24120227, 0.1752437, -0.09213106, 0.28355026)), mat3x4(vec4(0.28963843, 0.07069983, 0.022263663, 0.29730996), vec4(-0.09213106, -0.28355026, 0.24120227, -0.1752437), vec4(0.28355026, -0.09213106, 0.1752437, 0.24120227)), mat3x4(vec4(-0.15674274, -0.25361508, 0.1927661, -0.22744256), vec4(0.1927661, 0.22744256, -0.15674274, 0.25361508), vec4(-0.24120227, 0.1752437, -0.24120227, -0.1752437)), mat3x4(vec4(-0.28963843, 0.07069983, -0.15674274, -0.25361508), vec4(-0.24120227, 0.1752437, -0.24120227, -0.1752437), vec4(-0.15674274, 0.25361508, -0.28963843, -0.07069983)), mat3x4(vec4(0.27587873, 0.11304784, -0.022263663, 0.29730996), vec4(0.0, 0.2981424, -0.28355026, 0.09213106), vec4(-0.28355026, -0.09213106, 0.0, -0.2981424)), mat3x4(vec4(0.1927661, -0.22744256, 0.27587873, 0.11304784), vec4(0.09213106, 0.28355026, -0.24120227, 0.1752437), vec4(-0.28355026, 0.09213106, -0.1752437, -0.24120227)), mat3x4(vec4(-0.022263663, 0.29730996, -0.28963843, 0.07069983), vec4(-0.1752437, 0.24120227, -0.28355026, -0.09213106), vec4(-0.24120227, -0.1752437, 0.09213106, -0.28355026)), mat3x4(vec4(-0.27587873, -0.11304784, 0.022263663, -0.29730996), vec4(0.0, -0.2981424, 0.28355026, -0.09213106), vec4(0.28355026, 0.09213106, 0.0, 0.2981424)), mat3x4(vec4(-0.1927661, 0.22744256, -0.27587873, -0.11304784), vec4(-0.09213106, -0.28355026, 0.24120227, -0.1752437), vec4(0.28355026, -0.09213106, 0.1752437, 0.24120227)), mat3x4(vec4(0.022263663, -0.29730996, 0.28963843, -0.07069983), vec4(0.1752437, -0.24120227, 0.28355026, 0.09213106), vec4(0.24120227, 0.1752437, -0.09213106, 0.28355026)), mat3x4(vec4(-0.022263663, -0.29730996, 0.27587873, -0.11304784), vec4(0.0, 0.2981424, -0.28355026, 0.09213106), vec4(-0.28355026, -0.09213106, 0.0, -0.2981424)), mat3x4(vec4(0.27587873, -0.11304784, 0.1927661, 0.22744256), vec4(-0.1752437, 0.24120227, -0.28355026, -0.09213106), vec4(-0.24120227, -0.1752437, 0.09213106, -0.28355026)), mat3x4(vec4(-0.28963843, -0.07069983, -0.022263663, -0.29730996), vec4(0.09213106, 0.28355026, -0.24120227, 0.1752437), vec4(-0.28355026, 0.09213106, -0.1752437, -0.24120227)), mat3x4(vec4(-0.1752437, -0.24120227, 0.1752437, -0.24120227), vec4(0.2981424, 0.0, 0.09213106, 0.28355026), vec4(-0.09213106, 0.28355026, -0.2981424, 0.0)), mat3x4(vec4(0.1752437, 0.24120227, -0.1752437, 0.24120227), vec4(-0.2981424, 0.0, -0.09213106, -0.28355026), vec4(0.09213106, -0.28355026, 0.2981424, 0.0)), mat3x4(vec4(0.1752437, 0.24120227, -0.1752437, 0.24120227), vec4(-0.2981424, 0.0, -0.09213106, -0.28355026), vec4(0.09213106, -0.28355026, 0.2981424, 0.0)), mat3x4(vec4(-0.1752437, -0.24120227, 0.1752437, -0.24120227), vec4(0.2981424, 0.0, 0.09213106, 0.28355026), vec4(-0.09213106, 0.28355026, -0.2981424, 0.0)));
+const mat3x4 SBF_AD_BEZIER_DERIV[20] = mat3x4[20](mat3x4(vec4(-0.1927661, -0.22744256, 0.15674274, -0.25361508), vec4(0.24120227, -0.1752437, 0.24120227, 0.1752437), vec4(0.15674274, 0.25361508, -0.1927661, 0.22744256)), mat3x4(vec4(0.15674274, -0.25361508, 0.28963843, 0.07069983), vec4(0.28963843, -0.07069983, 0.15674274, 0.25361508), vec4(0.24120227, -0.1752437, 0.24120227, 0.1752437)), mat3x4(vec4(0.022263663, 0.29730996, -0.27587873, 0.11304784), vec4(0.0, -0.2981424, 0.28355026, -0.09213106), vec4(0.28355026, 0.09213106, 0.0, 0.2981424)), mat3x4(vec4(-0.27587873, 0.11304784, -0.1927661, -0.22744256), vec4(0.1752437, -0.24120227, 0.28355026, 0.09213106), vec4(0.24120227, 0.1752437, -0.09213106, 0.28355026)), mat3x4(vec4(0.28963843, 0.07069983, 0.022263663, 0.29730996), vec4(-0.09213106, -0.28355026, 0.24120227, -0.1752437), vec4(0.28355026, -0.09213106, 0.1752437, 0.24120227)), mat3x4(vec4(-0.15674274, -0.25361508, 0.1927661, -0.22744256), vec4(0.1927661, 0.22744256, -0.15674274, 0.25361508), vec4(-0.24120227, 0.1752437, -0.24120227, -0.1752437)), mat3x4(vec4(-0.28963843, 0.07069983, -0.15674274, -0.25361508), vec4(-0.24120227, 0.1752437, -0.24120227, -0.1752437), vec4(-0.15674274, 0.25361508, -0.28963843, -0.07069983)), mat3x4(vec4(0.27587873, 0.11304784, -0.022263663, 0.29730996), vec4(0.0, 0.2981424, -0.28355026, 0.09213106), vec4(-0.28355026, -0.09213106, 0.0, -0.2981424)), mat3x4(vec4(0.1927661, -0.22744256, 0.27587873, 0.11304784), vec4(0.09213106, 0.28355026, -0.24120227, 0.1752437), vec4(-0.28355026, 0.09213106, -0.1752437, -0.24120227)), mat3x4(vec4(-0.022263663, 0.29730996, -0.28963843, 0.07069983), vec4(-0.1752437, 0.24120227, -0.28355026, -0.09213106), vec4(-0.24120227, -0.1752437, 0.09213106, -0.28355026)), mat3x4(vec4(-0.27587873, -0.11304784, 0.022263663, -0.29730996), vec4(0.0, -0.2981424, 0.28355026, -0.09213106), vec4(0.28355026, 0.09213106, 0.0, 0.2981424)), mat3x4(vec4(-0.1927661, 0.22744256, -0.27587873, -0.11304784), vec4(-0.09213106, -0.28355026, 0.24120227, -0.1752437), vec4(0.28355026, -0.09213106, 0.1752437, 0.24120227)), mat3x4(vec4(0.022263663, -0.29730996, 0.28963843, -0.07069983), vec4(0.1752437, -0.24120227, 0.28355026, 0.09213106), vec4(0.24120227, 0.1752437, -0.09213106, 0.28355026)), mat3x4(vec4(-0.022263663, -0.29730996, 0.27587873, -0.11304784), vec4(0.0, 0.2981424, -0.28355026, 0.09213106), vec4(-0.28355026, -0.09213106, 0.0, -0.2981424)), mat3x4(vec4(0.27587873, -0.11304784, 0.1927661, 0.22744256), vec4(-0.1752437, 0.24120227, -0.28355026, -0.09213106), vec4(-0.24120227, -0.1752437, 0.09213106, -0.28355026)), mat3x4(vec4(-0.28963843, -0.07069983, -0.022263663, -0.29730996), vec4(0.09213106, 0.28355026, -0.24120227, 0.1752437), vec4(-0.28355026, 0.09213106, -0.1752437, -0.24120227)), mat3x4(vec4(-0.1752437, -0.24120227, 0.1752437, -0.24120227), vec4(0.2981424, 0.0, 0.09213106, 0.28355026), vec4(-0.09213106, 0.28355026, -0.2981424, 0.0)), mat3x4(vec4(0.1752437, 0.24120227, -0.1752437, 0.24120227), vec4(-0.2981424, 0.0, -0.09213106, -0.28355026), vec4(0.09213106, -0.28355026, 0.2981424, 0.0)), mat3x4(vec4(0.1752437, 0.24120227, -0.1752437, 0.24120227), vec4(-0.2981424, 0.0, -0.09213106, -0.28355026), vec4(0.09213106, -0.28355026, 0.2981424, 0.0)), mat3x4(vec4(-0.1752437, -0.24120227, 0.1752437, -0.24120227), vec4(0.2981424, 0.0, 0.09213106, 0.28355026), vec4(-0.09213106, 0.28355026, -0.2981424, 0.0)));
+#endif
 
-AdBezierWeights ad_bezier_weights(vec3 d) {
-    AdFace loc = ad_ico_locate(d);
+#ifndef SBF_DEFINED_sbf_ad_bezier_weights
+#define SBF_DEFINED_sbf_ad_bezier_weights
+SbfAdBezierWeights sbf_ad_bezier_weights(vec3 d) {
+    SbfAdFace loc = sbf_ad_ico_locate(d);
     vec3 b = loc.b;
     vec3 cw = b * b * b;
     vec2 ew[3] = vec2[3](vec2(0.0), vec2(0.0), vec2(0.0));
@@ -917,19 +1218,22 @@ AdBezierWeights ad_bezier_weights(vec3 d) {
             ew[j].x += 0.2236068 * wk;
         }
     }
-    mat3x4 deriv = AD_BEZIER_DERIV[loc.face];
+    mat3x4 deriv = SBF_AD_BEZIER_DERIV[loc.face];
     vec3 w[3] = vec3[3](vec3(0.0), vec3(0.0), vec3(0.0));
     for (uint k = 0u; k < 3u; k++) {
         vec2 e = ew[k];
         vec4 g = deriv[k];
-        w[k] = vec3(cw[k] + AD_ICO_EDGE_COS * (e.x + e.y), e.x * g.x + e.y * g.z, e.x * g.y + e.y * g.w);
+        w[k] = vec3(cw[k] + SBF_AD_ICO_EDGE_COS * (e.x + e.y), e.x * g.x + e.y * g.z, e.x * g.y + e.y * g.w);
     }
-    return AdBezierWeights(AD_ICO_FACES[loc.face], w);
+    return SbfAdBezierWeights(SBF_AD_ICO_FACES[loc.face], w);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_bezier_eval
+#define SBF_DEFINED_sbf_ad_bezier_eval
 // RGB value at unit d of 36 RGB coefficients.
-vec3 ad_bezier_eval(vec3 c[36], vec3 d) {
-    AdBezierWeights bw = ad_bezier_weights(d);
+vec3 sbf_ad_bezier_eval(vec3 c[36], vec3 d) {
+    SbfAdBezierWeights bw = sbf_ad_bezier_weights(d);
     vec3 v = vec3(0.0);
     for (uint k = 0u; k < 3u; k++) {
         uint o = 3u * bw.vertices[k];
@@ -938,12 +1242,15 @@ vec3 ad_bezier_eval(vec3 c[36], vec3 d) {
     }
     return v;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_ycocg_eval
+#define SBF_DEFINED_sbf_ad_ycocg_eval
 // RGB at unit d from YCoCg coefficients: Y by the Bézier patch (36), Co and Cg
 // piecewise-linear on the same face (12 each, weights b_k / Σb), then YCoCg → RGB.
-vec3 ad_ycocg_eval(float y[36], float co[12], float cg[12], vec3 d) {
-    AdBezierWeights bw = ad_bezier_weights(d);
-    AdFace loc = ad_ico_locate(d);
+vec3 sbf_ad_ycocg_eval(float y[36], float co[12], float cg[12], vec3 d) {
+    SbfAdBezierWeights bw = sbf_ad_bezier_weights(d);
+    SbfAdFace loc = sbf_ad_ico_locate(d);
     vec3 lw = loc.b / vec3(loc.b.x + loc.b.y + loc.b.z);
     float luma = 0.0;
     vec2 chroma = vec2(0.0);
@@ -951,20 +1258,26 @@ vec3 ad_ycocg_eval(float y[36], float co[12], float cg[12], vec3 d) {
         uint o = 3u * bw.vertices[k];
         vec3 w = bw.w[k];
         luma += y[o] * w.x + y[o + 1u] * w.y + y[o + 2u] * w.z;
-        uint vk = AD_ICO_FACES[loc.face][k];
+        uint vk = SBF_AD_ICO_FACES[loc.face][k];
         chroma += lw[k] * vec2(co[vk], cg[vk]);
     }
     float t = luma - chroma.y;
     return vec3(t + chroma.x, luma + chroma.y, t - chroma.x);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_BEZIER_A
+#define SBF_DEFINED_SBF_AD_BEZIER_A
 // Interior-point redistribution weights a0, a1, a2 (math.md).
-const vec3 AD_BEZIER_A = vec3(-0.0690983, 0.2399187, 0.2236068);
+const vec3 SBF_AD_BEZIER_A = vec3(-0.0690983, 0.2399187, 0.2236068);
+#endif
 
+#ifndef SBF_DEFINED_sbf_lightmap_bspline_axis
+#define SBF_DEFINED_sbf_lightmap_bspline_axis
 // One axis at texel coordinate c (texel centres at i + 1/2): the two taps' positions in
 // texels (xy) and their weights (zw). A bilinear lookup at tap 0 weights texels i − 1 and i
 // as w0 : w1, at tap 1 texels i + 1 and i + 2 as w2 : w3.
-vec4 lightmap_bspline_axis(float c) {
+vec4 sbf_lightmap_bspline_axis(float c) {
     float x = c - 0.5;
     float i = floor(x);
     float f = x - i;
@@ -978,94 +1291,145 @@ vec4 lightmap_bspline_axis(float c) {
     float g1 = w2 + w3;
     return vec4(i - 0.5 + w1 / g0, i + 1.5 + w3 / g1, g0, g1);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfLightmapTaps
+#define SBF_DEFINED_SbfLightmapTaps
 // The four taps of a lookup: positions in normalised coordinates (x0, x1, y0, y1) and
 // weights (gx0, gx1, gy0, gy1); tap (a, b) at (pos[a], pos[2 + b]) weighs w[a]·w[2 + b].
-struct LightmapTaps {
+struct SbfLightmapTaps {
     vec4 pos;
     vec4 w;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_lightmap_bicubic_taps
+#define SBF_DEFINED_sbf_lightmap_bicubic_taps
 // The B-spline's taps at normalised uv on a lightmap of `size` texels. With a linear,
 // clamped sampler S: value = w.z·(w.x·S(pos.xz) + w.y·S(pos.yz)) + w.w·(w.x·S(pos.xw) + w.y·S(pos.yw)).
-LightmapTaps lightmap_bicubic_taps(vec2 uv, vec2 size) {
+SbfLightmapTaps sbf_lightmap_bicubic_taps(vec2 uv, vec2 size) {
     vec2 c = uv * size;
-    vec4 ax = lightmap_bspline_axis(c.x);
-    vec4 ay = lightmap_bspline_axis(c.y);
-    return LightmapTaps(vec4(ax.xy / vec2(size.x), ay.xy / vec2(size.y)), vec4(ax.zw, ay.zw));
+    vec4 ax = sbf_lightmap_bspline_axis(c.x);
+    vec4 ay = sbf_lightmap_bspline_axis(c.y);
+    return SbfLightmapTaps(vec4(ax.xy / vec2(size.x), ay.xy / vec2(size.y)), vec4(ax.zw, ay.zw));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_godot_l1_irradiance
+#define SBF_DEFINED_sbf_godot_l1_irradiance
 // Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
 // USE_SH_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
 // decoded to (s − 1/2)·2 and scaled by 4·L0.
-vec3 godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n) {
+vec3 sbf_godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n) {
     vec3 s = l0 * 4.0;
     return l0 + (l1n1 - vec3(0.5)) * 2.0 * n.y * s + (l1_0 - vec3(0.5)) * 2.0 * n.z * s + (l1p1 - vec3(0.5)) * 2.0 * n.x * s;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_monosh_irradiance
+#define SBF_DEFINED_sbf_monosh_irradiance
 // Bakery MonoSH (Bakery.cginc, BakeryMonoSH, linear form): RGB L0 and one direction t with
 // nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0).
-vec3 monosh_irradiance(vec3 l0, vec3 dir, vec3 n) {
+vec3 sbf_monosh_irradiance(vec3 l0, vec3 dir, vec3 n) {
     vec3 nl1 = dir * 2.0 - vec3(1.0);
     return max(l0 + 2.0 * l0 * dot(nl1, n), vec3(0.0));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_factor
+#define SBF_DEFINED_sbf_enlighten_factor
 // Enlighten directional irradiance, one channel's half-Lambert term over its rescaling
 // factor (UnityCG.cginc DecodeDirectionalLightmap): (n·(t.xyz − 1/2) + 1/2)/max(t.w, 1e-4).
-float enlighten_factor(vec4 dir, vec3 n) {
+float sbf_enlighten_factor(vec4 dir, vec3 n) {
     float half_lambert = dot(n, dir.xyz - vec3(0.5)) + 0.5;
     return half_lambert / max(dir.w, 0.0001);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_irradiance
+#define SBF_DEFINED_sbf_enlighten_irradiance
 // Enlighten directional irradiance, one luminance direction: the irradiance colour times
 // its factor.
-vec3 enlighten_irradiance(vec3 colour, vec4 dir, vec3 n) {
-    return colour * enlighten_factor(dir, n);
+vec3 sbf_enlighten_irradiance(vec3 colour, vec4 dir, vec3 n) {
+    return colour * sbf_enlighten_factor(dir, n);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_rgb_irradiance
+#define SBF_DEFINED_sbf_enlighten_rgb_irradiance
 // Enlighten directional irradiance, one direction per colour channel.
-vec3 enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n) {
-    return colour * vec3(enlighten_factor(dir_r, n), enlighten_factor(dir_g, n), enlighten_factor(dir_b, n));
+vec3 sbf_enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n) {
+    return colour * vec3(sbf_enlighten_factor(dir_r, n), sbf_enlighten_factor(dir_g, n), sbf_enlighten_factor(dir_b, n));
 }
+#endif
 
-const uint ENCODER_MAX_LOBES = 12u;
+#ifndef SBF_DEFINED_SBF_ENCODER_MAX_LOBES
+#define SBF_DEFINED_SBF_ENCODER_MAX_LOBES
+const uint SBF_ENCODER_MAX_LOBES = 12u;
+#endif
 
-const uint ENCODER_NON_NEGATIVE = 1u;
+#ifndef SBF_DEFINED_SBF_ENCODER_NON_NEGATIVE
+#define SBF_DEFINED_SBF_ENCODER_NON_NEGATIVE
+const uint SBF_ENCODER_NON_NEGATIVE = 1u;
+#endif
 
-const uint ENCODER_GAUSS_SEIDEL = 2u;
+#ifndef SBF_DEFINED_SBF_ENCODER_GAUSS_SEIDEL
+#define SBF_DEFINED_SBF_ENCODER_GAUSS_SEIDEL
+const uint SBF_ENCODER_GAUSS_SEIDEL = 2u;
+#endif
 
-const uint ENCODER_DENOM_BLEND = 0u;
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_BLEND
+#define SBF_DEFINED_SBF_ENCODER_DENOM_BLEND
+const uint SBF_ENCODER_DENOM_BLEND = 0u;
+#endif
 
-const uint ENCODER_DENOM_CLAMP_TO_TRUE = 1u;
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_CLAMP_TO_TRUE
+#define SBF_DEFINED_SBF_ENCODER_DENOM_CLAMP_TO_TRUE
+const uint SBF_ENCODER_DENOM_CLAMP_TO_TRUE = 1u;
+#endif
 
-const uint ENCODER_DENOM_RAW = 2u;
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_RAW
+#define SBF_DEFINED_SBF_ENCODER_DENOM_RAW
+const uint SBF_ENCODER_DENOM_RAW = 2u;
+#endif
 
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_PROJECTION
+#define SBF_DEFINED_SBF_ENCODER_DENOM_PROJECTION
 // No residual: the amplitude is the running mean of (B_i·value + q_i)/true_mean_i (sbf's
 // Denominator::Projection; unbiased for a basis orthogonal over the sampled measure).
-const uint ENCODER_DENOM_PROJECTION = 3u;
+const uint SBF_ENCODER_DENOM_PROJECTION = 3u;
+#endif
 
+#ifndef SBF_DEFINED_SbfEncoderParams
+#define SBF_DEFINED_SbfEncoderParams
 // Encoder options (uniform or storage).
-struct EncoderParams {
+struct SbfEncoderParams {
     float acceleration;
     uint lobes;
     uint flags;
     uint denominator;
     vec4 true_mean[3];
 };
+#endif
 
+#ifndef SBF_DEFINED_SbfEncoderState
+#define SBF_DEFINED_SbfEncoderState
 // One texel's encoder state: per lobe the RGB amplitude (xyz) and the running mean of
 // B_i² (w), the total weight and the number of updates.
-struct EncoderState {
+struct SbfEncoderState {
     vec4 lobes[12];
     float total_weight;
     uint samples;
 };
+#endif
 
-void progressive_update_projected(inout EncoderState state, EncoderParams p, float b[12], vec3 value, float weight, vec3 q[12]) {
+#ifndef SBF_DEFINED_sbf_progressive_update_projected
+#define SBF_DEFINED_sbf_progressive_update_projected
+void sbf_progressive_update_projected(inout SbfEncoderState state, SbfEncoderParams p, float b[12], vec3 value, float weight, vec3 q[12]) {
     if (!(weight > 0.0)) {
         return;
     }
-    uint n = min(p.lobes, ENCODER_MAX_LOBES);
+    uint n = min(p.lobes, SBF_ENCODER_MAX_LOBES);
     state.samples++;
     state.total_weight += weight;
     float s = weight / state.total_weight;
@@ -1077,9 +1441,9 @@ void progressive_update_projected(inout EncoderState state, EncoderParams p, flo
         float bi = b[i];
         vec4 lobe = state.lobes[i];
         lobe.w = lobe.w + s * (bi * bi - lobe.w);
-        if (p.denominator == ENCODER_DENOM_PROJECTION) {
+        if (p.denominator == SBF_ENCODER_DENOM_PROJECTION) {
             vec3 amp = lobe.xyz + s * ((bi * value + q[i]) / vec3(p.true_mean[i / 4u][i % 4u]) - lobe.xyz);
-            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+            if ((p.flags & SBF_ENCODER_NON_NEGATIVE) != 0u) {
                 amp = max(amp, vec3(0.0));
             }
             state.lobes[i] = vec4(amp, lobe.w);
@@ -1105,11 +1469,11 @@ void progressive_update_projected(inout EncoderState state, EncoderParams p, flo
             float scale = p.acceleration * s / denom;
             vec3 old = lobe.xyz;
             vec3 amp = old + scale * (bi * delta + q[i]);
-            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+            if ((p.flags & SBF_ENCODER_NON_NEGATIVE) != 0u) {
                 amp = max(amp, vec3(0.0));
             }
             lobe = vec4(amp, lobe.w);
-            if ((p.flags & ENCODER_GAUSS_SEIDEL) != 0u) {
+            if ((p.flags & SBF_ENCODER_GAUSS_SEIDEL) != 0u) {
                 delta -= bi * (amp - old);
             }
         }
@@ -1117,54 +1481,78 @@ void progressive_update_projected(inout EncoderState state, EncoderParams p, flo
     }
     return;
 }
+#endif
 
-void progressive_update(inout EncoderState state, EncoderParams p, float b[12], vec3 value, float weight) {
+#ifndef SBF_DEFINED_sbf_progressive_update
+#define SBF_DEFINED_sbf_progressive_update
+void sbf_progressive_update(inout SbfEncoderState state, SbfEncoderParams p, float b[12], vec3 value, float weight) {
     vec3 q[12] = vec3[12](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
-    progressive_update_projected(state, p, b, value, weight, q);
+    sbf_progressive_update_projected(state, p, b, value, weight, q);
     return;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_acceptance
+#define SBF_DEFINED_sbf_slc_acceptance
 // p = min(I/(δl²), 1) (002 eq. 2); 1 at the light.
-float slc_acceptance(float intensity, float delta, float l) {
+float sbf_slc_acceptance(float intensity, float delta, float l) {
     if (l <= 0.0) {
         return 1.0;
     }
     return min(intensity / (delta * l * l), 1.0);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SLC_F32_MAX
+#define SBF_DEFINED_SBF_SLC_F32_MAX
 // The largest finite f32, 0x1.fffffep127 = 3.4028234664e38. Written with fewer digits above
 // it, as 3.4028235e38, it rounds to the same f32 in naga but is out of f32's range for tint
 // (Chrome's WGSL compiler), which converts literals without rounding to the largest value.
-const float SLC_F32_MAX = 3.4028235e38;
+const float SBF_SLC_F32_MAX = 3.4028235e38;
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_random_range
+#define SBF_DEFINED_sbf_slc_random_range
 // l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
-float slc_random_range(float intensity, float delta, float xi) {
+float sbf_slc_random_range(float intensity, float delta, float xi) {
     if (xi <= 0.0) {
-        return SLC_F32_MAX;
+        return SBF_SLC_F32_MAX;
     }
     return sqrt(max(intensity, 0.0) / (delta * xi));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_culled_estimate
+#define SBF_DEFINED_sbf_slc_culled_estimate
 // L/p if p > ξ, else 0 (002 eq. 3): unbiased over ξ.
-float slc_culled_estimate(float radiance, float p, float xi) {
+float sbf_slc_culled_estimate(float radiance, float p, float xi) {
     return p > xi ? radiance / p : 0.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_cos_theta_h_max
+#define SBF_DEFINED_sbf_slc_cos_theta_h_max
 // cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2), as |cos_i|/√(2(1 + s)), s =
 // √(1 − cos_i²) (no cancellation at grazing incidence).
-float slc_cos_theta_h_max(float cos_i) {
+float sbf_slc_cos_theta_h_max(float cos_i) {
     float s = sqrt(max(1.0 - cos_i * cos_i, 0.0));
     return abs(cos_i) / sqrt(2.0 * (1.0 + s));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_schlick_max
+#define SBF_DEFINED_sbf_slc_schlick_max
 // Maximum Schlick Fresnel over the outgoing hemisphere (000 eq. 1–2).
-float slc_schlick_max(float f0, float cos_i) {
-    float m = 1.0 - slc_cos_theta_h_max(cos_i);
+float sbf_slc_schlick_max(float f0, float cos_i) {
+    float m = 1.0 - sbf_slc_cos_theta_h_max(cos_i);
     return f0 + (1.0 - f0) * (m * m) * (m * m) * m;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_dielectric_fresnel
+#define SBF_DEFINED_sbf_slc_dielectric_fresnel
 // Unpolarised dielectric Fresnel (000 eq. 3–5); 1 under total internal reflection.
-float slc_dielectric_fresnel(float eta, float cos_h) {
+float sbf_slc_dielectric_fresnel(float eta, float cos_h) {
     float c = clamp(cos_h, 0.0, 1.0);
     float g2 = eta * eta - (1.0 - c * c);
     if (g2 <= 0.0) {
@@ -1176,98 +1564,137 @@ float slc_dielectric_fresnel(float eta, float cos_h) {
     float par = (g - e2c) / (g + e2c);
     return 0.5 * (perp * perp + par * par);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_dielectric_max
+#define SBF_DEFINED_sbf_slc_dielectric_max
 // Maximum dielectric Fresnel over the outgoing hemisphere (000 eq. 6): the larger end.
-float slc_dielectric_max(float eta, float cos_i) {
-    return max(slc_dielectric_fresnel(eta, 1.0), slc_dielectric_fresnel(eta, slc_cos_theta_h_max(cos_i)));
+float sbf_slc_dielectric_max(float eta, float cos_i) {
+    return max(sbf_slc_dielectric_fresnel(eta, 1.0), sbf_slc_dielectric_fresnel(eta, sbf_slc_cos_theta_h_max(cos_i)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_g1_dist
+#define SBF_DEFINED_sbf_slc_g1_dist
 // G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) (002 eq. 8).
-float slc_g1_dist(float cos_i, float alpha) {
+float sbf_slc_g1_dist(float cos_i, float alpha) {
     float c = abs(cos_i);
     float den = c + sqrt((1.0 - alpha * alpha) * c * c + alpha * alpha);
     return den > 0.0 ? 2.0 * c / den : 0.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ggx_ndf
+#define SBF_DEFINED_sbf_slc_ggx_ndf
 // GGX NDF of cos θ_m (002 eq. 7).
-float slc_ggx_ndf(float cos_m, float alpha) {
+float sbf_slc_ggx_ndf(float cos_m, float alpha) {
     if (cos_m <= 0.0) {
         return 0.0;
     }
     float a2 = alpha * alpha;
     float t = a2 * cos_m * cos_m + max(1.0 - cos_m * cos_m, 0.0);
-    return a2 / (PI * t * t);
+    return a2 / (SBF_PI * t * t);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_spheroid_scale
+#define SBF_DEFINED_sbf_slc_spheroid_scale
 // r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
-float slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi) {
+float sbf_slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi) {
     if (xi <= 0.0) {
-        return SLC_F32_MAX;
+        return SBF_SLC_F32_MAX;
     }
     return sqrt(phi * f_max * g1 / (12.566371 * delta * xi * abs(cos_i)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_bound_surface
+#define SBF_DEFINED_sbf_slc_bound_surface
 // s = r·√(π·D(cos(θ/2))) (002 eq. 12).
-float slc_bound_surface(float theta, float r, float alpha) {
-    return r * sqrt(PI * slc_ggx_ndf(cos(0.5 * theta), alpha));
+float sbf_slc_bound_surface(float theta, float r, float alpha) {
+    return r * sqrt(SBF_PI * sbf_slc_ggx_ndf(cos(0.5 * theta), alpha));
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfSlcEllipsoid
+#define SBF_DEFINED_SbfSlcEllipsoid
 // An ellipsoid: centre, unit axes as the columns of R, semi-axes.
-struct SlcEllipsoid {
+struct SbfSlcEllipsoid {
     vec3 center;
     mat3 axes;
     vec3 radii;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_any_orthonormal
+#define SBF_DEFINED_sbf_slc_any_orthonormal
 // Duff et al.'s any orthonormal vector (glam's any_orthonormal_vector; sign(0) = +1).
-vec3 slc_any_orthonormal(vec3 v) {
+vec3 sbf_slc_any_orthonormal(vec3 v) {
     float sign_ = v.z >= 0.0 ? 1.0 : -1.0;
     float a = -1.0 / (sign_ + v.z);
     float b = v.x * v.y * a;
     return vec3(b, sign_ + v.y * v.y * a, -v.y);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ggx_spheroid
+#define SBF_DEFINED_sbf_slc_ggx_spheroid
 // The GGX VPL's bounding spheroid (002 eq. 13–15): axes ω_u, ω_w × ω_u, ω_w; semi-axes
 // ((1 + α²)/(2α)r, r, r); centre q + (1 − α²)/(2α)·r·ω_u.
-SlcEllipsoid slc_ggx_spheroid(vec3 q, vec3 wi, vec3 n, float alpha, float r) {
+SbfSlcEllipsoid sbf_slc_ggx_spheroid(vec3 q, vec3 wi, vec3 n, float alpha, float r) {
     vec3 wu = normalize(n * (2.0 * dot(wi, n)) - wi);
     vec3 c = cross(wu, n);
-    vec3 ww = slc_any_orthonormal(wu);
+    vec3 ww = sbf_slc_any_orthonormal(wu);
     if (dot(c, c) > 1e-12) {
         ww = normalize(c);
     }
     vec3 wv = cross(ww, wu);
     float ru = (1.0 + alpha * alpha) / (2.0 * alpha) * r;
-    return SlcEllipsoid(q + wu * ((1.0 - alpha * alpha) / (2.0 * alpha) * r), mat3(wu, wv, ww), vec3(ru, r, r));
+    return SbfSlcEllipsoid(q + wu * ((1.0 - alpha * alpha) / (2.0 * alpha) * r), mat3(wu, wv, ww), vec3(ru, r, r));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_stretching
+#define SBF_DEFINED_sbf_slc_stretching
 // S = R·diag(1/r)·Rᵀ (002 eq. 16).
-mat3 slc_stretching(SlcEllipsoid e) {
+mat3 sbf_slc_stretching(SbfSlcEllipsoid e) {
     vec3 inv = vec3(1.0) / e.radii;
     mat3 d = mat3(vec3(inv.x, 0.0, 0.0), vec3(0.0, inv.y, 0.0), vec3(0.0, 0.0, inv.z));
     return e.axes * d * transpose(e.axes);
 }
+#endif
 
-struct SlcSphere {
+#ifndef SBF_DEFINED_SbfSlcSphere
+#define SBF_DEFINED_SbfSlcSphere
+struct SbfSlcSphere {
     vec3 center;
     float radius;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_diffuse_sphere
+#define SBF_DEFINED_sbf_slc_diffuse_sphere
 // The diffuse VPL's bounding sphere (001 eq. 2–3): A = √(Φk/(πδξ)), centre
 // q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
-SlcSphere slc_diffuse_sphere(vec3 q, vec3 n, float phi_k, float delta, float xi) {
-    float a = slc_random_range(phi_k / PI, delta, xi);
-    return SlcSphere(q + n * (0.43869135 * a), 0.62040323 * a);
+SbfSlcSphere sbf_slc_diffuse_sphere(vec3 q, vec3 n, float phi_k, float delta, float xi) {
+    float a = sbf_slc_random_range(phi_k / SBF_PI, delta, xi);
+    return SbfSlcSphere(q + n * (0.43869135 * a), 0.62040323 * a);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_point_sphere
+#define SBF_DEFINED_sbf_slc_point_sphere
 // A point light's bounding sphere: its random range √(I/(δξ)) about q.
-SlcSphere slc_point_sphere(vec3 q, float intensity, float delta, float xi) {
-    return SlcSphere(q, slc_random_range(intensity, delta, xi));
+SbfSlcSphere sbf_slc_point_sphere(vec3 q, float intensity, float delta, float xi) {
+    return SbfSlcSphere(q, sbf_slc_random_range(intensity, delta, xi));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ray_sphere
+#define SBF_DEFINED_sbf_slc_ray_sphere
 // The chord of the ray o + t·d (unit d) through sphere s: (t0, t1, 1) with t0 ≤ t1, or
 // (0, 0, 0) when it misses. Stable roots q = −(b + sign(b)√disc), q and c/q.
-vec3 slc_ray_sphere(vec3 o, vec3 d, SlcSphere s) {
+vec3 sbf_slc_ray_sphere(vec3 o, vec3 d, SbfSlcSphere s) {
     vec3 oc = o - s.center;
     float b = dot(d, oc);
     float c = dot(oc, oc) - s.radius * s.radius;
@@ -1282,31 +1709,43 @@ vec3 slc_ray_sphere(vec3 o, vec3 d, SlcSphere s) {
     float t1 = c / t0;
     return vec3(min(t0, t1), max(t0, t1), 1.0);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_equiangular_pdf
+#define SBF_DEFINED_sbf_slc_equiangular_pdf
 // The pdf of equiangular sampling on [a, b] (closest point t_c, distance h > 0) at t:
 // h/((θ_b − θ_a)(h² + (t − t_c)²)).
-float slc_equiangular_pdf(float tc, float h, float a, float b, float t) {
+float sbf_slc_equiangular_pdf(float tc, float h, float a, float b, float t) {
     float ta = atan(a - tc, h);
     float tb = atan(b - tc, h);
     return h / ((tb - ta) * (h * h + (t - tc) * (t - tc)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_equiangular_sample
+#define SBF_DEFINED_sbf_slc_equiangular_sample
 // Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1): (t, pdf) for u ∈ [0, 1).
-vec2 slc_equiangular_sample(float tc, float h, float a, float b, float u) {
+vec2 sbf_slc_equiangular_sample(float tc, float h, float a, float b, float u) {
     float ta = atan(a - tc, h);
     float tb = atan(b - tc, h);
     float t = clamp(tc + h * tan(ta + u * (tb - ta)), a, b);
-    return vec2(t, slc_equiangular_pdf(tc, h, a, b, t));
+    return vec2(t, sbf_slc_equiangular_pdf(tc, h, a, b, t));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_diffuse_intensity_bound
+#define SBF_DEFINED_sbf_slc_diffuse_intensity_bound
 // I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) (001 eq. 7).
-float slc_diffuse_intensity_bound(float d_dot_n, float phi) {
+float sbf_slc_diffuse_intensity_bound(float d_dot_n, float phi) {
     float t = d_dot_n + sqrt(d_dot_n * d_dot_n + 1.0);
     return phi * t * t / 16.324194;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_test_space_rotation
+#define SBF_DEFINED_sbf_slc_test_space_rotation
 // The test-space rotation B (002 eq. 17).
-mat3 slc_test_space_rotation(mat3 s) {
+mat3 sbf_slc_test_space_rotation(mat3 s) {
     vec3 bx = s[0];
     vec3 by = s[1];
     vec3 z = normalize(cross(bx, by));
@@ -1321,41 +1760,56 @@ mat3 slc_test_space_rotation(mat3 s) {
     }
     return transpose(mat3(x, y, z));
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfSlcCullEllipsoid
+#define SBF_DEFINED_SbfSlcCullEllipsoid
 // What culling stores per light (002 §5.2): M = B·S and M·c in view space
 // (x_view = view·x + origin).
-struct SlcCullEllipsoid {
+struct SbfSlcCullEllipsoid {
     mat3 transform;
     vec3 center;
 };
+#endif
 
-SlcCullEllipsoid slc_cull_transform(SlcEllipsoid e, mat3 view, vec3 origin) {
+#ifndef SBF_DEFINED_sbf_slc_cull_transform
+#define SBF_DEFINED_sbf_slc_cull_transform
+SbfSlcCullEllipsoid sbf_slc_cull_transform(SbfSlcEllipsoid e, mat3 view, vec3 origin) {
     mat3 axes = view * e.axes;
-    mat3 s = slc_stretching(SlcEllipsoid(vec3(0.0), axes, e.radii));
-    mat3 m = slc_test_space_rotation(s) * s;
-    return SlcCullEllipsoid(m, m * (view * e.center + origin));
+    mat3 s = sbf_slc_stretching(SbfSlcEllipsoid(vec3(0.0), axes, e.radii));
+    mat3 m = sbf_slc_test_space_rotation(s) * s;
+    return SbfSlcCullEllipsoid(m, m * (view * e.center + origin));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_tile_corners
+#define SBF_DEFINED_sbf_slc_tile_corners
 // The 8 view-space corners of a tile's frustum part between view distances z0 and z1
 // (along −z): pixel rectangle [x0, x1) × [y0, y1) of a width × height image, symmetric
 // perspective with tan(half field of view) tan_x, tan_y.
-vec3[8] slc_tile_corners(float x0, float y0, float x1, float y1, vec2 size, vec2 tan_xy, float z0, float z1) {
+vec3[8] sbf_slc_tile_corners(float x0, float y0, float x1, float y1, vec2 size, vec2 tan_xy, float z0, float z1) {
     vec3 a = vec3((2.0 * x0 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y0 / size.y) * tan_xy.y, -1.0);
     vec3 b = vec3((2.0 * x1 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y0 / size.y) * tan_xy.y, -1.0);
     vec3 c = vec3((2.0 * x0 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y1 / size.y) * tan_xy.y, -1.0);
     vec3 d = vec3((2.0 * x1 / size.x - 1.0) * tan_xy.x, (1.0 - 2.0 * y1 / size.y) * tan_xy.y, -1.0);
     return vec3[8](a * z0, b * z0, c * z0, d * z0, a * z1, b * z1, c * z1, d * z1);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_unit_sphere_hits_aabb
+#define SBF_DEFINED_sbf_slc_unit_sphere_hits_aabb
 // Whether the unit sphere about `center` meets the box [lo, hi].
-bool slc_unit_sphere_hits_aabb(vec3 center, vec3 lo, vec3 hi) {
+bool sbf_slc_unit_sphere_hits_aabb(vec3 center, vec3 lo, vec3 hi) {
     vec3 d = center - clamp(center, lo, hi);
     return dot(d, d) <= 1.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ellipsoid_hits_corners
+#define SBF_DEFINED_sbf_slc_ellipsoid_hits_corners
 // The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
 // their AABB, the unit sphere about M·c.
-bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, vec3 corners[8]) {
+bool sbf_slc_ellipsoid_hits_corners(SbfSlcCullEllipsoid e, vec3 corners[8]) {
     vec3 lo = vec3(3.4028235e38);
     vec3 hi = vec3(-3.4028235e38);
     for (uint k = 0u; k < 8u; k++) {
@@ -1363,7 +1817,8 @@ bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, vec3 corners[8]) {
         lo = min(lo, p);
         hi = max(hi, p);
     }
-    return slc_unit_sphere_hits_aabb(e.center, lo, hi);
+    return sbf_slc_unit_sphere_hits_aabb(e.center, lo, hi);
 }
+#endif
 
 #endif // SBF_ALL_GLSL

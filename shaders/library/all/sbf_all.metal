@@ -6,93 +6,92 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float ggx_d(float3 h, float alpha)
-//   float ggx_lambda(float3 w, float alpha)
-//   float ggx_g1(float3 w, float alpha)
-//   float ggx_g2(float3 v, float3 l, float alpha)
-//   float schlick_weight(float v_dot_h)
-//   float ggx_energy_compensation(float2 dfg, float f0)
-//   LobeGgxPixel lobe_ggx_pixel(texture2d_array<float> tab, float3 n, float3 v, float alpha)
-//   float2 lobe_ggx_lobe(texture2d_array<float> tab, LobeGgxPixel px, float3 axis)
-//   LobeGgxFilteredPixel lobe_ggx_filtered_pixel(texture3d<float> tab, float3 n, float3 v, float alpha)
-//   float2 lobe_ggx_filtered_lobe(texture3d<float> tab, sampler smp, LobeGgxFilteredPixel px, float3 axis)
-//   array<float, 4> sh_eval_l1(float3 d)
-//   array<float, 9> sh_eval_l2(float3 d)
-//   array<float, 25> sh_eval_l4(float3 d)
-//   float3 sh_l1_irradiance(array<float3, 4> c, float3 n)
-//   float3 sh_l2_irradiance(array<float3, 9> c, float3 n)
-//   float3 sh_l4_irradiance(array<float3, 25> c, float3 n)
-//   float3 sh_l1_geomerics_irradiance(array<float3, 4> c, float3 n)
-//   float3 sh_l1_zh3_irradiance(array<float3, 4> c, float3 n)
-//   float3 sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   array<float3, 4> sh_rotate_l1(array<float3, 4> c, float3x3 r)
-//   array<float3, 9> sh_rotate_l2(array<float3, 9> c, float3x3 r)
-//   array<float3, 25> sh_rotate_l4(array<float3, 25> c, float3x3 r)
-//   float sg_eval(float3 axis, float sharpness, float3 v)
-//   float sg_integral(float sharpness)
-//   float sg_hill_irradiance(float3 axis, float sharpness, float3 n)
-//   SgAsgWarp sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float f90)
-//   float sg_asg_lobe(SgAsgWarp w, float3 axis, float sharpness)
-//   SgSplitSum sg_split_sum_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
-//   float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness)
-//   float ad_srbf_eval(float3 axis, float3 v)
-//   float3 ad12_irradiance(array<float3, 12> c, float3 n)
-//   float3 ad9_irradiance(array<float3, 9> c, float3 n)
-//   float3 ad12_specular(array<float3, 12> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
-//   AdBezierWeights ad_bezier_weights(float3 d)
-//   float3 ad_bezier_eval(array<float3, 36> c, float3 d)
-//   float3 ad_ycocg_eval(array<float, 36> y, array<float, 12> co, array<float, 12> cg, float3 d)
-//   float4 lightmap_bspline_axis(float c)
-//   LightmapTaps lightmap_bicubic_taps(float2 uv, float2 size)
-//   float3 godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n)
-//   float3 monosh_irradiance(float3 l0, float3 dir, float3 n)
-//   float3 enlighten_irradiance(float3 colour, float4 dir, float3 n)
-//   float3 enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n)
-//   void progressive_update(thread EncoderState& state, EncoderParams p, array<float, 12> b, float3 value, float weight)
-//   float slc_acceptance(float intensity, float delta, float l)
-//   float slc_random_range(float intensity, float delta, float xi)
-//   float slc_culled_estimate(float radiance, float p, float xi)
-//   float slc_schlick_max(float f0, float cos_i)
-//   float slc_dielectric_max(float eta, float cos_i)
-//   float slc_g1_dist(float cos_i, float alpha)
-//   float slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi)
-//   float slc_bound_surface(float theta, float r, float alpha)
-//   SlcEllipsoid slc_ggx_spheroid(float3 q, float3 wi, float3 n, float alpha, float r)
-//   SlcSphere slc_diffuse_sphere(float3 q, float3 n, float phi_k, float delta, float xi)
-//   SlcSphere slc_point_sphere(float3 q, float intensity, float delta, float xi)
-//   float3 slc_ray_sphere(float3 o, float3 d, SlcSphere s)
-//   float slc_equiangular_pdf(float tc, float h, float a, float b, float t)
-//   float2 slc_equiangular_sample(float tc, float h, float a, float b, float u)
-//   float slc_diffuse_intensity_bound(float d_dot_n, float phi)
-//   SlcCullEllipsoid slc_cull_transform(SlcEllipsoid e, float3x3 view, float3 origin)
-//   array<float3, 8> slc_tile_corners(float x0, float y0, float x1, float y1, float2 size, float2 tan_xy, float z0, float z1)
-//   bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, array<float3, 8> corners)
+//   float sbf_ggx_d(float3 h, float alpha)
+//   float sbf_ggx_lambda(float3 w, float alpha)
+//   float sbf_ggx_g1(float3 w, float alpha)
+//   float sbf_ggx_g2(float3 v, float3 l, float alpha)
+//   float sbf_schlick_weight(float v_dot_h)
+//   float sbf_ggx_energy_compensation(float2 dfg, float f0)
+//   SbfLobeGgxPixel sbf_lobe_ggx_pixel(texture2d_array<float> tab, float3 n, float3 v, float alpha)
+//   float2 sbf_lobe_ggx_lobe(texture2d_array<float> tab, SbfLobeGgxPixel px, float3 axis)
+//   SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(texture3d<float> tab, float3 n, float3 v, float alpha)
+//   float2 sbf_lobe_ggx_filtered_lobe(texture3d<float> tab, sampler smp, SbfLobeGgxFilteredPixel px, float3 axis)
+//   array<float, 4> sbf_sh_eval_l1(float3 d)
+//   array<float, 9> sbf_sh_eval_l2(float3 d)
+//   array<float, 25> sbf_sh_eval_l4(float3 d)
+//   float3 sbf_sh_l1_irradiance(array<float3, 4> c, float3 n)
+//   float3 sbf_sh_l2_irradiance(array<float3, 9> c, float3 n)
+//   float3 sbf_sh_l4_irradiance(array<float3, 25> c, float3 n)
+//   float3 sbf_sh_l1_geomerics_irradiance(array<float3, 4> c, float3 n)
+//   float3 sbf_sh_l1_zh3_irradiance(array<float3, 4> c, float3 n)
+//   float3 sbf_sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   array<float3, 4> sbf_sh_rotate_l1(array<float3, 4> c, float3x3 r)
+//   array<float3, 9> sbf_sh_rotate_l2(array<float3, 9> c, float3x3 r)
+//   array<float3, 25> sbf_sh_rotate_l4(array<float3, 25> c, float3x3 r)
+//   float sbf_sg_eval(float3 axis, float sharpness, float3 v)
+//   float sbf_sg_integral(float sharpness)
+//   float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n)
+//   SbfSgAsgWarp sbf_sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float f90)
+//   float sbf_sg_asg_lobe(SbfSgAsgWarp w, float3 axis, float sharpness)
+//   SbfSgSplitSum sbf_sg_split_sum_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
+//   float sbf_sg_split_sum_lobe(SbfSgSplitSum w, float3 axis, float sharpness)
+//   float sbf_ad_srbf_eval(float3 axis, float3 v)
+//   float3 sbf_ad12_irradiance(array<float3, 12> c, float3 n)
+//   float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n)
+//   float3 sbf_ad12_specular(array<float3, 12> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   SbfAdBezierWeights sbf_ad_bezier_weights(float3 d)
+//   float3 sbf_ad_bezier_eval(array<float3, 36> c, float3 d)
+//   float3 sbf_ad_ycocg_eval(array<float, 36> y, array<float, 12> co, array<float, 12> cg, float3 d)
+//   float4 sbf_lightmap_bspline_axis(float c)
+//   SbfLightmapTaps sbf_lightmap_bicubic_taps(float2 uv, float2 size)
+//   float3 sbf_godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n)
+//   float3 sbf_monosh_irradiance(float3 l0, float3 dir, float3 n)
+//   float3 sbf_enlighten_irradiance(float3 colour, float4 dir, float3 n)
+//   float3 sbf_enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n)
+//   void sbf_progressive_update(thread SbfEncoderState& state, SbfEncoderParams p, array<float, 12> b, float3 value, float weight)
+//   float sbf_slc_acceptance(float intensity, float delta, float l)
+//   float sbf_slc_random_range(float intensity, float delta, float xi)
+//   float sbf_slc_culled_estimate(float radiance, float p, float xi)
+//   float sbf_slc_schlick_max(float f0, float cos_i)
+//   float sbf_slc_dielectric_max(float eta, float cos_i)
+//   float sbf_slc_g1_dist(float cos_i, float alpha)
+//   float sbf_slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi)
+//   float sbf_slc_bound_surface(float theta, float r, float alpha)
+//   SbfSlcEllipsoid sbf_slc_ggx_spheroid(float3 q, float3 wi, float3 n, float alpha, float r)
+//   SbfSlcSphere sbf_slc_diffuse_sphere(float3 q, float3 n, float phi_k, float delta, float xi)
+//   SbfSlcSphere sbf_slc_point_sphere(float3 q, float intensity, float delta, float xi)
+//   float3 sbf_slc_ray_sphere(float3 o, float3 d, SbfSlcSphere s)
+//   float sbf_slc_equiangular_pdf(float tc, float h, float a, float b, float t)
+//   float2 sbf_slc_equiangular_sample(float tc, float h, float a, float b, float u)
+//   float sbf_slc_diffuse_intensity_bound(float d_dot_n, float phi)
+//   SbfSlcCullEllipsoid sbf_slc_cull_transform(SbfSlcEllipsoid e, float3x3 view, float3 origin)
+//   array<float3, 8> sbf_slc_tile_corners(float x0, float y0, float x1, float y1, float2 size, float2 tan_xy, float z0, float z1)
+//   bool sbf_slc_ellipsoid_hits_corners(SbfSlcCullEllipsoid e, array<float3, 8> corners)
 // Textures these functions read:
-//   lobe_ggx_pixel(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,
-//     layer = n·v node × 12 + √α node).
-//   lobe_ggx_lobe(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut (x = ψ, y = γ,
-//     layer = n·v node × 12 + √α node).
-//   lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
-//     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
-//     × 24 + ψ node, y = γ node, z = n·v node).
-//   lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
-//     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
-//     × 24 + ψ node, y = γ node, z = n·v node).
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_pixel(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_lobe(tab): 2D array, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
+//     (linear min/mag filter, clamp to edge). See the function's comment.
+//   sbf_lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
+//     (linear min/mag filter, clamp to edge). See the function's comment.
+//   sbf_sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
+//   sbf_sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_ALL_METAL
 #define SBF_ALL_METAL
@@ -100,98 +99,154 @@
 #include <metal_stdlib>
 using namespace metal;
 
-constant float PI = 3.1415927f;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+constant float SBF_PI = 3.1415927f;
+#endif
 
-constant float INV_PI = 0.31830987f;
+#ifndef SBF_DEFINED_SBF_INV_PI
+#define SBF_DEFINED_SBF_INV_PI
+constant float SBF_INV_PI = 0.31830987f;
+#endif
 
+#ifndef SBF_DEFINED_sbf_tangent_frame
+#define SBF_DEFINED_sbf_tangent_frame
 // Orthonormal tangent and bitangent for unit n (Duff et al. 2017, "Building an
 // Orthonormal Basis, Revisited"). CPU twin: sbf::basis::ambient_dice_bezier::tangent_frame.
-inline array<float3, 2> tangent_frame(float3 n) {
+inline array<float3, 2> sbf_tangent_frame(float3 n) {
     float s = n.z >= 0.0f ? 1.0f : -1.0f;
     float a = -1.0f / (s + n.z);
     float b = n.x * n.y * a;
     return array<float3, 2>{float3(1.0f + s * n.x * n.x * a, s * b, -s * n.x), float3(b, s + n.y * n.y * a, -n.y)};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-inline float3 reflect_about(float3 v, float3 n) {
+inline float3 sbf_reflect_about(float3 v, float3 n) {
     return 2.0f * dot(v, n) * n - v;
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-constant float3 AD_DIFFUSE_QUADRATIC = float3(0.060026042f, 0.12916666f, 0.06979167f);
+constant float3 SBF_AD_DIFFUSE_QUADRATIC = float3(0.060026042f, 0.12916666f, 0.06979167f);
+#endif
 
-constant float HILL_C0 = 0.3652013f;
+#ifndef SBF_DEFINED_SBF_HILL_C0
+#define SBF_DEFINED_SBF_HILL_C0
+constant float SBF_HILL_C0 = 0.3652013f;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
+#define SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
-constant array<float, 8> AD_SPECULAR_PARAMS = array<float, 8>{3.049891f, -6.9830027f, 7.3882704f, -2.662757f, -0.40054294f, 5.6266994f, -6.0400987f, 1.9006125f};
+constant array<float, 8> SBF_AD_SPECULAR_PARAMS = array<float, 8>{3.049891f, -6.9830027f, 7.3882704f, -2.662757f, -0.40054294f, 5.6266994f, -6.0400987f, 1.9006125f};
+#endif
 
-constant float3 AD_SPECULAR_DIFFUSE = float3(0.06f, 0.129f, 0.0697f);
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+#define SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+constant float3 SBF_AD_SPECULAR_DIFFUSE = float3(0.06f, 0.129f, 0.0697f);
+#endif
 
+#ifndef SBF_DEFINED_SBF_LOBE_GGX_SQRT_ALPHA_NODES
+#define SBF_DEFINED_SBF_LOBE_GGX_SQRT_ALPHA_NODES
 // Lobe GGX tables (texture_2d_array: x = ψ, y = γ, layer = n·v node × this + √α node).
-constant int LOBE_GGX_SQRT_ALPHA_NODES = 12;
+constant int SBF_LOBE_GGX_SQRT_ALPHA_NODES = 12;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD12_AXES
+#define SBF_DEFINED_SBF_AD12_AXES
 // Ambient Dice 12: icosahedron vertices (sbf::AmbientDiceSrbf::twelve).
-constant array<float3, 12> AD12_AXES = array<float3, 12>{float3(0.8506508f, 0.5257311f, 0.0f), float3(-0.8506508f, 0.5257311f, 0.0f), float3(0.8506508f, -0.5257311f, 0.0f), float3(-0.8506508f, -0.5257311f, 0.0f), float3(0.0f, 0.8506508f, 0.5257311f), float3(0.0f, -0.8506508f, 0.5257311f), float3(0.0f, 0.8506508f, -0.5257311f), float3(0.0f, -0.8506508f, -0.5257311f), float3(0.5257311f, 0.0f, 0.8506508f), float3(-0.5257311f, 0.0f, 0.8506508f), float3(0.5257311f, 0.0f, -0.8506508f), float3(-0.5257311f, 0.0f, -0.8506508f)};
+constant array<float3, 12> SBF_AD12_AXES = array<float3, 12>{float3(0.8506508f, 0.5257311f, 0.0f), float3(-0.8506508f, 0.5257311f, 0.0f), float3(0.8506508f, -0.5257311f, 0.0f), float3(-0.8506508f, -0.5257311f, 0.0f), float3(0.0f, 0.8506508f, 0.5257311f), float3(0.0f, -0.8506508f, 0.5257311f), float3(0.0f, 0.8506508f, -0.5257311f), float3(0.0f, -0.8506508f, -0.5257311f), float3(0.5257311f, 0.0f, 0.8506508f), float3(-0.5257311f, 0.0f, 0.8506508f), float3(0.5257311f, 0.0f, -0.8506508f), float3(-0.5257311f, 0.0f, -0.8506508f)};
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-constant array<float3, 9> AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
+constant array<float3, 9> SBF_AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
+#endif
 
-inline float ggx_d(float3 h, float alpha) {
+#ifndef SBF_DEFINED_sbf_ggx_d
+#define SBF_DEFINED_sbf_ggx_d
+inline float sbf_ggx_d(float3 h, float alpha) {
     if (h.z <= 0.0f) {
         return 0.0f;
     }
     float a2 = alpha * alpha;
     float t = a2 * h.z * h.z + (h.x * h.x + h.y * h.y);
-    return a2 / (PI * t * t);
+    return a2 / (SBF_PI * t * t);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_a_term
+#define SBF_DEFINED_sbf_ggx_a_term
 // a = α² tan²θ for unit w with w_z > 0.
-inline float ggx_a_term(float3 w, float alpha) {
+inline float sbf_ggx_a_term(float3 w, float alpha) {
     return alpha * alpha * (w.x * w.x + w.y * w.y) / (w.z * w.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_lambda
+#define SBF_DEFINED_sbf_ggx_lambda
 // Smith Λ(w); precondition w_z > 0.
-inline float ggx_lambda(float3 w, float alpha) {
-    float a = ggx_a_term(w, alpha);
+inline float sbf_ggx_lambda(float3 w, float alpha) {
+    float a = sbf_ggx_a_term(w, alpha);
     return a / (2.0f * (1.0f + sqrt(1.0f + a)));
 }
+#endif
 
-inline float ggx_g1(float3 w, float alpha) {
+#ifndef SBF_DEFINED_sbf_ggx_g1
+#define SBF_DEFINED_sbf_ggx_g1
+inline float sbf_ggx_g1(float3 w, float alpha) {
     if (w.z <= 0.0f) {
         return 0.0f;
     }
-    return 2.0f / (1.0f + sqrt(1.0f + ggx_a_term(w, alpha)));
+    return 2.0f / (1.0f + sqrt(1.0f + sbf_ggx_a_term(w, alpha)));
 }
+#endif
 
-inline float ggx_g2(float3 v, float3 l, float alpha) {
+#ifndef SBF_DEFINED_sbf_ggx_g2
+#define SBF_DEFINED_sbf_ggx_g2
+inline float sbf_ggx_g2(float3 v, float3 l, float alpha) {
     if (v.z <= 0.0f || l.z <= 0.0f) {
         return 0.0f;
     }
-    return 1.0f / (1.0f + ggx_lambda(v, alpha) + ggx_lambda(l, alpha));
+    return 1.0f / (1.0f + sbf_ggx_lambda(v, alpha) + sbf_ggx_lambda(l, alpha));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_schlick_weight
+#define SBF_DEFINED_sbf_schlick_weight
 // Schlick's Fresnel weight (1 − v·h)^5; F = f0·(1 − w) + f90·w.
-inline float schlick_weight(float v_dot_h) {
+inline float sbf_schlick_weight(float v_dot_h) {
     float x = clamp(1.0f - v_dot_h, 0.0f, 1.0f);
     float x2 = x * x;
     return x2 * x2 * x;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_energy_compensation
+#define SBF_DEFINED_sbf_ggx_energy_compensation
 // Multiple-scattering energy compensation (Fdez-Agüera 2019, "A Multiple-Scattering
 // Microfacet Model for Real-Time Image-based Lighting", JCGT 8(1); as Filament): the factor
 // 1 + f0·(1/E − 1) that scales any single-scattering GGX specular response, E = dfg.x + dfg.y
 // the DFG table's single-scattering albedo at (n·v, α) for f0 = f90 = 1; 1 where E ≤ 0.
-inline float ggx_energy_compensation(float2 dfg, float f0) {
+inline float sbf_ggx_energy_compensation(float2 dfg, float f0) {
     float e = dfg.x + dfg.y;
     if (e <= 0.0f) {
         return 1.0f;
     }
     return 1.0f + f0 * (1.0f / e - 1.0f);
 }
+#endif
 
-inline float2 lut2_sample(texture2d<float> t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+inline float2 sbf_lut2_sample(texture2d<float> t, float u, float v) {
     int2 size = int2(uint2(t.get_width(), t.get_height()));
     float uu = u == u ? u : 0.0f;
     float vv = v == v ? v : 0.0f;
@@ -207,38 +262,50 @@ inline float2 lut2_sample(texture2d<float> t, float u, float v) {
     float2 b = t.read(uint2(int2(i0, j1)), uint(0)).xy * (1.0f - fx) + t.read(uint2(int2(i1, j1)), uint(0)).xy * fx;
     return a * (1.0f - fy) + b * fy;
 }
+#endif
 
-struct LobeGgxPixel {
+#ifndef SBF_DEFINED_SbfLobeGgxPixel
+#define SBF_DEFINED_SbfLobeGgxPixel
+struct SbfLobeGgxPixel {
     float3 r;
     float3 t;
     int4 layer;
     float4 w;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_acos
+#define SBF_DEFINED_sbf_lobe_ggx_acos
 // acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad on [−1, 1]): Vulkan only bounds
 // the built-in acos through atan's 4096 ulp (≈ 3e-4 rad measured on lavapipe), which moves
 // a lookup by up to 0.1% of its value.
-inline float lobe_ggx_acos(float x) {
+inline float sbf_lobe_ggx_acos(float x) {
     float a = abs(x);
     float p = 1.5707963f + a * (-0.2145988f + a * (0.08897899f + a * (-0.050174303f + a * (0.03089188f + a * (-0.017088126f + a * (0.00667009f - a * 0.0012624911f))))));
     float r = sqrt(max(1.0f - a, 0.0f)) * p;
-    return x < 0.0f ? PI - r : r;
+    return x < 0.0f ? SBF_PI - r : r;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_locate
+#define SBF_DEFINED_sbf_lobe_ggx_locate
 // (lower node, fraction) of x ∈ [0, 1] on `size` nodes, clamped.
-inline float2 lobe_ggx_locate(float x, int size) {
+inline float2 sbf_lobe_ggx_locate(float x, int size) {
     float t = clamp(x, 0.0f, 1.0f) * float(size - 1);
     float i = min(floor(t), float(size - 2));
     return float2(i, t - i);
 }
+#endif
 
-inline LobeGgxPixel lobe_ggx_pixel(texture2d_array<float> tab, float3 n, float3 v, float alpha) {
-    int nv_nodes = int(tab.get_array_size()) / LOBE_GGX_SQRT_ALPHA_NODES;
-    float2 a = lobe_ggx_locate(dot(n, v), nv_nodes);
-    float2 b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0f, 1.0f)), LOBE_GGX_SQRT_ALPHA_NODES);
+#ifndef SBF_DEFINED_sbf_lobe_ggx_pixel
+#define SBF_DEFINED_sbf_lobe_ggx_pixel
+inline SbfLobeGgxPixel sbf_lobe_ggx_pixel(texture2d_array<float> tab, float3 n, float3 v, float alpha) {
+    int nv_nodes = int(tab.get_array_size()) / SBF_LOBE_GGX_SQRT_ALPHA_NODES;
+    float2 a = sbf_lobe_ggx_locate(dot(n, v), nv_nodes);
+    float2 b = sbf_lobe_ggx_locate(sqrt(clamp(alpha, 0.0f, 1.0f)), SBF_LOBE_GGX_SQRT_ALPHA_NODES);
     int i = int(a.x);
     int j = int(b.x);
-    int4 layer = int4(i * LOBE_GGX_SQRT_ALPHA_NODES + j, i * LOBE_GGX_SQRT_ALPHA_NODES + j + 1, (i + 1) * LOBE_GGX_SQRT_ALPHA_NODES + j, (i + 1) * LOBE_GGX_SQRT_ALPHA_NODES + j + 1);
+    int4 layer = int4(i * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j, i * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j + 1, (i + 1) * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j, (i + 1) * SBF_LOBE_GGX_SQRT_ALPHA_NODES + j + 1);
     float4 w = float4((1.0f - a.y) * (1.0f - b.y), (1.0f - a.y) * b.y, a.y * (1.0f - b.y), a.y * b.y);
     float3 r = 2.0f * dot(v, n) * n - v;
     float3 t0 = n - dot(n, r) * r;
@@ -246,20 +313,23 @@ inline LobeGgxPixel lobe_ggx_pixel(texture2d_array<float> tab, float3 n, float3 
     if (dot(t0, t0) > 1e-12f) {
         t = normalize(t0);
     }
-    return LobeGgxPixel{r, t, layer, w};
+    return SbfLobeGgxPixel{r, t, layer, w};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_lobe
+#define SBF_DEFINED_sbf_lobe_ggx_lobe
 // (R₀, R₁) of one unit lobe with axis `axis`.
-inline float2 lobe_ggx_lobe(texture2d_array<float> tab, LobeGgxPixel px, float3 axis) {
+inline float2 sbf_lobe_ggx_lobe(texture2d_array<float> tab, SbfLobeGgxPixel px, float3 axis) {
     int2 size = int2(uint2(tab.get_width(), tab.get_height()));
     float rp = clamp(dot(px.r, axis), -1.0f, 1.0f);
     float st2 = max(1.0f - rp * rp, 0.0f);
     float psi = 0.0f;
     if (st2 > 1e-12f && dot(px.t, px.t) > 0.0f) {
-        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0f, 1.0f));
+        psi = sbf_lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0f, 1.0f));
     }
-    float2 g = lobe_ggx_locate(lobe_ggx_acos(rp) / PI, size.y);
-    float2 p = lobe_ggx_locate(psi / PI, size.x);
+    float2 g = sbf_lobe_ggx_locate(sbf_lobe_ggx_acos(rp) / SBF_PI, size.y);
+    float2 p = sbf_lobe_ggx_locate(psi / SBF_PI, size.x);
     int k = int(g.x);
     int l = int(p.x);
     float2 e = float2(0.0f);
@@ -271,8 +341,11 @@ inline float2 lobe_ggx_lobe(texture2d_array<float> tab, LobeGgxPixel px, float3 
     }
     return e;
 }
+#endif
 
-struct LobeGgxFilteredPixel {
+#ifndef SBF_DEFINED_SbfLobeGgxFilteredPixel
+#define SBF_DEFINED_SbfLobeGgxFilteredPixel
+struct SbfLobeGgxFilteredPixel {
     float3 r;
     float3 t;
     float x0;
@@ -283,11 +356,14 @@ struct LobeGgxFilteredPixel {
     float z;
     float wa;
 };
+#endif
 
-inline LobeGgxFilteredPixel lobe_ggx_filtered_pixel(texture3d<float> tab, float3 n, float3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_pixel
+#define SBF_DEFINED_sbf_lobe_ggx_filtered_pixel
+inline SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(texture3d<float> tab, float3 n, float3 v, float alpha) {
     float3 size = float3(uint3(tab.get_width(), tab.get_height(), tab.get_depth()));
-    float npsi = size.x / float(LOBE_GGX_SQRT_ALPHA_NODES);
-    float2 b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0f, 1.0f)), LOBE_GGX_SQRT_ALPHA_NODES);
+    float npsi = size.x / float(SBF_LOBE_GGX_SQRT_ALPHA_NODES);
+    float2 b = sbf_lobe_ggx_locate(sqrt(clamp(alpha, 0.0f, 1.0f)), SBF_LOBE_GGX_SQRT_ALPHA_NODES);
     float x0 = (b.x * npsi + 0.5f) / size.x;
     float z = (clamp(dot(n, v), 0.0f, 1.0f) * (size.z - 1.0f) + 0.5f) / size.z;
     float3 r = 2.0f * dot(v, n) * n - v;
@@ -296,94 +372,172 @@ inline LobeGgxFilteredPixel lobe_ggx_filtered_pixel(texture3d<float> tab, float3
     if (dot(t0, t0) > 1e-12f) {
         t = normalize(t0);
     }
-    return LobeGgxFilteredPixel{r, t, x0, x0 + npsi / size.x, (npsi - 1.0f) / size.x, 0.5f / size.y, (size.y - 1.0f) / size.y, z, b.y};
+    return SbfLobeGgxFilteredPixel{r, t, x0, x0 + npsi / size.x, (npsi - 1.0f) / size.x, 0.5f / size.y, (size.y - 1.0f) / size.y, z, b.y};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
+#define SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
 // (R₀, R₁) of one unit lobe with axis `axis`.
-inline float2 lobe_ggx_filtered_lobe(texture3d<float> tab, sampler smp, LobeGgxFilteredPixel px, float3 axis) {
+inline float2 sbf_lobe_ggx_filtered_lobe(texture3d<float> tab, sampler smp, SbfLobeGgxFilteredPixel px, float3 axis) {
     float rp = clamp(dot(px.r, axis), -1.0f, 1.0f);
     float st2 = max(1.0f - rp * rp, 0.0f);
     float psi = 0.0f;
     if (st2 > 1e-12f && dot(px.t, px.t) > 0.0f) {
-        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0f, 1.0f));
+        psi = sbf_lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0f, 1.0f));
     }
-    float xp = clamp(psi / PI, 0.0f, 1.0f) * px.sx;
-    float y = px.y0 + clamp(lobe_ggx_acos(rp) / PI, 0.0f, 1.0f) * px.sy;
+    float xp = clamp(psi / SBF_PI, 0.0f, 1.0f) * px.sx;
+    float y = px.y0 + clamp(sbf_lobe_ggx_acos(rp) / SBF_PI, 0.0f, 1.0f) * px.sy;
     float2 lo = tab.sample(smp, float3(px.x0 + xp, y, px.z), level(0.0f)).xy;
     float2 hi = tab.sample(smp, float3(px.x1 + xp, y, px.z), level(0.0f)).xy;
     return mix(lo, hi, px.wa);
 }
+#endif
 
-constant float SH_K00 = 0.28209478f; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+constant float SBF_SH_K00 = 0.28209478f; // 0.5 / sqrt(PI)
+#endif
 
-constant float SH_K1 = 0.48860252f; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+constant float SBF_SH_K1 = 0.48860252f; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-constant float SH_K2A = 1.0925484f; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+constant float SBF_SH_K2A = 1.0925484f; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-constant float SH_K20 = 0.31539157f; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+constant float SBF_SH_K20 = 0.31539157f; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-constant float SH_K22 = 0.5462742f; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+constant float SBF_SH_K22 = 0.5462742f; // 0.25 * sqrt(15.0 / PI)
+#endif
 
-constant float SH_K33 = 0.59004354f; // 0.25 * sqrt(35.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K33
+#define SBF_DEFINED_SBF_SH_K33
+constant float SBF_SH_K33 = 0.59004354f; // 0.25 * sqrt(35.0 / (2.0 * PI))
+#endif
 
-constant float SH_K32A = 2.8906114f; // 0.5 * sqrt(105.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K32A
+#define SBF_DEFINED_SBF_SH_K32A
+constant float SBF_SH_K32A = 2.8906114f; // 0.5 * sqrt(105.0 / PI)
+#endif
 
-constant float SH_K31 = 0.4570458f; // 0.25 * sqrt(21.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K31
+#define SBF_DEFINED_SBF_SH_K31
+constant float SBF_SH_K31 = 0.4570458f; // 0.25 * sqrt(21.0 / (2.0 * PI))
+#endif
 
-constant float SH_K30 = 0.37317634f; // 0.25 * sqrt(7.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K30
+#define SBF_DEFINED_SBF_SH_K30
+constant float SBF_SH_K30 = 0.37317634f; // 0.25 * sqrt(7.0 / PI)
+#endif
 
-constant float SH_K32B = 1.4453057f; // 0.25 * sqrt(105.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K32B
+#define SBF_DEFINED_SBF_SH_K32B
+constant float SBF_SH_K32B = 1.4453057f; // 0.25 * sqrt(105.0 / PI)
+#endif
 
-constant float SH_K44 = 2.5033429f; // 0.75 * sqrt(35.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K44
+#define SBF_DEFINED_SBF_SH_K44
+constant float SBF_SH_K44 = 2.5033429f; // 0.75 * sqrt(35.0 / PI)
+#endif
 
-constant float SH_K43 = 1.7701306f; // 0.75 * sqrt(35.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K43
+#define SBF_DEFINED_SBF_SH_K43
+constant float SBF_SH_K43 = 1.7701306f; // 0.75 * sqrt(35.0 / (2.0 * PI))
+#endif
 
-constant float SH_K42 = 0.94617474f; // 0.75 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K42
+#define SBF_DEFINED_SBF_SH_K42
+constant float SBF_SH_K42 = 0.94617474f; // 0.75 * sqrt(5.0 / PI)
+#endif
 
-constant float SH_K41 = 0.6690465f; // 0.75 * sqrt(5.0 / (2.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K41
+#define SBF_DEFINED_SBF_SH_K41
+constant float SBF_SH_K41 = 0.6690465f; // 0.75 * sqrt(5.0 / (2.0 * PI))
+#endif
 
-constant float SH_K40 = 0.10578554f; // (3.0 / 16.0) * sqrt(1.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K40
+#define SBF_DEFINED_SBF_SH_K40
+constant float SBF_SH_K40 = 0.10578554f; // (3.0 / 16.0) * sqrt(1.0 / PI)
+#endif
 
-constant float SH_K42B = 0.47308737f; // (3.0 / 8.0) * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K42B
+#define SBF_DEFINED_SBF_SH_K42B
+constant float SBF_SH_K42B = 0.47308737f; // (3.0 / 8.0) * sqrt(5.0 / PI)
+#endif
 
-constant float SH_K44B = 0.6258357f; // (3.0 / 16.0) * sqrt(35.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K44B
+#define SBF_DEFINED_SBF_SH_K44B
+constant float SBF_SH_K44B = 0.6258357f; // (3.0 / 16.0) * sqrt(35.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-constant float SH_BAND1 = 0.6666667f; // 2.0 / 3.0
+constant float SBF_SH_BAND1 = 0.6666667f; // 2.0 / 3.0
+#endif
 
-constant float SH_BAND2 = 0.25f;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+constant float SBF_SH_BAND2 = 0.25f;
+#endif
 
-constant float SH_BAND4 = -0.041666668f; // -1.0 / 24.0
+#ifndef SBF_DEFINED_SBF_SH_BAND4
+#define SBF_DEFINED_SBF_SH_BAND4
+constant float SBF_SH_BAND4 = -0.041666668f; // -1.0 / 24.0
+#endif
 
-inline array<float, 4> sh_eval_l1(float3 d) {
-    return array<float, 4>{SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x};
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+inline array<float, 4> sbf_sh_eval_l1(float3 d) {
+    return array<float, 4>{SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x};
 }
+#endif
 
-inline array<float, 9> sh_eval_l2(float3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+inline array<float, 9> sbf_sh_eval_l2(float3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    return array<float, 9>{SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0f * z * z - 1.0f), SH_K2A * x * z, SH_K22 * (x * x - y * y)};
+    return array<float, 9>{SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0f * z * z - 1.0f), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y)};
 }
+#endif
 
-inline array<float, 25> sh_eval_l4(float3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l4
+#define SBF_DEFINED_sbf_sh_eval_l4
+inline array<float, 25> sbf_sh_eval_l4(float3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
     float x2 = x * x;
     float y2 = y * y;
     float z2 = z * z;
-    return array<float, 25>{SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0f * z2 - 1.0f), SH_K2A * x * z, SH_K22 * (x2 - y2), SH_K33 * y * (3.0f * x2 - y2), SH_K32A * x * y * z, SH_K31 * y * (5.0f * z2 - 1.0f), SH_K30 * z * (5.0f * z2 - 3.0f), SH_K31 * x * (5.0f * z2 - 1.0f), SH_K32B * z * (x2 - y2), SH_K33 * x * (x2 - 3.0f * y2), SH_K44 * x * y * (x2 - y2), SH_K43 * y * z * (3.0f * x2 - y2), SH_K42 * x * y * (7.0f * z2 - 1.0f), SH_K41 * y * z * (7.0f * z2 - 3.0f), SH_K40 * (35.0f * z2 * z2 - 30.0f * z2 + 3.0f), SH_K41 * x * z * (7.0f * z2 - 3.0f), SH_K42B * (x2 - y2) * (7.0f * z2 - 1.0f), SH_K43 * x * z * (x2 - 3.0f * y2), SH_K44B * (x2 * (x2 - 3.0f * y2) - y2 * (3.0f * x2 - y2))};
+    return array<float, 25>{SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0f * z2 - 1.0f), SBF_SH_K2A * x * z, SBF_SH_K22 * (x2 - y2), SBF_SH_K33 * y * (3.0f * x2 - y2), SBF_SH_K32A * x * y * z, SBF_SH_K31 * y * (5.0f * z2 - 1.0f), SBF_SH_K30 * z * (5.0f * z2 - 3.0f), SBF_SH_K31 * x * (5.0f * z2 - 1.0f), SBF_SH_K32B * z * (x2 - y2), SBF_SH_K33 * x * (x2 - 3.0f * y2), SBF_SH_K44 * x * y * (x2 - y2), SBF_SH_K43 * y * z * (3.0f * x2 - y2), SBF_SH_K42 * x * y * (7.0f * z2 - 1.0f), SBF_SH_K41 * y * z * (7.0f * z2 - 3.0f), SBF_SH_K40 * (35.0f * z2 * z2 - 30.0f * z2 + 3.0f), SBF_SH_K41 * x * z * (7.0f * z2 - 3.0f), SBF_SH_K42B * (x2 - y2) * (7.0f * z2 - 1.0f), SBF_SH_K43 * x * z * (x2 - 3.0f * y2), SBF_SH_K44B * (x2 * (x2 - 3.0f * y2) - y2 * (3.0f * x2 - y2))};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_irradiance
+#define SBF_DEFINED_sbf_sh_l1_irradiance
 // E/π at unit normal n from RGB radiance coefficients.
-inline float3 sh_l1_irradiance(array<float3, 4> c, float3 n) {
-    array<float, 4> y = sh_eval_l1(n);
-    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
+inline float3 sbf_sh_l1_irradiance(array<float3, 4> c, float3 n) {
+    array<float, 4> y = sbf_sh_eval_l1(n);
+    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
+#endif
 
-inline float3 sh_l2_irradiance(array<float3, 9> c, float3 n) {
-    array<float, 9> y = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+inline float3 sbf_sh_l2_irradiance(array<float3, 9> c, float3 n) {
+    array<float, 9> y = sbf_sh_eval_l2(n);
     float3 b1 = float3(0.0f);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -392,11 +546,14 @@ inline float3 sh_l2_irradiance(array<float3, 9> c, float3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
-inline float3 sh_l4_irradiance(array<float3, 25> c, float3 n) {
-    array<float, 25> y = sh_eval_l4(n);
+#ifndef SBF_DEFINED_sbf_sh_l4_irradiance
+#define SBF_DEFINED_sbf_sh_l4_irradiance
+inline float3 sbf_sh_l4_irradiance(array<float3, 25> c, float3 n) {
+    array<float, 25> y = sbf_sh_eval_l4(n);
     float3 b1 = float3(0.0f);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -409,13 +566,16 @@ inline float3 sh_l4_irradiance(array<float3, 25> c, float3 n) {
     for (int i = 16; i < 25; i++) {
         b4 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2 + b4 * SH_BAND4;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2 + b4 * SBF_SH_BAND4;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_channel
+#define SBF_DEFINED_sbf_sh_l1_geomerics_channel
 // Geomerics' non-linear L1 reconstruction (Geomerics / Graham Hazel 2015, as in
 // sbf::recon::sh::irradiance_l1_geomerics), per channel; E/π.
-inline float sh_l1_geomerics_channel(float c0, float3 c1, float3 n) {
-    float r0 = c0 * SH_K00;
+inline float sbf_sh_l1_geomerics_channel(float c0, float3 c1, float3 n) {
+    float r0 = c0 * SBF_SH_K00;
     float3 r1 = c1 * 0.1628675f;
     float len = length(r1);
     if (r0 <= 0.0f || len <= 0.0f) {
@@ -427,18 +587,27 @@ inline float sh_l1_geomerics_channel(float c0, float3 c1, float3 n) {
     float a = (1.0f - ratio) / (1.0f + ratio);
     return r0 * (a + (1.0f - a) * (p + 1.0f) * pow(max(q, 0.0f), p));
 }
+#endif
 
-inline float3 sh_l1_geomerics_irradiance(array<float3, 4> c, float3 n) {
-    return float3(sh_l1_geomerics_channel(c[0].x, float3(c[3].x, c[1].x, c[2].x), n), sh_l1_geomerics_channel(c[0].y, float3(c[3].y, c[1].y, c[2].y), n), sh_l1_geomerics_channel(c[0].z, float3(c[3].z, c[1].z, c[2].z), n));
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+#define SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+inline float3 sbf_sh_l1_geomerics_irradiance(array<float3, 4> c, float3 n) {
+    return float3(sbf_sh_l1_geomerics_channel(c[0].x, float3(c[3].x, c[1].x, c[2].x), n), sbf_sh_l1_geomerics_channel(c[0].y, float3(c[3].y, c[1].y, c[2].y), n), sbf_sh_l1_geomerics_channel(c[0].z, float3(c[3].z, c[1].z, c[2].z), n));
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_LUMINANCE
+#define SBF_DEFINED_SBF_SH_LUMINANCE
 // ZH3 hallucination for L1 (Roughton & Sloan 2024, "ZH3: Quadratic Zonal Harmonics",
 // as in sbf::recon::sh::irradiance_l1_zh3): a zonal band-2 term about the luminance
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
-constant float3 SH_LUMINANCE = float3(0.2126f, 0.7152f, 0.0722f);
+constant float3 SBF_SH_LUMINANCE = float3(0.2126f, 0.7152f, 0.0722f);
+#endif
 
-inline float3 sh_l1_zh3_irradiance(array<float3, 4> c, float3 n) {
-    float3 lum = float3(dot(c[3], SH_LUMINANCE), dot(c[1], SH_LUMINANCE), dot(c[2], SH_LUMINANCE));
+#ifndef SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+#define SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+inline float3 sbf_sh_l1_zh3_irradiance(array<float3, 4> c, float3 n) {
+    float3 lum = float3(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));
     float len2 = dot(lum, lum);
     float3 axis = len2 > 0.0f ? lum * rsqrt(len2) : float3(0.0f, 0.0f, 1.0f);
     float3 along = abs(c[3] * axis.x + c[1] * axis.y + c[2] * axis.z);
@@ -446,55 +615,73 @@ inline float3 sh_l1_zh3_irradiance(array<float3, 4> c, float3 n) {
     float3 zh = c[0] * (0.08f * r + 0.6f * r * r);
     float t = dot(n, axis);
     float y20 = 0.31539157f * (3.0f * t * t - 1.0f);
-    return sh_l1_irradiance(c, n) + SH_BAND2 * zh * y20;
+    return sbf_sh_l1_irradiance(c, n) + SBF_SH_BAND2 * zh * y20;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_ratios
+#define SBF_DEFINED_sbf_sh_specular_ratios
 // (g₁/g₀, g₂/g₀) of the unit-integral SG of sharpness λ ≥ 0.5 (n·v ≤ 1, α ≤ 1). With
 // e = e^(−2λ), coth λ = (1 + e)/(1 − e); 1 − e ≥ 0.63 here, so no cancellation there;
 // g₁ loses ≤ 4 bits to the subtraction at λ = 0.5 and g₂ ≤ 6 (≈ 1e-5 relative).
-inline float2 sh_specular_ratios(float lambda) {
+inline float2 sbf_sh_specular_ratios(float lambda) {
     float e = exp(-2.0f * lambda);
     float g1 = (1.0f + e) / (1.0f - e) - 1.0f / lambda;
     return float2(g1, 1.0f - 3.0f * g1 / lambda);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_dominant
+#define SBF_DEFINED_sbf_sh_specular_dominant
 // The dominant direction normalize(mix(n, r, s(√s + α))), s = saturate(1 − α)
 // (sbf::ggx::dominant_direction).
-inline float3 sh_specular_dominant(float3 n, float3 r, float alpha) {
+inline float3 sbf_sh_specular_dominant(float3 n, float3 r, float alpha) {
     float s = clamp(1.0f - alpha, 0.0f, 1.0f);
     float f = s * (sqrt(s) + alpha);
     return normalize(n + (r - n) * f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_setup
+#define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-inline float4 sh_specular_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+inline float4 sbf_sh_specular_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001f, 1.0f);
     float nv = dot(n, v);
     float lambda = 2.0f / (alpha * alpha) / (4.0f * max(nv, 0.0001f));
-    float2 g = sh_specular_ratios(lambda);
-    float2 d = lut2_sample(dfg, clamp(nv, 0.0f, 1.0f), alpha_in);
+    float2 g = sbf_sh_specular_ratios(lambda);
+    float2 d = sbf_lut2_sample(dfg, clamp(nv, 0.0f, 1.0f), alpha_in);
     return float4(g, f0 * d.x + f90 * d.y, alpha);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_specular
+#define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-inline float3 sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
-    float4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    array<float, 4> y = sh_eval_l1(sh_specular_dominant(n, reflect_about(v, n), s.w));
+inline float3 sbf_sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+    float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    array<float, 4> y = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
     return l * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l2_specular
+#define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-inline float3 sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
-    float4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    array<float, 9> y = sh_eval_l2(sh_specular_dominant(n, reflect_about(v, n), s.w));
+inline float3 sbf_sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+    float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    array<float, 9> y = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
     float3 b2 = c[4] * y[4] + c[5] * y[5] + c[6] * y[6] + c[7] * y[7] + c[8] * y[8];
     return (c[0] * y[0] + s.x * b1 + s.y * b2) * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rot_band1
+#define SBF_DEFINED_sbf_sh_rot_band1
 // Band 1: R with rows and columns in the (y, z, x) order of m = −1, 0, 1.
-inline array<float, 81> sh_rot_band1(float3x3 r) {
+inline array<float, 81> sbf_sh_rot_band1(float3x3 r) {
     float3x3 rr = r;
     array<int, 3> axis = array<int, 3>{1, 2, 0};
     array<float, 81> b = array<float, 81>{};
@@ -505,9 +692,12 @@ inline array<float, 81> sh_rot_band1(float3x3 r) {
     }
     return b;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rot_p
+#define SBF_DEFINED_sbf_sh_rot_p
 // The recurrence's P(i, a, b) for band l from band 1 (r1) and band l − 1 (prev).
-inline float sh_rot_p(int i, int l, int a, int b, thread array<float, 81>& r1, thread array<float, 81>& prev) {
+inline float sbf_sh_rot_p(int i, int l, int a, int b, thread array<float, 81>& r1, thread array<float, 81>& prev) {
     int ri = (i + 1) * 9;
     int pa = (a + l - 1) * 9;
     if (b == l) {
@@ -518,9 +708,12 @@ inline float sh_rot_p(int i, int l, int a, int b, thread array<float, 81>& r1, t
     }
     return r1[ri + 1] * prev[pa + b + l - 1];
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rot_next_band
+#define SBF_DEFINED_sbf_sh_rot_next_band
 // Band l (≥ 2) from band 1 and band l − 1: M_mn = u·U + v·V + w·W.
-inline array<float, 81> sh_rot_next_band(int l, thread array<float, 81>& r1, thread array<float, 81>& prev) {
+inline array<float, 81> sbf_sh_rot_next_band(int l, thread array<float, 81>& r1, thread array<float, 81>& prev) {
     int m = -l;
     array<float, 81> out_ = array<float, 81>{};
     for (; m <= l; m++) {
@@ -533,24 +726,24 @@ inline array<float, 81> sh_rot_next_band(int l, thread array<float, 81>& r1, thr
             }
             float x = 0.0f;
             if (am < l) {
-                float sh_rot_p_result = sh_rot_p(0, l, m, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(0, l, m, n, r1, prev);
                 x += sqrt(float((l + m) * (l - m)) / den) * sh_rot_p_result;
             }
             float v = 0.5f * sqrt((1.0f + d0) * float((l + am - 1) * (l + am)) / den) * (1.0f - 2.0f * d0);
             float vv = 0.0f;
             if (m == 0) {
-                float sh_rot_p_result = sh_rot_p(1, l, 1, n, r1, prev);
-                float sh_rot_p_result_1 = sh_rot_p(-1, l, -1, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(1, l, 1, n, r1, prev);
+                float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -1, n, r1, prev);
                 vv = sh_rot_p_result + sh_rot_p_result_1;
             } else if (m > 0) {
                 float d1 = m == 1 ? 1.0f : 0.0f;
-                float sh_rot_p_result = sh_rot_p(1, l, m - 1, n, r1, prev);
-                float sh_rot_p_result_1 = sh_rot_p(-1, l, -m + 1, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(1, l, m - 1, n, r1, prev);
+                float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m + 1, n, r1, prev);
                 vv = sh_rot_p_result * sqrt(1.0f + d1) - sh_rot_p_result_1 * (1.0f - d1);
             } else {
                 float d1 = m == -1 ? 1.0f : 0.0f;
-                float sh_rot_p_result = sh_rot_p(1, l, m + 1, n, r1, prev);
-                float sh_rot_p_result_1 = sh_rot_p(-1, l, -m - 1, n, r1, prev);
+                float sh_rot_p_result = sbf_sh_rot_p(1, l, m + 1, n, r1, prev);
+                float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m - 1, n, r1, prev);
                 vv = sh_rot_p_result * (1.0f - d1) + sh_rot_p_result_1 * sqrt(1.0f + d1);
             }
             x += v * vv;
@@ -558,12 +751,12 @@ inline array<float, 81> sh_rot_next_band(int l, thread array<float, 81>& r1, thr
                 float w = -0.5f * sqrt(float((l - am - 1) * (l - am)) / den);
                 float ww = 0.0f;
                 if (m > 0) {
-                    float sh_rot_p_result = sh_rot_p(1, l, m + 1, n, r1, prev);
-                    float sh_rot_p_result_1 = sh_rot_p(-1, l, -m - 1, n, r1, prev);
+                    float sh_rot_p_result = sbf_sh_rot_p(1, l, m + 1, n, r1, prev);
+                    float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m - 1, n, r1, prev);
                     ww = sh_rot_p_result + sh_rot_p_result_1;
                 } else {
-                    float sh_rot_p_result = sh_rot_p(1, l, m - 1, n, r1, prev);
-                    float sh_rot_p_result_1 = sh_rot_p(-1, l, -m + 1, n, r1, prev);
+                    float sh_rot_p_result = sbf_sh_rot_p(1, l, m - 1, n, r1, prev);
+                    float sh_rot_p_result_1 = sbf_sh_rot_p(-1, l, -m + 1, n, r1, prev);
                     ww = sh_rot_p_result - sh_rot_p_result_1;
                 }
                 x += w * ww;
@@ -573,18 +766,21 @@ inline array<float, 81> sh_rot_next_band(int l, thread array<float, 81>& r1, thr
     }
     return out_;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_rotate_bands
+#define SBF_DEFINED_sbf_sh_rotate_bands
 // RGB coefficients of bands 0..=order (≤ 4, the rest of the array passes through
 // untouched) rotated by r.
-inline array<float3, 25> sh_rotate_bands(array<float3, 25> c, int order, float3x3 r) {
+inline array<float3, 25> sbf_sh_rotate_bands(array<float3, 25> c, int order, float3x3 r) {
     array<float3, 25> src = c;
     array<float3, 25> out_ = c;
-    array<float, 81> r1 = sh_rot_band1(r);
+    array<float, 81> r1 = sbf_sh_rot_band1(r);
     array<float, 81> band = r1;
     for (int l = 1; l <= order; l++) {
         if (l > 1) {
             array<float, 81> prev = band;
-            array<float, 81> sh_rot_next_band_result = sh_rot_next_band(l, r1, prev);
+            array<float, 81> sh_rot_next_band_result = sbf_sh_rot_next_band(l, r1, prev);
             band = sh_rot_next_band_result;
         }
         int base = l * l;
@@ -598,60 +794,81 @@ inline array<float3, 25> sh_rotate_bands(array<float3, 25> c, int order, float3x
     }
     return out_;
 }
+#endif
 
-inline array<float3, 4> sh_rotate_l1(array<float3, 4> c, float3x3 r) {
+#ifndef SBF_DEFINED_sbf_sh_rotate_l1
+#define SBF_DEFINED_sbf_sh_rotate_l1
+inline array<float3, 4> sbf_sh_rotate_l1(array<float3, 4> c, float3x3 r) {
     array<float3, 4> src = c;
     array<float3, 25> full = array<float3, 25>{};
     for (int k = 0; k < 4; k++) {
         full[k] = src[k];
     }
-    array<float3, 25> o = sh_rotate_bands(full, 1, r);
+    array<float3, 25> o = sbf_sh_rotate_bands(full, 1, r);
     return array<float3, 4>{o[0], o[1], o[2], o[3]};
 }
+#endif
 
-inline array<float3, 9> sh_rotate_l2(array<float3, 9> c, float3x3 r) {
+#ifndef SBF_DEFINED_sbf_sh_rotate_l2
+#define SBF_DEFINED_sbf_sh_rotate_l2
+inline array<float3, 9> sbf_sh_rotate_l2(array<float3, 9> c, float3x3 r) {
     array<float3, 9> src = c;
     array<float3, 25> full = array<float3, 25>{};
     for (int k = 0; k < 9; k++) {
         full[k] = src[k];
     }
-    array<float3, 25> o = sh_rotate_bands(full, 2, r);
+    array<float3, 25> o = sbf_sh_rotate_bands(full, 2, r);
     array<float3, 9> out_ = array<float3, 9>{};
     for (int k = 0; k < 9; k++) {
         out_[k] = o[k];
     }
     return out_;
 }
+#endif
 
-inline array<float3, 25> sh_rotate_l4(array<float3, 25> c, float3x3 r) {
-    return sh_rotate_bands(c, 4, r);
+#ifndef SBF_DEFINED_sbf_sh_rotate_l4
+#define SBF_DEFINED_sbf_sh_rotate_l4
+inline array<float3, 25> sbf_sh_rotate_l4(array<float3, 25> c, float3x3 r) {
+    return sbf_sh_rotate_bands(c, 4, r);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_eval
+#define SBF_DEFINED_sbf_sg_eval
 // Unit-amplitude lobe value at unit direction v.
-inline float sg_eval(float3 axis, float sharpness, float3 v) {
+inline float sbf_sg_eval(float3 axis, float sharpness, float3 v) {
     return exp(sharpness * (dot(axis, v) - 1.0f));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_expm1_f32
+#define SBF_DEFINED_sbf_expm1_f32
 // e^x − 1 without cancellation for small |x| (WGSL has no expm1).
-inline float expm1_f32(float x) {
+inline float sbf_expm1_f32(float x) {
     if (abs(x) < 0.01f) {
         return x * (1.0f + x * (0.5f + x * (0.16666667f + x / 24.0f)));
     }
     return exp(x) - 1.0f;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_integral
+#define SBF_DEFINED_sbf_sg_integral
 // ∫ G over the sphere for unit amplitude: 2π(1 − e^(−2λ))/λ, with its limit 4π at λ → 0.
-inline float sg_integral(float sharpness) {
+inline float sbf_sg_integral(float sharpness) {
     if (sharpness < 1e-30f) {
         return 12.566371f;
     }
-    return 6.2831855f * -expm1_f32(-2.0f * sharpness) / sharpness;
+    return 6.2831855f * -sbf_expm1_f32(-2.0f * sharpness) / sharpness;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_cos
+#define SBF_DEFINED_sbf_sg_hill_cos
 // sg_hill_irradiance for x = cos(axis, normal).
-inline float sg_hill_cos(float x_in, float sharpness) {
+inline float sbf_sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30f);
-    float c1 = 1.0f / (4.0f * HILL_C0);
+    float c1 = 1.0f / (4.0f * SBF_HILL_C0);
     float e1 = exp(-lam);
     float e2 = e1 * e1;
     float r = 1.0f / lam;
@@ -659,26 +876,35 @@ inline float sg_hill_cos(float x_in, float sharpness) {
     float bias = (e1 - e2) * r - e2;
     float xs = sqrt(max(r - 2.0f * e2, 0.0f));
     float x = clamp(x_in, -1.0f, 1.0f);
-    float x0 = HILL_C0 * x;
+    float x0 = SBF_HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0f, 1.0f);
     if (abs(x0) <= x1 && xs > 0.0f) {
         y = (x0 + x1) * (x0 + x1) / xs;
     }
-    return (scale * y + bias) * sg_integral(lam) * INV_PI;
+    return (scale * y + bias) * sbf_sg_integral(lam) * SBF_INV_PI;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_irradiance
+#define SBF_DEFINED_sbf_sg_hill_irradiance
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-inline float sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
-    return sg_hill_cos(dot(axis, n), sharpness);
+inline float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
+    return sbf_sg_hill_cos(dot(axis, n), sharpness);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SG_NV_EPSILON
+#define SBF_DEFINED_SBF_SG_NV_EPSILON
 // Lower bound on n·v used by the warp (as sbf::recon::sg::NV_EPSILON).
-constant float SG_NV_EPSILON = 0.0001f;
+constant float SBF_SG_NV_EPSILON = 0.0001f;
+#endif
 
+#ifndef SBF_DEFINED_SbfSgAsgWarp
+#define SBF_DEFINED_SbfSgAsgWarp
 // The per-pixel part of the ASG warp: warped NDF frame and bandwidths, and the
 // visibility·Fresnel·cosine tail evaluated at the reflection direction.
-struct SgAsgWarp {
+struct SbfSgAsgWarp {
     float3 x;
     float3 y;
     float3 z;
@@ -687,16 +913,19 @@ struct SgAsgWarp {
     float mu;
     float tail;
 };
+#endif
 
-inline SgAsgWarp sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float f90) {
+#ifndef SBF_DEFINED_sbf_sg_asg_warp
+#define SBF_DEFINED_sbf_sg_asg_warp
+inline SbfSgAsgWarp sbf_sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001f, 1.0f);
     float a2 = alpha * alpha;
     float lam = 2.0f / a2;
-    float mu = 1.0f / (PI * a2);
-    float nv = max(dot(n, v), SG_NV_EPSILON);
-    float3 z = reflect_about(v, n);
+    float mu = 1.0f / (SBF_PI * a2);
+    float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
+    float3 z = sbf_reflect_about(v, n);
     float3 y0 = cross(n, z);
-    float3 y = tangent_frame(z)[1];
+    float3 y = sbf_tangent_frame(z)[1];
     if (dot(y0, y0) > 1e-12f) {
         y = normalize(y0);
     }
@@ -704,61 +933,73 @@ inline SgAsgWarp sg_asg_warp(float3 n, float3 v, float alpha_in, float f0, float
     float nl = dot(n, z);
     float tail = 0.0f;
     if (nl > 0.0f) {
-        float g2 = ggx_g2(float3(sqrt(max(1.0f - nv * nv, 0.0f)), 0.0f, nv), float3(sqrt(max(1.0f - nl * nl, 0.0f)), 0.0f, nl), alpha);
+        float g2 = sbf_ggx_g2(float3(sqrt(max(1.0f - nv * nv, 0.0f)), 0.0f, nv), float3(sqrt(max(1.0f - nl * nl, 0.0f)), 0.0f, nl), alpha);
         float3 hv = v + z;
         float hl = length(hv);
         float fc = 0.0f;
         if (hl > 0.0f) {
-            fc = schlick_weight(dot(v, hv / float3(hl)));
+            fc = sbf_schlick_weight(dot(v, hv / float3(hl)));
         }
         tail = g2 / (4.0f * nv) * (f0 * (1.0f - fc) + f90 * fc);
     }
-    return SgAsgWarp{x, y, z, lam / (8.0f * nv * nv), lam / 8.0f, mu, tail};
+    return SbfSgAsgWarp{x, y, z, lam / (8.0f * nv * nv), lam / 8.0f, mu, tail};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_asg_lobe
+#define SBF_DEFINED_sbf_sg_asg_lobe
 // Specular from one unit-amplitude SG light lobe: the ASG convolved with the SG.
-inline float sg_asg_lobe(SgAsgWarp w, float3 axis, float sharpness) {
+inline float sbf_sg_asg_lobe(SbfSgAsgWarp w, float3 axis, float sharpness) {
     float nu = 0.5f * sharpness;
     float lx2 = nu * w.lx / (nu + w.lx);
     float ly2 = nu * w.ly / (nu + w.ly);
-    float amp = PI / sqrt((nu + w.lx) * (nu + w.ly));
+    float amp = SBF_PI / sqrt((nu + w.lx) * (nu + w.ly));
     float px = dot(axis, w.x);
     float py = dot(axis, w.y);
     return w.mu * amp * max(dot(axis, w.z), 0.0f) * exp(-lx2 * px * px - ly2 * py * py) * w.tail;
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfSgSplitSum
+#define SBF_DEFINED_SbfSgSplitSum
 // The per-pixel part of the split-sum SG specular (Karis 2013, "Real Shading in Unreal
 // Engine 4"; CPU twins sbf::recon::sg::SplitSumWarp, sbf::recon::runtime::sg_specular_split_sum):
 // the GGX NDF as an SG about n (λ = 2/α², Wang et al. 2009) warped to the reflection
 // direction R with λ/(4 n·v) (held ≥ 2, Hill's range), and the BRDF's energy
 // f0·dfg.x + f90·dfg.y (the dfg table at (n·v, α)) over the warped lobe's E/π at n.
-struct SgSplitSum {
+struct SbfSgSplitSum {
     float3 n;
     float3 r;
     float nv;
     float sharpness;
     float scale;
 };
+#endif
 
-inline SgSplitSum sg_split_sum_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+#ifndef SBF_DEFINED_sbf_sg_split_sum_setup
+#define SBF_DEFINED_sbf_sg_split_sum_setup
+inline SbfSgSplitSum sbf_sg_split_sum_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001f, 1.0f);
-    float nv = max(dot(n, v), SG_NV_EPSILON);
+    float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
     float lw = max(0.5f / (alpha * alpha * nv), 2.0f);
-    float3 r = reflect_about(v, n);
-    float2 d = lut2_sample(dfg, clamp(dot(n, v), 0.0f, 1.0f), alpha_in);
-    float den = sg_hill_cos(dot(n, v), lw);
+    float3 r = sbf_reflect_about(v, n);
+    float2 d = sbf_lut2_sample(dfg, clamp(dot(n, v), 0.0f, 1.0f), alpha_in);
+    float den = sbf_sg_hill_cos(dot(n, v), lw);
     float scale = 0.0f;
     if (den > 0.0f) {
         scale = (f0 * d.x + f90 * d.y) / den;
     }
-    return SgSplitSum{n, r, dot(n, v), lw, scale};
+    return SbfSgSplitSum{n, r, dot(n, v), lw, scale};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_split_sum_lobe
+#define SBF_DEFINED_sbf_sg_split_sum_lobe
 // Specular from one unit-amplitude SG light lobe: the radiance prefiltered by the warped
 // NDF with the n·l weight, E/π(D·G) / E/π(D), times the BRDF's energy. D·G is one SG
 // (axis λ_D R + λ p normalised, sharpness |λ_D R + λ p|, amplitude
 // exp(−λ_D λ |R − p|² / (λ_D + λ + |λ_D R + λ p|)): the exponent without cancellation).
-inline float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness) {
+inline float sbf_sg_split_sum_lobe(SbfSgSplitSum w, float3 axis, float sharpness) {
     float3 pm = w.sharpness * w.r + sharpness * axis;
     float d = length(pm);
     float3 q = w.r - axis;
@@ -767,134 +1008,194 @@ inline float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness) {
     if (d > 0.0f) {
         x = (w.sharpness * w.nv + sharpness * dot(axis, w.n)) / d;
     }
-    float e = sg_hill_cos(x, max(d, 2.0f)) * sg_integral(d) / sg_integral(max(d, 2.0f));
+    float e = sbf_sg_hill_cos(x, max(d, 2.0f)) * sbf_sg_integral(d) / sbf_sg_integral(max(d, 2.0f));
     return amp * e * w.scale;
 }
+#endif
 
-inline float ad_srbf_lobe(float c) {
+#ifndef SBF_DEFINED_sbf_ad_srbf_lobe
+#define SBF_DEFINED_sbf_ad_srbf_lobe
+inline float sbf_ad_srbf_lobe(float c) {
     float x = max(c, 0.0f);
     float x2 = x * x;
     return x2 * (0.35f + 0.25f * x2);
 }
+#endif
 
-inline float ad_srbf_eval(float3 axis, float3 v) {
-    return ad_srbf_lobe(dot(axis, v));
+#ifndef SBF_DEFINED_sbf_ad_srbf_eval
+#define SBF_DEFINED_sbf_ad_srbf_eval
+inline float sbf_ad_srbf_eval(float3 axis, float3 v) {
+    return sbf_ad_srbf_lobe(dot(axis, v));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-inline float ad_lobe_irradiance(float3 axis, float3 n) {
+inline float sbf_ad_lobe_irradiance(float3 axis, float3 n) {
     float x = clamp(dot(axis, n), -1.0f, 1.0f);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdSpecularFit
+#define SBF_DEFINED_SbfAdSpecularFit
 // Per-pixel part of Listing 8.1: reflection vector and the two blend weights.
-struct AdSpecularFit {
+struct SbfAdSpecularFit {
     float3 n;
     float3 r;
     float focus;
     float alpha_lerp;
 };
+#endif
 
-inline AdSpecularFit ad_specular_fit(float3 n, float3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_ad_specular_fit
+#define SBF_DEFINED_sbf_ad_specular_fit
+inline SbfAdSpecularFit sbf_ad_specular_fit(float3 n, float3 v, float alpha) {
     float sa = sqrt(alpha);
-    float focus = clamp(AD_SPECULAR_PARAMS[0] * sa + AD_SPECULAR_PARAMS[1] * alpha + AD_SPECULAR_PARAMS[2] * sa * alpha + AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0f, 1.0f);
-    float alpha_lerp = clamp(AD_SPECULAR_PARAMS[4] * sa + AD_SPECULAR_PARAMS[5] * alpha + AD_SPECULAR_PARAMS[6] * sa * alpha + AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0f, 1.0f);
-    return AdSpecularFit{n, reflect_about(v, n), focus, alpha_lerp};
+    float focus = clamp(SBF_AD_SPECULAR_PARAMS[0] * sa + SBF_AD_SPECULAR_PARAMS[1] * alpha + SBF_AD_SPECULAR_PARAMS[2] * sa * alpha + SBF_AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0f, 1.0f);
+    float alpha_lerp = clamp(SBF_AD_SPECULAR_PARAMS[4] * sa + SBF_AD_SPECULAR_PARAMS[5] * alpha + SBF_AD_SPECULAR_PARAMS[6] * sa * alpha + SBF_AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0f, 1.0f);
+    return SbfAdSpecularFit{n, sbf_reflect_about(v, n), focus, alpha_lerp};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_lobe
+#define SBF_DEFINED_sbf_ad_specular_lobe
 // The fit's value for one lobe axis (before the LUT factor).
-inline float ad_specular_lobe(AdSpecularFit f, float3 axis) {
+inline float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
     float r_dot = dot(f.r, axis);
     float n_dot = dot(f.n, axis);
-    float mirror = ad_srbf_lobe(r_dot);
+    float mirror = sbf_ad_srbf_lobe(r_dot);
     float c = r_dot + (n_dot - r_dot) * f.focus;
-    float d = AD_SPECULAR_DIFFUSE.x + c * (AD_SPECULAR_DIFFUSE.y + c * AD_SPECULAR_DIFFUSE.z);
+    float d = SBF_AD_SPECULAR_DIFFUSE.x + c * (SBF_AD_SPECULAR_DIFFUSE.y + c * SBF_AD_SPECULAR_DIFFUSE.z);
     return mirror + (d - mirror) * f.alpha_lerp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_scale
+#define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-inline float ad_specular_scale(texture2d<float> lut, float n_dot_v, float alpha, float f0, float f90) {
-    float2 l = lut2_sample(lut, clamp(n_dot_v, 0.0f, 1.0f), alpha);
+inline float sbf_ad_specular_scale(texture2d<float> lut, float n_dot_v, float alpha, float f0, float f90) {
+    float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0f, 1.0f), alpha);
     return f0 * l.x + f90 * l.y;
 }
+#endif
 
-inline float3 ad12_irradiance(array<float3, 12> c, float3 n) {
+#ifndef SBF_DEFINED_sbf_ad12_irradiance
+#define SBF_DEFINED_sbf_ad12_irradiance
+inline float3 sbf_ad12_irradiance(array<float3, 12> c, float3 n) {
     float3 e = float3(0.0f);
     for (int i = 0; i < 12; i++) {
-        e += c[i] * ad_lobe_irradiance(AD12_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD12_AXES[i], n);
     }
     return e;
 }
+#endif
 
-inline float3 ad9_irradiance(array<float3, 9> c, float3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+inline float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n) {
     float3 e = float3(0.0f);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
-inline float3 ad12_specular(array<float3, 12> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad12_specular
+#define SBF_DEFINED_sbf_ad12_specular
+inline float3 sbf_ad12_specular(array<float3, 12> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = float3(0.0f);
     for (int i = 0; i < 12; i++) {
-        s += c[i] * ad_specular_lobe(f, AD12_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD12_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
-inline float3 ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad9_specular
+#define SBF_DEFINED_sbf_ad9_specular
+inline float3 sbf_ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = float3(0.0f);
     for (int i = 0; i < 9; i++) {
-        s += c[i] * ad_specular_lobe(f, AD9_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD9_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdFace
+#define SBF_DEFINED_SbfAdFace
 // The face holding unit d (nearest face centre) and its unnormalised barycentrics.
-struct AdFace {
+struct SbfAdFace {
     uint face;
     float3 b;
 };
+#endif
 
+#ifndef SBF_DEFINED_SbfAdBezierWeights
+#define SBF_DEFINED_SbfAdBezierWeights
 // The 9 non-zero Bézier weights at d: the face's vertices and per corner the weights of
 // (f, Du, Dv).
-struct AdBezierWeights {
+struct SbfAdBezierWeights {
     uint3 vertices;
     array<float3, 3> w;
 };
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_ICO_CENTRES
+#define SBF_DEFINED_SBF_AD_ICO_CENTRES
 // Icosahedron (sbf::Icosahedron::standard): unit face centres, faces as vertex indices,
 // barycentric normals as matrix columns (b = d * AD_ICO_BARY[f]).
-constant array<float3, 20> AD_ICO_CENTRES = array<float3, 20>{float3(0.93417233f, 0.0f, 0.3568221f), float3(0.93417233f, 0.0f, -0.3568221f), float3(0.3568221f, 0.93417233f, 0.0f), float3(0.57735026f, 0.57735026f, 0.57735026f), float3(0.57735026f, 0.57735026f, -0.57735026f), float3(-0.93417233f, 0.0f, 0.3568221f), float3(-0.93417233f, 0.0f, -0.3568221f), float3(-0.3568221f, 0.93417233f, 0.0f), float3(-0.57735026f, 0.57735026f, 0.57735026f), float3(-0.57735026f, 0.57735026f, -0.57735026f), float3(0.3568221f, -0.93417233f, 0.0f), float3(0.57735026f, -0.57735026f, 0.57735026f), float3(0.57735026f, -0.57735026f, -0.57735026f), float3(-0.3568221f, -0.93417233f, 0.0f), float3(-0.57735026f, -0.57735026f, 0.57735026f), float3(-0.57735026f, -0.57735026f, -0.57735026f), float3(0.0f, 0.3568221f, 0.93417233f), float3(0.0f, -0.3568221f, 0.93417233f), float3(0.0f, 0.3568221f, -0.93417233f), float3(0.0f, -0.3568221f, -0.93417233f)};
+constant array<float3, 20> SBF_AD_ICO_CENTRES = array<float3, 20>{float3(0.93417233f, 0.0f, 0.3568221f), float3(0.93417233f, 0.0f, -0.3568221f), float3(0.3568221f, 0.93417233f, 0.0f), float3(0.57735026f, 0.57735026f, 0.57735026f), float3(0.57735026f, 0.57735026f, -0.57735026f), float3(-0.93417233f, 0.0f, 0.3568221f), float3(-0.93417233f, 0.0f, -0.3568221f), float3(-0.3568221f, 0.93417233f, 0.0f), float3(-0.57735026f, 0.57735026f, 0.57735026f), float3(-0.57735026f, 0.57735026f, -0.57735026f), float3(0.3568221f, -0.93417233f, 0.0f), float3(0.57735026f, -0.57735026f, 0.57735026f), float3(0.57735026f, -0.57735026f, -0.57735026f), float3(-0.3568221f, -0.93417233f, 0.0f), float3(-0.57735026f, -0.57735026f, 0.57735026f), float3(-0.57735026f, -0.57735026f, -0.57735026f), float3(0.0f, 0.3568221f, 0.93417233f), float3(0.0f, -0.3568221f, 0.93417233f), float3(0.0f, 0.3568221f, -0.93417233f), float3(0.0f, -0.3568221f, -0.93417233f)};
+#endif
 
-constant array<uint3, 20> AD_ICO_FACES = array<uint3, 20>{uint3(0u, 8u, 2u), uint3(0u, 2u, 10u), uint3(0u, 6u, 4u), uint3(0u, 4u, 8u), uint3(0u, 10u, 6u), uint3(1u, 3u, 9u), uint3(1u, 11u, 3u), uint3(1u, 4u, 6u), uint3(1u, 9u, 4u), uint3(1u, 6u, 11u), uint3(2u, 5u, 7u), uint3(2u, 8u, 5u), uint3(2u, 7u, 10u), uint3(3u, 7u, 5u), uint3(3u, 5u, 9u), uint3(3u, 11u, 7u), uint3(4u, 9u, 8u), uint3(5u, 8u, 9u), uint3(6u, 10u, 11u), uint3(7u, 11u, 10u)};
+#ifndef SBF_DEFINED_SBF_AD_ICO_FACES
+#define SBF_DEFINED_SBF_AD_ICO_FACES
+constant array<uint3, 20> SBF_AD_ICO_FACES = array<uint3, 20>{uint3(0u, 8u, 2u), uint3(0u, 2u, 10u), uint3(0u, 6u, 4u), uint3(0u, 4u, 8u), uint3(0u, 10u, 6u), uint3(1u, 3u, 9u), uint3(1u, 11u, 3u), uint3(1u, 4u, 6u), uint3(1u, 9u, 4u), uint3(1u, 6u, 11u), uint3(2u, 5u, 7u), uint3(2u, 8u, 5u), uint3(2u, 7u, 10u), uint3(3u, 7u, 5u), uint3(3u, 5u, 9u), uint3(3u, 11u, 7u), uint3(4u, 9u, 8u), uint3(5u, 8u, 9u), uint3(6u, 10u, 11u), uint3(7u, 11u, 10u)};
+#endif
 
-constant array<float3x3, 20> AD_ICO_BARY = array<float3x3, 20>{float3x3(float3(0.58778524f, 0.95105654f, -0.36327127f), float3(-0.0f, 0.0f, 1.1755705f), float3(0.58778524f, -0.95105654f, -0.36327127f)), float3x3(float3(0.58778524f, 0.95105654f, 0.36327127f), float3(0.58778524f, -0.95105654f, 0.36327127f), float3(0.0f, 0.0f, -1.1755705f)), float3x3(float3(1.1755705f, -0.0f, 0.0f), float3(-0.36327127f, 0.58778524f, -0.95105654f), float3(-0.36327127f, 0.58778524f, 0.95105654f)), float3x3(float3(0.95105654f, 0.36327127f, -0.58778524f), float3(-0.58778524f, 0.95105654f, 0.36327127f), float3(0.36327127f, -0.58778524f, 0.95105654f)), float3x3(float3(0.95105654f, 0.36327127f, 0.58778524f), float3(0.36327127f, -0.58778524f, -0.95105654f), float3(-0.58778524f, 0.95105654f, -0.36327127f)), float3x3(float3(-0.58778524f, 0.95105654f, -0.36327127f), float3(-0.58778524f, -0.95105654f, -0.36327127f), float3(0.0f, 0.0f, 1.1755705f)), float3x3(float3(-0.58778524f, 0.95105654f, 0.36327127f), float3(-0.0f, 0.0f, -1.1755705f), float3(-0.58778524f, -0.95105654f, 0.36327127f)), float3x3(float3(-1.1755705f, 0.0f, 0.0f), float3(0.36327127f, 0.58778524f, 0.95105654f), float3(0.36327127f, 0.58778524f, -0.95105654f)), float3x3(float3(-0.95105654f, 0.36327127f, -0.58778524f), float3(-0.36327127f, -0.58778524f, 0.95105654f), float3(0.58778524f, 0.95105654f, 0.36327127f)), float3x3(float3(-0.95105654f, 0.36327127f, 0.58778524f), float3(0.58778524f, 0.95105654f, -0.36327127f), float3(-0.36327127f, -0.58778524f, -0.95105654f)), float3x3(float3(1.1755705f, 0.0f, 0.0f), float3(-0.36327127f, -0.58778524f, 0.95105654f), float3(-0.36327127f, -0.58778524f, -0.95105654f)), float3x3(float3(0.95105654f, -0.36327127f, -0.58778524f), float3(0.36327127f, 0.58778524f, 0.95105654f), float3(-0.58778524f, -0.95105654f, 0.36327127f)), float3x3(float3(0.95105654f, -0.36327127f, 0.58778524f), float3(-0.58778524f, -0.95105654f, -0.36327127f), float3(0.36327127f, 0.58778524f, -0.95105654f)), float3x3(float3(-1.1755705f, -0.0f, 0.0f), float3(0.36327127f, -0.58778524f, -0.95105654f), float3(0.36327127f, -0.58778524f, 0.95105654f)), float3x3(float3(-0.95105654f, -0.36327127f, -0.58778524f), float3(0.58778524f, -0.95105654f, 0.36327127f), float3(-0.36327127f, 0.58778524f, 0.95105654f)), float3x3(float3(-0.95105654f, -0.36327127f, 0.58778524f), float3(-0.36327127f, 0.58778524f, -0.95105654f), float3(0.58778524f, -0.95105654f, -0.36327127f)), float3x3(float3(0.0f, 1.1755705f, -0.0f), float3(-0.95105654f, -0.36327127f, 0.58778524f), float3(0.95105654f, -0.36327127f, 0.58778524f)), float3x3(float3(0.0f, -1.1755705f, 0.0f), float3(0.95105654f, 0.36327127f, 0.58778524f), float3(-0.95105654f, 0.36327127f, 0.58778524f)), float3x3(float3(0.0f, 1.1755705f, 0.0f), float3(0.95105654f, -0.36327127f, -0.58778524f), float3(-0.95105654f, -0.36327127f, -0.58778524f)), float3x3(float3(0.0f, -1.1755705f, -0.0f), float3(-0.95105654f, 0.36327127f, -0.58778524f), float3(0.95105654f, 0.36327127f, -0.58778524f))};
+#ifndef SBF_DEFINED_SBF_AD_ICO_BARY
+#define SBF_DEFINED_SBF_AD_ICO_BARY
+constant array<float3x3, 20> SBF_AD_ICO_BARY = array<float3x3, 20>{float3x3(float3(0.58778524f, 0.95105654f, -0.36327127f), float3(-0.0f, 0.0f, 1.1755705f), float3(0.58778524f, -0.95105654f, -0.36327127f)), float3x3(float3(0.58778524f, 0.95105654f, 0.36327127f), float3(0.58778524f, -0.95105654f, 0.36327127f), float3(0.0f, 0.0f, -1.1755705f)), float3x3(float3(1.1755705f, -0.0f, 0.0f), float3(-0.36327127f, 0.58778524f, -0.95105654f), float3(-0.36327127f, 0.58778524f, 0.95105654f)), float3x3(float3(0.95105654f, 0.36327127f, -0.58778524f), float3(-0.58778524f, 0.95105654f, 0.36327127f), float3(0.36327127f, -0.58778524f, 0.95105654f)), float3x3(float3(0.95105654f, 0.36327127f, 0.58778524f), float3(0.36327127f, -0.58778524f, -0.95105654f), float3(-0.58778524f, 0.95105654f, -0.36327127f)), float3x3(float3(-0.58778524f, 0.95105654f, -0.36327127f), float3(-0.58778524f, -0.95105654f, -0.36327127f), float3(0.0f, 0.0f, 1.1755705f)), float3x3(float3(-0.58778524f, 0.95105654f, 0.36327127f), float3(-0.0f, 0.0f, -1.1755705f), float3(-0.58778524f, -0.95105654f, 0.36327127f)), float3x3(float3(-1.1755705f, 0.0f, 0.0f), float3(0.36327127f, 0.58778524f, 0.95105654f), float3(0.36327127f, 0.58778524f, -0.95105654f)), float3x3(float3(-0.95105654f, 0.36327127f, -0.58778524f), float3(-0.36327127f, -0.58778524f, 0.95105654f), float3(0.58778524f, 0.95105654f, 0.36327127f)), float3x3(float3(-0.95105654f, 0.36327127f, 0.58778524f), float3(0.58778524f, 0.95105654f, -0.36327127f), float3(-0.36327127f, -0.58778524f, -0.95105654f)), float3x3(float3(1.1755705f, 0.0f, 0.0f), float3(-0.36327127f, -0.58778524f, 0.95105654f), float3(-0.36327127f, -0.58778524f, -0.95105654f)), float3x3(float3(0.95105654f, -0.36327127f, -0.58778524f), float3(0.36327127f, 0.58778524f, 0.95105654f), float3(-0.58778524f, -0.95105654f, 0.36327127f)), float3x3(float3(0.95105654f, -0.36327127f, 0.58778524f), float3(-0.58778524f, -0.95105654f, -0.36327127f), float3(0.36327127f, 0.58778524f, -0.95105654f)), float3x3(float3(-1.1755705f, -0.0f, 0.0f), float3(0.36327127f, -0.58778524f, -0.95105654f), float3(0.36327127f, -0.58778524f, 0.95105654f)), float3x3(float3(-0.95105654f, -0.36327127f, -0.58778524f), float3(0.58778524f, -0.95105654f, 0.36327127f), float3(-0.36327127f, 0.58778524f, 0.95105654f)), float3x3(float3(-0.95105654f, -0.36327127f, 0.58778524f), float3(-0.36327127f, 0.58778524f, -0.95105654f), float3(0.58778524f, -0.95105654f, -0.36327127f)), float3x3(float3(0.0f, 1.1755705f, -0.0f), float3(-0.95105654f, -0.36327127f, 0.58778524f), float3(0.95105654f, -0.36327127f, 0.58778524f)), float3x3(float3(0.0f, -1.1755705f, 0.0f), float3(0.95105654f, 0.36327127f, 0.58778524f), float3(-0.95105654f, 0.36327127f, 0.58778524f)), float3x3(float3(0.0f, 1.1755705f, 0.0f), float3(0.95105654f, -0.36327127f, -0.58778524f), float3(-0.95105654f, -0.36327127f, -0.58778524f)), float3x3(float3(0.0f, -1.1755705f, -0.0f), float3(-0.95105654f, 0.36327127f, -0.58778524f), float3(0.95105654f, 0.36327127f, -0.58778524f))};
+#endif
 
-inline AdFace ad_ico_locate(float3 d) {
+#ifndef SBF_DEFINED_sbf_ad_ico_locate
+#define SBF_DEFINED_sbf_ad_ico_locate
+inline SbfAdFace sbf_ad_ico_locate(float3 d) {
     uint best = 0u;
     float best_dot = -2.0f;
     for (uint f = 0u; f < 20u; f++) {
-        float s = dot(AD_ICO_CENTRES[f], d);
+        float s = dot(SBF_AD_ICO_CENTRES[f], d);
         if (s > best_dot) {
             best_dot = s;
             best = f;
         }
     }
-    return AdFace{best, d * AD_ICO_BARY[best]};
+    return SbfAdFace{best, d * SBF_AD_ICO_BARY[best]};
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_ICO_EDGE_COS
+#define SBF_DEFINED_SBF_AD_ICO_EDGE_COS
 // cos of the icosahedron's edge angle (1/√5).
-constant float AD_ICO_EDGE_COS = 0.4472136f;
+constant float SBF_AD_ICO_EDGE_COS = 0.4472136f;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_BEZIER_DERIV
+#define SBF_DEFINED_SBF_AD_BEZIER_DERIV
 // Hybrid Bézier (sbf::AmbientDiceBezier::edge_factors): column k of face f holds corner k's
 // (Du, Dv) factors for its edges to corners k + 1 and k + 2.
-constant array<float3x4, 20> AD_BEZIER_DERIV = array<float3x4, 20>{float3x4(float4(-0.1927661f, -0.22744256f, 0.15674274f, -0.25361508f), float4(0.24120227f, -0.1752437f, 0.24120227f, 0.1752437f), float4(0.15674274f, 0.25361508f, -0.1927661f, 0.22744256f)), float3x4(float4(0.15674274f, -0.25361508f, 0.28963843f, 0.07069983f), float4(0.28963843f, -0.07069983f, 0.15674274f, 0.25361508f), float4(0.24120227f, -0.1752437f, 0.24120227f, 0.1752437f)), float3x4(float4(0.022263663f, 0.29730996f, -0.27587873f, 0.11304784f), float4(0.0f, -0.2981424f, 0.28355026f, -0.09213106f), float4(0.28355026f, 0.09213106f, 0.0f, 0.2981424f)), float3x4(float4(-0.27587873f, 0.11304784f, -0.1927661f, -0.22744256f), float4(0.1752437f, -0.24120227f, 0.28355026f, 0.09213106f), float4(0.24120227f, 0.1752437f, -0.09213106f, 0.28355026f)), float3x4(float4(0.28963843f, 0.07069983f, 0.022263663f, 0.29730996f), float4(-0.09213106f, -0.28355026f, 0.24120227f, -0.1752437f), float4(0.28355026f, -0.09213106f, 0.1752437f, 0.24120227f)), float3x4(float4(-0.15674274f, -0.25361508f, 0.1927661f, -0.22744256f), float4(0.1927661f, 0.22744256f, -0.15674274f, 0.25361508f), float4(-0.24120227f, 0.1752437f, -0.24120227f, -0.1752437f)), float3x4(float4(-0.28963843f, 0.07069983f, -0.15674274f, -0.25361508f), float4(-0.24120227f, 0.1752437f, -0.24120227f, -0.1752437f), float4(-0.15674274f, 0.25361508f, -0.28963843f, -0.07069983f)), float3x4(float4(0.27587873f, 0.11304784f, -0.022263663f, 0.29730996f), float4(0.0f, 0.2981424f, -0.28355026f, 0.09213106f), float4(-0.28355026f, -0.09213106f, 0.0f, -0.2981424f)), float3x4(float4(0.1927661f, -0.22744256f, 0.27587873f, 0.11304784f), float4(0.09213106f, 0.28355026f, -0.24120227f, 0.1752437f), float4(-0.28355026f, 0.09213106f, -0.1752437f, -0.24120227f)), float3x4(float4(-0.022263663f, 0.29730996f, -0.28963843f, 0.07069983f), float4(-0.1752437f, 0.24120227f, -0.28355026f, -0.09213106f), float4(-0.24120227f, -0.1752437f, 0.09213106f, -0.28355026f)), float3x4(float4(-0.27587873f, -0.11304784f, 0.022263663f, -0.29730996f), float4(0.0f, -0.2981424f, 0.28355026f, -0.09213106f), float4(0.28355026f, 0.09213106f, 0.0f, 0.2981424f)), float3x4(float4(-0.1927661f, 0.22744256f, -0.27587873f, -0.11304784f), float4(-0.09213106f, -0.28355026f, 0.24120227f, -0.1752437f), float4(0.28355026f, -0.09213106f, 0.1752437f, 0.24120227f)), float3x4(float4(0.022263663f, -0.29730996f, 0.28963843f, -0.07069983f), float4(0.1752437f, -0.24120227f, 0.28355026f, 0.09213106f), float4(0.24120227f, 0.1752437f, -0.09213106f, 0.28355026f)), float3x4(float4(-0.022263663f, -0.29730996f, 0.27587873f, -0.11304784f), float4(0.0f, 0.2981424f, -0.28355026f, 0.09213106f), float4(-0.28355026f, -0.09213106f, 0.0f, -0.2981424f)), float3x4(float4(0.27587873f, -0.11304784f, 0.1927661f, 0.22744256f), float4(-0.1752437f, 0.24120227f, -0.28355026f, -0.09213106f), float4(-0.24120227f, -0.1752437f, 0.09213106f, -0.28355026f)), float3x4(float4(-0.28963843f, -0.07069983f, -0.022263663f, -0.29730996f), float4(0.09213106f, 0.28355026f, -0.24120227f, 0.1752437f), float4(-0.28355026f, 0.09213106f, -0.1752437f, -0.24120227f)), float3x4(float4(-0.1752437f, -0.24120227f, 0.1752437f, -0.24120227f), float4(0.2981424f, 0.0f, 0.09213106f, 0.28355026f), float4(-0.09213106f, 0.28355026f, -0.2981424f, 0.0f)), float3x4(float4(0.1752437f, 0.24120227f, -0.1752437f, 0.24120227f), float4(-0.2981424f, 0.0f, -0.09213106f, -0.28355026f), float4(0.09213106f, -0.28355026f, 0.2981424f, 0.0f)), float3x4(float4(0.1752437f, 0.24120227f, -0.1752437f, 0.24120227f), float4(-0.2981424f, 0.0f, -0.09213106f, -0.28355026f), float4(0.09213106f, -0.28355026f, 0.2981424f, 0.0f)), float3x4(float4(-0.1752437f, -0.24120227f, 0.1752437f, -0.24120227f), float4(0.2981424f, 0.0f, 0.09213106f, 0.28355026f), float4(-0.09213106f, 0.28355026f, -0.2981424f, 0.0f))};
+constant array<float3x4, 20> SBF_AD_BEZIER_DERIV = array<float3x4, 20>{float3x4(float4(-0.1927661f, -0.22744256f, 0.15674274f, -0.25361508f), float4(0.24120227f, -0.1752437f, 0.24120227f, 0.1752437f), float4(0.15674274f, 0.25361508f, -0.1927661f, 0.22744256f)), float3x4(float4(0.15674274f, -0.25361508f, 0.28963843f, 0.07069983f), float4(0.28963843f, -0.07069983f, 0.15674274f, 0.25361508f), float4(0.24120227f, -0.1752437f, 0.24120227f, 0.1752437f)), float3x4(float4(0.022263663f, 0.29730996f, -0.27587873f, 0.11304784f), float4(0.0f, -0.2981424f, 0.28355026f, -0.09213106f), float4(0.28355026f, 0.09213106f, 0.0f, 0.2981424f)), float3x4(float4(-0.27587873f, 0.11304784f, -0.1927661f, -0.22744256f), float4(0.1752437f, -0.24120227f, 0.28355026f, 0.09213106f), float4(0.24120227f, 0.1752437f, -0.09213106f, 0.28355026f)), float3x4(float4(0.28963843f, 0.07069983f, 0.022263663f, 0.29730996f), float4(-0.09213106f, -0.28355026f, 0.24120227f, -0.1752437f), float4(0.28355026f, -0.09213106f, 0.1752437f, 0.24120227f)), float3x4(float4(-0.15674274f, -0.25361508f, 0.1927661f, -0.22744256f), float4(0.1927661f, 0.22744256f, -0.15674274f, 0.25361508f), float4(-0.24120227f, 0.1752437f, -0.24120227f, -0.1752437f)), float3x4(float4(-0.28963843f, 0.07069983f, -0.15674274f, -0.25361508f), float4(-0.24120227f, 0.1752437f, -0.24120227f, -0.1752437f), float4(-0.15674274f, 0.25361508f, -0.28963843f, -0.07069983f)), float3x4(float4(0.27587873f, 0.11304784f, -0.022263663f, 0.29730996f), float4(0.0f, 0.2981424f, -0.28355026f, 0.09213106f), float4(-0.28355026f, -0.09213106f, 0.0f, -0.2981424f)), float3x4(float4(0.1927661f, -0.22744256f, 0.27587873f, 0.11304784f), float4(0.09213106f, 0.28355026f, -0.24120227f, 0.1752437f), float4(-0.28355026f, 0.09213106f, -0.1752437f, -0.24120227f)), float3x4(float4(-0.022263663f, 0.29730996f, -0.28963843f, 0.07069983f), float4(-0.1752437f, 0.24120227f, -0.28355026f, -0.09213106f), float4(-0.24120227f, -0.1752437f, 0.09213106f, -0.28355026f)), float3x4(float4(-0.27587873f, -0.11304784f, 0.022263663f, -0.29730996f), float4(0.0f, -0.2981424f, 0.28355026f, -0.09213106f), float4(0.28355026f, 0.09213106f, 0.0f, 0.2981424f)), float3x4(float4(-0.1927661f, 0.22744256f, -0.27587873f, -0.11304784f), float4(-0.09213106f, -0.28355026f, 0.24120227f, -0.1752437f), float4(0.28355026f, -0.09213106f, 0.1752437f, 0.24120227f)), float3x4(float4(0.022263663f, -0.29730996f, 0.28963843f, -0.07069983f), float4(0.1752437f, -0.24120227f, 0.28355026f, 0.09213106f), float4(0.24120227f, 0.1752437f, -0.09213106f, 0.28355026f)), float3x4(float4(-0.022263663f, -0.29730996f, 0.27587873f, -0.11304784f), float4(0.0f, 0.2981424f, -0.28355026f, 0.09213106f), float4(-0.28355026f, -0.09213106f, 0.0f, -0.2981424f)), float3x4(float4(0.27587873f, -0.11304784f, 0.1927661f, 0.22744256f), float4(-0.1752437f, 0.24120227f, -0.28355026f, -0.09213106f), float4(-0.24120227f, -0.1752437f, 0.09213106f, -0.28355026f)), float3x4(float4(-0.28963843f, -0.07069983f, -0.022263663f, -0.29730996f), float4(0.09213106f, 0.28355026f, -0.24120227f, 0.1752437f), float4(-0.28355026f, 0.09213106f, -0.1752437f, -0.24120227f)), float3x4(float4(-0.1752437f, -0.24120227f, 0.1752437f, -0.24120227f), float4(0.2981424f, 0.0f, 0.09213106f, 0.28355026f), float4(-0.09213106f, 0.28355026f, -0.2981424f, 0.0f)), float3x4(float4(0.1752437f, 0.24120227f, -0.1752437f, 0.24120227f), float4(-0.2981424f, 0.0f, -0.09213106f, -0.28355026f), float4(0.09213106f, -0.28355026f, 0.2981424f, 0.0f)), float3x4(float4(0.1752437f, 0.24120227f, -0.1752437f, 0.24120227f), float4(-0.2981424f, 0.0f, -0.09213106f, -0.28355026f), float4(0.09213106f, -0.28355026f, 0.2981424f, 0.0f)), float3x4(float4(-0.1752437f, -0.24120227f, 0.1752437f, -0.24120227f), float4(0.2981424f, 0.0f, 0.09213106f, 0.28355026f), float4(-0.09213106f, 0.28355026f, -0.2981424f, 0.0f))};
+#endif
 
-inline AdBezierWeights ad_bezier_weights(float3 d) {
-    AdFace loc = ad_ico_locate(d);
+#ifndef SBF_DEFINED_sbf_ad_bezier_weights
+#define SBF_DEFINED_sbf_ad_bezier_weights
+inline SbfAdBezierWeights sbf_ad_bezier_weights(float3 d) {
+    SbfAdFace loc = sbf_ad_ico_locate(d);
     float3 b = loc.b;
     float3 cw = b * b * b;
     array<float2, 3> ew = array<float2, 3>{};
@@ -916,19 +1217,22 @@ inline AdBezierWeights ad_bezier_weights(float3 d) {
             ew[j].x += 0.2236068f * wk;
         }
     }
-    float3x4 deriv = AD_BEZIER_DERIV[loc.face];
+    float3x4 deriv = SBF_AD_BEZIER_DERIV[loc.face];
     array<float3, 3> w = array<float3, 3>{};
     for (uint k = 0u; k < 3u; k++) {
         float2 e = ew[k];
         float4 g = deriv[k];
-        w[k] = float3(cw[k] + AD_ICO_EDGE_COS * (e.x + e.y), e.x * g.x + e.y * g.z, e.x * g.y + e.y * g.w);
+        w[k] = float3(cw[k] + SBF_AD_ICO_EDGE_COS * (e.x + e.y), e.x * g.x + e.y * g.z, e.x * g.y + e.y * g.w);
     }
-    return AdBezierWeights{AD_ICO_FACES[loc.face], w};
+    return SbfAdBezierWeights{SBF_AD_ICO_FACES[loc.face], w};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_bezier_eval
+#define SBF_DEFINED_sbf_ad_bezier_eval
 // RGB value at unit d of 36 RGB coefficients.
-inline float3 ad_bezier_eval(array<float3, 36> c, float3 d) {
-    AdBezierWeights bw = ad_bezier_weights(d);
+inline float3 sbf_ad_bezier_eval(array<float3, 36> c, float3 d) {
+    SbfAdBezierWeights bw = sbf_ad_bezier_weights(d);
     float3 v = float3(0.0f);
     for (uint k = 0u; k < 3u; k++) {
         uint o = 3u * bw.vertices[k];
@@ -937,12 +1241,15 @@ inline float3 ad_bezier_eval(array<float3, 36> c, float3 d) {
     }
     return v;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_ycocg_eval
+#define SBF_DEFINED_sbf_ad_ycocg_eval
 // RGB at unit d from YCoCg coefficients: Y by the Bézier patch (36), Co and Cg
 // piecewise-linear on the same face (12 each, weights b_k / Σb), then YCoCg → RGB.
-inline float3 ad_ycocg_eval(array<float, 36> y, array<float, 12> co, array<float, 12> cg, float3 d) {
-    AdBezierWeights bw = ad_bezier_weights(d);
-    AdFace loc = ad_ico_locate(d);
+inline float3 sbf_ad_ycocg_eval(array<float, 36> y, array<float, 12> co, array<float, 12> cg, float3 d) {
+    SbfAdBezierWeights bw = sbf_ad_bezier_weights(d);
+    SbfAdFace loc = sbf_ad_ico_locate(d);
     float3 lw = loc.b / float3(loc.b.x + loc.b.y + loc.b.z);
     float luma = 0.0f;
     float2 chroma = float2(0.0f);
@@ -950,20 +1257,26 @@ inline float3 ad_ycocg_eval(array<float, 36> y, array<float, 12> co, array<float
         uint o = 3u * bw.vertices[k];
         float3 w = bw.w[k];
         luma += y[o] * w.x + y[o + 1u] * w.y + y[o + 2u] * w.z;
-        uint vk = AD_ICO_FACES[loc.face][k];
+        uint vk = SBF_AD_ICO_FACES[loc.face][k];
         chroma += lw[k] * float2(co[vk], cg[vk]);
     }
     float t = luma - chroma.y;
     return float3(t + chroma.x, luma + chroma.y, t - chroma.x);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_BEZIER_A
+#define SBF_DEFINED_SBF_AD_BEZIER_A
 // Interior-point redistribution weights a0, a1, a2 (math.md).
-constant float3 AD_BEZIER_A = float3(-0.0690983f, 0.2399187f, 0.2236068f);
+constant float3 SBF_AD_BEZIER_A = float3(-0.0690983f, 0.2399187f, 0.2236068f);
+#endif
 
+#ifndef SBF_DEFINED_sbf_lightmap_bspline_axis
+#define SBF_DEFINED_sbf_lightmap_bspline_axis
 // One axis at texel coordinate c (texel centres at i + 1/2): the two taps' positions in
 // texels (xy) and their weights (zw). A bilinear lookup at tap 0 weights texels i − 1 and i
 // as w0 : w1, at tap 1 texels i + 1 and i + 2 as w2 : w3.
-inline float4 lightmap_bspline_axis(float c) {
+inline float4 sbf_lightmap_bspline_axis(float c) {
     float x = c - 0.5f;
     float i = floor(x);
     float f = x - i;
@@ -977,94 +1290,145 @@ inline float4 lightmap_bspline_axis(float c) {
     float g1 = w2 + w3;
     return float4(i - 0.5f + w1 / g0, i + 1.5f + w3 / g1, g0, g1);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfLightmapTaps
+#define SBF_DEFINED_SbfLightmapTaps
 // The four taps of a lookup: positions in normalised coordinates (x0, x1, y0, y1) and
 // weights (gx0, gx1, gy0, gy1); tap (a, b) at (pos[a], pos[2 + b]) weighs w[a]·w[2 + b].
-struct LightmapTaps {
+struct SbfLightmapTaps {
     float4 pos;
     float4 w;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_lightmap_bicubic_taps
+#define SBF_DEFINED_sbf_lightmap_bicubic_taps
 // The B-spline's taps at normalised uv on a lightmap of `size` texels. With a linear,
 // clamped sampler S: value = w.z·(w.x·S(pos.xz) + w.y·S(pos.yz)) + w.w·(w.x·S(pos.xw) + w.y·S(pos.yw)).
-inline LightmapTaps lightmap_bicubic_taps(float2 uv, float2 size) {
+inline SbfLightmapTaps sbf_lightmap_bicubic_taps(float2 uv, float2 size) {
     float2 c = uv * size;
-    float4 ax = lightmap_bspline_axis(c.x);
-    float4 ay = lightmap_bspline_axis(c.y);
-    return LightmapTaps{float4(ax.xy / float2(size.x), ay.xy / float2(size.y)), float4(ax.zw, ay.zw)};
+    float4 ax = sbf_lightmap_bspline_axis(c.x);
+    float4 ay = sbf_lightmap_bspline_axis(c.y);
+    return SbfLightmapTaps{float4(ax.xy / float2(size.x), ay.xy / float2(size.y)), float4(ax.zw, ay.zw)};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_godot_l1_irradiance
+#define SBF_DEFINED_sbf_godot_l1_irradiance
 // Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
 // USE_SH_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
 // decoded to (s − 1/2)·2 and scaled by 4·L0.
-inline float3 godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n) {
+inline float3 sbf_godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n) {
     float3 s = l0 * 4.0f;
     return l0 + (l1n1 - float3(0.5f)) * 2.0f * n.y * s + (l1_0 - float3(0.5f)) * 2.0f * n.z * s + (l1p1 - float3(0.5f)) * 2.0f * n.x * s;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_monosh_irradiance
+#define SBF_DEFINED_sbf_monosh_irradiance
 // Bakery MonoSH (Bakery.cginc, BakeryMonoSH, linear form): RGB L0 and one direction t with
 // nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0).
-inline float3 monosh_irradiance(float3 l0, float3 dir, float3 n) {
+inline float3 sbf_monosh_irradiance(float3 l0, float3 dir, float3 n) {
     float3 nl1 = dir * 2.0f - float3(1.0f);
     return max(l0 + 2.0f * l0 * dot(nl1, n), float3(0.0f));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_factor
+#define SBF_DEFINED_sbf_enlighten_factor
 // Enlighten directional irradiance, one channel's half-Lambert term over its rescaling
 // factor (UnityCG.cginc DecodeDirectionalLightmap): (n·(t.xyz − 1/2) + 1/2)/max(t.w, 1e-4).
-inline float enlighten_factor(float4 dir, float3 n) {
+inline float sbf_enlighten_factor(float4 dir, float3 n) {
     float half_lambert = dot(n, dir.xyz - float3(0.5f)) + 0.5f;
     return half_lambert / max(dir.w, 0.0001f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_irradiance
+#define SBF_DEFINED_sbf_enlighten_irradiance
 // Enlighten directional irradiance, one luminance direction: the irradiance colour times
 // its factor.
-inline float3 enlighten_irradiance(float3 colour, float4 dir, float3 n) {
-    return colour * enlighten_factor(dir, n);
+inline float3 sbf_enlighten_irradiance(float3 colour, float4 dir, float3 n) {
+    return colour * sbf_enlighten_factor(dir, n);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_rgb_irradiance
+#define SBF_DEFINED_sbf_enlighten_rgb_irradiance
 // Enlighten directional irradiance, one direction per colour channel.
-inline float3 enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n) {
-    return colour * float3(enlighten_factor(dir_r, n), enlighten_factor(dir_g, n), enlighten_factor(dir_b, n));
+inline float3 sbf_enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n) {
+    return colour * float3(sbf_enlighten_factor(dir_r, n), sbf_enlighten_factor(dir_g, n), sbf_enlighten_factor(dir_b, n));
 }
+#endif
 
-constant uint ENCODER_MAX_LOBES = 12u;
+#ifndef SBF_DEFINED_SBF_ENCODER_MAX_LOBES
+#define SBF_DEFINED_SBF_ENCODER_MAX_LOBES
+constant uint SBF_ENCODER_MAX_LOBES = 12u;
+#endif
 
-constant uint ENCODER_NON_NEGATIVE = 1u;
+#ifndef SBF_DEFINED_SBF_ENCODER_NON_NEGATIVE
+#define SBF_DEFINED_SBF_ENCODER_NON_NEGATIVE
+constant uint SBF_ENCODER_NON_NEGATIVE = 1u;
+#endif
 
-constant uint ENCODER_GAUSS_SEIDEL = 2u;
+#ifndef SBF_DEFINED_SBF_ENCODER_GAUSS_SEIDEL
+#define SBF_DEFINED_SBF_ENCODER_GAUSS_SEIDEL
+constant uint SBF_ENCODER_GAUSS_SEIDEL = 2u;
+#endif
 
-constant uint ENCODER_DENOM_BLEND = 0u;
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_BLEND
+#define SBF_DEFINED_SBF_ENCODER_DENOM_BLEND
+constant uint SBF_ENCODER_DENOM_BLEND = 0u;
+#endif
 
-constant uint ENCODER_DENOM_CLAMP_TO_TRUE = 1u;
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_CLAMP_TO_TRUE
+#define SBF_DEFINED_SBF_ENCODER_DENOM_CLAMP_TO_TRUE
+constant uint SBF_ENCODER_DENOM_CLAMP_TO_TRUE = 1u;
+#endif
 
-constant uint ENCODER_DENOM_RAW = 2u;
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_RAW
+#define SBF_DEFINED_SBF_ENCODER_DENOM_RAW
+constant uint SBF_ENCODER_DENOM_RAW = 2u;
+#endif
 
+#ifndef SBF_DEFINED_SBF_ENCODER_DENOM_PROJECTION
+#define SBF_DEFINED_SBF_ENCODER_DENOM_PROJECTION
 // No residual: the amplitude is the running mean of (B_i·value + q_i)/true_mean_i (sbf's
 // Denominator::Projection; unbiased for a basis orthogonal over the sampled measure).
-constant uint ENCODER_DENOM_PROJECTION = 3u;
+constant uint SBF_ENCODER_DENOM_PROJECTION = 3u;
+#endif
 
+#ifndef SBF_DEFINED_SbfEncoderParams
+#define SBF_DEFINED_SbfEncoderParams
 // Encoder options (uniform or storage).
-struct EncoderParams {
+struct SbfEncoderParams {
     float acceleration;
     uint lobes;
     uint flags;
     uint denominator;
     array<float4, 3> true_mean;
 };
+#endif
 
+#ifndef SBF_DEFINED_SbfEncoderState
+#define SBF_DEFINED_SbfEncoderState
 // One texel's encoder state: per lobe the RGB amplitude (xyz) and the running mean of
 // B_i² (w), the total weight and the number of updates.
-struct EncoderState {
+struct SbfEncoderState {
     array<float4, 12> lobes;
     float total_weight;
     uint samples;
 };
+#endif
 
-inline void progressive_update_projected(thread EncoderState& state, EncoderParams p, array<float, 12> b, float3 value, float weight, array<float3, 12> q) {
+#ifndef SBF_DEFINED_sbf_progressive_update_projected
+#define SBF_DEFINED_sbf_progressive_update_projected
+inline void sbf_progressive_update_projected(thread SbfEncoderState& state, SbfEncoderParams p, array<float, 12> b, float3 value, float weight, array<float3, 12> q) {
     if (!(weight > 0.0f)) {
         return;
     }
-    uint n = min(p.lobes, ENCODER_MAX_LOBES);
+    uint n = min(p.lobes, SBF_ENCODER_MAX_LOBES);
     state.samples++;
     state.total_weight += weight;
     float s = weight / state.total_weight;
@@ -1076,9 +1440,9 @@ inline void progressive_update_projected(thread EncoderState& state, EncoderPara
         float bi = b[i];
         float4 lobe = state.lobes[i];
         lobe.w = lobe.w + s * (bi * bi - lobe.w);
-        if (p.denominator == ENCODER_DENOM_PROJECTION) {
+        if (p.denominator == SBF_ENCODER_DENOM_PROJECTION) {
             float3 amp = lobe.xyz + s * ((bi * value + q[i]) / float3(p.true_mean[i / 4u][i % 4u]) - lobe.xyz);
-            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+            if ((p.flags & SBF_ENCODER_NON_NEGATIVE) != 0u) {
                 amp = max(amp, float3(0.0f));
             }
             state.lobes[i] = float4(amp, lobe.w);
@@ -1104,11 +1468,11 @@ inline void progressive_update_projected(thread EncoderState& state, EncoderPara
             float scale = p.acceleration * s / denom;
             float3 old = lobe.xyz;
             float3 amp = old + scale * (bi * delta + q[i]);
-            if ((p.flags & ENCODER_NON_NEGATIVE) != 0u) {
+            if ((p.flags & SBF_ENCODER_NON_NEGATIVE) != 0u) {
                 amp = max(amp, float3(0.0f));
             }
             lobe = float4(amp, lobe.w);
-            if ((p.flags & ENCODER_GAUSS_SEIDEL) != 0u) {
+            if ((p.flags & SBF_ENCODER_GAUSS_SEIDEL) != 0u) {
                 delta -= bi * (amp - old);
             }
         }
@@ -1116,54 +1480,78 @@ inline void progressive_update_projected(thread EncoderState& state, EncoderPara
     }
     return;
 }
+#endif
 
-inline void progressive_update(thread EncoderState& state, EncoderParams p, array<float, 12> b, float3 value, float weight) {
+#ifndef SBF_DEFINED_sbf_progressive_update
+#define SBF_DEFINED_sbf_progressive_update
+inline void sbf_progressive_update(thread SbfEncoderState& state, SbfEncoderParams p, array<float, 12> b, float3 value, float weight) {
     array<float3, 12> q = array<float3, 12>{};
-    progressive_update_projected(state, p, b, value, weight, q);
+    sbf_progressive_update_projected(state, p, b, value, weight, q);
     return;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_acceptance
+#define SBF_DEFINED_sbf_slc_acceptance
 // p = min(I/(δl²), 1) (002 eq. 2); 1 at the light.
-inline float slc_acceptance(float intensity, float delta, float l) {
+inline float sbf_slc_acceptance(float intensity, float delta, float l) {
     if (l <= 0.0f) {
         return 1.0f;
     }
     return min(intensity / (delta * l * l), 1.0f);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SLC_F32_MAX
+#define SBF_DEFINED_SBF_SLC_F32_MAX
 // The largest finite f32, 0x1.fffffep127 = 3.4028234664e38. Written with fewer digits above
 // it, as 3.4028235e38, it rounds to the same f32 in naga but is out of f32's range for tint
 // (Chrome's WGSL compiler), which converts literals without rounding to the largest value.
-constant float SLC_F32_MAX = 3.4028235e38f;
+constant float SBF_SLC_F32_MAX = 3.4028235e38f;
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_random_range
+#define SBF_DEFINED_sbf_slc_random_range
 // l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
-inline float slc_random_range(float intensity, float delta, float xi) {
+inline float sbf_slc_random_range(float intensity, float delta, float xi) {
     if (xi <= 0.0f) {
-        return SLC_F32_MAX;
+        return SBF_SLC_F32_MAX;
     }
     return sqrt(max(intensity, 0.0f) / (delta * xi));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_culled_estimate
+#define SBF_DEFINED_sbf_slc_culled_estimate
 // L/p if p > ξ, else 0 (002 eq. 3): unbiased over ξ.
-inline float slc_culled_estimate(float radiance, float p, float xi) {
+inline float sbf_slc_culled_estimate(float radiance, float p, float xi) {
     return p > xi ? radiance / p : 0.0f;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_cos_theta_h_max
+#define SBF_DEFINED_sbf_slc_cos_theta_h_max
 // cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2), as |cos_i|/√(2(1 + s)), s =
 // √(1 − cos_i²) (no cancellation at grazing incidence).
-inline float slc_cos_theta_h_max(float cos_i) {
+inline float sbf_slc_cos_theta_h_max(float cos_i) {
     float s = sqrt(max(1.0f - cos_i * cos_i, 0.0f));
     return abs(cos_i) / sqrt(2.0f * (1.0f + s));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_schlick_max
+#define SBF_DEFINED_sbf_slc_schlick_max
 // Maximum Schlick Fresnel over the outgoing hemisphere (000 eq. 1–2).
-inline float slc_schlick_max(float f0, float cos_i) {
-    float m = 1.0f - slc_cos_theta_h_max(cos_i);
+inline float sbf_slc_schlick_max(float f0, float cos_i) {
+    float m = 1.0f - sbf_slc_cos_theta_h_max(cos_i);
     return f0 + (1.0f - f0) * (m * m) * (m * m) * m;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_dielectric_fresnel
+#define SBF_DEFINED_sbf_slc_dielectric_fresnel
 // Unpolarised dielectric Fresnel (000 eq. 3–5); 1 under total internal reflection.
-inline float slc_dielectric_fresnel(float eta, float cos_h) {
+inline float sbf_slc_dielectric_fresnel(float eta, float cos_h) {
     float c = clamp(cos_h, 0.0f, 1.0f);
     float g2 = eta * eta - (1.0f - c * c);
     if (g2 <= 0.0f) {
@@ -1175,98 +1563,137 @@ inline float slc_dielectric_fresnel(float eta, float cos_h) {
     float par = (g - e2c) / (g + e2c);
     return 0.5f * (perp * perp + par * par);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_dielectric_max
+#define SBF_DEFINED_sbf_slc_dielectric_max
 // Maximum dielectric Fresnel over the outgoing hemisphere (000 eq. 6): the larger end.
-inline float slc_dielectric_max(float eta, float cos_i) {
-    return max(slc_dielectric_fresnel(eta, 1.0f), slc_dielectric_fresnel(eta, slc_cos_theta_h_max(cos_i)));
+inline float sbf_slc_dielectric_max(float eta, float cos_i) {
+    return max(sbf_slc_dielectric_fresnel(eta, 1.0f), sbf_slc_dielectric_fresnel(eta, sbf_slc_cos_theta_h_max(cos_i)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_g1_dist
+#define SBF_DEFINED_sbf_slc_g1_dist
 // G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) (002 eq. 8).
-inline float slc_g1_dist(float cos_i, float alpha) {
+inline float sbf_slc_g1_dist(float cos_i, float alpha) {
     float c = abs(cos_i);
     float den = c + sqrt((1.0f - alpha * alpha) * c * c + alpha * alpha);
     return den > 0.0f ? 2.0f * c / den : 0.0f;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ggx_ndf
+#define SBF_DEFINED_sbf_slc_ggx_ndf
 // GGX NDF of cos θ_m (002 eq. 7).
-inline float slc_ggx_ndf(float cos_m, float alpha) {
+inline float sbf_slc_ggx_ndf(float cos_m, float alpha) {
     if (cos_m <= 0.0f) {
         return 0.0f;
     }
     float a2 = alpha * alpha;
     float t = a2 * cos_m * cos_m + max(1.0f - cos_m * cos_m, 0.0f);
-    return a2 / (PI * t * t);
+    return a2 / (SBF_PI * t * t);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_spheroid_scale
+#define SBF_DEFINED_sbf_slc_spheroid_scale
 // r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
-inline float slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi) {
+inline float sbf_slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi) {
     if (xi <= 0.0f) {
-        return SLC_F32_MAX;
+        return SBF_SLC_F32_MAX;
     }
     return sqrt(phi * f_max * g1 / (12.566371f * delta * xi * abs(cos_i)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_bound_surface
+#define SBF_DEFINED_sbf_slc_bound_surface
 // s = r·√(π·D(cos(θ/2))) (002 eq. 12).
-inline float slc_bound_surface(float theta, float r, float alpha) {
-    return r * sqrt(PI * slc_ggx_ndf(cos(0.5f * theta), alpha));
+inline float sbf_slc_bound_surface(float theta, float r, float alpha) {
+    return r * sqrt(SBF_PI * sbf_slc_ggx_ndf(cos(0.5f * theta), alpha));
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfSlcEllipsoid
+#define SBF_DEFINED_SbfSlcEllipsoid
 // An ellipsoid: centre, unit axes as the columns of R, semi-axes.
-struct SlcEllipsoid {
+struct SbfSlcEllipsoid {
     float3 center;
     float3x3 axes;
     float3 radii;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_any_orthonormal
+#define SBF_DEFINED_sbf_slc_any_orthonormal
 // Duff et al.'s any orthonormal vector (glam's any_orthonormal_vector; sign(0) = +1).
-inline float3 slc_any_orthonormal(float3 v) {
+inline float3 sbf_slc_any_orthonormal(float3 v) {
     float sign_ = v.z >= 0.0f ? 1.0f : -1.0f;
     float a = -1.0f / (sign_ + v.z);
     float b = v.x * v.y * a;
     return float3(b, sign_ + v.y * v.y * a, -v.y);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ggx_spheroid
+#define SBF_DEFINED_sbf_slc_ggx_spheroid
 // The GGX VPL's bounding spheroid (002 eq. 13–15): axes ω_u, ω_w × ω_u, ω_w; semi-axes
 // ((1 + α²)/(2α)r, r, r); centre q + (1 − α²)/(2α)·r·ω_u.
-inline SlcEllipsoid slc_ggx_spheroid(float3 q, float3 wi, float3 n, float alpha, float r) {
+inline SbfSlcEllipsoid sbf_slc_ggx_spheroid(float3 q, float3 wi, float3 n, float alpha, float r) {
     float3 wu = normalize(n * (2.0f * dot(wi, n)) - wi);
     float3 c = cross(wu, n);
-    float3 ww = slc_any_orthonormal(wu);
+    float3 ww = sbf_slc_any_orthonormal(wu);
     if (dot(c, c) > 1e-12f) {
         ww = normalize(c);
     }
     float3 wv = cross(ww, wu);
     float ru = (1.0f + alpha * alpha) / (2.0f * alpha) * r;
-    return SlcEllipsoid{q + wu * ((1.0f - alpha * alpha) / (2.0f * alpha) * r), float3x3(wu, wv, ww), float3(ru, r, r)};
+    return SbfSlcEllipsoid{q + wu * ((1.0f - alpha * alpha) / (2.0f * alpha) * r), float3x3(wu, wv, ww), float3(ru, r, r)};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_stretching
+#define SBF_DEFINED_sbf_slc_stretching
 // S = R·diag(1/r)·Rᵀ (002 eq. 16).
-inline float3x3 slc_stretching(SlcEllipsoid e) {
+inline float3x3 sbf_slc_stretching(SbfSlcEllipsoid e) {
     float3 inv = float3(1.0f) / e.radii;
     float3x3 d = float3x3(float3(inv.x, 0.0f, 0.0f), float3(0.0f, inv.y, 0.0f), float3(0.0f, 0.0f, inv.z));
     return e.axes * d * transpose(e.axes);
 }
+#endif
 
-struct SlcSphere {
+#ifndef SBF_DEFINED_SbfSlcSphere
+#define SBF_DEFINED_SbfSlcSphere
+struct SbfSlcSphere {
     float3 center;
     float radius;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_diffuse_sphere
+#define SBF_DEFINED_sbf_slc_diffuse_sphere
 // The diffuse VPL's bounding sphere (001 eq. 2–3): A = √(Φk/(πδξ)), centre
 // q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
-inline SlcSphere slc_diffuse_sphere(float3 q, float3 n, float phi_k, float delta, float xi) {
-    float a = slc_random_range(phi_k / PI, delta, xi);
-    return SlcSphere{q + n * (0.43869135f * a), 0.62040323f * a};
+inline SbfSlcSphere sbf_slc_diffuse_sphere(float3 q, float3 n, float phi_k, float delta, float xi) {
+    float a = sbf_slc_random_range(phi_k / SBF_PI, delta, xi);
+    return SbfSlcSphere{q + n * (0.43869135f * a), 0.62040323f * a};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_point_sphere
+#define SBF_DEFINED_sbf_slc_point_sphere
 // A point light's bounding sphere: its random range √(I/(δξ)) about q.
-inline SlcSphere slc_point_sphere(float3 q, float intensity, float delta, float xi) {
-    return SlcSphere{q, slc_random_range(intensity, delta, xi)};
+inline SbfSlcSphere sbf_slc_point_sphere(float3 q, float intensity, float delta, float xi) {
+    return SbfSlcSphere{q, sbf_slc_random_range(intensity, delta, xi)};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ray_sphere
+#define SBF_DEFINED_sbf_slc_ray_sphere
 // The chord of the ray o + t·d (unit d) through sphere s: (t0, t1, 1) with t0 ≤ t1, or
 // (0, 0, 0) when it misses. Stable roots q = −(b + sign(b)√disc), q and c/q.
-inline float3 slc_ray_sphere(float3 o, float3 d, SlcSphere s) {
+inline float3 sbf_slc_ray_sphere(float3 o, float3 d, SbfSlcSphere s) {
     float3 oc = o - s.center;
     float b = dot(d, oc);
     float c = dot(oc, oc) - s.radius * s.radius;
@@ -1281,31 +1708,43 @@ inline float3 slc_ray_sphere(float3 o, float3 d, SlcSphere s) {
     float t1 = c / t0;
     return float3(min(t0, t1), max(t0, t1), 1.0f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_equiangular_pdf
+#define SBF_DEFINED_sbf_slc_equiangular_pdf
 // The pdf of equiangular sampling on [a, b] (closest point t_c, distance h > 0) at t:
 // h/((θ_b − θ_a)(h² + (t − t_c)²)).
-inline float slc_equiangular_pdf(float tc, float h, float a, float b, float t) {
+inline float sbf_slc_equiangular_pdf(float tc, float h, float a, float b, float t) {
     float ta = atan2(a - tc, h);
     float tb = atan2(b - tc, h);
     return h / ((tb - ta) * (h * h + (t - tc) * (t - tc)));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_equiangular_sample
+#define SBF_DEFINED_sbf_slc_equiangular_sample
 // Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1): (t, pdf) for u ∈ [0, 1).
-inline float2 slc_equiangular_sample(float tc, float h, float a, float b, float u) {
+inline float2 sbf_slc_equiangular_sample(float tc, float h, float a, float b, float u) {
     float ta = atan2(a - tc, h);
     float tb = atan2(b - tc, h);
     float t = clamp(tc + h * tan(ta + u * (tb - ta)), a, b);
-    return float2(t, slc_equiangular_pdf(tc, h, a, b, t));
+    return float2(t, sbf_slc_equiangular_pdf(tc, h, a, b, t));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_diffuse_intensity_bound
+#define SBF_DEFINED_sbf_slc_diffuse_intensity_bound
 // I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) (001 eq. 7).
-inline float slc_diffuse_intensity_bound(float d_dot_n, float phi) {
+inline float sbf_slc_diffuse_intensity_bound(float d_dot_n, float phi) {
     float t = d_dot_n + sqrt(d_dot_n * d_dot_n + 1.0f);
     return phi * t * t / 16.324194f;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_test_space_rotation
+#define SBF_DEFINED_sbf_slc_test_space_rotation
 // The test-space rotation B (002 eq. 17).
-inline float3x3 slc_test_space_rotation(float3x3 s) {
+inline float3x3 sbf_slc_test_space_rotation(float3x3 s) {
     float3 bx = s[0];
     float3 by = s[1];
     float3 z = normalize(cross(bx, by));
@@ -1320,41 +1759,56 @@ inline float3x3 slc_test_space_rotation(float3x3 s) {
     }
     return transpose(float3x3(x, y, z));
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfSlcCullEllipsoid
+#define SBF_DEFINED_SbfSlcCullEllipsoid
 // What culling stores per light (002 §5.2): M = B·S and M·c in view space
 // (x_view = view·x + origin).
-struct SlcCullEllipsoid {
+struct SbfSlcCullEllipsoid {
     float3x3 transform;
     float3 center;
 };
+#endif
 
-inline SlcCullEllipsoid slc_cull_transform(SlcEllipsoid e, float3x3 view, float3 origin) {
+#ifndef SBF_DEFINED_sbf_slc_cull_transform
+#define SBF_DEFINED_sbf_slc_cull_transform
+inline SbfSlcCullEllipsoid sbf_slc_cull_transform(SbfSlcEllipsoid e, float3x3 view, float3 origin) {
     float3x3 axes = view * e.axes;
-    float3x3 s = slc_stretching(SlcEllipsoid{float3(0.0f), axes, e.radii});
-    float3x3 m = slc_test_space_rotation(s) * s;
-    return SlcCullEllipsoid{m, m * (view * e.center + origin)};
+    float3x3 s = sbf_slc_stretching(SbfSlcEllipsoid{float3(0.0f), axes, e.radii});
+    float3x3 m = sbf_slc_test_space_rotation(s) * s;
+    return SbfSlcCullEllipsoid{m, m * (view * e.center + origin)};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_tile_corners
+#define SBF_DEFINED_sbf_slc_tile_corners
 // The 8 view-space corners of a tile's frustum part between view distances z0 and z1
 // (along −z): pixel rectangle [x0, x1) × [y0, y1) of a width × height image, symmetric
 // perspective with tan(half field of view) tan_x, tan_y.
-inline array<float3, 8> slc_tile_corners(float x0, float y0, float x1, float y1, float2 size, float2 tan_xy, float z0, float z1) {
+inline array<float3, 8> sbf_slc_tile_corners(float x0, float y0, float x1, float y1, float2 size, float2 tan_xy, float z0, float z1) {
     float3 a = float3((2.0f * x0 / size.x - 1.0f) * tan_xy.x, (1.0f - 2.0f * y0 / size.y) * tan_xy.y, -1.0f);
     float3 b = float3((2.0f * x1 / size.x - 1.0f) * tan_xy.x, (1.0f - 2.0f * y0 / size.y) * tan_xy.y, -1.0f);
     float3 c = float3((2.0f * x0 / size.x - 1.0f) * tan_xy.x, (1.0f - 2.0f * y1 / size.y) * tan_xy.y, -1.0f);
     float3 d = float3((2.0f * x1 / size.x - 1.0f) * tan_xy.x, (1.0f - 2.0f * y1 / size.y) * tan_xy.y, -1.0f);
     return array<float3, 8>{a * z0, b * z0, c * z0, d * z0, a * z1, b * z1, c * z1, d * z1};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_unit_sphere_hits_aabb
+#define SBF_DEFINED_sbf_slc_unit_sphere_hits_aabb
 // Whether the unit sphere about `center` meets the box [lo, hi].
-inline bool slc_unit_sphere_hits_aabb(float3 center, float3 lo, float3 hi) {
+inline bool sbf_slc_unit_sphere_hits_aabb(float3 center, float3 lo, float3 hi) {
     float3 d = center - clamp(center, lo, hi);
     return dot(d, d) <= 1.0f;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_slc_ellipsoid_hits_corners
+#define SBF_DEFINED_sbf_slc_ellipsoid_hits_corners
 // The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
 // their AABB, the unit sphere about M·c.
-inline bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, array<float3, 8> corners) {
+inline bool sbf_slc_ellipsoid_hits_corners(SbfSlcCullEllipsoid e, array<float3, 8> corners) {
     float3 lo = float3(3.4028235e38f);
     float3 hi = float3(-3.4028235e38f);
     for (uint k = 0u; k < 8u; k++) {
@@ -1362,7 +1816,8 @@ inline bool slc_ellipsoid_hits_corners(SlcCullEllipsoid e, array<float3, 8> corn
         lo = min(lo, p);
         hi = max(hi, p);
     }
-    return slc_unit_sphere_hits_aabb(e.center, lo, hi);
+    return sbf_slc_unit_sphere_hits_aabb(e.center, lo, hi);
 }
+#endif
 
 #endif // SBF_ALL_METAL

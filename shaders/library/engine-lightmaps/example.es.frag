@@ -11,26 +11,26 @@ precision highp int;
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
     {
-        LightmapTaps r = lightmap_bicubic_taps(vec2(0.5), vec2(0.5));
+        SbfLightmapTaps r = sbf_lightmap_bicubic_taps(vec2(0.5), vec2(0.5));
     }
     {
-        vec4 r = lightmap_bspline_axis(0.5);
+        vec4 r = sbf_lightmap_bspline_axis(0.5);
     }
     vec3 result = vec3(0.0);
     {
-        vec3 r = godot_l1_irradiance(n, n, n, n, n);
+        vec3 r = sbf_godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }
     {
-        vec3 r = monosh_irradiance(n, n, n);
+        vec3 r = sbf_monosh_irradiance(n, n, n);
         result += r;
     }
     {
-        vec3 r = enlighten_irradiance(n, vec4(0.5), n);
+        vec3 r = sbf_enlighten_irradiance(n, vec4(0.5), n);
         result += r;
     }
     {
-        vec3 r = enlighten_rgb_irradiance(n, vec4(0.5), vec4(0.5), vec4(0.5), n);
+        vec3 r = sbf_enlighten_rgb_irradiance(n, vec4(0.5), vec4(0.5), vec4(0.5), n);
         result += r;
     }
     return result;

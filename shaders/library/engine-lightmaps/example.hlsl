@@ -6,26 +6,26 @@
 // GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
 float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
     {
-        LightmapTaps r = lightmap_bicubic_taps(((float2)0.5), ((float2)0.5));
+        SbfLightmapTaps r = sbf_lightmap_bicubic_taps(((float2)0.5), ((float2)0.5));
     }
     {
-        float4 r = lightmap_bspline_axis(0.5);
+        float4 r = sbf_lightmap_bspline_axis(0.5);
     }
     float3 result = ((float3)0.0);
     {
-        float3 r = godot_l1_irradiance(n, n, n, n, n);
+        float3 r = sbf_godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }
     {
-        float3 r = monosh_irradiance(n, n, n);
+        float3 r = sbf_monosh_irradiance(n, n, n);
         result += r;
     }
     {
-        float3 r = enlighten_irradiance(n, ((float4)0.5), n);
+        float3 r = sbf_enlighten_irradiance(n, ((float4)0.5), n);
         result += r;
     }
     {
-        float3 r = enlighten_rgb_irradiance(n, ((float4)0.5), ((float4)0.5), ((float4)0.5), n);
+        float3 r = sbf_enlighten_rgb_irradiance(n, ((float4)0.5), ((float4)0.5), ((float4)0.5), n);
         result += r;
     }
     return result;

@@ -8,30 +8,30 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
     var result = vec3<f32>(0.0);
     {
         // lightmap_bicubic_taps
-        let r = lightmap_bicubic_taps(vec2<f32>(0.5), vec2<f32>(0.5));
+        let r = sbf_lightmap_bicubic_taps(vec2<f32>(0.5), vec2<f32>(0.5));
     }
     {
         // lightmap_bspline_axis
-        let r = lightmap_bspline_axis(0.5);
+        let r = sbf_lightmap_bspline_axis(0.5);
     }
     {
         // godot_l1_irradiance
-        let r = godot_l1_irradiance(n, n, n, n, n);
+        let r = sbf_godot_l1_irradiance(n, n, n, n, n);
         result += r;
     }
     {
         // monosh_irradiance
-        let r = monosh_irradiance(n, n, n);
+        let r = sbf_monosh_irradiance(n, n, n);
         result += r;
     }
     {
         // enlighten_irradiance
-        let r = enlighten_irradiance(n, vec4<f32>(0.5), n);
+        let r = sbf_enlighten_irradiance(n, vec4<f32>(0.5), n);
         result += r;
     }
     {
         // enlighten_rgb_irradiance
-        let r = enlighten_rgb_irradiance(n, vec4<f32>(0.5), vec4<f32>(0.5), vec4<f32>(0.5), n);
+        let r = sbf_enlighten_rgb_irradiance(n, vec4<f32>(0.5), vec4<f32>(0.5), vec4<f32>(0.5), n);
         result += r;
     }
     return result;

@@ -8,23 +8,28 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   vec4 lightmap_bspline_axis(float c)
-//   LightmapTaps lightmap_bicubic_taps(vec2 uv, vec2 size)
-//   vec3 godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n)
-//   vec3 monosh_irradiance(vec3 l0, vec3 dir, vec3 n)
-//   vec3 enlighten_irradiance(vec3 colour, vec4 dir, vec3 n)
-//   vec3 enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n)
+//   vec4 sbf_lightmap_bspline_axis(float c)
+//   SbfLightmapTaps sbf_lightmap_bicubic_taps(vec2 uv, vec2 size)
+//   vec3 sbf_godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n)
+//   vec3 sbf_monosh_irradiance(vec3 l0, vec3 dir, vec3 n)
+//   vec3 sbf_enlighten_irradiance(vec3 colour, vec4 dir, vec3 n)
+//   vec3 sbf_enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n)
 
 #ifndef SBF_ENGINE_LIGHTMAPS_GLSL
 #define SBF_ENGINE_LIGHTMAPS_GLSL
 
 #extension GL_EXT_samplerless_texture_functions : require
 
+#ifndef SBF_DEFINED_sbf_lightmap_bspline_axis
+#define SBF_DEFINED_sbf_lightmap_bspline_axis
 // One axis at texel coordinate c (texel centres at i + 1/2): the two taps' positions in
 // texels (xy) and their weights (zw). A bilinear lookup at tap 0 weights texels i − 1 and i
 // as w0 : w1, at tap 1 texels i + 1 and i + 2 as w2 : w3.
-vec4 lightmap_bspline_axis(float c) {
+vec4 sbf_lightmap_bspline_axis(float c) {
     float x = c - 0.5;
     float i = floor(x);
     float f = x - i;
@@ -38,54 +43,76 @@ vec4 lightmap_bspline_axis(float c) {
     float g1 = w2 + w3;
     return vec4(i - 0.5 + w1 / g0, i + 1.5 + w3 / g1, g0, g1);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfLightmapTaps
+#define SBF_DEFINED_SbfLightmapTaps
 // The four taps of a lookup: positions in normalised coordinates (x0, x1, y0, y1) and
 // weights (gx0, gx1, gy0, gy1); tap (a, b) at (pos[a], pos[2 + b]) weighs w[a]·w[2 + b].
-struct LightmapTaps {
+struct SbfLightmapTaps {
     vec4 pos;
     vec4 w;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_lightmap_bicubic_taps
+#define SBF_DEFINED_sbf_lightmap_bicubic_taps
 // The B-spline's taps at normalised uv on a lightmap of `size` texels. With a linear,
 // clamped sampler S: value = w.z·(w.x·S(pos.xz) + w.y·S(pos.yz)) + w.w·(w.x·S(pos.xw) + w.y·S(pos.yw)).
-LightmapTaps lightmap_bicubic_taps(vec2 uv, vec2 size) {
+SbfLightmapTaps sbf_lightmap_bicubic_taps(vec2 uv, vec2 size) {
     vec2 c = uv * size;
-    vec4 ax = lightmap_bspline_axis(c.x);
-    vec4 ay = lightmap_bspline_axis(c.y);
-    return LightmapTaps(vec4(ax.xy / vec2(size.x), ay.xy / vec2(size.y)), vec4(ax.zw, ay.zw));
+    vec4 ax = sbf_lightmap_bspline_axis(c.x);
+    vec4 ay = sbf_lightmap_bspline_axis(c.y);
+    return SbfLightmapTaps(vec4(ax.xy / vec2(size.x), ay.xy / vec2(size.y)), vec4(ax.zw, ay.zw));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_godot_l1_irradiance
+#define SBF_DEFINED_sbf_godot_l1_irradiance
 // Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
 // USE_SH_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
 // decoded to (s − 1/2)·2 and scaled by 4·L0.
-vec3 godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n) {
+vec3 sbf_godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n) {
     vec3 s = l0 * 4.0;
     return l0 + (l1n1 - vec3(0.5)) * 2.0 * n.y * s + (l1_0 - vec3(0.5)) * 2.0 * n.z * s + (l1p1 - vec3(0.5)) * 2.0 * n.x * s;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_monosh_irradiance
+#define SBF_DEFINED_sbf_monosh_irradiance
 // Bakery MonoSH (Bakery.cginc, BakeryMonoSH, linear form): RGB L0 and one direction t with
 // nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0).
-vec3 monosh_irradiance(vec3 l0, vec3 dir, vec3 n) {
+vec3 sbf_monosh_irradiance(vec3 l0, vec3 dir, vec3 n) {
     vec3 nl1 = dir * 2.0 - vec3(1.0);
     return max(l0 + 2.0 * l0 * dot(nl1, n), vec3(0.0));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_factor
+#define SBF_DEFINED_sbf_enlighten_factor
 // Enlighten directional irradiance, one channel's half-Lambert term over its rescaling
 // factor (UnityCG.cginc DecodeDirectionalLightmap): (n·(t.xyz − 1/2) + 1/2)/max(t.w, 1e-4).
-float enlighten_factor(vec4 dir, vec3 n) {
+float sbf_enlighten_factor(vec4 dir, vec3 n) {
     float half_lambert = dot(n, dir.xyz - vec3(0.5)) + 0.5;
     return half_lambert / max(dir.w, 0.0001);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_irradiance
+#define SBF_DEFINED_sbf_enlighten_irradiance
 // Enlighten directional irradiance, one luminance direction: the irradiance colour times
 // its factor.
-vec3 enlighten_irradiance(vec3 colour, vec4 dir, vec3 n) {
-    return colour * enlighten_factor(dir, n);
+vec3 sbf_enlighten_irradiance(vec3 colour, vec4 dir, vec3 n) {
+    return colour * sbf_enlighten_factor(dir, n);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_rgb_irradiance
+#define SBF_DEFINED_sbf_enlighten_rgb_irradiance
 // Enlighten directional irradiance, one direction per colour channel.
-vec3 enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n) {
-    return colour * vec3(enlighten_factor(dir_r, n), enlighten_factor(dir_g, n), enlighten_factor(dir_b, n));
+vec3 sbf_enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n) {
+    return colour * vec3(sbf_enlighten_factor(dir_r, n), sbf_enlighten_factor(dir_g, n), sbf_enlighten_factor(dir_b, n));
 }
+#endif
 
 #endif // SBF_ENGINE_LIGHTMAPS_GLSL

@@ -6,21 +6,26 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float4 lightmap_bspline_axis(float c)
-//   LightmapTaps lightmap_bicubic_taps(float2 uv, float2 size)
-//   float3 godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n)
-//   float3 monosh_irradiance(float3 l0, float3 dir, float3 n)
-//   float3 enlighten_irradiance(float3 colour, float4 dir, float3 n)
-//   float3 enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n)
+//   float4 sbf_lightmap_bspline_axis(float c)
+//   SbfLightmapTaps sbf_lightmap_bicubic_taps(float2 uv, float2 size)
+//   float3 sbf_godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n)
+//   float3 sbf_monosh_irradiance(float3 l0, float3 dir, float3 n)
+//   float3 sbf_enlighten_irradiance(float3 colour, float4 dir, float3 n)
+//   float3 sbf_enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n)
 
 #ifndef SBF_ENGINE_LIGHTMAPS_HLSL
 #define SBF_ENGINE_LIGHTMAPS_HLSL
 
+#ifndef SBF_DEFINED_sbf_lightmap_bspline_axis
+#define SBF_DEFINED_sbf_lightmap_bspline_axis
 // One axis at texel coordinate c (texel centres at i + 1/2): the two taps' positions in
 // texels (xy) and their weights (zw). A bilinear lookup at tap 0 weights texels i − 1 and i
 // as w0 : w1, at tap 1 texels i + 1 and i + 2 as w2 : w3.
-float4 lightmap_bspline_axis(float c) {
+float4 sbf_lightmap_bspline_axis(float c) {
     float x = c - 0.5;
     float i = floor(x);
     float f = x - i;
@@ -34,55 +39,77 @@ float4 lightmap_bspline_axis(float c) {
     float g1 = w2 + w3;
     return float4(i - 0.5 + w1 / g0, i + 1.5 + w3 / g1, g0, g1);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfLightmapTaps
+#define SBF_DEFINED_SbfLightmapTaps
 // The four taps of a lookup: positions in normalised coordinates (x0, x1, y0, y1) and
 // weights (gx0, gx1, gy0, gy1); tap (a, b) at (pos[a], pos[2 + b]) weighs w[a]·w[2 + b].
-struct LightmapTaps {
+struct SbfLightmapTaps {
     float4 pos;
     float4 w;
 };
+#endif
 
+#ifndef SBF_DEFINED_sbf_lightmap_bicubic_taps
+#define SBF_DEFINED_sbf_lightmap_bicubic_taps
 // The B-spline's taps at normalised uv on a lightmap of `size` texels. With a linear,
 // clamped sampler S: value = w.z·(w.x·S(pos.xz) + w.y·S(pos.yz)) + w.w·(w.x·S(pos.xw) + w.y·S(pos.yw)).
-LightmapTaps lightmap_bicubic_taps(float2 uv, float2 size) {
+SbfLightmapTaps sbf_lightmap_bicubic_taps(float2 uv, float2 size) {
     float2 c = uv * size;
-    float4 ax = lightmap_bspline_axis(c.x);
-    float4 ay = lightmap_bspline_axis(c.y);
-    LightmapTaps tmp = { float4(ax.xy / ((float2)size.x), ay.xy / ((float2)size.y)), float4(ax.zw, ay.zw) };
+    float4 ax = sbf_lightmap_bspline_axis(c.x);
+    float4 ay = sbf_lightmap_bspline_axis(c.y);
+    SbfLightmapTaps tmp = { float4(ax.xy / ((float2)size.x), ay.xy / ((float2)size.y)), float4(ax.zw, ay.zw) };
     return tmp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_godot_l1_irradiance
+#define SBF_DEFINED_sbf_godot_l1_irradiance
 // Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
 // USE_SH_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
 // decoded to (s − 1/2)·2 and scaled by 4·L0.
-float3 godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n) {
+float3 sbf_godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n) {
     float3 s = l0 * 4.0;
     return l0 + (l1n1 - ((float3)0.5)) * 2.0 * n.y * s + (l1_0 - ((float3)0.5)) * 2.0 * n.z * s + (l1p1 - ((float3)0.5)) * 2.0 * n.x * s;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_monosh_irradiance
+#define SBF_DEFINED_sbf_monosh_irradiance
 // Bakery MonoSH (Bakery.cginc, BakeryMonoSH, linear form): RGB L0 and one direction t with
 // nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0).
-float3 monosh_irradiance(float3 l0, float3 dir, float3 n) {
+float3 sbf_monosh_irradiance(float3 l0, float3 dir, float3 n) {
     float3 nl1 = dir * 2.0 - ((float3)1.0);
     return max(l0 + 2.0 * l0 * dot(nl1, n), ((float3)0.0));
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_factor
+#define SBF_DEFINED_sbf_enlighten_factor
 // Enlighten directional irradiance, one channel's half-Lambert term over its rescaling
 // factor (UnityCG.cginc DecodeDirectionalLightmap): (n·(t.xyz − 1/2) + 1/2)/max(t.w, 1e-4).
-float enlighten_factor(float4 dir, float3 n) {
+float sbf_enlighten_factor(float4 dir, float3 n) {
     float half_lambert = dot(n, dir.xyz - ((float3)0.5)) + 0.5;
     return half_lambert / max(dir.w, 0.0001);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_irradiance
+#define SBF_DEFINED_sbf_enlighten_irradiance
 // Enlighten directional irradiance, one luminance direction: the irradiance colour times
 // its factor.
-float3 enlighten_irradiance(float3 colour, float4 dir, float3 n) {
-    return colour * enlighten_factor(dir, n);
+float3 sbf_enlighten_irradiance(float3 colour, float4 dir, float3 n) {
+    return colour * sbf_enlighten_factor(dir, n);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_enlighten_rgb_irradiance
+#define SBF_DEFINED_sbf_enlighten_rgb_irradiance
 // Enlighten directional irradiance, one direction per colour channel.
-float3 enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n) {
-    return colour * float3(enlighten_factor(dir_r, n), enlighten_factor(dir_g, n), enlighten_factor(dir_b, n));
+float3 sbf_enlighten_rgb_irradiance(float3 colour, float4 dir_r, float4 dir_g, float4 dir_b, float3 n) {
+    return colour * float3(sbf_enlighten_factor(dir_r, n), sbf_enlighten_factor(dir_g, n), sbf_enlighten_factor(dir_b, n));
 }
+#endif
 
 #endif // SBF_ENGINE_LIGHTMAPS_HLSL

@@ -14,11 +14,11 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        vec3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
-        float r = sg_hill_irradiance(n, 0.5, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3(r);
     }
     {
@@ -26,7 +26,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        vec3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -34,7 +34,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_irradiance(ad12_irradiance_c, n);
+        vec3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     return result;

@@ -11,11 +11,11 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        float3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
-        float r = sg_hill_irradiance(n, 0.5f, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5f, n);
         result += float3(r);
     }
     {
@@ -23,7 +23,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        float3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -31,7 +31,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        float3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     return result;

@@ -12,12 +12,12 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        let r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
         // sg_hill_irradiance
-        let r = sg_hill_irradiance(n, 0.5, n);
+        let r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3<f32>(r);
     }
     {
@@ -26,7 +26,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad9_irradiance(ad9_irradiance_c, n);
+        let r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -35,7 +35,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad12_irradiance(ad12_irradiance_c, n);
+        let r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     return result;

@@ -8,56 +8,103 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   vec3 sh_l2_irradiance(vec3 c[9], vec3 n)
-//   float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n)
-//   vec3 ad12_irradiance(vec3 c[12], vec3 n)
-//   vec3 ad9_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n)
+//   float sbf_sg_hill_irradiance(vec3 axis, float sharpness, vec3 n)
+//   vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n)
+//   vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n)
 
 #ifndef SBF_LAMBERT_GLSL
 #define SBF_LAMBERT_GLSL
 
 #extension GL_EXT_samplerless_texture_functions : require
 
-const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+const float SBF_PI = 3.1415927;
+#endif
 
-const float INV_PI = 0.31830987;
+#ifndef SBF_DEFINED_SBF_INV_PI
+#define SBF_DEFINED_SBF_INV_PI
+const float SBF_INV_PI = 0.31830987;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-const vec3 AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+const vec3 SBF_AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+#endif
 
-const float HILL_C0 = 0.3652013;
+#ifndef SBF_DEFINED_SBF_HILL_C0
+#define SBF_DEFINED_SBF_HILL_C0
+const float SBF_HILL_C0 = 0.3652013;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD12_AXES
+#define SBF_DEFINED_SBF_AD12_AXES
 // Ambient Dice 12: icosahedron vertices (sbf::AmbientDiceSrbf::twelve).
-const vec3 AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0.8506508, 0.5257311, 0.0), vec3(0.8506508, -0.5257311, 0.0), vec3(-0.8506508, -0.5257311, 0.0), vec3(0.0, 0.8506508, 0.5257311), vec3(0.0, -0.8506508, 0.5257311), vec3(0.0, 0.8506508, -0.5257311), vec3(0.0, -0.8506508, -0.5257311), vec3(0.5257311, 0.0, 0.8506508), vec3(-0.5257311, 0.0, 0.8506508), vec3(0.5257311, 0.0, -0.8506508), vec3(-0.5257311, 0.0, -0.8506508));
+const vec3 SBF_AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0.8506508, 0.5257311, 0.0), vec3(0.8506508, -0.5257311, 0.0), vec3(-0.8506508, -0.5257311, 0.0), vec3(0.0, 0.8506508, 0.5257311), vec3(0.0, -0.8506508, 0.5257311), vec3(0.0, 0.8506508, -0.5257311), vec3(0.0, -0.8506508, -0.5257311), vec3(0.5257311, 0.0, 0.8506508), vec3(-0.5257311, 0.0, 0.8506508), vec3(0.5257311, 0.0, -0.8506508), vec3(-0.5257311, 0.0, -0.8506508));
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-const vec3 AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+const vec3 SBF_AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+#endif
 
-const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
-const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-const float SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+const float SBF_SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-const float SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+const float SBF_SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-const float SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+const float SBF_SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+const float SBF_SH_BAND2 = 0.25;
+#endif
 
-float[9] sh_eval_l2(vec3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+float[9] sbf_sh_eval_l2(vec3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    return float[9](SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0 * z * z - 1.0), SH_K2A * x * z, SH_K22 * (x * x - y * y));
+    return float[9](SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0 * z * z - 1.0), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y));
 }
+#endif
 
-vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
-    float y[9] = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n) {
+    float y[9] = sbf_sh_eval_l2(n);
     vec3 b1 = vec3(0.0);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -66,29 +113,38 @@ vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_expm1_f32
+#define SBF_DEFINED_sbf_expm1_f32
 // e^x − 1 without cancellation for small |x| (WGSL has no expm1).
-float expm1_f32(float x) {
+float sbf_expm1_f32(float x) {
     if (abs(x) < 0.01) {
         return x * (1.0 + x * (0.5 + x * (0.16666667 + x / 24.0)));
     }
     return exp(x) - 1.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_integral
+#define SBF_DEFINED_sbf_sg_integral
 // ∫ G over the sphere for unit amplitude: 2π(1 − e^(−2λ))/λ, with its limit 4π at λ → 0.
-float sg_integral(float sharpness) {
+float sbf_sg_integral(float sharpness) {
     if (sharpness < 1e-30) {
         return 12.566371;
     }
-    return 6.2831855 * -expm1_f32(-2.0 * sharpness) / sharpness;
+    return 6.2831855 * -sbf_expm1_f32(-2.0 * sharpness) / sharpness;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_cos
+#define SBF_DEFINED_sbf_sg_hill_cos
 // sg_hill_irradiance for x = cos(axis, normal).
-float sg_hill_cos(float x_in, float sharpness) {
+float sbf_sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30);
-    float c1 = 1.0 / (4.0 * HILL_C0);
+    float c1 = 1.0 / (4.0 * SBF_HILL_C0);
     float e1 = exp(-lam);
     float e2 = e1 * e1;
     float r = 1.0 / lam;
@@ -96,40 +152,53 @@ float sg_hill_cos(float x_in, float sharpness) {
     float bias = (e1 - e2) * r - e2;
     float xs = sqrt(max(r - 2.0 * e2, 0.0));
     float x = clamp(x_in, -1.0, 1.0);
-    float x0 = HILL_C0 * x;
+    float x0 = SBF_HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0, 1.0);
     if (abs(x0) <= x1 && xs > 0.0) {
         y = (x0 + x1) * (x0 + x1) / xs;
     }
-    return (scale * y + bias) * sg_integral(lam) * INV_PI;
+    return (scale * y + bias) * sbf_sg_integral(lam) * SBF_INV_PI;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_irradiance
+#define SBF_DEFINED_sbf_sg_hill_irradiance
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
-    return sg_hill_cos(dot(axis, n), sharpness);
+float sbf_sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
+    return sbf_sg_hill_cos(dot(axis, n), sharpness);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-float ad_lobe_irradiance(vec3 axis, vec3 n) {
+float sbf_ad_lobe_irradiance(vec3 axis, vec3 n) {
     float x = clamp(dot(axis, n), -1.0, 1.0);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
-vec3 ad12_irradiance(vec3 c[12], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad12_irradiance
+#define SBF_DEFINED_sbf_ad12_irradiance
+vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 12; i++) {
-        e += c[i] * ad_lobe_irradiance(AD12_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD12_AXES[i], n);
     }
     return e;
 }
+#endif
 
-vec3 ad9_irradiance(vec3 c[9], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
 #endif // SBF_LAMBERT_GLSL

@@ -14,7 +14,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        vec3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -22,7 +22,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -30,7 +30,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -38,7 +38,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D l
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        vec3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -46,7 +46,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D l
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

@@ -11,7 +11,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        float3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -19,7 +19,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -27,7 +27,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -35,7 +35,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        float3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -43,7 +43,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

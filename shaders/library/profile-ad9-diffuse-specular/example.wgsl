@@ -12,7 +12,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        let r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -21,7 +21,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -30,7 +30,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -39,7 +39,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad9_irradiance(ad9_irradiance_c, n);
+        let r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -48,7 +48,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     return result;

@@ -9,44 +9,67 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
-//   vec3 sh_l2_irradiance(vec3 c[9], vec3 n)
-//   vec3 sh_l1_specular(vec3 c[4], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
-//   vec3 sh_l2_specular(vec3 c[9], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
-//   vec3 ad9_irradiance(vec3 c[9], vec3 n)
-//   vec3 ad9_specular(vec3 c[9], sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_sh_l1_specular(vec3 c[4], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3 sbf_sh_l2_specular(vec3 c[9], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90)
+//   vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_ad9_specular(vec3 c[9], sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90)
 // Textures these functions read:
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
+//   sbf_ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_PROFILE_AD9_DIFFUSE_SPECULAR_GL_GLSL
 #define SBF_PROFILE_AD9_DIFFUSE_SPECULAR_GL_GLSL
 
-const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+const float SBF_PI = 3.1415927;
+#endif
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-vec3 reflect_about(vec3 v, vec3 n) {
+vec3 sbf_reflect_about(vec3 v, vec3 n) {
     return 2.0 * dot(v, n) * n - v;
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-const vec3 AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+const vec3 SBF_AD_DIFFUSE_QUADRATIC = vec3(0.060026042, 0.12916666, 0.06979167);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
+#define SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
-const float AD_SPECULAR_PARAMS[8] = float[8](3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125);
+const float SBF_AD_SPECULAR_PARAMS[8] = float[8](3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125);
+#endif
 
-const vec3 AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+#define SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+const vec3 SBF_AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-const vec3 AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+const vec3 SBF_AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
+#endif
 
-vec2 lut2_sample(sampler2D t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+vec2 sbf_lut2_sample(sampler2D t, float u, float v) {
     ivec2 size = ivec2(uvec2(textureSize(t, 0).xy));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -62,35 +85,65 @@ vec2 lut2_sample(sampler2D t, float u, float v) {
     vec2 b = texelFetch(t, ivec2(ivec2(i0, j1)), int(0)).xy * (1.0 - fx) + texelFetch(t, ivec2(ivec2(i1, j1)), int(0)).xy * fx;
     return a * (1.0 - fy) + b * fy;
 }
+#endif
 
-const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
-const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-const float SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+const float SBF_SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-const float SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+const float SBF_SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-const float SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+const float SBF_SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+const float SBF_SH_BAND2 = 0.25;
+#endif
 
-float[4] sh_eval_l1(vec3 d) {
-    return float[4](SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x);
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+float[4] sbf_sh_eval_l1(vec3 d) {
+    return float[4](SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
+#endif
 
-float[9] sh_eval_l2(vec3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+float[9] sbf_sh_eval_l2(vec3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    return float[9](SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0 * z * z - 1.0), SH_K2A * x * z, SH_K22 * (x * x - y * y));
+    return float[9](SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0 * z * z - 1.0), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y));
 }
+#endif
 
-vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
-    float y[9] = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n) {
+    float y[9] = sbf_sh_eval_l2(n);
     vec3 b1 = vec3(0.0);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -99,111 +152,151 @@ vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_ratios
+#define SBF_DEFINED_sbf_sh_specular_ratios
 // (g₁/g₀, g₂/g₀) of the unit-integral SG of sharpness λ ≥ 0.5 (n·v ≤ 1, α ≤ 1). With
 // e = e^(−2λ), coth λ = (1 + e)/(1 − e); 1 − e ≥ 0.63 here, so no cancellation there;
 // g₁ loses ≤ 4 bits to the subtraction at λ = 0.5 and g₂ ≤ 6 (≈ 1e-5 relative).
-vec2 sh_specular_ratios(float lambda) {
+vec2 sbf_sh_specular_ratios(float lambda) {
     float e = exp(-2.0 * lambda);
     float g1 = (1.0 + e) / (1.0 - e) - 1.0 / lambda;
     return vec2(g1, 1.0 - 3.0 * g1 / lambda);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_dominant
+#define SBF_DEFINED_sbf_sh_specular_dominant
 // The dominant direction normalize(mix(n, r, s(√s + α))), s = saturate(1 − α)
 // (sbf::ggx::dominant_direction).
-vec3 sh_specular_dominant(vec3 n, vec3 r, float alpha) {
+vec3 sbf_sh_specular_dominant(vec3 n, vec3 r, float alpha) {
     float s = clamp(1.0 - alpha, 0.0, 1.0);
     float f = s * (sqrt(s) + alpha);
     return normalize(n + (r - n) * f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_setup
+#define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-vec4 sh_specular_setup(sampler2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
+vec4 sbf_sh_specular_setup(sampler2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = dot(n, v);
     float lambda = 2.0 / (alpha * alpha) / (4.0 * max(nv, 0.0001));
-    vec2 g = sh_specular_ratios(lambda);
-    vec2 d = lut2_sample(dfg, clamp(nv, 0.0, 1.0), alpha_in);
+    vec2 g = sbf_sh_specular_ratios(lambda);
+    vec2 d = sbf_lut2_sample(dfg, clamp(nv, 0.0, 1.0), alpha_in);
     return vec4(g, f0 * d.x + f90 * d.y, alpha);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_specular
+#define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-vec3 sh_l1_specular(vec3 c[4], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    vec4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    float y[4] = sh_eval_l1(sh_specular_dominant(n, reflect_about(v, n), s.w));
+vec3 sbf_sh_l1_specular(vec3 c[4], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    vec4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    float y[4] = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     vec3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
     return l * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l2_specular
+#define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-vec3 sh_l2_specular(vec3 c[9], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    vec4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    float y[9] = sh_eval_l2(sh_specular_dominant(n, reflect_about(v, n), s.w));
+vec3 sbf_sh_l2_specular(vec3 c[9], sampler2D dfg, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    vec4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    float y[9] = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     vec3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
     vec3 b2 = c[4] * y[4] + c[5] * y[5] + c[6] * y[6] + c[7] * y[7] + c[8] * y[8];
     return (c[0] * y[0] + s.x * b1 + s.y * b2) * s.z;
 }
+#endif
 
-float ad_srbf_lobe(float c) {
+#ifndef SBF_DEFINED_sbf_ad_srbf_lobe
+#define SBF_DEFINED_sbf_ad_srbf_lobe
+float sbf_ad_srbf_lobe(float c) {
     float x = max(c, 0.0);
     float x2 = x * x;
     return x2 * (0.35 + 0.25 * x2);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-float ad_lobe_irradiance(vec3 axis, vec3 n) {
+float sbf_ad_lobe_irradiance(vec3 axis, vec3 n) {
     float x = clamp(dot(axis, n), -1.0, 1.0);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdSpecularFit
+#define SBF_DEFINED_SbfAdSpecularFit
 // Per-pixel part of Listing 8.1: reflection vector and the two blend weights.
-struct AdSpecularFit {
+struct SbfAdSpecularFit {
     vec3 n;
     vec3 r;
     float focus;
     float alpha_lerp;
 };
+#endif
 
-AdSpecularFit ad_specular_fit(vec3 n, vec3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_ad_specular_fit
+#define SBF_DEFINED_sbf_ad_specular_fit
+SbfAdSpecularFit sbf_ad_specular_fit(vec3 n, vec3 v, float alpha) {
     float sa = sqrt(alpha);
-    float focus = clamp(AD_SPECULAR_PARAMS[0] * sa + AD_SPECULAR_PARAMS[1] * alpha + AD_SPECULAR_PARAMS[2] * sa * alpha + AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
-    float alpha_lerp = clamp(AD_SPECULAR_PARAMS[4] * sa + AD_SPECULAR_PARAMS[5] * alpha + AD_SPECULAR_PARAMS[6] * sa * alpha + AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
-    return AdSpecularFit(n, reflect_about(v, n), focus, alpha_lerp);
+    float focus = clamp(SBF_AD_SPECULAR_PARAMS[0] * sa + SBF_AD_SPECULAR_PARAMS[1] * alpha + SBF_AD_SPECULAR_PARAMS[2] * sa * alpha + SBF_AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
+    float alpha_lerp = clamp(SBF_AD_SPECULAR_PARAMS[4] * sa + SBF_AD_SPECULAR_PARAMS[5] * alpha + SBF_AD_SPECULAR_PARAMS[6] * sa * alpha + SBF_AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
+    return SbfAdSpecularFit(n, sbf_reflect_about(v, n), focus, alpha_lerp);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_lobe
+#define SBF_DEFINED_sbf_ad_specular_lobe
 // The fit's value for one lobe axis (before the LUT factor).
-float ad_specular_lobe(AdSpecularFit f, vec3 axis) {
+float sbf_ad_specular_lobe(SbfAdSpecularFit f, vec3 axis) {
     float r_dot = dot(f.r, axis);
     float n_dot = dot(f.n, axis);
-    float mirror = ad_srbf_lobe(r_dot);
+    float mirror = sbf_ad_srbf_lobe(r_dot);
     float c = r_dot + (n_dot - r_dot) * f.focus;
-    float d = AD_SPECULAR_DIFFUSE.x + c * (AD_SPECULAR_DIFFUSE.y + c * AD_SPECULAR_DIFFUSE.z);
+    float d = SBF_AD_SPECULAR_DIFFUSE.x + c * (SBF_AD_SPECULAR_DIFFUSE.y + c * SBF_AD_SPECULAR_DIFFUSE.z);
     return mirror + (d - mirror) * f.alpha_lerp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_scale
+#define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float ad_specular_scale(sampler2D lut, float n_dot_v, float alpha, float f0, float f90) {
-    vec2 l = lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
+float sbf_ad_specular_scale(sampler2D lut, float n_dot_v, float alpha, float f0, float f90) {
+    vec2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
+#endif
 
-vec3 ad9_irradiance(vec3 c[9], vec3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n) {
     vec3 e = vec3(0.0);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
-vec3 ad9_specular(vec3 c[9], sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad9_specular
+#define SBF_DEFINED_sbf_ad9_specular
+vec3 sbf_ad9_specular(vec3 c[9], sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     vec3 s = vec3(0.0);
     for (int i = 0; i < 9; i++) {
-        s += c[i] * ad_specular_lobe(f, AD9_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD9_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
 #endif // SBF_PROFILE_AD9_DIFFUSE_SPECULAR_GL_GLSL

@@ -6,19 +6,22 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float3 sh_l2_irradiance(array<float3, 9> c, float3 n)
-//   float3 sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 ad9_irradiance(array<float3, 9> c, float3 n)
-//   float3 ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l2_irradiance(array<float3, 9> c, float3 n)
+//   float3 sbf_sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n)
+//   float3 sbf_ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
+//   sbf_ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_PROFILE_AD9_DIFFUSE_SPECULAR_METAL
 #define SBF_PROFILE_AD9_DIFFUSE_SPECULAR_METAL
@@ -26,26 +29,46 @@
 #include <metal_stdlib>
 using namespace metal;
 
-constant float PI = 3.1415927f;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+constant float SBF_PI = 3.1415927f;
+#endif
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-inline float3 reflect_about(float3 v, float3 n) {
+inline float3 sbf_reflect_about(float3 v, float3 n) {
     return 2.0f * dot(v, n) * n - v;
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-constant float3 AD_DIFFUSE_QUADRATIC = float3(0.060026042f, 0.12916666f, 0.06979167f);
+constant float3 SBF_AD_DIFFUSE_QUADRATIC = float3(0.060026042f, 0.12916666f, 0.06979167f);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
+#define SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
-constant array<float, 8> AD_SPECULAR_PARAMS = array<float, 8>{3.049891f, -6.9830027f, 7.3882704f, -2.662757f, -0.40054294f, 5.6266994f, -6.0400987f, 1.9006125f};
+constant array<float, 8> SBF_AD_SPECULAR_PARAMS = array<float, 8>{3.049891f, -6.9830027f, 7.3882704f, -2.662757f, -0.40054294f, 5.6266994f, -6.0400987f, 1.9006125f};
+#endif
 
-constant float3 AD_SPECULAR_DIFFUSE = float3(0.06f, 0.129f, 0.0697f);
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+#define SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+constant float3 SBF_AD_SPECULAR_DIFFUSE = float3(0.06f, 0.129f, 0.0697f);
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-constant array<float3, 9> AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
+constant array<float3, 9> SBF_AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
+#endif
 
-inline float2 lut2_sample(texture2d<float> t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+inline float2 sbf_lut2_sample(texture2d<float> t, float u, float v) {
     int2 size = int2(uint2(t.get_width(), t.get_height()));
     float uu = u == u ? u : 0.0f;
     float vv = v == v ? v : 0.0f;
@@ -61,35 +84,65 @@ inline float2 lut2_sample(texture2d<float> t, float u, float v) {
     float2 b = t.read(uint2(int2(i0, j1)), uint(0)).xy * (1.0f - fx) + t.read(uint2(int2(i1, j1)), uint(0)).xy * fx;
     return a * (1.0f - fy) + b * fy;
 }
+#endif
 
-constant float SH_K00 = 0.28209478f; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+constant float SBF_SH_K00 = 0.28209478f; // 0.5 / sqrt(PI)
+#endif
 
-constant float SH_K1 = 0.48860252f; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+constant float SBF_SH_K1 = 0.48860252f; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-constant float SH_K2A = 1.0925484f; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+constant float SBF_SH_K2A = 1.0925484f; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-constant float SH_K20 = 0.31539157f; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+constant float SBF_SH_K20 = 0.31539157f; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-constant float SH_K22 = 0.5462742f; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+constant float SBF_SH_K22 = 0.5462742f; // 0.25 * sqrt(15.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-constant float SH_BAND1 = 0.6666667f; // 2.0 / 3.0
+constant float SBF_SH_BAND1 = 0.6666667f; // 2.0 / 3.0
+#endif
 
-constant float SH_BAND2 = 0.25f;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+constant float SBF_SH_BAND2 = 0.25f;
+#endif
 
-inline array<float, 4> sh_eval_l1(float3 d) {
-    return array<float, 4>{SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x};
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+inline array<float, 4> sbf_sh_eval_l1(float3 d) {
+    return array<float, 4>{SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x};
 }
+#endif
 
-inline array<float, 9> sh_eval_l2(float3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+inline array<float, 9> sbf_sh_eval_l2(float3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    return array<float, 9>{SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0f * z * z - 1.0f), SH_K2A * x * z, SH_K22 * (x * x - y * y)};
+    return array<float, 9>{SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0f * z * z - 1.0f), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y)};
 }
+#endif
 
-inline float3 sh_l2_irradiance(array<float3, 9> c, float3 n) {
-    array<float, 9> y = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+inline float3 sbf_sh_l2_irradiance(array<float3, 9> c, float3 n) {
+    array<float, 9> y = sbf_sh_eval_l2(n);
     float3 b1 = float3(0.0f);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -98,111 +151,151 @@ inline float3 sh_l2_irradiance(array<float3, 9> c, float3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_ratios
+#define SBF_DEFINED_sbf_sh_specular_ratios
 // (g₁/g₀, g₂/g₀) of the unit-integral SG of sharpness λ ≥ 0.5 (n·v ≤ 1, α ≤ 1). With
 // e = e^(−2λ), coth λ = (1 + e)/(1 − e); 1 − e ≥ 0.63 here, so no cancellation there;
 // g₁ loses ≤ 4 bits to the subtraction at λ = 0.5 and g₂ ≤ 6 (≈ 1e-5 relative).
-inline float2 sh_specular_ratios(float lambda) {
+inline float2 sbf_sh_specular_ratios(float lambda) {
     float e = exp(-2.0f * lambda);
     float g1 = (1.0f + e) / (1.0f - e) - 1.0f / lambda;
     return float2(g1, 1.0f - 3.0f * g1 / lambda);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_dominant
+#define SBF_DEFINED_sbf_sh_specular_dominant
 // The dominant direction normalize(mix(n, r, s(√s + α))), s = saturate(1 − α)
 // (sbf::ggx::dominant_direction).
-inline float3 sh_specular_dominant(float3 n, float3 r, float alpha) {
+inline float3 sbf_sh_specular_dominant(float3 n, float3 r, float alpha) {
     float s = clamp(1.0f - alpha, 0.0f, 1.0f);
     float f = s * (sqrt(s) + alpha);
     return normalize(n + (r - n) * f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_setup
+#define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-inline float4 sh_specular_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+inline float4 sbf_sh_specular_setup(texture2d<float> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001f, 1.0f);
     float nv = dot(n, v);
     float lambda = 2.0f / (alpha * alpha) / (4.0f * max(nv, 0.0001f));
-    float2 g = sh_specular_ratios(lambda);
-    float2 d = lut2_sample(dfg, clamp(nv, 0.0f, 1.0f), alpha_in);
+    float2 g = sbf_sh_specular_ratios(lambda);
+    float2 d = sbf_lut2_sample(dfg, clamp(nv, 0.0f, 1.0f), alpha_in);
     return float4(g, f0 * d.x + f90 * d.y, alpha);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_specular
+#define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-inline float3 sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
-    float4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    array<float, 4> y = sh_eval_l1(sh_specular_dominant(n, reflect_about(v, n), s.w));
+inline float3 sbf_sh_l1_specular(array<float3, 4> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+    float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    array<float, 4> y = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
     return l * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l2_specular
+#define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-inline float3 sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
-    float4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    array<float, 9> y = sh_eval_l2(sh_specular_dominant(n, reflect_about(v, n), s.w));
+inline float3 sbf_sh_l2_specular(array<float3, 9> c, texture2d<float> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+    float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    array<float, 9> y = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
     float3 b2 = c[4] * y[4] + c[5] * y[5] + c[6] * y[6] + c[7] * y[7] + c[8] * y[8];
     return (c[0] * y[0] + s.x * b1 + s.y * b2) * s.z;
 }
+#endif
 
-inline float ad_srbf_lobe(float c) {
+#ifndef SBF_DEFINED_sbf_ad_srbf_lobe
+#define SBF_DEFINED_sbf_ad_srbf_lobe
+inline float sbf_ad_srbf_lobe(float c) {
     float x = max(c, 0.0f);
     float x2 = x * x;
     return x2 * (0.35f + 0.25f * x2);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-inline float ad_lobe_irradiance(float3 axis, float3 n) {
+inline float sbf_ad_lobe_irradiance(float3 axis, float3 n) {
     float x = clamp(dot(axis, n), -1.0f, 1.0f);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdSpecularFit
+#define SBF_DEFINED_SbfAdSpecularFit
 // Per-pixel part of Listing 8.1: reflection vector and the two blend weights.
-struct AdSpecularFit {
+struct SbfAdSpecularFit {
     float3 n;
     float3 r;
     float focus;
     float alpha_lerp;
 };
+#endif
 
-inline AdSpecularFit ad_specular_fit(float3 n, float3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_ad_specular_fit
+#define SBF_DEFINED_sbf_ad_specular_fit
+inline SbfAdSpecularFit sbf_ad_specular_fit(float3 n, float3 v, float alpha) {
     float sa = sqrt(alpha);
-    float focus = clamp(AD_SPECULAR_PARAMS[0] * sa + AD_SPECULAR_PARAMS[1] * alpha + AD_SPECULAR_PARAMS[2] * sa * alpha + AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0f, 1.0f);
-    float alpha_lerp = clamp(AD_SPECULAR_PARAMS[4] * sa + AD_SPECULAR_PARAMS[5] * alpha + AD_SPECULAR_PARAMS[6] * sa * alpha + AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0f, 1.0f);
-    return AdSpecularFit{n, reflect_about(v, n), focus, alpha_lerp};
+    float focus = clamp(SBF_AD_SPECULAR_PARAMS[0] * sa + SBF_AD_SPECULAR_PARAMS[1] * alpha + SBF_AD_SPECULAR_PARAMS[2] * sa * alpha + SBF_AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0f, 1.0f);
+    float alpha_lerp = clamp(SBF_AD_SPECULAR_PARAMS[4] * sa + SBF_AD_SPECULAR_PARAMS[5] * alpha + SBF_AD_SPECULAR_PARAMS[6] * sa * alpha + SBF_AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0f, 1.0f);
+    return SbfAdSpecularFit{n, sbf_reflect_about(v, n), focus, alpha_lerp};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_lobe
+#define SBF_DEFINED_sbf_ad_specular_lobe
 // The fit's value for one lobe axis (before the LUT factor).
-inline float ad_specular_lobe(AdSpecularFit f, float3 axis) {
+inline float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
     float r_dot = dot(f.r, axis);
     float n_dot = dot(f.n, axis);
-    float mirror = ad_srbf_lobe(r_dot);
+    float mirror = sbf_ad_srbf_lobe(r_dot);
     float c = r_dot + (n_dot - r_dot) * f.focus;
-    float d = AD_SPECULAR_DIFFUSE.x + c * (AD_SPECULAR_DIFFUSE.y + c * AD_SPECULAR_DIFFUSE.z);
+    float d = SBF_AD_SPECULAR_DIFFUSE.x + c * (SBF_AD_SPECULAR_DIFFUSE.y + c * SBF_AD_SPECULAR_DIFFUSE.z);
     return mirror + (d - mirror) * f.alpha_lerp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_scale
+#define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-inline float ad_specular_scale(texture2d<float> lut, float n_dot_v, float alpha, float f0, float f90) {
-    float2 l = lut2_sample(lut, clamp(n_dot_v, 0.0f, 1.0f), alpha);
+inline float sbf_ad_specular_scale(texture2d<float> lut, float n_dot_v, float alpha, float f0, float f90) {
+    float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0f, 1.0f), alpha);
     return f0 * l.x + f90 * l.y;
 }
+#endif
 
-inline float3 ad9_irradiance(array<float3, 9> c, float3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+inline float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n) {
     float3 e = float3(0.0f);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
-inline float3 ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad9_specular
+#define SBF_DEFINED_sbf_ad9_specular
+inline float3 sbf_ad9_specular(array<float3, 9> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = float3(0.0f);
     for (int i = 0; i < 9; i++) {
-        s += c[i] * ad_specular_lobe(f, AD9_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD9_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
 #endif // SBF_PROFILE_AD9_DIFFUSE_SPECULAR_METAL

@@ -13,7 +13,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        vec3 r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     {
@@ -21,7 +21,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        vec3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -29,7 +29,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -37,19 +37,19 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
-        float r = sg_hill_irradiance(n, 0.5, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3(r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3(r);
     }
     {
@@ -57,7 +57,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_irradiance(ad9_irradiance_c, n);
+        vec3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -65,7 +65,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_irradiance(ad12_irradiance_c, n);
+        vec3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -73,7 +73,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -81,19 +81,19 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D l
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        vec3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
-        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        SbfLobeGgxFilteredPixel r = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
-        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
-        vec2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
+        SbfLobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        vec2 r = sbf_lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += vec3(r, 0.0);
     }
     {
-        float r = ggx_energy_compensation(vec2(0.5), 0.04);
+        float r = sbf_ggx_energy_compensation(vec2(0.5), 0.04);
         result += vec3(r);
     }
     return result;

@@ -11,7 +11,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        float3 r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     {
@@ -19,7 +19,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        float3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -27,7 +27,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -35,19 +35,19 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
-        float r = sg_hill_irradiance(n, 0.5, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += ((float3)r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += ((float3)r);
     }
     {
@@ -55,7 +55,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_irradiance(ad9_irradiance_c, n);
+        float3 r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -63,7 +63,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_irradiance(ad12_irradiance_c, n);
+        float3 r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -71,7 +71,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -79,19 +79,19 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         for (uint k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        float3 r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
-        LobeGgxFilteredPixel r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        SbfLobeGgxFilteredPixel r = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
-        LobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
-        float2 r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
+        SbfLobeGgxFilteredPixel lobe_ggx_filtered_lobe_px = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        float2 r = sbf_lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += float3(r, 0.0);
     }
     {
-        float r = ggx_energy_compensation(((float2)0.5), 0.04);
+        float r = sbf_ggx_energy_compensation(((float2)0.5), 0.04);
         result += ((float3)r);
     }
     return result;

@@ -12,7 +12,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        let r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     {
@@ -21,7 +21,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        let r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     {
@@ -30,7 +30,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 4u; k++) {
             sh_l1_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sh_l1_specular(sh_l1_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -39,22 +39,22 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             sh_l2_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sh_l2_specular(sh_l2_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
         // sg_hill_irradiance
-        let r = sg_hill_irradiance(n, 0.5, n);
+        let r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3<f32>(r);
     }
     {
         // sg_split_sum_setup
-        let r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
         // sg_split_sum_lobe
-        let sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        let r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        let sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3<f32>(r);
     }
     {
@@ -63,7 +63,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad9_irradiance(ad9_irradiance_c, n);
+        let r = sbf_ad9_irradiance(ad9_irradiance_c, n);
         result += r;
     }
     {
@@ -72,7 +72,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 12u; k++) {
             ad12_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad12_irradiance(ad12_irradiance_c, n);
+        let r = sbf_ad12_irradiance(ad12_irradiance_c, n);
         result += r;
     }
     {
@@ -81,7 +81,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 9u; k++) {
             ad9_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_ad9_specular(ad9_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
@@ -90,22 +90,22 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 12u; k++) {
             ad12_specular_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_ad12_specular(ad12_specular_c, lut, n, v, alpha, 0.04, 1.0);
         result += r;
     }
     {
         // lobe_ggx_filtered_pixel
-        let r = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        let r = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
     }
     {
         // lobe_ggx_filtered_lobe
-        let lobe_ggx_filtered_lobe_px = lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
-        let r = lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
+        let lobe_ggx_filtered_lobe_px = sbf_lobe_ggx_filtered_pixel(lobe_volume, n, v, alpha);
+        let r = sbf_lobe_ggx_filtered_lobe(lobe_volume, lobe_sampler, lobe_ggx_filtered_lobe_px, n);
         result += vec3<f32>(r, 0.0);
     }
     {
         // ggx_energy_compensation
-        let r = ggx_energy_compensation(vec2<f32>(0.5), 0.04);
+        let r = sbf_ggx_energy_compensation(vec2<f32>(0.5), 0.04);
         result += vec3<f32>(r);
     }
     return result;

@@ -6,99 +6,147 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float ggx_energy_compensation(float2 dfg, float f0)
-//   LobeGgxFilteredPixel lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, float3 v, float alpha)
-//   float2 lobe_ggx_filtered_lobe(Texture3D<float4> tab, SamplerState smp, LobeGgxFilteredPixel px, float3 axis)
-//   float3 sh_l1_irradiance(float3 c[4], float3 n)
-//   float3 sh_l2_irradiance(float3 c[9], float3 n)
-//   float3 sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float sg_hill_irradiance(float3 axis, float sharpness, float3 n)
-//   SgSplitSum sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
-//   float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness)
-//   float3 ad12_irradiance(float3 c[12], float3 n)
-//   float3 ad9_irradiance(float3 c[9], float3 n)
-//   float3 ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float sbf_ggx_energy_compensation(float2 dfg, float f0)
+//   SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, float3 v, float alpha)
+//   float2 sbf_lobe_ggx_filtered_lobe(Texture3D<float4> tab, SamplerState smp, SbfLobeGgxFilteredPixel px, float3 axis)
+//   float3 sbf_sh_l1_irradiance(float3 c[4], float3 n)
+//   float3 sbf_sh_l2_irradiance(float3 c[9], float3 n)
+//   float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n)
+//   SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
+//   float sbf_sg_split_sum_lobe(SbfSgSplitSum w, float3 axis, float sharpness)
+//   float3 sbf_ad12_irradiance(float3 c[12], float3 n)
+//   float3 sbf_ad9_irradiance(float3 c[9], float3 n)
+//   float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
-//   lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
-//     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
-//     × 24 + ψ node, y = γ node, z = n·v node).
-//   lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
-//     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
-//     × 24 + ψ node, y = γ node, z = n·v node).
-//   sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
+//     (linear min/mag filter, clamp to edge). See the function's comment.
+//   sbf_lobe_ggx_filtered_lobe(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
+//     (linear min/mag filter, clamp to edge). See the function's comment.
+//   sbf_sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sh_l2_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
-//   ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
-//   ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
-//     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
+//   sbf_ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
+//   sbf_ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//     bilinear by hand). See the function's comment.
 
 #ifndef SBF_PROFILE_EVERYTHING_HLSL
 #define SBF_PROFILE_EVERYTHING_HLSL
 
-typedef float float_array4[4];
-typedef float float_array9[9];
+#ifndef SBF_DEFINED_sbf_float_array4
+#define SBF_DEFINED_sbf_float_array4
+typedef float sbf_float_array4[4];
+#endif
+#ifndef SBF_DEFINED_sbf_float_array9
+#define SBF_DEFINED_sbf_float_array9
+typedef float sbf_float_array9[9];
+#endif
 
+#ifndef SBF_DEFINED_size_helper
+#define SBF_DEFINED_size_helper
 uint2 sbf_texture_size(Texture2D<float4> t) {
     uint w, h;
     t.GetDimensions(w, h);
     return uint2(w, h);
 }
+#endif
 
+#ifndef SBF_DEFINED_size_3d_helper
+#define SBF_DEFINED_size_3d_helper
 uint3 sbf_texture_size(Texture3D<float4> t) {
     uint w, h, d;
     t.GetDimensions(w, h, d);
     return uint3(w, h, d);
 }
+#endif
 
-static const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+static const float SBF_PI = 3.1415927;
+#endif
 
-static const float INV_PI = 0.31830987;
+#ifndef SBF_DEFINED_SBF_INV_PI
+#define SBF_DEFINED_SBF_INV_PI
+static const float SBF_INV_PI = 0.31830987;
+#endif
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-float3 reflect_about(float3 v, float3 n) {
+float3 sbf_reflect_about(float3 v, float3 n) {
     return 2.0 * dot(v, n) * n - v;
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
+#define SBF_DEFINED_SBF_AD_DIFFUSE_QUADRATIC
 // AD SRBF lobe irradiance quadratic (E/π), max error 6.510e-4.
-static const float3 AD_DIFFUSE_QUADRATIC = float3(0.060026042, 0.12916666, 0.06979167);
+static const float3 SBF_AD_DIFFUSE_QUADRATIC = float3(0.060026042, 0.12916666, 0.06979167);
+#endif
 
-static const float HILL_C0 = 0.3652013;
+#ifndef SBF_DEFINED_SBF_HILL_C0
+#define SBF_DEFINED_SBF_HILL_C0
+static const float SBF_HILL_C0 = 0.3652013;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
+#define SBF_DEFINED_SBF_AD_SPECULAR_PARAMS
 // Seed Listing 8.1 specular blend parameters and its diffuse quadratic (what the committed AD LUTs
 // were built with); LUT-normalised error RMS 1.495e-2, max 1.327e-1.
-static const float AD_SPECULAR_PARAMS[8] = { 3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125 };
+static const float SBF_AD_SPECULAR_PARAMS[8] = { 3.049891, -6.9830027, 7.3882704, -2.662757, -0.40054294, 5.6266994, -6.0400987, 1.9006125 };
+#endif
 
-static const float3 AD_SPECULAR_DIFFUSE = float3(0.06, 0.129, 0.0697);
+#ifndef SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+#define SBF_DEFINED_SBF_AD_SPECULAR_DIFFUSE
+static const float3 SBF_AD_SPECULAR_DIFFUSE = float3(0.06, 0.129, 0.0697);
+#endif
 
+#ifndef SBF_DEFINED_SBF_LOBE_GGX_SQRT_ALPHA_NODES
+#define SBF_DEFINED_SBF_LOBE_GGX_SQRT_ALPHA_NODES
 // Lobe GGX tables (texture_2d_array: x = ψ, y = γ, layer = n·v node × this + √α node).
-static const int LOBE_GGX_SQRT_ALPHA_NODES = 12;
+static const int SBF_LOBE_GGX_SQRT_ALPHA_NODES = 12;
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD12_AXES
+#define SBF_DEFINED_SBF_AD12_AXES
 // Ambient Dice 12: icosahedron vertices (sbf::AmbientDiceSrbf::twelve).
-static const float3 AD12_AXES[12] = { float3(0.8506508, 0.5257311, 0.0), float3(-0.8506508, 0.5257311, 0.0), float3(0.8506508, -0.5257311, 0.0), float3(-0.8506508, -0.5257311, 0.0), float3(0.0, 0.8506508, 0.5257311), float3(0.0, -0.8506508, 0.5257311), float3(0.0, 0.8506508, -0.5257311), float3(0.0, -0.8506508, -0.5257311), float3(0.5257311, 0.0, 0.8506508), float3(-0.5257311, 0.0, 0.8506508), float3(0.5257311, 0.0, -0.8506508), float3(-0.5257311, 0.0, -0.8506508) };
+static const float3 SBF_AD12_AXES[12] = { float3(0.8506508, 0.5257311, 0.0), float3(-0.8506508, 0.5257311, 0.0), float3(0.8506508, -0.5257311, 0.0), float3(-0.8506508, -0.5257311, 0.0), float3(0.0, 0.8506508, 0.5257311), float3(0.0, -0.8506508, 0.5257311), float3(0.0, 0.8506508, -0.5257311), float3(0.0, -0.8506508, -0.5257311), float3(0.5257311, 0.0, 0.8506508), float3(-0.5257311, 0.0, 0.8506508), float3(0.5257311, 0.0, -0.8506508), float3(-0.5257311, 0.0, -0.8506508) };
+#endif
 
+#ifndef SBF_DEFINED_SBF_AD9_AXES
+#define SBF_DEFINED_SBF_AD9_AXES
 // Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
-static const float3 AD9_AXES[9] = { float3(0.5257311, -0.303531, 0.7946545), float3(-0.5257311, -0.303531, 0.7946545), float3(0.0, 0.607062, 0.7946545), float3(0.8506508, 0.49112347, 0.18759248), float3(-0.8506508, 0.49112347, 0.18759248), float3(-0.0, -0.98224694, 0.18759248), float3(-0.8506508, -0.49112347, -0.18759248), float3(0.8506508, -0.49112347, -0.18759248), float3(0.0, 0.98224694, -0.18759248) };
+static const float3 SBF_AD9_AXES[9] = { float3(0.5257311, -0.303531, 0.7946545), float3(-0.5257311, -0.303531, 0.7946545), float3(0.0, 0.607062, 0.7946545), float3(0.8506508, 0.49112347, 0.18759248), float3(-0.8506508, 0.49112347, 0.18759248), float3(-0.0, -0.98224694, 0.18759248), float3(-0.8506508, -0.49112347, -0.18759248), float3(0.8506508, -0.49112347, -0.18759248), float3(0.0, 0.98224694, -0.18759248) };
+#endif
 
+#ifndef SBF_DEFINED_sbf_ggx_energy_compensation
+#define SBF_DEFINED_sbf_ggx_energy_compensation
 // Multiple-scattering energy compensation (Fdez-Agüera 2019, "A Multiple-Scattering
 // Microfacet Model for Real-Time Image-based Lighting", JCGT 8(1); as Filament): the factor
 // 1 + f0·(1/E − 1) that scales any single-scattering GGX specular response, E = dfg.x + dfg.y
 // the DFG table's single-scattering albedo at (n·v, α) for f0 = f90 = 1; 1 where E ≤ 0.
-float ggx_energy_compensation(float2 dfg, float f0) {
+float sbf_ggx_energy_compensation(float2 dfg, float f0) {
     float e = dfg.x + dfg.y;
     if (e <= 0.0) {
         return 1.0;
     }
     return 1.0 + f0 * (1.0 / e - 1.0);
 }
+#endif
 
-float2 lut2_sample(Texture2D<float4> t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+float2 sbf_lut2_sample(Texture2D<float4> t, float u, float v) {
     int2 size = int2(sbf_texture_size(t));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -114,25 +162,34 @@ float2 lut2_sample(Texture2D<float4> t, float u, float v) {
     float2 b = t.Load(int3(int2(int2(i0, j1)), int(0))).xy * (1.0 - fx) + t.Load(int3(int2(int2(i1, j1)), int(0))).xy * fx;
     return a * (1.0 - fy) + b * fy;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_acos
+#define SBF_DEFINED_sbf_lobe_ggx_acos
 // acos by Abramowitz & Stegun 4.4.46 (|error| ≤ 2e-8 rad on [−1, 1]): Vulkan only bounds
 // the built-in acos through atan's 4096 ulp (≈ 3e-4 rad measured on lavapipe), which moves
 // a lookup by up to 0.1% of its value.
-float lobe_ggx_acos(float x) {
+float sbf_lobe_ggx_acos(float x) {
     float a = abs(x);
     float p = 1.5707963 + a * (-0.2145988 + a * (0.08897899 + a * (-0.050174303 + a * (0.03089188 + a * (-0.017088126 + a * (0.00667009 - a * 0.0012624911))))));
     float r = sqrt(max(1.0 - a, 0.0)) * p;
-    return x < 0.0 ? PI - r : r;
+    return x < 0.0 ? SBF_PI - r : r;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_locate
+#define SBF_DEFINED_sbf_lobe_ggx_locate
 // (lower node, fraction) of x ∈ [0, 1] on `size` nodes, clamped.
-float2 lobe_ggx_locate(float x, int size) {
+float2 sbf_lobe_ggx_locate(float x, int size) {
     float t = clamp(x, 0.0, 1.0) * float(size - 1);
     float i = min(floor(t), float(size - 2));
     return float2(i, t - i);
 }
+#endif
 
-struct LobeGgxFilteredPixel {
+#ifndef SBF_DEFINED_SbfLobeGgxFilteredPixel
+#define SBF_DEFINED_SbfLobeGgxFilteredPixel
+struct SbfLobeGgxFilteredPixel {
     float3 r;
     float3 t;
     float x0;
@@ -143,11 +200,14 @@ struct LobeGgxFilteredPixel {
     float z;
     float wa;
 };
+#endif
 
-LobeGgxFilteredPixel lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, float3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_pixel
+#define SBF_DEFINED_sbf_lobe_ggx_filtered_pixel
+SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, float3 v, float alpha) {
     float3 size = float3(sbf_texture_size(tab));
-    float npsi = size.x / float(LOBE_GGX_SQRT_ALPHA_NODES);
-    float2 b = lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), LOBE_GGX_SQRT_ALPHA_NODES);
+    float npsi = size.x / float(SBF_LOBE_GGX_SQRT_ALPHA_NODES);
+    float2 b = sbf_lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), SBF_LOBE_GGX_SQRT_ALPHA_NODES);
     float x0 = (b.x * npsi + 0.5) / size.x;
     float z = (clamp(dot(n, v), 0.0, 1.0) * (size.z - 1.0) + 0.5) / size.z;
     float3 r = 2.0 * dot(v, n) * n - v;
@@ -156,61 +216,97 @@ LobeGgxFilteredPixel lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, fl
     if (dot(t0, t0) > 1e-12) {
         t = normalize(t0);
     }
-    LobeGgxFilteredPixel tmp = { r, t, x0, x0 + npsi / size.x, (npsi - 1.0) / size.x, 0.5 / size.y, (size.y - 1.0) / size.y, z, b.y };
+    SbfLobeGgxFilteredPixel tmp = { r, t, x0, x0 + npsi / size.x, (npsi - 1.0) / size.x, 0.5 / size.y, (size.y - 1.0) / size.y, z, b.y };
     return tmp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
+#define SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
 // (R₀, R₁) of one unit lobe with axis `axis`.
-float2 lobe_ggx_filtered_lobe(Texture3D<float4> tab, SamplerState smp, LobeGgxFilteredPixel px, float3 axis) {
+float2 sbf_lobe_ggx_filtered_lobe(Texture3D<float4> tab, SamplerState smp, SbfLobeGgxFilteredPixel px, float3 axis) {
     float rp = clamp(dot(px.r, axis), -1.0, 1.0);
     float st2 = max(1.0 - rp * rp, 0.0);
     float psi = 0.0;
     if (st2 > 1e-12 && dot(px.t, px.t) > 0.0) {
-        psi = lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
+        psi = sbf_lobe_ggx_acos(clamp(dot(px.t, axis) / sqrt(st2), -1.0, 1.0));
     }
-    float xp = clamp(psi / PI, 0.0, 1.0) * px.sx;
-    float y = px.y0 + clamp(lobe_ggx_acos(rp) / PI, 0.0, 1.0) * px.sy;
+    float xp = clamp(psi / SBF_PI, 0.0, 1.0) * px.sx;
+    float y = px.y0 + clamp(sbf_lobe_ggx_acos(rp) / SBF_PI, 0.0, 1.0) * px.sy;
     float2 lo = tab.SampleLevel(smp, float3(px.x0 + xp, y, px.z), 0.0).xy;
     float2 hi = tab.SampleLevel(smp, float3(px.x1 + xp, y, px.z), 0.0).xy;
     return lerp(lo, hi, px.wa);
 }
+#endif
 
-static const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+static const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
-static const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+static const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-static const float SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+static const float SBF_SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-static const float SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+static const float SBF_SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-static const float SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+static const float SBF_SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-static const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+static const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-static const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+static const float SBF_SH_BAND2 = 0.25;
+#endif
 
-float_array4 sh_eval_l1(float3 d) {
-    float tmp[4] = { SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x };
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+sbf_float_array4 sbf_sh_eval_l1(float3 d) {
+    float tmp[4] = { SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x };
     return tmp;
 }
+#endif
 
-float_array9 sh_eval_l2(float3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+sbf_float_array9 sbf_sh_eval_l2(float3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    float tmp[9] = { SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0 * z * z - 1.0), SH_K2A * x * z, SH_K22 * (x * x - y * y) };
+    float tmp[9] = { SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0 * z * z - 1.0), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y) };
     return tmp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_irradiance
+#define SBF_DEFINED_sbf_sh_l1_irradiance
 // E/π at unit normal n from RGB radiance coefficients.
-float3 sh_l1_irradiance(float3 c[4], float3 n) {
-    float y[4] = sh_eval_l1(n);
-    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
+float3 sbf_sh_l1_irradiance(float3 c[4], float3 n) {
+    float y[4] = sbf_sh_eval_l1(n);
+    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
+#endif
 
-float3 sh_l2_irradiance(float3 c[9], float3 n) {
-    float y[9] = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+float3 sbf_sh_l2_irradiance(float3 c[9], float3 n) {
+    float y[9] = sbf_sh_eval_l2(n);
     float3 b1 = ((float3)0.0);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -219,73 +315,97 @@ float3 sh_l2_irradiance(float3 c[9], float3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_ratios
+#define SBF_DEFINED_sbf_sh_specular_ratios
 // (g₁/g₀, g₂/g₀) of the unit-integral SG of sharpness λ ≥ 0.5 (n·v ≤ 1, α ≤ 1). With
 // e = e^(−2λ), coth λ = (1 + e)/(1 − e); 1 − e ≥ 0.63 here, so no cancellation there;
 // g₁ loses ≤ 4 bits to the subtraction at λ = 0.5 and g₂ ≤ 6 (≈ 1e-5 relative).
-float2 sh_specular_ratios(float lambda) {
+float2 sbf_sh_specular_ratios(float lambda) {
     float e = exp(-2.0 * lambda);
     float g1 = (1.0 + e) / (1.0 - e) - 1.0 / lambda;
     return float2(g1, 1.0 - 3.0 * g1 / lambda);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_dominant
+#define SBF_DEFINED_sbf_sh_specular_dominant
 // The dominant direction normalize(mix(n, r, s(√s + α))), s = saturate(1 − α)
 // (sbf::ggx::dominant_direction).
-float3 sh_specular_dominant(float3 n, float3 r, float alpha) {
+float3 sbf_sh_specular_dominant(float3 n, float3 r, float alpha) {
     float s = clamp(1.0 - alpha, 0.0, 1.0);
     float f = s * (sqrt(s) + alpha);
     return normalize(n + (r - n) * f);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_specular_setup
+#define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-float4 sh_specular_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+float4 sbf_sh_specular_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = dot(n, v);
     float lambda = 2.0 / (alpha * alpha) / (4.0 * max(nv, 0.0001));
-    float2 g = sh_specular_ratios(lambda);
-    float2 d = lut2_sample(dfg, clamp(nv, 0.0, 1.0), alpha_in);
+    float2 g = sbf_sh_specular_ratios(lambda);
+    float2 d = sbf_lut2_sample(dfg, clamp(nv, 0.0, 1.0), alpha_in);
     return float4(g, f0 * d.x + f90 * d.y, alpha);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_specular
+#define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-float3 sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
-    float4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    float y[4] = sh_eval_l1(sh_specular_dominant(n, reflect_about(v, n), s.w));
+float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+    float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    float y[4] = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
     return l * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l2_specular
+#define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-float3 sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
-    float4 s = sh_specular_setup(dfg, n, v, alpha, f0, f90);
-    float y[9] = sh_eval_l2(sh_specular_dominant(n, reflect_about(v, n), s.w));
+float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+    float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
+    float y[9] = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
     float3 b2 = c[4] * y[4] + c[5] * y[5] + c[6] * y[6] + c[7] * y[7] + c[8] * y[8];
     return (c[0] * y[0] + s.x * b1 + s.y * b2) * s.z;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_expm1_f32
+#define SBF_DEFINED_sbf_expm1_f32
 // e^x − 1 without cancellation for small |x| (WGSL has no expm1).
-float expm1_f32(float x) {
+float sbf_expm1_f32(float x) {
     if (abs(x) < 0.01) {
         return x * (1.0 + x * (0.5 + x * (0.16666667 + x / 24.0)));
     }
     return exp(x) - 1.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_integral
+#define SBF_DEFINED_sbf_sg_integral
 // ∫ G over the sphere for unit amplitude: 2π(1 − e^(−2λ))/λ, with its limit 4π at λ → 0.
-float sg_integral(float sharpness) {
+float sbf_sg_integral(float sharpness) {
     if (sharpness < 1e-30) {
         return 12.566371;
     }
-    return 6.2831855 * -expm1_f32(-2.0 * sharpness) / sharpness;
+    return 6.2831855 * -sbf_expm1_f32(-2.0 * sharpness) / sharpness;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_cos
+#define SBF_DEFINED_sbf_sg_hill_cos
 // sg_hill_irradiance for x = cos(axis, normal).
-float sg_hill_cos(float x_in, float sharpness) {
+float sbf_sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30);
-    float c1 = 1.0 / (4.0 * HILL_C0);
+    float c1 = 1.0 / (4.0 * SBF_HILL_C0);
     float e1 = exp(-lam);
     float e2 = e1 * e1;
     float r = 1.0 / lam;
@@ -293,56 +413,71 @@ float sg_hill_cos(float x_in, float sharpness) {
     float bias = (e1 - e2) * r - e2;
     float xs = sqrt(max(r - 2.0 * e2, 0.0));
     float x = clamp(x_in, -1.0, 1.0);
-    float x0 = HILL_C0 * x;
+    float x0 = SBF_HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0, 1.0);
     if (abs(x0) <= x1 && xs > 0.0) {
         y = (x0 + x1) * (x0 + x1) / xs;
     }
-    return (scale * y + bias) * sg_integral(lam) * INV_PI;
+    return (scale * y + bias) * sbf_sg_integral(lam) * SBF_INV_PI;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_irradiance
+#define SBF_DEFINED_sbf_sg_hill_irradiance
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-float sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
-    return sg_hill_cos(dot(axis, n), sharpness);
+float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n) {
+    return sbf_sg_hill_cos(dot(axis, n), sharpness);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SG_NV_EPSILON
+#define SBF_DEFINED_SBF_SG_NV_EPSILON
 // Lower bound on n·v used by the warp (as sbf::recon::sg::NV_EPSILON).
-static const float SG_NV_EPSILON = 0.0001;
+static const float SBF_SG_NV_EPSILON = 0.0001;
+#endif
 
+#ifndef SBF_DEFINED_SbfSgSplitSum
+#define SBF_DEFINED_SbfSgSplitSum
 // The per-pixel part of the split-sum SG specular (Karis 2013, "Real Shading in Unreal
 // Engine 4"; CPU twins sbf::recon::sg::SplitSumWarp, sbf::recon::runtime::sg_specular_split_sum):
 // the GGX NDF as an SG about n (λ = 2/α², Wang et al. 2009) warped to the reflection
 // direction R with λ/(4 n·v) (held ≥ 2, Hill's range), and the BRDF's energy
 // f0·dfg.x + f90·dfg.y (the dfg table at (n·v, α)) over the warped lobe's E/π at n.
-struct SgSplitSum {
+struct SbfSgSplitSum {
     float3 n;
     float3 r;
     float nv;
     float sharpness;
     float scale;
 };
+#endif
 
-SgSplitSum sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+#ifndef SBF_DEFINED_sbf_sg_split_sum_setup
+#define SBF_DEFINED_sbf_sg_split_sum_setup
+SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
-    float nv = max(dot(n, v), SG_NV_EPSILON);
+    float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
     float lw = max(0.5 / (alpha * alpha * nv), 2.0);
-    float3 r = reflect_about(v, n);
-    float2 d = lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
-    float den = sg_hill_cos(dot(n, v), lw);
+    float3 r = sbf_reflect_about(v, n);
+    float2 d = sbf_lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
+    float den = sbf_sg_hill_cos(dot(n, v), lw);
     float scale = 0.0;
     if (den > 0.0) {
         scale = (f0 * d.x + f90 * d.y) / den;
     }
-    SgSplitSum tmp = { n, r, dot(n, v), lw, scale };
+    SbfSgSplitSum tmp = { n, r, dot(n, v), lw, scale };
     return tmp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_split_sum_lobe
+#define SBF_DEFINED_sbf_sg_split_sum_lobe
 // Specular from one unit-amplitude SG light lobe: the radiance prefiltered by the warped
 // NDF with the n·l weight, E/π(D·G) / E/π(D), times the BRDF's energy. D·G is one SG
 // (axis λ_D R + λ p normalised, sharpness |λ_D R + λ p|, amplitude
 // exp(−λ_D λ |R − p|² / (λ_D + λ + |λ_D R + λ p|)): the exponent without cancellation).
-float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness) {
+float sbf_sg_split_sum_lobe(SbfSgSplitSum w, float3 axis, float sharpness) {
     float3 pm = w.sharpness * w.r + sharpness * axis;
     float d = length(pm);
     float3 q = w.r - axis;
@@ -351,86 +486,117 @@ float sg_split_sum_lobe(SgSplitSum w, float3 axis, float sharpness) {
     if (d > 0.0) {
         x = (w.sharpness * w.nv + sharpness * dot(axis, w.n)) / d;
     }
-    float e = sg_hill_cos(x, max(d, 2.0)) * sg_integral(d) / sg_integral(max(d, 2.0));
+    float e = sbf_sg_hill_cos(x, max(d, 2.0)) * sbf_sg_integral(d) / sbf_sg_integral(max(d, 2.0));
     return amp * e * w.scale;
 }
+#endif
 
-float ad_srbf_lobe(float c) {
+#ifndef SBF_DEFINED_sbf_ad_srbf_lobe
+#define SBF_DEFINED_sbf_ad_srbf_lobe
+float sbf_ad_srbf_lobe(float c) {
     float x = max(c, 0.0);
     float x2 = x * x;
     return x2 * (0.35 + 0.25 * x2);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_lobe_irradiance
+#define SBF_DEFINED_sbf_ad_lobe_irradiance
 // E/π of a unit-coefficient lobe at unit normal n.
-float ad_lobe_irradiance(float3 axis, float3 n) {
+float sbf_ad_lobe_irradiance(float3 axis, float3 n) {
     float x = clamp(dot(axis, n), -1.0, 1.0);
-    return AD_DIFFUSE_QUADRATIC.x + x * (AD_DIFFUSE_QUADRATIC.y + x * AD_DIFFUSE_QUADRATIC.z);
+    return SBF_AD_DIFFUSE_QUADRATIC.x + x * (SBF_AD_DIFFUSE_QUADRATIC.y + x * SBF_AD_DIFFUSE_QUADRATIC.z);
 }
+#endif
 
+#ifndef SBF_DEFINED_SbfAdSpecularFit
+#define SBF_DEFINED_SbfAdSpecularFit
 // Per-pixel part of Listing 8.1: reflection vector and the two blend weights.
-struct AdSpecularFit {
+struct SbfAdSpecularFit {
     float3 n;
     float3 r;
     float focus;
     float alpha_lerp;
 };
+#endif
 
-AdSpecularFit ad_specular_fit(float3 n, float3 v, float alpha) {
+#ifndef SBF_DEFINED_sbf_ad_specular_fit
+#define SBF_DEFINED_sbf_ad_specular_fit
+SbfAdSpecularFit sbf_ad_specular_fit(float3 n, float3 v, float alpha) {
     float sa = sqrt(alpha);
-    float focus = clamp(AD_SPECULAR_PARAMS[0] * sa + AD_SPECULAR_PARAMS[1] * alpha + AD_SPECULAR_PARAMS[2] * sa * alpha + AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
-    float alpha_lerp = clamp(AD_SPECULAR_PARAMS[4] * sa + AD_SPECULAR_PARAMS[5] * alpha + AD_SPECULAR_PARAMS[6] * sa * alpha + AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
-    AdSpecularFit tmp = { n, reflect_about(v, n), focus, alpha_lerp };
+    float focus = clamp(SBF_AD_SPECULAR_PARAMS[0] * sa + SBF_AD_SPECULAR_PARAMS[1] * alpha + SBF_AD_SPECULAR_PARAMS[2] * sa * alpha + SBF_AD_SPECULAR_PARAMS[3] * alpha * alpha, 0.0, 1.0);
+    float alpha_lerp = clamp(SBF_AD_SPECULAR_PARAMS[4] * sa + SBF_AD_SPECULAR_PARAMS[5] * alpha + SBF_AD_SPECULAR_PARAMS[6] * sa * alpha + SBF_AD_SPECULAR_PARAMS[7] * alpha * alpha, 0.0, 1.0);
+    SbfAdSpecularFit tmp = { n, sbf_reflect_about(v, n), focus, alpha_lerp };
     return tmp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_lobe
+#define SBF_DEFINED_sbf_ad_specular_lobe
 // The fit's value for one lobe axis (before the LUT factor).
-float ad_specular_lobe(AdSpecularFit f, float3 axis) {
+float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
     float r_dot = dot(f.r, axis);
     float n_dot = dot(f.n, axis);
-    float mirror = ad_srbf_lobe(r_dot);
+    float mirror = sbf_ad_srbf_lobe(r_dot);
     float c = r_dot + (n_dot - r_dot) * f.focus;
-    float d = AD_SPECULAR_DIFFUSE.x + c * (AD_SPECULAR_DIFFUSE.y + c * AD_SPECULAR_DIFFUSE.z);
+    float d = SBF_AD_SPECULAR_DIFFUSE.x + c * (SBF_AD_SPECULAR_DIFFUSE.y + c * SBF_AD_SPECULAR_DIFFUSE.z);
     return mirror + (d - mirror) * f.alpha_lerp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_ad_specular_scale
+#define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float ad_specular_scale(Texture2D<float4> lut, float n_dot_v, float alpha, float f0, float f90) {
-    float2 l = lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
+float sbf_ad_specular_scale(Texture2D<float4> lut, float n_dot_v, float alpha, float f0, float f90) {
+    float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
+#endif
 
-float3 ad12_irradiance(float3 c[12], float3 n) {
+#ifndef SBF_DEFINED_sbf_ad12_irradiance
+#define SBF_DEFINED_sbf_ad12_irradiance
+float3 sbf_ad12_irradiance(float3 c[12], float3 n) {
     float3 e = ((float3)0.0);
     for (int i = 0; i < 12; i++) {
-        e += c[i] * ad_lobe_irradiance(AD12_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD12_AXES[i], n);
     }
     return e;
 }
+#endif
 
-float3 ad9_irradiance(float3 c[9], float3 n) {
+#ifndef SBF_DEFINED_sbf_ad9_irradiance
+#define SBF_DEFINED_sbf_ad9_irradiance
+float3 sbf_ad9_irradiance(float3 c[9], float3 n) {
     float3 e = ((float3)0.0);
     for (int i = 0; i < 9; i++) {
-        e += c[i] * ad_lobe_irradiance(AD9_AXES[i], n);
+        e += c[i] * sbf_ad_lobe_irradiance(SBF_AD9_AXES[i], n);
     }
     return e;
 }
+#endif
 
-float3 ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad12_specular
+#define SBF_DEFINED_sbf_ad12_specular
+float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 12; i++) {
-        s += c[i] * ad_specular_lobe(f, AD12_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD12_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
-float3 ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
-    AdSpecularFit f = ad_specular_fit(n, v, alpha);
+#ifndef SBF_DEFINED_sbf_ad9_specular
+#define SBF_DEFINED_sbf_ad9_specular
+float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+    SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 9; i++) {
-        s += c[i] * ad_specular_lobe(f, AD9_AXES[i]);
+        s += c[i] * sbf_ad_specular_lobe(f, SBF_AD9_AXES[i]);
     }
-    return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
+    return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
+#endif
 
 #endif // SBF_PROFILE_EVERYTHING_HLSL

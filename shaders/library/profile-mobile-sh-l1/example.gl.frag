@@ -14,7 +14,7 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        vec3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        vec3 r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     return result;

@@ -11,7 +11,7 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         for (uint k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        float3 r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     return result;

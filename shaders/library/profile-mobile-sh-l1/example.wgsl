@@ -12,7 +12,7 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         for (var k = 0u; k < 4u; k++) {
             sh_l1_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        let r = sh_l1_irradiance(sh_l1_irradiance_c, n);
+        let r = sbf_sh_l1_irradiance(sh_l1_irradiance_c, n);
         result += r;
     }
     return result;

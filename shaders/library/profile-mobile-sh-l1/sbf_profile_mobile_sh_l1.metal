@@ -6,8 +6,11 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float3 sh_l1_irradiance(array<float3, 4> c, float3 n)
+//   float3 sbf_sh_l1_irradiance(array<float3, 4> c, float3 n)
 
 #ifndef SBF_PROFILE_MOBILE_SH_L1_METAL
 #define SBF_PROFILE_MOBILE_SH_L1_METAL
@@ -15,23 +18,41 @@
 #include <metal_stdlib>
 using namespace metal;
 
-constant float PI = 3.1415927f;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+constant float SBF_PI = 3.1415927f;
+#endif
 
-constant float SH_K00 = 0.28209478f; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+constant float SBF_SH_K00 = 0.28209478f; // 0.5 / sqrt(PI)
+#endif
 
-constant float SH_K1 = 0.48860252f; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+constant float SBF_SH_K1 = 0.48860252f; // sqrt(3.0 / (4.0 * PI))
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-constant float SH_BAND1 = 0.6666667f; // 2.0 / 3.0
+constant float SBF_SH_BAND1 = 0.6666667f; // 2.0 / 3.0
+#endif
 
-inline array<float, 4> sh_eval_l1(float3 d) {
-    return array<float, 4>{SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x};
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+inline array<float, 4> sbf_sh_eval_l1(float3 d) {
+    return array<float, 4>{SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x};
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_irradiance
+#define SBF_DEFINED_sbf_sh_l1_irradiance
 // E/π at unit normal n from RGB radiance coefficients.
-inline float3 sh_l1_irradiance(array<float3, 4> c, float3 n) {
-    array<float, 4> y = sh_eval_l1(n);
-    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
+inline float3 sbf_sh_l1_irradiance(array<float3, 4> c, float3 n) {
+    array<float, 4> y = sbf_sh_eval_l1(n);
+    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
+#endif
 
 #endif // SBF_PROFILE_MOBILE_SH_L1_METAL

@@ -10,15 +10,15 @@
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D lut) {
     vec3 result = vec3(0.0);
     {
-        float r = sg_hill_irradiance(n, 0.5, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3(r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3(r);
     }
     return result;

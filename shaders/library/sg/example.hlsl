@@ -7,15 +7,15 @@
 float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut) {
     float3 result = ((float3)0.0);
     {
-        float r = sg_hill_irradiance(n, 0.5, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += ((float3)r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += ((float3)r);
     }
     return result;

@@ -7,15 +7,15 @@
 inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients, texture2d<float> lut) {
     float3 result = float3(0.0f);
     {
-        float r = sg_hill_irradiance(n, 0.5f, n);
+        float r = sbf_sg_hill_irradiance(n, 0.5f, n);
         result += float3(r);
     }
     {
-        SgSplitSum r = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+        SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
     }
     {
-        SgSplitSum sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
-        float r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
+        SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
+        float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
         result += float3(r);
     }
     return result;

@@ -8,17 +8,17 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
     var result = vec3<f32>(0.0);
     {
         // sg_hill_irradiance
-        let r = sg_hill_irradiance(n, 0.5, n);
+        let r = sbf_sg_hill_irradiance(n, 0.5, n);
         result += vec3<f32>(r);
     }
     {
         // sg_split_sum_setup
-        let r = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
         // sg_split_sum_lobe
-        let sg_split_sum_lobe_w = sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
-        let r = sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
+        let sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
+        let r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3<f32>(r);
     }
     return result;

@@ -9,30 +9,47 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
-//   float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n)
-//   SgSplitSum sg_split_sum_setup(highp sampler2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90)
-//   float sg_split_sum_lobe(SgSplitSum w, vec3 axis, float sharpness)
+//   float sbf_sg_hill_irradiance(vec3 axis, float sharpness, vec3 n)
+//   SbfSgSplitSum sbf_sg_split_sum_setup(highp sampler2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90)
+//   float sbf_sg_split_sum_lobe(SbfSgSplitSum w, vec3 axis, float sharpness)
 // Textures these functions read:
-//   sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
+//   sbf_sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). See the function's comment.
 
 #ifndef SBF_SG_ES_GLSL
 #define SBF_SG_ES_GLSL
 
-const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+const float SBF_PI = 3.1415927;
+#endif
 
-const float INV_PI = 0.31830987;
+#ifndef SBF_DEFINED_SBF_INV_PI
+#define SBF_DEFINED_SBF_INV_PI
+const float SBF_INV_PI = 0.31830987;
+#endif
 
+#ifndef SBF_DEFINED_sbf_reflect_about
+#define SBF_DEFINED_sbf_reflect_about
 // reflect(v, n) in the BRDF convention (v points away from the surface): 2(v·n)n − v.
-vec3 reflect_about(vec3 v, vec3 n) {
+vec3 sbf_reflect_about(vec3 v, vec3 n) {
     return 2.0 * dot(v, n) * n - v;
 }
+#endif
 
-const float HILL_C0 = 0.3652013;
+#ifndef SBF_DEFINED_SBF_HILL_C0
+#define SBF_DEFINED_SBF_HILL_C0
+const float SBF_HILL_C0 = 0.3652013;
+#endif
 
-vec2 lut2_sample(highp sampler2D t, float u, float v) {
+#ifndef SBF_DEFINED_sbf_lut2_sample
+#define SBF_DEFINED_sbf_lut2_sample
+vec2 sbf_lut2_sample(highp sampler2D t, float u, float v) {
     ivec2 size = ivec2(uvec2(textureSize(t, 0).xy));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -48,27 +65,36 @@ vec2 lut2_sample(highp sampler2D t, float u, float v) {
     vec2 b = texelFetch(t, ivec2(ivec2(i0, j1)), int(0)).xy * (1.0 - fx) + texelFetch(t, ivec2(ivec2(i1, j1)), int(0)).xy * fx;
     return a * (1.0 - fy) + b * fy;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_expm1_f32
+#define SBF_DEFINED_sbf_expm1_f32
 // e^x − 1 without cancellation for small |x| (WGSL has no expm1).
-float expm1_f32(float x) {
+float sbf_expm1_f32(float x) {
     if (abs(x) < 0.01) {
         return x * (1.0 + x * (0.5 + x * (0.16666667 + x / 24.0)));
     }
     return exp(x) - 1.0;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_integral
+#define SBF_DEFINED_sbf_sg_integral
 // ∫ G over the sphere for unit amplitude: 2π(1 − e^(−2λ))/λ, with its limit 4π at λ → 0.
-float sg_integral(float sharpness) {
+float sbf_sg_integral(float sharpness) {
     if (sharpness < 1e-30) {
         return 12.566371;
     }
-    return 6.2831855 * -expm1_f32(-2.0 * sharpness) / sharpness;
+    return 6.2831855 * -sbf_expm1_f32(-2.0 * sharpness) / sharpness;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_cos
+#define SBF_DEFINED_sbf_sg_hill_cos
 // sg_hill_irradiance for x = cos(axis, normal).
-float sg_hill_cos(float x_in, float sharpness) {
+float sbf_sg_hill_cos(float x_in, float sharpness) {
     float lam = max(sharpness, 1e-30);
-    float c1 = 1.0 / (4.0 * HILL_C0);
+    float c1 = 1.0 / (4.0 * SBF_HILL_C0);
     float e1 = exp(-lam);
     float e2 = e1 * e1;
     float r = 1.0 / lam;
@@ -76,55 +102,70 @@ float sg_hill_cos(float x_in, float sharpness) {
     float bias = (e1 - e2) * r - e2;
     float xs = sqrt(max(r - 2.0 * e2, 0.0));
     float x = clamp(x_in, -1.0, 1.0);
-    float x0 = HILL_C0 * x;
+    float x0 = SBF_HILL_C0 * x;
     float x1 = c1 * xs;
     float y = clamp(x, 0.0, 1.0);
     if (abs(x0) <= x1 && xs > 0.0) {
         y = (x0 + x1) * (x0 + x1) / xs;
     }
-    return (scale * y + bias) * sg_integral(lam) * INV_PI;
+    return (scale * y + bias) * sbf_sg_integral(lam) * SBF_INV_PI;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_hill_irradiance
+#define SBF_DEFINED_sbf_sg_hill_irradiance
 // E/π of a unit-amplitude lobe at unit normal n (Hill 2016's fitted curve).
-float sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
-    return sg_hill_cos(dot(axis, n), sharpness);
+float sbf_sg_hill_irradiance(vec3 axis, float sharpness, vec3 n) {
+    return sbf_sg_hill_cos(dot(axis, n), sharpness);
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SG_NV_EPSILON
+#define SBF_DEFINED_SBF_SG_NV_EPSILON
 // Lower bound on n·v used by the warp (as sbf::recon::sg::NV_EPSILON).
-const float SG_NV_EPSILON = 0.0001;
+const float SBF_SG_NV_EPSILON = 0.0001;
+#endif
 
+#ifndef SBF_DEFINED_SbfSgSplitSum
+#define SBF_DEFINED_SbfSgSplitSum
 // The per-pixel part of the split-sum SG specular (Karis 2013, "Real Shading in Unreal
 // Engine 4"; CPU twins sbf::recon::sg::SplitSumWarp, sbf::recon::runtime::sg_specular_split_sum):
 // the GGX NDF as an SG about n (λ = 2/α², Wang et al. 2009) warped to the reflection
 // direction R with λ/(4 n·v) (held ≥ 2, Hill's range), and the BRDF's energy
 // f0·dfg.x + f90·dfg.y (the dfg table at (n·v, α)) over the warped lobe's E/π at n.
-struct SgSplitSum {
+struct SbfSgSplitSum {
     vec3 n;
     vec3 r;
     float nv;
     float sharpness;
     float scale;
 };
+#endif
 
-SgSplitSum sg_split_sum_setup(highp sampler2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
+#ifndef SBF_DEFINED_sbf_sg_split_sum_setup
+#define SBF_DEFINED_sbf_sg_split_sum_setup
+SbfSgSplitSum sbf_sg_split_sum_setup(highp sampler2D dfg, vec3 n, vec3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
-    float nv = max(dot(n, v), SG_NV_EPSILON);
+    float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
     float lw = max(0.5 / (alpha * alpha * nv), 2.0);
-    vec3 r = reflect_about(v, n);
-    vec2 d = lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
-    float den = sg_hill_cos(dot(n, v), lw);
+    vec3 r = sbf_reflect_about(v, n);
+    vec2 d = sbf_lut2_sample(dfg, clamp(dot(n, v), 0.0, 1.0), alpha_in);
+    float den = sbf_sg_hill_cos(dot(n, v), lw);
     float scale = 0.0;
     if (den > 0.0) {
         scale = (f0 * d.x + f90 * d.y) / den;
     }
-    return SgSplitSum(n, r, dot(n, v), lw, scale);
+    return SbfSgSplitSum(n, r, dot(n, v), lw, scale);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sg_split_sum_lobe
+#define SBF_DEFINED_sbf_sg_split_sum_lobe
 // Specular from one unit-amplitude SG light lobe: the radiance prefiltered by the warped
 // NDF with the n·l weight, E/π(D·G) / E/π(D), times the BRDF's energy. D·G is one SG
 // (axis λ_D R + λ p normalised, sharpness |λ_D R + λ p|, amplitude
 // exp(−λ_D λ |R − p|² / (λ_D + λ + |λ_D R + λ p|)): the exponent without cancellation).
-float sg_split_sum_lobe(SgSplitSum w, vec3 axis, float sharpness) {
+float sbf_sg_split_sum_lobe(SbfSgSplitSum w, vec3 axis, float sharpness) {
     vec3 pm = w.sharpness * w.r + sharpness * axis;
     float d = length(pm);
     vec3 q = w.r - axis;
@@ -133,8 +174,9 @@ float sg_split_sum_lobe(SgSplitSum w, vec3 axis, float sharpness) {
     if (d > 0.0) {
         x = (w.sharpness * w.nv + sharpness * dot(axis, w.n)) / d;
     }
-    float e = sg_hill_cos(x, max(d, 2.0)) * sg_integral(d) / sg_integral(max(d, 2.0));
+    float e = sbf_sg_hill_cos(x, max(d, 2.0)) * sbf_sg_integral(d) / sbf_sg_integral(max(d, 2.0));
     return amp * e * w.scale;
 }
+#endif
 
 #endif // SBF_SG_ES_GLSL

@@ -9,40 +9,66 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
-//   vec3 sh_l1_irradiance(vec3 c[4], vec3 n)
-//   vec3 sh_l1_geomerics_irradiance(vec3 c[4], vec3 n)
-//   vec3 sh_l1_zh3_irradiance(vec3 c[4], vec3 n)
+//   vec3 sbf_sh_l1_irradiance(vec3 c[4], vec3 n)
+//   vec3 sbf_sh_l1_geomerics_irradiance(vec3 c[4], vec3 n)
+//   vec3 sbf_sh_l1_zh3_irradiance(vec3 c[4], vec3 n)
 
 #ifndef SBF_SH_L1_ES_GLSL
 #define SBF_SH_L1_ES_GLSL
 
-const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+const float SBF_PI = 3.1415927;
+#endif
 
-const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
-const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+const float SBF_SH_BAND2 = 0.25;
+#endif
 
-float[4] sh_eval_l1(vec3 d) {
-    return float[4](SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x);
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+float[4] sbf_sh_eval_l1(vec3 d) {
+    return float[4](SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_irradiance
+#define SBF_DEFINED_sbf_sh_l1_irradiance
 // E/π at unit normal n from RGB radiance coefficients.
-vec3 sh_l1_irradiance(vec3 c[4], vec3 n) {
-    float y[4] = sh_eval_l1(n);
-    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
+vec3 sbf_sh_l1_irradiance(vec3 c[4], vec3 n) {
+    float y[4] = sbf_sh_eval_l1(n);
+    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_channel
+#define SBF_DEFINED_sbf_sh_l1_geomerics_channel
 // Geomerics' non-linear L1 reconstruction (Geomerics / Graham Hazel 2015, as in
 // sbf::recon::sh::irradiance_l1_geomerics), per channel; E/π.
-float sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
-    float r0 = c0 * SH_K00;
+float sbf_sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
+    float r0 = c0 * SBF_SH_K00;
     vec3 r1 = c1 * 0.1628675;
     float len = length(r1);
     if (r0 <= 0.0 || len <= 0.0) {
@@ -54,18 +80,27 @@ float sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
     float a = (1.0 - ratio) / (1.0 + ratio);
     return r0 * (a + (1.0 - a) * (p + 1.0) * pow(max(q, 0.0), p));
 }
+#endif
 
-vec3 sh_l1_geomerics_irradiance(vec3 c[4], vec3 n) {
-    return vec3(sh_l1_geomerics_channel(c[0].x, vec3(c[3].x, c[1].x, c[2].x), n), sh_l1_geomerics_channel(c[0].y, vec3(c[3].y, c[1].y, c[2].y), n), sh_l1_geomerics_channel(c[0].z, vec3(c[3].z, c[1].z, c[2].z), n));
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+#define SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+vec3 sbf_sh_l1_geomerics_irradiance(vec3 c[4], vec3 n) {
+    return vec3(sbf_sh_l1_geomerics_channel(c[0].x, vec3(c[3].x, c[1].x, c[2].x), n), sbf_sh_l1_geomerics_channel(c[0].y, vec3(c[3].y, c[1].y, c[2].y), n), sbf_sh_l1_geomerics_channel(c[0].z, vec3(c[3].z, c[1].z, c[2].z), n));
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_LUMINANCE
+#define SBF_DEFINED_SBF_SH_LUMINANCE
 // ZH3 hallucination for L1 (Roughton & Sloan 2024, "ZH3: Quadratic Zonal Harmonics",
 // as in sbf::recon::sh::irradiance_l1_zh3): a zonal band-2 term about the luminance
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
-const vec3 SH_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
+const vec3 SBF_SH_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
+#endif
 
-vec3 sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
-    vec3 lum = vec3(dot(c[3], SH_LUMINANCE), dot(c[1], SH_LUMINANCE), dot(c[2], SH_LUMINANCE));
+#ifndef SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+#define SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+vec3 sbf_sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
+    vec3 lum = vec3(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));
     float len2 = dot(lum, lum);
     vec3 axis = len2 > 0.0 ? lum * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
     vec3 along = abs(c[3] * axis.x + c[1] * axis.y + c[2] * axis.z);
@@ -73,7 +108,8 @@ vec3 sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
     vec3 zh = c[0] * (0.08 * r + 0.6 * r * r);
     float t = dot(n, axis);
     float y20 = 0.31539157 * (3.0 * t * t - 1.0);
-    return sh_l1_irradiance(c, n) + SH_BAND2 * zh * y20;
+    return sbf_sh_l1_irradiance(c, n) + SBF_SH_BAND2 * zh * y20;
 }
+#endif
 
 #endif // SBF_SH_L1_ES_GLSL

@@ -6,42 +6,82 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language; each is documented below):
-//   float3 sh_l1_irradiance(float3 c[4], float3 n)
-//   float3 sh_l1_geomerics_irradiance(float3 c[4], float3 n)
-//   float3 sh_l1_zh3_irradiance(float3 c[4], float3 n)
+//   float3 sbf_sh_l1_irradiance(float3 c[4], float3 n)
+//   float3 sbf_sh_l1_geomerics_irradiance(float3 c[4], float3 n)
+//   float3 sbf_sh_l1_zh3_irradiance(float3 c[4], float3 n)
 
 #ifndef SBF_SH_L1_HLSL
 #define SBF_SH_L1_HLSL
 
-typedef float float_array4[4];
+#ifndef SBF_DEFINED_sbf_float_array4
+#define SBF_DEFINED_sbf_float_array4
+typedef float sbf_float_array4[4];
+#endif
 
-static const float PI = 3.1415927;
+#ifndef SBF_DEFINED_select_float3_helper
+#define SBF_DEFINED_select_float3_helper
+float3 sbf_select(bool3 c, float3 a, float3 b) {
+#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021
+    return select(c, a, b);
+#else
+    return c ? a : b;
+#endif
+}
+#endif
 
-static const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+static const float SBF_PI = 3.1415927;
+#endif
 
-static const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+static const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+static const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
+
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-static const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+static const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-static const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+static const float SBF_SH_BAND2 = 0.25;
+#endif
 
-float_array4 sh_eval_l1(float3 d) {
-    float tmp[4] = { SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x };
+#ifndef SBF_DEFINED_sbf_sh_eval_l1
+#define SBF_DEFINED_sbf_sh_eval_l1
+sbf_float_array4 sbf_sh_eval_l1(float3 d) {
+    float tmp[4] = { SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x };
     return tmp;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_irradiance
+#define SBF_DEFINED_sbf_sh_l1_irradiance
 // E/π at unit normal n from RGB radiance coefficients.
-float3 sh_l1_irradiance(float3 c[4], float3 n) {
-    float y[4] = sh_eval_l1(n);
-    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
+float3 sbf_sh_l1_irradiance(float3 c[4], float3 n) {
+    float y[4] = sbf_sh_eval_l1(n);
+    return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
+#endif
 
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_channel
+#define SBF_DEFINED_sbf_sh_l1_geomerics_channel
 // Geomerics' non-linear L1 reconstruction (Geomerics / Graham Hazel 2015, as in
 // sbf::recon::sh::irradiance_l1_geomerics), per channel; E/π.
-float sh_l1_geomerics_channel(float c0, float3 c1, float3 n) {
-    float r0 = c0 * SH_K00;
+float sbf_sh_l1_geomerics_channel(float c0, float3 c1, float3 n) {
+    float r0 = c0 * SBF_SH_K00;
     float3 r1 = c1 * 0.1628675;
     float len = length(r1);
     if (r0 <= 0.0 || len <= 0.0) {
@@ -53,26 +93,36 @@ float sh_l1_geomerics_channel(float c0, float3 c1, float3 n) {
     float a = (1.0 - ratio) / (1.0 + ratio);
     return r0 * (a + (1.0 - a) * (p + 1.0) * pow(max(q, 0.0), p));
 }
+#endif
 
-float3 sh_l1_geomerics_irradiance(float3 c[4], float3 n) {
-    return float3(sh_l1_geomerics_channel(c[0].x, float3(c[3].x, c[1].x, c[2].x), n), sh_l1_geomerics_channel(c[0].y, float3(c[3].y, c[1].y, c[2].y), n), sh_l1_geomerics_channel(c[0].z, float3(c[3].z, c[1].z, c[2].z), n));
+#ifndef SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+#define SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+float3 sbf_sh_l1_geomerics_irradiance(float3 c[4], float3 n) {
+    return float3(sbf_sh_l1_geomerics_channel(c[0].x, float3(c[3].x, c[1].x, c[2].x), n), sbf_sh_l1_geomerics_channel(c[0].y, float3(c[3].y, c[1].y, c[2].y), n), sbf_sh_l1_geomerics_channel(c[0].z, float3(c[3].z, c[1].z, c[2].z), n));
 }
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_LUMINANCE
+#define SBF_DEFINED_SBF_SH_LUMINANCE
 // ZH3 hallucination for L1 (Roughton & Sloan 2024, "ZH3: Quadratic Zonal Harmonics",
 // as in sbf::recon::sh::irradiance_l1_zh3): a zonal band-2 term about the luminance
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
-static const float3 SH_LUMINANCE = float3(0.2126, 0.7152, 0.0722);
+static const float3 SBF_SH_LUMINANCE = float3(0.2126, 0.7152, 0.0722);
+#endif
 
-float3 sh_l1_zh3_irradiance(float3 c[4], float3 n) {
-    float3 lum = float3(dot(c[3], SH_LUMINANCE), dot(c[1], SH_LUMINANCE), dot(c[2], SH_LUMINANCE));
+#ifndef SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+#define SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+float3 sbf_sh_l1_zh3_irradiance(float3 c[4], float3 n) {
+    float3 lum = float3(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));
     float len2 = dot(lum, lum);
     float3 axis = len2 > 0.0 ? lum * rsqrt(len2) : float3(0.0, 0.0, 1.0);
     float3 along = abs(c[3] * axis.x + c[1] * axis.y + c[2] * axis.z);
-    float3 r = c[0] > ((float3)0.0) ? along / c[0] : ((float3)0.0);
+    float3 r = sbf_select(c[0] > ((float3)0.0), along / c[0], ((float3)0.0));
     float3 zh = c[0] * (0.08 * r + 0.6 * r * r);
     float t = dot(n, axis);
     float y20 = 0.31539157 * (3.0 * t * t - 1.0);
-    return sh_l1_irradiance(c, n) + SH_BAND2 * zh * y20;
+    return sbf_sh_l1_irradiance(c, n) + SBF_SH_BAND2 * zh * y20;
 }
+#endif
 
 #endif // SBF_SH_L1_HLSL

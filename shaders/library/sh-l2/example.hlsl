@@ -11,7 +11,7 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
         for (uint k = 0u; k < 9u; k++) {
             sh_l2_irradiance_c[k] = coefficients[k % 36u].xyz;
         }
-        float3 r = sh_l2_irradiance(sh_l2_irradiance_c, n);
+        float3 r = sbf_sh_l2_irradiance(sh_l2_irradiance_c, n);
         result += r;
     }
     return result;

@@ -9,39 +9,71 @@
 // Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;
 // irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures
 // are parameters, bound however the engine likes.
+// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
+// name items as the WGSL sources do, without the prefix). Each item is guarded by
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
-//   vec3 sh_l2_irradiance(vec3 c[9], vec3 n)
+//   vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n)
 
 #ifndef SBF_SH_L2_GL_GLSL
 #define SBF_SH_L2_GL_GLSL
 
-const float PI = 3.1415927;
+#ifndef SBF_DEFINED_SBF_PI
+#define SBF_DEFINED_SBF_PI
+const float SBF_PI = 3.1415927;
+#endif
 
-const float SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#ifndef SBF_DEFINED_SBF_SH_K00
+#define SBF_DEFINED_SBF_SH_K00
+const float SBF_SH_K00 = 0.28209478; // 0.5 / sqrt(PI)
+#endif
 
-const float SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#ifndef SBF_DEFINED_SBF_SH_K1
+#define SBF_DEFINED_SBF_SH_K1
+const float SBF_SH_K1 = 0.48860252; // sqrt(3.0 / (4.0 * PI))
+#endif
 
-const float SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K2A
+#define SBF_DEFINED_SBF_SH_K2A
+const float SBF_SH_K2A = 1.0925484; // 0.5 * sqrt(15.0 / PI)
+#endif
 
-const float SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K20
+#define SBF_DEFINED_SBF_SH_K20
+const float SBF_SH_K20 = 0.31539157; // 0.25 * sqrt(5.0 / PI)
+#endif
 
-const float SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#ifndef SBF_DEFINED_SBF_SH_K22
+#define SBF_DEFINED_SBF_SH_K22
+const float SBF_SH_K22 = 0.5462742; // 0.25 * sqrt(15.0 / PI)
+#endif
 
+#ifndef SBF_DEFINED_SBF_SH_BAND1
+#define SBF_DEFINED_SBF_SH_BAND1
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
-const float SH_BAND1 = 0.6666667; // 2.0 / 3.0
+const float SBF_SH_BAND1 = 0.6666667; // 2.0 / 3.0
+#endif
 
-const float SH_BAND2 = 0.25;
+#ifndef SBF_DEFINED_SBF_SH_BAND2
+#define SBF_DEFINED_SBF_SH_BAND2
+const float SBF_SH_BAND2 = 0.25;
+#endif
 
-float[9] sh_eval_l2(vec3 d) {
+#ifndef SBF_DEFINED_sbf_sh_eval_l2
+#define SBF_DEFINED_sbf_sh_eval_l2
+float[9] sbf_sh_eval_l2(vec3 d) {
     float x = d.x;
     float y = d.y;
     float z = d.z;
-    return float[9](SH_K00, SH_K1 * y, SH_K1 * z, SH_K1 * x, SH_K2A * x * y, SH_K2A * y * z, SH_K20 * (3.0 * z * z - 1.0), SH_K2A * x * z, SH_K22 * (x * x - y * y));
+    return float[9](SBF_SH_K00, SBF_SH_K1 * y, SBF_SH_K1 * z, SBF_SH_K1 * x, SBF_SH_K2A * x * y, SBF_SH_K2A * y * z, SBF_SH_K20 * (3.0 * z * z - 1.0), SBF_SH_K2A * x * z, SBF_SH_K22 * (x * x - y * y));
 }
+#endif
 
-vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
-    float y[9] = sh_eval_l2(n);
+#ifndef SBF_DEFINED_sbf_sh_l2_irradiance
+#define SBF_DEFINED_sbf_sh_l2_irradiance
+vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n) {
+    float y[9] = sbf_sh_eval_l2(n);
     vec3 b1 = vec3(0.0);
     for (int i = 1; i < 4; i++) {
         b1 += c[i] * y[i];
@@ -50,7 +82,8 @@ vec3 sh_l2_irradiance(vec3 c[9], vec3 n) {
     for (int i = 4; i < 9; i++) {
         b2 += c[i] * y[i];
     }
-    return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
+    return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
+#endif
 
 #endif // SBF_SH_L2_GL_GLSL

@@ -184,14 +184,24 @@ pub(super) fn write(c: &Ctx, fh: Handle<naga::Function>) -> R<String> {
     Ok(format!("{prefix}{sig} {{\n{}}}\n", w.out))
 }
 
-/// An HLSL helper's definition (texture queries are statements there).
-pub(super) fn hlsl_helper(name: &str) -> &'static str {
+/// An HLSL helper's definition: texture queries (statements there), and `select_<T>` for
+/// a component-wise choice between vectors of type T — `select()` under DXC's HLSL 2021
+/// rules, where a vector condition in `?:` is an error, and `?:` for FXC (SM 5) and older
+/// DXC, which have no `select()`.
+pub(super) fn hlsl_helper(name: &str) -> String {
+    if let Some(ty) = name.strip_prefix("select_") {
+        let n = ty.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+        return format!(
+            "{ty} sbf_select(bool{n} c, {ty} a, {ty} b) {{\n#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif\n}}\n"
+        );
+    }
     match name {
         "size" => "uint2 sbf_texture_size(Texture2D<float4> t) {\n    uint w, h;\n    t.GetDimensions(w, h);\n    return uint2(w, h);\n}\n",
         "size_array" => "uint2 sbf_texture_size(Texture2DArray<float4> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return uint2(w, h);\n}\n",
         "size_3d" => "uint3 sbf_texture_size(Texture3D<float4> t) {\n    uint w, h, d;\n    t.GetDimensions(w, h, d);\n    return uint3(w, h, d);\n}\n",
         _ => "uint sbf_texture_layers(Texture2DArray<float4> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return n;\n}\n",
     }
+    .to_string()
 }
 
 impl<'c, 'a> W<'c, 'a> {
@@ -264,7 +274,7 @@ impl<'c, 'a> W<'c, 'a> {
 
     fn signature(&self) -> R<String> {
         let c = self.c;
-        let name = self.f.name.clone().ok_or("an unnamed function")?;
+        let name = super::names::exported(super::names::ItemKind::Function, self.f.name.as_deref().ok_or("an unnamed function")?);
         let ret = match &self.f.result {
             Some(r) => c.type_name(r.ty)?,
             None => "void".into(),
@@ -651,7 +661,7 @@ impl<'c, 'a> W<'c, 'a> {
                         args.push(self.top(*a)?);
                     }
                 }
-                let call = format!("{name}({})", args.join(", "));
+                let call = format!("{}({})", super::names::exported(super::names::ItemKind::Function, &name), args.join(", "));
                 let takes_pointer = callee.arguments.iter().any(|a| matches!(self.c.m.types[a.ty].inner, TypeInner::Pointer { .. }));
                 match result {
                     None => self.line(&format!("{call};")),
@@ -865,7 +875,10 @@ impl<'c, 'a> W<'c, 'a> {
                 let p = if t.starts_with('-') { UNARY } else { ATOM };
                 (t, p)
             }
-            E::Constant(k) => (c.m.constants[k].name.clone().ok_or("an unnamed constant")?, ATOM),
+            E::Constant(k) => (
+                super::names::exported(super::names::ItemKind::Constant, c.m.constants[k].name.as_deref().ok_or("an unnamed constant")?),
+                ATOM,
+            ),
             E::ZeroValue(ty) => {
                 if lang == Lang::Hlsl && syntax::hlsl_aggregate(&c.m.types[ty].inner) {
                     let z = c.zero(ty)?;
@@ -983,7 +996,7 @@ impl<'c, 'a> W<'c, 'a> {
                 let s = match (query, lang) {
                     (naga::ImageQuery::Size { level: None }, Lang::Glsl(_)) if volume => format!("uvec3(textureSize({t}, 0))"),
                     (naga::ImageQuery::Size { level: None }, Lang::Hlsl) if volume => {
-                        c.helpers.borrow_mut().insert("size_3d");
+                        c.helpers.borrow_mut().insert("size_3d".into());
                         format!("sbf_texture_size({t})")
                     }
                     (naga::ImageQuery::Size { level: None }, Lang::Msl) if volume => {
@@ -991,13 +1004,13 @@ impl<'c, 'a> W<'c, 'a> {
                     }
                     (naga::ImageQuery::Size { level: None }, Lang::Glsl(_)) => format!("uvec2(textureSize({t}, 0).xy)"),
                     (naga::ImageQuery::Size { level: None }, Lang::Hlsl) => {
-                        c.helpers.borrow_mut().insert(if arrayed { "size_array" } else { "size" });
+                        c.helpers.borrow_mut().insert(if arrayed { "size_array" } else { "size" }.into());
                         format!("sbf_texture_size({t})")
                     }
                     (naga::ImageQuery::Size { level: None }, Lang::Msl) => format!("uint2({t}.get_width(), {t}.get_height())"),
                     (naga::ImageQuery::NumLayers, Lang::Glsl(_)) => format!("uint(textureSize({t}, 0).z)"),
                     (naga::ImageQuery::NumLayers, Lang::Hlsl) => {
-                        c.helpers.borrow_mut().insert("layers");
+                        c.helpers.borrow_mut().insert("layers".into());
                         format!("sbf_texture_layers({t})")
                     }
                     (naga::ImageQuery::NumLayers, Lang::Msl) => format!("{t}.get_array_size()"),
@@ -1029,6 +1042,11 @@ impl<'c, 'a> W<'c, 'a> {
                 match (lang, vector) {
                     (Lang::Glsl(_), true) => (format!("mix({}, {}, {})", self.top(reject)?, self.top(accept)?, self.top(condition)?), ATOM),
                     (Lang::Msl, true) => (format!("select({}, {}, {})", self.top(reject)?, self.top(accept)?, self.top(condition)?), ATOM),
+                    (Lang::Hlsl, true) => {
+                        let ty = c.inner_name(&self.value_ty(accept), None)?;
+                        c.helpers.borrow_mut().insert(format!("select_{ty}"));
+                        (format!("sbf_select({}, {}, {})", self.top(condition)?, self.top(accept)?, self.top(reject)?), ATOM)
+                    }
                     _ => {
                         let cnd = self.sub(condition, LOR)?;
                         let a = self.sub(accept, LOR)?;

@@ -14,6 +14,7 @@
 //! - this file: the item order, comments, declarations, constants and the file header.
 
 mod function;
+pub mod names;
 pub mod syntax;
 
 use crate::export::{Glsl, Lang};
@@ -58,8 +59,9 @@ pub(crate) struct Ctx<'a> {
     pub lang: Lang,
     /// HLSL: `typedef`s of array types (name → line), written before the items.
     pub typedefs: RefCell<BTreeMap<String, String>>,
-    /// HLSL: texture-query helpers used (GetDimensions is a statement there).
-    pub helpers: RefCell<BTreeSet<&'static str>>,
+    /// HLSL: helpers used — texture queries (GetDimensions is a statement there) and the
+    /// component-wise select (see `function::hlsl_helper`).
+    pub helpers: RefCell<BTreeSet<String>>,
 }
 
 impl<'a> Ctx<'a> {
@@ -93,7 +95,7 @@ impl<'a> Ctx<'a> {
             }
             TypeInner::Struct { .. } => {
                 let h = handle.ok_or("a struct type without a handle")?;
-                self.m.types[h].name.clone().ok_or("an unnamed struct")?
+                names::exported(names::ItemKind::Struct, self.m.types[h].name.as_deref().ok_or("an unnamed struct")?)
             }
             TypeInner::Image { dim, arrayed, class } => syntax::image(self.lang, dim, arrayed, class)?.to_string(),
             TypeInner::Sampler { comparison } => syntax::sampler(self.lang, comparison)?.to_string(),
@@ -119,7 +121,8 @@ impl<'a> Ctx<'a> {
                 Lang::Glsl(_) => format!("{b}{}", dims.iter().map(|n| format!("[{n}]")).collect::<String>()),
                 Lang::Msl => dims.iter().rev().fold(b, |acc, n| format!("array<{acc}, {n}>")),
                 Lang::Hlsl => {
-                    let name = format!("{b}{}", dims.iter().map(|n| format!("_array{n}")).collect::<String>());
+                    let stem = if b.starts_with("Sbf") { b.clone() } else { format!("sbf_{b}") };
+                    let name = format!("{stem}{}", dims.iter().map(|n| format!("_array{n}")).collect::<String>());
                     let line = format!("typedef {b} {name}{};", dims.iter().map(|n| format!("[{n}]")).collect::<String>());
                     self.typedefs.borrow_mut().insert(name.clone(), line);
                     name
@@ -196,7 +199,7 @@ impl<'a> Ctx<'a> {
         use naga::Expression as E;
         Ok(match self.m.global_expressions[h] {
             E::Literal(l) => syntax::literal(self.lang, l)?,
-            E::Constant(c) => self.m.constants[c].name.clone().ok_or("an unnamed constant")?,
+            E::Constant(c) => names::exported(names::ItemKind::Constant, self.m.constants[c].name.as_deref().ok_or("an unnamed constant")?),
             E::ZeroValue(t) => self.zero(t)?,
             E::Splat { value, .. } => {
                 let ty = ty.ok_or("a splat without a type")?;
@@ -303,6 +306,16 @@ fn item_offsets(source: &str) -> HashMap<String, usize> {
 }
 
 impl Ctx<'_> {
+    /// The name an item is written under ([`names::exported`]).
+    fn exported_name(&self, it: Item) -> String {
+        let kind = match it {
+            Item::Struct(_) => names::ItemKind::Struct,
+            Item::Constant(_) => names::ItemKind::Constant,
+            Item::Function(_) => names::ItemKind::Function,
+        };
+        names::exported(kind, &self.item_name(it))
+    }
+
     fn item_name(&self, it: Item) -> String {
         match it {
             Item::Struct(t) => self.m.types[t].name.clone().unwrap_or_default(),
@@ -419,28 +432,33 @@ pub fn library(source: &str, module: &naga::Module, info: &ModuleInfo, lang: Lan
     let mut body = String::new();
     for it in &order {
         let name = ctx.item_name(*it);
+        let exported = ctx.exported_name(*it);
+        let mut text = String::new();
         if let Some(c) = comments.get(&name) {
             for l in c {
-                body.push_str(l);
-                body.push('\n');
+                text.push_str(l);
+                text.push('\n');
             }
         }
         match *it {
-            Item::Struct(t) => body.push_str(&write_struct(&ctx, t)?),
+            Item::Struct(t) => text.push_str(&write_struct(&ctx, t)?),
             Item::Constant(c) => {
                 let k = &module.constants[c];
                 let value = ctx.global_expr(k.init, Some(k.ty))?;
-                let d = ctx.decl(ctx.inner(k.ty), Some(k.ty), &name)?;
+                let d = ctx.decl(ctx.inner(k.ty), Some(k.ty), &exported)?;
                 let formula = formulas.get(&name).map(|f| format!(" // {f}")).unwrap_or_default();
-                body.push_str(&match lang {
+                text.push_str(&match lang {
                     Lang::Glsl(_) => format!("const {d} = {value};{formula}\n"),
                     Lang::Hlsl => format!("static const {d} = {value};{formula}\n"),
                     Lang::Msl => format!("constant {d} = {value};{formula}\n"),
                     Lang::Wgsl => unreachable!(),
                 });
             }
-            Item::Function(f) => body.push_str(&function::write(&ctx, f).map_err(|e| format!("{name}: {e}"))?),
+            Item::Function(f) => text.push_str(&function::write(&ctx, f).map_err(|e| format!("{name}: {e}"))?),
         }
+        // A library's items are guarded one by one (two configurations in one shader define
+        // a shared item once); the rest of a file that includes a library is not.
+        body.push_str(&if opts.bare { text } else { names::guarded(&exported, &text) });
         body.push('\n');
     }
 
@@ -468,15 +486,16 @@ pub fn library(source: &str, module: &naga::Module, info: &ModuleInfo, lang: Lan
     let defined = |text: &str| opts.included.as_ref().is_some_and(|inc| inc.contains(text));
     let typedefs: Vec<&String> = typedefs.values().filter(|l| !defined(l)).collect();
     for line in &typedefs {
-        out.push_str(line);
-        out.push('\n');
+        let name = line.trim_end_matches(';').rsplit(' ').next().unwrap_or_default().split('[').next().unwrap_or_default();
+        out.push_str(&if opts.bare { format!("{line}\n") } else { names::guarded(name, &format!("{line}\n")) });
     }
     if !typedefs.is_empty() {
         out.push('\n');
     }
     for h in ctx.helpers.borrow().iter() {
-        if !defined(function::hlsl_helper(h)) {
-            out.push_str(function::hlsl_helper(h));
+        let text = function::hlsl_helper(h);
+        if !defined(&text) {
+            out.push_str(&if opts.bare { text } else { names::guarded(&format!("{h}_helper"), &text) });
             out.push('\n');
         }
     }
@@ -488,7 +507,7 @@ pub fn library(source: &str, module: &naga::Module, info: &ModuleInfo, lang: Lan
 }
 
 fn write_struct(ctx: &Ctx, t: Handle<Type>) -> Result<String, String> {
-    let name = ctx.m.types[t].name.clone().ok_or("an unnamed struct")?;
+    let name = names::exported(names::ItemKind::Struct, ctx.m.types[t].name.as_deref().ok_or("an unnamed struct")?);
     let TypeInner::Struct { ref members, .. } = ctx.m.types[t].inner else { unreachable!() };
     let mut s = format!("struct {name} {{\n");
     for m in members {
@@ -522,6 +541,7 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
     ));
     h.push_str(&format!("// Use: {include}.\n"));
     h.push_str("// Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;\n// irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures\n// are parameters, bound however the engine likes.\n");
+    h.push_str("// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below\n// name items as the WGSL sources do, without the prefix). Each item is guarded by\n// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.\n");
     let mut sigs = Vec::new();
     let mut textures = Vec::new();
     for it in order {
@@ -535,6 +555,7 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
         for a in &f.arguments {
             if let TypeInner::Image { arrayed, dim, .. } = ctx.m.types[a.ty].inner {
                 let an = a.name.clone().unwrap_or_default();
+                let name = names::exported(names::ItemKind::Function, &name);
                 textures.push(if dim == naga::ImageDimension::D3 {
                     format!(
                         "//   {name}({an}): 3D, rg16float, sampled at mip 0 through {}\n//     (linear min/mag filter, clamp to edge). {}",
