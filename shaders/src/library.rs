@@ -181,7 +181,7 @@ fn example_function(source: &str, roots: &[String]) -> Result<(String, Uses), St
     };
     Ok((
         format!(
-            "// Shades with every public function of the library: n and v unit (world space), alpha\n// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.\n{note}fn sbf_example({params}) -> vec3<f32> {{\n    var result = vec3<f32>(0.0);\n{blocks}    return result;\n}}\n"
+            "// Shades with every public function of the library: n and v unit vectors in the frame of the\n// coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent\n// frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB\n// coefficients (xyz) an engine reads from its lightmap or probes.\n{note}fn sbf_example({params}) -> vec3<f32> {{\n    var result = vec3<f32>(0.0);\n{blocks}    return result;\n}}\n"
         ),
         uses,
     ))

@@ -217,6 +217,11 @@ fn hlsl_vector_select_holds_under_hlsl_2021() {
     let src = "fn pick(v: vec3<f32>, s: f32) -> vec3<f32> {\n    let a = select(vec3<f32>(0.0), v, v > vec3<f32>(0.0));\n    return a * select(1.0, 2.0, s > 0.0);\n}\n";
     let out = export::export(src, Lang::Hlsl).unwrap();
     assert!(out.contains("sbf_select(v > ((float3)0.0), v, ((float3)0.0))"), "{out}");
-    assert!(out.contains("#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif"), "{out}");
+    assert!(
+        out.contains(
+            "#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif"
+        ),
+        "{out}"
+    );
     assert!(out.contains("s > 0.0 ? 2.0 : 1.0"), "{out}");
 }

@@ -244,3 +244,39 @@ fn vulkan_glsl_and_hlsl_build_every_pair_of_presets_after_engine_declarations() 
     std::fs::remove_dir_all(&dir).unwrap();
     assert!(failures.is_empty(), "{} of {} builds fail:\n{}", failures.len(), 2 * pairs.len(), failures.join("\n"));
 }
+
+/// Every public function carries its comment in every language (directly above its
+/// definition), the module comments travel with it — the SH sign convention wherever SH
+/// code is exported — and a function that reads the split-sum table names its axes.
+#[test]
+fn every_public_function_is_documented_in_every_language() {
+    use shaders::emit::names::{exported, ItemKind};
+    let mut checked = 0;
+    for t in targets() {
+        let files = library::files(&t).unwrap();
+        for lang in Lang::ALL {
+            let name = library::file_name(&t.slug, lang);
+            let text = &files.iter().find(|(n, _)| *n == name).unwrap().1;
+            let lines: Vec<&str> = text.lines().collect();
+            for r in library::roots(&t.config) {
+                let e = exported(ItemKind::Function, &r);
+                let at = lines
+                    .iter()
+                    .position(|l| !l.starts_with(' ') && !l.starts_with("//") && l.contains(&format!(" {e}(")) && l.ends_with('{'))
+                    .unwrap_or_else(|| panic!("{name}: no definition of {e}"));
+                assert!(at > 0 && lines[at - 1].starts_with("//"), "{name}: {e} has no comment above its definition");
+                checked += 1;
+            }
+            if text.contains("sh_eval_l1(") || text.contains("sh_eval_l2(") {
+                assert!(
+                    text.contains("no Condon–Shortley phase") && text.contains("+K₁·(y, z, x)"),
+                    "{name}: the SH convention is missing"
+                );
+            }
+            if text.contains(" dfg") {
+                assert!(text.contains("u = n·v, v = GGX α"), "{name}: the split-sum table's axes are missing");
+            }
+        }
+    }
+    assert!(checked > 500, "only {checked} definitions checked");
+}

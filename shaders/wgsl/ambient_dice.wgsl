@@ -13,6 +13,7 @@ fn ad_srbf_lobe(c: f32) -> f32 {
     return x2 * (0.35 + 0.25 * x2);
 }
 
+// One Ambient Dice SRBF lobe with unit axis `axis` evaluated at unit direction v.
 fn ad_srbf_eval(axis: vec3<f32>, v: vec3<f32>) -> f32 {
     return ad_srbf_lobe(dot(axis, v));
 }
@@ -57,6 +58,8 @@ fn ad_specular_scale(lut: texture_2d<f32>, n_dot_v: f32, alpha: f32, f0: f32, f9
     return f0 * l.x + f90 * l.y;
 }
 
+// E/π at unit normal n from 12 RGB Ambient Dice radiance coefficients c on the icosahedron
+// axes AD12_AXES (the probes' sphere; n in the same frame as the axes, world space).
 fn ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 12; i++) {
@@ -65,6 +68,9 @@ fn ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// E/π at unit normal n from 9 RGB Ambient Dice radiance coefficients c on the hemisphere
+// axes AD9_AXES, which live in the lightmap texel's tangent frame (+Z the texel's normal): n
+// in that frame (+Z for the texel's own normal).
 fn ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 9; i++) {
@@ -73,6 +79,10 @@ fn ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
+// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
+// (= perceptual roughness²) and Fresnel f0, f90.
 fn ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);
@@ -82,6 +92,8 @@ fn ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v:
     return s * ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
 
+// GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
+// tangent frame): as `ad12_specular`, with n and v in that frame.
 fn ad9_specular(c: array<vec3<f32>, 9>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);

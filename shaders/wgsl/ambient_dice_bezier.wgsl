@@ -35,6 +35,8 @@ struct AdBezierWeights {
     w: array<vec3<f32>, 3>,
 }
 
+// The icosahedron triangle that unit direction d falls in and its Bézier basis weights
+// (value and two tangent derivatives per vertex), for `ad_bezier_eval`/`ad_ycocg_eval`.
 fn ad_bezier_weights(d: vec3<f32>) -> AdBezierWeights {
     let loc = ad_ico_locate(d);
     let b = loc.b;

@@ -1,7 +1,8 @@
 // engine.wgsl — the directional lightmap formats engines ship, decoded as each engine's
 // published shader does; every function returns E/π (what the engine multiplies by albedo)
-// at the unit shading normal n. Arguments are the textures' values as sampled: the HDR
-// colour and "unit" textures in [0, 1].
+// at the unit shading normal n, in world space: the formats store world-space directions
+// (the baker writes them so), so n is the world-space shading normal, normal map applied.
+// Arguments are the textures' values as sampled: the HDR colour and "unit" textures in [0, 1].
 // CPU twin and sources: sbf::recon::engine (decode; the encodes live there too).
 
 // Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,

@@ -4,6 +4,8 @@
 // Λ = a/(2(1 + √(1 + a))), a = α² tan²θ; G1 = 2/(1 + √(1 + a)); height-correlated
 // G2 = 1/(1 + Λ(v) + Λ(l)) (Heitz 2014, "Understanding the Masking-Shadowing Function").
 
+// GGX normal distribution D(h) for a unit half vector h in the tangent frame (normal +Z)
+// and GGX α (= perceptual roughness²), per steradian of h.
 fn ggx_d(h: vec3<f32>, alpha: f32) -> f32 {
     if (h.z <= 0.0) {
         return 0.0;
@@ -24,6 +26,8 @@ fn ggx_lambda(w: vec3<f32>, alpha: f32) -> f32 {
     return a / (2.0 * (1.0 + sqrt(1.0 + a)));
 }
 
+// Smith masking G1(w) for a unit direction w in the tangent frame (normal +Z) and GGX α;
+// 0 below the surface.
 fn ggx_g1(w: vec3<f32>, alpha: f32) -> f32 {
     if (w.z <= 0.0) {
         return 0.0;
@@ -31,6 +35,8 @@ fn ggx_g1(w: vec3<f32>, alpha: f32) -> f32 {
     return 2.0 / (1.0 + sqrt(1.0 + ggx_a_term(w, alpha)));
 }
 
+// Height-correlated masking-shadowing G2(v, l) for unit view v and light l in the tangent
+// frame (normal +Z) and GGX α; 0 when either is below the surface.
 fn ggx_g2(v: vec3<f32>, l: vec3<f32>, alpha: f32) -> f32 {
     if (v.z <= 0.0 || l.z <= 0.0) {
         return 0.0;

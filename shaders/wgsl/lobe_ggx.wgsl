@@ -32,6 +32,9 @@ fn lobe_ggx_locate(x: f32, size: i32) -> vec2<f32> {
     return vec2<f32>(i, t - i);
 }
 
+// Per pixel: where (n·v, √α) falls in the per-lobe table `tab` (texture_2d_array, rg32float,
+// the layout above) for unit normal n and view v in the frame the lobe axes live in, and GGX α
+// (= perceptual roughness², clamped to the table). Feed the result to `lobe_ggx_lobe` per lobe.
 fn lobe_ggx_pixel(tab: texture_2d_array<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32) -> LobeGgxPixel {
     let na = LOBE_GGX_SQRT_ALPHA_NODES;
     let nv_nodes = i32(textureNumLayers(tab)) / na;
@@ -100,6 +103,9 @@ struct LobeGgxFilteredPixel {
     wa: f32,
 }
 
+// Per pixel: the filtered table's texture coordinates (texture_3d, rg16float, the layout
+// above) for unit normal n and view v in the lobe axes' frame, and GGX α (= perceptual
+// roughness²). Feed the result to `lobe_ggx_filtered_lobe` per lobe.
 fn lobe_ggx_filtered_pixel(tab: texture_3d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32) -> LobeGgxFilteredPixel {
     let size = vec3<f32>(textureDimensions(tab));
     let na = LOBE_GGX_SQRT_ALPHA_NODES;

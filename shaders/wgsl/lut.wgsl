@@ -4,6 +4,10 @@
 // centres, computed by hand from textureLoad: hardware filtering interpolates with
 // 8-bit fixed-point weights on many GPUs (≈ 4e-3 relative), far above the 1e-4 the
 // parity tests hold. CPU twin: sbf::recon::lut::Lut2::sample2.
+// The split-sum table `dfg` (luts/dfg.sbflut, read by the SH and SG specular and by
+// ggx_energy_compensation's caller): u = n·v, v = GGX α (roughness², not the perceptual
+// roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
+// ∫ f·cos = f0·x + f90·y (Karis 2013).
 
 fn lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(t));

@@ -46,6 +46,10 @@ struct EncoderState {
     samples: u32,
 }
 
+// One progressive-fit step (seed 004 §7.3): adds sample `value` (RGB radiance) with weight
+// `weight` whose basis functions at the sample direction are b (the first p.lobes used) to
+// `state`, under the update rule and clamping that `p` selects. The host keeps `state`
+// per texel or probe between samples.
 fn progressive_update(state: ptr<function, EncoderState>, p: EncoderParams, b: array<f32, 12>, value: vec3<f32>, weight: f32) {
     var q: array<vec3<f32>, 12>;
     progressive_update_projected(state, p, b, value, weight, q);

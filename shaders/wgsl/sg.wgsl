@@ -74,6 +74,9 @@ struct SgAsgWarp {
     tail: f32,
 }
 
+// Per pixel for the ASG-warp specular: unit normal n and view v in the lobes' frame, GGX
+// α_in (= perceptual roughness², held ≥ 1e-4) and Fresnel f0, f90. Then `sg_asg_lobe` per
+// light lobe; the result is radiance reflected per unit lobe amplitude.
 fn sg_asg_warp(n: vec3<f32>, v: vec3<f32>, alpha_in: f32, f0: f32, f90: f32) -> SgAsgWarp {
     let alpha = clamp(alpha_in, 1e-4, 1.0);
     let a2 = alpha * alpha;
@@ -127,6 +130,9 @@ struct SgSplitSum {
     scale: f32,
 }
 
+// Per pixel for the split-sum SG specular: `dfg` the split-sum table (rg32float, see
+// lut.wgsl: u = n·v, v = GGX α), unit normal n and view v in the lobes' frame, GGX α_in
+// (= perceptual roughness²) and Fresnel f0, f90. Then `sg_split_sum_lobe` per light lobe.
 fn sg_split_sum_setup(dfg: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha_in: f32, f0: f32, f90: f32) -> SgSplitSum {
     let alpha = clamp(alpha_in, 1e-4, 1.0);
     let nv = max(dot(n, v), SG_NV_EPSILON);

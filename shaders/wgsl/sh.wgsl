@@ -1,7 +1,10 @@
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -28,10 +31,14 @@ const SH_BAND1: f32 = 2.0 / 3.0;
 const SH_BAND2: f32 = 0.25;
 const SH_BAND4: f32 = -1.0 / 24.0;
 
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 fn sh_eval_l1(d: vec3<f32>) -> array<f32, 4> {
     return array<f32, 4>(SH_K00, SH_K1 * d.y, SH_K1 * d.z, SH_K1 * d.x);
 }
 
+// The 9 real SH basis functions of bands 0–2 at unit direction d (index l(l+1)+m: band 1
+// is +K·(y, z, x), band 2 ∝ xy, yz, 3z²−1, xz, x²−y²); no Condon–Shortley phase.
 fn sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     let x = d.x;
     let y = d.y;
@@ -42,6 +49,8 @@ fn sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     );
 }
 
+// The 25 real SH basis functions of bands 0–4 at unit direction d (index l(l+1)+m); no
+// Condon–Shortley phase.
 fn sh_eval_l4(d: vec3<f32>) -> array<f32, 25> {
     let x = d.x;
     let y = d.y;
@@ -67,6 +76,8 @@ fn sh_l1_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SH_BAND1;
 }
 
+// E/π (irradiance over π) at unit normal n from 9 RGB SH L2 radiance coefficients c (this
+// file's order and signs, the same frame as n): Σ Â_l c_lm Y_lm(n), Â = 1, 2/3, 1/4.
 fn sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     let y = sh_eval_l2(n);
     var b1 = vec3<f32>(0.0);
@@ -80,6 +91,8 @@ fn sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     return c[0] * y[0] + b1 * SH_BAND1 + b2 * SH_BAND2;
 }
 
+// E/π at unit normal n from 25 RGB SH L4 radiance coefficients c (same frame as n); bands 3
+// and 4 of the clamped cosine are 0 and −1/24.
 fn sh_l4_irradiance(c: array<vec3<f32>, 25>, n: vec3<f32>) -> vec3<f32> {
     let y = sh_eval_l4(n);
     var b1 = vec3<f32>(0.0);
@@ -113,6 +126,8 @@ fn sh_l1_geomerics_channel(c0: f32, c1: vec3<f32>, n: vec3<f32>) -> f32 {
     return r0 * (a + (1.0 - a) * (p + 1.0) * pow(max(q, 0.0), p));
 }
 
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c (same frame as n) by the
+// non-linear reconstruction described above, per channel.
 fn sh_l1_geomerics_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     // Band-1 coefficient order is (y, z, x): the linear term is (c3, c1, c2).
     return vec3<f32>(
@@ -127,6 +142,8 @@ fn sh_l1_geomerics_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32>
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
 const SH_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
 
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c plus the ZH3 band-2 term
+// described above (same frame as n).
 fn sh_l1_zh3_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     // Band-1 vector per channel is (c3, c1, c2); each component below is an RGB triple.
     let lum = vec3<f32>(dot(c[3], SH_LUMINANCE), dot(c[1], SH_LUMINANCE), dot(c[2], SH_LUMINANCE));

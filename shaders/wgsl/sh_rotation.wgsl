@@ -103,6 +103,8 @@ fn sh_rotate_bands(c: array<vec3<f32>, 25>, order: i32, r: mat3x3<f32>) -> array
     return out;
 }
 
+// The 4 RGB SH L1 coefficients c of a signal f, rotated by the rotation matrix r: the
+// coefficients of f(rᵀ ω) (column-major r, as mat3x3 multiplies column vectors).
 fn sh_rotate_l1(c: array<vec3<f32>, 4>, r: mat3x3<f32>) -> array<vec3<f32>, 4> {
     var full: array<vec3<f32>, 25>;
     var src = c;
@@ -113,6 +115,8 @@ fn sh_rotate_l1(c: array<vec3<f32>, 4>, r: mat3x3<f32>) -> array<vec3<f32>, 4> {
     return array<vec3<f32>, 4>(o[0], o[1], o[2], o[3]);
 }
 
+// The 9 RGB SH L2 coefficients c of a signal f, rotated by the rotation matrix r (as
+// `sh_rotate_l1`).
 fn sh_rotate_l2(c: array<vec3<f32>, 9>, r: mat3x3<f32>) -> array<vec3<f32>, 9> {
     var full: array<vec3<f32>, 25>;
     var src = c;
@@ -127,6 +131,8 @@ fn sh_rotate_l2(c: array<vec3<f32>, 9>, r: mat3x3<f32>) -> array<vec3<f32>, 9> {
     return out;
 }
 
+// The 25 RGB SH L4 coefficients c of a signal f, rotated by the rotation matrix r (as
+// `sh_rotate_l1`).
 fn sh_rotate_l4(c: array<vec3<f32>, 25>, r: mat3x3<f32>) -> array<vec3<f32>, 25> {
     return sh_rotate_bands(c, 4, r);
 }

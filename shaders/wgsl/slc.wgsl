@@ -212,6 +212,8 @@ struct SlcCullEllipsoid {
     center: vec3<f32>,
 }
 
+// The ellipsoid e (world space) as the culling test needs it in view space: view the
+// world-to-view rotation, origin the world origin in view space (x_view = view·x + origin).
 fn slc_cull_transform(e: SlcEllipsoid, view: mat3x3<f32>, origin: vec3<f32>) -> SlcCullEllipsoid {
     let axes = view * e.axes;
     let s = slc_stretching(SlcEllipsoid(vec3<f32>(0.0), axes, e.radii));

@@ -4,8 +4,10 @@
 // placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
 #include "sbf_ad12.glsl"
 
-// Shades with every public function of the library: n and v unit (world space), alpha
-// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+// Shades with every public function of the library: n and v unit vectors in the frame of the
+// coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent
+// frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
+// coefficients (xyz) an engine reads from its lightmap or probes.
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], texture2D lut) {
     vec3 result = vec3(0.0);
     {

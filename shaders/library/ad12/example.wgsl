@@ -2,8 +2,10 @@
 // placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
 // WGSL has no #include: this file follows sbf_ad12.wgsl (naga validates the two together).
 
-// Shades with every public function of the library: n and v unit (world space), alpha
-// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+// Shades with every public function of the library: n and v unit vectors in the frame of the
+// coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent
+// frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
+// coefficients (xyz) an engine reads from its lightmap or probes.
 fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<f32>, 36>, lut: texture_2d<f32>) -> vec3<f32> {
     var result = vec3<f32>(0.0);
     {

@@ -50,6 +50,10 @@ const SBF_AD12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
 // centres, computed by hand from textureLoad: hardware filtering interpolates with
 // 8-bit fixed-point weights on many GPUs (≈ 4e-3 relative), far above the 1e-4 the
 // parity tests hold. CPU twin: sbf::recon::lut::Lut2::sample2.
+// The split-sum table `dfg` (luts/dfg.sbflut, read by the SH and SG specular and by
+// ggx_energy_compensation's caller): u = n·v, v = GGX α (roughness², not the perceptual
+// roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
+// ∫ f·cos = f0·x + f90·y (Karis 2013).
 
 fn sbf_lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(t));
@@ -124,6 +128,8 @@ fn sbf_ad_specular_scale(lut: texture_2d<f32>, n_dot_v: f32, alpha: f32, f0: f32
     return f0 * l.x + f90 * l.y;
 }
 
+// E/π at unit normal n from 12 RGB Ambient Dice radiance coefficients c on the icosahedron
+// axes AD12_AXES (the probes' sphere; n in the same frame as the axes, world space).
 fn sbf_ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 12; i++) {
@@ -132,6 +138,10 @@ fn sbf_ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
+// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
+// (= perceptual roughness²) and Fresnel f0, f90.
 fn sbf_ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = sbf_ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);

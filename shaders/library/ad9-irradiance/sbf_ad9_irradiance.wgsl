@@ -43,6 +43,9 @@ fn sbf_ad_lobe_irradiance(axis: vec3<f32>, n: vec3<f32>) -> f32 {
     return p.x + x * (p.y + x * p.z);
 }
 
+// E/π at unit normal n from 9 RGB Ambient Dice radiance coefficients c on the hemisphere
+// axes AD9_AXES, which live in the lightmap texel's tangent frame (+Z the texel's normal): n
+// in that frame (+Z for the texel's own normal).
 fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 9; i++) {

@@ -47,6 +47,10 @@ const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
 // centres, computed by hand from textureLoad: hardware filtering interpolates with
 // 8-bit fixed-point weights on many GPUs (≈ 4e-3 relative), far above the 1e-4 the
 // parity tests hold. CPU twin: sbf::recon::lut::Lut2::sample2.
+// The split-sum table `dfg` (luts/dfg.sbflut, read by the SH and SG specular and by
+// ggx_energy_compensation's caller): u = n·v, v = GGX α (roughness², not the perceptual
+// roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
+// ∫ f·cos = f0·x + f90·y (Karis 2013).
 
 fn sbf_lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(t));
@@ -121,6 +125,9 @@ fn sbf_ad_specular_scale(lut: texture_2d<f32>, n_dot_v: f32, alpha: f32, f0: f32
     return f0 * l.x + f90 * l.y;
 }
 
+// E/π at unit normal n from 9 RGB Ambient Dice radiance coefficients c on the hemisphere
+// axes AD9_AXES, which live in the lightmap texel's tangent frame (+Z the texel's normal): n
+// in that frame (+Z for the texel's own normal).
 fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 9; i++) {
@@ -129,6 +136,8 @@ fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
+// tangent frame): as `ad12_specular`, with n and v in that frame.
 fn sbf_ad9_specular(c: array<vec3<f32>, 9>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = sbf_ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);

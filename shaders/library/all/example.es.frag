@@ -7,8 +7,10 @@ precision highp int;
 // sbf_all.es.glsl here.
 #include "sbf_all.es.glsl"
 
-// Shades with every public function of the library: n and v unit (world space), alpha
-// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+// Shades with every public function of the library: n and v unit vectors in the frame of the
+// coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent
+// frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
+// coefficients (xyz) an engine reads from its lightmap or probes.
 // Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
 vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], highp sampler2D lut, highp sampler2DArray lobe_table, highp sampler3D lobe_volume) {
     vec3 result = vec3(0.0);

@@ -81,6 +81,8 @@ const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
 // Λ = a/(2(1 + √(1 + a))), a = α² tan²θ; G1 = 2/(1 + √(1 + a)); height-correlated
 // G2 = 1/(1 + Λ(v) + Λ(l)) (Heitz 2014, "Understanding the Masking-Shadowing Function").
 
+// GGX normal distribution D(h) for a unit half vector h in the tangent frame (normal +Z)
+// and GGX α (= perceptual roughness²), per steradian of h.
 fn sbf_ggx_d(h: vec3<f32>, alpha: f32) -> f32 {
     if (h.z <= 0.0) {
         return 0.0;
@@ -101,6 +103,8 @@ fn sbf_ggx_lambda(w: vec3<f32>, alpha: f32) -> f32 {
     return a / (2.0 * (1.0 + sqrt(1.0 + a)));
 }
 
+// Smith masking G1(w) for a unit direction w in the tangent frame (normal +Z) and GGX α;
+// 0 below the surface.
 fn sbf_ggx_g1(w: vec3<f32>, alpha: f32) -> f32 {
     if (w.z <= 0.0) {
         return 0.0;
@@ -108,6 +112,8 @@ fn sbf_ggx_g1(w: vec3<f32>, alpha: f32) -> f32 {
     return 2.0 / (1.0 + sqrt(1.0 + sbf_ggx_a_term(w, alpha)));
 }
 
+// Height-correlated masking-shadowing G2(v, l) for unit view v and light l in the tangent
+// frame (normal +Z) and GGX α; 0 when either is below the surface.
 fn sbf_ggx_g2(v: vec3<f32>, l: vec3<f32>, alpha: f32) -> f32 {
     if (v.z <= 0.0 || l.z <= 0.0) {
         return 0.0;
@@ -140,6 +146,10 @@ fn sbf_ggx_energy_compensation(dfg: vec2<f32>, f0: f32) -> f32 {
 // centres, computed by hand from textureLoad: hardware filtering interpolates with
 // 8-bit fixed-point weights on many GPUs (≈ 4e-3 relative), far above the 1e-4 the
 // parity tests hold. CPU twin: sbf::recon::lut::Lut2::sample2.
+// The split-sum table `dfg` (luts/dfg.sbflut, read by the SH and SG specular and by
+// ggx_energy_compensation's caller): u = n·v, v = GGX α (roughness², not the perceptual
+// roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
+// ∫ f·cos = f0·x + f90·y (Karis 2013).
 
 fn sbf_lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(t));
@@ -193,6 +203,9 @@ fn sbf_lobe_ggx_locate(x: f32, size: i32) -> vec2<f32> {
     return vec2<f32>(i, t - i);
 }
 
+// Per pixel: where (n·v, √α) falls in the per-lobe table `tab` (texture_2d_array, rg32float,
+// the layout above) for unit normal n and view v in the frame the lobe axes live in, and GGX α
+// (= perceptual roughness², clamped to the table). Feed the result to `lobe_ggx_lobe` per lobe.
 fn sbf_lobe_ggx_pixel(tab: texture_2d_array<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32) -> SbfLobeGgxPixel {
     let na = SBF_LOBE_GGX_SQRT_ALPHA_NODES;
     let nv_nodes = i32(textureNumLayers(tab)) / na;
@@ -261,6 +274,9 @@ struct SbfLobeGgxFilteredPixel {
     wa: f32,
 }
 
+// Per pixel: the filtered table's texture coordinates (texture_3d, rg16float, the layout
+// above) for unit normal n and view v in the lobe axes' frame, and GGX α (= perceptual
+// roughness²). Feed the result to `lobe_ggx_filtered_lobe` per lobe.
 fn sbf_lobe_ggx_filtered_pixel(tab: texture_3d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32) -> SbfLobeGgxFilteredPixel {
     let size = vec3<f32>(textureDimensions(tab));
     let na = SBF_LOBE_GGX_SQRT_ALPHA_NODES;
@@ -293,9 +309,12 @@ fn sbf_lobe_ggx_filtered_lobe(tab: texture_3d<f32>, smp: sampler, px: SbfLobeGgx
 }
 
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -340,10 +359,14 @@ const SBF_SH_BAND2: f32 = 0.25;
 
 const SBF_SH_BAND4: f32 = -1.0 / 24.0;
 
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 fn sbf_sh_eval_l1(d: vec3<f32>) -> array<f32, 4> {
     return array<f32, 4>(SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
 
+// The 9 real SH basis functions of bands 0–2 at unit direction d (index l(l+1)+m: band 1
+// is +K·(y, z, x), band 2 ∝ xy, yz, 3z²−1, xz, x²−y²); no Condon–Shortley phase.
 fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     let x = d.x;
     let y = d.y;
@@ -354,6 +377,8 @@ fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     );
 }
 
+// The 25 real SH basis functions of bands 0–4 at unit direction d (index l(l+1)+m); no
+// Condon–Shortley phase.
 fn sbf_sh_eval_l4(d: vec3<f32>) -> array<f32, 25> {
     let x = d.x;
     let y = d.y;
@@ -379,6 +404,8 @@ fn sbf_sh_l1_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     return c[0] * y[0] + (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]) * SBF_SH_BAND1;
 }
 
+// E/π (irradiance over π) at unit normal n from 9 RGB SH L2 radiance coefficients c (this
+// file's order and signs, the same frame as n): Σ Â_l c_lm Y_lm(n), Â = 1, 2/3, 1/4.
 fn sbf_sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     let y = sbf_sh_eval_l2(n);
     var b1 = vec3<f32>(0.0);
@@ -392,6 +419,8 @@ fn sbf_sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     return c[0] * y[0] + b1 * SBF_SH_BAND1 + b2 * SBF_SH_BAND2;
 }
 
+// E/π at unit normal n from 25 RGB SH L4 radiance coefficients c (same frame as n); bands 3
+// and 4 of the clamped cosine are 0 and −1/24.
 fn sbf_sh_l4_irradiance(c: array<vec3<f32>, 25>, n: vec3<f32>) -> vec3<f32> {
     let y = sbf_sh_eval_l4(n);
     var b1 = vec3<f32>(0.0);
@@ -425,6 +454,8 @@ fn sbf_sh_l1_geomerics_channel(c0: f32, c1: vec3<f32>, n: vec3<f32>) -> f32 {
     return r0 * (a + (1.0 - a) * (p + 1.0) * pow(max(q, 0.0), p));
 }
 
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c (same frame as n) by the
+// non-linear reconstruction described above, per channel.
 fn sbf_sh_l1_geomerics_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     // Band-1 coefficient order is (y, z, x): the linear term is (c3, c1, c2).
     return vec3<f32>(
@@ -439,6 +470,8 @@ fn sbf_sh_l1_geomerics_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
 const SBF_SH_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
 
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c plus the ZH3 band-2 term
+// described above (same frame as n).
 fn sbf_sh_l1_zh3_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     // Band-1 vector per channel is (c3, c1, c2); each component below is an RGB triple.
     let lum = vec3<f32>(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));
@@ -611,6 +644,8 @@ fn sbf_sh_rotate_bands(c: array<vec3<f32>, 25>, order: i32, r: mat3x3<f32>) -> a
     return out;
 }
 
+// The 4 RGB SH L1 coefficients c of a signal f, rotated by the rotation matrix r: the
+// coefficients of f(rᵀ ω) (column-major r, as mat3x3 multiplies column vectors).
 fn sbf_sh_rotate_l1(c: array<vec3<f32>, 4>, r: mat3x3<f32>) -> array<vec3<f32>, 4> {
     var full: array<vec3<f32>, 25>;
     var src = c;
@@ -621,6 +656,8 @@ fn sbf_sh_rotate_l1(c: array<vec3<f32>, 4>, r: mat3x3<f32>) -> array<vec3<f32>, 
     return array<vec3<f32>, 4>(o[0], o[1], o[2], o[3]);
 }
 
+// The 9 RGB SH L2 coefficients c of a signal f, rotated by the rotation matrix r (as
+// `sh_rotate_l1`).
 fn sbf_sh_rotate_l2(c: array<vec3<f32>, 9>, r: mat3x3<f32>) -> array<vec3<f32>, 9> {
     var full: array<vec3<f32>, 25>;
     var src = c;
@@ -635,6 +672,8 @@ fn sbf_sh_rotate_l2(c: array<vec3<f32>, 9>, r: mat3x3<f32>) -> array<vec3<f32>, 
     return out;
 }
 
+// The 25 RGB SH L4 coefficients c of a signal f, rotated by the rotation matrix r (as
+// `sh_rotate_l1`).
 fn sbf_sh_rotate_l4(c: array<vec3<f32>, 25>, r: mat3x3<f32>) -> array<vec3<f32>, 25> {
     return sbf_sh_rotate_bands(c, 4, r);
 }
@@ -715,6 +754,9 @@ struct SbfSgAsgWarp {
     tail: f32,
 }
 
+// Per pixel for the ASG-warp specular: unit normal n and view v in the lobes' frame, GGX
+// α_in (= perceptual roughness², held ≥ 1e-4) and Fresnel f0, f90. Then `sg_asg_lobe` per
+// light lobe; the result is radiance reflected per unit lobe amplitude.
 fn sbf_sg_asg_warp(n: vec3<f32>, v: vec3<f32>, alpha_in: f32, f0: f32, f90: f32) -> SbfSgAsgWarp {
     let alpha = clamp(alpha_in, 1e-4, 1.0);
     let a2 = alpha * alpha;
@@ -768,6 +810,9 @@ struct SbfSgSplitSum {
     scale: f32,
 }
 
+// Per pixel for the split-sum SG specular: `dfg` the split-sum table (rg32float, see
+// lut.wgsl: u = n·v, v = GGX α), unit normal n and view v in the lobes' frame, GGX α_in
+// (= perceptual roughness²) and Fresnel f0, f90. Then `sg_split_sum_lobe` per light lobe.
 fn sbf_sg_split_sum_setup(dfg: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha_in: f32, f0: f32, f90: f32) -> SbfSgSplitSum {
     let alpha = clamp(alpha_in, 1e-4, 1.0);
     let nv = max(dot(n, v), SBF_SG_NV_EPSILON);
@@ -818,6 +863,7 @@ fn sbf_ad_srbf_lobe(c: f32) -> f32 {
     return x2 * (0.35 + 0.25 * x2);
 }
 
+// One Ambient Dice SRBF lobe with unit axis `axis` evaluated at unit direction v.
 fn sbf_ad_srbf_eval(axis: vec3<f32>, v: vec3<f32>) -> f32 {
     return sbf_ad_srbf_lobe(dot(axis, v));
 }
@@ -862,6 +908,8 @@ fn sbf_ad_specular_scale(lut: texture_2d<f32>, n_dot_v: f32, alpha: f32, f0: f32
     return f0 * l.x + f90 * l.y;
 }
 
+// E/π at unit normal n from 12 RGB Ambient Dice radiance coefficients c on the icosahedron
+// axes AD12_AXES (the probes' sphere; n in the same frame as the axes, world space).
 fn sbf_ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 12; i++) {
@@ -870,6 +918,9 @@ fn sbf_ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// E/π at unit normal n from 9 RGB Ambient Dice radiance coefficients c on the hemisphere
+// axes AD9_AXES, which live in the lightmap texel's tangent frame (+Z the texel's normal): n
+// in that frame (+Z for the texel's own normal).
 fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 9; i++) {
@@ -878,6 +929,10 @@ fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
+// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
+// (= perceptual roughness²) and Fresnel f0, f90.
 fn sbf_ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = sbf_ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);
@@ -887,6 +942,8 @@ fn sbf_ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>
     return s * sbf_ad_specular_scale(lut, dot(n, v), alpha, f0, f90);
 }
 
+// GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
+// tangent frame): as `ad12_specular`, with n and v in that frame.
 fn sbf_ad9_specular(c: array<vec3<f32>, 9>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = sbf_ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);
@@ -933,6 +990,8 @@ struct SbfAdBezierWeights {
     w: array<vec3<f32>, 3>,
 }
 
+// The icosahedron triangle that unit direction d falls in and its Bézier basis weights
+// (value and two tangent derivatives per vertex), for `ad_bezier_eval`/`ad_ycocg_eval`.
 fn sbf_ad_bezier_weights(d: vec3<f32>) -> SbfAdBezierWeights {
     let loc = sbf_ad_ico_locate(d);
     let b = loc.b;
@@ -1146,8 +1205,9 @@ fn sbf_lightmap_bicubic_taps(uv: vec2<f32>, size: vec2<f32>) -> SbfLightmapTaps 
 
 // engine.wgsl — the directional lightmap formats engines ship, decoded as each engine's
 // published shader does; every function returns E/π (what the engine multiplies by albedo)
-// at the unit shading normal n. Arguments are the textures' values as sampled: the HDR
-// colour and "unit" textures in [0, 1].
+// at the unit shading normal n, in world space: the formats store world-space directions
+// (the baker writes them so), so n is the world-space shading normal, normal map applied.
+// Arguments are the textures' values as sampled: the HDR colour and "unit" textures in [0, 1].
 // CPU twin and sources: sbf::recon::engine (decode; the encodes live there too).
 
 // Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
@@ -1237,6 +1297,10 @@ struct SbfEncoderState {
     samples: u32,
 }
 
+// One progressive-fit step (seed 004 §7.3): adds sample `value` (RGB radiance) with weight
+// `weight` whose basis functions at the sample direction are b (the first p.lobes used) to
+// `state`, under the update rule and clamping that `p` selects. The host keeps `state`
+// per texel or probe between samples.
 fn sbf_progressive_update(state: ptr<function, SbfEncoderState>, p: SbfEncoderParams, b: array<f32, 12>, value: vec3<f32>, weight: f32) {
     var q: array<vec3<f32>, 12>;
     sbf_progressive_update_projected(state, p, b, value, weight, q);
@@ -1516,6 +1580,8 @@ struct SbfSlcCullEllipsoid {
     center: vec3<f32>,
 }
 
+// The ellipsoid e (world space) as the culling test needs it in view space: view the
+// world-to-view rotation, origin the world origin in view space (x_view = view·x + origin).
 fn sbf_slc_cull_transform(e: SbfSlcEllipsoid, view: mat3x3<f32>, origin: vec3<f32>) -> SbfSlcCullEllipsoid {
     let axes = view * e.axes;
     let s = sbf_slc_stretching(SbfSlcEllipsoid(vec3<f32>(0.0), axes, e.radii));

@@ -19,6 +19,21 @@
 //   vec3 sbf_enlighten_irradiance(vec3 colour, vec4 dir, vec3 n)
 //   vec3 sbf_enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n)
 
+// ---- Notes from the WGSL sources (the modules this file holds) ----
+// lightmap.wgsl — reading a lightmap before the runtime: the cubic B-spline filter by four
+// bilinear taps of the hardware sampler (Sigg and Hadwiger 2005, "Fast Third-Order Texture
+// Filtering", GPU Gems 2 ch. 20). Smoother than bilinear across texels, it blurs shadow
+// edges and reaches one texel further — past a chart's padding it can leak (docs/render.md).
+// CPU twin: sbf::recon::lut::bspline_taps.
+//
+// engine.wgsl — the directional lightmap formats engines ship, decoded as each engine's
+// published shader does; every function returns E/π (what the engine multiplies by albedo)
+// at the unit shading normal n, in world space: the formats store world-space directions
+// (the baker writes them so), so n is the world-space shading normal, normal map applied.
+// Arguments are the textures' values as sampled: the HDR colour and "unit" textures in [0, 1].
+// CPU twin and sources: sbf::recon::engine (decode; the encodes live there too).
+//
+
 #ifndef SBF_ENGINE_LIGHTMAPS_GLSL
 #define SBF_ENGINE_LIGHTMAPS_GLSL
 

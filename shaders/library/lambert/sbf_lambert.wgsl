@@ -53,9 +53,12 @@ const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
 );
 
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -74,6 +77,8 @@ const SBF_SH_BAND1: f32 = 2.0 / 3.0;
 
 const SBF_SH_BAND2: f32 = 0.25;
 
+// The 9 real SH basis functions of bands 0–2 at unit direction d (index l(l+1)+m: band 1
+// is +K·(y, z, x), band 2 ∝ xy, yz, 3z²−1, xz, x²−y²); no Condon–Shortley phase.
 fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     let x = d.x;
     let y = d.y;
@@ -84,6 +89,8 @@ fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     );
 }
 
+// E/π (irradiance over π) at unit normal n from 9 RGB SH L2 radiance coefficients c (this
+// file's order and signs, the same frame as n): Σ Â_l c_lm Y_lm(n), Â = 1, 2/3, 1/4.
 fn sbf_sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     let y = sbf_sh_eval_l2(n);
     var b1 = vec3<f32>(0.0);
@@ -169,6 +176,8 @@ fn sbf_ad_lobe_irradiance(axis: vec3<f32>, n: vec3<f32>) -> f32 {
     return p.x + x * (p.y + x * p.z);
 }
 
+// E/π at unit normal n from 12 RGB Ambient Dice radiance coefficients c on the icosahedron
+// axes AD12_AXES (the probes' sphere; n in the same frame as the axes, world space).
 fn sbf_ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 12; i++) {
@@ -177,6 +186,9 @@ fn sbf_ad12_irradiance(c: array<vec3<f32>, 12>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// E/π at unit normal n from 9 RGB Ambient Dice radiance coefficients c on the hemisphere
+// axes AD9_AXES, which live in the lightmap texel's tangent frame (+Z the texel's normal): n
+// in that frame (+Z for the texel's own normal).
 fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 9; i++) {

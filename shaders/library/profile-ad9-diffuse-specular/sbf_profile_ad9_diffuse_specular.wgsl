@@ -49,6 +49,10 @@ const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
 // centres, computed by hand from textureLoad: hardware filtering interpolates with
 // 8-bit fixed-point weights on many GPUs (≈ 4e-3 relative), far above the 1e-4 the
 // parity tests hold. CPU twin: sbf::recon::lut::Lut2::sample2.
+// The split-sum table `dfg` (luts/dfg.sbflut, read by the SH and SG specular and by
+// ggx_energy_compensation's caller): u = n·v, v = GGX α (roughness², not the perceptual
+// roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
+// ∫ f·cos = f0·x + f90·y (Karis 2013).
 
 fn sbf_lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(t));
@@ -69,9 +73,12 @@ fn sbf_lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
 }
 
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -90,10 +97,14 @@ const SBF_SH_BAND1: f32 = 2.0 / 3.0;
 
 const SBF_SH_BAND2: f32 = 0.25;
 
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 fn sbf_sh_eval_l1(d: vec3<f32>) -> array<f32, 4> {
     return array<f32, 4>(SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
 
+// The 9 real SH basis functions of bands 0–2 at unit direction d (index l(l+1)+m: band 1
+// is +K·(y, z, x), band 2 ∝ xy, yz, 3z²−1, xz, x²−y²); no Condon–Shortley phase.
 fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     let x = d.x;
     let y = d.y;
@@ -104,6 +115,8 @@ fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     );
 }
 
+// E/π (irradiance over π) at unit normal n from 9 RGB SH L2 radiance coefficients c (this
+// file's order and signs, the same frame as n): Σ Â_l c_lm Y_lm(n), Â = 1, 2/3, 1/4.
 fn sbf_sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     let y = sbf_sh_eval_l2(n);
     var b1 = vec3<f32>(0.0);
@@ -226,6 +239,9 @@ fn sbf_ad_specular_scale(lut: texture_2d<f32>, n_dot_v: f32, alpha: f32, f0: f32
     return f0 * l.x + f90 * l.y;
 }
 
+// E/π at unit normal n from 9 RGB Ambient Dice radiance coefficients c on the hemisphere
+// axes AD9_AXES, which live in the lightmap texel's tangent frame (+Z the texel's normal): n
+// in that frame (+Z for the texel's own normal).
 fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var i = 0; i < 9; i++) {
@@ -234,6 +250,8 @@ fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
+// tangent frame): as `ad12_specular`, with n and v in that frame.
 fn sbf_ad9_specular(c: array<vec3<f32>, 9>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
     let f = sbf_ad_specular_fit(n, v, alpha);
     var s = vec3<f32>(0.0);

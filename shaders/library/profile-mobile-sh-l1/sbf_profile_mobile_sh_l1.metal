@@ -12,6 +12,21 @@
 // Functions (the same names and parameters in every language; each is documented below):
 //   float3 sbf_sh_l1_irradiance(array<float3, 4> c, float3 n)
 
+// ---- Notes from the WGSL sources (the modules this file holds) ----
+// common.wgsl — shared constants. Conventions: right-handed, +Y up in world space,
+// tangent space normal +Z; irradiance is E/π; coefficients are RGB vec3<f32>.
+//
+// sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
+// CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
+// sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
+//
+
 #ifndef SBF_PROFILE_MOBILE_SH_L1_METAL
 #define SBF_PROFILE_MOBILE_SH_L1_METAL
 
@@ -41,6 +56,8 @@ constant float SBF_SH_BAND1 = 0.6666667f; // 2.0 / 3.0
 
 #ifndef SBF_DEFINED_sbf_sh_eval_l1
 #define SBF_DEFINED_sbf_sh_eval_l1
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 inline array<float, 4> sbf_sh_eval_l1(float3 d) {
     return array<float, 4>{SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x};
 }

@@ -13,9 +13,12 @@
 const SBF_PI: f32 = 3.14159265358979;
 
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -26,6 +29,8 @@ const SBF_SH_K1: f32 = sqrt(3.0 / (4.0 * SBF_PI));
 // A_l/π (Ramamoorthi & Hanrahan 2001): E/π band factors 1, 2/3, 1/4, 0, −1/24.
 const SBF_SH_BAND1: f32 = 2.0 / 3.0;
 
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 fn sbf_sh_eval_l1(d: vec3<f32>) -> array<f32, 4> {
     return array<f32, 4>(SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }

@@ -29,6 +29,10 @@ const SBF_HILL_C0: f32 = 0.365201309;
 // centres, computed by hand from textureLoad: hardware filtering interpolates with
 // 8-bit fixed-point weights on many GPUs (≈ 4e-3 relative), far above the 1e-4 the
 // parity tests hold. CPU twin: sbf::recon::lut::Lut2::sample2.
+// The split-sum table `dfg` (luts/dfg.sbflut, read by the SH and SG specular and by
+// ggx_energy_compensation's caller): u = n·v, v = GGX α (roughness², not the perceptual
+// roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
+// ∫ f·cos = f0·x + f90·y (Karis 2013).
 
 fn sbf_lut2_sample(t: texture_2d<f32>, u: f32, v: f32) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(t));
@@ -120,6 +124,9 @@ struct SbfSgSplitSum {
     scale: f32,
 }
 
+// Per pixel for the split-sum SG specular: `dfg` the split-sum table (rg32float, see
+// lut.wgsl: u = n·v, v = GGX α), unit normal n and view v in the lobes' frame, GGX α_in
+// (= perceptual roughness²) and Fresnel f0, f90. Then `sg_split_sum_lobe` per light lobe.
 fn sbf_sg_split_sum_setup(dfg: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha_in: f32, f0: f32, f90: f32) -> SbfSgSplitSum {
     let alpha = clamp(alpha_in, 1e-4, 1.0);
     let nv = max(dot(n, v), SBF_SG_NV_EPSILON);

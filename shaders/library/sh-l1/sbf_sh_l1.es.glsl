@@ -18,6 +18,21 @@
 //   vec3 sbf_sh_l1_geomerics_irradiance(vec3 c[4], vec3 n)
 //   vec3 sbf_sh_l1_zh3_irradiance(vec3 c[4], vec3 n)
 
+// ---- Notes from the WGSL sources (the modules this file holds) ----
+// common.wgsl — shared constants. Conventions: right-handed, +Y up in world space,
+// tangent space normal +Z; irradiance is E/π; coefficients are RGB vec3<f32>.
+//
+// sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
+// CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
+// sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
+//
+
 #ifndef SBF_SH_L1_ES_GLSL
 #define SBF_SH_L1_ES_GLSL
 
@@ -49,6 +64,8 @@ const float SBF_SH_BAND2 = 0.25;
 
 #ifndef SBF_DEFINED_sbf_sh_eval_l1
 #define SBF_DEFINED_sbf_sh_eval_l1
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 float[4] sbf_sh_eval_l1(vec3 d) {
     return float[4](SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
@@ -84,6 +101,8 @@ float sbf_sh_l1_geomerics_channel(float c0, vec3 c1, vec3 n) {
 
 #ifndef SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
 #define SBF_DEFINED_sbf_sh_l1_geomerics_irradiance
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c (same frame as n) by the
+// non-linear reconstruction described above, per channel.
 vec3 sbf_sh_l1_geomerics_irradiance(vec3 c[4], vec3 n) {
     return vec3(sbf_sh_l1_geomerics_channel(c[0].x, vec3(c[3].x, c[1].x, c[2].x), n), sbf_sh_l1_geomerics_channel(c[0].y, vec3(c[3].y, c[1].y, c[2].y), n), sbf_sh_l1_geomerics_channel(c[0].z, vec3(c[3].z, c[1].z, c[2].z), n));
 }
@@ -99,6 +118,8 @@ const vec3 SBF_SH_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
 
 #ifndef SBF_DEFINED_sbf_sh_l1_zh3_irradiance
 #define SBF_DEFINED_sbf_sh_l1_zh3_irradiance
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c plus the ZH3 band-2 term
+// described above (same frame as n).
 vec3 sbf_sh_l1_zh3_irradiance(vec3 c[4], vec3 n) {
     vec3 lum = vec3(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));
     float len2 = dot(lum, lum);

@@ -13,9 +13,12 @@
 const SBF_PI: f32 = 3.14159265358979;
 
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -28,6 +31,8 @@ const SBF_SH_BAND1: f32 = 2.0 / 3.0;
 
 const SBF_SH_BAND2: f32 = 0.25;
 
+// The 4 real SH basis functions of bands 0–1 at unit direction d, in the order
+// Y00, Y1−1 (∝ y), Y10 (∝ z), Y11 (∝ x); no Condon–Shortley phase (band 1 is +K·(y, z, x)).
 fn sbf_sh_eval_l1(d: vec3<f32>) -> array<f32, 4> {
     return array<f32, 4>(SBF_SH_K00, SBF_SH_K1 * d.y, SBF_SH_K1 * d.z, SBF_SH_K1 * d.x);
 }
@@ -54,6 +59,8 @@ fn sbf_sh_l1_geomerics_channel(c0: f32, c1: vec3<f32>, n: vec3<f32>) -> f32 {
     return r0 * (a + (1.0 - a) * (p + 1.0) * pow(max(q, 0.0), p));
 }
 
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c (same frame as n) by the
+// non-linear reconstruction described above, per channel.
 fn sbf_sh_l1_geomerics_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     // Band-1 coefficient order is (y, z, x): the linear term is (c3, c1, c2).
     return vec3<f32>(
@@ -68,6 +75,8 @@ fn sbf_sh_l1_geomerics_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<
 // axis of the band-1 vectors, with coefficient c0·(0.08 r + 0.6 r²), r = |L1·axis|/c0.
 const SBF_SH_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
 
+// E/π at unit normal n from 4 RGB SH L1 radiance coefficients c plus the ZH3 band-2 term
+// described above (same frame as n).
 fn sbf_sh_l1_zh3_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
     // Band-1 vector per channel is (c3, c1, c2); each component below is an RGB triple.
     let lum = vec3<f32>(dot(c[3], SBF_SH_LUMINANCE), dot(c[1], SBF_SH_LUMINANCE), dot(c[2], SBF_SH_LUMINANCE));

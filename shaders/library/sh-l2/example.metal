@@ -2,8 +2,10 @@
 // placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).
 #include "sbf_sh_l2.metal"
 
-// Shades with every public function of the library: n and v unit (world space), alpha
-// GGX α, coefficients the RGB coefficients (xyz) an engine reads from its lightmap or probes.
+// Shades with every public function of the library: n and v unit vectors in the frame of the
+// coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent
+// frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
+// coefficients (xyz) an engine reads from its lightmap or probes.
 inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coefficients) {
     float3 result = float3(0.0f);
     {

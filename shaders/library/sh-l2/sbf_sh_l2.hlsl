@@ -12,6 +12,21 @@
 // Functions (the same names and parameters in every language; each is documented below):
 //   float3 sbf_sh_l2_irradiance(float3 c[9], float3 n)
 
+// ---- Notes from the WGSL sources (the modules this file holds) ----
+// common.wgsl — shared constants. Conventions: right-handed, +Y up in world space,
+// tangent space normal +Z; irradiance is E/π; coefficients are RGB vec3<f32>.
+//
+// sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
+// CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
+// sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
+//
+
 #ifndef SBF_SH_L2_HLSL
 #define SBF_SH_L2_HLSL
 
@@ -63,6 +78,8 @@ static const float SBF_SH_BAND2 = 0.25;
 
 #ifndef SBF_DEFINED_sbf_sh_eval_l2
 #define SBF_DEFINED_sbf_sh_eval_l2
+// The 9 real SH basis functions of bands 0–2 at unit direction d (index l(l+1)+m: band 1
+// is +K·(y, z, x), band 2 ∝ xy, yz, 3z²−1, xz, x²−y²); no Condon–Shortley phase.
 sbf_float_array9 sbf_sh_eval_l2(float3 d) {
     float x = d.x;
     float y = d.y;
@@ -74,6 +91,8 @@ sbf_float_array9 sbf_sh_eval_l2(float3 d) {
 
 #ifndef SBF_DEFINED_sbf_sh_l2_irradiance
 #define SBF_DEFINED_sbf_sh_l2_irradiance
+// E/π (irradiance over π) at unit normal n from 9 RGB SH L2 radiance coefficients c (this
+// file's order and signs, the same frame as n): Σ Â_l c_lm Y_lm(n), Â = 1, 2/3, 1/4.
 float3 sbf_sh_l2_irradiance(float3 c[9], float3 n) {
     float y[9] = sbf_sh_eval_l2(n);
     float3 b1 = ((float3)0.0);

@@ -13,9 +13,12 @@
 const SBF_PI: f32 = 3.14159265358979;
 
 // sh.wgsl — real spherical harmonics up to band 4 and their Lambert irradiance.
-// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m. The
-// Cartesian forms follow Sloan, "Stupid Spherical Harmonics Tricks" (2008), App. A2,
-// with the CS sign dropped; constants are written as their closed forms.
+// Convention (sbf): orthonormal, no Condon–Shortley phase, index l(l+1)+m: band 1 is
+// +K₁·(y, z, x) (m = −1, 0, 1). Code that keeps the phase (BakingLab's SH.hlsl, for one)
+// has the opposite sign on every odd-m function (band 1's y and x, band 2's yz and xz, …):
+// negate those coefficients when converting. The Cartesian forms follow Sloan, "Stupid
+// Spherical Harmonics Tricks" (2008), App. A2, with the CS sign dropped; constants are
+// written as their closed forms.
 // CPU twins: sbf::basis::sh_fast::eval_sh_l{1,2,4}, sbf::recon::runtime::sh_l{1,2,4}_irradiance,
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 
@@ -34,6 +37,8 @@ const SBF_SH_BAND1: f32 = 2.0 / 3.0;
 
 const SBF_SH_BAND2: f32 = 0.25;
 
+// The 9 real SH basis functions of bands 0–2 at unit direction d (index l(l+1)+m: band 1
+// is +K·(y, z, x), band 2 ∝ xy, yz, 3z²−1, xz, x²−y²); no Condon–Shortley phase.
 fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     let x = d.x;
     let y = d.y;
@@ -44,6 +49,8 @@ fn sbf_sh_eval_l2(d: vec3<f32>) -> array<f32, 9> {
     );
 }
 
+// E/π (irradiance over π) at unit normal n from 9 RGB SH L2 radiance coefficients c (this
+// file's order and signs, the same frame as n): Σ Â_l c_lm Y_lm(n), Â = 1, 2/3, 1/4.
 fn sbf_sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     let y = sbf_sh_eval_l2(n);
     var b1 = vec3<f32>(0.0);

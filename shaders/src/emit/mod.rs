@@ -475,6 +475,7 @@ pub fn library(source: &str, module: &naga::Module, info: &ModuleInfo, lang: Lan
     });
     if !opts.bare {
         out.push_str(&header(&ctx, opts, &order)?);
+        out.push_str(&module_notes(source));
         out.push_str(&format!("#ifndef {guard}\n#define {guard}\n\n"));
         match lang {
             Lang::Glsl(Glsl::Vulkan) => out.push_str("#extension GL_EXT_samplerless_texture_functions : require\n\n"),
@@ -521,6 +522,38 @@ fn write_struct(ctx: &Ctx, t: Handle<Type>) -> Result<String, String> {
     Ok(s)
 }
 
+/// The WGSL sources' comments that belong to no item (each module's opening comment: its
+/// conventions, sources and CPU twins; fitgen's note), in source order, for the top of an
+/// export — so that a reader of the HLSL, GLSL or MSL file has what a reader of the WGSL has.
+fn module_notes(source: &str) -> String {
+    let mut blocks: Vec<Vec<&str>> = Vec::new();
+    let mut pending: Vec<&str> = Vec::new();
+    for line in source.lines() {
+        if line.starts_with("//") {
+            pending.push(line);
+            continue;
+        }
+        let item = ["fn ", "const ", "struct ", "alias "].iter().any(|k| line.starts_with(k));
+        if !item && !pending.is_empty() && !pending[0].starts_with("// Composed by") {
+            blocks.push(std::mem::take(&mut pending));
+        }
+        pending.clear();
+    }
+    if blocks.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from("// ---- Notes from the WGSL sources (the modules this file holds) ----\n");
+    for b in blocks {
+        for l in b {
+            s.push_str(l);
+            s.push('\n');
+        }
+        s.push_str("//\n");
+    }
+    s.push('\n');
+    s
+}
+
 /// The file header: what this is, how to include it, its functions and textures.
 fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
     let lang = ctx.lang;
@@ -555,18 +588,19 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
         for a in &f.arguments {
             if let TypeInner::Image { arrayed, dim, .. } = ctx.m.types[a.ty].inner {
                 let an = a.name.clone().unwrap_or_default();
+                let wgsl_name = name.clone();
                 let name = names::exported(names::ItemKind::Function, &name);
                 textures.push(if dim == naga::ImageDimension::D3 {
                     format!(
                         "//   {name}({an}): 3D, rg16float, sampled at mip 0 through {}\n//     (linear min/mag filter, clamp to edge). {}",
                         if lang.combined_samplers() { "its combined sampler" } else { "the sampler parameter" },
-                        texture_note(&name)
+                        texture_note(&wgsl_name, &an)
                     )
                 } else {
                     format!(
                         "//   {name}({an}): {}, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;\n//     bilinear by hand). {}",
                         if arrayed { "2D array" } else { "2D" },
-                        texture_note(&name)
+                        texture_note(&wgsl_name, &an)
                     )
                 });
             }
@@ -595,7 +629,10 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
 }
 
 /// Which table a root function's texture parameter holds.
-fn texture_note(function: &str) -> &'static str {
+fn texture_note(function: &str, parameter: &str) -> &'static str {
+    if parameter == "dfg" {
+        return "The split-sum table luts/dfg.sbflut: u = n·v, v = GGX α (roughness², not the\n//     perceptual roughness Filament's DFG is indexed by); channels (f0 scale, f90 scale).";
+    }
     match function {
         "ad9_specular" | "ad12_specular" => {
             "The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale)."
