@@ -482,9 +482,9 @@ fn bad_gltf_scenes_give_clear_errors() {
 #[test]
 fn scenes_without_gloss_leave_specular_out() {
     let bases = [BasisKind::Ad9, BasisKind::Sg12, BasisKind::ShL2];
-    let (f, l) = runtime_features(&bases, &[]);
+    let (f, l) = runtime_features(&bases, &[], false);
     assert!(f.iter().all(|x| x.ends_with("irradiance")) && l.is_empty(), "{f:?} {l:?}");
-    let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Fit]);
+    let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Fit], false);
     assert!(
         f.contains(&"ad9-specular")
             && f.contains(&"sg-specular")
@@ -492,7 +492,7 @@ fn scenes_without_gloss_leave_specular_out() {
             && l == ["ad_specular_2d.sbflut", "dfg.sbflut"],
         "{f:?} {l:?}"
     );
-    let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Tables]);
+    let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Tables], false);
     assert!(
         f.contains(&"lobe-ggx-filtered")
             && !f.contains(&"ad9-specular")

@@ -44,6 +44,18 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
+/// The functions a library file defines (`sbf_*` names at the start of a definition line, in
+/// any language).
+fn defined(text: &str) -> BTreeSet<String> {
+    text.lines()
+        .filter(|l| !l.starts_with(' ') && !l.starts_with("//") && l.trim_end().ends_with('{'))
+        .filter_map(|l| l.split_once('(').map(|(head, _)| head))
+        .filter_map(|head| head.rsplit(' ').next())
+        .filter(|n| n.starts_with("sbf_"))
+        .map(str::to_string)
+        .collect()
+}
+
 /// The specular shader features whose functions a WGSL export defines (under the library's
 /// `sbf_` prefix).
 fn exported_specular(wgsl: &str) -> BTreeSet<String> {
@@ -152,10 +164,10 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
             });
         }
 
-        // baker: a small CPU bake of the glossy built-in scene.
+        // baker: a small CPU bake of the glossy built-in scene, with probes.
         let out = tmp(&format!("bake-{stem}"));
         run(Command::new(bin("baker"))
-            .args(["--device", "cpu", "--passes", "1", "--texels-per-unit", "3", "--probes", "0,0,0", "--denoise", "off", "--profile"])
+            .args(["--device", "cpu", "--passes", "1", "--texels-per-unit", "3", "--probes", "2,2,2", "--denoise", "off", "--profile"])
             .arg(&prof)
             .arg("--out")
             .arg(&out));
@@ -165,22 +177,32 @@ fn every_profile_means_the_same_to_fitgen_shaders_baker_and_probes() {
         let rt = &bake["runtime"];
         let baked_spec: BTreeSet<String> =
             strings(&rt["features"]).into_iter().filter(|f| f.contains("specular") || f.starts_with("lobe-ggx")).collect();
-        // The bake ships the lightmap's runtime (its probes run with no probes here): SH's
-        // specular and its dfg table only where a lightmap basis is SH.
-        let lm_sh = p.specular && p.lightmap_bases.iter().any(|b| b.starts_with("sh"));
-        let mut want_baked = want_features.clone();
-        if !lm_sh {
-            want_baked.remove("sh-specular");
-        }
-        assert_eq!(baked_spec, want_baked, "{stem}: the baker's runtime features");
+        // The bake ships the whole profile's runtime: its probes' bases too.
+        assert_eq!(baked_spec, want_features, "{stem}: the baker's runtime features");
         let shader_tables: BTreeSet<String> = want_tables
             .iter()
-            .filter(|t| !["fits", "fits-wgsl"].contains(&t.as_str()) && (lm_sh || t.as_str() != "dfg"))
+            .filter(|t| !["fits", "fits-wgsl"].contains(&t.as_str()))
             .map(|t| format!("{}.sbflut", t.replace('-', "_")))
             .collect();
         assert_eq!(strings(&rt["luts"]), shader_tables, "{stem}: the tables the baker ships");
         for t in &shader_tables {
             assert!(out.join(t).exists(), "{stem}: {t} listed but not written");
+        }
+        // Function for function, the baker's runtime is `shaders export` of the profile: in
+        // WGSL, and in the profile's own language.
+        let baked_wgsl = std::fs::read_to_string(out.join("runtime.wgsl")).unwrap();
+        assert_eq!(defined(&baked_wgsl), defined(&wgsl), "{stem}: the baker's runtime.wgsl and `shaders export --profile`");
+        if p.language != "wgsl" {
+            let ext = match p.language.as_str() {
+                "glsl-gl" => "gl.glsl",
+                "glsl-es" => "es.glsl",
+                "msl" => "metal",
+                other => other,
+            };
+            let baked = std::fs::read_to_string(out.join(format!("runtime.{ext}"))).unwrap();
+            let exported = run(Command::new(bin("shaders")).args(["export", "--profile"]).arg(&prof));
+            assert!(!defined(&exported).is_empty(), "{stem}: nothing defined in the {ext} export");
+            assert_eq!(defined(&baked), defined(&exported), "{stem}: the baker's runtime.{ext} and `shaders export --profile`");
         }
         assert_eq!(strings(&rt["specular_paths"]), paths, "{stem}: the baker's paths");
 

@@ -44,13 +44,24 @@ pub fn write_lightmap(dir: &Path, img: &LightmapImages, config: &BakeConfig) -> 
     Ok(names)
 }
 
-/// The runtime features for the baked bases: Lambert irradiance always, and specular on
-/// each of `paths` (empty: none — no glossy material, or a Lambert-only profile) as
-/// [`sbf::profile::specular_runtime`] says (the profile's one truth, read by fitgen,
-/// shaders and probes too). Returns (features, table files the shader functions read).
-pub fn runtime_features(bases: &[BasisKind], paths: &[sbf::profile::SpecularPath]) -> (Vec<&'static str>, Vec<String>) {
+/// The runtime features for the baked bases (lightmap and probe bases alike): Lambert
+/// irradiance always, and specular on each of `paths` (empty: none — no glossy material,
+/// or a Lambert-only profile) as [`sbf::profile::specular_runtime`] says (the profile's
+/// one truth, read by fitgen, shaders and probes too), with GGX's energy compensation and
+/// the DFG table it reads where `energy_compensation` (a profile's `multiple_scattering =
+/// "compensated"`) and there is specular. Returns (features, table files the shader
+/// functions read).
+pub fn runtime_features(
+    bases: &[BasisKind],
+    paths: &[sbf::profile::SpecularPath],
+    energy_compensation: bool,
+) -> (Vec<&'static str>, Vec<String>) {
     let mut f = Vec::new();
     let mut luts = Vec::new();
+    if energy_compensation && !paths.is_empty() {
+        f.push("ggx-energy-compensation");
+        luts.push(sbf::profile::table_file("dfg"));
+    }
     for b in bases {
         f.push(match b {
             BasisKind::ShL1 => "sh-l1-irradiance",

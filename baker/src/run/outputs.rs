@@ -429,7 +429,13 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
         (Some(p), true) => p.specular_paths.clone(),
         (None, true) => vec![sbf::profile::SpecularPath::Fit],
     };
-    let (features, luts) = output::runtime_features(&o.config.bases, &paths);
+    // Every basis the bake wrote: the lightmap's and, when probes were baked, theirs.
+    let mut bases = o.config.bases.clone();
+    if o.probes.is_some() {
+        bases.extend(o.probe_bases.iter().filter(|b| !o.config.bases.contains(b)));
+    }
+    let compensated = o.profile.as_ref().is_some_and(|p| p.multiple_scattering);
+    let (features, luts) = output::runtime_features(&bases, &paths, compensated);
     let cfg = shaders::compose::Config::parse(&features.join(","))?;
     let runtime = shaders::compose::compose(&cfg)?;
     // As the library exports it: the items under their sbf_/Sbf/SBF_ names.
@@ -450,7 +456,7 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
             runtime_files.push(name);
         }
         if glossy && !p.specular {
-            let (spec_features, spec_luts) = output::runtime_features(&o.config.bases, &[sbf::profile::SpecularPath::Fit]);
+            let (spec_features, spec_luts) = output::runtime_features(&bases, &[sbf::profile::SpecularPath::Fit], false);
             let with = shaders::compose::compose(&shaders::compose::Config::parse(&spec_features.join(","))?)?;
             let lut_bytes: usize = spec_luts.iter().map(|l| embedded_lut(l).map_or(0, |d| d.len())).sum();
             let saved = with.source.len() - runtime.source.len();
