@@ -28,7 +28,11 @@
 //! irradiance.exr, its standard error, normals, the probes' AD 12 and the preview unchanged.
 //! Later the same day: bake.json re-pinned — `runtime.left_out_bytes` grew with SG's split-sum
 //! specular (`sg_split_sum_*`, `sg_hill_cos`), which these bakes leave out: with sg.wgsl as it
-//! was before, the old pins pass; every other file unchanged.)
+//! was before, the old pins pass; every other file unchanged. Later the same day: bake.json
+//! and runtime.wgsl re-pinned — the runtime holds the probes' bases too (these bakes' AD 12
+//! probes add `ad12-irradiance` and `ad12-specular`), the library's items carry the `sbf_`,
+//! `Sbf`, `SBF_` prefix in the written runtime.wgsl, and `left_out_bytes` moved with the
+//! library (SG's lobe loops, the largest-f32 constant, comments); every other file unchanged.)
 
 mod common;
 
@@ -145,14 +149,14 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("ad9_07.exr", "150006bae59d2d815a2d35c97b9cfc76607a57fdb05e8205519f85989281c64a"),
     ("ad9_08.exr", "e099693b3cf4d9d2805163aee5447caa7afcd73de0bf634ae0db1797c6a04acf"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "8cedeebb47df8e5485f149af7c2a67f3dcd47f53586b692503818178a30965f8"),
+    ("bake.json", "5ac9cbcce0e4b86ef905fc59d54665a4117b954fbd5795883aff4f462615ba4d"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "b26fa86441984fe3b283f0c4665be88f381e42864feb4be1fa6f1be96969f8fb"),
     ("irradiance_se.exr", "fb592dec755370a546311ea7377a5e42c7048524d447e9454b9ac92e9bb4ff45"),
     ("normals.exr", "7bde30ddc1346d358f123d68242105b0ba0517e8ca774e8344b464e12a48d3b8"),
     ("preview.png", "b226f0af6e9fbdb967d6e18c493eb2ec5a09315b32ba7224417b4232acc511e2"),
     ("probes.json", "dfa490a3193586ca8dce179e3bdbb5e794454e146cb2582c91c4f1ea1ea108d9"),
-    ("runtime.wgsl", "cbfdca27be393b303f58a5aa13c37db2c8a12c23fcaf035014f23a8a4e371c32"),
+    ("runtime.wgsl", "c5a717fa2639a4dbe092cd7ed21e0b5f85c22ce348832ab41fdc3ea335f34aac"),
     ("sh2_00.exr", "2b732dd4e6773d6f5a031275549fee9dc4f2a089bb392484ae011adab76f9126"),
     ("sh2_01.exr", "a7b234c031b8bebceb6196a0f75450a4badec6b0b869415d7d495e0ea6c53a45"),
     ("sh2_02.exr", "404826114100430147243fcd5b6412892b14d8bf57b6b99c7e3e2d2427bf6865"),
@@ -175,14 +179,14 @@ const CORNELL: &[(&str, &str)] = &[
     ("ad9_07.exr", "aa859731f5ab77bdd6c622821681c70160fc53f47d7789b8e1342f81aab8c825"),
     ("ad9_08.exr", "a63b6f509b37b123d1a816e27cbafc36715d7f6f57cd34614472798edee5eed7"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "bb87a463d094d442fc6a66f2c363ea3957e6fc348f62f1b3867051068d1497ca"),
+    ("bake.json", "9652e7e5b0263c5eea2811489631d3ee27f5efe6d753d17ec5185e24082b7b3c"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "37a26e85c41950390002d8b45df4bf4bed891de03155be977680767957f36a7a"),
     ("irradiance_se.exr", "a65e775db56ce9fa43feb66b9ff192eb0d8613170847c5d581c277bd639f524e"),
     ("normals.exr", "7bde30ddc1346d358f123d68242105b0ba0517e8ca774e8344b464e12a48d3b8"),
     ("preview.png", "b226f0af6e9fbdb967d6e18c493eb2ec5a09315b32ba7224417b4232acc511e2"),
     ("probes.json", "f6b99b10a69815392a874c5c18ea6ceec3f38dee83d95b2063130b796c75f62c"),
-    ("runtime.wgsl", "cbfdca27be393b303f58a5aa13c37db2c8a12c23fcaf035014f23a8a4e371c32"),
+    ("runtime.wgsl", "c5a717fa2639a4dbe092cd7ed21e0b5f85c22ce348832ab41fdc3ea335f34aac"),
     ("sh2_00.exr", "56e4828c0d9110ccbd5270d5a9367a13b033ac5dcccfdcb6205f9fa417753297"),
     ("sh2_01.exr", "642f1db757985f632ed23d808f942aa4fbc6a8ea558b94fbcf02efb0a37f66d6"),
     ("sh2_02.exr", "8981f7cd5514b7ac375b872db3b8829517e447100d84afa496f2fd5a111b76d0"),
@@ -204,14 +208,14 @@ const MIXED: &[(&str, &str)] = &[
     ("ad9_07.exr", "f5549af9296e3f1b8242c02bf523b10bf274a7d26039f60ec9a6c0eac9b33ee8"),
     ("ad9_08.exr", "a7f62dd29c1d748b6049dae3571e623aefeb855ad2c8dbc2ccd2ea3254529ebf"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "1186d745fa351d20a5d5bc6828be7086beb76caba43a1fc1deeac9132594c074"),
+    ("bake.json", "f82b3b75bf7d7db2564563d0ee1e9ec4d06cdc20c745cc734f87936cfa39a18a"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "a2decd80b622d47bc740d17f59879630e0563edb702ab18cab8687317a938670"),
     ("irradiance_se.exr", "91522e2a63b6c12c44af8b8469c911eb5985b35b455c69b0e9b1cab803757254"),
     ("normals.exr", "95c89f300d220c890e322c7a64c985345ff34c5dc2c3dc1dda61516de35c24b4"),
     ("preview.png", "150ab67acc35082c581b6118fdd01c400ae183ef20601ac1ae0314b2dba40d6a"),
     ("probes.json", "d1ab5ef56a042a6212ea0d5366866ddc7465f553f76a9a0564fe29599ada3643"),
-    ("runtime.wgsl", "cbfdca27be393b303f58a5aa13c37db2c8a12c23fcaf035014f23a8a4e371c32"),
+    ("runtime.wgsl", "c5a717fa2639a4dbe092cd7ed21e0b5f85c22ce348832ab41fdc3ea335f34aac"),
     ("sh2_00.exr", "f7c820b21adb38936651d5936d25ca8f5c46ddb2228efe35a0360fcc9e2015ce"),
     ("sh2_01.exr", "c9a88f89d096d66d05241ca1bcd17770e4400540b673ad455a313c92781bdf1e"),
     ("sh2_02.exr", "4c922894fc105671eed96ba3c16fcb0418a161e30ab4098c5a8ebc9436ff4876"),

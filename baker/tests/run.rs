@@ -701,8 +701,14 @@ fn profile_leaves_out_what_it_does_not_need() {
     assert!(!wgsl.contains("specular"), "a Lambert-only runtime holds no specular code");
     let (_, json, files, _) = run("ad9-diffuse-specular");
     let features: Vec<&str> = json["runtime"]["features"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
-    assert_eq!(features, ["ad9-irradiance", "ad9-specular"]);
-    assert!(files.iter().any(|f| f == "ad_specular_2d.sbflut") && files.iter().any(|f| f == "ad9_08.exr"), "{files:?}");
+    // The lightmap's AD 9 and the probes' SH L2 (the profile's whole runtime).
+    assert_eq!(features, ["ad9-irradiance", "ad9-specular", "sh-l2-irradiance", "sh-specular"]);
+    assert!(
+        files.iter().any(|f| f == "ad_specular_2d.sbflut")
+            && files.iter().any(|f| f == "dfg.sbflut")
+            && files.iter().any(|f| f == "ad9_08.exr"),
+        "{files:?}"
+    );
 }
 
 /// A profile with an unknown basis: the tool exits with 2 (as every tool does for a profile

@@ -104,6 +104,7 @@ macro_rules! in_every_language {
 }
 
 in_every_language!(
+    sg_lobe_loops_parity,
     sh_parity,
     sh_specular_parity,
     sh_rotation_parity,
@@ -590,6 +591,86 @@ fn sg_split_sum_parity(lang: Lang) {
         scale.push((1e-5 * peak).max(dmax * 1e4));
     }
     check("sg_split_sum_setup+lobe", &out, &cpu, &scale);
+}
+
+/// The SG lightmap lobe loops (`sg9_irradiance`, `sg12_irradiance`, `sg9_specular`,
+/// `sg12_specular`) against their f32 CPU twins (`sbf::recon::runtime::sg_irradiance`,
+/// `sg_specular_split_sum`) on the `sbf::layout::vogel_hemisphere` axes, λ ∈ [2, 64], RGB
+/// amplitudes in [−1, 1]. Scale: the same sum with |c| (the terms the sum adds); for the
+/// specular also the change of the f64 sum (`SplitSumWarp`) when n and v move by 1.2e-7 ×1e4
+/// (= 1/BAR), the input conditioning `sg_split_sum_parity` states.
+fn sg_lobe_loops_parity(lang: Lang) {
+    let Some(g) = gpu(lang) else { return };
+    let lib = library("sg-irradiance,sg-specular");
+    let lut = sbf::luts::committed::dfg();
+    let axes = |k: usize| -> Vec<Vec3> { sbf::layout::vogel_hemisphere(k).unwrap().iter().map(|a| a.as_vec3()).collect() };
+    let (sg9, sg12) = (axes(9), axes(12));
+    let mut r = Pcg32::new(23, 5);
+    let (mut inp, mut cases) = (Vec::new(), Vec::new());
+    for _ in 0..N {
+        let n = dir(&mut r);
+        let v = view(&mut r, n);
+        let a = alpha(&mut r);
+        let lam = (2.0 * 32f64.powf(r.next_2d()[0])) as f32;
+        let (f0, f90) = (r.next_2d()[0] as f32, 1.0f32);
+        let c: Vec<Vec3> = (0..12).map(|_| Vec3::new(coeff(&mut r), coeff(&mut r), coeff(&mut r))).collect();
+        push3(&mut inp, n);
+        push3(&mut inp, v);
+        inp.extend([a, f0, f90, lam]);
+        for x in &c {
+            push3(&mut inp, *x);
+        }
+        cases.push((n, v, a, f0, f90, lam, c));
+    }
+    let body = "    let b = i * 46u;\n    let n = ld3(b);\n    let v = ld3(b + 3u);\n    let a = inp[b + 6u];\n    let lam = inp[b + 9u];\n    var c12: array<vec3<f32>, 12>;\n    var c9: array<vec3<f32>, 9>;\n    for (var k = 0u; k < 12u; k++) {\n        c12[k] = ld3(b + 10u + 3u * k);\n        if (k < 9u) { c9[k] = c12[k]; }\n    }\n    let e = array<vec3<f32>, 4>(sg12_irradiance(c12, lam, n), sg9_irradiance(c9, lam, n), sg12_specular(c12, lam, lut, n, v, a, inp[b + 7u], inp[b + 8u]), sg9_specular(c9, lam, lut, n, v, a, inp[b + 7u], inp[b + 8u]));\n    for (var k = 0u; k < 4u; k++) {\n        outp[i * 12u + 3u * k] = e[k].x;\n        outp[i * 12u + 3u * k + 1u] = e[k].y;\n        outp[i * 12u + 3u * k + 2u] = e[k].z;\n    }";
+    let (out, _) = g.run(&lib, body, &inp, 12, N, Some(lut), 0).unwrap();
+    let mut r2 = Pcg32::new(29, 2);
+    let names = ["sg12_irradiance", "sg9_irradiance", "sg12_specular", "sg9_specular"];
+    for (f, name) in names.iter().enumerate() {
+        let (mut cpu, mut scale, mut gk) = (Vec::new(), Vec::new(), Vec::new());
+        for (j, (n, v, a, f0, f90, lam, c)) in cases.iter().enumerate() {
+            let lobes = if f % 2 == 0 { &sg12 } else { &sg9 };
+            let cc = &c[..lobes.len()];
+            let abs: Vec<Vec3> = cc.iter().map(|x| x.abs()).collect();
+            let dfg = lut.sample2(n.dot(*v).clamp(0.0, 1.0), *a);
+            let twin = |c: &[Vec3]| {
+                if f < 2 {
+                    sbf::recon::runtime::sg_irradiance(lobes, *lam, c, *n)
+                } else {
+                    sbf::recon::runtime::sg_specular_split_sum(lobes, *lam, c, *n, *v, *a, *f0, *f90, dfg)
+                }
+            };
+            let (e, s) = (twin(cc), twin(&abs));
+            // The specular's input conditioning, in f64.
+            let mut dmax = [0.0f64; 3];
+            if f >= 2 {
+                let sum = |n: sbf::glam::DVec3, v: sbf::glam::DVec3| {
+                    let d = lut.sample2(n.dot(v).clamp(0.0, 1.0) as f32, *a);
+                    let w = sbf::recon::sg::SplitSumWarp::new(n, v, *a as f64, *f0 as f64, *f90 as f64, [d[0] as f64, d[1] as f64]);
+                    let mut t = sbf::glam::DVec3::ZERO;
+                    for (axis, ci) in lobes.iter().zip(cc) {
+                        t += ci.as_dvec3() * w.lobe(&sbf::Sg { axis: axis.as_dvec3(), sharpness: *lam as f64, amplitude: 1.0 });
+                    }
+                    t
+                };
+                let (nd, vd) = (n.as_dvec3(), v.as_dvec3());
+                let base = sum(nd, vd);
+                for _ in 0..4 {
+                    let mut jitter = |x: sbf::glam::DVec3| (x + dir(&mut r2).as_dvec3() * 1.2e-7).normalize();
+                    let d = sum(jitter(nd), jitter(vd)) - base;
+                    for ch in 0..3 {
+                        dmax[ch] = dmax[ch].max(d[ch].abs());
+                    }
+                }
+            }
+            for ch in 0..3 {
+                cpu.push(e[ch] as f64);
+                scale.push((s[ch] as f64).max(dmax[ch] * 1e4));
+                gk.push(out[j * 12 + 3 * f + ch]);
+            }
+        }
+        check(name, &gk, &cpu, &scale);
+    }
 }
 
 /// sh_l1_specular and sh_l2_specular against the f64 zonal path

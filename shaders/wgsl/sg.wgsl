@@ -167,3 +167,46 @@ fn sg_split_sum_lobe(w: SgSplitSum, axis: vec3<f32>, sharpness: f32) -> f32 {
     let e = sg_hill_cos(x, max(d, 2.0)) * sg_integral(d) / sg_integral(max(d, 2.0));
     return amp * e * w.scale;
 }
+
+// E/π at unit normal n from 9 RGB SG lightmap lobe amplitudes c on SG9_AXES (the baker's SG 9
+// layout, in the lightmap texel's tangent frame: n in that frame, +Z the texel's normal) of
+// sharpness λ ≥ 2 (bake.json `sg_sharpness`; the baker's default is 6). Once per texel.
+fn sg9_irradiance(c: array<vec3<f32>, 9>, sharpness: f32, n: vec3<f32>) -> vec3<f32> {
+    var e = vec3<f32>(0.0);
+    for (var i = 0; i < 9; i++) {
+        e += c[i] * sg_hill_irradiance(SG9_AXES[i], sharpness, n);
+    }
+    return e;
+}
+
+// As sg9_irradiance, for 12 lobes on SG12_AXES.
+fn sg12_irradiance(c: array<vec3<f32>, 12>, sharpness: f32, n: vec3<f32>) -> vec3<f32> {
+    var e = vec3<f32>(0.0);
+    for (var i = 0; i < 12; i++) {
+        e += c[i] * sg_hill_irradiance(SG12_AXES[i], sharpness, n);
+    }
+    return e;
+}
+
+// GGX specular radiance from 9 RGB SG lightmap lobe amplitudes c on SG9_AXES (the texel's
+// tangent frame, as sg9_irradiance) of sharpness λ, by the split sum above: `dfg` the
+// split-sum table (see lut.wgsl), unit n and v in the texel's tangent frame, GGX α
+// (= perceptual roughness²) and Fresnel f0, f90. Once per texel.
+fn sg9_specular(c: array<vec3<f32>, 9>, sharpness: f32, dfg: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
+    let w = sg_split_sum_setup(dfg, n, v, alpha, f0, f90);
+    var s = vec3<f32>(0.0);
+    for (var i = 0; i < 9; i++) {
+        s += c[i] * sg_split_sum_lobe(w, SG9_AXES[i], sharpness);
+    }
+    return s;
+}
+
+// As sg9_specular, for 12 lobes on SG12_AXES.
+fn sg12_specular(c: array<vec3<f32>, 12>, sharpness: f32, dfg: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
+    let w = sg_split_sum_setup(dfg, n, v, alpha, f0, f90);
+    var s = vec3<f32>(0.0);
+    for (var i = 0; i < 12; i++) {
+        s += c[i] * sg_split_sum_lobe(w, SG12_AXES[i], sharpness);
+    }
+    return s;
+}

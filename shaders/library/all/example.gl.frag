@@ -117,12 +117,44 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], sampler2D l
         result += vec3(r);
     }
     {
+        vec3 sg9_irradiance_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
+        vec3 sg12_irradiance_c[12] = vec3[12](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
         SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
         SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
         float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3(r);
+    }
+    {
+        vec3 sg9_specular_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sbf_sg9_specular(sg9_specular_c, 0.5, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        vec3 sg12_specular_c[12] = vec3[12](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sbf_sg12_specular(sg12_specular_c, 0.5, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
     }
     {
         SbfSgAsgWarp r = sbf_sg_asg_warp(n, v, alpha, 0.04, 1.0);

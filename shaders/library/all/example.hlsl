@@ -114,12 +114,44 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Tex
         result += ((float3)r);
     }
     {
+        float3 sg9_irradiance_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
+        float3 sg12_irradiance_c[12] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
         SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
     {
         SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
         float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += ((float3)r);
+    }
+    {
+        float3 sg9_specular_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg9_specular(sg9_specular_c, 0.5, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        float3 sg12_specular_c[12] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg12_specular(sg12_specular_c, 0.5, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
     }
     {
         SbfSgAsgWarp r = sbf_sg_asg_warp(n, v, alpha, 0.04, 1.0);

@@ -26,6 +26,22 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36]) {
         result += vec3(r);
     }
     {
+        vec3 sg9_irradiance_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
+        vec3 sg12_irradiance_c[12] = vec3[12](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        vec3 r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
         vec3 ad9_irradiance_c[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;

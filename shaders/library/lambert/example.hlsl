@@ -21,6 +21,22 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
         result += ((float3)r);
     }
     {
+        float3 sg9_irradiance_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
+        float3 sg12_irradiance_c[12] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
         float3 ad9_irradiance_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;

@@ -21,6 +21,22 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += float3(r);
     }
     {
+        array<float3, 9> sg9_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5f, n);
+        result += r;
+    }
+    {
+        array<float3, 12> sg12_irradiance_c = array<float3, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5f, n);
+        result += r;
+    }
+    {
         array<float3, 9> ad9_irradiance_c = array<float3, 9>{};
         for (uint k = 0u; k < 9u; k++) {
             ad9_irradiance_c[k] = coefficients[k % 36u].xyz;

@@ -23,6 +23,24 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += vec3<f32>(r);
     }
     {
+        // sg9_irradiance
+        var sg9_irradiance_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
+        // sg12_irradiance
+        var sg12_irradiance_c: array<vec3<f32>, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
         // ad9_irradiance
         var ad9_irradiance_c: array<vec3<f32>, 9>;
         for (var k = 0u; k < 9u; k++) {

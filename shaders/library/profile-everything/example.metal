@@ -45,12 +45,44 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += float3(r);
     }
     {
+        array<float3, 9> sg9_irradiance_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5f, n);
+        result += r;
+    }
+    {
+        array<float3, 12> sg12_irradiance_c = array<float3, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5f, n);
+        result += r;
+    }
+    {
         SbfSgSplitSum r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
     }
     {
         SbfSgSplitSum sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04f, 1.0f);
         float r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5f);
         result += float3(r);
+    }
+    {
+        array<float3, 9> sg9_specular_c = array<float3, 9>{};
+        for (uint k = 0u; k < 9u; k++) {
+            sg9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg9_specular(sg9_specular_c, 0.5f, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
+    }
+    {
+        array<float3, 12> sg12_specular_c = array<float3, 12>{};
+        for (uint k = 0u; k < 12u; k++) {
+            sg12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        float3 r = sbf_sg12_specular(sg12_specular_c, 0.5f, lut, n, v, alpha, 0.04f, 1.0f);
+        result += r;
     }
     {
         array<float3, 9> ad9_irradiance_c = array<float3, 9>{};

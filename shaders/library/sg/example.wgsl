@@ -14,6 +14,24 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += vec3<f32>(r);
     }
     {
+        // sg9_irradiance
+        var sg9_irradiance_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            sg9_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sbf_sg9_irradiance(sg9_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
+        // sg12_irradiance
+        var sg12_irradiance_c: array<vec3<f32>, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            sg12_irradiance_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sbf_sg12_irradiance(sg12_irradiance_c, 0.5, n);
+        result += r;
+    }
+    {
         // sg_split_sum_setup
         let r = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
     }
@@ -22,6 +40,24 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         let sg_split_sum_lobe_w = sbf_sg_split_sum_setup(lut, n, v, alpha, 0.04, 1.0);
         let r = sbf_sg_split_sum_lobe(sg_split_sum_lobe_w, n, 0.5);
         result += vec3<f32>(r);
+    }
+    {
+        // sg9_specular
+        var sg9_specular_c: array<vec3<f32>, 9>;
+        for (var k = 0u; k < 9u; k++) {
+            sg9_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sbf_sg9_specular(sg9_specular_c, 0.5, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
+    }
+    {
+        // sg12_specular
+        var sg12_specular_c: array<vec3<f32>, 12>;
+        for (var k = 0u; k < 12u; k++) {
+            sg12_specular_c[k] = coefficients[k % 36u].xyz;
+        }
+        let r = sbf_sg12_specular(sg12_specular_c, 0.5, lut, n, v, alpha, 0.04, 1.0);
+        result += r;
     }
     return result;
 }
