@@ -3,7 +3,7 @@
 //! The core library of the workspace: bases, sampling, quadrature, Gram
 //! matrices and solvers, reconstruction and LUT readers. The core does no file I/O,
 //! prints nothing and does not depend on wgpu; the optional `io` feature (off by
-//! default) adds [`io`], the lat-long HDR/EXR loader both tools use.
+//! default) adds the `io` module, the lat-long HDR/EXR loader both tools use.
 //!
 //! ## Start here
 //!

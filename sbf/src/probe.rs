@@ -3,7 +3,7 @@
 //! (a probe's, or a baked lightmap texel's), with the f32 runtime the shaders mirror.
 //!
 //! Radiance bases: the lightmap bases of the profiles and the baker (`sh1`, `sh2`, `sg9`,
-//! `sg12`, `ad9`, `ad12`; [`crate::profile`]), laid out as the baker lays them out in a
+//! `sg12`, `ad9`, `ad12`; `sbf::profile`, feature `profile`), laid out as the baker lays them out in a
 //! texel's tangent frame (normal +Z): SH in the frame's own axes, SG lobes on a Vogel
 //! spiral over the upper hemisphere with λ 6, AD 9 the seed's upper-hemisphere set, AD 12
 //! the icosahedron. A probe uses the same layouts in its own frame (the map's axes).
