@@ -32,7 +32,9 @@
 //! and runtime.wgsl re-pinned — the runtime holds the probes' bases too (these bakes' AD 12
 //! probes add `ad12-irradiance` and `ad12-specular`), the library's items carry the `sbf_`,
 //! `Sbf`, `SBF_` prefix in the written runtime.wgsl, and `left_out_bytes` moved with the
-//! library (SG's lobe loops, the largest-f32 constant, comments); every other file unchanged.)
+//! library (SG's lobe loops, the largest-f32 constant, comments); every other file unchanged.
+//! Then: the bake writes its tables as KTX 2.0 too (`dfg.ktx2`, `ad_specular_2d.ktx2`, new
+//! pins) and bake.json lists them (`runtime.textures`); every other file unchanged.)
 
 mod common;
 
@@ -148,8 +150,10 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("ad9_06.exr", "b48d7a45537ed88562fe36d21d645e72d446fbf179503b0fbcef5176e7a4ff96"),
     ("ad9_07.exr", "150006bae59d2d815a2d35c97b9cfc76607a57fdb05e8205519f85989281c64a"),
     ("ad9_08.exr", "e099693b3cf4d9d2805163aee5447caa7afcd73de0bf634ae0db1797c6a04acf"),
+    ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "5ac9cbcce0e4b86ef905fc59d54665a4117b954fbd5795883aff4f462615ba4d"),
+    ("bake.json", "d17a139d833a6f6aaf4983525ccf0ef93ca65419cbeff365247717f467aa2499"),
+    ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "b26fa86441984fe3b283f0c4665be88f381e42864feb4be1fa6f1be96969f8fb"),
     ("irradiance_se.exr", "fb592dec755370a546311ea7377a5e42c7048524d447e9454b9ac92e9bb4ff45"),
@@ -178,8 +182,10 @@ const CORNELL: &[(&str, &str)] = &[
     ("ad9_06.exr", "55964a92acec02ca62284259f2cc694b6f526c48a15bd4ea8ebc3147d31be4af"),
     ("ad9_07.exr", "aa859731f5ab77bdd6c622821681c70160fc53f47d7789b8e1342f81aab8c825"),
     ("ad9_08.exr", "a63b6f509b37b123d1a816e27cbafc36715d7f6f57cd34614472798edee5eed7"),
+    ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "9652e7e5b0263c5eea2811489631d3ee27f5efe6d753d17ec5185e24082b7b3c"),
+    ("bake.json", "1b9e9ff6c1482b6d8a2577e0fa460910907c990fd7f04063a0eae13da197d883"),
+    ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "37a26e85c41950390002d8b45df4bf4bed891de03155be977680767957f36a7a"),
     ("irradiance_se.exr", "a65e775db56ce9fa43feb66b9ff192eb0d8613170847c5d581c277bd639f524e"),
@@ -207,8 +213,10 @@ const MIXED: &[(&str, &str)] = &[
     ("ad9_06.exr", "a1bc24bc036e8f351b1becfbaada3ff932f3d0f903e83544c46116a91ad215f4"),
     ("ad9_07.exr", "f5549af9296e3f1b8242c02bf523b10bf274a7d26039f60ec9a6c0eac9b33ee8"),
     ("ad9_08.exr", "a7f62dd29c1d748b6049dae3571e623aefeb855ad2c8dbc2ccd2ea3254529ebf"),
+    ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "f82b3b75bf7d7db2564563d0ee1e9ec4d06cdc20c745cc734f87936cfa39a18a"),
+    ("bake.json", "6479f2c86d2232d544d1df093bef03d5bb7bd94553c3e6eaa2d6727ed9c6d9ae"),
+    ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "a2decd80b622d47bc740d17f59879630e0563edb702ab18cab8687317a938670"),
     ("irradiance_se.exr", "91522e2a63b6c12c44af8b8469c911eb5985b35b455c69b0e9b1cab803757254"),

@@ -724,23 +724,5 @@ impl Gpu {
     }
 }
 
-/// The texels of [`Gpu::lobe_texture_filtered`]: its size (x, y, z) and two f16 per texel,
-/// x fastest, as IEEE half bit patterns. The table's values are f16 as committed, so this
-/// is exact (`half` would round any other value to nearest).
-pub fn lobe_filtered_texels(t: &sbf::recon::lobe_ggx::Table) -> ([u32; 3], Vec<u16>) {
-    let g = t.grid;
-    let (np, ng, na, nv) = (g.psi, g.gamma, g.alpha, g.theta_v);
-    let mut out = Vec::with_capacity(2 * np * ng * na * nv);
-    for i in 0..nv {
-        for k in 0..ng {
-            for j in 0..na {
-                for l in 0..np {
-                    // The table's order: ψ fastest, then γ, √α, n·v.
-                    let at = 2 * (((i * na + j) * ng + k) * np + l);
-                    out.extend([half::f16::from_f32(t.values[at]).to_bits(), half::f16::from_f32(t.values[at + 1]).to_bits()]);
-                }
-            }
-        }
-    }
-    ([(na * np) as u32, ng as u32, nv as u32], out)
-}
+/// The filtered layout's f16 texels (one layout for the GPU harness and the KTX2 files).
+pub use crate::tables::lobe_filtered_texels;

@@ -15,6 +15,8 @@
 //!   with an example shader each; `shaders library` writes or checks them.
 //! - [`layout`]: structs shared with Rust, checked against naga's reflection.
 //! - [`profile`]: the features a lighting profile (`sbf::profile`) needs.
+//! - [`tables`]: the committed tables as KTX 2.0 textures in the layouts the library reads
+//!   (`shaders tables --out DIR`; the baker writes its runtime's beside the bake).
 //! - [`progressive`]: the Rust twins of the progressive encoder's GPU structs.
 //! - `gpu` (feature `gpu`, default): a wgpu compute harness for the parity tests and
 //!   the throughput benchmark; `spirv`: the same harness in HLSL and GLSL (glslang →
@@ -41,3 +43,4 @@ pub mod progressive;
 pub mod sampler;
 #[cfg(feature = "gpu")]
 pub mod spirv;
+pub mod tables;

@@ -54,6 +54,14 @@ enum Cmd {
         #[arg(long, default_value = "profiles")]
         profiles: PathBuf,
     },
+    /// Write the committed tables as KTX 2.0 textures in the layouts the library's
+    /// functions read (dfg, ad_specular_2d: 2D rg32float; lobe_ggx_*: 2D array rg32float
+    /// and, `_filtered`, 3D rg16float), the layout in each file's `sbf.layout` key.
+    Tables {
+        /// Folder to write into.
+        #[arg(long, default_value = "sbf-tables")]
+        out: PathBuf,
+    },
     /// GPU reconstruction throughput (evaluations per second) per basis, diffuse and
     /// diffuse + specular.
     #[cfg(feature = "gpu")]
@@ -92,6 +100,25 @@ fn main() -> ExitCode {
             println!("features:");
             for (f, name) in compose::Feature::ALL {
                 println!("  {:<18} {}", name, f.roots().join(", "));
+            }
+            Ok(())
+        })(),
+        Cmd::Tables { out } => (|| {
+            std::fs::create_dir_all(&out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+            for t in shaders::tables::all() {
+                let path = out.join(format!("{}.ktx2", t.name));
+                let bytes = shaders::tables::ktx2(&t)?;
+                std::fs::write(&path, &bytes).map_err(|e| format!("writing {}: {e}", path.display()))?;
+                println!(
+                    "{} ({:?} {:?} {}x{}x{}, {} bytes)",
+                    path.display(),
+                    t.kind,
+                    t.format,
+                    t.size[0],
+                    t.size[1],
+                    t.size[2],
+                    bytes.len()
+                );
             }
             Ok(())
         })(),

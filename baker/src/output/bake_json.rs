@@ -213,6 +213,9 @@ pub struct RuntimeJson {
     pub files: Vec<String>,
     pub features: Vec<&'static str>,
     pub luts: Vec<String>,
+    /// The same tables as KTX 2.0 textures in the layouts the runtime's functions read
+    /// (`shaders::tables`: the layout in each file's `sbf.layout` key).
+    pub textures: Vec<String>,
     /// The specular runtime paths written (`fit`, `tables`; empty without specular).
     pub specular_paths: Vec<&'static str>,
     pub left_out_bytes: usize,

@@ -474,11 +474,19 @@ fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Resu
         let data = embedded_lut(l)?;
         std::fs::write(o.out.join(l), data).map_err(|e| format!("{l}: {e}"))?;
     }
+    // The same tables as KTX 2.0 textures in the layouts the runtime's functions read.
+    let mut textures = Vec::new();
+    for t in shaders::tables::for_runtime(&luts, &features) {
+        let name = format!("{}.ktx2", t.name);
+        std::fs::write(o.out.join(&name), shaders::tables::ktx2(&t)?).map_err(|e| format!("{name}: {e}"))?;
+        textures.push(name);
+    }
     Ok(RuntimeJson {
         wgsl: "runtime.wgsl",
         files: runtime_files,
         features,
         luts,
+        textures,
         specular_paths: paths.iter().map(|p| p.name()).collect(),
         left_out_bytes: runtime.left_out_bytes(),
         specular: if specular {
