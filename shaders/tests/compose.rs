@@ -219,7 +219,7 @@ fn hlsl_vector_select_holds_under_hlsl_2021() {
     assert!(out.contains("sbf_select(v > ((float3)0.0), v, ((float3)0.0))"), "{out}");
     assert!(
         out.contains(
-            "#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif"
+            "#if (defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021) || defined(__SLANG__)\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif"
         ),
         "{out}"
     );

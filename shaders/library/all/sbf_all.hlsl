@@ -306,7 +306,7 @@ uint sbf_texture_layers(Texture2DArray<float4> t) {
 #ifndef SBF_DEFINED_select_float3_helper
 #define SBF_DEFINED_select_float3_helper
 float3 sbf_select(bool3 c, float3 a, float3 b) {
-#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021
+#if (defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021) || defined(__SLANG__)
     return select(c, a, b);
 #else
     return c ? a : b;

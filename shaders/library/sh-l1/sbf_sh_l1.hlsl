@@ -40,7 +40,7 @@ typedef float sbf_float_array4[4];
 #ifndef SBF_DEFINED_select_float3_helper
 #define SBF_DEFINED_select_float3_helper
 float3 sbf_select(bool3 c, float3 a, float3 b) {
-#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021
+#if (defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021) || defined(__SLANG__)
     return select(c, a, b);
 #else
     return c ? a : b;

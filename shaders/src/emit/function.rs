@@ -186,13 +186,13 @@ pub(super) fn write(c: &Ctx, fh: Handle<naga::Function>) -> R<String> {
 
 /// An HLSL helper's definition: texture queries (statements there), and `select_<T>` for
 /// a component-wise choice between vectors of type T — `select()` under DXC's HLSL 2021
-/// rules, where a vector condition in `?:` is an error, and `?:` for FXC (SM 5) and older
-/// DXC, which have no `select()`.
+/// rules, where a vector condition in `?:` is an error, and in Slang, which deprecates it;
+/// `?:` for FXC (SM 5) and older DXC, which have no `select()`.
 pub(super) fn hlsl_helper(name: &str) -> String {
     if let Some(ty) = name.strip_prefix("select_") {
         let n = ty.trim_start_matches(|c: char| c.is_ascii_alphabetic());
         return format!(
-            "{ty} sbf_select(bool{n} c, {ty} a, {ty} b) {{\n#if defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif\n}}\n"
+            "{ty} sbf_select(bool{n} c, {ty} a, {ty} b) {{\n#if (defined(__HLSL_VERSION) && __HLSL_VERSION >= 2021) || defined(__SLANG__)\n    return select(c, a, b);\n#else\n    return c ? a : b;\n#endif\n}}\n"
         );
     }
     match name {
