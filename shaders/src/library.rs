@@ -362,13 +362,13 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     let mut s = format!("{head}#include \"{lib_name}\"\n\n{body}");
                     s += &format!("cbuffer Inputs : register(b0) {{\n    float4 coefficients[{SLOTS}];\n    float4 view_alpha;\n}};\n");
                     if uses.lut {
-                        s += "Texture2D<float4> lut : register(t0);\n";
+                        s += "Texture2D<float2> lut : register(t0);\n";
                     }
                     if uses.lobe_table {
-                        s += "Texture2DArray<float4> lobe_table : register(t1);\n";
+                        s += "Texture2DArray<float2> lobe_table : register(t1);\n";
                     }
                     if uses.lobe_volume {
-                        s += "Texture3D<float4> lobe_volume : register(t2);\n";
+                        s += "Texture3D<float2> lobe_volume : register(t2);\n";
                     }
                     if uses.sampler {
                         s += "SamplerState lobe_sampler : register(s0);\n";

@@ -75,7 +75,7 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
                 "#include \"{lib_name}\"\n\n[[vk::binding(0, 0)]] StructuredBuffer<float> inp;\n[[vk::binding(1, 0)]] RWStructuredBuffer<float> outp;\n"
             );
             if l.lut.is_some() {
-                b += &format!("[[vk::binding({}, 0)]] Texture2D<float4> lut;\n", slot());
+                b += &format!("[[vk::binding({}, 0)]] Texture2D<float2> lut;\n", slot());
             }
             if let Some(ty) = &uniform {
                 b += &format!("[[vk::binding({}, 0)]] cbuffer Uni {{ {ty} uni; }};\n", slot());
@@ -84,10 +84,10 @@ pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(Strin
                 b += &format!("[[vk::binding({}, 0)]] RWStructuredBuffer<{ty}> io;\n", slot());
             }
             if l.lobe.is_some() {
-                b += &format!("[[vk::binding({}, 0)]] Texture2DArray<float4> lobe_tab;\n", slot());
+                b += &format!("[[vk::binding({}, 0)]] Texture2DArray<float2> lobe_tab;\n", slot());
             }
             if l.lobe_filtered.is_some() {
-                b += &format!("[[vk::binding({}, 0)]] Texture3D<float4> lobe_tex3;\n", slot());
+                b += &format!("[[vk::binding({}, 0)]] Texture3D<float2> lobe_tex3;\n", slot());
                 b += &format!("[[vk::binding({}, 0)]] SamplerState lobe_smp;\n", slot());
             }
             b += &format!(

@@ -88,7 +88,7 @@ fn filtered_tables_export_their_texture_operations() {
             vec![
                 "t.GetDimensions(w, h, d);\n    return uint3(w, h, d);",
                 "tab.SampleLevel(smp, ",
-                "Texture3D<float4> tab, SamplerState smp",
+                "Texture3D<float2> tab, SamplerState smp",
             ],
         ),
     ];

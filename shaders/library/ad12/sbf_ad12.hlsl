@@ -8,10 +8,11 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float3 sbf_ad12_irradiance(float3 c[12], float3 n)
-//   float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad12_specular(float3 c[12], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
 //   sbf_ad12_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
@@ -50,7 +51,7 @@
 
 #ifndef SBF_DEFINED_size_helper
 #define SBF_DEFINED_size_helper
-uint2 sbf_texture_size(Texture2D<float4> t) {
+uint2 sbf_texture_size(Texture2D<float2> t) {
     uint w, h;
     t.GetDimensions(w, h);
     return uint2(w, h);
@@ -91,7 +92,7 @@ static const float3 SBF_AD12_AXES[12] = { float3(0.8506508, 0.5257311, 0.0), flo
 
 #ifndef SBF_DEFINED_sbf_lut2_sample
 #define SBF_DEFINED_sbf_lut2_sample
-float2 sbf_lut2_sample(Texture2D<float4> t, float u, float v) {
+float2 sbf_lut2_sample(Texture2D<float2> t, float u, float v) {
     int2 size = int2(sbf_texture_size(t));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -165,7 +166,7 @@ float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
 #ifndef SBF_DEFINED_sbf_ad_specular_scale
 #define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float sbf_ad_specular_scale(Texture2D<float4> lut, float n_dot_v, float alpha, float f0, float f90) {
+float sbf_ad_specular_scale(Texture2D<float2> lut, float n_dot_v, float alpha, float f0, float f90) {
     float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
@@ -190,7 +191,7 @@ float3 sbf_ad12_irradiance(float3 c[12], float3 n) {
 // space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
-float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_ad12_specular(float3 c[12], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 12; i++) {

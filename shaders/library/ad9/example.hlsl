@@ -6,7 +6,7 @@
 // coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent
 // frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
 // coefficients (xyz) an engine reads from its lightmap or probes.
-float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut) {
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float2> lut) {
     float3 result = ((float3)0.0);
     {
         float3 ad9_irradiance_c[9] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
@@ -31,7 +31,7 @@ cbuffer Inputs : register(b0) {
     float4 coefficients[36];
     float4 view_alpha;
 };
-Texture2D<float4> lut : register(t0);
+Texture2D<float2> lut : register(t0);
 
 float4 main(float3 normal : NORMAL) : SV_Target {
     return float4(sbf_example(normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients, lut), 1.0);

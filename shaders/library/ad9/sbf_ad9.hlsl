@@ -8,10 +8,11 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float3 sbf_ad9_irradiance(float3 c[9], float3 n)
-//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
 //   sbf_ad9_specular(lut): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The AD specular table luts/ad_specular_2d.sbflut (Listing 8.2; u = n·v, v = α; see ad_specular_scale).
@@ -50,7 +51,7 @@
 
 #ifndef SBF_DEFINED_size_helper
 #define SBF_DEFINED_size_helper
-uint2 sbf_texture_size(Texture2D<float4> t) {
+uint2 sbf_texture_size(Texture2D<float2> t) {
     uint w, h;
     t.GetDimensions(w, h);
     return uint2(w, h);
@@ -91,7 +92,7 @@ static const float3 SBF_AD9_AXES[9] = { float3(0.5257311, -0.303531, 0.7946545),
 
 #ifndef SBF_DEFINED_sbf_lut2_sample
 #define SBF_DEFINED_sbf_lut2_sample
-float2 sbf_lut2_sample(Texture2D<float4> t, float u, float v) {
+float2 sbf_lut2_sample(Texture2D<float2> t, float u, float v) {
     int2 size = int2(sbf_texture_size(t));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -165,7 +166,7 @@ float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
 #ifndef SBF_DEFINED_sbf_ad_specular_scale
 #define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float sbf_ad_specular_scale(Texture2D<float4> lut, float n_dot_v, float alpha, float f0, float f90) {
+float sbf_ad_specular_scale(Texture2D<float2> lut, float n_dot_v, float alpha, float f0, float f90) {
     float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
@@ -189,7 +190,7 @@ float3 sbf_ad9_irradiance(float3 c[9], float3 n) {
 #define SBF_DEFINED_sbf_ad9_specular
 // GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
 // tangent frame): as `ad12_specular`, with n and v in that frame.
-float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_ad9_specular(float3 c[9], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 9; i++) {

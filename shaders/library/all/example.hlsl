@@ -7,7 +7,7 @@
 // frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
 // coefficients (xyz) an engine reads from its lightmap or probes.
 // Not called here (they need state or data from the host): progressive_update (a pointer to state the caller keeps).
-float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut, Texture2DArray<float4> lobe_table, Texture3D<float4> lobe_volume, SamplerState lobe_sampler) {
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float2> lut, Texture2DArray<float2> lobe_table, Texture3D<float2> lobe_volume, SamplerState lobe_sampler) {
     float3 result = ((float3)0.0);
     {
         float r[4] = sbf_sh_eval_l1(n);
@@ -369,9 +369,9 @@ cbuffer Inputs : register(b0) {
     float4 coefficients[36];
     float4 view_alpha;
 };
-Texture2D<float4> lut : register(t0);
-Texture2DArray<float4> lobe_table : register(t1);
-Texture3D<float4> lobe_volume : register(t2);
+Texture2D<float2> lut : register(t0);
+Texture2DArray<float2> lobe_table : register(t1);
+Texture3D<float2> lobe_volume : register(t2);
 SamplerState lobe_sampler : register(s0);
 
 float4 main(float3 normal : NORMAL) : SV_Target {

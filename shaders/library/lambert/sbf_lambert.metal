@@ -8,7 +8,8 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float3 sbf_sh_l2_irradiance(array<float3, 9> c, float3 n)
 //   float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n)

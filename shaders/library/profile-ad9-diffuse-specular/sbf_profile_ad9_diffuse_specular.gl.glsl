@@ -11,7 +11,8 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language, less the sampler parameters;
 // each is documented below):
 //   vec3 sbf_sh_l2_irradiance(vec3 c[9], vec3 n)

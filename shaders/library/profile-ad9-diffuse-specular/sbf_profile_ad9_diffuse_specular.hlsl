@@ -8,13 +8,14 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float3 sbf_sh_l2_irradiance(float3 c[9], float3 n)
-//   float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
 //   float3 sbf_ad9_irradiance(float3 c[9], float3 n)
-//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
 //   sbf_sh_l1_specular(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The split-sum table luts/dfg.sbflut: u = n·v, v = GGX α (roughness², not the
@@ -88,7 +89,7 @@ typedef float sbf_float_array9[9];
 
 #ifndef SBF_DEFINED_size_helper
 #define SBF_DEFINED_size_helper
-uint2 sbf_texture_size(Texture2D<float4> t) {
+uint2 sbf_texture_size(Texture2D<float2> t) {
     uint w, h;
     t.GetDimensions(w, h);
     return uint2(w, h);
@@ -134,7 +135,7 @@ static const float3 SBF_AD9_AXES[9] = { float3(0.5257311, -0.303531, 0.7946545),
 
 #ifndef SBF_DEFINED_sbf_lut2_sample
 #define SBF_DEFINED_sbf_lut2_sample
-float2 sbf_lut2_sample(Texture2D<float4> t, float u, float v) {
+float2 sbf_lut2_sample(Texture2D<float2> t, float u, float v) {
     int2 size = int2(sbf_texture_size(t));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -255,7 +256,7 @@ float3 sbf_sh_specular_dominant(float3 n, float3 r, float alpha) {
 #ifndef SBF_DEFINED_sbf_sh_specular_setup
 #define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-float4 sbf_sh_specular_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+float4 sbf_sh_specular_setup(Texture2D<float2> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = dot(n, v);
     float lambda = 2.0 / (alpha * alpha) / (4.0 * max(nv, 0.0001));
@@ -268,7 +269,7 @@ float4 sbf_sh_specular_setup(Texture2D<float4> dfg, float3 n, float3 v, float al
 #ifndef SBF_DEFINED_sbf_sh_l1_specular
 #define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
     float y[4] = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
@@ -279,7 +280,7 @@ float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v
 #ifndef SBF_DEFINED_sbf_sh_l2_specular
 #define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
     float y[9] = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
@@ -344,7 +345,7 @@ float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
 #ifndef SBF_DEFINED_sbf_ad_specular_scale
 #define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float sbf_ad_specular_scale(Texture2D<float4> lut, float n_dot_v, float alpha, float f0, float f90) {
+float sbf_ad_specular_scale(Texture2D<float2> lut, float n_dot_v, float alpha, float f0, float f90) {
     float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
@@ -368,7 +369,7 @@ float3 sbf_ad9_irradiance(float3 c[9], float3 n) {
 #define SBF_DEFINED_sbf_ad9_specular
 // GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
 // tangent frame): as `ad12_specular`, with n and v in that frame.
-float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_ad9_specular(float3 c[9], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 9; i++) {

@@ -6,7 +6,7 @@
 // coefficients (world space for SH and AD 12 probes and the engine formats; the texel's tangent
 // frame, +Z its normal, for SG and AD 9 lightmap lobes), alpha GGX α, coefficients the RGB
 // coefficients (xyz) an engine reads from its lightmap or probes.
-float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float4> lut, Texture3D<float4> lobe_volume, SamplerState lobe_sampler) {
+float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36], Texture2D<float2> lut, Texture3D<float2> lobe_volume, SamplerState lobe_sampler) {
     float3 result = ((float3)0.0);
     {
         float3 sh_l1_irradiance_c[4] = { ((float3)0), ((float3)0), ((float3)0), ((float3)0) };
@@ -135,8 +135,8 @@ cbuffer Inputs : register(b0) {
     float4 coefficients[36];
     float4 view_alpha;
 };
-Texture2D<float4> lut : register(t0);
-Texture3D<float4> lobe_volume : register(t2);
+Texture2D<float2> lut : register(t0);
+Texture3D<float2> lobe_volume : register(t2);
 SamplerState lobe_sampler : register(s0);
 
 float4 main(float3 normal : NORMAL) : SV_Target {

@@ -8,26 +8,27 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float sbf_ggx_energy_compensation(float2 dfg, float f0)
-//   SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, float3 v, float alpha)
-//   float2 sbf_lobe_ggx_filtered_lobe(Texture3D<float4> tab, SamplerState smp, SbfLobeGgxFilteredPixel px, float3 axis)
+//   SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float2> tab, float3 n, float3 v, float alpha)
+//   float2 sbf_lobe_ggx_filtered_lobe(Texture3D<float2> tab, SamplerState smp, SbfLobeGgxFilteredPixel px, float3 axis)
 //   float3 sbf_sh_l1_irradiance(float3 c[4], float3 n)
 //   float3 sbf_sh_l2_irradiance(float3 c[9], float3 n)
-//   float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
 //   float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n)
-//   SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
+//   SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float2> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
 //   float sbf_sg_split_sum_lobe(SbfSgSplitSum w, float3 axis, float sharpness)
 //   float3 sbf_sg9_irradiance(float3 c[9], float sharpness, float3 n)
 //   float3 sbf_sg12_irradiance(float3 c[12], float sharpness, float3 n)
-//   float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
 //   float3 sbf_ad12_irradiance(float3 c[12], float3 n)
 //   float3 sbf_ad9_irradiance(float3 c[9], float3 n)
-//   float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad12_specular(float3 c[12], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_ad9_specular(float3 c[9], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
 //   sbf_lobe_ggx_filtered_pixel(tab): 3D, rg16float, sampled at mip 0 through the sampler parameter
 //     (linear min/mag filter, clamp to edge). The per-lobe GGX table luts/lobe_ggx_sg6.sbflut or lobe_ggx_ad.sbflut as f16 (x = √α node
@@ -145,7 +146,7 @@ typedef float sbf_float_array9[9];
 
 #ifndef SBF_DEFINED_size_helper
 #define SBF_DEFINED_size_helper
-uint2 sbf_texture_size(Texture2D<float4> t) {
+uint2 sbf_texture_size(Texture2D<float2> t) {
     uint w, h;
     t.GetDimensions(w, h);
     return uint2(w, h);
@@ -154,7 +155,7 @@ uint2 sbf_texture_size(Texture2D<float4> t) {
 
 #ifndef SBF_DEFINED_size_3d_helper
 #define SBF_DEFINED_size_3d_helper
-uint3 sbf_texture_size(Texture3D<float4> t) {
+uint3 sbf_texture_size(Texture3D<float2> t) {
     uint w, h, d;
     t.GetDimensions(w, h, d);
     return uint3(w, h, d);
@@ -250,7 +251,7 @@ float sbf_ggx_energy_compensation(float2 dfg, float f0) {
 
 #ifndef SBF_DEFINED_sbf_lut2_sample
 #define SBF_DEFINED_sbf_lut2_sample
-float2 sbf_lut2_sample(Texture2D<float4> t, float u, float v) {
+float2 sbf_lut2_sample(Texture2D<float2> t, float u, float v) {
     int2 size = int2(sbf_texture_size(t));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -311,7 +312,7 @@ struct SbfLobeGgxFilteredPixel {
 // Per pixel: the filtered table's texture coordinates (texture_3d, rg16float, the layout
 // above) for unit normal n and view v in the lobe axes' frame, and GGX α (= perceptual
 // roughness²). Feed the result to `lobe_ggx_filtered_lobe` per lobe.
-SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float4> tab, float3 n, float3 v, float alpha) {
+SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float2> tab, float3 n, float3 v, float alpha) {
     float3 size = float3(sbf_texture_size(tab));
     float npsi = size.x / float(SBF_LOBE_GGX_SQRT_ALPHA_NODES);
     float2 b = sbf_lobe_ggx_locate(sqrt(clamp(alpha, 0.0, 1.0)), SBF_LOBE_GGX_SQRT_ALPHA_NODES);
@@ -331,7 +332,7 @@ SbfLobeGgxFilteredPixel sbf_lobe_ggx_filtered_pixel(Texture3D<float4> tab, float
 #ifndef SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
 #define SBF_DEFINED_sbf_lobe_ggx_filtered_lobe
 // (R₀, R₁) of one unit lobe with axis `axis`.
-float2 sbf_lobe_ggx_filtered_lobe(Texture3D<float4> tab, SamplerState smp, SbfLobeGgxFilteredPixel px, float3 axis) {
+float2 sbf_lobe_ggx_filtered_lobe(Texture3D<float2> tab, SamplerState smp, SbfLobeGgxFilteredPixel px, float3 axis) {
     float rp = clamp(dot(px.r, axis), -1.0, 1.0);
     float st2 = max(1.0 - rp * rp, 0.0);
     float psi = 0.0;
@@ -458,7 +459,7 @@ float3 sbf_sh_specular_dominant(float3 n, float3 r, float alpha) {
 #ifndef SBF_DEFINED_sbf_sh_specular_setup
 #define SBF_DEFINED_sbf_sh_specular_setup
 // The filter sharpness λ and the split-sum scale for (n, v, α, f0, f90).
-float4 sbf_sh_specular_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+float4 sbf_sh_specular_setup(Texture2D<float2> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = dot(n, v);
     float lambda = 2.0 / (alpha * alpha) / (4.0 * max(nv, 0.0001));
@@ -471,7 +472,7 @@ float4 sbf_sh_specular_setup(Texture2D<float4> dfg, float3 n, float3 v, float al
 #ifndef SBF_DEFINED_sbf_sh_l1_specular
 #define SBF_DEFINED_sbf_sh_l1_specular
 // Specular radiance towards v from L1 RGB radiance coefficients.
-float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
     float y[4] = sbf_sh_eval_l1(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 l = c[0] * y[0] + s.x * (c[1] * y[1] + c[2] * y[2] + c[3] * y[3]);
@@ -482,7 +483,7 @@ float3 sbf_sh_l1_specular(float3 c[4], Texture2D<float4> dfg, float3 n, float3 v
 #ifndef SBF_DEFINED_sbf_sh_l2_specular
 #define SBF_DEFINED_sbf_sh_l2_specular
 // Specular radiance towards v from L2 RGB radiance coefficients.
-float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sh_l2_specular(float3 c[9], Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     float4 s = sbf_sh_specular_setup(dfg, n, v, alpha, f0, f90);
     float y[9] = sbf_sh_eval_l2(sbf_sh_specular_dominant(n, sbf_reflect_about(v, n), s.w));
     float3 b1 = c[1] * y[1] + c[2] * y[2] + c[3] * y[3];
@@ -571,7 +572,7 @@ struct SbfSgSplitSum {
 // Per pixel for the split-sum SG specular: `dfg` the split-sum table (rg32float, see
 // lut.wgsl: u = n·v, v = GGX α), unit normal n and view v in the lobes' frame, GGX α_in
 // (= perceptual roughness²) and Fresnel f0, f90. Then `sg_split_sum_lobe` per light lobe.
-SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float2> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
     float lw = max(0.5 / (alpha * alpha * nv), 2.0);
@@ -639,7 +640,7 @@ float3 sbf_sg12_irradiance(float3 c[12], float sharpness, float3 n) {
 // tangent frame, as sg9_irradiance) of sharpness λ, by the split sum above: `dfg` the
 // split-sum table (see lut.wgsl), unit n and v in the texel's tangent frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90. Once per texel.
-float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfSgSplitSum w = sbf_sg_split_sum_setup(dfg, n, v, alpha, f0, f90);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 9; i++) {
@@ -652,7 +653,7 @@ float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float4> dfg, flo
 #ifndef SBF_DEFINED_sbf_sg12_specular
 #define SBF_DEFINED_sbf_sg12_specular
 // As sg9_specular, for 12 lobes on SG12_AXES.
-float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfSgSplitSum w = sbf_sg_split_sum_setup(dfg, n, v, alpha, f0, f90);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 12; i++) {
@@ -718,7 +719,7 @@ float sbf_ad_specular_lobe(SbfAdSpecularFit f, float3 axis) {
 #ifndef SBF_DEFINED_sbf_ad_specular_scale
 #define SBF_DEFINED_sbf_ad_specular_scale
 // LUT factor f0·L.x + f90·L.y at (n·v, α).
-float sbf_ad_specular_scale(Texture2D<float4> lut, float n_dot_v, float alpha, float f0, float f90) {
+float sbf_ad_specular_scale(Texture2D<float2> lut, float n_dot_v, float alpha, float f0, float f90) {
     float2 l = sbf_lut2_sample(lut, clamp(n_dot_v, 0.0, 1.0), alpha);
     return f0 * l.x + f90 * l.y;
 }
@@ -757,7 +758,7 @@ float3 sbf_ad9_irradiance(float3 c[9], float3 n) {
 // space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
-float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_ad12_specular(float3 c[12], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 12; i++) {
@@ -771,7 +772,7 @@ float3 sbf_ad12_specular(float3 c[12], Texture2D<float4> lut, float3 n, float3 v
 #define SBF_DEFINED_sbf_ad9_specular
 // GGX specular radiance from 9 RGB Ambient Dice coefficients c (axes AD9_AXES, the texel's
 // tangent frame): as `ad12_specular`, with n and v in that frame.
-float3 sbf_ad9_specular(float3 c[9], Texture2D<float4> lut, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_ad9_specular(float3 c[9], Texture2D<float2> lut, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfAdSpecularFit f = sbf_ad_specular_fit(n, v, alpha);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 9; i++) {

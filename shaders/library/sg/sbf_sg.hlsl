@@ -8,15 +8,16 @@
 // are parameters, bound however the engine likes.
 // Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below
 // name items as the WGSL sources do, without the prefix). Each item is guarded by
-// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.
+// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or
+// export the union of their features: `shaders export --config a,b --lang L`.
 // Functions (the same names and parameters in every language; each is documented below):
 //   float sbf_sg_hill_irradiance(float3 axis, float sharpness, float3 n)
-//   SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
+//   SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float2> dfg, float3 n, float3 v, float alpha_in, float f0, float f90)
 //   float sbf_sg_split_sum_lobe(SbfSgSplitSum w, float3 axis, float sharpness)
 //   float3 sbf_sg9_irradiance(float3 c[9], float sharpness, float3 n)
 //   float3 sbf_sg12_irradiance(float3 c[12], float sharpness, float3 n)
-//   float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
-//   float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
+//   float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90)
 // Textures these functions read:
 //   sbf_sg_split_sum_setup(dfg): 2D, rg32float, read with texelFetch/Load/read at mip 0 (no filtering;
 //     bilinear by hand). The split-sum table luts/dfg.sbflut: u = n·v, v = GGX α (roughness², not the
@@ -64,7 +65,7 @@
 
 #ifndef SBF_DEFINED_size_helper
 #define SBF_DEFINED_size_helper
-uint2 sbf_texture_size(Texture2D<float4> t) {
+uint2 sbf_texture_size(Texture2D<float2> t) {
     uint w, h;
     t.GetDimensions(w, h);
     return uint2(w, h);
@@ -109,7 +110,7 @@ static const float3 SBF_SG12_AXES[12] = { float3(0.28565228, 0.0, 0.9583333), fl
 
 #ifndef SBF_DEFINED_sbf_lut2_sample
 #define SBF_DEFINED_sbf_lut2_sample
-float2 sbf_lut2_sample(Texture2D<float4> t, float u, float v) {
+float2 sbf_lut2_sample(Texture2D<float2> t, float u, float v) {
     int2 size = int2(sbf_texture_size(t));
     float uu = u == u ? u : 0.0;
     float vv = v == v ? v : 0.0;
@@ -207,7 +208,7 @@ struct SbfSgSplitSum {
 // Per pixel for the split-sum SG specular: `dfg` the split-sum table (rg32float, see
 // lut.wgsl: u = n·v, v = GGX α), unit normal n and view v in the lobes' frame, GGX α_in
 // (= perceptual roughness²) and Fresnel f0, f90. Then `sg_split_sum_lobe` per light lobe.
-SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float4> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
+SbfSgSplitSum sbf_sg_split_sum_setup(Texture2D<float2> dfg, float3 n, float3 v, float alpha_in, float f0, float f90) {
     float alpha = clamp(alpha_in, 0.0001, 1.0);
     float nv = max(dot(n, v), SBF_SG_NV_EPSILON);
     float lw = max(0.5 / (alpha * alpha * nv), 2.0);
@@ -275,7 +276,7 @@ float3 sbf_sg12_irradiance(float3 c[12], float sharpness, float3 n) {
 // tangent frame, as sg9_irradiance) of sharpness λ, by the split sum above: `dfg` the
 // split-sum table (see lut.wgsl), unit n and v in the texel's tangent frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90. Once per texel.
-float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfSgSplitSum w = sbf_sg_split_sum_setup(dfg, n, v, alpha, f0, f90);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 9; i++) {
@@ -288,7 +289,7 @@ float3 sbf_sg9_specular(float3 c[9], float sharpness, Texture2D<float4> dfg, flo
 #ifndef SBF_DEFINED_sbf_sg12_specular
 #define SBF_DEFINED_sbf_sg12_specular
 // As sg9_specular, for 12 lobes on SG12_AXES.
-float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float4> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
+float3 sbf_sg12_specular(float3 c[12], float sharpness, Texture2D<float2> dfg, float3 n, float3 v, float alpha, float f0, float f90) {
     SbfSgSplitSum w = sbf_sg_split_sum_setup(dfg, n, v, alpha, f0, f90);
     float3 s = ((float3)0.0);
     for (int i = 0; i < 12; i++) {

@@ -196,10 +196,10 @@ pub(super) fn hlsl_helper(name: &str) -> String {
         );
     }
     match name {
-        "size" => "uint2 sbf_texture_size(Texture2D<float4> t) {\n    uint w, h;\n    t.GetDimensions(w, h);\n    return uint2(w, h);\n}\n",
-        "size_array" => "uint2 sbf_texture_size(Texture2DArray<float4> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return uint2(w, h);\n}\n",
-        "size_3d" => "uint3 sbf_texture_size(Texture3D<float4> t) {\n    uint w, h, d;\n    t.GetDimensions(w, h, d);\n    return uint3(w, h, d);\n}\n",
-        _ => "uint sbf_texture_layers(Texture2DArray<float4> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return n;\n}\n",
+        "size" => "uint2 sbf_texture_size(Texture2D<float2> t) {\n    uint w, h;\n    t.GetDimensions(w, h);\n    return uint2(w, h);\n}\n",
+        "size_array" => "uint2 sbf_texture_size(Texture2DArray<float2> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return uint2(w, h);\n}\n",
+        "size_3d" => "uint3 sbf_texture_size(Texture3D<float2> t) {\n    uint w, h, d;\n    t.GetDimensions(w, h, d);\n    return uint3(w, h, d);\n}\n",
+        _ => "uint sbf_texture_layers(Texture2DArray<float2> t) {\n    uint w, h, n;\n    t.GetDimensions(w, h, n);\n    return n;\n}\n",
     }
     .to_string()
 }
@@ -918,8 +918,18 @@ impl<'c, 'a> W<'c, 'a> {
                 }
             }
             E::Swizzle { size, vector, pattern } => {
-                let v = self.sub(vector, ATOM)?;
+                let mut v = self.sub(vector, ATOM)?;
                 let s: String = pattern[..size as usize].iter().map(|k| ['x', 'y', 'z', 'w'][*k as usize]).collect();
+                // An HLSL table read widened to WGSL's (r, g, 0, 1) and swizzled within r, g
+                // reads the float2 itself.
+                if lang == Lang::Hlsl
+                    && !s.contains(['z', 'w'])
+                    && matches!(self.f.expressions[vector], E::ImageLoad { .. } | E::ImageSample { .. })
+                {
+                    if let Some(inner) = v.strip_prefix("float4(").and_then(|x| x.strip_suffix(", 0.0, 1.0)")) {
+                        v = inner.to_string();
+                    }
+                }
                 (format!("{v}.{s}"), ATOM)
             }
             E::FunctionArgument(i) => (self.args[i as usize].clone(), ATOM),
@@ -940,8 +950,9 @@ impl<'c, 'a> W<'c, 'a> {
                 let t = match (lang, layer) {
                     (Lang::Glsl(_), None) => format!("texelFetch({t}, ivec2({xy}), int({lod}))"),
                     (Lang::Glsl(_), Some(a)) => format!("texelFetch({t}, ivec3(ivec2({xy}), int({a})), int({lod}))"),
-                    (Lang::Hlsl, None) => format!("{t}.Load(int3(int2({xy}), int({lod})))"),
-                    (Lang::Hlsl, Some(a)) => format!("{t}.Load(int4(int2({xy}), int({a}), int({lod})))"),
+                    // The tables are two-channel (Texture2D<float2>): WGSL reads (r, g, 0, 1).
+                    (Lang::Hlsl, None) => format!("float4({t}.Load(int3(int2({xy}), int({lod}))), 0.0, 1.0)"),
+                    (Lang::Hlsl, Some(a)) => format!("float4({t}.Load(int4(int2({xy}), int({a}), int({lod}))), 0.0, 1.0)"),
                     (Lang::Msl, None) => format!("{t}.read(uint2({xy}), uint({lod}))"),
                     (Lang::Msl, Some(a)) => format!("{t}.read(uint2({xy}), uint({a}), uint({lod}))"),
                     (Lang::Wgsl, _) => unreachable!(),
@@ -983,7 +994,7 @@ impl<'c, 'a> W<'c, 'a> {
                         };
                         format!("textureLod({combined}({t}, {smp}), {xyz}, {lod})")
                     }
-                    Lang::Hlsl => format!("{t}.SampleLevel({smp}, {xyz}, {lod})"),
+                    Lang::Hlsl => format!("float4({t}.SampleLevel({smp}, {xyz}, {lod}), 0.0, 1.0)"),
                     Lang::Msl => format!("{t}.sample({smp}, {xyz}, level({lod}))"),
                     Lang::Wgsl => unreachable!(),
                 };

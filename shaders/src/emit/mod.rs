@@ -574,7 +574,7 @@ fn header(ctx: &Ctx, opts: &Options, order: &[Item]) -> Result<String, String> {
     ));
     h.push_str(&format!("// Use: {include}.\n"));
     h.push_str("// Conventions: right-handed, +Y up; tangent-space normal +Z; directions unit length;\n// irradiance is E/π; RGB coefficients are 3-vectors. No entry point, no bindings: textures\n// are parameters, bound however the engine likes.\n");
-    h.push_str("// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below\n// name items as the WGSL sources do, without the prefix). Each item is guarded by\n// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader.\n");
+    h.push_str("// Names: every function is sbf_*, every struct Sbf*, every constant SBF_* (the comments below\n// name items as the WGSL sources do, without the prefix). Each item is guarded by\n// #ifndef SBF_DEFINED_<name>: several exported configurations can be included in one shader, or\n// export the union of their features: `shaders export --config a,b --lang L`.\n");
     let mut sigs = Vec::new();
     let mut textures = Vec::new();
     for it in order {
