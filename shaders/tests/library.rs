@@ -280,3 +280,46 @@ fn every_public_function_is_documented_in_every_language() {
     }
     assert!(checked > 500, "only {checked} definitions checked");
 }
+
+/// WGSL has no preprocessor, so two WGSL files cannot be included together: a WGSL engine
+/// exports the union of the configurations it needs. Checked here: every configuration's
+/// WGSL file with its example, and the union export of every pair of configurations, after
+/// a WGSL engine's own declarations (`PI`, `INV_PI`, `HILL_C0`, `saturate`, `schlick_weight`,
+/// `LobeGgxPixel`: the bare names of our sources), through naga and — when it is on PATH —
+/// tint.
+#[test]
+fn wgsl_builds_after_engine_declarations_alone_and_as_the_union_of_every_pair() {
+    const ENGINE_WGSL: &str = "// --- engine declarations ---\nconst PI: f32 = 3.14159265;\nconst INV_PI: f32 = 0.31830988618;\nconst HILL_C0: f32 = 0.0;\nfn saturate(x: f32) -> f32 { return clamp(x, 0.0, 1.0); }\nfn schlick_weight(v_dot_h: f32) -> f32 { let m = saturate(1.0 - v_dot_h); return m * m * m * m * m; }\nstruct LobeGgxPixel { engine_value: f32 }\n";
+    let tint = std::process::Command::new("tint").arg("--help").output().is_ok();
+    if !tint {
+        eprintln!("tint (Dawn's WGSL compiler) is not on PATH: naga only");
+    }
+    let dir = std::env::temp_dir().join(format!("sbf-wgsl-engine-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let check = |label: &str, src: String| {
+        shaders::export::validate(&src).unwrap_or_else(|e| panic!("{label}: naga: {e}"));
+        if tint {
+            let f = dir.join("shader.wgsl");
+            std::fs::write(&f, &src).unwrap();
+            let o = std::process::Command::new("tint").args(["--format", "wgsl", "-o"]).arg(dir.join("out.wgsl")).arg(&f).output().unwrap();
+            assert!(o.status.success(), "{label}: tint: {}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+        }
+    };
+    let targets = targets();
+    for t in &targets {
+        let files = library::files(t).unwrap();
+        let get = |n: &str| files.iter().find(|(f, _)| f == n).unwrap().1.clone();
+        check(&t.slug, format!("{ENGINE_WGSL}{}\n{}", get(&library::file_name(&t.slug, Lang::Wgsl)), get("example.wgsl")));
+    }
+    let name = |f: &shaders::compose::Feature| shaders::compose::Feature::ALL.iter().find(|(g, _)| g == f).unwrap().1;
+    for (i, a) in targets.iter().enumerate() {
+        for b in &targets[i + 1..] {
+            let feats: Vec<&str> = a.config.features.union(&b.config.features).map(name).collect();
+            let cfg = shaders::compose::Config::parse(&feats.join(",")).unwrap();
+            let src = shaders::compose::compose(&cfg).unwrap().source;
+            let union = shaders::export::export_with(&src, Lang::Wgsl, &Default::default()).unwrap();
+            check(&format!("{} ∪ {}", a.slug, b.slug), format!("{ENGINE_WGSL}{union}"));
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
