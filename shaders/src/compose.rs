@@ -152,7 +152,8 @@ pub struct Config {
 }
 
 impl Config {
-    /// A preset name ("all", "ad9-irradiance", …) or a comma-separated feature list.
+    /// A preset name ("all", "ad9-irradiance", …) or a comma-separated list of features and
+    /// presets (a preset stands for its features: `sh-l2,sg` is the union of the two).
     pub fn parse(s: &str) -> Result<Config, String> {
         if let Some((name, feats)) = PRESETS.iter().find(|(n, _)| *n == s) {
             let features: BTreeSet<Feature> = if *name == "all" {
@@ -164,6 +165,10 @@ impl Config {
         }
         let mut features = BTreeSet::new();
         for part in s.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            if Feature::parse(part).is_none() && PRESETS.iter().any(|(n, _)| *n == part) {
+                features.extend(Config::parse(part)?.features);
+                continue;
+            }
             let f = Feature::parse(part).ok_or_else(|| {
                 let presets: Vec<&str> = PRESETS.iter().map(|(n, _)| *n).collect();
                 let feats: Vec<&str> = Feature::ALL.iter().map(|(_, n)| *n).collect();

@@ -225,3 +225,14 @@ fn hlsl_vector_select_holds_under_hlsl_2021() {
     );
     assert!(out.contains("s > 0.0 ? 2.0 : 1.0"), "{out}");
 }
+
+/// A list may name presets: `sh-l2,sg` is the union of the two presets' features (what a
+/// WGSL engine exports to use both: WGSL cannot include two files).
+#[test]
+fn a_list_of_presets_is_their_union() {
+    let both = Config::parse("sh-l2,sg").unwrap();
+    let (a, b) = (Config::parse("sh-l2").unwrap(), Config::parse("sg").unwrap());
+    assert_eq!(both.features, a.features.union(&b.features).copied().collect());
+    assert!(both.features.len() > a.features.len().max(b.features.len()));
+    assert!(Config::parse("sh-l2,nonsense").unwrap_err().contains("nonsense"));
+}
