@@ -43,12 +43,19 @@ struct Cli {
     #[arg(long, default_value = "sample", value_parser = ["sample", "factors"])]
     material_maps: String,
     /// Also write the lightmap in the directional formats engines ship, repackaged from the
-    /// SH L1 bake (needs `sh1` in --bases): comma-separated `godot-l1` (Godot 4 LightmapGI
-    /// SH), `monosh` (Bakery), `enlighten`, `enlighten-rgb` (Enlighten/Unity directional
-    /// lightmaps), or `all`. bake.json says what each loses at the baked normal and in
-    /// storage.
+    /// SH L1 bake (needs `sh1` in --bases), each decoded as its engine does by default:
+    /// comma-separated `godot-l1` (Godot ≥ 4.4 LightmapGI SH), `godot-l1-legacy` (Godot
+    /// 4.0–4.3), `monosh` (Bakery MonoSH, its default non-linear decode), `monosh-linear`
+    /// (non-linear mode off), `enlighten` (Unity's directional lightmaps), `enlighten-rgb`
+    /// (a research layout no engine ships), or `all`. bake.json says what each loses at and
+    /// off the baked normal and in storage.
     #[arg(long)]
     engine_formats: Option<String>,
+    /// The frame of the engine formats' directions: `engine` (each engine's: glTF's axes for
+    /// Godot, x negated for Unity and Bakery, as Unity's glTF importers flip the scene) or
+    /// `gltf` (the scene's own axes for every format).
+    #[arg(long, default_value = "engine", value_parser = ["engine", "gltf"])]
+    engine_frame: String,
     /// Also write every lightmap image (E/π and each basis lobe) as a BC6H DDS file
     /// (`bc6h`, 1 byte per texel); bake.json gives the error it adds per image and per
     /// basis (E/π at the texel normal), next to f16's.
@@ -320,6 +327,7 @@ fn options(c: Cli) -> Result<Options, String> {
     let engine_formats = engine_formats(c.engine_formats.as_deref(), &bases)?;
     Ok(Options {
         engine_formats,
+        engine_frame: (c.engine_frame == "gltf").then_some(sbf::recon::engine::EngineFrame::Gltf),
         compress_bc6h: c.compress.is_some(),
         scene: c.scene,
         environment: c.env,

@@ -89,7 +89,8 @@ fn bc6h_files_decode_to_the_error_bake_json_states() {
     std::fs::remove_dir_all(&out).ok();
 }
 
-/// The probe grid's BC6H volumes: each DDS is an NX × NY × NZ Texture3D whose texels, read
+/// The probe grid's BC6H volumes: each DDS is an NX × NY × NZ Texture3D, flagged a volume in
+/// its header, whose texels, read
 /// by image_dds (its own DDS parser and 3D block layout) minus the stated offset, give the
 /// coefficient error bake.json states against probes.json's coefficients over valid probes
 /// (same oracle and tolerance as the lightmap images); f16 rounds each coefficient by
@@ -120,6 +121,15 @@ fn probe_volumes_decode_to_the_error_bake_json_states() {
             let dds = image_dds::ddsfile::Dds::read(std::fs::File::open(out.join(file)).unwrap()).unwrap();
             bytes += dds.data.len();
             assert_eq!(dds.get_dxgi_format(), Some(image_dds::ddsfile::DxgiFormat::BC6H_UF16), "{file}");
+            // The header as bytes (DDS_HEADER after the 4-byte magic, Microsoft's
+            // "DDS_HEADER structure"): dwFlags at 8 has DDSD_DEPTH (0x800000), dwDepth at 24,
+            // dwCaps2 at 112 has DDSCAPS2_VOLUME (0x200000); the DX10 header's
+            // resourceDimension at 132 is TEXTURE3D (4).
+            let raw = std::fs::read(out.join(file)).unwrap();
+            let u32_at = |o: usize| u32::from_le_bytes(raw[o..o + 4].try_into().unwrap());
+            assert!(u32_at(8) & 0x80_0000 != 0 && u32_at(24) as usize == nz, "{file}: flags {:#x}, depth {}", u32_at(8), u32_at(24));
+            assert!(u32_at(112) & 0x20_0000 != 0, "{file}: caps2 {:#x} lacks DDSCAPS2_VOLUME", u32_at(112));
+            assert_eq!(u32_at(132), 4, "{file}: resource dimension");
             let surf = image_dds::Surface::from_dds(&dds).unwrap().decode_rgbaf32().unwrap();
             assert_eq!((surf.width as usize, surf.height as usize, surf.depth as usize), (nx, ny, nz), "{file}");
             let offset: Vec<f64> = v["offsets"][l].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();

@@ -1,9 +1,12 @@
 //! The directional lightmap formats engines ship (`sbf::recon::engine`) as comparison
-//! modes: Godot's packed L1 SH, Bakery's MonoSH and Enlighten's single- and RGB-direction
-//! maps. Each fits SH L1 to the map (the `shl1` projection), encodes it as its engine does,
-//! rounds every stored value to the engine's precision (colour f16; directions 8-bit, or
-//! f16 for Godot) and decodes with the engine's published shader — so the error includes the
-//! format's storage. Enlighten keeps the exact E/π at its baking normal, the probe's "up"
+//! modes: Godot's L1 SH (≥ 4.4 packed, 4.0–4.3 signed), Bakery's MonoSH (its default
+//! non-linear decode and the linear one) and Enlighten's single- and RGB-direction maps. Each
+//! fits SH L1 to the map (the `shl1` projection), encodes it as its engine does, rounds every
+//! stored value to the engine's precision (colour f16; directions 8-bit, or f16 for Godot)
+//! and decodes with the engine's shader — so the error includes the format's storage. Under
+//! `--storage bc6h` the textures are stored in the layout the engine ships
+//! (`EngineFormat::compressed`: Godot's four layers all BC6H, 4 B/texel), and the bytes
+//! reported are that layout's. Enlighten keeps the exact E/π at its baking normal, the probe's "up"
 //! (+Y in the map, the hemisphere domain's normal), and its direction is the radiance's
 //! mean over the sphere (a probe sees all of it); its encode is charged the one exact
 //! irradiance it needs.
@@ -73,22 +76,30 @@ pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Re
     });
     let enc = enc.ok_or("an Enlighten format without its input")?;
     let mut stored = enc.texel.stored(format);
-    // Under --storage bc6h the engine's textures compressed as the baker writes them: the
-    // colour BC6H, the unit textures BC1 (RGB) or BC7 (RGBA); f16 and f32 leave the
-    // engine's own precision.
+    // Under --storage bc6h the engine's textures compressed in the layout it ships (the
+    // colour BC6H; the other textures BC6H for Godot, BC1 (RGB) or BC7 (RGBA) for Unity's);
+    // f16 and f32 leave the engine's own precision.
     let storage = ctx.storage;
     let alpha = format.unit_channels() == 4;
     let n = format.unit_textures();
     stored.colour = storage.store(&[stored.colour])[0];
-    let units = storage.store_unorm(&stored.unit[..n], alpha);
-    stored.unit[..n].copy_from_slice(&units);
+    let layout = format.compressed();
+    if matches!(layout.units, engine::BlockFormat::Bc6hUf16 | engine::BlockFormat::Bc6hSf16) {
+        let rgb: Vec<[f64; 3]> = stored.unit[..n].iter().map(|u| [u[0], u[1], u[2]]).collect();
+        for (u, s) in stored.unit[..n].iter_mut().zip(storage.store(&rgb)) {
+            u[..3].copy_from_slice(&s);
+        }
+    } else {
+        let units = storage.store_unorm(&stored.unit[..n], alpha);
+        stored.unit[..n].copy_from_slice(&units);
+    }
     let bytes = match storage {
-        crate::storage::Storage::Bc6h => 1.0 + n as f64 * storage.unorm_bytes(alpha),
+        crate::storage::Storage::Bc6h => format.compressed_bytes(layout),
         _ => format.engine_bytes() as f64,
     };
     let (irradiance, eval) = eval_cost(ctx, move |d| engine::decode(format, &stored, d));
     // MonoSH's decode clamps at 0: the texels where it did (the linear value was negative).
-    let clamped_negative_fraction = (format == EngineFormat::MonoSh).then(|| {
+    let clamped_negative_fraction = matches!(format, EngineFormat::MonoSh | EngineFormat::MonoShLinear).then(|| {
         let nl1 = DVec3::new(stored.unit[0][0], stored.unit[0][1], stored.unit[0][2]) * 2.0 - DVec3::ONE;
         let neg = ctx.dirs.iter().filter(|d| stored.colour.iter().any(|l0| l0 + 2.0 * l0 * nl1.dot(**d) < 0.0)).count();
         neg as f64 / ctx.dirs.len().max(1) as f64

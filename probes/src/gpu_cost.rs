@@ -50,8 +50,9 @@ pub fn kernel_of(id: &str) -> Option<&'static str> {
         "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg12h" => Some("SG12"),
         "ad9" => Some("AD9"),
         "adrbf" | "adrbf-irr" | "adrbf-tangent" | "adpls" | "adpnnls" => Some("AD12"),
+        // The WGSL engine decodes are Godot ≥ 4.4's and MonoSH's linear one.
         "godot-l1" => Some("Godot L1"),
-        "monosh" => Some("MonoSH"),
+        "monosh-linear" => Some("MonoSH"),
         "enlighten" => Some("Enlighten"),
         "enlighten-rgb" => Some("Enlighten RGB"),
         _ => None,

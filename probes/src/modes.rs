@@ -312,10 +312,12 @@ pub const MODES: &[(&str, &str)] = &[
     ("adrbf-tangent", "Ambient Dice SRBF 12 on the icosahedron in tangent space, eq. 8.14 irradiance (Appendix C's AD12)"),
     ("h4", "H-basis 4 (tangent space, normal +Y in the map), fitted to the irradiance image over the upper hemisphere"),
     ("h6", "H-basis 6, fitted to the irradiance image over the upper hemisphere"),
-    ("godot-l1", "Godot 4 LightmapGI SH: L0 + L1/L0 packed in three RGBA16F layers, Godot's decode"),
-    ("monosh", "Bakery MonoSH: RGB L0 + one luminance L1 direction (RGBA8), Bakery's decode"),
-    ("enlighten", "Enlighten directional irradiance: one luminance direction + rescaling factor (RGBA8), half-Lambert decode"),
-    ("enlighten-rgb", "Enlighten directional irradiance: one direction + rescaling factor per channel (3 × RGBA8)"),
+    ("godot-l1", "Godot ≥ 4.4 LightmapGI SH: L0 + L1/L0 packed in three RGBA16F layers, Godot's decode"),
+    ("godot-l1-legacy", "Godot 4.0–4.3 LightmapGI SH: L0 + signed L1 coefficients in three RGBA16F layers, its decode"),
+    ("monosh", "Bakery MonoSH: RGB L0 + one luminance L1 direction (RGBA8), Bakery's default non-linear decode"),
+    ("monosh-linear", "Bakery MonoSH with SH non-linear mode off: the linear decode"),
+    ("enlighten", "Unity/Enlighten directional lightmap: one luminance direction + rescaling factor (RGBA8), Unity's half-Lambert decode"),
+    ("enlighten-rgb", "one Enlighten direction + rescaling factor per channel (3 × RGBA8): a research layout no engine ships"),
 ];
 
 /// Default modes for `--domain hemisphere` (seed Appendix C).

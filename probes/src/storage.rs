@@ -112,8 +112,8 @@ fn bc6h_uniform(values: &[[f64; 3]]) -> Vec<[f64; 3]> {
     }
     let f32s: Vec<[f32; 3]> = values.iter().map(|v| v.map(|x| x as f32)).collect();
     let (w, img) = uniform_blocks(&f32s);
-    let (blocks, offset, _) = bc::encode_bc6h(w, 4, &img);
-    let decoded = bc::decode_bc6h(w, 4, &blocks, offset);
+    let (blocks, offset, _) = bc::encode_bc6h_offset(w, 4, &img);
+    let decoded = bc::decode_bc6h_offset(w, 4, &blocks, offset);
     (0..values.len()).map(|k| decoded[4 * k].map(f64::from)).collect()
 }
 

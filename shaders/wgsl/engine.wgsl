@@ -5,16 +5,18 @@
 // Arguments are the textures' values as sampled: the HDR colour and "unit" textures in [0, 1].
 // CPU twin and sources: sbf::recon::engine (decode; the encodes live there too).
 
-// Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
-// USE_SH_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
-// decoded to (s − 1/2)·2 and scaled by 4·L0.
+// Godot 4.4 and later, LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
+// USE_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
+// decoded to (s − 1/2)·2 and scaled by 4·L0. (Godot 4.0–4.3 stored signed coefficients:
+// 0.282095·L0 + 0.32573·Σ l·n, not this; sbf::recon::engine has both.)
 fn godot_l1_irradiance(l0: vec3<f32>, l1n1: vec3<f32>, l1_0: vec3<f32>, l1p1: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let s = l0 * 4.0;
     return l0 + (l1n1 - 0.5) * 2.0 * n.y * s + (l1_0 - 0.5) * 2.0 * n.z * s + (l1p1 - 0.5) * 2.0 * n.x * s;
 }
 
-// Bakery MonoSH (Bakery.cginc, BakeryMonoSH, linear form): RGB L0 and one direction t with
-// nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0).
+// Bakery MonoSH (Bakery.cginc, BakeryMonoSH) with "SH non-linear mode" off: RGB L0 and one
+// direction t with nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0). Bakery's default is the
+// non-linear mode (Geomerics' curve of the channel sum): sbf::recon::engine's MonoSh.
 fn monosh_irradiance(l0: vec3<f32>, dir: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let nl1 = dir * 2.0 - 1.0;
     return max(l0 + 2.0 * l0 * dot(nl1, n), vec3<f32>(0.0));

@@ -1,6 +1,7 @@
 //! Compressed lightmaps (`--compress bc6h`): every lightmap image as a DDS file in BC6H
 //! (DXGI_FORMAT_BC6H_UF16, 1 byte per texel), what the engines stream instead of f32 EXR,
-//! with the error it adds measured by an independent decoder.
+//! with the error it adds measured by an independent decoder. Probe volumes are DDS volumes
+//! (`DDSCAPS2_VOLUME`, DX10 `TEXTURE3D`).
 //!
 //! The codec is `sbf::bc` (ISPC Texture Compressor through `intel_tex_2`, decoded by
 //! `bcdec_rs`; negative images stored with a per-channel offset recorded in bake.json).
@@ -127,9 +128,9 @@ pub fn write_probe_volumes(dir: &Path, g: &ProbeGrid) -> Result<Vec<ProbeStorage
             let mut blocks = Vec::new();
             for z in 0..nz {
                 let texels: Vec<[f32; 3]> = (0..slice).map(|i| [0, 1, 2].map(|k| c[z * slice + i][l][k] as f32 + offset[k])).collect();
-                let (bl, _, clamped) = bc::encode_bc6h(nx, ny, &texels);
+                let (bl, _, clamped) = bc::encode_bc6h_offset(nx, ny, &texels);
                 clamped_values += clamped;
-                for (i, t) in bc::decode_bc6h(nx, ny, &bl, [0.0; 3]).iter().enumerate() {
+                for (i, t) in bc::decode_bc6h_offset(nx, ny, &bl, [0.0; 3]).iter().enumerate() {
                     decoded[z * slice + i][l] = dv([0, 1, 2].map(|k| t[k] - offset[k]));
                 }
                 blocks.extend(bl);
@@ -207,8 +208,8 @@ fn dv(p: [f32; 3]) -> DVec3 {
 
 /// Compresses one image into `dir/{stem}.dds`; returns its record and the decoded image.
 fn compress_image(dir: &Path, img: &LightmapImages, stem: &str, rgb: &[[f32; 3]]) -> Result<(CompressedImageJson, Vec<[f32; 3]>), String> {
-    let (blocks, offset, clamped_values) = bc::encode_bc6h(img.width, img.height, rgb);
-    let decoded = bc::decode_bc6h(img.width, img.height, &blocks, offset);
+    let (blocks, offset, clamped_values) = bc::encode_bc6h_offset(img.width, img.height, rgb);
+    let decoded = bc::decode_bc6h_offset(img.width, img.height, &blocks, offset);
     let bytes = blocks.len();
     let file = format!("{stem}.dds");
     bc::write_dds(&dir.join(&file), img.width, img.height, bc::ddsfile::DxgiFormat::BC6H_UF16, blocks)?;

@@ -70,6 +70,9 @@ pub struct Options {
     /// The directional formats engines ship to write beside the bases
     /// (`--engine-formats`, [`crate::output::engine`]; needs the `sh1` basis).
     pub engine_formats: Vec<sbf::recon::engine::EngineFormat>,
+    /// Every engine format's directions in this frame instead of its engine's
+    /// (`--engine-frame gltf`; None: each engine's own, [`sbf::recon::engine::EngineFormat::frame`]).
+    pub engine_frame: Option<sbf::recon::engine::EngineFrame>,
     /// Also write every lightmap image as BC6H DDS (`--compress bc6h`,
     /// [`crate::output::compress`]).
     pub compress_bc6h: bool,
@@ -115,6 +118,7 @@ impl Default for Options {
             stitch_seams: true,
             shard: None,
             engine_formats: Vec::new(),
+            engine_frame: None,
             compress_bc6h: false,
         }
     }

@@ -125,20 +125,35 @@ fn engine_step(
         return Ok(Vec::new());
     }
     let b = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisKind::ShL1).ok_or("--engine-formats needs the sh1 basis")?;
-    let out = crate::output::engine::write_engine_formats(&o.out, img, &img.coefficients[b], &o.engine_formats, o.compress_bc6h)?;
+    let sh2 = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisKind::ShL2).map(|i| img.coefficients[i].as_slice());
+    let out = crate::output::engine::write_engine_formats(
+        &o.out,
+        img,
+        &img.coefficients[b],
+        sh2,
+        &o.engine_formats,
+        o.engine_frame,
+        o.compress_bc6h,
+    )?;
     for f in &out {
         log(format!(
-            "engine format {}: {} B/texel, error at the texel normal {:.2} % of the E/π RMS ({:.3} % from storage){}",
+            "engine format {} ({}): {} B/texel, error at the texel normal {:.2} % of the E/π RMS ({:.3} % from storage), {:.1} rad off it {:.2} % (no direction: {:.2} %; against the bake's {}){}",
             f.format,
+            f.engine,
             f.bytes_per_texel,
             100.0 * f.error_at_normal_rel_rms,
             100.0 * f.storage_rel_rms,
+            f.off_normal_tilt_rad,
+            100.0 * f.error_off_normal_rel_rms,
+            100.0 * f.error_off_normal_without_direction_rel_rms,
+            f.off_normal_reference,
             if f.clamped_values > 0 { format!(", {} stored values clamped", f.clamped_values) } else { String::new() }
         ));
-        if let Some(c) = &f.compressed {
+        for c in f.compressed.iter().chain(&f.compressed_variants) {
             log(format!(
-                "engine format {} block-compressed: {:.2} B/texel, error at the texel normal {:.2} % ({:.2} % from storage)",
+                "engine format {} block-compressed ({}): {:.2} B/texel, error at the texel normal {:.2} % ({:.2} % from storage)",
                 f.format,
+                c.layout,
                 c.bytes_per_texel,
                 100.0 * c.error_at_normal_rel_rms,
                 100.0 * c.storage_rel_rms

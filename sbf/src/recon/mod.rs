@@ -8,7 +8,7 @@
 //! | SH: band factors A_l (any order), L1 Geomerics, ZH3 hallucination, windowing | [`sh`] |
 //! | SG: exact convolution, Hill's fit, cosine-SG inner product, punctual; ASG and plain-SG specular warps | [`sg`] |
 //! | irradiance from zonal-lobe coefficients as the best linear estimate under an isotropic radiance prior | [`prior`] |
-//! | the directional lightmap formats engines ship (Godot L1, Bakery MonoSH, Enlighten single/RGB direction): encode from L1 irradiance, the engines' published decodes, their stored precision | [`engine`] |
+//! | the directional lightmap formats engines ship (Godot ≥ 4.4 and 4.0–4.3 L1, Bakery MonoSH non-linear and linear, Enlighten single/RGB direction): encode from L1 irradiance, the engines' default decodes, frames, stored precision and compressed layouts | [`engine`] |
 //! | f32 runtime API on glam `Vec3` (SH L1/L2/L4, Geomerics, SG Hill/ASG, AD poly / fit + LUT), batch form | [`runtime`] |
 //! | GGX response of a radial lobe (SG, AD SRBF): exact quadrature and the 4D table the per-lobe runtime samples | [`lobe_ggx`] |
 //! | multiple scattering: the microsurface random walk (Heitz et al. 2016) and the runtime's energy compensation | [`multiscatter`] |

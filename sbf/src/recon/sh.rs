@@ -69,17 +69,27 @@ pub fn irradiance_l1_linear(c: &[f64; 4], n: DVec3) -> f64 {
 /// and the two degenerate cases.
 #[inline]
 pub fn irradiance_l1_geomerics(c: &[f64; 4], n: DVec3) -> f64 {
-    let r0 = c[0] * 0.5 / PI.sqrt();
-    let r1 = DVec3::new(c[3], c[1], c[2]) * ((3.0 / (4.0 * PI)).sqrt() / 3.0);
+    let k1 = (3.0 / (4.0 * PI)).sqrt();
+    geomerics_l1(c[0] * 0.5 / PI.sqrt(), DVec3::new(c[3], c[1], c[2]) * ((2.0 / 3.0) * k1), n)
+}
+
+/// Geomerics' reconstruction (module docs) from the linear L1 irradiance E/π = a₀ + a₁·n
+/// of one channel: R₀ = a₀, R₁ = a₁/2 — the arguments of Bakery's
+/// `shEvaluateDiffuseL1Geomerics(L0, L1, n)` (`Bakery.cginc`), which takes exactly these
+/// (L0 = a₀, L1 = a₁). |a₁| = 0 → a₀ (the formula's limit: a = 1); a₀ ≤ 0 → the linear
+/// value (the shader divides by zero there); q is kept in [0, 1] against rounding.
+#[inline]
+pub fn geomerics_l1(a0: f64, a1: DVec3, n: DVec3) -> f64 {
+    let (r0, r1) = (a0, 0.5 * a1);
     let len = r1.length();
     if r0 <= 0.0 || len.is_nan() || len <= 0.0 {
-        return irradiance_l1_linear(c, n);
+        return a0 + a1.dot(n);
     }
     let q = 0.5 * (1.0 + n.dot(r1 / len));
     let ratio = len / r0;
     let p = 1.0 + 2.0 * ratio;
     let a = (1.0 - ratio) / (1.0 + ratio);
-    r0 * (a + (1.0 - a) * (p + 1.0) * q.max(0.0).powf(p))
+    r0 * (a + (1.0 - a) * (p + 1.0) * q.clamp(0.0, 1.0).powf(p))
 }
 
 /// Rec. 709 luminance weights used to pick the ZH3 axis.

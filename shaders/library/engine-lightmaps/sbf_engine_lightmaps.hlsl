@@ -82,9 +82,10 @@ SbfLightmapTaps sbf_lightmap_bicubic_taps(float2 uv, float2 size) {
 
 #ifndef SBF_DEFINED_sbf_godot_l1_irradiance
 #define SBF_DEFINED_sbf_godot_l1_irradiance
-// Godot 4 LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
-// USE_SH_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
-// decoded to (s − 1/2)·2 and scaled by 4·L0.
+// Godot 4.4 and later, LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
+// USE_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
+// decoded to (s − 1/2)·2 and scaled by 4·L0. (Godot 4.0–4.3 stored signed coefficients:
+// 0.282095·L0 + 0.32573·Σ l·n, not this; sbf::recon::engine has both.)
 float3 sbf_godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1, float3 n) {
     float3 s = l0 * 4.0;
     return l0 + (l1n1 - ((float3)0.5)) * 2.0 * n.y * s + (l1_0 - ((float3)0.5)) * 2.0 * n.z * s + (l1p1 - ((float3)0.5)) * 2.0 * n.x * s;
@@ -93,8 +94,9 @@ float3 sbf_godot_l1_irradiance(float3 l0, float3 l1n1, float3 l1_0, float3 l1p1,
 
 #ifndef SBF_DEFINED_sbf_monosh_irradiance
 #define SBF_DEFINED_sbf_monosh_irradiance
-// Bakery MonoSH (Bakery.cginc, BakeryMonoSH, linear form): RGB L0 and one direction t with
-// nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0).
+// Bakery MonoSH (Bakery.cginc, BakeryMonoSH) with "SH non-linear mode" off: RGB L0 and one
+// direction t with nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0). Bakery's default is the
+// non-linear mode (Geomerics' curve of the channel sum): sbf::recon::engine's MonoSh.
 float3 sbf_monosh_irradiance(float3 l0, float3 dir, float3 n) {
     float3 nl1 = dir * 2.0 - ((float3)1.0);
     return max(l0 + 2.0 * l0 * dot(nl1, n), ((float3)0.0));

@@ -1,29 +1,5 @@
-//! The directional lightmap formats engines ship, as encodings of L1 irradiance, each
-//! decoded exactly as its engine's published shader does.
-//!
-//! Every format here stores a colour (HDR) and one or three "unit" textures (values in
-//! [0, 1], as 8-bit or f16 channels), and its shader turns them into E/π — the value the
-//! engine multiplies by albedo — at the shading normal n:
-//!
-//! | format | stored per texel | decode (E/π at n) |
-//! |---|---|---|
-//! | Godot 4 LightmapGI, SH mode | L0 (RGB f16) + three RGB f16 layers s_y, s_z, s_x | L0 + Σ_k 4·L0·(2s_k − 1)·n_k |
-//! | Bakery MonoSH | L0 (RGB) + one direction t (RGB8) | max(0, L0 + 2·L0·((2t − 1)·n)) |
-//! | Enlighten directional (single) | irradiance C (RGB) + t (RGBA8) | C·((t.xyz − ½)·n + ½)/max(t.w, 10⁻⁴) |
-//! | Enlighten directional (RGB) | C + one RGBA8 t per channel | per channel as the single form |
-//!
-//! Sources of the decodes: Godot's `scene_forward_clustered.glsl` (`USE_SH_LIGHTMAP`:
-//! `lm_light_l1* = (texture − 0.5)·2`, `ambient += lm_light_l1*·n_k·(L0·4)`, layers in
-//! the order l1n1 (y), l1_0 (z), l1p1 (x)) and its packing pass (`lm_compute.glsl`,
-//! `MODE_PACK_L1_COEFFS`: c/(8·L0) + ½, clamped to [0, 1]); Bakery's `Bakery.cginc`
-//! (`BakeryMonoSH`: `nL1 = dominantDir·2 − 1`, `L1x = nL1.x·L0·2`, …,
-//! `max(L0 + n·L1, 0)`); Unity's `UnityCG.cginc` `DecodeDirectionalLightmap` for
-//! Enlighten's directional output (`halfLambert = dot(n, dirTex.xyz − 0.5) + 0.5`,
-//! `color·halfLambert/max(1e-4, dirTex.w)`), whose texture Enlighten's SDK documents
-//! ("Solving for directional irradiance": the luminance-based dominant direction in
-//! RGB, 8 bits per channel, its length the directionality — 1 for light from one
-//! direction, ½ for light uniform over the hemisphere — and the rescaling factor in
-//! alpha; three such textures for the RGB variant).
+//! Encodes and decodes of the engine formats ([`super::EngineFormat`]; the module docs there
+//! give the decodes and their sources).
 //!
 //! Encodes, from the linear L1 irradiance E/π = a₀ + a₁·n of each channel
 //! ([`L1Irradiance`], from SH L1 radiance coefficients):
@@ -31,9 +7,15 @@
 //!   non-negative radiance, since |a₁| ≤ 2a₀). The decode then returns a₀ + a₁·n: the
 //!   L1 irradiance itself. (Godot's own baker scales its direct lights' L1 to a ratio of
 //!   4 — the comments in `lm_compute.glsl` — not the Lambert ratio 2 used here.)
-//! - MonoSH: L0 = a₀ per channel, one direction d = Y(a₁)/(2·Y(a₀)) with Y the Rec. 709
+//! - Godot 4.0–4.3: L0 = a₀/0.282095, l = a₁/0.32573 (the inverse of its decode's rounded
+//!   constants, so the decode returns a₀ + a₁·n exactly; Godot's baker stores the SH
+//!   coefficients c with exact constants: a relative difference of 2·10⁻⁵ in L1). Signed,
+//!   never clamped.
+//! - MonoSH (both decodes store the same textures): L0 = a₀ per channel, one direction d = Y(a₁)/(2·Y(a₀)) with Y the Rec. 709
 //!   luminance (Bakery's format stores the luminance L1; its encoder is not published).
-//!   For radiance from one colour the decode is the L1 irradiance exactly.
+//!   For radiance from one colour the linear decode is the L1 irradiance exactly; the
+//!   non-linear one is Geomerics' curve through it (exact for a single delta light at
+//!   the light's direction).
 //! - Enlighten: d = ∫Y(L)ω dω/∫Y(L) dω, the luminance-weighted mean incident direction
 //!   (length 1 for one direction, ½ for a uniform hemisphere, as the SDK describes), from
 //!   the radiance's moments over what the texel or probe sees ([`Moments`], from SH L1:
@@ -45,88 +27,16 @@
 //! Values a texture cannot hold (a unit channel outside [0, 1], a direction longer than
 //! 1) are clamped as the engines' packers clamp, and counted in [`Encoded::clamped`].
 
-use super::sh::LUMINANCE;
+use super::{Channel, EngineFormat};
+use crate::recon::sh::{geomerics_l1, LUMINANCE};
 use glam::DVec3;
 use std::f64::consts::PI;
 
-/// A directional lightmap format an engine ships.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum EngineFormat {
-    /// Godot 4 LightmapGI with "Use Spherical Harmonics": L1 SH, L1 packed relative to L0.
-    GodotL1,
-    /// Bakery's MonoSH: RGB L0 and one luminance L1 direction.
-    MonoSh,
-    /// Enlighten's directional irradiance, one luminance dominant direction.
-    Enlighten,
-    /// Enlighten's directional irradiance, one dominant direction per colour channel.
-    EnlightenRgb,
-}
-
-/// How a texture channel is stored at the engine's precision.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Channel {
-    /// IEEE half float.
-    F16,
-    /// 8-bit unsigned normalised: k/255.
-    Unorm8,
-}
-
-impl EngineFormat {
-    /// Every format, in report order.
-    pub const ALL: [EngineFormat; 4] = [EngineFormat::GodotL1, EngineFormat::MonoSh, EngineFormat::Enlighten, EngineFormat::EnlightenRgb];
-
-    /// Short identifier (probes mode ids, file names).
-    pub fn id(self) -> &'static str {
-        match self {
-            EngineFormat::GodotL1 => "godot-l1",
-            EngineFormat::MonoSh => "monosh",
-            EngineFormat::Enlighten => "enlighten",
-            EngineFormat::EnlightenRgb => "enlighten-rgb",
-        }
-    }
-
-    /// Unit textures per texel (RGBA each).
-    pub fn unit_textures(self) -> usize {
-        match self {
-            EngineFormat::GodotL1 | EngineFormat::EnlightenRgb => 3,
-            EngineFormat::MonoSh | EngineFormat::Enlighten => 1,
-        }
-    }
-
-    /// Channels of the unit textures the decode reads: RGB, or RGBA for Enlighten (the
-    /// rescaling factor in alpha).
-    pub fn unit_channels(self) -> usize {
-        match self {
-            EngineFormat::GodotL1 | EngineFormat::MonoSh => 3,
-            EngineFormat::Enlighten | EngineFormat::EnlightenRgb => 4,
-        }
-    }
-
-    /// How the unit textures are stored: Godot keeps its SH layers in RGBA16F, Bakery and
-    /// Enlighten their directions in RGBA8.
-    pub fn unit_storage(self) -> Channel {
-        match self {
-            EngineFormat::GodotL1 => Channel::F16,
-            _ => Channel::Unorm8,
-        }
-    }
-
-    /// Scalars the decode reads per texel: the RGB colour and the unit channels.
-    pub fn scalars(self) -> usize {
-        3 + self.unit_textures() * self.unit_channels()
-    }
-
-    /// Bytes per texel as the engine stores it uncompressed: the colour as RGBA16F (8 B;
-    /// RGB textures are padded to four channels by GPUs) and each unit texture as RGBA16F
-    /// (Godot) or RGBA8.
-    pub fn engine_bytes(self) -> usize {
-        let unit = match self.unit_storage() {
-            Channel::F16 => 8,
-            Channel::Unorm8 => 4,
-        };
-        8 + unit * self.unit_textures()
-    }
-}
+/// Godot's SH layers after L0: the world axis of each (l1n1 ∝ y, l1_0 ∝ z, l1p1 ∝ x).
+const GODOT_LAYER_AXES: [usize; 3] = [1, 2, 0];
+/// Godot 4.0–4.3's decode constants: Y₀₀ and (2/3)·0.488603, as typed in its shader.
+const GODOT_Y00: f64 = 0.282095;
+const GODOT_L1: f64 = 0.32573;
 
 /// Linear L1 irradiance of each channel: E/π(n) = a₀ + a₁·n.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -224,13 +134,15 @@ pub struct EnlightenInput {
     pub moments: Moments,
 }
 
-/// A texel as its textures hold it: the colour and up to three unit textures (RGBA;
+/// A texel as its textures hold it: the colour and up to three more textures (RGBA;
 /// unused channels are 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Texel {
-    /// The HDR colour (L0, or Enlighten's irradiance), E/π units.
+    /// The HDR colour (L0, or Enlighten's irradiance, in E/π; Godot 4.0–4.3's L0
+    /// coefficient).
     pub colour: [f64; 3],
-    /// The unit textures as sampled, [0, 1].
+    /// The other textures as sampled: values in [0, 1], or Godot 4.0–4.3's signed L1
+    /// coefficients ([`EngineFormat::signed_units`]).
     pub unit: [[f64; 4]; 3],
 }
 
@@ -278,7 +190,7 @@ pub fn encode(format: EngineFormat, l1: &L1Irradiance, enlighten: Option<&Enligh
         EngineFormat::GodotL1 => {
             // Layers in Godot's order: l1n1 (y), l1_0 (z), l1p1 (x); c/(8·L0) + ½ where
             // L0 ≠ 0, c + ½ where it is 0 (MODE_PACK_L1_COEFFS).
-            for (layer, axis) in [1usize, 2, 0].into_iter().enumerate() {
+            for (layer, axis) in GODOT_LAYER_AXES.into_iter().enumerate() {
                 for k in 0..3 {
                     let c = l1.a1[k].to_array()[axis];
                     let s = if l1.a0[k] != 0.0 { c / (8.0 * l1.a0[k]) } else { c };
@@ -286,7 +198,15 @@ pub fn encode(format: EngineFormat, l1: &L1Irradiance, enlighten: Option<&Enligh
                 }
             }
         }
-        EngineFormat::MonoSh => {
+        EngineFormat::GodotL1Legacy => {
+            texel.colour = l1.a0.map(|a| a / GODOT_Y00);
+            for (layer, axis) in GODOT_LAYER_AXES.into_iter().enumerate() {
+                for k in 0..3 {
+                    texel.unit[layer][k] = l1.a1[k].to_array()[axis] / GODOT_L1;
+                }
+            }
+        }
+        EngineFormat::MonoSh | EngineFormat::MonoShLinear => {
             let t = pack_direction(l1.luminance_direction(), &mut clamped);
             texel.unit[0][..3].copy_from_slice(&t);
         }
@@ -334,20 +254,35 @@ impl Texel {
     }
 }
 
-/// E/π at unit normal `n`, as the format's published shader computes it (module docs).
+/// E/π at unit normal `n` (in the engine's frame, [`EngineFormat::frame`]), as the format's
+/// shader computes it (the module docs of [`super`]).
 pub fn decode(format: EngineFormat, t: &Texel, n: DVec3) -> [f64; 3] {
     let dir = |u: &[f64; 4]| DVec3::new(u[0], u[1], u[2]) * 2.0 - DVec3::ONE;
+    let nk = GODOT_LAYER_AXES.map(|a| n.to_array()[a]);
     match format {
-        EngineFormat::GodotL1 => {
-            let nk = [n.y, n.z, n.x];
-            [0, 1, 2].map(|k| {
-                let l0 = t.colour[k];
-                l0 + (0..3).map(|layer| (t.unit[layer][k] - 0.5) * 2.0 * nk[layer] * (l0 * 4.0)).sum::<f64>()
-            })
+        EngineFormat::GodotL1 => [0, 1, 2].map(|k| {
+            let l0 = t.colour[k];
+            l0 + (0..3).map(|layer| (t.unit[layer][k] - 0.5) * 2.0 * nk[layer] * (l0 * 4.0)).sum::<f64>()
+        }),
+        EngineFormat::GodotL1Legacy => {
+            [0, 1, 2].map(|k| t.colour[k] * GODOT_Y00 + (0..3).map(|layer| t.unit[layer][k] * GODOT_L1 * nk[layer]).sum::<f64>())
+        }
+        EngineFormat::MonoShLinear => {
+            let nl1 = dir(&t.unit[0]);
+            t.colour.map(|l0| (l0 + 2.0 * l0 * nl1.dot(n)).max(0.0))
         }
         EngineFormat::MonoSh => {
             let nl1 = dir(&t.unit[0]);
-            t.colour.map(|l0| (l0 + 2.0 * l0 * nl1.dot(n)).max(0.0))
+            let sh = t.colour.map(|l0| l0 + 2.0 * l0 * nl1.dot(n));
+            // The channel sums ("luma" in Bakery.cginc: dot(·, 1)); L1 = 2·L0·nL1 per channel.
+            let luma_l0: f64 = t.colour.iter().sum();
+            let luma_sh = geomerics_l1(luma_l0, nl1 * (2.0 * luma_l0), n);
+            let regular: f64 = sh.iter().sum();
+            // lerp(1, lumaSH/regular, saturate(16·regular)); where the weight is 0 the
+            // shader's ratio is undefined (0/0) and the factor is 1.
+            let w = (16.0 * regular).clamp(0.0, 1.0);
+            let factor = if w > 0.0 { 1.0 + w * (luma_sh / regular - 1.0) } else { 1.0 };
+            sh.map(|v| (v * factor).max(0.0))
         }
         EngineFormat::Enlighten => {
             let u = &t.unit[0];

@@ -1,17 +1,19 @@
-//! Block-compressed texture storage (feature `bc`): HDR RGB images as BC6H
-//! (DXGI_FORMAT_BC6H_UF16, 1 byte per texel) and 8-bit RGBA images as BC1 (½ byte) or BC7
-//! (1 byte), what engines stream instead of float textures, with an independent decoder to
-//! measure the error each adds, and the DDS container.
+//! Block-compressed texture storage (feature `bc`): HDR RGB images as BC6H (1 byte per
+//! texel; DXGI_FORMAT_BC6H_UF16, with a per-channel offset for signed images
+//! ([`encode_bc6h_offset`]), or BC6H_SF16 ([`encode_bc6h_signed`]: the file alone decodes to
+//! the values, but one-region blocks only so far)) and 8-bit RGBA images as BC1
+//! (½ byte) or BC7 (1 byte), what engines stream instead of float textures, with an
+//! independent decoder to measure the error each adds, and the DDS container.
 //!
-//! Encoder: ISPC Texture Compressor through `intel_tex_2` (BC6H at its "very slow", highest
-//! quality settings; BC7 "alpha slow"). Its prebuilt C++ object needs the C++ runtime, which
-//! `build.rs` links on Linux. Images are padded to whole 4 × 4 blocks by repeating the last
-//! row and column. BC6H_UF16 holds non-negative half floats: an image with negative values is
-//! stored shifted by a per-channel offset (−its minimum; the reader subtracts it), as engines
-//! store signed lightmap data in unsigned formats; values above the f16 maximum (65 504) are
-//! counted and clamped.
+//! Encoders: ISPC Texture Compressor through `intel_tex_2` (BC6H_UF16 at its "very slow",
+//! highest quality settings; BC7 "alpha slow"); its prebuilt C++ object needs the C++
+//! runtime, which `build.rs` links on Linux. BC6H_SF16, which ISPC does not write:
+//! [`bc6h_signed`]. Images are padded to whole 4 × 4 blocks by repeating the last row and
+//! column; values beyond the f16 range (±65 504) are counted and clamped.
 //!
-//! Decoder: `bcdec_rs` (a port of bcdec, independent of the encoder).
+//! Decoder: `bcdec_rs` (a port of bcdec, independent of both encoders).
+
+pub mod bc6h_signed;
 
 pub use ddsfile;
 use std::path::Path;
@@ -19,48 +21,101 @@ use std::path::Path;
 /// The largest finite half float.
 pub const F16_MAX: f32 = 65504.0;
 
-/// Encodes one RGB image as BC6H blocks; returns (blocks, offset, clamped count).
-pub fn encode_bc6h(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, [f32; 3], usize) {
+/// A BC6H image: its blocks, its DXGI format (UF16 or SF16) and the values clamped.
+#[derive(Debug, Clone)]
+pub struct Bc6h {
+    /// One 16-byte block per 4 × 4 texels, row-major.
+    pub blocks: Vec<u8>,
+    /// `BC6H_UF16` or `BC6H_SF16`.
+    pub format: ddsfile::DxgiFormat,
+    /// Values outside the format's range (negative ones for UF16, beyond ±65 504, NaN),
+    /// clamped.
+    pub clamped: usize,
+}
+
+impl Bc6h {
+    /// Whether the blocks are BC6H_SF16.
+    pub fn signed(&self) -> bool {
+        self.format == ddsfile::DxgiFormat::BC6H_SF16
+    }
+
+    /// The image decoded by bcdec.
+    pub fn decode(&self, width: usize, height: usize) -> Vec<[f32; 3]> {
+        decode_bc6h(width, height, &self.blocks, self.signed())
+    }
+}
+
+/// Encodes one RGB image as BC6H: UF16 (ISPC) when no value is negative, else SF16.
+pub fn encode_bc6h(width: usize, height: usize, rgb: &[[f32; 3]]) -> Bc6h {
+    if rgb.iter().flatten().any(|v| *v < 0.0) {
+        encode_bc6h_signed(width, height, rgb)
+    } else {
+        encode_bc6h_unsigned(width, height, rgb)
+    }
+}
+
+/// Encodes one RGB image as BC6H_UF16 shifted by a per-channel offset (−its minimum where
+/// negative; the reader subtracts it): how the baker and probes store signed images until
+/// [`bc6h_signed`] has BC6H's two-region modes — with one region, a block whose values
+/// change sign interpolates across zero in the half-float bit domain and loses its
+/// mid-range values. Returns (blocks, offset, clamped count).
+pub fn encode_bc6h_offset(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, [f32; 3], usize) {
     let mut offset = [0.0f32; 3];
     for p in rgb {
         for k in 0..3 {
             offset[k] = offset[k].max(-p[k]);
         }
     }
+    let shifted: Vec<[f32; 3]> = rgb.iter().map(|p| [0, 1, 2].map(|k| p[k] + offset[k])).collect();
+    let b = encode_bc6h_unsigned(width, height, &shifted);
+    (b.blocks, offset, b.clamped)
+}
+
+/// Decodes BC6H_UF16 blocks written by [`encode_bc6h_offset`] and removes the offset.
+pub fn decode_bc6h_offset(width: usize, height: usize, blocks: &[u8], offset: [f32; 3]) -> Vec<[f32; 3]> {
+    decode_bc6h(width, height, blocks, false).into_iter().map(|p| [0, 1, 2].map(|k| p[k] - offset[k])).collect()
+}
+
+/// Encodes one RGB image as BC6H_SF16 ([`bc6h_signed`]).
+pub fn encode_bc6h_signed(width: usize, height: usize, rgb: &[[f32; 3]]) -> Bc6h {
+    let (blocks, clamped) = bc6h_signed::encode(width, height, rgb);
+    Bc6h { blocks, format: ddsfile::DxgiFormat::BC6H_SF16, clamped }
+}
+
+/// Encodes one RGB image as BC6H_UF16 (ISPC); negative values are clamped to 0 (counted).
+pub fn encode_bc6h_unsigned(width: usize, height: usize, rgb: &[[f32; 3]]) -> Bc6h {
     let (pw, ph) = (width.div_ceil(4) * 4, height.div_ceil(4) * 4);
-    let mut clamped = 0;
+    let clamped = rgb.iter().flatten().filter(|v| !(0.0..=F16_MAX).contains(*v)).count();
     let mut data = Vec::with_capacity(pw * ph * 8);
     for y in 0..ph {
         for x in 0..pw {
             let p = rgb[y.min(height - 1) * width + x.min(width - 1)];
-            for k in 0..3 {
-                let v = p[k] + offset[k];
-                if v > F16_MAX && x < width && y < height {
-                    clamped += 1;
-                }
-                data.extend_from_slice(&half::f16::from_f32(v.clamp(0.0, F16_MAX)).to_le_bytes());
+            for v in p {
+                let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, F16_MAX) };
+                data.extend_from_slice(&half::f16::from_f32(v).to_le_bytes());
             }
             data.extend_from_slice(&half::f16::ONE.to_le_bytes());
         }
     }
     let surface = intel_tex_2::RgbaSurface { data: &data, width: pw as u32, height: ph as u32, stride: (pw * 8) as u32 };
-    (intel_tex_2::bc6h::compress_blocks(&intel_tex_2::bc6h::very_slow_settings(), &surface), offset, clamped)
+    let blocks = intel_tex_2::bc6h::compress_blocks(&intel_tex_2::bc6h::very_slow_settings(), &surface);
+    Bc6h { blocks, format: ddsfile::DxgiFormat::BC6H_UF16, clamped }
 }
 
-/// Decodes BC6H blocks of a `width` × `height` image (bcdec) and removes the offset.
-pub fn decode_bc6h(width: usize, height: usize, blocks: &[u8], offset: [f32; 3]) -> Vec<[f32; 3]> {
+/// Decodes BC6H blocks of a `width` × `height` image (bcdec; `signed`: BC6H_SF16).
+pub fn decode_bc6h(width: usize, height: usize, blocks: &[u8], signed: bool) -> Vec<[f32; 3]> {
     let bw = width.div_ceil(4);
     let mut out = vec![[0.0f32; 3]; width * height];
     let mut texels = [0.0f32; 48];
     for (b, block) in blocks.chunks_exact(16).enumerate() {
-        bcdec_rs::bc6h_float(block, &mut texels, 12, false);
+        bcdec_rs::bc6h_float(block, &mut texels, 12, signed);
         let (bx, by) = (b % bw, b / bw);
         for j in 0..4 {
             for i in 0..4 {
                 let (x, y) = (bx * 4 + i, by * 4 + j);
                 if x < width && y < height {
                     let t = &texels[j * 12 + i * 3..j * 12 + i * 3 + 3];
-                    out[y * width + x] = [t[0] - offset[0], t[1] - offset[1], t[2] - offset[2]];
+                    out[y * width + x] = [t[0], t[1], t[2]];
                 }
             }
         }
@@ -116,7 +171,8 @@ pub fn write_dds(path: &Path, width: usize, height: usize, format: ddsfile::Dxgi
 }
 
 /// [`write_dds`] for a volume (`depth` Some: a Texture3D whose slices follow each other,
-/// each in its own 4 × 4 blocks), e.g. a probe grid's coefficient.
+/// each in its own 4 × 4 blocks, flagged `DDSCAPS2_VOLUME` with the DX10 header's
+/// `TEXTURE3D` dimension), e.g. a probe grid's coefficient.
 pub fn write_dds_volume(
     path: &Path,
     width: usize,
@@ -132,7 +188,7 @@ pub fn write_dds_volume(
         format,
         mipmap_levels: None,
         array_layers: None,
-        caps2: None,
+        caps2: depth.map(|_| ddsfile::Caps2::VOLUME),
         is_cubemap: false,
         resource_dimension: if depth.is_some() {
             ddsfile::D3D10ResourceDimension::Texture3D

@@ -1,0 +1,121 @@
+//! `sbf::bc::bc6h_signed`, the BC6H_SF16 encoder, decoded by bcdec (`bcdec_rs`, a port of an
+//! independent decoder) — against the values encoded, with a bound from the format.
+//!
+//! Error model. BC6H's signed decode maps a 10-bit endpoint q to
+//! P = ((|q| << 15) + 0x4000) >> 9 (±0x7FFF at |q| ≥ 511), interpolates P with 4-bit weights
+//! w/64 and ends with h = P·31/32, h the half float's signed magnitude. So in units of
+//! half-float bit patterns (1 024 per octave) a texel's decode is off its value by at most:
+//! the endpoint's quantisation (≤ 32 of P, the half-step of 64) plus the palette's spacing
+//! (≤ 5/64 of the endpoints' distance, half of that to the nearest entry) plus the off-line
+//! distance of the texel from the block's line — zero for the blocks built here, whose 16
+//! texels lie on one segment in P — plus 2 of rounding; times 31/32. Since the encoder picks
+//! the palette entry nearest in 3D, each channel's error is bounded by the 3D bound.
+
+use sbf::bc;
+
+/// A half float's signed magnitude (the bit pattern with the sign moved out).
+fn signed_bits(v: f32) -> i32 {
+    let h = half::f16::from_f32(v).to_bits();
+    let m = (h & 0x7FFF) as i32;
+    if h & 0x8000 != 0 {
+        -m
+    } else {
+        m
+    }
+}
+
+/// The value of a signed magnitude P·31/32 rounded down (the decoder's finish).
+fn value_of_p(p: i32) -> f32 {
+    let m = (p.abs() * 31) >> 5;
+    let bits = if p < 0 { 0x8000 | m as u16 } else { m as u16 };
+    half::f16::from_bits(bits).to_f32()
+}
+
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn signed_blocks_decode_within_the_format_bound() {
+    let (bw, bh) = (8usize, 6usize);
+    let (w, h) = (bw * 4, bh * 4);
+    let mut rng = Lcg(3);
+    let mut img = vec![[0.0f32; 3]; w * h];
+    let mut bound = vec![0.0f64; bw * bh];
+    for by in 0..bh {
+        for bx in 0..bw {
+            // Endpoints in P anywhere in ±0x7800 (|values| up to ~32 000), some crossing zero.
+            let e: [[f64; 3]; 2] = [0, 1].map(|_| [0, 1, 2].map(|_| (rng.next() * 2.0 - 1.0) * 30_000.0 * rng.next()));
+            let spacing: f64 = (0..3).map(|c| (32.0 + 2.5 / 64.0 * (e[1][c] - e[0][c]).abs() + 2.0).powi(2)).sum::<f64>().sqrt();
+            bound[by * bw + bx] = spacing * 31.0 / 32.0 + 1.0;
+            for k in 0..16 {
+                let t = rng.next();
+                let p = [0, 1, 2].map(|c| (e[0][c] + t * (e[1][c] - e[0][c])).round() as i32);
+                img[(by * 4 + k / 4) * w + bx * 4 + k % 4] = p.map(value_of_p);
+            }
+        }
+    }
+    let b = bc::encode_bc6h(w, h, &img);
+    assert!(b.signed(), "an image with negative values is BC6H_SF16");
+    assert_eq!((b.blocks.len(), b.clamped), (bw * bh * 16, 0));
+    // bcdec, signed.
+    let mut out = [0.0f32; 48];
+    let mut worst = 0.0f64;
+    for (i, block) in b.blocks.chunks_exact(16).enumerate() {
+        bcdec_rs::bc6h_float(block, &mut out, 12, true);
+        let (bx, by) = (i % bw, i / bw);
+        for k in 0..16 {
+            let v = img[(by * 4 + k / 4) * w + bx * 4 + k % 4];
+            for c in 0..3 {
+                let got = out[(k / 4) * 12 + (k % 4) * 3 + c];
+                let d = (signed_bits(got) - signed_bits(v[c])).abs() as f64;
+                worst = worst.max(d / bound[i]);
+                assert!(d <= bound[i], "block {i} texel {k} channel {c}: {v:?} decoded {got} ({d} half steps, bound {:.1})", bound[i]);
+            }
+        }
+    }
+    println!("worst error: {worst:.2} of the bound");
+}
+
+#[test]
+fn a_uniform_signed_block_is_kept_to_the_palette_spacing() {
+    // 16 copies of one value: outward-rounded endpoints bracket it, so the nearest palette
+    // entry is within half a spacing of ≤ 64·5/64 = 5 steps of P: ≤ 3 half-float steps (with
+    // rounding), a relative error ≤ 3·2⁻¹⁰ in f16's normal range.
+    for v in [-0.4f32, -1234.5, 0.015, -7.0e-3, 3.25] {
+        let img = vec![[v, -v, 0.5 * v]; 16];
+        let b = bc::encode_bc6h_signed(4, 4, &img);
+        let d = b.decode(4, 4);
+        for p in &d {
+            for c in 0..3 {
+                let want = img[0][c];
+                assert!((p[c] - want).abs() <= want.abs() * 3.0 / 1024.0 + 1e-6, "{want} decoded {}", p[c]);
+            }
+        }
+    }
+}
+
+#[test]
+fn dds_volume_header_carries_the_volume_flag() {
+    let dir = std::env::temp_dir().join(format!("sbf-bc-volume-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("v.dds");
+    let b = bc::encode_bc6h_signed(4, 4, &[[-1.0, 0.5, 2.0]; 16]);
+    let blocks = [b.blocks.clone(), b.blocks.clone(), b.blocks].concat();
+    bc::write_dds_volume(&path, 4, 4, Some(3), bc::ddsfile::DxgiFormat::BC6H_SF16, blocks).unwrap();
+    // DDS_HEADER after the magic (Microsoft, "DDS_HEADER structure"): dwFlags at 8 (DDSD_DEPTH
+    // 0x800000), dwDepth at 24, dwCaps2 at 112 (DDSCAPS2_VOLUME 0x200000); DDS_HEADER_DXT10
+    // at 128: dxgiFormat (BC6H_SF16 = 96), resourceDimension (TEXTURE3D = 4).
+    let raw = std::fs::read(&path).unwrap();
+    let u = |o: usize| u32::from_le_bytes(raw[o..o + 4].try_into().unwrap());
+    assert_eq!(&raw[..4], b"DDS ");
+    assert!(u(8) & 0x80_0000 != 0, "flags {:#x}", u(8));
+    assert_eq!(u(24), 3);
+    assert!(u(112) & 0x20_0000 != 0, "caps2 {:#x}", u(112));
+    assert_eq!((u(128), u(132)), (96, 4));
+    std::fs::remove_dir_all(&dir).ok();
+}
