@@ -18,6 +18,22 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
+/// The KTX2 file beside a DDS, read by the `ktx2` crate: its header's format and size, its
+/// level data, and its key/value pairs.
+fn ktx2_file(path: &std::path::Path) -> (ktx2::Header, Vec<u8>, Vec<(String, String)>) {
+    let bytes = std::fs::read(path).unwrap();
+    let r = ktx2::Reader::new(bytes.as_slice()).unwrap();
+    let level = r.levels().next().unwrap().data.to_vec();
+    let kv = r.key_value_data().map(|(k, v)| (k.to_string(), String::from_utf8_lossy(v).trim_end_matches('\0').to_string())).collect();
+    (r.header(), level, kv)
+}
+
+/// The `sbf.offset` of a KTX2 file's key/value pairs.
+fn ktx2_offset(kv: &[(String, String)]) -> Vec<f64> {
+    let v = &kv.iter().find(|(k, _)| k == "sbf.offset").expect("sbf.offset in the KTX2").1;
+    v.split_whitespace().map(|x| x.parse().unwrap()).collect()
+}
+
 fn exr(path: &std::path::Path) -> (Vec<[f64; 3]>, Vec<f64>) {
     let im = image::open(path).unwrap().to_rgba32f();
     (im.pixels().map(|p| [p[0] as f64, p[1] as f64, p[2] as f64]).collect(), im.pixels().map(|p| p[3] as f64).collect())
@@ -77,6 +93,13 @@ fn bc6h_files_decode_to_the_error_bake_json_states() {
         assert!((mine - stated).abs() <= 1e-4 * stated.max(1e-6), "{file}: bake.json says {stated}, the file gives {mine}");
         assert!(mine < 0.25, "{file}: BC6H lost {mine} of the RMS");
         assert_eq!(im["bytes"].as_u64().unwrap() as usize, dds.data.len());
+        // The KTX2 beside it: the same blocks, BC6H_UFLOAT, the size, and the offset in the
+        // file itself (so it decodes without bake.json).
+        let (h, level, kv) = ktx2_file(&out.join(im["ktx2"].as_str().unwrap()));
+        assert_eq!(h.format, Some(ktx2::Format::BC6H_UFLOAT_BLOCK), "{file}");
+        assert_eq!((h.pixel_width, h.pixel_height), (surf.width, surf.height), "{file}");
+        assert!(level == dds.data, "{file}: the KTX2's blocks differ from the DDS's");
+        assert_eq!(ktx2_offset(&kv), offset, "{file}: the KTX2's offset");
     }
     let bases = c["bases"].as_array().unwrap();
     assert_eq!(bases.len(), 3);
@@ -133,6 +156,9 @@ fn probe_volumes_decode_to_the_error_bake_json_states() {
             let surf = image_dds::Surface::from_dds(&dds).unwrap().decode_rgbaf32().unwrap();
             assert_eq!((surf.width as usize, surf.height as usize, surf.depth as usize), (nx, ny, nz), "{file}");
             let offset: Vec<f64> = v["offsets"][l].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+            let (h, level, kv) = ktx2_file(&out.join(file.replace(".dds", ".ktx2")));
+            assert_eq!((h.format, h.pixel_width as usize, h.pixel_height as usize, h.pixel_depth as usize), (Some(ktx2::Format::BC6H_UFLOAT_BLOCK), nx, ny, nz), "{file}");
+            assert!(level == dds.data && ktx2_offset(&kv) == offset, "{file}: KTX2 blocks or offset differ");
             for (k, p) in list.iter().enumerate() {
                 if !p["valid"].as_bool().unwrap() {
                     continue;

@@ -269,6 +269,22 @@ fn compressed_engine_files_decode_to_the_stated_error() {
             for ((f, _), stated) in tex.iter().zip(&c.dxgi_formats) {
                 assert!(f.eq_ignore_ascii_case(stated), "{}: {f} vs {stated} in {:?}", r.format, c.files);
             }
+            // The KTX2 beside each DDS: the same blocks, the matching Vulkan format, and the
+            // engine named in its key/value data.
+            for (file, stated) in c.files.iter().zip(&c.dxgi_formats) {
+                let dds = image_dds::ddsfile::Dds::read(std::fs::File::open(dir.join(file)).unwrap()).unwrap();
+                let bytes = std::fs::read(dir.join(file.replace(".dds", ".ktx2"))).unwrap();
+                let k = ktx2::Reader::new(bytes.as_slice()).unwrap();
+                let want = match *stated {
+                    "BC6H_UF16" => ktx2::Format::BC6H_UFLOAT_BLOCK,
+                    "BC6H_SF16" => ktx2::Format::BC6H_SFLOAT_BLOCK,
+                    "BC1_UNORM" => ktx2::Format::BC1_RGB_UNORM_BLOCK,
+                    _ => ktx2::Format::BC7_UNORM_BLOCK,
+                };
+                assert_eq!((k.header().format, k.header().pixel_width as usize), (Some(want), W), "{file}");
+                assert!(k.levels().next().unwrap().data == dds.data.as_slice(), "{file}: KTX2 blocks differ from the DDS's");
+                assert!(k.key_value_data().any(|(key, v)| key == "sbf.engine" && v.starts_with(r.engine.split(',').next().unwrap().as_bytes())), "{file}");
+            }
             let (mut e, mut s) = (0.0, 0.0);
             for (i, n) in normals().into_iter().enumerate() {
                 let col = rgb32([tex[0].1[i][0], tex[0].1[i][1], tex[0].1[i][2]]);

@@ -40,7 +40,8 @@
 //! | [`slc`] | stochastic light culling (seeds 000–002): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
 //! | [`error`] | [`SbfError`] and input checks |
 //! | [`frame`] | an orthonormal tangent frame for a unit normal (Duff et al. 2017) |
-//! | `bc` | (feature `bc`) block-compressed storage: BC6H, BC1 and BC7 encode (ISPC), an independent decode (bcdec) and DDS files |
+//! | `bc` | (feature `bc`) block-compressed storage: BC6H (UF16 by ISPC, SF16 by its own mode-11 encoder), BC1 and BC7 encode, an independent decode (bcdec) and DDS files |
+//! | `ktx` | (feature `ktx2`) KTX 2.0 files: one level, a Khronos data format descriptor, key/value pairs |
 //! | `io` | (feature `io`) loading and validating lat-long `.hdr`/`.exr` maps |
 //! | `profile` | (feature `profile`) the lighting profile (TOML) every tool takes with `--profile` |
 //!
@@ -77,6 +78,8 @@ pub mod error;
 pub mod frame;
 pub mod ggx;
 pub mod gram;
+#[cfg(feature = "ktx2")]
+pub mod ktx;
 #[cfg(feature = "io")]
 pub mod io;
 pub mod layout;

@@ -176,76 +176,25 @@ pub fn for_runtime(luts: &[String], features: &[&str]) -> Vec<TableTexture> {
     out
 }
 
-/// The KTX 2.0 file of a table texture.
+/// The KTX 2.0 file of a table texture ([`sbf::ktx`]), its layout under `sbf.layout`.
 pub fn ktx2(t: &TableTexture) -> Result<Vec<u8>, String> {
+    use sbf::ktx::{Dimension, Format as Vk, Ktx2Image};
     let format = match t.format {
-        Format::Rg32Float => ktx2::Format::R32G32_SFLOAT,
-        Format::Rg16Float => ktx2::Format::R16G16_SFLOAT,
+        Format::Rg32Float => Vk::R32G32_SFLOAT,
+        Format::Rg16Float => Vk::R16G16_SFLOAT,
     };
-    let (basic, type_size) = ktx2::dfd::Basic::from_format(format).map_err(|e| format!("{}: no data format descriptor: {e:?}", t.name))?;
-    let dfd_block = ktx2::dfd::Block::Basic(basic).to_vec();
-    let (pixel_depth, layer_count) = match t.kind {
-        Kind::D2 => (0, 0),
-        Kind::D2Array => (0, t.size[2]),
-        Kind::D3 => (t.size[2], 0),
+    let dimension = match t.kind {
+        Kind::D2 => Dimension::D2,
+        Kind::D2Array => Dimension::D2Array { layers: t.size[2] },
+        Kind::D3 => Dimension::D3 { depth: t.size[2] },
     };
-    let texel_bytes = match t.format {
-        Format::Rg32Float => 8,
-        Format::Rg16Float => 4,
-    };
-    let expected = t.size.iter().map(|&s| s as usize).product::<usize>() * texel_bytes;
-    if t.data.len() != expected {
-        return Err(format!("{}: {} bytes of texels for {:?} {:?} (expected {expected})", t.name, t.data.len(), t.size, t.format));
+    Ktx2Image {
+        format,
+        size: [t.size[0], t.size[1]],
+        dimension,
+        key_values: vec![("KTXwriter".into(), format!("sbf shaders {}", env!("CARGO_PKG_VERSION"))), ("sbf.layout".into(), t.layout.clone())],
+        data: &t.data,
     }
-    // Key/value data, sorted by key: each entry is its length, "key\0value\0", padded to 4.
-    let mut kvd = Vec::new();
-    for (k, v) in [("KTXwriter", format!("sbf shaders {}", env!("CARGO_PKG_VERSION"))), ("sbf.layout", t.layout.clone())] {
-        let mut entry = Vec::new();
-        entry.extend(k.as_bytes());
-        entry.push(0);
-        entry.extend(v.as_bytes());
-        entry.push(0);
-        kvd.extend((entry.len() as u32).to_le_bytes());
-        kvd.extend(entry);
-        while kvd.len() % 4 != 0 {
-            kvd.push(0);
-        }
-    }
-    let level_index_at = ktx2::Header::LENGTH;
-    let dfd_at = level_index_at + ktx2::LevelIndex::LENGTH;
-    let dfd_len = 4 + dfd_block.len();
-    let kvd_at = dfd_at + dfd_len;
-    // Level data aligned to lcm(texel block size, 4).
-    let align = texel_bytes.max(4);
-    let data_at = (kvd_at + kvd.len()).div_ceil(align) * align;
-    let header = ktx2::Header {
-        format: Some(format),
-        type_size,
-        pixel_width: t.size[0],
-        pixel_height: t.size[1],
-        pixel_depth,
-        layer_count,
-        face_count: 1,
-        level_count: 1,
-        supercompression_scheme: None,
-        index: ktx2::Index {
-            dfd_byte_offset: dfd_at as u32,
-            dfd_byte_length: dfd_len as u32,
-            kvd_byte_offset: kvd_at as u32,
-            kvd_byte_length: kvd.len() as u32,
-            sgd_byte_offset: 0,
-            sgd_byte_length: 0,
-        },
-    };
-    let level =
-        ktx2::LevelIndex { byte_offset: data_at as u64, byte_length: t.data.len() as u64, uncompressed_byte_length: t.data.len() as u64 };
-    let mut out = Vec::with_capacity(data_at + t.data.len());
-    out.extend(header.as_bytes());
-    out.extend(level.as_bytes());
-    out.extend((dfd_len as u32).to_le_bytes());
-    out.extend(dfd_block);
-    out.extend(kvd);
-    out.resize(data_at, 0);
-    out.extend(&t.data);
-    Ok(out)
+    .to_bytes()
+    .map_err(|e| format!("{}: {e}", t.name))
 }

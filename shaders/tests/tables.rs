@@ -131,7 +131,7 @@ fn a_texture_with_the_wrong_number_of_texels_is_an_error() {
     let mut t = tables::all().swap_remove(0);
     t.data.pop();
     let e = tables::ktx2(&t).unwrap_err();
-    assert!(e.contains("bytes of texels"), "{e}");
+    assert!(e.contains("bytes of level data"), "{e}");
 }
 
 /// A bake's runtime gets the lobe tables in the layout of its lobe feature.

@@ -1,5 +1,6 @@
 //! Compressed lightmaps (`--compress bc6h`): every lightmap image as a DDS file in BC6H
-//! (DXGI_FORMAT_BC6H_UF16, 1 byte per texel), what the engines stream instead of f32 EXR,
+//! (DXGI_FORMAT_BC6H_UF16, 1 byte per texel) and the same blocks as KTX 2.0 beside it (the
+//! offset of a signed image in its key/value data), what the engines stream instead of f32 EXR,
 //! with the error it adds measured by an independent decoder. Probe volumes are DDS volumes
 //! (`DDSCAPS2_VOLUME`, DX10 `TEXTURE3D`).
 //!
@@ -24,6 +25,9 @@ use std::path::Path;
 #[derive(Debug, Clone, Serialize)]
 pub struct CompressedImageJson {
     pub file: String,
+    /// The same blocks as KTX 2.0 (`{stem}.ktx2`), the offset in its key/value data
+    /// (`sbf.offset`).
+    pub ktx2: String,
     /// The EXR it encodes.
     pub source: String,
     /// Added per channel before encoding (subtract after decoding).
@@ -56,7 +60,8 @@ pub struct BasisStorageJson {
 pub struct ProbeStorageJson {
     pub basis: String,
     /// One DDS volume per coefficient (`probes_{basis}_{lobe}.dds`): NX × NY × NZ texels in
-    /// the grid's order (x fastest, then y, then z), BC6H per slice.
+    /// the grid's order (x fastest, then y, then z), BC6H per slice; the same blocks as a
+    /// KTX 2.0 3D texture beside each (`.ktx2`, the offset under `sbf.offset`).
     pub files: Vec<String>,
     /// Per file, added per channel before encoding (subtract after decoding).
     pub offsets: Vec<[f32; 3]>,
@@ -137,6 +142,8 @@ pub fn write_probe_volumes(dir: &Path, g: &ProbeGrid) -> Result<Vec<ProbeStorage
             }
             let file = format!("probes_{}_{l:02}.dds", kind.name());
             block_bytes += blocks.len();
+            let ktx = dir.join(format!("probes_{}_{l:02}.ktx2", kind.name()));
+            write_ktx2(&ktx, [nx, ny], Some(nz), bc::ddsfile::DxgiFormat::BC6H_UF16, &blocks, offset_keys(offset))?;
             bc::write_dds_volume(&dir.join(&file), nx, ny, Some(nz), bc::ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
             files.push(file);
             offsets.push(offset);
@@ -206,15 +213,41 @@ fn dv(p: [f32; 3]) -> DVec3 {
     DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
 }
 
-/// Compresses one image into `dir/{stem}.dds`; returns its record and the decoded image.
+/// The same blocks as a KTX 2.0 file (`sbf::ktx`) beside the DDS — Godot, Bevy and three.js
+/// read KTX2 — with `key_values` (e.g. the offset to subtract) in the file itself.
+pub fn write_ktx2(
+    path: &Path,
+    size: [usize; 2],
+    depth: Option<usize>,
+    dxgi: bc::ddsfile::DxgiFormat,
+    blocks: &[u8],
+    key_values: Vec<(String, String)>,
+) -> Result<(), String> {
+    let format = bc::ktx2_format(dxgi).ok_or_else(|| format!("{}: no KTX2 format for {dxgi:?}", path.display()))?;
+    let dimension = depth.map_or(sbf::ktx::Dimension::D2, |d| sbf::ktx::Dimension::D3 { depth: d as u32 });
+    sbf::ktx::Ktx2Image { format, size: [size[0] as u32, size[1] as u32], dimension, key_values, data: blocks }.write(path)
+}
+
+/// The KTX2 key/value pairs of an image stored shifted by `offset`: the offset and how to
+/// decode, so the file alone decodes to the values.
+fn offset_keys(offset: [f32; 3]) -> Vec<(String, String)> {
+    vec![
+        ("sbf.offset".into(), format!("{} {} {}", offset[0], offset[1], offset[2])),
+        ("sbf.decode".into(), "value = texel - sbf.offset (per channel R G B)".into()),
+    ]
+}
+
+/// Compresses one image into `dir/{stem}.dds` and `.ktx2`; returns its record and the
+/// decoded image.
 fn compress_image(dir: &Path, img: &LightmapImages, stem: &str, rgb: &[[f32; 3]]) -> Result<(CompressedImageJson, Vec<[f32; 3]>), String> {
     let (blocks, offset, clamped_values) = bc::encode_bc6h_offset(img.width, img.height, rgb);
     let decoded = bc::decode_bc6h_offset(img.width, img.height, &blocks, offset);
     let bytes = blocks.len();
     let file = format!("{stem}.dds");
+    write_ktx2(&dir.join(format!("{stem}.ktx2")), [img.width, img.height], None, bc::ddsfile::DxgiFormat::BC6H_UF16, &blocks, offset_keys(offset))?;
     bc::write_dds(&dir.join(&file), img.width, img.height, bc::ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
     let (e, s) = rms_pair(&img.validity, decoded.iter().map(|p| dv(*p)), rgb.iter().map(|p| dv(*p)));
-    Ok((CompressedImageJson { file, source: format!("{stem}.exr"), offset, bytes, rel_rms: rel(e, s), clamped_values }, decoded))
+    Ok((CompressedImageJson { file, ktx2: format!("{stem}.ktx2"), source: format!("{stem}.exr"), offset, bytes, rel_rms: rel(e, s), clamped_values }, decoded))
 }
 
 /// Writes every lightmap image (E/π and each basis lobe) as BC6H DDS next to its EXR and

@@ -34,7 +34,8 @@
 //! texel normal used at any normal) loses there; and what storage alone loses. With
 //! `--compress bc6h` each format is also written block-compressed as its engine ships it
 //! ([`EngineFormat::compressed`]) and in any labelled variant
-//! ([`EngineFormat::compressed_variants`]), `.dds` beside each file, with the same errors.
+//! ([`EngineFormat::compressed_variants`]), `.dds` and `.ktx2` (the same blocks; the engine
+//! and layout in its key/value data) beside each file, with the same errors.
 
 use super::write_exr;
 use crate::post::images::LightmapImages;
@@ -213,24 +214,35 @@ fn dxgi_name(f: BlockFormat) -> &'static str {
     }
 }
 
-/// One RGB(A) texture through a block format: writes `dir/{stem}.dds`, returns the decode
-/// (RGBA; alpha 1 for BC6H), the bytes and the values clamped.
-fn compress_texture(dir: &Path, img: &LightmapImages, stem: &str, f: BlockFormat, rgba: &[[f64; 4]]) -> Result<(Vec<[f64; 4]>, usize, usize), String> {
+/// One RGB(A) texture through a block format: writes `dir/{stem}.dds` and the same blocks as
+/// `{stem}.ktx2` (`keys` in its key/value data), returns the decode (RGBA; alpha 1 for BC6H),
+/// the bytes and the values clamped.
+fn compress_texture(
+    dir: &Path,
+    img: &LightmapImages,
+    stem: &str,
+    f: BlockFormat,
+    rgba: &[[f64; 4]],
+    keys: &[(String, String)],
+) -> Result<(Vec<[f64; 4]>, usize, usize), String> {
     use sbf::bc;
     let (w, h) = (img.width, img.height);
     let path = dir.join(format!("{stem}.dds"));
+    let ktx = dir.join(format!("{stem}.ktx2"));
     match f {
         BlockFormat::Bc6hUf16 | BlockFormat::Bc6hSf16 => {
             let rgb: Vec<[f32; 3]> = rgba.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]).collect();
             let b = if f == BlockFormat::Bc6hSf16 { bc::encode_bc6h_signed(w, h, &rgb) } else { bc::encode_bc6h_unsigned(w, h, &rgb) };
             let decoded = b.decode(w, h).iter().map(|p| [p[0] as f64, p[1] as f64, p[2] as f64, 1.0]).collect();
             let (bytes, clamped) = (b.blocks.len(), b.clamped);
+            super::compress::write_ktx2(&ktx, [w, h], None, b.format, &b.blocks, keys.to_vec())?;
             bc::write_dds(&path, w, h, b.format, b.blocks)?;
             Ok((decoded, bytes, clamped))
         }
         BlockFormat::Bc1 | BlockFormat::Bc7 => {
             let (blocks, dxgi, decoded) = bc::encode_unorm(w, h, rgba, f == BlockFormat::Bc7);
             let bytes = blocks.len();
+            super::compress::write_ktx2(&ktx, [w, h], None, dxgi, &blocks, keys.to_vec())?;
             bc::write_dds(&path, w, h, dxgi, blocks)?;
             Ok((decoded, bytes, 0))
         }
@@ -249,14 +261,22 @@ fn compress_layout(
 ) -> Result<(Vec<Option<Texel>>, CompressedFormatJson), String> {
     let stems = stems(format);
     let colour: Vec<[f64; 4]> = texels.iter().map(|t| t.as_ref().map_or([0.0; 4], |e| [e.stored.colour[0], e.stored.colour[1], e.stored.colour[2], 1.0])).collect();
-    let (decoded_colour, mut bytes, clamped) = compress_texture(dir, img, &stems[0], layout.colour, &colour)?;
+    // MonoSH's two decodes share their textures: the file names both.
+    let engine = match format {
+        EngineFormat::MonoSh | EngineFormat::MonoShLinear => {
+            "Bakery for Unity, MonoSH: the same textures for SH non-linear mode on (Bakery's default) and off"
+        }
+        _ => format.engine(),
+    };
+    let keys = vec![("sbf.engine".to_string(), engine.to_string()), ("sbf.layout".to_string(), layout.label.to_string())];
+    let (decoded_colour, mut bytes, clamped) = compress_texture(dir, img, &stems[0], layout.colour, &colour, &keys)?;
     let mut files = vec![format!("{}.dds", stems[0])];
     let mut formats = vec![dxgi_name(layout.colour)];
     let mut units = Vec::new();
     for k in 0..format.unit_textures() {
         let rgba: Vec<[f64; 4]> = texels.iter().map(|t| t.as_ref().map_or([0.5, 0.5, 0.5, 1.0], |e| e.stored.unit[k])).collect();
         let stem = format!("{}{suffix}", stems[k + 1]);
-        let (decoded, b, _) = compress_texture(dir, img, &stem, layout.units, &rgba)?;
+        let (decoded, b, _) = compress_texture(dir, img, &stem, layout.units, &rgba, &keys)?;
         bytes += b;
         files.push(format!("{stem}.dds"));
         formats.push(dxgi_name(layout.units));

@@ -202,3 +202,15 @@ pub fn write_dds_volume(
     let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| format!("creating {}: {e}", path.display()))?);
     dds.write(&mut f).map_err(|e| format!("writing {}: {e}", path.display()))
 }
+
+/// The KTX2 format of a DDS DXGI format the baker writes (BC6H, BC1, BC7).
+pub fn ktx2_format(dxgi: ddsfile::DxgiFormat) -> Option<crate::ktx::Format> {
+    use ddsfile::DxgiFormat as D;
+    Some(match dxgi {
+        D::BC6H_UF16 => crate::ktx::Format::BC6H_UFLOAT_BLOCK,
+        D::BC6H_SF16 => crate::ktx::Format::BC6H_SFLOAT_BLOCK,
+        D::BC1_UNorm => crate::ktx::Format::BC1_RGB_UNORM_BLOCK,
+        D::BC7_UNorm => crate::ktx::Format::BC7_UNORM_BLOCK,
+        _ => return None,
+    })
+}
