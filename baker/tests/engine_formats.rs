@@ -4,17 +4,17 @@
 //! the shader sources, not the library's decoder), in each engine's frame.
 //!
 //! Each texel (normal n₀, its tangent frame t, b as the bake uses) sees radiance 1 uniform
-//! over its upper hemisphere plus, per colour channel k, a delta light of intensity I from
-//! its own world direction w_k (tilted 0.6 rad from n₀ towards t, −t and b for red, green
-//! and blue): a channel swap, one direction file written three times, or other luminance
-//! weights than Rec. 709's give another texture. Channel k's SH L1 radiance coefficients in
-//! the tangent frame (the bake's storage, zero below the surface) are
-//! c = (√π, 0, √(3/4π)·π, 0) + I·Y(w_k local). Closed forms at a shading normal n: L1
-//! irradiance (1 + n·n₀)/2 + I(1 + 2w_k·n)/(4π) (Godot decodes exactly this; MonoSH's linear
-//! decode with one luminance direction d_Y = (n₀/2 + I/(2π)·Σ Y_k w_k)/(1 + I/(2π))
-//! instead of each channel's); Enlighten's direction d = (πn₀ + I·Σ Y_k w_k)/(2π + I) (RGB:
-//! each channel's w_k) and its decode C_k·(1 + n·d)/(1 + n₀·d) with C_k = E/π at n₀ =
-//! 1 + I·w_k·n₀/π. Y = (0.2126, 0.7152, 0.0722) typed here (ITU-R BT.709). Unity's and
+//! over its upper hemisphere plus, per colour channel k, a delta light of its own intensity
+//! I_k = I·(1, 0.6, 0.3) from its own world direction w_k (tilted 0.6 rad from n₀ towards t,
+//! −t and b for red, green and blue): a channel swap, one direction file written three
+//! times, or other luminance weights than Rec. 709's give another texture. Channel k's SH L1
+//! radiance coefficients in the tangent frame (the bake's storage, zero below the surface)
+//! are c = (√π, 0, √(3/4π)·π, 0) + I_k·Y(w_k local). Closed forms at a shading normal n: L1
+//! irradiance (1 + n·n₀)/2 + I_k(1 + 2w_k·n)/(4π) (Godot decodes exactly this); MonoSH's
+//! L0_k = a₀_k = ½ + I_k/(4π) and one luminance direction
+//! d_Y = Σ Y_k(n₀/2 + I_k·w_k/(2π)) / (2·Σ Y_k·a₀_k); Enlighten's direction
+//! d = Σ Y_k(πn₀ + I_k·w_k)/Σ Y_k(2π + I_k) (RGB: each channel's (πn₀ + I_k·w_k)/(2π + I_k))
+//! and its decode C_k·(1 + n·d)/(1 + n₀·d) with C_k = E/π at n₀ = 1 + I_k·w_k·n₀/π. Y = (0.2126, 0.7152, 0.0722) typed here (ITU-R BT.709). Unity's and
 //! Bakery's files are in Unity's frame: x negated (UnityGLTF's glTF import).
 //!
 //! Error model: values rounded to f16 (relative 2⁻¹¹ on the colour, absolute 2⁻¹² on
@@ -36,6 +36,8 @@ use std::path::Path;
 const W: usize = 8;
 const H: usize = 4;
 const I: f64 = 2.0;
+/// Each channel's light intensity.
+const IK: [f64; 3] = [I, 0.6 * I, 0.3 * I];
 const Y709: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
 fn normals() -> Vec<DVec3> {
@@ -72,11 +74,12 @@ fn images() -> LightmapImages {
         let (t, b) = frame(n0.as_vec3());
         for (ch, w) in light_dirs(n0).into_iter().enumerate() {
             let wl = DVec3::new(w.dot(t.as_dvec3()), w.dot(b.as_dvec3()), w.dot(n0));
-            let c = [PI.sqrt() + I * 0.5 / PI.sqrt(), I * k1 * wl.y, k1 * PI + I * k1 * wl.z, I * k1 * wl.x];
+            let ik = IK[ch];
+            let c = [PI.sqrt() + ik * 0.5 / PI.sqrt(), ik * k1 * wl.y, k1 * PI + ik * k1 * wl.z, ik * k1 * wl.x];
             for (l, cl) in c.iter().enumerate() {
                 img.coefficients[0][l][i][ch] = *cl as f32;
             }
-            img.irradiance[i][ch] = (1.0 + I * w.dot(n0) / PI) as f32;
+            img.irradiance[i][ch] = (1.0 + ik * w.dot(n0) / PI) as f32;
         }
         img.normals[i] = n0.as_vec3().to_array();
     }
@@ -141,11 +144,12 @@ fn engine_files_decode_to_the_closed_form_per_channel() {
         let (t, b) = frame(n0.as_vec3());
         let layer = |tex: &Vec<Vec<[f64; 3]>>, l: usize| rgb32(tex[l][i]);
         // The MonoSH textures themselves: L0 per channel and the luminance direction.
-        let a0 = 0.5 + I / (4.0 * PI);
-        let wy: DVec3 = (0..3).map(|k| ws[k] * Y709[k]).sum();
-        let d_mono = unity((n0 * 0.5 + wy * (I / (2.0 * PI))) / (1.0 + I / (2.0 * PI)));
+        let a0 = IK.map(|ik| 0.5 + ik / (4.0 * PI));
+        let y_a1: DVec3 = (0..3).map(|k| (n0 * 0.5 + ws[k] * (IK[k] / (2.0 * PI))) * Y709[k]).sum();
+        let y_a0: f64 = (0..3).map(|k| Y709[k] * a0[k]).sum();
+        let d_mono = unity(y_a1 / (2.0 * y_a0));
         for k in 0..3 {
-            assert!((m0[i][k] - a0).abs() <= a0 * 2f64.powi(-11), "MonoSH L0 texel {i} channel {k}: {} vs {a0}", m0[i][k]);
+            assert!((m0[i][k] - a0[k]).abs() <= a0[k] * 2f64.powi(-11), "MonoSH L0 texel {i} channel {k}: {} vs {}", m0[i][k], a0[k]);
         }
         let stored = DVec3::new(md[i][0], md[i][1], md[i][2]) * 2.0 - DVec3::ONE;
         assert!((stored - d_mono).abs().max_element() <= 1.0 / 255.0 + 1e-9, "MonoSH direction texel {i}: {stored} vs {d_mono}");
@@ -153,7 +157,7 @@ fn engine_files_decode_to_the_closed_form_per_channel() {
         let tilts = [DVec3::ZERO, t.as_dvec3(), -t.as_dvec3(), b.as_dvec3()];
         for tilt in tilts {
             let n = (n0 + tilt * 0.5f64.tan()).normalize();
-            let lin = [0, 1, 2].map(|k| (1.0 + n.dot(n0)) / 2.0 + I * (1.0 + 2.0 * ws[k].dot(n)) / (4.0 * PI));
+            let lin = [0, 1, 2].map(|k| (1.0 + n.dot(n0)) / 2.0 + IK[k] * (1.0 + 2.0 * ws[k].dot(n)) / (4.0 * PI));
             let godot = shader::godot_4_4(layer(&g, 0), layer(&g, 1), layer(&g, 2), layer(&g, 3), f3(n));
             let legacy = shader::godot_4_0(layer(&gl, 0), layer(&gl, 1), layer(&gl, 2), layer(&gl, 3), f3(n));
             let sum_n = n.x.abs() + n.y.abs() + n.z.abs();
@@ -166,17 +170,19 @@ fn engine_files_decode_to_the_closed_form_per_channel() {
             // MonoSH linear through Bakery's shader, in Unity's frame: one luminance direction.
             let mono = shader::bakery_mono_sh(rgb32(m0[i]), [md[i][0] as f32, md[i][1] as f32, md[i][2] as f32], f3(unity(n)), false);
             for k in 0..3 {
-                let want = (a0 + 2.0 * a0 * d_mono.dot(unity(n))).max(0.0);
-                let tol = a0 * (3.0 * 2f64.powi(-11) + 4.0 / 510.0 * sum_n) + 1e-6;
+                let want = (a0[k] + 2.0 * a0[k] * d_mono.dot(unity(n))).max(0.0);
+                let tol = a0[k] * (3.0 * 2f64.powi(-11) + 4.0 / 510.0 * sum_n) + 1e-6;
                 assert!((mono[k] as f64 - want).abs() <= tol, "MonoSH texel {i} n {n} channel {k}: {} vs {want}", mono[k]);
             }
             // Enlighten (luminance direction) and Enlighten RGB (each channel's), Unity's decode.
-            let d_lum = unity((n0 * PI + wy * I) / (2.0 * PI + I));
+            let m1: DVec3 = (0..3).map(|k| (n0 * PI + ws[k] * IK[k]) * Y709[k]).sum();
+            let m0: f64 = (0..3).map(|k| Y709[k] * (2.0 * PI + IK[k])).sum();
+            let d_lum = unity(m1 / m0);
             for k in 0..3 {
-                let c = 1.0 + I * ws[k].dot(n0) / PI;
+                let c = 1.0 + IK[k] * ws[k].dot(n0) / PI;
                 for (name, col, u, d) in [
                     ("Enlighten", &ec, ed[i], d_lum),
-                    ("Enlighten RGB", &rc, rd[k][i], unity((n0 * PI + ws[k] * I) / (2.0 * PI + I))),
+                    ("Enlighten RGB", &rc, rd[k][i], unity((n0 * PI + ws[k] * IK[k]) / (2.0 * PI + IK[k]))),
                 ] {
                     let (ne, n0e) = (unity(n), unity(n0));
                     let want = c * (1.0 + ne.dot(d)) / (1.0 + n0e.dot(d));
@@ -214,8 +220,9 @@ fn gltf_frame_keeps_the_scene_axes() {
     let md = png(&dir, "monosh_dir.png");
     for (i, n0) in normals().into_iter().enumerate() {
         let ws = light_dirs(n0);
-        let wy: DVec3 = (0..3).map(|k| ws[k] * Y709[k]).sum();
-        let d = (n0 * 0.5 + wy * (I / (2.0 * PI))) / (1.0 + I / (2.0 * PI));
+        let y_a1: DVec3 = (0..3).map(|k| (n0 * 0.5 + ws[k] * (IK[k] / (2.0 * PI))) * Y709[k]).sum();
+        let y_a0: f64 = (0..3).map(|k| Y709[k] * (0.5 + IK[k] / (4.0 * PI))).sum();
+        let d = y_a1 / (2.0 * y_a0);
         let stored = DVec3::new(md[i][0], md[i][1], md[i][2]) * 2.0 - DVec3::ONE;
         assert!((stored - d).abs().max_element() <= 1.0 / 255.0 + 1e-9, "texel {i}: {stored} vs {d}");
     }

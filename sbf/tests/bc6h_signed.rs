@@ -119,3 +119,24 @@ fn dds_volume_header_carries_the_volume_flag() {
     assert_eq!((u(128), u(132)), (96, 4));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn an_endpoint_value_decodes_bit_exactly() {
+    // A uniform block whose value is an endpoint's own decode — P = ((|q| << 15) + 0x4000) >> 9
+    // (the spec's unquantisation, typed here), finished ×31/32 — is representable exactly (index
+    // 0 or 15 selects the endpoint): bcdec must return the same half bits, for either sign.
+    for q in [1i32, 2, 37, 200, 447, 510] {
+        for sign in [1, -1] {
+            let p = sign * (((q << 15) + 0x4000) >> 9);
+            let v = value_of_p(p);
+            let b = bc::encode_bc6h_signed(4, 4, &[[v, -v, v]; 16]);
+            let d = b.decode(4, 4);
+            assert_eq!(
+                [d[0][0], d[0][1], d[0][2]].map(|x| half::f16::from_f32(x).to_bits()),
+                [v, -v, v].map(|x| half::f16::from_f32(x).to_bits()),
+                "q {q} sign {sign}: {v} decoded {:?}",
+                d[0]
+            );
+        }
+    }
+}
