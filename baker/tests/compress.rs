@@ -157,7 +157,11 @@ fn probe_volumes_decode_to_the_error_bake_json_states() {
             assert_eq!((surf.width as usize, surf.height as usize, surf.depth as usize), (nx, ny, nz), "{file}");
             let offset: Vec<f64> = v["offsets"][l].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
             let (h, level, kv) = ktx2_file(&out.join(file.replace(".dds", ".ktx2")));
-            assert_eq!((h.format, h.pixel_width as usize, h.pixel_height as usize, h.pixel_depth as usize), (Some(ktx2::Format::BC6H_UFLOAT_BLOCK), nx, ny, nz), "{file}");
+            assert_eq!(
+                (h.format, h.pixel_width as usize, h.pixel_height as usize, h.pixel_depth as usize),
+                (Some(ktx2::Format::BC6H_UFLOAT_BLOCK), nx, ny, nz),
+                "{file}"
+            );
             assert!(level == dds.data && ktx2_offset(&kv) == offset, "{file}: KTX2 blocks or offset differ");
             for (k, p) in list.iter().enumerate() {
                 if !p["valid"].as_bool().unwrap() {

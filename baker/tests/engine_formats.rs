@@ -164,7 +164,12 @@ fn engine_files_decode_to_the_closed_form_per_channel() {
             for k in 0..3 {
                 let l0 = g[0][i][k];
                 let tol = l0 * (3.0 * 2f64.powi(-11) + 8.0 * 2f64.powi(-12) * sum_n) + 1e-6;
-                assert!((godot[k] as f64 - lin[k]).abs() <= tol, "Godot ≥ 4.4 texel {i} n {n} channel {k}: {} vs {} (tol {tol:.2e})", godot[k], lin[k]);
+                assert!(
+                    (godot[k] as f64 - lin[k]).abs() <= tol,
+                    "Godot ≥ 4.4 texel {i} n {n} channel {k}: {} vs {} (tol {tol:.2e})",
+                    godot[k],
+                    lin[k]
+                );
                 assert!((legacy[k] as f64 - lin[k]).abs() <= tol, "Godot 4.0–4.3 texel {i} n {n} channel {k}: {} vs {}", legacy[k], lin[k]);
             }
             // MonoSH linear through Bakery's shader, in Unity's frame: one luminance direction.
@@ -215,7 +220,8 @@ fn gltf_frame_keeps_the_scene_axes() {
     let dir = std::env::temp_dir().join(format!("sbf-engine-formats-gltf-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let img = images();
-    let rec = write_engine_formats(&dir, &img, &img.coefficients[0], None, &[EngineFormat::MonoSh], Some(EngineFrame::Gltf), false).unwrap();
+    let rec =
+        write_engine_formats(&dir, &img, &img.coefficients[0], None, &[EngineFormat::MonoSh], Some(EngineFrame::Gltf), false).unwrap();
     assert!(rec[0].frame.starts_with("gltf"), "{rec:?}");
     let md = png(&dir, "monosh_dir.png");
     for (i, n0) in normals().into_iter().enumerate() {
@@ -290,7 +296,10 @@ fn compressed_engine_files_decode_to_the_stated_error() {
                 };
                 assert_eq!((k.header().format, k.header().pixel_width as usize), (Some(want), W), "{file}");
                 assert!(k.levels().next().unwrap().data == dds.data.as_slice(), "{file}: KTX2 blocks differ from the DDS's");
-                assert!(k.key_value_data().any(|(key, v)| key == "sbf.engine" && v.starts_with(r.engine.split(',').next().unwrap().as_bytes())), "{file}");
+                assert!(
+                    k.key_value_data().any(|(key, v)| key == "sbf.engine" && v.starts_with(r.engine.split(',').next().unwrap().as_bytes())),
+                    "{file}"
+                );
             }
             let (mut e, mut s) = (0.0, 0.0);
             for (i, n) in normals().into_iter().enumerate() {
@@ -313,8 +322,16 @@ fn compressed_engine_files_decode_to_the_stated_error() {
                 }
             }
             let mine = (e / s).sqrt();
-            println!("{} [{}]: {:.2} B/texel, stated {:.5}, recomputed {mine:.5}", r.format, c.layout, c.bytes_per_texel, c.error_at_normal_rel_rms);
-            assert!((mine - c.error_at_normal_rel_rms).abs() <= 1e-5 * mine.max(1e-9), "{}: {mine} vs {}", r.format, c.error_at_normal_rel_rms);
+            println!(
+                "{} [{}]: {:.2} B/texel, stated {:.5}, recomputed {mine:.5}",
+                r.format, c.layout, c.bytes_per_texel, c.error_at_normal_rel_rms
+            );
+            assert!(
+                (mine - c.error_at_normal_rel_rms).abs() <= 1e-5 * mine.max(1e-9),
+                "{}: {mine} vs {}",
+                r.format,
+                c.error_at_normal_rel_rms
+            );
             checked += 1;
         }
         let units = if matches!(r.format, "godot-l1" | "godot-l1-legacy" | "enlighten-rgb") { 3 } else { 1 };

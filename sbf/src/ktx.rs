@@ -44,7 +44,8 @@ impl Ktx2Image<'_> {
     /// The file's bytes; an error where the format has no descriptor or the data's length
     /// does not match the size.
     pub fn to_bytes(&self) -> Result<Vec<u8>, String> {
-        let (basic, type_size) = ktx2::dfd::Basic::from_format(self.format).map_err(|e| format!("{:?}: no data format descriptor: {e:?}", self.format))?;
+        let (basic, type_size) =
+            ktx2::dfd::Basic::from_format(self.format).map_err(|e| format!("{:?}: no data format descriptor: {e:?}", self.format))?;
         // Texel block: dimensions and bytes (from the descriptor: 4 × 4 for BC formats).
         let block = [basic.texel_block_dimensions[0].get() as usize, basic.texel_block_dimensions[1].get() as usize];
         let block_bytes = basic.bytes_planes[0] as usize;

@@ -78,10 +78,10 @@ pub mod error;
 pub mod frame;
 pub mod ggx;
 pub mod gram;
-#[cfg(feature = "ktx2")]
-pub mod ktx;
 #[cfg(feature = "io")]
 pub mod io;
+#[cfg(feature = "ktx2")]
+pub mod ktx;
 pub mod layout;
 pub mod luts;
 #[cfg(all(

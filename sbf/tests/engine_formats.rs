@@ -219,7 +219,8 @@ fn library_decodes_equal_the_shader_transcriptions() {
         for u in &mut unit {
             *u = [byte(&mut rng), byte(&mut rng), byte(&mut rng), byte(&mut rng).max(1.0 / 255.0)];
         }
-        let signed: [[f64; 4]; 3] = [0, 1, 2].map(|_| [0, 1, 2, 3].map(|k| if k < 3 { (rng.next() * 2.0 - 1.0) * 3.0 * colour[k] } else { 1.0 }));
+        let signed: [[f64; 4]; 3] =
+            [0, 1, 2].map(|_| [0, 1, 2, 3].map(|k| if k < 3 { (rng.next() * 2.0 - 1.0) * 3.0 * colour[k] } else { 1.0 }));
         for n in normals() {
             let nf = f32x3(n);
             let c32 = colour.map(|v| v as f32);
@@ -246,11 +247,18 @@ fn library_decodes_equal_the_shader_transcriptions() {
                         shader::bakery_mono_sh(c32, u32_(0), nf, f == EngineFormat::MonoSh)
                     }
                     EngineFormat::Enlighten => shader::unity_decode_directional_lightmap(c32, unit[0].map(|v| v as f32), nf),
-                    EngineFormat::EnlightenRgb => [0, 1, 2].map(|k| shader::unity_decode_directional_lightmap(c32, unit[k].map(|v| v as f32), nf)[k]),
+                    EngineFormat::EnlightenRgb => {
+                        [0, 1, 2].map(|k| shader::unity_decode_directional_lightmap(c32, unit[k].map(|v| v as f32), nf)[k])
+                    }
                 };
                 let tol = 1.2e-4 * max_l0 * if f.signed_units() { 3.0 } else { 1.0 };
                 for k in 0..3 {
-                    assert!((lib[k] - tr[k] as f64).abs() <= tol, "{f:?} channel {k} at {n}: library {} vs shader {} (tol {tol:e})", lib[k], tr[k]);
+                    assert!(
+                        (lib[k] - tr[k] as f64).abs() <= tol,
+                        "{f:?} channel {k} at {n}: library {} vs shader {} (tol {tol:e})",
+                        lib[k],
+                        tr[k]
+                    );
                 }
                 compared[EngineFormat::ALL.iter().position(|g| *g == f).unwrap()] += 1;
             }
@@ -343,20 +351,32 @@ fn coloured_light_reaches_each_channel_with_rec709_luminance() {
         let t = encode(f, &l1, None).unwrap().texel;
         assert!(close(t.colour, a0, 1e-15), "{f:?} L0");
         let want = (d + DVec3::ONE) * 0.5;
-        assert!((DVec3::new(t.unit[0][0], t.unit[0][1], t.unit[0][2]) - want).length() < 1e-14, "{f:?} direction {:?} vs {want}", t.unit[0]);
+        assert!(
+            (DVec3::new(t.unit[0][0], t.unit[0][1], t.unit[0][2]) - want).length() < 1e-14,
+            "{f:?} direction {:?} vs {want}",
+            t.unit[0]
+        );
     }
 
     let n0 = DVec3::new(0.0, 0.6, 0.8);
     let input = EnlightenInput { normal: n0, irradiance: [0.3, 0.2, 0.1], moments: Moments::sphere(&sh) };
     let e = encode(EngineFormat::Enlighten, &l1, Some(&input)).unwrap().texel;
     let want = (d + DVec3::ONE) * 0.5;
-    assert!((DVec3::new(e.unit[0][0], e.unit[0][1], e.unit[0][2]) - want).length() < 1e-14, "Enlighten direction {:?} vs {want}", e.unit[0]);
+    assert!(
+        (DVec3::new(e.unit[0][0], e.unit[0][1], e.unit[0][2]) - want).length() < 1e-14,
+        "Enlighten direction {:?} vs {want}",
+        e.unit[0]
+    );
     assert!((e.unit[0][3] - 0.5 * (1.0 + n0.dot(d))).abs() < 1e-14, "Enlighten rescaling factor");
     assert_eq!(e.colour, [0.3, 0.2, 0.1]);
     let r = encode(EngineFormat::EnlightenRgb, &l1, Some(&input)).unwrap().texel;
     for k in 0..3 {
         let want = (ws[k] + DVec3::ONE) * 0.5;
-        assert!((DVec3::new(r.unit[k][0], r.unit[k][1], r.unit[k][2]) - want).length() < 1e-14, "Enlighten RGB channel {k}: {:?} vs {want}", r.unit[k]);
+        assert!(
+            (DVec3::new(r.unit[k][0], r.unit[k][1], r.unit[k][2]) - want).length() < 1e-14,
+            "Enlighten RGB channel {k}: {:?} vs {want}",
+            r.unit[k]
+        );
         assert!((r.unit[k][3] - 0.5 * (1.0 + n0.dot(ws[k]))).abs() < 1e-14);
     }
 }

@@ -192,7 +192,10 @@ pub fn ktx2(t: &TableTexture) -> Result<Vec<u8>, String> {
         format,
         size: [t.size[0], t.size[1]],
         dimension,
-        key_values: vec![("KTXwriter".into(), format!("sbf shaders {}", env!("CARGO_PKG_VERSION"))), ("sbf.layout".into(), t.layout.clone())],
+        key_values: vec![
+            ("KTXwriter".into(), format!("sbf shaders {}", env!("CARGO_PKG_VERSION"))),
+            ("sbf.layout".into(), t.layout.clone()),
+        ],
         data: &t.data,
     }
     .to_bytes()

@@ -244,10 +244,28 @@ fn compress_image(dir: &Path, img: &LightmapImages, stem: &str, rgb: &[[f32; 3]]
     let decoded = bc::decode_bc6h_offset(img.width, img.height, &blocks, offset);
     let bytes = blocks.len();
     let file = format!("{stem}.dds");
-    write_ktx2(&dir.join(format!("{stem}.ktx2")), [img.width, img.height], None, bc::ddsfile::DxgiFormat::BC6H_UF16, &blocks, offset_keys(offset))?;
+    write_ktx2(
+        &dir.join(format!("{stem}.ktx2")),
+        [img.width, img.height],
+        None,
+        bc::ddsfile::DxgiFormat::BC6H_UF16,
+        &blocks,
+        offset_keys(offset),
+    )?;
     bc::write_dds(&dir.join(&file), img.width, img.height, bc::ddsfile::DxgiFormat::BC6H_UF16, blocks)?;
     let (e, s) = rms_pair(&img.validity, decoded.iter().map(|p| dv(*p)), rgb.iter().map(|p| dv(*p)));
-    Ok((CompressedImageJson { file, ktx2: format!("{stem}.ktx2"), source: format!("{stem}.exr"), offset, bytes, rel_rms: rel(e, s), clamped_values }, decoded))
+    Ok((
+        CompressedImageJson {
+            file,
+            ktx2: format!("{stem}.ktx2"),
+            source: format!("{stem}.exr"),
+            offset,
+            bytes,
+            rel_rms: rel(e, s),
+            clamped_values,
+        },
+        decoded,
+    ))
 }
 
 /// Writes every lightmap image (E/π and each basis lobe) as BC6H DDS next to its EXR and

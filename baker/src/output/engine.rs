@@ -260,7 +260,8 @@ fn compress_layout(
     suffix: &str,
 ) -> Result<(Vec<Option<Texel>>, CompressedFormatJson), String> {
     let stems = stems(format);
-    let colour: Vec<[f64; 4]> = texels.iter().map(|t| t.as_ref().map_or([0.0; 4], |e| [e.stored.colour[0], e.stored.colour[1], e.stored.colour[2], 1.0])).collect();
+    let colour: Vec<[f64; 4]> =
+        texels.iter().map(|t| t.as_ref().map_or([0.0; 4], |e| [e.stored.colour[0], e.stored.colour[1], e.stored.colour[2], 1.0])).collect();
     // MonoSH's two decodes share their textures: the file names both.
     let engine = match format {
         EngineFormat::MonoSh | EngineFormat::MonoShLinear => {
@@ -359,7 +360,10 @@ pub fn write_engine_formats(
         if compress {
             layouts.push(compress_layout(dir, img, &texels, format, format.compressed(), "")?);
             for (i, l) in format.compressed_variants().into_iter().enumerate() {
-                let suffix = format!("_{}", if i == 0 { dxgi_name(l.units).split('_').next().unwrap_or("v").to_lowercase() } else { format!("v{i}") });
+                let suffix = format!(
+                    "_{}",
+                    if i == 0 { dxgi_name(l.units).split('_').next().unwrap_or("v").to_lowercase() } else { format!("v{i}") }
+                );
                 layouts.push(compress_layout(dir, img, &texels, format, l, &suffix)?);
             }
         }
@@ -372,7 +376,8 @@ pub fn write_engine_formats(
                 continue;
             }
             let (df, ds) = (engine::decode(format, &e.full, e.n), engine::decode(format, &e.stored, e.n));
-            let dc: Vec<Option<[f64; 3]>> = layouts.iter().map(|(read, _)| read[t].as_ref().map(|c| engine::decode(format, c, e.n))).collect();
+            let dc: Vec<Option<[f64; 3]>> =
+                layouts.iter().map(|(read, _)| read[t].as_ref().map(|c| engine::decode(format, c, e.n))).collect();
             let bake = img.irradiance[t].map(f64::from);
             for k in 0..3 {
                 err += (ds[k] - bake[k]).powi(2);

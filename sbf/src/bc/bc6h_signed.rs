@@ -143,11 +143,8 @@ fn polish(t: &[[f64; 3]; 16], e0: [i32; 3], e1: [i32; 3], idx: &[usize; 16]) -> 
                     continue;
                 }
                 let (u0, u1) = (unquantize(q0), unquantize(q1));
-                let err: f64 = t
-                    .iter()
-                    .zip(idx)
-                    .map(|(p, &i)| (((u0 * (64 - WEIGHTS[i]) + u1 * WEIGHTS[i] + 32) >> 6) as f64 - p[c]).powi(2))
-                    .sum();
+                let err: f64 =
+                    t.iter().zip(idx).map(|(p, &i)| (((u0 * (64 - WEIGHTS[i]) + u1 * WEIGHTS[i] + 32) >> 6) as f64 - p[c]).powi(2)).sum();
                 if err < best.0 {
                     best = (err, q0, q1);
                 }

@@ -45,9 +45,7 @@
 
 mod codec;
 
-pub use codec::{
-    decode, encode, round_f16, round_unorm8, Encoded, EnlightenInput, L1Irradiance, Moments, Texel,
-};
+pub use codec::{decode, encode, round_f16, round_unorm8, Encoded, EnlightenInput, L1Irradiance, Moments, Texel};
 use glam::DVec3;
 
 /// A directional lightmap format an engine ships, with the decode it runs.
@@ -175,7 +173,9 @@ impl EngineFormat {
             EngineFormat::MonoSh => "Bakery for Unity, MonoSH, SH non-linear mode on (Bakery's default)",
             EngineFormat::MonoShLinear => "Bakery for Unity, MonoSH, SH non-linear mode off",
             EngineFormat::Enlighten => "Unity, Enlighten directional lightmaps (UnityCG DecodeDirectionalLightmap)",
-            EngineFormat::EnlightenRgb => "no shipping engine: one Enlighten direction per channel (research layout), Unity's decode per channel",
+            EngineFormat::EnlightenRgb => {
+                "no shipping engine: one Enlighten direction per channel (research layout), Unity's decode per channel"
+            }
         }
     }
 
@@ -183,7 +183,9 @@ impl EngineFormat {
     pub fn decode_source(self) -> &'static str {
         match self {
             EngineFormat::GodotL1 => "godotengine/godot 4.4+ scene_forward_clustered.glsl (USE_LIGHTMAP, uses_sh, packed L1)",
-            EngineFormat::GodotL1Legacy => "godotengine/godot 4.0-4.3 scene_forward_clustered.glsl (USE_LIGHTMAP, uses_sh: 0.282095, 0.32573)",
+            EngineFormat::GodotL1Legacy => {
+                "godotengine/godot 4.0-4.3 scene_forward_clustered.glsl (USE_LIGHTMAP, uses_sh: 0.282095, 0.32573)"
+            }
             EngineFormat::MonoSh => "Bakery.cginc BakeryMonoSH, #if BAKERY_SHNONLINEAR branch (shEvaluateDiffuseL1Geomerics)",
             EngineFormat::MonoShLinear => "Bakery.cginc BakeryMonoSH, linear branch",
             EngineFormat::Enlighten => "UnityCG.cginc DecodeDirectionalLightmap",
@@ -264,11 +266,9 @@ impl EngineFormat {
                 units: BlockFormat::Bc6hSf16,
                 label: "not shipped (Godot 4.0-4.3 keeps the layers uncompressed): the four layers all BC6H signed, for comparison",
             },
-            EngineFormat::MonoSh | EngineFormat::MonoShLinear => CompressedLayout {
-                colour: BlockFormat::Bc6hUf16,
-                units: BlockFormat::Bc1,
-                label: "BC6H colour, BC1 direction",
-            },
+            EngineFormat::MonoSh | EngineFormat::MonoShLinear => {
+                CompressedLayout { colour: BlockFormat::Bc6hUf16, units: BlockFormat::Bc1, label: "BC6H colour, BC1 direction" }
+            }
             EngineFormat::Enlighten | EngineFormat::EnlightenRgb => CompressedLayout {
                 colour: BlockFormat::Bc6hUf16,
                 units: BlockFormat::Bc7,
