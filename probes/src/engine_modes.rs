@@ -106,7 +106,7 @@ pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Re
     });
     let clamp_note = if enc.clamped > 0 { format!(", {} stored values clamped", enc.clamped) } else { String::new() };
     Ok(EngineRun {
-        basis: format!("{} ({bytes} B/texel as the engine stores it{clamp_note})", format.id()),
+        basis: format!("{} ({}; {bytes} B/texel as the engine stores it{clamp_note})", format.id(), format.engine_short()),
         stored: rows(format, &stored),
         irradiance,
         encode,

@@ -104,6 +104,36 @@ pub struct CompressedFormatJson {
     pub clamped_values: usize,
 }
 
+impl EngineFormatJson {
+    /// The record as log lines: the uncompressed format, then each compressed layout.
+    pub fn log_lines(&self) -> Vec<String> {
+        let clamped = if self.clamped_values > 0 { format!(", {} stored values clamped", self.clamped_values) } else { String::new() };
+        let mut out = vec![format!(
+            "engine format {} ({}): {} B/texel, error at the texel normal {:.2} % of the E/π RMS ({:.3} % from storage), {:.1} rad off it {:.2} % (no direction: {:.2} %; against the bake's {}){clamped}",
+            self.format,
+            self.engine,
+            self.bytes_per_texel,
+            100.0 * self.error_at_normal_rel_rms,
+            100.0 * self.storage_rel_rms,
+            self.off_normal_tilt_rad,
+            100.0 * self.error_off_normal_rel_rms,
+            100.0 * self.error_off_normal_without_direction_rel_rms,
+            self.off_normal_reference,
+        )];
+        for c in self.compressed.iter().chain(&self.compressed_variants) {
+            out.push(format!(
+                "engine format {} block-compressed ({}): {:.2} B/texel, error at the texel normal {:.2} % ({:.2} % from storage)",
+                self.format,
+                c.layout,
+                c.bytes_per_texel,
+                100.0 * c.error_at_normal_rel_rms,
+                100.0 * c.storage_rel_rms
+            ));
+        }
+        out
+    }
+}
+
 /// One texel encoded for a format: its normal and tangent frame in the engine's frame,
 /// the texel at full precision and as stored, the values clamped.
 struct EncodedTexel {

@@ -136,29 +136,7 @@ fn engine_step(
         o.compress_bc6h,
     )?;
     for f in &out {
-        log(format!(
-            "engine format {} ({}): {} B/texel, error at the texel normal {:.2} % of the E/π RMS ({:.3} % from storage), {:.1} rad off it {:.2} % (no direction: {:.2} %; against the bake's {}){}",
-            f.format,
-            f.engine,
-            f.bytes_per_texel,
-            100.0 * f.error_at_normal_rel_rms,
-            100.0 * f.storage_rel_rms,
-            f.off_normal_tilt_rad,
-            100.0 * f.error_off_normal_rel_rms,
-            100.0 * f.error_off_normal_without_direction_rel_rms,
-            f.off_normal_reference,
-            if f.clamped_values > 0 { format!(", {} stored values clamped", f.clamped_values) } else { String::new() }
-        ));
-        for c in f.compressed.iter().chain(&f.compressed_variants) {
-            log(format!(
-                "engine format {} block-compressed ({}): {:.2} B/texel, error at the texel normal {:.2} % ({:.2} % from storage)",
-                f.format,
-                c.layout,
-                c.bytes_per_texel,
-                100.0 * c.error_at_normal_rel_rms,
-                100.0 * c.storage_rel_rms
-            ));
-        }
+        f.log_lines().into_iter().for_each(&mut *log);
     }
     Ok(out)
 }

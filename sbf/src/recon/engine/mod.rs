@@ -179,6 +179,18 @@ impl EngineFormat {
         }
     }
 
+    /// The engine and version in a few words (reports' tables).
+    pub fn engine_short(self) -> &'static str {
+        match self {
+            EngineFormat::GodotL1 => "Godot ≥ 4.4",
+            EngineFormat::GodotL1Legacy => "Godot 4.0–4.3",
+            EngineFormat::MonoSh => "Bakery, default non-linear decode",
+            EngineFormat::MonoShLinear => "Bakery, linear decode",
+            EngineFormat::Enlighten => "Unity",
+            EngineFormat::EnlightenRgb => "no shipping engine",
+        }
+    }
+
     /// The shader function whose decode this is (see the module docs for the lines).
     pub fn decode_source(self) -> &'static str {
         match self {
