@@ -87,11 +87,19 @@ fn sh_l1_reconstructs_from_its_stored_coefficients() {
     }
 }
 
-/// Engine formats keep their own precision at f16 and are compressed as the baker writes
-/// them under BC6H: colour BC6H (1 B), RGB directions BC1 (½ B), RGBA directions BC7 (1 B).
+/// Engine formats keep their own precision at f16 and are compressed under BC6H in the layout
+/// their engine ships: Godot's four layers all BC6H (4 × 1 B); Unity's colour BC6H (1 B) with
+/// RGB directions BC1 (½ B) or RGBA directions BC7 (1 B).
 #[test]
 fn engine_formats_count_their_compressed_bytes() {
-    for (id, engine, bc) in [("godot-l1", 32.0, 2.5), ("monosh", 12.0, 1.5), ("enlighten", 12.0, 2.0), ("enlighten-rgb", 20.0, 4.0)] {
+    for (id, engine, bc) in [
+        ("godot-l1", 32.0, 4.0),
+        ("godot-l1-legacy", 32.0, 4.0),
+        ("monosh", 12.0, 1.5),
+        ("monosh-linear", 12.0, 1.5),
+        ("enlighten", 12.0, 2.0),
+        ("enlighten-rgb", 20.0, 4.0),
+    ] {
         let mut runs = Vec::new();
         for (s, want) in [(Storage::F32, engine), (Storage::F16, engine), (Storage::Bc6h, bc)] {
             let r = prepare(id, &ctx(s), 1).unwrap().result;
