@@ -56,10 +56,13 @@ struct Cli {
     /// `gltf` (the scene's own axes for every format).
     #[arg(long, default_value = "engine", value_parser = ["engine", "gltf"])]
     engine_frame: String,
-    /// Also write every lightmap image (E/π and each basis lobe) as a BC6H DDS file
-    /// (`bc6h`, 1 byte per texel); bake.json gives the error it adds per image and per
-    /// basis (E/π at the texel normal), next to f16's.
-    #[arg(long, value_parser = ["bc6h"])]
+    /// Also write every lightmap image (E/π and each basis lobe) as a BC6H DDS file and its
+    /// KTX2 twin (1 byte per texel); bake.json gives the error it adds per image and per
+    /// basis (E/π at the texel normal), next to f16's. `bc6h`: signed images (SH lobes,
+    /// probe coefficients) as BC6H_SF16, which any reader decodes to the values;
+    /// `bc6h-offset`: as BC6H_UF16 shifted by a per-channel offset that bake.json and the
+    /// KTX2 carry and the runtime subtracts (less error where a lobe changes sign).
+    #[arg(long, value_parser = ["bc6h", "bc6h-offset"])]
     compress: Option<String>,
     /// Lightmap texels per scene unit.
     #[arg(long, default_value_t = 16.0)]
@@ -329,6 +332,11 @@ fn options(c: Cli) -> Result<Options, String> {
         engine_formats,
         engine_frame: (c.engine_frame == "gltf").then_some(sbf::recon::engine::EngineFrame::Gltf),
         compress_bc6h: c.compress.is_some(),
+        compress_signed: if c.compress.as_deref() == Some("bc6h-offset") {
+            baker::output::compress::SignedStorage::Offset
+        } else {
+            baker::output::compress::SignedStorage::Sf16
+        },
         scene: c.scene,
         environment: c.env,
         material_maps: c.material_maps == "sample",

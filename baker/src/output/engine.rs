@@ -262,7 +262,7 @@ fn compress_texture(
     match f {
         BlockFormat::Bc6hUf16 | BlockFormat::Bc6hSf16 => {
             let rgb: Vec<[f32; 3]> = rgba.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]).collect();
-            let b = if f == BlockFormat::Bc6hSf16 { bc::encode_bc6h_signed(w, h, &rgb) } else { bc::encode_bc6h_unsigned(w, h, &rgb) };
+            let b = if f == BlockFormat::Bc6hSf16 { bc::encode_bc6h_signed(w, h, &rgb)? } else { bc::encode_bc6h_unsigned(w, h, &rgb) };
             let decoded = b.decode(w, h).iter().map(|p| [p[0] as f64, p[1] as f64, p[2] as f64, 1.0]).collect();
             let (bytes, clamped) = (b.blocks.len(), b.clamped);
             super::compress::write_ktx2(&ktx, [w, h], None, b.format, &b.blocks, keys.to_vec())?;

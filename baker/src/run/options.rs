@@ -76,6 +76,9 @@ pub struct Options {
     /// Also write every lightmap image as BC6H DDS (`--compress bc6h`,
     /// [`crate::output::compress`]).
     pub compress_bc6h: bool,
+    /// How signed images are compressed: BC6H_SF16 (`--compress bc6h`) or UF16 with an
+    /// offset (`--compress bc6h-offset`).
+    pub compress_signed: crate::output::compress::SignedStorage,
 }
 
 /// One shard of a bake spread over machines.
@@ -120,6 +123,7 @@ impl Default for Options {
             engine_formats: Vec::new(),
             engine_frame: None,
             compress_bc6h: false,
+            compress_signed: crate::output::compress::SignedStorage::Sf16,
         }
     }
 }

@@ -69,7 +69,7 @@ fn compress_step(
     if !o.compress_bc6h {
         return Ok(None);
     }
-    let mut c = compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness)?;
+    let mut c = compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness, o.compress_signed)?;
     if let (Some(ps), Some(n)) = (probes, o.probes) {
         let valid = ps.valid();
         let coefficients = (0..o.probe_bases.len())
@@ -83,24 +83,32 @@ fn compress_step(
                     .collect()
             })
             .collect();
-        let grid = compress::ProbeGrid { n, bases: &o.probe_bases, coefficients, valid: &valid, sg_sharpness: o.config.sg_sharpness };
+        let grid = compress::ProbeGrid {
+            n,
+            bases: &o.probe_bases,
+            coefficients,
+            valid: &valid,
+            sg_sharpness: o.config.sg_sharpness,
+            signed: o.compress_signed,
+        };
         c.probes = compress::write_probe_volumes(&o.out, &grid)?;
         for p in &c.probes {
             log(format!(
-                "BC6H probes {}: {} volumes, {:.2} B/probe (f32 {:.0}, f16 {:.0}); E/π over 64 normals changes by {:.3} % RMS (f16: {:.4} %)",
+                "BC6H probes {}: {} volumes, {:.2} B/probe (f32 {:.0}, f16 {:.0}); E/π over 64 normals changes by {:.3} % RMS (f16: {:.4} %){}",
                 p.basis,
                 p.files.len(),
                 p.bytes_per_probe[2],
                 p.bytes_per_probe[0],
                 p.bytes_per_probe[1],
                 100.0 * p.irradiance_rel_rms_bc6h,
-                100.0 * p.irradiance_rel_rms_f16
+                100.0 * p.irradiance_rel_rms_f16,
+                alternative_note(p.signed_alternative.as_ref())
             ));
         }
     }
     for b in &c.bases {
         log(format!(
-            "BC6H {}: {:.1} B/texel (f32 {:.0}, f16 {:.0}); E/π at the normal changes by {:.3} % RMS (f16: {:.4} %); error against the bake's E/π f32 / f16 / BC6H {:.2} / {:.2} / {:.2} %",
+            "BC6H {}: {:.1} B/texel (f32 {:.0}, f16 {:.0}); E/π at the normal changes by {:.3} % RMS (f16: {:.4} %); error against the bake's E/π f32 / f16 / BC6H {:.2} / {:.2} / {:.2} %{}",
             b.basis,
             b.bytes_per_texel[2],
             b.bytes_per_texel[0],
@@ -109,10 +117,16 @@ fn compress_step(
             100.0 * b.irradiance_rel_rms_f16,
             100.0 * b.error_at_normal_rel_rms[0],
             100.0 * b.error_at_normal_rel_rms[1],
-            100.0 * b.error_at_normal_rel_rms[2]
+            100.0 * b.error_at_normal_rel_rms[2],
+            alternative_note(b.signed_alternative.as_ref())
         ));
     }
     Ok(Some(c))
+}
+
+/// ", --compress X would change it by Y %" for a basis with signed images.
+fn alternative_note(a: Option<&crate::output::compress::SignedAlternativeJson>) -> String {
+    a.map_or(String::new(), |a| format!(" (--compress {}: {:.3} %)", a.compress, 100.0 * a.irradiance_rel_rms_bc6h))
 }
 
 /// The engine formats of `--engine-formats`, from the SH L1 lightmap.

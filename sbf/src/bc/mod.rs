@@ -1,15 +1,16 @@
 //! Block-compressed texture storage (feature `bc`): HDR RGB images as BC6H (1 byte per
-//! texel; DXGI_FORMAT_BC6H_UF16, with a per-channel offset for signed images
-//! ([`encode_bc6h_offset`]), or BC6H_SF16 ([`encode_bc6h_signed`]: the file alone decodes to
-//! the values, but one-region blocks only so far)) and 8-bit RGBA images as BC1
-//! (½ byte) or BC7 (1 byte), what engines stream instead of float textures, with an
-//! independent decoder to measure the error each adds, and the DDS container.
+//! texel; DXGI_FORMAT_BC6H_UF16 for non-negative images, BC6H_SF16 for signed ones
+//! ([`encode_bc6h`] picks), or UF16 shifted by a per-channel offset ([`encode_bc6h_offset`]),
+//! which keeps more of a signed image but needs the offset beside the file) and 8-bit RGBA
+//! images as BC1 (½ byte) or BC7 (1 byte), what engines stream instead of float textures,
+//! with an independent decoder to measure the error each adds, and the DDS container.
 //!
 //! Encoders: ISPC Texture Compressor through `intel_tex_2` (BC6H_UF16 at its "very slow",
 //! highest quality settings; BC7 "alpha slow"); its prebuilt C++ object needs the C++
 //! runtime, which `build.rs` links on Linux. BC6H_SF16, which ISPC does not write:
-//! [`bc6h_signed`]. Images are padded to whole 4 × 4 blocks by repeating the last row and
-//! column; values beyond the f16 range (±65 504) are counted and clamped.
+//! Microsoft's DirectXTex ([`bc6h_signed`]). Images are padded to whole 4 × 4 blocks by
+//! repeating the last row and column; values beyond the f16 range (±65 504) are counted and
+//! clamped.
 //!
 //! Decoder: `bcdec_rs` (a port of bcdec, independent of both encoders).
 
@@ -45,20 +46,21 @@ impl Bc6h {
     }
 }
 
-/// Encodes one RGB image as BC6H: UF16 (ISPC) when no value is negative, else SF16.
-pub fn encode_bc6h(width: usize, height: usize, rgb: &[[f32; 3]]) -> Bc6h {
+/// Encodes one RGB image as BC6H: UF16 (ISPC) when no value is negative, else SF16
+/// (DirectXTex).
+pub fn encode_bc6h(width: usize, height: usize, rgb: &[[f32; 3]]) -> Result<Bc6h, String> {
     if rgb.iter().flatten().any(|v| *v < 0.0) {
         encode_bc6h_signed(width, height, rgb)
     } else {
-        encode_bc6h_unsigned(width, height, rgb)
+        Ok(encode_bc6h_unsigned(width, height, rgb))
     }
 }
 
 /// Encodes one RGB image as BC6H_UF16 shifted by a per-channel offset (−its minimum where
-/// negative; the reader subtracts it): how the baker and probes store signed images until
-/// [`bc6h_signed`] has BC6H's two-region modes — with one region, a block whose values
-/// change sign interpolates across zero in the half-float bit domain and loses its
-/// mid-range values. Returns (blocks, offset, clamped count).
+/// negative; the reader subtracts it). A signed image loses less this way than as BC6H_SF16,
+/// whose blocks interpolate half-float bit patterns across zero, but the file alone no longer
+/// decodes to its values: the offset must travel beside it. Returns (blocks, offset, clamped
+/// count).
 pub fn encode_bc6h_offset(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, [f32; 3], usize) {
     let mut offset = [0.0f32; 3];
     for p in rgb {
@@ -76,10 +78,10 @@ pub fn decode_bc6h_offset(width: usize, height: usize, blocks: &[u8], offset: [f
     decode_bc6h(width, height, blocks, false).into_iter().map(|p| [0, 1, 2].map(|k| p[k] - offset[k])).collect()
 }
 
-/// Encodes one RGB image as BC6H_SF16 ([`bc6h_signed`]).
-pub fn encode_bc6h_signed(width: usize, height: usize, rgb: &[[f32; 3]]) -> Bc6h {
-    let (blocks, clamped) = bc6h_signed::encode(width, height, rgb);
-    Bc6h { blocks, format: ddsfile::DxgiFormat::BC6H_SF16, clamped }
+/// Encodes one RGB image as BC6H_SF16 ([`bc6h_signed`]: DirectXTex, every mode).
+pub fn encode_bc6h_signed(width: usize, height: usize, rgb: &[[f32; 3]]) -> Result<Bc6h, String> {
+    let (blocks, clamped) = bc6h_signed::encode(width, height, rgb)?;
+    Ok(Bc6h { blocks, format: ddsfile::DxgiFormat::BC6H_SF16, clamped })
 }
 
 /// Encodes one RGB image as BC6H_UF16 (ISPC); negative values are clamped to 0 (counted).

@@ -1,6 +1,6 @@
-//! A BC6H_SF16 (signed half float) block encoder: the ISPC compressor behind
-//! [`super::encode_bc6h`] writes only BC6H_UF16, and no maintained Rust crate encodes the
-//! signed variant.
+//! A mode-11 BC6H_SF16 block encoder, the second candidate per block beside DirectXTex
+//! (see the parent module): DirectXTex's mode search is heuristic and on some blocks whose
+//! texels lie on one segment it ends worse than this plain one-region encoding.
 //!
 //! Every block uses mode 11 of the format (Microsoft, "BC6H Format", Direct3D 11
 //! documentation: one region, two endpoints of 10 bits per channel stored as they are, 4-bit
@@ -79,10 +79,10 @@ fn target(v: f32, clamped: &mut usize) -> f64 {
         *clamped += 1;
         return 0.0;
     }
-    if v.abs() > super::F16_MAX {
+    if v.abs() > crate::bc::F16_MAX {
         *clamped += 1;
     }
-    let h = half::f16::from_f32(v.clamp(-super::F16_MAX, super::F16_MAX)).to_bits();
+    let h = half::f16::from_f32(v.clamp(-crate::bc::F16_MAX, crate::bc::F16_MAX)).to_bits();
     let mag = f64::from(h & 0x7FFF) * 32.0 / 31.0;
     if h & 0x8000 != 0 {
         -mag
@@ -189,7 +189,7 @@ fn uniform(p: &[f64; 3]) -> ([i32; 3], [i32; 3], [usize; 16]) {
 }
 
 /// One block's 16 bytes from its 16 texels (row-major).
-fn encode_block(px: &[[f32; 3]; 16], clamped: &mut usize) -> [u8; 16] {
+pub(super) fn encode_block(px: &[[f32; 3]; 16], clamped: &mut usize) -> [u8; 16] {
     let t: [[f64; 3]; 16] = px.map(|p| p.map(|v| target(v, clamped)));
     let mean: [f64; 3] = [0, 1, 2].map(|c| t.iter().map(|p| p[c]).sum::<f64>() / 16.0);
     let mut cov = [[0.0; 3]; 3];
@@ -275,23 +275,4 @@ fn encode_block(px: &[[f32; 3]; 16], clamped: &mut usize) -> [u8; 16] {
     }
     debug_assert_eq!(pos, 128);
     bits.to_le_bytes()
-}
-
-/// Encodes an RGB image as BC6H_SF16 blocks (padded to whole blocks by repeating the last
-/// row and column); returns (blocks, values clamped to the half range or NaN).
-pub fn encode(width: usize, height: usize, rgb: &[[f32; 3]]) -> (Vec<u8>, usize) {
-    let (bw, bh) = (width.div_ceil(4), height.div_ceil(4));
-    let clamped = rgb.iter().flatten().filter(|v| v.is_nan() || v.abs() > super::F16_MAX).count();
-    let mut out = Vec::with_capacity(bw * bh * 16);
-    for by in 0..bh {
-        for bx in 0..bw {
-            let mut px = [[0.0f32; 3]; 16];
-            for (k, p) in px.iter_mut().enumerate() {
-                let (x, y) = (bx * 4 + k % 4, by * 4 + k / 4);
-                *p = rgb[y.min(height - 1) * width + x.min(width - 1)];
-            }
-            out.extend_from_slice(&encode_block(&px, &mut 0));
-        }
-    }
-    (out, clamped)
 }
