@@ -37,7 +37,8 @@
 //! pins) and bake.json lists them (`runtime.textures`); every other file unchanged.
 //! 2026-12-07: bake.json re-pinned — `runtime.left_out_bytes` moved with engine.wgsl's
 //! comments (which Godot and Bakery decode each function is), which these bakes leave out;
-//! every other file unchanged.)
+//! every other file unchanged. Later the same day: again, engine.wgsl gained Bakery's default
+//! non-linear MonoSH and Godot 4.0–4.3's decodes (left out here); every other file unchanged.)
 
 mod common;
 
@@ -155,7 +156,7 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("ad9_08.exr", "e099693b3cf4d9d2805163aee5447caa7afcd73de0bf634ae0db1797c6a04acf"),
     ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "e2353c3752eda4a9519c4e2f9d2520dd31240c93d43508c61a1a0702bbc26f44"),
+    ("bake.json", "ea7a94d87688f2e45e0e2b97e848e917414a8c22b603eb67220d62d4bb413ebd"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "b26fa86441984fe3b283f0c4665be88f381e42864feb4be1fa6f1be96969f8fb"),
@@ -187,7 +188,7 @@ const CORNELL: &[(&str, &str)] = &[
     ("ad9_08.exr", "a63b6f509b37b123d1a816e27cbafc36715d7f6f57cd34614472798edee5eed7"),
     ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "9fc0ab54aab77f7cae6aef8ae26cdc6f584f387dfa6b8ce8027ab8a8d8cd35e8"),
+    ("bake.json", "c3f579cd82363fbf9cbfb205d86a7d8ea430776787520d2edc4de839ab31ce76"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "37a26e85c41950390002d8b45df4bf4bed891de03155be977680767957f36a7a"),
@@ -218,7 +219,7 @@ const MIXED: &[(&str, &str)] = &[
     ("ad9_08.exr", "a7f62dd29c1d748b6049dae3571e623aefeb855ad2c8dbc2ccd2ea3254529ebf"),
     ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "8fc94795eabe61a17e71c137b55435a4a7e0037175a66a2a3e5bfa8e59d717a4"),
+    ("bake.json", "ef0e995ffd2308871039cca8ec1e08a79bdcb12882f93b707440824bb67fb7b7"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "a2decd80b622d47bc740d17f59879630e0563edb702ab18cab8687317a938670"),

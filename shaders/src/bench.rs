@@ -149,7 +149,8 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
         ("AD12", "ad12-irradiance,lobe-ggx-filtered", 12, FILTERED_SPECULAR, table(12, false, true)),
         ("AD12 progressive LS", "ad-eval,progressive", 12, "encode", encode(12)),
         ("Godot L1", "engine-formats", 4, "diffuse", engine(4, "godot_l1_irradiance(c[0], c[1], c[2], c[3], n)")),
-        ("MonoSH", "engine-formats", 2, "diffuse", engine(2, "monosh_irradiance(c[0], c[1], n)")),
+        ("MonoSH (Bakery default, non-linear)", "engine-formats", 2, "diffuse", engine(2, "monosh_irradiance(c[0], c[1], n)")),
+        ("MonoSH linear", "engine-formats", 2, "diffuse", engine(2, "monosh_linear_irradiance(c[0], c[1], n)")),
         ("Enlighten", "engine-formats", 3, "diffuse", engine(3, "enlighten_irradiance(c[0], vec4<f32>(c[1], c[2].x), n)")),
         (
             "Enlighten RGB",

@@ -100,7 +100,14 @@ impl Feature {
             Feature::GgxEnergyCompensation => &["ggx_energy_compensation"],
             Feature::AdBezier => &["ad_bezier_weights", "ad_bezier_eval", "ad_ycocg_eval"],
             Feature::LightmapBicubic => &["lightmap_bicubic_taps", "lightmap_bspline_axis"],
-            Feature::EngineFormats => &["godot_l1_irradiance", "monosh_irradiance", "enlighten_irradiance", "enlighten_rgb_irradiance"],
+            Feature::EngineFormats => &[
+                "godot_l1_irradiance",
+                "godot_l1_legacy_irradiance",
+                "monosh_irradiance",
+                "monosh_linear_irradiance",
+                "enlighten_irradiance",
+                "enlighten_rgb_irradiance",
+            ],
             Feature::Progressive => &["progressive_update"],
             Feature::Slc => &[
                 "slc_acceptance",

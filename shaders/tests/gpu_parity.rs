@@ -8,7 +8,7 @@
 //! scale the f32 rounding of either side is proportional to. Bar: 1e-4, and no
 //! NaN/Inf. Skips with a message when no adapter exists, unless SBF_REQUIRE_GPU=1 (CI).
 
-use sbf::glam::Vec3;
+use sbf::glam::{DVec3, Vec3};
 use sbf::sampling::Pcg32;
 use shaders::compose::{self, Config};
 use shaders::export::Lang;
@@ -127,9 +127,11 @@ in_every_language!(
 
 /// The engine lightmap formats' decodes (engine.wgsl) against `sbf::recon::engine::decode`
 /// (f64 on the same f32 inputs): colours in [0, 2], unit textures in [0, 1] with rescaling
-/// factors in [0.05, 1]. Scale: the sum of the magnitudes of each decode's terms (Godot
-/// |L0| + Σ 8|L0||s − ½||n_k|; MonoSH |L0|(1 + 2|nL1·n|); Enlighten
-/// |C|(Σ|n_k||t_k − ½| + ½)/w).
+/// factors in [0.05, 1]; Godot 4.0–4.3's signed layers are the unit values times (w − ½)·4.
+/// Scale: the sum of the magnitudes of each decode's terms (Godot |L0| + Σ 8|L0||s − ½||n_k|;
+/// Godot 4.0–4.3 0.282095|L0| + 0.32573·Σ|l_k||n_k|; MonoSH linear |L0|(1 + 2|nL1·n|), and
+/// non-linear that times the rescaling factor's terms, 1 + w(5.5·ΣL0 + |Σsh|)/|Σsh| (Geomerics'
+/// curve is at most (p + 1)·R₀ with p ≤ 1 + 2√3 < 4.5); Enlighten |C|(Σ|n_k||t_k − ½| + ½)/w).
 fn engine_parity(lang: Lang) {
     use sbf::recon::engine::{decode, EngineFormat, Texel};
     let Some(g) = gpu(lang) else { return };
@@ -151,15 +153,36 @@ fn engine_parity(lang: Lang) {
         inp.extend(unit.iter().flatten());
         items.push((n, c, unit));
     }
-    let body = "    let o = i * 18u;\n    let n = ld3(o);\n    let c = ld3(o + 3u);\n    let t0 = vec4<f32>(ld3(o + 6u), inp[o + 9u]);\n    let t1 = vec4<f32>(ld3(o + 10u), inp[o + 13u]);\n    let t2 = vec4<f32>(ld3(o + 14u), inp[o + 17u]);\n    let e = array<vec3<f32>, 4>(godot_l1_irradiance(c, t0.xyz, t1.xyz, t2.xyz, n), monosh_irradiance(c, t0.xyz, n), enlighten_irradiance(c, t0, n), enlighten_rgb_irradiance(c, t0, t1, t2, n));\n    for (var k = 0u; k < 4u; k++) {\n        outp[i * 12u + 3u * k] = e[k].x;\n        outp[i * 12u + 3u * k + 1u] = e[k].y;\n        outp[i * 12u + 3u * k + 2u] = e[k].z;\n    }";
-    let (out, _) = g.run(&lib, body, &inp, 12, N, None, 0).unwrap();
-    let names = ["godot_l1_irradiance", "monosh_irradiance", "enlighten_irradiance", "enlighten_rgb_irradiance"];
-    // The WGSL decodes: Godot ≥ 4.4's, MonoSH's linear one, Unity's (single and per channel).
-    let formats = [EngineFormat::GodotL1, EngineFormat::MonoShLinear, EngineFormat::Enlighten, EngineFormat::EnlightenRgb];
+    let body = "    let o = i * 18u;\n    let n = ld3(o);\n    let c = ld3(o + 3u);\n    let t0 = vec4<f32>(ld3(o + 6u), inp[o + 9u]);\n    let t1 = vec4<f32>(ld3(o + 10u), inp[o + 13u]);\n    let t2 = vec4<f32>(ld3(o + 14u), inp[o + 17u]);\n    let e = array<vec3<f32>, 6>(godot_l1_irradiance(c, t0.xyz, t1.xyz, t2.xyz, n), godot_l1_legacy_irradiance(c, (t0.w - 0.5) * 4.0 * t0.xyz, (t1.w - 0.5) * 4.0 * t1.xyz, (t2.w - 0.5) * 4.0 * t2.xyz, n), monosh_irradiance(c, t0.xyz, n), monosh_linear_irradiance(c, t0.xyz, n), enlighten_irradiance(c, t0, n), enlighten_rgb_irradiance(c, t0, t1, t2, n));\n    for (var k = 0u; k < 6u; k++) {\n        outp[i * 18u + 3u * k] = e[k].x;\n        outp[i * 18u + 3u * k + 1u] = e[k].y;\n        outp[i * 18u + 3u * k + 2u] = e[k].z;\n    }";
+    let (out, _) = g.run(&lib, body, &inp, 18, N, None, 0).unwrap();
+    let names = [
+        "godot_l1_irradiance",
+        "godot_l1_legacy_irradiance",
+        "monosh_irradiance",
+        "monosh_linear_irradiance",
+        "enlighten_irradiance",
+        "enlighten_rgb_irradiance",
+    ];
+    let formats = [
+        EngineFormat::GodotL1,
+        EngineFormat::GodotL1Legacy,
+        EngineFormat::MonoSh,
+        EngineFormat::MonoShLinear,
+        EngineFormat::Enlighten,
+        EngineFormat::EnlightenRgb,
+    ];
     for (f, format) in formats.into_iter().enumerate() {
         let (mut cpu, mut scale, mut gpu_f) = (Vec::new(), Vec::new(), Vec::new());
         for (j, (n, c, unit)) in items.iter().enumerate() {
-            let t = Texel { colour: c.map(f64::from), unit: unit.map(|u| u.map(f64::from)) };
+            let mut t = Texel { colour: c.map(f64::from), unit: unit.map(|u| u.map(f64::from)) };
+            if format == EngineFormat::GodotL1Legacy {
+                // Signed layers: the unit values times (w − ½)·4 of their layer, as the shader
+                // body passes them (f32 products, so the same inputs on both sides).
+                t.unit = unit.map(|u| {
+                    let s = (u[3] - 0.5) * 4.0;
+                    [s * u[0], s * u[1], s * u[2], u[3]].map(f64::from)
+                });
+            }
             let nd = n.as_dvec3();
             let e = decode(format, &t, nd);
             let na = [nd.x.abs(), nd.y.abs(), nd.z.abs()];
@@ -170,14 +193,27 @@ fn engine_parity(lang: Lang) {
                     EngineFormat::GodotL1 => {
                         l0 + (0..3).map(|layer| 8.0 * l0 * (t.unit[layer][ch] - 0.5).abs() * na[[1, 2, 0][layer]]).sum::<f64>()
                     }
+                    EngineFormat::GodotL1Legacy => {
+                        0.282095 * l0 + 0.32573 * (0..3).map(|layer| t.unit[layer][ch].abs() * na[[1, 2, 0][layer]]).sum::<f64>()
+                    }
                     EngineFormat::MonoShLinear => l0 * (1.0 + 2.0 * half(&t.unit[0]) * 2.0),
+                    EngineFormat::MonoSh => {
+                        // The linear terms' magnitude times the factor's: 1 + w(|luma_sh| +
+                        // |Σsh|)/|Σsh|, luma_sh from Geomerics' curve (≤ (p + 1)·ΣL0 ≤ 5.5·ΣL0).
+                        let nl1 = DVec3::new(t.unit[0][0], t.unit[0][1], t.unit[0][2]) * 2.0 - DVec3::ONE;
+                        let x = nl1.dot(nd);
+                        let luma: f64 = t.colour.iter().sum();
+                        let regular = luma * (1.0 + 2.0 * x);
+                        let w = (16.0 * regular).clamp(0.0, 1.0);
+                        let f = if w > 0.0 { 1.0 + w * (5.5 * luma + regular.abs()) / regular.abs() } else { 1.0 };
+                        l0 * (1.0 + 2.0 * x.abs()) * f
+                    }
                     EngineFormat::Enlighten => l0 * half(&t.unit[0]) / t.unit[0][3],
                     EngineFormat::EnlightenRgb => l0 * half(&t.unit[ch]) / t.unit[ch][3],
-                    _ => unreachable!("no WGSL decode"),
                 };
                 cpu.push(e[ch]);
                 scale.push(s);
-                gpu_f.push(out[j * 12 + 3 * f + ch]);
+                gpu_f.push(out[j * 18 + 3 * f + ch]);
             }
         }
         check(names[f], &gpu_f, &cpu, &scale);

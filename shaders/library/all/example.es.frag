@@ -280,7 +280,15 @@ vec3 sbf_example(vec3 n, vec3 v, float alpha, vec4 coefficients[36], highp sampl
         result += r;
     }
     {
+        vec3 r = sbf_godot_l1_legacy_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
         vec3 r = sbf_monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        vec3 r = sbf_monosh_linear_irradiance(n, n, n);
         result += r;
     }
     {

@@ -275,7 +275,15 @@ inline float3 sbf_example(float3 n, float3 v, float alpha, array<float4, 36> coe
         result += r;
     }
     {
+        float3 r = sbf_godot_l1_legacy_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
         float3 r = sbf_monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        float3 r = sbf_monosh_linear_irradiance(n, n, n);
         result += r;
     }
     {

@@ -58,7 +58,9 @@
 //   vec4 sbf_lightmap_bspline_axis(float c)
 //   SbfLightmapTaps sbf_lightmap_bicubic_taps(vec2 uv, vec2 size)
 //   vec3 sbf_godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n)
+//   vec3 sbf_godot_l1_legacy_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n)
 //   vec3 sbf_monosh_irradiance(vec3 l0, vec3 dir, vec3 n)
+//   vec3 sbf_monosh_linear_irradiance(vec3 l0, vec3 dir, vec3 n)
 //   vec3 sbf_enlighten_irradiance(vec3 colour, vec4 dir, vec3 n)
 //   vec3 sbf_enlighten_rgb_irradiance(vec3 colour, vec4 dir_r, vec4 dir_g, vec4 dir_b, vec3 n)
 //   void sbf_progressive_update(inout SbfEncoderState state, SbfEncoderParams p, float b[12], vec3 value, float weight)
@@ -1601,20 +1603,72 @@ SbfLightmapTaps sbf_lightmap_bicubic_taps(vec2 uv, vec2 size) {
 #define SBF_DEFINED_sbf_godot_l1_irradiance
 // Godot 4.4 and later, LightmapGI with spherical harmonics (scene_forward_clustered.glsl,
 // USE_LIGHTMAP): L0 and three layers holding L1/(8·L0) + 1/2 for y, z and x, each
-// decoded to (s − 1/2)·2 and scaled by 4·L0. (Godot 4.0–4.3 stored signed coefficients:
-// 0.282095·L0 + 0.32573·Σ l·n, not this; sbf::recon::engine has both.)
+// decoded to (s − 1/2)·2 and scaled by 4·L0. (Godot 4.0–4.3: godot_l1_legacy_irradiance.)
 vec3 sbf_godot_l1_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n) {
     vec3 s = l0 * 4.0;
     return l0 + (l1n1 - vec3(0.5)) * 2.0 * n.y * s + (l1_0 - vec3(0.5)) * 2.0 * n.z * s + (l1p1 - vec3(0.5)) * 2.0 * n.x * s;
 }
 #endif
 
+#ifndef SBF_DEFINED_sbf_godot_l1_legacy_irradiance
+#define SBF_DEFINED_sbf_godot_l1_legacy_irradiance
+// Godot 4.0–4.3, LightmapGI with spherical harmonics (scene_forward_clustered.glsl of those
+// versions): four layers of signed SH L1 coefficients — L0, then L1 for y, z and x — as
+// sampled (no offset, no scale); 0.282095·L0 + 0.32573·(l1n1·n.y + l1_0·n.z + l1p1·n.x).
+vec3 sbf_godot_l1_legacy_irradiance(vec3 l0, vec3 l1n1, vec3 l1_0, vec3 l1p1, vec3 n) {
+    return l0 * 0.282095 + (l1n1 * n.y + l1_0 * n.z + l1p1 * n.x) * 0.32573;
+}
+#endif
+
+#ifndef SBF_DEFINED_sbf_geomerics_l1
+#define SBF_DEFINED_sbf_geomerics_l1
+// Geomerics' L1 irradiance curve, as Bakery.cginc's shEvaluateDiffuseL1Geomerics(L0, L1, n)
+// (one channel: L0 = a₀, L1 = a₁ of the linear irradiance a₀ + a₁·n): R₀ = L0, R₁ = L1/2,
+// q = (1 + n·R̂₁)/2, p = 1 + 2|R₁|/R₀, a = (1 − |R₁|/R₀)/(1 + |R₁|/R₀),
+// R₀·(a + (1 − a)(p + 1)·q^p). Where |R₁| = 0 or R₀ ≤ 0 the shader divides by zero; this
+// returns the linear value a₀ + a₁·n there (the formula's limit at |R₁| → 0). CPU twin:
+// sbf::recon::sh::geomerics_l1.
+float sbf_geomerics_l1(float l0, vec3 l1, vec3 n) {
+    vec3 r1 = 0.5 * l1;
+    float len = length(r1);
+    if (l0 <= 0.0 || len <= 0.0) {
+        return l0 + dot(l1, n);
+    }
+    float q = clamp(0.5 * (1.0 + dot(n, r1 / vec3(len))), 0.0, 1.0);
+    float ratio = len / l0;
+    float p = 1.0 + 2.0 * ratio;
+    float a = (1.0 - ratio) / (1.0 + ratio);
+    return l0 * (a + (1.0 - a) * (p + 1.0) * pow(q, p));
+}
+#endif
+
 #ifndef SBF_DEFINED_sbf_monosh_irradiance
 #define SBF_DEFINED_sbf_monosh_irradiance
-// Bakery MonoSH (Bakery.cginc, BakeryMonoSH) with "SH non-linear mode" off: RGB L0 and one
-// direction t with nL1 = 2t − 1; max(L0 + 2·L0·(nL1·n), 0). Bakery's default is the
-// non-linear mode (Geomerics' curve of the channel sum): sbf::recon::engine's MonoSh.
+// Bakery MonoSH (Bakery.cginc, BakeryMonoSH), "SH non-linear mode" on — Bakery's default
+// (BAKERY_SHNONLINEAR): RGB L0 and one direction t with nL1 = 2t − 1 give the linear value
+// sh = L0 + 2·L0·(nL1·n) per channel; Geomerics' curve of the channel sums rescales it:
+// sh·lerp(1, geomerics(ΣL0, 2·ΣL0·nL1, n)/Σsh, saturate(16·Σsh)), then max(·, 0). Where
+// the weight is 0 the shader's ratio is 0/0 and the factor is 1.
 vec3 sbf_monosh_irradiance(vec3 l0, vec3 dir, vec3 n) {
+    vec3 nl1 = dir * 2.0 - vec3(1.0);
+    vec3 sh = l0 + 2.0 * l0 * dot(nl1, n);
+    float luma_l0 = l0.x + l0.y + l0.z;
+    float luma_sh = sbf_geomerics_l1(luma_l0, nl1 * (2.0 * luma_l0), n);
+    float regular = sh.x + sh.y + sh.z;
+    float w = clamp(16.0 * regular, 0.0, 1.0);
+    float factor = 1.0;
+    if (w > 0.0) {
+        factor = 1.0 + w * (luma_sh / regular - 1.0);
+    }
+    return max(sh * factor, vec3(0.0));
+}
+#endif
+
+#ifndef SBF_DEFINED_sbf_monosh_linear_irradiance
+#define SBF_DEFINED_sbf_monosh_linear_irradiance
+// Bakery MonoSH with "SH non-linear mode" off (the #else branch of BakeryMonoSH): the same
+// textures; max(L0 + 2·L0·(nL1·n), 0).
+vec3 sbf_monosh_linear_irradiance(vec3 l0, vec3 dir, vec3 n) {
     vec3 nl1 = dir * 2.0 - vec3(1.0);
     return max(l0 + 2.0 * l0 * dot(nl1, n), vec3(0.0));
 }

@@ -19,7 +19,15 @@ float3 sbf_example(float3 n, float3 v, float alpha, float4 coefficients[36]) {
         result += r;
     }
     {
+        float3 r = sbf_godot_l1_legacy_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
         float3 r = sbf_monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        float3 r = sbf_monosh_linear_irradiance(n, n, n);
         result += r;
     }
     {

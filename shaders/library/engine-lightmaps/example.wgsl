@@ -22,8 +22,18 @@ fn sbf_example(n: vec3<f32>, v: vec3<f32>, alpha: f32, coefficients: array<vec4<
         result += r;
     }
     {
+        // godot_l1_legacy_irradiance
+        let r = sbf_godot_l1_legacy_irradiance(n, n, n, n, n);
+        result += r;
+    }
+    {
         // monosh_irradiance
         let r = sbf_monosh_irradiance(n, n, n);
+        result += r;
+    }
+    {
+        // monosh_linear_irradiance
+        let r = sbf_monosh_linear_irradiance(n, n, n);
         result += r;
     }
     {
