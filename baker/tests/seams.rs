@@ -3,6 +3,8 @@
 //! stitch while texels away from it keep their values and every coefficient set moves by
 //! the same linear map.
 
+mod common;
+
 use baker::layout::lightmap::Lightmap;
 use baker::post::images::LightmapImages;
 use baker::post::seams::{find_seams, samples, seam_metric, stitch};
@@ -125,4 +127,42 @@ fn stitching_closes_a_known_seam() {
             );
         }
     }
+}
+
+/// The glTF room at the golden test's settings (4 passes, 8 texels per unit): there the free
+/// least-squares stitch took 32 texels of E/π below zero and Ambient Dice lobes with them
+/// (a padding tap of small weight levers its texel by several times the seam's jump). E/π is
+/// irradiance over π and AD 9's NNLS lobes are ≥ 0 by construction — an oracle from physics
+/// and the solver, not from the stitch: no texel of irradiance.exr or of any `ad9_*.exr`,
+/// valid or padding, may be negative, while the seams still close (the metric falls below
+/// the texels' noise) and bake.json says how many texels the solve had to hold.
+#[test]
+fn stitching_keeps_irradiance_and_nnls_lobes_non_negative() {
+    let Some(scenes) = common::outputs::scenes_dir() else { return };
+    let gltf = scenes.join("bevy_MixedLightingExample/MixedLightingExample.gltf");
+    let out = std::env::temp_dir().join(format!("sbf-seams-room-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_baker"))
+        .args(["--device", "cpu", "--scene", gltf.to_str().unwrap(), "--passes", "4", "--texels-per-unit", "8", "--bases", "sh2,ad9"])
+        .args(["--material-maps", "factors", "--probes", "0,0,0", "--preview-width", "16", "--checkpoint-every", "0", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let meta: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("bake.json")).unwrap()).unwrap();
+    let s = &meta["seams"];
+    assert_eq!(s["stitched"], true, "{s}");
+    let (before, after, noise) =
+        (s["metric_before"].as_f64().unwrap(), s["metric_after"].as_f64().unwrap(), s["texel_noise"].as_f64().unwrap());
+    assert!(after < before && after < noise, "seams not closed: {s}");
+    let mut files = vec!["irradiance.exr".to_string()];
+    files.extend((0..9).map(|l| format!("ad9_{l:02}.exr")));
+    for f in files {
+        let im = image::open(out.join(&f)).unwrap().to_rgba32f();
+        let (neg, min) =
+            im.pixels().flat_map(|p| [p[0], p[1], p[2]]).fold((0usize, 0.0f32), |(n, m), v| (n + usize::from(v < 0.0), m.min(v)));
+        assert_eq!(neg, 0, "{f}: {neg} negative values, down to {min}");
+    }
+    assert!(s["held_texels"].as_u64().unwrap() > 0, "this bake exercises the held set: {s}");
+    std::fs::remove_dir_all(&out).ok();
 }

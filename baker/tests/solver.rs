@@ -63,8 +63,9 @@ fn irradiance_pairs(dir: &Path, kind: BasisKind) -> Vec<(f64, f64, f64)> {
 }
 
 /// Every texel of the built-in scene (64 passes, CPU): AD 9's and SG 9's E/π at the normal
-/// equals irradiance.exr's. The refit pins it exactly; dilation, denoising and seam
-/// stitching are linear with weights shared by all images, so they keep it; what is left is
+/// equals irradiance.exr's. The refit pins it exactly; dilation and denoising are linear with
+/// weights shared by all images, and seam stitching rescales non-negative lobes by the
+/// stitched E/π (`baker::post::seams`), so they keep it; what is left is
 /// f32 rounding — the EXRs' f32 values (½ ulp each) and the nine-term sum (9 ulps of its
 /// magnitude Σ|c_i b_i|): tolerance 16·2⁻²⁴·(Σ|c_i b_i| + E/π). Plain NNLS, the same bake
 /// otherwise, misses it by more than 5 % at some texels (so this test sees the pin).

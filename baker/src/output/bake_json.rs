@@ -191,6 +191,10 @@ pub struct SeamsJson {
     pub cg_iterations: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cg_converged: Option<bool>,
+    /// Texels held at their own values in some colour channel, where the free least-squares
+    /// solve took E/π (or another non-negative image) below zero.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_texels: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub seconds: Option<f64>,
     pub metric: &'static str,

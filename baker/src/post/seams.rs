@@ -9,13 +9,25 @@
 //!   of the lighting and is left alone.
 //! - [`samples`]: points along each seam edge (two per texel of its longer side), each with
 //!   the four bilinear taps of both sides (texel centres at +½, as `LightmapImages::sample`).
-//! - [`stitch`]: least squares (the approach of Sloan's "Stitching lightmap seams" and the
-//!   lightmappers that followed): minimise λ·Σ_samples (lookup_A − lookup_B)² + Σ_texels
+//! - [`stitch`]: least squares (Iwanicki, "Lighting Technology of The Last of Us", SIGGRAPH
+//!   2013; Sylvan, "Fixing Texture Seams With Linear Least-Squares", 2015): minimise λ·Σ_samples (lookup_A − lookup_B)² + Σ_texels
 //!   μ_t (x_t − x0_t)² over the taps' texels, per channel of E/π and of every coefficient —
 //!   one matrix for all of them, so every texel's coefficients change by the same linear
 //!   map. Valid texels keep their value with μ = 1; empty (padding) texels under a tap are
 //!   unknowns too, anchored weakly (μ = 0.01) to what dilation would give them, and are then
 //!   kept by dilation. Solved by Jacobi-preconditioned conjugate gradients.
+//!   Sign: (λCᵀC + M)⁻¹M is not entrywise ≥ 0 (two taps on one side of a sample couple with
+//!   +λ·w_i·w_j; a padding tap of small bilinear weight and weight μ = 0.01 is a lever that
+//!   moves by several times the jump), so the free solve can take E/π below zero next to a
+//!   seam (in the glTF room, 67 texels down to −913 where E/π's median is 276). Texels where
+//!   it does are held at their anchors in every image of that colour channel and all are
+//!   solved again until none is negative (an active set that only grows). Coefficient sets
+//!   that are ≥ 0 under every tap (SG, Ambient Dice: NNLS lobes) are not solved: each
+//!   texel's lobes are scaled by its stitched E/π over its E/π before, per channel — the
+//!   default solver's rescale applied to the stitched E/π — so they stay ≥ 0 and keep their
+//!   E/π at the normal (a texel with E/π = 0 — black, or empty where dilation never reached
+//!   — takes the lobe shape of a texel with E/π under its samples). Where nothing goes
+//!   negative, E/π and the signed sets (SH) are the free solution, unchanged.
 //! - [`seam_metric`]: the mean absolute difference of E/π lookups across the seams (over
 //!   samples and channels) — reported before and after, next to the texels' noise.
 //!
@@ -154,6 +166,13 @@ pub struct StitchStats {
     pub iterations: usize,
     /// Whether every solve reached [`CG_TOLERANCE`] within [`MAX_CG_ITERATIONS`].
     pub converged: bool,
+    /// Texels held at their anchors in some colour channel: the free solve took a
+    /// non-negative image below zero there, or (with a non-negative coefficient set) their
+    /// E/π is 0 in that channel and no texel under their samples has E/π to lend a lobe shape.
+    pub held: usize,
+    /// Solves of the non-negative images, summed over the colour channels (3: none had to be
+    /// held after the first).
+    pub rounds: usize,
 }
 
 /// Stitches `img` along `samples` (see the module docs). `dilated` is the same images after
@@ -209,13 +228,14 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
     };
     let mut iterations = 0;
     let mut converged = true;
-    // Solve (λCᵀC + M)x = M·x0 for one right-hand side; returns x.
-    let mut solve = |x0: &[f64]| -> Vec<f64> {
+    // Solve (λCᵀC + M)x = M·x0 over the unknowns not `held` (they keep x0): conjugate
+    // gradients restricted to the free unknowns — the plain solve when none is held.
+    let mut solve = |x0: &[f64], held: &[bool]| -> Vec<f64> {
         let b: Vec<f64> = (0..n).map(|i| mu[i] * x0[i]).collect();
         let mut x = x0.to_vec();
         let mut ax = vec![0.0; n];
         apply(&x, &mut ax);
-        let mut r: Vec<f64> = (0..n).map(|i| b[i] - ax[i]).collect();
+        let mut r: Vec<f64> = (0..n).map(|i| if held[i] { 0.0 } else { b[i] - ax[i] }).collect();
         let mut z: Vec<f64> = (0..n).map(|i| r[i] / diag[i]).collect();
         let mut p = z.clone();
         let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
@@ -227,6 +247,11 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
                 break;
             }
             apply(&p, &mut ap);
+            for i in 0..n {
+                if held[i] {
+                    ap[i] = 0.0;
+                }
+            }
             let alpha = rz / p.iter().zip(&ap).map(|(a, b)| a * b).sum::<f64>();
             for i in 0..n {
                 x[i] += alpha * p[i];
@@ -246,20 +271,117 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
         }
         x
     };
-    // Anchors: valid texels their value, empty ones the dilated value.
-    let mut run = |src: &mut Vec<[f32; 3]>, anchor: &[[f32; 3]]| {
-        for c in 0..3 {
-            let x0: Vec<f64> = texels.iter().zip(&valid).map(|(t, v)| if *v { src[*t][c] as f64 } else { anchor[*t][c] as f64 }).collect();
-            let x = solve(&x0);
-            for (i, t) in texels.iter().enumerate() {
-                src[*t][c] = x[i] as f32;
+    // Anchors (valid texels their value, empty ones the dilated value) of every channel:
+    // E/π's three, then each coefficient set's lobes'.
+    let anchors = |src: &[[f32; 3]], dil: &[[f32; 3]]| -> Vec<Vec<f64>> {
+        (0..3).map(|c| texels.iter().zip(&valid).map(|(t, v)| if *v { src[*t][c] as f64 } else { dil[*t][c] as f64 }).collect()).collect()
+    };
+    let e0 = anchors(&img.irradiance, &dilated.irradiance);
+    let sets: Vec<Vec<Vec<f64>>> = img
+        .coefficients
+        .iter()
+        .enumerate()
+        .map(|(b, basis)| basis.iter().enumerate().flat_map(|(l, lobe)| anchors(lobe, &dilated.coefficients[b][l])).collect())
+        .collect();
+    // A coefficient set ≥ 0 under every tap is a non-negative basis: rescaled, not solved.
+    let scaled: Vec<bool> = sets.iter().map(|set| set.iter().flatten().all(|v| *v >= 0.0)).collect();
+    // Per colour channel (each texel's E/π and lobes relate channel by channel): E/π's and the
+    // signed sets' lobes' channel c share one held set and one matrix.
+    let mut held_any = vec![false; n];
+    let mut rounds = 0;
+    let mut e1: Vec<Vec<f64>> = Vec::new();
+    let mut donor_of: Vec<Vec<Option<usize>>> = Vec::new();
+    // The donor of texel i in channel c: of the texels with E/π > 0 under the samples i is a
+    // tap of, the one of largest tap weight on i's side, else on the other side.
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (k, r) in rows.iter().enumerate() {
+        for (i, _) in r {
+            incident[*i].push(k);
+        }
+    }
+    let donor = |c: usize, i: usize| -> Option<usize> {
+        let mut best: [Option<(f64, usize)>; 2] = [None, None];
+        for k in &incident[i] {
+            let wi = rows[*k].iter().find(|(j, _)| *j == i).map_or(0.0, |(_, w)| *w);
+            for (j, w) in &rows[*k] {
+                let side = usize::from(w * wi < 0.0);
+                if *j != i && e0[c][*j] > 0.0 && best[side].is_none_or(|(b, _)| w.abs() > b) {
+                    best[side] = Some((w.abs(), *j));
+                }
             }
         }
+        best[0].or(best[1]).map(|(_, j)| j)
     };
-    run(&mut img.irradiance, &dilated.irradiance);
-    for (b, basis) in img.coefficients.iter_mut().enumerate() {
+    let mut signed: Vec<Vec<Vec<f64>>> = vec![Vec::new(); 3];
+    for c in 0..3 {
+        let mut channels: Vec<&Vec<f64>> = vec![&e0[c]];
+        for (set, s) in sets.iter().zip(&scaled) {
+            if !s {
+                channels.extend(set.iter().skip(c).step_by(3));
+            }
+        }
+        let non_negative: Vec<bool> = channels.iter().map(|x0| x0.iter().all(|v| *v >= 0.0)).collect();
+        // A texel whose E/π is 0 (black, or empty where dilation never reached: a chart with no
+        // valid texel) has no scale for its lobes: it takes a donor's lobe shape, else is held.
+        let donors: Vec<Option<usize>> = (0..n).map(|i| if e0[c][i] <= 0.0 { donor(c, i) } else { None }).collect();
+        let mut held: Vec<bool> = (0..n).map(|i| scaled.iter().any(|s| *s) && e0[c][i] <= 0.0 && donors[i].is_none()).collect();
+        let mut solved: Vec<Option<Vec<f64>>> = vec![None; channels.len()];
+        loop {
+            rounds += 1;
+            let mut negative = vec![false; n];
+            for (k, x0) in channels.iter().enumerate().filter(|(k, _)| non_negative[*k]) {
+                let x = solve(x0, &held);
+                for i in 0..n {
+                    negative[i] |= (x[i] as f32) < 0.0;
+                }
+                solved[k] = Some(x);
+            }
+            if !negative.iter().any(|v| *v) {
+                break;
+            }
+            for i in 0..n {
+                held[i] |= negative[i];
+            }
+        }
+        for (k, x0) in channels.iter().enumerate() {
+            if solved[k].is_none() {
+                solved[k] = Some(solve(x0, &held));
+            }
+        }
+        let mut solved = solved.into_iter().map(|x| x.expect("solved"));
+        e1.push(solved.next().expect("E/π"));
+        signed[c] = solved.collect();
+        donor_of.push(donors);
+        for i in 0..n {
+            held_any[i] |= held[i];
+        }
+    }
+    let write = |dst: &mut Vec<[f32; 3]>, c: usize, x: &[f64]| {
+        for (i, t) in texels.iter().enumerate() {
+            dst[*t][c] = x[i] as f32;
+        }
+    };
+    for (c, x) in e1.iter().enumerate() {
+        write(&mut img.irradiance, c, x);
+    }
+    let mut signed = signed.into_iter().map(|v| v.into_iter()).collect::<Vec<_>>();
+    for ((basis, set), s) in img.coefficients.iter_mut().zip(&sets).zip(&scaled) {
         for (l, lobe) in basis.iter_mut().enumerate() {
-            run(lobe, &dilated.coefficients[b][l]);
+            for c in 0..3 {
+                let x = if *s {
+                    let x0 = &set[3 * l + c];
+                    (0..n)
+                        .map(|i| match donor_of[c][i] {
+                            Some(j) => x0[j] * (e1[c][i] / e0[c][j]),
+                            None if e0[c][i] > 0.0 => x0[i] * (e1[c][i] / e0[c][i]),
+                            None => x0[i],
+                        })
+                        .collect()
+                } else {
+                    signed[c].next().expect("coefficient")
+                };
+                write(lobe, c, &x);
+            }
         }
     }
     // Empty texels written: their normal and standard error as dilation would give them.
@@ -268,5 +390,6 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
         img.normals[*t] = dilated.normals[*t];
         img.standard_error[*t] = dilated.standard_error[*t];
     }
-    StitchStats { samples: samples.len(), texels: n, written_empty, iterations, converged }
+    let held = held_any.iter().filter(|h| **h).count();
+    StitchStats { samples: samples.len(), texels: n, written_empty, iterations, converged, held, rounds }
 }

@@ -387,6 +387,7 @@ fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImage
         texels: None,
         cg_iterations: None,
         cg_converged: None,
+        held_texels: None,
         seconds: None,
         metric,
     };
@@ -396,11 +397,12 @@ fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImage
         let after = crate::post::seams::seam_metric(img, &seam_samples);
         let secs = t.elapsed().as_secs_f64();
         log(format!(
-            "seams: {} edges, {} samples; mean |ΔE/π| across them {metric_before:.3e} → {after:.3e} (texel noise {noise:.3e}), {} texels solved in ≤ {} CG iterations{}, {secs:.2} s",
+            "seams: {} edges, {} samples; mean |ΔE/π| across them {metric_before:.3e} → {after:.3e} (texel noise {noise:.3e}), {} texels solved in ≤ {} CG iterations, {} held where E/π would go negative{}, {secs:.2} s",
             seam_edges.len(),
             seam_samples.len(),
             st.texels,
             st.iterations,
+            st.held,
             if st.converged { "" } else { " (NOT converged to 1e-7: the result is the last iterate)" }
         ));
         seams = SeamsJson {
@@ -409,6 +411,7 @@ fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImage
             texels: Some(st.texels),
             cg_iterations: Some(st.iterations),
             cg_converged: Some(st.converged),
+            held_texels: Some(st.held),
             seconds: Some(secs),
             ..seams
         };
