@@ -52,6 +52,13 @@ impl SignedStorage {
     }
 }
 
+impl SignedAlternativeJson {
+    /// " (--compress X: Y %)" for a log line, empty without an alternative.
+    pub fn note(a: Option<&Self>) -> String {
+        a.map_or(String::new(), |a| format!(" (--compress {}: {:.3} %)", a.compress, 100.0 * a.irradiance_rel_rms_bc6h))
+    }
+}
+
 /// One compressed image in bake.json.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompressedImageJson {

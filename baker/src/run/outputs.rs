@@ -102,7 +102,7 @@ fn compress_step(
                 p.bytes_per_probe[1],
                 100.0 * p.irradiance_rel_rms_bc6h,
                 100.0 * p.irradiance_rel_rms_f16,
-                alternative_note(p.signed_alternative.as_ref())
+                compress::SignedAlternativeJson::note(p.signed_alternative.as_ref())
             ));
         }
     }
@@ -118,15 +118,10 @@ fn compress_step(
             100.0 * b.error_at_normal_rel_rms[0],
             100.0 * b.error_at_normal_rel_rms[1],
             100.0 * b.error_at_normal_rel_rms[2],
-            alternative_note(b.signed_alternative.as_ref())
+            compress::SignedAlternativeJson::note(b.signed_alternative.as_ref())
         ));
     }
     Ok(Some(c))
-}
-
-/// ", --compress X would change it by Y %" for a basis with signed images.
-fn alternative_note(a: Option<&crate::output::compress::SignedAlternativeJson>) -> String {
-    a.map_or(String::new(), |a| format!(" (--compress {}: {:.3} %)", a.compress, 100.0 * a.irradiance_rel_rms_bc6h))
 }
 
 /// The engine formats of `--engine-formats`, from the SH L1 lightmap.
