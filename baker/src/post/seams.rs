@@ -175,6 +175,156 @@ pub struct StitchStats {
     pub rounds: usize,
 }
 
+/// The stitch's linear system (λCᵀC + M)x = M·x0 over the unknown texels (module docs).
+struct System {
+    n: usize,
+    /// Anchor weights μ (1 valid, [`EMPTY_WEIGHT`] empty).
+    mu: Vec<f64>,
+    /// Constraint rows c_s (A taps minus B taps, merged by unknown).
+    rows: Vec<Vec<(usize, f64)>>,
+    /// The diagonal of λCᵀC + M (the Jacobi preconditioner).
+    diag: Vec<f64>,
+    /// The rows each unknown appears in.
+    incident: Vec<Vec<usize>>,
+    /// The most CG iterations of any solve, and whether every solve converged.
+    iterations: usize,
+    converged: bool,
+}
+
+impl System {
+    fn new(samples: &[SeamSample], index: &BTreeMap<usize, usize>, valid: &[bool]) -> Self {
+        let n = valid.len();
+        let mu: Vec<f64> = valid.iter().map(|v| if *v { 1.0 } else { EMPTY_WEIGHT }).collect();
+        let rows: Vec<Vec<(usize, f64)>> = samples
+            .iter()
+            .map(|s| {
+                let mut r: BTreeMap<usize, f64> = BTreeMap::new();
+                for (t, w) in &s.a {
+                    *r.entry(index[t]).or_default() += *w as f64;
+                }
+                for (t, w) in &s.b {
+                    *r.entry(index[t]).or_default() -= *w as f64;
+                }
+                r.into_iter().filter(|(_, w)| *w != 0.0).collect()
+            })
+            .collect();
+        let mut diag = mu.clone();
+        let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (k, r) in rows.iter().enumerate() {
+            for (i, w) in r {
+                diag[*i] += SEAM_WEIGHT * w * w;
+                incident[*i].push(k);
+            }
+        }
+        System { n, mu, rows, diag, incident, iterations: 0, converged: true }
+    }
+
+    /// y = (λCᵀC + M)x.
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        for i in 0..self.n {
+            y[i] = self.mu[i] * x[i];
+        }
+        for r in &self.rows {
+            let d: f64 = r.iter().map(|(i, w)| w * x[*i]).sum();
+            for (i, w) in r {
+                y[*i] += SEAM_WEIGHT * w * d;
+            }
+        }
+    }
+
+    /// Solves for one right-hand side M·x0 over the unknowns not `held` (they keep x0):
+    /// Jacobi-preconditioned conjugate gradients restricted to the free unknowns — the plain
+    /// solve when none is held.
+    fn solve(&mut self, x0: &[f64], held: &[bool]) -> Vec<f64> {
+        let n = self.n;
+        let b: Vec<f64> = (0..n).map(|i| self.mu[i] * x0[i]).collect();
+        let mut x = x0.to_vec();
+        let mut ax = vec![0.0; n];
+        self.apply(&x, &mut ax);
+        let mut r: Vec<f64> = (0..n).map(|i| if held[i] { 0.0 } else { b[i] - ax[i] }).collect();
+        let mut z: Vec<f64> = (0..n).map(|i| r[i] / self.diag[i]).collect();
+        let mut p = z.clone();
+        let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        let bnorm = b.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+        let mut ap = vec![0.0; n];
+        for it in 0..MAX_CG_ITERATIONS {
+            if r.iter().map(|v| v * v).sum::<f64>().sqrt() <= CG_TOLERANCE * bnorm {
+                self.iterations = self.iterations.max(it);
+                break;
+            }
+            self.apply(&p, &mut ap);
+            for i in 0..n {
+                if held[i] {
+                    ap[i] = 0.0;
+                }
+            }
+            let alpha = rz / p.iter().zip(&ap).map(|(a, b)| a * b).sum::<f64>();
+            for i in 0..n {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * ap[i];
+                z[i] = r[i] / self.diag[i];
+            }
+            let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+            let beta = rz_new / rz;
+            rz = rz_new;
+            for i in 0..n {
+                p[i] = z[i] + beta * p[i];
+            }
+            self.iterations = self.iterations.max(it + 1);
+            if it + 1 == MAX_CG_ITERATIONS {
+                self.converged = false;
+            }
+        }
+        x
+    }
+
+    /// The donor of unknown `i` for one channel's E/π `e0`: of the texels with E/π > 0 under
+    /// the samples `i` is a tap of, the one of largest tap weight on `i`'s side, else on the
+    /// other side.
+    fn donor(&self, e0: &[f64], i: usize) -> Option<usize> {
+        let mut best: [Option<(f64, usize)>; 2] = [None, None];
+        for k in &self.incident[i] {
+            let wi = self.rows[*k].iter().find(|(j, _)| *j == i).map_or(0.0, |(_, w)| *w);
+            for (j, w) in &self.rows[*k] {
+                let side = usize::from(w * wi < 0.0);
+                if *j != i && e0[*j] > 0.0 && best[side].is_none_or(|(b, _)| w.abs() > b) {
+                    best[side] = Some((w.abs(), *j));
+                }
+            }
+        }
+        best[0].or(best[1]).map(|(_, j)| j)
+    }
+
+    /// Solves one colour channel's images (`channels`, anchors per unknown; the first E/π)
+    /// with one held set: the non-negative ones are solved, the unknowns any of them takes
+    /// below zero added to `held`, until none does; then the rest. Returns the solutions in
+    /// `channels`' order and the rounds.
+    fn solve_channel(&mut self, channels: &[&Vec<f64>], held: &mut [bool]) -> (Vec<Vec<f64>>, usize) {
+        let non_negative: Vec<bool> = channels.iter().map(|x0| x0.iter().all(|v| *v >= 0.0)).collect();
+        let mut solved: Vec<Option<Vec<f64>>> = vec![None; channels.len()];
+        let mut rounds = 0;
+        loop {
+            rounds += 1;
+            let mut negative = vec![false; self.n];
+            for (k, x0) in channels.iter().enumerate().filter(|(k, _)| non_negative[*k]) {
+                let x = self.solve(x0, held);
+                for i in 0..self.n {
+                    negative[i] |= (x[i] as f32) < 0.0;
+                }
+                solved[k] = Some(x);
+            }
+            if !negative.iter().any(|v| *v) {
+                break;
+            }
+            for i in 0..self.n {
+                held[i] |= negative[i];
+            }
+        }
+        let out = channels.iter().zip(solved).map(|(x0, x)| x.unwrap_or_else(|| self.solve(x0, held))).collect();
+        (out, rounds)
+    }
+}
+
 /// Stitches `img` along `samples` (see the module docs). `dilated` is the same images after
 /// dilation: the anchors of empty texels under a tap.
 pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[SeamSample]) -> StitchStats {
@@ -194,83 +344,7 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
     }
     let n = texels.len();
     let valid: Vec<bool> = texels.iter().map(|t| img.validity[*t] > 0.0).collect();
-    let mu: Vec<f64> = valid.iter().map(|v| if *v { 1.0 } else { EMPTY_WEIGHT }).collect();
-    // Constraint rows c_s (A taps minus B taps, merged by unknown).
-    let rows: Vec<Vec<(usize, f64)>> = samples
-        .iter()
-        .map(|s| {
-            let mut r: BTreeMap<usize, f64> = BTreeMap::new();
-            for (t, w) in &s.a {
-                *r.entry(index[t]).or_default() += *w as f64;
-            }
-            for (t, w) in &s.b {
-                *r.entry(index[t]).or_default() -= *w as f64;
-            }
-            r.into_iter().filter(|(_, w)| *w != 0.0).collect()
-        })
-        .collect();
-    let mut diag = mu.clone();
-    for r in &rows {
-        for (i, w) in r {
-            diag[*i] += SEAM_WEIGHT * w * w;
-        }
-    }
-    let apply = |x: &[f64], y: &mut [f64]| {
-        for i in 0..n {
-            y[i] = mu[i] * x[i];
-        }
-        for r in &rows {
-            let d: f64 = r.iter().map(|(i, w)| w * x[*i]).sum();
-            for (i, w) in r {
-                y[*i] += SEAM_WEIGHT * w * d;
-            }
-        }
-    };
-    let mut iterations = 0;
-    let mut converged = true;
-    // Solve (λCᵀC + M)x = M·x0 over the unknowns not `held` (they keep x0): conjugate
-    // gradients restricted to the free unknowns — the plain solve when none is held.
-    let mut solve = |x0: &[f64], held: &[bool]| -> Vec<f64> {
-        let b: Vec<f64> = (0..n).map(|i| mu[i] * x0[i]).collect();
-        let mut x = x0.to_vec();
-        let mut ax = vec![0.0; n];
-        apply(&x, &mut ax);
-        let mut r: Vec<f64> = (0..n).map(|i| if held[i] { 0.0 } else { b[i] - ax[i] }).collect();
-        let mut z: Vec<f64> = (0..n).map(|i| r[i] / diag[i]).collect();
-        let mut p = z.clone();
-        let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
-        let bnorm = b.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
-        let mut ap = vec![0.0; n];
-        for it in 0..MAX_CG_ITERATIONS {
-            if r.iter().map(|v| v * v).sum::<f64>().sqrt() <= CG_TOLERANCE * bnorm {
-                iterations = iterations.max(it);
-                break;
-            }
-            apply(&p, &mut ap);
-            for i in 0..n {
-                if held[i] {
-                    ap[i] = 0.0;
-                }
-            }
-            let alpha = rz / p.iter().zip(&ap).map(|(a, b)| a * b).sum::<f64>();
-            for i in 0..n {
-                x[i] += alpha * p[i];
-                r[i] -= alpha * ap[i];
-                z[i] = r[i] / diag[i];
-            }
-            let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
-            let beta = rz_new / rz;
-            rz = rz_new;
-            for i in 0..n {
-                p[i] = z[i] + beta * p[i];
-            }
-            iterations = iterations.max(it + 1);
-            if it + 1 == MAX_CG_ITERATIONS {
-                converged = false;
-            }
-        }
-        x
-    };
+    let mut sys = System::new(samples, &index, &valid);
     // Anchors (valid texels their value, empty ones the dilated value) of every channel:
     // E/π's three, then each coefficient set's lobes'.
     let anchors = |src: &[[f32; 3]], dil: &[[f32; 3]]| -> Vec<Vec<f64>> {
@@ -287,32 +361,8 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
     let scaled: Vec<bool> = sets.iter().map(|set| set.iter().flatten().all(|v| *v >= 0.0)).collect();
     // Per colour channel (each texel's E/π and lobes relate channel by channel): E/π's and the
     // signed sets' lobes' channel c share one held set and one matrix.
-    let mut held_any = vec![false; n];
-    let mut rounds = 0;
-    let mut e1: Vec<Vec<f64>> = Vec::new();
-    let mut donor_of: Vec<Vec<Option<usize>>> = Vec::new();
-    // The donor of texel i in channel c: of the texels with E/π > 0 under the samples i is a
-    // tap of, the one of largest tap weight on i's side, else on the other side.
-    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (k, r) in rows.iter().enumerate() {
-        for (i, _) in r {
-            incident[*i].push(k);
-        }
-    }
-    let donor = |c: usize, i: usize| -> Option<usize> {
-        let mut best: [Option<(f64, usize)>; 2] = [None, None];
-        for k in &incident[i] {
-            let wi = rows[*k].iter().find(|(j, _)| *j == i).map_or(0.0, |(_, w)| *w);
-            for (j, w) in &rows[*k] {
-                let side = usize::from(w * wi < 0.0);
-                if *j != i && e0[c][*j] > 0.0 && best[side].is_none_or(|(b, _)| w.abs() > b) {
-                    best[side] = Some((w.abs(), *j));
-                }
-            }
-        }
-        best[0].or(best[1]).map(|(_, j)| j)
-    };
-    let mut signed: Vec<Vec<Vec<f64>>> = vec![Vec::new(); 3];
+    let (mut held_any, mut rounds) = (vec![false; n], 0);
+    let (mut e1, mut donor_of, mut signed) = (Vec::new(), Vec::new(), Vec::new());
     for c in 0..3 {
         let mut channels: Vec<&Vec<f64>> = vec![&e0[c]];
         for (set, s) in sets.iter().zip(&scaled) {
@@ -320,37 +370,15 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
                 channels.extend(set.iter().skip(c).step_by(3));
             }
         }
-        let non_negative: Vec<bool> = channels.iter().map(|x0| x0.iter().all(|v| *v >= 0.0)).collect();
         // A texel whose E/π is 0 (black, or empty where dilation never reached: a chart with no
         // valid texel) has no scale for its lobes: it takes a donor's lobe shape, else is held.
-        let donors: Vec<Option<usize>> = (0..n).map(|i| if e0[c][i] <= 0.0 { donor(c, i) } else { None }).collect();
+        let donors: Vec<Option<usize>> = (0..n).map(|i| if e0[c][i] <= 0.0 { sys.donor(&e0[c], i) } else { None }).collect();
         let mut held: Vec<bool> = (0..n).map(|i| scaled.iter().any(|s| *s) && e0[c][i] <= 0.0 && donors[i].is_none()).collect();
-        let mut solved: Vec<Option<Vec<f64>>> = vec![None; channels.len()];
-        loop {
-            rounds += 1;
-            let mut negative = vec![false; n];
-            for (k, x0) in channels.iter().enumerate().filter(|(k, _)| non_negative[*k]) {
-                let x = solve(x0, &held);
-                for i in 0..n {
-                    negative[i] |= (x[i] as f32) < 0.0;
-                }
-                solved[k] = Some(x);
-            }
-            if !negative.iter().any(|v| *v) {
-                break;
-            }
-            for i in 0..n {
-                held[i] |= negative[i];
-            }
-        }
-        for (k, x0) in channels.iter().enumerate() {
-            if solved[k].is_none() {
-                solved[k] = Some(solve(x0, &held));
-            }
-        }
-        let mut solved = solved.into_iter().map(|x| x.expect("solved"));
+        let (solved, r) = sys.solve_channel(&channels, &mut held);
+        rounds += r;
+        let mut solved = solved.into_iter();
         e1.push(solved.next().expect("E/π"));
-        signed[c] = solved.collect();
+        signed.push(solved);
         donor_of.push(donors);
         for i in 0..n {
             held_any[i] |= held[i];
@@ -364,7 +392,6 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
     for (c, x) in e1.iter().enumerate() {
         write(&mut img.irradiance, c, x);
     }
-    let mut signed = signed.into_iter().map(|v| v.into_iter()).collect::<Vec<_>>();
     for ((basis, set), s) in img.coefficients.iter_mut().zip(&sets).zip(&scaled) {
         for (l, lobe) in basis.iter_mut().enumerate() {
             for c in 0..3 {
@@ -391,5 +418,5 @@ pub fn stitch(img: &mut LightmapImages, dilated: &LightmapImages, samples: &[Sea
         img.standard_error[*t] = dilated.standard_error[*t];
     }
     let held = held_any.iter().filter(|h| **h).count();
-    StitchStats { samples: samples.len(), texels: n, written_empty, iterations, converged, held, rounds }
+    StitchStats { samples: samples.len(), texels: n, written_empty, iterations: sys.iterations, converged: sys.converged, held, rounds }
 }
