@@ -128,6 +128,63 @@ fn resume_refuses_a_different_bake() {
     assert!(!out.status.success() && log.contains("belongs to a different bake"), "{log}");
 }
 
+/// A checkpoint with one byte flipped, or cut short, is refused on resume with a message (its
+/// trailing FNV-1a hash, checked before anything is read), never resumed: the flipped byte
+/// sits in the encoder state, which the other checks (magic, fingerprint, sizes) do not see.
+#[test]
+fn resume_refuses_a_corrupt_checkpoint() {
+    let d = tmp("corrupt");
+    let mut a: Vec<&str> = vec!["--device", "cpu", "--texels-per-unit", "4", "--passes", "4", "--checkpoint-every", "2"];
+    a.extend(["--probes", "0,0,0", "--preview-width", "16", "--out", d.to_str().unwrap()]);
+    assert!(baker(&a).output().unwrap().status.success());
+    let ck = d.join("lightmap.checkpoint");
+    let good = std::fs::read(&ck).unwrap();
+    a.push("--resume");
+    for (what, bytes) in [
+        ("one byte flipped", {
+            let mut b = good.clone();
+            let k = b.len() * 2 / 3;
+            b[k] ^= 0x10;
+            b
+        }),
+        ("cut short", good[..good.len() - 100].to_vec()),
+    ] {
+        std::fs::write(&ck, &bytes).unwrap();
+        let out = baker(&a).output().unwrap();
+        let log = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && log.contains("checksum mismatch"), "{what}: {log}");
+    }
+    // The intact checkpoint still resumes.
+    std::fs::write(&ck, &good).unwrap();
+    let out = baker(&a).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+/// Two writers of one file — a retried shard beside an orphaned one — each through its own
+/// temporary name: 4 threads × 50 atomic writes of one path all succeed and leave one whole
+/// payload and no temporary file (a fixed temporary name fails here: one writer renames the
+/// other's file away).
+#[test]
+fn concurrent_atomic_writes_do_not_collide() {
+    let d = tmp("atomic");
+    std::fs::create_dir_all(&d).unwrap();
+    let path = d.join("x.checkpoint");
+    std::thread::scope(|s| {
+        for t in 0..4u8 {
+            let path = path.clone();
+            s.spawn(move || {
+                for _ in 0..50 {
+                    baker::checkpoint::write_atomic(&path, &vec![t; 4096]).unwrap();
+                }
+            });
+        }
+    });
+    let b = std::fs::read(&path).unwrap();
+    assert!(b.len() == 4096 && b.iter().all(|x| *x == b[0]), "a torn or mixed file");
+    let left: Vec<_> = std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name()).filter(|n| n != "x.checkpoint").collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+}
+
 /// The checkpoint identity is the content, not the path: an edited scene with the same
 /// texel count, and a probe grid of the same size (2,2,2 → 1,1,8), are refused.
 #[test]

@@ -6,7 +6,7 @@
 //!
 //! Uses: [`crate::scene`], [`crate::accumulate`].
 //!
-//! Format (little endian): magic `SBFBAKE1`; u64 fingerprint of the bake's identity
+//! Format (little endian): magic `SBFBAKE5`; u64 fingerprint of the bake's identity
 //! (scene, layout, seed, bounces, bases, solver and each basis' update rule, sample sequence, adaptive sampling: a resumed bake must be the same bake);
 //! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
 //! and the u64 counts of accepted, back-face and non-finite samples;
@@ -15,7 +15,14 @@
 //! sums of the current stage's basis (n = 0 without guiding); u32 count m of filtered
 //! gather targets (0 without a filter), per target the eight f64 weighted moments (Σw, Σw²,
 //! mean, M2) and the u64 sample count, the u64 count of negative-weight samples, and per
-//! basis and target the encoder state as above. f32 state round-trips exactly, so a resumed bake continues bit for bit.
+//! basis and target the encoder state as above; last, the u64 FNV-1a hash of every byte
+//! before it, checked before anything is read (a torn or bit-flipped checkpoint is refused
+//! with a message, not resumed; `SBFBAKE4` files, written before the hash, are read without
+//! it). f32 state round-trips exactly, so a resumed bake continues bit for bit.
+//!
+//! [`write_atomic`] writes through a temporary name unique to the writer (process id and a
+//! counter), so two processes writing one checkpoint — a retried task beside an orphaned
+//! one — cannot rename each other's file away.
 
 pub mod shard;
 
@@ -25,7 +32,9 @@ use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"SBFBAKE4";
+const MAGIC: &[u8; 8] = b"SBFBAKE5";
+/// The format before the trailing hash (read for resuming older bakes).
+const MAGIC_UNHASHED: &[u8; 8] = b"SBFBAKE4";
 
 /// FNV-1a 64 (Fowler–Noll–Vo), fed with the bytes that determine a bake.
 #[derive(Debug, Clone, Copy)]
@@ -235,6 +244,9 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
             write_encoders(&mut v, &f.encoders);
         }
     }
+    let mut h = Fnv::default();
+    h.bytes(&v);
+    v.extend_from_slice(&h.finish().to_le_bytes());
     v
 }
 
@@ -329,10 +341,21 @@ impl Reader<'_> {
 
 /// Reads a state saved for the bake with this fingerprint, config and targets.
 pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: &Targets) -> Result<BakeState, String> {
+    let bytes = match bytes.get(..8) {
+        Some(m) if m == MAGIC => {
+            let (data, sum) = bytes.split_at(bytes.len().saturating_sub(8).max(8));
+            let mut h = Fnv::default();
+            h.bytes(data);
+            if sum.len() != 8 || h.finish().to_le_bytes() != sum {
+                return Err("checksum mismatch: the checkpoint is truncated or corrupt (delete it to bake from the start)".into());
+            }
+            data
+        }
+        Some(m) if m == MAGIC_UNHASHED => bytes,
+        _ => return Err("not a baker checkpoint (bad magic)".into()),
+    };
     let mut r = Reader { b: bytes, at: 0 };
-    if r.take(8)? != MAGIC {
-        return Err("not a baker checkpoint (bad magic)".into());
-    }
+    r.take(8)?;
     let fp = r.u64()?;
     if fp != fingerprint {
         return Err(format!("checkpoint belongs to a different bake (fingerprint {fp:016x}, this bake {fingerprint:016x}): the scene content, layout or probe positions, seed, bounces, bases, solver, sample sequence, adaptive sampling, ray guiding or the filter changed"));
@@ -393,14 +416,21 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
     Ok(state)
 }
 
-/// Writes `bytes` to `path` atomically (temporary file + fsync + rename).
+/// Writes `bytes` to `path` atomically (temporary file + fsync + rename); the temporary
+/// name is unique to this process and call.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let tmp = path.with_extension("tmp");
+    static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let k = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let name = path.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let tmp = path.with_file_name(format!(".{name}.{}.{k}.tmp", std::process::id()));
     let mut f = std::fs::File::create(&tmp).map_err(|e| format!("creating {}: {e}", tmp.display()))?;
     f.write_all(bytes).map_err(|e| format!("writing {}: {e}", tmp.display()))?;
     f.sync_all().map_err(|e| format!("syncing {}: {e}", tmp.display()))?;
     drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| format!("renaming {} to {}: {e}", tmp.display(), path.display()))?;
+    if let Err(e) = std::fs::rename(&tmp, path) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(format!("renaming {} to {}: {e}", tmp.display(), path.display()));
+    }
     // The rename is durable only once the directory entry is (POSIX): sync the folder.
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     #[cfg(unix)]
