@@ -174,6 +174,40 @@ fn merge_refuses_shards_of_another_bake_gaps_and_duplicates() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
+/// A scene edited at the same path after its shards were baked: the merge refuses (the
+/// content fingerprint) and writes nothing — not even the output folder.
+#[test]
+fn merge_of_an_edited_scene_refuses_and_writes_nothing() {
+    let Some(scenes) = scenes_dir() else { return };
+    let root = tmp("edited");
+    let src = scenes.join("bevy_MixedLightingExample");
+    let dir = root.join("scene");
+    std::fs::create_dir_all(&dir).unwrap();
+    for e in std::fs::read_dir(&src).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), dir.join(e.file_name())).unwrap();
+    }
+    let gltf = dir.join("MixedLightingExample.gltf");
+    let g = gltf.to_str().unwrap();
+    let shards: Vec<String> = (0..2)
+        .map(|i| {
+            let (spec, out) = (format!("{i}/2"), root.join("shards"));
+            let mut args = recipe(g, "2", "4");
+            args.extend(["--material-maps", "factors", "--shard", &spec, "--out", out.to_str().unwrap()]);
+            ok(&args);
+            out.join(format!("shard-{i}-of-2.sbfshard")).to_str().unwrap().to_string()
+        })
+        .collect();
+    // The first material's base colour changed, nothing else.
+    let mut doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&gltf).unwrap()).unwrap();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = serde_json::json!([0.2, 0.9, 0.3, 1.0]);
+    std::fs::write(&gltf, serde_json::to_string(&doc).unwrap()).unwrap();
+    let out = root.join("out");
+    refusal(&["merge", out.to_str().unwrap(), &shards[0], &shards[1]], &["belongs to another bake"]);
+    assert!(!out.exists(), "a refused merge created {}", out.display());
+    let _ = std::fs::remove_dir_all(&root);
+}
+
 /// docs/distributed/slurm-array.sh run as Slurm would run its array tasks (index and count
 /// from SLURM_ARRAY_TASK_ID / SHARDS), then the merge: the single bake's files.
 #[test]

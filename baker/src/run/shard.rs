@@ -149,7 +149,6 @@ pub fn merge(
     let n = shard::check_complete(&shards)?;
     log(format!("merge: {n} shards of one bake ({})", first.header.recipe.join(" ")));
     (o.out, o.shard) = (out.to_path_buf(), None);
-    super::limits::check_writable(out)?;
     let p = super::prepare(&o, log)?;
     let mut sets = vec![("lightmap", &p.targets, &p.config)];
     let probe_targets = p.probes.as_ref().map(|(pos, _)| Targets::probes(pos));
@@ -157,14 +156,20 @@ pub fn merge(
     if let Some(t) = &probe_targets {
         sets.push(("probes", t, &probe_config));
     }
-    let mut states = Vec::new();
+    // Every refusal (a scene edited since the shards were baked fails the fingerprint here)
+    // before the output folder is created: a refused merge writes nothing.
+    let mut merged = Vec::new();
     for (k, (what, targets, config)) in sets.iter().enumerate() {
         let fp = content_fingerprint(&p.scene, targets, config, what);
-        let state = shard::merge(&shards, k, fp, config, targets)?;
+        merged.push((*what, fp, targets.items.len(), shard::merge(&shards, k, fp, config, targets)?));
+    }
+    super::limits::check_writable(out)?;
+    let mut states = Vec::new();
+    for (what, fp, items, state) in merged {
         // The whole state as the single bake's checkpoint: `baker --resume --passes M`
         // continues the merged bake on one machine.
         write_atomic(&out.join(format!("{what}.checkpoint")), &crate::checkpoint::to_bytes(&state, fp))?;
-        log(format!("merge: {what}: {} items from {n} shards, {} passes", targets.items.len(), state.passes));
+        log(format!("merge: {what}: {items} items from {n} shards, {} passes", state.passes));
         states.push(state);
     }
     let runs: Vec<Option<ShardRun>> = shards
