@@ -160,6 +160,24 @@ fn resume_refuses_a_corrupt_checkpoint() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
+/// A folder reused for a shorter bake: its checkpoint is past the new --passes, and resuming
+/// would write the longer bake under the shorter one's settings (a shard's header would say
+/// 2 passes over a 4-pass state). Refused with a message naming both counts.
+#[test]
+fn resume_refuses_a_checkpoint_past_the_requested_passes() {
+    let d = tmp("longer");
+    let mut a: Vec<&str> = vec!["--device", "cpu", "--texels-per-unit", "4", "--passes", "4", "--checkpoint-every", "2"];
+    a.extend(["--probes", "0,0,0", "--preview-width", "16", "--out", d.to_str().unwrap()]);
+    assert!(baker(&a).output().unwrap().status.success());
+    let bake_json = std::fs::read(d.join("bake.json")).unwrap();
+    a[5] = "2";
+    a.push("--resume");
+    let out = baker(&a).output().unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && log.contains("at passes 4, past this bake's 2"), "{log}");
+    assert!(std::fs::read(d.join("bake.json")).unwrap() == bake_json, "the refused bake rewrote bake.json");
+}
+
 /// Two writers of one file — a retried shard beside an orphaned one — each through its own
 /// temporary name: 4 threads × 50 atomic writes of one path all succeed and leave one whole
 /// payload and no temporary file (a fixed temporary name fails here: one writer renames the

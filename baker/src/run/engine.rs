@@ -189,6 +189,16 @@ fn run_group<'s>(
     let total = config.adaptive.map_or(o.passes, |a| a.batches_for(o.passes));
     let unit = if config.adaptive.is_some() { "passes + batches" } else { "passes" };
     let start = engine.passes();
+    if start > total {
+        // A reused folder's checkpoint from a longer bake: continuing would write its state
+        // under this bake's settings.
+        return Err(format!(
+            "{}: the checkpoint is at {unit} {start}, past this bake's {total} (--passes {}): resume with --passes ≥ {start}, or delete the checkpoint to bake {} from the start",
+            ckpt.display(),
+            o.passes,
+            o.passes
+        ));
+    }
     let todo = total.saturating_sub(start);
     let bar = if o.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(total) };
     bar.set_style(
