@@ -46,8 +46,10 @@ def run_shard(baker, args, index, count, shard_dir, checkpoint_every, threads):
     attempts = os.path.join(shard_dir, f"shard-{index}-of-{count}.attempts")
     with open(attempts, "a") as f:
         f.write(f"{os.uname().nodename} pid {os.getpid()} at {time.time():.3f}\n")
+    # --exit-with-parent: a killed worker takes its bake with it, so the retry does not race
+    # an orphan over the same shard folder.
     cmd = [baker, *args, "--shard", f"{index}/{count}", "--out", shard_dir, "--resume",
-           "--checkpoint-every", str(checkpoint_every)]
+           "--checkpoint-every", str(checkpoint_every), "--exit-with-parent"]
     env = dict(os.environ)
     if threads:
         env["RAYON_NUM_THREADS"] = str(threads)

@@ -231,6 +231,11 @@ struct Cli {
     /// wavefront pass graph.
     #[arg(short, long)]
     verbose: bool,
+    /// Exit (status 1, with a message) as soon as the process that started this one ends
+    /// (Unix: checked every 0.5 s), so a bake started by a farm's worker does not outlive
+    /// a killed worker and race its retry (the Dask driver passes it).
+    #[arg(long)]
+    exit_with_parent: bool,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
@@ -400,7 +405,8 @@ fn parse_shard(s: &str) -> Result<run::ShardSpec, String> {
 /// Arguments that say where or how a bake runs, not what it bakes (and whether each takes
 /// a value): left out of a shard's recipe, so shards run on different machines and devices
 /// merge.
-const RUN_ONLY: [(&str, bool); 10] = [
+const RUN_ONLY: [(&str, bool); 11] = [
+    ("--exit-with-parent", false),
     ("--shard", true),
     ("--out", true),
     ("--resume", false),
@@ -554,6 +560,22 @@ fn sg_sharpness(l: f64) -> Result<f64, String> {
     }
 }
 
+/// `--exit-with-parent`: a thread that ends the process once its parent has (Unix: the
+/// parent id changes when the parent dies and the process is re-parented).
+fn exit_with_parent() {
+    #[cfg(unix)]
+    {
+        let parent = std::os::unix::process::parent_id();
+        std::thread::spawn(move || loop {
+            std::thread::sleep(std::time::Duration::from_millis(500));
+            if std::os::unix::process::parent_id() != parent {
+                eprintln!("baker: the process that started this bake (pid {parent}) has ended: exiting (--exit-with-parent)");
+                std::process::exit(1);
+            }
+        });
+    }
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().collect();
     if args.get(1).map(String::as_str) == Some("merge") {
@@ -561,7 +583,11 @@ fn main() -> ExitCode {
     }
     // Every bound is checked here too (run::bake checks again for library callers), so a
     // bad argument exits with 2 before anything is loaded.
-    let parsed = options(Cli::parse()).map(|mut o| {
+    let cli = Cli::parse();
+    if cli.exit_with_parent {
+        exit_with_parent();
+    }
+    let parsed = options(cli).map(|mut o| {
         if let Some(s) = &mut o.shard {
             s.recipe = recipe(&args[1..]);
         }

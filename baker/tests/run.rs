@@ -178,6 +178,49 @@ fn resume_refuses_a_checkpoint_past_the_requested_passes() {
     assert!(std::fs::read(d.join("bake.json")).unwrap() == bake_json, "the refused bake rewrote bake.json");
 }
 
+/// `--exit-with-parent`: a bake whose parent is killed (SIGKILL: no chance to clean up, as
+/// when a farm's worker dies) ends within a few seconds instead of baking on as an orphan.
+/// The parent is `sh`, which starts the bake in the background and prints its pid; the bake
+/// alone would run for minutes (10⁶ passes).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_bake_exits_with_its_killed_parent() {
+    let d = tmp("orphan");
+    let script = format!(
+        "'{}' --device cpu --texels-per-unit 4 --passes 1000000 --probes 0,0,0 --checkpoint-every 0 --out '{}' --exit-with-parent & echo $!; wait",
+        env!("CARGO_BIN_EXE_baker"),
+        d.display()
+    );
+    let mut sh = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(&mut std::io::BufReader::new(sh.stdout.take().unwrap()), &mut line).unwrap();
+    let pid: u32 = line.trim().parse().unwrap();
+    // Alive (not a zombie) while its parent lives.
+    let alive = |pid: u32| {
+        std::fs::read_to_string(format!("/proc/{pid}/stat"))
+            .is_ok_and(|s| s.rsplit(')').next().is_some_and(|r| !r.trim_start().starts_with('Z')))
+    };
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(alive(pid), "the bake {pid} should still run while its parent does");
+    sh.kill().unwrap();
+    sh.wait().unwrap();
+    let t = std::time::Instant::now();
+    while alive(pid) && t.elapsed().as_secs() < 10 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let left = alive(pid);
+    if left {
+        let _ = std::process::Command::new("kill").args(["-9", &pid.to_string()]).status();
+    }
+    assert!(!left, "the bake {pid} outlived its killed parent by 10 s");
+    println!("the orphaned bake ended {:.1} s after its parent", t.elapsed().as_secs_f64());
+}
+
 /// Two writers of one file — a retried shard beside an orphaned one — each through its own
 /// temporary name: 4 threads × 50 atomic writes of one path all succeed and leave one whole
 /// payload and no temporary file (a fixed temporary name fails here: one writer renames the
