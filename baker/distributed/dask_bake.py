@@ -22,6 +22,10 @@ from the checkpoint's header), when it fails and is retried, and when it is done
 
 import argparse
 import os
+import platform
+import signal
+import tempfile
+import uuid
 import shutil
 import struct
 import subprocess
@@ -41,11 +45,13 @@ def checkpoint_passes(path):
     return struct.unpack("<Q", head[16:24])[0]
 
 
-def run_shard(baker, args, index, count, shard_dir, checkpoint_every, threads):
-    """A Dask task: bakes shard `index` of `count`; raises if the process fails."""
+def run_shard(baker, args, index, count, shard_dir, checkpoint_every, threads, cancel=None):
+    """A Dask task: bakes shard `index` of `count`; raises if the process fails. `cancel`:
+    the name of a Dask Event the driver sets to stop every bake (the process is terminated,
+    checked every 0.5 s)."""
     attempts = os.path.join(shard_dir, f"shard-{index}-of-{count}.attempts")
     with open(attempts, "a") as f:
-        f.write(f"{os.uname().nodename} pid {os.getpid()} at {time.time():.3f}\n")
+        f.write(f"{platform.node()} pid {os.getpid()} at {time.time():.3f}\n")
     # --exit-with-parent: a killed worker takes its bake with it, so the retry does not race
     # an orphan over the same shard folder.
     cmd = [baker, *args, "--shard", f"{index}/{count}", "--out", shard_dir, "--resume",
@@ -54,7 +60,26 @@ def run_shard(baker, args, index, count, shard_dir, checkpoint_every, threads):
     if threads:
         env["RAYON_NUM_THREADS"] = str(threads)
     t = time.time()
-    p = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    event = None
+    if cancel is not None:
+        from dask.distributed import Event
+        event = Event(cancel)
+        if event.is_set():
+            raise RuntimeError(f"shard {index}/{count}: cancelled by the driver")
+    with tempfile.TemporaryFile(mode="w+") as err:
+        proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=err, text=True)
+        while proc.poll() is None:
+            if event is not None and event.is_set():
+                proc.terminate()
+                try:
+                    proc.wait(timeout=5)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                    proc.wait()
+                raise RuntimeError(f"shard {index}/{count}: cancelled by the driver")
+            time.sleep(0.5)
+        err.seek(0)
+        p = subprocess.CompletedProcess(cmd, proc.returncode, None, err.read())
     if p.returncode != 0:
         tail = "\n".join(p.stderr.strip().splitlines()[-5:])
         raise RuntimeError(f"shard {index}/{count}: baker exited with {p.returncode}\n{tail}")
@@ -109,17 +134,36 @@ def main(argv=None):
         threads, cluster = a.threads, None
         client = Client(a.scheduler)
     n = a.shards
+    # SIGTERM or SIGINT: set the cancel event (each running bake is terminated within a
+    # second), then close the cluster; nothing is merged.
+    from dask.distributed import Event
+    cancel_name = f"sbf-cancel-{uuid.uuid4().hex}"
+    cancel = Event(cancel_name, client=client)
+    stop = []
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        signal.signal(sig, lambda signum, _frame: stop.append(signum))
     print(f"driver: {n} shards on {len(client.scheduler_info()['workers'])} workers, "
           f"{a.retries} retries each", flush=True)
     futures = {}
     for i in range(n):
-        f = client.submit(run_shard, baker, args, i, n, shard_dir, a.checkpoint_every, threads,
+        f = client.submit(run_shard, baker, args, i, n, shard_dir, a.checkpoint_every, threads, cancel_name,
                           key=f"shard-{i}-of-{n}", pure=False, retries=a.retries)
         futures[f] = i
     done, failed = {}, {}
     seen_passes, seen_attempts = {}, {}
     pending = as_completed(list(futures))
     while len(done) + len(failed) < n:
+        if stop:
+            print(f"driver: signal {stop[0]}: cancelling the bakes; nothing merged", file=sys.stderr, flush=True)
+            cancel.set()
+            t_stop = time.time()
+            while any(f.status == "pending" for f in futures) and time.time() - t_stop < 10:
+                time.sleep(0.1)
+            client.cancel(list(futures), force=True)
+            client.close()
+            if cluster is not None:
+                cluster.close()
+            return 128 + stop[0]
         for f in pending.next_batch(block=False) if pending.has_ready() else []:
             i = futures[f]
             if f.status == "finished":

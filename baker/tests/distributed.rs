@@ -12,7 +12,8 @@
 //! Mutations tried, each caught: the driver submitting with `retries=0` (the killed shard
 //! fails for good: the driver exits 1, nothing merged); the retry run without `--resume`
 //! (it restarts from pass 0: the outputs still match — a restart is also correct — but the
-//! log's "resumed at pass" check fails).
+//! log's "resumed at pass" check fails); the driver not setting its cancel event on SIGTERM
+//! (the bakes run on until the cluster closes, 10 s later: `sigterm_…` fails).
 
 mod common;
 
@@ -115,5 +116,63 @@ fn a_killed_shard_is_retried_and_the_merge_equals_the_single_bake() {
     println!(
         "single process: {single_seconds:.1} s; local Dask cluster of 3 workers (3 shards, one killed and retried): {cluster_seconds:.1} s"
     );
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// SIGTERM to the driver mid-bake: it sets the cancel event its tasks poll, every running
+/// `baker` is terminated, the cluster closes and nothing is merged — within 10 s no shard
+/// process is left. (Without the event, Dask cannot stop a task's subprocess: the bakes
+/// ran on to their last pass.)
+#[test]
+fn sigterm_to_the_driver_leaves_no_bake_running() {
+    let Some(py) = python() else { return };
+    let root = std::env::temp_dir().join(format!("baker-dask-term-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let baker = env!("CARGO_BIN_EXE_baker");
+    // Minutes of work per shard: still baking when the signal comes.
+    let recipe = ["--device", "cpu", "--passes", "100000", "--texels-per-unit", "8", "--probes", "0,0,0", "--preview-width", "16"];
+    let (shards, merged) = (root.join("shards"), root.join("merged"));
+    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("distributed/dask_bake.py");
+    let mut child = Command::new(&py)
+        .arg(&driver)
+        .args(["--baker", baker, "--shards", "3", "--local-workers", "3", "--retries", "2", "--threads", "1"])
+        .args(["--shard-dir", shards.to_str().unwrap(), "--out", merged.to_str().unwrap(), "--"])
+        .args(recipe)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let running = || (0..3).filter_map(|i| shard_pid(&format!("{i}/3"), &shards)).collect::<Vec<u32>>();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while running().len() < 3 {
+        assert!(Instant::now() < deadline, "three shards did not start in 120 s");
+        assert!(child.try_wait().unwrap().is_none(), "the driver ended before its shards started");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    let k = Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap();
+    assert!(k.success());
+    let t = Instant::now();
+    while !running().is_empty() && t.elapsed() < Duration::from_secs(10) {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let (left, gone) = (running(), t.elapsed().as_secs_f64());
+    for pid in &left {
+        let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
+    }
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(t.elapsed() < Duration::from_secs(60), "the driver did not exit within 60 s of SIGTERM");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    println!("bakes gone {gone:.1} s after SIGTERM; driver exited {status:?} after {:.1} s; {err}", t.elapsed().as_secs_f64());
+    assert!(left.is_empty(), "bakes still running 10 s after SIGTERM to the driver: {left:?}");
+    assert_eq!(status.code(), Some(128 + 15), "the driver's status after SIGTERM: {err}");
+    assert!(!merged.exists(), "a cancelled run merged into {}", merged.display());
     let _ = std::fs::remove_dir_all(&root);
 }
