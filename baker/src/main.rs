@@ -560,22 +560,6 @@ fn sg_sharpness(l: f64) -> Result<f64, String> {
     }
 }
 
-/// `--exit-with-parent`: a thread that ends the process once its parent has (Unix: the
-/// parent id changes when the parent dies and the process is re-parented).
-fn exit_with_parent() {
-    #[cfg(unix)]
-    {
-        let parent = std::os::unix::process::parent_id();
-        std::thread::spawn(move || loop {
-            std::thread::sleep(std::time::Duration::from_millis(500));
-            if std::os::unix::process::parent_id() != parent {
-                eprintln!("baker: the process that started this bake (pid {parent}) has ended: exiting (--exit-with-parent)");
-                std::process::exit(1);
-            }
-        });
-    }
-}
-
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().collect();
     if args.get(1).map(String::as_str) == Some("merge") {
@@ -585,7 +569,7 @@ fn main() -> ExitCode {
     // bad argument exits with 2 before anything is loaded.
     let cli = Cli::parse();
     if cli.exit_with_parent {
-        exit_with_parent();
+        run::limits::exit_with_parent();
     }
     let parsed = options(cli).map(|mut o| {
         if let Some(s) = &mut o.shard {

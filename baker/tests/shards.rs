@@ -112,6 +112,55 @@ fn gltf_room_shards_merge_to_the_single_bake() {
     shards_merge_to_the_single_bake("room", &recipe(gltf.to_str().unwrap(), "4", "8"), &[1, 2, 3, 7]);
 }
 
+/// 8 shards of the glTF room: each shard's checkpoints hold only its items, so together
+/// they are about one bake's (≤ 1.25× the single bake's checkpoint bytes: the headers and the
+/// probe set, owned by shard 0 whole, are the excess) — before, each held the whole atlas, 8×.
+/// And they resume: every shard baked to pass 2, then resumed to pass 4 from its
+/// checkpoint, merges to the single 4-pass bake byte for byte.
+#[test]
+fn gltf_room_shard_checkpoints_hold_only_their_items_and_resume() {
+    let Some(scenes) = scenes_dir() else { return };
+    let gltf = scenes.join("bevy_MixedLightingExample/MixedLightingExample.gltf");
+    let g = gltf.to_str().unwrap();
+    let root = tmp("ckpt-parts");
+    let (single, dir, merged) = (root.join("single"), root.join("shards"), root.join("merged"));
+    let mut args = recipe(g, "4", "8");
+    args.extend(["--checkpoint-every", "2", "--out", single.to_str().unwrap()]);
+    ok(&args);
+    let size = |p: PathBuf| std::fs::metadata(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())).len();
+    let whole = size(single.join("lightmap.checkpoint")) + size(single.join("probes.checkpoint"));
+    let (n, mut parts, mut files) = (8, 0, Vec::new());
+    for i in 0..n {
+        let spec = format!("{i}/{n}");
+        for (passes, resume) in [("2", false), ("4", true)] {
+            let mut args = recipe(g, passes, "8");
+            args.extend(["--checkpoint-every", "2", "--shard", &spec, "--out", dir.to_str().unwrap()]);
+            if resume {
+                args.push("--resume");
+            }
+            let o = baker(&args);
+            let log = String::from_utf8_lossy(&o.stderr);
+            assert!(o.status.success(), "shard {spec}, {passes} passes: {log}");
+            if resume {
+                assert!(log.contains("lightmap: resuming from") && log.contains("at pass 2"), "shard {spec} did not resume: {log}");
+            } else {
+                for what in ["lightmap", "probes"] {
+                    parts += size(dir.join(format!("{what}.shard-{i}-of-{n}.checkpoint")));
+                }
+            }
+        }
+        files.push(dir.join(format!("shard-{i}-of-{n}.sbfshard")).to_str().unwrap().to_string());
+    }
+    println!("8 shards' checkpoints: {parts} bytes; the single bake's: {whole} bytes ({:.3}×)", parts as f64 / whole as f64);
+    assert!(parts as f64 <= 1.25 * whole as f64, "8 shards' checkpoints hold {parts} bytes, the single bake's {whole}");
+    let mut args = vec!["merge", merged.to_str().unwrap()];
+    files.iter().for_each(|f| args.push(f));
+    ok(&args);
+    let (want, got) = (hashes(&single), hashes(&merged));
+    assert_eq!(got, want, "the resumed shards' merge differs from the single bake");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
 fn refusal(args: &[&str], want: &[&str]) {
     let o = baker(args);
     let err = String::from_utf8_lossy(&o.stderr);

@@ -8,9 +8,11 @@
 //!
 //! Format (little endian): magic `SBFBAKE5`; u64 fingerprint of the bake's identity
 //! (scene, layout, seed, bounces, bases, solver and each basis' update rule, sample sequence, adaptive sampling: a resumed bake must be the same bake);
-//! u64 passes; u32 items; u32 bases; per basis u32 lobes; per item the six f64 moments
+//! u64 passes; u32 items; u32 bases; per basis u32 lobes; the part the file holds — u32
+//! count, u32 index, u64 block (count 1: every item; a shard's checkpoint holds only its
+//! items, [`crate::accumulate::Partition`]); per held item the six f64 moments
 //! and the u64 counts of accepted, back-face and non-finite samples;
-//! per basis and item the f32 encoder state (RGB amplitude and mean B² per lobe, total
+//! per basis and held item the f32 encoder state (RGB amplitude and mean B² per lobe, total
 //! weight) and the u64 update count; u32 count n and the f32 ray-guiding sums, then the n
 //! sums of the current stage's basis (n = 0 without guiding); u32 count m of filtered
 //! gather targets (0 without a filter), per target the eight f64 weighted moments (Σw, Σw²,
@@ -26,7 +28,7 @@
 
 pub mod shard;
 
-use crate::accumulate::{BakeConfig, BakeState, Moments, Targets};
+use crate::accumulate::{BakeConfig, BakeState, Moments, Partition, Targets};
 use crate::scene::{Environment, Light, Scene};
 use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
@@ -212,8 +214,22 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     h.finish()
 }
 
-/// Serialises a state.
+/// Serialises a state (every item).
 pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
+    to_bytes_part(state, fingerprint, None)
+}
+
+/// The items a checkpoint of `part` holds of `n`: a shard's own (`part` of count > 1), else all.
+fn held(part: Option<Partition>, n: usize) -> Vec<usize> {
+    match part {
+        Some(p) if p.count > 1 => p.ranges(n).flatten().collect(),
+        _ => (0..n).collect(),
+    }
+}
+
+/// Serialises a state, holding only `part`'s items where it is a shard's (count > 1): N
+/// shards' checkpoints together are about one bake's.
+pub fn to_bytes_part(state: &BakeState, fingerprint: u64, part: Option<Partition>) -> Vec<u8> {
     let mut v = Vec::new();
     v.extend_from_slice(MAGIC);
     v.extend_from_slice(&fingerprint.to_le_bytes());
@@ -224,8 +240,15 @@ pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
         let lobes = e.first().map(|x| x.coefficients().nrows()).unwrap_or(0);
         v.extend_from_slice(&(lobes as u32).to_le_bytes());
     }
-    state.moments.iter().for_each(|m| write_moments(&mut v, m));
-    write_encoders(&mut v, &state.encoders);
+    let p = part.filter(|p| p.count > 1);
+    v.extend_from_slice(&(p.map_or(1, |p| p.count) as u32).to_le_bytes());
+    v.extend_from_slice(&(p.map_or(0, |p| p.index) as u32).to_le_bytes());
+    v.extend_from_slice(&(p.map_or(0, |p| p.block) as u64).to_le_bytes());
+    let items = held(p, state.moments.len());
+    items.iter().for_each(|k| write_moments(&mut v, &state.moments[*k]));
+    for encs in &state.encoders {
+        items.iter().for_each(|k| write_encoder(&mut v, &encs[*k]));
+    }
     v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
     for x in state.guide_sums.iter().chain(&state.guide_basis) {
         v.extend_from_slice(&x.to_le_bytes());
@@ -341,6 +364,19 @@ impl Reader<'_> {
 
 /// Reads a state saved for the bake with this fingerprint, config and targets.
 pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: &Targets) -> Result<BakeState, String> {
+    from_bytes_part(bytes, fingerprint, config, targets, None)
+}
+
+/// [`from_bytes`] of a checkpoint written by [`to_bytes_part`] for `part`: the items it
+/// holds, every other item empty (as a shard's state keeps them).
+pub fn from_bytes_part(
+    bytes: &[u8],
+    fingerprint: u64,
+    config: &BakeConfig,
+    targets: &Targets,
+    part: Option<Partition>,
+) -> Result<BakeState, String> {
+    let hashed = bytes.get(..8) == Some(MAGIC.as_slice());
     let bytes = match bytes.get(..8) {
         Some(m) if m == MAGIC => {
             let (data, sum) = bytes.split_at(bytes.len().saturating_sub(8).max(8));
@@ -375,10 +411,28 @@ pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: 
         }
         lobes.push(l);
     }
-    for m in state.moments.iter_mut() {
-        *m = read_moments(&mut r)?;
+    let want = part.filter(|p| p.count > 1);
+    if hashed {
+        let (count, index, block) = (r.u32()? as usize, r.u32()? as usize, r.u64()? as usize);
+        let have = (count > 1).then_some((count, index, block));
+        if have != want.map(|p| (p.count, p.index, p.block)) {
+            let show = |x: Option<(usize, usize, usize)>| {
+                x.map_or("every item".to_string(), |(c, i, b)| format!("part {i} of {c} in blocks of {b}"))
+            };
+            return Err(format!("checkpoint holds {}, this bake needs {}", show(have), show(want.map(|p| (p.count, p.index, p.block)))));
+        }
     }
-    read_encoders(&mut r, config, targets, &lobes, &mut state.encoders)?;
+    // An `SBFBAKE4` checkpoint holds every item (a shard's others empty).
+    let items = held(if hashed { want } else { None }, state.moments.len());
+    for k in &items {
+        state.moments[*k] = read_moments(&mut r)?;
+    }
+    for (b, encs) in state.encoders.iter_mut().enumerate() {
+        let opts = config.encoder_options(config.bases[b], targets.sphere);
+        for k in &items {
+            encs[*k] = read_encoder(&mut r, &opts, lobes[b])?;
+        }
+    }
     let sums = r.u32()? as usize;
     if sums != state.guide_sums.len() {
         return Err(format!("checkpoint has {sums} ray-guiding sums, this bake {}", state.guide_sums.len()));

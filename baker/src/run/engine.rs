@@ -136,7 +136,7 @@ fn run_group<'s>(
     };
     let saved = if o.resume && ckpt.exists() {
         let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
-        let st = checkpoint::from_bytes(&bytes, fp, config, targets).map_err(|e| format!("{}: {e}", ckpt.display()))?;
+        let st = checkpoint::from_bytes_part(&bytes, fp, config, targets, Some(part)).map_err(|e| format!("{}: {e}", ckpt.display()))?;
         log(format!("{what}: resuming from {} at pass {}", ckpt.display(), st.passes));
         Some(st)
     } else {
@@ -223,7 +223,7 @@ fn run_group<'s>(
         run += n;
         if o.checkpoint_every > 0 {
             let st = engine.state()?;
-            checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes(&st, fp))?;
+            checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes_part(&st, fp, Some(part)))?;
         }
     }
     bar.finish_and_clear();

@@ -158,3 +158,20 @@ pub fn check_writable(dir: &std::path::Path) -> Result<(), String> {
     std::fs::remove_file(&probe).map_err(|e| format!("--out {}: {e}", dir.display()))?;
     Ok(())
 }
+
+/// `--exit-with-parent`: a thread that ends the process (status 1, with a message) once the
+/// process that started it has ended — Unix: the parent id changes when the parent dies and
+/// the process is re-parented; checked every 0.5 s. Elsewhere it does nothing.
+pub fn exit_with_parent() {
+    #[cfg(unix)]
+    {
+        let parent = std::os::unix::process::parent_id();
+        std::thread::spawn(move || loop {
+            std::thread::sleep(std::time::Duration::from_millis(500));
+            if std::os::unix::process::parent_id() != parent {
+                eprintln!("baker: the process that started this bake (pid {parent}) has ended: exiting (--exit-with-parent)");
+                std::process::exit(1);
+            }
+        });
+    }
+}
