@@ -269,18 +269,44 @@ fn the_slurm_array_script_bakes_shards_that_merge_to_the_single_bake() {
     args.extend(["--out", single.to_str().unwrap()]);
     ok(&args);
     let shards = root.join("shards");
-    for i in 0..3 {
-        let o = Command::new("bash")
+    // The baker as task 1 sees it: it fails once (status 3), then runs; the script's retry
+    // loop must run it again. A second wrapper always fails: with RETRIES=1 the task gives
+    // up after two attempts with the bake's status.
+    let (flaky, broken, mark) = (root.join("flaky-baker"), root.join("broken-baker"), root.join("failed-once"));
+    let flaky_sh = format!(
+        "#!/bin/sh\nif [ \"$SLURM_ARRAY_TASK_ID\" = 1 ] && [ ! -e '{}' ]; then touch '{}'; echo 'fake failure' >&2; exit 3; fi\nexec '{}' \"$@\"\n",
+        mark.display(),
+        mark.display(),
+        env!("CARGO_BIN_EXE_baker")
+    );
+    std::fs::write(&flaky, flaky_sh).unwrap();
+    std::fs::write(&broken, "#!/bin/sh\necho 'fake failure' >&2\nexit 3\n").unwrap();
+    for f in [&flaky, &broken] {
+        let mut p = std::fs::metadata(f).unwrap().permissions();
+        std::os::unix::fs::PermissionsExt::set_mode(&mut p, 0o755);
+        std::fs::set_permissions(f, p).unwrap();
+    }
+    let task = |i: usize, baker: &Path, retries: &str| {
+        Command::new("bash")
             .arg(&script)
             .env("SLURM_ARRAY_TASK_ID", i.to_string())
             .env("SHARDS", "3")
             .env("SHARD_DIR", &shards)
-            .env("BAKER", env!("CARGO_BIN_EXE_baker"))
+            .env("BAKER", baker)
+            .env("RETRIES", retries)
             .env("BAKE_ARGS", bake_args)
             .output()
-            .unwrap();
-        assert!(o.status.success(), "slurm-array.sh task {i}: {}", String::from_utf8_lossy(&o.stderr));
+            .unwrap()
+    };
+    for i in 0..3 {
+        let o = task(i, &flaky, "3");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "slurm-array.sh task {i}: {err}");
+        assert_eq!(i == 1, err.contains("shard 1/3: status 3; retrying from its checkpoint (1 of 3)"), "task {i}: {err}");
     }
+    let o = task(0, &broken, "1");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.code() == Some(3) && err.contains("failed with status 3 after 2 attempts"), "{:?}: {err}", o.status);
     let merged = root.join("merged");
     let files: Vec<String> = (0..3).map(|i| shards.join(format!("shard-{i}-of-3.sbfshard")).to_string_lossy().into_owned()).collect();
     let mut args = vec!["merge", merged.to_str().unwrap()];

@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
 # A bake spread over a Slurm cluster without Dask: one array task per shard, then the merge
 # as a job that waits for every task (afterok). Each task reads its index from Slurm's
-# environment (SLURM_ARRAY_TASK_ID, SLURM_ARRAY_TASK_COUNT). SHARD_DIR and OUT must be on a
-# filesystem every node sees; the scene too.
+# environment (SLURM_ARRAY_TASK_ID, SLURM_ARRAY_TASK_COUNT). SHARD_DIR must be on a
+# filesystem every node sees, the scene and the merge's output folder too.
 #
-#   SHARDS=16 SHARD_DIR=/shared/shards OUT=/shared/bake-out \
+#   SHARDS=16 SHARD_DIR=/shared/shards \
 #     BAKE_ARGS="--scene /shared/world.glb --passes 4096 --device gpu" \
 #     sbatch --array=0-15 docs/distributed/slurm-array.sh
-#   sbatch --dependency=afterok:<array job id> --wrap \
-#     "baker merge /shared/bake-out /shared/shards/shard-*-of-16.sbfshard"
+#   sbatch --dependency=afterok:<array job id> --mem=<the merge's memory> --time=01:00:00 \
+#     --wrap "baker merge /shared/bake-out /shared/shards/shard-*-of-16.sbfshard"
 #
-# A task that fails (node lost, preempted) can be requeued (--requeue, or `scontrol
-# requeue`): it resumes from its checkpoint and writes the same shard file.
+# (The merge holds the whole bake's state: give it the memory of a single-machine bake of
+# the scene, docs/distributed.md.) A bake that exits with an error is run again up to
+# RETRIES times (default 3) within the task, each time resuming from its checkpoint and
+# writing the same shard file; a task whose node is lost or preempted is requeued
+# (--requeue) and resumes the same way.
 #SBATCH --job-name=baker-shard
 #SBATCH --gpus=1
 #SBATCH --cpus-per-task=16
@@ -24,5 +27,17 @@ SHARDS="${SHARDS:-${SLURM_ARRAY_TASK_COUNT:?set SHARDS or run as an array job}}"
 BAKER="${BAKER:-baker}"
 # BAKE_ARGS: the bake's arguments, the same for every task (split on spaces).
 read -r -a args <<< "${BAKE_ARGS:-}"
-exec "$BAKER" "${args[@]}" --shard "$SLURM_ARRAY_TASK_ID/$SHARDS" --out "$SHARD_DIR" \
-  --resume --checkpoint-every "${CHECKPOINT_EVERY:-64}"
+retries="${RETRIES:-3}"
+for ((attempt = 0; ; attempt++)); do
+  if "$BAKER" "${args[@]}" --shard "$SLURM_ARRAY_TASK_ID/$SHARDS" --out "$SHARD_DIR" \
+    --resume --checkpoint-every "${CHECKPOINT_EVERY:-64}"; then
+    exit 0
+  else
+    status=$?
+  fi
+  if ((attempt >= retries)); then
+    echo "shard $SLURM_ARRAY_TASK_ID/$SHARDS: failed with status $status after $((attempt + 1)) attempts" >&2
+    exit "$status"
+  fi
+  echo "shard $SLURM_ARRAY_TASK_ID/$SHARDS: status $status; retrying from its checkpoint ($((attempt + 1)) of $retries)" >&2
+done
