@@ -12,7 +12,7 @@
 //!
 //! DirectXTex chooses a block's mode and endpoints by a heuristic (rough error per partition,
 //! then refinement of the best quarter), not an exhaustive search, and on some blocks it ends
-//! worse than a plain one-region encoding. So every block is also encoded by [`mode11`], and
+//! worse than a plain one-region encoding. So every block is also encoded by `mode11`, and
 //! the one whose bcdec decode has the smaller summed squared error in half-float bit steps —
 //! DirectXTex's own metric (`Norm` over `INTColor`) — is kept.
 //!
