@@ -637,7 +637,13 @@ fn sg_split_sum_parity(lang: Lang) {
 /// `sg_specular_split_sum`) on the `sbf::layout::vogel_hemisphere` axes, λ ∈ [2, 64], RGB
 /// amplitudes in [−1, 1]. Scale: the same sum with |c| (the terms the sum adds); for the
 /// specular also the change of the f64 sum (`SplitSumWarp`) when n and v move by 1.2e-7 ×1e4
-/// (= 1/BAR), the input conditioning `sg_split_sum_parity` states.
+/// (= 1/BAR), the input conditioning `sg_split_sum_parity` states, and the flush of
+/// subnormals: GPUs may flush f32 subnormals to zero (NVIDIA's `exp` and multiplies do; the
+/// CPU twin keeps them), which loses up to `f32::MIN_POSITIVE` at each of the four steps per
+/// lobe where the sum can fall below it (e^(…), ·E/π, ·c, +) before the per-pixel factor
+/// `SplitSumWarp::scale` multiplies it (up to ~1e13 at α 1e-3, grazing view): a floor of
+/// 4·K·MIN_POSITIVE·scale for K lobes (|c| ≤ 1, the runtime's E/π ≤ 1 for λ ≥ 2), /BAR as
+/// the conditioning term.
 fn sg_lobe_loops_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
     let lib = library("sg-irradiance,sg-specular");
@@ -682,6 +688,7 @@ fn sg_lobe_loops_parity(lang: Lang) {
             let (e, s) = (twin(cc), twin(&abs));
             // The specular's input conditioning, in f64.
             let mut dmax = [0.0f64; 3];
+            let mut ftz = 0.0f64;
             if f >= 2 {
                 let sum = |n: sbf::glam::DVec3, v: sbf::glam::DVec3| {
                     let d = lut.sample2(n.dot(v).clamp(0.0, 1.0) as f32, *a);
@@ -693,6 +700,9 @@ fn sg_lobe_loops_parity(lang: Lang) {
                     t
                 };
                 let (nd, vd) = (n.as_dvec3(), v.as_dvec3());
+                let d = [dfg[0] as f64, dfg[1] as f64];
+                let warp = sbf::recon::sg::SplitSumWarp::new(nd, vd, *a as f64, *f0 as f64, *f90 as f64, d);
+                ftz = 4.0 * lobes.len() as f64 * f32::MIN_POSITIVE as f64 * warp.scale() / BAR;
                 let base = sum(nd, vd);
                 for _ in 0..4 {
                     let mut jitter = |x: sbf::glam::DVec3| (x + dir(&mut r2).as_dvec3() * 1.2e-7).normalize();
@@ -704,7 +714,7 @@ fn sg_lobe_loops_parity(lang: Lang) {
             }
             for ch in 0..3 {
                 cpu.push(e[ch] as f64);
-                scale.push((s[ch] as f64).max(dmax[ch] * 1e4));
+                scale.push((s[ch] as f64).max(dmax[ch] * 1e4).max(ftz));
                 gk.push(out[j * 12 + 3 * f + ch]);
             }
         }

@@ -375,6 +375,13 @@ impl SplitSumWarp {
         SplitSumWarp { n, nv: n.dot(v), ndf, scale }
     }
 
+    /// The per-pixel factor (f0·A + f90·B)/E(D̃) that every lobe's E(D̃·G) is multiplied by
+    /// (0 where E(D̃) is not positive): up to ~1e13 at α 1e-3 and grazing view, so it also
+    /// magnifies whatever an f32 evaluation loses below `f32::MIN_POSITIVE` before it.
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
     /// Specular from one SG light lobe: E(D̃·G)/E(D̃)·(f0·A + f90·B). Where the product lobe's
     /// sharpness falls below [`HILL_MIN_SHARPNESS`] (λ_D near λ and the light facing away
     /// from R; its amplitude e^(|λ_D R + λp| − λ_D − λ) is then below e^(−2)), its E/π is
