@@ -47,9 +47,9 @@ pub fn kernel_of(id: &str) -> Option<&'static str> {
     match id {
         "shl2" | "shl2w" => Some("SH9 (L2)"),
         "sg9h" => Some("SG9"),
-        "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg12h" => Some("SG12"),
+        "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg12h" | "sgnnlsc" | "sgpnnlsc" => Some("SG12"),
         "ad9" => Some("AD9"),
-        "adrbf" | "adrbf-irr" | "adrbf-tangent" | "adpls" | "adpnnls" => Some("AD12"),
+        "adrbf" | "adrbf-irr" | "adrbf-tangent" | "adpls" | "adpnnls" | "adnnlsc" | "adpnnlsc" => Some("AD12"),
         // The WGSL engine decodes are Godot ≥ 4.4's and MonoSH's linear one.
         "godot-l1" => Some("Godot L1"),
         "monosh-linear" => Some("MonoSH"),

@@ -2,7 +2,8 @@
 //!
 //! Error against run time for every mode: the tool loads lat-long maps
 //! ([`input`]), computes exact references ([`reference`](mod@reference)), runs each mode
-//! ([`modes`]; the engines' directional lightmap formats in [`engine_modes`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
+//! ([`modes`]; the engines' directional lightmap formats in [`engine_modes`], non-negative fits that keep
+//! the map's light in [`conserving`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
 //! images and plots ([`images`]).
 //! `--reference appendix-c` reproduces seed 004 Appendix C's conventions ([`appendix_c`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
@@ -12,6 +13,7 @@ pub mod appendix_c;
 pub mod azimuthal;
 pub mod calibration;
 pub mod compare;
+pub mod conserving;
 pub mod cost;
 pub mod decide;
 pub mod decision_text;

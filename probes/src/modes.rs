@@ -306,6 +306,10 @@ pub const MODES: &[(&str, &str)] = &[
     ("sgpnnls", "SG 12, progressive non-negative least squares"),
     ("adpls", "Ambient Dice SRBF 12, progressive least squares, 4096 Halton samples"),
     ("adpnnls", "Ambient Dice SRBF 12, progressive non-negative least squares"),
+    ("sgnnlsc", "SG 12, NNLS keeping the map's SH L0 + L1 (equality-constrained; `conserving`); Hill irradiance"),
+    ("adnnlsc", "Ambient Dice SRBF 12, NNLS keeping the map's SH L0 + L1 (equality-constrained)"),
+    ("sgpnnlsc", "SG 12, progressive Monte Carlo projections (4096 Halton samples, f32 state), exact Gram, NNLS keeping SH L0 + L1"),
+    ("adpnnlsc", "Ambient Dice SRBF 12, progressive Monte Carlo projections, exact Gram, NNLS keeping SH L0 + L1"),
     ("ad9", "Ambient Dice SRBF 9, the seed's hemisphere set (§8.3.1), LS over the sphere, eq. 8.14 irradiance (Appendix C)"),
     ("sg9h", "SG 9, λ 6, Vogel spiral over the upper hemisphere, LS over the sphere, Hill irradiance (Appendix C)"),
     ("sg12h", "SG 12, λ 6, Vogel spiral over the upper hemisphere (Appendix C)"),
@@ -418,7 +422,7 @@ pub(crate) fn eval_cost<'a>(ctx: &'a Context, mut f: impl FnMut(DVec3) -> [f64; 
 
 /// Σ_i w_i·c_i over RGB coefficients: the runtime's form (each basis function's weight
 /// computed once, then one multiply-add per channel).
-fn dot_rgb(c: &[[f64; 3]], w: impl Iterator<Item = f64>) -> [f64; 3] {
+pub(crate) fn dot_rgb(c: &[[f64; 3]], w: impl Iterator<Item = f64>) -> [f64; 3] {
     let mut e = [0.0; 3];
     for (ci, wi) in c.iter().zip(w) {
         for k in 0..3 {
@@ -431,7 +435,7 @@ fn dot_rgb(c: &[[f64; 3]], w: impl Iterator<Item = f64>) -> [f64; 3] {
 /// E/π of an SG 12 mode from RGB coefficients (each lobe's kernel once), the same
 /// function as `sbf::recon::sg::irradiance_basis` per channel (test
 /// `runtime_evaluators_equal_the_per_channel_library`).
-fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, lobes: &SgLobes, c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
+pub(crate) fn sg_irradiance_rgb(method: SgIrradiance, id: &str, basis: &SgBasis, lobes: &SgLobes, c: &[[f64; 3]], n: DVec3) -> [f64; 3] {
     let k = basis.lobe_count();
     let mut e = match method.for_mode(id) {
         // (The prior estimate has its own evaluator, `PriorRgb`; Hill stands in here.)
@@ -477,13 +481,13 @@ impl PriorRgb {
 /// The lobes of an SG basis with each reconstruction's per-lobe constants precomputed:
 /// Hill's, and the peer's kernel (sharpness for mode `id`) as a zonal series
 /// (`sbf::recon::prior::sg_kernel_series`, = `sg::irradiance_sg_kernel` to 1e-12).
-struct SgLobes {
+pub(crate) struct SgLobes {
     axes: Vec<DVec3>,
     hill: Vec<sgr::HillLobe>,
     peer: Vec<sbf::recon::prior::Kernel>,
 }
 
-fn sg_lobes(basis: &SgBasis, id: &str) -> SgLobes {
+pub(crate) fn sg_lobes(basis: &SgBasis, id: &str) -> SgLobes {
     let kl = SgIrradiance::peer_kernel_sharpness(id);
     let lobes: Vec<sbf::Sg> = (0..basis.lobe_count()).map(|i| basis.lobe(i)).collect();
     SgLobes {
@@ -505,7 +509,7 @@ fn eval_basis<'a, B: Basis + Send + 'a>(ctx: &'a Context, basis: B, c: Vec<[f64;
 
 /// The radiance image of RGB coefficients (basis evaluated once per direction; parallel,
 /// untimed).
-fn reconstruct(basis: &(dyn Basis + Sync), c: &[[f64; 3]], dirs: &[DVec3]) -> Vec<[f64; 3]> {
+pub(crate) fn reconstruct(basis: &(dyn Basis + Sync), c: &[[f64; 3]], dirs: &[DVec3]) -> Vec<[f64; 3]> {
     use rayon::prelude::*;
     dirs.par_iter()
         .map_init(
@@ -743,6 +747,12 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
                 ns,
             );
             r.result.needs_reference = id == "ac";
+            Ok(r)
+        }
+        _ if crate::conserving::is_mode(id) => {
+            let run = crate::conserving::prepare(id, ctx, repeats)?;
+            let mut r = mk(run.basis, run.solver, run.coefficients, run.lobes, Some(run.radiance), run.irradiance, run.encode, run.eval);
+            r.result.convergence = run.convergence;
             Ok(r)
         }
         _ if crate::engine_modes::format(id).is_some() => {

@@ -366,10 +366,10 @@ pub fn is_sh(id: &str) -> bool {
     id.starts_with("shl")
 }
 fn is_sg(id: &str) -> bool {
-    matches!(id, "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg9h" | "sg12h")
+    matches!(id, "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg9h" | "sg12h" | "sgnnlsc" | "sgpnnlsc")
 }
 fn is_ad(id: &str) -> bool {
-    matches!(id, "adrbf" | "adrbf-tangent" | "ad9" | "adpls" | "adpnnls")
+    matches!(id, "adrbf" | "adrbf-tangent" | "ad9" | "adpls" | "adpnnls" | "adnnlsc" | "adpnnlsc")
 }
 
 /// Whether a mode reconstructs specular.
