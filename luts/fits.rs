@@ -3,7 +3,7 @@
 
 /// AD SRBF lobe irradiance (E/π) as a degree-2 polynomial in cos θ, constant term first; max error 6.510e-4, RMS 4.567e-4.
 pub const AD_DIFFUSE_DEGREE_2: [f64; 3] = [6.00260416666666824e-2, 1.29166666666666707e-1, 6.97916666666668073e-2];
-/// Max error of seed eq. 8.14 on the same grid: 1.217e-3.
+/// Max error of [Roughton19 eq. 8.14] on the same grid: 1.217e-3.
 pub const AD_DIFFUSE_SEED_EQ_8_14_MAX_ERROR: f64 = 1.21666666666664369e-3;
 /// Hill's c0 re-fitted (minimax over λ ∈ [2, 64]); max error / peak 1.368e-2 (published 0.36: 1.762e-2).
 pub const HILL_C0: f64 = 3.65201308538062874e-1;

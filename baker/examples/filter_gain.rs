@@ -1,4 +1,4 @@
-//! Filtered gather-based accumulation (seed 004 §3.2) measured: for no filter, box,
+//! Filtered gather-based accumulation ([Roughton19 §3.2]) measured: for no filter, box,
 //! Gaussian and Mitchell (radius 1.5), the texels a chart overlaps that are still empty
 //! before dilation, the E/π RMSE at equal paths against a long unfiltered reference bake
 //! (over texels valid in both), and the seconds per pass (GPU: one dispatch per pass

@@ -17,7 +17,7 @@
 //! | [`output`] | EXR, bake.json, probes.json, previews, the runtime shader library a bake needs |
 //! | [`render`] | the baked scene rasterised in real time with the exported runtime (GPU) and its CPU twin, the path-traced reference of the same quantity, their errors |
 //! | [`run`] | a whole bake as the `baker` command runs it: `run::bake(&Options)` |
-//! | [`slc`] | stochastic light culling (seeds 000–002), its own renderer and `slc` command; uses the scene layer and the image writers |
+//! | [`slc`] | stochastic light culling ([TH17; TH17-supp; FTH22-supp]), its own renderer and `slc` command; uses the scene layer and the image writers |
 //!
 //! Binaries: `baker` (`src/main.rs`: arguments → [`run::Options`] → [`run::bake`]) and
 //! `slc` (`src/bin/slc.rs`: arguments → [`slc::harness::SlcOptions`] →

@@ -135,8 +135,8 @@ struct Cli {
     /// exported in its language too; recorded in bake.json. Replaces --bases/--probe-bases.
     #[arg(long, conflicts_with_all = ["bases", "probe_bases"])]
     profile: Option<PathBuf>,
-    /// Sharpness λ of the SG lobes (sg9, sg12), in [2, 64]; recorded in bake.json. The
-    /// seed's comparisons use 6 for the hemisphere sets and 8 for NNLS SG 12 (§8.4.3).
+    /// Sharpness λ of the SG lobes (sg9, sg12), in [2, 64]; recorded in bake.json.
+    /// Roughton's comparisons use 6 for the hemisphere sets and 8 for NNLS SG 12 ([Roughton19 §8.4.3]).
     #[arg(long, default_value_t = baker::accumulate::SG_HEMISPHERE_SHARPNESS)]
     sg_sharpness: f64,
     /// Bake indirect light only: the light reaching a texel straight from an emitter, a

@@ -1,4 +1,4 @@
-//! Adaptive sampling (`baker::accumulate::adaptive`, seed 004 §3.3) on the `sunbeam`
+//! Adaptive sampling (`baker::accumulate::adaptive`, [Roughton19 §3.3]) on the `sunbeam`
 //! scene — a hut on open ground lit by a sun through a slit: inside, a small bright
 //! stripe lights the hut indirectly, so its texels are far noisier than the ground's.
 //!

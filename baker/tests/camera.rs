@@ -1,4 +1,4 @@
-//! Camera-based lightmap sampling (`baker::accumulate::camera`, seed 004 §3.4.2).
+//! Camera-based lightmap sampling (`baker::accumulate::camera`, [Roughton19 §3.4.2]).
 //!
 //! (1) The GPU's texel raster against the CPU twin (a ray through every jittered pixel
 //! centre, the hit's texel by its barycentric lightmap UV): per texel, the samples a batch

@@ -1,4 +1,4 @@
-//! Filtered gather-based accumulation (seed 004 §3.2): the filter kernels against closed
+//! Filtered gather-based accumulation ([Roughton19 §3.2]): the filter kernels against closed
 //! forms, the one-texel box against the unfiltered bake (an identity), the measured drop
 //! in empty texels and the error at equal paths against a long reference bake, and the
 //! state through a checkpoint.

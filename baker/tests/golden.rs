@@ -43,7 +43,9 @@
 //! below zero (this bake had 32 such texels) and rescales the AD lobes by the stitched E/π
 //! (`baker::post::seams`): irradiance, the SH and AD lobes, the preview and bake.json
 //! (`seams.held_texels`, `metric_after`) changed; the built-in scene has no seams and kept
-//! every pin.)
+//! every pin.) Then the citations rewritten to docs/references.md's keys: runtime.wgsl's and
+//! ad_specular_2d.ktx2's comments and layout text, and with them bake.json's byte counts and
+//! hashes, re-pinned in all three bakes; every EXR, probes.json and the preview unchanged.
 
 mod common;
 
@@ -159,9 +161,9 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("ad9_06.exr", "b48d7a45537ed88562fe36d21d645e72d446fbf179503b0fbcef5176e7a4ff96"),
     ("ad9_07.exr", "150006bae59d2d815a2d35c97b9cfc76607a57fdb05e8205519f85989281c64a"),
     ("ad9_08.exr", "e099693b3cf4d9d2805163aee5447caa7afcd73de0bf634ae0db1797c6a04acf"),
-    ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
+    ("ad_specular_2d.ktx2", "f904bc28724a7d1b3d1e9b01cd597deb0d2d7f243560a4ffa4e1c286a47fc2b1"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "ea7a94d87688f2e45e0e2b97e848e917414a8c22b603eb67220d62d4bb413ebd"),
+    ("bake.json", "9e5b4f36aa3312f6984b889d62ed57c002ca6dad199f3a3c9685249ba4ebfb6d"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "b26fa86441984fe3b283f0c4665be88f381e42864feb4be1fa6f1be96969f8fb"),
@@ -169,7 +171,7 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("normals.exr", "7bde30ddc1346d358f123d68242105b0ba0517e8ca774e8344b464e12a48d3b8"),
     ("preview.png", "b226f0af6e9fbdb967d6e18c493eb2ec5a09315b32ba7224417b4232acc511e2"),
     ("probes.json", "dfa490a3193586ca8dce179e3bdbb5e794454e146cb2582c91c4f1ea1ea108d9"),
-    ("runtime.wgsl", "c5a717fa2639a4dbe092cd7ed21e0b5f85c22ce348832ab41fdc3ea335f34aac"),
+    ("runtime.wgsl", "36f15e5299410e4d9e47e287b890c41ad81d072fcc83922d633bc79657882a49"),
     ("sh2_00.exr", "2b732dd4e6773d6f5a031275549fee9dc4f2a089bb392484ae011adab76f9126"),
     ("sh2_01.exr", "a7b234c031b8bebceb6196a0f75450a4badec6b0b869415d7d495e0ea6c53a45"),
     ("sh2_02.exr", "404826114100430147243fcd5b6412892b14d8bf57b6b99c7e3e2d2427bf6865"),
@@ -191,9 +193,9 @@ const CORNELL: &[(&str, &str)] = &[
     ("ad9_06.exr", "55964a92acec02ca62284259f2cc694b6f526c48a15bd4ea8ebc3147d31be4af"),
     ("ad9_07.exr", "aa859731f5ab77bdd6c622821681c70160fc53f47d7789b8e1342f81aab8c825"),
     ("ad9_08.exr", "a63b6f509b37b123d1a816e27cbafc36715d7f6f57cd34614472798edee5eed7"),
-    ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
+    ("ad_specular_2d.ktx2", "f904bc28724a7d1b3d1e9b01cd597deb0d2d7f243560a4ffa4e1c286a47fc2b1"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "c3f579cd82363fbf9cbfb205d86a7d8ea430776787520d2edc4de839ab31ce76"),
+    ("bake.json", "d79826c888db5f588c2d9271445436d9b7a4b31b0f01511a7d4fe29212a9f501"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "37a26e85c41950390002d8b45df4bf4bed891de03155be977680767957f36a7a"),
@@ -201,7 +203,7 @@ const CORNELL: &[(&str, &str)] = &[
     ("normals.exr", "7bde30ddc1346d358f123d68242105b0ba0517e8ca774e8344b464e12a48d3b8"),
     ("preview.png", "b226f0af6e9fbdb967d6e18c493eb2ec5a09315b32ba7224417b4232acc511e2"),
     ("probes.json", "f6b99b10a69815392a874c5c18ea6ceec3f38dee83d95b2063130b796c75f62c"),
-    ("runtime.wgsl", "c5a717fa2639a4dbe092cd7ed21e0b5f85c22ce348832ab41fdc3ea335f34aac"),
+    ("runtime.wgsl", "36f15e5299410e4d9e47e287b890c41ad81d072fcc83922d633bc79657882a49"),
     ("sh2_00.exr", "56e4828c0d9110ccbd5270d5a9367a13b033ac5dcccfdcb6205f9fa417753297"),
     ("sh2_01.exr", "642f1db757985f632ed23d808f942aa4fbc6a8ea558b94fbcf02efb0a37f66d6"),
     ("sh2_02.exr", "8981f7cd5514b7ac375b872db3b8829517e447100d84afa496f2fd5a111b76d0"),
@@ -222,9 +224,9 @@ const MIXED: &[(&str, &str)] = &[
     ("ad9_06.exr", "deab256dd5570937ad8018d00adbf8ba8c9baab7534ab383a8414b1e037531a9"),
     ("ad9_07.exr", "6a7b38dbfd1df5d014fafb29070e67977bb435b542b715a548be4d151e84dc4c"),
     ("ad9_08.exr", "63e7eca03c6b2d21c19e44abfd4a4c4fa912b4b988d1694ddc5f47fc59d58c41"),
-    ("ad_specular_2d.ktx2", "8d3c9fd9fa69cc96329cfb7a64a85b7cc9f16eae0de624b44a9c6f0da16ed34f"),
+    ("ad_specular_2d.ktx2", "f904bc28724a7d1b3d1e9b01cd597deb0d2d7f243560a4ffa4e1c286a47fc2b1"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "dc794a8dc8b6cb39113f954e0f4d3a144f2b39bfe707134192af0a3b1b63653f"),
+    ("bake.json", "727358c41ca72c257abf3ef00d52334cc6a7d849ad878239d389178fbf96092a"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "abe850d1f3d2551c92da34fbc84bb868b32b972fbc67a65bf34280c1821374a6"),
@@ -232,7 +234,7 @@ const MIXED: &[(&str, &str)] = &[
     ("normals.exr", "95c89f300d220c890e322c7a64c985345ff34c5dc2c3dc1dda61516de35c24b4"),
     ("preview.png", "703ca9a52760a03d6c6b5872e48e93bbc0466d179d6772778b9af8a9de3bd7c2"),
     ("probes.json", "d1ab5ef56a042a6212ea0d5366866ddc7465f553f76a9a0564fe29599ada3643"),
-    ("runtime.wgsl", "c5a717fa2639a4dbe092cd7ed21e0b5f85c22ce348832ab41fdc3ea335f34aac"),
+    ("runtime.wgsl", "36f15e5299410e4d9e47e287b890c41ad81d072fcc83922d633bc79657882a49"),
     ("sh2_00.exr", "b5d448c8d0fe359340928bee782090ad7eb137fcf027a78cf6b6165cbf8d1c31"),
     ("sh2_01.exr", "9f82833c5bb462126a5da1115acc30dd49a9a4ee438919e14d59cf979e85ad36"),
     ("sh2_02.exr", "1672a498c4b2d8d013cc0ca8332fb9d839d0628e9c8ccf83304a34f028e4ba7a"),

@@ -345,7 +345,7 @@ fn over_limit_buffers_are_refused() {
     assert!(baker::gpu::check_bindings(&[("BVH nodes", 1024)], 1024).is_ok());
 }
 
-/// Frame-time load balancing splits a pass into dispatches (seed 004 §3.4.1); every item's
+/// Frame-time load balancing splits a pass into dispatches ([Roughton19 §3.4.1]); every item's
 /// random numbers depend on (seed, pass, item) only and ray guiding's gather follows the
 /// last dispatch, so the bake must be bit-identical however it is split: one dispatch per
 /// pass, 1 000 items per dispatch, and the adaptive split driven by an unreachable 0.1 µs

@@ -118,7 +118,7 @@ fn sort_case(g: &shaders::gpu::Gpu, prims: &Prims) {
     }
 }
 
-/// The offset buffer (sentinel fill + one pass, Listing 3.1) read back with the seed's rule
+/// The offset buffer (sentinel fill + one pass, Listing 3.1) read back with Roughton's rule
 /// equals the per-texel ranges found by counting: sorted path texels with gaps, dense, one
 /// path, none, every path on one texel, paths on the last texel only; 1 000 and 10 000
 /// texels. Mutation tried: the write at the previous texel + 1 dropped — texels after a gap

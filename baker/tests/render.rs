@@ -1,4 +1,4 @@
-//! The renderer (seed 004 §8.4.3): the GPU raster pass against its CPU twin, and the
+//! The renderer ([Roughton19 §8.4.3]): the GPU raster pass against its CPU twin, and the
 //! rendered images against closed forms and the path-traced reference.
 
 mod common;

@@ -1,4 +1,4 @@
-//! The sample sequences (`baker::sampling::sequence`, seed 004 §6.2): the WGSL twin
+//! The sample sequences (`baker::sampling::sequence`, [Roughton19 §6.2]): the WGSL twin
 //! (`gpu/wgsl/sequence.wgsl`, composed per sequence) against the CPU one, bit for bit, on indices and seeds at the
 //! edges of u32 and random ones; the CPU layout's properties. The sequences' own
 //! properties (nets, uniformity over seeds) are tested in `sbf::sampling::sobol`; the

@@ -1,4 +1,4 @@
-//! Stochastic light culling of VPLs (seed 002) on a synthetic view-space G-buffer — a
+//! Stochastic light culling of VPLs ([TH17]) on a synthetic view-space G-buffer — a
 //! floor and a back wall — lit by a few hundred diffuse and GGX VPLs: the culled image is
 //! unbiased (the mean of K independent ξ draws converges to the brute-force image; the
 //! deterministic range cut does not), CPU and GPU agree, and the statistics are reported.
@@ -466,7 +466,7 @@ fn gpu_pixels_lie_inside_their_slices() {
     assert!(outside.is_empty(), "GPU depths outside their slice: {outside:?}");
 }
 
-/// Clustered shading (seed 002 Table 2's baseline: depth slices per tile) drops only false
+/// Clustered shading ([TH17 Table 2]'s baseline: depth slices per tile) drops only false
 /// discoveries: a pixel skips a light only where the light's bound misses the pixel's slice,
 /// so p ≤ ξ there and the culled estimate is 0 — the image equals Modified HalfZ's to the
 /// bit (the same non-zero terms in the same order), while the lights shaded per pixel and
@@ -522,7 +522,7 @@ fn clustered_culling_drops_only_false_discoveries() {
     assert!(Culling::Clustered(33).check().is_err() && Culling::Clustered(2).check().is_err());
 }
 
-/// 002 §7 / Fig. 10: glossy VPLs reflecting a light onto a wall (glossy caustics). 768 × 768
+/// [TH17 §7] / Fig. 10: glossy VPLs reflecting a light onto a wall (glossy caustics). 768 × 768
 /// pixels see the wall z = −6 (normal +z, albedo 0.5) head on; 100 GGX VPLs (F0 0.9) on
 /// a glossy patch at z ∈ [−2.5, −1.5], facing the wall, lit from within 10° of their
 /// normal, with their own ξ, flux 0.1 and δ = 0.01 (spheroid cross-sections at the wall
@@ -562,12 +562,12 @@ fn caustic_fdr(alpha: f32, bound: baker::slc::Bound) -> Render {
     baker::slc::render_with(&g, &vpls, 0.01, Mode::Culled, 1, bound)
 }
 
-/// Ellipsoid culling beats sphere culling on glossy VPLs (002 §7: "false positives are
+/// Ellipsoid culling beats sphere culling on glossy VPLs ([TH17 §7]: "false positives are
 /// reduced by over 90%"). Every bound contains the isosurface, so all three shade the same
 /// true discoveries (asserted); the false ones — lights kept for a pixel whose random range
 /// does not reach it — drop with the spheroid by ≥ 90% in number and the per-pixel false
 /// discovery rate by ≥ 80%, against the enclosing sphere and the TH16 sphere, at α 0.1,
-/// 0.2 and 0.3. The thresholds are the issue's and the seed's claims, not measured values
+/// 0.2 and 0.3. The thresholds are the issue's and Tokuyoshi & Harada's claims, not measured values
 /// (measured: FDR −86…−89%, counts −93…−98%). At 1920 × 1080 with the cornell box's
 /// random incidences the per-pixel drop is smaller (tile granularity, oblique lobes): see
 /// `slc … --compare-bounds`.
@@ -800,8 +800,8 @@ fn ggx_closed(n: DVec3, a: DVec3, b: DVec3, alpha: f64, f0: f64) -> f64 {
 /// ρ = (0.6, 0.4, 0.8)), 64 × 64 pixels, brute force (every light, no falloff). A pixel at x
 /// receives per channel L = I(ω)·cos θ_r/d²·f_r(−ω, v), ω = (x − q)/d, cos θ_r = n_r·(q − x)/d
 /// (the point-source irradiance), v = −x/|x| (the camera at the origin), with
-/// - a diffuse VPL (002 eq. 4, Lambert): I(ω) = Φ·k·max(n·ω, 0)/π;
-/// - a GGX VPL (002 eq. 4–6): I(ω) = Φ·f_GGX(ω_i, ω)·max(n·ω, 0) ([`ggx_closed`], F0 per channel);
+/// - a diffuse VPL ([TH17 eq. 4], Lambert): I(ω) = Φ·k·max(n·ω, 0)/π;
+/// - a GGX VPL ([TH17 eq. 4–6]): I(ω) = Φ·f_GGX(ω_i, ω)·max(n·ω, 0) ([`ggx_closed`], F0 per channel);
 /// - a Lambert receiver f_r = ρ/π, or a glossy one f_r = ρ/π + f_GGX(−ω, v) (F0 (0.9, 0.5,
 ///   0.2), α 0.3: the bake's layered material).
 ///
@@ -966,7 +966,7 @@ fn sky_vpls_carry_the_environments_power_onto_a_plane() {
 /// The GPU's Modified HalfZ test (`slc_ellipsoid_hits_halves`: M applied to the tile's four
 /// corner rays, each half's AABB from the rays scaled by its two depths) against the
 /// definition computed here in f64: each half's 8 corners transformed by M, their AABB, the
-/// unit sphere about M·c (002 §5). 4 000 random transforms, tiles, depths and centres (half of
+/// unit sphere about M·c ([TH17 §5]). 4 000 random transforms, tiles, depths and centres (half of
 /// them hit); a case counts only where the oracle's squared distance is farther than 1e-3
 /// from 1 — f32 rounding of coordinates up to |M|·|r|·z ≤ 60 is ≈ 60 · 2⁻²⁴ · 4 ≈ 1.5e-5, and
 /// d² moves by at most 2·d·(that) across three axes, below 1e-4. Mutations: one ray left out of

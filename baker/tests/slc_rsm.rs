@@ -1,4 +1,4 @@
-//! VPLs from reflective shadow maps (`slc::rsm`, seed 002 §7) carry the light's power onto
+//! VPLs from reflective shadow maps (`slc::rsm`, [TH17 §7]) carry the light's power onto
 //! the surfaces they see, against closed forms written here:
 //! - a directional light (irradiance E per channel at normal incidence, straight down) over
 //!   a quad of side 2 facing it: the orthographic map is the quad's footprint, so every

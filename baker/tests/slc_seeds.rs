@@ -1,4 +1,4 @@
-//! Stochastic light culling is unbiased *over seeds*: seed 002 eq. 3's E[culled] = brute
+//! Stochastic light culling is unbiased *over seeds*: [TH17 eq. 3]'s E[culled] = brute
 //! force holds only if each light's ξ is uniform and independent of everything else — in
 //! particular of the seed, since a renderer averages frames of different seeds. The VPLs of
 //! the built-in scene are regenerated for each of 400 seeds; per seed the culled image is

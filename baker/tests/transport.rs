@@ -327,7 +327,7 @@ fn disk_light_case(name: &str, g: Option<&Gpu>, hr: f64, guiding: Option<Guiding
     (s, reps)
 }
 
-/// Seed 004 §6.2: the Owen-scrambled Sobol' sequences lower the error
+/// [Roughton19 §6.2]: the Owen-scrambled Sobol' sequences lower the error
 /// at equal passes. The disk light at h = R (emitter NEE and the point sample, MIS) baked
 /// for N = 64 passes with each sequence; RMSE against the closed form over the texels
 /// within R/2 of the axis. Error model: with independent numbers each texel's error is
@@ -888,7 +888,7 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
     }
 }
 
-/// Ray guiding is unbiased (seed 003's first-bounce guiding, `baker::sampling::guiding`): guided
+/// Ray guiding is unbiased ([HWRTL]'s first-bounce guiding, `baker::sampling::guiding`): guided
 /// bakes of (c) the disk light at h = 0.1 R and R and (e) the constant environment meet
 /// the same closed forms and the same error model as the unguided ones, on the CPU and
 /// the GPU. Each replica learns for 16 passes and then guides for 16: the disk's direction

@@ -28,7 +28,7 @@ pub struct Output {
 /// Names of every output in generation order (`fitgen list`).
 pub const OUTPUT_NAMES: [(&str, &str); 6] = [
     ("dfg", "split-sum GGX DFG (f0, f90 terms), single scattering, 128² over (n·v, α), 1024 VNDF samples, f32"),
-    ("ad-specular-2d", "Ambient Dice specular LUT (seed Listing 8.2), 64² over (n·v, α), 4096 samples, f16"),
+    ("ad-specular-2d", "Ambient Dice specular LUT ([Roughton19 Listing 8.2]), 64² over (n·v, α), 4096 samples, f16"),
     ("lobe-ggx-sg6", "GGX response of an SG lobe (λ 6) by quadrature, 4D over (n·v, √α, γ, ψ), f16"),
     ("lobe-ggx-ad", "GGX response of an Ambient Dice SRBF lobe by quadrature, 4D over (n·v, √α, γ, ψ), f16"),
     ("fits", "fit constants as Rust and WGSL: AD diffuse quadratic, Hill constant and its error, table sizes"),
@@ -270,11 +270,11 @@ fn rms_max(d: &[f64], against: String) -> (f64, f64, String) {
 
 /// Error of the Ambient Dice specular reconstruction (fit × LUT) against ground
 /// truth over (α, n·v, lobe direction): 8 α × 8 n·v × 48 lobe axes on the sphere, both
-/// Fresnel channels — the measure of seed Fig. 8.3. Ground truth: the deterministic lobe
+/// Fresnel channels — the measure of [Roughton19 Fig. 8.3]. Ground truth: the deterministic lobe
 /// quadrature of [`sbf::recon::lobe_ggx`] (n = 64), an independent method (the LUT's
 /// entries come from VNDF Monte Carlo).
 ///
-/// Returns that error and the same measure under the seed's Appendix C weighting
+/// Returns that error and the same measure under Roughton's Appendix C weighting
 /// (`sbf::ggx::Convention::AppendixC`: G2·G1(v) per sample in the ground truth and in the
 /// table): v is fixed per case, so both the ground truth and the Appendix C table are the
 /// physical ones times G1(v)², and so is each difference.
@@ -359,7 +359,7 @@ pub fn generate(only: &[String], multi: &indicatif::MultiProgress) -> Result<Vec
                 rms,
                 max,
                 format!(
-                    "lobe quadrature (sbf::recon::lobe_ggx, n = 64) over 8 α × 8 n·v × 48 lobe axes (seed Fig. 8.3: RMS 0.00749, max 0.0708); with the seed's G2·G1 weighting in ground truth and table (Appendix C): RMS {seed_rms:.6e}, max {seed_max:.6e}"
+                    "lobe quadrature (sbf::recon::lobe_ggx, n = 64) over 8 α × 8 n·v × 48 lobe axes ([Roughton19 Fig. 8.3]: RMS 0.00749, max 0.0708); with Roughton's G2·G1 weighting in ground truth and table (Appendix C): RMS {seed_rms:.6e}, max {seed_max:.6e}"
                 ),
             ),
             wall_time_s: t.elapsed().as_secs_f64(),
@@ -453,14 +453,14 @@ pub mod fits {
         pub hill: (f64, f64, f64),
         /// How the c0 minimax fit converged.
         pub hill_convergence: crate::optimise::Convergence,
-        /// Listing 8.1's eight parameters (the seed's, which the committed LUT uses): (rms,
+        /// Listing 8.1's eight parameters (Roughton's, which the committed LUT uses): (rms,
         /// max) error on 8 α × 8 n·v × 48 lobes after normalising at the GGX dominant
         /// direction as the 2D LUT does. The committed LUT and runtime keep these constants:
         /// the refits below lower the RMS by 7–9 % but raise the max (see `specular_refits`).
         pub specular: (f64, f64),
         /// Listing 8.1's parameters refitted by Nelder–Mead (least squares over the same
         /// cases) against each ground truth — the physical one and Appendix C's G2·G1
-        /// weighting — from the seed's constants: (ground truth, seed's (rms, max), refit's
+        /// weighting — from Roughton's constants: (ground truth, Roughton's (rms, max), refit's
         /// (rms, max), refit parameters, convergence). Reported, not used: see `parameters`.
         pub specular_refits: Vec<SpecularRefit>,
     }
@@ -519,7 +519,7 @@ pub mod fits {
             self.errors_weighted(p, false)
         }
 
-        /// [`Self::errors`], each error times G1(v)² with `appendix_c` (the seed's weighting).
+        /// [`Self::errors`], each error times G1(v)² with `appendix_c` (Roughton's weighting).
         fn errors_weighted(&self, p: &[f64; 8], appendix_c: bool) -> (f64, f64) {
             let (mut ss, mut mx) = (0.0f64, 0.0f64);
             for (k, &(alpha, nv, lobe, gt)) in self.cases.iter().enumerate() {
@@ -538,7 +538,7 @@ pub mod fits {
     }
 
     /// Listing 8.1's parameters refitted against both ground truths (least squares: the
-    /// RMS is smooth in the parameters, the max is not), from the seed's constants.
+    /// RMS is smooth in the parameters, the max is not), from Roughton's constants.
     fn specular_refits(problem: &SpecularProblem) -> Result<Vec<SpecularRefit>, String> {
         [("physical", false), ("appendix-c (G2·G1)", true)]
             .into_iter()
@@ -658,7 +658,7 @@ pub mod fits {
                     p.iter().map(|x| f(*x)).collect::<Vec<_>>().join(", ")
                 );
             }
-            rs += &format!("/// Max error of seed eq. 8.14 on the same grid: {:.3e}.\n", self.seed_quadratic_max);
+            rs += &format!("/// Max error of [Roughton19 eq. 8.14] on the same grid: {:.3e}.\n", self.seed_quadratic_max);
             rs += &format!("pub const AD_DIFFUSE_SEED_EQ_8_14_MAX_ERROR: f64 = {};\n", f(self.seed_quadratic_max));
             rs += &format!(
                 "/// Hill's c0 re-fitted (minimax over λ ∈ [2, 64]); max error / peak {:.3e} (published 0.36: {:.3e}).\n",

@@ -103,7 +103,7 @@ pub fn write_all(dir: &Path, fits: &crate::outputs::fits::Fits) -> Result<Vec<St
     std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
     let mut written = Vec::new();
     let grid: Vec<f64> = (0..=400).map(|k| -1.0 + 2.0 * k as f64 / 400.0).collect();
-    // AD diffuse: exact quartic, seed eq. 8.14, re-derived quadratic; and their errors.
+    // AD diffuse: exact quartic, [Roughton19 eq. 8.14], re-derived quadratic; and their errors.
     let q: [f64; 3] = fits.ad_diffuse[0].1[..3].try_into().unwrap();
     let curve = |f: &dyn Fn(f64) -> f64| grid.iter().map(|c| (*c, f(*c))).collect::<Vec<_>>();
     let p = dir.join("ad_diffuse_fit.png");
@@ -113,7 +113,7 @@ pub fn write_all(dir: &Path, fits: &crate::outputs::fits::Fits) -> Result<Vec<St
         "cos θ",
         &[
             ("exact quartic", curve(&ad::lobe_irradiance_cos)),
-            ("seed eq. 8.14", curve(&|c| ad::lobe_irradiance_fit(&ad::DIFFUSE_FIT_EQ_8_14, c))),
+            ("[Roughton19 eq. 8.14]", curve(&|c| ad::lobe_irradiance_fit(&ad::DIFFUSE_FIT_EQ_8_14, c))),
             ("re-derived quadratic", curve(&|c| ad::lobe_irradiance_fit(&q, c))),
         ],
     )?;
@@ -124,7 +124,7 @@ pub fn write_all(dir: &Path, fits: &crate::outputs::fits::Fits) -> Result<Vec<St
         "AD lobe irradiance fit error (E/π)",
         "cos θ",
         &[
-            ("seed eq. 8.14", curve(&|c| ad::lobe_irradiance_fit(&ad::DIFFUSE_FIT_EQ_8_14, c) - ad::lobe_irradiance_cos(c))),
+            ("[Roughton19 eq. 8.14]", curve(&|c| ad::lobe_irradiance_fit(&ad::DIFFUSE_FIT_EQ_8_14, c) - ad::lobe_irradiance_cos(c))),
             ("re-derived quadratic", curve(&|c| ad::lobe_irradiance_fit(&q, c) - ad::lobe_irradiance_cos(c))),
         ],
     )?;

@@ -1,4 +1,4 @@
-//! Seed 004 Appendix C's pipeline where it differs from the physical one — what
+//! [Roughton19 Appendix C]'s pipeline where it differs from the physical one — what
 //! `--reference appendix-c` changes, read from the author's Probulator fork (github
 //! troughton/Probulator, branch `ambient-dice`, commit 2a6cfda4e011ecdecf286c1975679c716a97369f):
 //!
@@ -6,9 +6,9 @@
 //!   lets light from below the surface in (none comes: see the last point), and uses
 //!   Schlick's Fresnel with f0 0.9, f90 1 ([`sbf::ggx::Convention::AppendixC`]; the kernel
 //!   is [`crate::specular::GgxRows`]);
-//! - the runtimes are the seed's: SG lobes through the ASG warp (with the physical
-//!   visibility, as the seed's SG code computes it, and its arbitrary frame about the
-//!   reflected direction, [`asg_warp`]) and AD lobes through the fork's own specular fit
+//! - the runtimes are Roughton's: SG lobes through the ASG warp (with the physical
+//!   visibility, as Roughton's SG code computes it, and its arbitrary frame about the
+//!   reflected direction, [`asg_warp`]) and AD lobes through [RoughtonFork]'s own specular fit
 //!   and its per-pixel table ([`ad_lobe_fit`], [`ad_table`]: the printed AD figures are
 //!   that code's, not Listing 8.1's — see [`AD_FIT`]); both with f0 0.9;
 //! - the SG fits point-sample the map: 20 000 Halton directions over the sphere, each the
@@ -17,13 +17,13 @@
 //!   hemisphere` always does);
 //! - the environment is black below the horizon ([`clip_below_horizon`]): "the images are
 //!   clipped to the upper hemisphere to represent lightmap use cases" (Appendix C) — a
-//!   lightmap texel facing up receives no light from below. No code of the fork does this
+//!   lightmap texel facing up receives no light from below. No code of [RoughtonFork] does this
 //!   (its `upperHemisphereOnly`, false in the commit, clips the output images only); the printed
 //!   figures say it: with the lower half black, every radiance cell and every SG GGX cell
-//!   comes within 1.00–1.05× of the seed's, with it lit wells' SG cells sit at 1.25–1.29×
+//!   comes within 1.00–1.05× of Roughton's, with it lit wells' SG cells sit at 1.25–1.29×
 //!   (docs/probes.md has both tables).
 //!
-//! The lobe layouts are the seed's in both modes ([`crate::modes::tangent_to_world`]).
+//! The lobe layouts are Roughton's in both modes ([`crate::modes::tangent_to_world`]).
 
 use sbf::envmap::{LatLong, LatLongImage};
 use sbf::glam::DVec3;
@@ -34,13 +34,13 @@ pub fn label(convention: sbf::ggx::Convention) -> &'static str {
     match convention {
         sbf::ggx::Convention::Physical => "f0 = f90 = 1, physical reference",
         sbf::ggx::Convention::AppendixC => {
-            "APPENDIX C COMPATIBLE reference, not the physical integral: the environment black below the horizon, the seed's G2·G1 visibility, Schlick f0 0.9 / f90 1; the seed's runtimes; SG fits point-sampled"
+            "APPENDIX C COMPATIBLE reference, not the physical integral: the environment black below the horizon, Roughton's G2·G1 visibility, Schlick f0 0.9 / f90 1; Roughton's runtimes; SG fits point-sampled"
         }
     }
 }
 
 /// How reports name the compatible mode's runtimes.
-pub const RUNTIMES: &str = "the seed's runtimes: SG lobes through the ASG warp (Xu et al. 2013) in the fork's frame about R; AD lobes through the fork's committed specular fit × its per-pixel 512-sample table (not Listing 8.1: Appendix C's figures are that code's); SH by its zonal GGX convolution × DFG";
+pub const RUNTIMES: &str = "Roughton's runtimes: SG lobes through the ASG warp (Xu et al. 2013) in [RoughtonFork]'s frame about R; AD lobes through [RoughtonFork]'s committed specular fit × its per-pixel 512-sample table (not Listing 8.1: Appendix C's figures are that code's); SH by its zonal GGX convolution × DFG";
 
 /// The peer's output (and resize) size: `outputImageSize(512, 256)` in its CLI.
 pub const SIZE: LatLong = LatLong { width: 512, height: 256 };
@@ -49,7 +49,7 @@ pub const SAMPLES: u32 = 20_000;
 
 /// The map with every texel whose centre lies below the horizon set to black: rows j with
 /// polar angle π(j + ½)/h > π/2, i.e. 2j + 1 > h (both tools' lat-long rows run from the
-/// zenith; an odd height's middle row, centred on the horizon, is kept). What the seed's
+/// zenith; an odd height's middle row, centred on the horizon, is kept). What Roughton's
 /// figures measure (module docs); the rows above are returned bit for bit.
 pub fn clip_below_horizon(map: &LatLongImage) -> LatLongImage {
     let g = map.geometry;
@@ -60,7 +60,7 @@ pub fn clip_below_horizon(map: &LatLongImage) -> LatLongImage {
     LatLongImage::new(g.width, g.height, texels).expect("same geometry as a valid map")
 }
 
-/// The Ambient Dice specular fit in the fork's `ExperimentAmbientDice.cpp` at 2a6cfda
+/// The Ambient Dice specular fit in [RoughtonFork]'s `ExperimentAmbientDice.cpp` at 2a6cfda
 /// (`parameters[10]`): alphaLerp = Σ pᵢ·αⁱ (i = 0..4) blends the lobe in the mirror
 /// direction towards its diffuse response, evaluated at a direction focusLerp = Σ p₅₊ᵢ·αⁱ
 /// of the way from R to n. The thesis prints another fit (Listing 8.1: √α polynomials, eight
@@ -83,7 +83,7 @@ pub const AD_FIT: [f64; 10] = [
 
 /// [`AD_FIT`]'s value for a lobe at cosine `r_dot` to the mirror direction and `n_dot` to
 /// the normal: mix(B(r_dot), L(mix(r_dot, n_dot, focusLerp)), alphaLerp) with B the lobe
-/// (seed eq. 8.3) and L its irradiance quadratic (eq. 8.14), both lerps clamped to [0, 1].
+/// ([Roughton19 eq. 8.3]) and L its irradiance quadratic (eq. 8.14), both lerps clamped to [0, 1].
 fn ad_fit_value(r_dot: f64, n_dot: f64, alpha: f64) -> f64 {
     let quartic = |p: &[f64]| p.iter().rev().fold(0.0, |acc, c| acc * alpha + c);
     let focus = quartic(&AD_FIT[5..]).clamp(0.0, 1.0);
@@ -93,7 +93,7 @@ fn ad_fit_value(r_dot: f64, n_dot: f64, alpha: f64) -> f64 {
     mirror + (diffuse - mirror) * quartic(&AD_FIT[..5]).clamp(0.0, 1.0)
 }
 
-/// One AD lobe's specular weight before the table (the fork's
+/// One AD lobe's specular weight before the table ([RoughtonFork]'s
 /// `estimateSRBFBasisWeightGGXCustomFit` without its `lutValueApprox` factor): 0 below the
 /// horizon (n·v < 0).
 pub fn ad_lobe_fit(lobe: DVec3, n: DVec3, v: DVec3, alpha: f64) -> f64 {
@@ -105,11 +105,11 @@ pub fn ad_lobe_fit(lobe: DVec3, n: DVec3, v: DVec3, alpha: f64) -> f64 {
     ad_fit_value(lobe.dot(r), n.dot(lobe), alpha)
 }
 
-/// Samples of the fork's table: `sampleHammersley(i, 512)` = (i/512, radical inverse of i).
+/// Samples of [RoughtonFork]'s table: `sampleHammersley(i, 512)` = (i/512, radical inverse of i).
 pub const AD_TABLE_SAMPLES: u32 = 512;
 
 /// A visible normal for view `v` (z-up tangent frame) by Heitz 2017, "A Simpler and Exact
-/// Sampling Routine for the GGX Distribution of Visible Normals" — the fork's
+/// Sampling Routine for the GGX Distribution of Visible Normals" — [RoughtonFork]'s
 /// `sampleGGXVNDF`, which the table's estimate depends on at 512 samples (the 2018 routine in
 /// `sbf::ggx` maps the square differently).
 fn vndf_2017(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
@@ -125,12 +125,12 @@ fn vndf_2017(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
     DVec3::new(alpha * m.x, alpha * m.y, m.z.max(0.0)).normalize()
 }
 
-/// The fork's per-pixel table `lutValueApprox(n·v, α)`: the (f0, f90) scales that turn
+/// [RoughtonFork]'s per-pixel table `lutValueApprox(n·v, α)`: the (f0, f90) scales that turn
 /// [`ad_lobe_fit`] into the G2·G1-weighted ground truth for a lobe along the GGX dominant
 /// direction — Σ B(lobe·l)·(1 − w, w)·G2·G1(v) over `samples` visible normals (Hammersley
-/// (i/N, radical inverse), the coordinates swapped as in the fork; l above the surface only;
+/// (i/N, radical inverse), the coordinates swapped as in [RoughtonFork]; l above the surface only;
 /// w = (1 − v·h)⁵) divided by N and by the fit's value there. n·v and α clamped to
-/// [0.5/256, 0.999] as the fork does.
+/// [0.5/256, 0.999] as [RoughtonFork] does.
 pub fn ad_table(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     let nv = n_dot_v.clamp(0.5 / 256.0, 0.999);
     let a = alpha.clamp(0.5 / 256.0, 0.999);
@@ -153,14 +153,14 @@ pub fn ad_table(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     gt.map(|g| g / samples as f64 / value)
 }
 
-/// The seed's GGX reference as the fork computes it (`ExperimentMonteCarlo.h`, its
+/// Roughton's GGX reference as [RoughtonFork] computes it (`ExperimentMonteCarlo.h`, its
 /// `upperHemisphereOnly` branch): per output texel with view `views[k]` (world; None: no
-/// signal) and normal +Y, `samples` visible normals (the fork's Hammersley points through
+/// signal) and normal +Y, `samples` visible normals ([RoughtonFork]'s Hammersley points through
 /// Heitz's 2017 routine, as [`ad_table`]), each reflected to l and weighted by
 /// F·G2·G1(v) (Schlick f0 0.9, f90 1 at saturate(v·h)), the radiance read bilinearly —
 /// the peer's `sampleBilinear`, texel corners at integer coordinates — from the map resized
 /// to 512×256 and black below the horizon, averaged. A quasi-Monte Carlo estimate with the
-/// same points at every texel: its error is structured, and is the seed's (the exact
+/// same points at every texel: its error is structured, and is Roughton's (the exact
 /// integral of the same kernel is the default reference).
 pub fn monte_carlo_reference(map: &LatLongImage, views: &[Option<DVec3>], alpha: f64, samples: u32) -> Result<Vec<[f64; 3]>, String> {
     use rayon::prelude::*;
@@ -202,7 +202,7 @@ pub fn monte_carlo_reference(map: &LatLongImage, views: &[Option<DVec3>], alpha:
         .collect())
 }
 
-/// The seed's SG runtime for normal n, view v (world): the ASG warp with the orthonormal
+/// Roughton's SG runtime for normal n, view v (world): the ASG warp with the orthonormal
 /// basis of Duff et al. 2017 ("Building an Orthonormal Basis, Revisited", Listing 3) about
 /// the reflected direction in the peer's z-up tangent frame, as its `sgWarpDistribution`
 /// builds it.
@@ -271,7 +271,7 @@ pub fn resized(map: &LatLongImage) -> Result<LatLongImage, String> {
     }
     if g.width > SIZE.width || g.height > SIZE.height {
         return Err(format!(
-            "--reference appendix-c: the seed's point-sampled fits read the map resized to 512×256; a {}×{} map would be downsampled (stb's Mitchell filter), which is not reproduced — give a map of at most 512×256",
+            "--reference appendix-c: Roughton's point-sampled fits read the map resized to 512×256; a {}×{} map would be downsampled (stb's Mitchell filter), which is not reproduced — give a map of at most 512×256",
             g.width, g.height
         ));
     }
@@ -306,7 +306,7 @@ pub fn resized(map: &LatLongImage) -> Result<LatLongImage, String> {
     LatLongImage::new(SIZE.width, SIZE.height, out).map_err(|e| e.to_string())
 }
 
-/// The seed's SG fitting samples of `map` (already [`clip_below_horizon`]ed), in our world frame: Halton (2, 3) points 1..=20 000 mapped
+/// Roughton's SG fitting samples of `map` (already [`clip_below_horizon`]ed), in our world frame: Halton (2, 3) points 1..=20 000 mapped
 /// uniformly onto the sphere (`sampleUniformSphere`), each valued by the nearest texel of the
 /// resized map at the peer's `cartesianToLatLongTexcoord`, weight 4π/N (its sample Gram and
 /// moments). Computed in f32 like the peer, so each sample reads the same texel.
@@ -469,7 +469,7 @@ mod tests {
         }
     }
 
-    /// The fork's table estimator (its 2017 VNDF routine, its Hammersley points) converges to
+    /// [RoughtonFork]'s table estimator (its 2017 VNDF routine, its Hammersley points) converges to
     /// the same G2·G1-weighted integral as sbf's independent one (Heitz 2018's routine,
     /// centred Hammersley points): at 2¹⁴ against 2¹⁶ samples, over n·v 0.1–0.95 and α
     /// 0.1–0.8, both Fresnel channels (the fit's value, common to both, multiplied back).
@@ -477,7 +477,7 @@ mod tests {
     /// cut at the horizon (error ~N^-¾ there: 2¹⁴ gives ≈ 7e-4 of the integral, times a
     /// constant of a few). Mutations tried: the 2017 routine without its V.z scale of P2; the
     /// Hammersley coordinates unswapped is not caught (same integral) — its effect shows only
-    /// at the fork's 512 samples, in the compatible mode's figures.
+    /// at [RoughtonFork]'s 512 samples, in the compatible mode's figures.
     #[test]
     fn the_forks_table_estimates_the_same_integral_as_sbfs() {
         for nv in [0.1, 0.4, 0.7, 0.95] {

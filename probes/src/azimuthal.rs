@@ -4,7 +4,7 @@
 //!
 //! A lat-long map's pole is +Y. For an output direction d at polar angle θ_d and azimuth
 //! φ_d, ∫ L(ω) K(θ_d, θ_ω, φ_d − φ_ω) dω — the GGX lobe with the normal at the pole
-//! (seed 004 Appendix C), or any lobe that is zonal about d itself — is, on the map's
+//! ([Roughton19 Appendix C]), or any lobe that is zonal about d itself — is, on the map's
 //! rows, a circular convolution in φ per (output row, source row) pair. Here:
 //!
 //! - **Radiance** is the map's bilinear interpolation (`LatLongImage::bilinear_uv`: wrap in

@@ -32,9 +32,9 @@ pub struct Settings {
     pub convention: sbf::ggx::Convention,
     /// How every mode's coefficients are stored (`--storage`).
     pub storage: crate::storage::Storage,
-    /// Appendix C only: the GGX reference by the fork's own Monte Carlo estimator with this
-    /// many samples per texel ([`crate::appendix_c::monte_carlo_reference`]; the fork used
-    /// 8192) instead of the exact integral of its kernel — the seed's reference noise
+    /// Appendix C only: the GGX reference by [RoughtonFork]'s own Monte Carlo estimator with this
+    /// many samples per texel ([`crate::appendix_c::monte_carlo_reference`]; [RoughtonFork] used
+    /// 8192) instead of the exact integral of its kernel — Roughton's reference noise
     /// included. None: the exact integral.
     pub seed_estimator: Option<u32>,
 }
@@ -48,14 +48,14 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
     let (w, h) = (map.geometry.width, map.geometry.height);
     if s.convention == sbf::ggx::Convention::AppendixC {
         if s.domain != sbf::Domain::UpperHemisphere {
-            return Err("--reference appendix-c measures the upper hemisphere (seed Appendix C): use --domain hemisphere".into());
+            return Err("--reference appendix-c measures the upper hemisphere ([Roughton19 Appendix C]): use --domain hemisphere".into());
         }
         if s.specular_runtime != SpecularRuntime::Fit {
-            return Err("--reference appendix-c runs the seed's runtimes (the fits): use --specular-runtime fit".into());
+            return Err("--reference appendix-c runs Roughton's runtimes (the fits): use --specular-runtime fit".into());
         }
         crate::appendix_c::resized(&map)?;
     } else if s.seed_estimator.is_some() {
-        return Err("the seed's Monte Carlo estimator is the Appendix C reference's: it needs --reference appendix-c".into());
+        return Err("Roughton's Monte Carlo estimator is the Appendix C reference's: it needs --reference appendix-c".into());
     }
     // Appendix C's environment is black below the horizon (see `appendix_c`).
     let map = if s.convention == sbf::ggx::Convention::AppendixC { crate::appendix_c::clip_below_horizon(&map) } else { map };
@@ -143,7 +143,7 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> Resu
             Ok(r) => {
                 let sub = if r.coarsening > 1 { format!("1/{}", r.coarsening) } else { r.subdivision.to_string() };
                 let sr = match ctx.seed_estimator {
-                    // The seed's estimator, its error measured against the exact integral.
+                    // Roughton's estimator, its error measured against the exact integral.
                     Some(n) => {
                         let views: Vec<Option<sbf::glam::DVec3>> =
                             (0..ctx.dirs.len()).map(|k| specular::geometry(ctx, k).map(|(_, v)| v)).collect();
@@ -190,7 +190,7 @@ fn specular_references(ctx: &Context, alphas: &[f64], spec_samples: u32) -> Resu
     let worst = spec_refs.iter().map(|r| r.error_rms / r.signal_rms.max(f64::MIN_POSITIVE)).fold(0.0, f64::max);
     let method = match (&fallback, ctx.seed_estimator) {
         (None, Some(n)) => format!(
-            "the fork's Monte Carlo estimator (ExperimentMonteCarlo.h: {n} Hammersley visible normals per texel by Heitz's 2017 routine, the map resized to 512×256 read bilinearly) — the seed's reference with its noise; its RMS difference from the exact integral (the azimuthal quadrature) ≤ {:.3}% of the signal's RMS, per α in results.json ({:.2} s for {} α)",
+            "[RoughtonFork]'s Monte Carlo estimator (ExperimentMonteCarlo.h: {n} Hammersley visible normals per texel by Heitz's 2017 routine, the map resized to 512×256 read bilinearly) — Roughton's reference with its noise; its RMS difference from the exact integral (the azimuthal quadrature) ≤ {:.3}% of the signal's RMS, per α in results.json ({:.2} s for {} α)",
             100.0 * worst,
             ts.elapsed().as_secs_f64(),
             alphas.len()

@@ -17,7 +17,7 @@
 //!   Y_lm(ω)·L(ω)) over [`PROGRESSIVE_SAMPLES`] uniform Halton directions, kept in f32 as a GPU
 //!   texel would keep one RGB value per function. 4π times that mean is the Monte Carlo
 //!   projection ∫B_i·L, unbiased after any number of samples; the fit then uses the basis'
-//!   exact Gram over the sphere. The seed's progressive encoder (§7.3, modes `sgpls` …
+//!   exact Gram over the sphere. Roughton's progressive encoder (§7.3, modes `sgpls` …
 //!   `adpnnls`) iterates on the running sample Gram instead and lags behind its limit.
 
 use crate::cost::CostJob;

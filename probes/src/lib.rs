@@ -5,7 +5,7 @@
 //! ([`modes`]; the engines' directional lightmap formats in [`engine_modes`], non-negative fits that keep
 //! the map's light in [`conserving`]) including the GGX specular signal ([`specular`]), measures errors ([`metrics`]) and writes reports ([`report`]) with
 //! images and plots ([`images`]).
-//! `--reference appendix-c` reproduces seed 004 Appendix C's conventions ([`appendix_c`]).
+//! `--reference appendix-c` reproduces [Roughton19 Appendix C]'s conventions ([`appendix_c`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
 //! peer tool (Probulator) does, so numbers are comparable.
 

@@ -76,10 +76,10 @@ struct CompareArgs {
     #[arg(long)]
     domain: Option<String>,
     /// The specular reference: `physical` (the single-scattering GGX integral, light from
-    /// above the surface) or `appendix-c` (seed 004 Appendix C's pipeline as its code reads:
+    /// above the surface) or `appendix-c` ([Roughton19 Appendix C]'s pipeline as its code reads:
     /// the environment black below the horizon, G2·G1 visibility, Schlick f0 0.9 / f90 1,
-    /// the seed's runtimes with
-    /// its Listing 8.2 table, SG fits point-sampled; to compare with the seed's printed
+    /// Roughton's runtimes with
+    /// its Listing 8.2 table, SG fits point-sampled; to compare with Roughton's printed
     /// figures — every report says which). appendix-c implies --domain hemisphere,
     /// --specular-runtime fit and the modes ad9, adrbf-tangent, sg9h, sg12h.
     #[arg(long, default_value = "physical", conflicts_with = "profile")]
@@ -115,7 +115,7 @@ struct CompareArgs {
     /// Specular runtime of the SG and AD modes: `table` (per-lobe GGX response tables,
     /// luts/lobe_ggx_*.sbflut; interpolation is the only approximation) or `fit` (the
     /// split sum over the warped NDF for SG — the ASG warp with --reference appendix-c —,
-    /// seed Listing 8.1 × its LUT for AD). [default: table; fit with
+    /// [Roughton19 Listing 8.1] × its LUT for AD). [default: table; fit with
     /// --reference appendix-c]
     #[arg(long)]
     specular_runtime: Option<String>,
@@ -146,7 +146,7 @@ fn preset(name: &str) -> Result<ProceduralSky, String> {
     }
 }
 
-/// Default roughness values of the specular signal (seed Appendix C).
+/// Default roughness values of the specular signal ([Roughton19 Appendix C]).
 use probes::profile::DEFAULT_ALPHAS;
 
 /// `--images`: (PNG previews, float EXR too).
@@ -231,7 +231,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     let storage = probes::storage::Storage::parse(&a.storage)?;
     let seed = convention == sbf::ggx::Convention::AppendixC;
     if seed && storage != probes::storage::Storage::F32 {
-        return Err("--reference appendix-c reproduces the seed's figures, made from f32 coefficients: leave --storage at f32".into());
+        return Err("--reference appendix-c reproduces Roughton's figures, made from f32 coefficients: leave --storage at f32".into());
     }
     let spec_rt = match (a.specular_runtime.as_deref(), seed) {
         (None, false) => probes::specular::SpecularRuntime::Table,
@@ -239,7 +239,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         (Some(x), _) => probes::specular::SpecularRuntime::parse(x)?,
     };
     if seed && spec_rt != probes::specular::SpecularRuntime::Fit {
-        return Err("--reference appendix-c runs the seed's runtimes: --specular-runtime must be `fit`".into());
+        return Err("--reference appendix-c runs Roughton's runtimes: --specular-runtime must be `fit`".into());
     }
     let images = images_flag(&a.images)?;
     let prof = a.profile.as_deref().map(sbf::profile::Profile::load).transpose()?;

@@ -31,7 +31,7 @@ pub struct Context {
     /// How the reference was computed.
     pub reference_method: String,
     /// Where errors are measured: the whole sphere, or the upper hemisphere (world +Y,
-    /// tangent +Z) as in seed 004 Appendix C.
+    /// tangent +Z) as in [Roughton19 Appendix C].
     pub domain: Domain,
     /// How the 12-lobe SG modes turn lobes into irradiance.
     pub sg_irradiance: SgIrradiance,
@@ -50,7 +50,7 @@ pub struct Context {
     /// How coefficients are stored (`--storage`): every mode's images are reconstructed
     /// from its stored values.
     pub storage: crate::storage::Storage,
-    /// Appendix C's reference by the fork's Monte Carlo estimator (see
+    /// Appendix C's reference by [RoughtonFork]'s Monte Carlo estimator (see
     /// [`crate::compare::Settings::seed_estimator`]).
     pub seed_estimator: Option<u32>,
 }
@@ -122,7 +122,7 @@ pub enum SpecularRuntime {
     Table,
     /// The closed-form fits: SG through the split sum over the warped NDF (Karis 2013; the
     /// ASG warp of Xu et al. 2013 under the Appendix C convention), AD through
-    /// seed Listing 8.1 × the 2D LUT of Listing 8.2.
+    /// [Roughton19 Listing 8.1] × the 2D LUT of Listing 8.2.
     Fit,
 }
 
@@ -148,13 +148,13 @@ impl SpecularRuntime {
     pub fn describe(&self) -> &'static str {
         match self {
             SpecularRuntime::Table => "SG and AD lobes through per-lobe GGX response tables (luts/lobe_ggx_*.sbflut: 4D over n·v, √α and the lobe axis about the mirror direction, multilinear; table error in luts/MANIFEST); SH by its zonal GGX convolution × DFG",
-            SpecularRuntime::Fit => "SG lobes through the split sum over the warped NDF (Karis 2013; Appendix C convention: the ASG warp, Xu et al. 2013), AD lobes through seed Listing 8.1 × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
+            SpecularRuntime::Fit => "SG lobes through the split sum over the warped NDF (Karis 2013; Appendix C convention: the ASG warp, Xu et al. 2013), AD lobes through [Roughton19 Listing 8.1] × the Listing 8.2 LUT; SH by its zonal GGX convolution × DFG",
         }
     }
 }
 
 /// Tangent space (normal +Z) to world (+Y up): (x, y, z) ↦ (x, z, y) — the frame in which
-/// the peer (Probulator, and the seed's fork of it) lays out its lobes, read in our world.
+/// the peer (Probulator, and Roughton's fork of it) lays out its lobes, read in our world.
 ///
 /// Both tools map a lat-long texel (u, v) to φ = π(2u − 1), θ = πv, but to different axes:
 /// the peer's `latLongTexcoordToCartesian` gives (sin θ sin φ, −sin θ cos φ, cos θ) with z up;
@@ -302,7 +302,7 @@ pub const MODES: &[(&str, &str)] = &[
     ("adycocg", "Ambient Dice YCoCg (Bézier Y + linear Co/Cg, 60), fitted to the irradiance image"),
     ("sgra", "SG 12, running average over the map's texels in a fixed shuffled order (as the peer)"),
     ("sgnnra", "SG 12, non-negative running average"),
-    ("sgpls", "SG 12, progressive least squares (seed §7.3), 4096 Halton samples, f32 state"),
+    ("sgpls", "SG 12, progressive least squares ([Roughton19 §7.3]), 4096 Halton samples, f32 state"),
     ("sgpnnls", "SG 12, progressive non-negative least squares"),
     ("adpls", "Ambient Dice SRBF 12, progressive least squares, 4096 Halton samples"),
     ("adpnnls", "Ambient Dice SRBF 12, progressive non-negative least squares"),
@@ -310,7 +310,7 @@ pub const MODES: &[(&str, &str)] = &[
     ("adnnlsc", "Ambient Dice SRBF 12, NNLS keeping the map's SH L0 + L1 (equality-constrained)"),
     ("sgpnnlsc", "SG 12, progressive Monte Carlo projections (4096 Halton samples, f32 state), exact Gram, NNLS keeping SH L0 + L1"),
     ("adpnnlsc", "Ambient Dice SRBF 12, progressive Monte Carlo projections, exact Gram, NNLS keeping SH L0 + L1"),
-    ("ad9", "Ambient Dice SRBF 9, the seed's hemisphere set (§8.3.1), LS over the sphere, eq. 8.14 irradiance (Appendix C)"),
+    ("ad9", "Ambient Dice SRBF 9, Roughton's hemisphere set (§8.3.1), LS over the sphere, eq. 8.14 irradiance (Appendix C)"),
     ("sg9h", "SG 9, λ 6, Vogel spiral over the upper hemisphere, LS over the sphere, Hill irradiance (Appendix C)"),
     ("sg12h", "SG 12, λ 6, Vogel spiral over the upper hemisphere (Appendix C)"),
     ("adrbf-tangent", "Ambient Dice SRBF 12 on the icosahedron in tangent space, eq. 8.14 irradiance (Appendix C's AD12)"),
@@ -324,7 +324,7 @@ pub const MODES: &[(&str, &str)] = &[
     ("enlighten-rgb", "one Enlighten direction + rescaling factor per channel (3 × RGBA8): a research layout no engine ships"),
 ];
 
-/// Default modes for `--domain hemisphere` (seed Appendix C).
+/// Default modes for `--domain hemisphere` ([Roughton19 Appendix C]).
 pub const HEMISPHERE_MODES: &[&str] = &["ad9", "adrbf-tangent", "sg9h", "sg12h", "h4", "h6"];
 
 /// World (+Y up) to tangent space (normal +Z): the inverse of [`tangent_to_world`] (the
@@ -1087,8 +1087,8 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             let solver = match id {
                 "sgra" => "running average (per-sample, Jacobi, α = 1, clamped denominators)",
                 "sgnnra" => "non-negative running average",
-                "sgpls" | "adpls" => "progressive LS, f32 state, 4096 Halton samples (seed §7.3)",
-                _ => "progressive NNLS, f32 state, 4096 Halton samples (seed §7.3)",
+                "sgpls" | "adpls" => "progressive LS, f32 state, 4096 Halton samples ([Roughton19 §7.3])",
+                _ => "progressive NNLS, f32 state, 4096 Halton samples ([Roughton19 §7.3])",
             };
             let mut r = mk(basis.name(), solver, c, lobes, Some(rad), irr, t, ns);
             r.result.convergence = convergence;
@@ -1120,7 +1120,7 @@ pub fn prepare<'a>(id: &str, ctx: &'a Context, repeats: usize) -> Result<Prepare
             };
             let b = basis.clone();
             let (c, t) = if !is_ad && ctx.convention == sbf::ggx::Convention::AppendixC {
-                // The seed's SG fits: its point samples, their own Gram (see appendix_c).
+                // Roughton's SG fits: its point samples, their own Gram (see appendix_c).
                 let samples = crate::appendix_c::sg_samples(&ctx.map)?;
                 timed(repeats, move || {
                     solve_gram(&sbf::solve::sample_gram(b.as_ref(), &samples), &moments(b.as_ref(), &samples), LsOptions::default())

@@ -66,7 +66,7 @@ pub struct MapInfo {
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceInfo {
-    /// `physical` (the GGX integral) or `appendix-c` (seed 004 Appendix C's conventions,
+    /// `physical` (the GGX integral) or `appendix-c` ([Roughton19 Appendix C]'s conventions,
     /// `--reference appendix-c`; see `probes::appendix_c`).
     #[serde(default = "physical")]
     pub convention: String,

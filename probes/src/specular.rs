@@ -2,7 +2,7 @@
 //!
 //! Geometry per output texel with direction d: over the sphere, normal = view = d
 //! (normal incidence: the prefiltered environment); over the upper hemisphere, the
-//! normal is the map's up (+Y) and the view is d (seed 004 Appendix C), zero below.
+//! normal is the map's up (+Y) and the view is d ([Roughton19 Appendix C]), zero below.
 //!
 //! Reference: visible-normal samples plus map samples (by texel luminance) combined by
 //! multiple importance sampling ([`sbf::recon::reference::ggx_specular_mis`]), a
@@ -11,7 +11,7 @@
 //! Reconstructions, from the coefficients a mode stored: SH by zonal convolution about
 //! the dominant direction with the committed DFG table; SG lobes by the split sum over the warped NDF
 //! ([`sbf::recon::sg::SplitSumWarp`]; the ASG warp under the Appendix C convention); Ambient
-//! Dice SRBF lobes by the seed's fit (Listing 8.1) times the committed 2D LUT
+//! Dice SRBF lobes by Roughton's fit (Listing 8.1) times the committed 2D LUT
 //! (Listing 8.2). Other modes store irradiance, not radiance, and have no specular.
 
 pub use crate::modes::SpecularRuntime;
@@ -188,7 +188,7 @@ fn fft_setup(grid: LatLong, domain: Domain, alpha: f64, convention: Convention) 
 ///
 /// Equals [`ggx_kernel`] to rounding (test `row_kernel_equals_the_pointwise_kernel`).
 ///
-/// Under [`Convention::AppendixC`] (hemisphere only) the kernel is the seed reference's:
+/// Under [`Convention::AppendixC`] (hemisphere only) the kernel is Roughton's reference's:
 /// f·cos = F·D·G2·G1(v)²/(4 n·v) — its per-sample weight G2·G1(v) times the visible-normal
 /// density G1(v)·D/(4 n·v) — wherever n·h > 0 (n·(v + l) > 0), light below the surface
 /// included with Λ(l) from |cos θ_l|; F = f0 + (1 − f0)(1 − v·h)⁵ with f0 0.9 and
@@ -418,7 +418,7 @@ pub fn runtime_image(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f
 /// The response table of a lobe mode on the table runtime (None otherwise). Every SG mode
 /// here uses λ = 6, the one sharpness with a table; another would take the fit path.
 fn lobe_table(r: &ModeResult, ctx: &Context) -> Option<&'static sbf::recon::lobe_ggx::Table> {
-    // The tables integrate the physical BRDF: under Appendix C the seed's fits run instead.
+    // The tables integrate the physical BRDF: under Appendix C Roughton's fits run instead.
     if ctx.convention != Convention::Physical {
         return None;
     }
@@ -531,7 +531,7 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
                 .unwrap_or([f64::NAN; 3])
         } else if is_sg(r.id) {
             let d = dfg.sample2(nv as f32, alpha as f32);
-            // The runtime's split sum; the seed's Appendix C convention keeps its ASG warp.
+            // The runtime's split sum; Roughton's Appendix C convention keeps its ASG warp.
             let (split, asg) = match ctx.convention {
                 Convention::Physical => (Some(sgr::SplitSumWarp::new(n, v, alpha, f0, f90, [d[0] as f64, d[1] as f64])), None),
                 Convention::AppendixC => (None, Some(crate::appendix_c::asg_warp(n, v, alpha, f0, f90))),

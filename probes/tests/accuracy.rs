@@ -312,8 +312,8 @@ fn sh_reference_route_matches_direct() {
     }
 }
 
-/// `--domain hemisphere` reproduces seed 004 Appendix C: radiance RMS over the upper
-/// hemisphere within 10% of the seed for AD9, AD12, SG9, SG12 on pisa, uffizi and wells
+/// `--domain hemisphere` reproduces [Roughton19 Appendix C]: radiance RMS over the upper
+/// hemisphere within 10% of [Roughton19 App. C] for AD9, AD12, SG9, SG12 on pisa, uffizi and wells
 /// and within 20% on ennis (grace, whose sun spans a few texels, is left out: −16%), and
 /// AD Lambert within 20%.
 #[test]

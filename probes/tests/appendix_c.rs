@@ -1,29 +1,29 @@
-//! `--reference appendix-c` against the figures seed 004 prints in Appendix C (Figs.
+//! `--reference appendix-c` against the figures [Roughton19] prints in Appendix C (Figs.
 //! C.1–C.5): radiance, Lambert and GGX RMSE of AD 9, AD 12, SG 9 and SG 12 on the five
-//! probes, through the same `compare` the command runs. Prints every cell (ours / the
-//! seed's = ratio) and both counts the docs quote.
+//! probes, through the same `compare` the command runs. Prints every cell (ours /
+//! Roughton's = ratio) and both counts the docs quote.
 //!
 //!     cargo test --release -p probes --test appendix_c -- --nocapture
 //!
 //! Needs `../shared/probes`; with SBF_REQUIRE_PROBES=1 (CI) a missing folder fails.
 //!
 //! What is asserted, and why those tolerances (the issue's, not fitted to these numbers):
-//! - radiance, every cell within 1.10× either way: the fits are the seed's method (least
+//! - radiance, every cell within 1.10× either way: the fits are Roughton's method (least
 //!   squares over the sphere); grace's sun, a few texels, is the largest difference;
 //! - every SG 9 and SG 12 GGX cell (46) and every AD GGX cell at α ≤ 0.4 (30) within 1.10×
 //!   either way — the reproduction; AD at α 0.6–0.8 is reported, not asserted cell by cell
 //!   (docs/probes.md says which cells are not reproduced and why);
-//! - the issue's count: at least 88 of the 92 GGX cells no more than 1.10× the seed's (its
-//!   own reproduction of the fork, "90 of 92 within 1.10× (AD mean 0.86)", counts that way);
-//! - Lambert: every cell no more than 1.15× the seed's, and SG's within 1.15× either way —
-//!   the seed's Lambert reference is a 5000-sample Monte Carlo estimate whose noise only
-//!   adds to its errors (ours is exact), which leaves AD's small errors below the seed's.
+//! - the issue's count: at least 88 of the 92 GGX cells no more than 1.10× Roughton's (its
+//!   own reproduction of [RoughtonFork], "90 of 92 within 1.10× (AD mean 0.86)", counts that way);
+//! - Lambert: every cell no more than 1.15× Roughton's, and SG's within 1.15× either way —
+//!   Roughton's Lambert reference is a 5000-sample Monte Carlo estimate whose noise only
+//!   adds to its errors (ours is exact), which leaves AD's small errors below Roughton's.
 //!
 //! Mutations tried: the reference kernel made physical (G2/G1, horizon cut, F ≡ 1) under
 //! the compatible runtimes — every probe fails (ennis AD 9 α 0.4: 3.1×); the physical
 //! Listing 8.2 table in the compatible mode — AD fails (ennis AD 9 α 0.4: 3.2×); the ASG
-//! warp's frame in the plane of n and R instead of the seed's — SG fails (ennis SG 12 α 0.4:
-//! 1.20, uffizi SG 9: 1.16); Listing 8.1 × its G2·G1 table for the fork's AD fit and
+//! warp's frame in the plane of n and R instead of Roughton's — SG fails (ennis SG 12 α 0.4:
+//! 1.20, uffizi SG 9: 1.16); Listing 8.1 × its G2·G1 table for [RoughtonFork]'s AD fit and
 //! per-pixel table — AD fails (wells AD 9 α 0.4: 1.34, pisa 1.17); the environment lit below the horizon (no
 //! `clip_below_horizon` anywhere) — SG fails (wells SG 12 α 0.2: 1.24, α 0.4: 1.29); the map
 //! not clipped in `compare` but the SG samples' map still clipped — fails (82 of 92; wells
@@ -35,7 +35,7 @@ use probes::modes::{SgIrradiance, SpecularRuntime};
 use sbf::ggx::Convention;
 use std::path::PathBuf;
 
-/// `x` to four significant figures (the seed prints three or four).
+/// `x` to four significant figures ([Roughton19] prints three or four).
 fn four_figures(x: f64) -> String {
     let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
     format!("{x:.decimals$}")
@@ -52,7 +52,7 @@ fn probe(name: &str) -> Option<sbf::envmap::LatLongImage> {
 }
 
 /// The compatible run's settings: the four modes, `alphas`, the reference exact (None) or by
-/// the seed's Monte Carlo estimator with that many samples.
+/// Roughton's Monte Carlo estimator with that many samples.
 fn compatible(alphas: &[f64], seed_estimator: Option<u32>) -> Settings {
     Settings {
         ids: MODES.iter().map(|(_, id)| id.to_string()).collect(),
@@ -78,7 +78,7 @@ fn compatible_mode_reproduces_the_seeds_figures() {
         let Some(map) = probe(name) else { return };
         let report = compare(name, map, 0, &settings).expect("the compatible run");
         assert!(report.specular_method.contains("azimuthal FFT"), "{name}: {}", report.specular_method);
-        println!("\n{name}: RMSE ours / the seed's = ratio");
+        println!("\n{name}: RMSE ours / Roughton's = ratio");
         let labels = ["radiance", "Lambert", "GGX 0.1", "GGX 0.2", "GGX 0.4", "GGX 0.6", "GGX 0.8"];
         for (ri, label) in labels.iter().enumerate() {
             let mut line = format!("{label:>9}");
@@ -120,11 +120,11 @@ fn compatible_mode_reproduces_the_seeds_figures() {
         }
     }
     println!(
-        "\nGGX cells within 1.10× either way: {ggx_two_sided} of {ggx_cells}; at most 1.10× the seed's: {ggx_one_sided}\n\
-         Lambert within 1.15× either way: {lambert_two_sided} of 20; at most 1.15× the seed's: {lambert_one_sided}"
+        "\nGGX cells within 1.10× either way: {ggx_two_sided} of {ggx_cells}; at most 1.10× Roughton's: {ggx_one_sided}\n\
+         Lambert within 1.15× either way: {lambert_two_sided} of 20; at most 1.15× Roughton's: {lambert_one_sided}"
     );
     assert_eq!(ggx_cells, 92, "Appendix C has 92 GGX cells");
-    assert!(ggx_one_sided >= 88, "{ggx_one_sided} of 92 GGX cells no more than 1.10× the seed's (the issue asks ≥ 88)");
+    assert!(ggx_one_sided >= 88, "{ggx_one_sided} of 92 GGX cells no more than 1.10× Roughton's (the issue asks ≥ 88)");
     assert!(failures.is_empty(), "cells outside the tolerance:\n{}", failures.join("\n"));
 }
 
@@ -172,7 +172,7 @@ fn tables_add_no_more_error_than_the_fits_in_any_cell() {
     println!("tables' runtime error / the fits': at most {:.3} ({})", worst.0, worst.1);
 }
 
-/// The seed's Monte Carlo estimator converges to the exact integral of its kernel (the
+/// Roughton's Monte Carlo estimator converges to the exact integral of its kernel (the
 /// azimuthal quadrature, an independent method): on a smooth synthetic map (64×32, colour
 /// varying with both angles, black below the horizon), 1024 samples per texel, α 0.2 and
 /// 0.6, the reported RMS difference is at most 2 % of the signal — a Hammersley estimate of a
@@ -198,7 +198,7 @@ fn seeds_estimator_converges_to_the_exact_integral() {
     }
 }
 
-/// With the seed's own reference estimator (8192 samples, as the fork) the printed figures
+/// With Roughton's own reference estimator (8192 samples, as [RoughtonFork]) the printed figures
 /// come back to their digits on the four probes without a sun: every SG GGX cell and every
 /// AD cell at α ≤ 0.4 within 1.02× either way on ennis, pisa, uffizi and wells; grace (its
 /// sun: the estimator's own error there exceeds the printed AD errors) is printed, not
@@ -212,7 +212,7 @@ fn the_seeds_estimator_reproduces_its_figures() {
     for (pi, name) in PROBES.iter().enumerate() {
         let Some(map) = probe(name) else { return };
         let report = compare(name, map, 0, &settings).expect("the compatible run");
-        println!("\n{name}, the seed's estimator: RMSE ours / the seed's = ratio");
+        println!("\n{name}, Roughton's estimator: RMSE ours / Roughton's = ratio");
         for (ai, alpha) in ALPHAS.iter().enumerate() {
             let mut line = format!("  GGX {alpha}");
             for (bi, (basis, id)) in MODES.iter().enumerate() {

@@ -17,7 +17,7 @@
 //!   adds to the bar.
 //! - **Progressive**: 4096 Halton samples in f32; the moments' error is bounded by 5 standard
 //!   errors of the i.i.d. estimator (Halton does at least as well on these integrands) plus f32
-//!   running-mean rounding (4096·2⁻²⁴ relative). The seed's progressive encoder misses its
+//!   running-mean rounding (4096·2⁻²⁴ relative). Roughton's progressive encoder misses its
 //!   limit by ×0.63–0.78 on the built-in sky (docs/probes.md); the bar here is ≈ 3 %.
 
 use probes::conserving::Problem;

@@ -1,10 +1,10 @@
-//! Lobe layouts against the peer's: the seed's AD 9 and SG hemisphere lobes land on the same
+//! Lobe layouts against the peer's: Roughton's AD 9 and SG hemisphere lobes land on the same
 //! lat-long texels in our modes as in Probulator, and a map with one bright texel
 //! reconstructs on the same side.
 //!
 //! The peer's conventions are written here from its source — github troughton/Probulator,
 //! branch `ambient-dice`, commit 2a6cfda4e011ecdecf286c1975679c716a97369f (the author's fork
-//! the seed's Appendix C was made with): `Source/Probulator/Math.h` (`latLongTexcoordToCartesian`,
+//! Roughton's Appendix C was made with): `Source/Probulator/Math.h` (`latLongTexcoordToCartesian`,
 //! `cartesianToLatLongTexcoord`, `sampleVogelsSphere`, `latLongTexelArea`) and
 //! `Source/Probulator/ExperimentAmbientDice.cpp` (`srbfHemisphereVertexPositions`, the SRBF
 //! lobe). Upstream kayru/Probulator has the same lat-long and Vogel functions.
@@ -84,7 +84,7 @@ fn lobes_land_on_the_peers_texels() {
         ("sg9h", (0..9).map(|i| peer_vogel(i, 18)).collect()),
         ("sg12h", (0..12).map(|i| peer_vogel(i, 24)).collect()),
     ];
-    // The inverse map is the same swap, and SG hemisphere lobes keep the seed's λ 6.
+    // The inverse map is the same swap, and SG hemisphere lobes keep Roughton's λ 6.
     for t in [DVec3::new(0.3, -0.5, 0.81), DVec3::new(-0.7, 0.1, -0.2)] {
         assert_eq!(probes::modes::world_to_tangent(probes::modes::tangent_to_world(t)), t);
         assert_eq!(probes::modes::world_to_tangent(t), DVec3::new(t.x, t.z, t.y));

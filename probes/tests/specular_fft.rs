@@ -294,9 +294,9 @@ fn row_kernel_equals_the_pointwise_kernel() {
     assert!(checked > 100_000, "only {checked} non-zero values compared");
 }
 
-/// The Appendix C row kernel against the seed's estimator written pointwise: the density
+/// The Appendix C row kernel against Roughton's estimator written pointwise: the density
 /// of the reflected direction under visible-normal sampling (`vndf_reflected_pdf`, Heitz
-/// 2018 eq. 17) times the seed's per-sample weight (`Convention::AppendixC.vndf_weight`:
+/// 2018 eq. 17) times Roughton's per-sample weight (`Convention::AppendixC.vndf_weight`:
 /// G2·G1(v), Λ(l) from |cos θ_l|) times Schlick's F with f0 0.9 at v·h — a different route
 /// from the row kernel's closed form F·D·G2·G1²/(4 n·v); zero where n·h ≤ 0 (no visible
 /// normal reflects there). Light below the surface is included (θ_l > π/2). Tolerance as

@@ -59,7 +59,7 @@ pub enum Convention {
     /// (Heitz 2018, eq. 19), light only from above the surface, Fresnel from the caller.
     #[default]
     Physical,
-    /// Seed 004 Appendix C's pipeline, as its code reads: Listing 8.2's
+    /// [Roughton19 Appendix C]'s pipeline, as its code reads: Listing 8.2's
     /// `SmithGGXMaskingShadowingG2OverG1Reflection` returns `numerator / (denominator *
     /// G1Inverse)` = G2(v, l)·G1(v) — every sample scaled by G1(v)² relative to the physical
     /// weight — with Λ of a light below the surface taken from its |cos| (the reference does

@@ -1,5 +1,5 @@
 //! Gram matrices G_ij = ∫_S B_i B_j over the sphere or the upper hemisphere
-//! (seed 004 eq. 7.3), their condition numbers, and a Cholesky solve of G b = m.
+//! ([Roughton19 eq. 7.3]), their condition numbers, and a Cholesky solve of G b = m.
 //!
 //! Closed forms where they exist ([`Basis`] types that know theirs: SH on the sphere
 //! is I; SG lobes on the sphere use the SG inner product). Everything else uses the

@@ -4,7 +4,7 @@
 //!   with the golden angle π(3 − √5) in φ (math.md; Probulator's "Vogel's sphere").
 //! - [`vogel_hemisphere`]: the same spiral over z ∈ (0, 1]: z_i = 1 − (i + ½)/N.
 //! - [`icosahedron`], [`icosahedron_hemisphere`]: the 12 icosahedron vertices and the
-//!   9-vertex hemisphere set of seed 004 §8.3.1.
+//!   9-vertex hemisphere set of [Roughton19 §8.3.1].
 //! - [`sharpness_from_spacing`]: the lobe-spacing heuristic of math.md.
 
 use crate::basis::Icosahedron;
@@ -44,7 +44,7 @@ pub fn icosahedron() -> Vec<DVec3> {
     Icosahedron::standard().vertices().to_vec()
 }
 
-/// The 9 upper vertices of the face-up icosahedron (seed 004 §8.3.1).
+/// The 9 upper vertices of the face-up icosahedron ([Roughton19 §8.3.1]).
 pub fn icosahedron_hemisphere() -> Vec<DVec3> {
     Icosahedron::face_up().vertices()[..9].to_vec()
 }

@@ -37,7 +37,7 @@
 //! | `probe` | (features sh, sg, ambient-dice, h-basis, ambient-cube, lut-dfg, lut-ad-specular-2d) `Probe`: project a map, irradiance and specular from a probe or a lightmap texel — the profiles' radiance bases, the ambient cube and the H-basis |
 //! | [`recon`] | Lambert irradiance and GGX specular from coefficients (SH, SG, Ambient Dice, projected), reference integrators |
 //! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
-//! | [`slc`] | stochastic light culling (seeds 000–002): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
+//! | [`slc`] | stochastic light culling ([TH17; TH17-supp; FTH22-supp]): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
 //! | [`error`] | [`SbfError`] and input checks |
 //! | [`frame`] | an orthonormal tangent frame for a unit normal (Duff et al. 2017) |
 //! | `bc` | (feature `bc`) block-compressed storage: BC6H (UF16 by ISPC, SF16 by its own mode-11 encoder), BC1 and BC7 encode, an independent decode (bcdec) and DDS files |
@@ -55,7 +55,7 @@
 //! - **SH.** Real, orthonormal, index i = l(l+1) + m, **no Condon–Shortley phase**:
 //!   band 1 is √(3/4π)·(y, z, x). The constant function 1 projects to c₀₀ = 2√π.
 //! - **SG.** G(v) = μ·exp(λ(v·p − 1)); as a basis, B_i = exp(λ_i(v·p_i − 1)) (μ = 1).
-//! - **Ambient Dice.** SRBF lobe 0.35c² + 0.25c⁴ on c = v·p > 0 (seed 004 eq. 8.3);
+//! - **Ambient Dice.** SRBF lobe 0.35c² + 0.25c⁴ on c = v·p > 0 ([Roughton19 eq. 8.3]);
 //!   icosahedron vertex order as in [`Icosahedron::standard`].
 //! - **Radiance vs E/π.** Bases store radiance unless a name says otherwise;
 //!   irradiance images in reports store E/π (what a white Lambertian reflects), as

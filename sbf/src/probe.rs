@@ -5,7 +5,7 @@
 //! Radiance bases: the lightmap bases of the profiles and the baker (`sh1`, `sh2`, `sg9`,
 //! `sg12`, `ad9`, `ad12`; `sbf::profile`, feature `profile`), laid out as the baker lays them out in a
 //! texel's tangent frame (normal +Z): SH in the frame's own axes, SG lobes on a Vogel
-//! spiral over the upper hemisphere with λ 6, AD 9 the seed's upper-hemisphere set, AD 12
+//! spiral over the upper hemisphere with λ 6, AD 9 Roughton's upper-hemisphere set, AD 12
 //! the icosahedron. A probe uses the same layouts in its own frame (the map's axes).
 //! Irradiance bases (`ac`, `h4`, `h6`): the ambient cube (Valve) and the H-basis (Habel &
 //! Wimmer 2010) hold E/π itself — the cube the exact E/π at the six axes, the H-basis a
@@ -51,7 +51,7 @@
 //! ([`crate::recon::runtime`], the twins of the WGSL functions). Specular: SH by zonal
 //! convolution about the dominant direction with the DFG split sum
 //! ([`crate::recon::sh::specular_zonal_rgb`], f64), SG by the split sum over the warped
-//! NDF ([`crate::recon::runtime::sg_specular_split_sum`]), AD by the seed's Listing 8.1 fit and Listing 8.2 table. Fresnel is Schlick with f0 given and f90 = 1.
+//! NDF ([`crate::recon::runtime::sg_specular_split_sum`]), AD by Roughton's Listing 8.1 fit and Listing 8.2 table. Fresnel is Schlick with f0 given and f90 = 1.
 
 use crate::basis::Basis;
 use crate::envmap::LatLongImage;
@@ -61,7 +61,7 @@ use crate::solve::{map_samples, moments, solve_gram, LsOptions};
 use crate::{AmbientCube, AmbientDiceSrbf, Domain, HBasis, SbfError, SgBasis, ShBasis};
 use glam::{DVec3, Vec3};
 
-/// SG lobes' sharpness in the hemisphere layouts (the baker's and the seed's Appendix C).
+/// SG lobes' sharpness in the hemisphere layouts (the baker's and Roughton's Appendix C).
 pub const SG_SHARPNESS: f64 = 6.0;
 
 /// A basis a probe or a lightmap texel is encoded in (the profiles' lightmap bases).
@@ -75,7 +75,7 @@ pub enum ProbeBasis {
     Sg9,
     /// 12 SG lobes, Vogel spiral over the upper hemisphere, λ 6.
     Sg12,
-    /// Ambient Dice SRBF, the seed's 9 upper-hemisphere lobes.
+    /// Ambient Dice SRBF, Roughton's 9 upper-hemisphere lobes.
     Ad9,
     /// Ambient Dice SRBF, 12 icosahedron lobes.
     Ad12,

@@ -49,7 +49,7 @@ pub const SPECULAR_PATHS: [&str; 2] = ["fit", "tables"];
 /// the baker writes both, probes measures it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SpecularPath {
-    /// Closed-form fits: SG through the ASG warp, AD through seed Listing 8.1 × the
+    /// Closed-form fits: SG through the ASG warp, AD through [Roughton19 Listing 8.1] × the
     /// Listing 8.2 table (`ad-specular-2d`).
     Fit,
     /// Per-lobe GGX response tables (`lobe-ggx-sg6`, `lobe-ggx-ad`): interpolation is the

@@ -1,7 +1,7 @@
 //! Stochastic light culling for many virtual point lights (VPLs): the random light range
 //! by Russian roulette, its bounding volumes — a sphere for diffuse VPLs, a spheroid for
 //! VPLs on GGX microsurfaces — and the space transforms that cull an ellipsoid with a
-//! sphere–AABB test. Sources: seed 002 (Tokuyoshi & Harada, "Stochastic Light Culling for
+//! sphere–AABB test. Sources: [TH17] (Tokuyoshi & Harada, "Stochastic Light Culling for
 //! VPLs on GGX Microsurfaces"), its supplement 000, and 001 (Fujieda, Tokuyoshi & Harada,
 //! single scattering, supplement).
 //!
@@ -19,8 +19,8 @@
 //! A·(4/27)^{1/4}, at height A·(1/3)^{3/4} along n. The sphere centred there with that
 //! radius contains the whole isosurface (the squared distance from the centre to the
 //! surface, A²(c − 2h'c^{3/2} + h'²) with c = d·n and h' = (1/3)^{3/4}, peaks at
-//! c = 1/√3 where it equals the radius²) and touches it along that ring: seed 001 eq. 2
-//! is right. Seed 002 §6 prints (1/3)^{1/4}: that sphere starts 0.14·A above the VPL and
+//! c = 1/√3 where it equals the radius²) and touches it along that ring: [FTH22-supp eq. 2]
+//! is right. [TH17 §6] prints (1/3)^{1/4}: that sphere starts 0.14·A above the VPL and
 //! misses the isosurface near it (the tests show both).
 
 /// One uniform-random-number Russian roulette per light, bounds and transforms, generic
@@ -29,7 +29,7 @@ macro_rules! slc_impl {
     ($f:ident, $v:ident, $m:ident, $pi:expr) => {
         use glam::{$m, $v};
 
-        /// Acceptance probability p = min(I/(δl²), 1) (002 eq. 2) of a light of radiant
+        /// Acceptance probability p = min(I/(δl²), 1) ([TH17 eq. 2]) of a light of radiant
         /// intensity `intensity` towards a point at distance `l`.
         pub fn acceptance_probability(intensity: $f, delta: $f, l: $f) -> $f {
             if l <= 0.0 {
@@ -38,7 +38,7 @@ macro_rules! slc_impl {
             (intensity / (delta * l * l)).min(1.0)
         }
 
-        /// The random range l_max = √(I/(δξ)) (002 eq. 5): with one ξ per light, a point
+        /// The random range l_max = √(I/(δξ)) ([TH17 eq. 5]): with one ξ per light, a point
         /// farther than this in the light's direction rejects it.
         pub fn random_range(intensity: $f, delta: $f, xi: $f) -> $f {
             if xi <= 0.0 {
@@ -48,7 +48,7 @@ macro_rules! slc_impl {
         }
 
         /// The culled estimate of radiance `radiance` with acceptance probability `p`
-        /// and the light's ξ (002 eq. 3): L/p if p > ξ, else 0. Its mean over ξ is L.
+        /// and the light's ξ ([TH17 eq. 3]): L/p if p > ξ, else 0. Its mean over ξ is L.
         pub fn culled_estimate(radiance: $f, p: $f, xi: $f) -> $f {
             if p > xi {
                 radiance / p
@@ -57,7 +57,7 @@ macro_rules! slc_impl {
             }
         }
 
-        /// cos θ_h^max for an incoming cosine (000 eq. 2): the largest angle between ω_i
+        /// cos θ_h^max for an incoming cosine ([TH17-supp eq. 2]): the largest angle between ω_i
         /// and a half vector of any ω_o in the upper hemisphere, θ_h^max = ½·acos(cos_i) +
         /// π/4, as √((1 − √(1 − cos_i²))/2) — evaluated as |cos_i|/√(2(1 + s)), s =
         /// √(1 − cos_i²), since 1 − s = cos_i²/(1 + s): the printed form cancels at
@@ -67,7 +67,7 @@ macro_rules! slc_impl {
             cos_i.abs() / (2.0 * (1.0 + s)).sqrt()
         }
 
-        /// Maximum Schlick Fresnel factor over the outgoing hemisphere (000 eq. 1–2):
+        /// Maximum Schlick Fresnel factor over the outgoing hemisphere ([TH17-supp eq. 1–2]):
         /// Schlick's F grows with θ_h, so F(cos θ_h^max).
         pub fn schlick_max(f0: $f, cos_i: $f) -> $f {
             let c = cos_theta_h_max(cos_i);
@@ -75,7 +75,7 @@ macro_rules! slc_impl {
             f0 + (1.0 - f0) * (m * m) * (m * m) * m
         }
 
-        /// Unpolarised dielectric Fresnel factor (000 eq. 3–5) for relative index `eta` at
+        /// Unpolarised dielectric Fresnel factor ([TH17-supp eq. 3–5]) for relative index `eta` at
         /// cos θ_h; 1 under total internal reflection.
         pub fn dielectric_fresnel(eta: $f, cos_h: $f) -> $f {
             let c = cos_h.clamp(0.0, 1.0);
@@ -90,14 +90,14 @@ macro_rules! slc_impl {
             0.5 * (perp * perp + par * par)
         }
 
-        /// Maximum dielectric Fresnel factor over the outgoing hemisphere (000 eq. 6):
+        /// Maximum dielectric Fresnel factor over the outgoing hemisphere ([TH17-supp eq. 6]):
         /// F is monotonic in θ_h for 2 − √3 ≤ η ≤ 2 + √3 and quasiconvex otherwise, so its
         /// maximum over θ_h ∈ [0, θ_h^max] is at an end: max(F(1), F(cos θ_h^max)).
         pub fn dielectric_max(eta: $f, cos_i: $f) -> $f {
             dielectric_fresnel(eta, 1.0).max(dielectric_fresnel(eta, cos_theta_h_max(cos_i)))
         }
 
-        /// G1_dist(ω_i) = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) (002 eq. 8): the
+        /// G1_dist(ω_i) = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) ([TH17 eq. 8]): the
         /// Smith masking of the GGX distribution, an upper bound of any Smith G2(ω_i, ·).
         pub fn g1_dist(cos_i: $f, alpha: $f) -> $f {
             let c = cos_i.abs();
@@ -109,7 +109,7 @@ macro_rules! slc_impl {
             }
         }
 
-        /// GGX NDF as a function of cos θ_m (002 eq. 7), 0 for cos θ_m ≤ 0.
+        /// GGX NDF as a function of cos θ_m ([TH17 eq. 7]), 0 for cos θ_m ≤ 0.
         pub fn ggx_ndf(cos_m: $f, alpha: $f) -> $f {
             if cos_m <= 0.0 {
                 return 0.0;
@@ -119,7 +119,7 @@ macro_rules! slc_impl {
             a2 / ($pi * t * t)
         }
 
-        /// The spheroid's scale r = √(Φ·F_max·G1_dist/(4πδξ·|cos_i|)) (002 eq. 12).
+        /// The spheroid's scale r = √(Φ·F_max·G1_dist/(4πδξ·|cos_i|)) ([TH17 eq. 12]).
         pub fn spheroid_scale(phi: $f, f_max: $f, g1: $f, cos_i: $f, delta: $f, xi: $f) -> $f {
             if xi <= 0.0 {
                 return <$f>::INFINITY;
@@ -127,7 +127,7 @@ macro_rules! slc_impl {
             (phi * f_max * g1 / (4.0 * $pi * delta * xi * cos_i.abs())).sqrt()
         }
 
-        /// The bounding surface s = r·√(π·D(cos(θ/2))) (002 eq. 12) at angle θ from ω_u.
+        /// The bounding surface s = r·√(π·D(cos(θ/2))) ([TH17 eq. 12]) at angle θ from ω_u.
         pub fn bound_surface(theta: $f, r: $f, alpha: $f) -> $f {
             r * ($pi * ggx_ndf((0.5 * theta).cos(), alpha)).sqrt()
         }
@@ -137,7 +137,7 @@ macro_rules! slc_impl {
         pub struct Ellipsoid {
             /// Its centre.
             pub center: $v,
-            /// R = [ω_u, ω_w × ω_u, ω_w] for the GGX spheroid (002 eq. 14).
+            /// R = [ω_u, ω_w × ω_u, ω_w] for the GGX spheroid ([TH17 eq. 14]).
             pub axes: $m,
             /// Semi-axes along the columns of `axes`.
             pub radii: $v,
@@ -152,7 +152,7 @@ macro_rules! slc_impl {
             pub fn contains(&self, p: $v, tolerance: $f) -> bool {
                 self.normalized(p).length_squared() <= 1.0 + tolerance
             }
-            /// The stretching matrix S = R·diag(1/r_u, 1/r_v, 1/r_w)·Rᵀ (002 eq. 16): maps
+            /// The stretching matrix S = R·diag(1/r_u, 1/r_v, 1/r_w)·Rᵀ ([TH17 eq. 16]): maps
             /// the ellipsoid about its centre onto a unit sphere.
             pub fn stretching(&self) -> $m {
                 self.axes * $m::from_diagonal(self.radii.recip()) * self.axes.transpose()
@@ -163,7 +163,7 @@ macro_rules! slc_impl {
             }
         }
 
-        /// The bounding spheroid of a GGX VPL at `q` (002 eq. 13–15): semi-axes
+        /// The bounding spheroid of a GGX VPL at `q` ([TH17 eq. 13–15]): semi-axes
         /// ((1 + α²)/(2α)·r, r, r) along ω_u and two perpendicular axes, centre
         /// q + (1 − α²)/(2α)·r·ω_u, where r is [`spheroid_scale`]. `wi` and `n` are unit
         /// with wi·n > 0; α ∈ (0, 1]. At normal incidence (ω_u = n) the axes perpendicular
@@ -191,7 +191,7 @@ macro_rules! slc_impl {
         }
 
         /// The bounding sphere of a diffuse VPL at `q` with unit normal `n` and reflected
-        /// flux Φk (001 eq. 2–3, 002 §6 with 001's offset; see the module documentation):
+        /// flux Φk ([FTH22-supp eq. 2–3], [TH17 §6] with [FTH22-supp]'s offset; see the module documentation):
         /// A = √(Φk/(πδξ)), centre q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
         pub fn diffuse_sphere(q: $v, n: $v, phi_k: $f, delta: $f, xi: $f) -> Sphere {
             let a = random_range(phi_k / $pi, delta, xi);
@@ -199,7 +199,7 @@ macro_rules! slc_impl {
         }
 
         /// The directional bound I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) of a diffuse
-        /// VPL's intensity Φ·max(d·n, 0)/π (001 eq. 7): the intensity whose random range
+        /// VPL's intensity Φ·max(d·n, 0)/π ([FTH22-supp eq. 7]): the intensity whose random range
         /// is the distance from the VPL to its bounding sphere along d.
         pub fn diffuse_intensity_bound(d_dot_n: $f, phi: $f) -> $f {
             let t = d_dot_n + (d_dot_n * d_dot_n + 1.0).sqrt();
@@ -231,7 +231,7 @@ macro_rules! slc_impl {
             Some((t0.min(t1), t0.max(t1)))
         }
 
-        /// Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1 inside the inner
+        /// Equiangular distance sampling (Kulla & Fajardo 2012; [FTH22-supp §2.1] inside the inner
         /// sphere) on [a, b] along a ray whose closest point to the light is at t_c, at
         /// distance h > 0: pdf ∝ 1/(h² + (t − t_c)²). Returns (t, pdf) for uniform u ∈ [0, 1).
         /// The angles θ = atan((t − t_c)/h) stay finite for h → 0 (callers clamp h > 0).
@@ -247,7 +247,7 @@ macro_rules! slc_impl {
             h / ((tb - ta) * (h * h + (t - tc) * (t - tc)))
         }
 
-        /// What tiled culling stores per light (002 §5.2): M = B·S and M·c for the
+        /// What tiled culling stores per light ([TH17 §5.2]): M = B·S and M·c for the
         /// ellipsoid `e` moved to view space by rotation `view` and translation `origin`
         /// (x_view = view·x + origin). A tile's frustum transformed by M meets the unit
         /// sphere about M·c exactly when the frustum meets the ellipsoid.
@@ -276,7 +276,7 @@ macro_rules! slc_impl {
             d.length_squared() <= 1.0
         }
 
-        /// The conservative ellipsoid–frustum test of tiled culling (002 §5, Modified
+        /// The conservative ellipsoid–frustum test of tiled culling ([TH17 §5], Modified
         /// HalfZ's sphere–AABB form): the frustum part's corners transformed by M = B·S
         /// (from [`cull_transform`]), their AABB, and the unit sphere about M·c. Never
         /// culls an ellipsoid that meets the frustum part (the AABB of the transformed
@@ -292,7 +292,7 @@ macro_rules! slc_impl {
             unit_sphere_hits_aabb(mc, lo, hi)
         }
 
-        /// The test-space rotation B (002 eq. 17) for a stretching matrix S: with
+        /// The test-space rotation B ([TH17 eq. 17]) for a stretching matrix S: with
         /// b_x = S·x̂, b_y = S·ŷ, b_z = b_x × b_y, its rows are an orthonormal frame whose
         /// third row is b_z/|b_z|, so that B·S keeps view-space depth planes (z = const)
         /// perpendicular to z; the first row follows the longer of b_x, b_y.
@@ -327,7 +327,7 @@ pub use reference::*;
 /// The exact radiant intensity a GGX VPL reflects towards ω_o (tangent frame, normal +Z):
 /// Φ·f(ω_i, ω_o)·max(ω_o·n, 0) with f the Cook–Torrance GGX BRDF (height-correlated
 /// Smith G2, Fresnel `fresnel(cos θ_h)`) — the quantity whose random range the spheroid
-/// bounds (002 eq. 4–6). For tests and reference integrators.
+/// bounds ([TH17 eq. 4–6]). For tests and reference integrators.
 pub fn ggx_vpl_intensity(phi: f64, wi: glam::DVec3, wo: glam::DVec3, alpha: f64, fresnel: &dyn Fn(f64) -> f64) -> f64 {
     if wi.z <= 0.0 || wo.z <= 0.0 {
         return 0.0;

@@ -38,7 +38,7 @@ fn srbf12_is_partition_of_unity() {
     }
 }
 
-/// The 9-lobe hemisphere set reproduces the seed's table (4 decimals printed,
+/// The 9-lobe hemisphere set reproduces Roughton's table (4 decimals printed,
 /// so 1e-4) and its sum over the upper hemisphere lies in [0.837, 1] (math.md).
 #[test]
 fn srbf9_matches_seed_table() {
@@ -73,7 +73,7 @@ fn srbf9_matches_seed_table() {
 
 #[test]
 fn srbf_lobe_profile() {
-    // 0.7·½c² + 0.3·⅚c⁴ (seed eq. 8.3), zero below the horizon.
+    // 0.7·½c² + 0.3·⅚c⁴ ([Roughton19 eq. 8.3]), zero below the horizon.
     for c in [0.0, 0.3, 0.7, 1.0] {
         assert!((srbf_lobe(c) - (0.7 * 0.5 * c * c + 0.3 * 5.0 / 6.0 * c.powi(4))).abs() < 1e-15);
     }
@@ -218,7 +218,7 @@ fn ad_gram_quadrature_error_is_reported() {
 /// fixed per entry, so each of its entries is the physical entry times G1(v)² (an identity:
 /// the same samples, the same horizon test). Tolerance 1e-12 relative: the per-sample
 /// weights are computed by different products (rounding ~1e-16 each) and summed over 512
-/// samples. Mutations tried: the seed weight's G1 dropped (G2 only) — fails at every n·v < 1.
+/// samples. Mutations tried: Roughton's weight's G1 dropped (G2 only) — fails at every n·v < 1.
 #[test]
 fn appendix_c_lut_entries_are_the_physical_ones_times_g1_squared() {
     use sbf::ggx::{self, Convention};

@@ -123,7 +123,7 @@ fn sh_specular_of_constant_radiance_is_the_split_sum() {
 /// same approximations, lobe by lobe (SG: the ASG warp per light lobe; AD: Listing 8.1's
 /// fit with the Listing 8.2 table) — this checks that the probe shades with its own lobes,
 /// frame and Fresnel; how close the approximations come to the GGX integral is measured by
-/// `probes` (seed 004 App. C). Error model: f32 rounding of the runtime, the WGSL parity
+/// `probes` ([Roughton19 App. C]). Error model: f32 rounding of the runtime, the WGSL parity
 /// bar 1e-4 × Σ|c_i·s_i| (the magnitude of the sum's terms). Mutations tried: f0 passed as
 /// f90 (SG and AD) fails; the SG lobes' sharpness 6 → 5 fails.
 #[test]

@@ -38,7 +38,7 @@ fn batch(basis: &dyn Basis, samples: &[RadianceSample]) -> DMatrix<f64> {
 }
 
 /// Progressive LS approaches batch LS on the same samples as the count grows
-/// (seed Fig. 7.8). Bars: 5% at 512 samples, 1% at 8192 (this smooth sky converges
+/// ([Roughton19 Fig. 7.8]). Bars: 5% at 512 samples, 1% at 8192 (this smooth sky converges
 /// faster than the probes; the five-probe acceptance test is in tests/).
 #[test]
 fn progressive_converges_to_batch_ls() {
@@ -56,7 +56,7 @@ fn progressive_converges_to_batch_ls() {
     }
 }
 
-/// Hammersley consumed in index order breaks the encoder (seed Fig. 7.6): same
+/// Hammersley consumed in index order breaks the encoder ([Roughton19 Fig. 7.6]): same
 /// point set quality as a Halton run of equal size (batch LS agrees), clearly larger
 /// progressive error.
 #[test]
@@ -146,7 +146,7 @@ fn mirrored_zero_samples() {
 }
 
 /// Non-negative clamp keeps every amplitude ≥ 0; naive projection and the public
-/// running average are worse than LS on this sky, as the seed reports for Wells.
+/// running average are worse than LS on this sky, as [Roughton19] reports for Wells.
 #[test]
 fn variants_behave() {
     let map = sky_map();
@@ -166,7 +166,7 @@ fn variants_behave() {
     assert!(r_naive > r_ls && r_ra > r_ls, "naive and running average must be worse than LS");
 }
 
-/// The update equations of the module docs (seed §7.3), written out again here as an
+/// The update equations of the module docs ([Roughton19 §7.3]), written out again here as an
 /// independent oracle: s = w/W; Δ = f − Σ b_j B_j; I_i ← I_i + s(B_i² − I_i); Ī_i by the
 /// chosen denominator; b_i ← b_i + α·s·B_i·Δ/Ī_i, clamped at 0 for NNLS; Gauss–Seidel
 /// updates Δ after each lobe, Jacobi keeps the Δ from before any lobe moved.

@@ -1,4 +1,4 @@
-//! Projection matrices (seed 004 §7.4) against closed forms and direct quadrature.
+//! Projection matrices ([Roughton19 §7.4]) against closed forms and direct quadrature.
 mod common;
 
 use sbf::ggx;

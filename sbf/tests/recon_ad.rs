@@ -1,4 +1,4 @@
-//! Ambient Dice SRBF irradiance: seed eq. 8.11/8.13 against an independent
+//! Ambient Dice SRBF irradiance: [Roughton19 eq. 8.11]/8.13 against an independent
 //! quadrature, the quadratic fit (8.14), continuity, and the constant-radiance identity.
 mod common;
 
@@ -46,7 +46,7 @@ fn oracle(theta: f64) -> f64 {
     total
 }
 
-/// The seed's eq. 8.13 (θ < π/2) and eq. 8.11 (θ ≥ π/2) exactly as printed in our
+/// Roughton's eq. 8.13 (θ < π/2) and eq. 8.11 (θ ≥ π/2) exactly as printed in our
 /// copy of the seed (the arctangent simplified to π/4 − θ/2, an identity).
 fn seed_as_printed(t: f64) -> f64 {
     let (s, c) = t.sin_cos();
@@ -76,7 +76,7 @@ fn seed_as_printed(t: f64) -> f64 {
 }
 
 /// The analytic lobe irradiance equals the independent quadrature to 1e-6
-/// (acceptance) across θ ∈ [0, π]; measured agreement is ~1e-16. The seed's printed
+/// (acceptance) across θ ∈ [0, π]; measured agreement is ~1e-16. Roughton's printed
 /// closed forms are measured too: they deviate by ~2.0e-3 between the anchors
 /// θ = 0, π/2, π (documented in `sbf::recon::ambient_dice`).
 #[test]
@@ -88,7 +88,7 @@ fn analytic_lobe_irradiance_matches_quadrature() {
         worst = worst.max((lobe_irradiance(theta) - q).abs());
         seed_worst = seed_worst.max((seed_as_printed(theta) - q).abs());
     }
-    println!("max |quartic − quadrature| = {worst:.2e}; max |seed eq. 8.11/8.13 as printed − quadrature| = {seed_worst:.2e}");
+    println!("max |quartic − quadrature| = {worst:.2e}; max |[Roughton19 eq. 8.11]/8.13 as printed − quadrature| = {seed_worst:.2e}");
     assert!(worst < 1e-6, "{worst:e}");
     assert!(seed_worst > 1e-3 && seed_worst < 3e-3, "the printed formula's known deviation changed: {seed_worst:e}");
     for theta in [0.0, 0.5 * PI, PI] {
@@ -99,8 +99,8 @@ fn analytic_lobe_irradiance_matches_quadrature() {
     assert!(lobe_irradiance(PI).abs() < 1e-15);
 }
 
-/// θ = π/2 is where the seed's two printed closed forms (eq. 8.13 below, 8.11 above) hand
-/// over: they must meet there in value and slope — an identity of the seed's formulas that
+/// θ = π/2 is where Roughton's two printed closed forms (eq. 8.13 below, 8.11 above) hand
+/// over: they must meet there in value and slope — an identity of Roughton's formulas that
 /// a transcription error breaks. And the quartic's slope there, dE/dθ = −sinθ·dE/dc =
 /// −31/240 at c = 0, must equal the central difference of the independent quadrature
 /// (error model: O(h²·E‴) ≈ 1e-9 at h = 1e-4, plus 2·1e-13/h of quadrature noise; bar 1e-7).
@@ -120,7 +120,7 @@ fn closed_forms_hand_over_at_half_pi() {
     assert!((quartic_slope - oracle_slope).abs() < 1e-7, "quartic slope {quartic_slope} vs quadrature {oracle_slope}");
 }
 
-/// Quadratic fit error vs the analytic integral over c = cos θ ∈ [−1, 1]: the seed's
+/// Quadratic fit error vs the analytic integral over c = cos θ ∈ [−1, 1]: Roughton's
 /// minimax quadratic (our default) and Listing 8.1's constants stay within 1e-3
 /// (acceptance); eq. 8.14 as printed reaches 1.22e-3; and a
 /// least-squares quadratic on a uniform c grid is printed for comparison (fitgen will

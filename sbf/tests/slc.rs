@@ -1,4 +1,4 @@
-//! Stochastic light culling math (seeds 000–002) against brute force and closed forms:
+//! Stochastic light culling math ([TH17; TH17-supp; FTH22-supp]) against brute force and closed forms:
 //! the bounds are bounds (≥ 10⁵ outgoing directions per configuration), the spheroid is
 //! the paper's bounding surface, the diffuse sphere's offset, maximum Fresnel, G1_dist,
 //! the stretching and test-space matrices, and unbiasedness of the culled estimate.
@@ -77,7 +77,7 @@ fn ggx_spheroid_contains_the_isosurface() {
     println!("worst normalised radius² reached over all configurations: {worst:.4}");
 }
 
-/// The spheroid is the bounding surface s(ω_o) = r√(πD(cos θ/2)) (002 eq. 12 = eq. 13–15,
+/// The spheroid is the bounding surface s(ω_o) = r√(πD(cos θ/2)) ([TH17 eq. 12] = eq. 13–15,
 /// Appendix A): points q + s(θ)·(cos θ ω_u + sin θ ω_v) lie on it (|normalised|² = 1 to
 /// 1e-9), and its volume 4πr_u r²/3 equals ∫ s³/3 dω (2000-node Gauss–Legendre in
 /// cos θ: quadrature error far below the 1e-6 bar for α ≥ 0.05). And the construction is
@@ -126,10 +126,10 @@ fn spheroid_is_the_papers_bounding_surface_and_tight() {
 }
 
 /// Diffuse VPL sphere: the Lambert isosurface l(d) = A√(max(d·n, 0)) lies inside the sphere
-/// of 001 eq. 2–3 and touches it (max normalised distance 1 within 1e-4 on 10⁵
-/// directions); the sphere with 002 §6's offset (1/3)^{1/4} misses the isosurface near the
+/// of [FTH22-supp eq. 2–3] and touches it (max normalised distance 1 within 1e-4 on 10⁵
+/// directions); the sphere with [TH17 §6]'s offset (1/3)^{1/4} misses the isosurface near the
 /// VPL (the VPL itself lies outside it) — 001 is right. The directional bound I_max(d)
-/// (001 eq. 7) turns into exactly the distance to the sphere along d, and bounds the
+/// ([FTH22-supp eq. 7]) turns into exactly the distance to the sphere along d, and bounds the
 /// true intensity.
 #[test]
 fn diffuse_sphere_bounds_the_lambert_isosurface() {
@@ -166,7 +166,7 @@ fn diffuse_sphere_bounds_the_lambert_isosurface() {
     }
 }
 
-/// Maximum Fresnel (000 eq. 1–6) is the maximum over the outgoing hemisphere (2·10⁵
+/// Maximum Fresnel ([TH17-supp eq. 1–6]) is the maximum over the outgoing hemisphere (2·10⁵
 /// directions; brute force ≤ F_max, and F_max − brute ≤ 0.02·F_max: the grid's grazing
 /// directions come within ~0.005 rad of θ_h^max), for Schlick and for dielectrics inside
 /// and outside the monotonic range (η = 0.2, 5: quasiconvex, where F(1) can win).
@@ -194,7 +194,7 @@ fn maximum_fresnel_is_the_maximum() {
     assert_eq!(slc::dielectric_fresnel(0.5, 0.1), 1.0, "total internal reflection");
 }
 
-/// G1_dist (002 eq. 8) equals its definition |cos_i|/∫D(m·n)max(ω_i·m, 0)dm (512 × 1024
+/// G1_dist ([TH17 eq. 8]) equals its definition |cos_i|/∫D(m·n)max(ω_i·m, 0)dm (512 × 1024
 /// Gauss product over the hemisphere; error < 1e-6 for α ≥ 0.1) and sbf's Smith G1.
 #[test]
 fn g1_dist_matches_its_definition() {
@@ -211,7 +211,7 @@ fn g1_dist_matches_its_definition() {
     }
 }
 
-/// S (002 eq. 16) maps the spheroid onto a unit sphere; B (eq. 17) is a rotation (both of
+/// S ([TH17 eq. 16]) maps the spheroid onto a unit sphere; B (eq. 17) is a rotation (both of
 /// its branches) that keeps depth planes perpendicular to z: (B·S)⁻ᵀẑ ∥ ẑ. The f32
 /// runtime twins agree with the f64 reference to f32 rounding × conditioning.
 #[test]
@@ -337,7 +337,7 @@ fn tile_test_is_conservative() {
     assert!(touched > 20, "the cases should include real intersections");
 }
 
-/// Ellipsoid culling beats sphere culling on glossy VPLs (002 §7, Fig. 9–10): a fixed
+/// Ellipsoid culling beats sphere culling on glossy VPLs ([TH17 §7, Fig. 9]–10): a fixed
 /// scene — a camera looking down −z at a floor y = −1, 256 glossy VPLs on a wall z = −7
 /// facing the camera, lit from (0.3, 0.5, 0.8) so their mirror lobes fall on the floor —
 /// culled per 16 × 16 tile with two HalfZ depth ranges by (a) the GGX spheroid, (b) the

@@ -228,7 +228,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
     Ok(rows)
 }
 
-/// A Markdown table of the rows with the AD/SG cost ratios (seed Table 8.1 compares
+/// A Markdown table of the rows with the AD/SG cost ratios ([Roughton19 Table 8.1] compares
 /// AD9 with SG9 frame times).
 pub fn table(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs, rows: &[Row]) -> String {
     let mut s = format!(
@@ -259,6 +259,7 @@ pub fn table(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs, rows: &[Ro
             s += &format!("\n{b} tables / fits: {:.2} (16 loads per lobe), {:.2} (filtered, 2 fetches)", t / fit, f / fit);
         }
     }
-    s += "\n(seed 004 Table 8.1: frame times AD9 2.30 ms / SG9 3.27 ms = 0.70; above the 1.39 ms no-lightmap base, 0.91/1.88 = 0.48.)\n";
+    s +=
+        "\n([Roughton19 Table 8.1]: frame times AD9 2.30 ms / SG9 3.27 ms = 0.70; above the 1.39 ms no-lightmap base, 0.91/1.88 = 0.48.)\n";
     s
 }

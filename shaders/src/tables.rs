@@ -135,7 +135,7 @@ pub fn lobe_filtered_texture(name: &str, t: &Table) -> TableTexture {
 }
 
 const DFG: &str = "Split-sum GGX table (Karis 2013), luts/dfg.sbflut";
-const AD_SPECULAR: &str = "Ambient Dice specular scale (seed 004 Listing 8.2), luts/ad_specular_2d.sbflut";
+const AD_SPECULAR: &str = "Ambient Dice specular scale ([Roughton19 Listing 8.2]), luts/ad_specular_2d.sbflut";
 
 /// Every committed table in every layout the library reads.
 pub fn all() -> Vec<TableTexture> {

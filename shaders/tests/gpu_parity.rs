@@ -1199,7 +1199,7 @@ fn progressive_parity(lang: Lang) {
     let ad9 = sbf::AmbientDiceSrbf::nine_hemisphere();
     let sh2 = sbf::ShBasis::new(2).unwrap();
     let sh1 = sbf::ShBasis::new(1).unwrap();
-    // 10⁵ texels × 8 samples per configuration: the seed's progressive LS (Gauss–Seidel,
+    // 10⁵ texels × 8 samples per configuration: Roughton's progressive LS (Gauss–Seidel,
     // α = 3, eq. 7.15) on AD12, progressive NNLS on SH L2 (signed basis values, so the
     // clamp is active), and the public running average (Jacobi, α = 1, clamp to the exact
     // mean of Y² = 1/4π for orthonormal SH) on SH L1.

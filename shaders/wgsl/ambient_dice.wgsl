@@ -1,4 +1,4 @@
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -80,7 +80,7 @@ fn ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
 }
 
 // GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
-// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// space): [Roughton19 Listing 8.1]'s fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
 fn ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {

@@ -1,4 +1,4 @@
-// progressive.wgsl — progressive (per-sample) least squares and NNLS (seed 004 §7.3,
+// progressive.wgsl — progressive (per-sample) least squares and NNLS ([Roughton19 §7.3],
 // Listing 7.1, with eq. 7.15's denominator). One call adds one radiance sample with its
 // precomputed basis values b (the caller evaluates its basis; a hemisphere-mirrored
 // solve calls again with the mirrored direction's values and a zero value).
@@ -46,7 +46,7 @@ struct EncoderState {
     samples: u32,
 }
 
-// One progressive-fit step (seed 004 §7.3): adds sample `value` (RGB radiance) with weight
+// One progressive-fit step ([Roughton19 §7.3]): adds sample `value` (RGB radiance) with weight
 // `weight` whose basis functions at the sample direction are b (the first p.lobes used) to
 // `state`, under the update rule and clamping that `p` selects. The host keeps `state`
 // per texel or probe between samples.

@@ -1,4 +1,4 @@
-// slc.wgsl — stochastic light culling for many VPLs (seeds 000–002: Tokuyoshi & Harada,
+// slc.wgsl — stochastic light culling for many VPLs ([TH17; TH17-supp; FTH22-supp]: Tokuyoshi & Harada,
 // Fujieda et al.): one uniform ξ per light decides its random range by Russian roulette;
 // the range is bounded by a sphere (diffuse VPL) or a spheroid (VPL on a GGX
 // microsurface), and culling stores M = B·S and M·c per light so that an ellipsoid–frustum
@@ -6,7 +6,7 @@
 // where its light came from, n is the VPL's unit normal, ξ ∈ (0, 1], δ > 0.
 // CPU twins: sbf::slc::runtime (same names without the slc_ prefix).
 
-// p = min(I/(δl²), 1) (002 eq. 2); 1 at the light.
+// p = min(I/(δl²), 1) ([TH17 eq. 2]); 1 at the light.
 fn slc_acceptance(intensity: f32, delta: f32, l: f32) -> f32 {
     if (l <= 0.0) {
         return 1.0;
@@ -19,7 +19,7 @@ fn slc_acceptance(intensity: f32, delta: f32, l: f32) -> f32 {
 // (Chrome's WGSL compiler), which converts literals without rounding to the largest value.
 const SLC_F32_MAX: f32 = 3.40282346e38;
 
-// l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
+// l_max = √(I/(δξ)) ([TH17 eq. 5]); ∞ (the largest f32) for ξ ≤ 0.
 fn slc_random_range(intensity: f32, delta: f32, xi: f32) -> f32 {
     if (xi <= 0.0) {
         return SLC_F32_MAX;
@@ -27,25 +27,25 @@ fn slc_random_range(intensity: f32, delta: f32, xi: f32) -> f32 {
     return sqrt(max(intensity, 0.0) / (delta * xi));
 }
 
-// L/p if p > ξ, else 0 (002 eq. 3): unbiased over ξ.
+// L/p if p > ξ, else 0 ([TH17 eq. 3]): unbiased over ξ.
 fn slc_culled_estimate(radiance: f32, p: f32, xi: f32) -> f32 {
     return select(0.0, radiance / p, p > xi);
 }
 
-// cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2), as |cos_i|/√(2(1 + s)), s =
+// cos θ_h^max = √((1 − √(1 − cos_i²))/2) ([TH17-supp eq. 2]), as |cos_i|/√(2(1 + s)), s =
 // √(1 − cos_i²) (no cancellation at grazing incidence).
 fn slc_cos_theta_h_max(cos_i: f32) -> f32 {
     let s = sqrt(max(1.0 - cos_i * cos_i, 0.0));
     return abs(cos_i) / sqrt(2.0 * (1.0 + s));
 }
 
-// Maximum Schlick Fresnel over the outgoing hemisphere (000 eq. 1–2).
+// Maximum Schlick Fresnel over the outgoing hemisphere ([TH17-supp eq. 1–2]).
 fn slc_schlick_max(f0: f32, cos_i: f32) -> f32 {
     let m = 1.0 - slc_cos_theta_h_max(cos_i);
     return f0 + (1.0 - f0) * (m * m) * (m * m) * m;
 }
 
-// Unpolarised dielectric Fresnel (000 eq. 3–5); 1 under total internal reflection.
+// Unpolarised dielectric Fresnel ([TH17-supp eq. 3–5]); 1 under total internal reflection.
 fn slc_dielectric_fresnel(eta: f32, cos_h: f32) -> f32 {
     let c = clamp(cos_h, 0.0, 1.0);
     let g2 = eta * eta - (1.0 - c * c);
@@ -59,19 +59,19 @@ fn slc_dielectric_fresnel(eta: f32, cos_h: f32) -> f32 {
     return 0.5 * (perp * perp + par * par);
 }
 
-// Maximum dielectric Fresnel over the outgoing hemisphere (000 eq. 6): the larger end.
+// Maximum dielectric Fresnel over the outgoing hemisphere ([TH17-supp eq. 6]): the larger end.
 fn slc_dielectric_max(eta: f32, cos_i: f32) -> f32 {
     return max(slc_dielectric_fresnel(eta, 1.0), slc_dielectric_fresnel(eta, slc_cos_theta_h_max(cos_i)));
 }
 
-// G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) (002 eq. 8).
+// G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) ([TH17 eq. 8]).
 fn slc_g1_dist(cos_i: f32, alpha: f32) -> f32 {
     let c = abs(cos_i);
     let den = c + sqrt((1.0 - alpha * alpha) * c * c + alpha * alpha);
     return select(0.0, 2.0 * c / den, den > 0.0);
 }
 
-// GGX NDF of cos θ_m (002 eq. 7).
+// GGX NDF of cos θ_m ([TH17 eq. 7]).
 fn slc_ggx_ndf(cos_m: f32, alpha: f32) -> f32 {
     if (cos_m <= 0.0) {
         return 0.0;
@@ -81,7 +81,7 @@ fn slc_ggx_ndf(cos_m: f32, alpha: f32) -> f32 {
     return a2 / (PI * t * t);
 }
 
-// r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
+// r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) ([TH17 eq. 12]).
 fn slc_spheroid_scale(phi: f32, f_max: f32, g1: f32, cos_i: f32, delta: f32, xi: f32) -> f32 {
     if (xi <= 0.0) {
         return SLC_F32_MAX;
@@ -89,7 +89,7 @@ fn slc_spheroid_scale(phi: f32, f_max: f32, g1: f32, cos_i: f32, delta: f32, xi:
     return sqrt(phi * f_max * g1 / (4.0 * PI * delta * xi * abs(cos_i)));
 }
 
-// s = r·√(π·D(cos(θ/2))) (002 eq. 12).
+// s = r·√(π·D(cos(θ/2))) ([TH17 eq. 12]).
 fn slc_bound_surface(theta: f32, r: f32, alpha: f32) -> f32 {
     return r * sqrt(PI * slc_ggx_ndf(cos(0.5 * theta), alpha));
 }
@@ -109,7 +109,7 @@ fn slc_any_orthonormal(v: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(b, sign + v.y * v.y * a, -v.y);
 }
 
-// The GGX VPL's bounding spheroid (002 eq. 13–15): axes ω_u, ω_w × ω_u, ω_w; semi-axes
+// The GGX VPL's bounding spheroid ([TH17 eq. 13–15]): axes ω_u, ω_w × ω_u, ω_w; semi-axes
 // ((1 + α²)/(2α)r, r, r); centre q + (1 − α²)/(2α)·r·ω_u.
 fn slc_ggx_spheroid(q: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, alpha: f32, r: f32) -> SlcEllipsoid {
     let wu = normalize(n * (2.0 * dot(wi, n)) - wi);
@@ -123,7 +123,7 @@ fn slc_ggx_spheroid(q: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, alpha: f32, r: f3
     return SlcEllipsoid(q + wu * ((1.0 - alpha * alpha) / (2.0 * alpha) * r), mat3x3<f32>(wu, wv, ww), vec3<f32>(ru, r, r));
 }
 
-// S = R·diag(1/r)·Rᵀ (002 eq. 16).
+// S = R·diag(1/r)·Rᵀ ([TH17 eq. 16]).
 fn slc_stretching(e: SlcEllipsoid) -> mat3x3<f32> {
     let inv = 1.0 / e.radii;
     let d = mat3x3<f32>(vec3<f32>(inv.x, 0.0, 0.0), vec3<f32>(0.0, inv.y, 0.0), vec3<f32>(0.0, 0.0, inv.z));
@@ -135,7 +135,7 @@ struct SlcSphere {
     radius: f32,
 }
 
-// The diffuse VPL's bounding sphere (001 eq. 2–3): A = √(Φk/(πδξ)), centre
+// The diffuse VPL's bounding sphere ([FTH22-supp eq. 2–3]): A = √(Φk/(πδξ)), centre
 // q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
 fn slc_diffuse_sphere(q: vec3<f32>, n: vec3<f32>, phi_k: f32, delta: f32, xi: f32) -> SlcSphere {
     let a = slc_random_range(phi_k / PI, delta, xi);
@@ -174,7 +174,7 @@ fn slc_equiangular_pdf(tc: f32, h: f32, a: f32, b: f32, t: f32) -> f32 {
     return h / ((tb - ta) * (h * h + (t - tc) * (t - tc)));
 }
 
-// Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1): (t, pdf) for u ∈ [0, 1).
+// Equiangular distance sampling (Kulla & Fajardo 2012; [FTH22-supp §2.1]): (t, pdf) for u ∈ [0, 1).
 fn slc_equiangular_sample(tc: f32, h: f32, a: f32, b: f32, u: f32) -> vec2<f32> {
     let ta = atan2(a - tc, h);
     let tb = atan2(b - tc, h);
@@ -182,13 +182,13 @@ fn slc_equiangular_sample(tc: f32, h: f32, a: f32, b: f32, u: f32) -> vec2<f32> 
     return vec2<f32>(t, slc_equiangular_pdf(tc, h, a, b, t));
 }
 
-// I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) (001 eq. 7).
+// I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) ([FTH22-supp eq. 7]).
 fn slc_diffuse_intensity_bound(d_dot_n: f32, phi: f32) -> f32 {
     let t = d_dot_n + sqrt(d_dot_n * d_dot_n + 1.0);
     return phi * t * t / (3.0 * sqrt(3.0) * PI);
 }
 
-// The test-space rotation B (002 eq. 17).
+// The test-space rotation B ([TH17 eq. 17]).
 fn slc_test_space_rotation(s: mat3x3<f32>) -> mat3x3<f32> {
     let bx = s[0];
     let by = s[1];
@@ -205,7 +205,7 @@ fn slc_test_space_rotation(s: mat3x3<f32>) -> mat3x3<f32> {
     return transpose(mat3x3<f32>(x, y, z));
 }
 
-// What culling stores per light (002 §5.2): M = B·S and M·c in view space
+// What culling stores per light ([TH17 §5.2]): M = B·S and M·c in view space
 // (x_view = view·x + origin).
 struct SlcCullEllipsoid {
     transform: mat3x3<f32>,
@@ -238,7 +238,7 @@ fn slc_unit_sphere_hits_aabb(center: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) ->
     return dot(d, d) <= 1.0;
 }
 
-// The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
+// The conservative ellipsoid–frustum test ([TH17 §5]): the corners transformed by M = B·S,
 // their AABB, the unit sphere about M·c.
 fn slc_ellipsoid_hits_corners(e: SlcCullEllipsoid, corners: array<vec3<f32>, 8>) -> bool {
     var lo = vec3<f32>(SLC_F32_MAX);

@@ -1,4 +1,4 @@
-//! Radiance Ambient Dice → irradiance Ambient Dice through G⁻¹PG⁻¹ (seed 004 §7.4,
+//! Radiance Ambient Dice → irradiance Ambient Dice through G⁻¹PG⁻¹ ([Roughton19 §7.4],
 //! Fig. 7.9) against a direct least-squares fit to the exact irradiance.
 //!
 //!     cargo test --release --test ad_irradiance_projection -- --nocapture
@@ -34,8 +34,8 @@ fn reference_irradiance(src: &LatLongImage, out: LatLong) -> LatLongImage {
 /// The seed (§7.4) quotes "at most around 15% increased RMSE for diffuse" for the
 /// projected irradiance AD relative to a direct fit. Measured here (unweighted RMSE):
 /// ennis 1.083, grace 1.078, pisa 1.288, uffizi 1.111, wells 1.152; mean 1.142.
-/// Bars: the seed's own claims — mean ratio ≤ 1.15 over the five probes, and on Wells
-/// the projected RMSE below the seed's direct-fit figure (0.00964, Fig. 7.9c). Per probe
+/// Bars: Roughton's own claims — mean ratio ≤ 1.15 over the five probes, and on Wells
+/// the projected RMSE below Roughton's direct-fit figure (0.00964, Fig. 7.9c). Per probe
 /// (no ratio bar: pisa's smooth irradiance makes its direct error tiny, so its ratio is
 /// large), an identity: the solid-angle-weighted LS fit on the output grid is the
 /// orthogonal projection in that metric, so for the projected coefficients
@@ -69,7 +69,7 @@ fn projected_irradiance_within_seed_bound() {
         assert!(w_opt <= wd * (1.0 + 1e-9) && w_opt <= wp, "{name}: the grid optimum {w_opt} must not lose to {wd} or {wp}");
         ratios.push(rp / rd);
         if name == "wells" {
-            assert!(rp < 0.00964, "wells: projected {rp} vs the seed's direct fit 0.00964");
+            assert!(rp < 0.00964, "wells: projected {rp} vs Roughton's direct fit 0.00964");
         }
     }
     let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;

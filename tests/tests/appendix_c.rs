@@ -1,11 +1,11 @@
-//! Seed 004 Appendix C on the five probes: radiance, Lambert (E/π) and GGX
+//! [Roughton19 Appendix C] on the five probes: radiance, Lambert (E/π) and GGX
 //! (α = 0.1 … 0.8, normal +Z, view over the upper hemisphere) RMSE for AD9, AD12,
 //! SG9 and SG12 (λ = 6, Vogel spiral on the upper hemisphere), solved by least
-//! squares over the sphere, next to the seed's figures.
+//! squares over the sphere, next to Roughton's figures.
 //!
 //!     cargo test --release --test appendix_c -- --nocapture
 //!
-//! This is the physical pipeline (the GGX integral, F ≡ 1) with sbf alone; the seed's own
+//! This is the physical pipeline (the GGX integral, F ≡ 1) with sbf alone; Roughton's own
 //! conventions, to compare with its printed figures cell by cell, are `probes compare
 //! --reference appendix-c` (test `probes/tests/appendix_c.rs`).
 //!
@@ -13,7 +13,7 @@
 //! d = (t.x, t.z, t.y); the error images are the upper-hemisphere half of a 128×64
 //! lat-long grid (2048 texels), RMSE unweighted over texels and averaged over RGB as
 //! in Probulator. References: exact quadrature over the map's texels for Lambert and
-//! for GGX, with f0 = f90 = 1 (the seed does not state its Fresnel;
+//! for GGX, with f0 = f90 = 1 ([Roughton19] does not state its Fresnel;
 //! white-furnace albedo is the natural reading of its magnitudes).
 
 use sbf::envmap::LatLong;
@@ -104,7 +104,7 @@ fn appendix_c_table() {
                 })
             })
             .collect();
-        println!("\n{name}: RMSE (ours / seed Appendix C)");
+        println!("\n{name}: RMSE (ours / [Roughton19 Appendix C])");
         println!("{:>10} {:>18} {:>18} {:>18} {:>18}", "", "AD9", "AD12", "SG9", "SG12");
         let mut table = vec![[0.0f64; 4]; 7];
         let mut floors = vec![[(0.0f64, 0.0f64); 4]; 5];
@@ -163,7 +163,7 @@ fn appendix_c_table() {
         for row in &table {
             assert!(row.iter().all(|v| v.is_finite()), "{name}: non-finite error");
         }
-        // Agreement with the seed where the setups coincide: radiance within 15% for
+        // Agreement with [Roughton19 App. C] where the setups coincide: radiance within 15% for
         // every basis (grace excepted: its sun is a few texels, resolved differently),
         // Ambient Dice Lambert (eq. 8.14 fit) within 20%.
         for b in 0..4 {
@@ -177,8 +177,8 @@ fn appendix_c_table() {
             assert!((r - 1.0).abs() < 0.2, "{name} AD basis {b}: Lambert ratio {r}");
         }
         // Ambient Dice specular (fit + 2D LUT) stays within 1.6× of the floor for
-        // α ≤ 0.4, where the seed says the fit is good; beyond, the 2D LUT's own error
-        // shows (the seed suggests a 3D LUT; fitgen's issue measures it).
+        // α ≤ 0.4, where [Roughton19] says the fit is good; beyond, the 2D LUT's own error
+        // shows ([Roughton19] suggests a 3D LUT; fitgen's issue measures it).
         for ai in 0..3 {
             for b in 0..2 {
                 let (floor, method) = floors[ai][b];

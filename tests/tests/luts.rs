@@ -1,6 +1,6 @@
 //! fitgen ↔ committed luts/ ↔ sbf: the check passes and catches a changed byte,
 //! sbf samples exactly what fitgen regenerates, DFG against a 1e6-sample integration,
-//! and the re-derived fits beat the seed's constants.
+//! and the re-derived fits beat Roughton's constants.
 
 use sbf::luts::committed;
 use std::path::PathBuf;
@@ -66,7 +66,7 @@ fn sbf_samples_equal_regenerated_values() {
     }
 }
 
-/// The re-derived AD diffuse quadratic beats the seed's eq. 8.14 constants, and the
+/// The re-derived AD diffuse quadratic beats Roughton's eq. 8.14 constants, and the
 /// constants compiled into sbf are the ones the generator derives now.
 #[test]
 fn fits_beat_the_seed() {
@@ -183,7 +183,7 @@ fn manifest_dfg_errors_agree_with_quadrature() {
 }
 
 /// The AD specular LUT's errors in MANIFEST (Listing 8.1 fit × the committed LUT against
-/// ground truth over 8 α × 8 n·v × 48 lobe axes, seed Fig. 8.3's measure) agree with the
+/// ground truth over 8 α × 8 n·v × 48 lobe axes, [Roughton19 Fig. 8.3]'s measure) agree with the
 /// lobe quadrature at n = 128 (fitgen uses n = 64; the LUT's entries come from VNDF Monte
 /// Carlo, so the quadrature is independent of them) within the quadrature's own change
 /// between n = 64 and 128 at those points (+1e-7).

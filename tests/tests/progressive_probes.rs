@@ -1,5 +1,5 @@
 //! Progressive LS/NNLS against batch LS/NNLS on the five bundled probes
-//! (seed 004 Fig. 7.8 and 7.6).
+//! ([Roughton19 Fig. 7.8] and 7.6).
 //!
 //!     cargo test --release --test progressive_probes -- --nocapture
 //! prints the RMSE-vs-samples table quoted in the closing note.
@@ -89,7 +89,7 @@ fn progressive_vs_batch_on_probes() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-/// Hammersley in index order vs Halton (seed Fig. 7.6) on every probe: the batch
+/// Hammersley in index order vs Halton ([Roughton19 Fig. 7.6]) on every probe: the batch
 /// solutions of both point sets agree, the progressive one on Hammersley is worse.
 #[test]
 fn hammersley_gap_on_probes() {

@@ -1,4 +1,4 @@
-//! Adaptive sampling of lightmap texels (seed 004 §3.3–3.4): variable paths per texel,
+//! Adaptive sampling of lightmap texels ([Roughton19 §3.3–3.4]): variable paths per texel,
 //! drawn where the error is.
 //!
 //! A bake starts with `pilot_passes` uniform passes (every texel, every pass). After

@@ -6,7 +6,7 @@
 //! consecutive samples visit each point once — and draws every number from
 //! [`crate::sampling::sequence`]: by default a shuffled, Owen-scrambled Sobol' point per (item, path
 //! vertex, use) indexed by p — the baked point's direction with the guided mixture
-//! choice, and each bounce's BSDF sample and next-event samples (seed 004 §6.2;
+//! choice, and each bounce's BSDF sample and next-event samples ([Roughton19 §6.2];
 //! power-of-two prefixes of passes are nets, the order §7.3.1 asks for). Every random
 //! number depends only on (seed, id, pass), so results are identical for any thread
 //! count and a resumed bake equals an uninterrupted one.

@@ -1,4 +1,4 @@
-//! Camera-based lightmap sampling (seed 004 §3.4.2, after Hillaire 2018): each batch
+//! Camera-based lightmap sampling ([Roughton19 §3.4.2], after Hillaire 2018): each batch
 //! traces paths from the texels a view camera sees — the scene rasterised (GPU, a
 //! jittered projection per batch) into a texel-index target, one path per pixel, so a
 //! texel gets as many samples as pixels it covers (at most `max_per_batch`) and texels

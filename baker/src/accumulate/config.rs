@@ -9,7 +9,7 @@ use sbf::solve::ProgressiveOptions;
 use sbf::Basis;
 
 /// Default sharpness of the hemisphere SG sets (9 and 12 lobes; a bake may choose
-/// another, [`BakeConfig::sg_sharpness`]), "experimentally selected" as in seed 004 §7.2
+/// another, [`BakeConfig::sg_sharpness`]), "experimentally selected" as in [Roughton19 §7.2]
 /// after Pettineo and Neubelt; the same λ = 6 as the `probes` tool's
 /// `sg9h`/`sg12h` and the Appendix C tests. (Probulator's spacing heuristic,
 /// `sbf::layout::sharpness_from_spacing`, is meant for sphere sets: on the 9-lobe
@@ -20,7 +20,7 @@ pub const SG_HEMISPHERE_SHARPNESS: f64 = 6.0;
 /// (Hill's irradiance fit, `sbf::recon::sg`: λ ∈ [2, 64]).
 pub const SG_SHARPNESS_RANGE: (f64, f64) = (2.0, 64.0);
 
-/// Acceleration α of the progressive update for path-traced samples. The seed's α = 3
+/// Acceleration α of the progressive update for path-traced samples. Roughton's α = 3
 /// (sbf's default, tuned on noise-free map samples) amplifies Monte Carlo noise: on the
 /// built-in scene at 256 samples per texel, AD9 progressive NNLS with α = 3 has 1.69×
 /// the irradiance RMSE of a batch NNLS fit of the same samples, α = 2 1.35×, α = 1
@@ -54,7 +54,7 @@ impl BasisKind {
         Self::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).unwrap_or("?")
     }
     /// The sbf basis in tangent space (hemisphere lobes for SG, of sharpness
-    /// `sg_sharpness`; the seed's 9-lobe set for AD9). A bake's: [`BakeConfig::basis`].
+    /// `sg_sharpness`; Roughton's 9-lobe set for AD9). A bake's: [`BakeConfig::basis`].
     pub fn basis_with(self, sg_sharpness: f64) -> Box<dyn Basis + Send + Sync> {
         match self {
             BasisKind::ShL1 => Box::new(sbf::ShBasis::new(1).expect("order 1")),
@@ -93,7 +93,7 @@ impl BasisKind {
     }
     /// E/π at the tangent-frame normal +Z from the lobes' RGB values `c` — each family's
     /// Lambert runtime: SH's band factors (Ramamoorthi & Hanrahan 2001), SG by Hill's fit
-    /// at sharpness `sg_sharpness`, AD by the minimax quadratic per lobe (seed 004 §8.3).
+    /// at sharpness `sg_sharpness`, AD by the minimax quadratic per lobe ([Roughton19 §8.3]).
     pub fn irradiance_at_normal(self, c: &[DVec3], sg_sharpness: f64) -> DVec3 {
         self.irradiance_at(c, DVec3::Z, sg_sharpness)
     }
@@ -132,7 +132,7 @@ impl BasisKind {
     }
 }
 
-/// Least squares or non-negative least squares (progressive, seed §7.3).
+/// Least squares or non-negative least squares (progressive, [Roughton19 §7.3]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Solver {
     Ls,
@@ -178,7 +178,7 @@ pub struct BakeConfig {
 }
 
 /// How the GPU runs a pass: one thread per texel through whole paths, or breadth first
-/// (seed 004 §3.1, §5.1; [`crate::gpu::wavefront`]). Both run the same estimator on the same
+/// ([Roughton19 §3.1, §5.1]; [`crate::gpu::wavefront`]). Both run the same estimator on the same
 /// sample numbers, so the choice changes the time, not the bake.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Pipeline {
@@ -294,7 +294,7 @@ impl BakeConfig {
     /// (NNLS or LS by the solver); SH by the running Monte Carlo projection
     /// (`sbf::solve::Denominator::Projection`: its least-squares fit, unbiased at every
     /// pass). Sphere bases on texels see only the upper hemisphere, so mirrored zero samples
-    /// pin the lower half (seed §7.3's hemisphere handling); probes sample the whole sphere.
+    /// pin the lower half ([Roughton19 §7.3]'s hemisphere handling); probes sample the whole sphere.
     /// NNLS applies only to bases whose functions are non-negative (SG, Ambient Dice): SH
     /// coefficients of a non-negative signal are legitimately negative
     /// ([`BasisKind::non_negative`]).

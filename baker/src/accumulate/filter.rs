@@ -1,4 +1,4 @@
-//! Filtered gather-based accumulation (seed 004 §3.2, Listings 3.1–3.2).
+//! Filtered gather-based accumulation ([Roughton19 §3.2], Listings 3.1–3.2).
 //!
 //! Every sample has a continuous position in the atlas: the sub-texel position its baked
 //! point was rasterised at ([`crate::layout::lightmap::SUBSAMPLES`], a 4 × 4 grid per texel). With a
@@ -85,7 +85,7 @@ pub struct Filter {
     pub radius: f32,
 }
 
-/// The seed's radius (LlamaEngine's 1.5-texel support, footnote 4 of §3.2).
+/// Roughton's radius (LlamaEngine's 1.5-texel support, footnote 4 of §3.2).
 pub const DEFAULT_RADIUS: f32 = 1.5;
 
 impl Filter {

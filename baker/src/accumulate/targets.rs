@@ -40,7 +40,7 @@ pub const TILE: u32 = 8;
 impl Targets {
     /// Every valid texel of a lightmap.
     pub fn lightmap(lm: &Lightmap) -> Targets {
-        // Items in tile order (seed 004 §5.2, eq. 5.2): 8 × 8 texel tiles, row by row
+        // Items in tile order ([Roughton19 §5.2, eq. 5.2]): 8 × 8 texel tiles, row by row
         // within a tile, so that consecutive GPU threads bake a compact block of texels
         // (nearby origins, similar normals) rather than a strip of one row.
         let tiles_per_row = lm.width.div_ceil(TILE as usize) as u32;

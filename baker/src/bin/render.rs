@@ -1,5 +1,5 @@
 //! render: shade a baked scene in real time with the exported runtime — every lightmap
-//! basis side by side — against a path-traced reference of the same quantity (seed 004
+//! basis side by side — against a path-traced reference of the same quantity ([Roughton19]
 //! §8.4.3, Figs. 8.6–8.8, Table 8.1).
 
 #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
@@ -61,7 +61,7 @@ struct Cli {
     sg_sharpness: f64,
     /// Bake (without --bake) and compare indirect light only: the light reaching a surface
     /// straight from an emitter, a delta light or the sky is in neither the lightmap nor
-    /// the reference (seed 004's Fig. 8.6: indirect light from baked lightmaps). With
+    /// the reference ([Roughton19]'s Fig. 8.6: indirect light from baked lightmaps). With
     /// --bake, the bake's own setting (bake.json) is used.
     #[arg(long)]
     indirect_only: bool,

@@ -1,5 +1,5 @@
 //! slc: render single-bounce indirect light from virtual point lights with stochastic
-//! light culling (seeds 000–002), on the GPU or the CPU, beside its brute-force reference.
+//! light culling ([TH17; TH17-supp; FTH22-supp]), on the GPU or the CPU, beside its brute-force reference.
 
 #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
 
@@ -33,13 +33,13 @@ struct Cli {
     #[arg(long)]
     sky: bool,
     /// VPLs from a reflective shadow map of N × N texels per punctual light instead of light
-    /// paths (the seeds' 256: one ray per texel from the light, its hit a VPL with the texel's
+    /// paths (Tokuyoshi & Harada's 256: one ray per texel from the light, its hit a VPL with the texel's
     /// flux; six N × N cube faces for a point light); needs a directional, spot or point
     /// light, and takes the place of --vpls and --sky.
     #[arg(long, value_name = "N")]
     rsm: Option<usize>,
     /// Continue the light paths (or the shadow maps' rays) this many diffuse bounces past
-    /// the first hit, each hit a VPL too: multi-bounce indirect light (0: the seeds'
+    /// the first hit, each hit a VPL too: multi-bounce indirect light (0: Tokuyoshi & Harada's
     /// single-bounce VPLs). Only the Lambert layer reflects on.
     #[arg(long, default_value_t = 0)]
     bounces: usize,
@@ -58,17 +58,17 @@ struct Cli {
     /// discovery rates and frame times side by side.
     #[arg(long)]
     compare_bounds: bool,
-    /// Also time tiled culling (the seeds' Modified HalfZ) against clustered shading (32
-    /// depth slices per tile) on the diffuse VPLs and on them made glossy (seed 002 Table 2),
+    /// Also time tiled culling (Tokuyoshi & Harada's Modified HalfZ) against clustered shading (32
+    /// depth slices per tile) on the diffuse VPLs and on them made glossy ([TH17 Table 2]),
     /// and report each one's culling + shading time, VPLs per pixel and false discovery rate.
     #[arg(long)]
     compare_culling: bool,
     /// With --medium: also scatter this many point lights uniformly through the scene's
-    /// bounds, sharing 4πR² W (R the bounding radius) — seed 001's 2 560-point-light
+    /// bounds, sharing 4πR² W (R the bounding radius) — [FTH22-supp]'s 2 560-point-light
     /// experiment (`--medium … --point-lights 2560`: its false discovery rate image).
     #[arg(long, default_value_t = 0)]
     point_lights: usize,
-    /// The equal-time experiment (seed 000 Fig. 2): render with each of these δ (comma
+    /// The equal-time experiment ([TH17-supp Fig. 2]): render with each of these δ (comma
     /// separated, e.g. 1e-4,3e-4,1e-3,3e-3,1e-2; include --delta) by the spheroid, the
     /// enclosing sphere and the biased range cut, and report each one's error against brute
     /// force at the time the spheroid takes at --delta. Implies --brute.
@@ -84,12 +84,12 @@ struct Cli {
     /// filter joins them (1: off). Unbiased in expectation over VPL sets.
     #[arg(long, default_value_t = 8)]
     interleave: usize,
-    /// The filter joining the subregions: bilateral (the seeds' cross-bilateral filter:
+    /// The filter joining the subregions: bilateral (Tokuyoshi & Harada's cross-bilateral filter:
     /// depth and normal weights, radius --filter-radius) or box (one interleaving period,
     /// box weights, hard surface tests).
     #[arg(long, default_value = "bilateral")]
     filter: String,
-    /// Kernel radius of the bilateral filter in pixels (the seeds': 8); at least half the
+    /// Kernel radius of the bilateral filter in pixels (Tokuyoshi & Harada's: 8); at least half the
     /// interleaving period.
     #[arg(long, default_value_t = 8)]
     filter_radius: usize,

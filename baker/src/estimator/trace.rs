@@ -1,4 +1,4 @@
-//! The path-traced estimator of incoming radiance L_in(x, ω) (seed 004 ch. 6).
+//! The path-traced estimator of incoming radiance L_in(x, ω) ([Roughton19 ch. 6]).
 //!
 //! **At the baked point** (a texel's surface point or a probe) one pass draws the point
 //! sample ω_s (uniform over the item's domain, pdf p_s = 1/2π for texels, 1/4π for
@@ -19,7 +19,7 @@
 //! ([`crate::scene::lights::offset_ray`]) and are aimed and measured from it.
 //!
 //! **Validity**: a point sample whose first hit is the back face of a single-sided
-//! surface is rejected (the baked point is inside geometry, seed 003's valid-sample
+//! surface is rejected (the baked point is inside geometry, [HWRTL]'s valid-sample
 //! count); the caller counts it.
 
 use crate::sampling::environment::EnvSampler;
@@ -47,7 +47,7 @@ pub struct Tracer<'a> {
     /// Indirect light only: what reaches the baked point (or the reference's visible
     /// point) straight from an emitter, a delta light or the sky is left out — its light
     /// samples and the first segment's emitter and sky hits — as the thesis' Fig. 8.6 bakes
-    /// (seed 004 §8.4.3: "indirect light from baked lightmaps").
+    /// ([Roughton19 §8.4.3]: "indirect light from baked lightmaps").
     pub indirect_only: bool,
     /// Some material has an alpha mask: rays pass through its holes.
     masked: bool,

@@ -54,7 +54,7 @@ pub struct GpuBake<'g> {
     pub(crate) filter: Option<crate::gpu::filter::FilterGpu>,
 }
 
-/// Items per dispatch (seed 004 §3.4.1, frame-time load balancing): a pass is split into
+/// Items per dispatch ([Roughton19 §3.4.1], frame-time load balancing): a pass is split into
 /// dispatches of `chunk` items, and `chunk` follows N ← N·T_target/T (eq. 3.1–3.2) from
 /// the measured time per dispatch, so every dispatch stays near the target whatever the
 /// atlas size — far below driver watchdogs. Measured (one wait) at passes 0, 1, 2, 4, …,

@@ -1,4 +1,4 @@
-//! Filtered gather-based accumulation on the GPU (seed 004 §3.2; `wgsl/filter_gather.wgsl`, `wgsl/filter_bindings.wgsl`): the
+//! Filtered gather-based accumulation on the GPU ([Roughton19 §3.2]; `wgsl/filter_gather.wgsl`, `wgsl/filter_bindings.wgsl`): the
 //! record buffer the bake kernel writes (one record per item and pass of a dispatch), the
 //! gather targets' encoder states and weighted moments, and the gather pass recorded after
 //! each dispatch's last range. The CPU twin is [`crate::accumulate::filter::gather_batch`].

@@ -1,5 +1,5 @@
 //! A bake split across several GPUs of one host (the thesis' pipeline is
-//! designed per device, seed 004 §3.4).
+//! designed per device, [Roughton19 §3.4]).
 //!
 //! The targets (texels or probes) are dealt out in blocks of consecutive items, block b to
 //! device b mod N (interleaved, so every device gets a like share of bright and dark, simple

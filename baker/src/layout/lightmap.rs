@@ -1,4 +1,4 @@
-//! Lightmap layout: charts, packing, and per-texel sample points (seed 004 ch. 4).
+//! Lightmap layout: charts, packing, and per-texel sample points ([Roughton19 ch. 4]).
 //!
 //! Charts: a mesh with its own lightmap UVs (glTF TEXCOORD_1) becomes one square chart
 //! holding its UV square at the requested texel density. The other lightmapped meshes
@@ -104,7 +104,7 @@ pub struct Lightmap {
     /// The mesh of every chart (TEXCOORD_1 squares and generated charts), by the id
     /// stored in [`Texel::chart`].
     pub chart_meshes: Vec<usize>,
-    /// Per texel (row-major), the chart its filtered gather belongs to (seed 004 §3.2:
+    /// Per texel (row-major), the chart its filtered gather belongs to ([Roughton19 §3.2]:
     /// texels a chart's triangles overlap but whose 16 sub-positions all miss): a valid
     /// texel's [`Texel::chart`]; an uncovered texel that some triangle overlaps by more
     /// than [`TOUCH_EPSILON`], the first such triangle's chart; [`NO_CHART`] otherwise.

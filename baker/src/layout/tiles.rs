@@ -1,8 +1,8 @@
-//! The tile format of texel indices (seed 004 §5.2, eqs. 5.2–5.3): an atlas cut into
+//! The tile format of texel indices ([Roughton19 §5.2, eqs. 5.2–5.3]): an atlas cut into
 //! square tiles of 2^log2_n texels a side, row by row within a tile, so consecutive items
 //! are a compact block of texels. The WGSL twin is `gpu/prims/tile.wgsl`.
 
-/// Tile-format index of texel (x, y) (seed 004 eq. 5.2): tiles of 2^log2_n texels a side,
+/// Tile-format index of texel (x, y) ([Roughton19 eq. 5.2]): tiles of 2^log2_n texels a side,
 /// `tiles_per_row` = ⌈width / n⌉.
 pub fn tile_index(x: u32, y: u32, log2_n: u32, tiles_per_row: u32) -> u32 {
     let n = 1u32 << log2_n;

@@ -171,7 +171,7 @@ pub fn tonemap(width: usize, height: usize, v: &[f32], exposure: f32) -> image::
 }
 
 /// A rate in [0, 1] per pixel as hue (blue 0 → red 1, through cyan, green and yellow) with
-/// the brightness of `weight` / its maximum — 002 Fig. 9's false-discovery picture.
+/// the brightness of `weight` / its maximum — [TH17 Fig. 9]'s false-discovery picture.
 pub fn heat(width: usize, height: usize, rate: &[f32], weight: &[f32]) -> image::RgbImage {
     let top = weight.iter().copied().filter(|w| w.is_finite()).fold(0.0f32, f32::max);
     image::RgbImage::from_fn(width as u32, height as u32, |x, y| {

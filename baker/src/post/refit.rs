@@ -1,6 +1,6 @@
 //! The irradiance-pinned NNLS fit of the non-negative bases (`Solver::NnlsIrradiance`):
 //! the bake encodes SG and Ambient Dice lobes by progressive least squares (an unbiased
-//! estimate of the normal equations' solution b_LS, seed 004 §7.3); per texel and channel
+//! estimate of the normal equations' solution b_LS, [Roughton19 §7.3]); per texel and channel
 //! the moments are m = G b_LS (G the basis' Gram over the domain its samples cover: the
 //! upper hemisphere, or the sphere for sphere bases with the lower half mirrored to zero),
 //! and the non-negative fit of those moments is solved with its E/π at the texel's normal —

@@ -1,4 +1,4 @@
-//! Real-time rendering of baked scenes (seed 004 §8.4.3, Figs. 8.6–8.8, Table 8.1): the
+//! Real-time rendering of baked scenes ([Roughton19 §8.4.3, Figs. 8.6]–8.8, Table 8.1): the
 //! scene rasterised from a camera and every visible lightmapped surface shaded from the
 //! bake — diffuse and GGX specular reflection of the incident light the lightmap encodes
 //! (direct light from the baked lights plus indirect) — with the runtime functions the

@@ -1,6 +1,6 @@
 //! What a comparison writes into its folder: the reference and every configuration as
 //! EXR (linear RGB, alpha = compared) and PNG (one exposure for all, x/(1 + x), sRGB),
-//! the absolute difference from the reference at +3 EV (×8, as seed 004 Fig. 8.8),
+//! the absolute difference from the reference at +3 EV (×8, as [Roughton19 Fig. 8.8]),
 //! results.json (every number) and report.html (the table and the images side by side).
 
 use super::session::{FrameTime, Outcome};

@@ -7,7 +7,7 @@
 //!   normal map ([`Shader::terms_at`]), n_t the perturbed normal in the texel's frame;
 //! - diffuse = albedo · E/π(c, n_t): the plain E/π itself, SH's band factors
 //!   (Ramamoorthi & Hanrahan 2001), SG by Hill's fit (the runtime's c₀), AD by the
-//!   minimax quadratic per lobe (seed 004 §8.3);
+//!   minimax quadratic per lobe ([Roughton19 §8.3]);
 //! - specular (when v_t·z > 0 and the material has F0): the basis's runtime — SH by the
 //!   zonal filter about the dominant direction with the split-sum DFG table, SG by the
 //!   ASG warp (Xu et al. 2013) or the per-lobe tables, AD by Listing 8.1's fit with the

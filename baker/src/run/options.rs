@@ -45,7 +45,7 @@ pub struct Options {
     pub verbose: bool,
     /// Instead of baking: measure GPU rays/s over this many passes and print them.
     pub measure_rays: Option<u64>,
-    /// GPU: target seconds per dispatch (frame-time load balancing, seed 004 §3.4.1); None:
+    /// GPU: target seconds per dispatch (frame-time load balancing, [Roughton19 §3.4.1]); None:
     /// one dispatch per pass.
     pub batch_seconds: Option<f64>,
     /// GPUs to bake on (hardware adapters, one thread and queue each; [`crate::gpu::multi`]).

@@ -48,7 +48,7 @@ fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> Option<Gui
         p *= 2;
     }
     Some(GuidingJson {
-        method: "first-bounce ray guiding (seed 003): 8x8-texel clusters split by chart and normal, 16x16 equal-area concentric bins, quadtree relaxation, mixture with the uniform hemisphere",
+        method: "first-bounce ray guiding ([HWRTL]): 8x8-texel clusters split by chart and normal, 16x16 equal-area concentric bins, quadtree relaxation, mixture with the uniform hemisphere",
         clusters: targets.cluster_count,
         clusters_with_light: learned,
         learn_passes: g.learn_passes,
@@ -312,7 +312,7 @@ fn filter_account(
                 gather_targets: fs.moments.len(),
                 uncovered_targets: uncovered,
                 negative_weight_samples_skipped: fs.negative_weights,
-                method: "gather-based filtered accumulation (seed 004 §3.2): every texel a chart overlaps gathers the samples of its chart within the radius, weight x filter weight into its own encoders and weighted Welford moments; negative filter weights (Mitchell's lobes) are not gathered (the encoders need positive weights)",
+                method: "gather-based filtered accumulation ([Roughton19 §3.2]): every texel a chart overlaps gathers the samples of its chart within the radius, weight x filter weight into its own encoders and weighted Welford moments; negative filter weights (Mitchell's lobes) are not gathered (the encoders need positive weights)",
             })
         }
         _ => None,

@@ -1,4 +1,4 @@
-//! Per-item, per-vertex sample sequences (seed 004 §6.2: a progressive low-discrepancy
+//! Per-item, per-vertex sample sequences ([Roughton19 §6.2]: a progressive low-discrepancy
 //! sequence for every bounce, not only the first direction).
 //!
 //! Every random number of a pass is a pure function of (seed, item id, pass, vertex,

@@ -23,7 +23,7 @@ pub use builtin::{atrium, cornell, dense, disk_light, furnace, museum, room_1m, 
 
 use sbf::glam::{Vec2, Vec3};
 
-/// Material of seed 004 §6.3.1: a Lambert layer and a GGX layer added together.
+/// Material of [Roughton19 §6.3.1]: a Lambert layer and a GGX layer added together.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
     /// Base colour (linear RGB, each in [0, 1]).

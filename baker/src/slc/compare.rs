@@ -1,11 +1,11 @@
-//! The side-by-side comparisons of the `slc` command: the glossy bounds (002 §7, Fig. 9)
-//! and the culling schemes (002 Table 2), each on the run's VPLs with the same ξ.
+//! The side-by-side comparisons of the `slc` command: the glossy bounds ([TH17 §7, Fig. 9])
+//! and the culling schemes ([TH17 Table 2]), each on the run's VPLs with the same ξ.
 
 use super::options::SlcOptions;
 use serde_json::json;
 use std::time::Instant;
 
-/// The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
+/// The glossy bounds side by side ([TH17 §7, Fig. 9]): the same VPLs and ξ culled by the
 /// spheroid, the sphere enclosing it and the TH16 sphere of radius r/α; their times (GPU:
 /// the frame's span by timestamps, `SlcGpu::time_frame`), VPLs per pixel and false
 /// discoveries.
@@ -50,7 +50,7 @@ pub fn bounds(
     Ok(bounds)
 }
 
-/// Seed 002 Table 2's comparison: the culling and shading pass of tiled culling (Modified
+/// [TH17 Table 2]'s comparison: the culling and shading pass of tiled culling (Modified
 /// HalfZ, ours) against clustered shading (32 depth slices per 16 × 16 tile; compute, not
 /// conservative rasterisation) for diffuse VPLs only (spheres) and glossy VPLs only
 /// (spheroids: the run's diffuse VPLs made GGX VPLs of α `glossy_alpha`, F0 0.9, as
@@ -108,6 +108,6 @@ pub fn culling(
     }
     Ok(
         json!({"rows": rows, "timing": if gpu.is_some() { "GPU timestamps of the culling + shading pass (median)" } else { "CPU wall time of culling, shading and the filter (one thread)" },
-        "note": "seed 002 Table 2's comparison with its clustered-shading baseline in compute form; splatting not built"}),
+        "note": "[TH17 Table 2]'s comparison with its clustered-shading baseline in compute form; splatting not built"}),
     )
 }

@@ -1,4 +1,4 @@
-// slc_cull.wgsl — stochastic light culling of VPLs on a view-space G-buffer (seed 002
+// slc_cull.wgsl — stochastic light culling of VPLs on a view-space G-buffer ([TH17]
 // §5–6), the GPU twin of baker::slc::render. Entry points:
 //   slc_prepare     one thread per light: its bound (diffuse sphere or GGX spheroid) as
 //                   the culling transform M = B·S and M·c (the shaders slc module);
@@ -24,13 +24,13 @@ struct SlcParams {
     light_count: u32,
     // Bits 0–1: 0 culled (stochastic falloff), 1 brute force, 2 deterministic range cut
     // (ξ = ½); bits 2–3: glossy VPLs bounded by 0 their spheroid, 1 the sphere enclosing
-    // it, 2 the TH16 sphere (centre at the VPL, radius r/α; 002 §7); bit 4: some receiver
+    // it, 2 the TH16 sphere (centre at the VPL, radius r/α; [TH17 §7]); bit 4: some receiver
     // has a GGX layer (the specular layer is shaded and filtered).
     mode: u32,
     tan_x: f32,
     tan_y: f32,
     delta: f32,
-    // Interleaved sampling (002 §6): I × I subregions, subregion s shading VPLs j ≡ s
+    // Interleaved sampling ([TH17 §6]): I × I subregions, subregion s shading VPLs j ≡ s
     // (mod I²) weighted by I² (1: off).
     interleave: u32,
     // 0: each light's ξ as uploaded; otherwise drawn here from this seed (slc_gpu_xi).
@@ -100,7 +100,7 @@ fn slc_max3(v: vec3<f32>) -> f32 {
 
 // Light j's ξ ∈ (0, 1] of the GPU's own stream: 24 bits of pcg(pcg(seed) ^ j) — a generator
 // unrelated to the CPU's (baker::slc::vpl_xi), so images made with it are an independent
-// estimate of the same expectation (seed 002 eq. 3).
+// estimate of the same expectation ([TH17 eq. 3]).
 fn slc_gpu_xi(seed: u32, j: u32) -> f32 {
     return 1.0 - f32(slc_pcg_hash(slc_pcg_hash(seed) ^ j) >> 8u) / 16777216.0;
 }

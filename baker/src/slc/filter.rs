@@ -1,4 +1,4 @@
-//! The filter that joins the interleaving subregions (seed 002 §6: "the variance is visible
+//! The filter that joins the interleaving subregions ([TH17 §6]: "the variance is visible
 //! as noise … removed using a cross bilateral filter [PSA*04, ED04]"; §7: "cross bilateral
 //! filtering of kernel radius 8"). CPU twin of `slc_filter` in `filter.wgsl`.
 //!
@@ -19,8 +19,8 @@ pub enum Filter {
     /// box weights, hard surface tests: normals within 25°, plane distance within the
     /// window's lateral extent at the pixel.
     Box,
-    /// The seeds' cross-bilateral filter of kernel radius `radius` (002 §7: 8). The seeds
-    /// name the filter and its radius, not its weights; ours: per axis the trapezoid
+    /// Tokuyoshi & Harada's cross-bilateral filter of kernel radius `radius` ([TH17 §7]: 8). The
+    /// papers name the filter and its radius, not its weights; ours: per axis the trapezoid
     /// box_I ∗ box_(2R+2−I) over offsets −R..=R — a box of one interleaving period
     /// convolved with another box, so every residue mod I gets the same total weight and
     /// the subsets recombine exactly on a plane (a Gaussian would weigh some subsets more
@@ -41,7 +41,7 @@ pub const NORMAL_POWER: i32 = 32;
 pub const FILTER_COS: f32 = 0.906_307_8;
 
 impl Filter {
-    /// The seeds' filter: cross-bilateral, kernel radius 8.
+    /// Tokuyoshi & Harada's filter: cross-bilateral, kernel radius 8.
     pub const SEED: Filter = Filter::Bilateral { radius: 8 };
 
     /// `box` or `bilateral`.

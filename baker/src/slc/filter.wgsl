@@ -1,4 +1,4 @@
-// slc/filter.wgsl — the light-culling renderer's filters (seed 002 §6: interleaved sampling
+// slc/filter.wgsl — the light-culling renderer's filters ([TH17 §6]: interleaved sampling
 // recombined, then the cross-bilateral filter), appended to slc/cull.wgsl (its bindings,
 // parameters and G-buffer readers). Entry points:
 //   slc_filter       one thread per pixel: the box filter joining the interleaving
@@ -75,7 +75,7 @@ fn slc_filter(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// One 1D pass of the seeds' cross-bilateral filter (002 §6–7) of radius R =
+// One 1D pass of Tokuyoshi & Harada's cross-bilateral filter ([TH17 §6–7]) of radius R =
 // SP.filter_radius along `axis` for pixel `gid` (CPU twin: baker::slc::filter's
 // bilateral_pass): each layer's weighted mean over the neighbours at offsets −R..=R — from
 // the image on the rows pass, from the rows pass's result on the columns pass — weights the

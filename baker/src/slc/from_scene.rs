@@ -64,7 +64,7 @@ fn splitmix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// The ξ ∈ (0, 1] of light path `path` of the bake seeded `seed` (seed 002 eq. 3: one
+/// The ξ ∈ (0, 1] of light path `path` of the bake seeded `seed` ([TH17 eq. 3]: one
 /// uniform number per light): a hash of (seed, path, this use) — the seed mixed first, so
 /// that no two (seed, path) pairs share a value by any linear relation (a PCG stream per
 /// path seeded by `seed` made ξ depend on about seed + 2·path) — its top 24 bits as the
@@ -259,7 +259,7 @@ pub(super) fn vpls_at_hit(
 }
 
 /// `vpls` and, for `bounces` more diffuse bounces, the VPLs the light reaches next (the
-/// multi-bounce part of the seeds' VPL generation: light paths continued past the first hit):
+/// multi-bounce part of Tokuyoshi & Harada's VPL generation: light paths continued past the first hit):
 /// from each diffuse VPL (arriving flux Φ, reflectance k) a cosine-distributed direction
 /// about its normal (the Lambert lobe's pdf, so the ray carries Φ·k) to the next hit, whose
 /// VPLs (`vpls_at_hit`) carry Φ·k, and from its diffuse VPL on. Only the Lambert layer

@@ -132,7 +132,7 @@ pub fn render(s: &SlcOptions, gpu: Option<&shaders::gpu::Gpu>, log: &mut dyn FnM
         culled.false_positives
     ));
     let valid = write_images(s, &g, &culled)?;
-    // The glossy bounds side by side (002 §7, Fig. 9): the same VPLs and ξ culled by the
+    // The glossy bounds side by side ([TH17 §7, Fig. 9]): the same VPLs and ξ culled by the
     // spheroid, the sphere enclosing it and the TH16 sphere of radius r/α.
     let bounds = if s.compare_bounds && glossy > 0 { crate::slc::compare::bounds(s, gpu, &g, &vpls, log)? } else { serde_json::Map::new() };
     let culling = if s.compare_culling { crate::slc::compare::culling(s, gpu, &g, &vpls, log)? } else { serde_json::Value::Null };
@@ -225,7 +225,7 @@ const BACK_TO_BACK: usize = 100;
 /// The per-stage GPU times as a log line.
 fn stages_line(t: crate::slc::gpu::StageTimes) -> String {
     format!(
-        "slc GPU stages (timestamps; seed 002 Table 1's rows that run here): range determination {:.3} ms, culling + shading {:.3} ms, filter {:.3} ms; the frame on the GPU {:.3} ms",
+        "slc GPU stages (timestamps; [TH17 Table 1]'s rows that run here): range determination {:.3} ms, culling + shading {:.3} ms, filter {:.3} ms; the frame on the GPU {:.3} ms",
         t.bounds * 1e3,
         t.culling_shading * 1e3,
         t.filter * 1e3,

@@ -1,8 +1,8 @@
-//! Stochastic light culling for single scattering in a homogeneous medium (seed 001 and its
-//! supplement): point lights and diffuse VPLs scatter light towards the camera from every
+//! Stochastic light culling for single scattering in a homogeneous medium (Fujieda, Tokuyoshi & Harada 2022,
+//! [FTH22-supp]): point lights and diffuse VPLs scatter light towards the camera from every
 //! point of the camera ray inside a slab of medium. Each light has one ξ; its random range
 //! is bounded by a sphere — the isosurface itself for an isotropic point light, the sphere
-//! of 001 eq. 2–3 for a diffuse VPL, whose acceptance probability is taken from the
+//! of [FTH22-supp eq. 2–3] for a diffuse VPL, whose acceptance probability is taken from the
 //! bound's directional term, P(d, l) = min(I_max(d)/(δl²), 1) (001 supp. eq. 1, 7) so that
 //! the accepted region along a ray is exactly the ray's chord through the sphere. Spheres
 //! are culled per 16 × 16 tile against the tile's frustum from the slab's near depth to

@@ -1,5 +1,5 @@
 // slc_media.wgsl — stochastic light culling for single scattering in a homogeneous slab
-// (seed 001 and its supplement), the GPU twin of baker::slc::media::render. Entry point
+// (Fujieda, Tokuyoshi & Harada 2022, [FTH22-supp]), the GPU twin of baker::slc::media::render. Entry point
 // media_cull_shade: one 16 × 16 workgroup per tile; the tile's medium from the slab's near
 // depth to its farthest surface (workgroup atomics), split in two; lights in chunks of 256,
 // each thread testing one light's sphere against both halves and appending the kept ones to

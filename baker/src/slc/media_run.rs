@@ -1,4 +1,4 @@
-//! The `slc --medium` run: single scattering ([`super::media`], seed 001) from the scene's
+//! The `slc --medium` run: single scattering ([`super::media`], [FTH22-supp]) from the scene's
 //! point lights, `--point-lights N` more scattered through the scene (the supplement's
 //! 2 560-point-light experiment) and the diffuse VPLs, culled and brute force, on the GPU
 //! ([`super::media_gpu`]) or the CPU; its images (radiance, false discovery rate) and numbers.
@@ -119,7 +119,7 @@ pub fn render(
     output::write_exr(&s.out.join("slc_medium_brute.exr"), g.width, g.height, &rgb(&brute.image), &ones)?;
     let scale = output::exposure_scale(&output::luminances(&brute.image));
     output::save_png(&s.out.join("slc_medium.png"), &output::tonemap_rgb(g.width, g.height, &culled.image, scale))?;
-    // The false discovery rate per pixel (001 supplement Fig. 1: blue 0 → red 100 %).
+    // The false discovery rate per pixel ([FTH22-supp Fig. 1]: blue 0 → red 100 %).
     let fdr: Vec<f32> = culled.false_per_pixel.iter().zip(&culled.lights_per_pixel).map(|(f, l)| *f as f32 / (*l).max(1) as f32).collect();
     let kept: Vec<f32> = culled.lights_per_pixel.iter().map(|x| (*x > 0) as u8 as f32).collect();
     output::write_exr(&s.out.join("slc_medium_fdr.exr"), g.width, g.height, &gray(&fdr), &ones)?;

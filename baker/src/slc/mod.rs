@@ -1,9 +1,9 @@
-//! Stochastic light culling of virtual point lights (VPLs) on a G-buffer (seed 002 §5–6,
+//! Stochastic light culling of virtual point lights (VPLs) on a G-buffer ([TH17 §5–6],
 //! the CPU reference of `slc/cull.wgsl`): per light a random range from its one ξ,
-//! bounded by a sphere (diffuse VPL, 001 eq. 2–3) or a spheroid (GGX VPL, 002 eq. 12–15);
+//! bounded by a sphere (diffuse VPL, [FTH22-supp eq. 2–3]) or a spheroid (GGX VPL, [TH17 eq. 12–15]);
 //! per 16 × 16 tile the depth range split in two (Modified HalfZ), each light kept if its
 //! bound meets either part (`sbf::slc::ellipsoid_hits_corners`); per pixel the kept lights
-//! shaded with the stochastic falloff L/p where p > ξ (002 eq. 3). Receivers are Lambertian
+//! shaded with the stochastic falloff L/p where p > ξ ([TH17 eq. 3]). Receivers are Lambertian
 //! (diffuse→diffuse and glossy→diffuse single-bounce light); visibility is not tested (as
 //! in the paper's measurements). Brute force shades every light without falloff (the
 //! reference); the deterministic range cut (the classic biased method) is kept for tests.
@@ -15,7 +15,7 @@
 //! The module tree: this file (VPLs, receivers, bounds, tiled culling and shading on the
 //! CPU), [`from_scene`] (the camera, G-buffer, VPLs and random numbers a scene gives),
 //! [`rsm`] (VPLs from reflective shadow maps), [`compare`] (bounds and culling schemes side by side), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
-//! [`media`] (single scattering, seed 001), [`media_gpu`] (its wgpu twin) and [`media_run`] (the `--medium` run), [`sweep`] (the equal-time experiment), [`harness`]
+//! [`media`] (single scattering, [FTH22-supp]), [`media_gpu`] (its wgpu twin) and [`media_run`] (the `--medium` run), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
 //! Uses: [`crate::scene`] and the image writers of [`crate::output`].
@@ -60,7 +60,7 @@ pub struct Vpl {
 }
 
 /// The GGX specular BRDF f(a, b) (Cook–Torrance with the height-correlated Smith G2 and
-/// Schlick's Fresnel at a·h, per channel of `f0`; 002 eq. 4 for the VPL, the material model
+/// Schlick's Fresnel at a·h, per channel of `f0`; [TH17 eq. 4] for the VPL, the material model
 /// of the bake's path tracer for a receiver) for unit directions `a`, `b` around normal `n`;
 /// zero when either is below the surface. Reciprocal: a·h = b·h.
 pub fn ggx_brdf(n: Vec3, a: Vec3, b: Vec3, alpha: f32, f0: Vec3) -> Vec3 {
@@ -78,7 +78,7 @@ pub fn ggx_brdf(n: Vec3, a: Vec3, b: Vec3, alpha: f32, f0: Vec3) -> Vec3 {
 }
 
 /// The one number per (light, point) that stochastic culling works with for an RGB
-/// intensity: its largest channel. Any scalar keeps the estimate unbiased (002 eq. 3 divides
+/// intensity: its largest channel. Any scalar keeps the estimate unbiased ([TH17 eq. 3] divides
 /// every channel by the same p); the largest channel gives a coloured light the acceptance
 /// its brightest channel needs, and the bounds below bound it channel by channel.
 pub fn culling_intensity(i: Vec3) -> f32 {
@@ -91,7 +91,7 @@ impl Vpl {
         self.diffuse.max_element() > 0.0
     }
 
-    /// Radiant intensity towards unit direction `wo` per channel (002 eq. 4): Φk·cos/π for
+    /// Radiant intensity towards unit direction `wo` per channel ([TH17 eq. 4]): Φk·cos/π for
     /// a diffuse VPL, Φ·f_GGX(ω_i, ω_o)·cos for a glossy one ([`ggx_brdf`]).
     pub fn intensity(&self, wo: Vec3) -> Vec3 {
         let c = wo.dot(self.normal);
@@ -108,10 +108,10 @@ impl Vpl {
     /// parameter δ: the diffuse sphere or the GGX spheroid (view space = bound space);
     /// with `Bound::Sphere` a glossy VPL gets the sphere enclosing its spheroid instead
     /// (centre c, radius r_u), with `Bound::Th16` the sphere at the VPL of radius r/α
-    /// (the maximum of s(ω_o) = r√(πD), 002 eq. 12, πD ≤ 1/α²) — the two comparisons of
-    /// 002 §7 and Fig. 9. Each bounds [`culling_intensity`]: the diffuse sphere of
+    /// (the maximum of s(ω_o) = r√(πD), [TH17 eq. 12], πD ≤ 1/α²) — the two comparisons of
+    /// [TH17 §7 and Fig. 9]. Each bounds [`culling_intensity`]: the diffuse sphere of
     /// max_c Φ_c·k_c, the spheroid of max_c Φ_c·F_max(f0_c) (each channel's intensity is at
-    /// most its Φ_c·F_max,c times the channel-free rest of 002 eq. 12).
+    /// most its Φ_c·F_max,c times the channel-free rest of [TH17 eq. 12]).
     pub fn bound(&self, delta: f32, kind: Bound) -> (Mat3, Vec3) {
         let e = if self.is_diffuse() {
             let s = slc::diffuse_sphere(self.position, self.normal, culling_intensity(self.flux * self.diffuse), delta, self.xi);
@@ -194,12 +194,12 @@ impl GBuffer {
 /// Which bound culls a glossy VPL.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Bound {
-    /// The GGX spheroid (002 eq. 13–15).
+    /// The GGX spheroid ([TH17 eq. 13–15]).
     #[default]
     Tight,
     /// The sphere enclosing the spheroid (centre c, radius r_u).
     Sphere,
-    /// The sphere of TH16 as 002 §7 sets it up: centre at the VPL, radius r/α.
+    /// The sphere of TH16 as [TH17 §7] sets it up: centre at the VPL, radius r/α.
     Th16,
 }
 
@@ -257,7 +257,7 @@ pub struct Render {
 
 impl Render {
     /// The false discovery rate over all pixels: Σ false discoveries / Σ lights shaded
-    /// (002 Fig. 9's quantity, aggregated).
+    /// ([TH17 Fig. 9]'s quantity, aggregated).
     pub fn pixel_fdr(&self) -> f64 {
         let shaded: u64 = self.lights_per_pixel.iter().map(|x| *x as u64).sum();
         self.false_per_pixel.iter().map(|x| *x as u64).sum::<u64>() as f64 / shaded.max(1) as f64
@@ -282,7 +282,7 @@ fn receive(v: &Vpl, s: &Surface) -> (Vec3, Vec3, f32, f32) {
 }
 
 /// Renders `g` lit by `vpls` in `mode` (CPU reference of the GPU kernel). `interleave` I
-/// (1: off) splits the screen into I × I subregions (002 §6): pixel (x, y) belongs to
+/// (1: off) splits the screen into I × I subregions ([TH17 §6]): pixel (x, y) belongs to
 /// subregion s = (x mod I) + I·(y mod I) and shades only the VPLs j ≡ s (mod I²), weighted
 /// by I²; tiles are 16 × 16 pixels of one subregion.
 pub fn render(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interleave: usize) -> Render {
@@ -303,11 +303,11 @@ pub fn render_filtered(g: &GBuffer, vpls: &[Vpl], delta: f32, mode: Mode, interl
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Culling {
     /// Tiled culling with the tile's depth range split in two (Modified HalfZ, Harada et
-    /// al. 2012; seed 002 §5): a light meeting either half is shaded by every pixel of the
+    /// al. 2012; [TH17 §5]): a light meeting either half is shaded by every pixel of the
     /// tile.
     #[default]
     HalfZ,
-    /// Clustered shading (Olsson et al. 2012; seed 002 Table 2's baseline with "32 depth
+    /// Clustered shading (Olsson et al. 2012; [TH17 Table 2]'s baseline with "32 depth
     /// clusters for each 16×16 pixel tile"): the tile's depth range cut into `n` equal
     /// slices (2 < n ≤ 32), each light tested against every slice, and a pixel shades only
     /// the lights whose bound meets its own slice — fewer false discoveries for n bound tests

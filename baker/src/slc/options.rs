@@ -31,23 +31,23 @@ pub struct SlcOptions {
     /// The bound of glossy VPLs (the spheroid, or its enclosing sphere for comparison).
     pub bound: crate::slc::Bound,
     /// Which VPLs: "both", "diffuse" (glossy ones dropped) or "glossy" (every VPL made a
-    /// GGX VPL of α `glossy_alpha` and F0 0.9 — the seed's glossy-only workload).
+    /// GGX VPL of α `glossy_alpha` and F0 0.9 — Tokuyoshi & Harada's glossy-only workload).
     pub kind: String,
     pub glossy_alpha: f32,
     /// Also cull the same VPLs with each glossy bound (spheroid, enclosing sphere, TH16
     /// sphere) and report their false discovery rates and times.
     pub compare_bounds: bool,
     /// Also time tiled culling (Modified HalfZ) against clustered shading (32 depth slices
-    /// per tile) on diffuse-only and glossy-only VPL sets (seed 002 Table 2's comparison).
+    /// per tile) on diffuse-only and glossy-only VPL sets ([TH17 Table 2]'s comparison).
     pub compare_culling: bool,
     /// Also render single scattering in this medium (culled and brute force, on the run's
     /// device).
     pub medium: Option<crate::slc::media::Medium>,
     /// Diffuse bounces after the first hit ([`crate::slc::add_bounces`]; 0: single-bounce
-    /// VPLs as the seeds').
+    /// VPLs as Tokuyoshi & Harada's).
     pub bounces: usize,
     /// Point lights scattered uniformly through the scene's bounds for the medium run
-    /// (seed 001 supplement Fig. 1: 2 560 point lights).
+    /// ([FTH22-supp] supplement Fig. 1: 2 560 point lights).
     pub point_lights: usize,
     /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
     pub sky: bool,

@@ -1,5 +1,5 @@
 //! VPLs from reflective shadow maps (Dachsbacher and Stamminger 2005, "Reflective Shadow
-//! Maps"; seed 002 §7: "A VPL is generated from each texel of a reflective shadow map of
+//! Maps"; [TH17 §7]: "A VPL is generated from each texel of a reflective shadow map of
 //! 256² resolution"): per punctual light a regular grid of rays from the light — what a
 //! rasterised RSM stores per texel: the first surface seen, its normal and material, and
 //! the flux through the texel — each hit becoming a VPL ([`super::from_scene`]'s

@@ -1,9 +1,9 @@
-//! The equal-time experiment (seed 000 §2, Fig. 2: "our ellipsoid-based approach can render
+//! The equal-time experiment ([TH17-supp §2, Fig. 2]: "our ellipsoid-based approach can render
 //! higher-quality images than the sphere-based approach when comparing at the same
 //! computation time"): the variance control δ trades time for noise, so each method is
 //! rendered over a range of δ and its error against brute force (every VPL at every pixel)
 //! read at the time the reference configuration takes. Methods: stochastic culling with the
-//! GGX spheroid (002 §5), with its enclosing sphere, and the deterministic range cut at
+//! GGX spheroid ([TH17 §5]), with its enclosing sphere, and the deterministic range cut at
 //! ξ = ½ (the classic clamped ranges: biased).
 
 use super::{Bound, Filter, GBuffer, Mode, Vpl};

@@ -1,8 +1,8 @@
 //! Ambient Dice (Iwanicki & Sloan 2017) on the icosahedron: geometry, the
-//! cosine-lobe SRBF variant (12 lobes, and the 9-lobe hemisphere set of seed 004
+//! cosine-lobe SRBF variant (12 lobes, and the 9-lobe hemisphere set of [Roughton19]
 //! §8.3.1) and a piecewise-linear variant (used for chroma by YCoCg).
 //!
-//! SRBF lobe (seed 004 eq. 8.3/8.4): B(c) = 0.7·½c² + 0.3·⅚c⁴ = 0.35c² + 0.25c⁴ for
+//! SRBF lobe ([Roughton19 eq. 8.3]/8.4): B(c) = 0.7·½c² + 0.3·⅚c⁴ = 0.35c² + 0.25c⁴ for
 //! c = v·p > 0, else 0. Each of ½c² and ⅚c⁴ sums to 1 over the 12 icosahedron
 //! vertices (a spherical 5-design), so the 12 lobes are a partition of unity.
 
@@ -12,7 +12,7 @@ use crate::error::SbfError;
 use crate::quadrature::Domain;
 use glam::DVec3;
 
-/// Cosine-lobe SRBF profile B(c) = 0.35c² + 0.25c⁴ for c > 0, else 0 (seed eq. 8.3).
+/// Cosine-lobe SRBF profile B(c) = 0.35c² + 0.25c⁴ for c > 0, else 0 ([Roughton19 eq. 8.3]).
 #[inline]
 pub fn srbf_lobe(c: f64) -> f64 {
     if c > 0.0 {
@@ -45,7 +45,7 @@ impl AmbientDiceSrbf {
         AmbientDiceSrbf { lobes: Icosahedron::standard().vertices().to_vec(), domain: Domain::Sphere, name: "AD SRBF 12".into() }
     }
 
-    /// The 9-lobe hemisphere set of seed 004 §8.3.1: the icosahedron with a face
+    /// The 9-lobe hemisphere set of [Roughton19 §8.3.1]: the icosahedron with a face
     /// centred on +Z, minus the three vertices of the bottom face. Fitted on the
     /// upper hemisphere (tangent space, normal +Z).
     pub fn nine_hemisphere() -> Self {

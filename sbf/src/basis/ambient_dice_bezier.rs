@@ -198,7 +198,7 @@ pub struct AmbientDiceYCoCg {
 }
 
 impl AmbientDiceYCoCg {
-    /// The seed's pairing: Bézier luma, linear chroma.
+    /// Roughton's pairing: Bézier luma, linear chroma.
     pub fn new() -> Self {
         Self::default()
     }

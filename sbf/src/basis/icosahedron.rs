@@ -46,13 +46,13 @@ impl Icosahedron {
         Self::from_vertices(raw.map(|v| v.normalize()))
     }
 
-    /// Orientation of seed 004 §8.3.1: one face centred on +Z and its opposite on
-    /// −Z; the first nine vertices (top face, then the two rings) are the seed's
+    /// Orientation of [Roughton19 §8.3.1]: one face centred on +Z and its opposite on
+    /// −Z; the first nine vertices (top face, then the two rings) are Roughton's
     /// hemisphere set v₁…v₉ and the last three form the bottom face.
     ///
     /// Rings are at z = ±√((5 + 2√5)/15) and z = ±√((5 − 2√5)/15) (face-centre to
     /// vertex angles of the icosahedron); azimuths are in steps of 120°, rotated
-    /// so that v₃ lies on +Y, as in the seed's table.
+    /// so that v₃ lies on +Y, as in Roughton's table.
     pub fn face_up() -> Self {
         let s5 = 5f64.sqrt();
         let za = ((5.0 + 2.0 * s5) / 15.0).sqrt();

@@ -6,7 +6,7 @@
 //! | [`ShRotation`] | the (L+1)² block-diagonal rotation of SH coefficients, any order (Ivanic–Ruedenberg) | — | [`sh_rotation`] |
 //! | [`SgBasis`] | N spherical Gaussians, any axes/sharpness, optional constant lobe | sphere | [`sg`] |
 //! | [`Asg`] | anisotropic SG (Xu et al. 2013), evaluation | sphere | [`asg`] |
-//! | [`AmbientDiceSrbf`] | Ambient Dice cosine-lobe SRBF: 12 (icosahedron) or 9 (seed §8.3.1 hemisphere set) | sphere | [`ambient_dice`] |
+//! | [`AmbientDiceSrbf`] | Ambient Dice cosine-lobe SRBF: 12 (icosahedron) or 9 ([Roughton19 §8.3.1] hemisphere set) | sphere | [`ambient_dice`] |
 //! | [`AmbientDiceLinear`] | piecewise-linear (gnomonic barycentric) on the icosahedron, 12 | sphere | [`ambient_dice`] |
 //! | [`AmbientDiceBezier`] | hybrid cubic Bézier, value + 2 derivatives per vertex, 36 | sphere | [`ambient_dice_bezier`] |
 //! | [`AmbientDiceYCoCg`] | Y by Bézier (36) + Co, Cg linear (12 each), colour only | sphere | [`ambient_dice_bezier`] |

@@ -1,4 +1,4 @@
-//! Spherical Gaussians: G(v) = μ·exp(λ(v·p − 1)) (Wang et al. 2009; seed 004 eq. 8.2).
+//! Spherical Gaussians: G(v) = μ·exp(λ(v·p − 1)) (Wang et al. 2009; [Roughton19 eq. 8.2]).
 //!
 //! Closed forms (see `../shared/docs/math.md`), written to stay finite for
 //! λ ∈ [0, 1e4] in f32 and f64:

@@ -17,7 +17,7 @@ pub mod constants {
 /// Raw bytes of luts/dfg.sbflut (split-sum GGX DFG over (n·v, α), 128², RG).
 #[cfg(feature = "lut-dfg")]
 pub static DFG_DATA: &[u8] = include_bytes!("../../../luts/dfg.sbflut");
-/// Raw bytes of luts/ad_specular_2d.sbflut (seed Listing 8.2, 64² over (n·v, α)).
+/// Raw bytes of luts/ad_specular_2d.sbflut ([Roughton19 Listing 8.2], 64² over (n·v, α)).
 #[cfg(feature = "lut-ad-specular-2d")]
 pub static AD_SPECULAR_2D_DATA: &[u8] = include_bytes!("../../../luts/ad_specular_2d.sbflut");
 

@@ -1,5 +1,5 @@
 //! Lambert irradiance and GGX specular from radiance-encoding Ambient Dice SRBF
-//! lobes (seed 004 §8.4).
+//! lobes ([Roughton19 §8.4]).
 //!
 //! Irradiance of one lobe, in E/π units, as a function of c = cos θ, θ the angle
 //! between the lobe axis and the normal, is the quartic
@@ -13,14 +13,14 @@
 //! and Σ over the 12 icosahedron lobes of I(c_i) = 1 (Σc_i = 0, Σc_i² = 4,
 //! Σc_i⁴ = 12/5), the partition of unity carried through the convolution.
 //!
-//! The seed prints a longer closed form (eq. 8.13 for θ < π/2, eq. 8.11 with an
-//! arctangent for θ ≥ π/2). In our copy of the seed it agrees with the quartic at
+//! [Roughton19] prints a longer closed form (eq. 8.13 for θ < π/2, eq. 8.11 with an
+//! arctangent for θ ≥ π/2). In our copy of [Roughton19] it agrees with the quartic at
 //! θ = 0, π/2 and π but deviates by up to 2.0e-3 in between (a test measures it
 //! against an independent quadrature); we use the quartic, which matches that
 //! quadrature to rounding.
 //!
-//! Quadratic fits (c clamped to [−1, 1]): seed eq. 8.14, 0.05981 + 0.12918c + 0.07056c²,
-//! and the constants of seed Listing 8.1, 0.06 + 0.129c + 0.0697c², which are the
+//! Quadratic fits (c clamped to [−1, 1]): [Roughton19 eq. 8.14], 0.05981 + 0.12918c + 0.07056c²,
+//! and the constants of [Roughton19 Listing 8.1], 0.06 + 0.129c + 0.0697c², which are the
 //! minimax quadratic of the quartic to three digits (c⁴ ≈ c² − 1/8, error 1/1536).
 //!
 //! Specular (Listing 8.1): per lobe, a blend between the lobe evaluated in the mirror
@@ -46,9 +46,9 @@ pub fn lobe_irradiance(theta: f64) -> f64 {
     lobe_irradiance_cos(theta.cos())
 }
 
-/// Quadratic fit coefficients of seed eq. 8.14.
+/// Quadratic fit coefficients of [Roughton19 eq. 8.14].
 pub const DIFFUSE_FIT_EQ_8_14: [f64; 3] = [0.05981, 0.12918, 0.07056];
-/// The rounded constants used in seed Listing 8.1.
+/// The rounded constants used in [Roughton19 Listing 8.1].
 pub const DIFFUSE_FIT_LISTING_8_1: [f64; 3] = [0.06, 0.129, 0.0697];
 /// The minimax quadratic of the exact quartic on c ∈ [−1, 1]: replace c⁴ by its
 /// best quadratic approximation c² − 1/8 (Chebyshev: c⁴ − (c² − 1/8) = T₄(c)/8), so
@@ -72,7 +72,7 @@ pub fn irradiance_fit(lobes: &[DVec3], coeffs: &[f64], n: DVec3, p: &[f64; 3]) -
     lobes.iter().zip(coeffs).map(|(l, b)| b * lobe_irradiance_fit(p, l.dot(n))).sum()
 }
 
-/// The eight blend-polynomial parameters of seed Listing 8.1 (`kAmbientDiceParameters`).
+/// The eight blend-polynomial parameters of [Roughton19 Listing 8.1] (`kAmbientDiceParameters`).
 pub const SPECULAR_FIT_LISTING_8_1: [f64; 8] = [
     3.0498910522220495,
     -6.983002509990005,
@@ -174,14 +174,14 @@ pub fn lobe_specular_quadrature(lobe: DVec3, n_dot_v: f64, alpha: f64, n: usize)
     lg::response_from_nodes(lg::RadialLobe::AdSrbf, &lg::nodes(n_dot_v, alpha, n), p)
 }
 
-/// One entry of the Ambient Dice specular LUT (seed Listing 8.2): ground truth for a
+/// One entry of the Ambient Dice specular LUT ([Roughton19 Listing 8.2]): ground truth for a
 /// lobe along the GGX dominant direction, divided by the fit's value there.
 pub fn specular_lut_entry(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     specular_lut_entry_with(n_dot_v, alpha, samples, ggx::Convention::Physical)
 }
 
 /// [`specular_lut_entry`] with the ground truth's sample weight of `convention`
-/// (`AppendixC`: the table the seed printed its figures with).
+/// (`AppendixC`: the table [Roughton19 App. C] printed its figures with).
 pub fn specular_lut_entry_with(n_dot_v: f64, alpha: f64, samples: u32, convention: ggx::Convention) -> [f64; 2] {
     let nv = n_dot_v.clamp(1e-6, 1.0);
     let alpha = alpha.clamp(1e-4, 1.0);

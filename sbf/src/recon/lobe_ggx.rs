@@ -31,7 +31,7 @@ pub enum RadialLobe {
         /// λ.
         sharpness: f64,
     },
-    /// The Ambient Dice cosine-lobe SRBF, 0.35c² + 0.25c⁴ for c > 0 (seed §8.3.1).
+    /// The Ambient Dice cosine-lobe SRBF, 0.35c² + 0.25c⁴ for c > 0 ([Roughton19 §8.3.1]).
     #[cfg(feature = "ambient-dice")]
     AdSrbf,
 }

@@ -1,5 +1,5 @@
 //! Small 2D look-up tables over [0, 1]² with texel-centre sampling, the Ambient
-//! Dice specular LUT of seed 004 Listing 8.2 built from [`super::ambient_dice`], and the
+//! Dice specular LUT of [Roughton19 Listing 8.2] built from [`super::ambient_dice`], and the
 //! cubic B-spline texture filter by four bilinear taps that lightmaps are read with
 //! ([`bspline_taps`]; WGSL twin `lightmap_bicubic_taps`).
 //!

@@ -317,7 +317,7 @@ impl AsgWarp {
     }
 
     /// [`AsgWarp::new`] with the warped lobe's (x, y) axes from `frame(z)` for the reflected
-    /// direction z; x takes the stretched bandwidth λ/(8(n·v)²). Pettineo's code, and the seed's
+    /// direction z; x takes the stretched bandwidth λ/(8(n·v)²). Pettineo's code, and Roughton's
     /// Probulator fork after it, take "any orthonormal basis" about z (Duff et al. 2017's,
     /// in tangent space), which stretches the lobe along the wrong axis away from the
     /// plane of n and z — reproduced by passing that basis.

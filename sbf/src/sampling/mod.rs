@@ -16,7 +16,7 @@
 //! | spherical Fibonacci point set | [`spherical_fibonacci`] | 1/4π (per point 4π/N) | [`spherical_fibonacci_nearest`] |
 //! | GGX visible normals (Heitz 2018) | [`crate::ggx::sample_vndf`] | [`crate::ggx::vndf_pdf`] | — |
 //!
-//! Sequence order matters for the progressive encoder (seed 004 §7.3.1): use
+//! Sequence order matters for the progressive encoder ([Roughton19 §7.3.1]): use
 //! Halton, R2 or the shuffled Sobol' points, not Hammersley in index order.
 
 mod rng;

@@ -23,7 +23,7 @@ pub fn halton2(i: u64) -> [f64; 2] {
 
 /// Point i of the n-point Hammersley set: ((i + ½)/n, φ₂(i)). A *set*: prefixes
 /// are badly distributed (first coordinate sweeps monotonically), which breaks the
-/// progressive encoder when consumed in order (seed 004 Fig. 7.6).
+/// progressive encoder when consumed in order ([Roughton19 Fig. 7.6]).
 pub fn hammersley2(i: u64, n: u64) -> [f64; 2] {
     debug_assert!(i < n);
     [(i as f64 + 0.5) / n as f64, radical_inverse(2, i)]

@@ -13,7 +13,7 @@
 //!   each 2^m-aligned block stays a (t, m, s)-net.
 //! - The index itself is Owen-scrambled (the "shuffle"): the first 2^m shuffled indices
 //!   are one 2^m-aligned block of the sequence, so every power-of-two prefix is still a
-//!   net — the progressive ordering seed 004 §7.3.1 requires — while different seeds
+//!   net — the progressive ordering [Roughton19 §7.3.1] requires — while different seeds
 //!   (items, dimension groups) see decorrelated orders.
 //!
 //! The WGSL twin (the baker's `sobol.wgsl`) computes the same u32 values.

@@ -1,4 +1,4 @@
-//! Batch least squares (seed 004 §7.2, eq. 7.3).
+//! Batch least squares ([Roughton19 §7.2, eq. 7.3]).
 //!
 //! Gram form, G b = m: Cholesky when G is numerically positive definite, otherwise a
 //! pseudo-inverse through the symmetric eigen-decomposition that drops eigenvalues

@@ -7,8 +7,8 @@
 //! | batch least squares, design-matrix form (QR → SVD) | [`solve_design`] | [`lsq`] |
 //! | non-negative least squares (Lawson–Hanson, bounded, explicit status) | [`nnls_gram`], [`nnls_design`] | [`nnls`] |
 //! | NNLS under equality constraints (null-space elimination, LSI → LDP → NNLS; KKT check) | [`nnls_gram_eq`] | [`nnls_eq`] |
-//! | progressive per-sample LS/NNLS (seed 004 §7.3), naive projection, running average | [`ProgressiveEncoder`], [`naive_projection`] | [`progressive`] |
-//! | projection/convolution matrices and basis conversion (seed 004 §7.4) | [`projection_matrix`], [`Conversion`] | [`projection`] |
+//! | progressive per-sample LS/NNLS ([Roughton19 §7.3]), naive projection, running average | [`ProgressiveEncoder`], [`naive_projection`] | [`progressive`] |
+//! | projection/convolution matrices and basis conversion ([Roughton19 §7.4]) | [`projection_matrix`], [`Conversion`] | [`projection`] |
 //!
 //! Samples carry a quadrature weight: the solid angle each represents (4π/N for N
 //! uniform sphere samples, the texel solid angle for a map). Moments are then

@@ -1,5 +1,5 @@
 //! Progressive (per-sample) least squares and non-negative least squares
-//! (seed 004 §7.3, Listing 7.1), plus the naive projection and the "running
+//! ([Roughton19 §7.3, Listing 7.1]), plus the naive projection and the "running
 //! average" found in public tools, for comparison.
 //!
 //! Per sample (direction ω, RGB value f, weight w), with W the running total weight
@@ -23,11 +23,11 @@
 //! Its expectation per unit weight is (1/Ω)(∫B_i(L + L') − (Gb)_i) for uniform ω, so the
 //! stochastic iteration converges to the LS (or, with the clamp, NNLS) fit of L + L' —
 //! the normal equations of a delta light are well defined although its radiance is not
-//! a function (seed 004 §6.1 explains why such lights need explicit sampling).
+//! a function ([Roughton19 §6.1] explains why such lights need explicit sampling).
 //!
 //! **Sample order matters.** The update is a stochastic iteration: consecutive samples
 //! must be decorrelated (Halton, R2, shuffled). A Hammersley set consumed in index
-//! order sweeps one coordinate monotonically and the encoder chases it (seed Fig. 7.6;
+//! order sweeps one coordinate monotonically and the encoder chases it ([Roughton19 Fig. 7.6];
 //! a test shows the error gap).
 //!
 //! The encoder state is exactly what a GPU texel stores: per lobe an RGB amplitude
@@ -96,7 +96,7 @@ impl Real for f64 {
 pub enum Iteration {
     /// Every lobe updated from the residual before the sample's updates.
     Jacobi,
-    /// Each lobe updated from the residual after the lobes before it (the seed's choice).
+    /// Each lobe updated from the residual after the lobes before it (Roughton's choice).
     GaussSeidel,
 }
 
@@ -105,7 +105,7 @@ pub enum Iteration {
 pub enum Denominator {
     /// Eq. 7.15: s + (1 − s)·I_i, blending from the naive 1 to the running ∫B².
     Blend,
-    /// max(I_i, true ∫B_i²): the seed's first mitigation, and the public "running
+    /// max(I_i, true ∫B_i²): Roughton's first mitigation, and the public "running
     /// average" (after Pettineo's SG series, as in Probulator). Values are the exact
     /// ∫B_i² divided by the domain's solid angle (the mean of B_i² per unit weight).
     ClampToTrue(Vec<f64>),
@@ -139,7 +139,7 @@ pub struct ProgressiveOptions {
 }
 
 impl Default for ProgressiveOptions {
-    /// The seed's recommendation: Gauss–Seidel, α = 3, eq. 7.15, no clamp, no mirror.
+    /// Roughton's recommendation: Gauss–Seidel, α = 3, eq. 7.15, no clamp, no mirror.
     fn default() -> Self {
         ProgressiveOptions {
             acceleration: 3.0,
@@ -412,7 +412,7 @@ impl<T: Real> ProgressiveEncoder<T> {
     }
 }
 
-/// Naive projection (Pettineo & Neubelt's "as if orthonormal", seed §7.2 footnote 2):
+/// Naive projection (Pettineo & Neubelt's "as if orthonormal", [Roughton19 §7.2] footnote 2):
 /// b_i = m_i / G_ii, i.e. the Gram matrix replaced by its diagonal.
 pub fn naive_projection(moments: &DMatrix<f64>, gram_diagonal: &[f64]) -> DMatrix<f64> {
     DMatrix::from_fn(moments.nrows(), moments.ncols(), |i, c| moments[(i, c)] / gram_diagonal[i])

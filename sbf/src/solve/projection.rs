@@ -1,4 +1,4 @@
-//! Projection (convolution) matrices and basis conversion (seed 004 §7.4).
+//! Projection (convolution) matrices and basis conversion ([Roughton19 §7.4]).
 //!
 //! For a source basis A, a target basis B and a kernel C(ω, s):
 //!   P_ij = ∫_{D_B} B_i(s) K_j(s) ds,   K_j(s) = ∫ C(ω, s) A_j(ω) dω      (eq. 7.20)

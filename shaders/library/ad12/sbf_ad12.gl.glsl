@@ -40,7 +40,7 @@
 // roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
 // ∫ f·cos = f0·x + f90·y (Karis 2013).
 //
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -182,7 +182,7 @@ vec3 sbf_ad12_irradiance(vec3 c[12], vec3 n) {
 #ifndef SBF_DEFINED_sbf_ad12_specular
 #define SBF_DEFINED_sbf_ad12_specular
 // GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
-// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// space): [Roughton19 Listing 8.1]'s fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
 vec3 sbf_ad12_specular(vec3 c[12], sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {

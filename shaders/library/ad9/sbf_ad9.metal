@@ -36,7 +36,7 @@
 // roughness Filament's DFG is indexed by); x = f0 scale, y = f90 scale of
 // ∫ f·cos = f0·x + f90·y (Karis 2013).
 //
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -80,7 +80,7 @@ constant float3 SBF_AD_SPECULAR_DIFFUSE = float3(0.06f, 0.129f, 0.0697f);
 
 #ifndef SBF_DEFINED_SBF_AD9_AXES
 #define SBF_DEFINED_SBF_AD9_AXES
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 constant array<float3, 9> SBF_AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
 #endif
 

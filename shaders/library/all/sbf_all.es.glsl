@@ -175,7 +175,7 @@
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 //
 // sh_specular.wgsl — GGX specular from SH radiance (bands ≤ 2) by zonal convolution about
-// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as seed Listing 8.2):
+// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as [Roughton19 Listing 8.2]):
 // the lobe of f_r·cos is taken as the zonal SG of sharpness λ = (2/α²)/(4·max(n·v, 1e-4))
 // with unit integral; its zonal ratios g_l/g_0 filter the bands (g₁ = coth λ − 1/λ,
 // g₂ = 1 − 3g₁/λ: the modified spherical Bessel ratios i_l(λ)/i_0(λ)), and the split-sum
@@ -202,7 +202,7 @@
 // Runtime range: λ ≥ 2 for the irradiance fit (below, sbf switches to the exact zonal
 // expansion, which is not in WGSL); every function stays finite for λ > 0.
 //
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -235,7 +235,7 @@
 // Arguments are the textures' values as sampled: the HDR colour and "unit" textures in [0, 1].
 // CPU twin and sources: sbf::recon::engine (decode; the encodes live there too).
 //
-// progressive.wgsl — progressive (per-sample) least squares and NNLS (seed 004 §7.3,
+// progressive.wgsl — progressive (per-sample) least squares and NNLS ([Roughton19 §7.3],
 // Listing 7.1, with eq. 7.15's denominator). One call adds one radiance sample with its
 // precomputed basis values b (the caller evaluates its basis; a hemisphere-mirrored
 // solve calls again with the mirrored direction's values and a zero value).
@@ -252,7 +252,7 @@
 // CPU twins: sbf::solve::ProgressiveEncoder<f32>::update and ::update_projected. The two structs are shared
 // with Rust (shaders::progressive, #[repr(C)] + bytemuck, layout checked against naga).
 //
-// slc.wgsl — stochastic light culling for many VPLs (seeds 000–002: Tokuyoshi & Harada,
+// slc.wgsl — stochastic light culling for many VPLs ([TH17; TH17-supp; FTH22-supp]: Tokuyoshi & Harada,
 // Fujieda et al.): one uniform ξ per light decides its random range by Russian roulette;
 // the range is bounded by a sphere (diffuse VPL) or a spheroid (VPL on a GGX
 // microsurface), and culling stores M = B·S and M·c per light so that an ellipsoid–frustum
@@ -331,7 +331,7 @@ const vec3 SBF_AD12_AXES[12] = vec3[12](vec3(0.8506508, 0.5257311, 0.0), vec3(-0
 
 #ifndef SBF_DEFINED_SBF_AD9_AXES
 #define SBF_DEFINED_SBF_AD9_AXES
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 const vec3 SBF_AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
 #endif
 
@@ -1383,7 +1383,7 @@ vec3 sbf_ad9_irradiance(vec3 c[9], vec3 n) {
 #ifndef SBF_DEFINED_sbf_ad12_specular
 #define SBF_DEFINED_sbf_ad12_specular
 // GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
-// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// space): [Roughton19 Listing 8.1]'s fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
 vec3 sbf_ad12_specular(vec3 c[12], highp sampler2D lut, vec3 n, vec3 v, float alpha, float f0, float f90) {
@@ -1823,7 +1823,7 @@ void sbf_progressive_update_projected(inout SbfEncoderState state, SbfEncoderPar
 
 #ifndef SBF_DEFINED_sbf_progressive_update
 #define SBF_DEFINED_sbf_progressive_update
-// One progressive-fit step (seed 004 §7.3): adds sample `value` (RGB radiance) with weight
+// One progressive-fit step ([Roughton19 §7.3]): adds sample `value` (RGB radiance) with weight
 // `weight` whose basis functions at the sample direction are b (the first p.lobes used) to
 // `state`, under the update rule and clamping that `p` selects. The host keeps `state`
 // per texel or probe between samples.
@@ -1836,7 +1836,7 @@ void sbf_progressive_update(inout SbfEncoderState state, SbfEncoderParams p, flo
 
 #ifndef SBF_DEFINED_sbf_slc_acceptance
 #define SBF_DEFINED_sbf_slc_acceptance
-// p = min(I/(δl²), 1) (002 eq. 2); 1 at the light.
+// p = min(I/(δl²), 1) ([TH17 eq. 2]); 1 at the light.
 float sbf_slc_acceptance(float intensity, float delta, float l) {
     if (l <= 0.0) {
         return 1.0;
@@ -1855,7 +1855,7 @@ const float SBF_SLC_F32_MAX = 3.4028235e38;
 
 #ifndef SBF_DEFINED_sbf_slc_random_range
 #define SBF_DEFINED_sbf_slc_random_range
-// l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
+// l_max = √(I/(δξ)) ([TH17 eq. 5]); ∞ (the largest f32) for ξ ≤ 0.
 float sbf_slc_random_range(float intensity, float delta, float xi) {
     if (xi <= 0.0) {
         return SBF_SLC_F32_MAX;
@@ -1866,7 +1866,7 @@ float sbf_slc_random_range(float intensity, float delta, float xi) {
 
 #ifndef SBF_DEFINED_sbf_slc_culled_estimate
 #define SBF_DEFINED_sbf_slc_culled_estimate
-// L/p if p > ξ, else 0 (002 eq. 3): unbiased over ξ.
+// L/p if p > ξ, else 0 ([TH17 eq. 3]): unbiased over ξ.
 float sbf_slc_culled_estimate(float radiance, float p, float xi) {
     return p > xi ? radiance / p : 0.0;
 }
@@ -1874,7 +1874,7 @@ float sbf_slc_culled_estimate(float radiance, float p, float xi) {
 
 #ifndef SBF_DEFINED_sbf_slc_cos_theta_h_max
 #define SBF_DEFINED_sbf_slc_cos_theta_h_max
-// cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2), as |cos_i|/√(2(1 + s)), s =
+// cos θ_h^max = √((1 − √(1 − cos_i²))/2) ([TH17-supp eq. 2]), as |cos_i|/√(2(1 + s)), s =
 // √(1 − cos_i²) (no cancellation at grazing incidence).
 float sbf_slc_cos_theta_h_max(float cos_i) {
     float s = sqrt(max(1.0 - cos_i * cos_i, 0.0));
@@ -1884,7 +1884,7 @@ float sbf_slc_cos_theta_h_max(float cos_i) {
 
 #ifndef SBF_DEFINED_sbf_slc_schlick_max
 #define SBF_DEFINED_sbf_slc_schlick_max
-// Maximum Schlick Fresnel over the outgoing hemisphere (000 eq. 1–2).
+// Maximum Schlick Fresnel over the outgoing hemisphere ([TH17-supp eq. 1–2]).
 float sbf_slc_schlick_max(float f0, float cos_i) {
     float m = 1.0 - sbf_slc_cos_theta_h_max(cos_i);
     return f0 + (1.0 - f0) * (m * m) * (m * m) * m;
@@ -1893,7 +1893,7 @@ float sbf_slc_schlick_max(float f0, float cos_i) {
 
 #ifndef SBF_DEFINED_sbf_slc_dielectric_fresnel
 #define SBF_DEFINED_sbf_slc_dielectric_fresnel
-// Unpolarised dielectric Fresnel (000 eq. 3–5); 1 under total internal reflection.
+// Unpolarised dielectric Fresnel ([TH17-supp eq. 3–5]); 1 under total internal reflection.
 float sbf_slc_dielectric_fresnel(float eta, float cos_h) {
     float c = clamp(cos_h, 0.0, 1.0);
     float g2 = eta * eta - (1.0 - c * c);
@@ -1910,7 +1910,7 @@ float sbf_slc_dielectric_fresnel(float eta, float cos_h) {
 
 #ifndef SBF_DEFINED_sbf_slc_dielectric_max
 #define SBF_DEFINED_sbf_slc_dielectric_max
-// Maximum dielectric Fresnel over the outgoing hemisphere (000 eq. 6): the larger end.
+// Maximum dielectric Fresnel over the outgoing hemisphere ([TH17-supp eq. 6]): the larger end.
 float sbf_slc_dielectric_max(float eta, float cos_i) {
     return max(sbf_slc_dielectric_fresnel(eta, 1.0), sbf_slc_dielectric_fresnel(eta, sbf_slc_cos_theta_h_max(cos_i)));
 }
@@ -1918,7 +1918,7 @@ float sbf_slc_dielectric_max(float eta, float cos_i) {
 
 #ifndef SBF_DEFINED_sbf_slc_g1_dist
 #define SBF_DEFINED_sbf_slc_g1_dist
-// G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) (002 eq. 8).
+// G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) ([TH17 eq. 8]).
 float sbf_slc_g1_dist(float cos_i, float alpha) {
     float c = abs(cos_i);
     float den = c + sqrt((1.0 - alpha * alpha) * c * c + alpha * alpha);
@@ -1928,7 +1928,7 @@ float sbf_slc_g1_dist(float cos_i, float alpha) {
 
 #ifndef SBF_DEFINED_sbf_slc_ggx_ndf
 #define SBF_DEFINED_sbf_slc_ggx_ndf
-// GGX NDF of cos θ_m (002 eq. 7).
+// GGX NDF of cos θ_m ([TH17 eq. 7]).
 float sbf_slc_ggx_ndf(float cos_m, float alpha) {
     if (cos_m <= 0.0) {
         return 0.0;
@@ -1941,7 +1941,7 @@ float sbf_slc_ggx_ndf(float cos_m, float alpha) {
 
 #ifndef SBF_DEFINED_sbf_slc_spheroid_scale
 #define SBF_DEFINED_sbf_slc_spheroid_scale
-// r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
+// r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) ([TH17 eq. 12]).
 float sbf_slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, float delta, float xi) {
     if (xi <= 0.0) {
         return SBF_SLC_F32_MAX;
@@ -1952,7 +1952,7 @@ float sbf_slc_spheroid_scale(float phi, float f_max, float g1, float cos_i, floa
 
 #ifndef SBF_DEFINED_sbf_slc_bound_surface
 #define SBF_DEFINED_sbf_slc_bound_surface
-// s = r·√(π·D(cos(θ/2))) (002 eq. 12).
+// s = r·√(π·D(cos(θ/2))) ([TH17 eq. 12]).
 float sbf_slc_bound_surface(float theta, float r, float alpha) {
     return r * sqrt(SBF_PI * sbf_slc_ggx_ndf(cos(0.5 * theta), alpha));
 }
@@ -1981,7 +1981,7 @@ vec3 sbf_slc_any_orthonormal(vec3 v) {
 
 #ifndef SBF_DEFINED_sbf_slc_ggx_spheroid
 #define SBF_DEFINED_sbf_slc_ggx_spheroid
-// The GGX VPL's bounding spheroid (002 eq. 13–15): axes ω_u, ω_w × ω_u, ω_w; semi-axes
+// The GGX VPL's bounding spheroid ([TH17 eq. 13–15]): axes ω_u, ω_w × ω_u, ω_w; semi-axes
 // ((1 + α²)/(2α)r, r, r); centre q + (1 − α²)/(2α)·r·ω_u.
 SbfSlcEllipsoid sbf_slc_ggx_spheroid(vec3 q, vec3 wi, vec3 n, float alpha, float r) {
     vec3 wu = normalize(n * (2.0 * dot(wi, n)) - wi);
@@ -1998,7 +1998,7 @@ SbfSlcEllipsoid sbf_slc_ggx_spheroid(vec3 q, vec3 wi, vec3 n, float alpha, float
 
 #ifndef SBF_DEFINED_sbf_slc_stretching
 #define SBF_DEFINED_sbf_slc_stretching
-// S = R·diag(1/r)·Rᵀ (002 eq. 16).
+// S = R·diag(1/r)·Rᵀ ([TH17 eq. 16]).
 mat3 sbf_slc_stretching(SbfSlcEllipsoid e) {
     vec3 inv = vec3(1.0) / e.radii;
     mat3 d = mat3(vec3(inv.x, 0.0, 0.0), vec3(0.0, inv.y, 0.0), vec3(0.0, 0.0, inv.z));
@@ -2016,7 +2016,7 @@ struct SbfSlcSphere {
 
 #ifndef SBF_DEFINED_sbf_slc_diffuse_sphere
 #define SBF_DEFINED_sbf_slc_diffuse_sphere
-// The diffuse VPL's bounding sphere (001 eq. 2–3): A = √(Φk/(πδξ)), centre
+// The diffuse VPL's bounding sphere ([FTH22-supp eq. 2–3]): A = √(Φk/(πδξ)), centre
 // q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
 SbfSlcSphere sbf_slc_diffuse_sphere(vec3 q, vec3 n, float phi_k, float delta, float xi) {
     float a = sbf_slc_random_range(phi_k / SBF_PI, delta, xi);
@@ -2066,7 +2066,7 @@ float sbf_slc_equiangular_pdf(float tc, float h, float a, float b, float t) {
 
 #ifndef SBF_DEFINED_sbf_slc_equiangular_sample
 #define SBF_DEFINED_sbf_slc_equiangular_sample
-// Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1): (t, pdf) for u ∈ [0, 1).
+// Equiangular distance sampling (Kulla & Fajardo 2012; [FTH22-supp §2.1]): (t, pdf) for u ∈ [0, 1).
 vec2 sbf_slc_equiangular_sample(float tc, float h, float a, float b, float u) {
     float ta = atan(a - tc, h);
     float tb = atan(b - tc, h);
@@ -2077,7 +2077,7 @@ vec2 sbf_slc_equiangular_sample(float tc, float h, float a, float b, float u) {
 
 #ifndef SBF_DEFINED_sbf_slc_diffuse_intensity_bound
 #define SBF_DEFINED_sbf_slc_diffuse_intensity_bound
-// I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) (001 eq. 7).
+// I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) ([FTH22-supp eq. 7]).
 float sbf_slc_diffuse_intensity_bound(float d_dot_n, float phi) {
     float t = d_dot_n + sqrt(d_dot_n * d_dot_n + 1.0);
     return phi * t * t / 16.324194;
@@ -2086,7 +2086,7 @@ float sbf_slc_diffuse_intensity_bound(float d_dot_n, float phi) {
 
 #ifndef SBF_DEFINED_sbf_slc_test_space_rotation
 #define SBF_DEFINED_sbf_slc_test_space_rotation
-// The test-space rotation B (002 eq. 17).
+// The test-space rotation B ([TH17 eq. 17]).
 mat3 sbf_slc_test_space_rotation(mat3 s) {
     vec3 bx = s[0];
     vec3 by = s[1];
@@ -2106,7 +2106,7 @@ mat3 sbf_slc_test_space_rotation(mat3 s) {
 
 #ifndef SBF_DEFINED_SbfSlcCullEllipsoid
 #define SBF_DEFINED_SbfSlcCullEllipsoid
-// What culling stores per light (002 §5.2): M = B·S and M·c in view space
+// What culling stores per light ([TH17 §5.2]): M = B·S and M·c in view space
 // (x_view = view·x + origin).
 struct SbfSlcCullEllipsoid {
     mat3 transform;
@@ -2151,7 +2151,7 @@ bool sbf_slc_unit_sphere_hits_aabb(vec3 center, vec3 lo, vec3 hi) {
 
 #ifndef SBF_DEFINED_sbf_slc_ellipsoid_hits_corners
 #define SBF_DEFINED_sbf_slc_ellipsoid_hits_corners
-// The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
+// The conservative ellipsoid–frustum test ([TH17 §5]): the corners transformed by M = B·S,
 // their AABB, the unit sphere about M·c.
 bool sbf_slc_ellipsoid_hits_corners(SbfSlcCullEllipsoid e, vec3 corners[8]) {
     vec3 lo = vec3(3.4028235e38);

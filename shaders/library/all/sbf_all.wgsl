@@ -62,7 +62,7 @@ const SBF_AD12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
     vec3<f32>(-0.525731112, 0.000000000, -0.850650808),
 );
 
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
     vec3<f32>(0.525731112, -0.303530999, 0.794654472),
     vec3<f32>(-0.525731112, -0.303530999, 0.794654472),
@@ -516,7 +516,7 @@ fn sbf_sh_l1_zh3_irradiance(c: array<vec3<f32>, 4>, n: vec3<f32>) -> vec3<f32> {
 }
 
 // sh_specular.wgsl — GGX specular from SH radiance (bands ≤ 2) by zonal convolution about
-// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as seed Listing 8.2):
+// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as [Roughton19 Listing 8.2]):
 // the lobe of f_r·cos is taken as the zonal SG of sharpness λ = (2/α²)/(4·max(n·v, 1e-4))
 // with unit integral; its zonal ratios g_l/g_0 filter the bands (g₁ = coth λ − 1/λ,
 // g₂ = 1 − 3g₁/λ: the modified spherical Bessel ratios i_l(λ)/i_0(λ)), and the split-sum
@@ -921,7 +921,7 @@ fn sbf_sg12_specular(c: array<vec3<f32>, 12>, sharpness: f32, dfg: texture_2d<f3
     return s;
 }
 
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -1003,7 +1003,7 @@ fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
 }
 
 // GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
-// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// space): [Roughton19 Listing 8.1]'s fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
 fn sbf_ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {
@@ -1361,7 +1361,7 @@ fn sbf_enlighten_rgb_irradiance(colour: vec3<f32>, dir_r: vec4<f32>, dir_g: vec4
     return colour * vec3<f32>(sbf_enlighten_factor(dir_r, n), sbf_enlighten_factor(dir_g, n), sbf_enlighten_factor(dir_b, n));
 }
 
-// progressive.wgsl — progressive (per-sample) least squares and NNLS (seed 004 §7.3,
+// progressive.wgsl — progressive (per-sample) least squares and NNLS ([Roughton19 §7.3],
 // Listing 7.1, with eq. 7.15's denominator). One call adds one radiance sample with its
 // precomputed basis values b (the caller evaluates its basis; a hemisphere-mirrored
 // solve calls again with the mirrored direction's values and a zero value).
@@ -1415,7 +1415,7 @@ struct SbfEncoderState {
     samples: u32,
 }
 
-// One progressive-fit step (seed 004 §7.3): adds sample `value` (RGB radiance) with weight
+// One progressive-fit step ([Roughton19 §7.3]): adds sample `value` (RGB radiance) with weight
 // `weight` whose basis functions at the sample direction are b (the first p.lobes used) to
 // `state`, under the update rule and clamping that `p` selects. The host keeps `state`
 // per texel or probe between samples.
@@ -1484,7 +1484,7 @@ fn sbf_progressive_update_projected(
     }
 }
 
-// slc.wgsl — stochastic light culling for many VPLs (seeds 000–002: Tokuyoshi & Harada,
+// slc.wgsl — stochastic light culling for many VPLs ([TH17; TH17-supp; FTH22-supp]: Tokuyoshi & Harada,
 // Fujieda et al.): one uniform ξ per light decides its random range by Russian roulette;
 // the range is bounded by a sphere (diffuse VPL) or a spheroid (VPL on a GGX
 // microsurface), and culling stores M = B·S and M·c per light so that an ellipsoid–frustum
@@ -1492,7 +1492,7 @@ fn sbf_progressive_update_projected(
 // where its light came from, n is the VPL's unit normal, ξ ∈ (0, 1], δ > 0.
 // CPU twins: sbf::slc::runtime (same names without the slc_ prefix).
 
-// p = min(I/(δl²), 1) (002 eq. 2); 1 at the light.
+// p = min(I/(δl²), 1) ([TH17 eq. 2]); 1 at the light.
 fn sbf_slc_acceptance(intensity: f32, delta: f32, l: f32) -> f32 {
     if (l <= 0.0) {
         return 1.0;
@@ -1505,7 +1505,7 @@ fn sbf_slc_acceptance(intensity: f32, delta: f32, l: f32) -> f32 {
 // (Chrome's WGSL compiler), which converts literals without rounding to the largest value.
 const SBF_SLC_F32_MAX: f32 = 3.40282346e38;
 
-// l_max = √(I/(δξ)) (002 eq. 5); ∞ (the largest f32) for ξ ≤ 0.
+// l_max = √(I/(δξ)) ([TH17 eq. 5]); ∞ (the largest f32) for ξ ≤ 0.
 fn sbf_slc_random_range(intensity: f32, delta: f32, xi: f32) -> f32 {
     if (xi <= 0.0) {
         return SBF_SLC_F32_MAX;
@@ -1513,25 +1513,25 @@ fn sbf_slc_random_range(intensity: f32, delta: f32, xi: f32) -> f32 {
     return sqrt(max(intensity, 0.0) / (delta * xi));
 }
 
-// L/p if p > ξ, else 0 (002 eq. 3): unbiased over ξ.
+// L/p if p > ξ, else 0 ([TH17 eq. 3]): unbiased over ξ.
 fn sbf_slc_culled_estimate(radiance: f32, p: f32, xi: f32) -> f32 {
     return select(0.0, radiance / p, p > xi);
 }
 
-// cos θ_h^max = √((1 − √(1 − cos_i²))/2) (000 eq. 2), as |cos_i|/√(2(1 + s)), s =
+// cos θ_h^max = √((1 − √(1 − cos_i²))/2) ([TH17-supp eq. 2]), as |cos_i|/√(2(1 + s)), s =
 // √(1 − cos_i²) (no cancellation at grazing incidence).
 fn sbf_slc_cos_theta_h_max(cos_i: f32) -> f32 {
     let s = sqrt(max(1.0 - cos_i * cos_i, 0.0));
     return abs(cos_i) / sqrt(2.0 * (1.0 + s));
 }
 
-// Maximum Schlick Fresnel over the outgoing hemisphere (000 eq. 1–2).
+// Maximum Schlick Fresnel over the outgoing hemisphere ([TH17-supp eq. 1–2]).
 fn sbf_slc_schlick_max(f0: f32, cos_i: f32) -> f32 {
     let m = 1.0 - sbf_slc_cos_theta_h_max(cos_i);
     return f0 + (1.0 - f0) * (m * m) * (m * m) * m;
 }
 
-// Unpolarised dielectric Fresnel (000 eq. 3–5); 1 under total internal reflection.
+// Unpolarised dielectric Fresnel ([TH17-supp eq. 3–5]); 1 under total internal reflection.
 fn sbf_slc_dielectric_fresnel(eta: f32, cos_h: f32) -> f32 {
     let c = clamp(cos_h, 0.0, 1.0);
     let g2 = eta * eta - (1.0 - c * c);
@@ -1545,19 +1545,19 @@ fn sbf_slc_dielectric_fresnel(eta: f32, cos_h: f32) -> f32 {
     return 0.5 * (perp * perp + par * par);
 }
 
-// Maximum dielectric Fresnel over the outgoing hemisphere (000 eq. 6): the larger end.
+// Maximum dielectric Fresnel over the outgoing hemisphere ([TH17-supp eq. 6]): the larger end.
 fn sbf_slc_dielectric_max(eta: f32, cos_i: f32) -> f32 {
     return max(sbf_slc_dielectric_fresnel(eta, 1.0), sbf_slc_dielectric_fresnel(eta, sbf_slc_cos_theta_h_max(cos_i)));
 }
 
-// G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) (002 eq. 8).
+// G1_dist = 2|cos_i|/(|cos_i| + √((1 − α²)cos_i² + α²)) ([TH17 eq. 8]).
 fn sbf_slc_g1_dist(cos_i: f32, alpha: f32) -> f32 {
     let c = abs(cos_i);
     let den = c + sqrt((1.0 - alpha * alpha) * c * c + alpha * alpha);
     return select(0.0, 2.0 * c / den, den > 0.0);
 }
 
-// GGX NDF of cos θ_m (002 eq. 7).
+// GGX NDF of cos θ_m ([TH17 eq. 7]).
 fn sbf_slc_ggx_ndf(cos_m: f32, alpha: f32) -> f32 {
     if (cos_m <= 0.0) {
         return 0.0;
@@ -1567,7 +1567,7 @@ fn sbf_slc_ggx_ndf(cos_m: f32, alpha: f32) -> f32 {
     return a2 / (SBF_PI * t * t);
 }
 
-// r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) (002 eq. 12).
+// r = √(Φ·F_max·G1_dist/(4πδξ|cos_i|)) ([TH17 eq. 12]).
 fn sbf_slc_spheroid_scale(phi: f32, f_max: f32, g1: f32, cos_i: f32, delta: f32, xi: f32) -> f32 {
     if (xi <= 0.0) {
         return SBF_SLC_F32_MAX;
@@ -1575,7 +1575,7 @@ fn sbf_slc_spheroid_scale(phi: f32, f_max: f32, g1: f32, cos_i: f32, delta: f32,
     return sqrt(phi * f_max * g1 / (4.0 * SBF_PI * delta * xi * abs(cos_i)));
 }
 
-// s = r·√(π·D(cos(θ/2))) (002 eq. 12).
+// s = r·√(π·D(cos(θ/2))) ([TH17 eq. 12]).
 fn sbf_slc_bound_surface(theta: f32, r: f32, alpha: f32) -> f32 {
     return r * sqrt(SBF_PI * sbf_slc_ggx_ndf(cos(0.5 * theta), alpha));
 }
@@ -1595,7 +1595,7 @@ fn sbf_slc_any_orthonormal(v: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(b, sign + v.y * v.y * a, -v.y);
 }
 
-// The GGX VPL's bounding spheroid (002 eq. 13–15): axes ω_u, ω_w × ω_u, ω_w; semi-axes
+// The GGX VPL's bounding spheroid ([TH17 eq. 13–15]): axes ω_u, ω_w × ω_u, ω_w; semi-axes
 // ((1 + α²)/(2α)r, r, r); centre q + (1 − α²)/(2α)·r·ω_u.
 fn sbf_slc_ggx_spheroid(q: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, alpha: f32, r: f32) -> SbfSlcEllipsoid {
     let wu = normalize(n * (2.0 * dot(wi, n)) - wi);
@@ -1609,7 +1609,7 @@ fn sbf_slc_ggx_spheroid(q: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, alpha: f32, r
     return SbfSlcEllipsoid(q + wu * ((1.0 - alpha * alpha) / (2.0 * alpha) * r), mat3x3<f32>(wu, wv, ww), vec3<f32>(ru, r, r));
 }
 
-// S = R·diag(1/r)·Rᵀ (002 eq. 16).
+// S = R·diag(1/r)·Rᵀ ([TH17 eq. 16]).
 fn sbf_slc_stretching(e: SbfSlcEllipsoid) -> mat3x3<f32> {
     let inv = 1.0 / e.radii;
     let d = mat3x3<f32>(vec3<f32>(inv.x, 0.0, 0.0), vec3<f32>(0.0, inv.y, 0.0), vec3<f32>(0.0, 0.0, inv.z));
@@ -1621,7 +1621,7 @@ struct SbfSlcSphere {
     radius: f32,
 }
 
-// The diffuse VPL's bounding sphere (001 eq. 2–3): A = √(Φk/(πδξ)), centre
+// The diffuse VPL's bounding sphere ([FTH22-supp eq. 2–3]): A = √(Φk/(πδξ)), centre
 // q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
 fn sbf_slc_diffuse_sphere(q: vec3<f32>, n: vec3<f32>, phi_k: f32, delta: f32, xi: f32) -> SbfSlcSphere {
     let a = sbf_slc_random_range(phi_k / SBF_PI, delta, xi);
@@ -1660,7 +1660,7 @@ fn sbf_slc_equiangular_pdf(tc: f32, h: f32, a: f32, b: f32, t: f32) -> f32 {
     return h / ((tb - ta) * (h * h + (t - tc) * (t - tc)));
 }
 
-// Equiangular distance sampling (Kulla & Fajardo 2012; 001 §2.1): (t, pdf) for u ∈ [0, 1).
+// Equiangular distance sampling (Kulla & Fajardo 2012; [FTH22-supp §2.1]): (t, pdf) for u ∈ [0, 1).
 fn sbf_slc_equiangular_sample(tc: f32, h: f32, a: f32, b: f32, u: f32) -> vec2<f32> {
     let ta = atan2(a - tc, h);
     let tb = atan2(b - tc, h);
@@ -1668,13 +1668,13 @@ fn sbf_slc_equiangular_sample(tc: f32, h: f32, a: f32, b: f32, u: f32) -> vec2<f
     return vec2<f32>(t, sbf_slc_equiangular_pdf(tc, h, a, b, t));
 }
 
-// I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) (001 eq. 7).
+// I_max(d) = Φ((d·n) + √((d·n)² + 1))²/(3√3·π) ([FTH22-supp eq. 7]).
 fn sbf_slc_diffuse_intensity_bound(d_dot_n: f32, phi: f32) -> f32 {
     let t = d_dot_n + sqrt(d_dot_n * d_dot_n + 1.0);
     return phi * t * t / (3.0 * sqrt(3.0) * SBF_PI);
 }
 
-// The test-space rotation B (002 eq. 17).
+// The test-space rotation B ([TH17 eq. 17]).
 fn sbf_slc_test_space_rotation(s: mat3x3<f32>) -> mat3x3<f32> {
     let bx = s[0];
     let by = s[1];
@@ -1691,7 +1691,7 @@ fn sbf_slc_test_space_rotation(s: mat3x3<f32>) -> mat3x3<f32> {
     return transpose(mat3x3<f32>(x, y, z));
 }
 
-// What culling stores per light (002 §5.2): M = B·S and M·c in view space
+// What culling stores per light ([TH17 §5.2]): M = B·S and M·c in view space
 // (x_view = view·x + origin).
 struct SbfSlcCullEllipsoid {
     transform: mat3x3<f32>,
@@ -1724,7 +1724,7 @@ fn sbf_slc_unit_sphere_hits_aabb(center: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>
     return dot(d, d) <= 1.0;
 }
 
-// The conservative ellipsoid–frustum test (002 §5): the corners transformed by M = B·S,
+// The conservative ellipsoid–frustum test ([TH17 §5]): the corners transformed by M = B·S,
 // their AABB, the unit sphere about M·c.
 fn sbf_slc_ellipsoid_hits_corners(e: SbfSlcCullEllipsoid, corners: array<vec3<f32>, 8>) -> bool {
     var lo = vec3<f32>(SBF_SLC_F32_MAX);

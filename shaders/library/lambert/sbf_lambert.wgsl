@@ -39,7 +39,7 @@ const SBF_AD12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
     vec3<f32>(-0.525731112, 0.000000000, -0.850650808),
 );
 
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
     vec3<f32>(0.525731112, -0.303530999, 0.794654472),
     vec3<f32>(-0.525731112, -0.303530999, 0.794654472),
@@ -210,7 +210,7 @@ fn sbf_sg12_irradiance(c: array<vec3<f32>, 12>, sharpness: f32, n: vec3<f32>) ->
     return e;
 }
 
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,

@@ -60,7 +60,7 @@
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 //
 // sh_specular.wgsl — GGX specular from SH radiance (bands ≤ 2) by zonal convolution about
-// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as seed Listing 8.2):
+// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as [Roughton19 Listing 8.2]):
 // the lobe of f_r·cos is taken as the zonal SG of sharpness λ = (2/α²)/(4·max(n·v, 1e-4))
 // with unit integral; its zonal ratios g_l/g_0 filter the bands (g₁ = coth λ − 1/λ,
 // g₂ = 1 − 3g₁/λ: the modified spherical Bessel ratios i_l(λ)/i_0(λ)), and the split-sum
@@ -69,7 +69,7 @@
 // Approximation (stated): the warp's anisotropy and the horizon are ignored.
 // CPU twin: sbf::recon::sh::specular_zonal_rgb with specular_zonal_filter (f64).
 //
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -115,7 +115,7 @@ const vec3 SBF_AD_SPECULAR_DIFFUSE = vec3(0.06, 0.129, 0.0697);
 
 #ifndef SBF_DEFINED_SBF_AD9_AXES
 #define SBF_DEFINED_SBF_AD9_AXES
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 const vec3 SBF_AD9_AXES[9] = vec3[9](vec3(0.5257311, -0.303531, 0.7946545), vec3(-0.5257311, -0.303531, 0.7946545), vec3(0.0, 0.607062, 0.7946545), vec3(0.8506508, 0.49112347, 0.18759248), vec3(-0.8506508, 0.49112347, 0.18759248), vec3(-0.0, -0.98224694, 0.18759248), vec3(-0.8506508, -0.49112347, -0.18759248), vec3(0.8506508, -0.49112347, -0.18759248), vec3(0.0, 0.98224694, -0.18759248));
 #endif
 

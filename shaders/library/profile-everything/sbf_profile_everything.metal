@@ -102,7 +102,7 @@
 // sh_l1_geomerics_irradiance, and sbf::recon::sh::irradiance_l1_zh3.
 //
 // sh_specular.wgsl — GGX specular from SH radiance (bands ≤ 2) by zonal convolution about
-// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as seed Listing 8.2):
+// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as [Roughton19 Listing 8.2]):
 // the lobe of f_r·cos is taken as the zonal SG of sharpness λ = (2/α²)/(4·max(n·v, 1e-4))
 // with unit integral; its zonal ratios g_l/g_0 filter the bands (g₁ = coth λ − 1/λ,
 // g₂ = 1 − 3g₁/λ: the modified spherical Bessel ratios i_l(λ)/i_0(λ)), and the split-sum
@@ -122,7 +122,7 @@
 // Runtime range: λ ≥ 2 for the irradiance fit (below, sbf switches to the exact zonal
 // expansion, which is not in WGSL); every function stays finite for λ > 0.
 //
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -193,7 +193,7 @@ constant array<float3, 12> SBF_AD12_AXES = array<float3, 12>{float3(0.8506508f, 
 
 #ifndef SBF_DEFINED_SBF_AD9_AXES
 #define SBF_DEFINED_SBF_AD9_AXES
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 constant array<float3, 9> SBF_AD9_AXES = array<float3, 9>{float3(0.5257311f, -0.303531f, 0.7946545f), float3(-0.5257311f, -0.303531f, 0.7946545f), float3(0.0f, 0.607062f, 0.7946545f), float3(0.8506508f, 0.49112347f, 0.18759248f), float3(-0.8506508f, 0.49112347f, 0.18759248f), float3(-0.0f, -0.98224694f, 0.18759248f), float3(-0.8506508f, -0.49112347f, -0.18759248f), float3(0.8506508f, -0.49112347f, -0.18759248f), float3(0.0f, 0.98224694f, -0.18759248f)};
 #endif
 
@@ -726,7 +726,7 @@ inline float3 sbf_ad9_irradiance(array<float3, 9> c, float3 n) {
 #ifndef SBF_DEFINED_sbf_ad12_specular
 #define SBF_DEFINED_sbf_ad12_specular
 // GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
-// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// space): [Roughton19 Listing 8.1]'s fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
 inline float3 sbf_ad12_specular(array<float3, 12> c, texture2d<float> lut, float3 n, float3 v, float alpha, float f0, float f90) {

@@ -53,7 +53,7 @@ const SBF_AD12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
     vec3<f32>(-0.525731112, 0.000000000, -0.850650808),
 );
 
-// Ambient Dice 9: the seed's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
+// Ambient Dice 9: Roughton's upper-hemisphere set (sbf::AmbientDiceSrbf::nine_hemisphere).
 const SBF_AD9_AXES: array<vec3<f32>, 9> = array<vec3<f32>, 9>(
     vec3<f32>(0.525731112, -0.303530999, 0.794654472),
     vec3<f32>(-0.525731112, -0.303530999, 0.794654472),
@@ -284,7 +284,7 @@ fn sbf_sh_l2_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
 }
 
 // sh_specular.wgsl — GGX specular from SH radiance (bands ≤ 2) by zonal convolution about
-// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as seed Listing 8.2):
+// the GGX dominant direction R_d (Lagarde & de Rousiers 2014, as [Roughton19 Listing 8.2]):
 // the lobe of f_r·cos is taken as the zonal SG of sharpness λ = (2/α²)/(4·max(n·v, 1e-4))
 // with unit integral; its zonal ratios g_l/g_0 filter the bands (g₁ = coth λ − 1/λ,
 // g₂ = 1 − 3g₁/λ: the modified spherical Bessel ratios i_l(λ)/i_0(λ)), and the split-sum
@@ -490,7 +490,7 @@ fn sbf_sg12_specular(c: array<vec3<f32>, 12>, sharpness: f32, dfg: texture_2d<f3
     return s;
 }
 
-// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs (seed 004 §8.3): lobe value
+// ambient_dice.wgsl — Ambient Dice cosine-lobe SRBFs ([Roughton19 §8.3]): lobe value
 // B(c) = c²(0.35 + 0.25c²) for c = v·p > 0, Lambert irradiance per lobe by the
 // minimax quadratic of the exact quartic (fitgen: AD_DIFFUSE_QUADRATIC, max error
 // 6.5e-4), and GGX specular by Listing 8.1's blend (fitgen: AD_SPECULAR_PARAMS,
@@ -567,7 +567,7 @@ fn sbf_ad9_irradiance(c: array<vec3<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
 }
 
 // GGX specular radiance from 12 RGB Ambient Dice coefficients c (axes AD12_AXES, world
-// space): seed 004 Listing 8.1's fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
+// space): [Roughton19 Listing 8.1]'s fit per lobe times the table `lut` (luts/ad_specular_2d.sbflut,
 // rg32float; u = n·v, v = GGX α) at (n·v, α), for unit n and v in the axes' frame, GGX α
 // (= perceptual roughness²) and Fresnel f0, f90.
 fn sbf_ad12_specular(c: array<vec3<f32>, 12>, lut: texture_2d<f32>, n: vec3<f32>, v: vec3<f32>, alpha: f32, f0: f32, f90: f32) -> vec3<f32> {

@@ -5,8 +5,8 @@
 //! | exclusive prefix sum of u32 (wrapping), any length | `scan.wgsl` | [`exclusive_scan_cpu`] |
 //! | stream compaction by 0/1 flags (order kept) | `compact.wgsl` (+ the scan) | [`compact_cpu`] |
 //! | stable LSD radix sort of (key, value) u32 pairs by the low `bits` key bits, 4 per pass | `sort.wgsl` (+ the scan) | [`sort::sort_pairs_cpu`] |
-//! | offset buffer of paths sorted by texel (seed 004 Listing 3.1: sentinel fill + one pass) | `offsets.wgsl` | [`sort::texel_ranges_cpu`], read by [`sort::texel_range`] |
-//! | tile-format index of a texel and its inverse (seed 004 eq. 5.2/5.3) | `tile.wgsl` ([`TILE_WGSL`]) | [`crate::layout::tiles::tile_index`], [`crate::layout::tiles::tile_coords`] |
+//! | offset buffer of paths sorted by texel ([Roughton19 Listing 3.1]: sentinel fill + one pass) | `offsets.wgsl` | [`sort::texel_ranges_cpu`], read by [`sort::texel_range`] |
+//! | tile-format index of a texel and its inverse ([Roughton19 eq. 5.2]/5.3) | `tile.wgsl` ([`TILE_WGSL`]) | [`crate::layout::tiles::tile_index`], [`crate::layout::tiles::tile_coords`] |
 //!
 //! The scan is the classic multi-level one: each 256-element block is scanned in
 //! workgroup memory and writes its total; the totals are scanned the same way (recursively,

@@ -1,4 +1,4 @@
-// Offset buffer (seed 004, §3.2, Listing 3.1): for paths sorted by texel, offsets[t] is the
+// Offset buffer ([Roughton19], §3.2, Listing 3.1): for paths sorted by texel, offsets[t] is the
 // index of the first path of texel t, for every texel that has paths; `offsets` (texel
 // count + 1 entries) must be filled with the sentinel 0xFFFFFFFF first. Thread j compares
 // its path's texel with the previous one: at a change it writes j at its own texel and at

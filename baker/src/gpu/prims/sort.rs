@@ -1,5 +1,5 @@
 //! The stable LSD radix sort of (key, value) u32 pairs and the offset buffer of paths
-//! sorted by texel (seed 004 Listing 3.1), with their CPU twins. Compiled only by a caller
+//! sorted by texel ([Roughton19 Listing 3.1]), with their CPU twins. Compiled only by a caller
 //! that asks for them ([`SortPrims::new`]); no bake does.
 
 use super::{bind, dispatch, grid, padded, pipeline, read_u32, storage_layout_entry, uniform_layout_entry, Params, Prims, ScanPlan, BLOCK};
@@ -19,7 +19,7 @@ pub const SENTINEL: u32 = u32::MAX;
 
 /// The paths of texel `t` from an offset buffer (`texel count + 1` entries): the range
 /// `[offsets[t], offsets[t + 1])`, empty where either is the sentinel or they are equal
-/// (seed 004 §3.2).
+/// ([Roughton19 §3.2]).
 pub fn texel_range(offsets: &[u32], t: usize) -> std::ops::Range<usize> {
     let (a, b) = (offsets[t], offsets[t + 1]);
     if a == SENTINEL || b == SENTINEL || a >= b {

@@ -1,4 +1,4 @@
-// Tile-format indices (seed 004, §5.2): texel (x, y) of a grid `tiles_per_row` tiles wide,
+// Tile-format indices ([Roughton19], §5.2): texel (x, y) of a grid `tiles_per_row` tiles wide,
 // tiles of n × n texels (n a power of two, log2_n = log2(n)):
 // T = (⌊x/n⌋ + tiles_per_row·⌊y/n⌋) << log2(n²) | ((x mod n) + n·(y mod n))   (eq. 5.2),
 // and its inverse (eq. 5.3 gives the tile's origin; the low bits the texel within it).

@@ -1,4 +1,4 @@
-// ---- wavefront pass: accumulate (seed 004 §5.1) ----
+// ---- wavefront pass: accumulate ([Roughton19 §5.1]) ----
 // One thread per job of the dispatch: its samples in order (the progressive encoder's
 // ordering, §7.3.1), each the megakernel's finish_item with the path radiance its slot
 // gathered — the light samples at the baked point, the moments, the encoders, guiding.

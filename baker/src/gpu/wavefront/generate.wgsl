@@ -1,4 +1,4 @@
-// ---- wavefront pass: generate (seed 004 §5.1) ----
+// ---- wavefront pass: generate ([Roughton19 §5.1]) ----
 // One thread per job of the dispatch (the megakernel's job_at): its samples take
 // consecutive slots of the path pool (a workgroup scan of the counts, one atomic per
 // workgroup); each slot gets the first segment of its point sample's path, and enters

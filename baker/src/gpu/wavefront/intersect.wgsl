@@ -1,4 +1,4 @@
-// ---- wavefront pass: intersect (seed 004 §5.1) ----
+// ---- wavefront pass: intersect ([Roughton19 §5.1]) ----
 // One thread per active path of the queue: the closest hit of its next segment.
 
 #import baker::bindings::T_FAR

@@ -1,4 +1,4 @@
-//! # The wavefront pipeline (seed 004 §3.1, §5.1)
+//! # The wavefront pipeline ([Roughton19 §3.1, §5.1])
 //!
 //! A pass split breadth first: instead of one thread taking its texel through a whole
 //! path (the megakernel, `megakernel.wgsl`'s `bake_pass`), every stage of every path of a

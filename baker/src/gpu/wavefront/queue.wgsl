@@ -1,4 +1,4 @@
-// ---- wavefront passes: wave_start and wave_args (seed 004 §5.1) ----
+// ---- wavefront passes: wave_start and wave_args ([Roughton19 §5.1]) ----
 // One thread each: the first queue's length, and the indirect dispatch arguments of the
 // queue's passes from its length after each compaction.
 

@@ -1,4 +1,4 @@
-// ---- wavefront pass: shade (seed 004 §5.1) ----
+// ---- wavefront pass: shade ([Roughton19 §5.1]) ----
 // One thread per active path of the queue: its hit handled by the megakernel's own
 // path_step (environment or emission, next-event estimation with its shadow rays, the
 // BSDF sample, Russian roulette); the flag says whether the path stays in the queue.

@@ -1,5 +1,5 @@
 // bases.wgsl — the bake's encoders (CPU twin: baker::accumulate's per-sample update with
-// sbf's progressive encoders, seed 004 §7.3): every configured basis is a slot k with its
+// sbf's progressive encoders, [Roughton19 §7.3]): every configured basis is a slot k with its
 // basis values `basis_k`, its encoder parameters `ENCODER_k` and the light samples' known
 // projections `Q_k`; `encode` feeds a sample to every slot's encoder (with the mirrored
 // zero twin where a sphere basis bakes a texel's hemisphere), `project` adds a light

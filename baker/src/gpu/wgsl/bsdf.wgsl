@@ -1,4 +1,4 @@
-// bsdf.wgsl — the baker's layered material (seed 004 §6.3.1): Lambert plus, with the
+// bsdf.wgsl — the baker's layered material ([Roughton19 §6.3.1]): Lambert plus, with the
 // shader def GLOSSY (a material in the scene is glossy), a GGX layer in tangent space
 // (normal +Z): f = F(v·h)·D·G2/(4 v_z l_z) with Schlick's F, sampled from the
 // distribution of visible normals (Heitz 2018), pdf D_v(h)/(4 v·h) (eq. 17). CPU twins:

@@ -1,5 +1,5 @@
 // filter_bindings.wgsl — filtered gather-based accumulation's parameters and buffers
-// (seed 004 §3.2; bindings 14–18; Rust twin baker::gpu::filter::FilterParams).
+// ([Roughton19 §3.2]; bindings 14–18; Rust twin baker::gpu::filter::FilterParams).
 
 #define_import_path baker::filter_bindings
 

@@ -1,4 +1,4 @@
-// ---- filtered gather-based accumulation (seed 004 §3.2, Listing 3.2; CPU twin
+// ---- filtered gather-based accumulation ([Roughton19 §3.2, Listing 3.2]; CPU twin
 // baker::filter::gather_batch) ----
 // The bake kernel writes one record per sample — the point sample's direction and
 // encoder weight, its radiance, its plain estimate, its continuous atlas position and the

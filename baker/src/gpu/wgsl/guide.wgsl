@@ -3,7 +3,7 @@
 #import baker::bindings::P
 #import sbf::runtime::{INV_PI, PI}
 
-// ---- first-bounce ray guiding (baker::guiding; seed 003) ----
+// ---- first-bounce ray guiding (baker::guiding; [HWRTL]) ----
 // Bindings of the guided bake: per item three learning records of this pass (point
 // sample, emitter sample, environment sample: bin and bits of the value; bin 0xffffffff:
 // none) and per cluster the CDFs (256 conditional, row-major, then 16 marginal; built by

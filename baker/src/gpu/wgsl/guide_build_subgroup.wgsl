@@ -1,4 +1,4 @@
-// Ray guiding's build with subgroup prefix sums (seed 003: WavePrefixSum per row, then
+// Ray guiding's build with subgroup prefix sums ([HWRTL]: WavePrefixSum per row, then
 // over the row totals). Prepended: guide_common.wgsl (naga 30 takes subgroup built-ins
 // without `enable subgroups;`; the device needs `Features::SUBGROUP`). Used where
 // every subgroup holds whole rows: sizes ≥ 16 (the host checks the adapter's minimum), a

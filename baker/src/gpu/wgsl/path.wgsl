@@ -1,4 +1,4 @@
-// path.wgsl — the GPU twin of baker::estimator::trace (seed 004 ch. 6): BVH traversal of the
+// path.wgsl — the GPU twin of baker::estimator::trace ([Roughton19 ch. 6]): BVH traversal of the
 // CPU-built nodes (no hardware ray queries), and the path-traced estimator of incoming
 // radiance. At the baked point: the point sample plus next-event estimation of every
 // delta light (directional, point, spot), one emitter by power and one environment

@@ -1,4 +1,4 @@
-// render.wgsl — the scene rasterised and shaded from its bake (seed 004 §8.4.3). Appended
+// render.wgsl — the scene rasterised and shaded from its bake ([Roughton19 §8.4.3]). Appended
 // after the runtime library the `shaders` crate composes (the same functions it exports
 // to HLSL/GLSL/MSL). Per pixel: the lightmap's lobes, bilinear at the interpolated
 // lightmap UV (atlas texels; centres at i + ½, indices clamped), the tangent frame of the
