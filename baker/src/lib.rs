@@ -19,7 +19,8 @@
 //! | [`run`] | a whole bake as the `baker` command runs it: `run::bake(&Options)` |
 //! | [`slc`] | stochastic light culling ([TH17; TH17-supp; FTH22-supp]), its own renderer and `slc` command; uses the scene layer and the image writers |
 //!
-//! Binaries: `baker` (`src/main.rs`: arguments → [`run::Options`] → [`run::bake`]) and
+//! Binaries: `baker` (`src/main.rs`: arguments → [`run::Options`] → [`run::bake`]),
+//! `render` (`src/bin/render.rs`: a bake, made or read, → [`render::session::run`]) and
 //! `slc` (`src/bin/slc.rs`: arguments → [`slc::harness::SlcOptions`] →
 //! [`slc::harness::render`]).
 //!

@@ -30,16 +30,14 @@ const DENOISE_AUTO_MAX_PASSES: u64 = 128;
     after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)\n  baker --shard 0/4 --out shards; … --shard 3/4 --out shards; baker merge bake-out shards/*.sbfshard"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace` (test box), `slit` (a room lit through a slit), `sunbeam` (the slit room lit by a sun through the slit: a small bright indirect region), `room-1m` (1 M lightmapped triangles, the fair benchmark), `atrium` (a 0.29 M-triangle hall with columns, arches and banners, lit by a sun and the sky through a skylight: the renderer's Table 8.1 workload), `dense` (cornell + a 1 M-triangle
-    /// sphere), or a .gltf/.glb file.
-    #[arg(long, default_value = "cornell")]
+    #[arg(long, default_value = "cornell", help = baker::scene::load::SCENE_HELP)]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
     #[arg(long)]
     env: Option<PathBuf>,
     /// glTF materials' texture maps (base colour, metallic-roughness, emissive): `sample`
-    /// them at every path vertex (the CPU bake; `--device auto` then bakes on the CPU), or
-    /// bake the materials' `factors` alone (what the GPU kernels read).
+    /// them at every path vertex (the CPU and GPU bakes alike), or bake the materials'
+    /// `factors` alone, the maps dropped (what `render --bake` shades).
     #[arg(long, default_value = "sample", value_parser = ["sample", "factors"])]
     material_maps: String,
     /// Also write the lightmap in the directional formats engines ship, repackaged from the

@@ -1,4 +1,4 @@
-//! First-bounce ray guiding (`baker::sampling::guiding`, [HWRTL]): the learned distribution and its
+//! First-bounce ray guiding (`baker::sampling::guiding`, \[HWRTL\]): the learned distribution and its
 //! sampler against their definitions, the GPU build against its CPU twin, unbiasedness
 //! against the unguided bake (furnace and the built-in scene, per chart), the gain on a
 //! room lit through a slit, determinism and resume. (The closed-form scenes are in

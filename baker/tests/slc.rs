@@ -1,4 +1,4 @@
-//! Stochastic light culling of VPLs ([TH17]) on a synthetic view-space G-buffer — a
+//! Stochastic light culling of VPLs (\[TH17\]) on a synthetic view-space G-buffer — a
 //! floor and a back wall — lit by a few hundred diffuse and GGX VPLs: the culled image is
 //! unbiased (the mean of K independent ξ draws converges to the brute-force image; the
 //! deterministic range cut does not), CPU and GPU agree, and the statistics are reported.

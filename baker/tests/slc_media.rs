@@ -1,4 +1,4 @@
-//! Stochastic light culling for single scattering ([FTH22-supp]) on a homogeneous slab lit by
+//! Stochastic light culling for single scattering (\[FTH22-supp\]) on a homogeneous slab lit by
 //! point lights and diffuse VPLs: the culled estimate matches its brute-force twin, and both
 //! match a deterministic quadrature of the single-scattering integral (the independent
 //! oracle, written here: Simpson's rule in the equiangular angle, where the 1/l² peak is

@@ -888,7 +888,7 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
     }
 }
 
-/// Ray guiding is unbiased ([HWRTL]'s first-bounce guiding, `baker::sampling::guiding`): guided
+/// Ray guiding is unbiased (\[HWRTL\]'s first-bounce guiding, `baker::sampling::guiding`): guided
 /// bakes of (c) the disk light at h = 0.1 R and R and (e) the constant environment meet
 /// the same closed forms and the same error model as the unguided ones, on the CPU and
 /// the GPU. Each replica learns for 16 passes and then guides for 16: the disk's direction

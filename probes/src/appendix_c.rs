@@ -8,7 +8,7 @@
 //!   is [`crate::specular::GgxRows`]);
 //! - the runtimes are Roughton's: SG lobes through the ASG warp (with the physical
 //!   visibility, as Roughton's SG code computes it, and its arbitrary frame about the
-//!   reflected direction, [`asg_warp`]) and AD lobes through [RoughtonFork]'s own specular fit
+//!   reflected direction, [`asg_warp`]) and AD lobes through \[RoughtonFork\]'s own specular fit
 //!   and its per-pixel table ([`ad_lobe_fit`], [`ad_table`]: the printed AD figures are
 //!   that code's, not Listing 8.1's — see [`AD_FIT`]); both with f0 0.9;
 //! - the SG fits point-sample the map: 20 000 Halton directions over the sphere, each the
@@ -17,7 +17,7 @@
 //!   hemisphere` always does);
 //! - the environment is black below the horizon ([`clip_below_horizon`]): "the images are
 //!   clipped to the upper hemisphere to represent lightmap use cases" (Appendix C) — a
-//!   lightmap texel facing up receives no light from below. No code of [RoughtonFork] does this
+//!   lightmap texel facing up receives no light from below. No code of \[RoughtonFork\] does this
 //!   (its `upperHemisphereOnly`, false in the commit, clips the output images only); the printed
 //!   figures say it: with the lower half black, every radiance cell and every SG GGX cell
 //!   comes within 1.00–1.05× of Roughton's, with it lit wells' SG cells sit at 1.25–1.29×
@@ -60,7 +60,7 @@ pub fn clip_below_horizon(map: &LatLongImage) -> LatLongImage {
     LatLongImage::new(g.width, g.height, texels).expect("same geometry as a valid map")
 }
 
-/// The Ambient Dice specular fit in [RoughtonFork]'s `ExperimentAmbientDice.cpp` at 2a6cfda
+/// The Ambient Dice specular fit in \[RoughtonFork\]'s `ExperimentAmbientDice.cpp` at 2a6cfda
 /// (`parameters[10]`): alphaLerp = Σ pᵢ·αⁱ (i = 0..4) blends the lobe in the mirror
 /// direction towards its diffuse response, evaluated at a direction focusLerp = Σ p₅₊ᵢ·αⁱ
 /// of the way from R to n. The thesis prints another fit (Listing 8.1: √α polynomials, eight
@@ -93,7 +93,7 @@ fn ad_fit_value(r_dot: f64, n_dot: f64, alpha: f64) -> f64 {
     mirror + (diffuse - mirror) * quartic(&AD_FIT[..5]).clamp(0.0, 1.0)
 }
 
-/// One AD lobe's specular weight before the table ([RoughtonFork]'s
+/// One AD lobe's specular weight before the table (\[RoughtonFork\]'s
 /// `estimateSRBFBasisWeightGGXCustomFit` without its `lutValueApprox` factor): 0 below the
 /// horizon (n·v < 0).
 pub fn ad_lobe_fit(lobe: DVec3, n: DVec3, v: DVec3, alpha: f64) -> f64 {
@@ -105,11 +105,11 @@ pub fn ad_lobe_fit(lobe: DVec3, n: DVec3, v: DVec3, alpha: f64) -> f64 {
     ad_fit_value(lobe.dot(r), n.dot(lobe), alpha)
 }
 
-/// Samples of [RoughtonFork]'s table: `sampleHammersley(i, 512)` = (i/512, radical inverse of i).
+/// Samples of \[RoughtonFork\]'s table: `sampleHammersley(i, 512)` = (i/512, radical inverse of i).
 pub const AD_TABLE_SAMPLES: u32 = 512;
 
 /// A visible normal for view `v` (z-up tangent frame) by Heitz 2017, "A Simpler and Exact
-/// Sampling Routine for the GGX Distribution of Visible Normals" — [RoughtonFork]'s
+/// Sampling Routine for the GGX Distribution of Visible Normals" — \[RoughtonFork\]'s
 /// `sampleGGXVNDF`, which the table's estimate depends on at 512 samples (the 2018 routine in
 /// `sbf::ggx` maps the square differently).
 fn vndf_2017(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
@@ -125,12 +125,12 @@ fn vndf_2017(v: DVec3, alpha: f64, u1: f64, u2: f64) -> DVec3 {
     DVec3::new(alpha * m.x, alpha * m.y, m.z.max(0.0)).normalize()
 }
 
-/// [RoughtonFork]'s per-pixel table `lutValueApprox(n·v, α)`: the (f0, f90) scales that turn
+/// \[RoughtonFork\]'s per-pixel table `lutValueApprox(n·v, α)`: the (f0, f90) scales that turn
 /// [`ad_lobe_fit`] into the G2·G1-weighted ground truth for a lobe along the GGX dominant
 /// direction — Σ B(lobe·l)·(1 − w, w)·G2·G1(v) over `samples` visible normals (Hammersley
-/// (i/N, radical inverse), the coordinates swapped as in [RoughtonFork]; l above the surface only;
+/// (i/N, radical inverse), the coordinates swapped as in \[RoughtonFork\]; l above the surface only;
 /// w = (1 − v·h)⁵) divided by N and by the fit's value there. n·v and α clamped to
-/// [0.5/256, 0.999] as [RoughtonFork] does.
+/// [0.5/256, 0.999] as \[RoughtonFork\] does.
 pub fn ad_table(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     let nv = n_dot_v.clamp(0.5 / 256.0, 0.999);
     let a = alpha.clamp(0.5 / 256.0, 0.999);
@@ -153,9 +153,9 @@ pub fn ad_table(n_dot_v: f64, alpha: f64, samples: u32) -> [f64; 2] {
     gt.map(|g| g / samples as f64 / value)
 }
 
-/// Roughton's GGX reference as [RoughtonFork] computes it (`ExperimentMonteCarlo.h`, its
+/// Roughton's GGX reference as \[RoughtonFork\] computes it (`ExperimentMonteCarlo.h`, its
 /// `upperHemisphereOnly` branch): per output texel with view `views[k]` (world; None: no
-/// signal) and normal +Y, `samples` visible normals ([RoughtonFork]'s Hammersley points through
+/// signal) and normal +Y, `samples` visible normals (\[RoughtonFork\]'s Hammersley points through
 /// Heitz's 2017 routine, as [`ad_table`]), each reflected to l and weighted by
 /// F·G2·G1(v) (Schlick f0 0.9, f90 1 at saturate(v·h)), the radiance read bilinearly —
 /// the peer's `sampleBilinear`, texel corners at integer coordinates — from the map resized
@@ -469,7 +469,7 @@ mod tests {
         }
     }
 
-    /// [RoughtonFork]'s table estimator (its 2017 VNDF routine, its Hammersley points) converges to
+    /// \[RoughtonFork\]'s table estimator (its 2017 VNDF routine, its Hammersley points) converges to
     /// the same G2·G1-weighted integral as sbf's independent one (Heitz 2018's routine,
     /// centred Hammersley points): at 2¹⁴ against 2¹⁶ samples, over n·v 0.1–0.95 and α
     /// 0.1–0.8, both Fresnel channels (the fit's value, common to both, multiplied back).
@@ -477,7 +477,7 @@ mod tests {
     /// cut at the horizon (error ~N^-¾ there: 2¹⁴ gives ≈ 7e-4 of the integral, times a
     /// constant of a few). Mutations tried: the 2017 routine without its V.z scale of P2; the
     /// Hammersley coordinates unswapped is not caught (same integral) — its effect shows only
-    /// at [RoughtonFork]'s 512 samples, in the compatible mode's figures.
+    /// at \[RoughtonFork\]'s 512 samples, in the compatible mode's figures.
     #[test]
     fn the_forks_table_estimates_the_same_integral_as_sbfs() {
         for nv in [0.1, 0.4, 0.7, 0.95] {

@@ -32,8 +32,8 @@ pub struct Settings {
     pub convention: sbf::ggx::Convention,
     /// How every mode's coefficients are stored (`--storage`).
     pub storage: crate::storage::Storage,
-    /// Appendix C only: the GGX reference by [RoughtonFork]'s own Monte Carlo estimator with this
-    /// many samples per texel ([`crate::appendix_c::monte_carlo_reference`]; [RoughtonFork] used
+    /// Appendix C only: the GGX reference by \[RoughtonFork\]'s own Monte Carlo estimator with this
+    /// many samples per texel ([`crate::appendix_c::monte_carlo_reference`]; \[RoughtonFork\] used
     /// 8192) instead of the exact integral of its kernel — Roughton's reference noise
     /// included. None: the exact integral.
     pub seed_estimator: Option<u32>,

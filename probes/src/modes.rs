@@ -50,7 +50,7 @@ pub struct Context {
     /// How coefficients are stored (`--storage`): every mode's images are reconstructed
     /// from its stored values.
     pub storage: crate::storage::Storage,
-    /// Appendix C's reference by [RoughtonFork]'s Monte Carlo estimator (see
+    /// Appendix C's reference by \[RoughtonFork\]'s Monte Carlo estimator (see
     /// [`crate::compare::Settings::seed_estimator`]).
     pub seed_estimator: Option<u32>,
 }

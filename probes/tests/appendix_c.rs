@@ -1,4 +1,4 @@
-//! `--reference appendix-c` against the figures [Roughton19] prints in Appendix C (Figs.
+//! `--reference appendix-c` against the figures \[Roughton19\] prints in Appendix C (Figs.
 //! C.1–C.5): radiance, Lambert and GGX RMSE of AD 9, AD 12, SG 9 and SG 12 on the five
 //! probes, through the same `compare` the command runs. Prints every cell (ours /
 //! Roughton's = ratio) and both counts the docs quote.
@@ -14,7 +14,7 @@
 //!   either way — the reproduction; AD at α 0.6–0.8 is reported, not asserted cell by cell
 //!   (docs/probes.md says which cells are not reproduced and why);
 //! - the count: at least 88 of the 92 GGX cells no more than 1.10× Roughton's (its
-//!   own reproduction of [RoughtonFork], "90 of 92 within 1.10× (AD mean 0.86)", counts that way);
+//!   own reproduction of \[RoughtonFork\], "90 of 92 within 1.10× (AD mean 0.86)", counts that way);
 //! - Lambert: every cell no more than 1.15× Roughton's, and SG's within 1.15× either way —
 //!   Roughton's Lambert reference is a 5000-sample Monte Carlo estimate whose noise only
 //!   adds to its errors (ours is exact), which leaves AD's small errors below Roughton's.
@@ -23,7 +23,7 @@
 //! the compatible runtimes — every probe fails (ennis AD 9 α 0.4: 3.1×); the physical
 //! Listing 8.2 table in the compatible mode — AD fails (ennis AD 9 α 0.4: 3.2×); the ASG
 //! warp's frame in the plane of n and R instead of Roughton's — SG fails (ennis SG 12 α 0.4:
-//! 1.20, uffizi SG 9: 1.16); Listing 8.1 × its G2·G1 table for [RoughtonFork]'s AD fit and
+//! 1.20, uffizi SG 9: 1.16); Listing 8.1 × its G2·G1 table for \[RoughtonFork\]'s AD fit and
 //! per-pixel table — AD fails (wells AD 9 α 0.4: 1.34, pisa 1.17); the environment lit below the horizon (no
 //! `clip_below_horizon` anywhere) — SG fails (wells SG 12 α 0.2: 1.24, α 0.4: 1.29); the map
 //! not clipped in `compare` but the SG samples' map still clipped — fails (82 of 92; wells
@@ -35,7 +35,7 @@ use probes::modes::{SgIrradiance, SpecularRuntime};
 use sbf::ggx::Convention;
 use std::path::PathBuf;
 
-/// `x` to four significant figures ([Roughton19] prints three or four).
+/// `x` to four significant figures (\[Roughton19\] prints three or four).
 fn four_figures(x: f64) -> String {
     let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
     format!("{x:.decimals$}")
@@ -198,7 +198,7 @@ fn seeds_estimator_converges_to_the_exact_integral() {
     }
 }
 
-/// With Roughton's own reference estimator (8192 samples, as [RoughtonFork]) the printed figures
+/// With Roughton's own reference estimator (8192 samples, as \[RoughtonFork\]) the printed figures
 /// come back to their digits on the four probes without a sun: every SG GGX cell and every
 /// AD cell at α ≤ 0.4 within 1.02× either way on ennis, pisa, uffizi and wells; grace (its
 /// sun: the estimator's own error there exceeds the printed AD errors) is printed, not

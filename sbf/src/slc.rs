@@ -1,7 +1,7 @@
 //! Stochastic light culling for many virtual point lights (VPLs): the random light range
 //! by Russian roulette, its bounding volumes — a sphere for diffuse VPLs, a spheroid for
 //! VPLs on GGX microsurfaces — and the space transforms that cull an ellipsoid with a
-//! sphere–AABB test. Sources: [TH17] (Tokuyoshi & Harada, "Stochastic Light Culling for
+//! sphere–AABB test. Sources: \[TH17\] (Tokuyoshi & Harada, "Stochastic Light Culling for
 //! VPLs on GGX Microsurfaces"), its supplement 000, and 001 (Fujieda, Tokuyoshi & Harada,
 //! single scattering, supplement).
 //!
@@ -191,7 +191,7 @@ macro_rules! slc_impl {
         }
 
         /// The bounding sphere of a diffuse VPL at `q` with unit normal `n` and reflected
-        /// flux Φk ([FTH22-supp eq. 2–3], [TH17 §6] with [FTH22-supp]'s offset; see the module documentation):
+        /// flux Φk ([FTH22-supp eq. 2–3], [TH17 §6] with \[FTH22-supp\]'s offset; see the module documentation):
         /// A = √(Φk/(πδξ)), centre q + (1/3)^{3/4}·A·n, radius (4/27)^{1/4}·A.
         pub fn diffuse_sphere(q: $v, n: $v, phi_k: $f, delta: $f, xi: $f) -> Sphere {
             let a = random_range(phi_k / $pi, delta, xi);

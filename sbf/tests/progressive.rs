@@ -146,7 +146,7 @@ fn mirrored_zero_samples() {
 }
 
 /// Non-negative clamp keeps every amplitude ≥ 0; naive projection and the public
-/// running average are worse than LS on this sky, as [Roughton19] reports for Wells.
+/// running average are worse than LS on this sky, as \[Roughton19\] reports for Wells.
 #[test]
 fn variants_behave() {
     let map = sky_map();

@@ -13,7 +13,7 @@
 //! d = (t.x, t.z, t.y); the error images are the upper-hemisphere half of a 128×64
 //! lat-long grid (2048 texels), RMSE unweighted over texels and averaged over RGB as
 //! in Probulator. References: exact quadrature over the map's texels for Lambert and
-//! for GGX, with f0 = f90 = 1 ([Roughton19] does not state its Fresnel;
+//! for GGX, with f0 = f90 = 1 (\[Roughton19\] does not state its Fresnel;
 //! white-furnace albedo is the natural reading of its magnitudes).
 
 use sbf::envmap::LatLong;

@@ -68,7 +68,8 @@ fn cited(line: &str) -> Vec<String> {
         rest = &rest[i + 1..];
         let Some(j) = rest.find(']') else { break };
         for part in rest[..j].split(';') {
-            let first = part.trim().split([' ', ',']).next().unwrap_or("");
+            // Doc comments escape a bare key (`\[Roughton19\]`) so that rustdoc does not take it for a link.
+            let first = part.trim().trim_start_matches('\\').split([' ', ',']).next().unwrap_or("").trim_end_matches('\\');
             if is_key_shaped(first) {
                 out.push(first.to_string());
             }
@@ -117,6 +118,7 @@ fn citations_name_published_works_by_their_keys() {
 #[test]
 fn the_checks_recognise_what_they_must() {
     assert!(names_a_local_seed("as in seed 004 §7.3") && names_a_local_seed("seeds 000–002") && !names_a_local_seed("seed 0x1f"));
+    assert_eq!(cited(r"/// \[Roughton19\] and \[TH17 §7\]"), ["Roughton19", "TH17"]);
     assert!(!is_key_shaped("Y00") && is_key_shaped("TH17") && is_key_shaped("TH17-supp"));
     assert_eq!(
         cited("([Roughton19 §7.3], [`foo`]) [TH17; TH17-supp; FTH22-supp] [0, 1] [N]"),

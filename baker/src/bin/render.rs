@@ -1,5 +1,5 @@
 //! render: shade a baked scene in real time with the exported runtime — every lightmap
-//! basis side by side — against a path-traced reference of the same quantity ([Roughton19]
+//! basis side by side — against a path-traced reference of the same quantity (\[Roughton19\]
 //! §8.4.3, Figs. 8.6–8.8, Table 8.1).
 
 #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
@@ -23,8 +23,7 @@ use std::process::ExitCode;
     after_help = "Bakes the scene into OUT/bake (or reads an existing bake with --bake), then writes reference.exr/png, one image and one +3 EV difference image per configuration, results.json and report.html into OUT.\n\nThe rendered quantity is the light the visible surface reflects (Lambert + single-scattering GGX) of the incident light the lightmap encodes (the baked lights' direct light and the indirect light); the reference estimates the same with the bake's own path tracer, so the difference is the lightmap's error: texel size, basis, runtime.\n\nExamples:\n  render\n  render --bases sh2,ad9,sg12 --specular both --storage both\n  render --scene room.glb --camera 0,1.5,3:0,1,0:60 --reference-samples 1024\n  render --bake bake-out --scene cornell"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `furnace`, `slit`, `sunbeam`, `room-1m`, `atrium`, `dense`, or a .gltf/.glb file.
-    #[arg(long, default_value = "cornell")]
+    #[arg(long, default_value = "cornell", help = baker::scene::load::SCENE_HELP)]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
     #[arg(long)]
@@ -61,7 +60,7 @@ struct Cli {
     sg_sharpness: f64,
     /// Bake (without --bake) and compare indirect light only: the light reaching a surface
     /// straight from an emitter, a delta light or the sky is in neither the lightmap nor
-    /// the reference ([Roughton19]'s Fig. 8.6: indirect light from baked lightmaps). With
+    /// the reference ([Roughton19 Fig. 8.6]: indirect light from baked lightmaps). With
     /// --bake, the bake's own setting (bake.json) is used.
     #[arg(long)]
     indirect_only: bool,

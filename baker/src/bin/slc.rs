@@ -18,9 +18,7 @@ use std::process::ExitCode;
     after_help = "Writes slc.exr/png (culled, filtered), slc_vpls_per_pixel.exr, slc_fdr.exr and slc.json (VPL counts, false discovery rate, frame time) into --out.\n\nExamples:\n  slc\n  slc --vpls 4000 --brute\n  slc --scene room.glb --interleave 1 --medium 0.2,0.3,0.5,4\n  slc --scene slit --sky\n  slc --scene sunbeam --rsm 256\n  slc --delta 0.05 --medium 0.2,0.3,0.5,4 --point-lights 2560"
 )]
 struct Cli {
-    /// Scene: `cornell` (built-in), `museum`, `furnace`, `slit`, `sunbeam`, `room-1m`, `dense`, or a
-    /// .gltf/.glb file.
-    #[arg(long, default_value = "cornell")]
+    #[arg(long, default_value = "cornell", help = baker::scene::load::SCENE_HELP)]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
     #[arg(long)]
@@ -64,8 +62,8 @@ struct Cli {
     #[arg(long)]
     compare_culling: bool,
     /// With --medium: also scatter this many point lights uniformly through the scene's
-    /// bounds, sharing 4πR² W (R the bounding radius) — [FTH22-supp]'s 2 560-point-light
-    /// experiment (`--medium … --point-lights 2560`: its false discovery rate image).
+    /// bounds, sharing 4πR² W (R the bounding radius) — the 2 560-point-light
+    /// experiment of [FTH22-supp Fig. 1] (`--medium … --point-lights 2560`: its false discovery rate image).
     #[arg(long, default_value_t = 0)]
     point_lights: usize,
     /// The equal-time experiment ([TH17-supp Fig. 2]): render with each of these δ (comma

@@ -19,7 +19,7 @@
 //! ([`crate::scene::lights::offset_ray`]) and are aimed and measured from it.
 //!
 //! **Validity**: a point sample whose first hit is the back face of a single-sided
-//! surface is rejected (the baked point is inside geometry, [HWRTL]'s valid-sample
+//! surface is rejected (the baked point is inside geometry, \[HWRTL\]'s valid-sample
 //! count); the caller counts it.
 
 use crate::sampling::environment::EnvSampler;

@@ -1,4 +1,4 @@
-//! Ray guiding on the GPU ([HWRTL]): the learning records of each pass, the learned sums
+//! Ray guiding on the GPU (\[HWRTL\]): the learning records of each pass, the learned sums
 //! and distributions, and the gather and build kernels.
 
 use super::kernel::{guide_build_sources, GuideBuild};

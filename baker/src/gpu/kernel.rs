@@ -66,7 +66,7 @@ pub const MAX_SLOTS: usize = 6;
 /// How ray guiding's distributions are built on this device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GuideBuild {
-    /// Row and marginal prefix sums by subgroup scans ([HWRTL]'s wave prefix sums).
+    /// Row and marginal prefix sums by subgroup scans (\[HWRTL\]'s wave prefix sums).
     Subgroup,
     /// Serial sums in workgroup memory (no subgroups, or subgroups narrower than a row).
     Workgroup,

@@ -1,4 +1,4 @@
-//! Lightmap denoiser ([HWRTL]'s post-process): joint non-local means
+//! Lightmap denoiser (\[HWRTL\]'s post-process): joint non-local means
 //! over the atlas, guided by position and normal, within a chart, over valid texels only.
 //!
 //! For a valid texel p, the output of every stored quantity — E/π and every coefficient of

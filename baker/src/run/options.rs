@@ -17,7 +17,8 @@ pub enum Device {
 /// Everything a bake needs.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// "cornell" (default), "furnace", or a .gltf/.glb path.
+    /// A built-in scene's name ([`crate::scene::load::BUILTIN`]; "cornell" by default) or a
+    /// .gltf/.glb path.
     pub scene: String,
     /// A lat-long .hdr/.exr environment replacing the scene's.
     pub environment: Option<PathBuf>,

@@ -1,4 +1,4 @@
-//! First-bounce ray guiding for lightmap texels ([HWRTL], "First Bounce Ray Guiding",
+//! First-bounce ray guiding for lightmap texels (\[HWRTL\], "First Bounce Ray Guiding",
 //! after Call of Duty's "ray guiding" and Unreal GPULM).
 //!
 //! **Clusters.** Texels share one learned distribution per cluster: an 8×8 tile of the

@@ -355,7 +355,7 @@ fn bent_grid(
     Mesh { name: name.into(), positions, normals, indices, material, lightmap_uv: Some(uv), lightmapped: true, uv: None }
 }
 
-/// An atrium at the scale of [Roughton19]'s Table 8.1 workload (a hall with columns, arches and
+/// An atrium at the scale of \[Roughton19\]'s Table 8.1 workload (a hall with columns, arches and
 /// banners): 24 × 12 × 10 m, two rows of eight marble columns (r 0.45 m, 6 m, 64 × 72
 /// quads), seven round arches between the columns of each row (intrados and both faces),
 /// a gallery slab over each row, fourteen hanging banners (16 × 48 quads), a polished
@@ -484,7 +484,7 @@ pub fn atrium() -> Scene {
     }
 }
 
-/// A gallery where glossy VPLs matter (after [TH17]'s Museum scene: "glossy caustics"
+/// A gallery where glossy VPLs matter (after \[TH17\]'s Museum scene: "glossy caustics"
 /// from a polished floor under spot lights): an 8 × 4 × 10 m room whose floor is polished
 /// stone-like metal (base (0.85, 0.8, 0.75), metallic 0.7, roughness 0.3: GGX α 0.09, F0
 /// ≈ 0.6), Lambert walls (one blue-grey) and ceiling, lit only by three spot lights from the

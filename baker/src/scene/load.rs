@@ -5,6 +5,17 @@ use super::camera::SceneCamera;
 use super::{builtin, Environment, Scene};
 use std::path::Path;
 
+/// The built-in scenes' names, in [`SCENE_HELP`]'s order ([`load`] knows each).
+pub const BUILTIN: [&str; 8] = ["cornell", "furnace", "slit", "sunbeam", "room-1m", "atrium", "museum", "dense"];
+
+/// What `--scene` accepts, for every command that takes one (`baker`, `render`, `slc`).
+pub const SCENE_HELP: &str = "Scene: a .gltf/.glb file, or a built-in one: `cornell` (the default Cornell-style \
+    box), `furnace` (a closed test box), `slit` (a room lit through a slit), `sunbeam` (the slit room lit by a sun \
+    through the slit: a small bright indirect region), `room-1m` (1 M lightmapped triangles, the fair benchmark), \
+    `atrium` (a 0.29 M-triangle hall with columns, arches and banners, lit by a sun and the sky through a skylight: \
+    the renderer's Table 8.1 workload), `museum` (a glossy hall lit by three spot lights: the light-culling \
+    workload), `dense` (cornell + a 1 M-triangle sphere).";
+
 /// Loads the named scene (built-in or glTF) and the optional environment map.
 pub fn load(name: &str, environment: Option<&Path>, log: &mut dyn FnMut(String)) -> Result<Scene, String> {
     load_with_cameras(name, environment, log).map(|l| l.0)
@@ -41,4 +52,22 @@ pub fn load_with_cameras(name: &str, environment: Option<&Path>, log: &mut dyn F
         log(format!("scene: {degenerate} degenerate triangles skipped"));
     }
     Ok((s, cameras))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every built-in name loads and is in the help text; an unknown name is read as a file
+    /// and refused with its path. (The list, the help and `load`'s match cannot drift apart.)
+    #[test]
+    fn every_builtin_name_loads_and_is_documented() {
+        for name in BUILTIN {
+            assert!(SCENE_HELP.contains(&format!("`{name}`")), "{name} is missing from SCENE_HELP");
+            let s = load(name, None, &mut |_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(!s.meshes.is_empty(), "{name}: no meshes");
+        }
+        let e = load("no-such-scene", None, &mut |_| {}).unwrap_err();
+        assert!(e.contains("no-such-scene"), "{e}");
+    }
 }

@@ -447,7 +447,7 @@ impl<'g> SlcGpu<'g> {
 /// timings taken after CPU work (a readback, a new δ) came out up to 10× slow and unordered.
 pub const WARM_UP: std::time::Duration = std::time::Duration::from_millis(300);
 
-/// One frame's GPU times in seconds by timestamp queries (medians over frames): [TH17]
+/// One frame's GPU times in seconds by timestamp queries (medians over frames): \[TH17\]
 /// Table 1's rows that run here, and the frame's span on the GPU.
 #[derive(Clone, Copy, Debug)]
 pub struct StageTimes {

@@ -1,5 +1,5 @@
 //! Stochastic light culling for single scattering in a homogeneous medium (Fujieda, Tokuyoshi & Harada 2022,
-//! [FTH22-supp]): point lights and diffuse VPLs scatter light towards the camera from every
+//! \[FTH22-supp\]): point lights and diffuse VPLs scatter light towards the camera from every
 //! point of the camera ray inside a slab of medium. Each light has one ξ; its random range
 //! is bounded by a sphere — the isosurface itself for an isotropic point light, the sphere
 //! of [FTH22-supp eq. 2–3] for a diffuse VPL, whose acceptance probability is taken from the

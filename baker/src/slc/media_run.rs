@@ -1,4 +1,4 @@
-//! The `slc --medium` run: single scattering ([`super::media`], [FTH22-supp]) from the scene's
+//! The `slc --medium` run: single scattering ([`super::media`], \[FTH22-supp\]) from the scene's
 //! point lights, `--point-lights N` more scattered through the scene (the supplement's
 //! 2 560-point-light experiment) and the diffuse VPLs, culled and brute force, on the GPU
 //! ([`super::media_gpu`]) or the CPU; its images (radiance, false discovery rate) and numbers.

@@ -15,7 +15,7 @@
 //! The module tree: this file (VPLs, receivers, bounds, tiled culling and shading on the
 //! CPU), [`from_scene`] (the camera, G-buffer, VPLs and random numbers a scene gives),
 //! [`rsm`] (VPLs from reflective shadow maps), [`compare`] (bounds and culling schemes side by side), [`mod@filter`] (joining the interleaving subregions), [`gpu`] (the wgpu twin),
-//! [`media`] (single scattering, [FTH22-supp]), [`media_gpu`] (its wgpu twin) and [`media_run`] (the `--medium` run), [`sweep`] (the equal-time experiment), [`harness`]
+//! [`media`] (single scattering, \[FTH22-supp\]), [`media_gpu`] (its wgpu twin) and [`media_run`] (the `--medium` run), [`sweep`] (the equal-time experiment), [`harness`]
 //! (what the `slc` command renders and writes).
 //!
 //! Uses: [`crate::scene`] and the image writers of [`crate::output`].

@@ -47,7 +47,7 @@ pub struct SlcOptions {
     /// VPLs as Tokuyoshi & Harada's).
     pub bounces: usize,
     /// Point lights scattered uniformly through the scene's bounds for the medium run
-    /// ([FTH22-supp] supplement Fig. 1: 2 560 point lights).
+    /// ([FTH22-supp Fig. 1]: 2 560 point lights).
     pub point_lights: usize,
     /// The environment is a source of light paths too ([`crate::slc::vpls_from_scene_with`]).
     pub sky: bool,

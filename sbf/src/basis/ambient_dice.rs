@@ -1,5 +1,5 @@
 //! Ambient Dice (Iwanicki & Sloan 2017) on the icosahedron: geometry, the
-//! cosine-lobe SRBF variant (12 lobes, and the 9-lobe hemisphere set of [Roughton19]
+//! cosine-lobe SRBF variant (12 lobes, and the 9-lobe hemisphere set of \[Roughton19\]
 //! §8.3.1) and a piecewise-linear variant (used for chroma by YCoCg).
 //!
 //! SRBF lobe ([Roughton19 eq. 8.3]/8.4): B(c) = 0.7·½c² + 0.3·⅚c⁴ = 0.35c² + 0.25c⁴ for

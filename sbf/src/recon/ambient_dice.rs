@@ -13,8 +13,8 @@
 //! and Σ over the 12 icosahedron lobes of I(c_i) = 1 (Σc_i = 0, Σc_i² = 4,
 //! Σc_i⁴ = 12/5), the partition of unity carried through the convolution.
 //!
-//! [Roughton19] prints a longer closed form (eq. 8.13 for θ < π/2, eq. 8.11 with an
-//! arctangent for θ ≥ π/2). In our copy of [Roughton19] it agrees with the quartic at
+//! \[Roughton19\] prints a longer closed form (eq. 8.13 for θ < π/2, eq. 8.11 with an
+//! arctangent for θ ≥ π/2). In our copy of \[Roughton19\] it agrees with the quartic at
 //! θ = 0, π/2 and π but deviates by up to 2.0e-3 in between (a test measures it
 //! against an independent quadrature); we use the quartic, which matches that
 //! quadrature to rounding.

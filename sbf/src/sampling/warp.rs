@@ -97,7 +97,7 @@ fn wrap_pi(t: f64) -> f64 {
 /// Uniform hemisphere direction through the concentric disk: [0,1)² → disk (Shirley–Chiu,
 /// area-preserving) → hemisphere by z = 1 − r², (x, y) = p·√(2 − r²) (the disk's area
 /// element r dr dφ maps to dz dφ/2, so equal areas of the square are equal solid angles:
-/// pdf 1/2π). Ray guiding bins directions on this square ([HWRTL], "concentric mapping").
+/// pdf 1/2π). Ray guiding bins directions on this square (\[HWRTL\], "concentric mapping").
 pub fn uniform_hemisphere_concentric(u: [f64; 2]) -> DVec3 {
     let p = concentric_disk(u);
     let r2 = p.length_squared().min(1.0);
