@@ -23,7 +23,7 @@
 //!   comes within 1.00–1.05× of Roughton's, with it lit wells' SG cells sit at 1.25–1.29×
 //!   (docs/probes.md has both tables).
 //!
-//! The lobe layouts are Roughton's in both modes ([`crate::modes::tangent_to_world`]).
+//! The lobe layouts are Roughton's in both modes ([`crate::frame::tangent_to_world`]).
 
 use sbf::envmap::{LatLong, LatLongImage};
 use sbf::glam::DVec3;
@@ -185,7 +185,7 @@ pub fn monte_carlo_reference(map: &LatLongImage, views: &[Option<DVec3>], alpha:
         .par_iter()
         .map(|view| {
             let Some(view) = view else { return [0.0; 3] };
-            let v = crate::modes::world_to_tangent(*view);
+            let v = crate::frame::world_to_tangent(*view);
             let mut acc = [0.0; 3];
             for &(u2, u1) in &points {
                 let hm = vndf_2017(v, alpha, u1, u2);
@@ -207,7 +207,7 @@ pub fn monte_carlo_reference(map: &LatLongImage, views: &[Option<DVec3>], alpha:
 /// the reflected direction in the peer's z-up tangent frame, as its `sgWarpDistribution`
 /// builds it.
 pub fn asg_warp(n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64) -> sbf::recon::sg::AsgWarp {
-    use crate::modes::{tangent_to_world, world_to_tangent};
+    use crate::frame::{tangent_to_world, world_to_tangent};
     sbf::recon::sg::AsgWarp::with_frame(n, v, alpha, f0, f90, |z| {
         let t = world_to_tangent(z);
         let sign = 1.0f64.copysign(t.z);
@@ -330,7 +330,7 @@ pub fn sg_samples(map: &LatLongImage) -> Result<Vec<RadianceSample>, String> {
             let y = ((tv * SIZE.height as f32).floor() as i64).clamp(0, SIZE.height as i64 - 1) as usize;
             let t = m.texel(x, y);
             RadianceSample {
-                direction: crate::modes::tangent_to_world(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
+                direction: crate::frame::tangent_to_world(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
                 value: [t[0] as f64, t[1] as f64, t[2] as f64],
                 weight,
             }
@@ -514,7 +514,7 @@ mod tests {
         let lit_below = s
             .iter()
             .filter(|x| {
-                let p = crate::modes::world_to_tangent(x.direction);
+                let p = crate::frame::world_to_tangent(x.direction);
                 let row = (p.z.clamp(-1.0, 1.0).acos() / std::f64::consts::PI * 256.0).floor();
                 row >= 128.0 && x.value != [0.0; 3]
             })

@@ -91,7 +91,7 @@ pub fn calibrate(batches: usize, progress: &dyn Fn(&str)) -> Result<Calibration,
         .collect();
     let mut results = Vec::new();
     for (_, r, ctx) in &contexts {
-        for (id, _) in modes::MODES {
+        for modes::Mode { id, .. } in modes::MODES {
             progress(&format!("{id} ({})", r.name()));
             let p = modes::prepare(id, ctx, 1)?;
             results.push((p, *r, ctx));

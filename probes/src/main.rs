@@ -289,7 +289,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     };
     let ids: Vec<String> = if m.is_empty() { default.iter().map(|s| s.to_string()).collect() } else { m };
     for id in &ids {
-        if !modes::MODES.iter().any(|(x, _)| x == id) {
+        if modes::mode(id).is_none() {
             return Err(format!("unknown mode '{id}' (see `probes list`)"));
         }
     }
@@ -388,8 +388,12 @@ fn main() -> ExitCode {
     }
     let result = match cli.cmd {
         Some(Cmd::List) => {
-            for (id, d) in modes::MODES {
-                println!("{id:<10} {d}");
+            // A closed pipe (`probes list | head`) ends the listing quietly.
+            let mut out = std::io::stdout().lock();
+            for modes::Mode { id, description: d, .. } in modes::MODES {
+                if std::io::Write::write_fmt(&mut out, format_args!("{id:<10} {d}\n")).is_err() {
+                    break;
+                }
             }
             Ok(())
         }

@@ -17,7 +17,7 @@ fn committed_calibration_covers_every_evaluator() {
         let mut ctx = Context::new(map.clone());
         ctx.sg_irradiance = sgi;
         ctx.specular_runtime = runtime;
-        for (id, _) in MODES {
+        for probes::modes::Mode { id, .. } in MODES {
             let p = prepare(id, &ctx, 1).unwrap();
             if p.eval.is_none() {
                 continue; // the Monte Carlo reference: no runtime

@@ -11,8 +11,9 @@
 //! mean over the sphere (a probe sees all of it); its encode is charged the one exact
 //! irradiance it needs.
 
+use super::common::{eval_cost, timed, Prepared};
+use super::context::Context;
 use crate::cost::{CostJob, EncodeJob};
-use crate::modes::{eval_cost, timed, Context};
 use crate::reference;
 use sbf::glam::DVec3;
 use sbf::recon::engine::{self, EngineFormat, EnlightenInput, L1Irradiance, Moments, Texel};
@@ -115,4 +116,24 @@ pub fn prepare<'a>(format: EngineFormat, ctx: &'a Context, repeats: usize) -> Re
         bytes,
         clamped_negative_fraction,
     })
+}
+
+/// Runs engine-format mode `id` up to its cost measurement ([`super::prepare`]).
+pub(super) fn mode<'a>(id: &'static str, ctx: &'a Context, repeats: usize) -> Result<Prepared<'a>, String> {
+    let format = format(id).ok_or_else(|| format!("mode '{id}' is not an engine format"))?;
+    let e = prepare(format, ctx, repeats)?;
+    let mut r = super::common::mk!(id, ctx;
+        e.basis,
+        "SH L1 projection, encoded and stored as the engine does",
+        e.stored,
+        Vec::new(),
+        None,
+        e.irradiance,
+        e.encode,
+        e.eval,
+    );
+    r.result.stored_scalars = e.scalars;
+    r.result.engine_bytes = Some(e.bytes);
+    r.result.clamped_negative_fraction = e.clamped_negative_fraction;
+    Ok(r)
 }

@@ -20,10 +20,9 @@
 //!   exact Gram over the sphere. Roughton's progressive encoder (§7.3, modes `sgpls` …
 //!   `adpnnls`) iterates on the running sample Gram instead and lags behind its limit.
 
+use super::common::{dot_rgb, eval_cost, reconstruct, sg_irradiance_rgb, sg_lobes, timed, EncodeJob, Prepared, PROGRESSIVE_SAMPLES};
+use super::context::{Context, SgIrradiance};
 use crate::cost::CostJob;
-use crate::modes::{
-    dot_rgb, eval_cost, reconstruct, sg_irradiance_rgb, sg_lobes, timed, Context, EncodeJob, SgIrradiance, PROGRESSIVE_SAMPLES,
-};
 use sbf::glam::DVec3;
 use sbf::gram::{gram_matrix, GramOptions};
 use sbf::nalgebra::DMatrix;
@@ -32,7 +31,7 @@ use sbf::solve::{moments, nnls_gram_eq, projection_matrix, Kernel, NnlsOptions, 
 use sbf::{AmbientDiceSrbf, Basis, Domain, SbfError, SgBasis, ShBasis};
 use std::sync::Arc;
 
-/// The modes of this module (listed with their descriptions in [`crate::modes::MODES`]).
+/// The modes of this module (listed with their descriptions in [`super::MODES`]).
 pub const IDS: [&str; 4] = ["sgnnlsc", "adnnlsc", "sgpnnlsc", "adpnnlsc"];
 
 /// Whether `id` is one of [`IDS`].
@@ -43,7 +42,7 @@ pub fn is_mode(id: &str) -> bool {
 /// RGB coefficients, one per basis function.
 type Rgb = Vec<[f64; 3]>;
 
-/// A conserving mode run except for its cost measurement (`crate::modes::prepare` wraps it).
+/// A conserving mode run except for its cost measurement ([`mode`] wraps it for [`super::prepare`]).
 #[derive(Debug)]
 pub struct Run<'a> {
     /// The basis' name.
@@ -287,4 +286,12 @@ pub fn prepare<'a>(id: &'static str, ctx: &'a Context, repeats: usize) -> Result
         eval,
         convergence,
     })
+}
+
+/// Runs conserving mode `id` up to its cost measurement ([`super::prepare`]).
+pub(super) fn mode<'a>(id: &'static str, ctx: &'a Context, repeats: usize) -> Result<Prepared<'a>, String> {
+    let run = prepare(id, ctx, repeats)?;
+    let mut r = super::common::mk!(id, ctx; run.basis, run.solver, run.coefficients, run.lobes, Some(run.radiance), run.irradiance, run.encode, run.eval);
+    r.result.convergence = run.convergence;
+    Ok(r)
 }
