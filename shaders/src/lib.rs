@@ -42,5 +42,5 @@ pub mod progressive;
 #[cfg(feature = "gpu")]
 pub mod sampler;
 #[cfg(feature = "gpu")]
-pub mod spirv;
+pub use gpu::spirv;
 pub mod tables;

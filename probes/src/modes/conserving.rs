@@ -42,7 +42,7 @@ pub fn is_mode(id: &str) -> bool {
 /// RGB coefficients, one per basis function.
 type Rgb = Vec<[f64; 3]>;
 
-/// A conserving mode run except for its cost measurement ([`mode`] wraps it for [`super::prepare`]).
+/// A conserving mode run except for its cost measurement (`mode` wraps it for [`super::prepare`]).
 #[derive(Debug)]
 pub struct Run<'a> {
     /// The basis' name.

@@ -10,6 +10,15 @@
 //! the texture unit's filter, with a linear clamp-to-edge sampler). The body
 //! sees the invocation index `i` (< `count`) and the helper `ld3(k)` (three floats of
 //! `inp` from k). Dispatch is 2D so counts above 65535 × 64 work.
+//!
+//! [`lease`](mod@lease) shares one device between tests (with a watchdog); `textures` makes the tables
+//! the kernels bind; [`spirv`] builds the HLSL/GLSL kernels for Vulkan adapters.
+
+pub mod lease;
+pub mod spirv;
+mod textures;
+
+pub use lease::{lease, shared, Lease, Watchdog};
 
 use wgpu::util::DeviceExt;
 
@@ -61,7 +70,7 @@ pub struct Launch<'a> {
     pub repeats: usize,
     /// The language the kernel runs in: WGSL (wgpu's own front end), or HLSL/GLSL (the
     /// exported library included into a kernel in that language, compiled by glslang and
-    /// run as SPIR-V; see [`crate::spirv`]).
+    /// run as SPIR-V; see [`spirv`]).
     pub lang: crate::export::Lang,
 }
 
@@ -100,88 +109,6 @@ pub fn check_workgroup_memory(what: &str, wgsl: &str, max_bytes: u32) -> Result<
         return Err(format!("{what} needs {bytes} bytes of workgroup memory; the adapter allows {max_bytes}"));
     }
     Ok(())
-}
-
-/// One device per process, created on first use and shared by every caller (tests run
-/// on many threads: one device avoids N concurrent device creations and N first-time
-/// pipeline compilations competing on a freshly started driver). The error is kept too,
-/// so every caller sees the same reason.
-pub fn shared() -> Result<&'static Gpu, String> {
-    static GPU: std::sync::OnceLock<Result<Gpu, String>> = std::sync::OnceLock::new();
-    GPU.get_or_init(Gpu::new).as_ref().map_err(|e| e.clone())
-}
-
-/// Exclusive use of the process-wide device for one test: holds a process-wide lock (GPU
-/// tests of one binary run one at a time — wgpu's GL backend guards its context with a
-/// lock that times out after a second, so concurrent tests on GL llvmpipe panicked with
-/// "Could not lock adapter context"), then arms a [`Watchdog`] for the test's own run time
-/// (waiting for the lock is not counted), then gets the device. Derefs to [`Gpu`].
-#[derive(Debug)]
-pub struct Lease {
-    gpu: &'static Gpu,
-    _watchdog: Watchdog,
-    _guard: std::sync::MutexGuard<'static, ()>,
-}
-
-impl std::ops::Deref for Lease {
-    type Target = Gpu;
-    fn deref(&self) -> &Gpu {
-        self.gpu
-    }
-}
-
-/// Takes the lease (see [`Lease`]): `what` names the test in the watchdog's message,
-/// `limit_s` is its default limit. Errors when no adapter exists.
-pub fn lease(what: &str, limit_s: u64) -> Result<Lease, String> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    // A test that panicked while holding the lock leaves it poisoned; the device is still
-    // usable for the next test.
-    let guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    let watchdog = Watchdog::start(what, limit_s);
-    let gpu = shared()?;
-    Ok(Lease { gpu, _watchdog: watchdog, _guard: guard })
-}
-
-/// Fails the process loudly if a GPU test runs longer than its limit: a kernel or a driver
-/// call that hangs cannot be unwound, so the watchdog prints what was running and exits
-/// with status 124 (as `timeout` does). Dropping the guard disarms it. The limit is
-/// `SBF_GPU_TEST_TIMEOUT_S` seconds when set, else `default_s`.
-#[derive(Debug)]
-pub struct Watchdog {
-    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
-}
-
-impl Watchdog {
-    pub fn start(what: &str, default_s: u64) -> Watchdog {
-        let limit = std::env::var("SBF_GPU_TEST_TIMEOUT_S").ok().and_then(|v| v.parse::<u64>().ok()).unwrap_or(default_s);
-        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        let flag = done.clone();
-        let what = what.to_string();
-        std::thread::spawn(move || {
-            let start = std::time::Instant::now();
-            while start.elapsed().as_secs() < limit {
-                std::thread::sleep(std::time::Duration::from_millis(200));
-                if flag.load(std::sync::atomic::Ordering::Relaxed) {
-                    return;
-                }
-            }
-            // Straight to the process's stderr: the test harness captures eprintln! and
-            // would drop it when the process exits.
-            use std::io::Write;
-            let _ = writeln!(
-                std::io::stderr(),
-                "GPU watchdog: '{what}' still running after {limit} s (SBF_GPU_TEST_TIMEOUT_S) — exiting with status 124"
-            );
-            std::process::exit(124);
-        });
-        Watchdog { done }
-    }
-}
-
-impl Drop for Watchdog {
-    fn drop(&mut self) {
-        self.done.store(true, std::sync::atomic::Ordering::Relaxed);
-    }
 }
 
 /// `SBF_GPU_MAX_STORAGE_BINDING` (bytes): a lower storage-binding limit than the adapter's,
@@ -397,7 +324,7 @@ impl Gpu {
         if let Some(why) = self.spirv_unavailable() {
             return Err(why);
         }
-        let words = crate::spirv::build(l, src, Self::groups(l.count).0 * WG, WG)?;
+        let words = spirv::build(l, src, Self::groups(l.count).0 * WG, WG)?;
         let module = Self::passthrough(d, words);
         let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
             binding,
@@ -624,78 +551,6 @@ impl Gpu {
             b.unmap();
         }
         Ok(Output { out: out[..count * out_per_item].to_vec(), io, seconds_per_dispatch: per_dispatch })
-    }
-
-    /// A fitgen 2D table as the `lut: texture_2d<f32>` the library's `lut2_sample` reads:
-    /// rg32float, the table's two channels (a one-channel table repeats its value).
-    pub fn lut_texture(&self, l: &sbf::recon::lut::Lut2) -> wgpu::Texture {
-        let data: Vec<f32> = (0..l.width * l.height)
-            .flat_map(|k| {
-                let a = l.data[k * l.channels];
-                let b = if l.channels > 1 { l.data[k * l.channels + 1] } else { a };
-                [a, b]
-            })
-            .collect();
-        self.rg32_texture("lut", [l.width as u32, l.height as u32, 1], &data)
-    }
-
-    /// A per-lobe GGX table as the `texture_2d_array<f32>` the library's `lobe_ggx_*`
-    /// functions read (x = ψ, y = γ, layer = n·v node × N_√α + √α node; rg32float).
-    pub fn lobe_texture(&self, t: &sbf::recon::lobe_ggx::Table) -> wgpu::Texture {
-        let g = t.grid;
-        self.rg32_texture("lobe_tab", [g.psi as u32, g.gamma as u32, (g.theta_v * g.alpha) as u32], &t.values)
-    }
-
-    /// A per-lobe GGX table as the `texture_3d<f32>` the library's `lobe_ggx_filtered_*`
-    /// functions sample: rg16float holding the table's values (committed as f16, so exact),
-    /// x = √α node × N_ψ + ψ node, y = γ node, z = n·v node.
-    pub fn lobe_texture_filtered(&self, t: &sbf::recon::lobe_ggx::Table) -> wgpu::Texture {
-        let (size, texels) = lobe_filtered_texels(t);
-        self.device.create_texture_with_data(
-            &self.queue,
-            &wgpu::TextureDescriptor {
-                label: Some("lobe_tex3"),
-                size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: size[2] },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D3,
-                format: wgpu::TextureFormat::Rg16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&texels),
-        )
-    }
-
-    /// The sampler `lobe_ggx_filtered_lobe` expects: linear in every axis, clamp to edge, mip 0.
-    pub fn linear_clamp_sampler(&self) -> wgpu::Sampler {
-        self.device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("lobe_smp"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        })
-    }
-
-    /// An rg32float 2D texture (array: `size[2]` layers) holding `data` (two floats per
-    /// texel, layer-major), for sampling by textureLoad.
-    pub fn rg32_texture(&self, label: &str, size: [u32; 3], data: &[f32]) -> wgpu::Texture {
-        self.device.create_texture_with_data(
-            &self.queue,
-            &wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: size[2] },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rg32Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(data),
-        )
     }
 
     /// Copies a buffer (with `COPY_SRC` usage) back to the host.

@@ -9,9 +9,9 @@
 //! the test's WGSL by [`crate::emit`] — so the library under test is the exported text,
 //! byte for byte.
 
+use super::Launch;
 use crate::emit::{self, Options};
 use crate::export::{self, Lang};
-use crate::gpu::Launch;
 use std::path::{Path, PathBuf};
 
 /// The glslang front end (Debian/Ubuntu: `apt-get install glslang-tools`).
