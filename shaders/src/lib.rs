@@ -8,7 +8,8 @@
 //! - [`modules`]: the sources in composition order.
 //! - [`compose`]: configurations ([`compose::Config`]: presets or feature lists) and
 //!   composition pruned to what a configuration reaches, with what was left out.
-//! - [`export`]: naga validation and export in WGSL, HLSL, GLSL and MSL.
+//! - [`lang`]: the target languages and naga validation of composed WGSL.
+//! - [`export`]: the export in WGSL, HLSL, GLSL and MSL.
 //! - [`emit`]: the structured emitter that writes the library in HLSL, GLSL and MSL
 //!   (readable include files: WGSL names, loops, comments, no entry point).
 //! - [`library`]: the exported include files (every preset and profile, four languages)
@@ -34,6 +35,7 @@ pub mod emit;
 pub mod export;
 #[cfg(feature = "gpu")]
 pub mod gpu;
+pub mod lang;
 pub mod layout;
 pub mod library;
 pub mod modules;

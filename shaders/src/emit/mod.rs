@@ -11,13 +11,17 @@
 //!
 //! - [`syntax`]: per-language tokens (types, literals, built-ins, reserved words).
 //! - `function`: function bodies (statements, expressions, where locals are declared).
-//! - this file: the item order, comments, declarations, constants and the file header.
+//! - `source`: what the WGSL text says beyond naga (comments, formulas, order, notes).
+//! - this file: the item order, declarations, constants and the file header.
 
 mod function;
 pub mod names;
+mod source;
 pub mod syntax;
 
-use crate::export::{Glsl, Lang};
+use source::{const_formulas, item_comments, item_offsets, module_notes};
+
+use crate::lang::{Glsl, Lang};
 use naga::valid::ModuleInfo;
 use naga::{Handle, Type, TypeInner};
 use std::cell::RefCell;
@@ -45,7 +49,7 @@ pub struct Options {
 /// The names of a WGSL module's functions, constants and structs (the items a file that
 /// includes its export must not define again: [`Options::skip`]).
 pub fn item_names(source: &str) -> Result<BTreeSet<String>, String> {
-    let (m, _) = crate::export::validate(source)?;
+    let (m, _) = crate::lang::validate(source)?;
     let mut s: BTreeSet<String> = m.functions.iter().filter_map(|(_, f)| f.name.clone()).collect();
     s.extend(m.constants.iter().filter_map(|(_, c)| c.name.clone()));
     s.extend(m.types.iter().filter_map(|(_, t)| t.name.clone()));
@@ -249,60 +253,6 @@ enum Item {
     Struct(Handle<Type>),
     Constant(Handle<naga::Constant>),
     Function(Handle<naga::Function>),
-}
-
-/// The comment lines directly above each top-level declaration of `source`, by name.
-fn item_comments(source: &str) -> HashMap<String, Vec<String>> {
-    let mut out = HashMap::new();
-    let mut pending: Vec<String> = Vec::new();
-    for line in source.lines() {
-        if line.starts_with("//") {
-            pending.push(line.to_string());
-            continue;
-        }
-        let name = ["fn ", "const ", "struct ", "alias "]
-            .iter()
-            .find_map(|k| line.strip_prefix(k))
-            .map(|rest| rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect::<String>());
-        if let Some(n) = name {
-            out.insert(n, std::mem::take(&mut pending));
-        } else {
-            pending.clear();
-        }
-    }
-    out
-}
-
-/// The source text of each one-line `const NAME: T = EXPR;` whose EXPR is a formula (not a
-/// plain number), by name: written next to the evaluated value.
-fn const_formulas(source: &str) -> HashMap<String, String> {
-    let mut out = HashMap::new();
-    for line in source.lines() {
-        let Some(rest) = line.strip_prefix("const ") else { continue };
-        let Some((head, expr)) = rest.split_once(" = ") else { continue };
-        let Some(expr) = expr.strip_suffix(';') else { continue };
-        let name: String = head.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
-        let plain = expr.parse::<f64>().is_ok() || expr.trim_end_matches('u').parse::<i64>().is_ok();
-        let constructor = expr.contains('<');
-        if !plain && !constructor {
-            out.insert(name, expr.to_string());
-        }
-    }
-    out
-}
-
-/// The byte offset of each top-level declaration in `source` (the preferred order).
-fn item_offsets(source: &str) -> HashMap<String, usize> {
-    let mut out = HashMap::new();
-    let mut at = 0;
-    for line in source.split_inclusive('\n') {
-        if let Some(rest) = ["fn ", "const ", "struct ", "alias "].iter().find_map(|k| line.strip_prefix(k)) {
-            let n: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
-            out.entry(n).or_insert(at);
-        }
-        at += line.len();
-    }
-    out
 }
 
 impl Ctx<'_> {
@@ -520,38 +470,6 @@ fn write_struct(ctx: &Ctx, t: Handle<Type>) -> Result<String, String> {
     }
     s.push_str("};\n");
     Ok(s)
-}
-
-/// The WGSL sources' comments that belong to no item (each module's opening comment: its
-/// conventions, sources and CPU twins; fitgen's note), in source order, for the top of an
-/// export — so that a reader of the HLSL, GLSL or MSL file has what a reader of the WGSL has.
-fn module_notes(source: &str) -> String {
-    let mut blocks: Vec<Vec<&str>> = Vec::new();
-    let mut pending: Vec<&str> = Vec::new();
-    for line in source.lines() {
-        if line.starts_with("//") {
-            pending.push(line);
-            continue;
-        }
-        let item = ["fn ", "const ", "struct ", "alias "].iter().any(|k| line.starts_with(k));
-        if !item && !pending.is_empty() && !pending[0].starts_with("// Composed by") {
-            blocks.push(std::mem::take(&mut pending));
-        }
-        pending.clear();
-    }
-    if blocks.is_empty() {
-        return String::new();
-    }
-    let mut s = String::from("// ---- Notes from the WGSL sources (the modules this file holds) ----\n");
-    for b in blocks {
-        for l in b {
-            s.push_str(l);
-            s.push('\n');
-        }
-        s.push_str("//\n");
-    }
-    s.push('\n');
-    s
 }
 
 /// The file header: what this is, how to include it, its functions and textures.

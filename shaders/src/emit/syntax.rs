@@ -8,7 +8,7 @@
 //! ((AB)ᵀ = BᵀAᵀ). This is the convention of naga's HLSL back end and of DXC's SPIR-V
 //! output for WGSL-origin shaders.
 
-use crate::export::{Glsl, Lang};
+use crate::lang::{Glsl, Lang};
 use naga::{ImageClass, ImageDimension, Literal, MathFunction, Scalar, ScalarKind, TypeInner, VectorSize};
 
 /// The name of a scalar type.
