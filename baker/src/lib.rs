@@ -2,7 +2,7 @@
 //!
 //! The crate is layered; each layer is a folder whose module doc says what it holds and
 //! which layers it may use. Imports only go down this list (a test,
-//! `tests/layers.rs`, fails on an upward import or a cycle):
+//! `tests/tests/shape.rs` at the workspace root, fails on an upward import or a cycle):
 //!
 //! | layer | holds |
 //! |---|---|

@@ -211,9 +211,9 @@ fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
                     acc + *ci * sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: 6.0, amplitude: 1.0 }).eval(DVec3::Z)
                 });
                 let s = if p == SpecularPath::Tables {
-                    DVec3::from(lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_sg6(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
+                    DVec3::from(lobe_ggx::specular_rgb(sbf::recon::tables::lobe_ggx_sg6(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
                 } else {
-                    let d = sbf::luts::committed::dfg().sample2(rv.z.clamp(0.0, 1.0) as f32, m.alpha as f32);
+                    let d = sbf::recon::tables::dfg().sample2(rv.z.clamp(0.0, 1.0) as f32, m.alpha as f32);
                     let w = sg::SplitSumWarp::new(DVec3::Z, rv, m.alpha, f0, f90, [d[0] as f64, d[1] as f64]);
                     axes.iter()
                         .zip(&c)
@@ -226,9 +226,9 @@ fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
                     acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.z)
                 });
                 let s = if p == SpecularPath::Tables {
-                    DVec3::from(lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_ad(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
+                    DVec3::from(lobe_ggx::specular_rgb(sbf::recon::tables::lobe_ggx_ad(), &axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90))
                 } else {
-                    let l = sbf::luts::committed::ad_specular_2d().sample2(rv.z as f32, m.alpha as f32);
+                    let l = sbf::recon::tables::ad_specular_2d().sample2(rv.z as f32, m.alpha as f32);
                     DVec3::from(ambient_dice::specular_rgb(&axes, &rgb, DVec3::Z, rv, m.alpha, f0, f90, [l[0] as f64, l[1] as f64]))
                 };
                 (e, s)

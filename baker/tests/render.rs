@@ -192,7 +192,7 @@ fn gpu_image_equals_cpu_twin() {
     let uv_ulp = (lm.width.max(lm.height) as f64) * f32::EPSILON as f64;
     use shaders::sampler::ProbeFormat;
     // The tables' 3D textures (both sizes: the larger error of the two), the atlas' 2D one.
-    let tables_precision = [sbf::luts::committed::lobe_ggx_sg6(), sbf::luts::committed::lobe_ggx_ad()]
+    let tables_precision = [sbf::recon::tables::lobe_ggx_sg6(), sbf::recon::tables::lobe_ggx_ad()]
         .map(|t| sampler_precision(&gpu, ProbeFormat::F16, shaders::gpu::lobe_filtered_texels(t).0, true))
         .into_iter()
         .fold((0.0f64, 0.0f64), |a, b| (a.0.max(b.0), a.1.max(b.1)));
@@ -633,7 +633,7 @@ fn ggx_albedo_split(nv: f64, alpha: f64) -> (f64, f64) {
 /// bilinear interpolation error between nodes, bounded by the table's own second
 /// differences around the lookup, (|Δ²ₓ| + |Δ²ᵧ|)/8, both × (F0 + 1)·L, plus 1e-5·L for f32.
 fn dfg_tolerance(nv: f64, alpha: f64, f0: f64, l: f64) -> f64 {
-    let dfg = sbf::luts::committed::dfg();
+    let dfg = sbf::recon::tables::dfg();
     let (w, h) = (dfg.width, dfg.height);
     let x = (nv * w as f64 - 0.5).clamp(1.0, w as f64 - 3.0) as usize;
     let y = (alpha * h as f64 - 0.5).clamp(1.0, h as f64 - 3.0) as usize;

@@ -7,6 +7,8 @@
 //! identical bytes for any thread count), the nonlinear fits through argmin ([`optimise`]), the manifest ([`manifest`]) and the
 //! byte-for-byte check ([`check`]), the EXR viewing twins of the tables ([`exr`]) and the `--plots` figures ([`plots`]).
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 pub mod check;
 pub mod exr;
 pub mod manifest;

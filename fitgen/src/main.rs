@@ -1,5 +1,7 @@
 //! fitgen: derive the fits and LUTs into `luts/`, or check the committed ones.
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 use clap::Parser;
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -143,7 +143,7 @@ pub fn write_all(dir: &Path, fits: &crate::outputs::fits::Fits) -> Result<Vec<St
     heatmap(&p, "DFG Monte-Carlo error (1024 vs 16384 samples)", "n·v", "α", 32, 32, &dfg_err)?;
     written.push(p.display().to_string());
     // AD specular 2D LUT error: RMS over 48 lobe axes of fit·LUT − ground truth, 16×16.
-    let lut = sbf::luts::committed::ad_specular_2d();
+    let lut = sbf::recon::tables::ad_specular_2d();
     let lobes: Vec<DVec3> = (0..48).map(|i| sbf::sampling::spherical_fibonacci(i, 48)).collect();
     let cells: Vec<(usize, usize)> = (0..16).flat_map(|j| (0..16).map(move |i| (i, j))).collect();
     let ad_err: Vec<f64> = cells

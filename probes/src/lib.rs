@@ -10,6 +10,8 @@
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
 //! peer tool (Probulator) does, so numbers are comparable.
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 pub mod appendix_c;
 pub mod azimuthal;
 pub mod calibration;

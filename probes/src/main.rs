@@ -1,5 +1,7 @@
 //! probes: compare spherical bases and solvers on HDR maps; error against run time.
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 use clap::{Parser, Subcommand};
 use probes::compare::{compare, Settings};
 use probes::outdir::OutDir;
@@ -211,6 +213,62 @@ fn write_reports(
     Ok(())
 }
 
+/// What a profile makes `probes compare` run and leave out, printed before the run.
+fn print_profile_plan(
+    p: &sbf::profile::Profile,
+    ids: &[String],
+    default: &[&str],
+    alphas: &[f64],
+    runtimes: &[probes::specular::SpecularRuntime],
+) {
+    let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
+    let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
+    println!(
+        "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes{} ({} image sets per map not computed or written){}",
+        p.name,
+        ids.len(),
+        ids.join(", "),
+        left.len(),
+        default.len(),
+        if left.is_empty() { String::new() } else { format!(" ({}: bases and variants the profile does not name)", left.join(", ")) },
+        left.len() * per_mode,
+        if alphas.is_empty() {
+            "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()
+        } else {
+            format!(
+                "; specular at α {} through the {} path{}",
+                alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "),
+                runtimes.iter().map(|r| r.name()).collect::<Vec<_>>().join(" and "),
+                if runtimes.len() > 1 { "s (one report folder each)" } else { "" }
+            )
+        }
+    );
+}
+
+/// The maps of `probes compare`: every path checked first (cheap), then each decoded and
+/// validated; what `--sanitize` zeroed is reported per map. (label, map, channels sanitised)
+fn load_maps(paths: &[std::path::PathBuf], sanitize: bool) -> Result<Vec<(String, sbf::envmap::LatLongImage, usize)>, String> {
+    for path in paths {
+        input::check_path(path).map_err(|e| e.to_string())?;
+    }
+    paths
+        .iter()
+        .map(|path| {
+            let (map, rep) = input::load_map(path, sanitize).map_err(|e| e.to_string())?;
+            if rep.total() > 0 {
+                eprintln!(
+                    "{}: sanitised {} NaN, {} infinite, {} negative texel channels to 0",
+                    path.display(),
+                    rep.nan,
+                    rep.infinite,
+                    rep.negative
+                );
+            }
+            Ok((path.display().to_string(), map, rep.total()))
+        })
+        .collect()
+}
+
 /// `probes compare`: every argument, map and the output folder are checked before any
 /// work (a bad input fails in milliseconds, naming the file and the problem); then the GPU
 /// costs, each map through every mode, and the reports.
@@ -294,26 +352,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         }
     }
     // 2. Every map: the path (all of them first: cheap), then decoded and validated.
-    for path in &a.maps {
-        input::check_path(path).map_err(|e| e.to_string())?;
-    }
-    let maps = a
-        .maps
-        .iter()
-        .map(|path| {
-            let (map, rep) = input::load_map(path, a.sanitize).map_err(|e| e.to_string())?;
-            if rep.total() > 0 {
-                eprintln!(
-                    "{}: sanitised {} NaN, {} infinite, {} negative texel channels to 0",
-                    path.display(),
-                    rep.nan,
-                    rep.infinite,
-                    rep.negative
-                );
-            }
-            Ok((path.display().to_string(), map, rep.total()))
-        })
-        .collect::<Result<Vec<_>, String>>()?;
+    let maps = load_maps(&a.maps, a.sanitize)?;
     // 3. The output folder(s): one per specular runtime path.
     let outs: Vec<(probes::specular::SpecularRuntime, OutDir)> = if runtimes.len() == 1 {
         vec![(runtimes[0], OutDir::claim(&a.out, force)?)]
@@ -323,28 +362,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         runtimes.iter().map(|rt| Ok((*rt, OutDir::claim(&a.out.join(folder(rt)), force)?))).collect::<Result<_, String>>()?
     };
     if let Some(p) = &prof {
-        let left: Vec<&str> = default.iter().copied().filter(|d| !ids.iter().any(|i| i == d)).collect();
-        let per_mode = 2 + alphas.len(); // irradiance, radiance and one specular image set per α
-        println!(
-            "profile '{}': runs {} mode(s) ({}); left out {} of the {} default modes{} ({} image sets per map not computed or written){}",
-            p.name,
-            ids.len(),
-            ids.join(", "),
-            left.len(),
-            default.len(),
-            if left.is_empty() { String::new() } else { format!(" ({}: bases and variants the profile does not name)", left.join(", ")) },
-            left.len() * per_mode,
-            if alphas.is_empty() {
-                "; specular signal left out (Lambert only: no GGX reference, no specular column)".to_string()
-            } else {
-                format!(
-                    "; specular at α {} through the {} path{}",
-                    alphas.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "),
-                    runtimes.iter().map(|r| r.name()).collect::<Vec<_>>().join(" and "),
-                    if runtimes.len() > 1 { "s (one report folder each)" } else { "" }
-                )
-            }
-        );
+        print_profile_plan(p, &ids, default, &alphas, &runtimes);
     }
     let gpu = if a.gpu_cost {
         let g = probes::gpu_cost::measure(a.gpu_count, 10).map_err(|e| format!("--gpu-cost: {e}"))?;

@@ -114,70 +114,7 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
             );
         }
         s.push_str("\n‡ fits the irradiance reference: charged the reference's time.\n");
-        let alphas: Vec<f64> = m.rows.iter().flat_map(|r| r.specular.iter().map(|(a, _)| *a)).fold(Vec::new(), |mut v, a| {
-            if !v.contains(&a) {
-                v.push(a);
-            }
-            v
-        });
-        if !alphas.is_empty() {
-            let _ = write!(
-                s,
-                "\nGGX specular ({}), RMS per α. Reference: {}. Runtime: {}.\n\n| mode |",
-                crate::appendix_c::label(m.convention),
-                m.specular_method,
-                m.specular_runtime
-            );
-            for a in &alphas {
-                let _ = write!(s, " α = {a} |");
-            }
-            s.push_str("\n|---|");
-            s.push_str(&"---|".repeat(alphas.len()));
-            s.push('\n');
-            s.push_str("| *reference error (est.)* |");
-            for a in &alphas {
-                match m.specular_reference.iter().find(|r| r.alpha == *a) {
-                    Some(r) => {
-                        let _ = write!(s, " *{:.1e}* |", r.error_rms);
-                    }
-                    None => s.push_str(" — |"),
-                }
-            }
-            s.push('\n');
-            for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
-                let _ = write!(s, "| `{}` |", r.result.id);
-                for a in &alphas {
-                    match r.specular.iter().find(|(x, _)| x == a) {
-                        Some((_, mm)) => {
-                            let _ = write!(s, " {:.5} |", mm.rms);
-                        }
-                        None => s.push_str(" — |"),
-                    }
-                }
-                s.push('\n');
-            }
-        }
-        if m.rows.iter().any(|r| !r.specular_parts.is_empty()) {
-            s.push_str("\nGGX specular error decomposition, RMS per α: *basis-limited* (the exact GGX integral of the mode's reconstructed radiance against the reference) / *runtime* (the mode's runtime path against that integral). Where the runtime part dominates, the runtime approximation, not the basis, limits the mode.\n\n| mode |");
-            for a in &alphas {
-                let _ = write!(s, " α = {a} |");
-            }
-            s.push_str("\n|---|");
-            s.push_str(&"---|".repeat(alphas.len()));
-            s.push('\n');
-            for r in m.rows.iter().filter(|r| !r.specular_parts.is_empty()) {
-                let _ = write!(s, "| `{}` |", r.result.id);
-                for a in &alphas {
-                    match r.specular_parts.iter().find(|p| p.0 == *a) {
-                        Some(p) => {
-                            let _ = write!(s, " {:.4} / {:.4} |", p.1, p.2);
-                        }
-                        None => s.push_str(" — |"),
-                    }
-                }
-                s.push('\n');
-            }
-        }
+        specular_markdown(&mut s, m);
         if images {
             let _ = write!(s, "\nIrradiance (E/π), reference then each mode, and |error| at 4 EV more:\n\n![reference]({}/reference_irradiance.png)\n\n| mode | irradiance | error |\n|---|---|---|\n", m.slug);
             for r in &m.rows {
@@ -188,58 +125,117 @@ pub fn markdown(maps: &[MapReport], results: &[crate::results::MapResults], imag
                 );
             }
         }
-        let conv: Vec<&Row> = m.rows.iter().filter(|r| !r.result.convergence.is_empty()).collect();
-        if !conv.is_empty() {
-            s.push_str("\nPer-sample encoders: irradiance RMS against samples taken.\n\n| samples |");
-            for r in &conv {
-                let _ = write!(s, " `{}` |", r.result.id);
-            }
-            s.push_str("\n|---|");
-            s.push_str(&"---|".repeat(conv.len()));
-            s.push('\n');
-            let counts: Vec<u64> = conv.iter().flat_map(|r| r.result.convergence.iter().map(|(n, _)| *n)).fold(Vec::new(), |mut v, n| {
-                if !v.contains(&n) {
-                    v.push(n);
-                }
-                v
-            });
-            let mut counts = counts;
-            counts.sort_unstable();
-            for n in counts {
-                let _ = write!(s, "| {n} |");
-                for r in &conv {
-                    match r.result.convergence.iter().find(|(k, _)| *k == n) {
-                        Some((_, e)) => {
-                            let _ = write!(s, " {e:.5} |");
-                        }
-                        None => s.push_str(" — |"),
-                    }
-                }
-                s.push('\n');
-            }
-        }
+        convergence_markdown(&mut s, m);
     }
     s
 }
 
-/// `report.html`: the markdown table's content with the irradiance and error images.
-pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
-    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left;max-width:260px}img{width:160px;image-rendering:pixelated}img.s{width:128px}p img{max-width:100%}</style></head><body><h1>probes report</h1>");
-    if let Some(p) = results.first().map(|r| r.profile.as_str()).filter(|p| !p.is_empty()) {
-        let _ = write!(s, "<p>Lighting profile: {} (the run follows it: its modes, roughness values and runtime path).</p>", esc_html(p));
-    }
-    s.push_str("<p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
-    for res in results {
-        for sd in &res.decision.signals {
-            let _ = write!(
-                s,
-                "<li>{}: {}</li>",
-                esc_html(&res.map.path),
-                crate::decision_text::recommendation(res, sd, |id| format!("<code>{id}</code>"))
-            );
+/// The GGX specular tables of one map's report (RMS per α, and its decomposition into
+/// basis-limited and runtime parts), where the run measured specular.
+fn specular_markdown(s: &mut String, m: &MapReport) {
+    let alphas: Vec<f64> = m.rows.iter().flat_map(|r| r.specular.iter().map(|(a, _)| *a)).fold(Vec::new(), |mut v, a| {
+        if !v.contains(&a) {
+            v.push(a);
+        }
+        v
+    });
+    if !alphas.is_empty() {
+        let _ = write!(
+            s,
+            "\nGGX specular ({}), RMS per α. Reference: {}. Runtime: {}.\n\n| mode |",
+            crate::appendix_c::label(m.convention),
+            m.specular_method,
+            m.specular_runtime
+        );
+        for a in &alphas {
+            let _ = write!(s, " α = {a} |");
+        }
+        s.push_str("\n|---|");
+        s.push_str(&"---|".repeat(alphas.len()));
+        s.push('\n');
+        s.push_str("| *reference error (est.)* |");
+        for a in &alphas {
+            match m.specular_reference.iter().find(|r| r.alpha == *a) {
+                Some(r) => {
+                    let _ = write!(s, " *{:.1e}* |", r.error_rms);
+                }
+                None => s.push_str(" — |"),
+            }
+        }
+        s.push('\n');
+        for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
+            let _ = write!(s, "| `{}` |", r.result.id);
+            for a in &alphas {
+                match r.specular.iter().find(|(x, _)| x == a) {
+                    Some((_, mm)) => {
+                        let _ = write!(s, " {:.5} |", mm.rms);
+                    }
+                    None => s.push_str(" — |"),
+                }
+            }
+            s.push('\n');
         }
     }
-    s.push_str("</ul>");
+    if m.rows.iter().any(|r| !r.specular_parts.is_empty()) {
+        s.push_str("\nGGX specular error decomposition, RMS per α: *basis-limited* (the exact GGX integral of the mode's reconstructed radiance against the reference) / *runtime* (the mode's runtime path against that integral). Where the runtime part dominates, the runtime approximation, not the basis, limits the mode.\n\n| mode |");
+        for a in &alphas {
+            let _ = write!(s, " α = {a} |");
+        }
+        s.push_str("\n|---|");
+        s.push_str(&"---|".repeat(alphas.len()));
+        s.push('\n');
+        for r in m.rows.iter().filter(|r| !r.specular_parts.is_empty()) {
+            let _ = write!(s, "| `{}` |", r.result.id);
+            for a in &alphas {
+                match r.specular_parts.iter().find(|p| p.0 == *a) {
+                    Some(p) => {
+                        let _ = write!(s, " {:.4} / {:.4} |", p.1, p.2);
+                    }
+                    None => s.push_str(" — |"),
+                }
+            }
+            s.push('\n');
+        }
+    }
+}
+
+/// The per-sample encoders' convergence table of one map's report.
+fn convergence_markdown(s: &mut String, m: &MapReport) {
+    let conv: Vec<&Row> = m.rows.iter().filter(|r| !r.result.convergence.is_empty()).collect();
+    if !conv.is_empty() {
+        s.push_str("\nPer-sample encoders: irradiance RMS against samples taken.\n\n| samples |");
+        for r in &conv {
+            let _ = write!(s, " `{}` |", r.result.id);
+        }
+        s.push_str("\n|---|");
+        s.push_str(&"---|".repeat(conv.len()));
+        s.push('\n');
+        let counts: Vec<u64> = conv.iter().flat_map(|r| r.result.convergence.iter().map(|(n, _)| *n)).fold(Vec::new(), |mut v, n| {
+            if !v.contains(&n) {
+                v.push(n);
+            }
+            v
+        });
+        let mut counts = counts;
+        counts.sort_unstable();
+        for n in counts {
+            let _ = write!(s, "| {n} |");
+            for r in &conv {
+                match r.result.convergence.iter().find(|(k, _)| *k == n) {
+                    Some((_, e)) => {
+                        let _ = write!(s, " {e:.5} |");
+                    }
+                    None => s.push_str(" — |"),
+                }
+            }
+            s.push('\n');
+        }
+    }
+}
+
+/// The decision sections of report.html: per map and signal, the budget table, the tiers and
+/// the front.
+fn decisions_html(s: &mut String, maps: &[MapReport], results: &[crate::results::MapResults]) {
     for (i, (m, res)) in maps.iter().zip(results).enumerate() {
         let _ = write!(s, "<h2>{} — which basis</h2>", esc_html(&m.path));
         s.push_str(&crate::viewer::section(i));
@@ -270,6 +266,72 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
             s.push_str("</ul>");
         }
     }
+}
+
+/// The GGX specular table of one map in report.html (images per α, RMS under each).
+fn specular_html(s: &mut String, m: &MapReport) {
+    if !m.specular_reference.is_empty() {
+        let _ = write!(
+            s,
+            "<h3>GGX specular ({})</h3><p>Reference: {}. Runtime: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
+            esc_html(crate::appendix_c::label(m.convention)),
+            esc_html(&m.specular_method),
+            esc_html(&m.specular_runtime)
+        );
+        for r in &m.specular_reference {
+            let _ = write!(s, "<th>α = {}</th>", r.alpha);
+        }
+        s.push_str("</tr><tr><td class=\"l\">reference</td>");
+        for r in &m.specular_reference {
+            let _ = write!(
+                s,
+                "<td><img class=\"s\" src=\"{}/reference_{}.png\"><br><small>est. error {:.1e}</small></td>",
+                m.slug,
+                specular_stem(r.alpha),
+                r.error_rms
+            );
+        }
+        s.push_str("</tr>");
+        for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
+            let _ = write!(s, "<tr><td class=\"l\"><code>{}</code></td>", r.result.id);
+            for sr in &m.specular_reference {
+                match r.specular.iter().find(|(a, _)| *a == sr.alpha) {
+                    Some((a, mm)) => {
+                        let st = specular_stem(*a);
+                        let _ = write!(
+                            s,
+                            "<td><img class=\"s\" src=\"{0}/{1}_{2}.png\"> <img class=\"s\" src=\"{0}/{1}_{2}_error.png\"><br><small>{3:.5}</small></td>",
+                            m.slug, r.result.id, st, mm.rms
+                        );
+                    }
+                    None => s.push_str("<td>—</td>"),
+                }
+            }
+            s.push_str("</tr>");
+        }
+        s.push_str("</table>");
+    }
+}
+
+/// `report.html`: the markdown table's content with the irradiance and error images.
+pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> String {
+    let mut s = String::from("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>probes report</title><style>body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}td.l{text-align:left;max-width:260px}img{width:160px;image-rendering:pixelated}img.s{width:128px}p img{max-width:100%}</style></head><body><h1>probes report</h1>");
+    if let Some(p) = results.first().map(|r| r.profile.as_str()).filter(|p| !p.is_empty()) {
+        let _ = write!(s, "<p>Lighting profile: {} (the run follows it: its modes, roughness values and runtime path).</p>", esc_html(p));
+    }
+    s.push_str("<p>Irradiance images store <b>E/π</b> (the radiance a white Lambertian surface reflects), as Probulator does. PNGs are tone-mapped (Reinhard, gamma 2.2) at the exposure stated per map; error images show |approximation − reference| at 4 EV more. RMS is over texels, unweighted unless marked Ω.</p><h2>Recommendations</h2><ul>");
+    for res in results {
+        for sd in &res.decision.signals {
+            let _ = write!(
+                s,
+                "<li>{}: {}</li>",
+                esc_html(&res.map.path),
+                crate::decision_text::recommendation(res, sd, |id| format!("<code>{id}</code>"))
+            );
+        }
+    }
+    s.push_str("</ul>");
+    decisions_html(&mut s, maps, results);
     for m in maps {
         let exposure = crate::images::auto_exposure(&m.reference);
         let _ = write!(
@@ -313,47 +375,7 @@ pub fn html(maps: &[MapReport], results: &[crate::results::MapResults]) -> Strin
             );
         }
         s.push_str("</table>");
-        if !m.specular_reference.is_empty() {
-            let _ = write!(
-                s,
-                "<h3>GGX specular ({})</h3><p>Reference: {}. Runtime: {}. Same exposure per α as the reference; error images at 4 EV more. RMS under each image.</p><table><tr><th>mode</th>",
-                esc_html(crate::appendix_c::label(m.convention)),
-                esc_html(&m.specular_method),
-                esc_html(&m.specular_runtime)
-            );
-            for r in &m.specular_reference {
-                let _ = write!(s, "<th>α = {}</th>", r.alpha);
-            }
-            s.push_str("</tr><tr><td class=\"l\">reference</td>");
-            for r in &m.specular_reference {
-                let _ = write!(
-                    s,
-                    "<td><img class=\"s\" src=\"{}/reference_{}.png\"><br><small>est. error {:.1e}</small></td>",
-                    m.slug,
-                    specular_stem(r.alpha),
-                    r.error_rms
-                );
-            }
-            s.push_str("</tr>");
-            for r in m.rows.iter().filter(|r| !r.specular.is_empty()) {
-                let _ = write!(s, "<tr><td class=\"l\"><code>{}</code></td>", r.result.id);
-                for sr in &m.specular_reference {
-                    match r.specular.iter().find(|(a, _)| *a == sr.alpha) {
-                        Some((a, mm)) => {
-                            let st = specular_stem(*a);
-                            let _ = write!(
-                                s,
-                                "<td><img class=\"s\" src=\"{0}/{1}_{2}.png\"> <img class=\"s\" src=\"{0}/{1}_{2}_error.png\"><br><small>{3:.5}</small></td>",
-                                m.slug, r.result.id, st, mm.rms
-                            );
-                        }
-                        None => s.push_str("<td>—</td>"),
-                    }
-                }
-                s.push_str("</tr>");
-            }
-            s.push_str("</table>");
-        }
+        specular_html(&mut s, m);
     }
     // The viewer opens each signal on its recommended mode.
     let recommended: Vec<crate::viewer::Recommended> = results

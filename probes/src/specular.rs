@@ -390,7 +390,7 @@ pub fn reconstruct(r: &ModeResult, ctx: &Context, alpha: f64) -> Option<Vec<[f64
     let c = &r.coefficients;
     let c32: Vec<sbf::glam::Vec3> = c.iter().map(|x| sbf::glam::Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32)).collect();
     let nl = axes32.len();
-    let dfg = sbf::luts::committed::dfg();
+    let dfg = sbf::recon::tables::dfg();
     Some(
         (0..ctx.dirs.len())
             .into_par_iter()
@@ -423,8 +423,8 @@ fn lobe_table(r: &ModeResult, ctx: &Context) -> Option<&'static sbf::recon::lobe
         return None;
     }
     let table = match ctx.specular_runtime {
-        SpecularRuntime::Table if is_sg(r.id) => Some(sbf::luts::committed::lobe_ggx_sg6()),
-        SpecularRuntime::Table if is_ad(r.id) => Some(sbf::luts::committed::lobe_ggx_ad()),
+        SpecularRuntime::Table if is_sg(r.id) => Some(sbf::recon::tables::lobe_ggx_sg6()),
+        SpecularRuntime::Table if is_ad(r.id) => Some(sbf::recon::tables::lobe_ggx_ad()),
         _ => None,
     };
     table.filter(|_| !(is_sg(r.id) && r.lobes.iter().any(|(_, l)| *l != 6.0)))
@@ -483,9 +483,9 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
     let c = &r.coefficients;
     let chan = |k: usize| c.iter().map(|v| v[k]).collect::<Vec<f64>>();
     let chans = [chan(0), chan(1), chan(2)];
-    let dfg = sbf::luts::committed::dfg();
+    let dfg = sbf::recon::tables::dfg();
     let (f0, f90) = ctx.convention.fresnel().unwrap_or((1.0, 1.0));
-    let lut = sbf::luts::committed::ad_specular_2d();
+    let lut = sbf::recon::tables::ad_specular_2d();
     // Appendix C's AD runtime computes its table per pixel from n·v, which is constant along
     // an output row: once per row.
     let fork_rows: Vec<[f64; 2]> = if ctx.convention == Convention::AppendixC && !is_sh(r.id) && !is_sg(r.id) {

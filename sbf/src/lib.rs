@@ -69,6 +69,7 @@
 //!   direction, slice length) and check them with debug assertions.
 
 #![warn(missing_docs)]
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
 
 pub mod basis;
 #[cfg(feature = "bc")]

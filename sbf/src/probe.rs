@@ -291,7 +291,7 @@ impl Probe {
                 let sh = ShBasis::new(order).expect("order 1 or 2");
                 let nv = n.dot(v) as f64;
                 let g = crate::recon::sh::specular_zonal_filter(order, nv, alpha as f64);
-                let dfg = crate::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha);
+                let dfg = crate::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha);
                 let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.as_dvec3().to_array()).collect();
                 let s = crate::recon::sh::specular_zonal_rgb(
                     &sh,
@@ -308,11 +308,11 @@ impl Probe {
                 Vec3::new(s[0] as f32, s[1] as f32, s[2] as f32)
             }
             ProbeBasis::Sg9 | ProbeBasis::Sg12 => {
-                let dfg = crate::luts::committed::dfg().sample2(n.dot(v).clamp(0.0, 1.0), alpha);
+                let dfg = crate::recon::tables::dfg().sample2(n.dot(v).clamp(0.0, 1.0), alpha);
                 runtime::sg_specular_split_sum(&self.axes, SG_SHARPNESS as f32, c, n, v, alpha, f0, 1.0, dfg)
             }
             ProbeBasis::Ad9 | ProbeBasis::Ad12 => {
-                runtime::ad_specular(&self.axes, c, n, v, alpha, f0, 1.0, crate::luts::committed::ad_specular_2d())
+                runtime::ad_specular(&self.axes, c, n, v, alpha, f0, 1.0, crate::recon::tables::ad_specular_2d())
             }
         })
     }

@@ -170,10 +170,9 @@ fn table_interpolation_is_within_its_error_model() {
 #[cfg(all(feature = "lut-lobe-ggx-sg6", feature = "lut-lobe-ggx-ad"))]
 #[test]
 fn committed_tables_hold_the_quadrature_on_their_nodes() {
-    for (table, lobe) in [
-        (sbf::luts::committed::lobe_ggx_sg6(), RadialLobe::Sg { sharpness: 6.0 }),
-        (sbf::luts::committed::lobe_ggx_ad(), RadialLobe::AdSrbf),
-    ] {
+    for (table, lobe) in
+        [(sbf::recon::tables::lobe_ggx_sg6(), RadialLobe::Sg { sharpness: 6.0 }), (sbf::recon::tables::lobe_ggx_ad(), RadialLobe::AdSrbf)]
+    {
         let g = table.grid;
         for k in (0..g.len()).step_by(97) {
             let (ip, ig, ia, iv) = (k % g.psi, (k / g.psi) % g.gamma, (k / (g.psi * g.gamma)) % g.alpha, k / (g.psi * g.gamma * g.alpha));
@@ -200,7 +199,7 @@ fn f32_runtime_matches_the_f64_path() {
     use sbf::recon::lobe_ggx::specular_rgb;
     let mut rng = Pcg32::new(41, 2);
     let unit = |rng: &mut Pcg32| sbf::sampling::uniform_sphere([rng.next_f64(), rng.next_f64()]);
-    for table in [sbf::luts::committed::lobe_ggx_sg6(), sbf::luts::committed::lobe_ggx_ad()] {
+    for table in [sbf::recon::tables::lobe_ggx_sg6(), sbf::recon::tables::lobe_ggx_ad()] {
         let axes: Vec<DVec3> = (0..9).map(|_| unit(&mut rng)).collect();
         let coeffs: Vec<[f64; 3]> = (0..9).map(|_| [0; 3].map(|_| (2.0 * rng.next_f64() - 0.5) as f32 as f64)).collect();
         let axes32: Vec<Vec3> = axes.iter().map(|a| a.as_vec3()).collect();

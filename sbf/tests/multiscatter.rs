@@ -45,7 +45,7 @@ fn walk_first_order_is_the_single_scattering_albedo() {
 /// is checked below by value (at f0 = 1 any form without it would pass).
 #[test]
 fn white_furnace_with_energy_compensation() {
-    let dfg = sbf::luts::committed::dfg();
+    let dfg = sbf::recon::tables::dfg();
     let mut worst = (0.0f64, 0.0, 0.0);
     for ai in 0..=10 {
         let alpha = (ai as f64 / 10.0).max(1e-4);
@@ -76,7 +76,7 @@ fn white_furnace_with_energy_compensation() {
 /// scattering misses by more than 1 %.
 #[test]
 fn compensation_against_the_walk_with_fresnel() {
-    let dfg = sbf::luts::committed::dfg();
+    let dfg = sbf::recon::tables::dfg();
     let mut rows = Vec::new();
     for f0 in [0.04, 0.5, 0.9] {
         for alpha in [0.2, 0.6, 1.0] {

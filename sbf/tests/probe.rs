@@ -139,7 +139,7 @@ fn sg_and_ad_specular_are_their_f64_references() {
                 let (nd, vd, a, f) = (n.as_dvec3(), v.as_dvec3(), alpha as f64, f0 as f64);
                 let got = probe.specular(n, v, alpha, f0).unwrap();
                 let (want, scale): ([f64; 3], [f64; 3]) = if matches!(basis, ProbeBasis::Sg9 | ProbeBasis::Sg12) {
-                    let d = sbf::luts::committed::dfg().sample2(nd.dot(vd).clamp(0.0, 1.0) as f32, alpha);
+                    let d = sbf::recon::tables::dfg().sample2(nd.dot(vd).clamp(0.0, 1.0) as f32, alpha);
                     let w = sbf::recon::sg::SplitSumWarp::new(nd, vd, a, f, 1.0, [d[0] as f64, d[1] as f64]);
                     let s: Vec<f64> = axes.iter().map(|ax| w.lobe(&sbf::Sg::new(*ax, sbf::probe::SG_SHARPNESS, 1.0).unwrap())).collect();
                     let sum = |k: usize, abs: bool| {
@@ -147,7 +147,7 @@ fn sg_and_ad_specular_are_their_f64_references() {
                     };
                     ([0, 1, 2].map(|k| sum(k, false)), [0, 1, 2].map(|k| sum(k, true)))
                 } else {
-                    let lut = sbf::luts::committed::ad_specular_2d().sample2(nd.dot(vd).clamp(0.0, 1.0) as f32, alpha);
+                    let lut = sbf::recon::tables::ad_specular_2d().sample2(nd.dot(vd).clamp(0.0, 1.0) as f32, alpha);
                     let lut = [lut[0] as f64, lut[1] as f64];
                     let w = sbf::recon::ambient_dice::specular_rgb(&axes, &c, nd, vd, a, f, 1.0, lut);
                     let abs: Vec<[f64; 3]> = c.iter().map(|ci| ci.map(f64::abs)).collect();

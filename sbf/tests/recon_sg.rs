@@ -245,7 +245,7 @@ fn split_sum_beats_the_asg_warp() {
                         [s; 3]
                     };
                     let reference = ggx_specular(f, z, v, alpha, 0.04, 1.0, 1 << 14)[0];
-                    let d = sbf::luts::committed::dfg().sample2(tv.cos() as f32, alpha as f32);
+                    let d = sbf::recon::tables::dfg().sample2(tv.cos() as f32, alpha as f32);
                     let w = SplitSumWarp::new(z, v, alpha, 0.04, 1.0, [d[0] as f64, d[1] as f64]);
                     let a = AsgWarp::new(z, v, alpha, 0.04, 1.0);
                     split.push((lobes.iter().zip(coef).map(|(l, c)| c * w.lobe(l)).sum::<f64>(), reference));

@@ -194,8 +194,8 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let v = if v.dot(n) < 0.0 { -v } else { v };
         inp.extend([n.x as f32, n.y as f32, n.z as f32, v.x as f32, v.y as f32, v.z as f32, (0.05 + 0.9 * rng.next_2d()[0]) as f32]);
     }
-    let lut = sbf::luts::committed::ad_specular_2d();
-    let dfg = sbf::luts::committed::dfg();
+    let lut = sbf::recon::tables::ad_specular_2d();
+    let dfg = sbf::recon::tables::dfg();
     let mut rows = Vec::new();
     let params = EncoderParams::new(&sbf::solve::ProgressiveOptions::default(), 12)?;
     for (name, cfg, lobes, signal, body) in kernels(inputs) {
@@ -204,7 +204,7 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let encodes = signal == "encode";
         let count = if encodes { count.min(MAX_ENCODE_COUNT).min(limit / STATE_BYTES) } else { count };
         let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
-        let table = if name.starts_with("SG") { sbf::luts::committed::lobe_ggx_sg6() } else { sbf::luts::committed::lobe_ggx_ad() };
+        let table = if name.starts_with("SG") { sbf::recon::tables::lobe_ggx_sg6() } else { sbf::recon::tables::lobe_ggx_ad() };
         let o = gpu.launch(&Launch {
             lobe: body.contains("lobe_tab").then_some(table),
             lobe_filtered: body.contains("lobe_tex3").then_some(table),

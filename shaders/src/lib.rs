@@ -28,6 +28,8 @@
 //! The `shaders` binary exposes composition and export:
 //! `shaders export --config ad9-irradiance --lang hlsl --out ad9.hlsl`.
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 #[cfg(feature = "gpu")]
 pub mod bench;
 pub mod compose;

@@ -128,6 +128,15 @@ struct Uses {
     sampler: bool,
 }
 
+impl Uses {
+    /// The items of `[lut, lobe_table, lobe_volume, sampler]` whose resource the example uses,
+    /// joined.
+    fn pick<S: AsRef<str>>(self, items: [S; 4]) -> String {
+        let used = [self.lut, self.lobe_table, self.lobe_volume, self.sampler];
+        items.iter().zip(used).filter(|(_, u)| *u).map(|(x, _)| x.as_ref()).collect()
+    }
+}
+
 /// `sbf_example(n, v, alpha, coefficients[, lut][, lobe_table][, lobe_volume][, lobe_sampler])
 /// -> vec3<f32>` in WGSL: one
 /// block per public function whose arguments it can build, its result added to the colour.
@@ -266,19 +275,11 @@ fn call(m: &naga::Module, fh: naga::Handle<naga::Function>, pre: &mut String, us
 fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses: Uses, lang: Lang) -> Result<String, String> {
     let full = format!("{source}\n{example_fn}");
     let (module, info) = export::validate(&full).map_err(|e| format!("example: {e}"))?;
-    let mut args = "normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients".to_string();
-    if uses.lut {
-        args += ", lut";
-    }
-    if uses.lobe_table {
-        args += ", lobe_table";
-    }
-    if uses.lobe_volume {
-        args += ", lobe_volume";
-    }
-    if uses.sampler && !lang.combined_samplers() {
-        args += ", lobe_sampler";
-    }
+    let sampler_arg = if lang.combined_samplers() { "" } else { ", lobe_sampler" };
+    let args = format!(
+        "normalize(normal), normalize(view_alpha.xyz), view_alpha.w, coefficients{}",
+        uses.pick([", lut", ", lobe_table", ", lobe_volume", sampler_arg])
+    );
     let head = "// Example: a fragment shader that includes the library and shades with it. The inputs are\n// placeholders an engine replaces with its own (lightmap or probe coefficients, view, α).\n";
     Ok(match lang {
         Lang::Wgsl => {
@@ -288,18 +289,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
             let mut s =
                 format!("{head}// WGSL has no #include: this file follows {lib_name} (naga validates the two together).\n\n{example_fn}\n");
             s += &format!("struct Inputs {{\n    coefficients: array<vec4<f32>, {SLOTS}>,\n    view_alpha: vec4<f32>,\n}}\n\n@group(0) @binding(0) var<uniform> inputs: Inputs;\n");
-            if uses.lut {
-                s += "@group(0) @binding(1) var lut: texture_2d<f32>;\n";
-            }
-            if uses.lobe_table {
-                s += "@group(0) @binding(2) var lobe_table: texture_2d_array<f32>;\n";
-            }
-            if uses.lobe_volume {
-                s += "@group(0) @binding(3) var lobe_volume: texture_3d<f32>;\n";
-            }
-            if uses.sampler {
-                s += "@group(0) @binding(4) var lobe_sampler: sampler;\n";
-            }
+            s += &uses.pick([
+                "@group(0) @binding(1) var lut: texture_2d<f32>;\n",
+                "@group(0) @binding(2) var lobe_table: texture_2d_array<f32>;\n",
+                "@group(0) @binding(3) var lobe_volume: texture_3d<f32>;\n",
+                "@group(0) @binding(4) var lobe_sampler: sampler;\n",
+            ]);
             let a = args.replace("view_alpha", "inputs.view_alpha").replace("coefficients", "inputs.coefficients");
             s += &format!("\n@fragment\nfn fs_main(@location(0) normal: vec3<f32>) -> @location(0) vec4<f32> {{\n    return vec4<f32>(sbf_example({a}), 1.0);\n}}\n");
             s
@@ -326,15 +321,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     );
                     let block = if binding { "layout(std140, binding = 0)" } else { "layout(std140)" };
                     s += &format!("{block} uniform Inputs {{\n    vec4 coefficients[{SLOTS}];\n    vec4 view_alpha;\n}};\n");
-                    if uses.lut {
-                        s += &format!("uniform {precision}sampler2D lut;\n");
-                    }
-                    if uses.lobe_table {
-                        s += &format!("uniform {precision}sampler2DArray lobe_table;\n");
-                    }
-                    if uses.lobe_volume {
-                        s += &format!("uniform {precision}sampler3D lobe_volume;\n");
-                    }
+                    s += &uses.pick([
+                        format!("uniform {precision}sampler2D lut;\n"),
+                        format!("uniform {precision}sampler2DArray lobe_table;\n"),
+                        format!("uniform {precision}sampler3D lobe_volume;\n"),
+                        String::new(),
+                    ]);
                     let input = if binding { "layout(location = 0) in" } else { "in" };
                     s += &format!("{input} vec3 normal;\nlayout(location = 0) out vec4 color;\n\nvoid main() {{\n    color = vec4(sbf_example({args}), 1.0);\n}}\n");
                     s
@@ -343,36 +335,24 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     let mut s =
                         format!("#version 450\n#extension GL_GOOGLE_include_directive : require\n{head}#include \"{lib_name}\"\n\n{body}");
                     s += &format!("layout(std140, set = 0, binding = 0) uniform Inputs {{\n    vec4 coefficients[{SLOTS}];\n    vec4 view_alpha;\n}};\n");
-                    if uses.lut {
-                        s += "layout(set = 0, binding = 1) uniform texture2D lut;\n";
-                    }
-                    if uses.lobe_table {
-                        s += "layout(set = 0, binding = 2) uniform texture2DArray lobe_table;\n";
-                    }
-                    if uses.lobe_volume {
-                        s += "layout(set = 0, binding = 3) uniform texture3D lobe_volume;\n";
-                    }
-                    if uses.sampler {
-                        s += "layout(set = 0, binding = 4) uniform sampler lobe_sampler;\n";
-                    }
+                    s += &uses.pick([
+                        "layout(set = 0, binding = 1) uniform texture2D lut;\n",
+                        "layout(set = 0, binding = 2) uniform texture2DArray lobe_table;\n",
+                        "layout(set = 0, binding = 3) uniform texture3D lobe_volume;\n",
+                        "layout(set = 0, binding = 4) uniform sampler lobe_sampler;\n",
+                    ]);
                     s += &format!("layout(location = 0) in vec3 normal;\nlayout(location = 0) out vec4 color;\n\nvoid main() {{\n    color = vec4(sbf_example({args}), 1.0);\n}}\n");
                     s
                 }
                 Lang::Hlsl => {
                     let mut s = format!("{head}#include \"{lib_name}\"\n\n{body}");
                     s += &format!("cbuffer Inputs : register(b0) {{\n    float4 coefficients[{SLOTS}];\n    float4 view_alpha;\n}};\n");
-                    if uses.lut {
-                        s += "Texture2D<float2> lut : register(t0);\n";
-                    }
-                    if uses.lobe_table {
-                        s += "Texture2DArray<float2> lobe_table : register(t1);\n";
-                    }
-                    if uses.lobe_volume {
-                        s += "Texture3D<float2> lobe_volume : register(t2);\n";
-                    }
-                    if uses.sampler {
-                        s += "SamplerState lobe_sampler : register(s0);\n";
-                    }
+                    s += &uses.pick([
+                        "Texture2D<float2> lut : register(t0);\n",
+                        "Texture2DArray<float2> lobe_table : register(t1);\n",
+                        "Texture3D<float2> lobe_volume : register(t2);\n",
+                        "SamplerState lobe_sampler : register(s0);\n",
+                    ]);
                     s += &format!(
                         "\nfloat4 main(float3 normal : NORMAL) : SV_Target {{\n    return float4(sbf_example({args}), 1.0);\n}}\n"
                     );
@@ -382,18 +362,12 @@ fn example_file(source: &str, lib: &str, lib_name: &str, example_fn: &str, uses:
                     let mut s = format!("{head}#include \"{lib_name}\"\n\n{body}");
                     s += &format!("struct Inputs {{\n    array<float4, {SLOTS}> coefficients;\n    float4 view_alpha;\n}};\n\nstruct FragmentIn {{\n    float3 normal [[user(locn0)]];\n}};\n\n");
                     let mut params = "FragmentIn frag [[stage_in]], constant Inputs& inputs [[buffer(0)]]".to_string();
-                    if uses.lut {
-                        params += ", texture2d<float> lut [[texture(0)]]";
-                    }
-                    if uses.lobe_table {
-                        params += ", texture2d_array<float> lobe_table [[texture(1)]]";
-                    }
-                    if uses.lobe_volume {
-                        params += ", texture3d<float> lobe_volume [[texture(2)]]";
-                    }
-                    if uses.sampler {
-                        params += ", sampler lobe_sampler [[sampler(0)]]";
-                    }
+                    params += &uses.pick([
+                        ", texture2d<float> lut [[texture(0)]]",
+                        ", texture2d_array<float> lobe_table [[texture(1)]]",
+                        ", texture3d<float> lobe_volume [[texture(2)]]",
+                        ", sampler lobe_sampler [[sampler(0)]]",
+                    ]);
                     let a = args
                         .replace("normal)", "frag.normal)")
                         .replace("view_alpha", "inputs.view_alpha")

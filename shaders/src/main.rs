@@ -1,5 +1,7 @@
 //! shaders: compose, validate and export the WGSL runtime library.
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 use clap::{Parser, Subcommand};
 use shaders::compose::{self, Config};
 use shaders::export::{self, Lang};
@@ -122,25 +124,7 @@ fn main() -> ExitCode {
             }
             Ok(())
         })(),
-        Cmd::Library { out, check, profiles } => (|| {
-            let targets = shaders::library::targets(&profiles)?;
-            if check {
-                let problems = shaders::library::check(&out, &targets)?;
-                if !problems.is_empty() {
-                    return Err(format!(
-                        "{} is not what the sources export ({} problems; `shaders library` rewrites it):\n  {}",
-                        out.display(),
-                        problems.len(),
-                        problems.join("\n  ")
-                    ));
-                }
-                println!("{}: {} presets and profiles × 6 languages and dialects match the sources", out.display(), targets.len());
-            } else {
-                let n = shaders::library::write(&out, &targets)?;
-                println!("wrote {n} files for {} presets and profiles under {}", targets.len(), out.display());
-            }
-            Ok(())
-        })(),
+        Cmd::Library { out, check, profiles } => library_command(&out, check, &profiles),
         #[cfg(feature = "gpu")]
         Cmd::Bench { count, repeats, inputs } => (|| {
             let inputs = match inputs.as_str() {
@@ -158,76 +142,105 @@ fn main() -> ExitCode {
             println!("{}", shaders::bench::table(&gpu, count, repeats, inputs, &rows));
             Ok(())
         })(),
-        Cmd::Export { config, profile, lang, out, verbose } => (|| {
-            let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
-            let cfg = match (&config, &prof) {
-                (Some(c), _) => Config::parse(c)?,
-                (None, Some(p)) => shaders::profile::config(p)?,
-                (None, None) => unreachable!("clap requires --config or --profile"),
-            };
-            let lang = Lang::parse(lang.as_deref().or(prof.as_ref().map(|p| p.language.as_str())).unwrap_or("wgsl"))?;
-            let c = compose::compose(&cfg)?;
-            let roots = shaders::library::roots(&cfg);
-            let title = match &prof {
-                Some(p) => format!("profile '{}'", p.name),
-                None => format!("configuration '{}'", cfg.name),
-            };
-            // The committed library's guard for the same preset or profile file.
-            let slug = match profile.as_deref() {
-                Some(f) => format!("profile-{}", std::path::Path::new(f).file_stem().and_then(|s| s.to_str()).unwrap_or("profile")),
-                None => cfg.name.clone(),
-            };
-            let guard = Some(shaders::library::guard(&slug, lang));
-            let text = export::export_with(&c.source, lang, &shaders::emit::Options { title, roots, guard, ..Default::default() })?;
-            if let Some(p) = &prof {
-                let all = compose::compose(&Config::parse("all")?)?;
-                let (_, notes) = shaders::profile::features(p);
-                let families: std::collections::BTreeSet<&str> =
-                    c.left_out.iter().map(|(m, _, _)| m.as_str()).filter(|m| !c.included.iter().any(|(k, _)| k == m)).collect();
-                eprintln!(
-                    "profile '{}': left out {} of {} WGSL items ({} of {} bytes{}){}",
-                    p.name,
-                    c.left_out.len(),
-                    all.included.len(),
-                    c.left_out_bytes(),
-                    all.source.len(),
-                    {
-                        // The features outside the profile: what the left-out items serve.
-                        let outside: Vec<&str> =
-                            compose::Feature::ALL.iter().filter(|(f, _)| !cfg.features.contains(f)).map(|(_, n)| *n).collect();
-                        let modules = if families.is_empty() {
-                            String::new()
-                        } else {
-                            format!("; whole modules: {}", families.into_iter().collect::<Vec<_>>().join(", "))
-                        };
-                        if outside.is_empty() {
-                            modules
-                        } else {
-                            format!("{modules}; features it does not use: {}", outside.join(", "))
-                        }
-                    },
-                    if notes.is_empty() { String::new() } else { format!("; not in WGSL: {}", notes.join("; ")) }
-                );
-            }
-            eprintln!("{}{}", c.summary(), if c.left_out.is_empty() || verbose { "" } else { " (-v lists them)" });
-            if verbose && !c.left_out.is_empty() {
-                let names: Vec<String> = c.left_out.iter().map(|(m, n, _)| format!("{m}::{n}")).collect();
-                eprintln!("left out: {}", names.join(", "));
-            }
-            match out {
-                Some(p) => std::fs::write(&p, text).map_err(|e| format!("writing {}: {e}", p.display())),
-                None => {
-                    print!("{text}");
-                    Ok(())
-                }
-            }
-        })(),
+        Cmd::Export { config, profile, lang, out, verbose } => export_command(config, profile, lang, out, verbose),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("shaders: {e}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+/// `shaders library`: every preset and profile in every language, written or checked.
+fn library_command(out: &std::path::Path, check: bool, profiles: &std::path::Path) -> Result<(), String> {
+    let targets = shaders::library::targets(profiles)?;
+    if check {
+        let problems = shaders::library::check(out, &targets)?;
+        if !problems.is_empty() {
+            return Err(format!(
+                "{} is not what the sources export ({} problems; `shaders library` rewrites it):\n  {}",
+                out.display(),
+                problems.len(),
+                problems.join("\n  ")
+            ));
+        }
+        println!("{}: {} presets and profiles × 6 languages and dialects match the sources", out.display(), targets.len());
+    } else {
+        let n = shaders::library::write(out, &targets)?;
+        println!("wrote {n} files for {} presets and profiles under {}", targets.len(), out.display());
+    }
+    Ok(())
+}
+
+/// `shaders export`: one preset or profile in one language.
+fn export_command(
+    config: Option<String>,
+    profile: Option<PathBuf>,
+    lang: Option<String>,
+    out: Option<PathBuf>,
+    verbose: bool,
+) -> Result<(), String> {
+    let prof = profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
+    let cfg = match (&config, &prof) {
+        (Some(c), _) => Config::parse(c)?,
+        (None, Some(p)) => shaders::profile::config(p)?,
+        (None, None) => unreachable!("clap requires --config or --profile"),
+    };
+    let lang = Lang::parse(lang.as_deref().or(prof.as_ref().map(|p| p.language.as_str())).unwrap_or("wgsl"))?;
+    let c = compose::compose(&cfg)?;
+    let roots = shaders::library::roots(&cfg);
+    let title = match &prof {
+        Some(p) => format!("profile '{}'", p.name),
+        None => format!("configuration '{}'", cfg.name),
+    };
+    // The committed library's guard for the same preset or profile file.
+    let slug = match profile.as_deref() {
+        Some(f) => format!("profile-{}", std::path::Path::new(f).file_stem().and_then(|s| s.to_str()).unwrap_or("profile")),
+        None => cfg.name.clone(),
+    };
+    let guard = Some(shaders::library::guard(&slug, lang));
+    let text = export::export_with(&c.source, lang, &shaders::emit::Options { title, roots, guard, ..Default::default() })?;
+    if let Some(p) = &prof {
+        let all = compose::compose(&Config::parse("all")?)?;
+        let (_, notes) = shaders::profile::features(p);
+        let families: std::collections::BTreeSet<&str> =
+            c.left_out.iter().map(|(m, _, _)| m.as_str()).filter(|m| !c.included.iter().any(|(k, _)| k == m)).collect();
+        eprintln!(
+            "profile '{}': left out {} of {} WGSL items ({} of {} bytes{}){}",
+            p.name,
+            c.left_out.len(),
+            all.included.len(),
+            c.left_out_bytes(),
+            all.source.len(),
+            {
+                // The features outside the profile: what the left-out items serve.
+                let outside: Vec<&str> = compose::Feature::ALL.iter().filter(|(f, _)| !cfg.features.contains(f)).map(|(_, n)| *n).collect();
+                let modules = if families.is_empty() {
+                    String::new()
+                } else {
+                    format!("; whole modules: {}", families.into_iter().collect::<Vec<_>>().join(", "))
+                };
+                if outside.is_empty() {
+                    modules
+                } else {
+                    format!("{modules}; features it does not use: {}", outside.join(", "))
+                }
+            },
+            if notes.is_empty() { String::new() } else { format!("; not in WGSL: {}", notes.join("; ")) }
+        );
+    }
+    eprintln!("{}{}", c.summary(), if c.left_out.is_empty() || verbose { "" } else { " (-v lists them)" });
+    if verbose && !c.left_out.is_empty() {
+        let names: Vec<String> = c.left_out.iter().map(|(m, n, _)| format!("{m}::{n}")).collect();
+        eprintln!("left out: {}", names.join(", "));
+    }
+    match out {
+        Some(p) => std::fs::write(&p, text).map_err(|e| format!("writing {}: {e}", p.display())),
+        None => {
+            print!("{text}");
+            Ok(())
         }
     }
 }

@@ -139,7 +139,7 @@ const AD_SPECULAR: &str = "Ambient Dice specular scale ([Roughton19 Listing 8.2]
 
 /// Every committed table in every layout the library reads.
 pub fn all() -> Vec<TableTexture> {
-    use sbf::luts::committed as c;
+    use sbf::recon::tables as c;
     vec![
         lut2_texture("dfg", c::dfg(), DFG),
         lut2_texture("ad_specular_2d", c::ad_specular_2d(), AD_SPECULAR),
@@ -154,7 +154,7 @@ pub fn all() -> Vec<TableTexture> {
 /// the 2D tables by their `.sbflut` names, and a lobe table in the layout of each lobe
 /// feature present (`lobe-ggx-specular`: the 2D array, `lobe-ggx-filtered`: 3D).
 pub fn for_runtime(luts: &[String], features: &[&str]) -> Vec<TableTexture> {
-    use sbf::luts::committed as c;
+    use sbf::recon::tables as c;
     let mut out = Vec::new();
     for l in luts {
         let stem = l.trim_end_matches(".sbflut");

@@ -589,7 +589,7 @@ fn sg_parity(lang: Lang) {
 fn sg_split_sum_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
     let lib = library("sg-specular");
-    let lut = sbf::luts::committed::dfg();
+    let lut = sbf::recon::tables::dfg();
     let mut r = Pcg32::new(17, 9);
     let (mut inp, mut cases) = (Vec::new(), Vec::new());
     for _ in 0..N {
@@ -647,7 +647,7 @@ fn sg_split_sum_parity(lang: Lang) {
 fn sg_lobe_loops_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
     let lib = library("sg-irradiance,sg-specular");
-    let lut = sbf::luts::committed::dfg();
+    let lut = sbf::recon::tables::dfg();
     let axes = |k: usize| -> Vec<Vec3> { sbf::layout::vogel_hemisphere(k).unwrap().iter().map(|a| a.as_vec3()).collect() };
     let (sg9, sg12) = (axes(9), axes(12));
     let mut r = Pcg32::new(23, 5);
@@ -734,7 +734,7 @@ fn sh_specular_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
     use sbf::Basis as _;
     let lib = library("sh-specular");
-    let lut = sbf::luts::committed::dfg();
+    let lut = sbf::recon::tables::dfg();
     let mut r = Pcg32::new(29, 6);
     let (mut inp, mut cases) = (Vec::new(), Vec::new());
     for _ in 0..N {
@@ -804,7 +804,7 @@ fn sh_specular_parity(lang: Lang) {
 fn ambient_dice_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
     let lib = library("ad-eval,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular");
-    let lut = sbf::luts::committed::ad_specular_2d();
+    let lut = sbf::recon::tables::ad_specular_2d();
     let ad12: Vec<Vec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3()).collect();
     let ad9: Vec<Vec3> = sbf::AmbientDiceSrbf::nine_hemisphere().lobes().iter().map(|a| a.as_vec3()).collect();
     let mut r = Pcg32::new(17, 4);
@@ -923,7 +923,7 @@ fn lobe_table_parity(lang: Lang, filtered: bool) {
 fn table_parity_worst(g: &G, filtered: bool, gpu_scale: f32) -> f64 {
     let lib = library(if filtered { "lobe-ggx-filtered" } else { "lobe-ggx-specular" });
     let mut worst = 0.0f64;
-    for (table, seed) in [(sbf::luts::committed::lobe_ggx_sg6(), 31), (sbf::luts::committed::lobe_ggx_ad(), 32)] {
+    for (table, seed) in [(sbf::recon::tables::lobe_ggx_sg6(), 31), (sbf::recon::tables::lobe_ggx_ad(), 32)] {
         let (weight_error, result_error) = if filtered { filter_precision(&g.lease, table) } else { (0.0, 0.0) };
         let mut gpu_table = table.clone();
         gpu_table.values.iter_mut().for_each(|v| *v *= gpu_scale);
@@ -1017,8 +1017,8 @@ fn lobe_ggx_filtered_keeps_the_tables_error() {
     let Some(g) = gpu(Lang::Wgsl) else { return };
     let lib = library("lobe-ggx-filtered");
     for (table, lobe, seed) in [
-        (sbf::luts::committed::lobe_ggx_sg6(), RadialLobe::Sg { sharpness: 6.0 }, 61),
-        (sbf::luts::committed::lobe_ggx_ad(), RadialLobe::AdSrbf, 62),
+        (sbf::recon::tables::lobe_ggx_sg6(), RadialLobe::Sg { sharpness: 6.0 }, 61),
+        (sbf::recon::tables::lobe_ggx_ad(), RadialLobe::AdSrbf, 62),
     ] {
         let (weight_error, result_error) = filter_precision(&g.lease, table);
         let mut r = Pcg32::new(seed, 3);
@@ -1075,7 +1075,7 @@ fn lut_parity(lang: Lang) {
     let Some(g) = gpu(lang) else { return };
     // lut2_sample is reached through ad specular; compose a config holding it.
     let lib = library("ad12-specular");
-    let lut = sbf::luts::committed::ad_specular_2d();
+    let lut = sbf::recon::tables::ad_specular_2d();
     let mut r = Pcg32::new(19, 5);
     let mut inp = Vec::new();
     for _ in 0..N {
@@ -1314,7 +1314,7 @@ fn helper_parity(lang: Lang) {
     };
     let Some(g) = gpu(lang) else { return };
     let lib = library("all");
-    let lut = sbf::luts::committed::ad_specular_2d();
+    let lut = sbf::recon::tables::ad_specular_2d();
     let ad12: Vec<sbf::glam::DVec3> = sbf::AmbientDiceSrbf::twelve().lobes().iter().map(|a| a.as_vec3().as_dvec3()).collect();
     let bez = sbf::AmbientDiceBezier::new();
     let ico = bez.icosahedron();

@@ -7,7 +7,7 @@
 //! same formats, sizes, levels and keys.)
 
 use ktx2::Reader;
-use sbf::luts::committed as c;
+use sbf::recon::tables as c;
 use shaders::tables::{self, Kind};
 
 const R32G32_SFLOAT: u32 = 103;

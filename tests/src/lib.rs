@@ -2,6 +2,8 @@
 //! HDR probes (skipping with a message when `../shared/probes` is absent) and the
 //! error metrics the tests report.
 
+#![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
+
 use sbf::envmap::LatLongImage;
 use sbf::nalgebra::DMatrix;
 use sbf::Basis;

@@ -51,7 +51,7 @@ fn check_passes_and_detects_a_changed_byte() {
 #[test]
 fn sbf_samples_equal_regenerated_values() {
     let outs = fitgen::generate(&["dfg".into(), "ad-specular-2d".into()], &quiet()).unwrap();
-    for (o, lut) in outs.iter().zip([committed::dfg(), committed::ad_specular_2d()]) {
+    for (o, lut) in outs.iter().zip([sbf::recon::tables::dfg(), sbf::recon::tables::ad_specular_2d()]) {
         let fresh = sbf::luts::LutFile::parse(&o.bytes).unwrap();
         let (w, h) = (fresh.axes[0].size, fresh.axes[1].size);
         for j in 0..h {
@@ -195,7 +195,7 @@ fn manifest_ad_lut_errors_agree_with_quadrature() {
     let manifest = std::fs::read_to_string(luts_dir().join("MANIFEST")).unwrap();
     let line = manifest.lines().find(|l| l.contains("\"file\": \"ad_specular_2d.sbflut\"")).unwrap();
     let (m_rms, m_max) = (manifest_number(line, "rms"), manifest_number(line, "max"));
-    let lut = committed::ad_specular_2d();
+    let lut = sbf::recon::tables::ad_specular_2d();
     let lobes: Vec<DVec3> = (0..48).map(|i| sbf::sampling::spherical_fibonacci(i, 48)).collect();
     let cases: Vec<(f64, f64)> = (0..8).flat_map(|a| (0..8).map(move |n| ((a as f64 + 0.5) / 8.0, (n as f64 + 0.5) / 8.0))).collect();
     let res: Vec<([f64; 2], f64)> = cases

@@ -179,7 +179,7 @@ impl<'g> Renderer<'g> {
             contents: bytemuck::cast_slice(&rows),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let dfg = gpu.lut_texture(sbf::luts::committed::dfg());
+        let dfg = gpu.lut_texture(sbf::recon::tables::dfg());
         Ok(Renderer {
             gpu,
             module,
@@ -275,16 +275,16 @@ impl<'g> Renderer<'g> {
         }
         let lightmap = self.lightmap_texture(atlas, l.storage)?;
         let lut = match l.encoding {
-            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => self.gpu.lut_texture(sbf::luts::committed::dfg()),
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => self.gpu.lut_texture(sbf::luts::committed::ad_specular_2d()),
+            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => self.gpu.lut_texture(sbf::recon::tables::dfg()),
+            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => self.gpu.lut_texture(sbf::recon::tables::ad_specular_2d()),
             _ => self.gpu.rg32_texture("no lut", [1, 1, 1], &[0.0, 0.0]),
         };
         let lobe = match l.encoding {
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if l.specular == SpecularPath::Tables => {
-                self.gpu.lobe_texture_filtered(sbf::luts::committed::lobe_ggx_sg6())
+                self.gpu.lobe_texture_filtered(sbf::recon::tables::lobe_ggx_sg6())
             }
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if l.specular == SpecularPath::Tables => {
-                self.gpu.lobe_texture_filtered(sbf::luts::committed::lobe_ggx_ad())
+                self.gpu.lobe_texture_filtered(sbf::recon::tables::lobe_ggx_ad())
             }
             _ => no_lobe_table(d),
         };

@@ -86,8 +86,8 @@ impl Shader {
     pub fn table_filter_error(&self, c: &[DVec3], m: &SurfaceMaterial, n: DVec3, v: DVec3, weight_error: f64, result_error: f64) -> DVec3 {
         let table = match self.lighting.encoding {
             _ if self.lighting.specular != SpecularPath::Tables => return DVec3::ZERO,
-            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => sbf::luts::committed::lobe_ggx_sg6(),
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => sbf::luts::committed::lobe_ggx_ad(),
+            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => sbf::recon::tables::lobe_ggx_sg6(),
+            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => sbf::recon::tables::lobe_ggx_ad(),
             _ => return DVec3::ZERO,
         };
         let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(n);
@@ -146,14 +146,14 @@ impl Shader {
             Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => {
                 let sh = self.sh.as_ref().expect("SH basis");
                 let g = sh::specular_zonal_filter(sh.order(), nv, alpha);
-                let dfg = sbf::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
+                let dfg = sbf::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 sh::specular_zonal_rgb(sh, &rgb, &g, z, vt, alpha, f0, f90, [dfg[0] as f64, dfg[1] as f64]).expect("SH coefficients")
             }
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if tables => {
-                lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_sg6(), &self.axes, &rgb, z, vt, alpha, f0, f90)
+                lobe_ggx::specular_rgb(sbf::recon::tables::lobe_ggx_sg6(), &self.axes, &rgb, z, vt, alpha, f0, f90)
             }
             Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => {
-                let d = sbf::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
+                let d = sbf::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 let w = sg::SplitSumWarp::new(z, vt, alpha, f0, f90, [d[0] as f64, d[1] as f64]);
                 let s = self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
                     acc + *ci * w.lobe(&sbf::Sg { axis: *a, sharpness: self.lighting.sg_sharpness, amplitude: 1.0 })
@@ -161,10 +161,10 @@ impl Shader {
                 s.to_array()
             }
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if tables => {
-                lobe_ggx::specular_rgb(sbf::luts::committed::lobe_ggx_ad(), &self.axes, &rgb, z, vt, alpha, f0, f90)
+                lobe_ggx::specular_rgb(sbf::recon::tables::lobe_ggx_ad(), &self.axes, &rgb, z, vt, alpha, f0, f90)
             }
             Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
-                let l = sbf::luts::committed::ad_specular_2d().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
+                let l = sbf::recon::tables::ad_specular_2d().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 ambient_dice::specular_rgb(&self.axes, &rgb, z, vt, alpha, f0, f90, [l[0] as f64, l[1] as f64])
             }
         };
@@ -185,7 +185,7 @@ pub fn probe_terms(c: &[DVec3; 9], m: &SurfaceMaterial, n: DVec3, v: DVec3) -> T
     let sh = sbf::ShBasis::new(2).expect("order 2");
     let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
     let g = sh::specular_zonal_filter(2, nv, m.alpha);
-    let d = sbf::luts::committed::dfg().sample2(nv.clamp(0.0, 1.0) as f32, m.alpha as f32);
+    let d = sbf::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, m.alpha as f32);
     let s = |f0: f64, f90: f64| {
         DVec3::from(sh::specular_zonal_rgb(&sh, &rgb, &g, n, v, m.alpha, f0, f90, [d[0] as f64, d[1] as f64]).expect("SH L2"))
     };

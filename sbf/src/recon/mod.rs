@@ -13,6 +13,7 @@
 //! | GGX response of a radial lobe (SG, AD SRBF): exact quadrature and the 4D table the per-lobe runtime samples | [`lobe_ggx`] |
 //! | multiple scattering: the microsurface random walk (Heitz et al. 2016) and the runtime's energy compensation | [`multiscatter`] |
 //! | 2D LUTs with texel-centre bilinear sampling; the AD specular LUT (Listing 8.2) | [`lut`] |
+//! | the committed tables of `luts/` parsed into those samplers (DFG, AD specular, lobe GGX) | [`tables`] |
 //! | Ambient Dice SRBF: analytic lobe irradiance ([Roughton19 eq. 8.11]/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
 //!
 //! Units: irradiance functions return **E/π** (what a white Lambertian surface
@@ -33,4 +34,5 @@ pub mod runtime;
 pub mod sg;
 #[cfg(feature = "sh")]
 pub mod sh;
+pub mod tables;
 pub mod zonal;

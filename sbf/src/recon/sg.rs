@@ -362,7 +362,7 @@ pub struct SplitSumWarp {
 
 impl SplitSumWarp {
     /// For unit normal n, unit view v, roughness α (clamped to [1e-4, 1]), Fresnel (f0, f90)
-    /// and the DFG table's (A, B) at (n·v, α) ([`crate::luts::committed::dfg`]).
+    /// and the DFG table's (A, B) at (n·v, α) ([`crate::recon::tables::dfg`]).
     pub fn new(n: DVec3, v: DVec3, alpha: f64, f0: f64, f90: f64, dfg: [f64; 2]) -> Self {
         let alpha = alpha.clamp(1e-4, 1.0);
         let nv = n.dot(v).max(NV_EPSILON);

@@ -422,6 +422,27 @@ impl Gpu {
         Ok((o.out, o.seconds_per_dispatch))
     }
 
+    /// A buffer of `size` bytes the GPU copies into and the CPU maps.
+    fn read_back_buffer(&self, size: u64) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// The bytes of a [`Self::read_back_buffer`] once the queue is done (`what` names it in errors).
+    fn map_read(&self, b: &wgpu::Buffer, what: &str) -> Result<Vec<u8>, String> {
+        let slice = b.slice(..);
+        let w = what.to_string();
+        slice.map_async(wgpu::MapMode::Read, move |r| r.unwrap_or_else(|e| panic!("mapping the {w} buffer: {e}")));
+        self.wait()?;
+        let bytes = slice.get_mapped_range().map_err(|e| format!("{what}: {e}"))?.to_vec();
+        b.unmap();
+        Ok(bytes)
+    }
+
     /// Runs a launch (see [`Launch`]).
     pub fn launch(&self, l: &Launch) -> Result<Output, String> {
         let (input, out_per_item, count, lut, repeats) = (l.input, l.out_per_item, l.count, l.lut, l.repeats);
@@ -451,12 +472,7 @@ impl Gpu {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readb = d.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size: out_bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readb = self.read_back_buffer(out_bytes);
         let tex_view = lut.map(|l| self.lut_texture(l).create_view(&Default::default()));
         let lobe_view = l.lobe.map(|t| {
             self.lobe_texture(t)
@@ -479,14 +495,7 @@ impl Gpu {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             })
         });
-        let io_read = iob.as_ref().map(|_| {
-            d.create_buffer(&wgpu::BufferDescriptor {
-                label: None,
-                size: io_bytes,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        });
+        let io_read = iob.as_ref().map(|_| self.read_back_buffer(io_bytes));
         let mut entries = vec![
             wgpu::BindGroupEntry { binding: 0, resource: inb.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: outb.as_entire_binding() },
@@ -537,40 +546,22 @@ impl Gpu {
             self.wait()?;
             per_dispatch = t.elapsed().as_secs_f64() / repeats as f64;
         }
-        let slice = readb.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |r| r.expect("mapping the read-back buffer"));
-        self.wait()?;
-        let out: Vec<f32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("read-back: {e}"))?).to_vec();
-        readb.unmap();
-        let mut io = Vec::new();
-        if let Some(b) = &io_read {
-            let slice = b.slice(..);
-            slice.map_async(wgpu::MapMode::Read, |r| r.expect("mapping the io read-back buffer"));
-            self.wait()?;
-            io = slice.get_mapped_range().map_err(|e| format!("io read-back: {e}"))?.to_vec();
-            b.unmap();
-        }
+        let out: Vec<f32> = bytemuck::cast_slice(&self.map_read(&readb, "read-back")?).to_vec();
+        let io = match &io_read {
+            Some(b) => self.map_read(b, "io read-back")?,
+            None => Vec::new(),
+        };
         Ok(Output { out: out[..count * out_per_item].to_vec(), io, seconds_per_dispatch: per_dispatch })
     }
 
     /// Copies a buffer (with `COPY_SRC` usage) back to the host.
     pub fn read_back(&self, src: &wgpu::Buffer) -> Result<Vec<u8>, String> {
         let size = src.size();
-        let dst = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("read-back"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let dst = self.read_back_buffer(size);
         let mut enc = self.device.create_command_encoder(&Default::default());
         enc.copy_buffer_to_buffer(src, 0, &dst, 0, size);
         self.queue.submit([enc.finish()]);
-        let slice = dst.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |r| r.expect("mapping a read-back buffer"));
-        self.wait()?;
-        let bytes = slice.get_mapped_range().map_err(|e| format!("read-back: {e}"))?.to_vec();
-        dst.unmap();
-        Ok(bytes)
+        self.map_read(&dst, "read-back")
     }
 
     /// Blocks until the queue's submitted work is done.

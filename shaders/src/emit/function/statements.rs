@@ -80,6 +80,63 @@ impl<'c, 'a> W<'c, 'a> {
         matches!(fl.update, Some((p, _)) if self.f.expressions[p] == E::LocalVariable(v))
     }
 
+    /// A `switch` with its cases; a case that neither falls through nor jumps ends in `break`.
+    fn write_switch(&mut self, selector: Handle<E>, cases: &'a [naga::SwitchCase]) -> R<()> {
+        let sel = self.top(selector)?;
+        self.line(&format!("switch ({sel}) {{"));
+        for case in cases {
+            let label = match case.value {
+                naga::SwitchValue::I32(n) => format!("case {n}:"),
+                naga::SwitchValue::U32(n) => format!("case {n}u:"),
+                naga::SwitchValue::Default => "default:".into(),
+            };
+            if case.body.is_empty() && case.fall_through {
+                self.raw(&label);
+                continue;
+            }
+            self.raw(&format!("{label} {{"));
+            self.depth += 1;
+            self.block(&case.body)?;
+            let jumps = matches!(case.body.last(), Some(S::Return { .. } | S::Break | S::Continue | S::Kill));
+            if !case.fall_through && !jumps {
+                self.raw("break;");
+            }
+            self.depth -= 1;
+            self.raw("}");
+        }
+        self.raw("}");
+        Ok(())
+    }
+
+    /// A call; a result used once and unnamed is written inline where it is used.
+    fn write_call(&mut self, function: Handle<naga::Function>, arguments: &[Handle<E>], result: Option<Handle<E>>) -> R<()> {
+        let callee = &self.c.m.functions[function];
+        let name = callee.name.clone().ok_or("a call to an unnamed function")?;
+        let mut args = Vec::new();
+        for (a, p) in arguments.iter().zip(&callee.arguments) {
+            if !(self.c.lang.combined_samplers() && is_sampler(&self.c.m.types[p.ty].inner)) {
+                args.push(self.top(*a)?);
+            }
+        }
+        let call = format!("{}({})", crate::emit::names::exported(crate::emit::names::ItemKind::Function, &name), args.join(", "));
+        let takes_pointer = callee.arguments.iter().any(|a| matches!(self.c.m.types[a.ty].inner, TypeInner::Pointer { .. }));
+        match result {
+            None => self.line(&format!("{call};")),
+            Some(r) => {
+                let named = self.f.named_expressions.get(&r).cloned();
+                if named.is_none() && !takes_pointer && self.fi[r].ref_count == 1 {
+                    self.deferred.push((r, call));
+                } else {
+                    let n = self.unique(&named.unwrap_or_else(|| format!("{name}_result")));
+                    let d = self.decl_of(r, &n)?;
+                    self.line(&format!("{d} = {call};"));
+                    self.names.insert(r, n);
+                }
+            }
+        }
+        Ok(())
+    }
+
     pub(super) fn statement(&mut self, s: &'a S) -> R<()> {
         match s {
             S::Emit(r) => {
@@ -121,31 +178,7 @@ impl<'c, 'a> W<'c, 'a> {
                 }
                 None => self.write_if(*condition, accept, reject, false)?,
             },
-            S::Switch { selector, cases } => {
-                let sel = self.top(*selector)?;
-                self.line(&format!("switch ({sel}) {{"));
-                for case in cases {
-                    let label = match case.value {
-                        naga::SwitchValue::I32(n) => format!("case {n}:"),
-                        naga::SwitchValue::U32(n) => format!("case {n}u:"),
-                        naga::SwitchValue::Default => "default:".into(),
-                    };
-                    if case.body.is_empty() && case.fall_through {
-                        self.raw(&label);
-                        continue;
-                    }
-                    self.raw(&format!("{label} {{"));
-                    self.depth += 1;
-                    self.block(&case.body)?;
-                    let jumps = matches!(case.body.last(), Some(S::Return { .. } | S::Break | S::Continue | S::Kill));
-                    if !case.fall_through && !jumps {
-                        self.raw("break;");
-                    }
-                    self.depth -= 1;
-                    self.raw("}");
-                }
-                self.raw("}");
-            }
+            S::Switch { selector, cases } => self.write_switch(*selector, cases)?,
             S::Loop { body, continuing, break_if } => match self.for_loop(body, continuing, *break_if) {
                 Some(fl) => self.write_for(fl, None)?,
                 None => {
@@ -179,32 +212,7 @@ impl<'c, 'a> W<'c, 'a> {
                 let t = self.store(*pointer, *value)?;
                 self.line(&format!("{t};"));
             }
-            S::Call { function, arguments, result } => {
-                let callee = &self.c.m.functions[*function];
-                let name = callee.name.clone().ok_or("a call to an unnamed function")?;
-                let mut args = Vec::new();
-                for (a, p) in arguments.iter().zip(&callee.arguments) {
-                    if !(self.c.lang.combined_samplers() && is_sampler(&self.c.m.types[p.ty].inner)) {
-                        args.push(self.top(*a)?);
-                    }
-                }
-                let call = format!("{}({})", crate::emit::names::exported(crate::emit::names::ItemKind::Function, &name), args.join(", "));
-                let takes_pointer = callee.arguments.iter().any(|a| matches!(self.c.m.types[a.ty].inner, TypeInner::Pointer { .. }));
-                match result {
-                    None => self.line(&format!("{call};")),
-                    Some(r) => {
-                        let named = self.f.named_expressions.get(r).cloned();
-                        if named.is_none() && !takes_pointer && self.fi[*r].ref_count == 1 {
-                            self.deferred.push((*r, call));
-                        } else {
-                            let n = self.unique(&named.unwrap_or_else(|| format!("{name}_result")));
-                            let d = self.decl_of(*r, &n)?;
-                            self.line(&format!("{d} = {call};"));
-                            self.names.insert(*r, n);
-                        }
-                    }
-                }
-            }
+            S::Call { function, arguments, result } => self.write_call(*function, arguments, *result)?,
             other => return Err(format!("statement {other:?} is not in the exported subset")),
         }
         Ok(())
