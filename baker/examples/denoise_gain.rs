@@ -10,7 +10,7 @@
 //! scene at 16 texels per unit, 16384, 128; the CPU reference takes ~6 minutes on 2 cores).
 //! The documented figures (docs/baker.md) use `--gpu` and a 65 536-pass reference.
 
-use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Targets};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisId, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
 use baker::layout::lightmap::Lightmap;
@@ -20,7 +20,7 @@ use baker::scene::bvh::Bvh;
 use std::time::Instant;
 
 fn config(seed: u64) -> BakeConfig {
-    BakeConfig { seed, bases: vec![BasisKind::ShL2, BasisKind::Ad9], ..Default::default() }
+    BakeConfig { seed, bases: vec![BasisId::Sh2, BasisId::Ad9], ..Default::default() }
 }
 
 /// A bake's state and its wall time (GPU: including the read-back).

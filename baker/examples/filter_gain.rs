@@ -11,7 +11,7 @@
 //! megakernel. On a machine without a hardware GPU the CPU bake runs (slowly).
 
 use baker::accumulate::filter::Filter;
-use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisId, Pipeline, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::layout::lightmap::{Lightmap, NO_CHART};
 use baker::post::images::LightmapImages;
@@ -42,7 +42,7 @@ fn main() -> Result<(), String> {
     println!("device: {}", gpu.as_ref().map_or("CPU (no hardware GPU)".to_string(), |g| g.adapter.clone()));
     let config = |filter: Option<Filter>, seed: u64| BakeConfig {
         seed,
-        bases: vec![BasisKind::ShL1],
+        bases: vec![BasisId::Sh1],
         solver: Solver::Ls,
         pipeline,
         filter,

@@ -11,7 +11,7 @@
 //! 16 texels per unit, 4 bounces, 16384, 128). `--images` writes a preview PNG per option at
 //! the first pass count.
 
-use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Targets};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisId, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
 use baker::layout::lightmap::Lightmap;
@@ -22,7 +22,7 @@ use baker::scene::bvh::Bvh;
 use std::time::Instant;
 
 fn config(seed: u64, bounces: u32, guiding: Option<GuidingOptions>) -> BakeConfig {
-    BakeConfig { seed, max_bounces: bounces, bases: vec![BasisKind::ShL2, BasisKind::Ad9], guiding, ..Default::default() }
+    BakeConfig { seed, max_bounces: bounces, bases: vec![BasisId::Sh2, BasisId::Ad9], guiding, ..Default::default() }
 }
 
 /// A bake's state and the wall time of its passes (GPU: the passes and the read-back;

@@ -24,7 +24,7 @@
 //! texels its camera sees (its error and its target, the baseline's error there).
 
 use baker::accumulate::adaptive::AdaptiveOptions;
-use baker::accumulate::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::accumulate::{BakeConfig, BakeState, BasisId, Pipeline, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
 use baker::layout::lightmap::Lightmap;
@@ -105,7 +105,7 @@ fn run() -> Result<(), String> {
     let cfg = |seed, sampler, adaptive| BakeConfig {
         seed,
         max_bounces: bounces,
-        bases: vec![BasisKind::ShL2],
+        bases: vec![BasisId::Sh2],
         solver: Solver::Ls,
         sampler,
         adaptive,

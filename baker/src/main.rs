@@ -2,7 +2,7 @@
 
 #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
 
-use baker::accumulate::{BasisKind, Solver};
+use baker::accumulate::{BasisId, Solver};
 use baker::run::{self, Device, Options};
 use clap::Parser;
 use std::path::PathBuf;
@@ -236,20 +236,13 @@ struct Cli {
     exit_with_parent: bool,
 }
 
-fn parse_bases(v: &[String]) -> Result<Vec<BasisKind>, String> {
-    v.iter()
-        .map(|s| {
-            BasisKind::parse(s.trim()).ok_or_else(|| {
-                let names: Vec<&str> = BasisKind::ALL.iter().map(|(_, n)| *n).collect();
-                format!("unknown basis '{s}' (expected one of {})", names.join(", "))
-            })
-        })
-        .collect()
+fn parse_bases(v: &[String]) -> Result<Vec<BasisId>, String> {
+    v.iter().map(|s| baker::accumulate::lightmap_basis(s.trim())).collect()
 }
 
 /// `--engine-formats`: the formats named (or every one for `all`); they are encoded from
 /// the SH L1 bake, so `sh1` must be among the lightmap bases.
-fn engine_formats(arg: Option<&str>, bases: &[String]) -> Result<Vec<sbf::recon::engine::EngineFormat>, String> {
+fn engine_formats(arg: Option<&str>, bases: &[BasisId]) -> Result<Vec<sbf::recon::engine::EngineFormat>, String> {
     use sbf::recon::engine::EngineFormat;
     let Some(arg) = arg else { return Ok(Vec::new()) };
     let ids: Vec<&str> = EngineFormat::ALL.iter().map(|f| f.id()).collect();
@@ -274,8 +267,11 @@ fn engine_formats(arg: Option<&str>, bases: &[String]) -> Result<Vec<sbf::recon:
             unique.push(f);
         }
     }
-    if !bases.iter().any(|b| b.trim() == "sh1") {
-        return Err(format!("--engine-formats repackages the SH L1 lightmap: add sh1 to the bases (they are {})", bases.join(",")));
+    if !bases.contains(&BasisId::Sh1) {
+        return Err(format!(
+            "--engine-formats repackages the SH L1 lightmap: add sh1 to the bases (they are {})",
+            bases.iter().map(|b| b.name()).collect::<Vec<_>>().join(",")
+        ));
     }
     Ok(unique)
 }
@@ -301,25 +297,24 @@ fn options(c: Cli) -> Result<Options, String> {
         p => return Err(format!("--probes takes NX,NY,NZ (all > 0, or 0,0,0 for none), not {p:?}")),
     };
     let profile = c.profile.as_deref().map(sbf::profile::Profile::load).transpose()?;
-    let (bases, probe_names) = match &profile {
+    let (bases, probe_bases) = match &profile {
         Some(p) => (p.lightmap_bases.clone(), p.probe_bases.clone()),
-        None => (c.bases.clone(), c.probe_bases.clone()),
+        None => (parse_bases(&c.bases)?, parse_bases(&c.probe_bases)?),
     };
     let probes = if profile.as_ref().is_some_and(|p| p.probe_bases.is_empty()) { None } else { probes };
     if let Some(p) = &profile {
         let d = Options::default();
-        let names = |v: &[baker::accumulate::BasisKind]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
+        let names = |v: &[baker::accumulate::BasisId]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
         eprintln!(
             "profile '{}': lightmap bases {} (default {}), probe bases {} (default {}){}",
             p.name,
-            bases.join(","),
+            names(&bases),
             names(&d.config.bases),
-            if probe_names.is_empty() { "none — no probes baked".to_string() } else { probe_names.join(",") },
+            if probe_bases.is_empty() { "none — no probes baked".to_string() } else { names(&probe_bases) },
             names(&d.probe_bases),
             if p.specular { String::new() } else { "; BRDF Lambert only: no specular runtime features or LUTs".to_string() }
         );
     }
-    let probe_bases = parse_bases(&probe_names)?;
     if let Some(b) = probe_bases.iter().find(|b| !b.is_sphere()) {
         return Err(format!("probe basis '{}' covers a hemisphere; probes need sh1, sh2 or ad12", b.name()));
     }
@@ -349,7 +344,7 @@ fn options(c: Cli) -> Result<Options, String> {
         config: baker::accumulate::BakeConfig {
             seed: c.seed,
             max_bounces: c.bounces,
-            bases: parse_bases(&bases)?,
+            bases,
             solver,
             guiding,
             sampler: baker::sampling::sequence::Sequence::parse(&c.sampler)

@@ -2,7 +2,7 @@
 //! against a long reference bake at several pass counts (should fall like 1/√N), and
 //! the progressive-NNLS AD9 lightmap against a batch NNLS fit of the same samples.
 
-use baker::accumulate::{Bake, BakeConfig, BasisKind, Targets};
+use baker::accumulate::{Bake, BakeConfig, BasisId, Targets};
 use baker::estimator::trace::Tracer;
 use baker::layout::lightmap::Lightmap;
 use baker::scene;
@@ -25,7 +25,7 @@ fn error_falls_like_inverse_sqrt_passes_and_progressive_nnls_matches_batch() {
     let bvh = Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg = |seed| BakeConfig { seed, bases: vec![BasisKind::Ad9], ..Default::default() };
+    let cfg = |seed| BakeConfig { seed, bases: vec![BasisId::Ad9], ..Default::default() };
     // Reference: 16 384 passes, another seed.
     let t = Instant::now();
     let mut r = Bake::new(cfg(1000), &targets, Tracer::new(&s, &bvh, 4));
@@ -83,7 +83,7 @@ type Sample = (DVec3, [f64; 3], Vec<(DVec3, [f64; 3])>);
 /// samples, right-hand side (1/N)Σ (B(ω)·L + Σ_l B(ω_l)·c_l) with the light samples'
 /// known projections (Lawson–Hanson in Gram form).
 fn progressive_vs_batch(b: &Bake, samples: &[Vec<Sample>], reference: &[[f64; 3]], ref_var: f64) {
-    let basis = BasisKind::Ad9.basis();
+    let basis = BasisId::Ad9.basis();
     // Lambert weights: E/π at the normal = Σ c_i w_i, w_i = (1/π)∫ B_i(ω) cosθ dω over the
     // upper hemisphere (20 000 Fibonacci directions; quadrature error ~1e-4).
     let k = 40_000u64;

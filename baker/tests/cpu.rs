@@ -1,6 +1,6 @@
 //! CPU reference path: furnace, BVH against brute force, layout invariants, bad scenes.
 
-use baker::accumulate::{Bake, BakeConfig, BasisKind, Solver, Targets};
+use baker::accumulate::{Bake, BakeConfig, BasisId, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::layout::lightmap::Lightmap;
 use baker::scene::bvh::{intersect_tri, Bvh};
@@ -19,7 +19,7 @@ fn furnace_cpu() {
     // 64 bounces: the truncated tail a^65 ≈ 3e-20 is far below the MC error; Russian
     // roulette keeps the estimator unbiased anyway.
     let tracer = Tracer::new(&s, &bvh, 64);
-    let cfg = BakeConfig { max_bounces: 64, bases: vec![BasisKind::Ad9], solver: Solver::Ls, ..Default::default() };
+    let cfg = BakeConfig { max_bounces: 64, bases: vec![BasisId::Ad9], solver: Solver::Ls, ..Default::default() };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, tracer);
     for _ in 0..64 {
@@ -154,7 +154,7 @@ fn deterministic_across_thread_counts() {
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
-            let cfg = BakeConfig { seed: 7, bases: vec![BasisKind::ShL2, BasisKind::Sg9], ..Default::default() };
+            let cfg = BakeConfig { seed: 7, bases: vec![BasisId::Sh2, BasisId::Sg9], ..Default::default() };
             let targets = Targets::lightmap(&lm);
             let mut b = Bake::new(cfg, &targets, Tracer::new(&s, &bvh, 4));
             for _ in 0..4 {

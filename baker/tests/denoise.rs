@@ -238,12 +238,12 @@ fn coplanar_neighbouring_charts_do_not_mix() {
 /// 1.02 — fails.
 #[test]
 fn furnace_bake_stays_within_noise() {
-    use baker::accumulate::{Bake, BakeConfig, BasisKind, Solver, Targets};
+    use baker::accumulate::{Bake, BakeConfig, BasisId, Solver, Targets};
     let (le, a) = (1.0f32, 0.5f32);
     let s = baker::scene::furnace(le, a);
     let bvh = baker::scene::bvh::Bvh::build(&s);
     let lm = Lightmap::build(&s, 4.0, 1).unwrap();
-    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: vec![BasisKind::ShL2], solver: Solver::Ls, ..Default::default() };
+    let cfg = BakeConfig { seed: 3, max_bounces: 64, bases: vec![BasisId::Sh2], solver: Solver::Ls, ..Default::default() };
     let targets = Targets::lightmap(&lm);
     let mut bake = Bake::new(cfg, &targets, baker::estimator::trace::Tracer::new(&s, &bvh, 64));
     for _ in 0..64 {
@@ -301,14 +301,14 @@ fn furnace_bake_stays_within_noise() {
 /// window: the MSE 3.3× higher, chart 0 moved by 11.8 — (2) fails first.
 #[test]
 fn a_real_bake_gets_closer_to_the_truth_and_keeps_its_chart_means() {
-    use baker::accumulate::{Bake, BakeConfig, BasisKind, Solver, Targets};
+    use baker::accumulate::{Bake, BakeConfig, BasisId, Solver, Targets};
     use baker::estimator::trace::Tracer;
     let scene = baker::scene::cornell();
     let bvh = baker::scene::bvh::Bvh::build(&scene);
     let lm = atlas();
     let targets = Targets::lightmap(&lm);
     let bake = |seed: u64| {
-        let cfg = BakeConfig { seed, max_bounces: 3, bases: vec![BasisKind::ShL1], solver: Solver::Ls, ..Default::default() };
+        let cfg = BakeConfig { seed, max_bounces: 3, bases: vec![BasisId::Sh1], solver: Solver::Ls, ..Default::default() };
         let mut b = Bake::new(cfg, &targets, Tracer::new(&scene, &bvh, 3));
         for _ in 0..32 {
             b.pass();

@@ -7,7 +7,7 @@ mod common;
 
 use baker::accumulate::filter::GatherFilter;
 use baker::accumulate::filter::{Filter, GatherLayout};
-use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisId, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::layout::lightmap::{Lightmap, NO_CHART};
 use baker::post::images::LightmapImages;
@@ -15,7 +15,7 @@ use baker::scene::bvh::Bvh;
 use baker::scene::{self, Scene};
 
 fn config(filter: Option<Filter>, seed: u64) -> BakeConfig {
-    BakeConfig { seed, max_bounces: 3, bases: vec![BasisKind::ShL1], solver: Solver::Ls, filter, ..Default::default() }
+    BakeConfig { seed, max_bounces: 3, bases: vec![BasisId::Sh1], solver: Solver::Ls, filter, ..Default::default() }
 }
 
 fn cpu_bake(s: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {
@@ -127,13 +127,13 @@ fn filtered_means_equal_a_direct_weighted_sum() {
     let list = baker::accumulate::filter::gather_targets(&targets);
     let fs = filtered.filtered.as_ref().unwrap();
     let mut checked = 0;
-    let basis = BasisKind::ShL1.basis();
+    let basis = BasisId::Sh1.basis();
     for (j, &t) in list.iter().enumerate() {
         let t = t as usize;
         let (x, y) = ((t % w) as i64, (t / w) as i64);
         let (mut sw, mut swe) = (0.0f64, [0.0f64; 3]);
         // The same samples through an encoder of their own, in the gather's order.
-        let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(4, cfg.encoder_options(BasisKind::ShL1, false));
+        let mut enc = sbf::solve::ProgressiveEncoder::<f32>::new(4, cfg.encoder_options(BasisId::Sh1, false));
         for (p, samples) in per_pass.iter().enumerate() {
             for ny in y - 2..=y + 2 {
                 for nx in x - 2..=x + 2 {
@@ -300,7 +300,7 @@ fn gpu_filtered_bake_matches_its_cpu_twin() {
         [(baker::accumulate::Pipeline::Megakernel, "gaussian"), (baker::accumulate::Pipeline::Wavefront, "mitchell:2")]
     {
         let cfg = BakeConfig {
-            bases: vec![BasisKind::Ad9, BasisKind::ShL2],
+            bases: vec![BasisId::Ad9, BasisId::Sh2],
             solver: Solver::Nnls,
             pipeline,
             ..config(Some(Filter::parse(filter).unwrap()), 17)

@@ -2,7 +2,7 @@
 //! Vulkan/GL adapter (lavapipe in CI); with `SBF_REQUIRE_GPU=1` a missing adapter fails.
 
 mod common;
-use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisId, Pipeline, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::{kernel, GpuBake, TraceParams};
 use baker::layout::lightmap::Lightmap;
@@ -10,7 +10,7 @@ use baker::scene;
 use baker::scene::bvh::Bvh;
 use common::gpu;
 
-const ALL_BASES: [BasisKind; 6] = [BasisKind::ShL1, BasisKind::ShL2, BasisKind::Sg9, BasisKind::Sg12, BasisKind::Ad9, BasisKind::Ad12];
+const ALL_BASES: [BasisId; 6] = [BasisId::Sh1, BasisId::Sh2, BasisId::Sg9, BasisId::Sg12, BasisId::Ad9, BasisId::Ad12];
 
 /// The composed kernel validates for every basis alone and all together, texels and
 /// probes, with and without the GGX layer; the shared structs match naga's layout.
@@ -37,8 +37,8 @@ fn kernels_validate_and_structs_match() {
         assert!(mk.contains(&bits(cfg.sg_sharpness)), "the kernel's SG sharpness");
         let sharp = kernel(&BakeConfig { sg_sharpness: 8.0, ..cfg.clone() }, false, glossy).unwrap();
         assert!(sharp.shader("megakernel.wgsl").unwrap().contains(&bits(8.0)), "the kernel's SG sharpness 8");
-        for (kind, name) in [(BasisKind::Sg9, "SG9_AXES"), (BasisKind::Sg12, "SG12_AXES")] {
-            let axes = kind.sg_axes();
+        for (kind, name) in [(BasisId::Sg9, "SG9_AXES"), (BasisId::Sg12, "SG12_AXES")] {
+            let axes = kind.axes();
             let decl = mk.split(&format!("const {name}:")).nth(1).unwrap_or_else(|| panic!("{name} in the kernel"));
             let decl = &decl[..decl.find(';').unwrap()];
             // The components inside each `vec3<f32>(…)` of the initialiser.
@@ -64,7 +64,7 @@ fn kernels_validate_and_structs_match() {
                 && k.left_out.iter().any(|l| l.starts_with("filtered accumulation"))
         );
     }
-    let probes = BakeConfig { bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls, ..Default::default() };
+    let probes = BakeConfig { bases: vec![BasisId::Sh2, BasisId::Ad12], solver: Solver::Ls, ..Default::default() };
     kernel(&probes, true, true).unwrap();
 }
 
@@ -254,7 +254,7 @@ fn matches_cpu(pipeline: Pipeline) {
     let lm = Lightmap::build(&s, 6.0, 1).unwrap();
     let targets = Targets::lightmap(&lm);
     let tracer = Tracer::new(&s, &bvh, 4);
-    let cfg = BakeConfig { seed: 11, bases: vec![BasisKind::Ad9, BasisKind::ShL2], pipeline, ..Default::default() };
+    let cfg = BakeConfig { seed: 11, bases: vec![BasisId::Ad9, BasisId::Sh2], pipeline, ..Default::default() };
     let passes = 96;
     let mut g = GpuBake::new(&gpu, &tracer, &targets, &cfg).unwrap();
     g.run(passes).unwrap();
@@ -362,7 +362,7 @@ fn chunked_dispatches_give_the_identical_bake() {
     let cfg = BakeConfig {
         seed: 4,
         max_bounces: 3,
-        bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+        bases: vec![BasisId::Sh2, BasisId::Ad9],
         guiding: Some(baker::sampling::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
         ..Default::default()
     };
@@ -409,7 +409,7 @@ fn wavefront_pass_times_cover_the_pass_graph() {
     let cfg = BakeConfig {
         seed: 3,
         max_bounces: 3,
-        bases: vec![BasisKind::ShL1],
+        bases: vec![BasisId::Sh1],
         solver: Solver::Ls,
         pipeline: Pipeline::Wavefront,
         ..Default::default()
@@ -561,8 +561,7 @@ fn indirect_only_bakes_the_closed_forms() {
         irradiance: sbf::glam::Vec3::splat(5.0),
     }];
     plane.environment = scene::Environment::Constant(sbf::glam::Vec3::splat(2.0));
-    let cfg =
-        BakeConfig { seed: 5, max_bounces: 64, bases: vec![BasisKind::ShL2, BasisKind::Ad9], indirect_only: true, ..Default::default() };
+    let cfg = BakeConfig { seed: 5, max_bounces: 64, bases: vec![BasisId::Sh2, BasisId::Ad9], indirect_only: true, ..Default::default() };
     for (s, expect) in [(&furnace, (a * le / (1.0 - a)) as f64), (&plane, 0.0)] {
         let lm = Lightmap::build(s, 4.0, 1).unwrap();
         let targets = Targets::lightmap(&lm);

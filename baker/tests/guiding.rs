@@ -12,7 +12,7 @@
 //! the encoders' weight left at 1 (the transport tests).
 
 mod common;
-use baker::accumulate::{Bake, BakeConfig, BakeState, BasisKind, Solver, Targets};
+use baker::accumulate::{Bake, BakeConfig, BakeState, BasisId, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::GpuBake;
 use baker::layout::lightmap::Lightmap;
@@ -24,7 +24,7 @@ use sbf::sampling::Pcg32;
 use std::f64::consts::PI;
 
 fn config(seed: u64, guiding: Option<GuidingOptions>) -> BakeConfig {
-    BakeConfig { seed, bases: vec![BasisKind::ShL2], solver: Solver::Ls, guiding, ..Default::default() }
+    BakeConfig { seed, bases: vec![BasisId::Sh2], solver: Solver::Ls, guiding, ..Default::default() }
 }
 
 fn cpu_bake(scene: &Scene, targets: &Targets, cfg: &BakeConfig, passes: u64) -> BakeState {

@@ -11,7 +11,7 @@
 //! moments differ").
 
 mod common;
-use baker::accumulate::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::accumulate::{BakeConfig, BakeState, BasisId, Pipeline, Solver, Targets};
 use baker::estimator::trace::Tracer;
 use baker::gpu::multi::{owner, partition_block, MultiGpuBake};
 use baker::gpu::GpuBake;
@@ -64,9 +64,7 @@ fn merged_bakes_equal_the_single_device_bake() {
     let probes = Targets::probes(&baker::layout::probes::probe_grid(&bvh, [6, 6, 6]));
     let tracer_of = || Tracer::new(&scene, &bvh, 3);
     for pipeline in [Pipeline::Megakernel, Pipeline::Wavefront] {
-        for (targets, bases, what) in
-            [(&lightmap, vec![BasisKind::ShL2, BasisKind::Ad9], "lightmap"), (&probes, vec![BasisKind::ShL2], "probes")]
-        {
+        for (targets, bases, what) in [(&lightmap, vec![BasisId::Sh2, BasisId::Ad9], "lightmap"), (&probes, vec![BasisId::Sh2], "probes")] {
             let cfg = BakeConfig { seed: 7, max_bounces: 3, bases, pipeline, ..Default::default() };
             let mut one = GpuBake::new(&gpus[0], &tracer_of(), targets, &cfg).unwrap();
             one.set_chunk(usize::MAX);
@@ -106,7 +104,7 @@ fn merged_bakes_equal_the_single_device_bake() {
     }
     let guided = BakeConfig {
         max_bounces: 2,
-        bases: vec![BasisKind::ShL2],
+        bases: vec![BasisId::Sh2],
         solver: Solver::Ls,
         guiding: Some(baker::sampling::guiding::GuidingOptions { learn_passes: 4, guided_fraction: 0.5 }),
         ..Default::default()
@@ -130,7 +128,7 @@ fn shards_on_several_devices_put_together_equal_the_single_device_bake() {
     let lm = Lightmap::build(&scene, 6.0, 2).unwrap();
     let targets = Targets::lightmap(&lm);
     let tracer_of = || Tracer::new(&scene, &bvh, 3);
-    let cfg = BakeConfig { seed: 5, max_bounces: 3, bases: vec![BasisKind::ShL2, BasisKind::Ad9], ..Default::default() };
+    let cfg = BakeConfig { seed: 5, max_bounces: 3, bases: vec![BasisId::Sh2, BasisId::Ad9], ..Default::default() };
     let mut one = GpuBake::new(&gpus[0], &tracer_of(), &targets, &cfg).unwrap();
     one.set_chunk(usize::MAX);
     one.run(4).unwrap();
@@ -170,8 +168,7 @@ fn several_passes_per_dispatch_give_the_identical_bake() {
     let bvh = Bvh::build(&scene);
     let lm = Lightmap::build(&scene, 4.0, 2).unwrap();
     let targets = Targets::lightmap(&lm);
-    let cfg =
-        BakeConfig { seed: 3, max_bounces: 2, bases: vec![BasisKind::ShL2, BasisKind::Sg9], solver: Solver::Ls, ..Default::default() };
+    let cfg = BakeConfig { seed: 3, max_bounces: 2, bases: vec![BasisId::Sh2, BasisId::Sg9], solver: Solver::Ls, ..Default::default() };
     let run = |target: Option<f64>| {
         let mut b = GpuBake::new(&g, &Tracer::new(&scene, &bvh, cfg.max_bounces), &targets, &cfg).unwrap();
         match target {

@@ -14,7 +14,7 @@
 
 mod common;
 
-use baker::accumulate::BasisKind;
+use baker::accumulate::BasisId;
 use baker::layout::lightmap::Lightmap;
 use baker::render::atlas::Atlas;
 use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage};
@@ -116,7 +116,7 @@ fn shading_evaluates_the_lightmap_at_the_mapped_normal() {
     lobes[2].iter_mut().for_each(|t| *t = [c10; 3]);
     let atlas = Atlas { width: lm.width, height: lm.height, lobes };
     let shader = Shader::new(Lighting {
-        encoding: Encoding::Basis(BasisKind::ShL2),
+        encoding: Encoding::Basis(BasisId::Sh2),
         specular: SpecularPath::Fit,
         storage: Storage::F32,
         sg_sharpness: 6.0,
@@ -175,20 +175,20 @@ fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
     let m = SurfaceMaterial { albedo: DVec3::splat(0.6), alpha: 0.35, f0: DVec3::splat(0.5) };
     let mut rng = sbf::sampling::Pcg32::new(7, 7);
     for (kind, path) in [
-        (BasisKind::ShL2, SpecularPath::Fit),
-        (BasisKind::Sg12, SpecularPath::Fit),
-        (BasisKind::Sg12, SpecularPath::Tables),
-        (BasisKind::Ad12, SpecularPath::Fit),
-        (BasisKind::Ad12, SpecularPath::Tables),
+        (BasisId::Sh2, SpecularPath::Fit),
+        (BasisId::Sg12, SpecularPath::Fit),
+        (BasisId::Sg12, SpecularPath::Tables),
+        (BasisId::Ad12, SpecularPath::Fit),
+        (BasisId::Ad12, SpecularPath::Tables),
     ] {
         let shader = Shader::new(Lighting { encoding: Encoding::Basis(kind), specular: path, storage: Storage::F32, sg_sharpness: 6.0 });
-        let lobes = if kind == BasisKind::ShL2 { 9 } else { 12 };
+        let lobes = if kind == BasisId::Sh2 { 9 } else { 12 };
         let c: Vec<DVec3> = (0..lobes)
             .map(|k| {
                 let u = rng.next_2d();
-                if kind == BasisKind::ShL2 && k == 0 {
+                if kind == BasisId::Sh2 && k == 0 {
                     DVec3::new(1.5, 1.4, 1.2)
-                } else if kind == BasisKind::ShL2 {
+                } else if kind == BasisId::Sh2 {
                     DVec3::new(0.6 * u[0] - 0.3, 0.6 * u[1] - 0.3, 0.2)
                 } else {
                     DVec3::new(0.2 + u[0], 0.2 + u[1], 0.5)
@@ -197,16 +197,16 @@ fn shading_at_a_mapped_normal_is_shading_at_z_with_the_light_turned() {
             .collect();
         let got = shader.terms_at(&c, &m, DVec3::Z, nt, vt);
         let rgb: Vec<[f64; 3]> = c.iter().map(|x| x.to_array()).collect();
-        let axes: Vec<DVec3> = kind.lobe_axes().iter().map(|a| r * *a).collect();
+        let axes: Vec<DVec3> = kind.axes().iter().map(|a| r * *a).collect();
         let (f0, f90) = (m.f0.x, 1.0);
         let (e, s): (DVec3, DVec3) = match (kind, path) {
-            (BasisKind::ShL2, _) => {
+            (BasisId::Sh2, _) => {
                 let rot = sbf::ShRotation::new(2, r).unwrap();
                 let ch: Vec<Vec<f64>> = (0..3).map(|k| rot.apply(&c.iter().map(|x| x[k]).collect::<Vec<_>>()).unwrap()).collect();
                 let cr: Vec<DVec3> = (0..9).map(|i| DVec3::new(ch[0][i], ch[1][i], ch[2][i])).collect();
                 (shader.irradiance(&cr), shader.specular(&cr, rv, m.alpha, f0, f90))
             }
-            (BasisKind::Sg12, p) => {
+            (BasisId::Sg12, p) => {
                 let e = axes.iter().zip(&c).fold(DVec3::ZERO, |acc, (a, ci)| {
                     acc + *ci * sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: 6.0, amplitude: 1.0 }).eval(DVec3::Z)
                 });

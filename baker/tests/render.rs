@@ -3,7 +3,7 @@
 
 mod common;
 
-use baker::accumulate::BasisKind;
+use baker::accumulate::BasisId;
 use baker::layout::lightmap::Lightmap;
 use baker::render::atlas::Atlas;
 use baker::render::lighting::{Encoding, FramePath, Lighting, LightmapFilter, Storage, SurfaceMaterial};
@@ -21,14 +21,14 @@ const SG6: f64 = baker::accumulate::SG_HEMISPHERE_SHARPNESS;
 /// paths (SH has one), f32 and f16.
 fn configurations() -> Vec<Lighting> {
     let mut v = vec![Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 }];
-    for (b, _) in BasisKind::ALL {
+    for b in BasisId::lightmap() {
         for path in [SpecularPath::Fit, SpecularPath::Tables] {
-            if matches!(b, BasisKind::ShL1 | BasisKind::ShL2) && path == SpecularPath::Tables {
+            if matches!(b, BasisId::Sh1 | BasisId::Sh2) && path == SpecularPath::Tables {
                 continue;
             }
             for storage in [Storage::F32, Storage::F16] {
                 // SG 12 with the fits at the thesis' λ 8 (the tables are λ 6's).
-                let sg_sharpness = if b == BasisKind::Sg12 && path == SpecularPath::Fit { 8.0 } else { SG6 };
+                let sg_sharpness = if b == BasisId::Sg12 && path == SpecularPath::Fit { 8.0 } else { SG6 };
                 v.push(Lighting { encoding: Encoding::Basis(b), specular: path, storage, sg_sharpness });
             }
         }
@@ -42,7 +42,7 @@ fn configurations() -> Vec<Lighting> {
 fn random_atlas(lm: &Lightmap, l: &Lighting, seed: u64) -> Atlas {
     let mut r = Pcg32::new(seed, 3);
     let n = lm.width * lm.height;
-    let sh = matches!(l.encoding, Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2));
+    let sh = matches!(l.encoding, Encoding::Basis(BasisId::Sh1 | BasisId::Sh2));
     let lobes = (0..l.lobes())
         .map(|k| {
             (0..n)
@@ -449,7 +449,7 @@ fn sh_l2_image_matches_the_path_traced_reference() {
     let bvh = baker::scene::bvh::Bvh::build(&scene);
     let lm = Lightmap::build(&scene, 10.0, 2).unwrap();
     let targets = baker::accumulate::Targets::lightmap(&lm);
-    let config = baker::accumulate::BakeConfig { bases: vec![BasisKind::ShL2], ..Default::default() };
+    let config = baker::accumulate::BakeConfig { bases: vec![BasisId::Sh2], ..Default::default() };
     let tracer = baker::estimator::trace::Tracer::new(&scene, &bvh, config.max_bounces);
     let mut bake = baker::accumulate::Bake::new(config.clone(), &targets, tracer);
     for _ in 0..512 {
@@ -469,7 +469,7 @@ fn sh_l2_image_matches_the_path_traced_reference() {
         let i = image::open(dir.join("irradiance_se.exr")).unwrap().to_rgba32f();
         i.pixels().map(|p| [p.0[0], p.0[1], p.0[2]]).collect::<Vec<[f32; 3]>>()
     };
-    let l = Lighting { encoding: Encoding::Basis(BasisKind::ShL2), specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 };
+    let l = Lighting { encoding: Encoding::Basis(BasisId::Sh2), specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 };
     let sh = Atlas::read(&dir, l.encoding, lm.width, lm.height).unwrap();
     let shader = Shader::new(l);
     let mats: Vec<SurfaceMaterial> = scene.materials.iter().map(SurfaceMaterial::of).collect();
@@ -748,7 +748,7 @@ fn uniform_lightmap_renders_the_closed_form(scene: &baker::scene::Scene, cam: &V
         1e-5 * l_sky,
         false,
     )];
-    for b in [BasisKind::ShL1, BasisKind::ShL2] {
+    for b in [BasisId::Sh1, BasisId::Sh2] {
         let mut c = vec![0.0; baker::render::lighting::lobe_count(b)];
         c[0] = l_sky / y00;
         cases.push((
@@ -760,13 +760,13 @@ fn uniform_lightmap_renders_the_closed_form(scene: &baker::scene::Scene, cam: &V
         ));
     }
     // SG at the default λ and at the thesis' λ 8.
-    let lobed = [(BasisKind::Sg9, SG6), (BasisKind::Sg12, SG6), (BasisKind::Sg12, 8.0), (BasisKind::Ad9, SG6), (BasisKind::Ad12, SG6)];
+    let lobed = [(BasisId::Sg9, SG6), (BasisId::Sg12, SG6), (BasisId::Sg12, 8.0), (BasisId::Ad9, SG6), (BasisId::Ad12, SG6)];
     for (b, sg_sharpness) in lobed {
         let axes = baker::render::lighting::lobe_axes(Encoding::Basis(b));
         for (k, a) in axes.iter().enumerate() {
             let mut c = vec![0.0; axes.len()];
             c[k] = 1.0;
-            let (exact, tol) = if matches!(b, BasisKind::Sg9 | BasisKind::Sg12) {
+            let (exact, tol) = if matches!(b, BasisId::Sg9 | BasisId::Sg12) {
                 let sg = |axis| sbf::Sg { axis, sharpness: sg_sharpness, amplitude: 1.0 };
                 let peak = sbf::recon::sg::irradiance_exact(&sg(DVec3::Z), DVec3::Z);
                 (sbf::recon::sg::irradiance_exact(&sg(*a), DVec3::Z), 1.1 * 1.368e-2 * peak)

@@ -1,6 +1,6 @@
 //! The `baker` command end to end: kill and resume, glTF import, bad scenes, leave-out.
 
-use baker::accumulate::{BakeConfig, BasisKind, Solver};
+use baker::accumulate::{BakeConfig, BasisId, Solver};
 use baker::output::runtime_features;
 use baker::scene::import;
 use baker::scene::SceneError;
@@ -599,7 +599,7 @@ fn bad_gltf_scenes_give_clear_errors() {
 /// Leave-out: with no glossy material the runtime gets no specular features and no LUT.
 #[test]
 fn scenes_without_gloss_leave_specular_out() {
-    let bases = [BasisKind::Ad9, BasisKind::Sg12, BasisKind::ShL2];
+    let bases = [BasisId::Ad9, BasisId::Sg12, BasisId::Sh2];
     let (f, l) = runtime_features(&bases, &[], false);
     assert!(f.iter().all(|x| x.ends_with("irradiance")) && l.is_empty(), "{f:?} {l:?}");
     let (f, l) = runtime_features(&bases, &[sbf::profile::SpecularPath::Fit], false);

@@ -5,7 +5,7 @@
 
 mod common;
 
-use baker::accumulate::BasisKind;
+use baker::accumulate::{BakedBasis, BasisId};
 use baker::render::atlas::Atlas;
 use baker::render::lighting::Encoding;
 use sbf::glam::DVec3;
@@ -39,7 +39,7 @@ fn out_dir(name: &str) -> PathBuf {
 
 /// Per written texel and channel: (E/π of the lobes at the normal by the renderer's runtime,
 /// the texel's E/π from irradiance.exr, Σ|c_i b_i| — the sum's magnitude).
-fn irradiance_pairs(dir: &Path, kind: BasisKind) -> Vec<(f64, f64, f64)> {
+fn irradiance_pairs(dir: &Path, kind: BasisId) -> Vec<(f64, f64, f64)> {
     let e = image::open(dir.join("irradiance.exr")).unwrap().to_rgba32f();
     let (w, h) = (e.width() as usize, e.height() as usize);
     let lobes = Atlas::read(dir, Encoding::Basis(kind), w, h).unwrap().lobes;
@@ -76,7 +76,7 @@ fn pinned_lobes_keep_the_texels_irradiance() {
     let (pinned, plain) = (out_dir("pinned"), out_dir("plain"));
     bake(&pinned, "nnls-irradiance");
     bake(&plain, "nnls");
-    for kind in [BasisKind::Ad9, BasisKind::Sg9] {
+    for kind in [BasisId::Ad9, BasisId::Sg9] {
         let (mut worst, mut checked) = (0.0f64, 0);
         for (fit, e, size) in irradiance_pairs(&pinned, kind) {
             let tol = 16.0 * f32::EPSILON as f64 * 0.5 * (size + e) + 1e-30;
@@ -168,7 +168,7 @@ fn the_default_solver_keeps_a_grazing_point_lights_irradiance() {
     let bound = |e_pi: f64, size: f64, t: usize| 4.0 * se[t] + 16.0 * f32::EPSILON as f64 * 0.5 * (size + e_pi);
     // The bake's E/π against the closed form (the oracle of everything below).
     let (mut worst_e, mut lit) = (0.0f64, 0);
-    for (t, (_, e, _)) in irradiance_pairs(&default, BasisKind::Ad9).iter().step_by(3).enumerate() {
+    for (t, (_, e, _)) in irradiance_pairs(&default, BasisId::Ad9).iter().step_by(3).enumerate() {
         if let Some(c) = closed_form[t] {
             worst_e = worst_e.max((e - c).abs() / bound(c, 0.0, t).max(1e-12 * c));
             lit += 1;
@@ -177,7 +177,7 @@ fn the_default_solver_keeps_a_grazing_point_lights_irradiance() {
     println!("irradiance.exr: {lit} valid texels, worst |E/π − closed form| / bound {worst_e:.3}");
     assert!(lit > 100, "only {lit} valid texels");
     assert!(worst_e <= 1.0, "the bake's E/π misses the closed form by {worst_e:.3}× the bound");
-    for kind in [BasisKind::Ad9, BasisKind::Sg9] {
+    for kind in [BasisId::Ad9, BasisId::Sg9] {
         let check = |dir: &Path| {
             let (mut worst, mut missed, mut ratio) = (0.0f64, 0usize, 0.0f64);
             for (t, (fit, _, size)) in irradiance_pairs(dir, kind).iter().step_by(3).enumerate() {

@@ -12,7 +12,7 @@
 //! from the code under test.
 
 mod common;
-use baker::accumulate::{BakeConfig, BasisKind, Solver, Targets};
+use baker::accumulate::{BakeConfig, BasisId, Solver, Targets};
 use baker::scene::{Environment, Scene};
 use sbf::glam::Vec3;
 use std::f64::consts::PI;
@@ -96,7 +96,7 @@ fn solid_angle(r: [f64; 4], p: Vec3) -> f64 {
 /// mean by ≪ σ).
 fn check_probes(scene: &Scene, positions: &[Vec3], want: &dyn Fn(Vec3) -> [f64; 3], what: &str, wavefront: bool) {
     let targets = Targets::probes(positions);
-    let cfg = BakeConfig { seed: 3, max_bounces: 2, bases: vec![BasisKind::ShL1], solver: Solver::Ls, ..Default::default() };
+    let cfg = BakeConfig { seed: 3, max_bounces: 2, bases: vec![BasisId::Sh1], solver: Solver::Ls, ..Default::default() };
     let gpu = common::gpu();
     let mut runs = vec![("CPU", common::bake_on(None, scene, &targets, &cfg, 16384))];
     if let Some(g) = &gpu {

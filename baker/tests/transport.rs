@@ -32,7 +32,7 @@
 //! pipeline (`baker::gpu::wavefront`).
 
 mod common;
-use baker::accumulate::{BakeConfig, BakeState, BasisKind, Pipeline, Solver, Targets};
+use baker::accumulate::{BakeConfig, BakeState, BasisId, Pipeline, Solver, Targets};
 use baker::layout::lightmap::Lightmap;
 use baker::sampling::guiding::GuidingOptions;
 use baker::scene::{disk_light, Environment, Light, Material, Mesh, Scene};
@@ -73,7 +73,7 @@ fn plane_scene_sized(h: f32, lights: Vec<Light>, environment: Environment) -> Sc
 
 /// Bakes `scene` for `passes` on the CPU or the GPU; returns the targets, the layout and
 /// the state.
-fn bake(scene: &Scene, gpu: Option<&Gpu>, passes: u64, bases: Vec<BasisKind>, tpu: f32) -> (Targets, Lightmap, BakeState) {
+fn bake(scene: &Scene, gpu: Option<&Gpu>, passes: u64, bases: Vec<BasisId>, tpu: f32) -> (Targets, Lightmap, BakeState) {
     bake_guided(scene, gpu, passes, bases, tpu, None)
 }
 
@@ -82,7 +82,7 @@ fn bake_guided(
     scene: &Scene,
     gpu: Option<&Gpu>,
     passes: u64,
-    bases: Vec<BasisKind>,
+    bases: Vec<BasisId>,
     tpu: f32,
     guiding: Option<GuidingOptions>,
 ) -> (Targets, Lightmap, BakeState) {
@@ -453,8 +453,8 @@ fn sh2_projection(delta: Option<(f64, f64)>, constant: f64) -> f64 {
 /// hemisphere Gram matrix (quadrature) and b = E·B(ω_l) or L·∫B.
 #[test]
 fn basis_encodings_match_their_projections() {
-    let sh2 = BasisKind::ShL2.basis();
-    let ad9 = BasisKind::Ad9.basis();
+    let sh2 = BasisId::Sh2.basis();
+    let ad9 = BasisId::Ad9.basis();
     let gram = sbf::gram::gram_matrix(ad9.as_ref(), Domain::UpperHemisphere, Default::default()).unwrap();
     let (w_sh, _) = lambert_weights(sh2.as_ref());
     let (w_ad, m_ad) = lambert_weights(ad9.as_ref());
@@ -481,7 +481,7 @@ fn basis_encodings_match_their_projections() {
         ];
         for (case, s, e_true, delta, constant) in cases {
             let passes = 8192;
-            let (_, _, st) = bake(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
+            let (_, _, st) = bake(&s, g.as_deref(), passes, vec![BasisId::Sh2, BasisId::Ad9], 2.0);
             // The delta's direction in the texels' tangent frame (all texels share it).
             let ld = delta.map(|_| {
                 let (t, b) = baker::scene::geometry::frame(Vec3::Y);
@@ -604,7 +604,7 @@ fn probes_over_a_lit_disk() {
     const PER: usize = 16;
     let positions: Vec<Vec3> = heights.iter().flat_map(|h| std::iter::repeat_n(Vec3::new(0.0, *h as f32, 0.0), PER)).collect();
     let targets = Targets::probes(&positions);
-    let cfg = BakeConfig { seed: 5, max_bounces: 3, bases: vec![BasisKind::ShL2], solver: Solver::Ls, ..Default::default() };
+    let cfg = BakeConfig { seed: 5, max_bounces: 3, bases: vec![BasisId::Sh2], solver: Solver::Ls, ..Default::default() };
     let passes = 8192;
     let l_floor = rho * e * el.sin() / PI;
     let a_sym = 2.0 * PI * rad * rad * (1.0 - (PI / 256.0).cos());
@@ -640,9 +640,9 @@ fn probes_over_a_lit_disk() {
 /// G the basis' Gram matrix over its fitting domain (the sphere for SH, whose lower half
 /// the mirrored zero samples pin; the upper hemisphere for AD9), b_i = Σ E·B_i(ω) +
 /// L·∫_upper B_i, E = Σ c_i ∫_upper B_i cosθ.
-fn projected_irradiance(kind: BasisKind, deltas: &[(DVec3, f64)], constant: f64) -> f64 {
+fn projected_irradiance(kind: BasisId, deltas: &[(DVec3, f64)], constant: f64) -> f64 {
     type Cached = (sbf::nalgebra::DMatrix<f64>, Vec<f64>, Vec<f64>);
-    static CACHE: std::sync::Mutex<Vec<(BasisKind, Cached)>> = std::sync::Mutex::new(Vec::new());
+    static CACHE: std::sync::Mutex<Vec<(BasisId, Cached)>> = std::sync::Mutex::new(Vec::new());
     let basis = kind.basis();
     let cached = {
         let mut c = CACHE.lock().unwrap();
@@ -672,7 +672,7 @@ fn projected_irradiance(kind: BasisKind, deltas: &[(DVec3, f64)], constant: f64)
 /// direction, irradiance): per texel the reconstructed irradiance at the normal, the
 /// projection's and the analytic one; asserts the mean (rec − proj) within the encoder's 1%
 /// convergence allowance plus 3σ (σ: the spread of the per-texel differences).
-fn compare_encodings(label: &str, kind: BasisKind, st: &BakeState, bi: usize, items: &[(usize, Vec<(DVec3, f64)>)]) {
+fn compare_encodings(label: &str, kind: BasisId, st: &BakeState, bi: usize, items: &[(usize, Vec<(DVec3, f64)>)]) {
     let basis = kind.basis();
     let (w, _) = lambert_weights(basis.as_ref());
     let (mut diffs, mut recs, mut projs, mut trues) = (Vec::new(), 0.0, 0.0, 0.0);
@@ -711,7 +711,7 @@ fn compare_encodings(label: &str, kind: BasisKind, st: &BakeState, bi: usize, it
 fn point_light_encodings_match_their_projections() {
     // The generic projection reproduces the closed form (a check of the check).
     let d = DVec3::new(0.3, 0.2, 0.9).normalize();
-    let generic = projected_irradiance(BasisKind::ShL2, &[(d, 2.0)], 0.7);
+    let generic = projected_irradiance(BasisId::Sh2, &[(d, 2.0)], 0.7);
     let closed = sh2_projection(Some((2.0, d.z)), 0.7);
     assert!((generic - closed).abs() < 1e-9 * closed, "{generic} vs {closed}");
     let (h, i) = (0.7f32, 3.0f32);
@@ -721,7 +721,7 @@ fn point_light_encodings_match_their_projections() {
     let local = |w: Vec3| DVec3::new(w.dot(t) as f64, w.dot(b) as f64, w.dot(Vec3::Y) as f64);
     for (name, g) in engines() {
         let passes = 8192;
-        let (tg, _, st) = bake(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 2.0);
+        let (tg, _, st) = bake(&s, g.as_deref(), passes, vec![BasisId::Sh2, BasisId::Ad9], 2.0);
         let items: Vec<(usize, Vec<(DVec3, f64)>)> = tg
             .items
             .iter()
@@ -738,7 +738,7 @@ fn point_light_encodings_match_their_projections() {
                 (k, deltas)
             })
             .collect();
-        for (bi, kind) in [BasisKind::ShL2, BasisKind::Ad9].into_iter().enumerate() {
+        for (bi, kind) in [BasisId::Sh2, BasisId::Ad9].into_iter().enumerate() {
             compare_encodings(&format!("{name} point light"), kind, &st, bi, &items);
         }
     }
@@ -759,8 +759,7 @@ fn disk_light_probe_encodings_match_their_projections() {
     s.meshes.push(disk_light("disk", Vec3::new(0.0, hd, 0.0), -Vec3::Y, rad as f32, 1, 256));
     let positions = vec![Vec3::new(0.0, y0, 0.0); 16];
     let targets = Targets::probes(&positions);
-    let cfg =
-        BakeConfig { seed: 9, max_bounces: 1, bases: vec![BasisKind::ShL2, BasisKind::Ad12], solver: Solver::Ls, ..Default::default() };
+    let cfg = BakeConfig { seed: 9, max_bounces: 1, bases: vec![BasisId::Sh2, BasisId::Ad12], solver: Solver::Ls, ..Default::default() };
     let cos0 = ((hd - y0) as f64) / (((hd - y0) as f64).powi(2) + rad * rad).sqrt();
     // Cap (μ from cos0 to 1 about +Y) and upper-hemisphere (μ from 0) quadratures, world frame.
     let cap = |mu0: f64, f: &mut dyn FnMut(DVec3, f64)| {
@@ -859,7 +858,7 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
         };
         for (name, g) in engines() {
             let passes = 8192;
-            let (tg, _, st) = bake_guided(&s, g.as_deref(), passes, vec![BasisKind::ShL2, BasisKind::Ad9], 24.0, guiding);
+            let (tg, _, st) = bake_guided(&s, g.as_deref(), passes, vec![BasisId::Sh2, BasisId::Ad9], 24.0, guiding);
             let near: Vec<usize> = (0..tg.items.len())
                 .filter(|k| {
                     let [first, count, _] = tg.items[*k];
@@ -881,7 +880,7 @@ fn disk_light_texel_encodings(guiding: Option<GuidingOptions>, heights: &[f64]) 
                 .collect();
             // For scale, the exact on-axis value πL·R²/(R² + h²).
             println!("disk at h = {hr} R: on-axis E {:.5}", PI * l * rad * rad / (rad * rad + h * h));
-            for (bi, kind) in [BasisKind::ShL2, BasisKind::Ad9].into_iter().enumerate() {
+            for (bi, kind) in [BasisId::Sh2, BasisId::Ad9].into_iter().enumerate() {
                 compare_encodings(&format!("{name} disk at h = {hr} R"), kind, &st, bi, &items);
             }
         }
@@ -993,12 +992,12 @@ fn coefficients_live_in_the_documented_tangent_frame() {
         textures: Vec::new(),
         normal_textures: Vec::new(),
     };
-    let sh = BasisKind::ShL2.basis();
+    let sh = BasisId::Sh2.basis();
     let mut y = vec![0.0; sh.len()];
     sh.eval_into(local, &mut y);
     let want = DVec3::new(y[1], y[2], y[3]) * e;
     for (name, g) in engines() {
-        let (_, _, st) = bake(&s, g.as_deref(), 512, vec![BasisKind::ShL2], 2.0);
+        let (_, _, st) = bake(&s, g.as_deref(), 512, vec![BasisId::Sh2], 2.0);
         let mut worst = 0.0f64;
         for (k, enc) in st.encoders[0].iter().enumerate() {
             let c = enc.coefficients();

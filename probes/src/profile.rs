@@ -7,20 +7,14 @@ use sbf::profile::Profile;
 /// The default specular roughness values of `probes compare`.
 pub const DEFAULT_ALPHAS: [f64; 5] = [0.1, 0.2, 0.4, 0.6, 0.8];
 
-/// The comparison modes of a profile basis: lightmap bases in tangent space (the
-/// Appendix C modes), probe bases on the sphere.
-pub fn basis_modes(basis: &str, probe: bool) -> &'static [&'static str] {
-    match (basis, probe) {
-        // The runtime path the profile ships (shaders' sh_l1_irradiance), not the
-        // Geomerics or ZH3 reconstructions (other runtimes: run them with --modes).
-        ("sh1", _) => &["shl1"],
-        ("sh2", _) => &["shl2"],
-        ("sg9", _) => &["sg9h"],
-        ("sg12", _) => &["sg12h"],
-        ("ad9", _) => &["ad9"],
-        ("ad12", false) => &["adrbf-tangent"],
-        ("ad12", true) => &["adrbf"],
-        _ => &[],
+/// The comparison mode of a profile basis as its runtime evaluates it (the registry's
+/// [`sbf::registry::BasisInfo::probes_modes`]): lightmap bases in tangent space (the
+/// Appendix C modes), probe bases on the sphere. SH L1 is its plain runtime
+/// (shaders' `sh_l1_irradiance`), not Geomerics or ZH3 (run those with --modes).
+pub fn basis_modes(basis: sbf::BasisId, probe: bool) -> &'static [&'static str] {
+    match &basis.info().probes_modes[probe as usize] {
+        Some(m) => std::slice::from_ref(m),
+        None => &[],
     }
 }
 
@@ -29,7 +23,7 @@ pub fn modes(p: &Profile) -> Vec<String> {
     let mut v: Vec<String> = Vec::new();
     let all = p.lightmap_bases.iter().map(|b| (b, false)).chain(p.probe_bases.iter().map(|b| (b, true)));
     for (b, probe) in all {
-        for m in basis_modes(b, probe) {
+        for m in basis_modes(*b, probe) {
             if !v.iter().any(|x| x == m) {
                 v.push(m.to_string());
             }

@@ -38,6 +38,7 @@
 //! | [`recon`] | Lambert irradiance and GGX specular from coefficients (SH, SG, Ambient Dice, projected), reference integrators |
 //! | [`solve`] | batch LS (Gram and design forms), NNLS (Lawson–Hanson), progressive per-sample LS/NNLS, projection matrices and basis conversion |
 //! | [`slc`] | stochastic light culling ([TH17; TH17-supp; FTH22-supp]): random light ranges, the diffuse VPL sphere, the GGX VPL spheroid, maximum Fresnel, the stretching and test-space matrices; f64 reference and f32 runtime twins |
+//! | [`registry`] | the basis registry: [`BasisId`] and one `const` row per basis — name, lobes, domain, sign, layout, storage, its runtime's shader features and tables, its GPU slot kind (docs/adding-a-basis.md) |
 //! | [`error`] | [`SbfError`] and input checks |
 //! | [`frame`] | an orthonormal tangent frame for a unit normal (Duff et al. 2017) |
 //! | `bc` | (feature `bc`) block-compressed storage: BC6H (UF16 by ISPC, SF16 by its own mode-11 encoder), BC1 and BC7 encode, an independent decode (bcdec) and DDS files |
@@ -99,6 +100,7 @@ pub mod probe;
 pub mod profile;
 pub mod quadrature;
 pub mod recon;
+pub mod registry;
 pub mod sampling;
 pub mod slc;
 pub mod solve;
@@ -118,3 +120,4 @@ pub use error::SbfError;
 pub use glam;
 pub use nalgebra;
 pub use quadrature::Domain;
+pub use registry::BasisId;

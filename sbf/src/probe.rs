@@ -58,109 +58,14 @@ use crate::envmap::LatLongImage;
 use crate::gram::{gram_matrix, GramOptions};
 use crate::recon::runtime;
 use crate::solve::{map_samples, moments, solve_gram, LsOptions};
-use crate::{AmbientCube, AmbientDiceSrbf, Domain, HBasis, SbfError, SgBasis, ShBasis};
+use crate::{Domain, SbfError, ShBasis};
 use glam::{DVec3, Vec3};
 
 /// SG lobes' sharpness in the hemisphere layouts (the baker's and Roughton's Appendix C).
-pub const SG_SHARPNESS: f64 = 6.0;
+pub use crate::registry::SG_SHARPNESS;
 
-/// A basis a probe or a lightmap texel is encoded in (the profiles' lightmap bases).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ProbeBasis {
-    /// SH L1: 4 coefficients.
-    Sh1,
-    /// SH L2: 9 coefficients.
-    Sh2,
-    /// 9 SG lobes, Vogel spiral over the upper hemisphere, λ 6.
-    Sg9,
-    /// 12 SG lobes, Vogel spiral over the upper hemisphere, λ 6.
-    Sg12,
-    /// Ambient Dice SRBF, Roughton's 9 upper-hemisphere lobes.
-    Ad9,
-    /// Ambient Dice SRBF, 12 icosahedron lobes.
-    Ad12,
-    /// Ambient cube: E/π at ±X, ±Y, ±Z (an irradiance basis).
-    AmbientCube,
-    /// H-basis 4: E/π over the upper hemisphere (an irradiance basis).
-    H4,
-    /// H-basis 6: E/π over the upper hemisphere (an irradiance basis).
-    H6,
-}
-
-impl ProbeBasis {
-    /// Every basis: the profiles' radiance bases in their order, then the irradiance bases.
-    pub const ALL: [ProbeBasis; 9] = [
-        ProbeBasis::Sh1,
-        ProbeBasis::Sh2,
-        ProbeBasis::Sg9,
-        ProbeBasis::Sg12,
-        ProbeBasis::Ad9,
-        ProbeBasis::Ad12,
-        ProbeBasis::AmbientCube,
-        ProbeBasis::H4,
-        ProbeBasis::H6,
-    ];
-
-    /// The name profiles, the baker and its outputs use (`sh1` … `ad12`).
-    pub fn name(self) -> &'static str {
-        match self {
-            ProbeBasis::Sh1 => "sh1",
-            ProbeBasis::Sh2 => "sh2",
-            ProbeBasis::Sg9 => "sg9",
-            ProbeBasis::Sg12 => "sg12",
-            ProbeBasis::Ad9 => "ad9",
-            ProbeBasis::Ad12 => "ad12",
-            ProbeBasis::AmbientCube => "ac",
-            ProbeBasis::H4 => "h4",
-            ProbeBasis::H6 => "h6",
-        }
-    }
-
-    /// Whether the coefficients hold E/π rather than radiance.
-    pub fn holds_irradiance(self) -> bool {
-        matches!(self, ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6)
-    }
-
-    /// The basis of a name (`sh1` … `ad12`, `ac`, `h4`, `h6`), if it is one.
-    pub fn from_name(name: &str) -> Option<ProbeBasis> {
-        ProbeBasis::ALL.into_iter().find(|b| b.name() == name)
-    }
-
-    /// Number of coefficients.
-    pub fn coefficient_count(self) -> usize {
-        match self {
-            ProbeBasis::Sh1 | ProbeBasis::H4 => 4,
-            ProbeBasis::AmbientCube | ProbeBasis::H6 => 6,
-            ProbeBasis::Sh2 | ProbeBasis::Sg9 | ProbeBasis::Ad9 => 9,
-            ProbeBasis::Sg12 | ProbeBasis::Ad12 => 12,
-        }
-    }
-
-    /// The f64 basis the coefficients are in (for fitting and exact evaluation).
-    pub fn basis(self) -> Result<Box<dyn Basis + Send + Sync>, SbfError> {
-        Ok(match self {
-            ProbeBasis::Sh1 => Box::new(ShBasis::new(1)?),
-            ProbeBasis::Sh2 => Box::new(ShBasis::new(2)?),
-            ProbeBasis::Sg9 | ProbeBasis::Sg12 => Box::new(SgBasis::new(&self.axes()?, SG_SHARPNESS, false)?),
-            ProbeBasis::Ad9 => Box::new(AmbientDiceSrbf::nine_hemisphere()),
-            ProbeBasis::Ad12 => Box::new(AmbientDiceSrbf::twelve()),
-            ProbeBasis::AmbientCube => Box::new(AmbientCube),
-            ProbeBasis::H4 => Box::new(HBasis::new(4)?),
-            ProbeBasis::H6 => Box::new(HBasis::new(6)?),
-        })
-    }
-
-    /// Lobe axes of the SG and AD layouts (empty for SH).
-    pub fn axes(self) -> Result<Vec<DVec3>, SbfError> {
-        Ok(match self {
-            ProbeBasis::Sh1 | ProbeBasis::Sh2 | ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6 => Vec::new(),
-            ProbeBasis::Sg9 => crate::layout::vogel_hemisphere(9)?,
-            ProbeBasis::Sg12 => crate::layout::vogel_hemisphere(12)?,
-            ProbeBasis::Ad9 => AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
-            ProbeBasis::Ad12 => AmbientDiceSrbf::twelve().lobes().to_vec(),
-        })
-    }
-}
+/// The bases a probe is in: the registry's ([`crate::registry`]).
+pub type ProbeBasis = crate::registry::BasisId;
 
 /// RGB coefficients in one basis, ready to shade with.
 #[derive(Debug, Clone)]
@@ -178,7 +83,7 @@ impl Probe {
     /// the texels, [`crate::recon::reference::irradiance_map`]). H-basis: least squares on
     /// the exact E/π at 256 normals spread over the upper hemisphere (spherical Fibonacci).
     pub fn project(map: &LatLongImage, basis: ProbeBasis) -> Result<Probe, SbfError> {
-        let b = basis.basis()?;
+        let b = basis.basis();
         let domain = b.domain();
         let irradiance = |n: DVec3| crate::recon::reference::irradiance_map(map, n);
         let rgb: Vec<[f64; 3]> = match basis {
@@ -231,7 +136,7 @@ impl Probe {
         if let Some(x) = coefficients.iter().find(|c| !c.is_finite()) {
             return Err(SbfError::InvalidParameter { name: "probe coefficient", value: x.max_element() as f64, reason: "must be finite" });
         }
-        let axes = basis.axes()?.iter().map(|a| a.as_vec3()).collect();
+        let axes = basis.axes().iter().map(|a| a.as_vec3()).collect();
         Ok(Probe { basis, coefficients: coefficients.to_vec(), axes })
     }
 
@@ -256,7 +161,7 @@ impl Probe {
 
     /// Σ c_i·B_i(d).
     fn combine(&self, d: Vec3) -> Vec3 {
-        let b = self.basis.basis().expect("a valid layout");
+        let b = self.basis.basis();
         let mut y = vec![0.0; b.len()];
         b.eval_into(d.as_dvec3(), &mut y);
         self.coefficients.iter().zip(&y).fold(Vec3::ZERO, |acc, (c, w)| acc + *c * *w as f32)

@@ -32,10 +32,8 @@ use serde::Deserialize;
 use std::fmt;
 use toml::Spanned;
 
-/// Lightmap bases a profile may name (the baker's `--bases`).
-pub const LIGHTMAP_BASES: [&str; 6] = ["sh1", "sh2", "sg9", "sg12", "ad9", "ad12"];
-/// Probe bases (sphere bases; the baker's `--probe-bases`).
-pub const PROBE_BASES: [&str; 3] = ["sh1", "sh2", "ad12"];
+use crate::registry::BasisId;
+
 /// BRDF models.
 pub const BRDF_MODELS: [&str; 2] = ["lambert", "ggx"];
 /// Target shading languages (`shaders export --lang`).
@@ -71,16 +69,8 @@ impl SpecularPath {
 /// feature (None: none) and the fitgen table it reads (None: none). SH has one path on
 /// both names: the zonal filter about the dominant direction with the split-sum DFG; SG's
 /// fit path is a split sum too and reads the same table.
-pub fn specular_runtime(basis: &str, path: SpecularPath) -> (Option<&'static str>, Option<&'static str>) {
-    match (basis, path) {
-        ("sh1" | "sh2", _) => (Some("sh-specular"), Some("dfg")),
-        ("sg9" | "sg12", SpecularPath::Fit) => (Some("sg-specular"), Some("dfg")),
-        ("sg9" | "sg12", SpecularPath::Tables) => (Some("lobe-ggx-filtered"), Some("lobe-ggx-sg6")),
-        ("ad9", SpecularPath::Fit) => (Some("ad9-specular"), Some("ad-specular-2d")),
-        ("ad12", SpecularPath::Fit) => (Some("ad12-specular"), Some("ad-specular-2d")),
-        ("ad9" | "ad12", SpecularPath::Tables) => (Some("lobe-ggx-filtered"), Some("lobe-ggx-ad")),
-        _ => (None, None),
-    }
+pub fn specular_runtime(basis: BasisId, path: SpecularPath) -> (Option<&'static str>, Option<&'static str>) {
+    basis.specular_runtime(path as usize)
 }
 
 /// The file a fitgen table is committed as (`ad-specular-2d` → `ad_specular_2d.sbflut`).
@@ -94,9 +84,9 @@ pub struct Profile {
     /// Its `name` key.
     pub name: String,
     /// Lightmap bases, in the order given.
-    pub lightmap_bases: Vec<String>,
+    pub lightmap_bases: Vec<BasisId>,
     /// Probe bases ([] = no probes).
-    pub probe_bases: Vec<String>,
+    pub probe_bases: Vec<BasisId>,
     /// GGX specular is part of the BRDF set.
     pub specular: bool,
     /// GGX α range (lo, hi), 0 < lo ≤ hi ≤ 1, when `specular`.
@@ -219,9 +209,12 @@ impl Profile {
         if raw.name.get_ref().trim().is_empty() {
             return Err(at.err("name", &raw.name, "must not be empty"));
         }
-        let lightmap_bases = at.names("lightmap.bases", &raw.lightmap.bases, &LIGHTMAP_BASES, false)?;
+        let ids = |names: Vec<String>| names.iter().filter_map(|n| BasisId::from_name(n)).collect::<Vec<_>>();
+        let lightmap: Vec<&str> = BasisId::lightmap().map(BasisId::name).collect();
+        let lightmap_bases = ids(at.names("lightmap.bases", &raw.lightmap.bases, &lightmap, false)?);
+        let probe: Vec<&str> = BasisId::probe().map(BasisId::name).collect();
         let probe_bases = match &raw.probes {
-            Some(p) => at.names("probes.bases", &p.bases, &PROBE_BASES, true)?,
+            Some(p) => ids(at.names("probes.bases", &p.bases, &probe, true)?),
             None => Vec::new(),
         };
         let models = at.names("brdf.models", &raw.brdf.models, &BRDF_MODELS, false)?;
@@ -307,11 +300,11 @@ impl Profile {
     }
 
     /// Every basis the profile names, lightmap then probes, without repeats.
-    pub fn all_bases(&self) -> Vec<&str> {
-        let mut v: Vec<&str> = Vec::new();
+    pub fn all_bases(&self) -> Vec<BasisId> {
+        let mut v: Vec<BasisId> = Vec::new();
         for b in self.lightmap_bases.iter().chain(&self.probe_bases) {
-            if !v.contains(&b.as_str()) {
-                v.push(b);
+            if !v.contains(b) {
+                v.push(*b);
             }
         }
         v
@@ -341,7 +334,7 @@ impl Profile {
     /// on every path), sorted and unique.
     pub fn specular_features(&self) -> Vec<&'static str> {
         let mut f: Vec<&'static str> =
-            self.all_bases().iter().flat_map(|b| self.specular_paths.iter().filter_map(|p| specular_runtime(b, *p).0)).collect();
+            self.all_bases().iter().flat_map(|b| self.specular_paths.iter().filter_map(|p| specular_runtime(*b, *p).0)).collect();
         if self.multiple_scattering {
             f.push("ggx-energy-compensation");
         }
@@ -355,13 +348,7 @@ impl Profile {
     pub fn cargo_features(&self) -> Vec<&'static str> {
         let mut f = Vec::new();
         for b in self.all_bases() {
-            let fam = if b.starts_with("sh") {
-                "sh"
-            } else if b.starts_with("sg") {
-                "sg"
-            } else {
-                "ambient-dice"
-            };
+            let fam = b.family().cargo_feature();
             if !f.contains(&fam) {
                 f.push(fam);
             }
@@ -383,8 +370,8 @@ impl Profile {
         format!(
             "{}: lightmap {}, probes {}, BRDF lambert{}, {} {}",
             self.name,
-            self.lightmap_bases.join("+"),
-            if self.probe_bases.is_empty() { "none".to_string() } else { self.probe_bases.join("+") },
+            names(&self.lightmap_bases),
+            if self.probe_bases.is_empty() { "none".to_string() } else { names(&self.probe_bases) },
             match self.roughness {
                 Some((lo, hi)) => format!(
                     " + ggx α {lo}–{hi} ({}{})",
@@ -397,4 +384,9 @@ impl Profile {
             self.language
         )
     }
+}
+
+/// Basis names joined by `+` (`sh2+ad9`).
+fn names(bases: &[BasisId]) -> String {
+    bases.iter().map(|b| b.name()).collect::<Vec<_>>().join("+")
 }

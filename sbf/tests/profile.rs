@@ -20,10 +20,10 @@ fn example_profiles_parse() {
     assert!(ex.len() >= 3, "{} example profiles", ex.len());
     let get = |n: &str| &ex.iter().find(|(f, _)| f == n).unwrap_or_else(|| panic!("{n}")).1;
     let mobile = get("mobile-sh-l1.toml");
-    assert_eq!((mobile.lightmap_bases.clone(), mobile.specular, mobile.language.as_str()), (vec!["sh1".to_string()], false, "glsl"));
+    assert_eq!((mobile.lightmap_bases.clone(), mobile.specular, mobile.language.as_str()), (vec![sbf::BasisId::Sh1], false, "glsl"));
     let ad9 = get("ad9-diffuse-specular.toml");
     assert_eq!((ad9.specular, ad9.roughness), (true, Some((0.1, 0.8))));
-    assert_eq!(ad9.all_bases(), vec!["ad9", "sh2"]);
+    assert_eq!(ad9.all_bases(), vec![sbf::BasisId::Ad9, sbf::BasisId::Sh2]);
     let all = get("everything.toml");
     assert_eq!(all.lightmap_bases.len(), 6);
 }

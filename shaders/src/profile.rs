@@ -6,14 +6,7 @@ use sbf::profile::Profile;
 
 /// The irradiance feature of a profile basis name.
 pub fn irradiance_feature(basis: &str) -> Option<&'static str> {
-    Some(match basis {
-        "sh1" => "sh-l1-irradiance",
-        "sh2" => "sh-l2-irradiance",
-        "sg9" | "sg12" => "sg-irradiance",
-        "ad9" => "ad9-irradiance",
-        "ad12" => "ad12-irradiance",
-        _ => return None,
-    })
+    sbf::BasisId::from_name(basis)?.irradiance_feature()
 }
 
 /// The composition features the profile needs (sorted, unique): every basis's irradiance
@@ -21,12 +14,13 @@ pub fn irradiance_feature(basis: &str) -> Option<&'static str> {
 /// ([`sbf::profile::specular_runtime`], the table fitgen and the baker read too); and
 /// notes on what it asks for that the shader library does not have.
 pub fn features(p: &Profile) -> (Vec<&'static str>, Vec<String>) {
-    let mut f: Vec<&'static str> = p.all_bases().iter().map(|b| irradiance_feature(b).expect("profile bases are validated")).collect();
+    let mut f: Vec<&'static str> =
+        p.all_bases().iter().map(|b| b.irradiance_feature().expect("profile bases have a Lambert runtime")).collect();
     f.extend(p.specular_features());
     let notes = p
         .all_bases()
         .iter()
-        .filter(|b| p.specular && b.starts_with("sh"))
+        .filter(|b| p.specular && b.is_sh())
         .map(|b| format!("{b}: no shader specular path (CPU: sbf::recon::sh::specular_zonal with the DFG table)"))
         .collect();
     f.sort_unstable();

@@ -60,3 +60,22 @@ fn bad_profile_exits_2_naming_key_line_and_column() {
     assert!(err.contains("line 3, column 9") && err.contains("lightmap.bases"), "{err}");
     std::fs::remove_file(&p).unwrap();
 }
+
+/// Every shader feature and table the basis registry names for a runtime exists: a
+/// composition feature of this crate, a table committed in luts/ (a misspelt or removed
+/// feature in `sbf::registry::BASES` fails here, not in an engine's build).
+#[test]
+fn the_registry_names_features_and_tables_that_exist() {
+    let features: Vec<&str> = shaders::compose::Feature::ALL.iter().map(|(_, n)| *n).collect();
+    let luts = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../luts");
+    for b in sbf::registry::BASES {
+        let named = b.irradiance_feature.into_iter().chain(b.specular.iter().filter_map(|s| s.0));
+        for f in named {
+            assert!(features.contains(&f), "{}: shader feature '{f}' is not one of {features:?}", b.name);
+        }
+        for t in b.specular.iter().filter_map(|s| s.1) {
+            let file = luts.join(sbf::profile::table_file(t));
+            assert!(file.is_file(), "{}: table '{t}' has no {}", b.name, file.display());
+        }
+    }
+}

@@ -44,6 +44,7 @@ const SBF: Layers = &[
     ("slc", BELOW),
     ("io", BELOW),
     ("bc", BELOW),
+    ("registry", BELOW),
     ("probe", BELOW),
     ("profile", BELOW),
 ];
@@ -407,6 +408,63 @@ fn no_source_file_is_too_long() {
     let dirs = CRATES.iter().map(|(name, _)| workspace().join(name).join("src")).chain([workspace().join("shaders/wgsl")]);
     let long: Vec<String> = dirs.flat_map(|d| long_files(&d)).collect();
     assert!(long.is_empty(), "files over {MAX_LINES} lines: {long:?}");
+}
+
+/// Where a basis name may be compared: the registry, and the `probes` files whose literals
+/// are *mode* ids (`ad9` is also the Appendix C mode of that name, `ac` the ambient cube's), each compared with a
+/// mode's id, not a basis's name.
+const NAME_COMPARISONS_ALLOWED: &[&str] = &[
+    "sbf/src/registry.rs",
+    "probes/src/modes/hemisphere.rs",
+    "probes/src/modes/cube.rs",
+    "probes/src/specular.rs",
+    "probes/src/gpu_cost.rs",
+];
+
+/// Comparisons of a basis by its name in `code` (a match arm or `==` on a name literal, a
+/// family by prefix): what the registry's facts replace.
+fn name_comparisons(code: &str) -> Vec<String> {
+    let names = sbf::registry::BASES.map(|b| format!("\"{}\"", b.name));
+    code.lines()
+        .filter(|l| {
+            let l = l.split("//").next().unwrap_or("");
+            let arm = names.iter().any(|n| {
+                l.contains(&format!("{n} =>"))
+                    || ["_)", "true)", "false)", "SpecularPath"].iter().any(|t| l.contains(&format!("({n}, {t}")))
+                    || l.contains(&format!("{n} |"))
+                    || l.contains(&format!("| {n}"))
+                    || l.contains(&format!("== {n}"))
+            });
+            let prefix = ["sh", "sg", "ad"]
+                .iter()
+                .any(|f| l.contains(&format!("b.starts_with(\"{f}\")")) || l.contains(&format!("basis.starts_with(\"{f}\")")));
+            arm || prefix
+        })
+        .map(|l| l.trim().to_string())
+        .collect()
+}
+
+/// No crate compares a basis by its name outside the registry.
+#[test]
+fn bases_are_compared_by_id_not_by_name() {
+    let mut found = Vec::new();
+    for (name, _) in CRATES {
+        let mut files = Vec::new();
+        files_with(&workspace().join(name).join("src"), "rs", &mut files);
+        for f in files {
+            let rel = f.strip_prefix(workspace()).unwrap().to_string_lossy().into_owned();
+            if NAME_COMPARISONS_ALLOWED.contains(&rel.as_str()) {
+                continue;
+            }
+            found.extend(name_comparisons(&std::fs::read_to_string(&f).unwrap()).into_iter().map(|l| format!("{rel}: {l}")));
+        }
+    }
+    assert!(found.is_empty(), "basis names compared outside sbf::registry:\n{}", found.join("\n"));
+    // The check itself: the forms it must catch.
+    assert_eq!(
+        name_comparisons("    (\"sh1\", _) => &[\"shl1\"],\n  \"sg9\" | \"sg12\" => 1,\n if b == \"ad9\" {}\n b.starts_with(\"sh\")").len(),
+        4
+    );
 }
 
 /// The checks on a crate built here with one defect of each kind: an upward import

@@ -14,7 +14,7 @@ use sbf::Basis;
 /// `sg9h`/`sg12h` and the Appendix C tests. (Probulator's spacing heuristic,
 /// `sbf::layout::sharpness_from_spacing`, is meant for sphere sets: on the 9-lobe
 /// hemisphere spiral it gives λ ≈ 56, lobes too narrow to represent a constant.)
-pub const SG_HEMISPHERE_SHARPNESS: f64 = 6.0;
+pub const SG_HEMISPHERE_SHARPNESS: f64 = sbf::registry::SG_SHARPNESS;
 
 /// The SG sharpness a bake accepts: the range the SG runtime's fits are stated over
 /// (Hill's irradiance fit, `sbf::recon::sg`: λ ∈ [2, 64]).
@@ -27,108 +27,51 @@ pub const SG_SHARPNESS_RANGE: (f64, f64) = (2.0, 64.0);
 /// 0.96× (tests/convergence.rs prints the comparison).
 pub const BAKE_ACCELERATION: f64 = 1.0;
 
-/// A basis the baker encodes into.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum BasisKind {
-    ShL1,
-    ShL2,
-    Sg9,
-    Sg12,
-    Ad9,
-    Ad12,
+/// The bases the baker encodes into: the registry's lightmap bases ([`sbf::registry`]).
+pub use sbf::BasisId;
+
+/// A lightmap basis by name (`--bases` of `baker` and `render`), or an error naming them.
+pub fn lightmap_basis(name: &str) -> Result<BasisId, String> {
+    BasisId::from_name(name).filter(|b| b.info().lightmap).ok_or_else(|| {
+        let names: Vec<&str> = BasisId::lightmap().map(BasisId::name).collect();
+        format!("unknown basis '{name}' (expected one of {})", names.join(", "))
+    })
 }
 
-impl BasisKind {
-    pub const ALL: [(BasisKind, &'static str); 6] = [
-        (BasisKind::ShL1, "sh1"),
-        (BasisKind::ShL2, "sh2"),
-        (BasisKind::Sg9, "sg9"),
-        (BasisKind::Sg12, "sg12"),
-        (BasisKind::Ad9, "ad9"),
-        (BasisKind::Ad12, "ad12"),
-    ];
-    pub fn parse(s: &str) -> Option<BasisKind> {
-        Self::ALL.iter().find(|(_, n)| *n == s).map(|(k, _)| *k)
-    }
-    pub fn name(self) -> &'static str {
-        Self::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).unwrap_or("?")
-    }
-    /// The sbf basis in tangent space (hemisphere lobes for SG, of sharpness
-    /// `sg_sharpness`; Roughton's 9-lobe set for AD9). A bake's: [`BakeConfig::basis`].
-    pub fn basis_with(self, sg_sharpness: f64) -> Box<dyn Basis + Send + Sync> {
-        match self {
-            BasisKind::ShL1 => Box::new(sbf::ShBasis::new(1).expect("order 1")),
-            BasisKind::ShL2 => Box::new(sbf::ShBasis::new(2).expect("order 2")),
-            BasisKind::Sg9 | BasisKind::Sg12 => Box::new(sbf::SgBasis::new(&self.sg_axes(), sg_sharpness, false).expect("SG basis")),
-            BasisKind::Ad9 => Box::new(sbf::AmbientDiceSrbf::nine_hemisphere()),
-            BasisKind::Ad12 => Box::new(sbf::AmbientDiceSrbf::twelve()),
-        }
-    }
-    /// The basis with the default SG sharpness [`SG_HEMISPHERE_SHARPNESS`].
-    pub fn basis(self) -> Box<dyn Basis + Send + Sync> {
-        self.basis_with(SG_HEMISPHERE_SHARPNESS)
-    }
-    /// Lobes (coefficients) per texel.
-    pub fn lobes(self) -> usize {
-        match self {
-            BasisKind::ShL1 => 4,
-            BasisKind::ShL2 | BasisKind::Sg9 | BasisKind::Ad9 => 9,
-            BasisKind::Sg12 | BasisKind::Ad12 => 12,
-        }
-    }
-    /// SG lobe axes (Vogel hemisphere about +Z).
-    pub fn sg_axes(self) -> Vec<DVec3> {
-        let n = if self == BasisKind::Sg9 { 9 } else { 12 };
-        sbf::layout::vogel_hemisphere(n).expect("vogel layout")
-    }
-    /// The lobe axes of the SG and AD layouts in the tangent frame, in coefficient order
-    /// (empty for SH).
-    pub fn lobe_axes(self) -> Vec<DVec3> {
-        match self {
-            BasisKind::ShL1 | BasisKind::ShL2 => Vec::new(),
-            BasisKind::Sg9 | BasisKind::Sg12 => self.sg_axes(),
-            BasisKind::Ad9 => sbf::AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
-            BasisKind::Ad12 => sbf::AmbientDiceSrbf::twelve().lobes().to_vec(),
-        }
-    }
+/// Each lightmap basis family's Lambert runtime on baked coefficients (the CPU twin of
+/// the runtime the bake ships).
+pub trait BakedBasis {
     /// E/π at the tangent-frame normal +Z from the lobes' RGB values `c` — each family's
     /// Lambert runtime: SH's band factors (Ramamoorthi & Hanrahan 2001), SG by Hill's fit
     /// at sharpness `sg_sharpness`, AD by the minimax quadratic per lobe ([Roughton19 §8.3]).
-    pub fn irradiance_at_normal(self, c: &[DVec3], sg_sharpness: f64) -> DVec3 {
+    fn irradiance_at_normal(self, c: &[DVec3], sg_sharpness: f64) -> DVec3;
+    /// E/π at unit tangent-frame direction `n` (a normal-mapped normal; +Z is the texel's
+    /// own), by the same runtimes as [`BakedBasis::irradiance_at_normal`].
+    fn irradiance_at(self, c: &[DVec3], n: DVec3, sg_sharpness: f64) -> DVec3;
+}
+
+impl BakedBasis for BasisId {
+    fn irradiance_at_normal(self, c: &[DVec3], sg_sharpness: f64) -> DVec3 {
         self.irradiance_at(c, DVec3::Z, sg_sharpness)
     }
 
-    /// E/π at unit tangent-frame direction `n` (a normal-mapped normal; +Z is the texel's
-    /// own), by the same runtimes as [`BasisKind::irradiance_at_normal`].
-    pub fn irradiance_at(self, c: &[DVec3], n: DVec3, sg_sharpness: f64) -> DVec3 {
+    fn irradiance_at(self, c: &[DVec3], n: DVec3, sg_sharpness: f64) -> DVec3 {
         use sbf::recon::{ambient_dice, sg, sh};
-        match self {
-            BasisKind::ShL1 | BasisKind::ShL2 => {
+        use sbf::registry::Family;
+        match self.family() {
+            Family::Sh => {
                 let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), n).expect("SH coefficients");
                 DVec3::new(ch(0), ch(1), ch(2))
             }
-            BasisKind::Sg9 | BasisKind::Sg12 => self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+            Family::Sg => self.axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
                 let lobe = sg::HillLobe::new(&sbf::Sg { axis: *a, sharpness: sg_sharpness, amplitude: 1.0 });
                 acc + *ci * lobe.eval(n)
             }),
-            BasisKind::Ad9 | BasisKind::Ad12 => self.lobe_axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
+            Family::AmbientDice => self.axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
                 acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.dot(n))
             }),
+            Family::AmbientCube | Family::HBasis => unreachable!("{self}: not a lightmap basis (lightmap_basis refuses it)"),
         }
-    }
-
-    /// Whether the basis is a set of spherical Gaussians (its sharpness matters).
-    pub fn is_sg(self) -> bool {
-        matches!(self, BasisKind::Sg9 | BasisKind::Sg12)
-    }
-    /// Whether every basis function is ≥ 0 (so a non-negativity constraint on the
-    /// coefficients means something): SG and Ambient Dice SRBF lobes, not SH.
-    pub fn non_negative(self) -> bool {
-        !matches!(self, BasisKind::ShL1 | BasisKind::ShL2)
-    }
-    /// Whether the basis covers the whole sphere (else the upper hemisphere).
-    pub fn is_sphere(self) -> bool {
-        matches!(self, BasisKind::ShL1 | BasisKind::ShL2 | BasisKind::Ad12)
     }
 }
 
@@ -152,7 +95,7 @@ pub enum Solver {
 pub struct BakeConfig {
     pub seed: u64,
     pub max_bounces: u32,
-    pub bases: Vec<BasisKind>,
+    pub bases: Vec<BasisId>,
     pub solver: Solver,
     /// First-bounce ray guiding of lightmap texels ([`crate::sampling::guiding`]); probes are never
     /// guided.
@@ -215,7 +158,7 @@ impl Default for BakeConfig {
         BakeConfig {
             seed: 1,
             max_bounces: 4,
-            bases: vec![BasisKind::ShL2, BasisKind::Ad9],
+            bases: vec![BasisId::Sh2, BasisId::Ad9],
             solver: Solver::NnlsRescaled,
             guiding: None,
             sampler: Default::default(),
@@ -285,7 +228,7 @@ impl BakeConfig {
     }
 
     /// The sbf basis `kind` as this bake encodes it (its SG sharpness).
-    pub fn basis(&self, kind: BasisKind) -> Box<dyn Basis + Send + Sync> {
+    pub fn basis(&self, kind: BasisId) -> Box<dyn Basis + Send + Sync> {
         kind.basis_with(self.sg_sharpness)
     }
 
@@ -297,8 +240,8 @@ impl BakeConfig {
     /// pin the lower half ([Roughton19 §7.3]'s hemisphere handling); probes sample the whole sphere.
     /// NNLS applies only to bases whose functions are non-negative (SG, Ambient Dice): SH
     /// coefficients of a non-negative signal are legitimately negative
-    /// ([`BasisKind::non_negative`]).
-    pub fn encoder_options(&self, basis: BasisKind, sphere_targets: bool) -> ProgressiveOptions {
+    /// ([`BasisId::non_negative`]).
+    pub fn encoder_options(&self, basis: BasisId, sphere_targets: bool) -> ProgressiveOptions {
         let opts = match self.solver {
             Solver::Nnls | Solver::NnlsRescaled if basis.non_negative() => ProgressiveOptions::non_negative(),
             Solver::NnlsIrradiance if basis.non_negative() && sphere_targets => ProgressiveOptions::non_negative(),

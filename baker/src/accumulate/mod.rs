@@ -22,7 +22,9 @@ pub mod state;
 pub mod targets;
 
 pub use bake::Bake;
-pub use config::{BakeConfig, BasisKind, Pipeline, Solver, BAKE_ACCELERATION, SG_HEMISPHERE_SHARPNESS, SG_SHARPNESS_RANGE};
+pub use config::{
+    lightmap_basis, BakeConfig, BakedBasis, BasisId, Pipeline, Solver, BAKE_ACCELERATION, SG_HEMISPHERE_SHARPNESS, SG_SHARPNESS_RANGE,
+};
 pub use partition::Partition;
 pub use progressive::Progressive;
 pub use state::{BakeState, ItemSample, Moments, MAX_BACK_FACE_FRACTION};

@@ -4,7 +4,7 @@
 
 #![deny(clippy::too_many_lines, clippy::cognitive_complexity)]
 
-use baker::accumulate::{BakeConfig, BasisKind};
+use baker::accumulate::{BakeConfig, BasisId};
 use baker::layout::lightmap::Lightmap;
 use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage};
 use baker::render::session::{self, Setup};
@@ -125,7 +125,7 @@ fn size(s: &str, what: &str) -> Result<(u32, u32), String> {
     }
 }
 
-fn configurations(bases: &[BasisKind], specular: &str, storage: &str, sg_sharpness: f64) -> Result<Vec<Lighting>, String> {
+fn configurations(bases: &[BasisId], specular: &str, storage: &str, sg_sharpness: f64) -> Result<Vec<Lighting>, String> {
     let paths = match specular {
         "fit" => vec![SpecularPath::Fit],
         "tables" => vec![SpecularPath::Tables],
@@ -143,7 +143,7 @@ fn configurations(bases: &[BasisKind], specular: &str, storage: &str, sg_sharpne
         v.push(Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: *st, sg_sharpness });
         for b in bases {
             // SH has one specular runtime: rendered once.
-            let sh = matches!(b, BasisKind::ShL1 | BasisKind::ShL2);
+            let sh = matches!(b, BasisId::Sh1 | BasisId::Sh2);
             for p in paths.iter().take(if sh { 1 } else { paths.len() }) {
                 v.push(Lighting { encoding: Encoding::Basis(*b), specular: *p, storage: *st, sg_sharpness });
             }
@@ -165,7 +165,7 @@ struct Baked {
 
 /// The bake: an existing one's folder and settings (bake.json), or a fresh bake into
 /// OUT/bake.
-fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>) -> Result<Baked, String> {
+fn bake(c: &Cli, bases: &[BasisId], device: Device, probes: Option<[usize; 3]>) -> Result<Baked, String> {
     if let Some(dir) = &c.bake {
         let path = dir.join("bake.json");
         let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e} (is --bake a bake folder?)", path.display()))?;
@@ -203,7 +203,7 @@ fn bake(c: &Cli, bases: &[BasisKind], device: Device, probes: Option<[usize; 3]>
         device,
         out: c.out.join("bake"),
         probes,
-        probe_bases: vec![BasisKind::ShL2],
+        probe_bases: vec![BasisId::Sh2],
         checkpoint_every: 0,
         ..Options::default()
     };
@@ -305,11 +305,7 @@ fn lightmap_filter(c: &Cli, device: Device) -> Result<LightmapFilter, String> {
 }
 
 fn render(c: Cli) -> Result<(), String> {
-    let bases = c
-        .bases
-        .iter()
-        .map(|s| BasisKind::parse(s.trim()).ok_or_else(|| format!("unknown basis '{s}' (sh1, sh2, sg9, sg12, ad9, ad12)")))
-        .collect::<Result<Vec<_>, _>>()?;
+    let bases = c.bases.iter().map(|s| baker::accumulate::lightmap_basis(s.trim())).collect::<Result<Vec<_>, _>>()?;
     let (lo, hi) = baker::accumulate::SG_SHARPNESS_RANGE;
     if !(lo..=hi).contains(&c.sg_sharpness) {
         return Err(format!(

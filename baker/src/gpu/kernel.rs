@@ -19,9 +19,10 @@
 //! a kernel reads like its sources.
 
 use super::compose::{add_module, compose};
-use crate::accumulate::{BakeConfig, BasisKind, Pipeline, BAKE_ACCELERATION};
+use crate::accumulate::{BakeConfig, BasisId, Pipeline, BAKE_ACCELERATION};
 use crate::sampling::sequence::Sequence;
 use naga_oil::compose::{Composer, ShaderDefValue};
+use sbf::registry::Family;
 use shaders::progressive::EncoderParams;
 use std::collections::HashMap;
 
@@ -128,19 +129,19 @@ fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(Hash
     }
     let mut at = 3u32;
     for (k, b) in config.bases.iter().enumerate() {
-        let kind = BasisKind::ALL.iter().position(|(x, _)| x == b).expect("a basis kind") as u32;
+        let kind = b.gpu_kind().expect("a lightmap basis has a GPU slot kind");
         on(&mut d, &format!("KIND_{kind}"));
-        match b {
-            BasisKind::ShL1 => roots.push("sh_eval_l1"),
-            BasisKind::ShL2 => roots.push("sh_eval_l2"),
-            BasisKind::Sg9 | BasisKind::Sg12 => {
+        match b.family() {
+            Family::Sh => roots.push(if *b == BasisId::Sh1 { "sh_eval_l1" } else { "sh_eval_l2" }),
+            Family::Sg => {
                 on(&mut d, "KIND_SG");
                 roots.push("sg_eval");
             }
-            BasisKind::Ad9 | BasisKind::Ad12 => {
+            Family::AmbientDice => {
                 on(&mut d, "KIND_AD");
-                roots.extend(["ad_srbf_eval", if *b == BasisKind::Ad9 { "AD9_AXES" } else { "AD12_AXES" }]);
+                roots.extend(["ad_srbf_eval", if *b == BasisId::Ad9 { "AD9_AXES" } else { "AD12_AXES" }]);
             }
+            Family::AmbientCube | Family::HBasis => unreachable!("{b}: not a lightmap basis (BakeConfig::check refuses it)"),
         }
         let lobes = b.lobes();
         let opts = config.encoder_options(*b, sphere_targets);

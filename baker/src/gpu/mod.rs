@@ -21,6 +21,7 @@ pub mod maps;
 pub mod multi;
 pub mod params;
 pub mod prims;
+pub mod slots;
 pub mod timing;
 pub mod wavefront;
 

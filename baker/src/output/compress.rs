@@ -12,12 +12,12 @@
 //!
 //! Per image, bake.json records the offset, the bytes and the RMS of (decoded − source) over baked texels relative
 //! to the source's RMS; per basis, the error each storage adds to E/π at the texel normal
-//! (the basis's Lambert runtime on the lobes, [`BasisKind::irradiance_at_normal`]): f16
+//! (the basis's Lambert runtime on the lobes, [`BakedBasis::irradiance_at_normal`](crate::accumulate::BakedBasis::irradiance_at_normal)): f16
 //! (each lobe rounded to half, as the renderer's f16 textures) and BC6H, relative to the
 //! RMS of E/π from the f32 lobes; and each storage's total error at the normal against the
 //! bake's own E/π (`irradiance.exr`).
 
-use crate::accumulate::BasisKind;
+use crate::accumulate::{BakedBasis, BasisId};
 use crate::post::images::LightmapImages;
 use sbf::bc;
 use sbf::glam::DVec3;
@@ -132,7 +132,7 @@ pub struct ProbeStorageJson {
     /// coefficients' RMS there.
     pub coefficient_rel_rms: f64,
     /// RMS over valid probes and 64 spherical-Fibonacci normals of the change in E/π
-    /// (the basis's Lambert runtime, [`BasisKind::irradiance_at`]) relative to its RMS:
+    /// (the basis's Lambert runtime, [`BakedBasis::irradiance_at`](crate::accumulate::BakedBasis::irradiance_at)) relative to its RMS:
     /// every coefficient rounded to f16, and through BC6H.
     pub irradiance_rel_rms_f16: f64,
     pub irradiance_rel_rms_bc6h: f64,
@@ -163,7 +163,7 @@ pub struct CompressionJson {
 pub struct ProbeGrid<'a> {
     /// NX, NY, NZ (probe k at x = k mod NX, y = (k / NX) mod NY, z = k / (NX·NY)).
     pub n: [usize; 3],
-    pub bases: &'a [BasisKind],
+    pub bases: &'a [BasisId],
     /// `coefficients[basis][probe][lobe]`, world frame.
     pub coefficients: Vec<Vec<Vec<[f64; 3]>>>,
     pub valid: &'a [bool],
@@ -443,7 +443,7 @@ fn compress_image(
 pub fn write_bc6h(
     dir: &Path,
     img: &LightmapImages,
-    bases: &[BasisKind],
+    bases: &[BasisId],
     sg_sharpness: f64,
     signed: SignedStorage,
 ) -> Result<CompressionJson, String> {

@@ -11,7 +11,7 @@ pub mod bake_json;
 pub mod compress;
 pub mod engine;
 
-use crate::accumulate::{BakeConfig, BasisKind};
+use crate::accumulate::{BakeConfig, BasisId};
 use crate::layout::lightmap::Lightmap;
 use crate::post::images::LightmapImages;
 use crate::scene::bvh::Bvh;
@@ -52,7 +52,7 @@ pub fn write_lightmap(dir: &Path, img: &LightmapImages, config: &BakeConfig) -> 
 /// "compensated"`) and there is specular. Returns (features, table files the shader
 /// functions read).
 pub fn runtime_features(
-    bases: &[BasisKind],
+    bases: &[BasisId],
     paths: &[sbf::profile::SpecularPath],
     energy_compensation: bool,
 ) -> (Vec<&'static str>, Vec<String>) {
@@ -63,15 +63,9 @@ pub fn runtime_features(
         luts.push(sbf::profile::table_file("dfg"));
     }
     for b in bases {
-        f.push(match b {
-            BasisKind::ShL1 => "sh-l1-irradiance",
-            BasisKind::ShL2 => "sh-l2-irradiance",
-            BasisKind::Sg9 | BasisKind::Sg12 => "sg-irradiance",
-            BasisKind::Ad9 => "ad9-irradiance",
-            BasisKind::Ad12 => "ad12-irradiance",
-        });
+        f.push(b.irradiance_feature().expect("a lightmap basis has a Lambert runtime"));
         for p in paths {
-            if let (Some(feature), table) = sbf::profile::specular_runtime(b.name(), *p) {
+            if let (Some(feature), table) = sbf::profile::specular_runtime(*b, *p) {
                 f.push(feature);
                 luts.extend(table.map(sbf::profile::table_file));
             }

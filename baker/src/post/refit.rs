@@ -4,7 +4,7 @@
 //! the moments are m = G b_LS (G the basis' Gram over the domain its samples cover: the
 //! upper hemisphere, or the sphere for sphere bases with the lower half mirrored to zero),
 //! and the non-negative fit of those moments is solved with its E/π at the texel's normal —
-//! by the runtime the renderer uses ([`BasisKind::irradiance_at_normal`]) — pinned to the
+//! by the runtime the renderer uses ([`BakedBasis::irradiance_at_normal`](crate::accumulate::BakedBasis::irradiance_at_normal)) — pinned to the
 //! texel's own E/π estimate (`sbf::solve::nnls_gram_eq`). Plain NNLS of a small source
 //! carries up to ~1.8× its irradiance (one non-negative lobe cannot cancel its excess);
 //! the pin keeps the light the bake measured.
@@ -14,7 +14,7 @@
 //! fit keeps (bake.json records it for every basis).
 
 use super::images::LightmapImages;
-use crate::accumulate::BasisKind;
+use crate::accumulate::{BakedBasis, BasisId};
 use rayon::prelude::*;
 use sbf::glam::DVec3;
 use sbf::solve::{nnls_gram_eq, NnlsOptions};
@@ -40,7 +40,7 @@ pub struct PinAccount {
 /// as NNLS with E/π at the normal pinned to `img.irradiance`, in place; SH is left as is.
 /// Errors name the basis and texel whose fit failed (a non-finite or negative E/π, a Gram
 /// matrix that is not positive definite).
-pub fn pin_irradiance(img: &mut LightmapImages, bases: &[BasisKind], sg_sharpness: f64) -> Result<Vec<PinAccount>, String> {
+pub fn pin_irradiance(img: &mut LightmapImages, bases: &[BasisId], sg_sharpness: f64) -> Result<Vec<PinAccount>, String> {
     let mut out = Vec::new();
     for (bi, kind) in bases.iter().enumerate() {
         if !kind.non_negative() {
@@ -107,7 +107,7 @@ pub fn pin_irradiance(img: &mut LightmapImages, bases: &[BasisKind], sg_sharpnes
 
 /// E/π at the texel's normal (+Z) of each lobe with unit coefficient, by the renderer's
 /// runtime: the row c with E/π = c·x for lobes x (one channel).
-pub fn constraint_row(kind: BasisKind, sg_sharpness: f64) -> Vec<f64> {
+pub fn constraint_row(kind: BasisId, sg_sharpness: f64) -> Vec<f64> {
     let n = kind.lobes();
     (0..n)
         .map(|i| {
@@ -138,7 +138,7 @@ pub struct RescaleAccount {
 /// Scales every non-negative basis' lobes of `img` per texel and channel so that their E/π
 /// at the normal (the renderer's runtime, [`constraint_row`]) equals `img.irradiance`: the
 /// NNLS fit's shape, the light the bake measured. A scale keeps the lobes non-negative.
-pub fn rescale_irradiance(img: &mut LightmapImages, bases: &[BasisKind], sg_sharpness: f64) -> Result<Vec<RescaleAccount>, String> {
+pub fn rescale_irradiance(img: &mut LightmapImages, bases: &[BasisId], sg_sharpness: f64) -> Result<Vec<RescaleAccount>, String> {
     let mut out = Vec::new();
     for (bi, kind) in bases.iter().enumerate() {
         if !kind.non_negative() {
@@ -206,7 +206,7 @@ pub const MIN_CHART_TEXELS: usize = 4;
 
 /// [`IrradianceRatio`] of every basis of `img`; `texel_charts` gives each texel's chart
 /// (`Lightmap::texel_charts`). NaN ratios where no valid texel has light.
-pub fn irradiance_ratios(img: &LightmapImages, bases: &[BasisKind], sg_sharpness: f64, texel_charts: &[u32]) -> Vec<IrradianceRatio> {
+pub fn irradiance_ratios(img: &LightmapImages, bases: &[BasisId], sg_sharpness: f64, texel_charts: &[u32]) -> Vec<IrradianceRatio> {
     bases
         .iter()
         .enumerate()

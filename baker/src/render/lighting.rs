@@ -2,7 +2,7 @@
 //! Table 8.1's "none") or one baked basis with a specular runtime path, stored as f32 or
 //! f16 texels.
 
-use crate::accumulate::BasisKind;
+use crate::accumulate::BasisId;
 use sbf::glam::DVec3;
 use sbf::profile::SpecularPath;
 
@@ -12,7 +12,7 @@ pub enum Encoding {
     /// `irradiance.exr`: E/π per texel; diffuse only.
     Irradiance,
     /// The basis's coefficients (`{basis}_{lobe}.exr`), in the texel's tangent frame.
-    Basis(BasisKind),
+    Basis(BasisId),
 }
 
 /// Texel storage on the GPU (and the CPU twin rounds the same way).
@@ -117,8 +117,7 @@ impl Lighting {
             Encoding::Irradiance => "none".to_string(),
             Encoding::Basis(b) => b.name().to_string(),
         };
-        if matches!(self.encoding, Encoding::Basis(b) if !matches!(b, BasisKind::ShL1 | BasisKind::ShL2))
-            && self.specular == SpecularPath::Tables
+        if matches!(self.encoding, Encoding::Basis(b) if !matches!(b, BasisId::Sh1 | BasisId::Sh2)) && self.specular == SpecularPath::Tables
         {
             s.push_str("-tables");
         }
@@ -158,7 +157,7 @@ impl Lighting {
 }
 
 /// Lobes of a basis.
-pub fn lobe_count(b: BasisKind) -> usize {
+pub fn lobe_count(b: BasisId) -> usize {
     b.lobes()
 }
 
@@ -167,7 +166,7 @@ pub fn lobe_count(b: BasisKind) -> usize {
 pub fn lobe_axes(e: Encoding) -> Vec<DVec3> {
     match e {
         Encoding::Irradiance => Vec::new(),
-        Encoding::Basis(b) => b.lobe_axes(),
+        Encoding::Basis(b) => b.axes(),
     }
 }
 

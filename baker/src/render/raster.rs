@@ -15,7 +15,7 @@ use super::atlas::Atlas;
 use super::bindings::{layouts, lightmap_sampler, no_lobe_table, probe_rows, Lattice};
 use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
 use super::probes::ProbeField;
-use crate::accumulate::BasisKind;
+use crate::accumulate::BasisId;
 use crate::layout::lightmap::Lightmap;
 use crate::scene::camera::ViewCamera;
 use crate::scene::Scene;
@@ -221,16 +221,12 @@ impl<'g> Renderer<'g> {
     /// The pipeline constants of `l` (`fetch_only`: the timing variant that only fetches
     /// the lobes).
     pub(super) fn constants(&self, l: &Lighting, fetch_only: bool) -> [(&'static str, f64); 6] {
+        // ENCODING: 0 for the plain E/π lightmap, else the basis' GPU slot kind + 1.
         let (enc, lobes) = match l.encoding {
             Encoding::Irradiance => (0, 1),
-            Encoding::Basis(BasisKind::ShL1) => (1, 4),
-            Encoding::Basis(BasisKind::ShL2) => (2, 9),
-            Encoding::Basis(BasisKind::Sg9) => (3, 9),
-            Encoding::Basis(BasisKind::Sg12) => (3, 12),
-            Encoding::Basis(BasisKind::Ad9) => (4, 9),
-            Encoding::Basis(BasisKind::Ad12) => (5, 12),
+            Encoding::Basis(b) => (1 + b.gpu_kind().expect("a lightmap basis has a GPU slot kind"), b.lobes()),
         };
-        let tables = l.specular == SpecularPath::Tables && !matches!(l.encoding, Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2));
+        let tables = l.specular == SpecularPath::Tables && !matches!(l.encoding, Encoding::Basis(BasisId::Sh1 | BasisId::Sh2));
         [
             ("ENCODING", enc as f64),
             ("TABLES", if tables { 1.0 } else { 0.0 }),
@@ -275,15 +271,15 @@ impl<'g> Renderer<'g> {
         }
         let lightmap = self.lightmap_texture(atlas, l.storage)?;
         let lut = match l.encoding {
-            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => self.gpu.lut_texture(sbf::recon::tables::dfg()),
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => self.gpu.lut_texture(sbf::recon::tables::ad_specular_2d()),
+            Encoding::Basis(BasisId::Sh1 | BasisId::Sh2) => self.gpu.lut_texture(sbf::recon::tables::dfg()),
+            Encoding::Basis(BasisId::Ad9 | BasisId::Ad12) => self.gpu.lut_texture(sbf::recon::tables::ad_specular_2d()),
             _ => self.gpu.rg32_texture("no lut", [1, 1, 1], &[0.0, 0.0]),
         };
         let lobe = match l.encoding {
-            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if l.specular == SpecularPath::Tables => {
+            Encoding::Basis(BasisId::Sg9 | BasisId::Sg12) if l.specular == SpecularPath::Tables => {
                 self.gpu.lobe_texture_filtered(sbf::recon::tables::lobe_ggx_sg6())
             }
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if l.specular == SpecularPath::Tables => {
+            Encoding::Basis(BasisId::Ad9 | BasisId::Ad12) if l.specular == SpecularPath::Tables => {
                 self.gpu.lobe_texture_filtered(sbf::recon::tables::lobe_ggx_ad())
             }
             _ => no_lobe_table(d),

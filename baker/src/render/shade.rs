@@ -17,7 +17,7 @@
 //! Emission is not part of the image: it is the light reflected by the visible surface.
 
 use super::lighting::{lobe_axes, Encoding, Lighting, SurfaceMaterial};
-use crate::accumulate::BasisKind;
+use crate::accumulate::{BakedBasis, BasisId};
 use sbf::glam::DVec3;
 use sbf::profile::SpecularPath;
 use sbf::recon::{ambient_dice, lobe_ggx, sg, sh};
@@ -46,8 +46,8 @@ pub struct Shader {
 impl Shader {
     pub fn new(lighting: Lighting) -> Shader {
         let sh = match lighting.encoding {
-            Encoding::Basis(BasisKind::ShL1) => Some(sbf::ShBasis::new(1).expect("order 1")),
-            Encoding::Basis(BasisKind::ShL2) => Some(sbf::ShBasis::new(2).expect("order 2")),
+            Encoding::Basis(BasisId::Sh1) => Some(sbf::ShBasis::new(1).expect("order 1")),
+            Encoding::Basis(BasisId::Sh2) => Some(sbf::ShBasis::new(2).expect("order 2")),
             _ => None,
         };
         Shader { lighting, axes: lobe_axes(lighting.encoding), sh }
@@ -86,8 +86,8 @@ impl Shader {
     pub fn table_filter_error(&self, c: &[DVec3], m: &SurfaceMaterial, n: DVec3, v: DVec3, weight_error: f64, result_error: f64) -> DVec3 {
         let table = match self.lighting.encoding {
             _ if self.lighting.specular != SpecularPath::Tables => return DVec3::ZERO,
-            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => sbf::recon::tables::lobe_ggx_sg6(),
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => sbf::recon::tables::lobe_ggx_ad(),
+            Encoding::Basis(BasisId::Sg9 | BasisId::Sg12) => sbf::recon::tables::lobe_ggx_sg6(),
+            Encoding::Basis(BasisId::Ad9 | BasisId::Ad12) => sbf::recon::tables::lobe_ggx_ad(),
             _ => return DVec3::ZERO,
         };
         let (t, b) = sbf::basis::ambient_dice_bezier::tangent_frame(n);
@@ -126,7 +126,7 @@ impl Shader {
         }
     }
 
-    /// E/π at the tangent-frame normal +Z ([`BasisKind::irradiance_at_normal`]).
+    /// E/π at the tangent-frame normal +Z ([`BakedBasis::irradiance_at_normal`](crate::accumulate::BakedBasis::irradiance_at_normal)).
     pub fn irradiance(&self, c: &[DVec3]) -> DVec3 {
         self.irradiance_at(c, DVec3::Z)
     }
@@ -143,16 +143,16 @@ impl Shader {
         let tables = self.lighting.specular == SpecularPath::Tables;
         let s = match self.lighting.encoding {
             Encoding::Irradiance => [0.0; 3],
-            Encoding::Basis(BasisKind::ShL1 | BasisKind::ShL2) => {
+            Encoding::Basis(BasisId::Sh1 | BasisId::Sh2) => {
                 let sh = self.sh.as_ref().expect("SH basis");
                 let g = sh::specular_zonal_filter(sh.order(), nv, alpha);
                 let dfg = sbf::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 sh::specular_zonal_rgb(sh, &rgb, &g, z, vt, alpha, f0, f90, [dfg[0] as f64, dfg[1] as f64]).expect("SH coefficients")
             }
-            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) if tables => {
+            Encoding::Basis(BasisId::Sg9 | BasisId::Sg12) if tables => {
                 lobe_ggx::specular_rgb(sbf::recon::tables::lobe_ggx_sg6(), &self.axes, &rgb, z, vt, alpha, f0, f90)
             }
-            Encoding::Basis(BasisKind::Sg9 | BasisKind::Sg12) => {
+            Encoding::Basis(BasisId::Sg9 | BasisId::Sg12) => {
                 let d = sbf::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 let w = sg::SplitSumWarp::new(z, vt, alpha, f0, f90, [d[0] as f64, d[1] as f64]);
                 let s = self.axes.iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
@@ -160,13 +160,14 @@ impl Shader {
                 });
                 s.to_array()
             }
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) if tables => {
+            Encoding::Basis(BasisId::Ad9 | BasisId::Ad12) if tables => {
                 lobe_ggx::specular_rgb(sbf::recon::tables::lobe_ggx_ad(), &self.axes, &rgb, z, vt, alpha, f0, f90)
             }
-            Encoding::Basis(BasisKind::Ad9 | BasisKind::Ad12) => {
+            Encoding::Basis(BasisId::Ad9 | BasisId::Ad12) => {
                 let l = sbf::recon::tables::ad_specular_2d().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);
                 ambient_dice::specular_rgb(&self.axes, &rgb, z, vt, alpha, f0, f90, [l[0] as f64, l[1] as f64])
             }
+            Encoding::Basis(b) => unreachable!("{b}: not a lightmap basis (Lighting::check refuses it)"),
         };
         DVec3::from(s)
     }

@@ -35,7 +35,7 @@ pub(crate) fn run_targets<'s>(
     if groups.len() <= 1 {
         return run_group(o, config, gpus, tracer_of, scene, targets, what, log);
     }
-    let names = |g: &[crate::accumulate::BasisKind]| g.iter().map(|b| b.name()).collect::<Vec<_>>().join("+");
+    let names = |g: &[crate::accumulate::BasisId]| g.iter().map(|b| b.name()).collect::<Vec<_>>().join("+");
     log(format!(
         "{what}: the encoder states of {} bases × {} items exceed one storage binding: baked in {} groups over the same paths ({})",
         config.bases.len(),
@@ -102,7 +102,7 @@ fn moments_drift(a: &[crate::accumulate::state::Moments], b: &[crate::accumulate
 /// `bases` in order, split into groups whose encoder states (`items` per basis) fit one
 /// storage binding of `max_binding` bytes (a basis alone that does not fit is a group of
 /// its own: the bake's size check then names it).
-pub fn basis_groups(bases: &[crate::accumulate::BasisKind], items: usize, max_binding: u64) -> Vec<Vec<crate::accumulate::BasisKind>> {
+pub fn basis_groups(bases: &[crate::accumulate::BasisId], items: usize, max_binding: u64) -> Vec<Vec<crate::accumulate::BasisId>> {
     let per_basis = (items.max(1) * std::mem::size_of::<shaders::progressive::EncoderState>()) as u64;
     let fit = ((max_binding / per_basis) as usize).max(1);
     bases.chunks(fit).map(<[_]>::to_vec).collect()

@@ -3,7 +3,7 @@
 //! what it bounds (memory or time); a refusal names the option, the value and the limit.
 
 use super::Options;
-use crate::accumulate::BasisKind;
+use crate::accumulate::BasisId;
 
 /// Preview width: the preview is W × 3W/4 RGB f32 (8192 → 0.6 GB) and traces a path per
 /// pixel.
@@ -110,7 +110,7 @@ impl Options {
 /// moments and encoders (coefficients and the per-lobe update state, f64), and the f32
 /// images written from them — doubled for the copies post-processing makes (denoiser,
 /// seams, dilation).
-pub fn bytes_per_item(bases: &[BasisKind]) -> u64 {
+pub fn bytes_per_item(bases: &[BasisId]) -> u64 {
     let points = crate::layout::lightmap::SUBSAMPLES * std::mem::size_of::<crate::layout::lightmap::SurfacePoint>();
     let moments = std::mem::size_of::<crate::accumulate::Moments>();
     let lobes: usize = bases.iter().map(|b| b.lobes()).sum();
@@ -123,7 +123,7 @@ pub fn bytes_per_item(bases: &[BasisKind]) -> u64 {
 
 /// Refuses a bake whose state would not fit in the memory available now (Linux:
 /// MemAvailable of /proc/meminfo; elsewhere not checked, and said so in the log).
-pub fn check_memory(what: &str, items: usize, bases: &[BasisKind], log: &mut dyn FnMut(String)) -> Result<(), String> {
+pub fn check_memory(what: &str, items: usize, bases: &[BasisId], log: &mut dyn FnMut(String)) -> Result<(), String> {
     let need = items as u64 * bytes_per_item(bases);
     match available_memory() {
         Some(avail) if need > avail => Err(format!(

@@ -1,7 +1,7 @@
 //! What a bake is given ([`Options`]: the scene, the layout, the passes, the device, the
 //! post-processing and where to write) and what it reports back ([`Summary`]).
 
-use crate::accumulate::{BakeConfig, BakeState, BasisKind};
+use crate::accumulate::{BakeConfig, BakeState, BasisId};
 use std::path::PathBuf;
 
 /// Which engine traces.
@@ -38,7 +38,7 @@ pub struct Options {
     pub probes: Option<[usize; 3]>,
     /// Move probes found inside geometry out through the nearest back face before baking.
     pub relocate_probes: bool,
-    pub probe_bases: Vec<BasisKind>,
+    pub probe_bases: Vec<BasisId>,
     pub preview_width: usize,
     /// No progress bar.
     pub quiet: bool,
@@ -108,7 +108,7 @@ impl Default for Options {
             resume: false,
             probes: Some([3, 3, 3]),
             relocate_probes: false,
-            probe_bases: vec![BasisKind::ShL2, BasisKind::Ad12],
+            probe_bases: vec![BasisId::Sh2, BasisId::Ad12],
             preview_width: 480,
             measure_rays: None,
             batch_seconds: Some(crate::gpu::BATCH_TARGET_SECONDS),

@@ -133,8 +133,8 @@ fn engine_step(
     if o.engine_formats.is_empty() {
         return Ok(Vec::new());
     }
-    let b = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisKind::ShL1).ok_or("--engine-formats needs the sh1 basis")?;
-    let sh2 = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisKind::ShL2).map(|i| img.coefficients[i].as_slice());
+    let b = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisId::Sh1).ok_or("--engine-formats needs the sh1 basis")?;
+    let sh2 = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisId::Sh2).map(|i| img.coefficients[i].as_slice());
     let out = crate::output::engine::write_engine_formats(
         &o.out,
         img,
@@ -248,8 +248,8 @@ pub(crate) fn write_outputs(
         profile: o.profile.as_ref().map(|p| ProfileJson {
             name: p.name.clone(),
             summary: p.summary(),
-            lightmap_bases: p.lightmap_bases.clone(),
-            probe_bases: p.probe_bases.clone(),
+            lightmap_bases: p.lightmap_bases.iter().map(|b| b.name().to_string()).collect(),
+            probe_bases: p.probe_bases.iter().map(|b| b.name().to_string()).collect(),
             specular: p.specular,
             roughness: p.roughness.map(|(a, b)| [a, b]),
             precision: p.precision.clone(),
@@ -530,7 +530,7 @@ fn bases_json(o: &Options, fit: &[IrradianceRatio], written: &[IrradianceRatio])
                 mirrored_lower_hemisphere: b.is_sphere(),
                 sg_sharpness: b.is_sg().then_some(o.config.sg_sharpness),
                 lobe_axes: {
-                    let axes = b.lobe_axes();
+                    let axes = b.axes();
                     (!axes.is_empty()).then(|| axes.iter().map(|a| a.to_array()).collect())
                 },
                 irradiance_ratio: IrradianceRatioJson {

@@ -1,3 +1,5 @@
+// Generated from bases.in.wgsl by baker::gpu::slots (one block per encoder slot); do not
+// edit: change the template and run `SBF_BLESS=1 cargo test -p baker --test bases_template`.
 // bases.wgsl — the bake's encoders (CPU twin: baker::accumulate's per-sample update with
 // sbf's progressive encoders, [Roughton19 §7.3]): every configured basis is a slot k with its
 // basis values `basis_k`, its encoder parameters `ENCODER_k` and the light samples' known
@@ -6,11 +8,15 @@
 // sample's projections. Shader defs (baker::gpu::kernel) say which kinds and slots a bake
 // has: KIND_n (basis kind n used), SLOT_k = the kind of slot k, SLOT_k_LOBES, SLOT_k_FLAGS,
 // SLOT_k_DENOMINATOR, SLOT_k_PROJECTION (the projection encoder of an orthonormal basis),
-// SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds
-// in baker::accumulate::BasisKind order: 0 sh1, 1 sh2, 2 sg9, 3 sg12, 4 ad9, 5 ad12.
-// FILTERED adds the same updates on a gather target's states (filter_gather.wgsl).
-// The six slots are spelled out (WGSL has no macros, and a loop over a runtime slot list
-// would make each encoder's parameters run-time values instead of constants).
+// SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds are the registry's
+// GPU slot kinds (sbf::registry::BasisInfo::gpu_kind): 0 sh1, 1 sh2, 2 sg9, 3 sg12, 4 ad9,
+// 5 ad12. FILTERED adds the same updates on a gather target's states (filter_gather.wgsl).
+//
+// bases.in.wgsl is the template of bases.wgsl (baker::gpu::slots): each block between a
+// `// @slots` line and a `// @end` line is written once per encoder slot k (MAX_SLOTS of
+// them) with `{k}` replaced by k. The slots are spelled out (WGSL has no macros, and a
+// loop over a run-time slot list would make each encoder's parameters run-time values
+// instead of constants).
 
 #define_import_path baker::bases
 

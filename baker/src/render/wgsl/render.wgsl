@@ -13,7 +13,8 @@
 // fragments) and deferred (fs_gbuffer writes the fragments' inputs, then cs_frame or
 // cs_terms shade them in a compute pass over 8×8 tiles; baker::render::deferred).
 
-// 0: plain E/π (diffuse only), 1: SH L1, 2: SH L2, 3: SG, 4: AD 9, 5: AD 12.
+// 0: plain E/π (diffuse only), else the basis' GPU slot kind + 1 (sbf::registry): 1 SH L1,
+// 2 SH L2, 3 SG 9, 4 SG 12, 5 AD 9, 6 AD 12.
 override ENCODING: u32 = 0u;
 // Specular through the per-lobe tables (lobe_ggx_filtered: the texture unit interpolates
 // three of their four axes) instead of the fits.
@@ -189,7 +190,7 @@ fn shade_sh(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
 fn shade_lobes(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
     let n = vec3<f32>(0.0, 0.0, 1.0);
     let lambda = frame.eye.w;
-    let sg = ENCODING == 3u;
+    let sg = ENCODING == 3u || ENCODING == 4u;
     // Per-pixel parts of each specular runtime ((1, 0) and (0, 1) Fresnel for a coloured F0).
     let f0a = select(1.0, g.f0.x, g.grey);
     let f90a = select(0.0, 1.0, g.grey);
@@ -354,7 +355,7 @@ fn shade(s: Surface) -> Terms {
             case 1u, 2u: {
                 t = shade_sh(fp, vt, g);
             }
-            case 3u, 4u, 5u: {
+            case 3u, 4u, 5u, 6u: {
                 t = shade_lobes(fp, vt, g);
             }
             default: {
