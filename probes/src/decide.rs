@@ -20,8 +20,12 @@
 //! storage, then the id — and the decision records hold no measured time.
 //!
 //! **Recommendation** ([`RECOMMEND_WITHIN`]): the cheapest point of the CPU front (lowest
-//! tier) whose error is within 25 % of the best error any candidate reaches; with it, the
-//! front point just cheaper (what one step down in cost gives up).
+//! tier) whose error is within 25 % of the best error any candidate reaches — and within the
+//! usability threshold ([`MapResults::usable_error_percent`], [`USABLE_ERROR_PERCENT`] by
+//! default) where the best is; with it, the front point just cheaper (what one step down in
+//! cost gives up). Where even the best candidate's error exceeds the threshold, the
+//! recommendation is that best candidate, marked unusable (`usable: false`), and the text
+//! says no mode fits.
 
 use crate::results::{Budget, Decision, Front, MapResults, ModeRecord, Point, Recommendation, SignalDecision, Tiers, AXES};
 
@@ -32,6 +36,9 @@ use crate::results::{Budget, Decision, Front, MapResults, ModeRecord, Point, Rec
 pub const NOISE_FLOOR: f64 = 0.10;
 /// A recommendation's error may exceed the best candidate's by this factor.
 pub const RECOMMEND_WITHIN: f64 = 1.25;
+/// The default usability threshold: a mode whose error exceeds this percentage of the
+/// reference's RMS is not one to ship (`--usable-error`).
+pub const USABLE_ERROR_PERCENT: f64 = 10.0;
 
 /// A candidate: its decision point, and per timed axis (CPU, GPU) its cost interval (None:
 /// not measured on that axis).
@@ -64,7 +71,8 @@ pub fn decide(r: &MapResults) -> Decision {
             (*m, e.rms, e.rel_rms, m.cost.eval, Some(m.cost_keys.irradiance.clone()), m.cost.gpu.as_ref().map(|g| g.ns))
         })
         .collect();
-    signals.push(signal("irradiance".into(), &irr));
+    let usable = r.usable_error_percent;
+    signals.push(signal("irradiance".into(), &irr, usable));
     for a in r.reference.specular_error.keys() {
         let c: Vec<Raw> = runtime
             .iter()
@@ -75,7 +83,7 @@ pub fn decide(r: &MapResults) -> Decision {
             })
             .collect();
         if !c.is_empty() {
-            signals.push(signal(format!("specular α={a}"), &c));
+            signals.push(signal(format!("specular α={a}"), &c, usable));
         }
     }
     Decision { signals }
@@ -129,7 +137,7 @@ fn tiers(c: &[Candidate], k: usize) -> Vec<usize> {
     tier
 }
 
-fn signal(name: String, raw: &[Raw]) -> SignalDecision {
+fn signal(name: String, raw: &[Raw], usable_percent: f64) -> SignalDecision {
     let (mut c, cpu_costs) = candidates(raw);
     c.retain(|x| x.point.error.is_finite() && x.intervals[0].is_some());
     let tier_of: [Vec<usize>; 2] = [tiers(&c, 0), tiers(&c, 1)];
@@ -159,8 +167,9 @@ fn signal(name: String, raw: &[Raw]) -> SignalDecision {
             (!on.is_empty()).then(|| Front { axis: AXES[axis].to_string(), points: front(&c, &on, |i| rank(i, axis).expect("filtered")) })
         })
         .collect();
-    let recommended = fronts.iter().find(|f| f.axis == "eval_ns").and_then(|f| recommend(&f.points));
-    SignalDecision { signal: name, recommended, cpu_costs, tiers, fronts, budget: budget(&c) }
+    let recommended = fronts.iter().find(|f| f.axis == "eval_ns").and_then(|f| recommend(&f.points, usable_percent));
+    let usable = recommended.as_ref().is_some_and(|r| r.mode.error_percent <= usable_percent);
+    SignalDecision { signal: name, recommended, usable, cpu_costs, tiers, fronts, budget: budget(&c) }
 }
 
 /// The Pareto front of error against a cost rank: by increasing rank, each point strictly
@@ -183,10 +192,17 @@ fn better(a: &Point, b: &Point) -> std::cmp::Ordering {
     a.error.total_cmp(&b.error).then(a.bytes.total_cmp(&b.bytes)).then(a.id.cmp(&b.id))
 }
 
-/// The recommendation on a CPU front (see the module docs).
-fn recommend(front: &[Point]) -> Option<Recommendation> {
-    let best = front.last()?.error;
-    let k = front.iter().position(|p| p.error <= RECOMMEND_WITHIN * best)?;
+/// The recommendation on a CPU front (see the module docs): within 25 % of the best error
+/// and within the usability threshold (a percentage); the best itself where nothing is
+/// within the threshold.
+fn recommend(front: &[Point], usable_percent: f64) -> Option<Recommendation> {
+    let best = front.last()?;
+    // Nothing usable: the best there is (the text says it is not one to ship).
+    let k = if best.error_percent > usable_percent {
+        front.len() - 1
+    } else {
+        front.iter().position(|p| p.error <= RECOMMEND_WITHIN * best.error && p.error_percent <= usable_percent)?
+    };
     Some(Recommendation { mode: front[k].clone(), next_cheaper: k.checked_sub(1).map(|j| front[j].clone()) })
 }
 

@@ -36,6 +36,12 @@ fn describe(r: &MapResults, sd: &SignalDecision, p: &Point, code: fn(&str) -> St
 pub fn recommendation(r: &MapResults, sd: &SignalDecision, code: fn(&str) -> String) -> String {
     match &sd.recommended {
         None => format!("{}: no candidate", sd.signal),
+        Some(rec) if !sd.usable => format!(
+            "{}: no mode within {} error (--usable-error) — the best is {}; for sharp specular, engines ship a prefiltered environment map, which this comparison does not include",
+            sd.signal,
+            percent(r.usable_error_percent),
+            describe(r, sd, &rec.mode, code),
+        ),
         Some(rec) => format!(
             "{}: {}{}",
             sd.signal,

@@ -95,6 +95,10 @@ struct CompareArgs {
     /// Replace NaN/Inf/negative texels by 0 (and report how many) instead of failing.
     #[arg(long)]
     sanitize: bool,
+    /// The error, in % of the reference's RMS, above which a mode is not usable: a signal whose
+    /// best mode exceeds it is reported as having no mode that fits.
+    #[arg(long, default_value_t = probes::decide::USABLE_ERROR_PERCENT)]
+    usable_error: f64,
     /// Encode repeats for the median timing (fewer once they take 0.1 s together).
     #[arg(long, default_value_t = 3)]
     repeats: usize,
@@ -168,6 +172,7 @@ fn write_reports(
     (png, exr): (bool, bool),
     gpu: Option<&probes::gpu_cost::GpuCosts>,
     profile: Option<&sbf::profile::Profile>,
+    usable_error_percent: f64,
 ) -> Result<(), String> {
     probes::compare::unique_slugs(maps);
     // The previous run's files go first, so the folder holds this run's files only.
@@ -177,6 +182,7 @@ fn write_reports(
         .map(|m| {
             let mut r = probes::results::from_report(m, exr, gpu);
             r.profile = profile.map(|p| p.summary()).unwrap_or_default();
+            r.usable_error_percent = usable_error_percent;
             r.decision = probes::decide::decide(&r);
             r
         })
@@ -322,6 +328,9 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
     if a.specular_samples == 0 {
         return Err("--specular-samples must be > 0".into());
     }
+    if !(a.usable_error.is_finite() && a.usable_error > 0.0) {
+        return Err(format!("--usable-error must be a percentage > 0, not {}", a.usable_error));
+    }
     if a.repeats == 0 {
         return Err("--repeats must be ≥ 1".into());
     }
@@ -388,7 +397,7 @@ fn compare_command(a: CompareArgs, force: bool) -> Result<(), String> {
         for (label, map, sanitized) in &maps {
             reports.push(compare(label, map.clone(), *sanitized, &settings)?);
         }
-        write_reports(out, &mut reports, a.json, images, gpu.as_ref(), prof.as_ref())?;
+        write_reports(out, &mut reports, a.json, images, gpu.as_ref(), prof.as_ref(), a.usable_error)?;
     }
     Ok(())
 }
@@ -458,7 +467,7 @@ fn main() -> ExitCode {
                 seed_estimator: None,
             };
             let rep = compare("procedural-sky", map, 0, &settings)?;
-            write_reports(&out, &mut [rep], false, (true, false), None, None)
+            write_reports(&out, &mut [rep], false, (true, false), None, None, probes::decide::USABLE_ERROR_PERCENT)
         })(),
     };
     match result {

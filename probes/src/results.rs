@@ -47,11 +47,23 @@ pub struct MapResults {
     /// The lighting profile the run followed (its one-line summary; absent without one).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub profile: String,
+    /// The error (% of the reference's RMS) above which no mode is usable for a signal
+    /// (`--usable-error`; [`crate::decide`]).
+    #[serde(default = "default_usable_error")]
+    pub usable_error_percent: f64,
     /// Wall time of each stage, seconds.
     pub stage_seconds: StageTimes,
     pub modes: Vec<ModeRecord>,
     /// Pareto fronts and budget tables ([`crate::decide`]).
     pub decision: Decision,
+}
+
+fn usable_default() -> bool {
+    true
+}
+
+fn default_usable_error() -> f64 {
+    crate::decide::USABLE_ERROR_PERCENT
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -342,6 +354,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
         },
         specular_runtime: m.specular_runtime.clone(),
         profile: String::new(),
+        usable_error_percent: crate::decide::USABLE_ERROR_PERCENT,
         stage_seconds: m.stages,
         modes,
         decision: Default::default(),
@@ -375,6 +388,11 @@ pub struct SignalDecision {
     /// The mode to use when nothing else is known ([`crate::decide`]); `None` without
     /// candidates.
     pub recommended: Option<Recommendation>,
+    /// Whether the recommended mode's error is within [`MapResults::usable_error_percent`]:
+    /// false when no candidate is (the recommendation is then the best the comparison
+    /// has, not a mode to ship).
+    #[serde(default = "usable_default")]
+    pub usable: bool,
     /// Where the CPU costs the decision compares come from: the committed calibration
     /// (reproducible), or this run's measurement where the calibration lacks a mode.
     pub cpu_costs: String,

@@ -162,7 +162,8 @@ fn equal_names_get_their_own_folders_and_exr_on_request() {
 /// anchor's; every front point is dominated by no candidate in (tier or bytes, error), every
 /// other candidate is dominated by or equal to a front point; every budget cell holds the
 /// lowest error among the candidates that fit; the recommendation is the cheapest front
-/// point within 25 % of the best error. Mutations tried: a front that keeps points up to 1.5×
+/// point within 25 % of the best error and the usability threshold, or the best, unusable,
+/// where none is within it (checked at four thresholds). Mutations tried: a front that keeps points up to 1.5×
 /// the last error, a budget using `<` for the byte limit, tiers merged by chained overlap,
 /// a recommendation within 2× — each fails here.
 #[test]
@@ -271,14 +272,62 @@ fn decision_matches_brute_force_from_results_json() {
                 }
             }
         }
-        // The recommendation: the cheapest tier holding a candidate within 25 % of the best
-        // error, its best such candidate.
-        let best = cands.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
-        let ok: Vec<_> = cands.iter().filter(|c| c.1 <= 1.25 * best).collect();
-        let t = ok.iter().map(|c| tier_of(&c.0)).min().unwrap();
-        let want = ok.iter().filter(|c| tier_of(&c.0) == t).map(|c| c.1).fold(f64::INFINITY, f64::min);
-        assert_eq!(sd.recommended.as_ref().expect("a recommendation").mode.error, want, "{}", sd.signal);
+        // The recommendation, at the run's usability threshold and at thresholds that bind
+        // differently (recomputed from the same results): the cheapest tier holding a
+        // candidate within 25 % of the best error and within the threshold, its best such
+        // candidate; where no candidate is within the threshold, the best one, unusable.
+        let pct = |id: &str| {
+            let m = r.modes.iter().find(|m| m.id == id).unwrap();
+            100.0 * if sd.signal == "irradiance" { m.metrics.irradiance.rel_rms } else { m.metrics.specular["0.3"].metrics.rel_rms }
+        };
+        let best = cands.iter().min_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
+        for threshold in [r.usable_error_percent, 1.05 * pct(&best.0), 0.95 * pct(&best.0), 1e3] {
+            let mut j = r.clone();
+            j.usable_error_percent = threshold;
+            let got = probes::decide::decide(&j).signals.into_iter().find(|x| x.signal == sd.signal).unwrap();
+            let usable = pct(&best.0) <= threshold;
+            let want = if usable {
+                let ok: Vec<_> = cands.iter().filter(|c| c.1 <= 1.25 * best.1 && pct(&c.0) <= threshold).collect();
+                let t = ok.iter().map(|c| tier_of(&c.0)).min().unwrap();
+                ok.iter().filter(|c| tier_of(&c.0) == t).map(|c| c.1).fold(f64::INFINITY, f64::min)
+            } else {
+                best.1
+            };
+            assert_eq!(got.usable, usable, "{} at {threshold} %", sd.signal);
+            assert_eq!(got.recommended.as_ref().expect("a recommendation").mode.error, want, "{} at {threshold} %", sd.signal);
+        }
     }
+    // A threshold that binds inside the 25 % window: a cheaper candidate moved to 1.2× the
+    // best irradiance error is recommended without a threshold and not at 1.1× the best's.
+    let sd = &r.decision.signals[0];
+    let tier = |id: &str| sd.tiers[0].tiers.iter().position(|g| g.iter().any(|x| x == id)).unwrap();
+    let best = sd.fronts.iter().find(|f| f.axis == "eval_ns").unwrap().points.last().unwrap().clone();
+    let cheap = r
+        .modes
+        .iter()
+        .filter(|m| m.id != best.id && sd.tiers[0].tiers.iter().flatten().any(|x| *x == m.id))
+        .min_by_key(|m| tier(&m.id))
+        .unwrap();
+    assert!(tier(&cheap.id) < tier(&best.id), "a cheaper tier than the best's");
+    let mut j = r.clone();
+    let irr = &mut j.modes.iter_mut().find(|m| m.id == cheap.id).unwrap().metrics.irradiance;
+    let scale = 1.2 * best.error / irr.rms;
+    (irr.rms, irr.rel_rms) = (irr.rms * scale, irr.rel_rms * scale);
+    let rec = |j: &probes::results::MapResults, t: f64| {
+        let mut j = j.clone();
+        j.usable_error_percent = t;
+        probes::decide::decide(&j).signals[0].recommended.clone().unwrap().mode.id
+    };
+    assert_eq!(rec(&j, 1e3), cheap.id);
+    assert_eq!(rec(&j, 1.1 * best.error_percent), best.id);
+    // The run's threshold is the default; below the best specular error the report line says
+    // that no mode fits.
+    assert_eq!(r.usable_error_percent, probes::decide::USABLE_ERROR_PERCENT);
+    let mut j = r.clone();
+    j.usable_error_percent = 0.5 * r.decision.signals[1].recommended.as_ref().unwrap().mode.error_percent;
+    j.decision = probes::decide::decide(&j);
+    let line = probes::decision_text::recommendation(&j, &j.decision.signals[1], probes::decision_text::plain);
+    assert!(!j.decision.signals[1].usable && line.contains("no mode within"), "{line}");
     std::fs::remove_dir_all(&d).ok();
 }
 
