@@ -12,7 +12,7 @@
 //!
 //! Per image, bake.json records the offset, the bytes and the RMS of (decoded − source) over baked texels relative
 //! to the source's RMS; per basis, the error each storage adds to E/π at the texel normal
-//! (the basis's Lambert runtime on the lobes, [`BakedBasis::irradiance_at_normal`](crate::accumulate::BakedBasis::irradiance_at_normal)): f16
+//! (the basis's Lambert runtime on the lobes, [`BakedBasis::irradiance_at_normal`]): f16
 //! (each lobe rounded to half, as the renderer's f16 textures) and BC6H, relative to the
 //! RMS of E/π from the f32 lobes; and each storage's total error at the normal against the
 //! bake's own E/π (`irradiance.exr`).
@@ -132,7 +132,7 @@ pub struct ProbeStorageJson {
     /// coefficients' RMS there.
     pub coefficient_rel_rms: f64,
     /// RMS over valid probes and 64 spherical-Fibonacci normals of the change in E/π
-    /// (the basis's Lambert runtime, [`BakedBasis::irradiance_at`](crate::accumulate::BakedBasis::irradiance_at)) relative to its RMS:
+    /// (the basis's Lambert runtime, [`BakedBasis::irradiance_at`]) relative to its RMS:
     /// every coefficient rounded to f16, and through BC6H.
     pub irradiance_rel_rms_f16: f64,
     pub irradiance_rel_rms_bc6h: f64,

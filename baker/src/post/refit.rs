@@ -4,7 +4,7 @@
 //! the moments are m = G b_LS (G the basis' Gram over the domain its samples cover: the
 //! upper hemisphere, or the sphere for sphere bases with the lower half mirrored to zero),
 //! and the non-negative fit of those moments is solved with its E/π at the texel's normal —
-//! by the runtime the renderer uses ([`BakedBasis::irradiance_at_normal`](crate::accumulate::BakedBasis::irradiance_at_normal)) — pinned to the
+//! by the runtime the renderer uses ([`BakedBasis::irradiance_at_normal`]) — pinned to the
 //! texel's own E/π estimate (`sbf::solve::nnls_gram_eq`). Plain NNLS of a small source
 //! carries up to ~1.8× its irradiance (one non-negative lobe cannot cancel its excess);
 //! the pin keeps the light the bake measured.

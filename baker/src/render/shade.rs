@@ -126,7 +126,7 @@ impl Shader {
         }
     }
 
-    /// E/π at the tangent-frame normal +Z ([`BakedBasis::irradiance_at_normal`](crate::accumulate::BakedBasis::irradiance_at_normal)).
+    /// E/π at the tangent-frame normal +Z ([`BakedBasis::irradiance_at_normal`]).
     pub fn irradiance(&self, c: &[DVec3]) -> DVec3 {
         self.irradiance_at(c, DVec3::Z)
     }
