@@ -102,7 +102,7 @@ pub struct BasisInfo {
     pub probe: bool,
     /// The `shaders` composition feature of its Lambert runtime (None: not in the library).
     pub irradiance_feature: Option<&'static str>,
-    /// Its GGX specular runtime per [`crate::profile::SpecularPath`] (fit, tables): the
+    /// Its GGX specular runtime per `profile::SpecularPath` (feature `profile`) (fit, tables): the
     /// `shaders` feature and the fitgen table it reads (None: none).
     pub specular: [(Option<&'static str>, Option<&'static str>); 2],
     /// The `probes` comparison mode that evaluates it as its runtime does: in a texel's
