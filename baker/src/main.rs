@@ -125,7 +125,7 @@ struct Cli {
     /// Maximum bounces per path.
     #[arg(long, default_value_t = 4)]
     bounces: u32,
-    /// Lightmap bases: sh1, sh2, sg9, sg12, ad9, ad12 (comma-separated).
+    /// Lightmap bases: sh1, sh2, sg9, sg12, ad9, ad12, zh3 (SH L1's coefficients, read with ZH3's reconstruction) (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "sh2,ad9")]
     bases: Vec<String>,
     /// A lighting profile (TOML, see profiles/): lightmap and probe bases from it (no probes
@@ -196,7 +196,7 @@ struct Cli {
     /// are only flagged "valid": false in probes.json).
     #[arg(long)]
     relocate_probes: bool,
-    /// Probe bases (sphere bases: sh1, sh2, ad12).
+    /// Probe bases (sphere bases: sh1, sh2, ad12, zh3).
     #[arg(long, value_delimiter = ',', default_value = "sh2,ad12")]
     probe_bases: Vec<String>,
     /// Preview image width in pixels (at least 8; 4:3).
@@ -316,7 +316,8 @@ fn options(c: Cli) -> Result<Options, String> {
         );
     }
     if let Some(b) = probe_bases.iter().find(|b| !b.is_sphere()) {
-        return Err(format!("probe basis '{}' covers a hemisphere; probes need sh1, sh2 or ad12", b.name()));
+        let sphere: Vec<&str> = BasisId::probe().map(BasisId::name).collect();
+        return Err(format!("probe basis '{}' covers a hemisphere; probes need one of {}", b.name(), sphere.join(", ")));
     }
     if c.passes == 0 {
         return Err("--passes must be at least 1".into());

@@ -23,7 +23,7 @@ fn configurations() -> Vec<Lighting> {
     let mut v = vec![Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: Storage::F32, sg_sharpness: SG6 }];
     for b in BasisId::lightmap() {
         for path in [SpecularPath::Fit, SpecularPath::Tables] {
-            if matches!(b, BasisId::Sh1 | BasisId::Sh2) && path == SpecularPath::Tables {
+            if b.is_sh() && path == SpecularPath::Tables {
                 continue;
             }
             for storage in [Storage::F32, Storage::F16] {
@@ -42,7 +42,7 @@ fn configurations() -> Vec<Lighting> {
 fn random_atlas(lm: &Lightmap, l: &Lighting, seed: u64) -> Atlas {
     let mut r = Pcg32::new(seed, 3);
     let n = lm.width * lm.height;
-    let sh = matches!(l.encoding, Encoding::Basis(BasisId::Sh1 | BasisId::Sh2));
+    let sh = matches!(l.encoding, Encoding::Basis(b) if b.is_sh());
     let lobes = (0..l.lobes())
         .map(|k| {
             (0..n)

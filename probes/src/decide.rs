@@ -36,9 +36,7 @@ use crate::results::{Budget, Decision, Front, MapResults, ModeRecord, Point, Rec
 pub const NOISE_FLOOR: f64 = 0.10;
 /// A recommendation's error may exceed the best candidate's by this factor.
 pub const RECOMMEND_WITHIN: f64 = 1.25;
-/// The default usability threshold: a mode whose error exceeds this percentage of the
-/// reference's RMS is not one to ship (`--usable-error`).
-pub const USABLE_ERROR_PERCENT: f64 = 10.0;
+pub use crate::results::USABLE_ERROR_PERCENT;
 
 /// A candidate: its decision point, and per timed axis (CPU, GPU) its cost interval (None:
 /// not measured on that axis).

@@ -62,8 +62,12 @@ fn usable_default() -> bool {
     true
 }
 
+/// The default usability threshold: a mode whose error exceeds this percentage of the
+/// reference's RMS is not one to ship (`--usable-error`; [`crate::decide`] applies it).
+pub const USABLE_ERROR_PERCENT: f64 = 10.0;
+
 fn default_usable_error() -> f64 {
-    crate::decide::USABLE_ERROR_PERCENT
+    USABLE_ERROR_PERCENT
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -354,7 +358,7 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
         },
         specular_runtime: m.specular_runtime.clone(),
         profile: String::new(),
-        usable_error_percent: crate::decide::USABLE_ERROR_PERCENT,
+        usable_error_percent: USABLE_ERROR_PERCENT,
         stage_seconds: m.stages,
         modes,
         decision: Default::default(),

@@ -174,6 +174,11 @@ impl Probe {
         match self.basis {
             ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6 => self.combine(n),
             ProbeBasis::Sh1 => runtime::sh_l1_irradiance(&[c[0], c[1], c[2], c[3]], n),
+            ProbeBasis::Zh3 => {
+                let ch = |k: usize| std::array::from_fn(|i| c[i][k] as f64);
+                let e = crate::recon::sh::irradiance_l1_zh3(&[ch(0), ch(1), ch(2)], n.as_dvec3()).expect("finite coefficients (checked)");
+                Vec3::new(e[0] as f32, e[1] as f32, e[2] as f32)
+            }
             ProbeBasis::Sh2 => runtime::sh_l2_irradiance(&std::array::from_fn(|i| c[i]), n),
             ProbeBasis::Sg9 | ProbeBasis::Sg12 => runtime::sg_irradiance(&self.axes, SG_SHARPNESS as f32, c, n),
             ProbeBasis::Ad9 | ProbeBasis::Ad12 => runtime::ad_irradiance(&self.axes, c, n),
@@ -191,8 +196,8 @@ impl Probe {
             ProbeBasis::AmbientCube | ProbeBasis::H4 | ProbeBasis::H6 => {
                 return Err(SbfError::NotEncoded { basis: self.basis.name(), what: "specular" })
             }
-            ProbeBasis::Sh1 | ProbeBasis::Sh2 => {
-                let order = if self.basis == ProbeBasis::Sh1 { 1 } else { 2 };
+            ProbeBasis::Sh1 | ProbeBasis::Sh2 | ProbeBasis::Zh3 => {
+                let order = if self.basis == ProbeBasis::Sh2 { 2 } else { 1 };
                 let sh = ShBasis::new(order).expect("order 1 or 2");
                 let nv = n.dot(v) as f64;
                 let g = crate::recon::sh::specular_zonal_filter(order, nv, alpha as f64);

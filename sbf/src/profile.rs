@@ -7,10 +7,10 @@
 //! name = "AD9 diffuse + specular"
 //!
 //! [lightmap]
-//! bases = ["ad9"]             # sh1, sh2, sg9, sg12, ad9, ad12
+//! bases = ["ad9"]             # sh1, sh2, sg9, sg12, ad9, ad12, zh3
 //!
 //! [probes]
-//! bases = ["sh2"]             # sphere bases: sh1, sh2, ad12 ([] = no probes)
+//! bases = ["sh2"]             # sphere bases: sh1, sh2, ad12, zh3 ([] = no probes)
 //!
 //! [brdf]
 //! models = ["lambert", "ggx"] # lambert and optionally ggx (specular)

@@ -26,6 +26,9 @@ pub enum BasisId {
     Ad9,
     /// Ambient Dice SRBF, 12 icosahedron lobes.
     Ad12,
+    /// SH L1's four coefficients reconstructed with ZH3's zonal band 2 (Roughton et al.
+    /// 2024): the storage of SH L1, irradiance closer to SH L2's.
+    Zh3,
     /// Ambient cube: E/π at ±X, ±Y, ±Z (an irradiance basis).
     AmbientCube,
     /// H-basis 4: E/π over the upper hemisphere (an irradiance basis).
@@ -124,7 +127,7 @@ const NO_SPECULAR: [(Option<&str>, Option<&str>); 2] = [(None, None), (None, Non
 
 /// Every basis, in [`BasisId`] order: the radiance bases (lightmap and probe), then the
 /// irradiance bases.
-pub const BASES: [BasisInfo; 9] = [
+pub const BASES: [BasisInfo; 10] = [
     BasisInfo {
         id: BasisId::Sh1,
         name: "sh1",
@@ -222,6 +225,22 @@ pub const BASES: [BasisInfo; 9] = [
         gpu_kind: Some(5),
     },
     BasisInfo {
+        id: BasisId::Zh3,
+        name: "zh3",
+        title: "SH L1 + ZH3",
+        family: Family::Sh,
+        lobes: 4,
+        domain: Domain::Sphere,
+        non_negative: false,
+        holds: Holds::Radiance,
+        lightmap: true,
+        probe: true,
+        irradiance_feature: Some("sh-l1-zh3"),
+        specular: SH_SPECULAR,
+        probes_modes: [Some("shl1zh3"), Some("shl1zh3")],
+        gpu_kind: Some(6),
+    },
+    BasisInfo {
         id: BasisId::AmbientCube,
         name: "ac",
         title: "ambient cube",
@@ -273,13 +292,14 @@ pub const BASES: [BasisInfo; 9] = [
 
 impl BasisId {
     /// Every basis, in registry order.
-    pub const ALL: [BasisId; 9] = [
+    pub const ALL: [BasisId; 10] = [
         BasisId::Sh1,
         BasisId::Sh2,
         BasisId::Sg9,
         BasisId::Sg12,
         BasisId::Ad9,
         BasisId::Ad12,
+        BasisId::Zh3,
         BasisId::AmbientCube,
         BasisId::H4,
         BasisId::H6,
@@ -379,7 +399,7 @@ impl BasisId {
             BasisId::Sg9 | BasisId::Sg12 => crate::layout::vogel_hemisphere(self.lobes()).expect("a Vogel layout of 9 or 12 lobes"),
             BasisId::Ad9 => AmbientDiceSrbf::nine_hemisphere().lobes().to_vec(),
             BasisId::Ad12 => AmbientDiceSrbf::twelve().lobes().to_vec(),
-            BasisId::Sh1 | BasisId::Sh2 | BasisId::AmbientCube | BasisId::H4 | BasisId::H6 => Vec::new(),
+            BasisId::Sh1 | BasisId::Sh2 | BasisId::Zh3 | BasisId::AmbientCube | BasisId::H4 | BasisId::H6 => Vec::new(),
         }
     }
 
@@ -387,7 +407,7 @@ impl BasisId {
     /// user's value).
     pub fn basis_with(self, sg_sharpness: f64) -> Box<dyn Basis + Send + Sync> {
         match self {
-            BasisId::Sh1 => Box::new(ShBasis::new(1).expect("SH order 1")),
+            BasisId::Sh1 | BasisId::Zh3 => Box::new(ShBasis::new(1).expect("SH order 1")),
             BasisId::Sh2 => Box::new(ShBasis::new(2).expect("SH order 2")),
             BasisId::Sg9 | BasisId::Sg12 => {
                 Box::new(SgBasis::new(&self.axes(), sg_sharpness, false).expect("SG lobes of a positive sharpness"))

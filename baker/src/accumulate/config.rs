@@ -59,6 +59,10 @@ impl BakedBasis for BasisId {
         use sbf::recon::{ambient_dice, sg, sh};
         use sbf::registry::Family;
         match self.family() {
+            Family::Sh if self == BasisId::Zh3 => {
+                let ch = |k: usize| std::array::from_fn(|i| c[i][k]);
+                DVec3::from(sh::irradiance_l1_zh3(&[ch(0), ch(1), ch(2)], n).expect("finite SH L1 coefficients"))
+            }
             Family::Sh => {
                 let ch = |k: usize| sh::irradiance(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), n).expect("SH coefficients");
                 DVec3::new(ch(0), ch(1), ch(2))

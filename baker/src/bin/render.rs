@@ -143,7 +143,7 @@ fn configurations(bases: &[BasisId], specular: &str, storage: &str, sg_sharpness
         v.push(Lighting { encoding: Encoding::Irradiance, specular: SpecularPath::Fit, storage: *st, sg_sharpness });
         for b in bases {
             // SH has one specular runtime: rendered once.
-            let sh = matches!(b, BasisId::Sh1 | BasisId::Sh2);
+            let sh = b.is_sh();
             for p in paths.iter().take(if sh { 1 } else { paths.len() }) {
                 v.push(Lighting { encoding: Encoding::Basis(*b), specular: *p, storage: *st, sg_sharpness });
             }

@@ -62,7 +62,7 @@ const GUIDE_BUILD: (&str, &str) = ("guide_build.wgsl", include_str!("wgsl/guide_
 const GUIDE_BUILD_SUBGROUP: (&str, &str) = ("guide_build_subgroup.wgsl", include_str!("wgsl/guide_build_subgroup.wgsl"));
 
 /// The most encoder slots (bases) of one bake: one per basis kind.
-pub const MAX_SLOTS: usize = 6;
+pub const MAX_SLOTS: usize = 7;
 
 /// How ray guiding's distributions are built on this device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -132,7 +132,13 @@ fn defs(config: &BakeConfig, sphere_targets: bool, glossy: bool) -> Result<(Hash
         let kind = b.gpu_kind().expect("a lightmap basis has a GPU slot kind");
         on(&mut d, &format!("KIND_{kind}"));
         match b.family() {
-            Family::Sh => roots.push(if *b == BasisId::Sh1 { "sh_eval_l1" } else { "sh_eval_l2" }),
+            Family::Sh => {
+                // SH L1 and ZH3 store the same four coefficients.
+                if b.lobes() == 4 {
+                    on(&mut d, "KIND_SH_L1");
+                }
+                roots.push(if b.lobes() == 4 { "sh_eval_l1" } else { "sh_eval_l2" })
+            }
             Family::Sg => {
                 on(&mut d, "KIND_SG");
                 roots.push("sg_eval");

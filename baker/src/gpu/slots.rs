@@ -10,7 +10,7 @@ pub use super::kernel::MAX_SLOTS;
 pub const TEMPLATE: &str = include_str!("wgsl/bases.in.wgsl");
 
 /// The first lines of the generated file.
-const HEADER: &str = "// Generated from bases.in.wgsl by baker::gpu::slots (one block per encoder slot); do not\n// edit: change the template and run `SBF_BLESS=1 cargo test -p baker --test bases_template`.\n";
+const HEADER: &str = "// Generated from bases.in.wgsl by baker::gpu::slots, one block per encoder slot:\n// do not edit; change the template and run `SBF_BLESS=1 cargo test -p baker --test bases_template`.\n";
 
 /// `template` with every `// @slots` … `// @end` block written `slots` times; an error
 /// for an unclosed or nested block.

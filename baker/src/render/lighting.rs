@@ -117,8 +117,7 @@ impl Lighting {
             Encoding::Irradiance => "none".to_string(),
             Encoding::Basis(b) => b.name().to_string(),
         };
-        if matches!(self.encoding, Encoding::Basis(b) if !matches!(b, BasisId::Sh1 | BasisId::Sh2)) && self.specular == SpecularPath::Tables
-        {
+        if matches!(self.encoding, Encoding::Basis(b) if !b.is_sh()) && self.specular == SpecularPath::Tables {
             s.push_str("-tables");
         }
         if self.storage == Storage::F16 {

@@ -25,13 +25,23 @@ use wgpu::util::DeviceExt;
 
 const RENDER_WGSL: &str = include_str!("wgsl/render.wgsl");
 
-/// The `shaders` features the render shader calls: the B-spline lightmap filter, every
-/// basis's irradiance and both specular paths (the pipeline constants select one; the rest is folded away).
-const FEATURES: &str = "lightmap-bicubic,sh-l1-irradiance,sh-l2-irradiance,sh-specular,sg-irradiance,sg-specular,ad9-irradiance,ad12-irradiance,ad9-specular,ad12-specular,lobe-ggx-filtered";
+/// The `shaders` features the render shader calls: the B-spline lightmap filter, and every
+/// lightmap basis's irradiance and both specular paths, from the registry (the pipeline
+/// constants select one; the rest is folded away).
+fn features() -> String {
+    let mut f = vec!["lightmap-bicubic"];
+    for b in sbf::BasisId::lightmap() {
+        let i = b.info();
+        f.extend(i.irradiance_feature.into_iter().chain(i.specular.iter().filter_map(|s| s.0)));
+    }
+    f.sort_unstable();
+    f.dedup();
+    f.join(",")
+}
 
 /// The full render module: the composed runtime library, then `render.wgsl`; validated.
 pub fn module_source() -> Result<String, String> {
-    let cfg = shaders::compose::Config::parse(FEATURES)?;
+    let cfg = shaders::compose::Config::parse(&features())?;
     let roots: Vec<&str> = cfg.features.iter().flat_map(|f| f.roots().iter().copied()).chain(["tangent_frame"]).collect();
     let lib = shaders::compose::compose_roots(cfg.clone(), &roots)?;
     let src = format!("{}\n{RENDER_WGSL}", lib.source);
@@ -226,7 +236,7 @@ impl<'g> Renderer<'g> {
             Encoding::Irradiance => (0, 1),
             Encoding::Basis(b) => (1 + b.gpu_kind().expect("a lightmap basis has a GPU slot kind"), b.lobes()),
         };
-        let tables = l.specular == SpecularPath::Tables && !matches!(l.encoding, Encoding::Basis(BasisId::Sh1 | BasisId::Sh2));
+        let tables = l.specular == SpecularPath::Tables && !matches!(l.encoding, Encoding::Basis(b) if b.is_sh());
         [
             ("ENCODING", enc as f64),
             ("TABLES", if tables { 1.0 } else { 0.0 }),
@@ -271,7 +281,7 @@ impl<'g> Renderer<'g> {
         }
         let lightmap = self.lightmap_texture(atlas, l.storage)?;
         let lut = match l.encoding {
-            Encoding::Basis(BasisId::Sh1 | BasisId::Sh2) => self.gpu.lut_texture(sbf::recon::tables::dfg()),
+            Encoding::Basis(b) if b.is_sh() => self.gpu.lut_texture(sbf::recon::tables::dfg()),
             Encoding::Basis(BasisId::Ad9 | BasisId::Ad12) => self.gpu.lut_texture(sbf::recon::tables::ad_specular_2d()),
             _ => self.gpu.rg32_texture("no lut", [1, 1, 1], &[0.0, 0.0]),
         };

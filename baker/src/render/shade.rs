@@ -46,7 +46,7 @@ pub struct Shader {
 impl Shader {
     pub fn new(lighting: Lighting) -> Shader {
         let sh = match lighting.encoding {
-            Encoding::Basis(BasisId::Sh1) => Some(sbf::ShBasis::new(1).expect("order 1")),
+            Encoding::Basis(BasisId::Sh1 | BasisId::Zh3) => Some(sbf::ShBasis::new(1).expect("order 1")),
             Encoding::Basis(BasisId::Sh2) => Some(sbf::ShBasis::new(2).expect("order 2")),
             _ => None,
         };
@@ -143,7 +143,7 @@ impl Shader {
         let tables = self.lighting.specular == SpecularPath::Tables;
         let s = match self.lighting.encoding {
             Encoding::Irradiance => [0.0; 3],
-            Encoding::Basis(BasisId::Sh1 | BasisId::Sh2) => {
+            Encoding::Basis(b) if b.is_sh() => {
                 let sh = self.sh.as_ref().expect("SH basis");
                 let g = sh::specular_zonal_filter(sh.order(), nv, alpha);
                 let dfg = sbf::recon::tables::dfg().sample2(nv.clamp(0.0, 1.0) as f32, alpha as f32);

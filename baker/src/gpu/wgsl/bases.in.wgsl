@@ -8,7 +8,8 @@
 // SLOT_k_DENOMINATOR, SLOT_k_PROJECTION (the projection encoder of an orthonormal basis),
 // SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds are the registry's
 // GPU slot kinds (sbf::registry::BasisInfo::gpu_kind): 0 sh1, 1 sh2, 2 sg9, 3 sg12, 4 ad9,
-// 5 ad12. FILTERED adds the same updates on a gather target's states (filter_gather.wgsl).
+// 5 ad12, 6 zh3 (SH L1's coefficients; KIND_SH_L1 with 0 or 6). FILTERED adds the same
+// updates on a gather target's states (filter_gather.wgsl).
 //
 // bases.in.wgsl is the template of bases.wgsl (baker::gpu::slots): each block between a
 // `// @slots` line and a `// @end` line is written once per encoder slot k (MAX_SLOTS of
@@ -20,7 +21,7 @@
 
 #import baker::bindings::{P, states}
 #import sbf::runtime::{EncoderParams, EncoderState, progressive_update, progressive_update_projected}
-#ifdef KIND_0
+#ifdef KIND_SH_L1
 #import sbf::runtime::sh_eval_l1
 #endif
 #ifdef KIND_1
@@ -88,6 +89,17 @@ const SG12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
 #ifdef KIND_0
 // sh1 (4 lobes)
 fn basis_kind_0(d: vec3<f32>) -> array<f32, 12> {
+    var b: array<f32, 12>;
+    let v = sh_eval_l1(d);
+    for (var i = 0u; i < 4u; i++) {
+        b[i] = v[i];
+    }
+    return b;
+}
+#endif
+#ifdef KIND_6
+// zh3 (SH L1's 4 lobes, reconstructed with ZH3 at run time)
+fn basis_kind_6(d: vec3<f32>) -> array<f32, 12> {
     var b: array<f32, 12>;
     let v = sh_eval_l1(d);
     for (var i = 0u; i < 4u; i++) {

@@ -1,5 +1,5 @@
-// Generated from bases.in.wgsl by baker::gpu::slots (one block per encoder slot); do not
-// edit: change the template and run `SBF_BLESS=1 cargo test -p baker --test bases_template`.
+// Generated from bases.in.wgsl by baker::gpu::slots, one block per encoder slot:
+// do not edit; change the template and run `SBF_BLESS=1 cargo test -p baker --test bases_template`.
 // bases.wgsl — the bake's encoders (CPU twin: baker::accumulate's per-sample update with
 // sbf's progressive encoders, [Roughton19 §7.3]): every configured basis is a slot k with its
 // basis values `basis_k`, its encoder parameters `ENCODER_k` and the light samples' known
@@ -10,7 +10,8 @@
 // SLOT_k_DENOMINATOR, SLOT_k_PROJECTION (the projection encoder of an orthonormal basis),
 // SLOT_k_MIRROR, SLOT_k_AT (its first record plane, FILTERED); kinds are the registry's
 // GPU slot kinds (sbf::registry::BasisInfo::gpu_kind): 0 sh1, 1 sh2, 2 sg9, 3 sg12, 4 ad9,
-// 5 ad12. FILTERED adds the same updates on a gather target's states (filter_gather.wgsl).
+// 5 ad12, 6 zh3 (SH L1's coefficients; KIND_SH_L1 with 0 or 6). FILTERED adds the same
+// updates on a gather target's states (filter_gather.wgsl).
 //
 // bases.in.wgsl is the template of bases.wgsl (baker::gpu::slots): each block between a
 // `// @slots` line and a `// @end` line is written once per encoder slot k (MAX_SLOTS of
@@ -22,7 +23,7 @@
 
 #import baker::bindings::{P, states}
 #import sbf::runtime::{EncoderParams, EncoderState, progressive_update, progressive_update_projected}
-#ifdef KIND_0
+#ifdef KIND_SH_L1
 #import sbf::runtime::sh_eval_l1
 #endif
 #ifdef KIND_1
@@ -90,6 +91,17 @@ const SG12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
 #ifdef KIND_0
 // sh1 (4 lobes)
 fn basis_kind_0(d: vec3<f32>) -> array<f32, 12> {
+    var b: array<f32, 12>;
+    let v = sh_eval_l1(d);
+    for (var i = 0u; i < 4u; i++) {
+        b[i] = v[i];
+    }
+    return b;
+}
+#endif
+#ifdef KIND_6
+// zh3 (SH L1's 4 lobes, reconstructed with ZH3 at run time)
+fn basis_kind_6(d: vec3<f32>) -> array<f32, 12> {
     var b: array<f32, 12>;
     let v = sh_eval_l1(d);
     for (var i = 0u; i < 4u; i++) {
@@ -215,6 +227,17 @@ const ENCODER_5: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_5_LOBES}u, #
 #endif
 var<private> Q_5: array<vec3<f32>, 12>;
 #endif
+#ifdef SLOT_6
+fn basis_6(d: vec3<f32>) -> array<f32, 12> {
+    return basis_kind_#{SLOT_6}(d);
+}
+#ifdef SLOT_6_PROJECTION
+const ENCODER_6: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_6_LOBES}u, #{SLOT_6_FLAGS}u, #{SLOT_6_DENOMINATOR}u, ORTHONORMAL_MEAN);
+#else
+const ENCODER_6: EncoderParams = EncoderParams(ACCELERATION, #{SLOT_6_LOBES}u, #{SLOT_6_FLAGS}u, #{SLOT_6_DENOMINATOR}u, array<vec4<f32>, 3>());
+#endif
+var<private> Q_6: array<vec3<f32>, 12>;
+#endif
 // A sample (direction d in the item's frame, radiance l, encoder weight w) into every
 // slot's encoder of item `out`.
 fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {
@@ -285,6 +308,17 @@ fn encode(out: u32, d: vec3<f32>, l: vec3<f32>, w: f32) {
         states[s] = st;
     }
 #endif
+#ifdef SLOT_6
+    {
+        let s = 6u * P.item_count + out;
+        var st = states[s];
+        progressive_update_projected(&st, ENCODER_6, basis_6(d), l, w, Q_6);
+#ifdef SLOT_6_MIRROR
+        progressive_update(&st, ENCODER_6, basis_6(md), vec3<f32>(0.0), w);
+#endif
+        states[s] = st;
+    }
+#endif
 }
 
 // A light sample's known projections (sbf update_projected): Q_k[i] += B_i(ω_l)·c.
@@ -337,6 +371,14 @@ fn project(d: vec3<f32>, c: vec3<f32>) {
         }
     }
 #endif
+#ifdef SLOT_6
+    {
+        let b = basis_6(d);
+        for (var i = 0u; i < #{SLOT_6_LOBES}u; i++) {
+            Q_6[i] += b[i] * c;
+        }
+    }
+#endif
 }
 
 // The projections start at zero for every pass of an item (a dispatch may run several).
@@ -358,6 +400,9 @@ fn project_reset() {
 #endif
 #ifdef SLOT_5
     Q_5 = array<vec3<f32>, 12>();
+#endif
+#ifdef SLOT_6
+    Q_6 = array<vec3<f32>, 12>();
 #endif
 }
 
@@ -382,6 +427,9 @@ var<private> FST_4: EncoderState;
 #ifdef SLOT_5
 var<private> FST_5: EncoderState;
 #endif
+#ifdef SLOT_6
+var<private> FST_6: EncoderState;
+#endif
 
 fn filtered_load(out: u32) {
 #ifdef SLOT_0
@@ -401,6 +449,9 @@ fn filtered_load(out: u32) {
 #endif
 #ifdef SLOT_5
     FST_5 = fstates[5u * FP.target_count + out];
+#endif
+#ifdef SLOT_6
+    FST_6 = fstates[6u * FP.target_count + out];
 #endif
 }
 
@@ -422,6 +473,9 @@ fn filtered_store(out: u32) {
 #endif
 #ifdef SLOT_5
     fstates[5u * FP.target_count + out] = FST_5;
+#endif
+#ifdef SLOT_6
+    fstates[6u * FP.target_count + out] = FST_6;
 #endif
 }
 
@@ -488,6 +542,16 @@ fn encode_filtered(d: vec3<f32>, l: vec3<f32>, w: f32) {
         FST_5 = st;
     }
 #endif
+#ifdef SLOT_6
+    {
+        var st = FST_6;
+        progressive_update_projected(&st, ENCODER_6, basis_6(d), l, w, Q_6);
+#ifdef SLOT_6_MIRROR
+        progressive_update(&st, ENCODER_6, basis_6(md), vec3<f32>(0.0), w);
+#endif
+        FST_6 = st;
+    }
+#endif
 }
 
 // The known projections Q_k to and from a record: 3 vec4 of header, then per slot its
@@ -523,6 +587,11 @@ fn filter_store_q(at: u32, plane: u32) {
         fsamples[at + (#{SLOT_5_AT}u + i) * plane] = vec4<f32>(Q_5[i], 0.0);
     }
 #endif
+#ifdef SLOT_6
+    for (var i = 0u; i < #{SLOT_6_LOBES}u; i++) {
+        fsamples[at + (#{SLOT_6_AT}u + i) * plane] = vec4<f32>(Q_6[i], 0.0);
+    }
+#endif
 }
 
 fn filter_load_q(at: u32, plane: u32) {
@@ -554,6 +623,11 @@ fn filter_load_q(at: u32, plane: u32) {
 #ifdef SLOT_5
     for (var i = 0u; i < #{SLOT_5_LOBES}u; i++) {
         Q_5[i] = fsamples[at + (#{SLOT_5_AT}u + i) * plane].xyz;
+    }
+#endif
+#ifdef SLOT_6
+    for (var i = 0u; i < #{SLOT_6_LOBES}u; i++) {
+        Q_6[i] = fsamples[at + (#{SLOT_6_AT}u + i) * plane].xyz;
     }
 #endif
 }

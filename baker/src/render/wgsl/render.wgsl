@@ -14,7 +14,7 @@
 // cs_terms shade them in a compute pass over 8×8 tiles; baker::render::deferred).
 
 // 0: plain E/π (diffuse only), else the basis' GPU slot kind + 1 (sbf::registry): 1 SH L1,
-// 2 SH L2, 3 SG 9, 4 SG 12, 5 AD 9, 6 AD 12.
+// 2 SH L2, 3 SG 9, 4 SG 12, 5 AD 9, 6 AD 12, 7 SH L1 + ZH3.
 override ENCODING: u32 = 0u;
 // Specular through the per-lobe tables (lobe_ggx_filtered: the texture unit interpolates
 // three of their four axes) instead of the fits.
@@ -156,9 +156,13 @@ struct Gloss {
 fn shade_sh(fp: Footprint, vt: vec3<f32>, g: Gloss) -> Terms {
     let n = vec3<f32>(0.0, 0.0, 1.0);
     var t = Terms(vec3<f32>(0.0), vec3<f32>(0.0));
-    if (ENCODING == 1u) {
+    if (ENCODING == 1u || ENCODING == 7u) {
         let c = array<vec3<f32>, 4>(lightmap_lobe(fp, 0u), lightmap_lobe(fp, 1u), lightmap_lobe(fp, 2u), lightmap_lobe(fp, 3u));
-        t.diffuse = sh_l1_irradiance(c, n);
+        if (ENCODING == 7u) {
+            t.diffuse = sh_l1_zh3_irradiance(c, n);
+        } else {
+            t.diffuse = sh_l1_irradiance(c, n);
+        }
         if (g.on) {
             if (g.grey) {
                 t.specular = sh_l1_specular(c, lut, n, vt, g.alpha, g.f0.x, 1.0);
@@ -352,7 +356,7 @@ fn shade(s: Surface) -> Terms {
             return Terms(c * m.albedo_alpha.xyz, vec3<f32>(0.0));
         }
         switch ENCODING {
-            case 1u, 2u: {
+            case 1u, 2u, 7u: {
                 t = shade_sh(fp, vt, g);
             }
             case 3u, 4u, 5u, 6u: {
