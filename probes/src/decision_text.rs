@@ -37,10 +37,15 @@ pub fn recommendation(r: &MapResults, sd: &SignalDecision, code: fn(&str) -> Str
     match &sd.recommended {
         None => format!("{}: no candidate", sd.signal),
         Some(rec) if !sd.usable => format!(
-            "{}: no mode within {} error (--usable-error) — the best is {}; for sharp specular, engines ship a prefiltered environment map, which this comparison does not include",
+            "{}: no mode within {} error (--usable-error) — the best is {}{}",
             sd.signal,
             percent(r.usable_error_percent),
             describe(r, sd, &rec.mode, code),
+            if sd.signal.starts_with("specular") {
+                "; for sharp specular, engines ship a prefiltered environment map, which this comparison does not include"
+            } else {
+                ""
+            }
         ),
         Some(rec) => format!(
             "{}: {}{}",
