@@ -38,8 +38,8 @@ pub fn lightmap_basis(name: &str) -> Result<BasisId, String> {
     })
 }
 
-/// Each lightmap basis family's Lambert runtime on baked coefficients (the CPU twin of
-/// the runtime the bake ships).
+/// Each basis family's Lambert runtime on baked coefficients (the CPU twin of the runtime
+/// the bake ships); the irradiance bases (ambient cube, H-basis) reconstruct E/π itself.
 pub trait BakedBasis {
     /// E/π at the tangent-frame normal +Z from the lobes' RGB values `c` — each family's
     /// Lambert runtime: SH's band factors (Ramamoorthi & Hanrahan 2001), SG by Hill's fit
@@ -74,7 +74,13 @@ impl BakedBasis for BasisId {
             Family::AmbientDice => self.axes().iter().zip(c).fold(DVec3::ZERO, |acc, (a, ci)| {
                 acc + *ci * ambient_dice::lobe_irradiance_fit(&ambient_dice::DIFFUSE_FIT_MINIMAX, a.dot(n))
             }),
-            Family::AmbientCube | Family::HBasis => unreachable!("{self}: not a lightmap basis (lightmap_basis refuses it)"),
+            // The irradiance bases: their coefficients reconstruct E/π itself.
+            Family::AmbientCube | Family::HBasis => {
+                let b = self.basis();
+                let mut scratch = vec![0.0; b.len()];
+                let mut ch = |k: usize| b.reconstruct(&c.iter().map(|x| x[k]).collect::<Vec<_>>(), n, &mut scratch);
+                DVec3::new(ch(0), ch(1), ch(2))
+            }
         }
     }
 }
@@ -179,6 +185,18 @@ impl Default for BakeConfig {
 impl BakeConfig {
     /// Refuses combinations the bake cannot run, with the reason.
     pub fn check(&self, targets: &Targets) -> Result<(), String> {
+        // A bake encodes radiance into the bases the GPU has slots for (the registry's
+        // lightmap and probe bases); the irradiance bases (ambient cube, H-basis) are fitted
+        // to an irradiance, which a bake does not estimate.
+        if let Some(b) = self.bases.iter().find(|b| b.gpu_kind().is_none()) {
+            let baked: Vec<&str> = BasisId::ALL.iter().filter(|b| b.gpu_kind().is_some()).map(|b| b.name()).collect();
+            return Err(format!("{b} is not a basis a bake encodes into (one of {})", baked.join(", ")));
+        }
+        if targets.sphere {
+            if let Some(b) = self.bases.iter().find(|b| !b.info().probe) {
+                return Err(format!("{b} covers a hemisphere: probes need a sphere basis"));
+            }
+        }
         let (lo, hi) = SG_SHARPNESS_RANGE;
         if !(lo..=hi).contains(&self.sg_sharpness) {
             return Err(format!(

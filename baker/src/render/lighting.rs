@@ -126,9 +126,14 @@ impl Lighting {
         s
     }
 
-    /// Refuses what the runtime cannot shade: the per-lobe tables of SG exist for the
-    /// default sharpness only (luts/lobe_ggx_sg6.sbflut).
+    /// Refuses what the runtime cannot shade: a basis that is not a lightmap basis, and SG's
+    /// per-lobe tables at another than the default sharpness (luts/lobe_ggx_sg6.sbflut).
     pub fn check(&self) -> Result<(), String> {
+        if let Encoding::Basis(b) = self.encoding {
+            if !b.info().lightmap {
+                return Err(format!("{b} is not a lightmap basis: the renderer shades the registry's lightmap bases"));
+            }
+        }
         let sg = matches!(self.encoding, Encoding::Basis(b) if b.is_sg());
         if sg && self.specular == SpecularPath::Tables && self.sg_sharpness != crate::accumulate::SG_HEMISPHERE_SHARPNESS {
             return Err(format!(
