@@ -86,9 +86,9 @@ const SG12_AXES: array<vec3<f32>, 12> = array<vec3<f32>, 12>(
     vec3<f32>(0.29902396, 0.95333546, 0.041666668),
 );
 #endif
-#ifdef KIND_0
-// sh1 (4 lobes)
-fn basis_kind_0(d: vec3<f32>) -> array<f32, 12> {
+#ifdef KIND_SH_L1
+// SH L1's four basis values (sh1 and zh3 store the same coefficients)
+fn sh_l1_values(d: vec3<f32>) -> array<f32, 12> {
     var b: array<f32, 12>;
     let v = sh_eval_l1(d);
     for (var i = 0u; i < 4u; i++) {
@@ -97,15 +97,16 @@ fn basis_kind_0(d: vec3<f32>) -> array<f32, 12> {
     return b;
 }
 #endif
+#ifdef KIND_0
+// sh1 (4 lobes)
+fn basis_kind_0(d: vec3<f32>) -> array<f32, 12> {
+    return sh_l1_values(d);
+}
+#endif
 #ifdef KIND_6
 // zh3 (SH L1's 4 lobes, reconstructed with ZH3 at run time)
 fn basis_kind_6(d: vec3<f32>) -> array<f32, 12> {
-    var b: array<f32, 12>;
-    let v = sh_eval_l1(d);
-    for (var i = 0u; i < 4u; i++) {
-        b[i] = v[i];
-    }
-    return b;
+    return sh_l1_values(d);
 }
 #endif
 #ifdef KIND_1
