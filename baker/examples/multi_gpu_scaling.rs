@@ -63,7 +63,7 @@ fn run() -> Result<(), String> {
         .map(String::from)
         .collect();
     let o = Options::default();
-    let density: Vec<f32> = arg(&args, "--texels-per-unit").map_or(Ok(vec![o.texels_per_unit]), |s| {
+    let density: Vec<f32> = arg(&args, "--texels-per-unit").map_or(Ok(vec![o.spec.texels_per_unit]), |s| {
         s.split(',').map(|x| x.trim().parse::<f32>().map_err(|e| format!("--texels-per-unit: {e}"))).collect()
     })?;
     if density.len() != 1 && density.len() != scenes.len() {
@@ -81,18 +81,18 @@ fn run() -> Result<(), String> {
         let scene = load_scene(name, None, &mut |l| eprintln!("{l}"))?;
         let bvh = Bvh::build(&scene);
         let tpu = density[si.min(density.len() - 1)];
-        let lm = Lightmap::build(&scene, tpu, o.padding).map_err(|e| e.to_string())?;
+        let lm = Lightmap::build(&scene, tpu, o.spec.padding).map_err(|e| e.to_string())?;
         let targets = Targets::lightmap(&lm);
-        let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces);
+        let tracer_of = || Tracer::new(&scene, &bvh, o.spec.config.max_bounces);
         let count_passes = 32;
-        let stats = GpuBake::new(&gpus[0], &tracer_of(), &targets, &o.config)?.time_rays(count_passes)?;
+        let stats = GpuBake::new(&gpus[0], &tracer_of(), &targets, &o.spec.config)?.time_rays(count_passes)?;
         let rays_per_pass = (stats.primary + stats.extension + stats.shadow) as f64 / count_passes as f64;
         let per_pass = stats.full_seconds / count_passes as f64;
         let passes = min_passes.max((1.1 * min_seconds / per_pass.max(1e-9)).ceil() as u64);
         let mut reference: Option<Reference> = None;
         for &n in &counts {
-            let mut bake = MultiGpuBake::new(&gpus[..n], &tracer_of, &targets, &o.config)?;
-            bake.set_batch_target(o.batch_seconds);
+            let mut bake = MultiGpuBake::new(&gpus[..n], &tracer_of, &targets, &o.spec.config)?;
+            bake.set_batch_target(o.run.batch_seconds);
             let t = Instant::now();
             bake.run(passes)?;
             let wall = t.elapsed().as_secs_f64();

@@ -23,13 +23,69 @@ enum Toggle {
 /// coefficients came out 3 % worse while its E/π still improved 1.2×.
 const DENOISE_AUTO_MAX_PASSES: u64 = 128;
 
+/// How a bake runs — where it writes, on which engine, with what checkpoints and logging,
+/// which shard — never what it bakes: `baker` and `baker resume` take the same ones.
+#[derive(clap::Args, Debug)]
+struct RunArgs {
+    /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
+    /// rasterisers such as lavapipe included), or cpu.
+    #[arg(long, default_value = "auto")]
+    device: String,
+    /// How the GPU runs a pass: megakernel (one thread per texel through whole paths) or
+    /// wavefront (generate, then per bounce intersect, shade and compact the active paths,
+    /// then accumulate). The same bake either way; which is faster depends on the scene
+    /// (docs/baker.md).
+    #[arg(long, default_value = "megakernel")]
+    pipeline: String,
+    /// Output folder.
+    #[arg(long, default_value = "bake-out")]
+    out: PathBuf,
+    /// GPU: use at most this many bytes per storage binding (default: the adapter's limit);
+    /// bases whose encoder states exceed it are baked in groups over the same paths.
+    #[arg(long)]
+    max_storage_binding: Option<u64>,
+    /// Passes between checkpoints (0: none).
+    #[arg(long, default_value_t = 32)]
+    checkpoint_every: u64,
+    /// GPU: target milliseconds per dispatch — a pass over a large atlas is split into
+    /// dispatches of about this length (the size follows the measured time), far below
+    /// driver watchdogs; 0: one dispatch per pass.
+    #[arg(long, default_value_t = 16.0)]
+    batch_ms: f64,
+    /// Bake on this many GPUs of this host (hardware adapters; the texels and probes are
+    /// dealt out in blocks of consecutive items, block b to GPU b mod N, and the results
+    /// merged into exactly the one-GPU bake). Not with --guiding, --filter, --adaptive or
+    /// --camera (each needs the whole atlas every pass).
+    #[arg(long, default_value_t = 1)]
+    gpus: usize,
+    /// Bake only shard I of N (0 ≤ I < N) of this bake — the blocks of texels and probes
+    /// dealt to it, as --gpus deals them to GPUs — and write its partial state to
+    /// OUT/shard-I-of-N.sbfshard (plus a record of the run) instead of the outputs; `baker
+    /// merge OUT SHARD…` puts the N shards together into exactly the single bake's outputs.
+    /// Same bytes on a re-run; with --resume a retried shard continues from its checkpoint.
+    /// Not with --guiding, --filter, --adaptive or --camera.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<String>,
+    /// Also log what each stage left out (e.g. the GPU kernel's unused features) and the
+    /// wavefront pass graph.
+    #[arg(short, long)]
+    verbose: bool,
+    /// Exit (status 1, with a message) as soon as the process that started this one ends
+    /// (Unix: checked every 0.5 s), so a bake started by a farm's worker does not outlive
+    /// a killed worker and race its retry (the Dask driver passes it).
+    #[arg(long)]
+    exit_with_parent: bool,
+}
+
 #[derive(Parser, Debug)]
 #[command(
     version,
     about = "Bake lightmaps and light probes into spherical bases (SH, SG, Ambient Dice), progressively, on the GPU (wgpu) or the CPU.",
-    after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker --resume            (continues the bake in ./bake-out from its checkpoint)\n  baker --shard 0/4 --out shards; … --shard 3/4 --out shards; baker merge bake-out shards/*.sbfshard"
+    after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker resume --passes 512 (continues the bake in ./bake-out from its checkpoints and recorded spec)\n  baker --shard 0/4 --out shards; … --shard 3/4 --out shards; baker merge bake-out shards/*.sbfshard"
 )]
 struct Cli {
+    #[command(flatten)]
+    run: RunArgs,
     #[arg(long, default_value = "cornell", help = baker::scene::load::SCENE_HELP)]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
@@ -159,12 +215,6 @@ struct Cli {
     /// lower error at equal passes) or independent (white noise, for comparison).
     #[arg(long, default_value = "sobol")]
     sampler: String,
-    /// How the GPU runs a pass: megakernel (one thread per texel through whole paths) or
-    /// wavefront (generate, then per bounce intersect, shade and compact the active paths,
-    /// then accumulate). The same bake either way; which is faster depends on the scene
-    /// (docs/baker.md).
-    #[arg(long, default_value = "megakernel")]
-    pipeline: String,
     /// Filtered gather-based accumulation: box, gaussian or mitchell,
     /// optionally :radius in texels (default 1.5). Every texel a chart's triangles
     /// overlap gathers the samples within the radius, so edge texels whose sub-positions
@@ -172,21 +222,9 @@ struct Cli {
     /// texel).
     #[arg(long)]
     filter: Option<String>,
-    /// auto (a hardware GPU if one exists, else the CPU path), gpu (any adapter, software
-    /// rasterisers such as lavapipe included), or cpu.
-    #[arg(long, default_value = "auto")]
-    device: String,
-    /// Output folder.
-    #[arg(long, default_value = "bake-out")]
-    out: PathBuf,
-    /// GPU: use at most this many bytes per storage binding (default: the adapter's limit);
-    /// bases whose encoder states exceed it are baked in groups over the same paths.
-    #[arg(long)]
-    max_storage_binding: Option<u64>,
-    /// Passes between checkpoints (0: none).
-    #[arg(long, default_value_t = 32)]
-    checkpoint_every: u64,
-    /// Continue from the checkpoint in the output folder.
+    /// Continue from the checkpoints in the output folder. The other arguments must define
+    /// the bake recorded there (OUT/spec.json; the fields that differ are named), --passes
+    /// aside; `baker resume` continues it with no other argument.
     #[arg(long)]
     resume: bool,
     /// Probe grid NX,NY,NZ inside the scene bounds (0,0,0: no probes).
@@ -206,34 +244,6 @@ struct Cli {
     /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
     #[arg(long)]
     measure_rays: Option<u64>,
-    /// GPU: target milliseconds per dispatch — a pass over a large atlas is split into
-    /// dispatches of about this length (the size follows the measured time), far below
-    /// driver watchdogs; 0: one dispatch per pass.
-    #[arg(long, default_value_t = 16.0)]
-    batch_ms: f64,
-    /// Bake on this many GPUs of this host (hardware adapters; the texels and probes are
-    /// dealt out in blocks of consecutive items, block b to GPU b mod N, and the results
-    /// merged into exactly the one-GPU bake). Not with --guiding, --filter, --adaptive or
-    /// --camera (each needs the whole atlas every pass).
-    #[arg(long, default_value_t = 1)]
-    gpus: usize,
-    /// Bake only shard I of N (0 ≤ I < N) of this bake — the blocks of texels and probes
-    /// dealt to it, as --gpus deals them to GPUs — and write its partial state to
-    /// OUT/shard-I-of-N.sbfshard (plus a record of the run) instead of the outputs; `baker
-    /// merge OUT SHARD…` puts the N shards together into exactly the single bake's outputs.
-    /// Same bytes on a re-run; with --resume a retried shard continues from its checkpoint.
-    /// Not with --guiding, --filter, --adaptive or --camera.
-    #[arg(long, value_name = "I/N")]
-    shard: Option<String>,
-    /// Also log what each stage left out (e.g. the GPU kernel's unused features) and the
-    /// wavefront pass graph.
-    #[arg(short, long)]
-    verbose: bool,
-    /// Exit (status 1, with a message) as soon as the process that started this one ends
-    /// (Unix: checked every 0.5 s), so a bake started by a farm's worker does not outlive
-    /// a killed worker and race its retry (the Dask driver passes it).
-    #[arg(long)]
-    exit_with_parent: bool,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisId>, String> {
@@ -277,19 +287,55 @@ fn engine_formats(arg: Option<&str>, bases: &[BasisId]) -> Result<Vec<sbf::recon
 }
 
 fn options(c: Cli) -> Result<Options, String> {
-    let d = Options::default();
+    let run = run_options(&c.run, c.resume, c.measure_rays)?;
+    Ok(Options { spec: spec(c)?, run })
+}
+
+/// How the bake runs, from the arguments `baker` and `baker resume` share.
+fn run_options(r: &RunArgs, resume: bool, measure_rays: Option<u64>) -> Result<run::RunOptions, String> {
+    let device = match r.device.as_str() {
+        "auto" => Device::Auto,
+        "gpu" => Device::Gpu,
+        "cpu" => Device::Cpu,
+        s => return Err(format!("unknown device '{s}' (auto, gpu or cpu)")),
+    };
+    if !(r.batch_ms.is_finite() && r.batch_ms >= 0.0) {
+        return Err(format!("--batch-ms must be ≥ 0 (0: one dispatch per pass), not {}", r.batch_ms));
+    }
+    Ok(run::RunOptions {
+        device,
+        out: r.out.clone(),
+        checkpoint_every: r.checkpoint_every,
+        resume,
+        quiet: false,
+        verbose: r.verbose,
+        measure_rays,
+        batch_seconds: (r.batch_ms > 0.0).then_some(r.batch_ms * 1e-3),
+        gpus: r.gpus,
+        max_binding: r.max_storage_binding,
+        pipeline: baker::accumulate::Pipeline::parse(&r.pipeline)
+            .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", r.pipeline))?,
+        shard: r.shard.as_deref().map(parse_shard).transpose()?,
+    })
+}
+
+/// A file the spec names, absolute (so a merge or resume finds it from any folder); a
+/// name that is not a file (a built-in scene) as given.
+fn absolute(v: &str) -> String {
+    match std::fs::canonicalize(v) {
+        Ok(p) if std::path::Path::new(v).is_file() => p.to_string_lossy().into_owned(),
+        _ => v.to_string(),
+    }
+}
+
+/// What is baked, from the arguments.
+fn spec(c: Cli) -> Result<run::BakeSpec, String> {
     let solver = match c.solver.as_str() {
         "ls" => Solver::Ls,
         "nnls" => Solver::Nnls,
         "nnls-irradiance" => Solver::NnlsIrradiance,
         "nnls-rescaled" => Solver::NnlsRescaled,
         s => return Err(format!("unknown solver '{s}' (ls, nnls, nnls-irradiance or nnls-rescaled)")),
-    };
-    let device = match c.device.as_str() {
-        "auto" => Device::Auto,
-        "gpu" => Device::Gpu,
-        "cpu" => Device::Cpu,
-        s => return Err(format!("unknown device '{s}' (auto, gpu or cpu)")),
     };
     let probes = match c.probes.as_slice() {
         [0, 0, 0] => None,
@@ -303,17 +349,7 @@ fn options(c: Cli) -> Result<Options, String> {
     };
     let probes = if profile.as_ref().is_some_and(|p| p.probe_bases.is_empty()) { None } else { probes };
     if let Some(p) = &profile {
-        let d = Options::default();
-        let names = |v: &[baker::accumulate::BasisId]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
-        eprintln!(
-            "profile '{}': lightmap bases {} (default {}), probe bases {} (default {}){}",
-            p.name,
-            names(&bases),
-            names(&d.config.bases),
-            if probe_bases.is_empty() { "none — no probes baked".to_string() } else { names(&probe_bases) },
-            names(&d.probe_bases),
-            if p.specular { String::new() } else { "; BRDF Lambert only: no specular runtime features or LUTs".to_string() }
-        );
+        log_profile(p, &bases, &probe_bases);
     }
     if let Some(b) = probe_bases.iter().find(|b| !b.is_sphere()) {
         let sphere: Vec<&str> = BasisId::probe().map(BasisId::name).collect();
@@ -322,12 +358,9 @@ fn options(c: Cli) -> Result<Options, String> {
     if c.passes == 0 {
         return Err("--passes must be at least 1".into());
     }
-    if !(c.batch_ms.is_finite() && c.batch_ms >= 0.0) {
-        return Err(format!("--batch-ms must be ≥ 0 (0: one dispatch per pass), not {}", c.batch_ms));
-    }
     let (adaptive, guiding, camera) = strategies(&c)?;
     let engine_formats = engine_formats(c.engine_formats.as_deref(), &bases)?;
-    Ok(Options {
+    Ok(run::BakeSpec {
         engine_formats,
         engine_frame: (c.engine_frame == "gltf").then_some(sbf::recon::engine::EngineFrame::Gltf),
         compress_bc6h: c.compress.is_some(),
@@ -336,8 +369,8 @@ fn options(c: Cli) -> Result<Options, String> {
         } else {
             baker::output::compress::SignedStorage::Sf16
         },
-        scene: c.scene,
-        environment: c.env,
+        scene: absolute(&c.scene),
+        environment: c.env.as_deref().map(|e| PathBuf::from(absolute(&e.to_string_lossy()))),
         material_maps: c.material_maps == "sample",
         texels_per_unit: c.texels_per_unit,
         padding: c.padding,
@@ -352,26 +385,16 @@ fn options(c: Cli) -> Result<Options, String> {
                 .ok_or_else(|| format!("unknown --sampler '{}': sobol or independent", c.sampler))?,
             adaptive,
             camera,
-            pipeline: baker::accumulate::Pipeline::parse(&c.pipeline)
-                .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", c.pipeline))?,
+            // How, not what: the run options' pipeline is the one a bake uses.
+            pipeline: Default::default(),
             filter: c.filter.as_deref().map(baker::accumulate::filter::Filter::parse).transpose().map_err(|e| format!("--filter: {e}"))?,
             sg_sharpness: sg_sharpness(c.sg_sharpness)?,
             indirect_only: c.indirect_only,
         },
-        device,
-        out: c.out,
-        checkpoint_every: c.checkpoint_every,
-        max_binding: c.max_storage_binding,
-        resume: c.resume,
         probes,
         relocate_probes: c.relocate_probes,
         probe_bases,
         preview_width: c.preview_width,
-        quiet: d.quiet,
-        verbose: c.verbose,
-        measure_rays: c.measure_rays,
-        batch_seconds: (c.batch_ms > 0.0).then_some(c.batch_ms * 1e-3),
-        gpus: c.gpus,
         profile,
         denoise: match c.denoise {
             Toggle::On => true,
@@ -380,8 +403,22 @@ fn options(c: Cli) -> Result<Options, String> {
         }
         .then_some(baker::post::denoise::DenoiseOptions { radius: c.denoise_radius, ..Default::default() }),
         stitch_seams: c.stitch_seams != Toggle::Off,
-        shard: c.shard.as_deref().map(parse_shard).transpose()?,
     })
+}
+
+/// The log line of a profile's bases against the defaults.
+fn log_profile(p: &sbf::profile::Profile, bases: &[BasisId], probe_bases: &[BasisId]) {
+    let d = run::BakeSpec::default();
+    let names = |v: &[BasisId]| v.iter().map(|b| b.name()).collect::<Vec<_>>().join(",");
+    eprintln!(
+        "profile '{}': lightmap bases {} (default {}), probe bases {} (default {}){}",
+        p.name,
+        names(bases),
+        names(&d.config.bases),
+        if probe_bases.is_empty() { "none — no probes baked".to_string() } else { names(probe_bases) },
+        names(&d.probe_bases),
+        if p.specular { String::new() } else { "; BRDF Lambert only: no specular runtime features or LUTs".to_string() }
+    );
 }
 
 /// `--shard I/N`.
@@ -392,64 +429,7 @@ fn parse_shard(s: &str) -> Result<run::ShardSpec, String> {
     if count == 0 || index >= count {
         return Err(bad());
     }
-    // The recipe is filled in from the command line by `main`.
-    Ok(run::ShardSpec { index, count, recipe: Vec::new() })
-}
-
-/// Arguments that say where or how a bake runs, not what it bakes (and whether each takes
-/// a value): left out of a shard's recipe, so shards run on different machines and devices
-/// merge.
-const RUN_ONLY: [(&str, bool); 11] = [
-    ("--exit-with-parent", false),
-    ("--shard", true),
-    ("--out", true),
-    ("--resume", false),
-    ("--checkpoint-every", true),
-    ("--device", true),
-    ("--gpus", true),
-    ("--batch-ms", true),
-    ("--pipeline", true),
-    ("--verbose", false),
-    ("-v", false),
-];
-
-/// The arguments that define a bake (recorded in a shard file for `baker merge`): the
-/// command line without [`RUN_ONLY`], with the files it names (--scene, --env,
-/// --profile) made absolute, so the merge finds them from any folder.
-fn recipe(args: &[String]) -> Vec<String> {
-    let absolute = |v: &str| match std::fs::canonicalize(v) {
-        Ok(p) if std::path::Path::new(v).is_file() => p.to_string_lossy().into_owned(),
-        _ => v.to_string(),
-    };
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < args.len() {
-        let a = &args[i];
-        let (flag, inline) = match a.split_once('=') {
-            Some((f, v)) if a.starts_with("--") => (f, Some(v)),
-            _ => (a.as_str(), None),
-        };
-        if let Some((_, takes)) = RUN_ONLY.iter().find(|(f, _)| *f == flag) {
-            i += 1 + (*takes && inline.is_none()) as usize;
-            continue;
-        }
-        if ["--scene", "--env", "--profile"].contains(&flag) {
-            match inline {
-                Some(v) => out.push(format!("{flag}={}", absolute(v))),
-                None => {
-                    out.push(a.clone());
-                    if let Some(v) = args.get(i + 1) {
-                        out.push(absolute(v));
-                        i += 1;
-                    }
-                }
-            }
-        } else {
-            out.push(a.clone());
-        }
-        i += 1;
-    }
-    out
+    Ok(run::ShardSpec { index, count })
 }
 
 /// `baker merge OUT SHARD…`.
@@ -457,7 +437,7 @@ fn recipe(args: &[String]) -> Vec<String> {
 #[command(
     name = "baker merge",
     about = "Merge the N shard files of a bake (baker --shard I/N) into the outputs of the single bake: the same files, bit for bit.",
-    after_help = "The scene, layout and settings come from the arguments recorded in the shards; the files they name must be readable here. Refused, with the reason: shards of different bakes or splits, a shard given twice, a missing shard, a scene that changed since."
+    after_help = "The scene, layout and settings come from the bake spec recorded in the shards; the files it names must be readable here. Refused, with the reason: shards of different bakes (the fields that differ named) or splits, a shard given twice, a missing shard, a scene that changed since."
 )]
 struct MergeCli {
     /// Output folder.
@@ -469,13 +449,7 @@ struct MergeCli {
 
 fn merge_main(args: &[String]) -> ExitCode {
     let m = MergeCli::parse_from(std::iter::once("baker merge".to_string()).chain(args.iter().cloned()));
-    let parse = |recipe: &[String]| -> Result<Options, String> {
-        let cli = Cli::try_parse_from(std::iter::once("baker".to_string()).chain(recipe.iter().cloned())).map_err(|e| e.to_string())?;
-        let o = options(cli)?;
-        o.validate()?;
-        Ok(o)
-    };
-    match run::merge(&m.out, &m.shards, &parse, &mut |s| eprintln!("{s}")) {
+    match run::merge(&m.out, &m.shards, &mut |s| eprintln!("{s}")) {
         Ok(s) => {
             eprintln!("done: merged {} passes into {}", s.lightmap.passes, m.out.display());
             ExitCode::SUCCESS
@@ -485,6 +459,37 @@ fn merge_main(args: &[String]) -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// `baker resume [--passes M] [run options]`.
+#[derive(Parser, Debug)]
+#[command(
+    name = "baker resume",
+    about = "Continue the bake in the output folder from its checkpoints, with the bake spec it recorded (OUT/spec.json): no other argument needed.",
+    after_help = "Examples:\n  baker resume                       (the bake in ./bake-out, to the passes it was started with)\n  baker resume --out big --passes 4096 --device gpu\n\nOnly --passes changes what is baked; the other options say how this run goes."
+)]
+struct ResumeCli {
+    #[command(flatten)]
+    run: RunArgs,
+    /// Passes to reach (default: the recorded bake's). More than the checkpoints hold
+    /// continues the bake; a checkpoint already past it is refused.
+    #[arg(long)]
+    passes: Option<u64>,
+}
+
+/// The options of `baker resume`: the recorded spec (with `--passes`), the run options
+/// given.
+fn resume_options(args: &[String]) -> Result<Options, String> {
+    let r = ResumeCli::parse_from(std::iter::once("baker resume".to_string()).chain(args.iter().cloned()));
+    let run = run_options(&r.run, true, None)?;
+    let mut spec = run::read_spec(&run.out)?;
+    if let Some(p) = r.passes {
+        spec.passes = p;
+    }
+    if r.run.exit_with_parent {
+        run::limits::exit_with_parent();
+    }
+    Ok(Options { spec, run })
 }
 
 /// The accumulation strategies the arguments ask for — adaptive sampling, ray guiding,
@@ -561,16 +566,15 @@ fn main() -> ExitCode {
     }
     // Every bound is checked here too (run::bake checks again for library callers), so a
     // bad argument exits with 2 before anything is loaded.
-    let cli = Cli::parse();
-    if cli.exit_with_parent {
-        run::limits::exit_with_parent();
-    }
-    let parsed = options(cli).map(|mut o| {
-        if let Some(s) = &mut o.shard {
-            s.recipe = recipe(&args[1..]);
+    let parsed = if args.get(1).map(String::as_str) == Some("resume") {
+        resume_options(&args[2..])
+    } else {
+        let cli = Cli::parse();
+        if cli.run.exit_with_parent {
+            run::limits::exit_with_parent();
         }
-        o
-    });
+        options(cli)
+    };
     let o = match parsed.and_then(|o| o.validate().map(|_| o)) {
         Ok(o) => o,
         Err(e) => {
@@ -580,7 +584,7 @@ fn main() -> ExitCode {
     };
     match run::bake(&o, &mut |s| eprintln!("{s}")) {
         Ok(s) => {
-            let what = if o.shard.is_some() { "shard" } else { "bake" };
+            let what = if o.run.shard.is_some() { "shard" } else { "bake" };
             eprintln!("done: {what} of {} passes in {:.1} s on {}", s.lightmap.passes, s.seconds, s.device);
             ExitCode::SUCCESS
         }

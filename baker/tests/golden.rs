@@ -46,6 +46,10 @@
 //! every pin.) Then the citations rewritten to docs/references.md's keys: runtime.wgsl's and
 //! ad_specular_2d.ktx2's comments and layout text, and with them bake.json's byte counts and
 //! hashes, re-pinned in all three bakes; every EXR, probes.json and the preview unchanged.
+//! 2026-12-07: the bake spec split from the run options — bake.json gained `spec` and the
+//! bakes write spec.json (both compared with the scene's and environment's folders cut, so
+//! a clone elsewhere hashes the same); bake.json re-pinned, spec.json pinned, every other
+//! file unchanged.
 
 mod common;
 
@@ -163,7 +167,7 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("ad9_08.exr", "e099693b3cf4d9d2805163aee5447caa7afcd73de0bf634ae0db1797c6a04acf"),
     ("ad_specular_2d.ktx2", "f904bc28724a7d1b3d1e9b01cd597deb0d2d7f243560a4ffa4e1c286a47fc2b1"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "9e5b4f36aa3312f6984b889d62ed57c002ca6dad199f3a3c9685249ba4ebfb6d"),
+    ("bake.json", "e04373706c1376df45c75f724e70acbd19c9d61d283d0dcd558152ba7aba627c"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "b26fa86441984fe3b283f0c4665be88f381e42864feb4be1fa6f1be96969f8fb"),
@@ -181,6 +185,7 @@ const CORNELL_GPU: &[(&str, &str)] = &[
     ("sh2_06.exr", "834a7a61689f587f912ff248394a7c5ca144da28d234771eec315532da6c4092"),
     ("sh2_07.exr", "d14d7b23c9cb71f4b5e2f8c19ae7e930e664762bd4add51cbaaf99c91cc9b81e"),
     ("sh2_08.exr", "3fa61b984fb0d3486967080c2bdaa7a01389310e3cd88cf5eced25e78e671cbd"),
+    ("spec.json", "e4724379777e882805dbc674bace11570f2280b0c01e80ab36985e4d7f4a9a06"),
 ];
 
 const CORNELL: &[(&str, &str)] = &[
@@ -195,7 +200,7 @@ const CORNELL: &[(&str, &str)] = &[
     ("ad9_08.exr", "a63b6f509b37b123d1a816e27cbafc36715d7f6f57cd34614472798edee5eed7"),
     ("ad_specular_2d.ktx2", "f904bc28724a7d1b3d1e9b01cd597deb0d2d7f243560a4ffa4e1c286a47fc2b1"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "d79826c888db5f588c2d9271445436d9b7a4b31b0f01511a7d4fe29212a9f501"),
+    ("bake.json", "54469fa90fb4f535647f1f13992a6085f3d77f2c1c9aef2bf53e25aea7849f31"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "37a26e85c41950390002d8b45df4bf4bed891de03155be977680767957f36a7a"),
@@ -213,6 +218,7 @@ const CORNELL: &[(&str, &str)] = &[
     ("sh2_06.exr", "3fce0a948dc8d6999b6e4ddc7d0fae7125b9e2845d59a269ba9e4f30c8945fc2"),
     ("sh2_07.exr", "af2b38958be698a35f050199d508ad15d731ad979a76097589b6b0a3746f4e32"),
     ("sh2_08.exr", "9cf27b90635c597fad8614437d1e3f5601d094af8c5a8ff6f5c9f4d94e62f347"),
+    ("spec.json", "e4724379777e882805dbc674bace11570f2280b0c01e80ab36985e4d7f4a9a06"),
 ];
 const MIXED: &[(&str, &str)] = &[
     ("ad9_00.exr", "3dcdda5e1cdfa641614e4e22c3c953024838ead57e4ebdb644a3eb147c96f933"),
@@ -226,7 +232,7 @@ const MIXED: &[(&str, &str)] = &[
     ("ad9_08.exr", "63e7eca03c6b2d21c19e44abfd4a4c4fa912b4b988d1694ddc5f47fc59d58c41"),
     ("ad_specular_2d.ktx2", "f904bc28724a7d1b3d1e9b01cd597deb0d2d7f243560a4ffa4e1c286a47fc2b1"),
     ("ad_specular_2d.sbflut", "3fdb6ee9bd96902d00a8e0aa2a2c9018382eff4bdd6b348c9a37aceb3e0421cc"),
-    ("bake.json", "727358c41ca72c257abf3ef00d52334cc6a7d849ad878239d389178fbf96092a"),
+    ("bake.json", "a73b759c678613f563dbcee8decdd0df8df51dc93d92beae951c2776cdc6bc83"),
     ("dfg.ktx2", "4c33e6ab9f10bb2d199111b1352c19c1ae2cfafaf2c6566c6ac2a1ef1bcaa215"),
     ("dfg.sbflut", "0e232d60751dd7e8d9f5e230c68d4ce6d76f31c24d3f2749085a244c8454c708"),
     ("irradiance.exr", "abe850d1f3d2551c92da34fbc84bb868b32b972fbc67a65bf34280c1821374a6"),
@@ -244,4 +250,5 @@ const MIXED: &[(&str, &str)] = &[
     ("sh2_06.exr", "18b3e045d9103c99dacb265263707d562d4968240ffc6173ef2c2c2bd7cffcff"),
     ("sh2_07.exr", "c4babc0f91745366ce61f23636157a2d73730d3297d96c991445c7f46e450940"),
     ("sh2_08.exr", "3aab5dceff0564a5d3269ec071400beaa975db16fd7b0d52842b698930147583"),
+    ("spec.json", "d6b959826e57e6006c6671abb7372e5a109a49ac53c5328e64195087bf8f4438"),
 ];

@@ -125,7 +125,7 @@ fn resume_refuses_a_different_bake() {
     a.extend(["--resume", "--seed", "7"]);
     let out = baker(&a).output().unwrap();
     let log = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && log.contains("belongs to a different bake"), "{log}");
+    assert!(!out.status.success() && log.contains("belong to a different bake") && log.contains("config.seed: 1 vs 7"), "{log}");
 }
 
 /// A checkpoint with one byte flipped, or cut short, is refused on resume with a message (its
@@ -289,6 +289,18 @@ fn resume_refuses_edited_scenes_and_other_probe_grids() {
     assert!(!o.status.success() && log.contains("belongs to a different bake"), "edited scene resumed: {log}");
     // Fresh bake of the edited scene, then the same probe count on another grid.
     assert!(run(args("2,2,2")).status.success());
+    let mut a = args("1,1,8");
+    a.push("--resume".into());
+    let o = run(a);
+    let log = String::from_utf8_lossy(&o.stderr);
+    // (Refused by the recorded spec, which names the field, before any checkpoint is read.)
+    assert!(
+        !o.status.success() && log.contains("probes: [2,2,2] vs [1,1,8]") && log.contains("different bake"),
+        "other grid resumed: {log}"
+    );
+    // Without the spec (a folder from another tool), the checkpoint's content fingerprint
+    // (the probe positions) refuses it.
+    std::fs::remove_file(out.join(baker::run::SPEC_FILE)).unwrap();
     let mut a = args("1,1,8");
     a.push("--resume".into());
     let o = run(a);

@@ -189,7 +189,7 @@ fn merge_refuses_shards_of_another_bake_gaps_and_duplicates() {
     let out = out.to_str().unwrap();
     // Another seed.
     let other_seed = shard(&b, 1, 3, &["--seed", "2"]);
-    refusal(&["merge", out, &p(&s[0]), &p(&other_seed), &p(&s[2])], &["different bakes", "--seed", "shard 1 of 3"]);
+    refusal(&["merge", out, &p(&s[0]), &p(&other_seed), &p(&s[2])], &["different bakes", "config.seed: 1 vs 2", "shard 1 of 3"]);
     // A missing shard.
     refusal(&["merge", out, &p(&s[0]), &p(&s[2])], &["missing shard 1 of 3", "--shard 1/3"]);
     // A duplicate (the same shard twice, under two names).

@@ -143,7 +143,7 @@ fn the_default_solver_keeps_a_grazing_point_lights_irradiance() {
     bake_scene(&default, Some(&scene_path), None);
     bake_scene(&plain, Some(&scene_path), Some("nnls"));
     let (scene, _) = baker::scene::import::load(&scene_path).unwrap();
-    let lm = baker::layout::lightmap::Lightmap::build(&scene, 8.0, baker::run::Options::default().padding).unwrap();
+    let lm = baker::layout::lightmap::Lightmap::build(&scene, 8.0, baker::run::BakeSpec::default().padding).unwrap();
     let light = sbf::glam::DVec3::new(-3.0, 1.0, 0.0);
     let closed_form: Vec<Option<f64>> = lm
         .texels

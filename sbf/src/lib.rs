@@ -45,6 +45,7 @@
 //! | `ktx` | (feature `ktx2`) KTX 2.0 files: one level, a Khronos data format descriptor, key/value pairs |
 //! | `io` | (feature `io`) loading and validating lat-long `.hdr`/`.exr` maps |
 //! | `profile` | (feature `profile`) the lighting profile (TOML) every tool takes with `--profile` |
+//! | `serial` | (feature `serde`) serde for bases, engine formats and frames as their names, a profile as its TOML |
 //!
 //! ## Conventions
 //!
@@ -102,6 +103,8 @@ pub mod quadrature;
 pub mod recon;
 pub mod registry;
 pub mod sampling;
+#[cfg(feature = "serde")]
+pub mod serial;
 pub mod slc;
 pub mod solve;
 

@@ -299,6 +299,31 @@ impl Profile {
         Profile::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
+    /// The profile as TOML text that [`Profile::parse`] turns back into it (keys in the
+    /// module example's order; bake specs record a profile this way).
+    pub fn to_toml(&self) -> String {
+        let list = |v: &[&str]| v.iter().map(|s| format!("{s:?}")).collect::<Vec<_>>().join(", ");
+        let bases = |v: &[BasisId]| list(&v.iter().map(|b| b.name()).collect::<Vec<_>>());
+        let mut t = format!("name = {:?}\n\n[lightmap]\nbases = [{}]\n", self.name, bases(&self.lightmap_bases));
+        if !self.probe_bases.is_empty() {
+            t += &format!("\n[probes]\nbases = [{}]\n", bases(&self.probe_bases));
+        }
+        t += &format!("\n[brdf]\nmodels = [{}]\n", list(if self.specular { &["lambert", "ggx"] } else { &["lambert"] }));
+        if let Some((lo, hi)) = self.roughness {
+            // `{:?}` of an f64 is its shortest round-trip text, with a '.' or an exponent
+            // (both TOML floats).
+            t += &format!("roughness = [{lo:?}, {hi:?}]\n");
+        }
+        if self.specular {
+            t += &format!("multiple_scattering = {:?}\n", if self.multiple_scattering { "compensated" } else { "single" });
+        }
+        t += &format!("\n[runtime]\nprecision = {:?}\nlanguage = {:?}\n", self.precision, self.language);
+        if !self.specular_paths.is_empty() {
+            t += &format!("specular = [{}]\n", list(&self.specular_paths.iter().map(|p| p.name()).collect::<Vec<_>>()));
+        }
+        t
+    }
+
     /// Every basis the profile names, lightmap then probes, without repeats.
     pub fn all_bases(&self) -> Vec<BasisId> {
         let mut v: Vec<BasisId> = Vec::new();

@@ -26,7 +26,8 @@ const BELOW: &[&str] = &["*below*"];
 
 /// `sbf`: quadrature and frames, bases and their layouts, sampling, GGX, maps, Gram
 /// matrices and solvers, the committed tables (bytes) below the reconstruction that
-/// parses them, then I/O, block compression, probes and profiles.
+/// parses them, then I/O, block compression, probes and profiles, and serde of the named
+/// values above.
 const SBF: Layers = &[
     ("error", BELOW),
     ("quadrature", BELOW),
@@ -47,6 +48,7 @@ const SBF: Layers = &[
     ("registry", BELOW),
     ("probe", BELOW),
     ("profile", BELOW),
+    ("serial", BELOW),
 ];
 
 /// `shaders`: the languages and the WGSL modules, the WGSL → HLSL/GLSL/MSL emitter and
@@ -465,6 +467,45 @@ fn bases_are_compared_by_id_not_by_name() {
         name_comparisons("    (\"sh1\", _) => &[\"shl1\"],\n  \"sg9\" | \"sg12\" => 1,\n if b == \"ad9\" {}\n b.starts_with(\"sh\")").len(),
         4
     );
+}
+
+/// The arms of a `match` on basis variants in `code` (a line whose pattern, before `=>`,
+/// names `BasisId::X` or `ProbeBasis::X`): the places a new basis must be added to.
+fn basis_arms(code: &str) -> Vec<String> {
+    code.lines()
+        .filter(|l| {
+            let Some((pattern, _)) = l.split_once("=>") else { return false };
+            let p = pattern.trim_start().trim_start_matches("Encoding::Basis(");
+            p.starts_with("BasisId::") || p.starts_with("ProbeBasis::")
+        })
+        .map(|l| l.trim().to_string())
+        .collect()
+}
+
+/// Adding a basis touches the registry and the places docs/adding-a-basis.md lists: every
+/// source file that matches on basis variants (where the compiler makes a new variant
+/// touch it) is named in the guide.
+/// Mutation tried: the guide without `sbf/src/probe.rs` (the state before this test) fails
+/// naming it.
+#[test]
+fn every_match_on_basis_variants_is_in_the_guide() {
+    let guide = std::fs::read_to_string(workspace().join("docs/adding-a-basis.md")).unwrap();
+    let mut missing = Vec::new();
+    for (name, _) in CRATES {
+        let mut files = Vec::new();
+        files_with(&workspace().join(name).join("src"), "rs", &mut files);
+        for f in files {
+            let rel = f.strip_prefix(workspace()).unwrap().to_string_lossy().into_owned();
+            let arms = basis_arms(&code_of(&std::fs::read_to_string(&f).unwrap()));
+            if !arms.is_empty() && !guide.contains(&format!("`{rel}`")) {
+                missing.push(format!("{rel}: {}", arms[0]));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "files that match on basis variants, not listed in docs/adding-a-basis.md:\n{}", missing.join("\n"));
+    // The check itself: the forms it must catch, and what it must not.
+    let arms = basis_arms("  BasisId::Sh1 | BasisId::Zh3 => 1,\n Encoding::Basis(BasisId::Ad9) if t => 2,\n ProbeBasis::H4 => {\n let x = BasisId::Sh2;\n Some(BasisId::Sg9) => 3,");
+    assert_eq!(arms.len(), 3, "{arms:?}");
 }
 
 /// The checks on a crate built here with one defect of each kind: an upward import

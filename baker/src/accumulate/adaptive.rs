@@ -42,7 +42,8 @@ pub const TILE: u32 = 8;
 pub const MAX_SAMPLES_PER_BATCH: u32 = 64;
 
 /// Adaptive-sampling settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct AdaptiveOptions {
     /// Uniform passes before the first batch.
     pub pilot_passes: u64,

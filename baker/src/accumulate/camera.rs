@@ -16,7 +16,8 @@ use crate::scene::camera::ViewCamera;
 use sbf::glam::Vec3;
 
 /// Camera-based sampling settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CameraSampling {
     pub camera: ViewCamera,
     /// Uniform passes first (every texel a value, also those out of view).

@@ -86,7 +86,8 @@ impl BakedBasis for BasisId {
 }
 
 /// Least squares or non-negative least squares (progressive, [Roughton19 §7.3]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Solver {
     Ls,
     Nnls,
@@ -101,7 +102,8 @@ pub enum Solver {
 }
 
 /// Bake settings.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BakeConfig {
     pub seed: u64,
     pub max_bounces: u32,
@@ -118,7 +120,11 @@ pub struct BakeConfig {
     /// Camera-based sampling of lightmap texels ([`crate::accumulate::camera`]); not with
     /// `adaptive`, guiding, probes or several GPUs.
     pub camera: Option<crate::accumulate::camera::CameraSampling>,
-    /// How a GPU bake runs its passes ([`Pipeline`]); the CPU bake ignores it.
+    /// How a GPU bake runs its passes ([`Pipeline`]); the CPU bake ignores it. How, not
+    /// what: both pipelines give the same bake bit for bit, so it is not serialised (a bake
+    /// spec's canonical form, its checkpoint fingerprint and shard header leave it out;
+    /// the run options set it).
+    #[serde(skip)]
     pub pipeline: Pipeline,
     /// Filtered gather-based accumulation ([`crate::accumulate::filter`]); None: each sample feeds
     /// its own texel only (a one-texel box). Lightmaps only.

@@ -29,7 +29,8 @@ use sbf::solve::ProgressiveEncoder;
 
 /// The reconstruction filter of the gather: separable, w(d) = f(d.x)·f(d.y) for the offset
 /// d of a path's continuous atlas position from the texel centre, zero from `radius` on.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum GatherFilter {
     /// 1 inside the radius.
     Box,
@@ -79,7 +80,8 @@ pub fn gather_reach(r: f32) -> u32 {
 }
 
 /// A reconstruction filter and its radius in texels.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Filter {
     pub kernel: GatherFilter,
     pub radius: f32,

@@ -194,27 +194,32 @@ fn bake(c: &Cli, bases: &[BasisId], device: Device, probes: Option<[usize; 3]>) 
         return Ok(Baked { dir: dir.clone(), texels_per_unit: tpu, padding, bounces, sg_sharpness, indirect_only });
     }
     let o = Options {
-        scene: c.scene.clone(),
-        environment: c.env.clone(),
-        material_maps: false,
-        texels_per_unit: c.texels_per_unit,
-        passes: c.passes,
-        config: BakeConfig { bases: bases.to_vec(), sg_sharpness: c.sg_sharpness, indirect_only: c.indirect_only, ..BakeConfig::default() },
-        device,
-        out: c.out.join("bake"),
-        probes,
-        probe_bases: vec![BasisId::Sh2],
-        checkpoint_every: 0,
-        ..Options::default()
+        spec: run::BakeSpec {
+            scene: c.scene.clone(),
+            environment: c.env.clone(),
+            material_maps: false,
+            texels_per_unit: c.texels_per_unit,
+            passes: c.passes,
+            config: BakeConfig {
+                bases: bases.to_vec(),
+                sg_sharpness: c.sg_sharpness,
+                indirect_only: c.indirect_only,
+                ..BakeConfig::default()
+            },
+            probes,
+            probe_bases: vec![BasisId::Sh2],
+            ..run::BakeSpec::default()
+        },
+        run: run::RunOptions { device, out: c.out.join("bake"), checkpoint_every: 0, ..run::RunOptions::default() },
     };
     run::bake(&o, &mut |m| eprintln!("{m}"))?;
     Ok(Baked {
-        dir: o.out.clone(),
-        texels_per_unit: o.texels_per_unit,
-        padding: o.padding,
-        bounces: o.config.max_bounces,
-        sg_sharpness: o.config.sg_sharpness,
-        indirect_only: o.config.indirect_only,
+        dir: o.run.out.clone(),
+        texels_per_unit: o.spec.texels_per_unit,
+        padding: o.spec.padding,
+        bounces: o.spec.config.max_bounces,
+        sg_sharpness: o.spec.config.sg_sharpness,
+        indirect_only: o.spec.config.indirect_only,
     })
 }
 

@@ -103,7 +103,8 @@ fn hash_maps(h: &mut Fnv, scene: &Scene) {
 
 /// The identity of a bake: a hash of the scene content (geometry, normals, lightmap UVs,
 /// materials, lights, environment texels), the targets (every sample point and item —
-/// so the layout and the probe positions), and the settings that change the result.
+/// so the layout and the probe positions), and the settings that change the result: the
+/// bake spec's `config` in its canonical serialisation and each basis' encoder rule.
 pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig, what: &str) -> u64 {
     let mut h = Fnv::default();
     h.bytes(what.as_bytes());
@@ -169,48 +170,12 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
         h.vec3(p.geometric);
     }
     targets.items.iter().flatten().for_each(|x| h.u64(*x as u64));
-    h.u64(config.seed);
-    h.u64(config.max_bounces as u64);
-    config.bases.iter().for_each(|b| h.bytes(b.name().as_bytes()));
-    h.bytes(format!("{:?}", config.solver).as_bytes());
+    // The settings: the bake spec's `config` part in its canonical serialisation (the
+    // pipeline, how a GPU runs the passes, is not part of it: both give the same state).
+    h.bytes(serde_json::to_string(config).expect("a bake config serialises").as_bytes());
     // Each basis' update rule (a state saved under another rule — e.g. SH's residual update
     // before the projection — is not this bake's running estimate).
     config.bases.iter().for_each(|b| h.bytes(format!("{:?}", config.encoder_options(*b, targets.sphere)).as_bytes()));
-    h.bytes(config.sampler.name().as_bytes());
-    if let Some(c) = config.camera {
-        h.bytes(b"camera");
-        h.vec3(c.camera.eye);
-        h.vec3(c.camera.target);
-        h.u64(c.camera.fov_y.to_bits() as u64);
-        h.u64(((c.camera.width as u64) << 32) | c.camera.height as u64);
-        h.u64(c.pilot_passes);
-        h.u64(c.max_per_batch as u64);
-    }
-    if let Some(a) = config.adaptive {
-        h.bytes(b"adaptive");
-        h.u64(a.pilot_passes);
-        h.u64(a.batch_fraction.to_bits());
-        h.u64(a.floor.to_bits());
-        h.u64(a.max_per_batch as u64);
-    }
-    if let Some(g) = config.guiding {
-        h.bytes(b"guiding");
-        h.u64(g.learn_passes);
-        h.u64(g.guided_fraction.to_bits());
-    }
-    if config.indirect_only {
-        h.bytes(b"indirect only");
-    }
-    // A sharpness other than the default (the default keeps earlier bakes' fingerprints).
-    if config.bases.iter().any(|b| b.is_sg()) && config.sg_sharpness != crate::accumulate::SG_HEMISPHERE_SHARPNESS {
-        h.bytes(b"sg sharpness");
-        h.u64(config.sg_sharpness.to_bits());
-    }
-    if let Some(f) = config.filter {
-        h.bytes(b"filter");
-        h.bytes(f.name().as_bytes());
-        h.u64(f.radius.to_bits() as u64);
-    }
     h.finish()
 }
 

@@ -9,8 +9,8 @@
 //!
 //! The file holds no measurement of the run (no time, no device): the same shard baked
 //! twice writes the same bytes, so a retried task is harmless. Format (little endian):
-//! magic `SBFSHRD1`; u32 length and the UTF-8 JSON [`ShardHeader`] (the shard's index and
-//! count, the baker arguments that define the bake, and per set its name, content
+//! magic `SBFSHRD2`; u32 length and the UTF-8 JSON [`ShardHeader`] (the shard's index and
+//! count, the bake spec's canonical JSON, and per set its name, content
 //! fingerprint, item count, block, passes and lobes per basis); then per set, for the
 //! set's owned items in order, the moments (six f64, three u64 counts) and per basis the
 //! encoder states (as in a checkpoint); last the u64 FNV-1a of every byte before it.
@@ -20,7 +20,9 @@ use crate::accumulate::{BakeConfig, BakeState, Partition, Targets};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-const MAGIC: &[u8; 8] = b"SBFSHRD1";
+const MAGIC: &[u8; 8] = b"SBFSHRD2";
+/// The format before the header recorded the bake spec (it recorded arguments).
+const MAGIC_V1: &[u8; 8] = b"SBFSHRD1";
 
 /// The file name of shard `index` of `count`.
 pub fn file_name(index: usize, count: usize) -> String {
@@ -50,13 +52,13 @@ pub struct SetHeader {
 }
 
 /// A shard file's header.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ShardHeader {
     pub index: usize,
     pub count: usize,
-    /// The `baker` arguments that define the bake (without the ones that only say where
-    /// or how it runs), as given to the shard; `baker merge` rebuilds the bake from them.
-    pub recipe: Vec<String>,
+    /// The bake spec's canonical serialisation (`run::BakeSpec`: what is baked, nothing
+    /// of where or how it runs); `baker merge` rebuilds the bake from it.
+    pub spec: serde_json::Value,
     pub sets: Vec<SetHeader>,
 }
 
@@ -69,12 +71,12 @@ pub struct SetState<'a> {
     pub state: &'a BakeState,
 }
 
-/// Serialises a shard: `header`'s index, count and recipe, and the owned items of `sets`.
-pub fn to_bytes(index: usize, count: usize, recipe: &[String], sets: &[SetState]) -> Vec<u8> {
+/// Serialises a shard: its index, count and bake spec, and the owned items of `sets`.
+pub fn to_bytes(index: usize, count: usize, spec: &serde_json::Value, sets: &[SetState]) -> Vec<u8> {
     let header = ShardHeader {
         index,
         count,
-        recipe: recipe.to_vec(),
+        spec: spec.clone(),
         sets: sets
             .iter()
             .map(|s| SetHeader {
@@ -126,6 +128,9 @@ impl Shard {
     }
 
     fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<Shard, String> {
+        if bytes.get(..8) == Some(MAGIC_V1.as_slice()) {
+            return Err("a shard of an older baker (its header records arguments, not a bake spec): bake the shard again".into());
+        }
         if bytes.len() < 20 || &bytes[..8] != MAGIC {
             return Err("not a baker shard file (bad magic)".into());
         }

@@ -11,6 +11,9 @@ use serde::Serialize;
 #[derive(Debug, Clone, Serialize)]
 pub struct BakeJson {
     pub scene: String,
+    /// The bake spec (`run::BakeSpec`): every setting that defines the bake, as
+    /// `baker resume` and `baker merge` read it (`spec.json` holds the same).
+    pub spec: serde_json::Value,
     /// The engine that traced: "CPU: N threads (rayon)", "GPU: adapter" or the GPUs.
     pub device: String,
     /// The GPU pipeline ("megakernel", "wavefront") or "none (CPU path)".

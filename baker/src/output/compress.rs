@@ -25,7 +25,8 @@ use serde::Serialize;
 use std::path::Path;
 
 /// How `--compress` stores an image with negative values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum SignedStorage {
     /// BC6H_SF16: the file decodes to the values in any reader (`--compress bc6h`).
     Sf16,

@@ -26,7 +26,8 @@ use rayon::prelude::*;
 use sbf::glam::Vec3;
 
 /// Filter parameters.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DenoiseOptions {
     /// Window radius R in texels.
     pub radius: usize,

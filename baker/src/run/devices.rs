@@ -7,14 +7,17 @@ use crate::estimator::trace::Tracer;
 use crate::gpu::GpuBake;
 use shaders::gpu::Gpu;
 
-/// The GPUs to bake on (none: the CPU path) for `o.device` and `o.gpus`, and the device
+/// The GPUs to bake on (none: the CPU path) for `o.run.device` and `o.run.gpus`, and the device
 /// line bake.json records.
 pub(crate) fn select(o: &Options, log: &mut dyn FnMut(String)) -> Result<(Vec<Gpu>, String), String> {
-    if o.gpus == 0 || (o.gpus > 1 && o.device == Device::Cpu) {
-        return Err(format!("--gpus {} with --device {:?}: give ≥ 1 GPU, and more than one only on a GPU device", o.gpus, o.device));
+    if o.run.gpus == 0 || (o.run.gpus > 1 && o.run.device == Device::Cpu) {
+        return Err(format!(
+            "--gpus {} with --device {:?}: give ≥ 1 GPU, and more than one only on a GPU device",
+            o.run.gpus, o.run.device
+        ));
     }
-    let gpus: Vec<Gpu> = match o.device {
-        _ if o.gpus > 1 => Gpu::hardware(o.gpus)?,
+    let gpus: Vec<Gpu> = match o.run.device {
+        _ if o.run.gpus > 1 => Gpu::hardware(o.run.gpus)?,
         Device::Cpu => Vec::new(),
         Device::Gpu => vec![Gpu::new()?],
         Device::Auto => match Gpu::new() {

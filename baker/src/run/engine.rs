@@ -28,7 +28,7 @@ pub(crate) fn run_targets<'s>(
     let groups = match gpus.first() {
         Some(g) => {
             let adapter = g.device().limits().max_storage_buffer_binding_size;
-            basis_groups(&config.bases, targets.items.len(), o.max_binding.map_or(adapter, |m| m.min(adapter)))
+            basis_groups(&config.bases, targets.items.len(), o.run.max_binding.map_or(adapter, |m| m.min(adapter)))
         }
         None => vec![config.bases.clone()],
     };
@@ -122,25 +122,25 @@ fn run_group<'s>(
 ) -> Result<(BakeState, u64), String> {
     config.check(targets)?;
     // A shard bakes its own part and checkpoints it under its own name and identity.
-    let (part, ckpt, fp) = match &o.shard {
+    let (part, ckpt, fp) = match &o.run.shard {
         Some(s) => {
             let part = Partition::of(s.index, s.count, targets.items.len())?;
             let name = format!("{what}.shard-{}-of-{}", s.index, s.count);
-            (part, o.out.join(format!("{name}.checkpoint")), checkpoint::content_fingerprint(scene, targets, config, &name))
+            (part, o.run.out.join(format!("{name}.checkpoint")), checkpoint::content_fingerprint(scene, targets, config, &name))
         }
         None => (
             Partition::with_block(0, 1, crate::accumulate::partition::partition_block(targets.items.len(), gpus.len()))?,
-            o.out.join(format!("{what}.checkpoint")),
+            o.run.out.join(format!("{what}.checkpoint")),
             checkpoint::content_fingerprint(scene, targets, config, what),
         ),
     };
-    let saved = if o.resume && ckpt.exists() {
+    let saved = if o.run.resume && ckpt.exists() {
         let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
         let st = checkpoint::from_bytes_part(&bytes, fp, config, targets, Some(part)).map_err(|e| format!("{}: {e}", ckpt.display()))?;
         log(format!("{what}: resuming from {} at pass {}", ckpt.display(), st.passes));
         Some(st)
     } else {
-        if o.resume {
+        if o.run.resume {
             log(format!("{what}: --resume given but no checkpoint at {}; starting from pass 0", ckpt.display()));
         }
         None
@@ -156,12 +156,12 @@ fn run_group<'s>(
         }
         gpus => {
             let mut b = MultiGpuBake::for_part(gpus, tracer_of, targets, config, part)?;
-            match o.batch_seconds {
+            match o.run.batch_seconds {
                 Some(s) => b.set_batch_target(Some(s)),
                 None => b.set_chunk(usize::MAX),
             }
             let left_out = &b.devices()[0].kernel.left_out;
-            if o.verbose {
+            if o.run.verbose {
                 for l in left_out {
                     log(format!("{what}: left out of the GPU kernel: {l}"));
                 }
@@ -171,7 +171,7 @@ fn run_group<'s>(
             } else if !left_out.is_empty() {
                 log(format!("{what}: {} features left out of the GPU kernel (this bake does not use them; -v lists them)", left_out.len()));
             }
-            if gpus.len() > 1 && o.shard.is_none() {
+            if gpus.len() > 1 && o.run.shard.is_none() {
                 let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();
                 log(format!("{what}: items dealt to {} GPUs in blocks of {}: {} items each", gpus.len(), b.block(), shares.join(", ")));
             }
@@ -181,12 +181,12 @@ fn run_group<'s>(
             Box::new(b)
         }
     };
-    if let Some(s) = &o.shard {
+    if let Some(s) = &o.run.shard {
         let n = targets.items.len();
         log(format!("{what}: shard {} of {}: {} of {n} items, dealt in blocks of {}", s.index, s.count, part.share(n), part.block));
     }
-    // Adaptive bakes count pilot passes and batches (about the paths of o.passes passes).
-    let total = config.adaptive.map_or(o.passes, |a| a.batches_for(o.passes));
+    // Adaptive bakes count pilot passes and batches (about the paths of o.spec.passes passes).
+    let total = config.adaptive.map_or(o.spec.passes, |a| a.batches_for(o.spec.passes));
     let unit = if config.adaptive.is_some() { "passes + batches" } else { "passes" };
     let start = engine.passes();
     if start > total {
@@ -195,12 +195,12 @@ fn run_group<'s>(
         return Err(format!(
             "{}: the checkpoint is at {unit} {start}, past this bake's {total} (--passes {}): resume with --passes ≥ {start}, or delete the checkpoint to bake {} from the start",
             ckpt.display(),
-            o.passes,
-            o.passes
+            o.spec.passes,
+            o.spec.passes
         ));
     }
     let todo = total.saturating_sub(start);
-    let bar = if o.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(total) };
+    let bar = if o.run.quiet { indicatif::ProgressBar::hidden() } else { indicatif::ProgressBar::new(total) };
     bar.set_style(
         indicatif::ProgressStyle::with_template(&format!("{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}, {{per_sec}}, ETA {{eta}}"))
             .expect("template")
@@ -208,7 +208,7 @@ fn run_group<'s>(
     );
     bar.set_message(what.to_string());
     bar.set_position(start);
-    let chunk = if o.checkpoint_every > 0 { o.checkpoint_every } else { todo.max(1) };
+    let chunk = if o.run.checkpoint_every > 0 { o.run.checkpoint_every } else { todo.max(1) };
     let mut run = 0;
     while engine.passes() < total {
         let n = chunk.min(total - engine.passes());
@@ -221,7 +221,7 @@ fn run_group<'s>(
             left -= k;
         }
         run += n;
-        if o.checkpoint_every > 0 {
+        if o.run.checkpoint_every > 0 {
             let st = engine.state()?;
             checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes_part(&st, fp, Some(part)))?;
         }

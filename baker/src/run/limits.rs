@@ -28,13 +28,13 @@ pub const MAX_PADDING: usize = 64;
 impl Options {
     /// Every bound of this module; the first violated one as an error naming the option.
     pub fn validate(&self) -> Result<(), String> {
-        let w = self.preview_width;
+        let w = self.spec.preview_width;
         if !(MIN_PREVIEW_WIDTH..=MAX_PREVIEW_WIDTH).contains(&w) {
             return Err(format!(
                 "--preview-width {w}: must be {MIN_PREVIEW_WIDTH} to {MAX_PREVIEW_WIDTH} pixels (the preview is W × 3W/4 RGB f32, a path per pixel)"
             ));
         }
-        if let Some(d) = &self.denoise {
+        if let Some(d) = &self.spec.denoise {
             if d.radius > MAX_DENOISE_RADIUS {
                 return Err(format!(
                     "--denoise-radius {}: at most {MAX_DENOISE_RADIUS} texels (the window compares (2r + 1)² texels per texel)",
@@ -42,7 +42,7 @@ impl Options {
                 ));
             }
         }
-        if let Some([x, y, z]) = self.probes {
+        if let Some([x, y, z]) = self.spec.probes {
             let n = x.checked_mul(y).and_then(|v| v.checked_mul(z)).unwrap_or(usize::MAX);
             if n > MAX_PROBES {
                 return Err(format!(
@@ -51,28 +51,28 @@ impl Options {
                 ));
             }
         }
-        if self.passes == 0 || self.passes > MAX_PASSES {
-            return Err(format!("--passes {}: must be 1 to {MAX_PASSES} (a pass is a 32-bit sample index)", self.passes));
+        if self.spec.passes == 0 || self.spec.passes > MAX_PASSES {
+            return Err(format!("--passes {}: must be 1 to {MAX_PASSES} (a pass is a 32-bit sample index)", self.spec.passes));
         }
-        if let Some(p) = self.measure_rays {
+        if let Some(p) = self.run.measure_rays {
             if p == 0 || p > MAX_PASSES {
                 return Err(format!("--measure-rays {p}: must be 1 to {MAX_PASSES} passes"));
             }
         }
-        if self.config.max_bounces > MAX_BOUNCES {
+        if self.spec.config.max_bounces > MAX_BOUNCES {
             return Err(format!(
                 "--bounces {}: at most {MAX_BOUNCES} (each bounce costs a ray per texel and pass)",
-                self.config.max_bounces
+                self.spec.config.max_bounces
             ));
         }
-        if self.padding > MAX_PADDING {
-            return Err(format!("--padding {}: at most {MAX_PADDING} texels", self.padding));
+        if self.spec.padding > MAX_PADDING {
+            return Err(format!("--padding {}: at most {MAX_PADDING} texels", self.spec.padding));
         }
-        if !(self.texels_per_unit.is_finite() && self.texels_per_unit > 0.0) {
-            return Err(format!("--texels-per-unit {}: must be a finite number > 0", self.texels_per_unit));
+        if !(self.spec.texels_per_unit.is_finite() && self.spec.texels_per_unit > 0.0) {
+            return Err(format!("--texels-per-unit {}: must be a finite number > 0", self.spec.texels_per_unit));
         }
-        if self.gpus > 1 {
-            let c = &self.config;
+        if self.run.gpus > 1 {
+            let c = &self.spec.config;
             let needs_all = [
                 (c.guiding.is_some(), "--guiding (its clusters learn from all their texels every pass)"),
                 (c.filter.is_some(), "--filter (a texel gathers its neighbours' samples every pass)"),
@@ -80,25 +80,25 @@ impl Options {
                 (c.camera.is_some(), "--camera (each batch draws from the whole atlas)"),
             ];
             if let Some((_, why)) = needs_all.iter().find(|(on, _)| *on) {
-                return Err(format!("--gpus {}: cannot split a bake with {why}; use one GPU", self.gpus));
+                return Err(format!("--gpus {}: cannot split a bake with {why}; use one GPU", self.run.gpus));
             }
         }
-        if let Some(sh) = &self.shard {
+        if let Some(sh) = &self.run.shard {
             if sh.count == 0 || sh.index >= sh.count {
                 return Err(format!("--shard {}/{}: the index must be below the count (0/N to N-1/N)", sh.index, sh.count));
             }
             if sh.count > 1 {
-                self.config.check_partitionable().map_err(|e| format!("--shard {}/{}: {e}", sh.index, sh.count))?;
+                self.spec.config.check_partitionable().map_err(|e| format!("--shard {}/{}: {e}", sh.index, sh.count))?;
             }
-            if self.measure_rays.is_some() {
+            if self.run.measure_rays.is_some() {
                 return Err("--measure-rays measures a whole bake; drop --shard".into());
             }
         }
-        if let Some(a) = &self.config.adaptive {
-            if a.pilot_passes >= self.passes {
+        if let Some(a) = &self.spec.config.adaptive {
+            if a.pilot_passes >= self.spec.passes {
                 return Err(format!(
                     "--adaptive-pilot {}: must be below --passes {} (the pilot passes are uniform; the batches spend the rest)",
-                    a.pilot_passes, self.passes
+                    a.pilot_passes, self.spec.passes
                 ));
             }
         }

@@ -9,9 +9,10 @@ mod engine;
 pub mod limits;
 mod options;
 mod outputs;
+mod runtime;
 pub mod shard;
 
-pub use options::{Device, Options, ShardSpec, Summary};
+pub use options::{read_spec, BakeSpec, Device, Options, RunOptions, ShardSpec, Summary, SPEC_FILE};
 pub use shard::merge;
 
 use crate::accumulate::{BakeConfig, Solver, Targets};
@@ -43,51 +44,65 @@ pub(crate) type ProbePlacement = (Vec<Vec3>, Vec<(usize, Vec3)>);
 /// Loads the scene, builds the BVH and the atlas, places the probes; logs each and checks
 /// the state fits in memory.
 pub(crate) fn prepare(o: &Options, log: &mut dyn FnMut(String)) -> Result<Prepared, String> {
-    let mut scene = crate::scene::load::load(&o.scene, o.environment.as_deref(), log)?;
-    if !o.material_maps && scene.has_textures() {
+    let mut scene = crate::scene::load::load(&o.spec.scene, o.spec.environment.as_deref(), log)?;
+    if !o.spec.material_maps && scene.has_textures() {
         log("--material-maps factors: the materials' texture maps are dropped, their factors baked".into());
         scene = scene.without_maps();
     }
     let bvh = Bvh::build(&scene);
-    let lm = Lightmap::build(&scene, o.texels_per_unit, o.padding).map_err(|e| e.to_string())?;
+    let lm = Lightmap::build(&scene, o.spec.texels_per_unit, o.spec.padding).map_err(|e| e.to_string())?;
     log_scene_and_layout(o, &scene, &bvh, &lm, log);
-    limits::check_memory("lightmap", lm.valid_count(), &o.config.bases, log)?;
-    if let Some([x, y, z]) = o.probes {
-        limits::check_memory("probes", x * y * z, &o.probe_bases, log)?;
+    limits::check_memory("lightmap", lm.valid_count(), &o.spec.config.bases, log)?;
+    if let Some([x, y, z]) = o.spec.probes {
+        limits::check_memory("probes", x * y * z, &o.spec.probe_bases, log)?;
     }
     let targets = Targets::lightmap(&lm);
     // The camera's image (camera-based sampling) sized from the atlas where not given.
-    let config = BakeConfig { camera: o.config.camera.map(|c| c.sized_for(targets.items.len())), ..o.config.clone() };
-    let probes = o.probes.map(|n| place_probes(o, &bvh, &scene, n, log));
+    let config = BakeConfig {
+        camera: o.spec.config.camera.map(|c| c.sized_for(targets.items.len())),
+        pipeline: o.run.pipeline,
+        ..o.spec.config.clone()
+    };
+    let probes = o.spec.probes.map(|n| place_probes(o, &bvh, &scene, n, log));
     Ok(Prepared { scene, bvh, lm, targets, config, probes })
 }
 
 /// The probes' settings: the probe bases, uniform passes, no filter.
 pub(crate) fn probe_config(o: &Options) -> BakeConfig {
-    BakeConfig { bases: o.probe_bases.clone(), adaptive: None, camera: None, filter: None, ..o.config.clone() }
+    BakeConfig {
+        bases: o.spec.probe_bases.clone(),
+        adaptive: None,
+        camera: None,
+        filter: None,
+        pipeline: o.run.pipeline,
+        ..o.spec.config.clone()
+    }
 }
 
 /// Runs a whole bake and writes its outputs (unless stopped early) — or, with
-/// [`Options::shard`], its shard's items and writes the shard file instead.
+/// [`RunOptions::shard`], its shard's items and writes the shard file instead.
 pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String> {
     let t0 = Instant::now();
     // Every bound first, then the output folder: nothing is traced for a bake that
     // cannot finish or cannot write.
     o.validate()?;
-    limits::check_writable(&o.out)?;
+    limits::check_writable(&o.run.out)?;
+    if o.run.measure_rays.is_none() {
+        options::record_spec(&o.spec, &o.run.out, o.run.resume)?;
+    }
     let Prepared { scene, bvh, lm, targets, config, probes } = prepare(o, log)?;
     let glossy = scene.has_glossy();
     let (gpus, device) = devices::select(o, log)?;
-    if gpus.is_empty() && o.config.pipeline != crate::accumulate::Pipeline::default() {
-        log(format!("notice: --pipeline {} applies to GPU bakes; this bake runs on the CPU path", o.config.pipeline.name()));
+    if gpus.is_empty() && o.run.pipeline != crate::accumulate::Pipeline::default() {
+        log(format!("notice: --pipeline {} applies to GPU bakes; this bake runs on the CPU path", o.run.pipeline.name()));
     }
-    let default_batch = o.batch_seconds.is_some_and(|s| (s - crate::gpu::BATCH_TARGET_SECONDS).abs() < 1e-12);
+    let default_batch = o.run.batch_seconds.is_some_and(|s| (s - crate::gpu::BATCH_TARGET_SECONDS).abs() < 1e-12);
     if gpus.is_empty() && !default_batch {
         log("notice: --batch-ms applies to GPU bakes; this bake runs on the CPU path".into());
     }
-    let tracer_of = || Tracer::new(&scene, &bvh, o.config.max_bounces).with_indirect_only(o.config.indirect_only);
+    let tracer_of = || Tracer::new(&scene, &bvh, o.spec.config.max_bounces).with_indirect_only(o.spec.config.indirect_only);
     log_strategies(o, &config, &targets, log);
-    if let Some(passes) = o.measure_rays {
+    if let Some(passes) = o.run.measure_rays {
         let g = gpus.first().ok_or("--measure-rays needs a GPU adapter")?;
         let lightmap = devices::measure_rays(g, &tracer_of, &targets, &config, passes, log)?;
         return Ok(Summary { device, lightmap, probes: None, passes_run: passes, seconds: t0.elapsed().as_secs_f64() });
@@ -106,8 +121,8 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
         log(format!("probes: {prun} passes in {:.2} s", t.elapsed().as_secs_f64()));
         (probe_state, probe_targets) = (Some(ps), Some(pt));
     }
-    let pipeline = if gpus.is_empty() { "none (CPU path)" } else { o.config.pipeline.name() };
-    if let Some(spec) = &o.shard {
+    let pipeline = if gpus.is_empty() { "none (CPU path)" } else { o.run.pipeline.name() };
+    if let Some(spec) = &o.run.shard {
         let mut sets = vec![shard::BakedSet { what: "lightmap", scene: &scene, targets: &targets, config: &config, state: &state }];
         if let (Some(pt), Some(ps)) = (&probe_targets, &probe_state) {
             sets.push(shard::BakedSet { what: "probes", scene: &scene, targets: pt, config: &pcfg, state: ps });
@@ -145,10 +160,10 @@ fn log_scene_and_layout(o: &Options, scene: &Scene, bvh: &Bvh, lm: &Lightmap, lo
         log(format!("layout: charts generated for {} mesh(es) without lightmap UVs", lm.generated_for.len()));
     }
     log(format!("layout: {}×{} atlas, {} valid texels, utilisation {:.3}", lm.width, lm.height, lm.valid_count(), lm.utilisation()));
-    let mut sh: Vec<&str> = o.config.bases.iter().chain(&o.probe_bases).filter(|b| !b.non_negative()).map(|b| b.name()).collect();
+    let mut sh: Vec<&str> = o.spec.config.bases.iter().chain(&o.spec.probe_bases).filter(|b| !b.non_negative()).map(|b| b.name()).collect();
     sh.sort_unstable();
     sh.dedup();
-    if matches!(o.config.solver, Solver::Nnls | Solver::NnlsIrradiance | Solver::NnlsRescaled) && !sh.is_empty() {
+    if matches!(o.spec.config.solver, Solver::Nnls | Solver::NnlsIrradiance | Solver::NnlsRescaled) && !sh.is_empty() {
         log(format!(
             "solver: NNLS applies to the non-negative bases (SG, Ambient Dice); {} fitted by least squares (SH coefficients of non-negative radiance are legitimately negative)",
             sh.join(", ")
@@ -184,8 +199,8 @@ fn log_strategies(o: &Options, config: &BakeConfig, targets: &Targets, log: &mut
             100.0 * g.guided_fraction,
             g.learn_passes
         ));
-        if g.learn_passes >= o.passes {
-            log(format!("guiding: all {} passes learn (--guiding-learn {} ≥ --passes): no pass is guided", o.passes, g.learn_passes));
+        if g.learn_passes >= o.spec.passes {
+            log(format!("guiding: all {} passes learn (--guiding-learn {} ≥ --passes): no pass is guided", o.spec.passes, g.learn_passes));
         }
     }
 }
@@ -196,7 +211,7 @@ fn log_strategies(o: &Options, config: &BakeConfig, targets: &Targets, log: &mut
 fn place_probes(o: &Options, bvh: &Bvh, scene: &Scene, n: [usize; 3], log: &mut dyn FnMut(String)) -> (Vec<Vec3>, Vec<(usize, Vec3)>) {
     let mut positions = probe_grid(bvh, n);
     let mut relocated = Vec::new();
-    if !o.relocate_probes {
+    if !o.spec.relocate_probes {
         return (positions, relocated);
     }
     let (lo, hi) = bvh.nodes.first().map(|x| (Vec3::from(x.min), Vec3::from(x.max))).unwrap_or((Vec3::ZERO, Vec3::ONE));

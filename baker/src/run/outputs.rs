@@ -2,13 +2,14 @@
 //! (the post layer) before dilation, the images, the preview, the runtime shader library,
 //! bake.json and probes.json.
 
+use super::runtime::write_runtime;
 use super::Options;
 use crate::accumulate::{BakeState, Solver, Targets};
 use crate::layout::lightmap::Lightmap;
 use crate::output;
 use crate::output::bake_json::{
     AdaptiveJson, BakeJson, BasisJson, DenoiseJson, FileJson, FilterJson, GuidingJson, IrradianceRatioJson, LayoutJson, ProbeJson,
-    ProbesJson, ProbesSummaryJson, ProfileJson, RuntimeJson, SeamsJson, StageSecondsJson, ValidityJson,
+    ProbesJson, ProbesSummaryJson, ProfileJson, SeamsJson, StageSecondsJson, ValidityJson,
 };
 use crate::post::images::LightmapImages;
 use crate::post::refit::IrradianceRatio;
@@ -38,7 +39,7 @@ pub(crate) struct OutputContext<'a> {
 
 /// bake.json's account of ray guiding (null when off).
 fn guiding_json(o: &Options, targets: &Targets, state: &BakeState) -> Option<GuidingJson> {
-    let g = o.config.guiding?;
+    let g = o.spec.config.guiding?;
     let bins = crate::sampling::guiding::BIN_COUNT;
     let learned = state.guide_sums.chunks(bins).filter(|c| c.iter().any(|v| *v > 0.0)).count();
     let mut rebuilds = Vec::new();
@@ -66,13 +67,13 @@ fn compress_step(
     log: &mut dyn FnMut(String),
 ) -> Result<Option<crate::output::compress::CompressionJson>, String> {
     use crate::output::compress;
-    if !o.compress_bc6h {
+    if !o.spec.compress_bc6h {
         return Ok(None);
     }
-    let mut c = compress::write_bc6h(&o.out, img, &o.config.bases, o.config.sg_sharpness, o.compress_signed)?;
-    if let (Some(ps), Some(n)) = (probes, o.probes) {
+    let mut c = compress::write_bc6h(&o.run.out, img, &o.spec.config.bases, o.spec.config.sg_sharpness, o.spec.compress_signed)?;
+    if let (Some(ps), Some(n)) = (probes, o.spec.probes) {
         let valid = ps.valid();
-        let coefficients = (0..o.probe_bases.len())
+        let coefficients = (0..o.spec.probe_bases.len())
             .map(|b| {
                 ps.encoders[b]
                     .iter()
@@ -85,13 +86,13 @@ fn compress_step(
             .collect();
         let grid = compress::ProbeGrid {
             n,
-            bases: &o.probe_bases,
+            bases: &o.spec.probe_bases,
             coefficients,
             valid: &valid,
-            sg_sharpness: o.config.sg_sharpness,
-            signed: o.compress_signed,
+            sg_sharpness: o.spec.config.sg_sharpness,
+            signed: o.spec.compress_signed,
         };
-        c.probes = compress::write_probe_volumes(&o.out, &grid)?;
+        c.probes = compress::write_probe_volumes(&o.run.out, &grid)?;
         for p in &c.probes {
             log(format!(
                 "BC6H probes {}: {} volumes, {:.2} B/probe (f32 {:.0}, f16 {:.0}); E/π over 64 normals changes by {:.3} % RMS (f16: {:.4} %){}",
@@ -130,19 +131,19 @@ fn engine_step(
     img: &LightmapImages,
     log: &mut dyn FnMut(String),
 ) -> Result<Vec<crate::output::engine::EngineFormatJson>, String> {
-    if o.engine_formats.is_empty() {
+    if o.spec.engine_formats.is_empty() {
         return Ok(Vec::new());
     }
-    let b = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisId::Sh1).ok_or("--engine-formats needs the sh1 basis")?;
-    let sh2 = o.config.bases.iter().position(|b| *b == crate::accumulate::BasisId::Sh2).map(|i| img.coefficients[i].as_slice());
+    let b = o.spec.config.bases.iter().position(|b| *b == crate::accumulate::BasisId::Sh1).ok_or("--engine-formats needs the sh1 basis")?;
+    let sh2 = o.spec.config.bases.iter().position(|b| *b == crate::accumulate::BasisId::Sh2).map(|i| img.coefficients[i].as_slice());
     let out = crate::output::engine::write_engine_formats(
-        &o.out,
+        &o.run.out,
         img,
         &img.coefficients[b],
         sh2,
-        &o.engine_formats,
-        o.engine_frame,
-        o.compress_bc6h,
+        &o.spec.engine_formats,
+        o.spec.engine_frame,
+        o.spec.compress_bc6h,
     )?;
     for f in &out {
         f.log_lines().into_iter().for_each(&mut *log);
@@ -170,17 +171,17 @@ pub(crate) fn write_outputs(
         "validity: {} of {} texels inside geometry (back-face fraction > {}) left invalid and dilated over; {} back-face and {} non-finite samples rejected",
         lm_validity.invalid, targets.items.len(), crate::accumulate::MAX_BACK_FACE_FRACTION, lm_validity.back_face_samples, lm_validity.non_finite_samples
     ));
-    let fit_ratios = crate::post::refit::solver_step(&mut img, &o.config, &lm.texel_charts, log)?;
+    let fit_ratios = crate::post::refit::solver_step(&mut img, &o.spec.config, &lm.texel_charts, log)?;
     // Denoise (optional) before dilation: the filter reads valid texels only.
     let denoised = denoise_step(o, &mut img, lm, log)?;
     let (dilated, seams, seam_seconds) = seams_step(o, scene, lm, &mut img, log);
     let t_out = Instant::now();
-    let ratios = crate::post::refit::irradiance_ratios(&img, &o.config.bases, o.config.sg_sharpness, &lm.texel_charts);
-    let files = output::write_lightmap(&o.out, &img, &o.config)?;
+    let ratios = crate::post::refit::irradiance_ratios(&img, &o.spec.config.bases, o.spec.config.sg_sharpness, &lm.texel_charts);
+    let files = output::write_lightmap(&o.run.out, &img, &o.spec.config)?;
     let engine_formats = engine_step(o, &img, log)?;
     let compression = compress_step(o, &img, probes, log)?;
-    let png = output::preview(scene, bvh, lm, &img, o.preview_width, o.config.camera.map(|c| c.camera));
-    png.save(o.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
+    let png = output::preview(scene, bvh, lm, &img, o.spec.preview_width, o.spec.config.camera.map(|c| c.camera));
+    png.save(o.run.out.join("preview.png")).map_err(|e| format!("preview.png: {e}"))?;
     let runtime = write_runtime(o, glossy, log)?;
     log(format!("outputs: images, preview and runtime written in {:.2} s", t_out.elapsed().as_secs_f64()));
     let stage_seconds = StageSecondsJson {
@@ -196,26 +197,27 @@ pub(crate) fn write_outputs(
     };
     let meta = BakeJson {
         scene: scene.name.clone(),
+        spec: serde_json::to_value(&o.spec).expect("a bake spec serialises"),
         device: device.to_string(),
         pipeline,
         passes: state.passes,
-        seed: o.config.seed,
-        sampler: o.config.sampler.name(),
-        adaptive: o.config.adaptive.map(|a| AdaptiveJson {
+        seed: o.spec.config.seed,
+        sampler: o.spec.config.sampler.name(),
+        adaptive: o.spec.config.adaptive.map(|a| AdaptiveJson {
             pilot_passes: a.pilot_passes,
             batch_fraction: a.batch_fraction,
             floor: a.floor,
             max_per_batch: a.max_per_batch,
         }),
         paths: state.moments.iter().map(crate::accumulate::Moments::count).sum::<u64>(),
-        max_bounces: o.config.max_bounces,
-        indirect_only: o.config.indirect_only,
+        max_bounces: o.spec.config.max_bounces,
+        indirect_only: o.spec.config.indirect_only,
         material_maps: scene.has_textures().then(|| crate::output::bake_json::MapsJson {
             textures: scene.textures.len(),
             bytes: scene.textures.iter().map(crate::scene::texture::Texture::bytes).sum(),
             materials: scene.materials.iter().filter(|m| !m.maps.is_empty()).count(),
         }),
-        solver: format!("{:?}", o.config.solver),
+        solver: format!("{:?}", o.spec.config.solver),
         layout: LayoutJson {
             width: lm.width,
             height: lm.height,
@@ -245,7 +247,7 @@ pub(crate) fn write_outputs(
         stage_seconds,
         meshes: output::mesh_mapping(scene, lm),
         runtime,
-        profile: o.profile.as_ref().map(|p| ProfileJson {
+        profile: o.spec.profile.as_ref().map(|p| ProfileJson {
             name: p.name.clone(),
             summary: p.summary(),
             lightmap_bases: p.lightmap_bases.iter().map(|b| b.name().to_string()).collect(),
@@ -260,10 +262,11 @@ pub(crate) fn write_outputs(
         seconds: t0.elapsed().as_secs_f64(),
         probes,
     };
-    std::fs::write(o.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json")).map_err(|e| format!("bake.json: {e}"))?;
+    std::fs::write(o.run.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json"))
+        .map_err(|e| format!("bake.json: {e}"))?;
     log(format!(
         "wrote {} ({} EXR files, bake.json, preview.png, runtime.wgsl{})",
-        o.out.display(),
+        o.run.out.display(),
         meta.files.len(),
         if meta.probes.is_some() { ", probes.json" } else { "" }
     ));
@@ -296,7 +299,7 @@ fn filter_account(
     let overlapped = lm.texel_charts.iter().filter(|c| **c != crate::layout::lightmap::NO_CHART).count();
     let empty =
         (0..lm.texels.len()).filter(|t| lm.texel_charts[*t] != crate::layout::lightmap::NO_CHART && img.validity[*t] == 0.0).count();
-    let filter_json = match (&o.config.filter, &state.filtered) {
+    let filter_json = match (&o.spec.config.filter, &state.filtered) {
         (Some(f), Some(fs)) => {
             let uncovered = overlapped - lm.valid_count();
             log(format!(
@@ -322,7 +325,7 @@ fn filter_account(
 
 /// Joint NLM denoising of the images when asked for; its account for bake.json.
 fn denoise_step(o: &Options, img: &mut LightmapImages, lm: &Lightmap, log: &mut dyn FnMut(String)) -> Result<Option<DenoiseJson>, String> {
-    Ok(match o.denoise {
+    Ok(match o.spec.denoise {
         Some(opts) => {
             let t = Instant::now();
             let st = crate::post::denoise::denoise(img, lm, opts)?;
@@ -357,7 +360,7 @@ fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImage
     let seam_edges = crate::post::seams::find_seams(scene, lm);
     let seam_samples = crate::post::seams::samples(&seam_edges, lm.width, lm.height);
     let mut plain = img.clone();
-    plain.dilate(o.padding + 1);
+    plain.dilate(o.spec.padding + 1);
     let metric_before = crate::post::seams::seam_metric(&plain, &seam_samples);
     let noise = {
         let (mut s, mut n) = (0.0f64, 0usize);
@@ -386,9 +389,9 @@ fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImage
         seconds: None,
         metric,
     };
-    let dilated = if o.stitch_seams && !seam_samples.is_empty() {
+    let dilated = if o.spec.stitch_seams && !seam_samples.is_empty() {
         let st = crate::post::seams::stitch(img, &plain, &seam_samples);
-        let dilated = img.dilate_keeping(o.padding + 1, &st.written_empty);
+        let dilated = img.dilate_keeping(o.spec.padding + 1, &st.written_empty);
         let after = crate::post::seams::seam_metric(img, &seam_samples);
         let secs = t.elapsed().as_secs_f64();
         log(format!(
@@ -417,104 +420,22 @@ fn seams_step(o: &Options, scene: &Scene, lm: &Lightmap, img: &mut LightmapImage
             seam_edges.len(),
             t.elapsed().as_secs_f64()
         ));
-        img.dilate(o.padding + 1)
+        img.dilate(o.spec.padding + 1)
     };
     (dilated, seams, t.elapsed().as_secs_f64())
-}
-
-/// Writes the runtime shader library the bake needs (and, with a profile, its export and
-/// what its Lambert-only BRDF set left out) and its LUTs; bake.json's account of them.
-fn write_runtime(o: &Options, glossy: bool, log: &mut dyn FnMut(String)) -> Result<RuntimeJson, String> {
-    // Specular runtime: only for a scene with a glossy material and a profile (if any) whose
-    // BRDF set has GGX.
-    let specular = glossy && o.profile.as_ref().is_none_or(|p| p.specular);
-    // The profile's specular paths (without a profile: the fits, the library's default).
-    let paths: Vec<sbf::profile::SpecularPath> = match (&o.profile, specular) {
-        (_, false) => Vec::new(),
-        (Some(p), true) => p.specular_paths.clone(),
-        (None, true) => vec![sbf::profile::SpecularPath::Fit],
-    };
-    // Every basis the bake wrote: the lightmap's and, when probes were baked, theirs.
-    let mut bases = o.config.bases.clone();
-    if o.probes.is_some() {
-        bases.extend(o.probe_bases.iter().filter(|b| !o.config.bases.contains(b)));
-    }
-    let compensated = o.profile.as_ref().is_some_and(|p| p.multiple_scattering);
-    let (features, luts) = output::runtime_features(&bases, &paths, compensated);
-    let cfg = shaders::compose::Config::parse(&features.join(","))?;
-    let runtime = shaders::compose::compose(&cfg)?;
-    // As the library exports it: the items under their sbf_/Sbf/SBF_ names.
-    let runtime_wgsl = shaders::export::export_with(&runtime.source, shaders::export::Lang::Wgsl, &shaders::emit::Options::default())?;
-    std::fs::write(o.out.join("runtime.wgsl"), runtime_wgsl).map_err(|e| format!("runtime.wgsl: {e}"))?;
-    let mut runtime_files = vec!["runtime.wgsl".to_string()];
-    if let Some(p) = &o.profile {
-        let lang = shaders::export::Lang::parse(&p.language)?;
-        if p.language != "wgsl" {
-            let name = format!("runtime.{}", lang.extension());
-            let opts = shaders::emit::Options {
-                title: format!("bake runtime for profile '{}' ({})", p.name, features.join(", ")),
-                roots: shaders::library::roots(&cfg),
-                ..Default::default()
-            };
-            std::fs::write(o.out.join(&name), shaders::export::export_with(&runtime.source, lang, &opts)?)
-                .map_err(|e| format!("{name}: {e}"))?;
-            runtime_files.push(name);
-        }
-        if glossy && !p.specular {
-            let (spec_features, spec_luts) = output::runtime_features(&bases, &[sbf::profile::SpecularPath::Fit], false);
-            let with = shaders::compose::compose(&shaders::compose::Config::parse(&spec_features.join(","))?)?;
-            let lut_bytes: usize = spec_luts.iter().map(|l| embedded_lut(l).map_or(0, |d| d.len())).sum();
-            let saved = with.source.len() - runtime.source.len();
-            log(if saved + lut_bytes == 0 {
-                format!(
-                    "profile '{}': Lambert only — the scene is glossy, but these bases have no specular runtime path to leave out",
-                    p.name
-                )
-            } else {
-                format!("profile '{}': Lambert only — specular runtime left out although the scene is glossy: {saved} WGSL bytes and {lut_bytes} LUT bytes not written", p.name)
-            });
-        }
-    }
-    for l in &luts {
-        let data = embedded_lut(l)?;
-        std::fs::write(o.out.join(l), data).map_err(|e| format!("{l}: {e}"))?;
-    }
-    // The same tables as KTX 2.0 textures in the layouts the runtime's functions read.
-    let mut textures = Vec::new();
-    for t in shaders::tables::for_runtime(&luts, &features) {
-        let name = format!("{}.ktx2", t.name);
-        std::fs::write(o.out.join(&name), shaders::tables::ktx2(&t)?).map_err(|e| format!("{name}: {e}"))?;
-        textures.push(name);
-    }
-    Ok(RuntimeJson {
-        wgsl: "runtime.wgsl",
-        files: runtime_files,
-        features,
-        luts,
-        textures,
-        specular_paths: paths.iter().map(|p| p.name()).collect(),
-        left_out_bytes: runtime.left_out_bytes(),
-        specular: if specular {
-            "included"
-        } else if glossy {
-            "left out: the profile's BRDF set is Lambert only"
-        } else {
-            "left out: no glossy material"
-        },
-    })
 }
 
 /// bake.json's account of each lightmap basis: lobes, domain, solver, frame, files.
 fn bases_json(o: &Options, fit: &[IrradianceRatio], written: &[IrradianceRatio]) -> Vec<BasisJson> {
     o
-        .config
+        .spec.config
         .bases
         .iter()
         .zip(fit.iter().zip(written))
         .map(|(b, (fit, written))| {
             let lobes = b.lobes();
             let files: Vec<String> = (0..lobes).map(|l| format!("{}_{l:02}.exr", b.name())).collect();
-            let solver = match o.config.solver {
+            let solver = match o.spec.config.solver {
                 Solver::Nnls if b.non_negative() => "progressive NNLS",
                 Solver::NnlsIrradiance if b.non_negative() => "progressive LS, refitted per texel as NNLS with E/π at the normal pinned",
                 Solver::NnlsRescaled if b.non_negative() => "progressive NNLS, lobes scaled per texel to the texel's E/π at the normal",
@@ -528,7 +449,7 @@ fn bases_json(o: &Options, fit: &[IrradianceRatio], written: &[IrradianceRatio])
                 space: "tangent: normal +Z, tangent frame of Duff et al. 2017 (sbf::basis::ambient_dice_bezier::tangent_frame, WGSL tangent_frame) about the texel's shading normal in normals.exr (world space, the normalised mean of the interpolated vertex normals at its sub-texel points)",
                 files,
                 mirrored_lower_hemisphere: b.is_sphere(),
-                sg_sharpness: b.is_sg().then_some(o.config.sg_sharpness),
+                sg_sharpness: b.is_sg().then_some(o.spec.config.sg_sharpness),
                 lobe_axes: {
                     let axes = b.axes();
                     (!axes.is_empty()).then(|| axes.iter().map(|a| a.to_array()).collect())
@@ -564,6 +485,7 @@ fn write_probes(
             mean_radiance: mean[k],
             standard_error: se[k],
             coefficients: o
+                .spec
                 .probe_bases
                 .iter()
                 .enumerate()
@@ -577,21 +499,11 @@ fn write_probes(
             relocated_from: relocated.iter().find(|r| r.0 == k).map(|(_, from)| xyz(*from)),
         })
         .collect();
-    let file = ProbesJson { space: "world (+Y up)", passes: ps.passes, bases: o.probe_bases.iter().map(|b| b.name()).collect(), probes };
-    std::fs::write(o.out.join("probes.json"), serde_json::to_string_pretty(&file).expect("json"))
+    let file =
+        ProbesJson { space: "world (+Y up)", passes: ps.passes, bases: o.spec.probe_bases.iter().map(|b| b.name()).collect(), probes };
+    std::fs::write(o.run.out.join("probes.json"), serde_json::to_string_pretty(&file).expect("json"))
         .map_err(|e| format!("probes.json: {e}"))?;
     let validity = validity_json(ps);
     log(format!("probes: {} of {} inside geometry (flagged \"valid\": false in probes.json)", validity.invalid, probe_positions.len()));
     Ok(ProbesSummaryJson { file: "probes.json", count: probe_positions.len(), validity, relocated: relocated.len() })
-}
-
-/// The committed bytes of a table file the shader runtime reads.
-fn embedded_lut(file: &str) -> Result<&'static [u8], String> {
-    Ok(match file {
-        "dfg.sbflut" => sbf::luts::committed::DFG_DATA,
-        "ad_specular_2d.sbflut" => sbf::luts::committed::AD_SPECULAR_2D_DATA,
-        "lobe_ggx_sg6.sbflut" => sbf::luts::committed::LOBE_GGX_SG6_DATA,
-        "lobe_ggx_ad.sbflut" => sbf::luts::committed::LOBE_GGX_AD_DATA,
-        other => return Err(format!("no embedded LUT named {other}")),
-    })
 }

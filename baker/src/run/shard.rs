@@ -1,12 +1,12 @@
 //! A bake spread over machines: a shard's run ends by writing its partial state
 //! ([`crate::checkpoint::shard`]) and a small record of the run beside it; `baker merge`
 //! reads every shard, checks that they are the N parts of one bake, rebuilds the scene,
-//! layout and probe grid from the arguments recorded in them, and writes the outputs the
+//! layout and probe grid from the [`BakeSpec`] recorded in them, and writes the outputs the
 //! single bake writes — the post-processing (denoising, seams, dilation) runs here, on the
 //! whole atlas — and the whole state is written as the single bake's checkpoint, so the
-//! merged bake can be continued on one machine (`--resume --passes M`).
+//! merged bake can be continued on one machine (`baker resume --out OUT --passes M`).
 
-use super::options::{Options, ShardSpec, Summary};
+use super::options::{BakeSpec, Options, RunOptions, ShardSpec, Summary};
 use super::outputs::{write_outputs, OutputContext, StageTimes};
 use crate::accumulate::{BakeConfig, BakeState, Partition, Targets};
 use crate::checkpoint::shard::{self, SetState, Shard};
@@ -43,7 +43,7 @@ pub(crate) struct BakedSet<'a> {
     pub(crate) state: &'a BakeState,
 }
 
-/// Writes shard `spec`'s file (its items of every set) and its run record into `o.out`.
+/// Writes shard `spec`'s file (its items of every set) and its run record into `o.run.out`.
 pub(crate) fn write_shard(
     o: &Options,
     spec: &ShardSpec,
@@ -60,11 +60,12 @@ pub(crate) fn write_shard(
             state: s.state,
         });
     }
-    let bytes = shard::to_bytes(spec.index, spec.count, &spec.recipe, &states);
-    let path = o.out.join(shard::file_name(spec.index, spec.count));
+    let recorded: serde_json::Value = serde_json::from_str(&o.spec.canonical()).expect("canonical json");
+    let bytes = shard::to_bytes(spec.index, spec.count, &recorded, &states);
+    let path = o.run.out.join(shard::file_name(spec.index, spec.count));
     shard::write(&path, &bytes)?;
     let json = serde_json::to_string_pretty(run).map_err(|e| e.to_string())?;
-    write_atomic(&run_file(&o.out, spec.index, spec.count), json.as_bytes())?;
+    write_atomic(&run_file(&o.run.out, spec.index, spec.count), json.as_bytes())?;
     log(format!(
         "shard {} of {}: {} ({} bytes); merge all {} with `baker merge OUT SHARD…`",
         spec.index,
@@ -76,79 +77,29 @@ pub(crate) fn write_shard(
     Ok(())
 }
 
-/// The options that decide a bake's outputs, as text: `o` without where and how it runs
-/// (output folder, checkpoints, device, GPUs, dispatch size, pipeline, logging, shard).
-fn defining(o: &Options) -> String {
-    let mut d = o.clone();
-    d.out = PathBuf::new();
-    d.checkpoint_every = 0;
-    d.resume = false;
-    d.device = super::Device::Auto;
-    d.gpus = 1;
-    d.batch_seconds = None;
-    d.config.pipeline = Default::default();
-    d.quiet = false;
-    d.verbose = false;
-    d.shard = None;
-    format!("{d:?}")
-}
-
-/// The options of `a` and `b` that differ, as "--name: A vs B" (flags compared by their
-/// last value; a flag given in one only shows against "(default)").
-pub fn recipe_differences(a: &[String], b: &[String]) -> Vec<String> {
-    fn flags(v: &[String]) -> std::collections::BTreeMap<String, String> {
-        let mut m = std::collections::BTreeMap::new();
-        let mut i = 0;
-        while i < v.len() {
-            let arg = &v[i];
-            if let Some((k, val)) = arg.split_once('=').filter(|_| arg.starts_with("--")) {
-                m.insert(k.to_string(), val.to_string());
-            } else if arg.starts_with('-') {
-                let value = v.get(i + 1).filter(|n| !n.starts_with("--"));
-                m.insert(arg.clone(), value.cloned().unwrap_or_default());
-                i += value.is_some() as usize;
-            }
-            i += 1;
-        }
-        m
-    }
-    let (fa, fb) = (flags(a), flags(b));
-    let mut keys: Vec<&String> = fa.keys().chain(fb.keys()).collect();
-    keys.sort();
-    keys.dedup();
-    let show = |m: &std::collections::BTreeMap<String, String>, k: &String| m.get(k).cloned().unwrap_or_else(|| "(default)".into());
-    keys.into_iter().filter(|k| fa.get(*k) != fb.get(*k)).map(|k| format!("{k} {} vs {}", show(&fa, k), show(&fb, k))).collect()
-}
-
-/// Merges shard files into the outputs of the single bake, in `out`. `parse` turns a
-/// shard's recorded arguments into [`Options`] (the command's own parser). Refuses shards
-/// of different bakes (naming the options that differ), of different splits, duplicates
+/// Merges shard files into the outputs of the single bake, in `out`, from the
+/// [`BakeSpec`] recorded in them (the files it names must be readable here). Refuses shards
+/// of different bakes (naming the fields that differ), of different splits, duplicates
 /// and gaps, and shards whose scene content no longer matches the files named.
-pub fn merge(
-    out: &Path,
-    files: &[PathBuf],
-    parse: &dyn Fn(&[String]) -> Result<Options, String>,
-    log: &mut dyn FnMut(String),
-) -> Result<Summary, String> {
+pub fn merge(out: &Path, files: &[PathBuf], log: &mut dyn FnMut(String)) -> Result<Summary, String> {
     let t0 = Instant::now();
     let shards: Vec<Shard> = files.iter().map(|f| Shard::read(f)).collect::<Result<_, _>>()?;
     let first = shards.first().ok_or("merge needs the shard files (shard-I-of-N.sbfshard)")?;
-    let mut o = parse(&first.header.recipe).map_err(|e| format!("{}: its recorded arguments: {e}", first.name()))?;
+    let spec_of = |s: &Shard| -> Result<BakeSpec, String> {
+        serde_json::from_value(s.header.spec.clone()).map_err(|e| format!("{}: its recorded bake spec: {e}", s.name()))
+    };
+    let spec = spec_of(first)?;
     for s in &shards[1..] {
-        let so = parse(&s.header.recipe).map_err(|e| format!("{}: its recorded arguments: {e}", s.name()))?;
-        if defining(&so) != defining(&o) {
-            let diff = recipe_differences(&first.header.recipe, &s.header.recipe);
-            return Err(format!(
-                "{} and {} are shards of different bakes: {}",
-                first.name(),
-                s.name(),
-                if diff.is_empty() { "their settings differ".to_string() } else { diff.join("; ") }
-            ));
+        let other = spec_of(s)?;
+        let diff = spec.differences(&other, true);
+        if !diff.is_empty() {
+            return Err(format!("{} and {} are shards of different bakes: {}", first.name(), s.name(), diff.join("; ")));
         }
     }
+    let o = Options { spec, run: RunOptions { out: out.to_path_buf(), ..RunOptions::default() } };
+    o.validate()?;
     let n = shard::check_complete(&shards)?;
-    log(format!("merge: {n} shards of one bake ({})", first.header.recipe.join(" ")));
-    (o.out, o.shard) = (out.to_path_buf(), None);
+    log(format!("merge: {n} shards of one bake (scene {}, {} passes)", o.spec.scene, o.spec.passes));
     let p = super::prepare(&o, log)?;
     let mut sets = vec![("lightmap", &p.targets, &p.config)];
     let probe_targets = p.probes.as_ref().map(|(pos, _)| Targets::probes(pos));
@@ -164,9 +115,11 @@ pub fn merge(
         merged.push((*what, fp, targets.items.len(), shard::merge(&shards, k, fp, config, targets)?));
     }
     super::limits::check_writable(out)?;
+    // The spec beside the checkpoints: `baker resume` continues the merged bake from it.
+    super::options::record_spec(&o.spec, out, false)?;
     let mut states = Vec::new();
     for (what, fp, items, state) in merged {
-        // The whole state as the single bake's checkpoint: `baker --resume --passes M`
+        // The whole state as the single bake's checkpoint: `baker resume --passes M`
         // continues the merged bake on one machine.
         write_atomic(&out.join(format!("{what}.checkpoint")), &crate::checkpoint::to_bytes(&state, fp))?;
         log(format!("merge: {what}: {items} items from {n} shards, {} passes", state.passes));

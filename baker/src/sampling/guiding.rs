@@ -95,7 +95,8 @@ pub fn stage(p: u64, learn: u64) -> (u32, u64) {
 }
 
 /// Guiding settings of a bake.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GuidingOptions {
     /// Uniform passes that learn the distribution; guiding starts after them.
     pub learn_passes: u64,

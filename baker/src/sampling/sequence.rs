@@ -36,7 +36,8 @@ pub const ENVIRONMENT: u32 = 2;
 pub const USES: u32 = 3;
 
 /// Which numbers feed the estimator.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Sequence {
     /// Shuffled, Owen-scrambled Sobol' points per (item, vertex, use).
     #[default]

@@ -42,7 +42,8 @@ impl SceneCamera {
 /// A pinhole camera looking from `eye` at `target`, `up` the image's up direction (the
 /// component perpendicular to the view direction counts), vertical field of view `fov_y`
 /// (radians), an image of `width` × `height` pixels.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ViewCamera {
     pub eye: Vec3,
     pub target: Vec3,

@@ -35,17 +35,36 @@ pub fn sha(bytes: &[u8]) -> String {
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// A bake spec's file paths (`scene` when a file, `environment`) cut to their file names:
+/// where this machine keeps the data is not what was baked (a clone elsewhere bakes the
+/// same spec with other absolute paths).
+pub fn strip_spec_paths(spec: &mut serde_json::Value) {
+    for k in ["scene", "environment"] {
+        if let Some(serde_json::Value::String(p)) = spec.get_mut(k) {
+            if let Some((_, name)) = p.rsplit_once('/') {
+                *p = name.to_string();
+            }
+        }
+    }
+}
+
 /// (file, SHA-256) of every file a bake wrote, sorted by name; bake.json stripped first
-/// (canonical form: keys sorted, numbers round-trip exact).
+/// (canonical form: keys sorted, numbers round-trip exact), bake.json's and spec.json's
+/// spec without the folders of its files.
 pub fn hashes(dir: &Path) -> Vec<(String, String)> {
     let mut out = Vec::new();
     for e in std::fs::read_dir(dir).unwrap() {
         let p = e.unwrap().path();
         let name = p.file_name().unwrap().to_string_lossy().to_string();
         let bytes = std::fs::read(&p).unwrap();
-        let h = if name == "bake.json" {
+        let h = if name == "bake.json" || name == "spec.json" {
             let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
             strip_run_fields(&mut v);
+            if name == "bake.json" {
+                strip_spec_paths(&mut v["spec"]);
+            } else {
+                strip_spec_paths(&mut v);
+            }
             sha(serde_json::to_string(&v).unwrap().as_bytes())
         } else {
             sha(&bytes)
