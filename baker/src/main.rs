@@ -84,8 +84,6 @@ struct RunArgs {
     after_help = "With no arguments, bakes the built-in Cornell-style scene into ./bake-out/.\n\nExamples:\n  baker\n  baker --scene room.glb --bases sh2,ad12 --passes 512\n  baker --device cpu --passes 64 --out quick\n  baker resume --passes 512 (continues the bake in ./bake-out from its checkpoints and recorded spec)\n  baker --shard 0/4 --out shards; … --shard 3/4 --out shards; baker merge bake-out shards/*.sbfshard"
 )]
 struct Cli {
-    #[command(flatten)]
-    run: RunArgs,
     #[arg(long, default_value = "cornell", help = baker::scene::load::SCENE_HELP)]
     scene: String,
     /// Lat-long .hdr/.exr environment map replacing the scene's environment.
@@ -244,6 +242,9 @@ struct Cli {
     /// baking (scene `dense` has a ≥ 1 M-triangle sphere).
     #[arg(long)]
     measure_rays: Option<u64>,
+    // How the bake runs (the options `baker resume` takes too).
+    #[command(flatten)]
+    run: RunArgs,
 }
 
 fn parse_bases(v: &[String]) -> Result<Vec<BasisId>, String> {
