@@ -16,10 +16,10 @@
 //! | [`post`] | the lightmap as images: dilation, denoising, seams |
 //! | [`output`] | EXR, bake.json, probes.json, previews, the runtime shader library a bake needs |
 //! | [`render`] | the baked scene rasterised in real time with the exported runtime (GPU) and its CPU twin, the path-traced reference of the same quantity, their errors |
-//! | [`run`] | a whole bake as the `baker` command runs it: `run::bake(&Options)` |
+//! | [`run`] | a whole bake as the `baker` command runs it: `run::bake(&Options)`, the options being a [`run::BakeSpec`] (what is baked; its JSON is bake.json's `spec`, spec.json and every shard's header) and [`run::RunOptions`] (how it runs); `baker merge` and `baker resume` rebuild a bake from its spec |
 //! | [`slc`] | stochastic light culling ([TH17; TH17-supp; FTH22-supp]), its own renderer and `slc` command; uses the scene layer and the image writers |
 //!
-//! Binaries: `baker` (`src/main.rs`: arguments → [`run::Options`] → [`run::bake`]),
+//! Binaries: `baker` (`src/main.rs`: arguments → [`run::Options`] → [`run::bake`]; `baker merge`, `baker resume`),
 //! `render` (`src/bin/render.rs`: a bake, made or read, → [`render::session::run`]) and
 //! `slc` (`src/bin/slc.rs`: arguments → [`slc::harness::SlcOptions`] →
 //! [`slc::harness::render`]).
