@@ -190,6 +190,12 @@ fn merge_refuses_shards_of_another_bake_gaps_and_duplicates() {
     // Another seed.
     let other_seed = shard(&b, 1, 3, &["--seed", "2"]);
     refusal(&["merge", out, &p(&s[0]), &p(&other_seed), &p(&s[2])], &["different bakes", "config.seed: 1 vs 2", "shard 1 of 3"]);
+    // Other passes (the shards' own pass counts would refuse them too; the spec names it).
+    let c = root.join("c");
+    let mut args = recipe("cornell", "3", "4");
+    args.extend(["--shard", "1/3", "--out", c.to_str().unwrap()]);
+    ok(&args);
+    refusal(&["merge", out, &p(&s[0]), &p(&c.join("shard-1-of-3.sbfshard")), &p(&s[2])], &["different bakes", "passes: 2 vs 3"]);
     // A missing shard.
     refusal(&["merge", out, &p(&s[0]), &p(&s[2])], &["missing shard 1 of 3", "--shard 1/3"]);
     // A duplicate (the same shard twice, under two names).

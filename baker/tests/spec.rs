@@ -13,8 +13,14 @@
 //!   bake, whose arguments are all non-defaults the resume is never given), bake.json's
 //!   `spec` equals spec.json, and a resume of a folder without a recorded bake is refused.
 //!
-//! Mutation tried, caught: `resume_options` taking `BakeSpec::default()` instead of the
-//! recorded spec (the resume is refused, naming the ten fields that differ).
+//! Mutations tried (20, by a reviewer), each caught but one: `resume_options` taking
+//! `BakeSpec::default()` or ignoring `--passes`; `differences` flat or without its
+//! `passes` filter; the config not hashed, or the pipeline hashed, in the fingerprint;
+//! `#[serde(skip)]` on `indirect_only`; "sh1" read as SH L2; `read_spec` defaulting; the
+//! resumed folder keeping its old spec.json. Added after the review: the recorded names
+//! (engine frame names swapped consistently slipped a round trip) and a top-level unknown
+//! field. The encoder rule's hash (a guard against checkpoints of another code version)
+//! is not testable within one build.
 
 mod common;
 
@@ -87,6 +93,20 @@ fn the_canonical_spec_round_trips_every_setting() {
         assert_eq!(back.canonical(), text);
         assert!(spec.differences(&back, true).is_empty());
     }
+    // The recorded names are the ones the docs give (a round trip alone would pass with
+    // any consistent naming).
+    let text = full_spec().canonical();
+    for part in [
+        "\"bases\":[\"sh1\",\"ad9\",\"zh3\"]",
+        "\"engine_formats\":[\"monosh\",\"godot-l1\"]",
+        "\"engine_frame\":\"gltf\"",
+        "\"solver\":\"nnls-irradiance\"",
+    ] {
+        assert!(text.contains(part), "{part} not in {text}");
+    }
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["engine_frame"] = serde_json::json!("unity");
+    assert_eq!(BakeSpec::from_json(v.to_string().as_bytes()).unwrap().engine_frame, Some(sbf::recon::engine::EngineFrame::UnityLeftHanded));
     // The differences name nested fields; `passes` only when asked.
     let (a, mut b) = (full_spec(), full_spec());
     b.passes = 1;
@@ -100,6 +120,10 @@ fn the_canonical_spec_round_trips_every_setting() {
 fn bad_recorded_specs_are_refused_naming_the_field() {
     let mut v: serde_json::Value = serde_json::from_str(&BakeSpec::default().canonical()).unwrap();
     v["config"]["colour"] = serde_json::json!(1);
+    let e = BakeSpec::from_json(v.to_string().as_bytes()).unwrap_err();
+    assert!(e.contains("unknown field `colour`"), "{e}");
+    let mut v: serde_json::Value = serde_json::from_str(&BakeSpec::default().canonical()).unwrap();
+    v["colour"] = serde_json::json!(1);
     let e = BakeSpec::from_json(v.to_string().as_bytes()).unwrap_err();
     assert!(e.contains("unknown field `colour`"), "{e}");
     let mut v: serde_json::Value = serde_json::from_str(&BakeSpec::default().canonical()).unwrap();
