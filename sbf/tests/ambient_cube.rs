@@ -1,5 +1,5 @@
 //! Ambient cube identities.
-mod common;
+use crate::common;
 
 use sbf::{AmbientCube, Basis};
 

@@ -1,5 +1,5 @@
 //! Ambient Dice (SRBF 12/9, Bézier, YCoCg, linear) identities.
-mod common;
+use crate::common;
 
 use sbf::basis::ambient_dice::{srbf_lobe, ICOSAHEDRON_EDGE_COS};
 use sbf::basis::ambient_dice_bezier::{rgb_to_ycocg, ycocg_to_rgb, BEZIER_A0, BEZIER_A1, BEZIER_A2};

@@ -1,5 +1,5 @@
 //! Environment-map geometry: solid angles, conventions, lookups, quadrature.
-mod common;
+use crate::common;
 
 use sbf::envmap::{CubeMap, LatLong, LatLongImage, ProceduralSky};
 use sbf::glam::DVec3;

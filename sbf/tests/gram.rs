@@ -1,5 +1,5 @@
 //! Gram matrices and condition numbers against an independent dense quadrature.
-mod common;
+use crate::common;
 
 use sbf::envmap::LatLong;
 use sbf::glam::DVec3;

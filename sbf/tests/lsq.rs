@@ -1,5 +1,4 @@
 //! Batch least squares: orthonormal closed form, design vs Gram form, stiff cases.
-mod common;
 
 use sbf::envmap::{LatLongImage, ProceduralSky};
 use sbf::glam::DVec3;

@@ -1,5 +1,4 @@
 //! NNLS (Lawson–Hanson) against brute-force enumeration of active sets.
-mod common;
 
 use sbf::nalgebra::{DMatrix, DVector};
 use sbf::sampling::Pcg32;

@@ -10,7 +10,6 @@
 //! flipped (enumeration). The refinement's right-hand side d scaled by 1.02 fails
 //! `matches_scipy`; the elimination's particular point b₀ scaled by 1.02 passes every test,
 //! as it should: the refinement re-solves the support's KKT system from the true d.
-mod common;
 
 use sbf::nalgebra::{DMatrix, DVector};
 use sbf::sampling::Pcg32;

@@ -1,6 +1,6 @@
 //! Progressive per-sample encoder on the built-in sky (no files needed): convergence
 //! to batch LS, sample-order sensitivity, f32 state, weights, mirroring, variants.
-mod common;
+use crate::common;
 
 use common::rmse_vs_map;
 use sbf::envmap::{LatLongImage, ProceduralSky};

@@ -1,5 +1,5 @@
 //! Projection matrices ([Roughton19 §7.4]) against closed forms and direct quadrature.
-mod common;
+use crate::common;
 
 use sbf::ggx;
 use sbf::nalgebra::DMatrix;

@@ -1,6 +1,6 @@
 //! Ambient Dice SRBF irradiance: [Roughton19 eq. 8.11]/8.13 against an independent
 //! quadrature, the quadratic fit (8.14), continuity, and the constant-radiance identity.
-mod common;
+use crate::common;
 
 use sbf::basis::ambient_dice::srbf_lobe;
 use sbf::quadrature::gauss_legendre;

@@ -1,5 +1,5 @@
 //! Reference integrators: white furnace, reciprocity, constant radiance, DFG entries.
-mod common;
+use crate::common;
 
 use sbf::ggx;
 use sbf::glam::DVec3;

@@ -7,7 +7,7 @@
 //! 3. SG λ ∈ {1e-4, 1, 1e4} — Hill/zonal irradiance, ASG warp.
 //! 4. A sun of radiance 1e6 in a map — map irradiance reference, LS fits and every
 //!    reconstruction from them.
-mod common;
+use crate::common;
 
 use sbf::glam::{DVec3, Vec3};
 use sbf::recon::{ambient_dice as ad, lut, reference, runtime as rt, sg as sgr, sh as shr};

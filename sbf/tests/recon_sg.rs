@@ -1,5 +1,5 @@
 //! SG irradiance (exact, Hill, cosine-SG, punctual) and specular warps.
-mod common;
+use crate::common;
 
 use sbf::glam::DVec3;
 use sbf::quadrature::{Domain, SphereQuadrature};

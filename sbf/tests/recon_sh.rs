@@ -1,5 +1,5 @@
 //! SH irradiance: band factors, constant radiance, Geomerics and ZH3, windowing.
-mod common;
+use crate::common;
 
 use sbf::basis::sh::sh_count;
 use sbf::glam::DVec3;

@@ -1,5 +1,5 @@
 //! Samplers: pdfs integrate to 1, χ² goodness of fit at fixed seeds, inverse round trips.
-mod common;
+use crate::common;
 
 use common::{chi2_directions, chi2_z};
 use sbf::ggx;

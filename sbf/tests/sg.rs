@@ -1,6 +1,6 @@
 //! Spherical Gaussians and ASGs: closed forms against quadrature over the whole
 //! stiff range λ ∈ [1e-4, 1e4], f32 finiteness, product identity.
-mod common;
+use crate::common;
 
 use common::rel;
 use sbf::basis::sg::{sg_unit_inner_product_f32, sg_unit_integral, sg_unit_integral_f32};

@@ -1,5 +1,5 @@
 //! Spherical harmonics: orthonormality, fast paths, constants, bad input.
-mod common;
+use crate::common;
 
 use sbf::basis::sh::{sh_count, SH_CONSTANT_C00};
 use sbf::basis::sh_fast::{eval_sh_f32, eval_sh_l2};
