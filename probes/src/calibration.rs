@@ -49,12 +49,13 @@ pub fn irradiance_key(id: &str, variant: &str) -> String {
     }
 }
 
-/// Key of a mode's specular evaluator: `specular/<id>` for SH (one path), otherwise
+/// Key of a mode's specular evaluator: `specular/<id>` for SH and the prefiltered maps (one
+/// path), otherwise
 /// `specular/<id>/<table|fit>`; `None` without a specular path.
 pub fn specular_key(id: &str, runtime: SpecularRuntime) -> Option<String> {
     if !crate::specular::supported(id) {
         None
-    } else if crate::specular::is_sh(id) {
+    } else if crate::specular::is_sh(id) || crate::specular::is_pf(id) {
         Some(format!("specular/{id}"))
     } else {
         Some(format!("specular/{id}/{}", runtime.name()))

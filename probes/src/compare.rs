@@ -10,6 +10,7 @@ use crate::modes::{self, Context, SgIrradiance, SpecularRuntime};
 use crate::outcome::{MapReport, Row, SpecularReference, StageTimes};
 use rayon::prelude::*;
 use sbf::envmap::LatLongImage;
+use sbf::recon::prefiltered::PrefilterKernel;
 use std::path::Path;
 use std::time::Instant;
 
@@ -91,6 +92,7 @@ pub fn compare(label: &str, map: LatLongImage, sanitized: usize, s: &Settings) -
     let tb = Instant::now();
     pb.set_message("specular decomposition");
     decompose(&ctx, &mut rows, &spec_refs);
+    split_sum(&ctx, &mut rows, &spec_refs)?;
     let decomposition_s = tb.elapsed().as_secs_f64();
     pb.set_message("costs");
     let tc = Instant::now();
@@ -245,6 +247,7 @@ fn run_modes<'a>(
                 specular: Vec::new(),
                 specular_images: specular_images.into_iter().map(|(_, img)| img).collect(),
                 specular_parts: Vec::new(),
+                split_sum_parts: Vec::new(),
                 specular_cost: None,
             };
             Ok((row, (eval, encode, eval_from_encode)))
@@ -308,6 +311,60 @@ fn decompose(ctx: &Context, rows: &mut [Row], spec_refs: &[SpecularReference]) {
             rows[k].specular_parts.push((sr.alpha, basis_rms, runtime_rms));
         }
     }
+}
+
+/// The prefiltered maps' error split, per α (see [`Row::split_sum_parts`]): the map
+/// prefiltered exactly at α on the output grid ([`crate::specular::prefiltered_latlong`]),
+/// read at each texel's reflected direction (bilinear; over the sphere that is the texel
+/// itself) and multiplied by the DFG terms at (n·v, α) — the split sum without a map's
+/// limits. Runs only where a prefiltered mode is in the run, under the physical reference.
+fn split_sum(ctx: &Context, rows: &mut [Row], spec_refs: &[SpecularReference]) -> Result<(), String> {
+    use crate::specular;
+    let pf: Vec<usize> = (0..rows.len()).filter(|k| specular::is_pf(rows[*k].result.id)).collect();
+    if pf.is_empty() || ctx.convention != sbf::ggx::Convention::Physical {
+        return Ok(());
+    }
+    for sr in spec_refs {
+        for kernel in [PrefilterKernel::Karis, PrefilterKernel::NormalIncidence] {
+            let mine: Vec<usize> = pf
+                .iter()
+                .copied()
+                .filter(|k| crate::modes::prefiltered::parse(rows[*k].result.id).is_some_and(|v| v.kernel == kernel))
+                .collect();
+            if !mine.is_empty() {
+                split_sum_alpha(ctx, rows, sr, kernel, &mine)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`split_sum`] for one α and one kernel, on the rows `pf` prefiltered with it.
+fn split_sum_alpha(ctx: &Context, rows: &mut [Row], sr: &SpecularReference, kernel: PrefilterKernel, pf: &[usize]) -> Result<(), String> {
+    use crate::specular;
+    let dfg = sbf::recon::tables::dfg();
+    let (f0, f90) = ctx.convention.fresnel().unwrap_or((1.0, 1.0));
+    {
+        let p = specular::prefiltered_latlong(&ctx.map, ctx.grid, sr.alpha, kernel)?;
+        let p = LatLongImage::new(ctx.grid.width, ctx.grid.height, p.iter().map(|v| v.map(|x| x as f32)).collect())
+            .map_err(|e| e.to_string())?;
+        let exact: Vec<[f64; 3]> = (0..ctx.dirs.len())
+            .into_par_iter()
+            .map(|k| {
+                let Some((n, v)) = specular::geometry(ctx, k) else { return [0.0; 3] };
+                let d = dfg.sample2(n.dot(v).clamp(0.0, 1.0) as f32, sr.alpha as f32);
+                let scale = f0 * d[0] as f64 + f90 * d[1] as f64;
+                p.bilinear(sbf::ggx::reflect(v, n)).map(|x| x * scale)
+            })
+            .collect();
+        let split_rms = metrics::compute_rows(ctx.grid, &exact, &sr.image, ctx.metric_rows()).rms;
+        for &k in pf {
+            let Some(i) = rows[k].specular.iter().position(|(a, _)| *a == sr.alpha) else { continue };
+            let map_rms = metrics::compute_rows(ctx.grid, &rows[k].specular_images[i], &exact, ctx.metric_rows()).rms;
+            rows[k].split_sum_parts.push((sr.alpha, split_rms, map_rms));
+        }
+    }
+    Ok(())
 }
 
 /// The timings, now that nothing else runs: the encodes (one per core), then the

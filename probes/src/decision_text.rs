@@ -27,9 +27,27 @@ fn ns(x: Option<f64>) -> String {
     x.map_or("—".into(), |x| if x >= 100.0 { format!("{x:.0} ns") } else { format!("{x:.1} ns") })
 }
 
-/// "`id` — 2.10 % error, 36 B, 20.1 ns" (`code` wraps the id).
+/// "`id` — 2.10 % error, 36 B, 20.1 ns" (`code` wraps the id); a prefiltered mode is named
+/// as the pair it is ("`pf32-ni` (SH L2 for diffuse + a 32² prefiltered map for specular) —
+/// …", its bytes and cost those of both).
 fn describe(r: &MapResults, sd: &SignalDecision, p: &Point, code: fn(&str) -> String) -> String {
-    format!("{} — {} error, {} B, {}", code(&p.id), percent(p.error_percent), p.bytes, ns(cpu_ns(r, sd, &p.id)))
+    let pair = crate::modes::prefiltered::parse(&p.id)
+        .map_or(String::new(), |v| format!(" (SH L2 for diffuse + a {}² prefiltered map for specular)", v.size));
+    format!("{}{pair} — {} error, {} B, {}", code(&p.id), percent(p.error_percent), p.bytes, ns(cpu_ns(r, sd, &p.id)))
+}
+
+/// Whether any mode that is not a prefiltered map reaches the usability threshold on a
+/// specular signal.
+fn a_basis_is_usable(r: &MapResults, sd: &SignalDecision) -> bool {
+    let Some(key) = sd.signal.strip_prefix("specular α=") else { return true };
+    r.modes.iter().filter(|m| m.coefficient_count > 0 && crate::modes::prefiltered::parse(&m.id).is_none()).any(|m| {
+        m.metrics.specular.get(key).is_some_and(|s| s.metrics.rel_rms.is_finite() && 100.0 * s.metrics.rel_rms <= r.usable_error_percent)
+    })
+}
+
+/// Whether the run compared prefiltered maps.
+fn has_prefiltered(r: &MapResults) -> bool {
+    r.modes.iter().any(|m| crate::modes::prefiltered::parse(&m.id).is_some())
 }
 
 /// One line: the signal's recommended mode and the next cheaper one on the CPU front.
@@ -41,15 +59,20 @@ pub fn recommendation(r: &MapResults, sd: &SignalDecision, code: fn(&str) -> Str
             sd.signal,
             percent(r.usable_error_percent),
             describe(r, sd, &rec.mode, code),
-            if sd.signal.starts_with("specular") {
-                "; for sharp specular, engines ship a prefiltered environment map, which this comparison does not include"
-            } else {
-                ""
+            match (sd.signal.starts_with("specular"), has_prefiltered(r)) {
+                (true, false) => "; for sharp specular, engines ship a prefiltered environment map: add the `pf` modes (`probes list`)",
+                (true, true) => "; not even the run's prefiltered maps reach it",
+                _ => "",
             }
         ),
         Some(rec) => format!(
-            "{}: {}{}",
+            "{}: {}{}{}",
             sd.signal,
+            if crate::modes::prefiltered::parse(&rec.mode.id).is_some() && !a_basis_is_usable(r, sd) {
+                format!("no basis within {} error (--usable-error) — use ", percent(r.usable_error_percent))
+            } else {
+                String::new()
+            },
             describe(r, sd, &rec.mode, code),
             rec.next_cheaper
                 .as_ref()

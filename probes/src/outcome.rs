@@ -18,6 +18,10 @@ pub struct Row {
     /// (α, basis-limited RMS, runtime RMS): the exact GGX integral of the mode's
     /// reconstructed radiance against the reference, and the runtime path against that.
     pub specular_parts: Vec<(f64, f64, f64)>,
+    /// Prefiltered maps only — (α, split-sum RMS, map RMS): the exact prefiltered radiance
+    /// at α times the DFG terms against the reference (the split sum's own error), and the
+    /// mode against that (its map's resolution, mip interpolation and storage).
+    pub split_sum_parts: Vec<(f64, f64, f64)>,
     /// Steady-state CPU cost of the specular runtime path (modes that have one).
     pub specular_cost: Option<crate::cost::CostStat>,
 }

@@ -197,6 +197,34 @@ fn specular_markdown(s: &mut String, m: &MapReport) {
             s.push('\n');
         }
     }
+    split_sum_markdown(s, m, &alphas);
+}
+
+/// The prefiltered maps' error split of one map's report (where the run has them).
+fn split_sum_markdown(s: &mut String, m: &MapReport, alphas: &[f64]) {
+    let rows: Vec<&Row> = m.rows.iter().filter(|r| !r.split_sum_parts.is_empty()).collect();
+    if rows.is_empty() {
+        return;
+    }
+    s.push_str("\nPrefiltered maps, RMS per α: *split sum* (the map prefiltered exactly at α, read at the reflected direction, times the DFG terms, against the reference: the split-sum approximation's own error, the same for every map) / *map* (the mode against that: face resolution, interpolation between mips, storage).\n\n| mode |");
+    for a in alphas {
+        let _ = write!(s, " α = {a} |");
+    }
+    s.push_str("\n|---|");
+    s.push_str(&"---|".repeat(alphas.len()));
+    s.push('\n');
+    for r in rows {
+        let _ = write!(s, "| `{}` |", r.result.id);
+        for a in alphas {
+            match r.split_sum_parts.iter().find(|p| p.0 == *a) {
+                Some(p) => {
+                    let _ = write!(s, " {:.4} / {:.4} |", p.1, p.2);
+                }
+                None => s.push_str(" — |"),
+            }
+        }
+        s.push('\n');
+    }
 }
 
 /// The per-sample encoders' convergence table of one map's report.

@@ -202,6 +202,14 @@ pub struct SpecularMetrics {
     pub basis_limited_rms: Option<f64>,
     /// The runtime path against that integral.
     pub runtime_rms: Option<f64>,
+    /// Prefiltered maps: the exact split sum (the map prefiltered at α without a map's
+    /// limits, times the DFG terms) against the reference.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split_sum_rms: Option<f64>,
+    /// Prefiltered maps: the mode against the exact split sum (resolution, mip
+    /// interpolation, storage).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map_rms: Option<f64>,
 }
 
 /// Calibration keys of a mode's irradiance and specular evaluators.
@@ -283,9 +291,16 @@ pub fn from_report(m: &MapReport, exr: bool, gpu: Option<&crate::gpu_cost::GpuCo
                 .iter()
                 .map(|(a, mm)| {
                     let parts = r.specular_parts.iter().find(|p| p.0 == *a);
+                    let split = r.split_sum_parts.iter().find(|p| p.0 == *a);
                     (
                         alpha_key(*a),
-                        SpecularMetrics { metrics: (*mm).into(), basis_limited_rms: parts.map(|p| p.1), runtime_rms: parts.map(|p| p.2) },
+                        SpecularMetrics {
+                            metrics: (*mm).into(),
+                            basis_limited_rms: parts.map(|p| p.1),
+                            runtime_rms: parts.map(|p| p.2),
+                            split_sum_rms: split.map(|p| p.1),
+                            map_rms: split.map(|p| p.2),
+                        },
                     )
                 })
                 .collect();

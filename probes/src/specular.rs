@@ -12,7 +12,9 @@
 //! the dominant direction with the committed DFG table; SG lobes by the split sum over the warped NDF
 //! ([`sbf::recon::sg::SplitSumWarp`]; the ASG warp under the Appendix C convention); Ambient
 //! Dice SRBF lobes by Roughton's fit (Listing 8.1) times the committed 2D LUT
-//! (Listing 8.2). Other modes store irradiance, not radiance, and have no specular.
+//! (Listing 8.2); prefiltered cube maps by the split sum (the map at the reflected direction,
+//! trilinear, times the DFG terms). Other modes store irradiance, not radiance, and have no
+//! specular.
 
 pub use crate::modes::SpecularRuntime;
 use crate::modes::{Context, ModeResult};
@@ -275,6 +277,63 @@ impl crate::azimuthal::RowKernel for GgxRows {
     }
 }
 
+/// A prefilter kernel of [`sbf::recon::prefiltered`] (Karis 2013's D(h)·(r·l), or the GGX
+/// BRDF × cosine at normal incidence) along a fine azimuth row of the quadrature: r at output row j's polar angle, l at
+/// (θ_l, Δφ); cos γ = r·l and 1 − cos γ = |r − l|²/2 (no cancellation near r), as the sphere
+/// branch of [`GgxRows`]. Zonal about r, so mirror-symmetric.
+#[derive(Debug, Clone, Copy)]
+pub struct PrefilterRows {
+    pub kernel: sbf::recon::prefiltered::PrefilterKernel,
+    pub alpha: f64,
+    /// Output grid rows (θ_r of row j is π(j + ½)/h_out).
+    pub h_out: usize,
+}
+
+impl crate::azimuthal::RowKernel for PrefilterRows {
+    fn row(&self, j: usize, theta_l: f64, az: &crate::azimuthal::Azimuths, out: &mut [f64]) -> bool {
+        let (sv, cv) = (std::f64::consts::PI * (j as f64 + 0.5) / self.h_out as f64).sin_cos();
+        let (sl, cl) = theta_l.sin_cos();
+        let mut any = false;
+        for (o, (c, s)) in out.iter_mut().zip(az.cos.iter().zip(az.sin)) {
+            let cos_gamma = cv * cl + sv * sl * c;
+            let (x, y, z) = (sv * s, cv - cl, sl - sv * c);
+            *o = self.kernel.weight(cos_gamma, 0.5 * (x * x + y * y + z * z), self.alpha);
+            any |= *o != 0.0;
+        }
+        any
+    }
+
+    fn mirror_symmetric(&self) -> bool {
+        true
+    }
+}
+
+/// The map prefiltered at roughness α ([`sbf::recon::prefiltered`]) at the texel centres of
+/// `grid` (its width dividing the map's): the azimuthal quadrature of [`reference_fft`] (the
+/// same coarsening and subdivision for α) with [`PrefilterRows`], divided by the same
+/// quadrature of the kernel alone, as a prefilter divides by its total weight (Karis 2013).
+pub fn prefiltered_latlong(
+    map: &LatLongImage,
+    grid: LatLong,
+    alpha: f64,
+    kernel: sbf::recon::prefiltered::PrefilterKernel,
+) -> Result<Vec<[f64; 3]>, String> {
+    let alpha = alpha.clamp(1e-4, 1.0);
+    let d = coarsening(alpha, map.geometry, grid);
+    let source = coarsened(map, d);
+    let q = crate::azimuthal::Quadrature::new(&source, grid)?;
+    let sub = if d > 1 { 1 } else { subdivision(alpha, map.geometry.height) };
+    let kernel = PrefilterRows { kernel, alpha, h_out: grid.height };
+    // Σ L·K / Σ K: the kernel's own quadrature sum per output texel (from a map of ones; its
+    // deviation from the closed-form integral is the rule's error, which the division cancels
+    // for slowly varying radiance) — a constant map stays constant to rounding.
+    let ones = LatLongImage::new(source.geometry.width, source.geometry.height, vec![[1.0; 3]; source.geometry.texel_count()])
+        .map_err(|e| e.to_string())?;
+    let sums = crate::azimuthal::Quadrature::new(&ones, grid)?.integrate_rows(0..grid.height, sub, &kernel);
+    let image = q.integrate_rows(0..grid.height, sub, &kernel);
+    Ok(image.into_iter().zip(sums).map(|(v, w)| v.map(|x| x / w[0])).collect())
+}
+
 /// The quadrature on `rows`, placed in a full output image (zero elsewhere).
 fn fft_image(
     q: &crate::azimuthal::Quadrature,
@@ -372,9 +431,14 @@ fn is_ad(id: &str) -> bool {
     matches!(id, "adrbf" | "adrbf-tangent" | "ad9" | "adpls" | "adpnnls" | "adnnlsc" | "adpnnlsc")
 }
 
+/// A GGX-prefiltered cube map paired with SH L2 ([`crate::modes::prefiltered`]).
+pub fn is_pf(id: &str) -> bool {
+    crate::modes::prefiltered::parse(id).is_some()
+}
+
 /// Whether a mode reconstructs specular.
 pub fn supported(id: &str) -> bool {
-    is_sh(id) || is_sg(id) || is_ad(id)
+    is_sh(id) || is_sg(id) || is_ad(id) || is_pf(id)
 }
 
 /// Specular image of a mode for roughness `alpha`, or `None` for irradiance-only modes.
@@ -511,6 +575,7 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
     };
     let axes: Vec<DVec3> = r.lobes.iter().map(|(a, _)| *a).collect();
     let table = lobe_table(r, ctx);
+    let cube = crate::modes::prefiltered::cube_of(r.id, c);
     // The table path runs the f32 runtime (the WGSL's CPU twin), as the fit paths of the
     // runtime module do in an engine.
     let axes32: Vec<sbf::glam::Vec3> = axes.iter().map(|a| a.as_vec3()).collect();
@@ -525,7 +590,11 @@ fn texel_fn<'a>(r: &'a ModeResult, ctx: &'a Context, alpha: f64) -> Option<impl 
         }
         let Some((n, v)) = geometry(ctx, k) else { return [0.0; 3] };
         let nv = n.dot(v).clamp(0.0, 1.0);
-        if is_sh(r.id) {
+        if let Some(cube) = &cube {
+            // The split sum: the map at the reflected direction × the DFG terms.
+            let d = dfg.sample2(nv as f32, alpha as f32);
+            cube.specular(n, v, alpha, f0, f90, [d[0] as f64, d[1] as f64])
+        } else if is_sh(r.id) {
             let d = dfg.sample2(nv as f32, alpha as f32);
             shr::specular_zonal_rgb(&sh, c, &sh_filters[k / ctx.grid.width], n, v, alpha, f0, f90, [d[0] as f64, d[1] as f64])
                 .unwrap_or([f64::NAN; 3])

@@ -158,6 +158,7 @@ fn results_json_coefficients_match_dense_ls() {
                 specular: Vec::new(),
                 specular_images: Vec::new(),
                 specular_parts: Vec::new(),
+                split_sum_parts: Vec::new(),
                 specular_cost: None,
             }
         })

@@ -252,6 +252,9 @@ impl ModeResult {
     /// How the values are stored: `f32`, `f16` or `bc6h`; an engine format's own
     /// precision (`engine`) or, under BC6H, its compressed textures (`bc6h+bc1/bc7`).
     pub fn storage_precision(&self) -> String {
+        if let Some(v) = super::prefiltered::parse(self.id) {
+            return if v.rgb9e5 { format!("rgb9e5 (SH L2: {})", self.storage.name()) } else { self.storage.name().into() };
+        }
         match (self.engine_bytes.is_some(), self.storage) {
             (true, crate::storage::Storage::Bc6h) => "bc6h+bc1/bc7".into(),
             (true, _) => "engine".into(),

@@ -19,6 +19,7 @@ mod cube;
 pub mod engine;
 mod hemisphere;
 mod mc;
+pub mod prefiltered;
 mod progressive;
 mod sg;
 mod sh;
@@ -88,6 +89,18 @@ pub const MODES: &[Mode] = &[
     Mode { id: "adrbf-tangent", description: "Ambient Dice SRBF 12 on the icosahedron in tangent space, eq. 8.14 irradiance (Appendix C's AD12)", prepare: hemisphere::prepare },
     Mode { id: "h4", description: "H-basis 4 (tangent space, normal +Y in the map), fitted to the irradiance image over the upper hemisphere", prepare: hemisphere::prepare },
     Mode { id: "h6", description: "H-basis 6, fitted to the irradiance image over the upper hemisphere", prepare: hemisphere::prepare },
+    Mode { id: "pf8", description: "SH L2 (diffuse) + GGX-prefiltered cube map (specular): 8² faces, 4 mips, Karis 2013's prefilter and split sum, stored as --storage", prepare: prefiltered::prepare },
+    Mode { id: "pf16", description: "SH L2 + GGX-prefiltered cube map, 16² faces, 5 mips", prepare: prefiltered::prepare },
+    Mode { id: "pf32", description: "SH L2 + GGX-prefiltered cube map, 32² faces, 6 mips", prepare: prefiltered::prepare },
+    Mode { id: "pf64", description: "SH L2 + GGX-prefiltered cube map, 64² faces, 7 mips", prepare: prefiltered::prepare },
+    Mode { id: "pf8-ni", description: "SH L2 + cube map prefiltered with the GGX BRDF × cosine at normal incidence (exact split sum where the view is along the normal), 8² faces", prepare: prefiltered::prepare },
+    Mode { id: "pf16-ni", description: "SH L2 + cube map prefiltered at normal incidence, 16² faces", prepare: prefiltered::prepare },
+    Mode { id: "pf32-ni", description: "SH L2 + cube map prefiltered at normal incidence, 32² faces", prepare: prefiltered::prepare },
+    Mode { id: "pf64-ni", description: "SH L2 + cube map prefiltered at normal incidence, 64² faces", prepare: prefiltered::prepare },
+    Mode { id: "pf8-ni-rgb9e5", description: "SH L2 + cube map prefiltered at normal incidence, 8² faces, RGB9E5 (4 bytes per texel)", prepare: prefiltered::prepare },
+    Mode { id: "pf16-ni-rgb9e5", description: "SH L2 + cube map prefiltered at normal incidence, 16² faces, RGB9E5", prepare: prefiltered::prepare },
+    Mode { id: "pf32-ni-rgb9e5", description: "SH L2 + cube map prefiltered at normal incidence, 32² faces, RGB9E5", prepare: prefiltered::prepare },
+    Mode { id: "pf64-ni-rgb9e5", description: "SH L2 + cube map prefiltered at normal incidence, 64² faces, RGB9E5", prepare: prefiltered::prepare },
     Mode { id: "godot-l1", description: "Godot ≥ 4.4 LightmapGI SH: L0 + L1/L0 packed in three RGBA16F layers, Godot's decode", prepare: engine::mode },
     Mode { id: "godot-l1-legacy", description: "Godot 4.0–4.3 LightmapGI SH: L0 + signed L1 coefficients in three RGBA16F layers, its decode", prepare: engine::mode },
     Mode { id: "monosh", description: "Bakery MonoSH: RGB L0 + one luminance L1 direction (RGBA8), Bakery's default non-linear decode", prepare: engine::mode },
@@ -99,7 +112,8 @@ pub const MODES: &[Mode] = &[
 /// Default modes for `--domain hemisphere` ([Roughton19 Appendix C]).
 pub const HEMISPHERE_MODES: &[&str] = &["ad9", "adrbf-tangent", "sg9h", "sg12h", "h4", "h6"];
 
-/// The default set: every mode with a peer figure, plus adrbf and the progressive modes.
+/// The default set: every mode with a peer figure, plus adrbf, the progressive modes and the
+/// prefiltered maps (engines' representation for glossy specular) with both kernels.
 pub const DEFAULT_MODES: &[&str] = &[
     "ac",
     "acproj",
@@ -123,6 +137,14 @@ pub const DEFAULT_MODES: &[&str] = &[
     "sgpnnls",
     "adpls",
     "adpnnls",
+    "pf8",
+    "pf16",
+    "pf32",
+    "pf64",
+    "pf8-ni",
+    "pf16-ni",
+    "pf32-ni",
+    "pf64-ni",
 ];
 
 /// SH order of the SH modes: `shl1g`, `shl1zh3` and `shlN` for N = 1…16.

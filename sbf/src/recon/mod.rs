@@ -12,6 +12,7 @@
 //! | f32 runtime API on glam `Vec3` (SH L1/L2/L4, Geomerics, SG Hill/ASG, AD poly / fit + LUT), batch form | [`runtime`] |
 //! | GGX response of a radial lobe (SG, AD SRBF): exact quadrature and the 4D table the per-lobe runtime samples | [`lobe_ggx`] |
 //! | multiple scattering: the microsurface random walk (Heitz et al. 2016) and the runtime's energy compensation | [`multiscatter`] |
+//! | GGX-prefiltered cube maps with a mip chain, as engines store them for glossy specular (Karis 2013's split sum): prefilter kernel and its closed-form normalisation, mip ↔ α, seamless trilinear lookup, RGB9E5 | [`prefiltered`] |
 //! | 2D LUTs with texel-centre bilinear sampling; the AD specular LUT (Listing 8.2) | [`lut`] |
 //! | the committed tables of `luts/` parsed into those samplers (DFG, AD specular, lobe GGX) | [`tables`] |
 //! | Ambient Dice SRBF: analytic lobe irradiance ([Roughton19 eq. 8.11]/8.13), polynomial fit (8.14), specular fit + LUT (Listings 8.1/8.2) | [`ambient_dice`] |
@@ -27,6 +28,7 @@ pub mod engine;
 pub mod lobe_ggx;
 pub mod lut;
 pub mod multiscatter;
+pub mod prefiltered;
 pub mod prior;
 pub mod reference;
 pub mod runtime;
