@@ -327,10 +327,16 @@ pub fn prefiltered_latlong(
     // Σ L·K / Σ K: the kernel's own quadrature sum per output texel (from a map of ones; its
     // deviation from the closed-form integral is the rule's error, which the division cancels
     // for slowly varying radiance) — a constant map stays constant to rounding.
-    let ones = LatLongImage::new(source.geometry.width, source.geometry.height, vec![[1.0; 3]; source.geometry.texel_count()])
-        .map_err(|e| e.to_string())?;
-    let sums = crate::azimuthal::Quadrature::new(&ones, grid)?.integrate_rows(0..grid.height, sub, &kernel);
-    let image = q.integrate_rows(0..grid.height, sub, &kernel);
+    // Both in one pass: the kernel folded once for the map and for the ones.
+    let values: Vec<[f64; 3]> = (0..source.geometry.height)
+        .flat_map(|j| (0..source.geometry.width).map(move |i| (i, j)))
+        .map(|(i, j)| source.texel(i, j).map(f64::from))
+        .collect();
+    let map = q.spectra_f64(&values)?;
+    let ones = q.spectra_f64(&vec![[1.0; 3]; values.len()])?;
+    let rows: Vec<usize> = (0..grid.height).collect();
+    let mut parts = q.integrate_many(&[&map, &ones], &rows, sub, &kernel).into_iter();
+    let (image, sums) = (parts.next().expect("two maps"), parts.next().expect("two maps"));
     Ok(image.into_iter().zip(sums).map(|(v, w)| v.map(|x| x / w[0])).collect())
 }
 
