@@ -314,7 +314,7 @@ fn decompose(ctx: &Context, rows: &mut [Row], spec_refs: &[SpecularReference]) {
 }
 
 /// The prefiltered maps' error split, per α (see [`Row::split_sum_parts`]): the map
-/// prefiltered exactly at α on the output grid ([`crate::specular::prefiltered_latlong`]),
+/// prefiltered exactly at α on the output grid ([`crate::prefilter::prefiltered_latlong`]),
 /// read at each texel's reflected direction (bilinear; over the sphere that is the texel
 /// itself) and multiplied by the DFG terms at (n·v, α) — the split sum without a map's
 /// limits. Runs only where a prefiltered mode is in the run, under the physical reference.
@@ -345,7 +345,7 @@ fn split_sum_alpha(ctx: &Context, rows: &mut [Row], sr: &SpecularReference, kern
     let dfg = sbf::recon::tables::dfg();
     let (f0, f90) = ctx.convention.fresnel().unwrap_or((1.0, 1.0));
     {
-        let p = specular::prefiltered_latlong(&ctx.map, ctx.grid, sr.alpha, kernel)?;
+        let p = crate::prefilter::prefiltered_latlong(&ctx.map, ctx.grid, sr.alpha, kernel)?;
         let p = LatLongImage::new(ctx.grid.width, ctx.grid.height, p.iter().map(|v| v.map(|x| x as f32)).collect())
             .map_err(|e| e.to_string())?;
         let exact: Vec<[f64; 3]> = (0..ctx.dirs.len())

@@ -4,7 +4,9 @@
 //! computes exact references ([`reference`](mod@reference)), runs each mode ([`modes`]: the
 //! table [`modes::MODES`] and one file per family — among them the engines' directional
 //! lightmap formats, [`modes::engine`], and non-negative fits that keep the map's light,
-//! [`modes::conserving`]) including the GGX specular signal ([`specular`]), measures errors
+//! [`modes::conserving`], and the GGX-prefiltered cube maps engines ship for glossy specular,
+//! [`modes::prefiltered`], prefiltered by [`prefilter`]) including the GGX specular signal
+//! ([`specular`]), measures errors
 //! ([`metrics`]) and writes reports ([`report`]) with images and plots ([`images`]).
 //! `--reference appendix-c` reproduces [Roughton19 Appendix C]'s conventions ([`appendix_c`]).
 //! Irradiance images store E/π (what a white Lambertian surface reflects), as the
@@ -30,6 +32,7 @@ pub mod modes;
 pub use modes::{conserving, engine as engine_modes};
 pub mod outcome;
 pub mod outdir;
+pub mod prefilter;
 pub mod profile;
 pub mod reference;
 pub mod report;

@@ -84,6 +84,7 @@ const PROBES: Layers = &[
     ("outdir", BELOW),
     ("appendix_c", BELOW),
     ("reference", BELOW),
+    ("prefilter", BELOW),
     ("modes", BELOW),
     ("specular", BELOW),
     ("profile", BELOW),

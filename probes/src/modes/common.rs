@@ -233,6 +233,7 @@ impl<'a> Prepared<'a> {
                 stored_scalars: 3 * p.coefficients.len(),
                 engine_bytes: None,
                 storage: ctx.storage,
+                precision: None,
                 wgsl_irradiance: true,
                 irradiance_variant: "",
                 encode_s: 0.0,

@@ -230,6 +230,9 @@ pub struct ModeResult {
     pub engine_bytes: Option<f64>,
     /// How the coefficients were stored ([`Context::storage`]).
     pub storage: crate::storage::Storage,
+    /// What [`ModeResult::storage_precision`] says where the mode stores part of its data
+    /// otherwise (a prefiltered map in RGB9E5); `None`: from `storage` and `engine_bytes`.
+    pub precision: Option<String>,
     /// Whether the irradiance path is the WGSL runtime's (`shaders`): false for the SG
     /// modes reconstructed with the peer's kernel or the prior estimate, which have none —
     /// their GPU cost is then not reported.
@@ -252,8 +255,8 @@ impl ModeResult {
     /// How the values are stored: `f32`, `f16` or `bc6h`; an engine format's own
     /// precision (`engine`) or, under BC6H, its compressed textures (`bc6h+bc1/bc7`).
     pub fn storage_precision(&self) -> String {
-        if let Some(v) = super::prefiltered::parse(self.id) {
-            return if v.rgb9e5 { format!("rgb9e5 (SH L2: {})", self.storage.name()) } else { self.storage.name().into() };
+        if let Some(p) = &self.precision {
+            return p.clone();
         }
         match (self.engine_bytes.is_some(), self.storage) {
             (true, crate::storage::Storage::Bc6h) => "bc6h+bc1/bc7".into(),

@@ -11,7 +11,7 @@
 //! evaluator as `shl2`), its specular the map's; its storage is both, its encode both.
 //!
 //! Prefiltering: every mip is the map prefiltered at α_m by the azimuthal quadrature
-//! ([`crate::specular::prefiltered_latlong`], exact for the bilinear radiance up to its
+//! ([`crate::prefilter::prefiltered_latlong`], exact for the bilinear radiance up to its
 //! midpoint rule) on a lat-long grid of at least 8 texels per face texel, box-filtered onto
 //! the face texels (k × k sub-samples, k from the ratio of the texel's angle to the grid's). Faces below 4 × 4 take a whole BC6H block (16 bytes).
 
@@ -60,7 +60,7 @@ pub fn prefilter(ctx: &Context, size: usize, kernel: PrefilterKernel) -> Result<
         let alpha = sbf::recon::prefiltered::mip_alpha(m, size);
         let texels = {
             let grid = grid_for(map.geometry, n);
-            let img = crate::specular::prefiltered_latlong(map, grid, alpha, kernel)?;
+            let img = crate::prefilter::prefiltered_latlong(map, grid, alpha, kernel)?;
             let img = LatLongImage::new(grid.width, grid.height, img.iter().map(|v| v.map(|x| x as f32)).collect()).map_err(err)?;
             box_filtered(n, grid.height, |d| img.bilinear(d))
         };
@@ -155,6 +155,7 @@ pub(super) fn prepare<'a>(id: &'static str, ctx: &'a Context, repeats: usize) ->
     r.coefficients.extend(cube.texels().map(|v| v.map(f64::from)));
     r.stored_scalars = r.coefficients.len() * 3;
     r.engine_bytes = Some(ctx.storage.bytes(3 * SH_COEFFICIENTS) + map_bytes);
+    r.precision = Some(if rgb9e5 { format!("rgb9e5 (SH L2: {})", ctx.storage.name()) } else { ctx.storage.name().into() });
     Ok(p)
 }
 
