@@ -178,16 +178,29 @@ fn front(c: &[Candidate], on: &[usize], rank: impl Fn(usize) -> f64) -> Vec<Poin
     idx.sort_by(|a, b| rank(*a).total_cmp(&rank(*b)).then(better(&c[*a].point, &c[*b].point)));
     let mut out: Vec<Point> = Vec::new();
     for i in idx {
-        if out.last().is_none_or(|p| c[i].point.error < p.error) {
+        if out.last().is_none_or(|p| rounded(c[i].point.error) < rounded(p.error)) {
             out.push(c[i].point.clone());
         }
     }
     out
 }
 
-/// Order of preference between two points of equal cost: lower error, smaller storage, id.
+/// An error as decisions compare it: rounded to 9 significant digits, so that two modes
+/// computing the same image by different roundings (a 32² and a 64² prefiltered map read
+/// at the same mips, whose trilinear weights differ in the last bit) tie, and the smaller
+/// storage wins; a monotone function of the error, so orders stay total.
+fn rounded(error: f64) -> f64 {
+    if error.is_finite() && error != 0.0 {
+        format!("{error:.8e}").parse().unwrap_or(error)
+    } else {
+        error
+    }
+}
+
+/// Order of preference between two points of equal cost: lower error ([`rounded`]), smaller
+/// storage, id.
 fn better(a: &Point, b: &Point) -> std::cmp::Ordering {
-    a.error.total_cmp(&b.error).then(a.bytes.total_cmp(&b.bytes)).then(a.id.cmp(&b.id))
+    rounded(a.error).total_cmp(&rounded(b.error)).then(a.bytes.total_cmp(&b.bytes)).then(a.id.cmp(&b.id))
 }
 
 /// The recommendation on a CPU front (see the module docs): within 25 % of the best error

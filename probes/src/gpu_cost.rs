@@ -7,7 +7,8 @@
 //! Hill irradiance (+ for specular the per-lobe GGX tables, or the split sum over the
 //! warped NDF with `--specular-runtime fit`); Ambient Dice SRBF 9/12 → `ad9`/`ad12` irradiance (+ the
 //! tables, or the Listing 8.1 fit × LUT); the engine formats → their decodes
-//! (`engine.wgsl`). Modes without a WGSL runtime (ambient cube, SH L1 variants and L3+,
+//! (`engine.wgsl`); the prefiltered maps → SH L2's kernel for diffuse and `PF8`…`PF64`
+//! (SH L2 + a trilinear cube-map lookup × DFG) for specular. Modes without a WGSL runtime (ambient cube, SH L1 variants and L3+,
 //! the Bézier/YCoCg Ambient Dice, the H-basis, the
 //! Monte Carlo reference) get none and stay off the GPU front.
 
@@ -50,6 +51,13 @@ pub fn kernel_of(id: &str) -> Option<&'static str> {
         "sg" | "sgls" | "sglsa" | "sgnnls" | "sgra" | "sgnnra" | "sgpls" | "sgpnnls" | "sg12h" | "sgnnlsc" | "sgpnnlsc" => Some("SG12"),
         "ad9" => Some("AD9"),
         "adrbf" | "adrbf-irr" | "adrbf-tangent" | "adpls" | "adpnnls" | "adnnlsc" | "adpnnlsc" => Some("AD12"),
+        // SH L2 + a prefiltered cube map of the mode's size.
+        _ if crate::modes::prefiltered::parse(id).is_some() => match crate::modes::prefiltered::parse(id)?.size {
+            8 => Some("PF8"),
+            16 => Some("PF16"),
+            32 => Some("PF32"),
+            _ => Some("PF64"),
+        },
         // The WGSL engine decodes are Godot ≥ 4.4's and MonoSH's linear one.
         "godot-l1" => Some("Godot L1"),
         "monosh-linear" => Some("MonoSH"),
@@ -68,9 +76,15 @@ impl GpuCosts {
             self.rows.iter().find(|r| r.name == k && r.signal == signal).map(|r| r.seconds_per_dispatch * 1e9 / r.count as f64)
         };
         let specular = match runtime {
-            crate::modes::SpecularRuntime::Table if !k.starts_with("SH") => shaders::bench::TABLE_SPECULAR,
+            crate::modes::SpecularRuntime::Table if !k.starts_with("SH") && !k.starts_with("PF") => shaders::bench::TABLE_SPECULAR,
             _ => "diffuse + specular",
         };
-        Some(GpuCost { kernel: k.to_string(), ns: ns("diffuse")?, specular_ns: ns(specular), adapter: self.adapter.clone() })
+        // A prefiltered map's diffuse is SH L2's kernel.
+        let diffuse = if k.starts_with("PF") {
+            self.rows.iter().find(|r| r.name == "SH9 (L2)" && r.signal == "diffuse").map(|r| r.seconds_per_dispatch * 1e9 / r.count as f64)
+        } else {
+            ns("diffuse")
+        };
+        Some(GpuCost { kernel: k.to_string(), ns: diffuse?, specular_ns: ns(specular), adapter: self.adapter.clone() })
     }
 }

@@ -20,7 +20,7 @@ fn gpu_costs_reach_results_and_the_decision() {
         .arg(&map)
         .args([
             "--modes",
-            "shl2,sgls,sgra,adrbf,ac,shl4",
+            "shl2,sgls,sgra,adrbf,ac,shl4,pf8",
             "--alphas",
             "0.3",
             "--repeats",
@@ -48,7 +48,8 @@ fn gpu_costs_reach_results_and_the_decision() {
         assert_eq!(m.cost.gpu.as_ref().map(|g| g.kernel.as_str()), want, "{}", m.id);
         if let Some(g) = &m.cost.gpu {
             assert!(g.ns.is_finite() && g.ns > 0.0, "{}: {g:?}", m.id);
-            // SH L2 has only a diffuse kernel; SG12 and AD12 have diffuse + specular.
+            // SH L2 has only a diffuse kernel; SG12, AD12 and the prefiltered map (SH L2's
+            // diffuse kernel, PF8 for diffuse + specular) have both.
             assert_eq!(g.specular_ns.is_some(), m.id != "shl2", "{}", m.id);
             assert!(g.specular_ns.is_none_or(|x| x.is_finite() && x > 0.0));
         }

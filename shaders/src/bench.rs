@@ -1,6 +1,7 @@
 //! GPU reconstruction throughput (`shaders bench`): evaluations per second for SH9,
 //! SG9/SG12 (Hill + ASG warp) and AD9/AD12 (quadratic + Listing 8.1 fit × LUT), diffuse
-//! only and diffuse + specular, the engines' directional lightmap decodes (Godot L1,
+//! only and diffuse + specular, SH9 with a prefiltered cube map of 8²–64² (PF8–PF64,
+//! trilinear through the texture unit), the engines' directional lightmap decodes (Godot L1,
 //! MonoSH, Enlighten single/RGB), and the progressive encoder's per-sample update (state
 //! loaded and stored, as a baker does). Each invocation reads its normal, view and α from a
 //! buffer and one of 1024 coefficient sets (as a lightmap fetch would), evaluates, and
@@ -128,8 +129,23 @@ fn kernels(inputs: Inputs) -> Vec<(&'static str, &'static str, usize, &'static s
                 "    var b: array<f32, 12>;\n    for (var j = 0u; j < {k}u; j++) {{\n        b[j] = ad_srbf_eval(ld3(3u * j), n);\n    }}\n    var st = io[i];\n    progressive_update(&st, uni, b, c[0], 1.0);\n    io[i] = st;\n    outp[i] = st.total_weight;"
             )
     };
+    // A prefiltered environment map with SH L2 for diffuse (`probes`' `pf` modes): the cube
+    // read trilinearly at the reflected direction at level log₂(α·N/2)
+    // (`sbf::recon::prefiltered::lod`), times the DFG terms (`lut` is the dfg table here),
+    // f0 = 0.04, f90 = 1.
+    let prefiltered = |size: usize| {
+        let top = sbf::recon::prefiltered::lod(1.0, size);
+        pre(9)
+            + &format!(
+                "    var e = sh_l2_irradiance(c, n);\n    let lod = clamp(log2(max(a, 1e-4) * {size}.0 / 2.0), 0.0, {top:.1});\n    let p = textureSampleLevel(env_cube, env_smp, reflect(-v, n), lod).rgb;\n    let d = lut2_sample(lut, max(dot(n, v), 0.0), a);\n    e += p * (0.04 * d.x + d.y);\n    outp[i] = e.x + e.y + e.z;"
+            )
+    };
     vec![
         ("SH9 (L2)", "sh-l2-irradiance", 9, "diffuse", sh),
+        ("PF8", "sh-l2-irradiance,sh-specular", 9, "diffuse + specular", prefiltered(8)),
+        ("PF16", "sh-l2-irradiance,sh-specular", 9, "diffuse + specular", prefiltered(16)),
+        ("PF32", "sh-l2-irradiance,sh-specular", 9, "diffuse + specular", prefiltered(32)),
+        ("PF64", "sh-l2-irradiance,sh-specular", 9, "diffuse + specular", prefiltered(64)),
         ("SG9", "sg-irradiance", 9, "diffuse", sg(9, false)),
         ("SG9", "sg-irradiance,sg-specular", 9, "diffuse + specular", sg(9, true)),
         ("SG9", "sg-irradiance,sg-specular-asg", 9, "diffuse + specular (ASG warp)", sg_kernel(9, true, true)),
@@ -205,6 +221,18 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
         let count = if encodes { count.min(MAX_ENCODE_COUNT).min(limit / STATE_BYTES) } else { count };
         let states = if encodes { vec![<EncoderState as bytemuck::Zeroable>::zeroed(); count] } else { Vec::new() };
         let table = if name.starts_with("SG") { sbf::recon::tables::lobe_ggx_sg6() } else { sbf::recon::tables::lobe_ggx_ad() };
+        // The map's content does not change the cost (a smooth sky-like function).
+        let cube = name
+            .strip_prefix("PF")
+            .and_then(|n| n.parse::<usize>().ok())
+            .map(|size| {
+                sbf::recon::prefiltered::PrefilteredCube::build(size, |m, _, f, i, j| {
+                    let x = (f * 31 + i * 7 + j * 3 + m) as f32;
+                    [1.0 + 0.5 * (0.1 * x).sin(), 0.8 + 0.3 * (0.07 * x).cos(), 0.6]
+                })
+            })
+            .transpose()
+            .map_err(|e| e.to_string())?;
         let o = gpu.launch(&Launch {
             lobe: body.contains("lobe_tab").then_some(table),
             lobe_filtered: body.contains("lobe_tex3").then_some(table),
@@ -213,7 +241,8 @@ pub fn run(gpu: &Gpu, count: usize, repeats: usize, inputs: Inputs) -> Result<Ve
             input: &inp,
             out_per_item: 1,
             count,
-            lut: uses_lut.then_some(if body.contains("sg_split_sum") { dfg } else { lut }),
+            lut: uses_lut.then_some(if body.contains("sg_split_sum") || body.contains("env_cube") { dfg } else { lut }),
+            cube: cube.as_ref(),
             uniform: encodes.then_some(("EncoderParams", bytemuck::bytes_of(&params))),
             io: encodes.then_some(("EncoderState", bytemuck::cast_slice(&states))),
             repeats,

@@ -66,6 +66,10 @@ pub struct Launch<'a> {
     /// Bindings 6 and 7, `lobe_tex3: texture_3d<f32>` (rg16float; x = √α node × N_ψ + ψ,
     /// y = γ, z = n·v) and `lobe_smp: sampler` (linear, clamp to edge).
     pub lobe_filtered: Option<&'a sbf::recon::lobe_ggx::Table>,
+    /// Bindings 8 and 9, `env_cube: texture_cube<f32>` (rgba16float, the chain's mips) and
+    /// `env_smp: sampler` (trilinear, clamp to edge): a prefiltered environment map as an
+    /// engine binds it (WGSL kernels only).
+    pub cube: Option<&'a sbf::recon::prefiltered::PrefilteredCube>,
     /// Timed dispatches after the checked one.
     pub repeats: usize,
     /// The language the kernel runs in: WGSL (wgpu's own front end), or HLSL/GLSL (the
@@ -288,6 +292,9 @@ impl Gpu {
         if l.lobe_filtered.is_some() {
             bindings += "@group(0) @binding(6) var lobe_tex3: texture_3d<f32>;\n@group(0) @binding(7) var lobe_smp: sampler;\n";
         }
+        if l.cube.is_some() {
+            bindings += "@group(0) @binding(8) var env_cube: texture_cube<f32>;\n@group(0) @binding(9) var env_smp: sampler;\n";
+        }
         format!(
             "{library}\n\n// ---- harness ----\n@group(0) @binding(0) var<storage, read> inp: array<f32>;\n@group(0) @binding(1) var<storage, read_write> outp: array<f32>;\n{bindings}\nfn ld3(k: u32) -> vec3<f32> {{\n    return vec3<f32>(inp[k], inp[k + 1u], inp[k + 2u]);\n}}\n\nfn sbf_body(i: u32) {{\n{body}\n}}\n\n@compute @workgroup_size({WG})\nfn sbf_kernel(@builtin(global_invocation_id) gid: vec3<u32>) {{\n    let i = gid.x + gid.y * {row}u;\n    if (i >= {count}u) {{\n        return;\n    }}\n    sbf_body(i);\n}}\n"
         )
@@ -340,7 +347,9 @@ impl Gpu {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: view_dimension == wgpu::TextureViewDimension::D3 },
+                sample_type: wgpu::TextureSampleType::Float {
+                    filterable: matches!(view_dimension, wgpu::TextureViewDimension::D3 | wgpu::TextureViewDimension::Cube),
+                },
                 view_dimension,
                 multisampled: false,
             },
@@ -364,14 +373,19 @@ impl Gpu {
         if l.lobe.is_some() {
             entries.push(texture(5, wgpu::TextureViewDimension::D2Array));
         }
+        let sampler = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            count: None,
+        };
         if l.lobe_filtered.is_some() {
             entries.push(texture(6, wgpu::TextureViewDimension::D3));
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: 7,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                count: None,
-            });
+            entries.push(sampler(7));
+        }
+        if l.cube.is_some() {
+            entries.push(texture(8, wgpu::TextureViewDimension::Cube));
+            entries.push(sampler(9));
         }
         let bgl = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &entries });
         let layout =
@@ -480,6 +494,12 @@ impl Gpu {
         });
         let filtered =
             l.lobe_filtered.map(|t| (self.lobe_texture_filtered(t).create_view(&Default::default()), self.linear_clamp_sampler()));
+        let cube = l.cube.map(|c| {
+            let view = self
+                .cube_texture(c)
+                .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::Cube), ..Default::default() });
+            (view, self.trilinear_sampler())
+        });
         let unib = l.uniform.map(|(_, bytes)| {
             d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("uni"),
@@ -515,6 +535,10 @@ impl Gpu {
         if let Some((v, s)) = &filtered {
             entries.push(wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(v) });
             entries.push(wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(s) });
+        }
+        if let Some((v, s)) = &cube {
+            entries.push(wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(v) });
+            entries.push(wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::Sampler(s) });
         }
         let bg =
             d.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &pipeline.get_bind_group_layout(0), entries: &entries });

@@ -19,6 +19,9 @@ pub const GLSLANG: &str = "glslangValidator";
 
 /// The kernel's files: (library file name, library text, kernel file name, kernel text).
 pub fn kernel_files(l: &Launch, wgsl: &str, row: u32, wg: u32) -> Result<[(String, String); 2], String> {
+    if l.cube.is_some() {
+        return Err("the prefiltered cube binding (env_cube) is bound in WGSL kernels only".into());
+    }
     let lang = l.lang;
     let ext = lang.extension();
     let lib_name = format!("sbf_library.{ext}");

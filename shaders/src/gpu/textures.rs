@@ -47,6 +47,49 @@ impl Gpu {
         )
     }
 
+    /// A prefiltered environment map as an engine uploads it: a cube texture (six layers in
+    /// `CUBE_FACES` order) of rgba16float with the chain's mips (alpha 1).
+    pub fn cube_texture(&self, c: &sbf::recon::prefiltered::PrefilteredCube) -> wgpu::Texture {
+        // Layer-major: each face with all its mips.
+        let mut data: Vec<u16> = Vec::new();
+        for face in 0..6 {
+            for (m, mip) in c.mips.iter().enumerate() {
+                let n = c.size >> m;
+                for t in &mip[face * n * n..(face + 1) * n * n] {
+                    data.extend(t.iter().map(|x| half::f16::from_f32(*x).to_bits()));
+                    data.push(half::f16::ONE.to_bits());
+                }
+            }
+        }
+        self.device.create_texture_with_data(
+            &self.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("env_cube"),
+                size: wgpu::Extent3d { width: c.size as u32, height: c.size as u32, depth_or_array_layers: 6 },
+                mip_level_count: c.mips.len() as u32,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&data),
+        )
+    }
+
+    /// Trilinear filtering (linear within and between mips), clamp to edge: how a
+    /// prefiltered environment map is sampled.
+    pub fn trilinear_sampler(&self) -> wgpu::Sampler {
+        self.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("env_smp"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        })
+    }
+
     /// The sampler `lobe_ggx_filtered_lobe` expects: linear in every axis, clamp to edge, mip 0.
     pub fn linear_clamp_sampler(&self) -> wgpu::Sampler {
         self.device.create_sampler(&wgpu::SamplerDescriptor {
