@@ -8,6 +8,7 @@ use baker::accumulate::{BakeConfig, BasisId};
 use baker::layout::lightmap::Lightmap;
 use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage};
 use baker::render::session::{self, Setup};
+use baker::render::web::{self, Viewer};
 use baker::run::{self, Device, Options};
 use baker::scene::bvh::Bvh;
 use baker::scene::camera::{SceneCamera, ViewCamera};
@@ -114,6 +115,12 @@ struct Cli {
     seed: u64,
     #[arg(long, default_value = "render-out")]
     out: PathBuf,
+    /// Also write a bake viewer for the browser into this folder: index.html, its script,
+    /// the scene, the lightmaps (RGB f16), the probes and the reference — offline; serve
+    /// the folder (e.g. `python3 -m http.server`) and open it. WebGL 2 shades with the
+    /// library's GLSL ES export, WebGPU with its WGSL export.
+    #[arg(long)]
+    web: Option<PathBuf>,
 }
 
 fn size(s: &str, what: &str) -> Result<(u32, u32), String> {
@@ -309,8 +316,8 @@ fn lightmap_filter(c: &Cli, device: Device) -> Result<LightmapFilter, String> {
     Ok(f)
 }
 
-fn render(c: Cli) -> Result<(), String> {
-    let bases = c.bases.iter().map(|s| baker::accumulate::lightmap_basis(s.trim())).collect::<Result<Vec<_>, _>>()?;
+/// The options that only a fresh bake takes, and --sg-sharpness' range.
+fn check_bake_flags(c: &Cli) -> Result<(), String> {
     let (lo, hi) = baker::accumulate::SG_SHARPNESS_RANGE;
     if !(lo..=hi).contains(&c.sg_sharpness) {
         return Err(format!(
@@ -324,6 +331,12 @@ fn render(c: Cli) -> Result<(), String> {
     if c.bake.is_some() && c.indirect_only {
         return Err("--indirect-only applies to a fresh bake; with --bake the bake's own setting (bake.json) is used".into());
     }
+    Ok(())
+}
+
+fn render(c: Cli) -> Result<(), String> {
+    let bases = c.bases.iter().map(|s| baker::accumulate::lightmap_basis(s.trim())).collect::<Result<Vec<_>, _>>()?;
+    check_bake_flags(&c)?;
     // Checked here with the λ to be baked (an existing bake's is checked once read).
     configurations(&bases, &c.specular, &c.storage, c.sg_sharpness)?;
     let (w, h) = size(&c.size, "--size")?;
@@ -422,9 +435,28 @@ fn render(c: Cli) -> Result<(), String> {
     };
     let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;
     std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;
-    baker::render::report::write(&c.out, &scene.name, &bake_dir, &camera, &device_name, &outcome)?;
+    let results = baker::render::report::write(&c.out, &scene.name, &bake_dir, &camera, &device_name, &outcome)?;
     eprintln!("wrote {} (results.json, report.html, images)", c.out.display());
+    if let Some(dir) = &c.web {
+        let viewer = Viewer {
+            scene: &scene,
+            lm: &lm,
+            bake_dir: &bake_dir,
+            probes: probe_field.as_ref(),
+            camera,
+            outcome: &outcome,
+            sg_sharpness,
+            results: &results,
+            max_texture: web::MAX_TEXTURE,
+        };
+        write_web(dir, &viewer, &setup.configurations)?;
+    }
     Ok(())
+}
+
+/// `--web DIR`: the bake viewer of what was rendered.
+fn write_web(dir: &Path, viewer: &Viewer, rendered: &[Lighting]) -> Result<(), String> {
+    baker::render::web::write(dir, viewer, &web::configurations(rendered, viewer.sg_sharpness), &mut |m| eprintln!("{m}")).map(|_| ())
 }
 
 fn main() -> ExitCode {

@@ -21,6 +21,7 @@
 //! | [`compare`] | errors against the reference (its noise subtracted) |
 //! | [`session`] | one comparison as the `render` command runs it: visible surfaces and reference once, then per configuration image, errors and frame time |
 //! | [`report`] | what a comparison writes: EXR and PNG images, the +3 EV differences, results.json, report.html |
+//! | [`web`] | the bake viewer for the browser (`render --web`): the scene, lightmaps and reference for WebGL 2 and WebGPU, shaded by the exported library |
 //!
 //! Uses: [`crate::scene`], [`crate::layout`], [`crate::accumulate`], [`crate::estimator`],
 //! [`crate::sampling`], [`crate::gpu`] (the reference's kernel and buffers),
@@ -41,3 +42,4 @@ pub mod session;
 pub mod shade;
 mod timing;
 pub mod visible;
+pub mod web;

@@ -12,8 +12,8 @@
 //! and the frame times (`super::timing`) build on this pass.
 
 use super::atlas::Atlas;
-use super::bindings::{layouts, lightmap_sampler, no_lobe_table, probe_rows, Lattice};
-use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage, SurfaceMaterial};
+use super::bindings::{depth_range, layouts, lightmap_sampler, material_rows, no_lobe_table, probe_rows, scene_vertices, Lattice, Vertex};
+use super::lighting::{lobe_axes, Encoding, Lighting, LightmapFilter, Storage};
 use super::probes::ProbeField;
 use crate::accumulate::BasisId;
 use crate::layout::lightmap::Lightmap;
@@ -28,7 +28,7 @@ const RENDER_WGSL: &str = include_str!("wgsl/render.wgsl");
 /// The `shaders` features the render shader calls: the B-spline lightmap filter, and every
 /// lightmap basis's irradiance and both specular paths, from the registry (the pipeline
 /// constants select one; the rest is folded away).
-fn features() -> String {
+pub(crate) fn features() -> String {
     let mut f = vec!["lightmap-bicubic"];
     for b in sbf::BasisId::lightmap() {
         let i = b.info();
@@ -61,30 +61,6 @@ struct FrameGpu {
     grid_first: [f32; 4],
     grid_last: [f32; 4],
 }
-
-/// WGSL `MaterialGpu`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct MaterialGpu {
-    albedo_alpha: [f32; 4],
-    f0: [f32; 4],
-}
-
-/// The vertex layout: position, normal, atlas UV, material (| 0x8000_0000 when
-/// lightmapped), the triangle's face normal.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Vertex {
-    position: [f32; 3],
-    normal: [f32; 3],
-    uv: [f32; 2],
-    material: u32,
-    face: [f32; 3],
-}
-
-const LIGHTMAPPED: u32 = 0x8000_0000;
-/// The material bit of a dynamic object (no lightmap, not an emitter): shaded from the probes.
-const PROBED: u32 = 0x4000_0000;
 
 /// What `fs_terms` and `fs_surface` wrote, per pixel (row-major, y down).
 #[derive(Debug, Clone, PartialEq)]
@@ -131,52 +107,13 @@ impl<'g> Renderer<'g> {
         let src = module_source()?;
         let module =
             d.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("render"), source: wgpu::ShaderSource::Wgsl(src.into()) });
-        let mut verts = Vec::new();
-        let (mut lo, mut hi) = (sbf::glam::Vec3::splat(f32::INFINITY), sbf::glam::Vec3::splat(f32::NEG_INFINITY));
-        for (mi, m) in scene.meshes.iter().enumerate() {
-            let emitter = scene.materials[m.material].emissive.max_element() > 0.0;
-            let flag = if m.lightmapped {
-                LIGHTMAPPED
-            } else if !emitter {
-                PROBED
-            } else {
-                0
-            };
-            for (ti, idx) in m.indices.iter().enumerate() {
-                let c = idx.map(|i| m.positions[i as usize]);
-                let face = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero().to_array();
-                for (k, i) in idx.iter().enumerate() {
-                    let p = m.positions[*i as usize];
-                    lo = lo.min(p);
-                    hi = hi.max(p);
-                    let uv = if m.lightmapped { lm.triangle_uv[mi][ti][k] } else { sbf::glam::Vec2::ZERO };
-                    verts.push(Vertex {
-                        position: p.to_array(),
-                        normal: m.normals[*i as usize].to_array(),
-                        uv: uv.to_array(),
-                        material: m.material as u32 | flag,
-                        face,
-                    });
-                }
-            }
-        }
-        if verts.is_empty() {
-            return Err("the scene has no triangles to render".into());
-        }
+        let (verts, (lo, hi)) = scene_vertices(scene, lm)?;
         let vertices = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("render vertices"),
             contents: bytemuck::cast_slice(&verts),
             usage: wgpu::BufferUsages::VERTEX,
         });
-        let mats: Vec<MaterialGpu> = scene
-            .materials
-            .iter()
-            .map(|m| {
-                let s = SurfaceMaterial::of(m);
-                let (a, f) = (s.albedo.as_vec3(), s.f0.as_vec3());
-                MaterialGpu { albedo_alpha: [a.x, a.y, a.z, s.alpha as f32], f0: [f.x, f.y, f.z, 0.0] }
-            })
-            .collect();
+        let mats = material_rows(scene);
         let materials = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("render materials"),
             contents: bytemuck::cast_slice(&mats),
@@ -223,9 +160,7 @@ impl<'g> Renderer<'g> {
     }
 
     fn depth_range(&self, cam: &ViewCamera) -> (f32, f32) {
-        let (lo, hi) = self.bounds;
-        let far = 2.0 * ((hi - lo).length() + (cam.eye - 0.5 * (lo + hi)).length()).max(1e-3);
-        (far * 1e-5, far)
+        depth_range(self.bounds, cam)
     }
 
     /// The pipeline constants of `l` (`fetch_only`: the timing variant that only fetches

@@ -1,0 +1,373 @@
+//! The bake viewer (`render --web`) in a real browser: headless Chromium (Debian's
+//! `chromium`, or SBF_CHROMIUM=path) opens the folder from a local HTTP server, draws the
+//! built-in scene at the reference camera through WebGL 2 (SwiftShader; the library's GLSL ES
+//! export) and WebGPU (SwiftShader's Vulkan; the library's WGSL export with render.wgsl), and
+//! posts each canvas back; every pixel is compared with `render`'s CPU twin (f64 shading in
+//! `sbf`) of the same camera, basis and f16 lightmap values.
+//!
+//! Error model, per pixel and channel, on the 8-bit sRGB code c = 255·srgb(t(e·x)), t(y) =
+//! y/(1 + y) (the report's display; e the viewer's exposure):
+//! - the page's conversion to 8 bits rounds: ½ code, plus 0.01 for the display pass' f32
+//!   (pow's highp error, GLSL ES 3.0 §4.5.1: ≈ 1e-6 relative, 3e-4 codes);
+//! - the rasteriser's attributes: vertices snap to a sub-pixel grid (Vulkan guarantees 2⁻⁴
+//!   pixel), so a pixel's interpolated position, normal and lightmap UV are those of a point
+//!   within 2⁻⁴ pixel of its centre: the twin's largest change over the four diagonal
+//!   offsets ±2⁻⁴ (pixels whose offsets see another triangle are edges, left out and
+//!   counted);
+//! - f32 shading against f64: 1e-4 × (|diffuse| + |specular|) (the GPU twin test's bar,
+//!   baker/tests/render.rs), and one f16 rounding of nothing: both read the same f16 values.
+//!
+//! The change of x is carried through the display curve by evaluating c at x ± the bound.
+//! Also: no console or WebGPU error, no request outside the folder (Chromium's proxy is the
+//! test's server, so a request to any other host reaches it and is logged), the first
+//! frame's wall time from the page's request to its beacon ≤ 2 s.
+//! Mutations: see the closing note of the change that added this test.
+
+use baker::layout::lightmap::Lightmap;
+use baker::render::atlas::Atlas;
+use baker::render::lighting::{Encoding, Lighting, LightmapFilter, Storage};
+use baker::render::shade::Shader;
+use baker::render::visible::{self, Visible};
+use baker::scene::bvh::Bvh;
+use baker::scene::camera::ViewCamera;
+use sbf::glam::{DVec3, Vec3};
+use sbf::profile::SpecularPath;
+use std::collections::BTreeMap;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+fn chromium() -> Option<PathBuf> {
+    if let Ok(p) = std::env::var("SBF_CHROMIUM") {
+        return Some(PathBuf::from(p));
+    }
+    ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|n| {
+        let o = Command::new("which").arg(n).output().ok()?;
+        o.status.success().then(|| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim().to_string()))
+    })
+}
+
+/// What the server saw.
+#[derive(Default)]
+struct Log {
+    /// Request targets, in order ("GET /index.html", "GET http://elsewhere/…"), and whether a
+    /// page made it (the fetch metadata a browser adds to a page's requests, `Sec-Fetch-Mode`;
+    /// the browser's own traffic — its clock, updates, sign-in — has none).
+    requests: Vec<(String, bool)>,
+    /// (api, configuration) → RGBA8 rows from the top.
+    captures: BTreeMap<(String, String), Vec<u8>>,
+    report: Option<String>,
+    index_at: Option<Instant>,
+    first_frame_at: Option<Instant>,
+}
+
+/// A minimal HTTP/1.1 server for `root` on 127.0.0.1 (also Chromium's proxy: absolute-form
+/// targets to another host are logged and refused).
+fn serve(root: PathBuf, log: Arc<Mutex<Log>>) -> u16 {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    std::thread::spawn(move || {
+        for stream in listener.incoming().flatten() {
+            let (root, log) = (root.clone(), log.clone());
+            std::thread::spawn(move || {
+                let _ = handle(stream, &root, &log, port);
+            });
+        }
+    });
+    port
+}
+
+fn handle(stream: TcpStream, root: &Path, log: &Mutex<Log>, port: u16) -> std::io::Result<()> {
+    let mut reader = BufReader::new(stream.try_clone()?);
+    let mut out = stream;
+    loop {
+        let mut line = String::new();
+        if reader.read_line(&mut line)? == 0 {
+            return Ok(());
+        }
+        let mut parts = line.split_whitespace();
+        let (method, target) = (parts.next().unwrap_or("").to_string(), parts.next().unwrap_or("").to_string());
+        let mut length = 0usize;
+        let mut from_page = false;
+        loop {
+            let mut h = String::new();
+            reader.read_line(&mut h)?;
+            if h.trim().is_empty() {
+                break;
+            }
+            let lower = h.to_ascii_lowercase();
+            if let Some(v) = lower.strip_prefix("content-length:") {
+                length = v.trim().parse().unwrap_or(0);
+            }
+            from_page |= lower.starts_with("sec-fetch-mode:");
+        }
+        let mut body = vec![0u8; length];
+        reader.read_exact(&mut body)?;
+        log.lock().unwrap().requests.push((format!("{method} {target}"), from_page));
+        let local = format!("http://127.0.0.1:{port}");
+        let path = if let Some(p) = target.strip_prefix(&local) {
+            p.to_string()
+        } else if target.starts_with('/') {
+            target.clone()
+        } else {
+            // Another host (through the proxy) or a CONNECT tunnel: refused.
+            out.write_all(b"HTTP/1.1 403 Forbidden\r\nContent-Length: 0\r\n\r\n")?;
+            continue;
+        };
+        let (file, query) = path.split_once('?').unwrap_or((&path, ""));
+        let mut status = "200 OK";
+        let mut reply = b"ok".to_vec();
+        let mut kind = "text/plain";
+        match (method.as_str(), file) {
+            ("POST", "/__capture") => {
+                let q: BTreeMap<&str, &str> = query.split('&').filter_map(|kv| kv.split_once('=')).collect();
+                log.lock().unwrap().captures.insert((q["api"].to_string(), q["config"].to_string()), body);
+            }
+            ("POST", "/__first_frame") => log.lock().unwrap().first_frame_at = Some(Instant::now()),
+            ("POST", "/__report") => log.lock().unwrap().report = Some(String::from_utf8_lossy(&body).to_string()),
+            ("GET", f) => {
+                let name = f.trim_start_matches('/');
+                if name == "index.html" {
+                    log.lock().unwrap().index_at.get_or_insert(Instant::now());
+                }
+                match std::fs::read(root.join(name)).ok().filter(|_| !name.contains("..") && !name.is_empty()) {
+                    Some(b) => {
+                        reply = b;
+                        kind = match name.rsplit('.').next() {
+                            Some("html") => "text/html",
+                            Some("js") => "text/javascript",
+                            Some("json") => "application/json",
+                            _ => "application/octet-stream",
+                        };
+                    }
+                    None => {
+                        status = "404 Not Found";
+                        reply = Vec::new();
+                    }
+                }
+            }
+            _ => {
+                status = "405 Method Not Allowed";
+                reply = Vec::new();
+            }
+        }
+        write!(out, "HTTP/1.1 {status}\r\nContent-Type: {kind}\r\nContent-Length: {}\r\nCache-Control: no-store\r\n\r\n", reply.len())?;
+        out.write_all(&reply)?;
+    }
+}
+
+/// The display's 8-bit code of linear value `x` at exposure `e` (unrounded).
+fn code(x: f64, e: f64) -> f64 {
+    let y = (x.max(0.0) * e).max(0.0);
+    let t = (y / (1.0 + y)).clamp(0.0, 1.0);
+    255.0 * if t <= 0.003_130_8 { 12.92 * t } else { 1.055 * t.powf(1.0 / 2.4) - 0.055 }
+}
+
+/// The visible surface through image position (px, py) (pixels, y down).
+fn surface(scene: &baker::scene::Scene, bvh: &Bvh, lm: &Lightmap, cam: &ViewCamera, px: f32, py: f32) -> Option<(u32, Visible)> {
+    let (o, d) = cam.ray(px, py);
+    let h = bvh.intersect(o, d, 0.0, f32::INFINITY)?;
+    Some((h.tri, visible::surface_at(scene, bvh, lm, None, o, d, &h)))
+}
+
+#[test]
+fn viewer_matches_the_cpu_twin_in_headless_chromium() {
+    let Some(browser) = chromium() else {
+        assert!(
+            std::env::var("SBF_REQUIRE_BROWSER").map_or(true, |v| v != "1"),
+            "SBF_REQUIRE_BROWSER=1 but no chromium found (apt-get install chromium, or set SBF_CHROMIUM)"
+        );
+        eprintln!("skipping: no chromium");
+        return;
+    };
+    let tmp = std::env::temp_dir().join(format!("sbf-web-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let (out, web) = (tmp.join("render"), tmp.join("web"));
+    let o = Command::new(env!("CARGO_BIN_EXE_render"))
+        .args(["--device", "cpu", "--frames", "0", "--passes", "16", "--reference-samples", "16", "--reference-noise", "0"])
+        .args(["--bases", "sh2,ad9,sg9", "--size", "240x135", "--out"])
+        .arg(&out)
+        .arg("--web")
+        .arg(&web)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes: u64 = std::fs::read_dir(&web).unwrap().map(|e| e.unwrap().metadata().unwrap().len()).sum();
+    println!("viewer folder: {:.2} MB", bytes as f64 / 1e6);
+    assert!(bytes <= 10_000_000, "the viewer folder of the built-in scene is {bytes} bytes");
+
+    let log = Arc::new(Mutex::new(Log::default()));
+    let port = serve(web.clone(), log.clone());
+    let configs = ["none", "sh2", "ad9", "sg9"];
+    let url = format!("http://127.0.0.1:{port}/index.html?test=1&apis=webgl2,webgpu&configs={}", configs.join(","));
+    let mut child = Command::new(&browser)
+        .args(["--headless", "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan", "--enable-unsafe-swiftshader"])
+        // The browser's own traffic (component updates, its clock, sign-in) is not the page's:
+        // off, so that every request left is one the page made.
+        .args(["--disable-background-networking", "--disable-component-update", "--no-first-run", "--disable-sync"])
+        .arg(format!("--user-data-dir={}", tmp.join("profile").display()))
+        .arg(format!("--proxy-server=http://127.0.0.1:{port}"))
+        .arg("--proxy-bypass-list=<-loopback>")
+        .arg(&url)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while log.lock().unwrap().report.is_none() && start.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let _ = child.kill();
+    let stderr = {
+        let mut s = String::new();
+        let _ = child.stderr.take().unwrap().read_to_string(&mut s);
+        let _ = child.wait();
+        s
+    };
+    let log = log.lock().unwrap();
+    let report: serde_json::Value = serde_json::from_str(
+        log.report.as_deref().unwrap_or_else(|| panic!("no report from the page within 120 s; Chromium said:\n{stderr}")),
+    )
+    .unwrap();
+    println!("report: {report}");
+    assert_eq!(report["errors"].as_array().map(Vec::len), Some(0), "the page's errors: {report}");
+    assert!(!stderr.contains("Uncaught"), "{stderr}");
+    // Offline: every request the page made is its own folder or the test's endpoints (the
+    // browser's own traffic is listed, not counted), and the viewer's files name no other
+    // place (its requests over TLS would be tunnels the proxy cannot look into).
+    let browser_own: Vec<&String> = log.requests.iter().filter(|r| !r.1).map(|r| &r.0).collect();
+    println!("the browser's own requests (no fetch metadata; not the page's): {browser_own:?}");
+    for f in ["index.html", "viewer.js"] {
+        let text = std::fs::read_to_string(web.join(f)).unwrap();
+        assert!(!text.contains("http://") && !text.contains("https://") && !text.contains("src=\"//"), "{f} names another place");
+    }
+    let foreign: Vec<&String> = log
+        .requests
+        .iter()
+        .filter(|r| r.1)
+        .map(|r| &r.0)
+        .filter(|r| {
+            let t = r.split_once(' ').map_or("", |x| x.1);
+            let t = t.strip_prefix(&format!("http://127.0.0.1:{port}")).unwrap_or(t);
+            !(t.starts_with("/__") || (t.starts_with('/') && web.join(t.trim_start_matches('/').split('?').next().unwrap()).is_file()))
+        })
+        .collect();
+    assert!(foreign.is_empty(), "requests outside the viewer's folder: {foreign:?}");
+    let first = log.first_frame_at.unwrap().duration_since(log.index_at.unwrap()).as_secs_f64();
+    println!("first frame {first:.3} s after the page was requested");
+    assert!(first <= 2.0, "first frame after {first:.2} s");
+
+    // The twin: the same scene, layout, camera and f16 lightmap values.
+    let (scene, _) = baker::scene::load::load_with_cameras("cornell", None, &mut |_| {}).unwrap();
+    let bake: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("bake/bake.json")).unwrap()).unwrap();
+    let lm = Lightmap::build(
+        &scene,
+        bake["layout"]["texels_per_unit"].as_f64().unwrap() as f32,
+        bake["layout"]["padding"].as_u64().unwrap() as usize,
+    )
+    .unwrap();
+    let sj: serde_json::Value = serde_json::from_slice(&std::fs::read(web.join("scene.json")).unwrap()).unwrap();
+    let v3 = |k: &str| {
+        let a = sj["camera"][k].as_array().unwrap();
+        Vec3::new(a[0].as_f64().unwrap() as f32, a[1].as_f64().unwrap() as f32, a[2].as_f64().unwrap() as f32)
+    };
+    let cam = ViewCamera {
+        eye: v3("eye"),
+        target: v3("target"),
+        up: v3("up"),
+        fov_y: (sj["camera"]["fov_y_degrees"].as_f64().unwrap() as f32).to_radians(),
+        width: 240,
+        height: 135,
+    };
+    let exposure = sj["exposure"].as_f64().unwrap() as f32 as f64;
+    let bvh = Bvh::build(&scene);
+    let materials: Vec<_> = scene.materials.iter().map(baker::render::lighting::SurfaceMaterial::of).collect();
+    const SUBPIXEL: f32 = 1.0 / 16.0;
+    let (w, h) = (cam.width as usize, cam.height as usize);
+    // Per pixel: the centre's surface and the four offsets' (None: an edge).
+    let pixels: Vec<Option<[Visible; 5]>> = (0..w * h)
+        .map(|k| {
+            let (x, y) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
+            let c = surface(&scene, &bvh, &lm, &cam, x, y);
+            let mut s = [c?.1; 5];
+            for (j, (dx, dy)) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)].into_iter().enumerate() {
+                let o = surface(&scene, &bvh, &lm, &cam, x + dx * SUBPIXEL, y + dy * SUBPIXEL)?;
+                if o.0 != c?.0 {
+                    return None;
+                }
+                s[j + 1] = o.1;
+            }
+            Some(s)
+        })
+        .collect();
+    let centre_hits = (0..w * h).filter(|k| surface(&scene, &bvh, &lm, &cam, (k % w) as f32 + 0.5, (k / w) as f32 + 0.5).is_some()).count();
+    let edges = centre_hits - pixels.iter().filter(|p| p.is_some()).count();
+    println!("{edges} of {centre_hits} pixels with a surface are at a triangle's edge (left out)");
+    assert!(edges * 10 < centre_hits, "{edges} edge pixels of {centre_hits}");
+    let apis: Vec<&str> = ["webgl2", "webgpu"]
+        .into_iter()
+        .filter(|api| {
+            let a = report["apis"][api].as_str().unwrap_or("missing");
+            println!("{api}: {a}");
+            !a.starts_with("unavailable") && a != "missing"
+        })
+        .collect();
+    assert!(apis.contains(&"webgl2"), "WebGL 2 did not run: {report}");
+    if !apis.contains(&"webgpu") {
+        println!("WebGPU was not rendered here (the WGSL was not compiled by the browser)");
+    }
+    for name in configs {
+        let encoding =
+            if name == "none" { Encoding::Irradiance } else { Encoding::Basis(baker::accumulate::lightmap_basis(name).unwrap()) };
+        let l = Lighting {
+            encoding,
+            specular: SpecularPath::Fit,
+            storage: Storage::F16,
+            sg_sharpness: baker::accumulate::SG_HEMISPHERE_SHARPNESS,
+        };
+        let atlas = Atlas::read(&out.join("bake"), encoding, lm.width, lm.height).unwrap().stored(Storage::F16).unwrap();
+        let shader = Shader::new(l);
+        let shade = |s: &Visible| visible::shade_one(&shader, &atlas, LightmapFilter::Exact, None, &materials, cam.eye.as_dvec3(), s);
+        for api in &apis {
+            let img = &log.captures[&(api.to_string(), name.to_string())];
+            assert_eq!(img.len(), w * h * 4);
+            let (mut worst, mut checked, mut sum_err) = (0.0f64, 0usize, 0.0f64);
+            for (k, p) in pixels.iter().enumerate() {
+                let Some(s) = p else { continue };
+                let t = shade(&s[0]);
+                let x = t.total();
+                let mut dr = DVec3::ZERO;
+                for o in &s[1..] {
+                    dr = dr.max((shade(o).total() - x).abs());
+                }
+                let bound = dr + (t.diffuse.abs() + t.specular.abs()) * 1e-4;
+                for c in 0..3 {
+                    let want = code(x[c], exposure);
+                    let allowed = 0.51 + (code(x[c] + bound[c], exposure) - want).max(want - code(x[c] - bound[c], exposure));
+                    let got = img[4 * k + c] as f64;
+                    let e = (got - want).abs() / allowed;
+                    sum_err += (got - want).abs();
+                    if e > worst {
+                        worst = e;
+                    }
+                    assert!(
+                        e <= 1.0,
+                        "{api} {name}: pixel ({}, {}) channel {c}: {got} vs the twin's {want:.3} (allowed ±{allowed:.3}; linear {:.5})",
+                        k % w,
+                        k / w,
+                        x[c]
+                    );
+                    checked += 1;
+                }
+            }
+            println!(
+                "{api} {name}: {checked} channels within the model, worst {worst:.3} of its bound, mean |Δ| {:.3} codes",
+                sum_err / checked as f64
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+}
