@@ -173,6 +173,76 @@ fn surface(scene: &baker::scene::Scene, bvh: &Bvh, lm: &Lightmap, cam: &ViewCame
     Some((h.tri, visible::surface_at(scene, bvh, lm, None, o, d, &h)))
 }
 
+/// Opens `dir`'s viewer in headless Chromium with `query` from a fresh local server; the
+/// server's log, the page's report and Chromium's stderr.
+fn open(browser: &Path, dir: &Path, profile: &Path, query: &str) -> (Log, serde_json::Value, String, u16) {
+    let log = Arc::new(Mutex::new(Log::default()));
+    let port = serve(dir.to_path_buf(), log.clone());
+    let url = format!("http://127.0.0.1:{port}/index.html?{query}");
+    let mut child = Command::new(browser)
+        .args(["--headless", "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan", "--enable-unsafe-swiftshader"])
+        // The browser's own traffic (component updates, its clock, sign-in) is not the page's.
+        .args(["--disable-background-networking", "--disable-component-update", "--no-first-run", "--disable-sync"])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("--proxy-server=http://127.0.0.1:{port}"))
+        .arg("--proxy-bypass-list=<-loopback>")
+        .arg(&url)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while log.lock().unwrap().report.is_none() && start.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let _ = child.kill();
+    let mut stderr = String::new();
+    let _ = child.stderr.take().unwrap().read_to_string(&mut stderr);
+    let _ = child.wait();
+    let log = std::mem::take(&mut *log.lock().unwrap());
+    let report: serde_json::Value = serde_json::from_str(
+        log.report.as_deref().unwrap_or_else(|| panic!("no report from the page within 120 s; Chromium said:\n{stderr}")),
+    )
+    .unwrap();
+    println!("report: {report}");
+    assert_eq!(report["errors"].as_array().map(Vec::len), Some(0), "the page's errors: {report}");
+    assert!(!stderr.contains("Uncaught"), "{stderr}");
+    (log, report, stderr, port)
+}
+
+/// Per lobe, the largest error of the GPU's B-spline at atlas position `uv` (texels): each of
+/// its four bilinear taps reads at a position within ε_w = 2⁻⁴ texel per axis of the exact one
+/// (Vulkan's least sub-texel precision), so it is off by at most ε_w × (its cell's largest
+/// texel difference along x + along y), weighted by the tap's weight; plus 2⁻¹⁰ of each tap's
+/// magnitude, for a filtered result rounded to f16.
+fn bicubic_bound(atlas: &Atlas, uv: [f64; 2]) -> Vec<DVec3> {
+    const EPS_W: f64 = 1.0 / 16.0;
+    let taps = baker::render::atlas::bspline_taps(uv);
+    let texel = |lobe: &[[f32; 3]], i: i64, j: i64| {
+        let (x, y) = (i.clamp(0, atlas.width as i64 - 1) as usize, j.clamp(0, atlas.height as i64 - 1) as usize);
+        let t = lobe[y * atlas.width + x];
+        DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
+    };
+    atlas
+        .lobes
+        .iter()
+        .map(|lobe| {
+            let mut b = DVec3::ZERO;
+            for (px, gx) in taps[0].0.iter().zip(taps[0].1) {
+                for (py, gy) in taps[1].0.iter().zip(taps[1].1) {
+                    let (i, j) = ((px - 0.5).floor() as i64, (py - 0.5).floor() as i64);
+                    let [a, bb, c, d] = [texel(lobe, i, j), texel(lobe, i + 1, j), texel(lobe, i, j + 1), texel(lobe, i + 1, j + 1)];
+                    let dx = (bb - a).abs().max((d - c).abs());
+                    let dy = (c - a).abs().max((d - bb).abs());
+                    let mag = a.abs().max(bb.abs()).max(c.abs()).max(d.abs());
+                    b += (EPS_W * (dx + dy) + mag * (1.0 / 1024.0)) * (gx * gy);
+                }
+            }
+            b
+        })
+        .collect()
+}
+
 #[test]
 fn viewer_matches_the_cpu_twin_in_headless_chromium() {
     let Some(browser) = chromium() else {
@@ -199,42 +269,9 @@ fn viewer_matches_the_cpu_twin_in_headless_chromium() {
     println!("viewer folder: {:.2} MB", bytes as f64 / 1e6);
     assert!(bytes <= 10_000_000, "the viewer folder of the built-in scene is {bytes} bytes");
 
-    let log = Arc::new(Mutex::new(Log::default()));
-    let port = serve(web.clone(), log.clone());
     let configs = ["none", "sh2", "ad9", "sg9"];
-    let url = format!("http://127.0.0.1:{port}/index.html?test=1&apis=webgl2,webgpu&configs={}", configs.join(","));
-    let mut child = Command::new(&browser)
-        .args(["--headless", "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan", "--enable-unsafe-swiftshader"])
-        // The browser's own traffic (component updates, its clock, sign-in) is not the page's:
-        // off, so that every request left is one the page made.
-        .args(["--disable-background-networking", "--disable-component-update", "--no-first-run", "--disable-sync"])
-        .arg(format!("--user-data-dir={}", tmp.join("profile").display()))
-        .arg(format!("--proxy-server=http://127.0.0.1:{port}"))
-        .arg("--proxy-bypass-list=<-loopback>")
-        .arg(&url)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while log.lock().unwrap().report.is_none() && start.elapsed() < Duration::from_secs(120) {
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    let _ = child.kill();
-    let stderr = {
-        let mut s = String::new();
-        let _ = child.stderr.take().unwrap().read_to_string(&mut s);
-        let _ = child.wait();
-        s
-    };
-    let log = log.lock().unwrap();
-    let report: serde_json::Value = serde_json::from_str(
-        log.report.as_deref().unwrap_or_else(|| panic!("no report from the page within 120 s; Chromium said:\n{stderr}")),
-    )
-    .unwrap();
-    println!("report: {report}");
-    assert_eq!(report["errors"].as_array().map(Vec::len), Some(0), "the page's errors: {report}");
-    assert!(!stderr.contains("Uncaught"), "{stderr}");
+    let query = format!("test=1&apis=webgl2,webgpu&configs={},sh2:bicubic", configs.join(","));
+    let (log, report, _, port) = open(&browser, &web, &tmp.join("profile"), &query);
     // Offline: every request the page made is its own folder or the test's endpoints (the
     // browser's own traffic is listed, not counted), and the viewer's files name no other
     // place (its requests over TLS would be tunnels the proxy cannot look into).
@@ -369,5 +406,97 @@ fn viewer_matches_the_cpu_twin_in_headless_chromium() {
             );
         }
     }
+    // The B-spline filter (four bilinear taps of the sampler per lobe): the same model, plus
+    // the taps' sub-texel error (bicubic_bound).
+    let l = Lighting {
+        encoding: Encoding::Basis(baker::accumulate::lightmap_basis("sh2").unwrap()),
+        specular: SpecularPath::Fit,
+        storage: Storage::F16,
+        sg_sharpness: 6.0,
+    };
+    let atlas = Atlas::read(&out.join("bake"), l.encoding, lm.width, lm.height).unwrap().stored(Storage::F16).unwrap();
+    let shader = Shader::new(l);
+    let eye = cam.eye.as_dvec3();
+    for api in &apis {
+        let img = &log.captures[&(api.to_string(), "sh2:bicubic".to_string())];
+        let (mut worst, mut checked) = (0.0f64, 0usize);
+        for (k, p) in pixels.iter().enumerate() {
+            let Some(s) = p else { continue };
+            let shade = |s: &Visible| visible::shade_one(&shader, &atlas, LightmapFilter::Bicubic, None, &materials, eye, s);
+            let t = shade(&s[0]);
+            let x = t.total();
+            let mut dr = DVec3::ZERO;
+            for o in &s[1..] {
+                dr = dr.max((shade(o).total() - x).abs());
+            }
+            // |w_l|: the pixel's shading of lobe l alone (linear in the lobes, per channel).
+            let m = &materials[s[0].material as usize];
+            let v = (eye - s[0].position.as_dvec3()).normalize();
+            let lobes = bicubic_bound(&atlas, [s[0].uv[0] as f64, s[0].uv[1] as f64]);
+            let mut dt = DVec3::ZERO;
+            for (li, b) in lobes.iter().enumerate() {
+                let mut unit = vec![DVec3::ZERO; atlas.lobes.len()];
+                unit[li] = DVec3::ONE;
+                let w = shader.terms_at(&unit, m, s[0].frame_normal.as_dvec3().normalize(), s[0].normal.as_dvec3().normalize(), v).total();
+                dt += w.abs() * *b;
+            }
+            let bound = dr + dt + (t.diffuse.abs() + t.specular.abs()) * 1e-4;
+            for c in 0..3 {
+                let want = code(x[c], exposure);
+                let allowed = 0.51 + (code(x[c] + bound[c], exposure) - want).max(want - code(x[c] - bound[c], exposure));
+                let got = img[4 * k + c] as f64;
+                worst = worst.max((got - want).abs() / allowed);
+                assert!(
+                    (got - want).abs() <= allowed,
+                    "{api} sh2 bicubic: pixel ({}, {}) channel {c}: {got} vs {want:.3} (±{allowed:.3})",
+                    k % w,
+                    k / w
+                );
+                checked += 1;
+            }
+        }
+        println!("{api} sh2 bicubic: {checked} channels within the model, worst {worst:.3} of its bound");
+    }
+    // The report links to the viewer.
+    let results: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(results["viewer"].as_str(), Some("../web/index.html"));
+    assert!(std::fs::read_to_string(out.join("report.html")).unwrap().contains("href=\"../web/index.html\""));
+
+    // A texture limit below the atlas (88 × 132): downsampled 4× (132 → 66 > 64 → 33), the E/π
+    // error stated (a relative RMS: positive, below 1), the UVs scaled, and the page draws.
+    let web2 = tmp.join("web-small");
+    let o = Command::new(env!("CARGO_BIN_EXE_render"))
+        .args([
+            "--device",
+            "cpu",
+            "--frames",
+            "0",
+            "--reference-samples",
+            "4",
+            "--reference-noise",
+            "0",
+            "--bases",
+            "sh2",
+            "--size",
+            "240x135",
+        ])
+        .arg("--bake")
+        .arg(out.join("bake"))
+        .arg("--out")
+        .arg(tmp.join("render-small"))
+        .arg("--web")
+        .arg(&web2)
+        .args(["--web-max-texture", "64"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let sj2: serde_json::Value = serde_json::from_slice(&std::fs::read(web2.join("scene.json")).unwrap()).unwrap();
+    assert_eq!(sj2["downsampled"]["factor"].as_u64(), Some(4));
+    assert_eq!(sj2["atlas"], serde_json::json!([lm.width.div_ceil(4), lm.height.div_ceil(4)]));
+    let e = sj2["downsampled"]["irradiance_relative_rms"].as_f64().unwrap();
+    assert!(e > 0.0 && e < 1.0, "stated downsampling error {e}");
+    let (log2, _, _, _) = open(&browser, &web2, &tmp.join("profile2"), "test=1&apis=webgl2&configs=sh2");
+    let img = &log2.captures[&("webgl2".to_string(), "sh2".to_string())];
+    assert!(img.chunks(4).filter(|p| p[0] > 0).count() > w * h / 2, "the downsampled viewer drew little");
     let _ = std::fs::remove_dir_all(&tmp);
 }

@@ -121,6 +121,11 @@ struct Cli {
     /// library's GLSL ES export, WebGPU with its WGSL export.
     #[arg(long)]
     web: Option<PathBuf>,
+    /// The largest lightmap texture side the viewer may upload (WebGL 2 guarantees 2048;
+    /// desktop browsers give 8192–16384): a larger atlas is downsampled by 2 until it fits,
+    /// its E/π error stated in the viewer.
+    #[arg(long, default_value_t = baker::render::web::MAX_TEXTURE)]
+    web_max_texture: usize,
 }
 
 fn size(s: &str, what: &str) -> Result<(u32, u32), String> {
@@ -435,7 +440,7 @@ fn render(c: Cli) -> Result<(), String> {
     };
     let outcome = session::run(&scene, &bvh, &lm, &bake_dir, probe_field.as_ref(), &setup, gpu.as_ref(), &mut |m| eprintln!("{m}"))?;
     std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;
-    let results = baker::render::report::write(&c.out, &scene.name, &bake_dir, &camera, &device_name, &outcome)?;
+    let results = baker::render::report::write(&c.out, &scene.name, &bake_dir, &camera, &device_name, &outcome, c.web.as_deref())?;
     eprintln!("wrote {} (results.json, report.html, images)", c.out.display());
     if let Some(dir) = &c.web {
         let viewer = Viewer {
@@ -447,7 +452,7 @@ fn render(c: Cli) -> Result<(), String> {
             outcome: &outcome,
             sg_sharpness,
             results: &results,
-            max_texture: web::MAX_TEXTURE,
+            max_texture: c.web_max_texture,
         };
         write_web(dir, &viewer, &setup.configurations)?;
     }

@@ -23,6 +23,9 @@ pub struct ResultsJson {
     pub lightmap_filter: &'static str,
     pub reference: ReferenceJson,
     pub configurations: Vec<ConfigurationJson>,
+    /// The bake viewer's index.html (`render --web`), relative to this folder.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub viewer: Option<String>,
 }
 
 #[derive(Debug, Serialize)]
@@ -102,7 +105,16 @@ fn write_images(dir: &Path, name: &str, cam: &ViewCamera, v: &[DVec3], mask: &[f
 }
 
 /// Writes the images, results.json and report.html; returns results.json's record.
-pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &str, o: &Outcome) -> Result<ResultsJson, String> {
+/// `viewer`: the folder of the bake viewer written beside the report (linked from it).
+pub fn write(
+    dir: &Path,
+    scene: &str,
+    bake: &Path,
+    cam: &ViewCamera,
+    device: &str,
+    o: &Outcome,
+    viewer: Option<&Path>,
+) -> Result<ResultsJson, String> {
     let refs: Vec<DVec3> = o.reference.diffuse.iter().zip(&o.reference.specular).map(|(a, b)| *a + *b).collect();
     // Alpha: 1 where the reference has samples (lightmapped surfaces and dynamic objects).
     let mask: Vec<f32> = o.reference.accepted.iter().map(|n| if *n > 0 { 1.0 } else { 0.0 }).collect();
@@ -185,11 +197,23 @@ pub fn write(dir: &Path, scene: &str, bake: &Path, cam: &ViewCamera, device: &st
             file: "reference.exr",
         },
         configurations,
+        viewer: viewer.map(|v| relative(&v.join("index.html"), dir)),
     };
     let json = serde_json::to_string_pretty(&results).map_err(|e| e.to_string())?;
     std::fs::write(dir.join("results.json"), json).map_err(|e| format!("results.json: {e}"))?;
     std::fs::write(dir.join("report.html"), html(&results)).map_err(|e| format!("report.html: {e}"))?;
     Ok(results)
+}
+
+/// `target` relative to the folder `base` (both made absolute; `/`-separated, for a link).
+fn relative(target: &Path, base: &Path) -> String {
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let (t, b) = (abs(target), abs(base));
+    let (tc, bc): (Vec<_>, Vec<_>) = (t.components().collect(), b.components().collect());
+    let common = tc.iter().zip(&bc).take_while(|(a, b)| a == b).count();
+    let mut parts: Vec<String> = vec!["..".to_string(); bc.len() - common];
+    parts.extend(tc[common..].iter().map(|c| c.as_os_str().to_string_lossy().to_string()));
+    parts.join("/")
 }
 
 fn esc(s: &str) -> String {
@@ -232,13 +256,17 @@ fn html(r: &ResultsJson) -> String {
         );
     }
     format!(
-        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>RMSE at chart borders</th><th>RMSE inside charts</th><th>forward frame ms</th><th>forward overhead ms</th><th>deferred frame ms</th><th>deferred overhead ms</th><th>deferred compute pass ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
+        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>render: {scene}</title>\n<style>body{{font-family:sans-serif;max-width:1400px;margin:1em auto}}table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}figure{{display:inline-block;margin:4px}}img{{width:320px;image-rendering:pixelated}}</style></head><body>\n<h1>{scene}: baked lightmaps shaded in real time against the path-traced reference</h1>\n<p>Camera {w}×{h}; reference {spp} samples per pixel (noise {noise:.3e} RMS, subtracted from every RMSE); shading on {device}, lightmap filter {filter}. Quantity: light reflected by the visible surface (diffuse + single-scattering GGX), emission excluded.</p>\n{viewer}<table><tr><th>configuration</th><th>lobes</th><th>bytes/texel</th><th>shaded on</th><th>RMSE diffuse</th><th>RMSE specular</th><th>RMSE total</th><th>relative</th><th>RMSE at chart borders</th><th>RMSE inside charts</th><th>forward frame ms</th><th>forward overhead ms</th><th>deferred frame ms</th><th>deferred overhead ms</th><th>deferred compute pass ms</th></tr>\n{rows}</table>\n{figs}<script>\n// Self-check for headless browsers: images that fail to load and script errors, on <body>.\nlet errors = 0;\nwindow.addEventListener('error', () => {{ errors += 1; }}, true);\nwindow.addEventListener('load', () => {{\n  const imgs = [...document.images];\n  document.body.dataset.images = imgs.length;\n  document.body.dataset.broken = imgs.filter(i => !i.complete || i.naturalWidth === 0).length;\n  document.body.dataset.errors = errors;\n}});\n</script>\n</body></html>\n",
         scene = esc(&r.scene),
         w = r.camera.width,
         h = r.camera.height,
         spp = r.reference.samples_per_pixel,
         noise = r.reference.noise_rms,
         device = esc(&r.device),
-        filter = r.lightmap_filter
+        filter = r.lightmap_filter,
+        viewer = r.viewer.as_ref().map_or(String::new(), |v| format!(
+            "<p><a href=\"{}\">The bake viewer</a>: the scene in your browser (WebGL 2 or WebGPU), every basis, orbit and fly, the split view against this reference. It loads its files by fetch: serve its folder (e.g. <code>python3 -m http.server</code> in it) rather than opening it from disk.</p>\n",
+            esc(v)
+        ))
     )
 }

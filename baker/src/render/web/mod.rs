@@ -143,7 +143,7 @@ fn lightmaps(
             Encoding::Irradiance => ("none".to_string(), "plain E/π lightmap".to_string(), 0, None),
             Encoding::Basis(b) => (
                 b.name().to_string(),
-                b.to_string(),
+                b.info().title.to_string(),
                 1 + b.gpu_kind().ok_or_else(|| format!("{b} has no GPU slot"))?,
                 Some(if b.is_sh() {
                     "dfg"
@@ -193,6 +193,9 @@ fn lut_bytes(l: &sbf::recon::lut::Lut2) -> Vec<u8> {
 
 /// Writes the viewer folder `dir` (created; the viewer's own files replaced).
 pub fn write(dir: &Path, v: &Viewer, configurations: &[Lighting], log: &mut dyn FnMut(String)) -> Result<Written, String> {
+    if v.max_texture < 16 {
+        return Err(format!("the viewer's largest texture side is {}: at least 16 (WebGL 2 guarantees 2048)", v.max_texture));
+    }
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let (lm, cam) = (v.lm, v.camera);
     // The atlas' downsampling factor: the smallest power of two that fits the limit.

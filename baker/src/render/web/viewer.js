@@ -3,7 +3,7 @@
 // WebGL 2: sbf.es.glsl + viewer.es.glsl; WebGPU: viewer.wgsl (the library's WGSL export +
 // render.wgsl) + display.wgsl — and shows it with the reference beside it.
 //
-// Test mode (`?test=1&apis=webgl2,webgpu&configs=sh2,ad9`): at the reference camera, the
+// Test mode (`?test=1&apis=webgl2,webgpu&configs=sh2,ad9,sh2:bicubic`): at the reference camera, the
 // total term, exposure ±0 EV, no split, bilinear filter, each API × configuration is drawn
 // and its canvas (RGBA8, rows from the top) POSTed to /__capture?api=…&config=…; then a JSON
 // report (errors, the APIs' adapters, the first frame's time) to /__report. Only the test's
@@ -520,6 +520,9 @@ function table(data) {
 
 async function main() {
   const t0 = performance.now();
+  if (location.protocol === 'file:') {
+    throw new Error('this page loads its data by fetch, which browsers refuse for files opened from disk: serve this folder (e.g. `python3 -m http.server` in it) and open the address it prints');
+  }
   const data = await load();
   const s = data.scene;
   const canvas = $('view');
@@ -539,6 +542,14 @@ async function main() {
     mode: 'orbit',
   };
   pick.value = state.conf.name;
+  // A view to link to: ?config=ad9&term=1&ev=1&split=0.5&filter=bicubic&api=webgpu.
+  if (params.has('term')) $('term').value = String((state.term = Number(params.get('term'))));
+  if (params.has('ev')) $('ev').value = String((state.ev = Number(params.get('ev'))));
+  if (params.has('filter')) $('filter').value = (state.bicubic = params.get('filter') === 'bicubic') ? 'bicubic' : 'bilinear';
+  if (params.has('split')) {
+    state.split = $('split').checked = true;
+    $('split-at').value = String((state.splitAt = Number(params.get('split'))));
+  }
   const want = params.get('api') || 'webgl2';
   let renderer = null;
   const canvases = { webgl2: canvas };
@@ -710,8 +721,11 @@ async function runTest(data, make, view, state, t0) {
       report.apis[api] = `unavailable: ${e.message}`;
       continue;
     }
-    for (const name of confs) {
+    for (const item of confs) {
+      // NAME or NAME:bicubic.
+      const [name, filter] = item.split(':');
       state.conf = data.scene.configurations.find((c) => c.name === name);
+      state.bicubic = filter === 'bicubic';
       if (!state.conf) {
         errors.push(`no configuration ${name}`);
         continue;
@@ -721,7 +735,7 @@ async function runTest(data, make, view, state, t0) {
         report.first_frame_ms = performance.now() - t0;
         await fetch('/__first_frame', { method: 'POST', body: String(report.first_frame_ms) });
       }
-      await fetch(`/__capture?api=${api}&config=${name}&width=${r.width}&height=${r.height}`, { method: 'POST', body: px });
+      await fetch(`/__capture?api=${api}&config=${item}&width=${r.width}&height=${r.height}`, { method: 'POST', body: px });
       report.captures += 1;
     }
   }
