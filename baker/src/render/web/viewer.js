@@ -94,6 +94,9 @@ class WebGl2 {
     this.data = data;
     const dbg = gl.getExtension('WEBGL_debug_renderer_info');
     this.adapter = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+    const [aw, ah] = data.scene.atlas;
+    const most = gl.getParameter(gl.MAX_TEXTURE_SIZE);
+    if (aw > most || ah > most) throw new Error(`the atlas (${aw}×${ah}) exceeds this WebGL 2's ${most} texels a side: write the viewer with render --web-max-texture ${most}`);
     this.src = sections(data.glsl);
     this.programs = new Map();
     const { width: w, height: h } = data.scene.camera;
@@ -286,6 +289,9 @@ class WebGpu {
   async init(canvas, data, adapter, device) {
     this.device = device;
     this.data = data;
+    const [aw, ah] = data.scene.atlas;
+    const most = device.limits.maxTextureDimension2D;
+    if (aw > most || ah > most) throw new Error(`the atlas (${aw}×${ah}) exceeds this WebGPU device's ${most} texels a side: write the viewer with render --web-max-texture ${most}`);
     const info = adapter.info || {};
     this.adapter = `${info.vendor || '?'} ${info.architecture || ''} ${info.description || ''}`.trim();
     device.addEventListener('uncapturederror', (e) => errors.push(`WebGPU: ${e.error.message}`));
