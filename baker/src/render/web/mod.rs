@@ -209,7 +209,14 @@ pub fn write(dir: &Path, v: &Viewer, configurations: &[Lighting], log: &mut dyn 
     let (dfg, ad) = (sbf::recon::tables::dfg(), sbf::recon::tables::ad_specular_2d());
     let (mut files, confs, downsampled_error, f16_error) = lightmaps(v, configurations, f)?;
     let (reference, exposure) = reference(v.outcome);
-    let (near, far) = depth_range(bounds, &cam);
+    // The near plane as far out as the reference view allows — half the nearest visible
+    // surface's distance — rather than the renderer's far × 1e-5: WebGL 2 and WebGPU keep
+    // depth as f32 with the usual mapping (no reversed Z in WebGL 2), whose resolution at
+    // distance d is ≈ d²/near × 2⁻²⁴: at 1e-5 of a 100 m far plane, 2.4 cm at 20 m, and the
+    // atrium's banners and walls then fight.
+    let (near0, far) = depth_range(bounds, &cam);
+    let nearest = v.outcome.visible.iter().flatten().map(|s| (s.position - cam.eye).length()).fold(f32::INFINITY, f32::min);
+    let near = if nearest.is_finite() { (0.5 * nearest).max(near0) } else { near0 };
     let scene_json = json!({
         "format": "sbf-web 1",
         "scene": v.scene.name,

@@ -577,7 +577,8 @@ async function main() {
     const aspect = s.camera.width / s.camera.height;
     return {
       conf: state.conf,
-      viewProj: c.exact ? s.camera.view_proj : viewProj(c, aspect),
+      // Moved views keep the reference's far plane and pull the near plane in with the eye.
+      viewProj: c.exact ? s.camera.view_proj : viewProj({ ...c, near: Math.max(c.far * 1e-5, Math.min(c.near, 0.25 * Math.hypot(...sub(c.target, c.eye)))) }, aspect),
       eye: c.eye,
       exposure: s.exposure * 2 ** state.ev,
       term: state.term,
