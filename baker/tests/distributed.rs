@@ -1,16 +1,21 @@
 //! The bake on an existing distributed engine: `baker/distributed/dask_bake.py` runs the
-//! shards as Dask tasks on a local cluster of 3 worker processes; one shard's `baker`
-//! process is killed (SIGKILL) mid-bake, after its first checkpoint; Dask retries the task,
-//! the retry resumes from the checkpoint, and the merged outputs must equal the
-//! single-process bake byte for byte (bake.json without the fields that measure the run).
+//! shards as Dask tasks on a local cluster of 3 worker processes; the Dask worker process
+//! running one shard is killed (SIGKILL) mid-bake, after the shard's first checkpoint — the
+//! machine-loss case: its `baker` child must end with it (`--exit-with-parent`) instead of
+//! baking on as an orphan beside the retry; Dask's nanny restarts the worker and the
+//! scheduler runs the task again, the retry resumes from the checkpoint, and the merged
+//! outputs must equal the single-process bake byte for byte (bake.json without the fields
+//! that measure the run).
 //!
 //! The oracle is the single bake (no partition, no checkpoint, no resume). Needs Python
 //! with `distributed` (baker/distributed/requirements.txt): the interpreter is
 //! `SBF_PYTHON` (default `python3`); without the package the test is skipped, unless
 //! `SBF_REQUIRE_DASK=1` (CI), where it fails.
 //!
-//! Mutations tried, each caught: the driver submitting with `retries=0` (the killed shard
-//! fails for good: the driver exits 1, nothing merged); the retry run without `--resume`
+//! Mutations tried, each caught: the driver starting `baker` without `--exit-with-parent`
+//! (the killed worker's bake runs on: "outlived its killed worker by 5 s"); the driver
+//! submitting with `retries=0` (the killed shard fails for good: the driver exits 1,
+//! nothing merged — checked when the test killed the bake itself); the retry run without `--resume`
 //! (it restarts from pass 0: the outputs still match — a restart is also correct — but the
 //! log's "resumed at pass" check fails); the driver not setting its cancel event on SIGTERM
 //! (the bakes run on until the cluster closes, 10 s later: `sigterm_…` fails).
@@ -43,6 +48,17 @@ fn python() -> Option<String> {
     None
 }
 
+/// The parent of process `pid` (Linux /proc/PID/stat, the field after the parenthesised name).
+fn parent(pid: u32) -> Option<u32> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    stat.rsplit_once(')')?.1.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// Whether process `pid` is alive (a zombie counts as gone: it has exited).
+fn alive(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| s.rsplit_once(')').is_some_and(|(_, r)| !r.trim_start().starts_with('Z')))
+}
+
 /// The pid of the running `baker` process whose arguments include `--shard SPEC` and
 /// `--out DIR` (Linux /proc).
 fn shard_pid(spec: &str, dir: &Path) -> Option<u32> {
@@ -59,7 +75,7 @@ fn shard_pid(spec: &str, dir: &Path) -> Option<u32> {
 }
 
 #[test]
-fn a_killed_shard_is_retried_and_the_merge_equals_the_single_bake() {
+fn a_killed_worker_takes_its_bake_along_and_the_merge_equals_the_single_bake() {
     let Some(py) = python() else { return };
     let root = std::env::temp_dir().join(format!("baker-dask-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&root);
@@ -87,7 +103,7 @@ fn a_killed_shard_is_retried_and_the_merge_equals_the_single_bake() {
         .stderr(Stdio::inherit())
         .spawn()
         .unwrap();
-    // Kill shard 1's process once its first checkpoint is on disk.
+    // Kill the worker running shard 1 once the shard's first checkpoint is on disk.
     let ckpt: PathBuf = shards.join("lightmap.shard-1-of-3.checkpoint");
     let deadline = Instant::now() + Duration::from_secs(300);
     while !ckpt.exists() {
@@ -96,13 +112,24 @@ fn a_killed_shard_is_retried_and_the_merge_equals_the_single_bake() {
         std::thread::sleep(Duration::from_millis(10));
     }
     let pid = shard_pid("1/3", &shards).expect("shard 1's baker process finished before it could be killed: lengthen the bake");
-    let k = Command::new("kill").args(["-9", &pid.to_string()]).status().unwrap();
-    assert!(k.success(), "kill -9 {pid}");
+    let worker = parent(pid).expect("the baker's parent");
+    let k = Command::new("kill").args(["-9", &worker.to_string()]).status().unwrap();
+    assert!(k.success(), "kill -9 {worker}");
+    // Its bake ends with it (the watcher polls its parent): no orphan baking the shard.
+    let t_kill = Instant::now();
+    while alive(pid) && t_kill.elapsed() < Duration::from_secs(5) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(!alive(pid), "shard 1's baker (pid {pid}) outlived its killed worker (pid {worker}) by 5 s");
+    println!("the killed worker's bake ended {:.2} s after the worker", t_kill.elapsed().as_secs_f64());
     let status = child.wait().unwrap();
     let cluster_seconds = t.elapsed().as_secs_f64();
     let text = std::fs::read_to_string(&log).unwrap();
     println!("{text}");
     assert!(status.success(), "the driver failed: {text}");
+    // No bake of this run is left behind.
+    let left: Vec<u32> = (0..3).filter_map(|i| shard_pid(&format!("{i}/3"), &shards)).collect();
+    assert!(left.is_empty(), "bakes left running after the driver finished: {left:?}");
     let attempts = std::fs::read_to_string(shards.join("shard-1-of-3.attempts")).unwrap();
     assert_eq!(attempts.lines().count(), 2, "shard 1 should have run twice (killed, retried): {attempts}");
     assert!(
