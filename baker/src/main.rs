@@ -58,6 +58,13 @@ struct RunArgs {
     /// --camera (each needs the whole atlas every pass).
     #[arg(long, default_value_t = 1)]
     gpus: usize,
+    /// Bake on the GPU at this index of the host — hardware adapters first, in the order
+    /// --gpus takes them, then software ones (an out-of-range index lists them) — instead of
+    /// the best one: how a farm pins a shard to the GPU its scheduler assigned (Slurm:
+    /// `--gpu-index "$SLURM_LOCALID"` with one task per GPU). Default: the environment's
+    /// SBF_GPU_INDEX if set (a Dask worker started with it passes it to every shard).
+    #[arg(long)]
+    gpu_index: Option<usize>,
     /// Bake only shard I of N (0 ≤ I < N) of this bake — the blocks of texels and probes
     /// dealt to it, as --gpus deals them to GPUs — and write its partial state to
     /// OUT/shard-I-of-N.sbfshard (plus a record of the run) instead of the outputs; `baker
@@ -313,6 +320,11 @@ fn run_options(r: &RunArgs, resume: bool, measure_rays: Option<u64>) -> Result<r
         measure_rays,
         batch_seconds: (r.batch_ms > 0.0).then_some(r.batch_ms * 1e-3),
         gpus: r.gpus,
+        gpu_index: match (r.gpu_index, std::env::var("SBF_GPU_INDEX")) {
+            (Some(i), _) => Some(i),
+            (None, Ok(v)) => Some(v.trim().parse().map_err(|_| format!("SBF_GPU_INDEX={v}: expected an adapter index (0, 1, …)"))?),
+            (None, Err(_)) => None,
+        },
         max_binding: r.max_storage_binding,
         pipeline: baker::accumulate::Pipeline::parse(&r.pipeline)
             .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", r.pipeline))?,

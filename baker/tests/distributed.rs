@@ -56,7 +56,8 @@ fn parent(pid: u32) -> Option<u32> {
 
 /// Whether process `pid` is alive (a zombie counts as gone: it has exited).
 fn alive(pid: u32) -> bool {
-    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| s.rsplit_once(')').is_some_and(|(_, r)| !r.trim_start().starts_with('Z')))
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .is_ok_and(|s| s.rsplit_once(')').is_some_and(|(_, r)| !r.trim_start().starts_with('Z')))
 }
 
 /// The pid of the running `baker` process whose arguments include `--shard SPEC` and

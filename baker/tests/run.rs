@@ -986,3 +986,48 @@ fn gpu_bake_with_points_in_two_bindings_equals_the_single_bake() {
         assert_eq!(x, y, "{} differs between the one- and the two-binding bake", x.0);
     }
 }
+
+/// `--gpu-index I` pins the bake to the host's I-th adapter (how a farm gives each shard the
+/// GPU its scheduler assigned), `SBF_GPU_INDEX` does when the option is absent: the bake
+/// runs on the adapter `shaders::gpu::Gpu::at` names for that index and bake.json records it;
+/// an index past the last adapter fails listing them, a bad variable and the CPU device are
+/// refused, all before anything is written.
+#[test]
+fn gpu_index_pins_the_bake_to_an_adapter() {
+    let Some(g) = have_gpu() else { return };
+    let want = shaders::gpu::Gpu::at(0).unwrap().adapter;
+    drop(g);
+    for (how, args, env) in [("--gpu-index 0", vec!["--gpu-index", "0"], None), ("SBF_GPU_INDEX=0", vec![], Some("0"))] {
+        let d = tmp(&format!("gpu-index-{}", how.len()));
+        let _g = have_gpu();
+        let mut c =
+            baker(&["--device", "gpu", "--passes", "2", "--probes", "0,0,0", "--texels-per-unit", "4", "--preview-width", "16", "--out"]);
+        c.arg(&d).args(&args);
+        if let Some(v) = env {
+            c.env("SBF_GPU_INDEX", v);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{how}: {}", String::from_utf8_lossy(&o.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&std::fs::read(d.join("bake.json")).unwrap()).unwrap();
+        assert_eq!(j["device"].as_str(), Some(format!("GPU: {want}").as_str()), "{how}");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+    let d = tmp("gpu-index-bad");
+    let out = d.join("out");
+    for (args, env, needle) in [
+        (vec!["--device", "gpu", "--gpu-index", "64"], None, "GPU index 64: this host has"),
+        (vec!["--device", "cpu", "--gpu-index", "0"], None, "--gpu-index 0 picks one GPU"),
+        (vec!["--device", "gpu"], Some("first"), "SBF_GPU_INDEX=first"),
+    ] {
+        let mut c = baker(&args);
+        c.arg("--out").arg(&out);
+        if let Some(v) = env {
+            c.env("SBF_GPU_INDEX", v);
+        }
+        let o = c.output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(needle), "{args:?}: {err}");
+        assert!(!out.join("bake.json").exists(), "{args:?} wrote a bake");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -320,5 +320,29 @@ fn the_slurm_array_script_bakes_shards_that_merge_to_the_single_bake() {
     ok(&args);
     // The script checkpoints; the single bake above did too (every 32 passes, the default).
     assert_eq!(hashes(&merged), hashes(&single), "the Slurm tasks' merge differs from the single bake");
+    // GPU pinning: Slurm's GPU_DEVICE_ORDINAL (the task's GPU; the first of a list) reaches
+    // baker as SBF_GPU_INDEX (its --gpu-index), unless the job sets SBF_GPU_INDEX itself.
+    let (spy, seen) = (root.join("spy-baker"), root.join("gpu-index"));
+    std::fs::write(&spy, format!("#!/bin/sh\nprintf '%s' \"${{SBF_GPU_INDEX-unset}}\" > '{}'\n", seen.display())).unwrap();
+    let mut p = std::fs::metadata(&spy).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut p, 0o755);
+    std::fs::set_permissions(&spy, p).unwrap();
+    for (ordinal, own, want) in [(Some("2"), None, "2"), (Some("1,3"), None, "1"), (Some("2"), Some("0"), "0"), (None, None, "unset")] {
+        let mut c = Command::new("bash");
+        c.arg(&script)
+            .env("SLURM_ARRAY_TASK_ID", "0")
+            .env("SHARDS", "3")
+            .env("SHARD_DIR", &shards)
+            .env("BAKER", &spy)
+            .env_remove("SBF_GPU_INDEX");
+        if let Some(o) = ordinal {
+            c.env("GPU_DEVICE_ORDINAL", o);
+        }
+        if let Some(o) = own {
+            c.env("SBF_GPU_INDEX", o);
+        }
+        assert!(c.output().unwrap().status.success());
+        assert_eq!(std::fs::read_to_string(&seen).unwrap(), want, "GPU_DEVICE_ORDINAL {ordinal:?}, SBF_GPU_INDEX {own:?}");
+    }
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -28,6 +28,13 @@ BAKER="${BAKER:-baker}"
 # BAKE_ARGS: the bake's arguments, the same for every task (split on spaces).
 read -r -a args <<< "${BAKE_ARGS:-}"
 retries="${RETRIES:-3}"
+# The GPU Slurm gave this task: GPU_DEVICE_ORDINAL, its index among the devices the task sees
+# (0 where the cluster constrains devices), becomes baker's adapter index (SBF_GPU_INDEX, as
+# --gpu-index). Vulkan ignores CUDA_VISIBLE_DEVICES: without this, every task on a multi-GPU
+# node would bake on the same (the best) GPU.
+if [ -n "${GPU_DEVICE_ORDINAL:-}" ] && [ -z "${SBF_GPU_INDEX:-}" ]; then
+  export SBF_GPU_INDEX="${GPU_DEVICE_ORDINAL%%,*}"
+fi
 for ((attempt = 0; ; attempt++)); do
   if "$BAKER" "${args[@]}" --shard "$SLURM_ARRAY_TASK_ID/$SHARDS" --out "$SHARD_DIR" \
     --resume --checkpoint-every "${CHECKPOINT_EVERY:-64}"; then

@@ -16,8 +16,14 @@ pub(crate) fn select(o: &Options, log: &mut dyn FnMut(String)) -> Result<(Vec<Gp
             o.run.gpus, o.run.device
         ));
     }
+    if let Some(i) = o.run.gpu_index {
+        if o.run.device == Device::Cpu || o.run.gpus > 1 {
+            return Err(format!("--gpu-index {i} picks one GPU: not with --device cpu or --gpus > 1"));
+        }
+    }
     let gpus: Vec<Gpu> = match o.run.device {
         _ if o.run.gpus > 1 => Gpu::hardware(o.run.gpus)?,
+        _ if o.run.gpu_index.is_some() => vec![Gpu::at(o.run.gpu_index.unwrap_or_default())?],
         Device::Cpu => Vec::new(),
         Device::Gpu => vec![Gpu::new()?],
         Device::Auto => match Gpu::new() {

@@ -163,6 +163,9 @@ pub struct RunOptions {
     /// GPUs to bake on (hardware adapters, one thread and queue each; [`crate::gpu::multi`]).
     /// 1: the best adapter.
     pub gpus: usize,
+    /// Bake on the adapter at this index of the host ([`shaders::gpu::Gpu::at`]: hardware
+    /// adapters first, in `--gpus`' order): a farm pins a shard to the GPU it assigned.
+    pub gpu_index: Option<usize>,
     /// GPU: the most bytes one storage binding may take (None: the adapter's limit). Bases
     /// whose encoder states exceed it are baked in groups (`run/engine.rs`).
     pub max_binding: Option<u64>,
@@ -218,6 +221,7 @@ impl Default for RunOptions {
             measure_rays: None,
             batch_seconds: Some(crate::gpu::BATCH_TARGET_SECONDS),
             gpus: 1,
+            gpu_index: None,
             max_binding: None,
             pipeline: Default::default(),
             shard: None,
