@@ -204,3 +204,82 @@ fn sigterm_to_the_driver_leaves_no_bake_running() {
     assert!(!merged.exists(), "a cancelled run merged into {}", merged.display());
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// No shared filesystem: the shards go through an fsspec store (`--shard-dir memory://…`,
+/// the workers as threads of the driver's process so that they share it) and the merged bake
+/// to a `file://` URL. Each task bakes in its own scratch folder, uploads each checkpoint as
+/// it appears and the shard file at the end; shard 1's `baker` is killed after its first
+/// checkpoint is in the store, and the retry — a fresh scratch folder — downloads it and
+/// resumes there. The merge (shards fetched to a local folder, the output uploaded) equals
+/// the single bake byte for byte, and nothing is written under the shard store's name on
+/// the local disk.
+#[test]
+fn shards_through_an_fsspec_store_merge_to_the_single_bake() {
+    let Some(py) = python() else { return };
+    let root = std::env::temp_dir().join(format!("baker-dask-fsspec-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let baker = env!("CARGO_BIN_EXE_baker");
+    // Long enough (≈ 3 s a shard on one thread) that shard 1 still bakes when its first
+    // checkpoint has reached the store (the driver reports it within 0.05 s; the kill follows).
+    let recipe = ["--device", "cpu", "--passes", "128", "--texels-per-unit", "12", "--probes", "3,3,3", "--preview-width", "32"];
+    let single = root.join("single");
+    let o = Command::new(baker).args(recipe).args(["--out", single.to_str().unwrap()]).output().unwrap();
+    assert!(o.status.success(), "single bake: {}", String::from_utf8_lossy(&o.stderr));
+    let merged = root.join("merged");
+    let store = format!("memory://sbf-test-{}/shards", std::process::id());
+    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("distributed/dask_bake.py");
+    let log = root.join("driver.log");
+    let mut child = Command::new(&py)
+        .arg(&driver)
+        .args(["--baker", baker, "--shards", "2", "--local-workers", "2", "--local-in-process", "--retries", "2", "--threads", "1"])
+        .args(["--checkpoint-every", "8", "--shard-dir", &store, "--out", &format!("file://{}", merged.display()), "--"])
+        .args(recipe)
+        .current_dir(&root)
+        .stdout(std::fs::File::create(&log).unwrap())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    // The driver reads the store: its log says when shard 1's first checkpoint is there.
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while !std::fs::read_to_string(&log)
+        .unwrap_or_default()
+        .lines()
+        .any(|l| l.starts_with("shard 1/2: ") && l.ends_with("lightmap passes checkpointed"))
+    {
+        assert!(Instant::now() < deadline, "shard 1's first checkpoint did not reach the store in 300 s");
+        assert!(child.try_wait().unwrap().is_none(), "the driver ended early: {}", std::fs::read_to_string(&log).unwrap());
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let pid = (0..200)
+        .find_map(|_| {
+            let p = running_shard("1/2");
+            if p.is_none() {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            p
+        })
+        .expect("shard 1's baker finished before it could be killed: lengthen the bake");
+    assert!(Command::new("kill").args(["-9", &pid.to_string()]).status().unwrap().success());
+    let status = child.wait().unwrap();
+    let text = std::fs::read_to_string(&log).unwrap();
+    println!("{text}");
+    assert!(status.success(), "the driver failed: {text}");
+    assert!(text.contains("shard 1/2: done") && text.contains("after 1 retry, resumed at pass "), "{text}");
+    assert_eq!(hashes(&merged), hashes(&single), "the merged outputs differ from the single bake");
+    assert!(!root.join("memory:").exists() && !Path::new(&store).exists(), "the memory store was written to the local disk");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// The pid of a running `baker --shard SPEC` (any output folder).
+fn running_shard(spec: &str) -> Option<u32> {
+    for e in std::fs::read_dir("/proc").ok()?.flatten() {
+        let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
+        let Ok(cmd) = std::fs::read(e.path().join("cmdline")) else { continue };
+        let args: Vec<String> = cmd.split(|b| *b == 0).map(|a| String::from_utf8_lossy(a).into_owned()).collect();
+        if args.first().is_some_and(|a| a.ends_with("baker")) && args.windows(2).any(|w| w[0] == "--shard" && w[1] == spec) && alive(pid) {
+            return Some(pid);
+        }
+    }
+    None
+}
