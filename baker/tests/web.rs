@@ -563,7 +563,21 @@ fn the_atrium_opens_and_its_dynamic_object_matches_the_probes() {
     render(
         &out,
         &web,
-        &["--scene", "atrium", "--texels-per-unit", "2", "--bases", "sh2", "--size", "320x180", "--camera", "0,1.7,3.2:0,2.8,-6:80"],
+        // 32 × 12 × 24 probes: more than one WebGL 2 texture column of 9-texel rows holds.
+        &[
+            "--scene",
+            "atrium",
+            "--texels-per-unit",
+            "2",
+            "--bases",
+            "sh2",
+            "--size",
+            "320x180",
+            "--camera",
+            "0,1.7,3.2:0,2.8,-6:80",
+            "--probes",
+            "32,12,24",
+        ],
     );
     let (log, report, _, _) = open(&browser, &web, &tmp.join("profile"), "test=1&apis=webgl2,webgpu&configs=sh2");
     let twin = Twin::new("atrium", &out, &web);

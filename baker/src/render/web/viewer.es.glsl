@@ -19,7 +19,10 @@ flat out uint v_material;
 flat out vec3 v_face;
 
 void main() {
-    gl_Position = view_proj * vec4(position, 1.0);
+    // view_proj maps depth to [0, w] (wgpu's, WebGPU's); GL clips to [-w, w]: remapped so
+    // that both APIs clip at the same near plane.
+    vec4 p = view_proj * vec4(position, 1.0);
+    gl_Position = vec4(p.xy, 2.0 * p.z - p.w, p.w);
     v_position = position;
     v_normal = normal;
     v_uv = uv;
@@ -47,8 +50,9 @@ uniform highp sampler2D lut;
 uniform highp sampler2D dfg;
 // Two texels per material: (albedo, α), (F0, 0).
 uniform highp sampler2D materials;
-// Nine texels per probe (a row each): SH L2 RGB, w of the first: valid.
+// Nine texels per probe, probes_per_row probes a row: SH L2 RGB, w of the first: valid.
 uniform highp sampler2D probes;
+uniform int probes_per_row;
 layout(location = 0) out vec4 out_diffuse;
 layout(location = 1) out vec4 out_specular;
 
@@ -206,9 +210,10 @@ Terms shade_probed(vec3 p, vec3 n, vec3 v, Gloss g) {
         vec3 wv = mix(vec3(1.0) - f, f, equal(d, ivec3(1)));
         float w = wv.x * wv.y * wv.z;
         int k = idx.x + dims.x * (idx.y + dims.y * idx.z);
-        if (w > 0.0 && texelFetch(probes, ivec2(0, k), 0).w > 0.5) {
+        ivec2 at = ivec2(9 * (k % probes_per_row), k / probes_per_row);
+        if (w > 0.0 && texelFetch(probes, at, 0).w > 0.5) {
             for (int l = 0; l < 9; l++) {
-                c[l] += w * texelFetch(probes, ivec2(l, k), 0).xyz;
+                c[l] += w * texelFetch(probes, at + ivec2(l, 0), 0).xyz;
             }
             wsum += w;
         }

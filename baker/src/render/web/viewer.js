@@ -135,8 +135,15 @@ class WebGl2 {
       ad: tex2d(gl.RG32F, gl.RG, gl.FLOAT, s.luts.ad[0], s.luts.ad[1], new Float32Array(data.luts.ad), gl.NEAREST),
     };
     this.materials = tex2d(gl.RGBA32F, gl.RGBA, gl.FLOAT, 2 * s.materials, 1, new Float32Array(data.materials), gl.NEAREST);
-    const probeRows = data.probes.byteLength / 16 / 9;
-    this.probes = tex2d(gl.RGBA32F, gl.RGBA, gl.FLOAT, 9, Math.max(1, Math.floor(probeRows)), new Float32Array(data.probes.byteLength >= 144 ? data.probes : new ArrayBuffer(144)), gl.NEAREST);
+    // The probes: nine RGBA32F texels each, `perRow` probes a row (a grid of more probes than
+    // the texture's height fits stays within its limits).
+    const count = Math.max(1, Math.floor(data.probes.byteLength / 144));
+    this.probesPerRow = Math.max(1, Math.min(count, Math.floor(most / 9)));
+    const rows = Math.ceil(count / this.probesPerRow);
+    if (rows > most) throw new Error(`${count} probes exceed this WebGL 2's textures (${most} texels a side)`);
+    const probeTexels = new Float32Array(this.probesPerRow * 9 * rows * 4);
+    probeTexels.set(new Float32Array(data.probes).subarray(0, Math.min(data.probes.byteLength / 4, probeTexels.length)));
+    this.probes = tex2d(gl.RGBA32F, gl.RGBA, gl.FLOAT, this.probesPerRow * 9, rows, probeTexels, gl.NEAREST);
     this.reference = data.reference
       ? tex2d(gl.RGB16F, gl.RGB, gl.HALF_FLOAT, w, 2 * h, new Uint16Array(data.reference), gl.NEAREST)
       : tex2d(gl.RGB16F, gl.RGB, gl.HALF_FLOAT, 1, 1, new Uint16Array(3), gl.NEAREST);
@@ -229,6 +236,7 @@ class WebGl2 {
     gl.uniform4ui(u('grid_dims'), ...s.probes.dims);
     gl.uniform4fv(u('grid_first'), s.probes.first);
     gl.uniform4fv(u('grid_last'), s.probes.last);
+    gl.uniform1i(u('probes_per_row'), this.probesPerRow);
     const bind = (unit, target, tex, name) => {
       gl.activeTexture(gl.TEXTURE0 + unit);
       gl.bindTexture(target, tex);
@@ -514,13 +522,13 @@ function referenceView(scene) {
 }
 
 function table(data) {
-  const rows = (data.results ? data.results.configurations : []).filter((c) => c.storage === 'f32' || c.storage === undefined);
+  const rows = data.results ? data.results.configurations : [];
   const fmt = (x, d = 4) => (x === null || x === undefined ? '—' : Number(x).toPrecision(d));
   const body = rows
     .map((c) => `<tr><td>${c.name}</td><td>${fmt(c.total && c.total.rmse)}</td><td>${fmt(c.total && c.total.relative_rmse, 3)}</td><td>×${fmt(c.total && c.total.mean_ratio)}</td><td>${c.bytes_per_texel}</td></tr>`)
     .join('');
   const f16 = data.scene.configurations.map((c) => `${c.name} ${fmt(c.f16_relative_rms, 2)}`).join(', ');
-  return `<table><tr><th>configuration</th><th>RMSE (total)</th><th>relative</th><th>mean</th><th>bytes/texel (f32)</th></tr>${body}</table>
+  return `<table><tr><th>configuration</th><th>RMSE (total)</th><th>relative</th><th>mean</th><th>bytes/texel (RGBA, as rendered)</th></tr>${body}</table>
 <p>Errors against the path-traced reference, from results.json (the render run's storage and filter). This viewer stores the lightmaps as RGB f16: the image's relative RMS change from f32 storage — ${f16}.${data.scene.downsampled.factor > 1 ? ` The atlas is downsampled ${data.scene.downsampled.factor}× to fit the browser's texture limit (E/π relative RMS ${fmt(data.scene.downsampled.irradiance_relative_rms, 3)}).` : ''}</p>`;
 }
 
@@ -537,9 +545,12 @@ async function main() {
   $('errors').innerHTML = table(data);
   const pick = $('config');
   s.configurations.forEach((c) => pick.add(new Option(`${c.label} (${c.name})`, c.name)));
+  const byName = (n) => s.configurations.find((c) => c.name === n);
+  const asked = params.get('config');
+  if (asked && !byName(asked)) $('status').textContent = `no configuration '${asked}' in this bake (${s.configurations.map((c) => c.name).join(', ')})`;
   const state = {
     cam: referenceView(s),
-    conf: s.configurations.find((c) => c.name === (params.get('config') || 'sh2')) || s.configurations[0],
+    conf: byName(asked) || byName('sh2') || s.configurations[0],
     term: 2,
     ev: 0,
     bicubic: false,
@@ -548,37 +559,49 @@ async function main() {
     mode: 'orbit',
   };
   pick.value = state.conf.name;
+  const evLabel = () => ($('ev-value').textContent = `${state.ev >= 0 ? '+' : ''}${state.ev.toFixed(1)} EV`);
   // A view to link to: ?config=ad9&term=1&ev=1&split=0.5&filter=bicubic&api=webgpu.
   if (params.has('term')) $('term').value = String((state.term = Number(params.get('term'))));
   if (params.has('ev')) $('ev').value = String((state.ev = Number(params.get('ev'))));
+  evLabel();
   if (params.has('filter')) $('filter').value = (state.bicubic = params.get('filter') === 'bicubic') ? 'bicubic' : 'bilinear';
   if (params.has('split')) {
     state.split = $('split').checked = true;
     $('split-at').value = String((state.splitAt = Number(params.get('split'))));
   }
-  const want = params.get('api') || 'webgl2';
+  // One renderer per API, each on its own canvas (a canvas holds one kind of context),
+  // made once; a canvas is shown only once its renderer exists.
+  const renderers = {};
   let renderer = null;
-  const canvases = { webgl2: canvas };
   async function make(api) {
-    // A canvas holds one kind of context: WebGPU draws on a fresh one.
-    if (!canvases[api]) {
-      const c = document.createElement('canvas');
+    if (!renderers[api]) {
+      const c = api === 'webgl2' ? canvas : document.createElement('canvas');
       c.width = s.camera.width;
       c.height = s.camera.height;
-      c.id = 'view';
-      canvases[api] = c;
+      renderers[api] = api === 'webgpu' ? await WebGpu.create(c, data) : new WebGl2(c, data);
+      renderers[api].canvas = c;
     }
-    const c = canvases[api];
-    $('view').replaceWith(c);
-    return api === 'webgpu' ? WebGpu.create(c, data) : new WebGl2(c, data);
+    const r = renderers[api];
+    const shown = document.querySelector('#view-box canvas');
+    if (shown !== r.canvas) shown.replaceWith(r.canvas);
+    return r;
+  }
+  // The scene's bounds: moved views put the far plane past them and the near plane at half
+  // the distance to them (inside: a fraction of their size), for f32 depth.
+  const [lo, hi] = s.bounds;
+  const size = Math.hypot(...sub(hi, lo));
+  const centre = mul(add(lo, hi), 0.5);
+  function planes(eye) {
+    const outside = Math.hypot(...[0, 1, 2].map((k) => Math.max(lo[k] - eye[k], 0, eye[k] - hi[k])));
+    const far = 2 * (size + Math.hypot(...sub(eye, centre)));
+    return { near: Math.max(far * 1e-4, outside > 0 ? 0.5 * outside : 0.002 * size), far };
   }
   function view() {
     const c = state.cam;
     const aspect = s.camera.width / s.camera.height;
     return {
       conf: state.conf,
-      // Moved views keep the reference's far plane and pull the near plane in with the eye.
-      viewProj: c.exact ? s.camera.view_proj : viewProj({ ...c, near: Math.max(c.far * 1e-5, Math.min(c.near, 0.25 * Math.hypot(...sub(c.target, c.eye)))) }, aspect),
+      viewProj: c.exact ? s.camera.view_proj : viewProj({ ...c, ...planes(c.eye) }, aspect),
       eye: c.eye,
       exposure: s.exposure * 2 ** state.ev,
       term: state.term,
@@ -600,17 +623,28 @@ async function main() {
       }
     });
   };
+  const lost = (what) => {
+    $('status').textContent = `${what} was lost (the browser reset the GPU): reload the page`;
+    renderer = null;
+  };
+  canvas.addEventListener('webglcontextlost', () => lost('the WebGL 2 context'));
 
   if (params.get('test') === '1') {
     await runTest(data, make, view, state, t0);
     return;
   }
-  try {
-    renderer = await make(want);
-  } catch (e) {
-    $('status').textContent = `${want}: ${e.message}; falling back to WebGL 2`;
-    renderer = await make('webgl2');
+  // The API asked for (WebGL 2 by default), else the other one.
+  const want = params.get('api') === 'webgpu' ? 'webgpu' : 'webgl2';
+  for (const api of [want, want === 'webgpu' ? 'webgl2' : 'webgpu']) {
+    try {
+      renderer = await make(api);
+      break;
+    } catch (e) {
+      $('status').textContent += `${api}: ${e.message}. `;
+    }
   }
+  if (!renderer) throw new Error('neither WebGL 2 nor WebGPU could draw this bake here');
+  if (renderer.device) renderer.device.lost.then((i) => lost(`the WebGPU device (${i.message})`));
   $('api').value = renderer instanceof WebGpu ? 'webgpu' : 'webgl2';
   $('adapter').textContent = renderer.adapter;
   renderer.draw(view());
@@ -618,7 +652,7 @@ async function main() {
 
   // ---- controls ----
   pick.onchange = () => {
-    state.conf = s.configurations.find((c) => c.name === pick.value);
+    state.conf = byName(pick.value);
     redraw();
   };
   $('term').onchange = () => {
@@ -631,7 +665,7 @@ async function main() {
   };
   $('ev').oninput = () => {
     state.ev = Number($('ev').value);
-    $('ev-value').textContent = `${state.ev >= 0 ? '+' : ''}${state.ev.toFixed(1)} EV`;
+    evLabel();
     redraw();
   };
   $('split').onchange = () => {
@@ -649,17 +683,25 @@ async function main() {
     redraw();
   };
   $('api').onchange = async () => {
+    const api = $('api').value;
     try {
-      renderer = await make($('api').value);
+      renderer = await make(api);
+      if (renderer.device) renderer.device.lost.then((i) => lost(`the WebGPU device (${i.message})`));
       $('adapter').textContent = renderer.adapter;
       $('status').textContent = '';
     } catch (e) {
-      $('status').textContent = `${$('api').value}: ${e.message}`;
+      // The renderer and canvas shown stay as they were.
+      $('status').textContent = `${api}: ${e.message}`;
+      $('api').value = renderer instanceof WebGpu ? 'webgpu' : 'webgl2';
     }
     redraw();
   };
+  // The split view compares at the reference camera: moving the camera ends it.
+  const unsplit = () => {
+    state.split = false;
+    $('split').checked = false;
+  };
   // Orbit: drag turns about the target, the wheel moves in; fly: drag looks, WASD/QE move.
-  const size = Math.hypot(...sub(s.bounds[1], s.bounds[0]));
   let drag = null;
   document.addEventListener('pointerup', () => (drag = null));
   document.addEventListener('pointermove', (e) => {
@@ -680,8 +722,7 @@ async function main() {
     d = [r * Math.cos(pitch) * Math.sin(yaw), r * Math.sin(pitch), r * Math.cos(pitch) * Math.cos(yaw)];
     if (state.mode === 'orbit') c.eye = add(c.target, d);
     else c.target = add(c.eye, d);
-    state.split = false;
-    $('split').checked = false;
+    unsplit();
     redraw();
   });
   document.addEventListener('pointerdown', (e) => {
@@ -696,6 +737,7 @@ async function main() {
       c.exact = false;
       const d = sub(c.eye, c.target);
       c.eye = add(c.target, mul(d, Math.exp(e.deltaY * 0.001)));
+      unsplit();
       redraw();
     },
     { passive: false },
@@ -711,6 +753,7 @@ async function main() {
     c.exact = false;
     c.eye = add(c.eye, mul(m, step));
     c.target = add(c.target, mul(m, step));
+    unsplit();
     redraw();
   });
 }
