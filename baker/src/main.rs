@@ -58,11 +58,9 @@ struct RunArgs {
     /// --camera (each needs the whole atlas every pass).
     #[arg(long, default_value_t = 1)]
     gpus: usize,
-    /// Bake on the GPU at this index of the host — hardware adapters first, in the order
-    /// --gpus takes them, then software ones (an out-of-range index lists them) — instead of
-    /// the best one: how a farm pins a shard to the GPU its scheduler assigned (Slurm:
-    /// `--gpu-index "$SLURM_LOCALID"` with one task per GPU). Default: the environment's
-    /// SBF_GPU_INDEX if set (a Dask worker started with it passes it to every shard).
+    /// Bake on the host's GPU at this index (hardware adapters first, in --gpus' order; an
+    /// out-of-range index lists them) instead of the best one: a farm pins a shard to the GPU
+    /// its scheduler assigned. Default: the environment's SBF_GPU_INDEX, if set.
     #[arg(long)]
     gpu_index: Option<usize>,
     /// Bake only shard I of N (0 ≤ I < N) of this bake — the blocks of texels and probes
@@ -320,15 +318,11 @@ fn run_options(r: &RunArgs, resume: bool, measure_rays: Option<u64>) -> Result<r
         measure_rays,
         batch_seconds: (r.batch_ms > 0.0).then_some(r.batch_ms * 1e-3),
         gpus: r.gpus,
-        gpu_index: match (r.gpu_index, std::env::var("SBF_GPU_INDEX")) {
-            (Some(i), _) => Some(i),
-            (None, Ok(v)) => Some(v.trim().parse().map_err(|_| format!("SBF_GPU_INDEX={v}: expected an adapter index (0, 1, …)"))?),
-            (None, Err(_)) => None,
-        },
+        gpu_index: run::RunOptions::gpu_index_or_env(r.gpu_index)?,
         max_binding: r.max_storage_binding,
         pipeline: baker::accumulate::Pipeline::parse(&r.pipeline)
             .ok_or_else(|| format!("unknown --pipeline '{}': megakernel or wavefront", r.pipeline))?,
-        shard: r.shard.as_deref().map(parse_shard).transpose()?,
+        shard: r.shard.as_deref().map(run::ShardSpec::parse).transpose()?,
     })
 }
 
@@ -432,17 +426,6 @@ fn log_profile(p: &sbf::profile::Profile, bases: &[BasisId], probe_bases: &[Basi
         names(&d.probe_bases),
         if p.specular { String::new() } else { "; BRDF Lambert only: no specular runtime features or LUTs".to_string() }
     );
-}
-
-/// `--shard I/N`.
-fn parse_shard(s: &str) -> Result<run::ShardSpec, String> {
-    let bad = || format!("--shard takes I/N (shard I of N, 0 ≤ I < N), not '{s}'");
-    let (i, n) = s.split_once('/').ok_or_else(bad)?;
-    let (index, count) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
-    if count == 0 || index >= count {
-        return Err(bad());
-    }
-    Ok(run::ShardSpec { index, count })
 }
 
 /// `baker merge OUT SHARD…`.

@@ -183,6 +183,19 @@ pub struct ShardSpec {
     pub count: usize,
 }
 
+impl ShardSpec {
+    /// `--shard I/N` (0 ≤ I < N).
+    pub fn parse(s: &str) -> Result<ShardSpec, String> {
+        let bad = || format!("--shard takes I/N (shard I of N, 0 ≤ I < N), not '{s}'");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(ShardSpec { index, count })
+    }
+}
+
 impl Default for BakeSpec {
     fn default() -> Self {
         BakeSpec {
@@ -205,6 +218,18 @@ impl Default for BakeSpec {
             engine_frame: None,
             compress_bc6h: false,
             compress_signed: crate::output::compress::SignedStorage::Sf16,
+        }
+    }
+}
+
+impl RunOptions {
+    /// `--gpu-index` as given, else the environment's `SBF_GPU_INDEX` (how a farm's worker
+    /// passes its GPU to every shard it runs), else None.
+    pub fn gpu_index_or_env(given: Option<usize>) -> Result<Option<usize>, String> {
+        match (given, std::env::var("SBF_GPU_INDEX")) {
+            (Some(i), _) => Ok(Some(i)),
+            (None, Ok(v)) => v.trim().parse().map(Some).map_err(|_| format!("SBF_GPU_INDEX={v}: expected an adapter index (0, 1, …)")),
+            (None, Err(_)) => Ok(None),
         }
     }
 }
