@@ -63,12 +63,20 @@ fn alive(pid: u32) -> bool {
 /// The pid of the running `baker` process whose arguments include `--shard SPEC` and
 /// `--out DIR` (Linux /proc).
 fn shard_pid(spec: &str, dir: &Path) -> Option<u32> {
+    shard_pid_in(spec, Some(dir))
+}
+
+/// [`shard_pid`], the output folder `dir` checked only where given.
+fn shard_pid_in(spec: &str, dir: Option<&Path>) -> Option<u32> {
     for e in std::fs::read_dir("/proc").ok()?.flatten() {
         let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
         let Ok(cmd) = std::fs::read(e.path().join("cmdline")) else { continue };
         let args: Vec<String> = cmd.split(|b| *b == 0).map(|a| String::from_utf8_lossy(a).into_owned()).collect();
         let has = |k: &str, v: &str| args.windows(2).any(|w| w[0] == k && w[1] == v);
-        if args.first().is_some_and(|a| a.ends_with("baker")) && has("--shard", spec) && has("--out", dir.to_str().unwrap()) {
+        if args.first().is_some_and(|a| a.ends_with("baker"))
+            && has("--shard", spec)
+            && dir.is_none_or(|d| has("--out", d.to_str().unwrap()))
+        {
             return Some(pid);
         }
     }
@@ -273,13 +281,5 @@ fn shards_through_an_fsspec_store_merge_to_the_single_bake() {
 
 /// The pid of a running `baker --shard SPEC` (any output folder).
 fn running_shard(spec: &str) -> Option<u32> {
-    for e in std::fs::read_dir("/proc").ok()?.flatten() {
-        let Ok(pid) = e.file_name().to_string_lossy().parse::<u32>() else { continue };
-        let Ok(cmd) = std::fs::read(e.path().join("cmdline")) else { continue };
-        let args: Vec<String> = cmd.split(|b| *b == 0).map(|a| String::from_utf8_lossy(a).into_owned()).collect();
-        if args.first().is_some_and(|a| a.ends_with("baker")) && args.windows(2).any(|w| w[0] == "--shard" && w[1] == spec) && alive(pid) {
-            return Some(pid);
-        }
-    }
-    None
+    shard_pid_in(spec, None).filter(|p| alive(*p))
 }
