@@ -1,8 +1,9 @@
 //! What a bake samples — lightmap texels (in 8 × 8 tile order) or probe positions — and
 //! how a traced point sample becomes an item's sample in its frame.
 
-use super::ItemSample;
-use crate::layout::lightmap::{Lightmap, SurfacePoint};
+use super::{ItemSample, Partition};
+use crate::layout::digest::Fnv;
+use crate::layout::lightmap::{points_digest, Lightmap, SurfacePoint};
 use crate::scene::geometry::frame;
 use sbf::glam::{DVec3, Vec3};
 
@@ -32,22 +33,36 @@ pub struct Targets {
     /// Per atlas texel, the chart a filtered gather treats it as part of
     /// ([`Lightmap::texel_charts`]); empty for probes.
     pub texel_charts: Vec<u32>,
+    /// The identity of the whole set's sample points: FNV-1a of the kind (texels or
+    /// probes) and, per item of the whole set in order, its point count, id and point
+    /// digest ([`crate::layout::digest`]). A part keeps the whole set's; the bake's
+    /// fingerprint hashes it ([`crate::checkpoint::content_fingerprint`]).
+    pub identity: u64,
+    /// For the targets of one part of a bake spread over machines: the part and the whole
+    /// set's item count (the items here are the part's, in order); None: the whole set.
+    pub part: Option<(Partition, usize)>,
 }
 
 /// The side of the texel tiles whose order lightmap items follow ([`Targets::lightmap`]).
-pub const TILE: u32 = 8;
+pub const TILE: u32 = crate::layout::tiles::ITEM_TILE;
+
+/// [`Targets::identity`] of items given as (point count, id, point digest), in order.
+fn identity(sphere: bool, items: impl Iterator<Item = (u32, u32, u64)>) -> u64 {
+    let mut h = Fnv::default();
+    h.u64(sphere as u64);
+    for (count, id, digest) in items {
+        h.u64(((count as u64) << 32) | id as u64);
+        h.u64(digest);
+    }
+    h.finish()
+}
 
 impl Targets {
-    /// Every valid texel of a lightmap.
+    /// Every valid texel of a lightmap (built whole: [`Lightmap::build`]), in 8 × 8 tile
+    /// order ([`crate::layout::tiles::item_order`], [Roughton19 §5.2, eq. 5.2]).
     pub fn lightmap(lm: &Lightmap) -> Targets {
-        // Items in tile order ([Roughton19 §5.2, eq. 5.2]): 8 × 8 texel tiles, row by row
-        // within a tile, so that consecutive GPU threads bake a compact block of texels
-        // (nearby origins, similar normals) rather than a strip of one row.
-        let tiles_per_row = lm.width.div_ceil(TILE as usize) as u32;
-        let mut order: Vec<usize> = (0..lm.texels.len()).filter(|k| lm.texels[*k].is_valid()).collect();
-        order.sort_by_key(|k| {
-            crate::layout::tiles::tile_index((k % lm.width) as u32, (k / lm.width) as u32, TILE.trailing_zeros(), tiles_per_row)
-        });
+        assert!(!lm.partial, "Targets::lightmap of a partial layout: use Targets::lightmap_part");
+        let order = lm.item_order();
         // Guiding's clusters come per valid texel in row-major order.
         let (row_major, cluster_count) = crate::sampling::guiding::clusters(lm);
         let mut cluster_of = vec![u32::MAX; lm.texels.len()];
@@ -55,12 +70,37 @@ impl Targets {
         for (k, c) in valid.zip(row_major) {
             cluster_of[k] = c;
         }
-        let (mut points, mut items, mut clusters, mut point_uv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for k in order {
+        let mut t = Targets::of_texels(lm, &order, order.iter().copied(), None);
+        t.clusters = order.iter().map(|k| cluster_of[*k]).collect();
+        t.cluster_count = cluster_count;
+        t
+    }
+
+    /// Part `part` of a lightmap's texels, from a layout built for it
+    /// ([`Lightmap::build_part`] keeping `part`'s items): only its items, with their ids
+    /// (which seed their random numbers) and the whole set's identity — what a shard of a
+    /// bake holds. No guiding clusters: a guided bake is never split.
+    pub fn lightmap_part(lm: &Lightmap, part: Partition) -> Result<Targets, String> {
+        let order = lm.item_order();
+        let owned: Vec<usize> = part.ranges(order.len()).flatten().map(|i| order[i]).collect();
+        if let Some(k) = owned.iter().find(|k| lm.texels[**k].points.is_empty()) {
+            return Err(format!("the layout lacks the points of texel {k}, an item of part {} of {}", part.index, part.count));
+        }
+        let mut t = Targets::of_texels(lm, &order, owned.into_iter(), Some(part));
+        t.clusters = vec![0; t.items.len()];
+        Ok(t)
+    }
+
+    /// The targets of the texels `held` (in item order) of a layout whose items are
+    /// `order`, the whole set's identity from `order`.
+    fn of_texels(lm: &Lightmap, order: &[usize], held: impl Iterator<Item = usize>, part: Option<Partition>) -> Targets {
+        let part = part.filter(|p| p.count > 1);
+        let ident = identity(false, order.iter().map(|k| (lm.texels[*k].coverage.count_ones(), *k as u32, lm.digests[*k])));
+        let (mut points, mut items, mut point_uv) = (Vec::new(), Vec::new(), Vec::new());
+        for k in held {
             let t = &lm.texels[k];
             items.push([points.len() as u32, t.points.len() as u32, k as u32]);
             points.extend_from_slice(&t.points);
-            clusters.push(cluster_of[k]);
             // The points are in coverage-bit order; bit s is sub-position (s % 4, s / 4).
             let (x, y) = ((k % lm.width) as f32, (k / lm.width) as f32);
             let sub = |s: usize| [x + ((s % 4) as f32 + 0.5) / 4.0, y + ((s / 4) as f32 + 0.5) / 4.0];
@@ -71,21 +111,25 @@ impl Targets {
             items,
             sphere: false,
             slots: lm.texels.len(),
-            clusters,
-            cluster_count,
+            clusters: Vec::new(),
+            cluster_count: 0,
             width: lm.width,
             height: lm.height,
-            triangle_uv: lm.triangle_uv.clone(),
+            // A part needs neither (camera-based sampling and filtered gathers are never split).
+            triangle_uv: if part.is_none() { lm.triangle_uv.clone() } else { Vec::new() },
             point_uv,
-            texel_charts: lm.texel_charts.clone(),
+            texel_charts: if part.is_none() { lm.texel_charts.clone() } else { Vec::new() },
+            identity: ident,
+            part: part.map(|p| (p, order.len())),
         }
     }
 
     /// Light probes at the given positions.
     pub fn probes(positions: &[Vec3]) -> Targets {
-        let points = positions.iter().map(|p| SurfacePoint::flat(*p, Vec3::Y)).collect();
+        let points: Vec<SurfacePoint> = positions.iter().map(|p| SurfacePoint::flat(*p, Vec3::Y)).collect();
         let items = (0..positions.len() as u32).map(|k| [k, 1, k]).collect();
         let clusters = vec![0; positions.len()];
+        let ident = identity(true, points.iter().enumerate().map(|(k, p)| (1, k as u32, points_digest(std::slice::from_ref(p)))));
         Targets {
             points,
             items,
@@ -98,7 +142,43 @@ impl Targets {
             triangle_uv: Vec::new(),
             point_uv: Vec::new(),
             texel_charts: Vec::new(),
+            identity: ident,
+            part: None,
         }
+    }
+
+    /// Part `part` of these (whole) targets: its items in order, their points re-based,
+    /// ids and the whole set's identity kept.
+    pub fn part(&self, part: Partition) -> Result<Targets, String> {
+        if self.part.is_some() {
+            return Err("the targets are already a part".into());
+        }
+        if part.count == 1 {
+            return Ok(self.clone());
+        }
+        let n = self.items.len();
+        let (mut points, mut items, mut clusters, mut point_uv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for k in part.ranges(n).flatten() {
+            let [first, count, id] = self.items[k];
+            let pts = first as usize..(first + count) as usize;
+            items.push([points.len() as u32, count, id]);
+            points.extend_from_slice(&self.points[pts.clone()]);
+            if !self.point_uv.is_empty() {
+                point_uv.extend_from_slice(&self.point_uv[pts]);
+            }
+            clusters.push(self.clusters[k]);
+        }
+        Ok(Targets {
+            points,
+            items,
+            clusters,
+            point_uv,
+            part: Some((part, n)),
+            // Camera-based sampling and filtered gathers, which need these, are never split.
+            triangle_uv: Vec::new(),
+            texel_charts: Vec::new(),
+            ..*self
+        })
     }
 
     /// The sample direction of a pass from (u₀, u₁) of its direction group: (direction in

@@ -6,11 +6,12 @@
 //!
 //! Uses: [`crate::scene`], [`crate::accumulate`].
 //!
-//! Format (little endian): magic `SBFBAKE5`; u64 fingerprint of the bake's identity
+//! Format (little endian): magic `SBFBAKE6`; u64 fingerprint of the bake's identity
 //! (scene, layout, seed, bounces, bases, solver and each basis' update rule, sample sequence, adaptive sampling: a resumed bake must be the same bake);
-//! u64 passes; u32 items; u32 bases; per basis u32 lobes; the part the file holds — u32
-//! count, u32 index, u64 block (count 1: every item; a shard's checkpoint holds only its
-//! items, [`crate::accumulate::Partition`]); per held item the six f64 moments
+//! u64 passes; u32 items (of the whole set); u32 bases; per basis u32 lobes; the part the
+//! file holds — u32 count, u32 index, u64 block (count 1: every item; a shard's checkpoint
+//! holds only its items, [`crate::accumulate::Partition`], as its state does); per held
+//! item the six f64 moments
 //! and the u64 counts of accepted, back-face and non-finite samples;
 //! per basis and held item the f32 encoder state (RGB amplitude and mean B² per lobe, total
 //! weight) and the u64 update count; u32 count n and the f32 ray-guiding sums, then the n
@@ -19,8 +20,9 @@
 //! mean, M2) and the u64 sample count, the u64 count of negative-weight samples, and per
 //! basis and target the encoder state as above; last, the u64 FNV-1a hash of every byte
 //! before it, checked before anything is read (a torn or bit-flipped checkpoint is refused
-//! with a message, not resumed; `SBFBAKE4` files, written before the hash, are read without
-//! it). f32 state round-trips exactly, so a resumed bake continues bit for bit.
+//! with a message, not resumed). Checkpoints of earlier bakers (`SBFBAKE4`, `SBFBAKE5`:
+//! their fingerprint hashed the points themselves) are refused with a message. f32 state
+//! round-trips exactly, so a resumed bake continues bit for bit.
 //!
 //! [`write_atomic`] writes through a temporary name unique to the writer (process id and a
 //! counter), so two processes writing one checkpoint — a retried task beside an orphaned
@@ -34,41 +36,11 @@ use sbf::solve::ProgressiveEncoder;
 use std::io::Write;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"SBFBAKE5";
-/// The format before the trailing hash (read for resuming older bakes).
-const MAGIC_UNHASHED: &[u8; 8] = b"SBFBAKE4";
+const MAGIC: &[u8; 8] = b"SBFBAKE6";
+/// Earlier formats (before the trailing hash; before [`Targets::identity`]).
+const MAGIC_EARLIER: [&[u8; 8]; 2] = [b"SBFBAKE4", b"SBFBAKE5"];
 
-/// FNV-1a 64 (Fowler–Noll–Vo), fed with the bytes that determine a bake.
-#[derive(Debug, Clone, Copy)]
-pub struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    pub fn bytes(&mut self, b: &[u8]) {
-        for x in b {
-            self.0 = (self.0 ^ *x as u64).wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    pub fn u64(&mut self, x: u64) {
-        self.bytes(&x.to_le_bytes());
-    }
-    pub fn f32s(&mut self, v: &[f32]) {
-        for x in v {
-            self.bytes(&x.to_bits().to_le_bytes());
-        }
-    }
-    pub fn vec3(&mut self, v: sbf::glam::Vec3) {
-        self.f32s(&v.to_array());
-    }
-    pub fn finish(&self) -> u64 {
-        self.0
-    }
-}
+pub use crate::layout::digest::Fnv;
 
 /// The materials' maps, their textures and the meshes' TEXCOORD_0 — nothing for an
 /// untextured scene, whose identity stays what it was before maps existed.
@@ -102,8 +74,8 @@ fn hash_maps(h: &mut Fnv, scene: &Scene) {
 }
 
 /// The identity of a bake: a hash of the scene content (geometry, normals, lightmap UVs,
-/// materials, lights, environment texels), the targets (every sample point and item —
-/// so the layout and the probe positions), and the settings that change the result: the
+/// materials, lights, environment texels), the targets ([`Targets::identity`]: every
+/// sample point and item of the whole set — so the layout and the probe positions), and the settings that change the result: the
 /// bake spec's `config` in its canonical serialisation and each basis' encoder rule.
 pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig, what: &str) -> u64 {
     let mut h = Fnv::default();
@@ -163,13 +135,9 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
             m.texels.iter().for_each(|t| h.f32s(t));
         }
     }
-    h.u64(targets.sphere as u64);
-    for p in &targets.points {
-        h.vec3(p.position);
-        h.vec3(p.normal);
-        h.vec3(p.geometric);
-    }
-    targets.items.iter().flatten().for_each(|x| h.u64(*x as u64));
+    // Every sample point of the whole set, through its identity: a part of the set (a
+    // shard's targets) has the whole set's.
+    h.u64(targets.identity);
     // The settings: the bake spec's `config` part in its canonical serialisation (the
     // pipeline, how a GPU runs the passes, is not part of it: both give the same state).
     h.bytes(serde_json::to_string(config).expect("a bake config serialises").as_bytes());
@@ -179,40 +147,38 @@ pub fn content_fingerprint(scene: &Scene, targets: &Targets, config: &BakeConfig
     h.finish()
 }
 
-/// Serialises a state (every item).
+/// Serialises a state of whole targets (at least one item).
 pub fn to_bytes(state: &BakeState, fingerprint: u64) -> Vec<u8> {
-    to_bytes_part(state, fingerprint, None)
+    let lobes: Vec<usize> = state.encoders.iter().map(|e| e.first().map_or(0, |x| x.coefficients().nrows())).collect();
+    write_state(state, fingerprint, None, &lobes)
 }
 
-/// The items a checkpoint of `part` holds of `n`: a shard's own (`part` of count > 1), else all.
-fn held(part: Option<Partition>, n: usize) -> Vec<usize> {
-    match part {
-        Some(p) if p.count > 1 => p.ranges(n).flatten().collect(),
-        _ => (0..n).collect(),
-    }
+/// Serialises the state of a bake of `config` on `targets` — whole, or a part
+/// ([`Targets::part`]: the state holds the part's items, in order; a part may hold none).
+pub fn to_bytes_for(state: &BakeState, fingerprint: u64, config: &BakeConfig, targets: &Targets) -> Vec<u8> {
+    let lobes: Vec<usize> = config.bases.iter().map(|b| b.lobes()).collect();
+    write_state(state, fingerprint, targets.part, &lobes)
 }
 
-/// Serialises a state, holding only `part`'s items where it is a shard's (count > 1): N
-/// shards' checkpoints together are about one bake's.
-pub fn to_bytes_part(state: &BakeState, fingerprint: u64, part: Option<Partition>) -> Vec<u8> {
+/// The checkpoint bytes of `state`: of a part (the part and the whole set's item count)
+/// or of whole targets (None), with `lobes` per basis.
+fn write_state(state: &BakeState, fingerprint: u64, part: Option<(Partition, usize)>, lobes: &[usize]) -> Vec<u8> {
     let mut v = Vec::new();
     v.extend_from_slice(MAGIC);
     v.extend_from_slice(&fingerprint.to_le_bytes());
     v.extend_from_slice(&state.passes.to_le_bytes());
-    v.extend_from_slice(&(state.moments.len() as u32).to_le_bytes());
+    v.extend_from_slice(&(part.map_or(state.moments.len(), |p| p.1) as u32).to_le_bytes());
     v.extend_from_slice(&(state.encoders.len() as u32).to_le_bytes());
-    for e in &state.encoders {
-        let lobes = e.first().map(|x| x.coefficients().nrows()).unwrap_or(0);
-        v.extend_from_slice(&(lobes as u32).to_le_bytes());
+    for l in lobes {
+        v.extend_from_slice(&(*l as u32).to_le_bytes());
     }
-    let p = part.filter(|p| p.count > 1);
+    let p = part.map(|p| p.0).filter(|p| p.count > 1);
     v.extend_from_slice(&(p.map_or(1, |p| p.count) as u32).to_le_bytes());
     v.extend_from_slice(&(p.map_or(0, |p| p.index) as u32).to_le_bytes());
     v.extend_from_slice(&(p.map_or(0, |p| p.block) as u64).to_le_bytes());
-    let items = held(p, state.moments.len());
-    items.iter().for_each(|k| write_moments(&mut v, &state.moments[*k]));
+    state.moments.iter().for_each(|m| write_moments(&mut v, m));
     for encs in &state.encoders {
-        items.iter().for_each(|k| write_encoder(&mut v, &encs[*k]));
+        encs.iter().for_each(|e| write_encoder(&mut v, e));
     }
     v.extend_from_slice(&(state.guide_sums.len() as u32).to_le_bytes());
     for x in state.guide_sums.iter().chain(&state.guide_basis) {
@@ -327,21 +293,9 @@ impl Reader<'_> {
     }
 }
 
-/// Reads a state saved for the bake with this fingerprint, config and targets.
+/// Reads a state saved for the bake with this fingerprint, config and targets (a part's
+/// targets, [`Targets::part`], read a checkpoint of that part: the state of its items).
 pub fn from_bytes(bytes: &[u8], fingerprint: u64, config: &BakeConfig, targets: &Targets) -> Result<BakeState, String> {
-    from_bytes_part(bytes, fingerprint, config, targets, None)
-}
-
-/// [`from_bytes`] of a checkpoint written by [`to_bytes_part`] for `part`: the items it
-/// holds, every other item empty (as a shard's state keeps them).
-pub fn from_bytes_part(
-    bytes: &[u8],
-    fingerprint: u64,
-    config: &BakeConfig,
-    targets: &Targets,
-    part: Option<Partition>,
-) -> Result<BakeState, String> {
-    let hashed = bytes.get(..8) == Some(MAGIC.as_slice());
     let bytes = match bytes.get(..8) {
         Some(m) if m == MAGIC => {
             let (data, sum) = bytes.split_at(bytes.len().saturating_sub(8).max(8));
@@ -352,7 +306,9 @@ pub fn from_bytes_part(
             }
             data
         }
-        Some(m) if m == MAGIC_UNHASHED => bytes,
+        Some(m) if MAGIC_EARLIER.iter().any(|e| m == e.as_slice()) => {
+            return Err("a checkpoint of an earlier baker, whose bake identity was computed otherwise: delete it to bake from the start (or resume with that baker)".into());
+        }
         _ => return Err("not a baker checkpoint (bad magic)".into()),
     };
     let mut r = Reader { b: bytes, at: 0 };
@@ -364,8 +320,9 @@ pub fn from_bytes_part(
     let passes = r.u64()?;
     let (items, nb) = (r.u32()? as usize, r.u32()? as usize);
     let mut state = BakeState::new(config, targets);
-    if items != state.moments.len() || nb != state.encoders.len() {
-        return Err(format!("checkpoint has {items} items × {nb} bases, this bake {} × {}", state.moments.len(), state.encoders.len()));
+    let whole = targets.part.map_or(targets.items.len(), |p| p.1);
+    if items != whole || nb != state.encoders.len() {
+        return Err(format!("checkpoint has {items} items × {nb} bases, this bake {whole} × {}", state.encoders.len()));
     }
     let mut lobes = Vec::with_capacity(nb);
     for b in 0..nb {
@@ -376,28 +333,18 @@ pub fn from_bytes_part(
         }
         lobes.push(l);
     }
-    let want = part.filter(|p| p.count > 1);
-    if hashed {
-        let (count, index, block) = (r.u32()? as usize, r.u32()? as usize, r.u64()? as usize);
-        let have = (count > 1).then_some((count, index, block));
-        if have != want.map(|p| (p.count, p.index, p.block)) {
-            let show = |x: Option<(usize, usize, usize)>| {
-                x.map_or("every item".to_string(), |(c, i, b)| format!("part {i} of {c} in blocks of {b}"))
-            };
-            return Err(format!("checkpoint holds {}, this bake needs {}", show(have), show(want.map(|p| (p.count, p.index, p.block)))));
-        }
+    let want = targets.part.map(|p| p.0).filter(|p| p.count > 1);
+    let (count, index, block) = (r.u32()? as usize, r.u32()? as usize, r.u64()? as usize);
+    let have = (count > 1).then_some((count, index, block));
+    if have != want.map(|p| (p.count, p.index, p.block)) {
+        let show =
+            |x: Option<(usize, usize, usize)>| x.map_or("every item".to_string(), |(c, i, b)| format!("part {i} of {c} in blocks of {b}"));
+        return Err(format!("checkpoint holds {}, this bake needs {}", show(have), show(want.map(|p| (p.count, p.index, p.block)))));
     }
-    // An `SBFBAKE4` checkpoint holds every item (a shard's others empty).
-    let items = held(if hashed { want } else { None }, state.moments.len());
-    for k in &items {
-        state.moments[*k] = read_moments(&mut r)?;
+    for m in state.moments.iter_mut() {
+        *m = read_moments(&mut r)?;
     }
-    for (b, encs) in state.encoders.iter_mut().enumerate() {
-        let opts = config.encoder_options(config.bases[b], targets.sphere);
-        for k in &items {
-            encs[*k] = read_encoder(&mut r, &opts, lobes[b])?;
-        }
-    }
+    read_encoders(&mut r, config, targets, &lobes, &mut state.encoders)?;
     let sums = r.u32()? as usize;
     if sums != state.guide_sums.len() {
         return Err(format!("checkpoint has {sums} ray-guiding sums, this bake {}", state.guide_sums.len()));

@@ -2,14 +2,17 @@
 //! several (`baker --shard I/N`) — and the merge of all N shards into the whole bake's state.
 //!
 //! A shard bakes the blocks of items [`Partition::of`]`(I, N, items)` deals it, of every
-//! set of targets (lightmap texels, then probes), for every pass; every other item keeps
-//! its empty state. Since a pass's result at an item depends on (seed, item, pass) only,
+//! set of targets (lightmap texels, then probes), for every pass, and holds only those: its
+//! targets are the part ([`crate::accumulate::Targets::part`], the lightmap's from a layout
+//! that keeps only their points, [`crate::layout::lightmap::Lightmap::build_part`]), so its
+//! state, checkpoints and memory follow its share. Since a pass's result at an item depends
+//! on (seed, item id, pass) only,
 //! the N shards' items put together **are** the single bake's state, bit for bit on one
 //! kind of engine ([`crate::accumulate::partition`]).
 //!
 //! The file holds no measurement of the run (no time, no device): the same shard baked
 //! twice writes the same bytes, so a retried task is harmless. Format (little endian):
-//! magic `SBFSHRD2`; u32 length and the UTF-8 JSON [`ShardHeader`] (the shard's index and
+//! magic `SBFSHRD3`; u32 length and the UTF-8 JSON [`ShardHeader`] (the shard's index and
 //! count, the bake spec's canonical JSON, and per set its name, content
 //! fingerprint, item count, block, passes and lobes per basis); then per set, for the
 //! set's owned items in order, the moments (six f64, three u64 counts) and per basis the
@@ -20,9 +23,12 @@ use crate::accumulate::{BakeConfig, BakeState, Partition, Targets};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-const MAGIC: &[u8; 8] = b"SBFSHRD2";
+const MAGIC: &[u8; 8] = b"SBFSHRD3";
 /// The format before the header recorded the bake spec (it recorded arguments).
 const MAGIC_V1: &[u8; 8] = b"SBFSHRD1";
+/// The format whose fingerprints hashed the points themselves (before
+/// [`crate::accumulate::Targets::identity`]).
+const MAGIC_V2: &[u8; 8] = b"SBFSHRD2";
 
 /// The file name of shard `index` of `count`.
 pub fn file_name(index: usize, count: usize) -> String {
@@ -62,17 +68,32 @@ pub struct ShardHeader {
     pub sets: Vec<SetHeader>,
 }
 
-/// One set's state as a shard writes it: its name, fingerprint, part and state.
-#[derive(Debug, Clone, Copy)]
+/// One set's state as a shard writes it: its name, fingerprint, part, the whole set's
+/// item count, the lobes per basis and the part's state (its items, in order:
+/// [`crate::accumulate::Targets::part`]; possibly none).
+#[derive(Debug, Clone)]
 pub struct SetState<'a> {
     pub what: &'a str,
     pub fingerprint: u64,
     pub part: Partition,
+    pub items: usize,
+    pub lobes: Vec<usize>,
     pub state: &'a BakeState,
 }
 
 /// Serialises a shard: its index, count and bake spec, and the owned items of `sets`.
+/// Every set's state must hold its part's items.
 pub fn to_bytes(index: usize, count: usize, spec: &serde_json::Value, sets: &[SetState]) -> Vec<u8> {
+    for s in sets {
+        assert_eq!(
+            s.state.moments.len(),
+            s.part.share(s.items),
+            "{}: the state holds other items than part {} of {}",
+            s.what,
+            index,
+            count
+        );
+    }
     let header = ShardHeader {
         index,
         count,
@@ -82,10 +103,10 @@ pub fn to_bytes(index: usize, count: usize, spec: &serde_json::Value, sets: &[Se
             .map(|s| SetHeader {
                 what: s.what.to_string(),
                 fingerprint: format!("{:016x}", s.fingerprint),
-                items: s.state.moments.len(),
+                items: s.items,
                 block: s.part.block,
                 passes: s.state.passes,
-                lobes: s.state.encoders.iter().map(|e| e.first().map_or(0, |x| x.coefficients().nrows())).collect(),
+                lobes: s.lobes.clone(),
             })
             .collect(),
     };
@@ -95,10 +116,9 @@ pub fn to_bytes(index: usize, count: usize, spec: &serde_json::Value, sets: &[Se
     v.extend_from_slice(&(json.len() as u32).to_le_bytes());
     v.extend_from_slice(&json);
     for s in sets {
-        let n = s.state.moments.len();
-        s.part.ranges(n).flatten().for_each(|k| write_moments(&mut v, &s.state.moments[k]));
+        s.state.moments.iter().for_each(|m| write_moments(&mut v, m));
         for encs in &s.state.encoders {
-            s.part.ranges(n).flatten().for_each(|k| write_encoder(&mut v, &encs[k]));
+            encs.iter().for_each(|e| write_encoder(&mut v, e));
         }
     }
     let mut h = Fnv::default();
@@ -130,6 +150,9 @@ impl Shard {
     fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<Shard, String> {
         if bytes.get(..8) == Some(MAGIC_V1.as_slice()) {
             return Err("a shard of an older baker (its header records arguments, not a bake spec): bake the shard again".into());
+        }
+        if bytes.get(..8) == Some(MAGIC_V2.as_slice()) {
+            return Err("a shard of an earlier baker, whose bake identity was computed otherwise: bake the shard again".into());
         }
         if bytes.len() < 20 || &bytes[..8] != MAGIC {
             return Err("not a baker shard file (bad magic)".into());

@@ -14,6 +14,8 @@
 //! the bits of a `u16` say which lie on a triangle, and each covered position stores the
 //! surface point it maps to. A texel is valid when any bit is set.
 
+use super::digest::point_term;
+use super::tiles::item_order;
 use crate::scene::geometry::shading_normal;
 use crate::scene::Scene;
 use sbf::glam::{Vec2, Vec3};
@@ -52,6 +54,19 @@ impl SurfacePoint {
     pub fn flat(position: Vec3, normal: Vec3) -> Self {
         SurfacePoint { position, normal, geometric: normal }
     }
+
+    /// Its position, shading and geometric normals.
+    pub fn vectors(&self) -> [Vec3; 3] {
+        [self.position, self.normal, self.geometric]
+    }
+}
+
+/// The digest of a texel's points in bit order: the wrapping sum of their
+/// [`point_term`]s — independent of the order the terms arrive in, so a rasteriser that
+/// meets the points triangle by triangle sums it without keeping them
+/// ([`Lightmap::build_part`]).
+pub fn points_digest(points: &[SurfacePoint]) -> u64 {
+    points.iter().enumerate().fold(0u64, |d, (r, p)| d.wrapping_add(point_term(r, p.vectors())))
 }
 
 /// One texel: coverage bits, the points of its covered sub-positions (in bit order),
@@ -109,6 +124,11 @@ pub struct Lightmap {
     /// texel's [`Texel::chart`]; an uncovered texel that some triangle overlaps by more
     /// than [`TOUCH_EPSILON`], the first such triangle's chart; [`NO_CHART`] otherwise.
     pub texel_charts: Vec<u32>,
+    /// Per texel (row-major), the digest of its surface points
+    /// ([`points_digest`]; 0 for an uncovered texel).
+    pub digests: Vec<u64>,
+    /// Built by [`Lightmap::build_part`]: only the kept texels hold their points.
+    pub partial: bool,
     /// Generated charts: how many, and the generated block's own utilisation.
     pub generated_charts: usize,
     pub generated_utilisation: f64,
@@ -158,12 +178,9 @@ impl Lightmap {
         self.valid_count() as f64 / (self.width * self.height) as f64
     }
 
-    /// Lays out every lightmapped mesh of `scene` at `texels_per_unit` with `padding`.
-    /// A mesh with its own lightmap UVs becomes one block holding the bounding rectangle
-    /// of its UVs at √(surface area / UV area)·texels_per_unit texels per UV unit (so the
-    /// texel density matches; meshes that share an authored atlas each use their own
-    /// part); the other meshes get generated charts (listed in `generated_for`).
-    pub fn build(scene: &Scene, texels_per_unit: f32, padding: usize) -> Result<Lightmap, LayoutError> {
+    /// The charts, their packing, every triangle's atlas UVs and the texel charts: all of
+    /// a layout but its texels; with the triangles to rasterise, in order.
+    fn plan(scene: &Scene, texels_per_unit: f32, padding: usize) -> Result<(Lightmap, Vec<Placed>), LayoutError> {
         if !(texels_per_unit.is_finite() && texels_per_unit > 0.0) {
             return Err(LayoutError::BadResolution(texels_per_unit));
         }
@@ -217,14 +234,13 @@ impl Lightmap {
         if width > MAX_SIDE || height > MAX_SIDE {
             return Err(LayoutError::TooLarge { width, height, fits: too_large_fit(texels_per_unit, width.max(height) as f64) });
         }
-        let mut texels = vec![Texel::default(); width * height];
         let mut texel_charts = vec![NO_CHART; width * height];
         let mut triangle_uv: Vec<Vec<[Vec2; 3]>> = scene.meshes.iter().map(|m| vec![[Vec2::ZERO; 3]; m.indices.len()]).collect();
         // Chart ids: TEXCOORD_1 squares first (in block order), then the generated charts.
         let mut chart_meshes: Vec<usize> = charts.iter().filter_map(|c| c.mesh).collect();
         let first_generated = chart_meshes.len() as u32;
         chart_meshes.extend(std::iter::repeat_n(usize::MAX, generated_charts));
-        let mut own = 0u32;
+        let (mut own, mut placed) = (0u32, Vec::new());
         for c in &charts {
             let corner = Vec2::new((c.offset.0 + padding) as f32, (c.offset.1 + padding) as f32);
             match c.mesh {
@@ -234,7 +250,7 @@ impl Lightmap {
                     for (ti, t) in m.indices.iter().enumerate() {
                         let uv = t.map(|i| corner + (uvs[i as usize] - c.uv_min) * c.uv_scale);
                         triangle_uv[mi][ti] = uv;
-                        rasterise_triangle(&mut texels, &mut texel_charts, width, scene, mi, ti, uv, own);
+                        placed.push(Placed { mesh: mi, tri: ti, uv, chart: own });
                     }
                     own += 1;
                 }
@@ -249,33 +265,126 @@ impl Lightmap {
                                 continue; // degenerate: no chart, no texels
                             }
                             chart_meshes[(first_generated + id) as usize] = *mi;
-                            rasterise_triangle(&mut texels, &mut texel_charts, width, scene, *mi, ti, uv, first_generated + id);
+                            placed.push(Placed { mesh: *mi, tri: ti, uv, chart: first_generated + id });
                         }
                     }
                 }
             }
         }
-        // A covered texel gathers within the chart of its first covering triangle.
-        for (c, t) in texel_charts.iter_mut().zip(&texels) {
-            if t.is_valid() {
-                *c = t.chart;
-            }
+        // Degenerate triangles (no area in space or in the atlas) cover nothing.
+        placed.retain(|t| {
+            let m = &scene.meshes[t.mesh];
+            let p = m.indices[t.tri].map(|i| m.positions[i as usize]);
+            (p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0 && cross2(t.uv[1] - t.uv[0], t.uv[2] - t.uv[0]) != 0.0
+        });
+        for t in &placed {
+            touch(&mut texel_charts, width, t.uv, t.chart);
         }
-        Ok(Lightmap {
+        let lm = Lightmap {
             width,
             height,
             texels_per_unit,
             padding,
             charts,
-            texels,
+            texels: Vec::new(),
             triangle_uv,
             generated_for,
             chart_meshes,
             texel_charts,
+            digests: Vec::new(),
+            partial: false,
             generated_charts,
             generated_utilisation,
-        })
+        };
+        Ok((lm, placed))
     }
+
+    /// Lays out every lightmapped mesh of `scene` at `texels_per_unit` with `padding`.
+    /// A mesh with its own lightmap UVs becomes one block holding the bounding rectangle
+    /// of its UVs at √(surface area / UV area)·texels_per_unit texels per UV unit (so the
+    /// texel density matches; meshes that share an authored atlas each use their own
+    /// part); the other meshes get generated charts (listed in `generated_for`).
+    pub fn build(scene: &Scene, texels_per_unit: f32, padding: usize) -> Result<Lightmap, LayoutError> {
+        let (mut lm, placed) = Lightmap::plan(scene, texels_per_unit, padding)?;
+        let mut texels = vec![Texel::default(); lm.width * lm.height];
+        for t in &placed {
+            rasterise_triangle(&mut texels, lm.width, scene, t, &mut |texel, _, s, point| {
+                // Keep `points` in bit order.
+                let before = (texel.coverage & ((1u16 << s) - 1)).count_ones() as usize;
+                texel.points.insert(before, point);
+            });
+        }
+        lm.digests = texels.iter().map(|t| points_digest(&t.points)).collect();
+        lm.texels = texels;
+        lm.claim_covered();
+        Ok(lm)
+    }
+
+    /// [`Lightmap::build`] for one part of a bake spread over machines: the whole atlas —
+    /// charts, coverage, texel charts, every texel's point digest — but the surface points
+    /// of only the valid texels `keep(item, items)` selects, `item` being the texel's place
+    /// in [`Lightmap::item_order`] of `items`. It rasterises twice (coverage first: the
+    /// item order needs every texel's validity; then the points, summed into the digests
+    /// as they come and kept where selected), so the others' points are never held: a
+    /// part's layout memory follows its share, plus a few bytes per atlas texel. The kept
+    /// texels, coverage, charts and digests equal [`Lightmap::build`]'s.
+    pub fn build_part(
+        scene: &Scene,
+        texels_per_unit: f32,
+        padding: usize,
+        keep: &dyn Fn(usize, usize) -> bool,
+    ) -> Result<Lightmap, LayoutError> {
+        let (mut lm, placed) = Lightmap::plan(scene, texels_per_unit, padding)?;
+        let n = lm.width * lm.height;
+        let mut texels = vec![Texel::default(); n];
+        for t in &placed {
+            rasterise_triangle(&mut texels, lm.width, scene, t, &mut |_, _, _, _| {});
+        }
+        let coverage: Vec<u16> = texels.iter().map(|t| t.coverage).collect();
+        let order = item_order(lm.width, n, |k| coverage[k] != 0);
+        let mut kept = vec![false; n];
+        for (i, k) in order.iter().enumerate() {
+            kept[*k] = keep(i, order.len());
+        }
+        drop(order);
+        texels.iter_mut().for_each(|t| *t = Texel::default());
+        let mut digests = vec![0u64; n];
+        for t in &placed {
+            rasterise_triangle(&mut texels, lm.width, scene, t, &mut |texel, k, s, point| {
+                let below = (1u16 << s) - 1;
+                // The point's rank among the texel's final points (coverage known from the first pass).
+                digests[k] = digests[k].wrapping_add(point_term((coverage[k] & below).count_ones() as usize, point.vectors()));
+                if kept[k] {
+                    texel.points.insert((texel.coverage & below).count_ones() as usize, point);
+                }
+            });
+        }
+        (lm.texels, lm.digests, lm.partial) = (texels, digests, true);
+        lm.claim_covered();
+        Ok(lm)
+    }
+
+    /// A covered texel gathers within the chart of its first covering triangle.
+    fn claim_covered(&mut self) {
+        for (c, t) in self.texel_charts.iter_mut().zip(&self.texels) {
+            if t.is_valid() {
+                *c = t.chart;
+            }
+        }
+    }
+
+    /// The valid texels in a bake's item order ([`item_order`]: 8 × 8 tiles).
+    pub fn item_order(&self) -> Vec<usize> {
+        item_order(self.width, self.texels.len(), |k| self.texels[k].is_valid())
+    }
+}
+
+/// A triangle placed in the atlas: its mesh and index, its atlas UVs (texels) and chart.
+struct Placed {
+    mesh: usize,
+    tri: usize,
+    uv: [Vec2; 3],
+    chart: u32,
 }
 
 /// Charts generated by `uvunwrap` for lightmapped meshes without lightmap UVs: one block.
@@ -342,28 +451,18 @@ fn generate_charts(scene: &Scene, meshes: &[usize], texels_per_unit: f32, paddin
     }))
 }
 
-/// Rasterises triangle `ti` of mesh `mi` at atlas texel coordinates `uv` (skipping a
-/// degenerate one), tagging its texels with `chart`.
-#[allow(clippy::too_many_arguments)]
-fn rasterise_triangle(
-    texels: &mut [Texel],
-    texel_charts: &mut [u32],
-    width: usize,
-    scene: &Scene,
-    mi: usize,
-    ti: usize,
-    uv: [Vec2; 3],
-    chart: u32,
-) {
-    let m = &scene.meshes[mi];
-    let p = m.indices[ti].map(|i| m.positions[i as usize]);
+/// What the rasteriser hands on for each sub-position a triangle newly covers: the
+/// texel (its coverage and chart already updated), its row-major index, the sub-position
+/// and the surface point there.
+type Emit<'a> = dyn FnMut(&mut Texel, usize, usize, SurfacePoint) + 'a;
+
+/// Rasterises the placed triangle `t` (non-degenerate).
+fn rasterise_triangle(texels: &mut [Texel], width: usize, scene: &Scene, t: &Placed, emit: &mut Emit) {
+    let m = &scene.meshes[t.mesh];
+    let p = m.indices[t.tri].map(|i| m.positions[i as usize]);
     let n = (p[1] - p[0]).cross(p[2] - p[0]);
-    if n.length() <= 0.0 || cross2(uv[1] - uv[0], uv[2] - uv[0]) == 0.0 {
-        return;
-    }
-    touch(texel_charts, width, uv, chart);
-    let vn = m.indices[ti].map(|i| m.normals[i as usize]);
-    rasterise(texels, width, uv, p, n.normalize(), vn, chart);
+    let vn = m.indices[t.tri].map(|i| m.normals[i as usize]);
+    rasterise(texels, width, t.uv, p, n.normalize(), vn, t.chart, emit);
 }
 
 /// Shelf packing; returns the atlas size (multiples of 4). Charts sorted by height fill
@@ -399,8 +498,9 @@ fn pack(charts: &mut [Chart]) -> (usize, usize) {
 }
 
 /// Marks the sub-positions of the texels under triangle `uv` (atlas texel coordinates)
-/// and records their surface points (face normal `normal`, vertex normals `vn`).
-fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], normal: Vec3, vn: [Vec3; 3], chart: u32) {
+/// and hands on their surface points (face normal `normal`, vertex normals `vn`).
+#[allow(clippy::too_many_arguments)]
+fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], normal: Vec3, vn: [Vec3; 3], chart: u32, emit: &mut Emit) {
     let lo = uv[0].min(uv[1]).min(uv[2]).floor().max(Vec2::ZERO);
     let hi = uv[0].max(uv[1]).max(uv[2]).ceil();
     let height = texels.len() / width;
@@ -410,7 +510,8 @@ fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], no
     }
     for ty in lo.y as usize..(hi.y as usize).min(height) {
         for tx in lo.x as usize..(hi.x as usize).min(width) {
-            let texel = &mut texels[ty * width + tx];
+            let k = ty * width + tx;
+            let texel = &mut texels[k];
             for s in 0..SUBSAMPLES {
                 if texel.coverage & (1 << s) != 0 {
                     continue; // first triangle wins
@@ -428,10 +529,8 @@ fn rasterise(texels: &mut [Texel], width: usize, uv: [Vec2; 3], p: [Vec3; 3], no
                     texel.chart = chart;
                 }
                 texel.coverage |= 1 << s;
-                // Keep `points` in bit order.
-                let before = (texel.coverage & ((1u16 << s) - 1)).count_ones() as usize;
                 let shading = shading_normal(vn, [w0, w1, w2], normal);
-                texel.points.insert(before, SurfacePoint { position, normal: shading, geometric: normal });
+                emit(texel, k, s, SurfacePoint { position, normal: shading, geometric: normal });
             }
         }
     }

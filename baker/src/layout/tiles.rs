@@ -18,3 +18,17 @@ pub fn tile_coords(i: u32, log2_n: u32, tiles_per_row: u32) -> (u32, u32) {
     let within = i & (n * n - 1);
     (n * (tile % tiles_per_row) + (within & (n - 1)), n * (tile / tiles_per_row) + (within >> log2_n))
 }
+
+/// The side of the texel tiles a bake's lightmap items follow (2³).
+pub const ITEM_TILE: u32 = 8;
+
+/// The valid texels of a `width`-wide atlas of `len` texels in a bake's item order
+/// ([Roughton19 §5.2, eq. 5.2]): 8 × 8 texel tiles, row by row within a tile, so that
+/// consecutive GPU threads bake a compact block of texels (nearby origins, similar
+/// normals) rather than a strip of one row.
+pub fn item_order(width: usize, len: usize, valid: impl Fn(usize) -> bool) -> Vec<usize> {
+    let tiles_per_row = width.div_ceil(ITEM_TILE as usize) as u32;
+    let mut order: Vec<usize> = (0..len).filter(|k| valid(*k)).collect();
+    order.sort_by_key(|k| tile_index((k % width) as u32, (k / width) as u32, ITEM_TILE.trailing_zeros(), tiles_per_row));
+    order
+}

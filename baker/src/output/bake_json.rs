@@ -58,6 +58,9 @@ pub struct BakeJson {
     pub preview: &'static str,
     /// Wall time of the whole bake.
     pub seconds: f64,
+    /// The process's peak resident memory so far, in bytes (Linux: VmHWM of
+    /// /proc/self/status; null elsewhere).
+    pub peak_memory_bytes: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub probes: Option<ProbesSummaryJson>,
 }

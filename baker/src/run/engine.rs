@@ -2,7 +2,7 @@
 //! with ETA, a checkpoint every N passes, resume from a checkpoint.
 
 use super::Options;
-use crate::accumulate::{Bake, BakeConfig, BakeState, Partition, Progressive, Targets};
+use crate::accumulate::{Bake, BakeConfig, BakeState, Progressive, Targets};
 use crate::checkpoint;
 use crate::estimator::trace::Tracer;
 use crate::gpu::multi::MultiGpuBake;
@@ -121,22 +121,27 @@ fn run_group<'s>(
     log: &mut dyn FnMut(String),
 ) -> Result<(BakeState, u64), String> {
     config.check(targets)?;
-    // A shard bakes its own part and checkpoints it under its own name and identity.
-    let (part, ckpt, fp) = match &o.run.shard {
-        Some(s) => {
-            let part = Partition::of(s.index, s.count, targets.items.len())?;
-            let name = format!("{what}.shard-{}-of-{}", s.index, s.count);
-            (part, o.run.out.join(format!("{name}.checkpoint")), checkpoint::content_fingerprint(scene, targets, config, &name))
+    // A shard's targets are its part ([`Targets::part`]): it bakes, holds and checkpoints
+    // only its items, under its own name and identity.
+    let (ckpt, fp) = match &targets.part {
+        Some((p, _)) => {
+            config.check_partitionable()?;
+            let name = format!("{what}.shard-{}-of-{}", p.index, p.count);
+            (o.run.out.join(format!("{name}.checkpoint")), checkpoint::content_fingerprint(scene, targets, config, &name))
         }
-        None => (
-            Partition::with_block(0, 1, crate::accumulate::partition::partition_block(targets.items.len(), gpus.len()))?,
-            o.run.out.join(format!("{what}.checkpoint")),
-            checkpoint::content_fingerprint(scene, targets, config, what),
-        ),
+        None => (o.run.out.join(format!("{what}.checkpoint")), checkpoint::content_fingerprint(scene, targets, config, what)),
     };
+    if let Some((p, n)) = targets.part.filter(|_| targets.items.is_empty()) {
+        // A part that holds none of this set's items (the probes, one block, all in shard 0):
+        // nothing to trace; its empty state records the bake's passes.
+        log(format!("{what}: shard {} of {}: none of the {n} items", p.index, p.count));
+        let mut st = BakeState::new(config, targets);
+        st.passes = o.spec.passes;
+        return Ok((st, 0));
+    }
     let saved = if o.run.resume && ckpt.exists() {
         let bytes = std::fs::read(&ckpt).map_err(|e| format!("{}: {e}", ckpt.display()))?;
-        let st = checkpoint::from_bytes_part(&bytes, fp, config, targets, Some(part)).map_err(|e| format!("{}: {e}", ckpt.display()))?;
+        let st = checkpoint::from_bytes(&bytes, fp, config, targets).map_err(|e| format!("{}: {e}", ckpt.display()))?;
         log(format!("{what}: resuming from {} at pass {}", ckpt.display(), st.passes));
         Some(st)
     } else {
@@ -147,15 +152,14 @@ fn run_group<'s>(
     };
     let mut engine = match gpus {
         [] => {
-            let mut b = match saved {
+            let b = match saved {
                 Some(st) => Bake::resume(config.clone(), targets, tracer_of(), st)?,
                 None => Bake::new(config.clone(), targets, tracer_of()),
             };
-            b.set_partition(part)?;
             Box::new(b) as Box<dyn Progressive>
         }
         gpus => {
-            let mut b = MultiGpuBake::for_part(gpus, tracer_of, targets, config, part)?;
+            let mut b = MultiGpuBake::new(gpus, tracer_of, targets, config)?;
             match o.run.batch_seconds {
                 Some(s) => b.set_batch_target(Some(s)),
                 None => b.set_chunk(usize::MAX),
@@ -171,7 +175,7 @@ fn run_group<'s>(
             } else if !left_out.is_empty() {
                 log(format!("{what}: {} features left out of the GPU kernel (this bake does not use them; -v lists them)", left_out.len()));
             }
-            if gpus.len() > 1 && o.run.shard.is_none() {
+            if gpus.len() > 1 {
                 let shares: Vec<String> = b.devices().iter().map(|d| d.share().to_string()).collect();
                 log(format!("{what}: items dealt to {} GPUs in blocks of {}: {} items each", gpus.len(), b.block(), shares.join(", ")));
             }
@@ -181,9 +185,8 @@ fn run_group<'s>(
             Box::new(b)
         }
     };
-    if let Some(s) = &o.run.shard {
-        let n = targets.items.len();
-        log(format!("{what}: shard {} of {}: {} of {n} items, dealt in blocks of {}", s.index, s.count, part.share(n), part.block));
+    if let Some((p, n)) = &targets.part {
+        log(format!("{what}: shard {} of {}: {} of {n} items, dealt in blocks of {}", p.index, p.count, targets.items.len(), p.block));
     }
     // Adaptive bakes count pilot passes and batches (about the paths of o.spec.passes passes).
     let total = config.adaptive.map_or(o.spec.passes, |a| a.batches_for(o.spec.passes));
@@ -223,7 +226,7 @@ fn run_group<'s>(
         run += n;
         if o.run.checkpoint_every > 0 {
             let st = engine.state()?;
-            checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes_part(&st, fp, Some(part)))?;
+            checkpoint::write_atomic(&ckpt, &checkpoint::to_bytes_for(&st, fp, config, targets))?;
         }
     }
     bar.finish_and_clear();

@@ -148,6 +148,14 @@ fn available_memory() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// The process's peak resident memory in bytes (Linux: VmHWM of /proc/self/status), or None.
+pub fn peak_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 /// Refuses an output folder the bake could not write, before any tracing: creates it and
 /// a scratch file in it.
 pub fn check_writable(dir: &std::path::Path) -> Result<(), String> {

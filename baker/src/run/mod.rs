@@ -15,7 +15,7 @@ pub mod shard;
 pub use options::{read_spec, BakeSpec, Device, Options, RunOptions, ShardSpec, Summary, SPEC_FILE};
 pub use shard::merge;
 
-use crate::accumulate::{BakeConfig, Solver, Targets};
+use crate::accumulate::{BakeConfig, Partition, Solver, Targets};
 use crate::estimator::trace::Tracer;
 use crate::layout::lightmap::Lightmap;
 use crate::layout::probes::probe_grid;
@@ -50,13 +50,26 @@ pub(crate) fn prepare(o: &Options, log: &mut dyn FnMut(String)) -> Result<Prepar
         scene = scene.without_maps();
     }
     let bvh = Bvh::build(&scene);
-    let lm = Lightmap::build(&scene, o.spec.texels_per_unit, o.spec.padding).map_err(|e| e.to_string())?;
-    log_scene_and_layout(o, &scene, &bvh, &lm, log);
-    limits::check_memory("lightmap", lm.valid_count(), &o.spec.config.bases, log)?;
-    if let Some([x, y, z]) = o.spec.probes {
-        limits::check_memory("probes", x * y * z, &o.spec.probe_bases, log)?;
+    let (tpu, padding) = (o.spec.texels_per_unit, o.spec.padding);
+    // A shard lays out the whole atlas but keeps the points of its own texels only.
+    let lm = match &o.run.shard {
+        Some(s) => {
+            let keep = |item: usize, items: usize| Partition::of(s.index, s.count, items).is_ok_and(|p| p.owns(item));
+            Lightmap::build_part(&scene, tpu, padding, &keep)
+        }
+        None => Lightmap::build(&scene, tpu, padding),
     }
-    let targets = Targets::lightmap(&lm);
+    .map_err(|e| e.to_string())?;
+    log_scene_and_layout(o, &scene, &bvh, &lm, log);
+    let share = |items: usize| o.run.shard.as_ref().map_or(Ok(items), |s| Partition::of(s.index, s.count, items).map(|p| p.share(items)));
+    limits::check_memory("lightmap", share(lm.valid_count())?, &o.spec.config.bases, log)?;
+    if let Some([x, y, z]) = o.spec.probes {
+        limits::check_memory("probes", share(x * y * z)?, &o.spec.probe_bases, log)?;
+    }
+    let targets = match &o.run.shard {
+        Some(s) => Targets::lightmap_part(&lm, Partition::of(s.index, s.count, lm.valid_count())?)?,
+        None => Targets::lightmap(&lm),
+    };
     // The camera's image (camera-based sampling) sized from the atlas where not given.
     let config = BakeConfig {
         camera: o.spec.config.camera.map(|c| c.sized_for(targets.items.len())),
@@ -114,7 +127,10 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
     let (mut probe_state, mut probe_targets) = (None, None);
     let pcfg = probe_config(o);
     if let Some((positions, _)) = &probes {
-        let pt = Targets::probes(positions);
+        let pt = match &o.run.shard {
+            Some(s) => Targets::probes(positions).part(Partition::of(s.index, s.count, positions.len())?)?,
+            None => Targets::probes(positions),
+        };
         let t = Instant::now();
         let (ps, prun) = run_targets(o, &pcfg, &gpus, &tracer_of, &scene, &pt, "probes", log)?;
         times.probe_passes = Some(t.elapsed().as_secs_f64());
@@ -135,6 +151,7 @@ pub fn bake(o: &Options, log: &mut dyn FnMut(String)) -> Result<Summary, String>
             lightmap_passes_seconds: times.lightmap_passes,
             probe_passes_seconds: times.probe_passes,
             seconds: t0.elapsed().as_secs_f64(),
+            peak_memory_bytes: limits::peak_memory(),
         };
         shard::write_shard(o, spec, &sets, &record, log)?;
     } else {

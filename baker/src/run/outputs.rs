@@ -260,6 +260,7 @@ pub(crate) fn write_outputs(
         files,
         preview: "preview.png",
         seconds: t0.elapsed().as_secs_f64(),
+        peak_memory_bytes: super::limits::peak_memory(),
         probes,
     };
     std::fs::write(o.run.out.join("bake.json"), serde_json::to_string_pretty(&meta).expect("json"))

@@ -27,6 +27,9 @@ pub struct ShardRun {
     pub lightmap_passes_seconds: f64,
     pub probe_passes_seconds: Option<f64>,
     pub seconds: f64,
+    /// The shard process's peak resident memory, in bytes (Linux: VmHWM; None elsewhere).
+    #[serde(default)]
+    pub peak_memory_bytes: Option<u64>,
 }
 
 /// The record file of shard `index` of `count`.
@@ -53,10 +56,19 @@ pub(crate) fn write_shard(
 ) -> Result<(), String> {
     let mut states = Vec::with_capacity(sets.len());
     for s in sets {
+        let (part, items) = match s.targets.part {
+            Some(p) => p,
+            None => (Partition::of(spec.index, spec.count, s.targets.items.len())?, s.targets.items.len()),
+        };
+        if (part.index, part.count) != (spec.index, spec.count) || s.state.moments.len() != part.share(items) {
+            return Err(format!("{}: the state holds other items than shard {} of {}", s.what, spec.index, spec.count));
+        }
         states.push(SetState {
             what: s.what,
             fingerprint: content_fingerprint(s.scene, s.targets, s.config, s.what),
-            part: Partition::of(spec.index, spec.count, s.targets.items.len())?,
+            part,
+            items,
+            lobes: s.config.bases.iter().map(|b| b.lobes()).collect(),
             state: s.state,
         });
     }
@@ -66,8 +78,9 @@ pub(crate) fn write_shard(
     shard::write(&path, &bytes)?;
     let json = serde_json::to_string_pretty(run).map_err(|e| e.to_string())?;
     write_atomic(&run_file(&o.run.out, spec.index, spec.count), json.as_bytes())?;
+    let peak = run.peak_memory_bytes.map_or(String::new(), |b| format!(", peak memory {:.1} MB", b as f64 * 1e-6));
     log(format!(
-        "shard {} of {}: {} ({} bytes); merge all {} with `baker merge OUT SHARD…`",
+        "shard {} of {}: {} ({} bytes{peak}); merge all {} with `baker merge OUT SHARD…`",
         spec.index,
         spec.count,
         path.display(),

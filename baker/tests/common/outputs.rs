@@ -17,11 +17,12 @@ pub fn scenes_dir() -> Option<PathBuf> {
 }
 
 /// Removes the fields of bake.json that measure this run rather than describe the bake
-/// (wall times, the device and its thread count) or name the engine (the GPU pipeline).
+/// (wall times, peak memory, the device and its thread count) or name the engine (the GPU
+/// pipeline).
 pub fn strip_run_fields(v: &mut serde_json::Value) {
     match v {
         serde_json::Value::Object(m) => {
-            for k in ["seconds", "stage_seconds", "device", "pipeline"] {
+            for k in ["seconds", "stage_seconds", "device", "pipeline", "peak_memory_bytes"] {
                 m.remove(k);
             }
             m.values_mut().for_each(strip_run_fields);
