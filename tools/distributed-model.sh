@@ -2,8 +2,8 @@
 # The inputs of docs/distributed.md's model, measured on one GPU: per atlas size (room-1m at
 # the texel densities in SIZES), the single bake with the defaults and with checkpoints and
 # dispatch batching off (the overheads apart), its 4 shards one after another (pass time,
-# wall time, shard-file and checkpoint bytes per item), and their merge (wall time, bytes
-# read). One line per run, then a summary per size.
+# wall time, shard-file and checkpoint bytes per item; then again with both off: pass time
+# and peak memory), and their merge (wall time, bytes read). One line per run.
 #
 #   tools/distributed-model.sh OUT        (BIN: folder of `baker`, default target/release;
 #                                          SIZES, default "55 110"; PASSES, default 64)
@@ -40,6 +40,13 @@ for s in ${SIZES:-55 110}; do
     n=$(grep -o 'shard [0-9] of 4: [0-9]* of' "$d/shard$i.log" | head -1 | awk '{print $5}')
     echo "size $s: shard $i/4: $n items, wall $w s, passes $p s, shard file $(stat -c %s "$d/shards/shard-$i-of-4.sbfshard") bytes, checkpoint $(stat -c %s "$d/shards/lightmap.shard-$i-of-4.checkpoint") bytes"
   done
+  # The shards' pass time and memory apart from checkpoints and batching (as the plain bake).
+  for i in 0 1 2 3; do
+    w=$(wall "$d/plain$i.log" "$bin/baker" "${common[@]}" --texels-per-unit "$s" --shard "$i/4" --checkpoint-every 0 --batch-ms 0 --out "$d/shards-plain")
+    p=$(grep -o 'lightmap: [0-9]* passes in [0-9.]* s' "$d/plain$i.log" | tail -1 | awk '{print $5}')
+    echo "size $s: shard $i/4 (no checkpoint, one dispatch per pass): wall $w s, passes $p s, peak memory $(field "$d/shards-plain/shard-$i-of-4.json" peak_memory_bytes) bytes (the single bake's: $(field "$d/plain/bake.json" peak_memory_bytes))"
+  done
+  rm -rf "$d/shards-plain"
   w=$(wall "$d/merge.log" "$bin/baker" merge "$d/merged" "$d"/shards/shard-*-of-4.sbfshard)
   echo "size $s: merge of 4 shards ($(cat "$d"/shards/shard-*-of-4.sbfshard | wc -c) bytes): wall $w s; equal to the single bake: $(cmp -s "$d/merged/sh2_00.exr" "$d/single/sh2_00.exr" && echo yes || echo no)"
 done
