@@ -163,7 +163,9 @@ pub fn to_bytes_for(state: &BakeState, fingerprint: u64, config: &BakeConfig, ta
 /// The checkpoint bytes of `state`: of a part (the part and the whole set's item count)
 /// or of whole targets (None), with `lobes` per basis.
 fn write_state(state: &BakeState, fingerprint: u64, part: Option<(Partition, usize)>, lobes: &[usize]) -> Vec<u8> {
-    let mut v = Vec::new();
+    // Reserved whole (the state's items; the filtered gather's, if any, grow it once).
+    let per_item = 72 + lobes.iter().map(|l| 16 * l + 12).sum::<usize>();
+    let mut v = Vec::with_capacity(64 + 4 * lobes.len() + state.moments.len() * per_item + 8 * state.guide_sums.len());
     v.extend_from_slice(MAGIC);
     v.extend_from_slice(&fingerprint.to_le_bytes());
     v.extend_from_slice(&state.passes.to_le_bytes());
@@ -211,10 +213,9 @@ fn write_encoders(v: &mut Vec<u8>, encoders: &[Vec<ProgressiveEncoder<f32>>]) {
 /// One encoder's state: per lobe the RGB amplitude and mean B² (f32), the total weight
 /// (f32) and the u64 update count.
 fn write_encoder(v: &mut Vec<u8>, e: &ProgressiveEncoder<f32>) {
-    let c = e.coefficients();
-    for (i, g) in e.integrals().iter().enumerate() {
-        for x in [c[(i, 0)], c[(i, 1)], c[(i, 2)], *g] {
-            v.extend_from_slice(&(x as f32).to_le_bytes());
+    for (a, g) in e.amplitudes().iter().zip(e.lobe_integrals()) {
+        for x in [a[0], a[1], a[2], *g] {
+            v.extend_from_slice(&x.to_le_bytes());
         }
     }
     v.extend_from_slice(&(e.total_weight() as f32).to_le_bytes());

@@ -111,7 +111,8 @@ pub fn to_bytes(index: usize, count: usize, spec: &serde_json::Value, sets: &[Se
             .collect(),
     };
     let json = serde_json::to_vec(&header).expect("a shard header serialises");
-    let mut v = Vec::new();
+    let body: usize = sets.iter().map(|s| s.state.moments.len() * item_bytes(&s.lobes)).sum();
+    let mut v = Vec::with_capacity(20 + json.len() + body);
     v.extend_from_slice(MAGIC);
     v.extend_from_slice(&(json.len() as u32).to_le_bytes());
     v.extend_from_slice(&json);

@@ -394,6 +394,14 @@ impl<T: Real> ProgressiveEncoder<T> {
     pub fn coefficients(&self) -> DMatrix<f64> {
         DMatrix::from_fn(self.amplitudes.len(), 3, |i, c| self.amplitudes[i][c].to_f64())
     }
+    /// The RGB amplitudes per lobe as stored (no copy: [`Self::coefficients`] in `T`).
+    pub fn amplitudes(&self) -> &[[T; 3]] {
+        &self.amplitudes
+    }
+    /// The running means of B_i² per lobe as stored (no copy: [`Self::integrals`] in `T`).
+    pub fn lobe_integrals(&self) -> &[T] {
+        &self.integrals
+    }
     /// Running mean of B_i² per lobe (the GPU's per-lobe alpha channel).
     pub fn integrals(&self) -> Vec<f64> {
         self.integrals.iter().map(|v| v.to_f64()).collect()
