@@ -9,10 +9,11 @@
 //! so the parts' states, each item taken from the part that baked it, are the whole bake's
 //! state bit for bit on one kind of engine.
 //!
-//! A shard baked on G GPUs splits its own blocks again: device g of shard I of N bakes the
-//! blocks b with b mod N·G = I + N·g — the blocks of shard I, dealt round-robin to its
-//! devices ([`Partition::split`]) — so the shard's dealing never depends on how many GPUs
-//! a machine has.
+//! A `baker --shard I/N` run holds only its part's items ([`crate::accumulate::Targets::part`]),
+//! in order, and deals them to its GPUs as a single bake deals its atlas. A bake that keeps
+//! every item can split a part's blocks again instead: device g of part I of N bakes the
+//! blocks b with b mod N·G = I + N·g ([`Partition::split`], `MultiGpuBake::for_part`).
+//! Either way each item's result is the same: it depends on (seed, item id, pass) only.
 
 /// The partition block for `items` dealt to `parts`: about 32 blocks per part (a balanced
 /// share whatever the atlas's layout) of a multiple of 64 items (whole GPU workgroups), 64

@@ -13,8 +13,9 @@
 //! device's arithmetic otherwise. No reduction across devices is needed (the encoder state
 //! is per item).
 //!
-//! The dealing is [`crate::accumulate::partition`]'s; a shard of a bake spread over
-//! machines ([`MultiGpuBake::for_part`]) deals its own blocks to its devices again.
+//! The dealing is [`crate::accumulate::partition`]'s; [`MultiGpuBake::for_part`] bakes one
+//! part of whole targets, its blocks dealt to its devices again (a `baker --shard` run
+//! instead bakes its part's own targets, [`crate::accumulate::Targets::part`]).
 //!
 //! Left out: ray guiding (its clusters learn from all their texels every pass, which would
 //! need a cross-device reduction per pass) — refused with a clear error.
